@@ -1,0 +1,37 @@
+// fovlab: psychophysics experiment runner for foveated rendering. This file only wires the
+// subcommands together and maps failures to exit codes: 0 success, 2 bad input (one line naming what
+// was wrong and what was expected), 1 anything else.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "app/commands.h"
+#include "core/input_error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fovlab: psychophysics experiments for foveated rendering, on Vulkan"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Help for every subcommand");
+  fovlab::app::add_render_command(app);
+  fovlab::app::add_compare_command(app);
+  fovlab::app::add_bench_command(app);
+  fovlab::app::add_devices_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "fovlab: %s\n", e.what());
+    return 2;
+  } catch (const fovlab::InputError& e) {
+    std::fprintf(stderr, "fovlab: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fovlab: internal error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,72 @@
+#include "core/image_io.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "core/input_error.h"
+
+namespace fovlab {
+
+namespace {
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+}  // namespace
+
+Image read_image(const std::filesystem::path& path) {
+  auto input = OIIO::ImageInput::open(path.string());
+  if (!input) {
+    throw InputError(path.string() + ": cannot read image (" + OIIO::geterror() +
+                     "); expected an existing PNG, EXR or other OpenImageIO format");
+  }
+  const OIIO::ImageSpec& spec = input->spec();
+  Image image(spec.width, spec.height, spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+    throw InputError(path.string() + ": cannot decode image: " + input->geterror());
+  }
+  return image;
+}
+
+void check_output_path(const std::filesystem::path& path, const char* flag_name) {
+  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError(std::string(flag_name) + " " + path.string() + ": is a folder; expected a file path");
+  }
+  if (!std::filesystem::is_directory(folder, error)) {
+    throw InputError(std::string(flag_name) + " " + path.string() + ": folder " + folder.string() +
+                     " does not exist");
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    throw InputError(std::string(flag_name) + " " + path.string() + ": folder " + folder.string() +
+                     " is not writable");
+  }
+}
+
+void write_image(const std::filesystem::path& path, const Image& image) {
+  const bool floating_point = lower_extension(path) == ".exr";
+  const OIIO::TypeDesc file_type = floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    auto output = OIIO::ImageOutput::create(temporary.string());
+    if (!output) {
+      throw InputError(path.string() + ": cannot write image (" + OIIO::geterror() +
+                       "); expected a .png, .exr or other OpenImageIO extension");
+    }
+    OIIO::ImageSpec spec(image.width, image.height, image.channels, file_type);
+    if (!output->open(temporary.string(), spec) ||
+        !output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !output->close()) {
+      throw InputError(path.string() + ": cannot write image: " + output->geterror());
+    }
+  });
+}
+
+}  // namespace fovlab

@@ -1,0 +1,22 @@
+#pragma once
+// Image files through OpenImageIO. Writes never leave a half-written file: the image goes to a
+// temporary name in the same folder, then is renamed over the target.
+#include <filesystem>
+
+#include "core/image.h"
+
+namespace fovlab {
+
+// Reads any format OpenImageIO knows; 8-bit files come back as values in [0, 1]. Throws InputError
+// naming the path when the file is missing or unreadable.
+Image read_image(const std::filesystem::path& path);
+
+// Writes by extension: .png/.jpg/... as 8 bits per channel (values clamped to [0, 1] and rounded),
+// .exr as 32-bit float. Throws InputError naming the path when it cannot be written.
+void write_image(const std::filesystem::path& path, const Image& image);
+
+// Throws InputError if `path` could not be created (missing folder, not writable, is a folder).
+// Called before long work so a bad --out fails at once rather than after the render.
+void check_output_path(const std::filesystem::path& path, const char* flag_name);
+
+}  // namespace fovlab

@@ -1,0 +1,53 @@
+#include "renderer/scene/scene_source.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "core/input_error.h"
+
+namespace fovlab {
+
+std::filesystem::path builtin_scenes_directory() {
+  if (const char* folder = std::getenv("FOVLAB_SCENES_DIR"); folder && *folder) return folder;
+  return std::filesystem::path(FOVLAB_SOURCE_DIR) / "stimuli" / "scenes";
+}
+
+std::vector<std::string> builtin_scene_names() {
+  std::vector<std::string> names;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(builtin_scenes_directory(), error)) {
+    if (entry.path().extension() == ".glsl") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+SceneSource load_scene(const std::string& name_or_file) {
+  const bool is_path = name_or_file.find('/') != std::string::npos ||
+                       std::filesystem::path(name_or_file).extension() == ".glsl";
+  SceneSource scene;
+  if (is_path) {
+    scene.path = name_or_file;
+  } else {
+    scene.path = builtin_scenes_directory() / (name_or_file + ".glsl");
+    if (!std::filesystem::is_regular_file(scene.path)) {
+      std::string known;
+      for (const std::string& name : builtin_scene_names()) known += (known.empty() ? "" : ", ") + name;
+      throw InputError("--scene " + name_or_file + ": unknown scene; expected one of " + known +
+                       " or a path to a .glsl file");
+    }
+  }
+  scene.name = scene.path.stem().string();
+  std::ifstream file(scene.path, std::ios::binary);
+  if (!file || std::filesystem::is_directory(scene.path)) {
+    throw InputError(scene.path.string() + ": cannot read scene file; expected a GLSL file (docs/scenes.md)");
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  scene.text = text.str();
+  return scene;
+}
+
+}  // namespace fovlab

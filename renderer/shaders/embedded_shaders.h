@@ -1,0 +1,14 @@
+#pragma once
+// Shaders built into the binary by the build (CMakeLists.txt):
+// - scene-independent passes, compiled to SPIR-V by glslangValidator at build time;
+// - GLSL that is compiled at run time together with a scene (the sphere tracer), kept as text.
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+namespace fovlab::shaders {
+
+extern const std::span<const uint32_t> min_filter_spirv;
+extern const std::string_view sphere_trace_source;
+
+}  // namespace fovlab::shaders

@@ -1,0 +1,36 @@
+#pragma once
+// A compute pipeline whose bindings are N storage buffers (set 0, bindings 0..N-1), supplied at
+// dispatch time with push descriptors, and whose parameters are push constants.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <span>
+
+namespace fovlab::vk {
+
+class Context;
+
+class ComputePipeline {
+ public:
+  ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
+                  uint32_t push_constant_bytes);
+  ~ComputePipeline();
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
+
+  // Binds the pipeline, pushes the buffers (one per binding, whole range) and the push constants,
+  // and dispatches enough 8x8 workgroups to cover width x height invocations.
+  void dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants,
+                   uint32_t width, uint32_t height) const;
+
+ private:
+  void release();
+  const Context& context_;
+  uint32_t storage_buffer_count_;
+  uint32_t push_constant_bytes_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+}  // namespace fovlab::vk

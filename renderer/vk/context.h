@@ -1,0 +1,67 @@
+#pragma once
+// The Vulkan instance, the chosen physical device and one compute queue.
+//
+// Device choice: a discrete GPU, else an integrated or virtual GPU, else a CPU device (Mesa
+// lavapipe), unless --device names one by index or by a case-insensitive part of its name.
+// Validation: the Khronos validation layer is enabled in Debug builds and whenever the
+// environment sets FOVLAB_VALIDATION=1 (every test does); FOVLAB_VALIDATION=0 turns it off.
+// Each warning or error the layer reports is printed to stderr and counted.
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fovlab::vk {
+
+struct DeviceDescription {
+  uint32_t index = 0;        // position in vkEnumeratePhysicalDevices
+  std::string name;
+  std::string type;          // "discrete GPU", "integrated GPU", "virtual GPU", "CPU", "other"
+  std::string api_version;   // e.g. "1.3.230"
+  std::string driver;        // driver name and info, when the device reports them
+  bool usable = false;       // has a compute queue and the features fovlab needs
+  std::string unusable_reason;
+};
+
+struct ContextOptions {
+  std::string device_selector;  // empty: automatic; an index ("0") or part of a name ("llvmpipe")
+  bool validation = false;
+};
+
+// Validation on by default in Debug builds; FOVLAB_VALIDATION=0/1 overrides either way.
+bool validation_requested_by_default();
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t queue_family = 0;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  DeviceDescription description;
+  VkPhysicalDeviceMemoryProperties memory_properties{};
+  double timestamp_period_ns = 0.0;  // 0 when the queue cannot write timestamps
+  PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set = nullptr;
+
+  bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
+  // Warnings and errors reported by the validation layer since the context was created.
+  uint32_t validation_message_count() const { return validation_messages_->load(); }
+
+ private:
+  void release();  // destroys whatever was created, in reverse order; safe to call twice
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  std::unique_ptr<std::atomic<uint32_t>> validation_messages_;
+};
+
+// Every physical device the loader sees, usable or not. Throws InputError when there is none.
+std::vector<DeviceDescription> list_devices();
+
+}  // namespace fovlab::vk

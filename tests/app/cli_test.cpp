@@ -1,0 +1,142 @@
+// The fovlab command end to end: outputs on success; exit code 2, one line naming the problem and
+// no output file on bad input.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::filesystem::path scratch() {
+  static const std::filesystem::path folder = [] {
+    auto path = std::filesystem::temp_directory_path() / "fovlab-cli-test";
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+    return path;
+  }();
+  return folder;
+}
+
+std::string read_all(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+CommandResult run(const std::string& arguments, const std::string& environment = "") {
+  const auto out = scratch() / "stdout.txt";
+  const auto err = scratch() / "stderr.txt";
+  const std::string command = environment + " " + FOVLAB_BINARY + " " + arguments + " >" + out.string() + " 2>" +
+                              err.string();
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(out), read_all(err)};
+}
+
+void expect_one_line_error(const CommandResult& result, const std::string& must_contain) {
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_NE(result.err.find(must_contain), std::string::npos) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+const std::string kSmall = " --width 48 --height 32 ";
+
+TEST(Cli, RenderWritesImageHeatMapAndStats) {
+  const auto image = scratch() / "frame.png";
+  const auto steps = scratch() / "steps.png";
+  const auto stats = scratch() / "stats.json";
+  const CommandResult result = run("render --scene primitives --method ipr" + kSmall + "--spp 4 --time 1.5 --out " +
+                                   image.string() + " --steps-out " + steps.string() + " --stats-json " + stats.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(image));
+  EXPECT_TRUE(std::filesystem::exists(steps));
+  const nlohmann::json json = nlohmann::json::parse(read_all(stats));
+  for (const char* key : {"method", "width", "height", "spp", "total_steps", "steps_per_pixel", "gpu_ms", "wall_ms",
+                          "device", "capped_rays", "levels"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  EXPECT_EQ(json["method"], "ipr");
+  EXPECT_EQ(json["spp"], 4);
+  EXPECT_GT(json["total_steps"].get<uint64_t>(), 0u);
+  EXPECT_TRUE(json["gpu_ms"].contains("total"));
+  EXPECT_TRUE(json["gpu_ms"]["passes"].contains("trace_level2"));
+}
+
+TEST(Cli, CompareIdenticalAndDifferentImages) {
+  const auto gt = scratch() / "cmp_gt.png";
+  const auto ipr = scratch() / "cmp_ipr.exr";
+  ASSERT_EQ(run("render --scene columns --method gt" + kSmall + "--out " + gt.string()).exit_code, 0);
+  ASSERT_EQ(run("render --scene columns --method ipr" + kSmall + "--out " + ipr.string()).exit_code, 0);
+  const CommandResult same = run("compare " + gt.string() + " " + gt.string() + " --json");
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  const nlohmann::json same_json = nlohmann::json::parse(same.out);
+  EXPECT_TRUE(same_json["psnr_db"].is_null());
+  EXPECT_EQ(same_json["ssim"], 1.0);
+  const CommandResult different = run("compare " + gt.string() + " " + ipr.string());
+  ASSERT_EQ(different.exit_code, 0) << different.err;
+  EXPECT_NE(different.out.find("PSNR "), std::string::npos);
+  EXPECT_NE(different.out.find("SSIM 0.9"), std::string::npos) << different.out;
+}
+
+TEST(Cli, BenchPrintsATableAndWritesJson) {
+  const auto json_path = scratch() / "bench.json";
+  const CommandResult result =
+      run("bench --scenes primitives --spp 1 --width 48 --height 32 --repeats 1 --json " + json_path.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("| primitives | 1 |"), std::string::npos) << result.out;
+  const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
+  ASSERT_EQ(json["rows"].size(), 1u);
+  EXPECT_GT(json["rows"][0]["speedup"].get<double>(), 0.0);
+  EXPECT_NE(json["command"].get<std::string>().find("fovlab bench --scenes primitives"), std::string::npos);
+}
+
+TEST(Cli, DevicesListsLavapipeOrAGpu) {
+  const CommandResult result = run("devices");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("default: "), std::string::npos);
+}
+
+TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
+  const auto out = scratch() / "never.png";
+  const std::string render = "render --scene primitives --out " + out.string();
+  expect_one_line_error(run("render --scene nope" + kSmall + "--out " + out.string()), "nope");
+  expect_one_line_error(run(render + " --width 0 --height 32"), "--width 0");
+  expect_one_line_error(run(render + " --width 99999 --height 32"), "--width 99999");
+  expect_one_line_error(run(render + kSmall + "--spp 3"), "--spp 3");
+  expect_one_line_error(run(render + kSmall + "--method rtx"), "--method");
+  expect_one_line_error(run("render --scene primitives" + kSmall + "--out /nonexistent-folder/x.png"),
+                        "/nonexistent-folder");
+  expect_one_line_error(run(render + kSmall, "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json"),
+                        "no Vulkan");
+  expect_one_line_error(run("compare " + out.string() + " " + out.string()), "never.png");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(Cli, SceneCompileErrorNamesFileAndLine) {
+  const auto scene = scratch() / "broken.glsl";
+  std::ofstream(scene) << "// a scene with a typo\nconst vec3 SCENE_BOUNDS_MIN = vec3(0.0)\nfloat x;\n";
+  const auto out = scratch() / "broken.png";
+  const CommandResult result = run("render --scene " + scene.string() + kSmall + "--out " + out.string());
+  expect_one_line_error(result, scene.string() + ":");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(Cli, FailedRenderKeepsAnExistingOutput) {
+  const auto out = scratch() / "keep.png";
+  std::ofstream(out) << "an earlier result";
+  EXPECT_EQ(run("render --scene primitives" + kSmall + "--spp 2 --out " + out.string()).exit_code, 2);
+  EXPECT_EQ(read_all(out), "an earlier result");
+}
+
+}  // namespace

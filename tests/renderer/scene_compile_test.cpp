@@ -1,0 +1,101 @@
+// Run-time scene compilation: errors name the scene file and line; the cache avoids recompiling.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/input_error.h"
+#include "renderer/scene/scene_compiler.h"
+#include "renderer/scene/scene_source.h"
+#include "renderer/shaders/embedded_shaders.h"
+
+namespace fovlab {
+namespace {
+
+const SceneConsumerShader kTracer{"sphere_trace.comp.glsl", shaders::sphere_trace_source};
+
+SceneSource fixture_scene() { return load_scene(std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/sphere.glsl"); }
+
+std::string compile_error(const SceneSource& scene) {
+  try {
+    compile_scene_shader(scene, kTracer);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// A text no earlier run has compiled, so the cache cannot already hold it.
+std::string unique_comment() {
+  return "// " + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + "\n";
+}
+
+TEST(SceneCompile, SyntaxErrorNamesSceneFileAndLine) {
+  SceneSource scene = fixture_scene();
+  scene.path = "stimuli/scenes/broken.glsl";
+  // Line 3 of the scene gets an undeclared identifier.
+  scene.text = unique_comment() + "// line 2\nfloat broken = undeclared_thing;\n" + scene.text;
+  const std::string message = compile_error(scene);
+  EXPECT_EQ(message.rfind("stimuli/scenes/broken.glsl:3: ", 0), 0u) << message;
+  EXPECT_NE(message.find("undeclared_thing"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+}
+
+TEST(SceneCompile, MissingInterfaceFunctionNamesSceneAndInterface) {
+  SceneSource scene = fixture_scene();
+  scene.path = "my/incomplete.glsl";
+  const size_t camera = scene.text.find("void scene_camera");
+  ASSERT_NE(camera, std::string::npos);
+  scene.text = unique_comment() + scene.text.substr(0, camera);  // drop scene_camera
+  const std::string message = compile_error(scene);
+  EXPECT_EQ(message.rfind("my/incomplete.glsl: does not fit the scene interface", 0), 0u) << message;
+  EXPECT_NE(message.find("scene_camera"), std::string::npos) << message;
+}
+
+TEST(SceneCompile, UnchangedSceneComesFromTheCacheAndAChangedOneDoesNot) {
+  SceneSource scene = fixture_scene();
+  scene.text = unique_comment() + scene.text;
+  const CompiledShader first = compile_scene_shader(scene, kTracer);
+  EXPECT_FALSE(first.from_cache);
+  ASSERT_TRUE(std::filesystem::exists(first.cache_file));
+  const CompiledShader second = compile_scene_shader(scene, kTracer);
+  EXPECT_TRUE(second.from_cache);
+  EXPECT_EQ(second.spirv, first.spirv);
+
+  scene.text += "\n// changed\n";
+  EXPECT_FALSE(compile_scene_shader(scene, kTracer).from_cache);
+}
+
+TEST(SceneCompile, TornCacheFileIsCompiledAgain) {
+  SceneSource scene = fixture_scene();
+  scene.text = unique_comment() + scene.text;
+  const CompiledShader first = compile_scene_shader(scene, kTracer);
+  std::ofstream(first.cache_file, std::ios::binary | std::ios::trunc) << "not spir-v at all";
+  const CompiledShader again = compile_scene_shader(scene, kTracer);
+  EXPECT_FALSE(again.from_cache);
+  EXPECT_EQ(again.spirv, first.spirv);
+}
+
+TEST(SceneSource, UnknownNameListsTheBuiltInScenes) {
+  try {
+    load_scene("no_such_scene");
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("no_such_scene"), std::string::npos);
+    EXPECT_NE(message.find("primitives"), std::string::npos) << message;
+  }
+  EXPECT_THROW(load_scene("missing/file.glsl"), InputError);
+}
+
+TEST(SceneSource, BuiltInScenesAreTheThreeOfTheIssue) {
+  const std::vector<std::string> names = builtin_scene_names();
+  for (const char* expected : {"primitives", "columns", "temple"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+  }
+}
+
+}  // namespace
+}  // namespace fovlab
