@@ -24,7 +24,11 @@ struct CompareOptions {
 // display images, like 8-bit files.
 Image read_display_image(const std::filesystem::path& path) {
   Image image = read_image(path);
-  return path.extension() == ".exr" || path.extension() == ".EXR" ? encode_srgb(image) : image;
+  if (image.channels != 1 && image.channels != 3 && image.channels != 4) {
+    throw InputError(path.string() + ": " + std::to_string(image.channels) +
+                     " channels; expected grey (1), RGB (3) or RGBA (4)");
+  }
+  return lower_extension(path) == ".exr" ? encode_srgb(image) : image;
 }
 
 void run_compare(const CompareOptions& options) {
@@ -34,6 +38,10 @@ void run_compare(const CompareOptions& options) {
     throw InputError(options.b.string() + ": " + std::to_string(b.width) + "x" + std::to_string(b.height) +
                      " pixels; expected the size of " + options.a.string() + ", " + std::to_string(a.width) + "x" +
                      std::to_string(a.height));
+  }
+  if ((a.channels == 1) != (b.channels == 1)) {
+    throw InputError(options.b.string() + ": " + std::to_string(b.channels) + " channels; expected a " +
+                     (a.channels == 1 ? "grey" : "colour") + " image like " + options.a.string());
   }
   if (a.width < 11 || a.height < 11) {
     throw InputError(options.a.string() + ": " + std::to_string(a.width) + "x" + std::to_string(a.height) +

@@ -11,12 +11,7 @@
 namespace fovlab::app {
 
 namespace {
-bool is_exr(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension == ".exr";
-}
+bool is_exr(const std::filesystem::path& path) { return lower_extension(path) == ".exr"; }
 }  // namespace
 
 void write_colour(const std::filesystem::path& path, const Image& colour_linear) {

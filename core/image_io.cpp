@@ -13,14 +13,12 @@
 
 namespace fovlab {
 
-namespace {
 std::string lower_extension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return extension;
 }
-}  // namespace
 
 Image read_image(const std::filesystem::path& path) {
   auto input = OIIO::ImageInput::open(path.string());

@@ -2,10 +2,14 @@
 // Image files through OpenImageIO. Writes never leave a half-written file: the image goes to a
 // temporary name in the same folder, then is renamed over the target.
 #include <filesystem>
+#include <string>
 
 #include "core/image.h"
 
 namespace fovlab {
+
+// The extension of `path`, lower-case, with its dot (".exr").
+std::string lower_extension(const std::filesystem::path& path);
 
 // Reads any format OpenImageIO knows; 8-bit files come back as values in [0, 1]. Throws InputError
 // naming the path when the file is missing or unreadable.

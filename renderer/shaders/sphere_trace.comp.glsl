@@ -86,7 +86,7 @@ struct TraceResult { float t; uint steps; uint outcome; float distance; float ma
 // Sphere traces from t_start. A start inside geometry (a neighbour's depth behind a surface this ray
 // meets earlier) shows as a negative distance at the first step; the ray then restarts where it
 // enters the bounds. That first evaluation doubles as the first step of the march.
-TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t) {
+TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool refine_hit) {
   TraceResult result;
   result.steps = 0u;
   result.distance = 0.0;
@@ -111,12 +111,15 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t) {
       }
     }
     if (sample_.x < epsilon_per_unit_t * t) {
-      // One refining step onto the surface: the converged point then depends far less on where the
-      // march started, so pyramid levels and ground truth shade the same point (thin detail such
-      // as flutes otherwise shades differently within the epsilon band).
-      t += sample_.x;
-      sample_ = scene_map(ray.origin + t * ray.direction);
-      result.steps += 1u;
+      // Where the hit is shaded, one refining step onto the surface (within the cap): the shaded
+      // point then depends far less on where the march started, so IPR and GT shade the same point
+      // (thin detail such as flutes otherwise shades differently within the epsilon band). Depth
+      // levels keep the unrefined, slightly conservative distance.
+      if (refine_hit && result.steps < params.max_steps) {
+        t += sample_.x;
+        sample_ = scene_map(ray.origin + t * ray.direction);
+        result.steps += 1u;
+      }
       result.t = t;
       result.outcome = OUTCOME_HIT;
       result.distance = sample_.x;
@@ -182,7 +185,7 @@ void main() {
   if ((params.flags & FLAG_SHADE) == 0u) {
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
-    TraceResult result = fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold);
+    TraceResult result = fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false);
     level_depth[index] = result.t;
     level_steps[index] = result.steps;
     return;
@@ -195,7 +198,7 @@ void main() {
     Ray ray = fovlab_camera_ray(centre_px + fovlab_sample_offset(s, params.samples_per_pixel) * scale,
                                 pixel_angle_rad);
     float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
-    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t);
+    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, true);
     steps += result.steps;
     colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);
   }

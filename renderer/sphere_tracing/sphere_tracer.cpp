@@ -103,6 +103,12 @@ SphereTracer::~SphereTracer() = default;
 
 SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   validate(settings);
+  const VkDeviceSize colour_bytes = VkDeviceSize(settings.width) * VkDeviceSize(settings.height) * 4 * sizeof(float);
+  if (colour_bytes > context_.max_storage_buffer_bytes) {
+    throw InputError("--width x --height = " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                     ": the frame needs " + std::to_string(colour_bytes >> 20) + " MiB in one buffer; expected at most " +
+                     std::to_string(context_.max_storage_buffer_bytes >> 20) + " MiB on " + context_.description.name);
+  }
   const int level_count = settings.method == TraceMethod::ground_truth ? 1 : settings.pyramid_levels;
   const int filter_radius = settings.min_filter_size / 2;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);

@@ -32,22 +32,21 @@ Buffer::Buffer(const Context& context, VkDeviceSize size_bytes, MemoryUse use)
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer_));
-
-  VkMemoryRequirements requirements;
-  vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
-  VkMemoryPropertyFlags required = 0;
-  VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  if (use == MemoryUse::host_readback) {
-    required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
-    preferred = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
-  }
-  const uint32_t type = find_memory_type(context.memory_properties, requirements.memoryTypeBits, required, preferred);
-  coherent_ = context.memory_properties.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-
-  VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  allocate.allocationSize = requirements.size;
-  allocate.memoryTypeIndex = type;
   try {
+    VkMemoryRequirements requirements;
+    vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
+    VkMemoryPropertyFlags required = 0;
+    VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    if (use == MemoryUse::host_readback) {
+      required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+      preferred = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+    }
+    const uint32_t type = find_memory_type(context.memory_properties, requirements.memoryTypeBits, required, preferred);
+    coherent_ = context.memory_properties.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+
+    VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    allocate.allocationSize = requirements.size;
+    allocate.memoryTypeIndex = type;
     VK_CHECK(vkAllocateMemory(device_, &allocate, nullptr, &memory_));
     VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
     if (use == MemoryUse::host_readback) VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));

@@ -14,7 +14,8 @@ namespace fovlab::vk {
 namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
-constexpr uint32_t kApiVersion = VK_API_VERSION_1_1;
+constexpr uint32_t kApiVersion = VK_API_VERSION_1_1;          // the least a device must offer
+constexpr uint32_t kInstanceApiVersion = VK_API_VERSION_1_3;  // the most fovlab uses (driver properties)
 
 std::string version_string(uint32_t version) {
   return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) +
@@ -110,7 +111,7 @@ std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
 VkInstance create_instance(bool validation) {
   VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   application.pApplicationName = "fovlab";
-  application.apiVersion = kApiVersion;
+  application.apiVersion = kInstanceApiVersion;
   std::vector<const char*> layers;
   std::vector<const char*> extensions;
   if (validation) {
@@ -250,9 +251,9 @@ Context::Context(const ContextOptions& options)
     vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &family_count, families.data());
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(physical_device, &properties);
-    if (families[queue_family].timestampValidBits > 0) {
-      timestamp_period_ns = static_cast<double>(properties.limits.timestampPeriod);
-    }
+    timestamp_valid_bits = families[queue_family].timestampValidBits;
+    if (timestamp_valid_bits > 0) timestamp_period_ns = static_cast<double>(properties.limits.timestampPeriod);
+    max_storage_buffer_bytes = properties.limits.maxStorageBufferRange;
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

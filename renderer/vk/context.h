@@ -49,6 +49,8 @@ class Context {
   DeviceDescription description;
   VkPhysicalDeviceMemoryProperties memory_properties{};
   double timestamp_period_ns = 0.0;  // 0 when the queue cannot write timestamps
+  uint32_t timestamp_valid_bits = 0;
+  VkDeviceSize max_storage_buffer_bytes = 0;  // maxStorageBufferRange: the largest buffer one binding sees
   PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set = nullptr;
 
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }

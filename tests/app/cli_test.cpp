@@ -128,11 +128,12 @@ TEST(Cli, SceneCompileErrorNamesFileAndLine) {
   std::ofstream(scene) << "// a scene with a typo\nconst vec3 SCENE_BOUNDS_MIN = vec3(0.0)\nfloat x;\n";
   const auto out = scratch() / "broken.png";
   const CommandResult result = run("render --scene " + scene.string() + kSmall + "--out " + out.string());
-  expect_one_line_error(result, scene.string() + ":");
+  // The missing semicolon of line 2 is reported at the next token, on line 3.
+  expect_one_line_error(result, scene.string() + ":3: ");
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-TEST(Cli, FailedRenderKeepsAnExistingOutput) {
+TEST(Cli, RejectedRenderKeepsAnExistingOutput) {
   const auto out = scratch() / "keep.png";
   std::ofstream(out) << "an earlier result";
   EXPECT_EQ(run("render --scene primitives" + kSmall + "--spp 2 --out " + out.string()).exit_code, 2);

@@ -99,7 +99,9 @@ TEST_F(VulkanTest, MinFilterMatchesACpuNeighbourhoodMinimum) {
     }
     ASSERT_EQ(passes.size(), 1u);
     EXPECT_EQ(passes[0].name, "min_filter");
-    EXPECT_GE(passes[0].gpu_ms, 0.0);
+    if (context().timestamp_period_ns > 0) {
+      EXPECT_GT(passes[0].gpu_ms, 0.0);
+    }
   }
 }
 
