@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/image_metrics/image_metrics.h"
+#include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/render_outputs.h"
 #include "core/atomic_file.h"
@@ -73,14 +74,13 @@ struct MethodRuns {
   nlohmann::json json(const SphereTraceSettings& settings) const {
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& [name, values] : pass_ms) passes[name] = median(values);
-    const double pixels = double(settings.width) * double(settings.height);
     return {{"median_gpu_ms", median(gpu_ms)},
             {"median_wall_ms", median(wall_ms)},
             {"gpu_ms_runs", gpu_ms},
             {"median_pass_gpu_ms", passes},
             {"total_steps", frame.total_steps},
-            {"steps_per_pixel", double(frame.total_steps) / pixels},
-            {"steps_per_sample", double(frame.total_steps) / (pixels * settings.samples_per_pixel)},
+            {"steps_per_pixel", frame.mean_steps_per_pixel()},
+            {"steps_per_sample", frame.mean_steps_per_pixel() / settings.samples_per_pixel},
             {"capped_rays", frame.capped_rays},
             {"restarted_rays", frame.restarted_rays}};
   }

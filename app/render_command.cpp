@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/render_outputs.h"
 #include "core/atomic_file.h"

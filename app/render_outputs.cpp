@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <stdexcept>
 
 #include "core/colour.h"
 #include "core/image_io.h"
@@ -27,7 +26,6 @@ void write_step_heatmap(const std::filesystem::path& path, const SphereTraceResu
 
 nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettings& settings,
                           const SphereTraceResult& result, double wall_ms, const vk::Context& context) {
-  const double pixels = double(settings.width) * double(settings.height);
   nlohmann::json passes = nlohmann::json::object();
   for (const vk::PassTime& pass : result.passes) passes[pass.name] = pass.gpu_ms;
   nlohmann::json levels = nlohmann::json::array();
@@ -44,8 +42,8 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
       {"max_steps", settings.max_steps},
       {"hit_threshold", settings.hit_threshold},
       {"total_steps", result.total_steps},
-      {"steps_per_pixel", double(result.total_steps) / pixels},
-      {"steps_per_sample", double(result.total_steps) / (pixels * settings.samples_per_pixel)},
+      {"steps_per_pixel", result.mean_steps_per_pixel()},
+      {"steps_per_sample", result.mean_steps_per_pixel() / settings.samples_per_pixel},
       {"capped_rays", result.capped_rays},
       {"restarted_rays", result.restarted_rays},
       {"levels", levels},
@@ -60,26 +58,4 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
   return stats;
 }
 
-void fail_on_validation_messages(const vk::Context& context) {
-  if (context.validation_message_count() > 0) {
-    throw std::runtime_error(std::to_string(context.validation_message_count()) +
-                             " Vulkan validation message(s); see above");
-  }
-}
-
-vk::ContextOptions context_options(const std::string& device_selector) {
-  return {device_selector, vk::validation_requested_by_default()};
-}
-
-}  // namespace fovlab::app
-
-namespace fovlab::app {
-void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
-  command.add_option("--time", settings.time_s, "Scene time in seconds (camera path, moving lights)");
-  command.add_option("--levels", settings.pyramid_levels, "IPR pyramid levels, 2 to 5 (3: 1/16, 1/4, full)");
-  command.add_option("--min-filter", settings.min_filter_size, "IPR min-filter size: 1, 3 or 5");
-  command.add_option("--max-steps", settings.max_steps, "Step cap of one ray at one level");
-  command.add_option("--hit-threshold", settings.hit_threshold,
-                     "Hit when distance < t x pixel angle x this (pixel-footprint epsilon)");
-}
 }  // namespace fovlab::app

@@ -3,7 +3,6 @@
 #include <filesystem>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -23,16 +22,4 @@ void write_step_heatmap(const std::filesystem::path& path, const SphereTraceResu
 nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettings& settings,
                           const SphereTraceResult& result, double wall_ms, const vk::Context& context);
 
-// Exits with an internal error when the validation layer reported anything: a clean run is part of
-// the contract (the tests run with validation on).
-void fail_on_validation_messages(const vk::Context& context);
-
-// Context options from --device and the validation default.
-vk::ContextOptions context_options(const std::string& device_selector);
-
-}  // namespace fovlab::app
-
-namespace fovlab::app {
-// --levels, --min-filter, --max-steps, --hit-threshold, --time: shared by render and bench.
-void add_trace_options(CLI::App& command, SphereTraceSettings& settings);
 }  // namespace fovlab::app

@@ -42,9 +42,9 @@ struct MinFilterParams {
 };
 
 struct LevelBuffers {
-  PyramidLevelStats stats;
+  PyramidLevelStats stats;    // size and scale; steps are counted per render
   vk::Buffer depth;           // distance each ray reached (not for the top level)
-  vk::Buffer start_for_next;  // min-filtered depth (not for the top level)
+  vk::Buffer start_for_next;  // min-filtered depth (not for the top level, nor without a filter)
   vk::Buffer steps;
   vk::Buffer steps_readback;
 };
@@ -52,6 +52,49 @@ struct LevelBuffers {
 uint32_t ceil_div(int value, int divisor) { return static_cast<uint32_t>((value + divisor - 1) / divisor); }
 
 }  // namespace
+
+// Every buffer of one frame layout; kept between renders of the same layout, so repeated frames
+// (bench repeats, a session's frames) do not allocate.
+struct SphereTracer::FrameBuffers {
+  int width = 0;
+  int height = 0;
+  int level_count = 0;
+  bool filtered = false;
+  std::vector<LevelBuffers> levels;  // bottom (coarsest) first
+  vk::Buffer colour;
+  vk::Buffer colour_readback;
+  vk::Buffer counters;
+  vk::Buffer counters_readback;
+  vk::Buffer unused;  // bound where a pass has no such buffer
+
+  FrameBuffers(const vk::Context& context, int width_px, int height_px, int levels_count, bool with_filter)
+      : width(width_px), height(height_px), level_count(levels_count), filtered(with_filter),
+        levels(static_cast<size_t>(levels_count)) {
+    for (int i = 0; i < level_count; ++i) {
+      LevelBuffers& level = levels[static_cast<size_t>(i)];
+      level.stats.scale = 1 << (level_count - 1 - i);
+      level.stats.width = static_cast<int>(ceil_div(width, level.stats.scale));
+      level.stats.height = static_cast<int>(ceil_div(height, level.stats.scale));
+      const VkDeviceSize pixels = VkDeviceSize(level.stats.width) * VkDeviceSize(level.stats.height);
+      level.steps = vk::Buffer(context, pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
+      level.steps_readback = vk::Buffer(context, pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
+      if (i + 1 < level_count) {
+        level.depth = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
+        if (filtered) level.start_for_next = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
+      }
+    }
+    const VkDeviceSize colour_bytes = VkDeviceSize(width) * VkDeviceSize(height) * 4 * sizeof(float);
+    colour = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
+    colour_readback = vk::Buffer(context, colour_bytes, vk::MemoryUse::host_readback);
+    counters = vk::Buffer(context, 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
+    counters_readback = vk::Buffer(context, 2 * sizeof(uint32_t), vk::MemoryUse::host_readback);
+    unused = vk::Buffer(context, 16, vk::MemoryUse::device_local);
+  }
+
+  bool fits(int width_px, int height_px, int levels_count, bool with_filter) const {
+    return width == width_px && height == height_px && level_count == levels_count && filtered == with_filter;
+  }
+};
 
 const char* method_name(TraceMethod method) {
   return method == TraceMethod::ground_truth ? "gt" : "ipr";
@@ -113,27 +156,16 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   const int filter_radius = settings.min_filter_size / 2;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
 
-  std::vector<LevelBuffers> levels(static_cast<size_t>(level_count));
-  for (int i = 0; i < level_count; ++i) {
-    LevelBuffers& level = levels[static_cast<size_t>(i)];
-    level.stats.scale = 1 << (level_count - 1 - i);
-    level.stats.width = static_cast<int>(ceil_div(settings.width, level.stats.scale));
-    level.stats.height = static_cast<int>(ceil_div(settings.height, level.stats.scale));
-    const VkDeviceSize pixels = VkDeviceSize(level.stats.width) * VkDeviceSize(level.stats.height);
-    level.steps = vk::Buffer(context_, pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-    level.steps_readback = vk::Buffer(context_, pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
-    if (i + 1 < level_count) {
-      level.depth = vk::Buffer(context_, pixels * sizeof(float), vk::MemoryUse::device_local);
-      if (filter_radius > 0) {
-        level.start_for_next = vk::Buffer(context_, pixels * sizeof(float), vk::MemoryUse::device_local);
-      }
-    }
+  if (!frame_ || !frame_->fits(settings.width, settings.height, level_count, filter_radius > 0)) {
+    frame_.reset();  // free the old layout before allocating the new one
+    frame_ = std::make_unique<FrameBuffers>(context_, settings.width, settings.height, level_count, filter_radius > 0);
   }
-  vk::Buffer colour(context_, frame_pixels * 4 * sizeof(float), vk::MemoryUse::device_local);
-  vk::Buffer colour_readback(context_, frame_pixels * 4 * sizeof(float), vk::MemoryUse::host_readback);
-  vk::Buffer counters(context_, 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
-  vk::Buffer counters_readback(context_, 2 * sizeof(uint32_t), vk::MemoryUse::host_readback);
-  vk::Buffer unused(context_, 16, vk::MemoryUse::device_local);  // bound where a pass has no such buffer
+  std::vector<LevelBuffers>& levels = frame_->levels;
+  const vk::Buffer& colour = frame_->colour;
+  const vk::Buffer& colour_readback = frame_->colour_readback;
+  const vk::Buffer& counters = frame_->counters;
+  const vk::Buffer& counters_readback = frame_->counters_readback;
+  const vk::Buffer& unused = frame_->unused;
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
@@ -216,7 +248,9 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   // Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
   // per-pixel image sums to total_steps.
   result.steps_per_pixel = Image(settings.width, settings.height, 1);
-  for (LevelBuffers& level : levels) {
+  for (const LevelBuffers& level : levels) {
+    PyramidLevelStats stats = level.stats;
+    stats.steps = 0;
     level.steps_readback.invalidate();
     const auto* steps = static_cast<const uint32_t*>(level.steps_readback.mapped());
     const int scale = level.stats.scale;
@@ -225,7 +259,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       const int covered_rows = std::min(scale, settings.height - y0);
       for (int lx = 0; lx < level.stats.width; ++lx) {
         const uint32_t level_steps = steps[size_t(ly) * size_t(level.stats.width) + size_t(lx)];
-        level.stats.steps += level_steps;
+        stats.steps += level_steps;
         const int x0 = lx * scale;
         const int covered_columns = std::min(scale, settings.width - x0);
         const float share = static_cast<float>(level_steps) / static_cast<float>(covered_rows * covered_columns);
@@ -234,8 +268,8 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
         }
       }
     }
-    result.total_steps += level.stats.steps;
-    result.levels.push_back(level.stats);
+    result.total_steps += stats.steps;
+    result.levels.push_back(stats);
   }
   return result;
 }

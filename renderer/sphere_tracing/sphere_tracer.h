@@ -53,6 +53,9 @@ struct SphereTraceResult {
   std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT has one
   std::vector<vk::PassTime> passes;
   double gpu_ms = 0.0;        // sum of the passes
+
+  // All steps over the full-resolution pixel count (with spp samples the floor is about spp).
+  double mean_steps_per_pixel() const { return double(total_steps) / double(colour_linear.pixel_count()); }
 };
 
 // Compiles a scene's tracer once (or takes it from the shader cache) and renders frames of it.
@@ -67,10 +70,12 @@ class SphereTracer {
   SphereTraceResult render(const SphereTraceSettings& settings);
 
  private:
+  struct FrameBuffers;
   vk::Context& context_;
   bool shader_from_cache_ = false;
   std::unique_ptr<vk::ComputePipeline> trace_pipeline_;
   std::unique_ptr<vk::ComputePipeline> min_filter_pipeline_;
+  std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered
 };
 
 }  // namespace fovlab

@@ -40,6 +40,9 @@ Buffer::Buffer(const Context& context, VkDeviceSize size_bytes, MemoryUse use)
     if (use == MemoryUse::host_readback) {
       required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
       preferred = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+    } else if (use == MemoryUse::host_upload) {
+      required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+      preferred = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     }
     const uint32_t type = find_memory_type(context.memory_properties, requirements.memoryTypeBits, required, preferred);
     coherent_ = context.memory_properties.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -49,19 +52,30 @@ Buffer::Buffer(const Context& context, VkDeviceSize size_bytes, MemoryUse use)
     allocate.memoryTypeIndex = type;
     VK_CHECK(vkAllocateMemory(device_, &allocate, nullptr, &memory_));
     VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
-    if (use == MemoryUse::host_readback) VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+    if (use != MemoryUse::device_local) VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
   } catch (...) {
     release();
     throw;
   }
 }
 
-void Buffer::invalidate() const {
-  if (coherent_ || !mapped_) return;
+VkMappedMemoryRange Buffer::whole_range() const {
   VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
   range.memory = memory_;
   range.size = VK_WHOLE_SIZE;
+  return range;
+}
+
+void Buffer::invalidate() const {
+  if (coherent_ || !mapped_) return;
+  const VkMappedMemoryRange range = whole_range();
   VK_CHECK(vkInvalidateMappedMemoryRanges(device_, 1, &range));
+}
+
+void Buffer::flush() const {
+  if (coherent_ || !mapped_) return;
+  const VkMappedMemoryRange range = whole_range();
+  VK_CHECK(vkFlushMappedMemoryRanges(device_, 1, &range));
 }
 
 void Buffer::release() {

@@ -10,7 +10,8 @@ class Context;
 
 enum class MemoryUse {
   device_local,   // storage the GPU reads and writes; not mapped
-  host_readback,  // host-visible, mapped: the target of copies the CPU reads
+  host_readback,  // host-visible, mapped, cached where possible: the target of copies the CPU reads
+  host_upload,    // host-visible, mapped: the CPU writes it, the GPU copies from it
 };
 
 class Buffer {
@@ -25,13 +26,15 @@ class Buffer {
 
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size_bytes() const { return size_bytes_; }
-  // Mapped host pointer of a host_readback buffer (null for device_local). Call
-  // invalidate() before reading if the memory is not host-coherent.
-  const void* mapped() const { return mapped_; }
+  // Mapped host pointer of a host-visible buffer (null for device_local). On memory that is not
+  // host-coherent, call invalidate() before reading what the GPU wrote and flush() after writing.
+  void* mapped() const { return mapped_; }
   void invalidate() const;
+  void flush() const;
 
  private:
   void release();
+  VkMappedMemoryRange whole_range() const;
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;

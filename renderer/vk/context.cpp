@@ -61,13 +61,19 @@ bool has_device_extension(VkPhysicalDevice device, const char* name) {
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
-// The first queue family that can run compute work, or -1.
-int compute_queue_family(VkPhysicalDevice device) {
+std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device) {
   uint32_t count = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
   std::vector<VkQueueFamilyProperties> families(count);
   vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
-  for (uint32_t i = 0; i < count; ++i) {
+  families.resize(count);
+  return families;
+}
+
+// The first queue family that can run compute work, or -1.
+int compute_queue_family(VkPhysicalDevice device) {
+  const std::vector<VkQueueFamilyProperties> families = queue_families(device);
+  for (uint32_t i = 0; i < families.size(); ++i) {
     if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return static_cast<int>(i);
   }
   return -1;
@@ -86,6 +92,7 @@ DeviceDescription describe(VkPhysicalDevice device, uint32_t index) {
   description.index = index;
   description.name = properties.properties.deviceName;
   description.type = type_name(properties.properties.deviceType);
+  description.preference = type_preference(properties.properties.deviceType);
   description.api_version = version_string(properties.properties.apiVersion);
   if (has_driver_properties) description.driver = std::string(driver.driverName) + " " + driver.driverInfo;
   if (properties.properties.apiVersion < kApiVersion) {
@@ -153,15 +160,21 @@ std::string lower(std::string text) {
   return text;
 }
 
-uint32_t choose_device(const std::vector<VkPhysicalDevice>& devices, const std::string& selector) {
+// Descriptions of every device, in enumeration order; throws InputError when there is none.
+std::vector<DeviceDescription> describe_all(const std::vector<VkPhysicalDevice>& devices) {
   std::vector<DeviceDescription> descriptions;
-  std::string names;
-  for (uint32_t i = 0; i < devices.size(); ++i) {
-    descriptions.push_back(describe(devices[i], i));
-    names += (i ? ", " : "") + std::to_string(i) + " '" + descriptions.back().name + "'";
-  }
+  for (uint32_t i = 0; i < devices.size(); ++i) descriptions.push_back(describe(devices[i], i));
   if (descriptions.empty()) {
     throw InputError("no Vulkan device found; expected a GPU or Mesa lavapipe (mesa-vulkan-drivers)");
+  }
+  return descriptions;
+}
+
+DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, const std::string& selector) {
+  const std::vector<DeviceDescription> descriptions = describe_all(devices);
+  std::string names;
+  for (const DeviceDescription& d : descriptions) {
+    names += (d.index ? ", " : "") + std::to_string(d.index) + " '" + d.name + "'";
   }
   if (!selector.empty()) {
     const bool is_index = std::all_of(selector.begin(), selector.end(), [](unsigned char c) { return std::isdigit(c); });
@@ -170,27 +183,16 @@ uint32_t choose_device(const std::vector<VkPhysicalDevice>& devices, const std::
                                   : lower(d.name).find(lower(selector)) != std::string::npos;
       if (!match) continue;
       if (!d.usable) throw InputError("--device " + selector + ": '" + d.name + "' cannot be used: " + d.unusable_reason);
-      return d.index;
+      return d;
     }
     throw InputError("--device " + selector + ": no such device; expected an index or part of a name among " + names);
   }
-  int best = -1;
+  const DeviceDescription* best = nullptr;
   for (const DeviceDescription& d : descriptions) {
-    if (!d.usable) continue;
-    VkPhysicalDeviceProperties properties;
-    vkGetPhysicalDeviceProperties(devices[d.index], &properties);
-    if (best < 0) {
-      best = static_cast<int>(d.index);
-      continue;
-    }
-    VkPhysicalDeviceProperties best_properties;
-    vkGetPhysicalDeviceProperties(devices[static_cast<uint32_t>(best)], &best_properties);
-    if (type_preference(properties.deviceType) > type_preference(best_properties.deviceType)) {
-      best = static_cast<int>(d.index);
-    }
+    if (d.usable && (!best || d.preference > best->preference)) best = &d;
   }
-  if (best < 0) throw InputError("no usable Vulkan device among " + names + "; fovlab needs compute and VK_KHR_push_descriptor");
-  return static_cast<uint32_t>(best);
+  if (!best) throw InputError("no usable Vulkan device among " + names + "; fovlab needs compute and VK_KHR_push_descriptor");
+  return *best;
 }
 
 }  // namespace
@@ -206,19 +208,14 @@ bool validation_requested_by_default() {
 
 std::vector<DeviceDescription> list_devices() {
   VkInstance instance = create_instance(false);
-  std::vector<DeviceDescription> descriptions;
   try {
-    std::vector<VkPhysicalDevice> devices = physical_devices(instance);
-    for (uint32_t i = 0; i < devices.size(); ++i) descriptions.push_back(describe(devices[i], i));
+    std::vector<DeviceDescription> descriptions = describe_all(physical_devices(instance));
+    vkDestroyInstance(instance, nullptr);
+    return descriptions;
   } catch (...) {
     vkDestroyInstance(instance, nullptr);
     throw;
   }
-  vkDestroyInstance(instance, nullptr);
-  if (descriptions.empty()) {
-    throw InputError("no Vulkan device found; expected a GPU or Mesa lavapipe (mesa-vulkan-drivers)");
-  }
-  return descriptions;
 }
 
 Context::Context(const ContextOptions& options)
@@ -239,19 +236,14 @@ Context::Context(const ContextOptions& options)
     }
 
     std::vector<VkPhysicalDevice> devices = physical_devices(instance);
-    const uint32_t chosen = choose_device(devices, options.device_selector);
-    physical_device = devices[chosen];
-    description = describe(physical_device, chosen);
+    description = choose_device(devices, options.device_selector);
+    physical_device = devices[description.index];
     queue_family = static_cast<uint32_t>(compute_queue_family(physical_device));
     vkGetPhysicalDeviceMemoryProperties(physical_device, &memory_properties);
 
-    uint32_t family_count = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &family_count, nullptr);
-    std::vector<VkQueueFamilyProperties> families(family_count);
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &family_count, families.data());
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(physical_device, &properties);
-    timestamp_valid_bits = families[queue_family].timestampValidBits;
+    timestamp_valid_bits = queue_families(physical_device)[queue_family].timestampValidBits;
     if (timestamp_valid_bits > 0) timestamp_period_ns = static_cast<double>(properties.limits.timestampPeriod);
     max_storage_buffer_bytes = properties.limits.maxStorageBufferRange;
 

@@ -19,6 +19,7 @@ struct DeviceDescription {
   uint32_t index = 0;        // position in vkEnumeratePhysicalDevices
   std::string name;
   std::string type;          // "discrete GPU", "integrated GPU", "virtual GPU", "CPU", "other"
+  int preference = 0;        // automatic choice takes the highest: discrete > integrated > virtual > CPU
   std::string api_version;   // e.g. "1.3.230"
   std::string driver;        // driver name and info, when the device reports them
   bool usable = false;       // has a compute queue and the features fovlab needs

@@ -37,8 +37,9 @@ TEST(VulkanDevices, ListsAtLeastOneDeviceAndRejectsUnknownSelectors) {
 std::vector<float> gpu_min_filter(vk::Context& context, const std::vector<float>& depth, uint32_t width,
                                   uint32_t height, int radius, std::vector<vk::PassTime>* passes) {
   const VkDeviceSize bytes = depth.size() * sizeof(float);
-  vk::Buffer upload(context, bytes, vk::MemoryUse::host_readback);  // host-visible: written directly
-  std::memcpy(const_cast<void*>(upload.mapped()), depth.data(), bytes);
+  vk::Buffer upload(context, bytes, vk::MemoryUse::host_upload);
+  std::memcpy(upload.mapped(), depth.data(), bytes);
+  upload.flush();
   vk::Buffer input(context, bytes, vk::MemoryUse::device_local);
   vk::Buffer output(context, bytes, vk::MemoryUse::device_local);
   vk::Buffer readback(context, bytes, vk::MemoryUse::host_readback);

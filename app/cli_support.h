@@ -1,0 +1,23 @@
+#pragma once
+// What several subcommands share on the command line: the Vulkan context they open and the
+// tracing flags they accept.
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/vk/context.h"
+
+namespace fovlab::app {
+
+// Context options from --device and the validation default (vk::validation_requested_by_default).
+vk::ContextOptions context_options(const std::string& device_selector);
+
+// Throws (exit code 1) when the validation layer reported anything: a clean run is part of the
+// contract, and the tests run the command with validation on.
+void fail_on_validation_messages(const vk::Context& context);
+
+// --time, --levels, --min-filter, --max-steps, --hit-threshold.
+void add_trace_options(CLI::App& command, SphereTraceSettings& settings);
+
+}  // namespace fovlab::app
