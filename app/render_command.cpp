@@ -30,8 +30,8 @@ void run_render(const RenderOptions& options) {
   SphereTraceSettings settings = options.settings;
   settings.method = options.method == "ipr" ? TraceMethod::inverted_pyramid : TraceMethod::ground_truth;
   validate(settings);
-  check_output_path(options.out, "--out");
-  if (!options.steps_out.empty()) check_output_path(options.steps_out, "--steps-out");
+  check_image_output_path(options.out, "--out");
+  if (!options.steps_out.empty()) check_image_output_path(options.steps_out, "--steps-out");
   if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");
 
   const SceneSource scene = load_scene(options.scene);

@@ -50,6 +50,14 @@ void check_output_path(const std::filesystem::path& path, const char* flag_name)
   }
 }
 
+void check_image_output_path(const std::filesystem::path& path, const char* flag_name) {
+  check_output_path(path, flag_name);
+  if (!OIIO::ImageOutput::create(path.string())) {
+    throw InputError(std::string(flag_name) + " " + path.string() +
+                     ": unknown image format; expected a .png, .exr or other OpenImageIO extension");
+  }
+}
+
 void write_image(const std::filesystem::path& path, const Image& image) {
   const bool floating_point = lower_extension(path) == ".exr";
   const OIIO::TypeDesc file_type = floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;

@@ -115,6 +115,7 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   expect_one_line_error(run(render + " --width 99999 --height 32"), "--width 99999");
   expect_one_line_error(run(render + kSmall + "--spp 3"), "--spp 3");
   expect_one_line_error(run(render + kSmall + "--method rtx"), "--method");
+  expect_one_line_error(run(render + kSmall + "--steps-out " + (scratch() / "steps.foo").string()), "steps.foo");
   expect_one_line_error(run("render --scene primitives" + kSmall + "--out /nonexistent-folder/x.png"),
                         "/nonexistent-folder");
   expect_one_line_error(run(render + kSmall, "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json"),
