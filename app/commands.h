@@ -9,5 +9,15 @@ void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
+void add_run_command(CLI::App& app);
+void add_validate_command(CLI::App& app);
+void add_replay_command(CLI::App& app);
+void add_export_command(CLI::App& app);
+
+// Thrown by a command that finished but must report failure with this exit code (replay --verify
+// found differences: 1).
+struct CommandExit {
+  int code = 1;
+};
 
 }  // namespace fovlab::app

@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
   fovlab::app::add_compare_command(app);
   fovlab::app::add_bench_command(app);
   fovlab::app::add_devices_command(app);
+  fovlab::app::add_run_command(app);
+  fovlab::app::add_validate_command(app);
+  fovlab::app::add_replay_command(app);
+  fovlab::app::add_export_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -26,6 +30,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "fovlab: %s\n", e.what());
     return 2;
+  } catch (const fovlab::app::CommandExit& e) {
+    return e.code;
   } catch (const fovlab::InputError& e) {
     std::fprintf(stderr, "fovlab: %s\n", e.what());
     return 2;

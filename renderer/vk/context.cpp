@@ -1,19 +1,16 @@
 #include "renderer/vk/context.h"
 
-#include <algorithm>
-#include <cctype>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
 #include "core/input_error.h"
 #include "renderer/vk/check.h"
+#include "renderer/vk/instance_support.h"
 
 namespace fovlab::vk {
 
 namespace {
 
-constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 constexpr uint32_t kApiVersion = VK_API_VERSION_1_1;          // the least a device must offer
 constexpr uint32_t kInstanceApiVersion = VK_API_VERSION_1_3;  // the most fovlab uses (driver properties)
 
@@ -30,44 +27,6 @@ std::string type_name(VkPhysicalDeviceType type) {
     case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
     default: return "other";
   }
-}
-
-// Higher is preferred: real GPUs first, the CPU rasteriser last.
-int type_preference(VkPhysicalDeviceType type) {
-  switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
-  }
-}
-
-bool has_layer(const char* name) {
-  uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
-  std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
-  return std::any_of(layers.begin(), layers.end(),
-                     [&](const VkLayerProperties& layer) { return std::strcmp(layer.layerName, name) == 0; });
-}
-
-bool has_device_extension(VkPhysicalDevice device, const char* name) {
-  uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
-  std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
-  return std::any_of(extensions.begin(), extensions.end(),
-                     [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
-}
-
-std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device) {
-  uint32_t count = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
-  std::vector<VkQueueFamilyProperties> families(count);
-  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
-  families.resize(count);
-  return families;
 }
 
 // The first queue family that can run compute work, or -1.
@@ -92,7 +51,7 @@ DeviceDescription describe(VkPhysicalDevice device, uint32_t index) {
   description.index = index;
   description.name = properties.properties.deviceName;
   description.type = type_name(properties.properties.deviceType);
-  description.preference = type_preference(properties.properties.deviceType);
+  description.preference = device_type_preference(properties.properties.deviceType);
   description.api_version = version_string(properties.properties.apiVersion);
   if (has_driver_properties) description.driver = std::string(driver.driverName) + " " + driver.driverInfo;
   if (properties.properties.apiVersion < kApiVersion) {
@@ -106,15 +65,6 @@ DeviceDescription describe(VkPhysicalDevice device, uint32_t index) {
   return description;
 }
 
-std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
-  uint32_t count = 0;
-  VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, nullptr));
-  std::vector<VkPhysicalDevice> devices(count);
-  VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, devices.data()));
-  devices.resize(count);
-  return devices;
-}
-
 VkInstance create_instance(bool validation) {
   VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   application.pApplicationName = "fovlab";
@@ -122,12 +72,7 @@ VkInstance create_instance(bool validation) {
   std::vector<const char*> layers;
   std::vector<const char*> extensions;
   if (validation) {
-    if (!has_layer(kValidationLayer)) {
-      throw InputError(std::string("validation requested but ") + kValidationLayer +
-                       " is not installed; expected the Debian package vulkan-validationlayers");
-    }
-    layers.push_back(kValidationLayer);
-    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    enable_validation(layers, extensions);
   }
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &application;
@@ -142,22 +87,6 @@ VkInstance create_instance(bool validation) {
   }
   VK_CHECK(result);
   return instance;
-}
-
-VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                                     VkDebugUtilsMessageTypeFlagsEXT,
-                                                     const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                                     void* user_data) {
-  const bool is_error = severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-  std::fprintf(stderr, "fovlab: validation %s: %s\n", is_error ? "error" : "warning", data->pMessage);
-  static_cast<std::atomic<uint32_t>*>(user_data)->fetch_add(1);
-  return VK_FALSE;
-}
-
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
 }
 
 // Descriptions of every device, in enumeration order; throws InputError when there is none.
@@ -177,11 +106,8 @@ DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, co
     names += (d.index ? ", " : "") + std::to_string(d.index) + " '" + d.name + "'";
   }
   if (!selector.empty()) {
-    const bool is_index = std::all_of(selector.begin(), selector.end(), [](unsigned char c) { return std::isdigit(c); });
     for (const DeviceDescription& d : descriptions) {
-      const bool match = is_index ? std::to_string(d.index) == selector
-                                  : lower(d.name).find(lower(selector)) != std::string::npos;
-      if (!match) continue;
+      if (!device_selector_matches(selector, d.index, d.name)) continue;
       if (!d.usable) throw InputError("--device " + selector + ": '" + d.name + "' cannot be used: " + d.unusable_reason);
       return d;
     }
@@ -219,20 +145,11 @@ std::vector<DeviceDescription> list_devices() {
 }
 
 Context::Context(const ContextOptions& options)
-    : validation_messages_(std::make_unique<std::atomic<uint32_t>>(0)) {
+    : validation_log_(std::make_unique<ValidationLog>("")) {
   instance = create_instance(options.validation);
   try {
     if (options.validation) {
-      VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-      info.messageSeverity =
-          VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-      info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-      info.pfnUserCallback = on_validation_message;
-      info.pUserData = validation_messages_.get();
-      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
-      VK_CHECK(create(instance, &info, nullptr, &messenger_));
+      messenger_ = create_validation_messenger(instance, validation_messenger_info(validation_log_.get()));
     }
 
     std::vector<VkPhysicalDevice> devices = physical_devices(instance);
@@ -247,26 +164,12 @@ Context::Context(const ContextOptions& options)
     if (timestamp_valid_bits > 0) timestamp_period_ns = static_cast<double>(properties.limits.timestampPeriod);
     max_storage_buffer_bytes = properties.limits.maxStorageBufferRange;
 
-    const float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queue_info.queueFamilyIndex = queue_family;
-    queue_info.queueCount = 1;
-    queue_info.pQueuePriorities = &priority;
-    const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
-    VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    device_info.queueCreateInfoCount = 1;
-    device_info.pQueueCreateInfos = &queue_info;
-    device_info.enabledExtensionCount = 1;
-    device_info.ppEnabledExtensionNames = extensions;
-    VK_CHECK(vkCreateDevice(physical_device, &device_info, nullptr, &device));
+    device = create_device(physical_device, queue_family, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
     vkGetDeviceQueue(device, queue_family, 0, &queue);
     cmd_push_descriptor_set =
         reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR"));
 
-    VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool_info.queueFamilyIndex = queue_family;
-    VK_CHECK(vkCreateCommandPool(device, &pool_info, nullptr, &command_pool));
+    command_pool = create_command_pool(device, queue_family);
   } catch (...) {
     release();
     throw;
@@ -283,9 +186,7 @@ void Context::release() {
     device = VK_NULL_HANDLE;
   }
   if (messenger_) {
-    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
-    destroy(instance, messenger_, nullptr);
+    destroy_validation_messenger(instance, messenger_);
     messenger_ = VK_NULL_HANDLE;
   }
   if (instance) {

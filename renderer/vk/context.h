@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "renderer/vk/instance_support.h"
+
 namespace fovlab::vk {
 
 struct DeviceDescription {
@@ -56,12 +58,12 @@ class Context {
 
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
   // Warnings and errors reported by the validation layer since the context was created.
-  uint32_t validation_message_count() const { return validation_messages_->load(); }
+  uint32_t validation_message_count() const { return validation_log_->messages.load(); }
 
  private:
   void release();  // destroys whatever was created, in reverse order; safe to call twice
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
-  std::unique_ptr<std::atomic<uint32_t>> validation_messages_;
+  std::unique_ptr<ValidationLog> validation_log_;
 };
 
 // Every physical device the loader sees, usable or not. Throws InputError when there is none.

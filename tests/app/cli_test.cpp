@@ -2,53 +2,22 @@
 // no output file on bad input.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "tests/app/cli_test_support.h"
+
 namespace {
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
+using fovlab::cli_test::CommandResult;
+using fovlab::cli_test::expect_one_line_error;
+using fovlab::cli_test::read_all;
+using fovlab::cli_test::run;
 
-std::filesystem::path scratch() {
-  static const std::filesystem::path folder = [] {
-    auto path = std::filesystem::temp_directory_path() / "fovlab-cli-test";
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-    return path;
-  }();
-  return folder;
-}
-
-std::string read_all(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-CommandResult run(const std::string& arguments, const std::string& environment = "") {
-  const auto out = scratch() / "stdout.txt";
-  const auto err = scratch() / "stderr.txt";
-  const std::string command = environment + " " + FOVLAB_BINARY + " " + arguments + " >" + out.string() + " 2>" +
-                              err.string();
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(out), read_all(err)};
-}
-
-void expect_one_line_error(const CommandResult& result, const std::string& must_contain) {
-  EXPECT_EQ(result.exit_code, 2) << result.err;
-  EXPECT_NE(result.err.find(must_contain), std::string::npos) << result.err;
-  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
-}
+std::filesystem::path scratch() { return fovlab::cli_test::scratch("fovlab-cli-test"); }
 
 const std::string kSmall = " --width 48 --height 32 ";
 

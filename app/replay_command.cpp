@@ -1,0 +1,53 @@
+// fovlab replay: rebuilds a session from its log and renders its frames again; --verify compares.
+#include <cstdio>
+
+#include "app/cli_support.h"
+#include "app/commands.h"
+#include "protocols/session/replay.h"
+
+namespace fovlab::app {
+namespace {
+
+struct ReplayCommandOptions {
+  ReplayOptions replay;
+  std::string device;
+  bool verify = false;
+};
+
+void replay(ReplayCommandOptions options) {
+  const vk::ContextOptions context = context_options(options.device);
+  options.replay.device_selector = context.device_selector;
+  options.replay.validation = context.validation;
+  const ReplayOutcome outcome = replay_session(options.replay);
+  std::printf("%s: %d trials, %d presented frames compared by %s (%d rendered again%s), render %.2f s of %.2f s\n",
+              options.replay.log_path.c_str(), outcome.trials, outcome.presents_checked, outcome.comparison.c_str(),
+              outcome.frames_rendered, outcome.same_device ? ", same device" : ", another device", outcome.render_s,
+              outcome.wall_s);
+  if (outcome.comparison == "ssim") std::printf("lowest SSIM %.6f\n", outcome.lowest_ssim);
+  if (outcome.difference_count == 0) {
+    std::printf("replay matches the log\n");
+    return;
+  }
+  std::printf("%d difference(s)%s:\n", outcome.difference_count,
+              outcome.difference_count > static_cast<int>(outcome.differences.size()) ? ", the first" : "");
+  for (const std::string& difference : outcome.differences) std::printf("  %s\n", difference.c_str());
+  if (options.verify) throw CommandExit{1};
+}
+
+}  // namespace
+
+void add_replay_command(CLI::App& app) {
+  auto options = std::make_shared<ReplayCommandOptions>();
+  CLI::App* command = app.add_subcommand("replay", "Replay a session from its log (same trials, gaze and frames)");
+  command->add_option("log", options->replay.log_path, "A session log (events.jsonl)")->required();
+  command->add_flag("--verify", options->verify, "Exit 1 when anything differs from the log");
+  command->add_option("--frames-out", options->replay.frames_out, "Write every frame rendered again here (PNG)");
+  command->add_option("--reference-frames", options->replay.reference_frames,
+                      "Compare by SSIM with frames written by --frames-out on the recording device");
+  command->add_option("--min-ssim", options->replay.min_ssim, "SSIM a frame must reach with --reference-frames")
+      ->check(CLI::Range(0.0, 1.0));
+  command->add_option("--device", options->device, "Vulkan device: index or part of its name");
+  command->callback([options] { replay(*options); });
+}
+
+}  // namespace fovlab::app

@@ -1,0 +1,72 @@
+// fovlab run: one participant's session of a study (new, or resumed after the last complete trial).
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "app/cli_support.h"
+#include "app/commands.h"
+#include "core/input_error.h"
+#include "protocols/config/study_config.h"
+#include "protocols/session/session.h"
+
+namespace fovlab::app {
+namespace {
+
+struct RunOptions {
+  std::string config_path;
+  SessionOptions session;
+  std::string device;
+};
+
+bool display_available() {
+  const char* x11 = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  return (x11 && *x11) || (wayland && *wayland);
+}
+
+void run(RunOptions options) {
+  const StudyConfig config = parse_study_config_file(options.config_path);
+  SessionOptions& session = options.session;
+  if (!session.headless && !display_available()) {
+    if (session.observer.empty())
+      throw InputError("run: no display to open a window on (DISPLAY is not set); a human participant needs one "
+                       "(for a simulated pilot add --observer simulated)");
+    session.headless = true;
+  }
+  if (session.participant == "next") session.participant = next_participant_id(session.results_dir, config.name);
+  const vk::ContextOptions context = context_options(options.device);
+  session.device_selector = context.device_selector;
+  session.validation = context.validation;
+  const SessionOutcome outcome = run_session(config, session);
+  std::printf("%s: %s%s%s, %d of %d trials complete%s\n", outcome.log_path.c_str(),
+              outcome.resumed ? "resumed" : "new session", session.headless ? " (headless, virtual clock)" : "",
+              outcome.excluded ? ", participant excluded (attention checks)" : "", outcome.trials_completed,
+              outcome.trials_total, outcome.stop_reason.empty() ? "" : (" (stopped: " + outcome.stop_reason + ")").c_str());
+  const int trials_run = std::max(1, outcome.trials_run);
+  std::printf("timing: schedule %.2f ms, prepare %.2f s, trial loop %.3f s (%.2f ms a trial), %d events with "
+              "%.3f ms write+fsync each, %.2f s in all\n",
+              1e3 * outcome.plan_s, outcome.prepare_s, outcome.trial_loop_s, 1e3 * outcome.trial_loop_s / trials_run,
+              outcome.events_written, outcome.events_written ? 1e3 * outcome.log_write_s / outcome.events_written : 0.0,
+              outcome.wall_s);
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto options = std::make_shared<RunOptions>();
+  CLI::App* command = app.add_subcommand("run", "Run (or resume) a participant's session of a study");
+  command->add_option("config", options->config_path, "Study config (TOML)")->required();
+  command->add_option("--participant", options->session.participant, "Participant ID (names the log's folder); \"next\": the first unused P001, P002, ...")->required();
+  command->add_option("--observer", options->session.observer,
+                      "simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N] instead of a person at the keys");
+  command->add_flag("--headless", options->session.headless, "No window: a virtual clock (needs --observer)");
+  command->add_option("--gaze", options->session.gaze,
+                      "mouse | trace:FILE | synthetic[:seed=N] | pupil[:HOST[:PORT]] (default: mouse, or synthetic headless)");
+  command->add_option("--results", options->session.results_dir, "Results folder (default: results)");
+  command->add_option("--screenshots", options->session.screenshots_dir,
+                      "Windowed: save the instructions and the first stimulus as PNG here");
+  command->add_option("--device", options->device, "Vulkan device for rendering: index or part of its name");
+  command->callback([options] { run(*options); });
+}
+
+}  // namespace fovlab::app

@@ -1,0 +1,48 @@
+// fovlab validate: checks a study config and prints the schedule it makes (trials, blocks, time).
+#include <cstdio>
+#include <set>
+
+#include "app/commands.h"
+#include "protocols/config/study_config.h"
+#include "protocols/schedule/study_plan.h"
+
+namespace fovlab::app {
+namespace {
+
+void validate(const std::string& config_path, const std::string& participant) {
+  const StudyConfig config = parse_study_config_file(config_path);
+  const StudyPlan plan = make_study_plan(config, participant);
+  int checks = 0;
+  for (const Trial& trial : plan.trials) checks += trial.attention_check ? 1 : 0;
+  std::set<std::string> conditions;
+  for (const Trial& trial : plan.trials)
+    if (!trial.attention_check) conditions.insert(trial.condition);
+  const double minutes = plan.expected_duration_s() / 60.0;
+  std::printf("%s: valid\n", config_path.c_str());
+  std::printf("study %s, protocol %s, seed %llu; participant \"%s\" (session seed %llu)\n", config.name.c_str(),
+              protocol_name(config.protocol.kind), static_cast<unsigned long long>(config.seed), participant.c_str(),
+              static_cast<unsigned long long>(plan.session_seed));
+  std::printf("display %dx%d at %g Hz, %.1f x %.1f mm at %g mm\n", config.display.width_px, config.display.height_px,
+              config.display.refresh_hz, config.display.width_mm, config.display.height_mm,
+              config.display.viewing_distance_mm);
+  for (const PlannedBlock& block : plan.blocks)
+    std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
+  const double frame_mib = config.display.width_px * config.display.height_px * 4.0 / (1024.0 * 1024.0);
+  std::printf("trials %zu (%d attention checks), conditions %zu, stimuli %zu x %d frames (%.0f MiB prepared)\n",
+              plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(),
+              frame_mib * double(plan.stimuli.size()) * config.stimulus.frame_count());
+  std::printf("expected duration %.1f min (1.5 s an answer)\n", minutes);
+}
+
+}  // namespace
+
+void add_validate_command(CLI::App& app) {
+  auto config_path = std::make_shared<std::string>();
+  auto participant = std::make_shared<std::string>("P01");
+  CLI::App* command = app.add_subcommand("validate", "Check a study config and print its schedule summary");
+  command->add_option("config", *config_path, "Study config (TOML)")->required();
+  command->add_option("--participant", *participant, "Participant whose schedule to summarise (default P01)");
+  command->callback([config_path, participant] { validate(*config_path, *participant); });
+}
+
+}  // namespace fovlab::app

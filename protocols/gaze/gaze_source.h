@@ -1,0 +1,21 @@
+#pragma once
+// Where gaze comes from during a session: the mouse (the window presenter), a recorded trace, a
+// synthetic fixation/saccade generator, or a network eye tracker. A source answers "where is the
+// gaze at session time t"; it never blocks for long (a network source returns its latest sample).
+#include <memory>
+#include <string>
+
+#include "protocols/gaze/gaze_sample.h"
+
+namespace fovlab {
+
+class GazeSource {
+ public:
+  virtual ~GazeSource() = default;
+  // The raw sample in use at session time time_s (may be invalid; see sanitize_gaze).
+  virtual GazeSample sample(double time_s) = 0;
+  // For the log header: "mouse", "trace:path", "synthetic:seed=...", "pupil:host:port".
+  virtual std::string describe() const = 0;
+};
+
+}  // namespace fovlab

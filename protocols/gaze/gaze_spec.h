@@ -1,0 +1,36 @@
+#pragma once
+// The --gaze option of the command line: where a session's gaze comes from.
+//   mouse               the window's cursor (made by the session from its presenter, not here)
+//   trace:FILE          a recorded CSV trace (trace_gaze_source.h)
+//   synthetic           a random fixation pattern seeded from the session seed
+//   synthetic:seed=N    ... with an explicit seed (decimal, 0..2^64-1)
+//   pupil               Pupil Core on 127.0.0.1:50020
+//   pupil:HOST:PORT     Pupil Core's Pupil Remote at HOST:PORT (pupil:HOST alone means port 50020)
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "protocols/gaze/gaze_source.h"
+
+namespace fovlab {
+
+struct GazeSpec {
+  enum class Kind { mouse, trace, synthetic, pupil };
+  Kind kind = Kind::mouse;
+  std::string trace_path;         // trace
+  std::string host = "127.0.0.1";  // pupil
+  int port = 50020;                // pupil
+  uint64_t seed = 0;               // synthetic, when seed_given
+  bool seed_given = false;         // synthetic: false = derive_seed(session seed, "gaze")
+};
+
+// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil:HOST:PORT, got \"...\"").
+GazeSpec parse_gaze_spec(const std::string& text);
+
+// The source of a trace, synthetic or pupil spec for a screen of width_px x height_px (the pupil one
+// connects now, so it may throw InputError). std::logic_error for mouse: the session makes that one
+// from its window presenter.
+std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px,
+                                             uint64_t session_seed);
+
+}  // namespace fovlab

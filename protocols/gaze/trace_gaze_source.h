@@ -1,0 +1,43 @@
+#pragma once
+// Recorded gaze replayed from a CSV file.
+//
+// Format: a header line `time_s,x_px,y_px` or `time_s,x_px,y_px,valid`, then one sample a line.
+// - time_s: session seconds, finite, non-decreasing (equal times are allowed; the later line wins).
+// - x_px, y_px: screen pixels (origin top-left, y down). An empty field means the tracker had no
+//   position (invalid, "no_data"); `nan`/`inf` mean invalid, "not_finite". The position is not
+//   checked against the screen here (the source does not know the screen): sanitize_gaze does it.
+// - valid (optional): 1 or 0; 0 marks a blink (invalid, "blink", takes precedence over the above).
+// Blank lines are skipped; Windows line ends and spaces around fields are accepted. Invalid samples
+// without a position have x_px = y_px = 0.
+//
+// sample(t) is a step function, not an interpolation: it returns the last sample (as recorded,
+// with its own time_s) whose time_s <= t; before the first sample it returns the first sample.
+// A query is a binary search, O(log n).
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "protocols/gaze/gaze_source.h"
+
+namespace fovlab {
+
+// Parses the CSV text of a gaze trace. `name` (normally the path) starts every error message:
+// InputError("name:LINE: field: what was expected, got ..."). Throws when there is no sample.
+std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::string& name);
+
+class TraceGazeSource final : public GazeSource {
+ public:
+  // Reads and parses the whole file now; InputError when it cannot be read or is malformed.
+  explicit TraceGazeSource(std::string path);
+
+  GazeSample sample(double time_s) override;  // std::invalid_argument for a non-finite time
+  std::string describe() const override;      // "trace:<path>"
+
+  const std::vector<GazeSample>& samples() const { return samples_; }
+
+ private:
+  std::string path_;
+  std::vector<GazeSample> samples_;  // time_s non-decreasing, at least one
+};
+
+}  // namespace fovlab

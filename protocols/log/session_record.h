@@ -1,0 +1,41 @@
+#pragma once
+// A session as its log tells it: the header, the complete trials (trial_start ... trial_end), and
+// the state a resumed session continues from. Events of a trial that was cut off by a crash are not
+// part of any complete trial; the resumed session runs that trial again.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "protocols/log/event_log.h"
+
+namespace fovlab {
+
+struct RecordedTrial {
+  int index = 0;
+  nlohmann::json start;                  // the trial_start event
+  std::vector<nlohmann::json> stimuli;   // "stimulus" events, in order
+  std::vector<nlohmann::json> responses; // "response" events, in order
+  std::optional<nlohmann::json> attention_check;
+  std::vector<nlohmann::json> other;     // slider_saved, attention breaks
+  nlohmann::json end;                    // the trial_end event
+};
+
+struct SessionRecord {
+  nlohmann::json header;                 // the first event (session_header)
+  std::vector<RecordedTrial> trials;     // complete trials, ordered by index, one per index
+  int attention_errors = 0;              // wrong attention-check answers in complete trials
+  bool excluded = false;
+  bool ended = false;                    // a session_end event exists
+  std::string end_reason;
+  int next_trial = 0;                    // the first trial index with no complete record
+  double last_time_s = 0.0;              // the latest session time in the log
+  int incomplete_trial = -1;             // a trial started but not finished at the end of the log
+};
+
+// Throws InputError "path:LINE: ..." when the first event is not a session header of a schema this
+// build reads, or when events contradict each other (a trial_end without its start...).
+SessionRecord read_session_record(const EventLogFile& log);
+
+}  // namespace fovlab

@@ -1,0 +1,204 @@
+#include "protocols/session/session.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+
+#include "core/input_error.h"
+#include "protocols/gaze/gaze_source.h"
+#include "protocols/gaze/gaze_spec.h"
+#include "protocols/gaze/mouse_gaze_source.h"
+#include "protocols/log/event_log.h"
+#include "protocols/log/session_record.h"
+#include "protocols/presentation/headless_presenter.h"
+#include "protocols/presentation/window_presenter.h"
+#include "protocols/schedule/study_plan.h"
+#include "protocols/session/response_source.h"
+#include "protocols/session/session_header.h"
+#include "protocols/session/session_run.h"
+#include "protocols/stimuli/stimulus_library.h"
+#include "renderer/vk/context.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return text;
+}
+
+// Moves an unterminated last line aside (events.jsonl.torn-N, fsync'd) and cuts it off the log.
+std::string set_torn_tail_aside(const EventLogFile& log) {
+  std::string aside;
+  for (int n = 1;; ++n) {
+    aside = log.path + ".torn-" + std::to_string(n);
+    if (!fs::exists(aside)) break;
+  }
+  {
+    const int fd = ::open(aside.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error(aside + ": cannot create");
+    const std::string& tail = *log.torn_tail;
+    const bool ok = ::write(fd, tail.data(), tail.size()) == static_cast<ssize_t>(tail.size()) && ::fsync(fd) == 0;
+    ::close(fd);
+    if (!ok) throw std::runtime_error(aside + ": cannot write the torn line aside");
+  }
+  if (::truncate(log.path.c_str(), static_cast<off_t>(log.intact_bytes)) != 0)
+    throw std::runtime_error(log.path + ": cannot cut off the torn last line");
+  return aside;
+}
+
+
+void check_writable_directory(const fs::path& directory) {
+  std::error_code error;
+  fs::create_directories(directory, error);
+  if (error || !fs::is_directory(directory))
+    throw InputError(directory.string() + ": cannot create the results folder (" + error.message() + ")");
+  if (::access(directory.c_str(), W_OK) != 0)
+    throw InputError(directory.string() + ": the results folder is not writable");
+}
+
+}  // namespace
+
+std::string session_log_path(const std::string& results_dir, const std::string& study, const std::string& participant) {
+  return (fs::path(results_dir) / study / participant / "events.jsonl").string();
+}
+
+std::string next_participant_id(const std::string& results_dir, const std::string& study) {
+  for (int number = 1;; ++number) {
+    char id[16];
+    std::snprintf(id, sizeof id, "P%03d", number);
+    if (!fs::exists(fs::path(results_dir) / study / id)) return id;
+  }
+}
+
+SessionOutcome run_session(const StudyConfig& config, const SessionOptions& options) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const StudyPlan plan = make_study_plan(config, options.participant);
+  SessionOutcome outcome;
+  outcome.plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  outcome.trials_total = static_cast<int>(plan.trials.size());
+  outcome.log_path = session_log_path(options.results_dir, config.name, options.participant);
+
+  // Answers and gaze: parsed before anything is written.
+  std::optional<ObserverModel> observer_model;
+  if (!options.observer.empty()) observer_model = parse_observer_spec(options.observer, plan);
+  const GazeSpec gaze_spec = parse_gaze_spec(options.gaze.empty() ? (options.headless ? "synthetic" : "mouse") : options.gaze);
+  if (gaze_spec.kind == GazeSpec::Kind::mouse && options.headless)
+    throw InputError("--gaze mouse: a headless session has no pointer (use synthetic, trace:FILE or pupil:HOST:PORT)");
+  if (!observer_model && options.headless)
+    throw InputError("--headless: a headless session has no keyboard (add --observer simulated)");
+
+  // An existing log: the same study and config, intact, not finished -> resume.
+  std::optional<SessionRecord> record;
+  std::optional<EventLogFile> existing;
+  if (fs::exists(outcome.log_path)) existing = read_event_log(outcome.log_path);
+  // A crash between creating the log and completing its header line leaves no event: the session
+  // then starts afresh (a torn header line is set aside below, never used).
+  if (existing && !existing->events.empty()) {
+    if (existing->first_chain_error_line)
+      throw InputError(outcome.log_path + ":" + std::to_string(existing->first_chain_error_line) +
+                       ": the log's event chain is broken here (edited or damaged); not resuming");
+    record = read_session_record(*existing);
+    const nlohmann::json& header = record->header;
+    if (header.value("study", "") != config.name || header.value("participant", "") != options.participant)
+      throw InputError(outcome.log_path + ":1: the log belongs to study \"" + header.value("study", "") +
+                       "\", participant \"" + header.value("participant", "") + "\"");
+    if (header.value("config_hash", "") != config.hash)
+      throw InputError(config.source_path + ": differs from the config this participant started with (" +
+                       outcome.log_path + ", config_hash " + header.value("config_hash", "") +
+                       "); resume with the same config or use another participant ID");
+    const nlohmann::json observer = observer_model ? observer_json(*observer_model) : nlohmann::json("human");
+    if (!header.contains("observer") || header["observer"] != observer)
+      throw InputError(outcome.log_path + ":1: the session was started with observer " +
+                       header.value("observer", nlohmann::json()).dump() + "; resume it with the same --observer");
+    if (record->ended)
+      throw InputError(outcome.log_path + ": participant \"" + options.participant + "\" already finished this study (" +
+                       record->end_reason + "); choose another participant ID");
+    outcome.resumed = true;
+  } else if (!existing) {
+    check_writable_directory(fs::path(outcome.log_path).parent_path());
+  }
+
+  vk::Context context(vk::ContextOptions{options.device_selector, options.validation});
+  StimulusLibrary library(context);
+  std::vector<std::pair<int, StimulusSpec>> all;
+  for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
+  outcome.prepare_s = library.prepare(all);  // scene errors surface here, before any event is written
+
+  std::unique_ptr<Presenter> presenter;
+  if (options.headless) {
+    presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
+  } else {
+    WindowPresenterOptions window;
+    window.width_px = config.display.width_px;
+    window.height_px = config.display.height_px;
+    window.fullscreen = config.display.fullscreen;
+    window.title = "fovlab: " + config.name;
+    window.screenshots = !options.screenshots_dir.empty();
+    presenter = std::make_unique<WindowPresenter>(window);
+  }
+  std::unique_ptr<GazeSource> gaze;
+  if (gaze_spec.kind == GazeSpec::Kind::mouse) gaze = std::make_unique<MouseGazeSource>(*presenter);
+  else gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed);
+  std::unique_ptr<ResponseSource> responses;
+  if (observer_model) responses = std::make_unique<ObserverResponses>(*observer_model, plan);
+  else responses = std::make_unique<KeyResponses>(config.protocol.question);
+
+  std::string torn_aside;
+  if (existing && existing->torn_tail) {
+    torn_aside = set_torn_tail_aside(*existing);
+    std::fprintf(stderr, "fovlab: %s: the last line was cut off by a crash (%zu bytes); set aside in %s\n",
+                 outcome.log_path.c_str(), existing->torn_tail->size(), torn_aside.c_str());
+  }
+  EventLogWriter writer(outcome.log_path, existing ? existing->last_chain : std::string(),
+                        existing ? static_cast<int64_t>(existing->events.size()) : 0);
+  const double time_base_s = record ? record->last_time_s : 0.0;
+  SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s);
+  if (!record) {
+    SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
+                               presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
+                               gaze->describe(), presenter->refresh_hz(), utc_now()};
+    run.log(make_session_header(inputs));
+  } else {
+    nlohmann::json resumed = {{"event", "session_resumed"}, {"next_trial", record->next_trial},
+                              {"started_utc", utc_now()}, {"gaze", gaze->describe()}};
+    resumed["discarded_trial"] = record->incomplete_trial >= 0 ? nlohmann::json(record->incomplete_trial) : nlohmann::json();
+    resumed["torn_line_set_aside"] = torn_aside.empty() ? nlohmann::json() : nlohmann::json(torn_aside);
+    run.log(resumed);
+  }
+  const auto loop_start = std::chrono::steady_clock::now();
+  try {
+    const bool kept = run.run_trials(record ? record->next_trial : 0, record ? record->attention_errors : 0, record.has_value());
+    outcome.finished = true;
+    outcome.excluded = !kept;
+  } catch (const SessionAborted& aborted) {
+    outcome.stop_reason = aborted.reason;
+    run.log({{"event", "session_paused"}, {"reason", aborted.reason}});
+  }
+  outcome.trial_loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
+  if (auto* window = dynamic_cast<WindowPresenter*>(presenter.get()); window && window->validation_message_count() > 0)
+    throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +
+                             " message(s) in the session window (see stderr)");
+  outcome.trials_completed = static_cast<int>(read_session_record(read_event_log(outcome.log_path)).trials.size());
+  outcome.trials_run = outcome.trials_completed - (record ? static_cast<int>(record->trials.size()) : 0);
+  outcome.events_written = run.events_written();
+  outcome.log_write_s = writer.seconds_writing();
+  outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (context.validation_message_count() > 0)
+    throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(context.validation_message_count()) +
+                             " message(s) (see stderr)");
+  return outcome;
+}
+
+}  // namespace fovlab

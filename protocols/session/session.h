@@ -1,0 +1,53 @@
+#pragma once
+// A participant's session: a state machine over the study plan (instructions, blocks with rests,
+// trials, end) that shows stimuli through a presenter, takes answers from a response source, and
+// writes every event to the log the moment it happens (docs/log-schema.md). Running it again for a
+// participant whose log exists resumes after the last complete trial.
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "protocols/config/study_config.h"
+
+namespace fovlab {
+
+struct SessionOptions {
+  std::string participant;
+  std::string results_dir = "results";
+  std::string observer;           // "" for a human at the keys, else "simulated[:k=v,...]"
+  std::string gaze;               // "" for the default: mouse in a window, synthetic headless
+  bool headless = false;
+  std::string device_selector;    // --device
+  bool validation = false;
+  std::string screenshots_dir;    // windowed: save the instructions and the first stimulus here
+};
+
+struct SessionOutcome {
+  std::string log_path;
+  int trials_completed = 0;       // complete trials in the log, this run and earlier ones
+  int trials_total = 0;
+  int trials_run = 0;             // complete trials added by this run
+  bool resumed = false;
+  bool excluded = false;
+  bool finished = false;          // the session reached its end (all trials, or exclusion)
+  std::string stop_reason;        // why it stopped early (window closed...)
+  double plan_s = 0.0;            // building the schedule
+  double prepare_s = 0.0;         // rendering stimuli before the first trial
+  double trial_loop_s = 0.0;      // wall time from the first event of this run to its last
+  double wall_s = 0.0;
+  double log_write_s = 0.0;       // write + fsync of all events of this run
+  int events_written = 0;
+};
+
+// The log path of a participant: <results>/<study>/<participant>/events.jsonl.
+std::string session_log_path(const std::string& results_dir, const std::string& study, const std::string& participant);
+
+// "P001", "P002", ...: the first of these with no folder under <results>/<study>/ (for
+// `fovlab run --participant next`, so a demo or pilot can be started again and again).
+std::string next_participant_id(const std::string& results_dir, const std::string& study);
+
+// Everything is checked before the first event is written: participant ID, results folder,
+// an existing log (same study and config, not finished, intact), observer and gaze specs.
+SessionOutcome run_session(const StudyConfig& config, const SessionOptions& options);
+
+}  // namespace fovlab

@@ -1,0 +1,89 @@
+#include "protocols/session/session_header.h"
+
+#include <set>
+
+#include "core/content_hash.h"
+#include "core/input_error.h"
+#include "protocols/log/event_log.h"
+#include "renderer/scene/scene_source.h"
+#include "renderer/vk/context.h"
+
+#ifndef FOVLAB_VERSION
+#define FOVLAB_VERSION "unknown"
+#endif
+
+namespace fovlab {
+
+nlohmann::json observer_json(const ObserverModel& model) {
+  return {{"model", "logistic"}, {"threshold", model.threshold}, {"slope", model.slope},
+          {"guess", model.guess}, {"lapse", model.lapse}, {"mean_response_s", model.mean_response_s},
+          {"seed", model.seed}, {"higher_is_better", model.higher_is_better}};
+}
+
+ObserverModel observer_from_json(const nlohmann::json& json) {
+  try {
+    ObserverModel model;
+    model.threshold = json.at("threshold").get<double>();
+    model.slope = json.at("slope").get<double>();
+    model.guess = json.at("guess").get<double>();
+    model.lapse = json.at("lapse").get<double>();
+    model.mean_response_s = json.at("mean_response_s").get<double>();
+    model.seed = json.at("seed").get<uint64_t>();
+    model.higher_is_better = json.at("higher_is_better").get<bool>();
+    return model;
+  } catch (const nlohmann::json::exception& error) {
+    throw InputError(std::string("session_header: observer_model: ") + error.what());
+  }
+}
+
+nlohmann::json scene_hashes(const StudyPlan& plan) {
+  nlohmann::json hashes = nlohmann::json::object();
+  std::set<std::string> scenes;
+  for (const PlannedStimulus& stimulus : plan.stimuli) scenes.insert(stimulus.spec.scene);
+  for (const std::string& scene : scenes) hashes[scene] = ContentHash().add(load_scene(scene).text).hex();
+  return hashes;
+}
+
+nlohmann::json make_session_header(const SessionHeaderInputs& inputs) {
+  const StudyPlan& plan = *inputs.plan;
+  const StudyConfig& config = plan.config;
+  const DisplayConfig& display = config.display;
+  nlohmann::json header = {
+      {"event", "session_header"},
+      {"schema_version", log_schema_version},
+      {"fovlab_version", FOVLAB_VERSION},
+      {"study", config.name},
+      {"participant", plan.participant},
+      {"study_seed", config.seed},
+      {"session_seed", plan.session_seed},
+      {"config_path", config.source_path},
+      {"config_hash", config.hash},
+      {"config_toml", config.source_text},
+      {"protocol", protocol_name(config.protocol.kind)},
+      {"trial_count", plan.trials.size()},
+      {"scene_hashes", scene_hashes(plan)},
+      {"device",
+       {{"name", inputs.device->name}, {"type", inputs.device->type}, {"api_version", inputs.device->api_version},
+        {"driver", inputs.device->driver}}},
+      {"display",
+       {{"width_px", display.width_px}, {"height_px", display.height_px}, {"refresh_hz", display.refresh_hz},
+        {"measured_refresh_hz", inputs.refresh_hz}, {"width_mm", display.width_mm}, {"height_mm", display.height_mm},
+        {"viewing_distance_mm", display.viewing_distance_mm}, {"fullscreen", display.fullscreen}}},
+      {"presenter", inputs.presenter},
+      {"gaze", inputs.gaze},
+      {"observer", inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human")},
+      {"started_utc", inputs.started_utc},
+      {"t", 0.0}};
+  nlohmann::json stimuli = nlohmann::json::array();
+  for (const PlannedStimulus& stimulus : plan.stimuli) {
+    nlohmann::json entry = to_json(stimulus.spec);
+    entry["is_reference"] = stimulus.is_reference;
+    entry["variant"] = stimulus.variant;
+    entry["level"] = stimulus.level ? nlohmann::json(*stimulus.level) : nlohmann::json();
+    stimuli.push_back(entry);
+  }
+  header["stimuli"] = stimuli;
+  return header;
+}
+
+}  // namespace fovlab

@@ -1,0 +1,35 @@
+#pragma once
+// The first line of every session log: everything a replay needs to rebuild the session without
+// any other file (the whole config text, seeds, observer model, device, display, gaze source).
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "protocols/observer/simulated_observer.h"
+#include "protocols/schedule/study_plan.h"
+
+namespace fovlab {
+
+namespace vk {
+struct DeviceDescription;
+}
+
+struct SessionHeaderInputs {
+  const StudyPlan* plan = nullptr;
+  const vk::DeviceDescription* device = nullptr;
+  const ObserverModel* observer = nullptr;  // nullptr: a human at the keys
+  std::string presenter;                    // "headless", "window", "fullscreen"
+  std::string gaze;                         // GazeSource::describe()
+  double refresh_hz = 0.0;                  // measured by the presenter
+  std::string started_utc;
+};
+
+nlohmann::json make_session_header(const SessionHeaderInputs& inputs);
+
+nlohmann::json observer_json(const ObserverModel& model);
+ObserverModel observer_from_json(const nlohmann::json& json);  // throws InputError when malformed
+
+// The content hash of every scene file the plan uses, by scene name or path.
+nlohmann::json scene_hashes(const StudyPlan& plan);
+
+}  // namespace fovlab

@@ -1,0 +1,212 @@
+#include "protocols/session/session_run.h"
+
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+
+#include "protocols/presentation/frame_io.h"
+#include "protocols/presentation/text_screen.h"
+#include "protocols/presentation/window_presenter.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+double round_to(double value, double step) { return std::round(value / step) * step; }
+
+}  // namespace
+
+SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Presenter& presenter, GazeSource& gaze,
+           ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s)
+    : plan_(plan), options_(options), presenter_(presenter), gaze_(gaze), responses_(responses),
+      library_(library), log_(log), time_base_s_(time_base_s) {}
+
+void SessionRun::log(nlohmann::json event) {
+  if (!event.contains("t")) event["t"] = t();
+  log_.append(std::move(event));
+  ++events_written_;
+}
+
+void SessionRun::show_text(const std::string& text) {
+  if (!presenter_.is_headless())
+    presenter_.present(render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text));
+}
+
+void SessionRun::show_black(double duration_s) {
+  if (duration_s <= 0) return;
+  const double until = presenter_.now_s() + duration_s;
+  if (!presenter_.is_headless()) presenter_.present(black_frame(plan_.config.display.width_px, plan_.config.display.height_px));
+  presenter_.wait_until(until);
+}
+
+void SessionRun::screenshot(const std::string& name) {
+  if (options_.screenshots_dir.empty() || presenter_.is_headless()) return;
+  auto* window = dynamic_cast<WindowPresenter*>(&presenter_);
+  if (!window) return;
+  fs::create_directories(options_.screenshots_dir);
+  write_frame_image(fs::path(options_.screenshots_dir) / (name + ".png"), window->screenshot());
+}
+
+void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id) {
+  const PlannedStimulus& stimulus = plan_.stimuli.at(static_cast<size_t>(stimulus_id));
+  const int refreshes = plan_.config.stimulus.refreshes_per_frame(plan_.config.display.refresh_hz);
+  nlohmann::json present_s = nlohmann::json::array(), frames = nlohmann::json::array(),
+                 hashes = nlohmann::json::array(), gaze = nlohmann::json::array(),
+                 invalid = nlohmann::json::array();
+  const double onset = t();
+  int dropped = 0;
+  double previous = -1.0;
+  for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
+    for (int refresh = 0; refresh < refreshes; ++refresh) {
+      GazeSample sample = sanitize_gaze(gaze_.sample(t()), stimulus.spec.width_px, stimulus.spec.height_px,
+                                        last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
+      sample.x_px = round_to(sample.x_px, 0.01);  // what is logged is exactly what is used
+      sample.y_px = round_to(sample.y_px, 0.01);
+      if (sample.valid) last_valid_gaze_ = sample;
+      const PreparedFrame& shown = library_.frame(stimulus_id, stimulus.spec, frame, sample);
+      const double shown_at = time_base_s_ + presenter_.present(shown.image);
+      if (previous >= 0) {
+        const long periods = std::lround((shown_at - previous) * presenter_.refresh_hz());
+        if (periods > 1) dropped += static_cast<int>(periods - 1);
+      }
+      previous = shown_at;
+      if (!sample.valid) invalid.push_back({{"i", present_s.size()}, {"reason", sample.invalid_reason}});
+      present_s.push_back(shown_at);
+      frames.push_back(frame);
+      hashes.push_back(shown.hash);
+      gaze.push_back({sample.x_px, sample.y_px});
+    }
+    if (frame == 0 && !screenshot_taken_) {
+      screenshot("stimulus");
+      screenshot_taken_ = true;
+    }
+  }
+  log({{"event", "stimulus"}, {"trial", trial.index}, {"step", step}, {"stimulus", stimulus_id},
+       {"onset_s", onset}, {"t", t()}, {"present_s", present_s}, {"frame", frames}, {"hash", hashes},
+       {"gaze", gaze}, {"invalid_gaze", invalid}, {"dropped_frames", dropped}});
+}
+
+std::string SessionRun::question_screen() const {
+  const QuestionConfig& question = plan_.config.protocol.question;
+  std::string keys;
+  for (const auto& [answer, answer_keys] : question.answers) {
+    std::string key = answer_keys.front();
+    if (key.size() == 1) key[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(key[0])));
+    keys += (keys.empty() ? "" : "    ") + key + ": " + answer;
+  }
+  return question.text + "\n\n" + keys;
+}
+
+Answer SessionRun::ask(const Trial& trial, int step, int ladder_index) {
+  show_text(question_screen());
+  AnswerRequest request{&trial, step, ladder_index, presenter_.now_s()};
+  const std::optional<Answer> answer =
+      responses_.await(request, presenter_, plan_.config.timing.response_timeout_s);
+  Answer result = answer.value_or(Answer{"", "", presenter_.now_s()});
+  log({{"event", "response"}, {"trial", trial.index}, {"step", step}, {"answer", result.answer},
+       {"key", result.key}, {"rt_s", result.time_s - request.onset_s}, {"t", time_base_s_ + result.time_s}});
+  return result;
+}
+
+std::string SessionRun::run_comparison(const Trial& trial) {
+  for (size_t step = 0; step < trial.sequence.size(); ++step) {
+    if (step > 0) show_black(plan_.config.timing.black_interval_s);
+    present_stimulus(trial, static_cast<int>(step), trial.sequence[step]);
+  }
+  return ask(trial, 0, 0).answer;
+}
+
+void SessionRun::run_ramp(const Trial& trial) {
+  for (size_t step = 0; step < trial.sequence.size(); ++step) {
+    if (step > 0) show_black(plan_.config.timing.black_interval_s);
+    present_stimulus(trial, static_cast<int>(step), trial.sequence[step]);
+    if (step > 0) ask(trial, static_cast<int>(step), 0);
+  }
+}
+
+void SessionRun::run_slider(const Trial& trial) {
+  present_stimulus(trial, 0, trial.reference);
+  int ladder_index = trial.slider_start;
+  int step = 1;
+  for (int action = 0;; ++action) {
+    show_black(plan_.config.timing.black_interval_s);
+    present_stimulus(trial, step++, trial.sequence.at(static_cast<size_t>(ladder_index)));
+    const Answer answer = ask(trial, action, ladder_index);
+    if (answer.answer == "save") {
+      log({{"event", "slider_saved"}, {"trial", trial.index}, {"ladder_index", ladder_index},
+           {"stimulus", trial.sequence.at(static_cast<size_t>(ladder_index))},
+           {"level", plan_.stimuli.at(static_cast<size_t>(trial.sequence.at(static_cast<size_t>(ladder_index)))).level.value_or(0.0)}});
+      return;
+    }
+    if (answer.answer == "up" && ladder_index + 1 < static_cast<int>(trial.sequence.size())) ++ladder_index;
+    if (answer.answer == "down" && ladder_index > 0) --ladder_index;
+    if (answer.answer == "reference") {
+      show_black(plan_.config.timing.black_interval_s);
+      present_stimulus(trial, step++, trial.reference);
+    }
+  }
+}
+
+bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
+  const StudyConfig& config = plan_.config;
+  {
+    show_text(resumed ? "The session resumes where it stopped.\n\n" + config.instructions : config.instructions);
+    screenshot("instructions");
+    AnswerRequest request{nullptr, 0, 0, presenter_.now_s()};
+    responses_.await(request, presenter_, 0.0);
+    log({{"event", "instructions"}, {"shown_s", time_base_s_ + request.onset_s}});
+  }
+  for (size_t index = static_cast<size_t>(first); index < plan_.trials.size(); ++index) {
+    const Trial& trial = plan_.trials[index];
+    const PlannedBlock& block = plan_.blocks.at(static_cast<size_t>(trial.block));
+    if (trial.index == block.first_trial || static_cast<int>(index) == first) {
+      if (trial.index == block.first_trial && trial.block > 0 && config.timing.rest_between_blocks_s > 0) {
+        const double start = t();
+        show_text("Rest. The next block starts in " + std::to_string(int(config.timing.rest_between_blocks_s)) + " s.");
+        presenter_.wait_until(presenter_.now_s() + config.timing.rest_between_blocks_s);
+        log({{"event", "break"}, {"reason", "rest"}, {"start_s", start}, {"duration_s", t() - start}});
+      }
+      log({{"event", "block_start"}, {"block", trial.block}, {"name", block.name}, {"scene", block.scene}});
+    }
+    nlohmann::json start = {{"event", "trial_start"}, {"trial", trial.index}, {"block", trial.block},
+                            {"condition", trial.condition}, {"variant", trial.variant},
+                            {"attention_check", trial.attention_check}, {"sequence", trial.sequence},
+                            {"reference", trial.reference}};
+    if (trial.level) start["level"] = *trial.level;
+    if (config.protocol.kind == ProtocolKind::ramp) start["ramp_toward_reference"] = trial.ramp_toward_reference;
+    else if (config.protocol.kind == ProtocolKind::slider) start["slider_start"] = trial.slider_start;
+    else start["reference_first"] = trial.reference_first;
+    log(start);
+
+    std::string answer;
+    if (config.protocol.kind == ProtocolKind::ramp) run_ramp(trial);
+    else if (config.protocol.kind == ProtocolKind::slider) run_slider(trial);
+    else answer = run_comparison(trial);
+
+    if (trial.attention_check) {
+      const bool correct = answer == (config.protocol.kind == ProtocolKind::rating ? "3" : "same");
+      if (!correct) ++attention_errors;
+      log({{"event", "attention_check"}, {"trial", trial.index}, {"correct", correct}, {"errors", attention_errors}});
+      if (!correct && attention_errors < config.attention.max_errors && config.attention.break_s > 0) {
+        const double break_start = t();
+        show_text("Please take a break of at least " + std::to_string(int(config.attention.break_s)) + " s.");
+        presenter_.wait_until(presenter_.now_s() + config.attention.break_s);
+        log({{"event", "break"}, {"trial", trial.index}, {"reason", "attention_check"}, {"start_s", break_start},
+             {"duration_s", t() - break_start}});
+      }
+    }
+    log({{"event", "trial_end"}, {"trial", trial.index}});
+    if (attention_errors >= config.attention.max_errors && config.attention.share > 0) {
+      log({{"event", "excluded"}, {"errors", attention_errors}, {"max_errors", config.attention.max_errors}});
+      log({{"event", "session_end"}, {"reason", "excluded"}, {"completed_trials", trial.index + 1}});
+      return false;
+    }
+    show_black(config.timing.inter_trial_s);
+  }
+  show_text("Thank you. The session is complete.");
+  log({{"event", "session_end"}, {"reason", "completed"}, {"completed_trials", plan_.trials.size()}});
+  return true;
+}
+
+}  // namespace fovlab

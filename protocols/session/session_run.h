@@ -1,0 +1,62 @@
+#pragma once
+// The state machine of one run of a session: instructions, then the plan's trials from a given
+// index (block rests, stimuli, questions, attention checks and breaks), then the end; every step is
+// logged as it happens. run_session (session.h) sets it up: plan, presenter, gaze, answers, log.
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "protocols/gaze/gaze_source.h"
+#include "protocols/log/event_log.h"
+#include "protocols/presentation/presenter.h"
+#include "protocols/schedule/study_plan.h"
+#include "protocols/session/response_source.h"
+#include "protocols/session/session.h"
+#include "protocols/stimuli/stimulus_library.h"
+
+namespace fovlab {
+
+class SessionRun {
+ public:
+  // time_base_s: the session time at which this run starts (the last logged time when resuming).
+  SessionRun(const StudyPlan& plan, const SessionOptions& options, Presenter& presenter, GazeSource& gaze,
+             ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s);
+
+  // Session time now.
+  double t() { return time_base_s_ + presenter_.now_s(); }
+  // Appends an event, with "t" unless it has one.
+  void log(nlohmann::json event);
+  // Runs trials from `first` to the end; returns false when the participant was excluded. Throws
+  // SessionAborted when the participant closes the window.
+  bool run_trials(int first, int attention_errors, bool resumed);
+  int events_written() const { return events_written_; }
+
+ private:
+  void show_text(const std::string& text);
+  void show_black(double duration_s);
+  void screenshot(const std::string& name);
+  // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh.
+  void present_stimulus(const Trial& trial, int step, int stimulus_id);
+  // The question with the first key of each answer, e.g. "... \n\nS: same    D: different".
+  std::string question_screen() const;
+  // Shows the question and waits for an answer; logs it. A timeout logs an answer of "" (missed).
+  Answer ask(const Trial& trial, int step, int ladder_index);
+  std::string run_comparison(const Trial& trial);  // returns the answer
+  void run_ramp(const Trial& trial);
+  void run_slider(const Trial& trial);
+
+  const StudyPlan& plan_;
+  const SessionOptions& options_;
+  Presenter& presenter_;
+  GazeSource& gaze_;
+  ResponseSource& responses_;
+  StimulusLibrary& library_;
+  EventLogWriter& log_;
+  double time_base_s_;
+  std::optional<GazeSample> last_valid_gaze_;
+  bool screenshot_taken_ = false;
+  int events_written_ = 0;
+};
+
+}  // namespace fovlab

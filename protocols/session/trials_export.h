@@ -1,0 +1,17 @@
+#pragma once
+// trials.csv: one row a complete trial, tidy (one value a cell, a header row, RFC 4180 quoting), so
+// pandas.read_csv and R's read.csv take it as is. Columns in docs/log-schema.md.
+#include <string>
+#include <vector>
+
+namespace fovlab {
+
+// A log file itself, or every results/<study>/<participant>/events.jsonl under a folder (sorted).
+// Throws InputError when there is none.
+std::vector<std::string> find_session_logs(const std::string& path);
+
+// The CSV text for these logs (complete trials only; a torn last line is ignored and reported on
+// stderr). Throws InputError for a log that cannot be read.
+std::string export_trials_csv(const std::vector<std::string>& log_paths);
+
+}  // namespace fovlab

@@ -1,0 +1,5 @@
+# protocols/stimuli: sources of fovlab_protocols and their tests (paths from the repository root).
+list(APPEND protocols_sources
+  ${CMAKE_SOURCE_DIR}/protocols/stimuli/stimulus_spec.cpp)
+list(APPEND protocols_sources
+  ${CMAKE_SOURCE_DIR}/protocols/stimuli/stimulus_library.cpp)

@@ -1,0 +1,63 @@
+#pragma once
+// Running the fovlab command from a test: its exit code, stdout and stderr, and scratch folders.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace fovlab::cli_test {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// temp/<name>, emptied the first time this process asks for it.
+inline std::filesystem::path scratch(const std::string& name) {
+  static std::set<std::string> prepared;
+  const auto path = std::filesystem::temp_directory_path() / name;
+  if (prepared.insert(name).second) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  return path;
+}
+
+inline std::string read_all(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Runs `<environment> fovlab <arguments>` through the shell; environment is a command prefix such
+// as "env -u DISPLAY" or "FOVLAB_VALIDATION=0", empty for none.
+inline CommandResult run(const std::string& arguments, const std::string& environment = "") {
+  // Per process, so test processes running side by side do not share them.
+  const auto capture = std::filesystem::temp_directory_path() / ("fovlab-cli-" + std::to_string(getpid()));
+  const auto out = capture.string() + ".stdout.txt";
+  const auto err = capture.string() + ".stderr.txt";
+  const std::string command = environment + " " + FOVLAB_BINARY + " " + arguments + " >" + out + " 2>" + err;
+  const int status = std::system(command.c_str());
+  CommandResult result{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(out), read_all(err)};
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return result;
+}
+
+// Bad input: exit code 2 and one line on stderr containing `must_contain`.
+inline void expect_one_line_error(const CommandResult& result, const std::string& must_contain) {
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_NE(result.err.find(must_contain), std::string::npos) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+}  // namespace fovlab::cli_test

@@ -1,0 +1,113 @@
+// The study commands end to end (run, validate, replay, export): what they print and write, and
+// bad input as one line with exit code 2 and nothing written.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/app/cli_test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using fovlab::cli_test::CommandResult;
+using fovlab::cli_test::expect_one_line_error;
+using fovlab::cli_test::read_all;
+
+fs::path scratch() { return fovlab::cli_test::scratch("fovlab-study-cli-test"); }
+
+// DISPLAY is cleared: these sessions are headless whatever the machine has.
+CommandResult run(const std::string& arguments) {
+  return fovlab::cli_test::run(arguments, "env -u DISPLAY -u WAYLAND_DISPLAY");
+}
+
+std::string fixture(const std::string& name) {
+  return (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (name + ".toml")).string();
+}
+
+fs::path write_config(const std::string& name, const std::string& from, const std::string& to) {
+  std::string text = read_all(fixture("tiny_2afc"));
+  text.replace(text.find(from), from.size(), to);
+  // Beside the fixtures, so the relative scene path still resolves.
+  const fs::path path = fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / ("generated_" + name + ".toml");
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(StudyCli, ValidatePrintsTheSchedule) {
+  const CommandResult result = run("validate " + fixture("tiny_2afc"));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("trials 40 (8 attention checks), conditions 4, stimuli 10 x 2 frames"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("block sphere"), std::string::npos) << result.out;
+}
+
+TEST(StudyCli, RunNextParticipantThenReplayAndExport) {
+  const fs::path results = scratch() / "results-next";
+  const std::string common = fixture("rating") + " --participant next --observer simulated --results " + results.string();
+  const CommandResult first = run("run " + common);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_NE(first.out.find("(headless, virtual clock)"), std::string::npos) << first.out;
+  const CommandResult second = run("run " + common);
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  const fs::path log1 = results / "tiny_rating/P001/events.jsonl";
+  const fs::path log2 = results / "tiny_rating/P002/events.jsonl";
+  EXPECT_NE(first.out.find(log1.string()), std::string::npos) << first.out;
+  EXPECT_TRUE(fs::exists(log1) && fs::exists(log2));
+
+  const CommandResult replay = run("replay --verify " + log1.string());
+  EXPECT_EQ(replay.exit_code, 0) << replay.out << replay.err;
+  EXPECT_NE(replay.out.find("replay matches the log"), std::string::npos) << replay.out;
+
+  const CommandResult exported = run("export " + (results / "tiny_rating").string());
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  const std::string csv = read_all(results / "tiny_rating/trials.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 20);  // header + two participants of 20 trials
+  // A second export without --force keeps the file.
+  expect_one_line_error(run("export " + (results / "tiny_rating").string()), "exists (pass --force");
+  EXPECT_EQ(run("export --force " + (results / "tiny_rating").string()).exit_code, 0);
+
+  // An altered log fails verification with exit code 1 and names the difference.
+  std::string text = read_all(log1);
+  const size_t at = text.find("\"answer\":\"");
+  ASSERT_NE(at, std::string::npos);
+  text[at + 10] = text[at + 10] == '3' ? '1' : '3';
+  const fs::path altered = scratch() / "altered.jsonl";
+  std::ofstream(altered, std::ios::binary) << text;
+  const CommandResult bad = run("replay --verify " + altered.string());
+  EXPECT_EQ(bad.exit_code, 1) << bad.out;
+  EXPECT_NE(bad.out.find("event chain breaks"), std::string::npos) << bad.out;
+}
+
+TEST(StudyCli, BadInputIsOneLineWithExitCode2AndWritesNothing) {
+  const fs::path results = scratch() / "results-bad";
+  const std::string tail = " --observer simulated --results " + results.string();
+  expect_one_line_error(run("run " + write_config("unknown_key", "[display]", "[display]\nwidht_px = 3").string() +
+                            " --participant P1" + tail),
+                        ".toml:7: display.widht_px: unknown key");
+  expect_one_line_error(run("run " + write_config("bad_type", "repeats = 4", "repeats = \"four\"").string() +
+                            " --participant P1" + tail),
+                        "protocol.repeats: expected an integer, got a string");
+  expect_one_line_error(run("run " + write_config("range", "refresh_hz = 60", "refresh_hz = 0").string() +
+                            " --participant P1" + tail),
+                        "display.refresh_hz: expected a value in [1, 1000], got 0");
+  expect_one_line_error(run("run " + write_config("scene", "scene = \"primitives\"", "scene = \"no_such_scene\"").string() +
+                            " --participant P1" + tail),
+                        "block[2].scene: no built-in scene or file \"no_such_scene\"");
+  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant ../P1" + tail), "--participant: expected");
+  expect_one_line_error(run("run /no/such/study.toml --participant P1" + tail), "/no/such/study.toml: cannot open");
+  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --gaze eyes" + tail), "--gaze: expected");
+  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --observer simulated:slope=-1 --results " +
+                            results.string()),
+                        "--observer: slope=-1");
+  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --results " + results.string()),
+                        "no display");
+  expect_one_line_error(run("validate " + write_config("toml", "[display]", "[display\n").string()), "not valid TOML");
+  EXPECT_FALSE(fs::exists(results)) << "bad input created " << results;
+  for (const char* name : {"unknown_key", "bad_type", "range", "scene", "toml"})
+    fs::remove(fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (std::string("generated_") + name + ".toml"));
+}
+
+}  // namespace

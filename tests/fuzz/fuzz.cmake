@@ -1,0 +1,49 @@
+# Fuzzing the study-config parser and the session-log reader (tests/fuzz/*_fuzz.cpp).
+# Included at the end of the top CMakeLists.txt, after fovlab_tests exists.
+#
+# Every build: fovlab_config_corpus and fovlab_log_corpus replay the checked-in corpus
+# (tests/fuzz/corpus/{config,log}) through the same harnesses without libFuzzer, as the CTest
+# entries FuzzCorpus.config and FuzzCorpus.log.
+#
+# -DFOVLAB_FUZZ=ON (clang only; scripts/fuzz configures build/fuzz this way): also the libFuzzer
+# targets fovlab_config_fuzz and fovlab_log_fuzz. The rest of the project must be instrumented
+# too, which this late include cannot arrange for targets already defined: pass
+# -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link" (scripts/fuzz does).
+option(FOVLAB_FUZZ "Build the libFuzzer targets fovlab_config_fuzz and fovlab_log_fuzz (clang; see scripts/fuzz)" OFF)
+
+set(fovlab_fuzz_dir ${CMAKE_SOURCE_DIR}/tests/fuzz)
+
+foreach(fovlab_fuzz_name config log)
+  add_executable(fovlab_${fovlab_fuzz_name}_corpus
+    ${fovlab_fuzz_dir}/corpus_runner.cpp
+    ${fovlab_fuzz_dir}/${fovlab_fuzz_name}_fuzz.cpp)
+  target_link_libraries(fovlab_${fovlab_fuzz_name}_corpus PRIVATE fovlab_protocols fovlab_warnings)
+  add_test(NAME FuzzCorpus.${fovlab_fuzz_name}
+    COMMAND fovlab_${fovlab_fuzz_name}_corpus ${fovlab_fuzz_dir}/corpus/${fovlab_fuzz_name})
+  set_tests_properties(FuzzCorpus.${fovlab_fuzz_name} PROPERTIES
+    ENVIRONMENT "FOVLAB_VALIDATION=1"
+    TIMEOUT 120)
+endforeach()
+
+if(FOVLAB_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "FOVLAB_FUZZ=ON needs clang (libFuzzer); configure with CXX=clang++ (scripts/fuzz does)")
+  endif()
+  if(NOT CMAKE_CXX_FLAGS MATCHES "fuzzer-no-link" OR NOT CMAKE_CXX_FLAGS MATCHES "address")
+    message(FATAL_ERROR "FOVLAB_FUZZ=ON: the whole project must be instrumented; configure with "
+                        "-DCMAKE_CXX_FLAGS=\"-fsanitize=address,undefined,fuzzer-no-link\" (scripts/fuzz does)")
+  endif()
+  # Debian's toml++ is a prebuilt shared library (-DTOML_HEADER_ONLY=0), compiled without coverage
+  # or sanitizers: the TOML parser, the bulk of the config parsing, would be invisible to the
+  # fuzzer. In this build use its header-only mode instead, so it is compiled (and instrumented)
+  # into fovlab_protocols; its inline definitions take precedence over the shared library's.
+  if(TARGET tomlplusplus::tomlplusplus)
+    set_property(TARGET tomlplusplus::tomlplusplus PROPERTY INTERFACE_COMPILE_OPTIONS -DTOML_HEADER_ONLY=1)
+  endif()
+  foreach(fovlab_fuzz_name config log)
+    add_executable(fovlab_${fovlab_fuzz_name}_fuzz ${fovlab_fuzz_dir}/${fovlab_fuzz_name}_fuzz.cpp)
+    target_link_libraries(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE fovlab_protocols fovlab_warnings)
+    target_compile_options(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE -fsanitize=fuzzer,address,undefined)
+    target_link_options(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE -fsanitize=fuzzer,address,undefined)
+  endforeach()
+endif()

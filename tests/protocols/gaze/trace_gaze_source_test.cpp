@@ -1,0 +1,160 @@
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/input_error.h"
+#include "core/prng.h"
+#include "protocols/gaze/trace_gaze_source.h"
+#include "tests/protocols/gaze/temp_dir.h"
+
+namespace fovlab {
+namespace {
+
+using fovlab::testing::GazeTempDir;
+
+// The InputError message of constructing a trace from this file (empty when none was thrown).
+std::string error_of(const std::string& path) {
+  try {
+    TraceGazeSource source(path);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(GazeTrace, StepFunctionReturnsTheLatestSampleAtOrBeforeT) {
+  const GazeTempDir dir;
+  const std::string path = dir.write("gaze.csv",
+                                     "time_s,x_px,y_px\n"
+                                     "0.0,100,200\n"
+                                     "0.5,110.5,210.25\n"
+                                     "1.0,300,400\n");
+  TraceGazeSource source(path);
+  EXPECT_EQ(source.describe(), "trace:" + path);
+  ASSERT_EQ(source.samples().size(), 3u);
+
+  struct Case {
+    double t;
+    double time, x, y;
+  };
+  for (const Case& c : std::vector<Case>{{-1.0, 0.0, 100, 200},  // before the trace: the first sample
+                                         {0.0, 0.0, 100, 200},
+                                         {0.25, 0.0, 100, 200},  // no interpolation
+                                         {0.5, 0.5, 110.5, 210.25},
+                                         {0.999, 0.5, 110.5, 210.25},
+                                         {1.0, 1.0, 300, 400},
+                                         {1e6, 1.0, 300, 400}}) {
+    SCOPED_TRACE("t = " + std::to_string(c.t));
+    const GazeSample sample = source.sample(c.t);
+    EXPECT_TRUE(sample.valid);
+    EXPECT_EQ(sample.invalid_reason, "");
+    EXPECT_DOUBLE_EQ(sample.time_s, c.time);
+    EXPECT_DOUBLE_EQ(sample.x_px, c.x);
+    EXPECT_DOUBLE_EQ(sample.y_px, c.y);
+  }
+  // Going backwards gives the same answers.
+  EXPECT_DOUBLE_EQ(source.sample(0.25).x_px, 100.0);
+}
+
+TEST(GazeTrace, ValidColumnEmptyFieldsNanSpacesAndCrlf) {
+  const GazeTempDir dir;
+  const std::string path = dir.write("gaze.csv",
+                                     "\xEF\xBB\xBFtime_s, x_px, y_px, valid\r\n"
+                                     "0.0, 10, 20, 1\r\n"
+                                     "\r\n"
+                                     "0.1,11,21,0\r\n"
+                                     "0.2,,,1\r\n"
+                                     "0.3,nan,5,1\r\n"
+                                     "0.4,12,22,1\r\n"
+                                     "0.4,13,23,1\r\n"
+                                     "0.5,,,0\r\n");
+  TraceGazeSource source(path);
+  ASSERT_EQ(source.samples().size(), 7u);
+
+  GazeSample s = source.sample(0.05);
+  EXPECT_TRUE(s.valid);
+  EXPECT_DOUBLE_EQ(s.x_px, 10.0);
+  s = source.sample(0.15);
+  EXPECT_FALSE(s.valid);
+  EXPECT_EQ(s.invalid_reason, "blink");
+  EXPECT_DOUBLE_EQ(s.x_px, 11.0);  // a blink keeps the recorded position
+  s = source.sample(0.25);
+  EXPECT_FALSE(s.valid);
+  EXPECT_EQ(s.invalid_reason, "no_data");
+  EXPECT_DOUBLE_EQ(s.x_px, 0.0);
+  s = source.sample(0.35);
+  EXPECT_FALSE(s.valid);
+  EXPECT_EQ(s.invalid_reason, "not_finite");
+  EXPECT_DOUBLE_EQ(s.x_px, 0.0);
+  s = source.sample(0.45);  // equal times: the later line wins
+  EXPECT_TRUE(s.valid);
+  EXPECT_DOUBLE_EQ(s.x_px, 13.0);
+  EXPECT_DOUBLE_EQ(s.y_px, 23.0);
+  s = source.sample(0.5);
+  EXPECT_EQ(s.invalid_reason, "blink");  // valid=0 wins over empty fields
+}
+
+TEST(GazeTrace, BinarySearchAgreesWithALinearScan) {
+  std::string text = "time_s,x_px,y_px\n";
+  std::vector<double> times;
+  Pcg32 rng(7);
+  double t = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    t += rng.below(3) * 0.004;  // repeats included
+    times.push_back(t);
+    text += std::to_string(t) + "," + std::to_string(i) + ",0\n";
+  }
+  const std::vector<GazeSample> samples = parse_gaze_trace(text, "inline.csv");
+  ASSERT_EQ(samples.size(), 2000u);
+  const GazeTempDir dir;
+  TraceGazeSource source(dir.write("big.csv", text));
+  for (int query = 0; query < 500; ++query) {
+    const double q = rng.uniform(-0.1, t + 0.1);
+    size_t expected = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      if (samples[i].time_s <= q) expected = i;
+    }
+    ASSERT_DOUBLE_EQ(source.sample(q).x_px, static_cast<double>(expected)) << "t = " << q;
+  }
+}
+
+TEST(GazeTrace, MalformedLinesNameFileLineAndField) {
+  const GazeTempDir dir;
+  const auto error_for = [&](const std::string& text) { return error_of(dir.write("gaze.csv", text)); };
+  const std::string p = (dir.path() / "gaze.csv").string();
+
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1,2\nabc,1,2\n"), p + ":3: time_s: expected a number, got \"abc\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1,2\n1.5,1,2\n\n1.2,1,2\n"),
+            p + ":5: time_s: 1.2 is earlier than the previous sample (1.5)");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\nnan,1,2\n"), p + ":2: time_s: expected a finite number, got \"nan\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1x,2\n"),
+            p + ":2: x_px: expected a number, an empty field or nan, got \"1x\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px,valid\n0,1,2,yes\n"), p + ":2: valid: expected 0 or 1, got \"yes\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1\n"),
+            p + ":2: expected 3 comma-separated fields (time_s,x_px,y_px), got 2");
+  EXPECT_EQ(error_for("t,x,y\n0,1,2\n"),
+            p + ":1: expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got \"t,x,y\"");
+  EXPECT_EQ(error_for(""),
+            p + ":1: expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got an empty file");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n"), p + ": expected at least one gaze sample after the header, got none");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1,2\n"), "");  // and a good one passes
+}
+
+TEST(GazeTrace, MissingFileIsAnInputError) {
+  const GazeTempDir dir;
+  const std::string path = (dir.path() / "absent.csv").string();
+  EXPECT_EQ(error_of(path), path + ": cannot open gaze trace (No such file or directory)");
+  EXPECT_EQ(error_of(dir.path().string()), dir.path().string() + ": cannot open gaze trace (Is a directory)");
+}
+
+TEST(GazeTrace, NonFiniteQueryTimeIsABug) {
+  const std::vector<GazeSample> samples = parse_gaze_trace("time_s,x_px,y_px\n0,1,2\n", "x.csv");
+  ASSERT_EQ(samples.size(), 1u);
+  const GazeTempDir dir;
+  TraceGazeSource source(dir.write("gaze.csv", "time_s,x_px,y_px\n0,1,2\n"));
+  EXPECT_THROW(source.sample(std::nan("")), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -1,0 +1,122 @@
+// The crash-safety promise, with real crashes: `fovlab run` is killed with SIGKILL at many random
+// moments and started again each time until the session finishes; the final log must hold exactly
+// the trials and answers of an uninterrupted run, and replay must verify it.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <set>
+#include <thread>
+
+#include "core/prng.h"
+#include "protocols/session/replay.h"
+#include "protocols/session/session.h"
+#include "tests/protocols/session/session_test_support.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+pid_t start_run(const fs::path& results) {
+  const std::string config = test::study_fixture("pair").string();
+  const std::string results_text = results.string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // The test reads the log; stderr is kept (appended) for a failure's message.
+    freopen("/dev/null", "w", stdout);
+    freopen((results.parent_path() / "child-stderr.txt").c_str(), "a", stderr);
+    execl(FOVLAB_BINARY, FOVLAB_BINARY, "run", config.c_str(), "--participant", "K1", "--observer", "simulated",
+          "--headless", "--results", results_text.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits until the child exits (returns its wait status), or until limit_s passes or the log grows
+// past log_bytes (returns -1, the child still running).
+int wait_for(pid_t pid, double limit_s, const std::string& log_path = "", uintmax_t log_bytes = 0) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+  for (;;) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return status;
+    if (std::chrono::steady_clock::now() >= deadline) return -1;
+    std::error_code error;
+    if (log_bytes > 0 && fs::file_size(log_path, error) >= log_bytes && !error) return -1;
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+}
+
+TEST(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials) {
+  const fs::path root = test::fresh_folder("kill");
+  // The uninterrupted run, timed to its first logged event (start-up and stimulus preparation
+  // come before it): time-based kills are spread over that part, size-based ones over the log.
+  const fs::path whole_folder = root / "whole";
+  const std::string first_log = session_log_path(whole_folder.string(), "tiny_pair", "K1");
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t whole_pid = start_run(whole_folder);
+  ASSERT_EQ(wait_for(whole_pid, 300.0, first_log, 1), -1) << "the run ended before writing its log";
+  const double startup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const int status = wait_for(whole_pid, 300.0);
+  ASSERT_TRUE(status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const std::string whole_log = session_log_path((root / "whole").string(), "tiny_pair", "K1");
+  const std::vector<std::string> expected = test::trial_summary(whole_log);
+  ASSERT_FALSE(expected.empty());
+
+  const fs::path results = root / "killed";
+  const std::string log_path = session_log_path(results.string(), "tiny_pair", "K1");
+  Pcg32 random(20261123);
+  std::set<size_t> log_sizes_at_kill;  // distinct points in the session where a kill landed
+  int kills = 0;
+  const uintmax_t whole_bytes = fs::file_size(whole_log);
+  // 20 attempts that are killed unless the session ends first, then one left to finish.
+  constexpr int kill_attempts = 20;
+  for (int attempt = 0; attempt <= kill_attempts; ++attempt) {
+    const pid_t pid = start_run(results);
+    if (attempt == kill_attempts) {
+      const int last = wait_for(pid, 300.0);
+      ASSERT_TRUE(last >= 0 && WIFEXITED(last) && WEXITSTATUS(last) == 0) << test::read_file(root / "child-stderr.txt");
+      break;
+    }
+    // Even attempts: a random moment of start-up and preparation (before the first
+    // event); odd ones: when the log has grown by a random amount, so kills also land all over the
+    // trial loop, which is short next to start-up.
+    const bool by_size = attempt % 2 == 1;
+    const double delay_s = by_size ? 300.0 : random.uniform(0.0, 0.95 * startup_s);
+    std::error_code no_log;
+    const uintmax_t now_bytes = fs::exists(log_path) ? fs::file_size(log_path, no_log) : 0;
+    const uintmax_t bytes = by_size ? now_bytes + 1 + static_cast<uintmax_t>(random.uniform() * double(whole_bytes) / 16) : 0;
+    const int finished = wait_for(pid, delay_s, log_path, bytes);
+    if (finished >= 0) {
+      ASSERT_TRUE(WIFEXITED(finished) && WEXITSTATUS(finished) == 0)
+          << "run failed on attempt " << attempt << ": " << test::read_file(root / "child-stderr.txt");
+      break;
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    ++kills;
+    if (!fs::exists(log_path)) continue;
+    log_sizes_at_kill.insert(fs::file_size(log_path));
+    // Killed after its last event but before it exited: the session is over (running it again
+    // would rightly refuse a finished participant).
+    const EventLogFile log = read_event_log(log_path);
+    if (!log.events.empty() && read_session_record(log).ended) break;
+  }
+  ASSERT_TRUE(fs::exists(log_path));
+  const SessionRecord record = read_session_record(read_event_log(log_path));
+  ASSERT_TRUE(record.ended) << "the session did not finish within the attempts";
+  EXPECT_GE(kills, 15);
+  std::printf("%d kills, at %zu distinct log sizes\n", kills, log_sizes_at_kill.size());
+  EXPECT_GE(log_sizes_at_kill.size(), 8u) << "kills should land at several points of the session";
+  EXPECT_EQ(test::trial_summary(log_path), expected);
+
+  ReplayOptions replay;
+  replay.log_path = log_path;
+  replay.validation = true;
+  EXPECT_EQ(replay_session(replay).difference_count, 0);
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -1,0 +1,212 @@
+// Sessions end to end, in process: every protocol runs headless with the simulated observer, its
+// log replays and verifies, a crash at any event (or inside a line) resumes to exactly the trials
+// of an uninterrupted run, tampering is detected, and bad input writes nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "core/input_error.h"
+#include "protocols/session/replay.h"
+#include "protocols/session/session.h"
+#include "protocols/session/trials_export.h"
+#include "tests/protocols/session/session_test_support.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fixture_with;
+using test::fresh_folder;
+using test::read_file;
+using test::study_fixture;
+using test::trial_summary;
+
+SessionOptions simulated(const fs::path& results, const std::string& participant = "P1") {
+  SessionOptions options;
+  options.participant = participant;
+  options.results_dir = results.string();
+  options.observer = "simulated";
+  options.headless = true;
+  options.validation = true;
+  return options;
+}
+
+ReplayOutcome replay(const std::string& log_path) {
+  ReplayOptions options;
+  options.log_path = log_path;
+  options.validation = true;
+  return replay_session(options);
+}
+
+class EveryProtocol : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(EveryProtocol, RunsHeadlessReplaysAndExports) {
+  const fs::path results = fresh_folder(std::string("protocol-") + GetParam());
+  const StudyConfig config = parse_study_config_file(study_fixture(GetParam()).string());
+  const SessionOutcome outcome = run_session(config, simulated(results));
+  EXPECT_TRUE(outcome.finished);
+  EXPECT_FALSE(outcome.resumed);
+  EXPECT_EQ(outcome.trials_completed, outcome.trials_total);
+  EXPECT_GT(outcome.trials_total, 0);
+
+  const ReplayOutcome replayed = replay(outcome.log_path);
+  EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+  EXPECT_EQ(replayed.trials, outcome.trials_total);
+  EXPECT_GT(replayed.presents_checked, replayed.frames_rendered);  // frames are held for several refreshes
+
+  const std::string csv = export_trials_csv({outcome.log_path});
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), outcome.trials_total + 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Session, EveryProtocol, ::testing::Values("tiny_2afc", "pair", "ramp", "slider", "rating"));
+
+TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
+  const fs::path results = fresh_folder("ramp-slider");
+  for (const char* name : {"ramp", "slider"}) {
+    const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture(name).string()), simulated(results));
+    const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+    for (const RecordedTrial& trial : record.trials) {
+      const size_t steps = trial.start["sequence"].size();
+      if (std::string(name) == "ramp") {
+        EXPECT_EQ(trial.responses.size(), steps - 1);  // an answer at every step after the first
+        EXPECT_EQ(trial.stimuli.size(), steps);
+      } else {
+        ASSERT_FALSE(trial.responses.empty());
+        EXPECT_EQ(trial.responses.front().value("answer", ""), "reference");
+        EXPECT_EQ(trial.responses.back().value("answer", ""), "save");
+        ASSERT_EQ(trial.other.size(), 1u);
+        EXPECT_EQ(trial.other.front().value("event", ""), "slider_saved");
+      }
+    }
+  }
+}
+
+TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
+  const fs::path results = fresh_folder("resume");
+  const StudyConfig config = parse_study_config_file(study_fixture("pair").string());
+  const SessionOutcome reference = run_session(config, simulated(results / "whole"));
+  const std::vector<std::string> expected = trial_summary(reference.log_path);
+  const std::string whole = read_file(reference.log_path);
+  std::vector<size_t> line_ends;
+  for (size_t i = 0; i < whole.size(); ++i)
+    if (whole[i] == '\n') line_ends.push_back(i + 1);
+  ASSERT_GT(line_ends.size(), 10u);
+
+  // Cut after 1, 2, 5, ... events, and inside a line (a torn write), then resume until done.
+  const std::vector<size_t> cuts = {line_ends[0], line_ends[1], line_ends[4], line_ends[line_ends.size() / 2] - 7,
+                                    line_ends[line_ends.size() - 2], line_ends[line_ends.size() / 3] + 11};
+  for (size_t cut : cuts) {
+    SCOPED_TRACE("cut at byte " + std::to_string(cut));
+    const fs::path folder = results / ("cut" + std::to_string(cut));
+    const std::string log_path = session_log_path(folder.string(), config.name, "P1");
+    fs::create_directories(fs::path(log_path).parent_path());
+    std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
+    const SessionOutcome resumed = run_session(config, simulated(folder));
+    EXPECT_TRUE(resumed.resumed);
+    EXPECT_TRUE(resumed.finished);
+    EXPECT_EQ(trial_summary(resumed.log_path), expected);
+    const bool torn = std::find(line_ends.begin(), line_ends.end(), cut) == line_ends.end();
+    EXPECT_EQ(fs::exists(log_path + ".torn-1"), torn);
+    EXPECT_EQ(replay(resumed.log_path).difference_count, 0);
+  }
+}
+
+TEST(Session, ACrashBeforeTheHeaderWasCompleteStartsAfresh) {
+  const fs::path results = fresh_folder("no-header");
+  const StudyConfig config = parse_study_config_file(study_fixture("rating").string());
+  for (const std::string& left_behind : {std::string(), std::string("{\"event\":\"session_hea")}) {
+    const std::string participant = left_behind.empty() ? "Empty" : "Torn";
+    const std::string log_path = session_log_path(results.string(), config.name, participant);
+    fs::create_directories(fs::path(log_path).parent_path());
+    std::ofstream(log_path, std::ios::binary) << left_behind;
+    const SessionOutcome outcome = run_session(config, simulated(results, participant));
+    EXPECT_FALSE(outcome.resumed);
+    EXPECT_TRUE(outcome.finished);
+    EXPECT_EQ(outcome.trials_completed, outcome.trials_total);
+    EXPECT_EQ(fs::exists(log_path + ".torn-1"), !left_behind.empty());
+    if (!left_behind.empty()) {
+      EXPECT_EQ(read_file(log_path + ".torn-1"), left_behind);
+    }
+    EXPECT_EQ(replay(log_path).difference_count, 0);
+  }
+}
+
+TEST(Session, ExcludesAfterMaxAttentionErrors) {
+  const fs::path results = fresh_folder("exclude");
+  const StudyConfig config = fixture_with("tiny_2afc", "max_errors = 100", "max_errors = 2");
+  SessionOptions options = simulated(results);
+  options.observer = "simulated:guess=0.95,lapse=0.01";  // sees differences everywhere
+  const SessionOutcome outcome = run_session(config, options);
+  EXPECT_TRUE(outcome.excluded);
+  EXPECT_LT(outcome.trials_completed, outcome.trials_total);
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  EXPECT_TRUE(record.excluded);
+  EXPECT_EQ(record.attention_errors, 2);
+  EXPECT_EQ(record.end_reason, "excluded");
+  int breaks = 0;
+  for (const RecordedTrial& trial : record.trials)
+    for (const auto& other : trial.other) breaks += other.value("reason", "") == "attention_check" ? 1 : 0;
+  EXPECT_EQ(breaks, 1);  // after the first error; the second ends the session
+  // A finished (excluded) participant cannot run again.
+  EXPECT_THROW(run_session(config, options), InputError);
+}
+
+TEST(Session, ReplayDetectsAnAlteredResponseOrFrame) {
+  const fs::path results = fresh_folder("tamper");
+  const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture("tiny_2afc").string()), simulated(results));
+  const std::string original = read_file(outcome.log_path);
+  const auto altered_copy = [&](const std::string& from, const std::string& to) {
+    std::string text = original;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const fs::path path = results / ("altered" + std::to_string(text.size()) + from.substr(0, 3) + ".jsonl");
+    std::ofstream(path, std::ios::binary) << text;
+    return path.string();
+  };
+  const ReplayOutcome answer = replay(altered_copy("\"answer\":\"same\"", "\"answer\":\"different\""));
+  EXPECT_GE(answer.difference_count, 2);  // the chain, and the observer's answer
+  const ReplayOutcome frame = replay(altered_copy("\"hash\":[\"", "\"hash\":[\"0"));
+  EXPECT_GE(frame.difference_count, 1);
+  bool hash_named = false;
+  for (const std::string& difference : frame.differences) hash_named |= difference.find("frame hash") != std::string::npos;
+  EXPECT_TRUE(hash_named);
+}
+
+TEST(Session, BadInputWritesNothingAndKeepsExistingLogs) {
+  const fs::path results = fresh_folder("bad-input");
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  SessionOptions options = simulated(results, "../escape");
+  EXPECT_THROW(run_session(config, options), InputError);
+  EXPECT_TRUE(fs::is_empty(results));
+
+  // A results "folder" that is a file.
+  std::ofstream(results / "a_file") << "x";
+  EXPECT_THROW(run_session(config, simulated(results / "a_file" / "sub")), InputError);
+
+  // A log of this participant made with another config: refused, log untouched.
+  const SessionOutcome first = run_session(config, simulated(results, "P2"));
+  const std::string before = read_file(first.log_path);
+  const StudyConfig changed = fixture_with("tiny_2afc", "repeats = 4", "repeats = 2");
+  try {
+    run_session(changed, simulated(results, "P2"));
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("differs from the config"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(read_file(first.log_path), before);
+  // Finished: refused, untouched.
+  EXPECT_THROW(run_session(config, simulated(results, "P2")), InputError);
+  EXPECT_EQ(read_file(first.log_path), before);
+  // Headless without an observer, and mouse gaze headless.
+  SessionOptions human = simulated(results, "P3");
+  human.observer.clear();
+  EXPECT_THROW(run_session(config, human), InputError);
+  SessionOptions mouse = simulated(results, "P3");
+  mouse.gaze = "mouse";
+  EXPECT_THROW(run_session(config, mouse), InputError);
+  EXPECT_FALSE(fs::exists(results / config.name / "P3"));
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -1,0 +1,57 @@
+#pragma once
+// Shared by the session tests: fixture configs, scratch folders, and a summary of a log's complete
+// trials that two logs of the same session must agree on (times aside).
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "protocols/config/study_config.h"
+#include "protocols/log/session_record.h"
+
+namespace fovlab::test {
+
+inline std::filesystem::path study_fixture(const std::string& name) {
+  return std::filesystem::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (name + ".toml");
+}
+
+inline std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A fixture config with some text replaced (still resolved relative to the fixtures folder).
+inline StudyConfig fixture_with(const std::string& name, const std::string& from, const std::string& to) {
+  const auto path = study_fixture(name);
+  std::string text = read_file(path);
+  const size_t at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("fixture_with: \"" + from + "\" not in " + name);
+  text.replace(at, from.size(), to);
+  return parse_study_config_text(text, path.string());
+}
+
+inline std::filesystem::path fresh_folder(const std::string& name) {
+  const auto path = std::filesystem::temp_directory_path() / ("fovlab-session-test-" + name);
+  std::filesystem::remove_all(path);
+  std::filesystem::create_directories(path);
+  return path;
+}
+
+// One line per complete trial: index, condition, stimuli shown, answers (no times).
+inline std::vector<std::string> trial_summary(const std::string& log_path) {
+  const SessionRecord record = read_session_record(read_event_log(log_path));
+  std::vector<std::string> lines;
+  for (const RecordedTrial& trial : record.trials) {
+    std::string line = std::to_string(trial.index) + "|" + trial.start.value("condition", "") + "|";
+    for (const auto& shown : trial.stimuli) line += std::to_string(shown.value("stimulus", -1)) + ",";
+    line += "|";
+    for (const auto& response : trial.responses) line += response.value("answer", "") + ",";
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+}  // namespace fovlab::test
