@@ -24,14 +24,17 @@ void replay(ReplayCommandOptions options) {
               outcome.frames_rendered, outcome.same_device ? ", same device" : ", another device", outcome.render_s,
               outcome.wall_s);
   if (outcome.comparison == "ssim") std::printf("lowest SSIM %.6f\n", outcome.lowest_ssim);
-  if (outcome.difference_count == 0) {
-    std::printf("replay matches the log\n");
-    return;
+  if (outcome.difference_count > 0) {
+    std::printf("%d difference(s)%s:\n", outcome.difference_count,
+                outcome.difference_count > static_cast<int>(outcome.differences.size()) ? ", the first" : "");
+    for (const std::string& difference : outcome.differences) std::printf("  %s\n", difference.c_str());
+    throw CommandExit{1};
   }
-  std::printf("%d difference(s)%s:\n", outcome.difference_count,
-              outcome.difference_count > static_cast<int>(outcome.differences.size()) ? ", the first" : "");
-  for (const std::string& difference : outcome.differences) std::printf("  %s\n", difference.c_str());
-  if (options.verify) throw CommandExit{1};
+  if (options.verify && !outcome.session_ended) {
+    std::printf("the session did not reach its end (interrupted and not resumed): not verified\n");
+    throw CommandExit{1};
+  }
+  std::printf("replay matches the log\n");
 }
 
 }  // namespace
@@ -40,7 +43,8 @@ void add_replay_command(CLI::App& app) {
   auto options = std::make_shared<ReplayCommandOptions>();
   CLI::App* command = app.add_subcommand("replay", "Replay a session from its log (same trials, gaze and frames)");
   command->add_option("log", options->replay.log_path, "A session log (events.jsonl)")->required();
-  command->add_flag("--verify", options->verify, "Exit 1 when anything differs from the log");
+  command->add_flag("--verify", options->verify,
+                    "Also require a finished session (any difference always exits with 1)");
   command->add_option("--frames-out", options->replay.frames_out, "Write every frame rendered again here (PNG)");
   command->add_option("--reference-frames", options->replay.reference_frames,
                       "Compare by SSIM with frames written by --frames-out on the recording device");

@@ -30,6 +30,14 @@ void sync_file(const std::filesystem::path& path) {
 }
 }  // namespace
 
+void fsync_directory(const std::filesystem::path& directory) {
+  const int fd = ::open(directory.empty() ? "." : directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write_to) {
   const std::filesystem::path temporary = temporary_sibling(target);
@@ -37,6 +45,7 @@ void write_atomically(const std::filesystem::path& target,
     write_to(temporary);
     sync_file(temporary);
     std::filesystem::rename(temporary, target);
+    fsync_directory(target.parent_path());  // the rename itself survives a power cut
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(temporary, ignored);

@@ -15,6 +15,9 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& target);
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write_to);
 
+// fsync of a folder, so the names created or renamed in it survive a power cut (best effort).
+void fsync_directory(const std::filesystem::path& directory);
+
 // Convenience for text files (JSON, CSV, Markdown).
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
 

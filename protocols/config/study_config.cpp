@@ -220,7 +220,8 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
   protocol.repeats = bounded_integer(fields, "repeats", 1, 1, 1000);
   const bool two_intervals = protocol.kind == ProtocolKind::two_afc || protocol.kind == ProtocolKind::pair ||
                              protocol.kind == ProtocolKind::rating;
-  protocol.counterbalance = fields.boolean("counterbalance", two_intervals);
+  // Default: counterbalanced whenever the repeats can be split in halves.
+  protocol.counterbalance = fields.boolean("counterbalance", two_intervals && protocol.repeats % 2 == 0);
   if (protocol.counterbalance && !two_intervals)
     fields.fail("counterbalance", "only 2afc, pair and rating trials have an order to counterbalance");
   if (protocol.counterbalance && protocol.repeats % 2 != 0)
@@ -285,10 +286,7 @@ void read_timing(const TomlFields& fields, TimingConfig& timing) {
 void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, AttentionConfig& attention) {
   attention.share = fields.number("share");
   check_range(fields, "share", attention.share, 0.0, 0.9);
-  const bool has_identical_answer = (protocol.kind == ProtocolKind::two_afc &&
-                                     protocol.two_afc_question == TwoAfcQuestion::same) ||
-                                    protocol.kind == ProtocolKind::pair || protocol.kind == ProtocolKind::rating;
-  if (attention.share > 0 && !has_identical_answer)
+  if (attention.share > 0 && identical_answer(protocol).empty())
     fields.fail("share", "attention checks need an answer that means \"identical\" (2afc with question = \"same\", "
                          "pair or rating)");
   attention.break_s = fields.number("break_s", attention.break_s);
@@ -335,6 +333,13 @@ std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion ques
     case ProtocolKind::rating: return {"1", "2", "3"};
   }
   return {};
+}
+
+std::string identical_answer(const ProtocolConfig& protocol) {
+  if (protocol.kind == ProtocolKind::rating) return "3";
+  if (protocol.kind == ProtocolKind::pair) return "same";
+  if (protocol.kind == ProtocolKind::two_afc && protocol.two_afc_question == TwoAfcQuestion::same) return "same";
+  return "";
 }
 
 int StimulusConfig::frame_count() const {

@@ -120,4 +120,8 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 // map exactly these.
 std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion question);
 
+// The answer that means "identical" (the correct answer to an attention check): "same" for 2afc
+// with question "same" and pair, "3" for rating; "" for protocols that have none.
+std::string identical_answer(const ProtocolConfig& protocol);
+
 }  // namespace fovlab

@@ -1,16 +1,19 @@
 #include "protocols/log/event_log.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/input_error.h"
 
@@ -22,8 +25,16 @@ std::string event_chain(const std::string& previous_chain, const nlohmann::json&
 
 EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq)
     : path_(path), chain_(std::move(previous_chain)), next_seq_(next_seq) {
+  const bool created = ::access(path.c_str(), F_OK) != 0;
   fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw InputError(path + ": cannot open the session log for writing (" + std::strerror(errno) + ")");
+  // One writer a log: a second `fovlab run` of the same participant would interleave events.
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(path + ": another fovlab process is writing this log");
+  }
+  if (created) fsync_directory(std::filesystem::path(path).parent_path());
 }
 
 EventLogWriter::~EventLogWriter() {

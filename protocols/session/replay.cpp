@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <algorithm>
 #include <map>
 
 #include "analysis/image_metrics/image_metrics.h"
@@ -64,9 +65,7 @@ void check_observer_answers(const SimulatedObserver& observer, const StudyPlan& 
   }
 }
 
-}  // namespace
-
-ReplayOutcome replay_session(const ReplayOptions& options) {
+ReplayOutcome replay_checked(const ReplayOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   ReplayOutcome outcome;
   Differences differences(outcome, options.max_differences);
@@ -122,6 +121,21 @@ ReplayOutcome replay_session(const ReplayOptions& options) {
     return rendered.insert_or_assign(key, std::move(made)).first->second;
   };
 
+  std::map<std::pair<int, int>, std::string> reference_hashes;
+  const auto reference_hash = [&](int stimulus, int frame) -> const std::string& {
+    const auto key = std::make_pair(stimulus, frame);
+    auto found = reference_hashes.find(key);
+    if (found == reference_hashes.end()) {
+      const fs::path path = fs::path(options.reference_frames) / frame_file_name(stimulus, frame);
+      found = reference_hashes.emplace(key, frame_hash(image_to_frame(read_image(path)))).first;
+    }
+    return found->second;
+  };
+  if (record.ended && record.end_reason == "completed" && record.trials.size() != plan.trials.size())
+    differences.add("session_end", "the session says it completed, but the log holds " +
+                                       std::to_string(record.trials.size()) + " of " +
+                                       std::to_string(plan.trials.size()) + " trials");
+  outcome.session_ended = record.ended;
   for (const RecordedTrial& recorded : record.trials) {
     ++outcome.trials;
     const std::string where = "trial " + std::to_string(recorded.index);
@@ -144,14 +158,34 @@ ReplayOutcome replay_session(const ReplayOptions& options) {
     }
     if (observer) check_observer_answers(*observer, plan, recorded, differences);
     if (recorded.attention_check && !recorded.responses.empty()) {
-      const std::string identical = config.protocol.kind == ProtocolKind::rating ? "3" : "same";
-      const bool correct = recorded.responses.front().value("answer", "") == identical;
+      const bool correct = recorded.responses.front().value("answer", "") == identical_answer(config.protocol);
       if (recorded.attention_check->value("correct", !correct) != correct)
         differences.add(where, "attention_check.correct does not match the answer");
     }
 
+    // The stimuli shown, in order: comparison and ramp trials show their sequence; a slider trial
+    // starts with the reference and then shows ladder steps or the reference again.
+    std::vector<int> shown_ids;
+    for (const nlohmann::json& shown : recorded.stimuli) shown_ids.push_back(shown.value("stimulus", -1));
+    if (config.protocol.kind == ProtocolKind::slider) {
+      for (size_t i = 0; i < shown_ids.size(); ++i) {
+        const bool on_ladder = std::find(trial.sequence.begin(), trial.sequence.end(), shown_ids[i]) != trial.sequence.end();
+        if ((i == 0 && shown_ids[i] != trial.reference) || (!on_ladder && shown_ids[i] != trial.reference))
+          differences.add(where, "stimulus " + std::to_string(shown_ids[i]) + " is not the reference or on the ladder");
+      }
+    } else if (shown_ids != trial.sequence) {
+      differences.add(where, "stimuli shown " + nlohmann::json(shown_ids).dump() + ", the schedule has " +
+                                 nlohmann::json(trial.sequence).dump());
+    }
+    const int refreshes = config.stimulus.refreshes_per_frame(config.display.refresh_hz);
     for (const nlohmann::json& shown : recorded.stimuli) {
       const int stimulus = shown.value("stimulus", -1);
+      std::vector<int> expected_frames;  // every animation frame, each held `refreshes` refreshes
+      for (int frame = 0; frame < config.stimulus.frame_count(); ++frame)
+        for (int refresh = 0; refresh < refreshes; ++refresh) expected_frames.push_back(frame);
+      if (shown.value("frame", nlohmann::json::array()) != nlohmann::json(expected_frames))
+        differences.add(where + " (" + line_of(shown) + ")", "the frames shown are not every frame of the stimulus, " +
+                                                                 std::to_string(refreshes) + " refreshes each");
       if (stimulus < 0 || stimulus >= static_cast<int>(plan.stimuli.size())) {
         differences.add(where + " (" + line_of(shown) + ")", "stimulus id " + std::to_string(stimulus) + " not in the plan");
         continue;
@@ -174,6 +208,10 @@ ReplayOutcome replay_session(const ReplayOptions& options) {
         }
         const PreparedFrame& again = frame_for(stimulus, frame, sample);
         ++outcome.presents_checked;
+        if (by_ssim && reference_hash(stimulus, frame) != hashes[i].get<std::string>())
+          differences.add(where + " (" + line_of(shown) + ") stimulus " + std::to_string(stimulus) + " frame " +
+                              std::to_string(frame),
+                          "the reference frame's hash is not the logged one (frames from another session?)");
         if (!by_ssim && again.hash != hashes[i].get<std::string>())
           differences.add(where + " (" + line_of(shown) + ") stimulus " + std::to_string(stimulus) + " frame " +
                               std::to_string(frame),
@@ -187,6 +225,16 @@ ReplayOutcome replay_session(const ReplayOptions& options) {
   if (context.validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported messages during replay (see stderr)");
   return outcome;
+}
+
+}  // namespace
+
+ReplayOutcome replay_session(const ReplayOptions& options) {
+  try {
+    return replay_checked(options);
+  } catch (const nlohmann::json::exception& error) {
+    throw InputError(options.log_path + ": an event has a field of the wrong type (" + error.what() + ")");
+  }
 }
 
 }  // namespace fovlab

@@ -21,6 +21,7 @@ struct ReplayOptions {
 
 struct ReplayOutcome {
   int trials = 0;
+  bool session_ended = false;     // the log has its session_end (completed or excluded)
   int presents_checked = 0;       // logged presents whose frame was compared
   int frames_rendered = 0;        // distinct frames rendered again
   bool same_device = true;

@@ -17,6 +17,7 @@ std::optional<Answer> KeyResponses::await(const AnswerRequest& request, Presente
 }
 
 std::optional<Answer> ObserverResponses::await(const AnswerRequest& request, Presenter& presenter, double timeout_s) {
+  if (presenter.close_requested()) throw SessionAborted{"the window was closed"};
   ObserverAnswer decided;
   if (!request.trial) {
     decided.response_time_s = observer_.instructions_time_s();

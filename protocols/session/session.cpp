@@ -1,6 +1,7 @@
 #include "protocols/session/session.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/atomic_file.h"
 #include "core/input_error.h"
 #include "protocols/gaze/gaze_source.h"
 #include "protocols/gaze/gaze_spec.h"
@@ -18,6 +20,7 @@
 #include "protocols/log/event_log.h"
 #include "protocols/log/session_record.h"
 #include "protocols/presentation/headless_presenter.h"
+#include "protocols/presentation/text_screen.h"
 #include "protocols/presentation/window_presenter.h"
 #include "protocols/schedule/study_plan.h"
 #include "protocols/session/response_source.h"
@@ -53,19 +56,38 @@ std::string set_torn_tail_aside(const EventLogFile& log) {
     ::close(fd);
     if (!ok) throw std::runtime_error(aside + ": cannot write the torn line aside");
   }
-  if (::truncate(log.path.c_str(), static_cast<off_t>(log.intact_bytes)) != 0)
-    throw std::runtime_error(log.path + ": cannot cut off the torn last line");
+  fsync_directory(fs::path(aside).parent_path());
+  const int fd = ::open(log.path.c_str(), O_WRONLY | O_CLOEXEC);
+  const bool cut = fd >= 0 && ::ftruncate(fd, static_cast<off_t>(log.intact_bytes)) == 0 && ::fsync(fd) == 0;
+  if (fd >= 0) ::close(fd);
+  if (!cut) throw std::runtime_error(log.path + ": cannot cut off the torn last line");
   return aside;
 }
 
 
-void check_writable_directory(const fs::path& directory) {
+// Whether `directory` can be made and written, without making it: its nearest existing ancestor
+// must be a writable folder.
+void check_creatable_directory(const fs::path& directory) {
+  fs::path existing = fs::absolute(directory);
+  std::error_code error;
+  while (!fs::exists(existing, error) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (!fs::is_directory(existing, error))
+    throw InputError(directory.string() + ": cannot create the results folder (" + existing.string() +
+                     " is not a folder)");
+  if (::access(existing.c_str(), W_OK) != 0)
+    throw InputError(directory.string() + ": the results folder is not writable (" + existing.string() + ")");
+}
+
+// Makes the folder and fsyncs it and its parents' entries, so a new log survives a power cut.
+void create_durable_directory(const fs::path& directory) {
   std::error_code error;
   fs::create_directories(directory, error);
-  if (error || !fs::is_directory(directory))
-    throw InputError(directory.string() + ": cannot create the results folder (" + error.message() + ")");
-  if (::access(directory.c_str(), W_OK) != 0)
-    throw InputError(directory.string() + ": the results folder is not writable");
+  if (error) throw InputError(directory.string() + ": cannot create the results folder (" + error.message() + ")");
+  for (fs::path folder = directory; !folder.empty(); folder = folder.parent_path()) {
+    fsync_directory(folder);
+    if (folder == folder.parent_path() || folder.parent_path().empty()) break;
+  }
 }
 
 }  // namespace
@@ -102,7 +124,14 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // An existing log: the same study and config, intact, not finished -> resume.
   std::optional<SessionRecord> record;
   std::optional<EventLogFile> existing;
-  if (fs::exists(outcome.log_path)) existing = read_event_log(outcome.log_path);
+  if (fs::exists(outcome.log_path)) {
+    // Refuse early while another run writes it (the writer holds an flock; see EventLogWriter).
+    const int fd = ::open(outcome.log_path.c_str(), O_RDONLY | O_CLOEXEC);
+    const bool busy = fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) != 0;
+    if (fd >= 0) ::close(fd);
+    if (busy) throw InputError(outcome.log_path + ": another fovlab process is writing this log");
+    existing = read_event_log(outcome.log_path);
+  }
   // A crash between creating the log and completing its header line leaves no event: the session
   // then starts afresh (a torn header line is set aside below, never used).
   if (existing && !existing->events.empty()) {
@@ -126,16 +155,16 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
       throw InputError(outcome.log_path + ": participant \"" + options.participant + "\" already finished this study (" +
                        record->end_reason + "); choose another participant ID");
     outcome.resumed = true;
+    if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan))
+      throw InputError(outcome.log_path + ":1: a scene file changed since this participant started (scene_hashes); "
+                                          "restore it to resume, or use another participant ID");
+    outcome.resumed = true;
   } else if (!existing) {
-    check_writable_directory(fs::path(outcome.log_path).parent_path());
+    check_creatable_directory(fs::path(outcome.log_path).parent_path());
   }
 
-  vk::Context context(vk::ContextOptions{options.device_selector, options.validation});
-  StimulusLibrary library(context);
-  std::vector<std::pair<int, StimulusSpec>> all;
-  for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
-  outcome.prepare_s = library.prepare(all);  // scene errors surface here, before any event is written
-
+  // Everything that can fail on the user's input comes before the first write: gaze source (a
+  // trace file, the tracker's address), the window and its font, the scenes' compilation.
   std::unique_ptr<Presenter> presenter;
   if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
@@ -146,11 +175,24 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     window.fullscreen = config.display.fullscreen;
     window.title = "fovlab: " + config.name;
     window.screenshots = !options.screenshots_dir.empty();
+    window.validation = options.validation;
     presenter = std::make_unique<WindowPresenter>(window);
+    find_font_path();  // the text screens' font: missing -> an error naming the package, now
+    const double measured_hz = presenter->refresh_hz();
+    if (std::abs(measured_hz - config.display.refresh_hz) > 0.01 * config.display.refresh_hz)
+      throw InputError(config.source_path + ": display.refresh_hz is " + std::to_string(config.display.refresh_hz) +
+                       " but the monitor runs at " + std::to_string(measured_hz) +
+                       " Hz (stimulus durations would be wrong); set the monitor or the config to match");
   }
   std::unique_ptr<GazeSource> gaze;
   if (gaze_spec.kind == GazeSpec::Kind::mouse) gaze = std::make_unique<MouseGazeSource>(*presenter);
   else gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed);
+
+  vk::Context context(vk::ContextOptions{options.device_selector, options.validation});
+  StimulusLibrary library(context);
+  std::vector<std::pair<int, StimulusSpec>> all;
+  for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
+  outcome.prepare_s = library.prepare(all);  // scene errors surface here, before any event is written
   std::unique_ptr<ResponseSource> responses;
   if (observer_model) responses = std::make_unique<ObserverResponses>(*observer_model, plan);
   else responses = std::make_unique<KeyResponses>(config.protocol.question);
@@ -161,6 +203,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     std::fprintf(stderr, "fovlab: %s: the last line was cut off by a crash (%zu bytes); set aside in %s\n",
                  outcome.log_path.c_str(), existing->torn_tail->size(), torn_aside.c_str());
   }
+  if (!existing) create_durable_directory(fs::path(outcome.log_path).parent_path());
   EventLogWriter writer(outcome.log_path, existing ? existing->last_chain : std::string(),
                         existing ? static_cast<int64_t>(existing->events.size()) : 0);
   const double time_base_s = record ? record->last_time_s : 0.0;
@@ -177,6 +220,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     resumed["torn_line_set_aside"] = torn_aside.empty() ? nlohmann::json() : nlohmann::json(torn_aside);
     run.log(resumed);
   }
+  if (record) run.set_excluded_logged(record->excluded);
   const auto loop_start = std::chrono::steady_clock::now();
   try {
     const bool kept = run.run_trials(record ? record->next_trial : 0, record ? record->attention_errors : 0, record.has_value());

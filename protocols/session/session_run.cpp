@@ -150,6 +150,15 @@ void SessionRun::run_slider(const Trial& trial) {
 
 bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
   const StudyConfig& config = plan_.config;
+  const bool checks_on = config.attention.share > 0;
+  const auto exclude = [&](bool excluded_logged, int completed_trials) {
+    if (!excluded_logged)
+      log({{"event", "excluded"}, {"errors", attention_errors}, {"max_errors", config.attention.max_errors}});
+    log({{"event", "session_end"}, {"reason", "excluded"}, {"completed_trials", completed_trials}});
+    return false;
+  };
+  // A crash after the trial that reached max_errors (before session_end): the session is over.
+  if (checks_on && attention_errors >= config.attention.max_errors) return exclude(excluded_logged_, first);
   {
     show_text(resumed ? "The session resumes where it stopped.\n\n" + config.instructions : config.instructions);
     screenshot("instructions");
@@ -185,7 +194,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     else answer = run_comparison(trial);
 
     if (trial.attention_check) {
-      const bool correct = answer == (config.protocol.kind == ProtocolKind::rating ? "3" : "same");
+      const bool correct = answer == identical_answer(config.protocol);
       if (!correct) ++attention_errors;
       log({{"event", "attention_check"}, {"trial", trial.index}, {"correct", correct}, {"errors", attention_errors}});
       if (!correct && attention_errors < config.attention.max_errors && config.attention.break_s > 0) {
@@ -197,11 +206,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       }
     }
     log({{"event", "trial_end"}, {"trial", trial.index}});
-    if (attention_errors >= config.attention.max_errors && config.attention.share > 0) {
-      log({{"event", "excluded"}, {"errors", attention_errors}, {"max_errors", config.attention.max_errors}});
-      log({{"event", "session_end"}, {"reason", "excluded"}, {"completed_trials", trial.index + 1}});
-      return false;
-    }
+    if (checks_on && attention_errors >= config.attention.max_errors) return exclude(false, trial.index + 1);
     show_black(config.timing.inter_trial_s);
   }
   show_text("Thank you. The session is complete.");

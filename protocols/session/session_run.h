@@ -27,9 +27,12 @@ class SessionRun {
   double t() { return time_base_s_ + presenter_.now_s(); }
   // Appends an event, with "t" unless it has one.
   void log(nlohmann::json event);
-  // Runs trials from `first` to the end; returns false when the participant was excluded. Throws
-  // SessionAborted when the participant closes the window.
+  // Runs trials from `first` to the end; returns false when the participant was excluded (also
+  // when a resumed log already holds max_errors wrong attention checks). Throws SessionAborted
+  // when the participant closes the window.
   bool run_trials(int first, int attention_errors, bool resumed);
+  // The log being resumed already has its "excluded" event (a crash before session_end).
+  void set_excluded_logged(bool logged) { excluded_logged_ = logged; }
   int events_written() const { return events_written_; }
 
  private:
@@ -56,6 +59,7 @@ class SessionRun {
   double time_base_s_;
   std::optional<GazeSample> last_valid_gaze_;
   bool screenshot_taken_ = false;
+  bool excluded_logged_ = false;
   int events_written_ = 0;
 };
 

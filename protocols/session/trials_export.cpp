@@ -47,11 +47,15 @@ std::vector<std::string> find_session_logs(const std::string& path) {
   return logs;
 }
 
-std::string export_trials_csv(const std::vector<std::string>& log_paths) {
+namespace {
+
+// The export; `current` names the log being read, for the caller's message.
+std::string export_checked(const std::vector<std::string>& log_paths, std::string& current) {
   std::ostringstream csv;
   for (size_t i = 0; i < std::size(columns); ++i) csv << (i ? "," : "") << columns[i];
   csv << "\n";
   for (const std::string& path : log_paths) {
+    current = path;
     const EventLogFile log = read_event_log(path);
     if (log.torn_tail)
       std::fprintf(stderr, "fovlab: %s: the last line is cut off (%zu bytes); not exported\n", path.c_str(),
@@ -106,6 +110,17 @@ std::string export_trials_csv(const std::vector<std::string>& log_paths) {
     }
   }
   return csv.str();
+}
+
+}  // namespace
+
+std::string export_trials_csv(const std::vector<std::string>& log_paths) {
+  std::string current;
+  try {
+    return export_checked(log_paths, current);
+  } catch (const nlohmann::json::exception& error) {
+    throw InputError(current + ": an event has a field of the wrong type (" + error.what() + ")");
+  }
 }
 
 }  // namespace fovlab

@@ -844,12 +844,12 @@ TEST(ProtocolsConfig, ParameterNotOfTheMethod) {
 TEST(ProtocolsConfig, CounterbalanceNeedsEvenRepeats) {
   ConfigText base;
   base.protocol = replace_once(base.protocol, "repeats = 2", "repeats = 3");
+  // Odd repeats: not counterbalanced by default (a fair coin per trial)...
+  EXPECT_FALSE(parse(base.text()).protocol.counterbalance);
+  // ...and asking for counterbalancing with them is an error.
+  base.protocol += "counterbalance = true\n";
   std::string text = base.text();
   expect_error(text, line_of(text, "repeats = 3"), "protocol.repeats", "even");
-
-  // Without counterbalancing, odd repeats are fine.
-  base.protocol += "counterbalance = false\n";
-  EXPECT_EQ(parse(base.text()).protocol.repeats, 3);
 
   // Ramps and sliders have no order to counterbalance.
   base = ConfigText{};

@@ -149,6 +149,24 @@ TEST(Session, ExcludesAfterMaxAttentionErrors) {
   EXPECT_EQ(breaks, 1);  // after the first error; the second ends the session
   // A finished (excluded) participant cannot run again.
   EXPECT_THROW(run_session(config, options), InputError);
+
+  // A crash right after the trial that reached max_errors, before "excluded" was written: the
+  // resumed run excludes at once and runs no further trial.
+  const std::string whole = read_file(outcome.log_path);
+  const size_t excluded_at = whole.find("\"event\":\"excluded\"");
+  ASSERT_NE(excluded_at, std::string::npos);
+  const fs::path cut_folder = results / "cut";
+  const std::string cut_log = session_log_path(cut_folder.string(), config.name, "P1");
+  fs::create_directories(fs::path(cut_log).parent_path());
+  std::ofstream(cut_log, std::ios::binary) << whole.substr(0, whole.rfind('\n', excluded_at) + 1);
+  SessionOptions cut_options = options;
+  cut_options.results_dir = cut_folder.string();
+  const SessionOutcome resumed = run_session(config, cut_options);
+  const SessionRecord after = read_session_record(read_event_log(resumed.log_path));
+  EXPECT_TRUE(resumed.excluded);
+  EXPECT_TRUE(after.excluded);
+  EXPECT_EQ(after.end_reason, "excluded");
+  EXPECT_EQ(after.trials.size(), record.trials.size());
 }
 
 TEST(Session, ReplayDetectsAnAlteredResponseOrFrame) {
