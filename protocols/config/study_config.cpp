@@ -5,11 +5,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include "core/content_hash.h"
+#include "core/file_bytes.h"
 #include "core/input_error.h"
 #include "protocols/config/input_keys.h"
 #include "protocols/config/toml_fields.h"
@@ -398,12 +398,9 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 }
 
 StudyConfig parse_study_config_file(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open study config (" + std::string(std::strerror(errno)) + ")");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw InputError(path + ": cannot read study config");
-  return parse_study_config_text(text.str(), path);
+  const std::optional<std::string> text = read_file_bytes(path);
+  if (!text) throw InputError(path + ": cannot open study config (" + std::string(std::strerror(errno)) + ")");
+  return parse_study_config_text(*text, path);
 }
 
 }  // namespace fovlab

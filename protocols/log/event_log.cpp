@@ -9,12 +9,11 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
+#include "core/file_bytes.h"
 #include "core/input_error.h"
 
 namespace fovlab {
@@ -133,11 +132,9 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
 }
 
 EventLogFile read_event_log(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open the session log (" + std::string(std::strerror(errno)) + ")");
-  std::ostringstream bytes;
-  bytes << file.rdbuf();
-  return parse_event_log(bytes.str(), path);
+  const std::optional<std::string> bytes = read_file_bytes(path);
+  if (!bytes) throw InputError(path + ": cannot open the session log (" + std::string(std::strerror(errno)) + ")");
+  return parse_event_log(*bytes, path);
 }
 
 }  // namespace fovlab

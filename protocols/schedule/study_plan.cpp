@@ -142,6 +142,12 @@ void check_participant_id(const std::string& participant) {
                      participant + "\"");
 }
 
+int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_index) {
+  if (answer == "up" && ladder_index + 1 < static_cast<int>(trial.sequence.size())) return ladder_index + 1;
+  if (answer == "down" && ladder_index > 0) return ladder_index - 1;
+  return ladder_index;
+}
+
 uint64_t session_seed(uint64_t study_seed, const std::string& participant) {
   return derive_seed(study_seed, "participant:" + participant);
 }

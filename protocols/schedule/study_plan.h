@@ -59,6 +59,10 @@ void check_participant_id(const std::string& participant);
 
 uint64_t session_seed(uint64_t study_seed, const std::string& participant);
 
+// Slider: where the ladder stands after `answer` ("up" toward the reference, "down" away; other
+// answers and the ends of the ladder leave it where it is).
+int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_index);
+
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant);
 
 }  // namespace fovlab

@@ -58,10 +58,7 @@ void check_observer_answers(const SimulatedObserver& observer, const StudyPlan& 
     if (logged != expected.answer)
       differences.add(where + " (" + line_of(response) + ")",
                       "answer \"" + logged + "\" but the simulated observer answers \"" + expected.answer + "\"");
-    if (kind == ProtocolKind::slider) {
-      if (expected.answer == "up" && ladder_index + 1 < static_cast<int>(trial.sequence.size())) ++ladder_index;
-      if (expected.answer == "down" && ladder_index > 0) --ladder_index;
-    }
+    if (kind == ProtocolKind::slider) ladder_index = next_ladder_index(trial, expected.answer, ladder_index);
   }
 }
 

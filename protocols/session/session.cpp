@@ -234,8 +234,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (auto* window = dynamic_cast<WindowPresenter*>(presenter.get()); window && window->validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +
                              " message(s) in the session window (see stderr)");
-  outcome.trials_completed = static_cast<int>(read_session_record(read_event_log(outcome.log_path)).trials.size());
-  outcome.trials_run = outcome.trials_completed - (record ? static_cast<int>(record->trials.size()) : 0);
+  outcome.trials_run = run.trials_completed();
+  outcome.trials_completed = (record ? static_cast<int>(record->trials.size()) : 0) + outcome.trials_run;
   outcome.events_written = run.events_written();
   outcome.log_write_s = writer.seconds_writing();
   outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

@@ -24,8 +24,10 @@ SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Pre
 
 void SessionRun::log(nlohmann::json event) {
   if (!event.contains("t")) event["t"] = t();
+  const bool trial_end = event.value("event", "") == "trial_end";
   log_.append(std::move(event));
   ++events_written_;
+  if (trial_end) ++trials_completed_;
 }
 
 void SessionRun::show_text(const std::string& text) {
@@ -139,8 +141,7 @@ void SessionRun::run_slider(const Trial& trial) {
            {"level", plan_.stimuli.at(static_cast<size_t>(trial.sequence.at(static_cast<size_t>(ladder_index)))).level.value_or(0.0)}});
       return;
     }
-    if (answer.answer == "up" && ladder_index + 1 < static_cast<int>(trial.sequence.size())) ++ladder_index;
-    if (answer.answer == "down" && ladder_index > 0) --ladder_index;
+    ladder_index = next_ladder_index(trial, answer.answer, ladder_index);
     if (answer.answer == "reference") {
       show_black(plan_.config.timing.black_interval_s);
       present_stimulus(trial, step++, trial.reference);

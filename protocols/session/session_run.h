@@ -34,6 +34,7 @@ class SessionRun {
   // The log being resumed already has its "excluded" event (a crash before session_end).
   void set_excluded_logged(bool logged) { excluded_logged_ = logged; }
   int events_written() const { return events_written_; }
+  int trials_completed() const { return trials_completed_; }  // trial_end events of this run
 
  private:
   void show_text(const std::string& text);
@@ -61,6 +62,7 @@ class SessionRun {
   bool screenshot_taken_ = false;
   bool excluded_logged_ = false;
   int events_written_ = 0;
+  int trials_completed_ = 0;
 };
 
 }  // namespace fovlab

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
+#include "core/file_bytes.h"
 #include "core/input_error.h"
 
 namespace fovlab {
@@ -40,13 +39,10 @@ SceneSource load_scene(const std::string& name_or_file) {
     }
   }
   scene.name = scene.path.stem().string();
-  std::ifstream file(scene.path, std::ios::binary);
-  if (!file || std::filesystem::is_directory(scene.path)) {
-    throw InputError(scene.path.string() + ": cannot read scene file; expected a GLSL file (docs/scenes.md)");
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  scene.text = text.str();
+  const std::optional<std::string> text =
+      std::filesystem::is_directory(scene.path) ? std::nullopt : read_file_bytes(scene.path);
+  if (!text) throw InputError(scene.path.string() + ": cannot read scene file; expected a GLSL file (docs/scenes.md)");
+  scene.text = *text;
   return scene;
 }
 
