@@ -13,6 +13,8 @@ void add_run_command(CLI::App& app);
 void add_validate_command(CLI::App& app);
 void add_replay_command(CLI::App& app);
 void add_export_command(CLI::App& app);
+void add_analyze_command(CLI::App& app);
+void add_rays_command(CLI::App& app);
 
 // Thrown by a command that finished but must report failure with this exit code (replay --verify
 // found differences: 1).

@@ -5,6 +5,7 @@
 #include "app/commands.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
+#include "protocols/log/event_log.h"
 #include "protocols/session/trials_export.h"
 
 namespace fovlab::app {

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   fovlab::app::add_validate_command(app);
   fovlab::app::add_replay_command(app);
   fovlab::app::add_export_command(app);
+  fovlab::app::add_analyze_command(app);
+  fovlab::app::add_rays_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

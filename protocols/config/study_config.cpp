@@ -295,13 +295,14 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   fields.finish();
 }
 
-std::string resolve_scene(const TomlFields& fields, const std::string& scene, const std::string& config_path) {
+std::string resolve_scene(const TomlFields& fields, const std::string& scene, const std::string& config_path,
+                          bool check_file) {
   const auto names = builtin_scene_names();
   if (std::find(names.begin(), names.end(), scene) != names.end()) return scene;
   std::filesystem::path path(scene);
   if (path.is_relative()) path = std::filesystem::path(config_path).parent_path() / path;
   std::error_code error;  // e.g. a name too long for the file system: not found, not a crash
-  if (!std::filesystem::is_regular_file(path, error)) {
+  if (check_file && !std::filesystem::is_regular_file(path, error)) {
     std::string known;
     for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
     fields.fail("scene", "no built-in scene or file \"" + scene + "\" (built-in: " + known + ")");
@@ -350,7 +351,7 @@ int StimulusConfig::refreshes_per_frame(double refresh_hz) const {
   return std::max(1, static_cast<int>(std::lround(refresh_hz / frames_per_second)));
 }
 
-StudyConfig parse_study_config_text(const std::string& text, const std::string& path) {
+StudyConfig parse_study_config_text(const std::string& text, const std::string& path, bool check_scene_files) {
   toml::table root;
   try {
     root = toml::parse(shield_toml_hazards(text, path), path);
@@ -386,7 +387,7 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
   std::set<std::string> block_names;
   for (const TomlFields& block_fields : fields.tables("block")) {
     BlockConfig block;
-    block.scene = resolve_scene(block_fields, block_fields.string("scene"), path);
+    block.scene = resolve_scene(block_fields, block_fields.string("scene"), path, check_scene_files);
     block.name = block_fields.string("name", std::filesystem::path(block.scene).stem().string());
     if (!is_safe_name(block.name)) block_fields.fail("name", "expected letters, digits, '_', '-' or '.'");
     if (!block_names.insert(block.name).second) block_fields.fail("name", "duplicate block \"" + block.name + "\"");

@@ -114,7 +114,10 @@ struct StudyConfig {
 // Parses and validates; throws InputError "path:LINE: key: what was expected" (for a missing key,
 // LINE is the line of the table that should hold it).
 StudyConfig parse_study_config_file(const std::string& path);
-StudyConfig parse_study_config_text(const std::string& text, const std::string& path_for_messages);
+// `check_scene_files` false: scene paths are taken as written (resolved against the config's folder)
+// without looking for the files, for readers of logs on another machine (fovlab analyze).
+StudyConfig parse_study_config_text(const std::string& text, const std::string& path_for_messages,
+                                    bool check_scene_files = true);
 
 // The answers a protocol collects, in order (e.g. {"same", "different"}); the config's keys must
 // map exactly these.

@@ -137,4 +137,15 @@ EventLogFile read_event_log(const std::string& path) {
   return parse_event_log(*bytes, path);
 }
 
+std::vector<std::string> find_session_logs(const std::string& path) {
+  std::vector<std::string> logs;
+  if (std::filesystem::is_regular_file(path)) return {path};
+  if (!std::filesystem::is_directory(path)) throw InputError(path + ": no such log file or results folder");
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(path))
+    if (entry.is_regular_file() && entry.path().filename() == "events.jsonl") logs.push_back(entry.path().string());
+  std::sort(logs.begin(), logs.end());
+  if (logs.empty()) throw InputError(path + ": no events.jsonl under this folder");
+  return logs;
+}
+
 }  // namespace fovlab

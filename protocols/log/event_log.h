@@ -55,6 +55,10 @@ struct EventLogFile {
 // InputError("path:LINE: not a JSON event (...)"); an unterminated last line is returned as
 // torn_tail, never parsed. A missing file is an InputError too.
 EventLogFile read_event_log(const std::string& path);
+// A log file itself, or every results/<study>/<participant>/events.jsonl under a folder (sorted).
+// Throws InputError when there is none.
+std::vector<std::string> find_session_logs(const std::string& path);
+
 // The same from bytes already in memory (the fuzz target uses this).
 EventLogFile parse_event_log(const std::string& bytes, const std::string& path_for_messages);
 

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "core/input_error.h"
+#include "protocols/log/trial_assembly.h"
 
 namespace fovlab {
 namespace {
@@ -17,6 +18,22 @@ std::string text_of(const nlohmann::json& event, const char* key) {
 
 namespace {
 SessionRecord build_session_record(const EventLogFile& log);
+}
+
+void check_session_header(const nlohmann::json& first_event, const std::string& path) {
+  const auto fail = [&](const std::string& what) { throw InputError(path + ":1: " + what); };
+  if (text_of(first_event, "event") != "session_header") fail("expected a session_header event first");
+  const auto schema = first_event.find("schema_version");
+  if (schema == first_event.end() || !schema->is_number_integer())
+    fail("session_header: schema_version missing (expected " + std::to_string(log_schema_version) + ")");
+  if (schema->get<int64_t>() != log_schema_version)
+    fail("session_header: schema_version " + schema->dump() + " is not one this fovlab reads (expected " +
+         std::to_string(log_schema_version) + ")");
+}
+
+bool is_trial_event(const std::string& kind, bool names_a_trial) {
+  return kind == "stimulus" || kind == "response" || kind == "attention_check" || kind == "slider_saved" ||
+         (kind == "break" && names_a_trial) || kind == "trial_end";
 }
 
 SessionRecord read_session_record(const EventLogFile& log) {
@@ -38,16 +55,9 @@ SessionRecord build_session_record(const EventLogFile& log) {
   if (log.events.empty()) fail(0, "the log has no complete event (expected a session_header first)");
   SessionRecord record;
   record.header = log.events.front();
-  if (text_of(record.header, "event") != "session_header") fail(0, "expected a session_header event first");
-  const auto schema = record.header.find("schema_version");
-  if (schema == record.header.end() || !schema->is_number_integer())
-    fail(0, "session_header: schema_version missing (expected " + std::to_string(log_schema_version) + ")");
-  if (schema->get<int64_t>() != log_schema_version)
-    fail(0, "session_header: schema_version " + schema->dump() + " is not one this fovlab reads (expected " +
-                std::to_string(log_schema_version) + ")");
+  check_session_header(record.header, log.path);
 
-  std::map<int, RecordedTrial> complete;
-  std::optional<RecordedTrial> open;
+  TrialAssembly<RecordedTrial> trials;
   for (size_t i = 1; i < log.events.size(); ++i) {
     const nlohmann::json& event = log.events[i];
     const std::string kind = text_of(event, "event");
@@ -55,43 +65,42 @@ SessionRecord build_session_record(const EventLogFile& log) {
     if (const auto t = event.find("t"); t != event.end() && t->is_number())
       record.last_time_s = std::max(record.last_time_s, t->get<double>());
     const auto trial_field = event.find("trial");
-    const bool has_trial = trial_field != event.end() && trial_field->is_number_integer();
+    const std::optional<int> trial_index =
+        trial_field != event.end() && trial_field->is_number_integer() ? std::optional<int>(trial_field->get<int>()) : std::nullopt;
     if (kind == "trial_start") {
-      if (!has_trial) fail(i, "trial_start: trial missing (expected the trial index)");
-      open = RecordedTrial{};
-      open->index = trial_field->get<int>();
-      open->start = event;
+      if (!trial_index) fail(i, "trial_start: trial missing (expected the trial index)");
+      RecordedTrial trial;
+      trial.index = *trial_index;
+      trial.start = event;
+      trials.start(std::move(trial));
       continue;
     }
-    const bool in_trial = kind == "stimulus" || kind == "response" || kind == "attention_check" ||
-                          kind == "slider_saved" || (kind == "break" && has_trial) || kind == "trial_end";
-    if (!in_trial) {
+    if (!is_trial_event(kind, trial_index.has_value())) {
       if (kind == "excluded") record.excluded = true;
       if (kind == "session_end") {
         record.ended = true;
         record.end_reason = text_of(event, "reason");
       }
-      if (kind == "session_resumed") open.reset();  // a cut-off trial runs again after a resume
+      if (kind == "session_resumed") trials.resume();
       continue;
     }
-    if (!open || !has_trial || trial_field->get<int>() != open->index)
-      fail(i, kind + ": trial does not match the trial started last");
+    RecordedTrial* open = trials.open_for(trial_index);
+    if (!open) fail(i, kind + ": trial does not match the trial started last");
     if (kind == "stimulus") open->stimuli.push_back(event);
     if (kind == "response") open->responses.push_back(event);
     if (kind == "attention_check") open->attention_check = event;
     if (kind == "slider_saved" || kind == "break") open->other.push_back(event);
     if (kind == "trial_end") {
       open->end = event;
-      complete[open->index] = std::move(*open);
-      open.reset();
+      trials.end();
     }
   }
-  for (auto& [index, trial] : complete) {
+  record.incomplete_trial = trials.incomplete_index();
+  record.trials = trials.take_complete();
+  for (const RecordedTrial& trial : record.trials) {
     if (trial.attention_check && !trial.attention_check->value("correct", true)) ++record.attention_errors;
-    record.trials.push_back(std::move(trial));
+    if (trial.index == record.next_trial) ++record.next_trial;  // by index: the first without a record
   }
-  while (record.next_trial < static_cast<int>(complete.size() + 1) && complete.count(record.next_trial)) ++record.next_trial;
-  if (open) record.incomplete_trial = open->index;
   return record;
 }
 

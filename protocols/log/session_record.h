@@ -38,4 +38,12 @@ struct SessionRecord {
 // build reads, or when events contradict each other (a trial_end without its start...).
 SessionRecord read_session_record(const EventLogFile& log);
 
+// The checks on a log's first event: a session_header of the schema version this build reads.
+// Throws InputError "path:1: ...".
+void check_session_header(const nlohmann::json& first_event, const std::string& path);
+
+// The event kinds that belong to the trial started last ("stimulus", "response", ...). A `break`
+// belongs to a trial only when it names one (attention-check breaks).
+bool is_trial_event(const std::string& kind, bool names_a_trial);
+
 }  // namespace fovlab

@@ -6,10 +6,6 @@
 
 namespace fovlab {
 
-// A log file itself, or every results/<study>/<participant>/events.jsonl under a folder (sorted).
-// Throws InputError when there is none.
-std::vector<std::string> find_session_logs(const std::string& path);
-
 // The CSV text for these logs (complete trials only; a torn last line is ignored and reported on
 // stderr). Throws InputError for a log that cannot be read.
 std::string export_trials_csv(const std::vector<std::string>& log_paths);

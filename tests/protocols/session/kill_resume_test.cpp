@@ -87,7 +87,7 @@ TEST(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials) {
     const double delay_s = by_size ? 300.0 : random.uniform(0.0, 0.95 * startup_s);
     std::error_code no_log;
     const uintmax_t now_bytes = fs::exists(log_path) ? fs::file_size(log_path, no_log) : 0;
-    const uintmax_t bytes = by_size ? now_bytes + 1 + static_cast<uintmax_t>(random.uniform() * double(whole_bytes) / 16) : 0;
+    const uintmax_t bytes = by_size ? now_bytes + 1 + static_cast<uintmax_t>(random.uniform() * double(whole_bytes) / 32) : 0;
     const int finished = wait_for(pid, delay_s, log_path, bytes);
     if (finished >= 0) {
       ASSERT_TRUE(WIFEXITED(finished) && WEXITSTATUS(finished) == 0)

@@ -1,0 +1,659 @@
+#include "analysis/report/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/report/svg_chart.h"
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/number_text.h"
+
+namespace fovlab::analysis {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;  // keys in the documented order
+
+constexpr int kCsvDigits = 10;   // significant digits of numbers in the CSV files
+constexpr int kHtmlDigits = 4;   // ... and in the HTML tables (people read them)
+constexpr int kCurveSamples = 200;
+
+// ---- text helpers ----------------------------------------------------------------------------
+
+std::string csv_number(double value) { return std::isfinite(value) ? format_number(value, kCsvDigits) : ""; }
+std::string csv_number(const std::optional<double>& value) { return value ? csv_number(*value) : ""; }
+
+// A JSON number, or null for none and for non-finite values (JSON has no NaN).
+json json_number(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+json json_number(const std::optional<double>& value) { return value ? json_number(*value) : json(nullptr); }
+
+// Numbers in the HTML tables: 4 significant digits, "–" for none.
+std::string html_number(double value) { return std::isfinite(value) ? format_number(value, kHtmlDigits) : "\xE2\x80\x93"; }
+std::string html_number(const std::optional<double>& value) { return value ? html_number(*value) : "\xE2\x80\x93"; }
+
+std::string html_interval(double lower, double upper) {
+  if (!std::isfinite(lower) || !std::isfinite(upper)) return "\xE2\x80\x93";
+  return "[" + html_number(lower) + ", " + html_number(upper) + "]";
+}
+
+// Anything outside [A-Za-z0-9_-] becomes '_' (a UTF-8 character: one '_' a byte).
+std::string safe_name(const std::string& text) {
+  std::string name;
+  for (char c : text) {
+    const bool keep = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    name += keep ? c : '_';
+  }
+  return name.empty() ? "unnamed" : name;
+}
+
+// A file name not yet taken: stem.svg, else stem_2.svg, stem_3.svg, ...
+std::string unique_svg_name(const std::string& stem, std::set<std::string>& taken) {
+  std::string name = stem + ".svg";
+  for (int i = 2; taken.count(name); ++i) name = stem + "_" + std::to_string(i) + ".svg";
+  taken.insert(name);
+  return name;
+}
+
+// The test as one phrase: "exact binomial, two-sided, H0 p = 1/2, Holm across levels, alpha 0.05".
+std::string test_description(const AnalysisResult& result) {
+  const std::string sidedness = result.alternative == Alternative::two_sided
+                                    ? std::string("two-sided")
+                                    : "one-sided (" + std::string(alternative_name(result.alternative)) + ")";
+  return "exact binomial, " + sidedness + ", H0 p = 1/2, Holm across levels, alpha " + format_number(result.alpha, 6);
+}
+
+bool is_rating(const AnalysisResult& result) { return result.protocol == "rating"; }
+
+std::string level_axis_label(const AnalysisResult& result) {
+  return result.level_parameter.empty() ? "level" : "level (" + result.level_parameter + ")";
+}
+
+// ---- CSV -------------------------------------------------------------------------------------
+
+std::string conditions_csv(const AnalysisResult& result) {
+  std::string csv = csv_line({"study", "protocol", "scene", "variant", "method", "condition", "level", "n", "k", "proportion",
+                              "ci_lower", "ci_upper", "p_value", "p_holm", "stars", "alternative", "mean_rating",
+                              "sd_rating"});
+  for (const ConditionRow& row : result.conditions) {
+    csv += csv_line({result.study, result.protocol, row.group.scene,
+                     row.group.variant, row.method, row.condition, csv_number(row.level),
+                     std::to_string(row.n), std::to_string(row.k), csv_number(row.proportion),
+                     csv_number(row.interval.lower), csv_number(row.interval.upper), csv_number(row.p_value),
+                     csv_number(row.p_holm), row.stars, alternative_name(result.alternative),
+                     csv_number(row.mean_rating), csv_number(row.sd_rating)});
+  }
+  return csv;
+}
+
+std::string participants_csv(const AnalysisResult& result) {
+  std::string csv = csv_line({"participant", "excluded", "session_ended", "complete_trials", "attention_checks",
+                              "attention_errors", "scene", "variant", "threshold", "note"});
+  for (const ParticipantRow& participant : result.participants) {
+    const std::vector<std::string> common = {
+        participant.participant,          participant.excluded ? "true" : "false",
+        participant.session_ended ? "true" : "false", std::to_string(participant.complete_trials),
+        std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
+    if (participant.thresholds.empty()) {
+      std::vector<std::string> cells = common;
+      cells.insert(cells.end(), {"", "", "", ""});
+      csv += csv_line(cells);
+    }
+    for (const ParticipantThreshold& threshold : participant.thresholds) {
+      std::vector<std::string> cells = common;
+      cells.insert(cells.end(), {threshold.group.scene, threshold.group.variant,
+                                 csv_number(threshold.level), threshold.note});
+      csv += csv_line(cells);
+    }
+  }
+  return csv;
+}
+
+// ---- JSON ------------------------------------------------------------------------------------
+
+json interval_json(const ParameterInterval& interval) {
+  return {{"lower", json_number(interval.lower)}, {"upper", json_number(interval.upper)}};
+}
+
+json thresholds_json(const AnalysisResult& result) {
+  json root;
+  root["study"] = result.study;
+  root["protocol"] = result.protocol;
+  root["question"] = result.question;
+  root["level_parameter"] = result.level_parameter;
+  root["higher_is_better"] = result.higher_is_better;
+  root["levels"] = json::array();
+  for (double level : result.levels) root["levels"].push_back(json_number(level));
+  root["test"] = {{"kind", "exact binomial"},
+                  {"null_proportion", 0.5},
+                  {"alternative", alternative_name(result.alternative)},
+                  {"alpha", json_number(result.alpha)},
+                  {"correction", "holm"}};
+  root["guess_rate"] = json_number(result.guess_rate);
+  root["guess_rate_source"] = result.guess_rate_source;
+  root["inputs"] = result.inputs;
+
+  root["thresholds"] = json::array();
+  for (const GroupThreshold& threshold : result.thresholds) {
+    root["thresholds"].push_back({{"scene", threshold.group.scene},
+                                  {"variant", threshold.group.variant},
+                                  {"definition", threshold.definition},
+                                  {"level", json_number(threshold.level)},
+                                  {"note", threshold.note},
+                                  {"mean", json_number(threshold.mean)},
+                                  {"sd", json_number(threshold.sd)},
+                                  {"participants_with_threshold", threshold.participants_with_threshold},
+                                  {"participants_without_threshold", threshold.participants_without_threshold}});
+  }
+
+  root["fits"] = json::array();
+  root["not_fitted"] = json::array();
+  for (const GroupFit& group : result.fits) {
+    json data = json::array();
+    for (const LevelCounts& counts : group.data) {
+      data.push_back({{"level", json_number(counts.level)},
+                      {"n", counts.n},
+                      {"k", counts.k},
+                      {"proportion", counts.n > 0 ? json_number(static_cast<double>(counts.k) /
+                                                                static_cast<double>(counts.n))
+                                                  : json(nullptr)}});
+    }
+    for (const PsychometricFit& fit : group.fits) {
+      const PsychometricModel& model = fit.model;
+      root["fits"].push_back({{"scene", group.group.scene},
+                              {"variant", group.group.variant},
+                              {"shape", shape_name(model.shape)},
+                              {"rising", model.rising},
+                              {"threshold", json_number(model.parameters.threshold)},
+                              {"slope", json_number(model.parameters.slope)},
+                              {"lapse", json_number(model.parameters.lapse)},
+                              {"guess", json_number(model.guess)},
+                              {"intervals",
+                               {{"threshold", interval_json(fit.threshold_interval)},
+                                {"slope", interval_json(fit.slope_interval)},
+                                {"lapse", interval_json(fit.lapse_interval)}}},
+                              {"deviance", json_number(fit.deviance)},
+                              {"dof", fit.degrees_of_freedom},
+                              {"deviance_p_value", json_number(fit.deviance_p_value)},
+                              {"log_likelihood", json_number(fit.log_likelihood)},
+                              {"converged", fit.converged},
+                              {"note", fit.note},
+                              {"bootstrap_samples", fit.bootstrap_samples},
+                              {"bootstrap_failures", fit.bootstrap_failures},
+                              {"data", data}});
+    }
+    for (const std::string& reason : group.not_fitted) {
+      root["not_fitted"].push_back(
+          {{"scene", group.group.scene}, {"variant", group.group.variant}, {"reason", reason}});
+    }
+  }
+
+  root["conditions"] = json::array();
+  for (const ConditionRow& row : result.conditions) {
+    root["conditions"].push_back({{"scene", row.group.scene},
+                                  {"variant", row.group.variant},
+                                  {"method", row.method},
+                                  {"condition", row.condition},
+                                  {"level", json_number(row.level)},
+                                  {"n", row.n},
+                                  {"k", row.k},
+                                  {"proportion", json_number(row.proportion)},
+                                  {"ci_lower", json_number(row.interval.lower)},
+                                  {"ci_upper", json_number(row.interval.upper)},
+                                  {"p_value", json_number(row.p_value)},
+                                  {"p_holm", json_number(row.p_holm)},
+                                  {"stars", row.stars},
+                                  {"mean_rating", json_number(row.mean_rating)},
+                                  {"sd_rating", json_number(row.sd_rating)}});
+  }
+
+  root["participants"] = json::array();
+  for (const ParticipantRow& participant : result.participants) {
+    json thresholds = json::array();
+    for (const ParticipantThreshold& threshold : participant.thresholds) {
+      thresholds.push_back({{"scene", threshold.group.scene},
+                            {"variant", threshold.group.variant},
+                            {"level", json_number(threshold.level)},
+                            {"note", threshold.note}});
+    }
+    root["participants"].push_back({{"participant", participant.participant},
+                                    {"log_path", participant.log_path},
+                                    {"excluded", participant.excluded},
+                                    {"session_ended", participant.session_ended},
+                                    {"complete_trials", participant.complete_trials},
+                                    {"attention_checks", participant.attention_checks},
+                                    {"attention_errors", participant.attention_errors},
+                                    {"thresholds", thresholds}});
+  }
+
+  root["left_out"] = json::array();
+  for (const LeftOut& left : result.left_out) {
+    root["left_out"].push_back({{"what", left.what}, {"reason", left.reason}});
+  }
+  return root;
+}
+
+// ---- plots -----------------------------------------------------------------------------------
+
+struct Plot {
+  std::string file_name;
+  std::string caption;
+  std::string svg;
+};
+
+// Share of answers for the test stimulus per level (seed 000, Fig. 9), one series per group; rating
+// studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
+std::optional<Plot> share_per_level_plot(const AnalysisResult& result) {
+  const bool rating = is_rating(result);
+  std::map<GroupKey, XySeries> by_group;
+  std::vector<GroupKey> order;  // first appearance, so the legend follows the table
+  for (const ConditionRow& row : result.conditions) {
+    if (!row.level || !std::isfinite(*row.level) || row.n == 0) continue;
+    double y = row.proportion;
+    double lower = row.interval.lower;
+    double upper = row.interval.upper;
+    if (rating) {
+      if (!row.mean_rating || !std::isfinite(*row.mean_rating)) continue;
+      y = *row.mean_rating;
+      const double sd = row.sd_rating && std::isfinite(*row.sd_rating) ? *row.sd_rating : 0.0;
+      lower = y - sd;
+      upper = y + sd;
+    }
+    if (!std::isfinite(y)) continue;
+    if (!by_group.count(row.group)) order.push_back(row.group);
+    XySeries& series = by_group[row.group];
+    series.x.push_back(*row.level);
+    series.y.push_back(y);
+    series.y_lower.push_back(lower);
+    series.y_upper.push_back(upper);
+  }
+  if (order.empty()) return std::nullopt;
+  XyChart chart;
+  chart.title = result.study + (rating ? ": mean rating per level" : ": share for the test stimulus per level");
+  chart.x_label = level_axis_label(result);
+  chart.y_label = rating ? "mean rating (1-3), bars: ±1 SD" : "share k/n, bars: 95 % Clopper-Pearson";
+  chart.y_min = rating ? 1.0 : 0.0;
+  chart.y_max = rating ? 3.0 : 1.0;
+  chart.horizontal_lines = {rating ? result.rating_cutoff : 0.5};
+  // With several groups, each is shifted a little along x (about 6 px apart, at most 30 % of the
+  // smallest gap between levels) so points and bars at one level do not hide each other.
+  double offset_step = 0.0;
+  if (order.size() > 1) {
+    std::vector<double> levels;
+    for (const auto& entry : by_group) levels.insert(levels.end(), entry.second.x.begin(), entry.second.x.end());
+    std::sort(levels.begin(), levels.end());
+    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+    if (levels.size() > 1) {
+      double gap = levels.back() - levels.front();
+      for (std::size_t i = 1; i < levels.size(); ++i) gap = std::min(gap, levels[i] - levels[i - 1]);
+      offset_step = std::min(0.017 * (levels.back() - levels.front()),
+                             0.3 * gap / static_cast<double>(order.size() - 1));
+    }
+  }
+  for (std::size_t g = 0; g < order.size(); ++g) {
+    XySeries series = by_group[order[g]];
+    const double offset = offset_step * (static_cast<double>(g) - static_cast<double>(order.size() - 1) / 2);
+    for (double& x : series.x) x += offset;
+    series.label = order[g].label();
+    series.style = XySeries::Style::points;
+    chart.series.push_back(std::move(series));
+  }
+  Plot plot;
+  plot.file_name = "share_per_level.svg";
+  plot.caption = rating ? "Mean rating per level and group (bars: ±1 SD); dashed: the cutoff 2 (minimal difference)."
+                        : "Share of answers in favour of the test stimulus per level and group (bars: 95 % "
+                          "Clopper-Pearson intervals); dashed: 1/2, the null hypothesis of the test.";
+  if (offset_step > 0.0) plot.caption += " Groups are shifted slightly along x to keep them apart.";
+  plot.svg = render_xy_chart_svg(chart);
+  return plot;
+}
+
+// Data (share of "difference reported" with Clopper-Pearson intervals) and every fitted curve of one
+// group; the band is the first fit's bootstrap threshold interval.
+std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupFit& group, std::set<std::string>& taken) {
+  XySeries data;
+  data.label = "data";
+  data.style = XySeries::Style::points;
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  for (const LevelCounts& counts : group.data) {
+    if (counts.n == 0 || counts.k > counts.n || !std::isfinite(counts.level)) continue;
+    const ProportionInterval interval = clopper_pearson_interval(counts.k, counts.n);
+    data.x.push_back(counts.level);
+    data.y.push_back(static_cast<double>(counts.k) / static_cast<double>(counts.n));
+    data.y_lower.push_back(interval.lower);
+    data.y_upper.push_back(interval.upper);
+    lo = std::min(lo, counts.level);
+    hi = std::max(hi, counts.level);
+  }
+  if (!(lo < hi)) {  // one level or none: the study's levels give the range of the curves
+    for (double level : result.levels) {
+      if (!std::isfinite(level)) continue;
+      lo = std::min(lo, level);
+      hi = std::max(hi, level);
+    }
+  }
+  XyChart chart;
+  chart.title = group.group.label() + ": P(difference reported)";
+  chart.x_label = level_axis_label(result);
+  chart.y_label = "P(difference reported)";
+  chart.y_min = 0.0;
+  chart.y_max = 1.0;
+  if (!data.x.empty()) chart.series.push_back(data);
+  if (lo < hi) {
+    for (const PsychometricFit& fit : group.fits) {
+      XySeries curve;
+      curve.style = XySeries::Style::line;
+      curve.label = std::string(shape_name(fit.model.shape)) + ", threshold " +
+                    format_number(fit.model.parameters.threshold, kHtmlDigits);
+      for (int i = 0; i < kCurveSamples; ++i) {
+        const double level = lo + (hi - lo) * i / (kCurveSamples - 1);
+        curve.x.push_back(level);
+        curve.y.push_back(fit.model.p_report(level));
+      }
+      chart.series.push_back(std::move(curve));
+    }
+  }
+  if (!group.fits.empty()) {
+    const ParameterInterval& interval = group.fits.front().threshold_interval;
+    if (std::isfinite(interval.lower) && std::isfinite(interval.upper)) {
+      chart.bands.push_back({std::string("threshold CI (") + shape_name(group.fits.front().model.shape) + ")",
+                             interval.lower, interval.upper});
+    }
+  }
+  if (chart.series.empty()) return std::nullopt;
+  Plot plot;
+  std::string stem = "psychometric_" + safe_name(group.group.scene);
+  if (!group.group.variant.empty()) stem += "_" + safe_name(group.group.variant);
+  plot.file_name = unique_svg_name(stem, taken);
+  plot.caption = "Psychometric fits for " + group.group.label() +
+                 ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curves, "
+                 "and the bootstrap confidence interval of the first fit's threshold (shaded).";
+  plot.svg = render_xy_chart_svg(chart);
+  return plot;
+}
+
+// Bins centred on the study's levels (edges midway between neighbouring levels); without levels, on
+// the distinct thresholds themselves.
+std::vector<double> level_bin_edges(std::vector<double> centres) {
+  centres.erase(std::remove_if(centres.begin(), centres.end(), [](double v) { return !std::isfinite(v); }),
+                centres.end());
+  std::sort(centres.begin(), centres.end());
+  centres.erase(std::unique(centres.begin(), centres.end()), centres.end());
+  if (centres.empty()) return {};
+  if (centres.size() == 1) return {centres[0] - 0.5, centres[0] + 0.5};
+  std::vector<double> edges = {centres[0] - (centres[1] - centres[0]) / 2};
+  for (std::size_t i = 1; i < centres.size(); ++i) edges.push_back((centres[i - 1] + centres[i]) / 2);
+  const std::size_t last = centres.size() - 1;
+  edges.push_back(centres[last] + (centres[last] - centres[last - 1]) / 2);
+  return edges;
+}
+
+// Per-participant thresholds of the included participants (seed 001, Fig. 7): pooled over the
+// groups, and one histogram a group when there are several.
+std::vector<Plot> threshold_histograms(const AnalysisResult& result, std::set<std::string>& taken) {
+  std::map<GroupKey, std::vector<double>> by_group;
+  std::vector<double> all;
+  for (const ParticipantRow& participant : result.participants) {
+    if (participant.excluded) continue;
+    for (const ParticipantThreshold& threshold : participant.thresholds) {
+      if (!threshold.level || !std::isfinite(*threshold.level)) continue;
+      by_group[threshold.group].push_back(*threshold.level);
+      all.push_back(*threshold.level);
+    }
+  }
+  if (all.empty()) return {};
+  std::vector<Plot> plots;
+  auto make = [&](const std::string& stem, const std::string& what, const std::vector<double>& values) {
+    Histogram histogram;
+    histogram.title = result.study + ": per-participant thresholds" + what;
+    histogram.x_label = "threshold " + level_axis_label(result);
+    histogram.values = values;
+    histogram.bin_edges = level_bin_edges(result.levels.empty() ? values : result.levels);
+    Plot plot;
+    plot.file_name = unique_svg_name(stem, taken);
+    plot.caption = "Per-participant thresholds" + what + " (included participants; one bin a level).";
+    plot.svg = render_histogram_svg(histogram);
+    plots.push_back(std::move(plot));
+  };
+  make("thresholds_histogram", by_group.size() > 1 ? ", all groups" : "", all);
+  if (by_group.size() > 1) {
+    for (const auto& [group, values] : by_group) {
+      std::string stem = "thresholds_histogram_" + safe_name(group.scene);
+      if (!group.variant.empty()) stem += "_" + safe_name(group.variant);
+      make(stem, ", " + group.label(), values);
+    }
+  }
+  return plots;
+}
+
+// ---- HTML ------------------------------------------------------------------------------------
+
+std::string html_escape(const std::string& text) { return xml_escape(text); }
+
+std::string html_row(const std::vector<std::string>& cells, bool header = false) {
+  const char* tag = header ? "th" : "td";
+  std::string row = "<tr>";
+  for (const std::string& cell : cells) row += std::string("<") + tag + ">" + html_escape(cell) + "</" + tag + ">";
+  return row + "</tr>\n";
+}
+
+std::string html_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  std::string table = "<table>\n<thead>" + html_row(header, true) + "</thead>\n<tbody>\n";
+  for (const auto& row : rows) table += html_row(row);
+  return table + "</tbody>\n</table>\n";
+}
+
+// The SVG document as an inline element: HTML needs no namespace declaration, and without it the
+// page holds no URL at all.
+std::string inline_svg(const std::string& svg) {
+  std::string text = svg;
+  const std::string xmlns = " xmlns=\"http://www.w3.org/2000/svg\"";
+  const auto at = text.find(xmlns);
+  if (at != std::string::npos) text.erase(at, xmlns.size());
+  return text;
+}
+
+constexpr const char* kStyle = R"(body{font-family:sans-serif;margin:2em auto;max-width:1100px;padding:0 1em;color:#222}
+h1{font-size:1.6em}h2{font-size:1.25em;margin-top:2em;border-bottom:1px solid #ccc}
+table{border-collapse:collapse;margin:0.5em 0;font-size:0.9em}
+th,td{border:1px solid #ccc;padding:0.25em 0.5em;text-align:left;vertical-align:top}
+th{background:#f0f0f0}tbody tr:nth-child(even){background:#fafafa}
+dl{display:grid;grid-template-columns:max-content auto;gap:0.2em 1em}dt{font-weight:bold}dd{margin:0}
+figure{margin:1em 0}figcaption{font-size:0.9em;color:#555;max-width:720px}
+svg{max-width:100%;height:auto}
+)";
+
+std::string report_html(const AnalysisResult& result, const std::vector<Plot>& plots) {
+  int included = 0;
+  int excluded = 0;
+  for (const ParticipantRow& participant : result.participants) (participant.excluded ? excluded : included) += 1;
+
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  html += "<title>fovlab analysis: " + html_escape(result.study) + "</title>\n<style>\n" + kStyle + "</style>\n";
+  html += "</head>\n<body>\n<h1>fovlab analysis: " + html_escape(result.study) + "</h1>\n";
+
+  html += "<h2 id=\"summary\">Study</h2>\n<dl>\n";
+  auto item = [&](const std::string& term, const std::string& value) {
+    html += "<dt>" + html_escape(term) + "</dt><dd>" + html_escape(value) + "</dd>\n";
+  };
+  item("Study", result.study);
+  item("Protocol", result.protocol + (result.question.empty() ? "" : " (question: " + result.question + ")"));
+  if (!result.level_parameter.empty()) {
+    item("Level parameter", result.level_parameter + (result.higher_is_better ? " (higher is better)" : " (lower is better)"));
+  }
+  std::string levels;
+  for (double level : result.levels) {
+    if (!levels.empty()) levels += ", ";
+    levels += html_number(level);
+  }
+  item("Levels", levels.empty() ? "none" : levels);
+  item("Inputs", std::to_string(result.inputs.size()) + (result.inputs.size() == 1 ? " session log" : " session logs"));
+  item("Participants", std::to_string(included) + " included, " + std::to_string(excluded) + " excluded");
+  item("Test", test_description(result));
+  item("Guess rate of the fits",
+       html_number(result.guess_rate) + (result.guess_rate_source.empty() ? "" : " (" + result.guess_rate_source + ")"));
+  html += "</dl>\n";
+  if (!result.inputs.empty()) {
+    html += "<details><summary>Session logs read</summary>\n<ul>\n";
+    for (const std::string& input : result.inputs) html += "<li>" + html_escape(input) + "</li>\n";
+    html += "</ul>\n</details>\n";
+  }
+
+  html += "<h2 id=\"thresholds\">Thresholds</h2>\n";
+  if (result.thresholds.empty()) {
+    html += "<p>No thresholds.</p>\n";
+  } else {
+    std::vector<std::vector<std::string>> rows;
+    for (const GroupThreshold& t : result.thresholds) {
+      rows.push_back({t.group.scene, t.group.variant, html_number(t.level), html_number(t.mean), html_number(t.sd),
+                      std::to_string(t.participants_with_threshold), std::to_string(t.participants_without_threshold),
+                      t.definition, t.note});
+    }
+    html += html_table({"scene", "variant", "threshold", "mean", "SD", "participants with", "participants without",
+                        "definition", "note"},
+                       rows);
+  }
+
+  html += "<h2 id=\"plots\">Plots</h2>\n";
+  if (plots.empty()) html += "<p>No plots (no data to plot).</p>\n";
+  for (const Plot& plot : plots) {
+    html += "<figure>\n" + inline_svg(plot.svg) + "<figcaption>" + html_escape(plot.caption) + " (" +
+            html_escape(plot.file_name) + ")</figcaption>\n</figure>\n";
+  }
+
+  html += "<h2 id=\"fits\">Psychometric fits</h2>\n";
+  std::vector<std::vector<std::string>> fit_rows;
+  std::vector<std::string> not_fitted;
+  for (const GroupFit& group : result.fits) {
+    for (const PsychometricFit& fit : group.fits) {
+      const PsychometricParameters& p = fit.model.parameters;
+      fit_rows.push_back({group.group.scene, group.group.variant, shape_name(fit.model.shape),
+                          fit.model.rising ? "rising" : "falling", html_number(p.threshold),
+                          html_interval(fit.threshold_interval.lower, fit.threshold_interval.upper),
+                          html_number(p.slope), html_interval(fit.slope_interval.lower, fit.slope_interval.upper),
+                          html_number(p.lapse), html_interval(fit.lapse_interval.lower, fit.lapse_interval.upper),
+                          html_number(fit.model.guess), html_number(fit.deviance),
+                          std::to_string(fit.degrees_of_freedom), html_number(fit.deviance_p_value),
+                          html_number(fit.log_likelihood), fit.converged ? "yes" : "no",
+                          std::to_string(fit.bootstrap_samples) + " / " + std::to_string(fit.bootstrap_failures),
+                          fit.note});
+    }
+    for (const std::string& reason : group.not_fitted) not_fitted.push_back(group.group.label() + ": " + reason);
+  }
+  if (fit_rows.empty()) {
+    html += "<p>No fits.</p>\n";
+  } else {
+    html += html_table({"scene", "variant", "shape", "direction", "threshold", "threshold CI", "slope", "slope CI",
+                        "lapse", "lapse CI", "guess", "deviance", "dof", "p (deviance)", "log L", "converged",
+                        "bootstrap ok / failed", "note"},
+                       fit_rows);
+  }
+  if (!not_fitted.empty()) {
+    html += "<p>Not fitted:</p>\n<ul>\n";
+    for (const std::string& line : not_fitted) html += "<li>" + html_escape(line) + "</li>\n";
+    html += "</ul>\n";
+  }
+
+  html += "<h2 id=\"conditions\">Conditions</h2>\n<p>Test: " + html_escape(test_description(result)) +
+          "; k counts the answers in favour of the test stimulus; CI: 95 % Clopper-Pearson.</p>\n";
+  if (result.conditions.empty()) {
+    html += "<p>No conditions.</p>\n";
+  } else {
+    const bool ratings = std::any_of(result.conditions.begin(), result.conditions.end(),
+                                     [](const ConditionRow& row) { return row.mean_rating.has_value(); });
+    std::vector<std::string> header = {"scene", "variant", "method", "condition", "level", "n", "k", "k/n", "95 % CI",
+                                       "p", "p (Holm)", "stars"};
+    if (ratings) header.insert(header.end(), {"mean rating", "SD rating"});
+    std::vector<std::vector<std::string>> rows;
+    for (const ConditionRow& row : result.conditions) {
+      std::vector<std::string> cells = {row.group.scene, row.group.variant, row.method, row.condition, html_number(row.level),
+                                        std::to_string(row.n), std::to_string(row.k), html_number(row.proportion),
+                                        html_interval(row.interval.lower, row.interval.upper),
+                                        html_number(row.p_value), html_number(row.p_holm), row.stars};
+      if (ratings) cells.insert(cells.end(), {html_number(row.mean_rating), html_number(row.sd_rating)});
+      rows.push_back(std::move(cells));
+    }
+    html += html_table(header, rows);
+  }
+
+  html += "<h2 id=\"participants\">Participants</h2>\n";
+  if (result.participants.empty()) {
+    html += "<p>No participants.</p>\n";
+  } else {
+    std::vector<std::vector<std::string>> rows;
+    for (const ParticipantRow& p : result.participants) {
+      const std::vector<std::string> common = {p.participant, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
+                                               std::to_string(p.complete_trials),
+                                               std::to_string(p.attention_errors) + " / " +
+                                                   std::to_string(p.attention_checks)};
+      if (p.thresholds.empty()) {
+        auto cells = common;
+        cells.insert(cells.end(), {"", "", "", ""});
+        rows.push_back(std::move(cells));
+      }
+      for (const ParticipantThreshold& t : p.thresholds) {
+        auto cells = common;
+        cells.insert(cells.end(), {t.group.scene, t.group.variant, html_number(t.level), t.note});
+        rows.push_back(std::move(cells));
+      }
+    }
+    html += html_table({"participant", "excluded", "session ended", "complete trials", "attention errors / checks",
+                        "scene", "variant", "threshold", "note"},
+                       rows);
+  }
+
+  html += "<h2 id=\"left-out\">Left out</h2>\n";
+  if (result.left_out.empty()) {
+    html += "<p>nothing</p>\n";
+  } else {
+    html += "<ul>\n";
+    for (const LeftOut& left : result.left_out) {
+      html += "<li><strong>" + html_escape(left.what) + "</strong>: " + html_escape(left.reason) + "</li>\n";
+    }
+    html += "</ul>\n";
+  }
+  html += "<p>The same numbers as data: conditions.csv, participants.csv, thresholds.json.</p>\n";
+  html += "</body>\n</html>\n";
+  return html;
+}
+
+}  // namespace
+
+std::vector<std::string> write_analysis_report(const AnalysisResult& result, const std::string& out_dir) {
+  const fs::path dir(out_dir);
+  fs::create_directories(dir);
+  std::vector<std::string> written;
+  auto write = [&](const std::string& name, const std::string& text) {
+    const fs::path path = dir / name;
+    write_text_atomically(path, text);
+    written.push_back(path.string());
+  };
+
+  write("conditions.csv", conditions_csv(result));
+  write("participants.csv", participants_csv(result));
+  write("thresholds.json", thresholds_json(result).dump(2, ' ', false, json::error_handler_t::replace) + "\n");
+
+  std::set<std::string> taken = {"share_per_level.svg"};
+  std::vector<Plot> plots;
+  if (auto plot = share_per_level_plot(result)) plots.push_back(std::move(*plot));
+  for (const GroupFit& group : result.fits) {
+    if (auto plot = psychometric_plot(result, group, taken)) plots.push_back(std::move(*plot));
+  }
+  for (Plot& plot : threshold_histograms(result, taken)) plots.push_back(std::move(plot));
+  for (const Plot& plot : plots) write(plot.file_name, plot.svg);
+
+  write("report.html", report_html(result, plots));
+  return written;
+}
+
+}  // namespace fovlab::analysis

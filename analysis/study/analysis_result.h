@@ -1,0 +1,112 @@
+#pragma once
+// Everything `fovlab analyze` computes for one study, in plain structs: the per-condition table,
+// the participants, the thresholds per protocol, the psychometric fits, and what was left out and
+// why. Produced by analyse_study (study_analysis.h); written as thresholds.json, conditions.csv,
+// participants.csv, SVG plots and report.html by analysis/report/.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/psychometric/psychometric_fit.h"
+#include "analysis/statistics/binomial.h"
+
+namespace fovlab::analysis {
+
+// A group of conditions that share a reference and a level axis: one scene (block scene, or "all"
+// pooled over scenes) and one variant (e.g. "blur", or "" when the study has none).
+struct GroupKey {
+  std::string scene;
+  std::string variant;
+  bool operator<(const GroupKey& other) const {
+    return scene != other.scene ? scene < other.scene : variant < other.variant;
+  }
+  bool operator==(const GroupKey& other) const { return scene == other.scene && variant == other.variant; }
+  // "scene" or "scene/variant", as tables and messages name the group.
+  std::string label() const { return variant.empty() ? scene : scene + "/" + variant; }
+};
+
+// One row of conditions.csv: the comparison trials of one condition over every included
+// participant. k counts the answers in favour of the test stimulus (docs/analysis.md): judged
+// identical (2afc "same", pair "same" or the test chosen, rating "3") or chosen as better (2afc
+// "better").
+struct ConditionRow {
+  GroupKey group;
+  std::string condition;              // as logged, e.g. "level=7.5"
+  std::string method;                 // of the test stimuli ("ipr", "fipr", ...; several: joined by "+")
+  std::optional<double> level;
+  uint64_t n = 0;
+  uint64_t k = 0;
+  double proportion = 0.0;            // k / n
+  double p_value = 0.0;               // exact binomial test of k/n against 1/2, --alternative
+  double p_holm = 0.0;                // Holm-adjusted across the levels of the group
+  std::string stars;                  // of p_value
+  ProportionInterval interval;        // Clopper-Pearson, 95 %
+  std::optional<double> mean_rating;  // rating only: the mean score 1-3, and its SD
+  std::optional<double> sd_rating;
+};
+
+// One participant's threshold for one group (pair, ramp, slider), with how it was reached.
+struct ParticipantThreshold {
+  GroupKey group;
+  std::optional<double> level;        // none: the definition found no level (see note)
+  std::string note;                   // e.g. "every step answered correctly: censored at 30"
+};
+
+struct ParticipantRow {
+  std::string participant;
+  std::string log_path;
+  int complete_trials = 0;
+  int attention_checks = 0;
+  int attention_errors = 0;
+  bool excluded = false;              // by attention checks (session log says "excluded")
+  bool session_ended = false;
+  std::vector<ParticipantThreshold> thresholds;
+};
+
+// A study-level threshold for one group, with its definition (and seed section).
+struct GroupThreshold {
+  GroupKey group;
+  std::string definition;             // one sentence, as in docs/analysis.md
+  std::optional<double> level;        // none: no level satisfies the definition (see note)
+  std::string note;
+  // Pair, ramp, slider: across participants with a threshold.
+  std::optional<double> mean;
+  std::optional<double> sd;           // sample SD (n - 1); none with fewer than two
+  int participants_with_threshold = 0;
+  int participants_without_threshold = 0;
+};
+
+struct GroupFit {
+  GroupKey group;
+  std::vector<LevelCounts> data;      // k: differences reported (n - k of the condition rows)
+  std::vector<PsychometricFit> fits;  // one per shape that could be fitted
+  std::vector<std::string> not_fitted;  // "weibull: levels <= 0", ...
+};
+
+struct LeftOut {
+  std::string what;                   // a log path, or "participant P003", or a condition
+  std::string reason;
+};
+
+struct AnalysisResult {
+  std::string study;
+  std::string protocol;               // "2afc", "pair", "ramp", "slider", "rating"
+  std::string question;               // 2afc: "same" or "better"; else ""
+  std::string level_parameter;        // e.g. "foveal_deg"; "" without levels
+  bool higher_is_better = true;
+  std::vector<double> levels;
+  Alternative alternative = Alternative::two_sided;
+  double alpha = 0.05;
+  double rating_cutoff = 2.0;         // rating studies: the lowest acceptable mean score
+  double guess_rate = 0.0;            // the fits' fixed guess rate
+  std::string guess_rate_source;      // "2afc forced choice", "attention checks (12 of 240)", "--guess-rate"
+  std::vector<std::string> inputs;    // the log paths read
+  std::vector<ConditionRow> conditions;
+  std::vector<ParticipantRow> participants;
+  std::vector<GroupThreshold> thresholds;
+  std::vector<GroupFit> fits;
+  std::vector<LeftOut> left_out;
+};
+
+}  // namespace fovlab::analysis

@@ -1,0 +1,494 @@
+#include "analysis/study/study_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "analysis/statistics/multiple_comparisons.h"
+#include "core/number_text.h"
+#include "core/prng.h"
+
+namespace fovlab::analysis {
+namespace {
+
+// Groups a trial counts in: its scene, and "all" scenes pooled when the study has several.
+std::vector<GroupKey> groups_of(const StudyTrial& trial, bool pool_scenes) {
+  std::vector<GroupKey> groups = {{trial.scene, trial.variant}};
+  if (pool_scenes) groups.push_back({"all", trial.variant});
+  return groups;
+}
+
+// Levels from the one most like the reference to the most degraded.
+std::vector<double> best_first(std::vector<double> levels, bool higher_is_better) {
+  std::sort(levels.begin(), levels.end());
+  if (higher_is_better) std::reverse(levels.begin(), levels.end());
+  return levels;
+}
+
+// The more degraded of two levels of a ramp step (none: the reference, better than every level).
+std::optional<double> more_degraded(std::optional<double> a, std::optional<double> b, bool higher_is_better) {
+  if (!a) return b;
+  if (!b) return a;
+  return higher_is_better ? std::min(*a, *b) : std::max(*a, *b);
+}
+
+// Comparison protocols: whether an answer is in favour of the test stimulus (docs/analysis.md).
+// nullopt: the answer is not one of the protocol's (a timeout, "").
+std::optional<bool> in_favour_of_test(const StudyData& data, const StudyTrial& trial, const std::string& answer) {
+  const auto test_chosen = [&]() -> std::optional<bool> {
+    if (answer != "first" && answer != "second") return std::nullopt;
+    return (answer == "first") != trial.reference_first;
+  };
+  if (data.protocol == "2afc") {
+    if (data.question == "same") {
+      if (answer == "same") return true;
+      if (answer == "different") return false;
+      return std::nullopt;
+    }
+    return test_chosen();
+  }
+  if (data.protocol == "pair") return answer == "same" ? std::optional<bool>(true) : test_chosen();
+  if (data.protocol == "rating") {
+    if (answer == "3") return true;
+    if (answer == "1" || answer == "2") return false;
+  }
+  return std::nullopt;
+}
+
+bool is_comparison_protocol(const std::string& protocol) {
+  return protocol == "2afc" || protocol == "pair" || protocol == "rating";
+}
+
+struct ConditionCounts {
+  std::optional<double> level;
+  std::set<std::string> methods;
+  uint64_t n = 0;
+  uint64_t k = 0;
+  double rating_sum = 0.0;
+  double rating_square_sum = 0.0;
+};
+
+struct Summary {
+  std::optional<double> mean, sd;
+  int count = 0;
+};
+
+Summary summarise(const std::vector<double>& values) {
+  Summary summary;
+  summary.count = static_cast<int>(values.size());
+  if (values.empty()) return summary;
+  double sum = 0.0;
+  for (double value : values) sum += value;
+  const double mean = sum / double(values.size());
+  summary.mean = mean;
+  if (values.size() >= 2) {
+    double squares = 0.0;
+    for (double value : values) squares += (value - mean) * (value - mean);
+    summary.sd = std::sqrt(squares / double(values.size() - 1));
+  }
+  return summary;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Comparison protocols: counts per condition, tests, study-level thresholds and fits.
+
+class ComparisonAnalysis {
+ public:
+  ComparisonAnalysis(const StudyData& data, const AnalysisOptions& options, AnalysisResult& result)
+      : data_(data), options_(options), result_(result) {}
+
+  void run(const std::vector<const ParticipantData*>& included, bool pool_scenes) {
+    count(included, pool_scenes);
+    for (auto& [group, conditions] : counts_) add_rows(group, conditions);
+    for (const auto& [group, conditions] : counts_) {
+      (void)conditions;
+      add_threshold(group);
+      add_fits(group);
+    }
+  }
+
+ private:
+  void count(const std::vector<const ParticipantData*>& included, bool pool_scenes) {
+    int unanswered = 0;
+    for (const ParticipantData* participant : included)
+      for (const StudyTrial& trial : participant->trials) {
+        if (trial.attention_check || trial.answers.empty()) continue;
+        const std::string& answer = trial.answers.back();
+        const std::optional<bool> favour = in_favour_of_test(data_, trial, answer);
+        if (!favour) {
+          ++unanswered;
+          continue;
+        }
+        for (const GroupKey& group : groups_of(trial, pool_scenes)) {
+          ConditionCounts& counts = counts_[group][trial.condition];
+          counts.level = trial.level;
+          counts.methods.insert(trial.method);
+          ++counts.n;
+          counts.k += *favour ? 1 : 0;
+          if (data_.protocol == "rating") {
+            const double score = std::stod(answer);
+            counts.rating_sum += score;
+            counts.rating_square_sum += score * score;
+          }
+        }
+      }
+    if (unanswered > 0)
+      result_.left_out.push_back({std::to_string(unanswered) + " trial(s)",
+                                  "no answer of this protocol (a timeout): not counted"});
+    if (counts_.empty() && !included.empty())
+      result_.left_out.push_back({"study " + data_.study,
+                                  "no answered comparison trial of an included participant: no condition to test"});
+    // Levels of the config no included trial tested.
+    for (const auto& [group, conditions] : counts_) {
+      std::set<double> tested;
+      for (const auto& [name, counts] : conditions)
+        if (counts.level) tested.insert(*counts.level);
+      for (double level : data_.levels)
+        if (!tested.count(level))
+          result_.left_out.push_back({"condition " + data_.level_parameter + "=" + format_number(level, 6) + " in " +
+                                          group.label(),
+                                      "no trial of an included participant: nothing to analyse"});
+    }
+  }
+
+  void add_rows(const GroupKey& group, const std::map<std::string, ConditionCounts>& conditions) {
+    std::vector<ConditionRow> rows;
+    for (const auto& [name, counts] : conditions) {
+      ConditionRow row;
+      row.group = group;
+      row.condition = name;
+      row.level = counts.level;
+      for (const std::string& method : counts.methods) row.method += (row.method.empty() ? "" : "+") + method;
+      row.n = counts.n;
+      row.k = counts.k;
+      row.proportion = double(counts.k) / double(counts.n);
+      row.p_value = binomial_test_p_value(counts.k, counts.n, 0.5, options_.alternative);
+      row.stars = significance_stars(row.p_value);
+      row.interval = clopper_pearson_interval(counts.k, counts.n, 0.95);
+      if (data_.protocol == "rating") {
+        const double n = double(counts.n);
+        const double mean = counts.rating_sum / n;
+        row.mean_rating = mean;
+        if (counts.n >= 2)
+          row.sd_rating = std::sqrt(std::max(0.0, (counts.rating_square_sum - n * mean * mean) / (n - 1.0)));
+      }
+      rows.push_back(row);
+    }
+    std::sort(rows.begin(), rows.end(), [](const ConditionRow& a, const ConditionRow& b) {
+      if (a.level != b.level) return a.level < b.level;  // none first
+      return a.condition < b.condition;
+    });
+    std::vector<double> p_values;
+    for (const ConditionRow& row : rows) p_values.push_back(row.p_value);
+    const std::vector<double> adjusted = holm_adjusted(p_values);
+    for (size_t i = 0; i < rows.size(); ++i) rows[i].p_holm = adjusted[i];
+    result_.conditions.insert(result_.conditions.end(), rows.begin(), rows.end());
+  }
+
+  std::vector<const ConditionRow*> rows_of(const GroupKey& group) const {
+    std::vector<const ConditionRow*> rows;
+    for (const ConditionRow& row : result_.conditions)
+      if (row.group == group && row.level) rows.push_back(&row);
+    return rows;
+  }
+
+  // From the best level down: the most degraded level such that it and every better level pass.
+  template <typename Passes>
+  std::optional<double> walk_from_best(const GroupKey& group, Passes passes, std::string& note) const {
+    std::map<double, const ConditionRow*> by_level;
+    for (const ConditionRow* row : rows_of(group)) by_level[*row->level] = row;
+    std::vector<double> levels;
+    for (const auto& [level, row] : by_level) levels.push_back(level);
+    std::optional<double> threshold;
+    for (double level : best_first(levels, data_.higher_is_better)) {
+      if (!passes(*by_level[level])) {
+        if (!threshold) note = "even the best level tested (" + format_number(level, 6) + ") fails the criterion";
+        return threshold;
+      }
+      threshold = level;
+    }
+    if (threshold) note = "every level tested passes: the threshold is at or below the most degraded level";
+    return threshold;
+  }
+
+  void add_threshold(const GroupKey& group) {
+    if (rows_of(group).empty()) return;
+    GroupThreshold threshold;
+    threshold.group = group;
+    if (data_.protocol == "rating") {
+      threshold.definition = "seed 002, 4.4.2: the most degraded level whose mean rating, and that of every better level, "
+                             "is at least " + format_number(options_.rating_cutoff, 6);
+      threshold.level = walk_from_best(
+          group, [&](const ConditionRow& row) { return row.mean_rating && *row.mean_rating >= options_.rating_cutoff; },
+          threshold.note);
+    } else {
+      const std::string judged = data_.protocol == "2afc" && data_.question == "same" ? "judged identical"
+                                 : data_.protocol == "pair"                          ? "judged as good or better"
+                                                                                     : "preferred";
+      threshold.definition = std::string(data_.protocol == "pair" ? "seed 001, 4.7 (pooled)" : data_.question == "same" ? "seed 000, 4.4 and 5.1" : "seed 002, 5.2") +
+                             ": the most degraded level from which on no level is distinguished from the reference; a level is "
+                             "distinguished when the test is " + judged +
+                             " in less than half of its trials and the Holm-adjusted exact binomial p (H0: 1/2, " +
+                             alternative_name(options_.alternative) + ") is below " + format_number(options_.alpha, 6);
+      threshold.level = walk_from_best(
+          group,
+          [&](const ConditionRow& row) { return !(row.proportion < 0.5 && row.p_holm < options_.alpha); },
+          threshold.note);
+      if (options_.alternative == Alternative::greater)
+        threshold.note += "; with --alternative greater the tests ask whether the test is favoured, so no level can count "
+                          "as distinguished";
+    }
+    result_.thresholds.push_back(threshold);
+  }
+
+  void add_fits(const GroupKey& group) {
+    GroupFit group_fit;
+    group_fit.group = group;
+    for (const ConditionRow* row : rows_of(group))
+      group_fit.data.push_back({*row->level, row->n, row->n - row->k});
+    std::set<double> distinct;
+    for (const LevelCounts& counts : group_fit.data) distinct.insert(counts.level);
+    if (distinct.size() < 2) return;
+    const bool positive = *distinct.begin() > 0.0;
+    for (PsychometricShape shape : options_.shapes) {
+      if (shape == PsychometricShape::weibull && !positive) {
+        group_fit.not_fitted.push_back(std::string(shape_name(shape)) + ": needs levels > 0");
+        continue;
+      }
+      FitOptions fit_options;
+      fit_options.shape = shape;
+      fit_options.rising = !data_.higher_is_better;
+      fit_options.guess = result_.guess_rate;
+      fit_options.bootstrap_samples = options_.bootstrap_samples;
+      fit_options.seed = derive_seed(derive_seed(options_.seed, group.label()), shape_name(shape));
+      try {
+        group_fit.fits.push_back(fit_psychometric(group_fit.data, fit_options));
+      } catch (const std::invalid_argument& error) {
+        group_fit.not_fitted.push_back(std::string(shape_name(shape)) + ": " + error.what());
+      }
+    }
+    result_.fits.push_back(group_fit);
+  }
+
+  const StudyData& data_;
+  const AnalysisOptions& options_;
+  AnalysisResult& result_;
+  std::map<GroupKey, std::map<std::string, ConditionCounts>> counts_;
+};
+
+// The guess rate the fits hold fixed (docs/analysis.md, "Psychometric fits").
+void choose_guess_rate(const StudyData& data, const AnalysisOptions& options,
+                       const std::vector<const ParticipantData*>& included, AnalysisResult& result) {
+  if (options.guess_rate) {
+    result.guess_rate = *options.guess_rate;
+    result.guess_rate_source = "--guess-rate";
+    return;
+  }
+  if (data.protocol == "2afc" && data.question == "better") {
+    result.guess_rate = 0.5;
+    result.guess_rate_source = "2afc forced choice: chance is 1/2";
+    return;
+  }
+  // Attention checks show identical stimuli: any answer but "identical" is a false alarm.
+  const std::string identical = data.protocol == "rating" ? "3" : "same";
+  uint64_t checks = 0, false_alarms = 0;
+  for (const ParticipantData* participant : included)
+    for (const StudyTrial& trial : participant->trials)
+      if (trial.attention_check && !trial.answers.empty() && !trial.answers.back().empty()) {
+        ++checks;
+        false_alarms += trial.answers.back() == identical ? 0 : 1;
+      }
+  if (checks == 0) {
+    result.guess_rate = 0.0;
+    result.guess_rate_source = "no attention checks: 0";
+    return;
+  }
+  const double false_alarm_rate = double(false_alarms) / double(checks);
+  // Pair: a false alarm picks either interval, so half of them name the reference.
+  result.guess_rate = data.protocol == "pair" ? 0.5 * false_alarm_rate : false_alarm_rate;
+  result.guess_rate_source = "attention checks of included participants: " + std::to_string(false_alarms) + " of " +
+                             std::to_string(checks) + " not judged identical" +
+                             (data.protocol == "pair" ? " (halved: either interval)" : "");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Per-participant thresholds: pair, ramp, slider (seed 001, 4.7).
+
+// Pair: the most degraded level such that it and every better level were judged as good as or
+// better than the reference in at least half of the participant's trials.
+std::optional<double> pair_threshold(const StudyData& data, const std::vector<const StudyTrial*>& trials,
+                                     std::string& note) {
+  std::map<double, std::pair<int, int>> counts;  // level -> (in favour, n)
+  for (const StudyTrial* trial : trials) {
+    const std::optional<bool> favour = in_favour_of_test(data, *trial, trial->answers.back());
+    if (!favour || !trial->level) continue;
+    auto& [k, n] = counts[*trial->level];
+    k += *favour ? 1 : 0;
+    ++n;
+  }
+  std::vector<double> levels;
+  for (const auto& [level, kn] : counts) levels.push_back(level);
+  std::optional<double> threshold;
+  for (double level : best_first(levels, data.higher_is_better)) {
+    const auto [k, n] = counts[level];
+    if (2 * k < n) break;
+    threshold = level;
+  }
+  if (!threshold && !levels.empty()) note = "the reference was preferred even at the best level";
+  return threshold;
+}
+
+// Ramp, one trial: the most degraded level of the steps answered wrongly (a change missed, or seen
+// the wrong way); every step right: the best level (censored there). A ramp with a step left
+// unanswered (a timeout) has no threshold: what the missing answer would have said is unknown.
+enum class RampOutcome { wrong_step, all_right, unanswered_step };
+
+RampOutcome ramp_trial_threshold(const StudyData& data, const StudyTrial& trial, std::optional<double>& threshold) {
+  const std::string correct = trial.ramp_toward_reference ? "increased" : "decreased";
+  const size_t steps = trial.sequence_levels.empty() ? 0 : trial.sequence_levels.size() - 1;
+  std::vector<bool> answered(steps + 1, false);
+  threshold.reset();
+  for (size_t i = 0; i < trial.answers.size(); ++i) {
+    const int step = trial.answer_steps[i];
+    if (trial.answers[i].empty() || step < 1 || step > static_cast<int>(steps)) continue;
+    answered[size_t(step)] = true;
+    if (trial.answers[i] == correct) continue;
+    const std::optional<double> level =
+        more_degraded(trial.sequence_levels[size_t(step - 1)], trial.sequence_levels[size_t(step)], data.higher_is_better);
+    threshold = more_degraded(threshold, level, data.higher_is_better);
+  }
+  if (steps == 0 || std::count(answered.begin() + 1, answered.end(), true) < static_cast<long>(steps)) {
+    threshold.reset();
+    return RampOutcome::unanswered_step;
+  }
+  if (threshold) return RampOutcome::wrong_step;
+  for (const std::optional<double>& level : trial.sequence_levels)  // the best level of the ramp
+    if (level && (!threshold || (data.higher_is_better ? *level > *threshold : *level < *threshold))) threshold = level;
+  return RampOutcome::all_right;
+}
+
+void add_participant_thresholds(const StudyData& data, bool pool_scenes, AnalysisResult& result) {
+  std::map<GroupKey, std::vector<double>> per_group;
+  std::map<GroupKey, int> without;
+  for (size_t p = 0; p < data.participants.size(); ++p) {  // result.participants is in the same order
+    const ParticipantData& participant = data.participants[p];
+    ParticipantRow& row = result.participants[p];
+    if (participant.excluded) continue;
+    std::map<GroupKey, std::vector<const StudyTrial*>> trials;
+    for (const StudyTrial& trial : participant.trials)
+      if (!trial.attention_check && !trial.answers.empty())
+        for (const GroupKey& group : groups_of(trial, pool_scenes)) trials[group].push_back(&trial);
+    for (const auto& [group, group_trials] : trials) {
+      ParticipantThreshold threshold;
+      threshold.group = group;
+      if (data.protocol == "pair") {
+        threshold.level = pair_threshold(data, group_trials, threshold.note);
+      } else if (data.protocol == "ramp") {
+        std::vector<double> levels;
+        int censored_count = 0, unanswered_count = 0;
+        for (const StudyTrial* trial : group_trials) {
+          std::optional<double> level;
+          const RampOutcome outcome = ramp_trial_threshold(data, *trial, level);
+          if (level) levels.push_back(*level);
+          censored_count += outcome == RampOutcome::all_right ? 1 : 0;
+          unanswered_count += outcome == RampOutcome::unanswered_step ? 1 : 0;
+        }
+        threshold.level = summarise(levels).mean;
+        const std::string of_ramps = " of " + std::to_string(group_trials.size()) + " ramps ";
+        if (censored_count > 0)
+          threshold.note = std::to_string(censored_count) + of_ramps + "had every step right: counted at the best level";
+        if (unanswered_count > 0)
+          threshold.note += std::string(threshold.note.empty() ? "" : "; ") + std::to_string(unanswered_count) + of_ramps +
+                            "had a step left unanswered: not counted";
+      } else if (data.protocol == "slider") {
+        std::vector<double> levels;
+        for (const StudyTrial* trial : group_trials)
+          if (trial->saved_level) levels.push_back(*trial->saved_level);
+        threshold.level = summarise(levels).mean;
+        if (levels.size() < group_trials.size())
+          threshold.note = std::to_string(group_trials.size() - levels.size()) + " slider trial(s) without a saved level";
+      }
+      if (threshold.level) per_group[group].push_back(*threshold.level);
+      else ++without[group];
+      row.thresholds.push_back(threshold);
+    }
+  }
+  const char* definition =
+      data.protocol == "pair"
+          ? "seed 001, 4.7: per participant, the most degraded level such that it and every better level were judged "
+            "as good as or better than the reference in at least half of the trials; mean and SD across participants"
+      : data.protocol == "ramp"
+          ? "seed 001, 4.7: per ramp, the most degraded level of a step answered wrongly (a change missed or seen the wrong "
+            "way; every step right: the best level); per participant the mean over ramps; mean and SD across participants"
+          : "seed 001, 4.7: per participant, the mean saved level; mean and SD across participants";
+  std::set<GroupKey> groups;
+  for (const auto& [group, values] : per_group) groups.insert(group);
+  for (const auto& [group, count] : without) groups.insert(group);
+  for (const GroupKey& group : groups) {
+    const Summary summary = summarise(per_group[group]);
+    GroupThreshold threshold;
+    threshold.group = group;
+    threshold.definition = definition;
+    threshold.mean = summary.mean;
+    threshold.sd = summary.sd;
+    threshold.level = summary.mean;
+    threshold.participants_with_threshold = summary.count;
+    threshold.participants_without_threshold = without[group];
+    if (!summary.mean) threshold.note = "no participant reached a threshold";
+    result.thresholds.push_back(threshold);
+  }
+}
+
+}  // namespace
+
+AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& options) {
+  AnalysisResult result;
+  result.study = data.study;
+  result.protocol = data.protocol;
+  result.question = data.question;
+  result.level_parameter = data.level_parameter;
+  result.higher_is_better = data.higher_is_better;
+  result.levels = data.levels;
+  result.alternative = options.alternative;
+  result.alpha = options.alpha;
+  result.rating_cutoff = options.rating_cutoff;
+  result.inputs = data.inputs;
+  result.left_out = data.left_out;
+
+  std::vector<const ParticipantData*> included;
+  std::set<std::string> scenes;
+  for (const ParticipantData& participant : data.participants) {
+    ParticipantRow row;
+    row.participant = participant.participant;
+    row.log_path = participant.log_path;
+    row.complete_trials = static_cast<int>(participant.trials.size());
+    row.attention_checks = participant.attention_checks;
+    row.attention_errors = participant.attention_errors;
+    row.excluded = participant.excluded;
+    row.session_ended = participant.session_ended;
+    result.participants.push_back(row);
+    if (participant.excluded) {
+      result.left_out.push_back({"participant " + participant.participant,
+                                 "excluded by attention checks (" + std::to_string(participant.attention_errors) +
+                                     (participant.attention_errors == 1 ? " error" : " errors") + "): no trial counted"});
+      continue;
+    }
+    included.push_back(&participant);
+    for (const StudyTrial& trial : participant.trials) scenes.insert(trial.scene);
+  }
+  const bool pool_scenes = scenes.size() > 1;
+  if (data.levels.empty())
+    result.left_out.push_back({"thresholds and fits", "the study has no levels: its conditions are tested, but there is "
+                                                      "no level axis for a threshold or a fit"});
+  choose_guess_rate(data, options, included, result);
+  if (is_comparison_protocol(data.protocol)) ComparisonAnalysis(data, options, result).run(included, pool_scenes);
+  if (data.protocol == "pair" || data.protocol == "ramp" || data.protocol == "slider")
+    add_participant_thresholds(data, pool_scenes, result);
+  if (included.empty())
+    result.left_out.push_back({"study " + data.study, "every participant was excluded: no result"});
+  return result;
+}
+
+}  // namespace fovlab::analysis

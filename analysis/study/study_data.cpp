@@ -1,0 +1,208 @@
+#include "analysis/study/study_data.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <cctype>
+#include <map>
+#include <set>
+
+#include "core/input_error.h"
+#include "protocols/config/study_config.h"
+#include "protocols/log/event_log.h"
+#include "protocols/log/session_scan.h"
+
+namespace fovlab::analysis {
+namespace {
+
+std::optional<double> optional_number(const nlohmann::json& object, const char* key) {
+  const auto found = object.find(key);
+  if (found == object.end() || !found->is_number()) return std::nullopt;
+  return found->get<double>();
+}
+
+// The study-wide facts of one log, from its header and the config it carries.
+struct LogStudy {
+  std::string study, config_hash, protocol, question, level_parameter;
+  std::vector<double> levels;
+  bool higher_is_better = true;
+};
+
+LogStudy study_of(const nlohmann::json& header, const std::string& path) {
+  const StudyConfig config = parse_study_config_text(header.value("config_toml", ""), path + " (config_toml)",
+                                                     /*check_scene_files=*/false);
+  LogStudy study;
+  study.study = header.value("study", "");
+  study.config_hash = header.value("config_hash", "");
+  study.protocol = protocol_name(config.protocol.kind);
+  if (config.protocol.kind == ProtocolKind::two_afc)
+    study.question = config.protocol.two_afc_question == TwoAfcQuestion::same ? "same" : "better";
+  study.level_parameter = config.levels.parameter;
+  study.levels = config.levels.values;
+  study.higher_is_better = config.levels.higher_is_better;
+  return study;
+}
+
+ParticipantData participant_of(ScannedSession& session) {
+  // The level and method of every stimulus id (level none: a reference), from the header once.
+  std::vector<std::optional<double>> level_of_stimulus;
+  std::vector<std::string> method_of_stimulus;
+  for (const nlohmann::json& stimulus : session.header.at("stimuli")) {
+    const bool reference = stimulus.value("is_reference", false);
+    level_of_stimulus.push_back(reference ? std::nullopt : optional_number(stimulus, "level"));
+    method_of_stimulus.push_back(reference ? std::string() : stimulus.value("method", ""));
+  }
+  const auto stimulus_level = [&](int id) -> std::optional<double> {
+    if (id < 0 || static_cast<size_t>(id) >= level_of_stimulus.size())
+      throw InputError(session.path + ": stimulus " + std::to_string(id) + " is not in the header's stimuli");
+    return level_of_stimulus[static_cast<size_t>(id)];
+  };
+  ParticipantData participant;
+  participant.participant = session.header.value("participant", "");
+  participant.log_path = session.path;
+  participant.excluded = session.excluded;
+  participant.session_ended = session.ended;
+  participant.attention_errors = session.attention_errors;
+  for (ScannedTrial& scanned : session.trials) {
+    StudyTrial trial;
+    trial.index = scanned.index;
+    trial.scene = session.block_names[scanned.block];
+    trial.condition = std::move(scanned.condition);
+    trial.variant = std::move(scanned.variant);
+    trial.level = scanned.level;
+    trial.attention_check = scanned.attention_check;
+    trial.reference_first = scanned.reference_first;
+    trial.ramp_toward_reference = scanned.ramp_toward_reference;
+    if (!trial.attention_check)
+      for (int id : scanned.sequence) {
+        trial.sequence_levels.push_back(stimulus_level(id));
+        if (trial.method.empty()) trial.method = method_of_stimulus[static_cast<size_t>(id)];
+      }
+    trial.answers = std::move(scanned.answers);
+    trial.answer_steps = std::move(scanned.answer_steps);
+    trial.saved_level = scanned.saved_level;
+    if (trial.attention_check) ++participant.attention_checks;
+    participant.trials.push_back(std::move(trial));
+  }
+  return participant;
+}
+
+// One log, read: its study, its participant, and notes on what of it was not read.
+struct ReadLog {
+  std::optional<LogStudy> study;           // none: the log could not be read (reason in notes)
+  ParticipantData participant;
+  std::vector<LeftOut> notes;
+};
+
+LeftOut left_out(const std::string& path, std::string reason) {
+  if (reason.rfind(path + ":", 0) == 0) reason = reason.substr(path.size() + 1);  // the path is named once
+  while (!reason.empty() && reason.front() == ' ') reason.erase(reason.begin());
+  if (!reason.empty() && std::isdigit(static_cast<unsigned char>(reason.front()))) reason = "line " + reason;
+  return {path, reason};
+}
+
+ReadLog read_log(const std::string& path) {
+  ReadLog read;
+  try {
+    ScannedSession session = scan_session_log(path);
+    if (session.first_chain_error_line)
+      throw InputError("line " + std::to_string(session.first_chain_error_line) +
+                       ": the hash chain is broken (the log was edited or damaged)");
+    read.study = study_of(session.header, path);
+    read.participant = participant_of(session);
+    if (session.torn_tail_bytes)
+      read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +
+                                      " bytes, a write a crash interrupted): not read"});
+    if (session.incomplete_trial >= 0)
+      read.notes.push_back({path, "trial " + std::to_string(session.incomplete_trial) +
+                                      " was started but not finished: not counted"});
+  } catch (const InputError& error) {
+    read.study.reset();
+    read.notes = {left_out(path, error.what())};
+  } catch (const nlohmann::json::exception& error) {
+    read.study.reset();
+    read.notes = {left_out(path, std::string("an event has a field of the wrong type (") + error.what() + ")")};
+  } catch (const std::exception& error) {  // e.g. out of memory for a huge file: this log only
+    read.study.reset();
+    read.notes = {left_out(path, std::string("cannot be read (") + error.what() + ")")};
+  }
+  return read;
+}
+
+// Every log, read by as many threads as the machine has cores (each log by one thread).
+std::vector<ReadLog> read_logs(const std::vector<std::string>& paths) {
+  std::vector<ReadLog> logs(paths.size());
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t i = next++; i < paths.size(); i = next++) logs[i] = read_log(paths[i]);
+  };
+  const size_t thread_count = std::min<size_t>(paths.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> threads;
+  for (size_t i = 1; i < thread_count; ++i) threads.emplace_back(work);
+  work();
+  for (std::thread& thread : threads) thread.join();
+  return logs;
+}
+
+}  // namespace
+
+StudyData load_study(const std::vector<std::string>& paths) {
+  std::set<std::string> unique_logs;
+  for (const std::string& path : paths)
+    for (const std::string& log : find_session_logs(path)) unique_logs.insert(log);
+  StudyData data;
+  data.inputs.assign(unique_logs.begin(), unique_logs.end());
+  std::vector<ReadLog> logs = read_logs(data.inputs);
+
+  // The study (and config) most readable logs belong to is analysed; ties: the one whose first log
+  // comes first in path order.
+  std::map<std::pair<std::string, std::string>, int> logs_per_study;
+  for (const ReadLog& read : logs)
+    if (read.study) ++logs_per_study[{read.study->study, read.study->config_hash}];
+  const LogStudy* study = nullptr;
+  for (const ReadLog& read : logs)
+    if (read.study && (!study || logs_per_study[{read.study->study, read.study->config_hash}] >
+                                     logs_per_study[{study->study, study->config_hash}]))
+      study = &*read.study;
+  if (!study) {
+    const LeftOut& first = logs.empty() ? LeftOut{"", "no session log to analyse"} : logs.front().notes.front();
+    throw InputError(first.what.empty() ? first.reason : first.what + ": " + first.reason);
+  }
+
+  std::map<std::string, std::string> log_of_participant;
+  for (ReadLog& read : logs) {
+    const std::string& path = read.participant.log_path;
+    if (!read.study) {
+      data.left_out.insert(data.left_out.end(), read.notes.begin(), read.notes.end());
+      continue;
+    }
+    if (read.study->study != study->study) {
+      data.left_out.push_back({path, "study \"" + read.study->study + "\", not \"" + study->study +
+                                         "\" (logs of different studies)"});
+      continue;
+    }
+    if (read.study->config_hash != study->config_hash) {
+      data.left_out.push_back({path, "config " + read.study->config_hash + ", not " + study->config_hash +
+                                         " (another version of the study's config)"});
+      continue;
+    }
+    const auto [previous, inserted] = log_of_participant.emplace(read.participant.participant, path);
+    if (!inserted) {
+      data.left_out.push_back({path, "participant " + read.participant.participant + " is also in " + previous->second +
+                                         " (duplicate participant ID; the first log is used)"});
+      continue;
+    }
+    data.left_out.insert(data.left_out.end(), read.notes.begin(), read.notes.end());
+    data.participants.push_back(std::move(read.participant));
+  }
+  data.study = study->study;
+  data.config_hash = study->config_hash;
+  data.protocol = study->protocol;
+  data.question = study->question;
+  data.level_parameter = study->level_parameter;
+  data.levels = study->levels;
+  data.higher_is_better = study->higher_is_better;
+  return data;
+}
+
+}  // namespace fovlab::analysis

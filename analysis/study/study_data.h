@@ -1,0 +1,60 @@
+#pragma once
+// A study's logs as the analysis needs them: per participant, the complete trials with their
+// scene, condition, level and answers. Logs are read through the runner's log reader
+// (protocols/log) and never modified. A log that cannot be used (unreadable, another study or
+// config, a schema this build does not read, a duplicate participant) is left out with its reason;
+// the rest is still analysed.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/study/analysis_result.h"
+
+namespace fovlab::analysis {
+
+struct StudyTrial {
+  int index = 0;
+  std::string scene;                      // of the trial's stimuli
+  std::string condition;                  // as logged ("level=7.5", "blur/ramp_up", ...)
+  std::string variant;
+  std::string method;                     // of the test stimulus ("" for attention checks)
+  std::optional<double> level;            // comparison trials with levels
+  bool attention_check = false;
+  bool reference_first = true;            // comparison trials
+  bool ramp_toward_reference = true;      // ramp
+  std::vector<std::optional<double>> sequence_levels;  // ramp: level of each stimulus shown (none: the reference)
+  std::vector<std::string> answers;       // in order ("" after a timeout)
+  std::vector<int> answer_steps;          // the `step` of each answer
+  std::optional<double> saved_level;      // slider
+};
+
+struct ParticipantData {
+  std::string participant;
+  std::string log_path;
+  bool excluded = false;
+  bool session_ended = false;
+  int attention_checks = 0;
+  int attention_errors = 0;
+  std::vector<StudyTrial> trials;          // complete trials, in session order
+};
+
+struct StudyData {
+  std::string study;
+  std::string config_hash;
+  std::string protocol;                    // "2afc", "pair", "ramp", "slider", "rating"
+  std::string question;                    // 2afc: "same" or "better"
+  std::string level_parameter;
+  std::vector<double> levels;              // ascending
+  bool higher_is_better = true;
+  std::vector<std::string> inputs;         // every log path given (sorted)
+  std::vector<ParticipantData> participants;  // in log-path order
+  std::vector<LeftOut> left_out;
+};
+
+// `paths`: log files and/or folders (every events.jsonl under them). The study (and config) most
+// readable logs belong to is analysed (ties: the one whose first log comes first in sorted path
+// order); logs of another study or config are left out. Throws InputError when no log at all can
+// be read (naming the first reason).
+StudyData load_study(const std::vector<std::string>& paths);
+
+}  // namespace fovlab::analysis

@@ -1,0 +1,121 @@
+// fovlab analyze: per-study thresholds from session logs (analysis/study), written as JSON, CSV,
+// SVG and one HTML report (analysis/report).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "analysis/report/report.h"
+#include "analysis/study/study_analysis.h"
+#include "app/commands.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
+
+namespace fovlab::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct AnalyzeArguments {
+  std::vector<std::string> inputs;
+  std::string out;
+  std::string alternative = "two-sided";
+  double alpha = 0.05;
+  std::optional<double> guess_rate;  // none: by protocol
+  int bootstrap = 1000;
+  uint64_t seed = 1;
+  double rating_cutoff = 2.0;
+};
+
+// results/<study>/analysis: beside the participants when one study folder is given, else under
+// ./results.
+std::string default_out_dir(const std::vector<std::string>& inputs, const std::string& study) {
+  if (inputs.size() == 1 && fs::is_directory(inputs.front())) {
+    const fs::path folder = fs::path(inputs.front()).lexically_normal();
+    const fs::path named = folder.filename().empty() ? folder.parent_path() : folder;
+    if (named.filename() == study) return (named / "analysis").string();
+    if (fs::is_directory(folder / study)) return (folder / study / "analysis").string();
+  }
+  return (fs::path("results") / study / "analysis").string();
+}
+
+void print_summary(const analysis::AnalysisResult& result) {
+  int excluded = 0;
+  for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
+  std::printf("study %s (%s%s): %zu participant(s), %d excluded; test: exact binomial, %s, H0 1/2, Holm, alpha %s\n",
+              result.study.c_str(), result.protocol.c_str(), result.question.empty() ? "" : (" " + result.question).c_str(),
+              result.participants.size(), excluded, analysis::alternative_name(result.alternative),
+              format_number(result.alpha, 6).c_str());
+  for (const auto& threshold : result.thresholds) {
+    std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
+                threshold.level ? format_number(*threshold.level, 6).c_str() : "none");
+    if (threshold.mean)
+      std::printf(" (mean of %d participants, SD %s)", threshold.participants_with_threshold,
+                  threshold.sd ? format_number(*threshold.sd, 4).c_str() : "-");
+    else if (result.protocol == "pair")
+      std::printf(" (pooled over participants)");
+    std::printf("\n");
+  }
+  for (const auto& group : result.fits)
+    for (const auto& fit : group.fits)
+      std::printf("  fit %-10s %-18s threshold %s [%s, %s]\n", group.group.label().c_str(),
+                  analysis::shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
+                  format_number(fit.threshold_interval.lower, 5).c_str(), format_number(fit.threshold_interval.upper, 5).c_str());
+  if (!result.left_out.empty()) {
+    std::printf("left out (%zu):\n", result.left_out.size());
+    for (const auto& item : result.left_out) std::printf("  %s: %s\n", item.what.c_str(), item.reason.c_str());
+  }
+}
+
+void analyze(const AnalyzeArguments& arguments) {
+  analysis::AnalysisOptions options;
+  options.alternative = analysis::parse_alternative(arguments.alternative);
+  if (!(arguments.alpha > 0.0 && arguments.alpha < 1.0)) throw InputError("--alpha: expected a number in (0, 1)");
+  options.alpha = arguments.alpha;
+  if (arguments.guess_rate) {
+    if (!(*arguments.guess_rate >= 0.0 && *arguments.guess_rate < 1.0))
+      throw InputError("--guess-rate: expected a number in [0, 1)");
+    options.guess_rate = arguments.guess_rate;
+  }
+  if (!(arguments.bootstrap >= 0 && arguments.bootstrap <= 1000000))
+    throw InputError("--bootstrap: expected a whole number of replicates in [0, 1000000]");
+  options.bootstrap_samples = arguments.bootstrap;
+  options.seed = arguments.seed;
+  if (!(arguments.rating_cutoff >= 1.0 && arguments.rating_cutoff <= 3.0))
+    throw InputError("--rating-cutoff: expected a mean score in [1, 3]");
+  options.rating_cutoff = arguments.rating_cutoff;
+  const analysis::StudyData data = analysis::load_study(arguments.inputs);
+  const analysis::AnalysisResult result = analysis::analyse_study(data, options);
+  const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data.study) : arguments.out;
+  const std::vector<std::string> written = analysis::write_analysis_report(result, out);
+  print_summary(result);
+  std::printf("wrote %zu file(s) to %s (report: %s)\n", written.size(), out.c_str(),
+              (fs::path(out) / "report.html").string().c_str());
+}
+
+}  // namespace
+
+void add_analyze_command(CLI::App& app) {
+  auto arguments = std::make_shared<AnalyzeArguments>();
+  CLI::App* command = app.add_subcommand("analyze", "Thresholds, tests, fits, tables and plots from a study's session logs");
+  command->add_option("logs", arguments->inputs, "Session logs and/or results folders (every events.jsonl under them)")
+      ->required();
+  command->add_option("--out", arguments->out, "Output folder (default: results/<study>/analysis)");
+  command->add_option("--alternative", arguments->alternative, "two-sided (default), greater or less: the binomial tests' alternative");
+  command->add_option("--alpha", arguments->alpha, "Significance level of the threshold criteria (default 0.05)");
+  command->add_option("--guess-rate", arguments->guess_rate,
+                      "Fixed guess rate of the psychometric fits (default: 1/2 for 2afc 'better', else the attention-check false-alarm rate)");
+  command->add_option("--bootstrap", arguments->bootstrap, "Parametric bootstrap replicates per fit (default 1000; 0: none)");
+  command->add_option("--seed", arguments->seed, "Seed of the bootstrap, a whole number in [0, 2^64) (default 1)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return text.find_first_not_of("0123456789") == std::string::npos && !text.empty()
+                       ? std::string()
+                       : "expected a whole number in [0, 2^64), got \"" + text + "\"";
+          },
+          "SEED"));
+  command->add_option("--rating-cutoff", arguments->rating_cutoff, "Rating studies: the lowest acceptable mean score (default 2.0)");
+  command->callback([arguments] { analyze(*arguments); });
+}
+
+}  // namespace fovlab::app

@@ -1,0 +1,470 @@
+#include "analysis/report/report.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fovlab::analysis {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+const char* const kParkScene = "park, \"north\"";  // a comma and quotes: the CSV must quote it
+
+// A fresh folder under the system temp folder, removed at the end of the test.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name)
+      : path_(fs::temp_directory_path() / ("fovlab_report_test_" + std::to_string(::getpid()) + "_" + name)) {
+    fs::remove_all(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// RFC 4180 reader: quoted cells may hold commas, doubled quotes and line breaks.
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string cell;
+  bool quoted = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        cell += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        cell += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      row.push_back(cell);
+      cell.clear();
+    } else if (c == '\n') {
+      row.push_back(cell);
+      cell.clear();
+      rows.push_back(row);
+      row.clear();
+    } else {
+      cell += c;
+    }
+  }
+  EXPECT_FALSE(quoted) << "unterminated quote";
+  EXPECT_TRUE(cell.empty() && row.empty()) << "no newline after the last row";
+  return rows;
+}
+
+PsychometricFit logistic_fit(double threshold) {
+  PsychometricFit fit;
+  fit.model.shape = PsychometricShape::logistic;
+  fit.model.rising = false;
+  fit.model.guess = 0.5;
+  fit.model.parameters = {threshold, 0.4, 0.02};
+  fit.log_likelihood = -12.5;
+  fit.deviance = 1.25;
+  fit.degrees_of_freedom = 0;
+  fit.deviance_p_value = kNaN;
+  fit.threshold_interval = {8.0, 13.0};
+  fit.slope_interval = {kNaN, kNaN};
+  fit.lapse_interval = {0.0, 0.05};
+  fit.bootstrap_samples = 998;
+  fit.bootstrap_failures = 2;
+  fit.converged = true;
+  fit.note = "";
+  return fit;
+}
+
+ConditionRow condition(const GroupKey& group, double level, uint64_t n, uint64_t k) {
+  ConditionRow row;
+  row.group = group;
+  row.condition = "level=" + std::to_string(static_cast<int>(level));
+  row.level = level;
+  row.n = n;
+  row.k = k;
+  row.proportion = static_cast<double>(k) / static_cast<double>(n);
+  row.p_value = 0.0123;
+  row.p_holm = 0.0369;
+  row.stars = "*";
+  row.interval = {0.25, 0.875};
+  return row;
+}
+
+// Two groups (one with a troublesome scene name), a logistic fit, a participant with thresholds, an
+// excluded one without, and a left-out log.
+AnalysisResult sample_result() {
+  const GroupKey park{kParkScene, "blur"};
+  const GroupKey city{"city", ""};
+  AnalysisResult result;
+  result.study = "demo <study>";
+  result.protocol = "pair";
+  result.level_parameter = "foveal_deg";
+  result.higher_is_better = true;
+  result.levels = {5, 10, 20};
+  result.alternative = Alternative::greater;
+  result.alpha = 0.05;
+  result.guess_rate = 0.5;
+  result.guess_rate_source = "attention checks (12 of 240)";
+  result.inputs = {"results/demo/P001/events.jsonl", "results/demo/P002/events.jsonl"};
+
+  result.conditions = {condition(park, 5, 12, 3), condition(park, 10, 12, 8), condition(park, 20, 12, 12),
+                       condition(city, 5, 9, 6), condition(city, 10, 12, 6), condition(city, 20, 12, 11)};
+  result.conditions[1].p_value = kNaN;  // must come out empty (CSV) and null (JSON)
+  ConditionRow no_level = condition(city, 0, 4, 2);
+  no_level.condition = "reference";
+  no_level.level.reset();
+  result.conditions.push_back(no_level);
+
+  ParticipantRow p1;
+  p1.participant = "P001";
+  p1.log_path = "results/demo/P001/events.jsonl";
+  p1.complete_trials = 120;
+  p1.attention_checks = 6;
+  p1.attention_errors = 0;
+  p1.session_ended = true;
+  p1.thresholds = {{park, 10.0, ""}, {city, std::nullopt, "every step answered correctly, censored"}};
+  ParticipantRow p2;
+  p2.participant = "P002";
+  p2.log_path = "results/demo/P002/events.jsonl";
+  p2.complete_trials = 80;
+  p2.attention_checks = 6;
+  p2.attention_errors = 4;
+  p2.excluded = true;
+  result.participants = {p1, p2};
+
+  GroupThreshold t_park;
+  t_park.group = park;
+  t_park.definition = "the smallest level from which every larger level is judged identical";
+  t_park.level = 10.0;
+  t_park.mean = 10.0;
+  t_park.participants_with_threshold = 1;
+  GroupThreshold t_city;
+  t_city.group = city;
+  t_city.definition = t_park.definition;
+  t_city.note = "no participant has a threshold";
+  t_city.participants_without_threshold = 1;
+  result.thresholds = {t_park, t_city};
+
+  GroupFit fit;
+  fit.group = park;
+  fit.data = {{5, 12, 9}, {10, 12, 4}, {20, 12, 0}};
+  fit.fits = {logistic_fit(10.5)};
+  fit.not_fitted = {"weibull: did not converge"};
+  result.fits = {fit};
+
+  result.left_out = {{"results/demo/P003/events.jsonl", "no complete trials (session log torn)"}};
+  return result;
+}
+
+std::vector<std::string> file_names(const std::vector<std::string>& paths) {
+  std::vector<std::string> names;
+  for (const std::string& path : paths) names.push_back(fs::path(path).filename().string());
+  return names;
+}
+
+TEST(AnalysisReport, WritesEveryFileAndReturnsItsPath) {
+  TempDir dir("files");
+  const fs::path out = dir.path() / "nested" / "report";  // created, parents too
+  const std::vector<std::string> paths = write_analysis_report(sample_result(), out.string());
+  EXPECT_EQ(file_names(paths),
+            (std::vector<std::string>{"conditions.csv", "participants.csv", "thresholds.json", "share_per_level.svg",
+                                      "psychometric_park___north__blur.svg", "thresholds_histogram.svg",
+                                      "report.html"}));
+  for (const std::string& path : paths) {
+    EXPECT_EQ(fs::path(path).parent_path(), out);
+    EXPECT_TRUE(fs::is_regular_file(path)) << path;
+    EXPECT_GT(fs::file_size(path), 0u) << path;
+  }
+  // Nothing else (no temporary files left behind).
+  EXPECT_EQ(static_cast<std::size_t>(std::distance(fs::directory_iterator(out), fs::directory_iterator())),
+            paths.size());
+}
+
+TEST(AnalysisReport, ConditionsCsvHasOneQuotedRowPerCondition) {
+  TempDir dir("conditions");
+  const AnalysisResult result = sample_result();
+  write_analysis_report(result, dir.path().string());
+  const std::string text = read_text(dir.path() / "conditions.csv");
+  EXPECT_NE(text.find("\"park, \"\"north\"\"\""), std::string::npos) << "RFC 4180 quoting";
+  const auto rows = parse_csv(text);
+  ASSERT_EQ(rows.size(), result.conditions.size() + 1);
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"study", "protocol", "scene", "variant", "method", "condition", "level", "n", "k",
+                                               "proportion", "ci_lower", "ci_upper", "p_value", "p_holm", "stars",
+                                               "alternative", "mean_rating", "sd_rating"}));
+  for (const auto& row : rows) ASSERT_EQ(row.size(), 18u);
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"demo <study>", "pair", kParkScene, "blur", "", "level=5", "5", "12", "3",
+                                               "0.25", "0.25", "0.875", "0.0123", "0.0369", "*", "greater", "",
+                                               ""}));
+  EXPECT_EQ(rows[2][12], "") << "a NaN p-value is an empty cell";
+  EXPECT_EQ(rows[2][9], "0.6666666667") << "10 significant digits";
+  EXPECT_EQ(rows[4][2], "city");
+  EXPECT_EQ(rows[4][3], "");
+  EXPECT_EQ(rows[7][5], "reference");
+  EXPECT_EQ(rows[7][6], "") << "no level";
+}
+
+TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
+  TempDir dir("participants");
+  write_analysis_report(sample_result(), dir.path().string());
+  const auto rows = parse_csv(read_text(dir.path() / "participants.csv"));
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "excluded", "session_ended", "complete_trials",
+                                               "attention_checks", "attention_errors", "scene", "variant",
+                                               "threshold", "note"}));
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", kParkScene, "blur", "10", ""}));
+  EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", "city", "", "",
+                                               "every step answered correctly, censored"}));
+  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "true", "false", "80", "6", "4", "", "", "", ""}));
+}
+
+TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
+  TempDir dir("json");
+  const AnalysisResult result = sample_result();
+  write_analysis_report(result, dir.path().string());
+  const json root = json::parse(read_text(dir.path() / "thresholds.json"));
+  EXPECT_EQ(root["study"], "demo <study>");
+  EXPECT_EQ(root["protocol"], "pair");
+  EXPECT_EQ(root["question"], "");
+  EXPECT_EQ(root["level_parameter"], "foveal_deg");
+  EXPECT_EQ(root["higher_is_better"], true);
+  EXPECT_EQ(root["levels"], json({5.0, 10.0, 20.0}));
+  EXPECT_EQ(root["test"], json({{"kind", "exact binomial"},
+                                {"null_proportion", 0.5},
+                                {"alternative", "greater"},
+                                {"alpha", 0.05},
+                                {"correction", "holm"}}));
+  EXPECT_EQ(root["guess_rate"], 0.5);
+  EXPECT_EQ(root["guess_rate_source"], "attention checks (12 of 240)");
+  EXPECT_EQ(root["inputs"].size(), 2u);
+
+  ASSERT_EQ(root["thresholds"].size(), 2u);
+  EXPECT_EQ(root["thresholds"][0]["scene"], kParkScene);
+  EXPECT_EQ(root["thresholds"][0]["level"], 10.0);
+  EXPECT_TRUE(root["thresholds"][0]["sd"].is_null());
+  EXPECT_TRUE(root["thresholds"][1]["level"].is_null());
+  EXPECT_EQ(root["thresholds"][1]["participants_without_threshold"], 1);
+
+  ASSERT_EQ(root["fits"].size(), 1u);
+  const json& fit = root["fits"][0];
+  EXPECT_EQ(fit["shape"], "logistic");
+  EXPECT_EQ(fit["rising"], false);
+  EXPECT_EQ(fit["threshold"], 10.5);
+  EXPECT_EQ(fit["slope"], 0.4);
+  EXPECT_EQ(fit["lapse"], 0.02);
+  EXPECT_EQ(fit["guess"], 0.5);
+  EXPECT_EQ(fit["intervals"]["threshold"], json({{"lower", 8.0}, {"upper", 13.0}}));
+  EXPECT_TRUE(fit["intervals"]["slope"]["lower"].is_null());
+  EXPECT_TRUE(fit["intervals"]["slope"]["upper"].is_null());
+  EXPECT_EQ(fit["deviance"], 1.25);
+  EXPECT_EQ(fit["dof"], 0);
+  EXPECT_TRUE(fit["deviance_p_value"].is_null());
+  EXPECT_EQ(fit["log_likelihood"], -12.5);
+  EXPECT_EQ(fit["converged"], true);
+  EXPECT_EQ(fit["bootstrap_samples"], 998);
+  EXPECT_EQ(fit["bootstrap_failures"], 2);
+  ASSERT_EQ(fit["data"].size(), 3u);
+  EXPECT_EQ(fit["data"][1], json({{"level", 10.0}, {"n", 12}, {"k", 4}, {"proportion", 4.0 / 12.0}}));
+  ASSERT_EQ(root["not_fitted"].size(), 1u);
+  EXPECT_EQ(root["not_fitted"][0]["reason"], "weibull: did not converge");
+
+  ASSERT_EQ(root["conditions"].size(), result.conditions.size());
+  EXPECT_EQ(root["conditions"][0]["ci_upper"], 0.875);
+  EXPECT_TRUE(root["conditions"][1]["p_value"].is_null());
+  EXPECT_TRUE(root["conditions"][6]["level"].is_null());
+  EXPECT_TRUE(root["conditions"][0]["mean_rating"].is_null());
+
+  ASSERT_EQ(root["participants"].size(), 2u);
+  EXPECT_EQ(root["participants"][0]["thresholds"].size(), 2u);
+  EXPECT_TRUE(root["participants"][0]["thresholds"][1]["level"].is_null());
+  EXPECT_EQ(root["participants"][1]["excluded"], true);
+  EXPECT_EQ(root["participants"][1]["attention_errors"], 4);
+
+  EXPECT_EQ(root["left_out"],
+            json::array({{{"what", "results/demo/P003/events.jsonl"}, {"reason", "no complete trials (session log torn)"}}}));
+}
+
+TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {
+  TempDir dir("html");
+  write_analysis_report(sample_result(), dir.path().string());
+  const std::string html = read_text(dir.path() / "report.html");
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_EQ(html.find("http"), std::string::npos) << "no external URL, not even the SVG namespace";
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  EXPECT_EQ(html.find("src="), std::string::npos);
+  EXPECT_NE(html.find("<style>"), std::string::npos);
+  // The test used, with its alternative.
+  EXPECT_NE(html.find("exact binomial, one-sided (greater), H0 p = 1/2, Holm across levels, alpha 0.05"),
+            std::string::npos);
+  // Each table: thresholds, fits, conditions, participants.
+  EXPECT_EQ(count(html, "<table>"), 4u);
+  EXPECT_EQ(count(html, "</table>"), 4u);
+  for (const char* id : {"id=\"thresholds\"", "id=\"fits\"", "id=\"conditions\"", "id=\"participants\"",
+                         "id=\"left-out\""}) {
+    EXPECT_NE(html.find(id), std::string::npos) << id;
+  }
+  EXPECT_NE(html.find("<th>threshold CI</th>"), std::string::npos);
+  EXPECT_NE(html.find("<td>[8, 13]</td>"), std::string::npos);
+  EXPECT_NE(html.find("weibull: did not converge"), std::string::npos);
+  EXPECT_NE(html.find("no complete trials (session log torn)"), std::string::npos);
+  // Three plots, inline.
+  EXPECT_EQ(count(html, "<svg "), 3u);
+  EXPECT_EQ(count(html, "</svg>"), 3u);
+  // Text escaped.
+  EXPECT_NE(html.find("demo &lt;study&gt;"), std::string::npos);
+  EXPECT_NE(html.find("park, &quot;north&quot;"), std::string::npos);
+  EXPECT_EQ(html.find("<study>"), std::string::npos);
+  EXPECT_EQ(html.find("\"north\""), std::string::npos);
+  EXPECT_NE(html.find("1 included, 1 excluded"), std::string::npos);
+}
+
+TEST(AnalysisReport, PlotsShowTheirData) {
+  TempDir dir("plots");
+  AnalysisResult result = sample_result();
+  result.participants[1].thresholds = {{result.fits[0].group, 20.0, ""}};  // excluded: not in the histogram
+  write_analysis_report(result, dir.path().string());
+  for (const char* name : {"share_per_level.svg", "psychometric_park___north__blur.svg", "thresholds_histogram.svg"}) {
+    const std::string svg = read_text(dir.path() / name);
+    SCOPED_TRACE(name);
+    EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\"", 0), 0u);
+    EXPECT_EQ(count(svg, "<svg"), 1u);
+    EXPECT_EQ(count(svg, "</svg>"), 1u);
+    std::string lower = svg;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    EXPECT_EQ(lower.find("nan"), std::string::npos);
+  }
+  const std::string share = read_text(dir.path() / "share_per_level.svg");
+  EXPECT_EQ(count(share, "stroke-dasharray"), 1u);  // the line at 1/2
+  EXPECT_EQ(count(share, "<circle"), 3u + 1u);      // the park group (plus its legend marker)
+  EXPECT_EQ(count(share, "<rect x"), 1u + 3u + 1u);  // background, city's 3 square markers and its legend marker
+  EXPECT_NE(share.find("park, &quot;north&quot;/blur"), std::string::npos);
+
+  const std::string curve = read_text(dir.path() / "psychometric_park___north__blur.svg");
+  EXPECT_EQ(count(curve, "<polyline"), 1u);             // the logistic
+  EXPECT_EQ(count(curve, "fill-opacity=\"0.3\""), 2u);  // threshold band and its legend swatch
+  EXPECT_NE(curve.find(">threshold CI (logistic)</text>"), std::string::npos);
+  EXPECT_EQ(count(curve, "<circle"), 3u + 1u);          // 3 levels, legend
+
+  const std::string histogram = read_text(dir.path() / "thresholds_histogram.svg");
+  // One bar of height 1: P001's threshold (P002 is excluded).
+  EXPECT_EQ(count(histogram, "font-size=\"11\">1</text>"), 1u);
+  EXPECT_EQ(count(histogram, "font-size=\"11\">"), 1u);
+}
+
+TEST(AnalysisReport, PsychometricCurveFollowsTheModel) {
+  TempDir dir("curve");
+  AnalysisResult result = sample_result();
+  result.fits[0].fits.push_back(logistic_fit(15.0));
+  result.fits[0].fits.back().model.shape = PsychometricShape::cumulative_normal;
+  write_analysis_report(result, dir.path().string());
+  const std::string curve = read_text(dir.path() / "psychometric_park___north__blur.svg");
+  EXPECT_EQ(count(curve, "<polyline"), 2u);  // one line per fit
+  // 200 samples per curve.
+  const auto at = curve.find("<polyline");
+  const auto end = curve.find("/>", at);
+  const std::string points = curve.substr(at, end - at);
+  EXPECT_EQ(count(points, ","), 200u);
+}
+
+TEST(AnalysisReport, RatingStudyPlotsMeanRatingAgainstTheCutoff) {
+  TempDir dir("rating");
+  AnalysisResult result = sample_result();
+  result.protocol = "rating";
+  result.alternative = Alternative::two_sided;
+  result.fits.clear();
+  for (ConditionRow& row : result.conditions) {
+    row.mean_rating = 1.0 + 2.0 * row.proportion;
+    row.sd_rating = 0.25;
+  }
+  for (ParticipantRow& participant : result.participants) participant.thresholds.clear();
+  const auto names = file_names(write_analysis_report(result, dir.path().string()));
+  EXPECT_EQ(names, (std::vector<std::string>{"conditions.csv", "participants.csv", "thresholds.json",
+                                             "share_per_level.svg", "report.html"}));
+  const std::string share = read_text(dir.path() / "share_per_level.svg");
+  EXPECT_NE(share.find("mean rating"), std::string::npos);
+  EXPECT_EQ(count(share, "stroke-dasharray"), 1u);  // the cutoff 2
+  const std::string html = read_text(dir.path() / "report.html");
+  EXPECT_NE(html.find("exact binomial, two-sided, H0 p = 1/2, Holm across levels, alpha 0.05"), std::string::npos);
+  EXPECT_NE(html.find("<th>mean rating</th>"), std::string::npos);
+  const auto rows = parse_csv(read_text(dir.path() / "conditions.csv"));
+  EXPECT_EQ(rows[1][16], "1.5");
+  EXPECT_EQ(rows[1][17], "0.25");
+}
+
+TEST(AnalysisReport, EmptyResultWritesTablesAndNoPlots) {
+  TempDir dir("empty");
+  const auto names = file_names(write_analysis_report(AnalysisResult{}, dir.path().string()));
+  EXPECT_EQ(names, (std::vector<std::string>{"conditions.csv", "participants.csv", "thresholds.json", "report.html"}));
+  EXPECT_EQ(parse_csv(read_text(dir.path() / "conditions.csv")).size(), 1u);
+  EXPECT_EQ(parse_csv(read_text(dir.path() / "participants.csv")).size(), 1u);
+  const json root = json::parse(read_text(dir.path() / "thresholds.json"));
+  EXPECT_TRUE(root["fits"].empty());
+  EXPECT_TRUE(root["left_out"].is_array());
+  const std::string html = read_text(dir.path() / "report.html");
+  EXPECT_NE(html.find("<p>nothing</p>"), std::string::npos);
+  EXPECT_EQ(html.find("<svg"), std::string::npos);
+}
+
+TEST(AnalysisReport, PlotFileNamesAreSafeAndDistinct) {
+  TempDir dir("names");
+  AnalysisResult result = sample_result();
+  GroupFit other = result.fits[0];
+  other.group = {"park", "_\"north\"_blur"};  // sanitises to the same stem
+  GroupFit odd = result.fits[0];
+  odd.group = {"../../etc/x y", ""};
+  result.fits = {result.fits[0], other, odd};
+  const auto names = file_names(write_analysis_report(result, dir.path().string()));
+  EXPECT_NE(std::find(names.begin(), names.end(), "psychometric_park___north__blur.svg"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "psychometric_park___north__blur_2.svg"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "psychometric_______etc_x_y.svg"), names.end());
+  for (const std::string& name : names) {
+    for (char c : name) EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') << name;
+  }
+}
+
+TEST(AnalysisReport, SameResultSameBytes) {
+  TempDir a("same_a");
+  TempDir b("same_b");
+  const auto first = file_names(write_analysis_report(sample_result(), a.path().string()));
+  const auto second = file_names(write_analysis_report(sample_result(), b.path().string()));
+  ASSERT_EQ(first, second);
+  for (const std::string& name : first) EXPECT_EQ(read_text(a.path() / name), read_text(b.path() / name)) << name;
+}
+
+}  // namespace
+}  // namespace fovlab::analysis

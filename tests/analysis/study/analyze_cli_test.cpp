@@ -1,0 +1,603 @@
+// `fovlab analyze` end to end (docs/analysis.md, "From logs to a study" and "Outputs"): every
+// protocol's simulated sessions analysed into thresholds.json, conditions.csv, participants.csv and
+// report.html; bad input (a torn line, another schema version, logs of different studies, a
+// duplicate participant, an edited log, an excluded participant, nothing analysable, bad flags)
+// reported with its reason, what can still be analysed analysed, and the logs never modified; and
+// the test's alternative named in the outputs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/app/cli_test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using fovlab::cli_test::CommandResult;
+using fovlab::cli_test::expect_one_line_error;
+using fovlab::cli_test::read_all;
+using nlohmann::json;
+
+// Sessions are headless whatever the machine has.
+CommandResult fovlab_command(const std::string& arguments) {
+  return fovlab::cli_test::run(arguments, "env -u DISPLAY -u WAYLAND_DISPLAY");
+}
+
+fs::path scratch(const std::string& name) { return fovlab::cli_test::scratch("fovlab-analyze-cli-" + name); }
+
+std::string fixture(const std::string& name) {
+  return (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (name + ".toml")).string();
+}
+
+// A variant of a fixture study written to `folder`: each (from, to) replaced once, and the
+// fixture's relative scene path made absolute so the copy runs from anywhere.
+fs::path write_variant(const fs::path& folder, const std::string& name, const std::string& from_fixture,
+                       const std::vector<std::pair<std::string, std::string>>& replacements) {
+  std::string text = read_all(fixture(from_fixture));
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from << " not in " << from_fixture;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  };
+  replace("\"../scenes/sphere.glsl\"", "\"" + (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/scenes/sphere.glsl").string() + "\"");
+  for (const auto& [from, to] : replacements) replace(from, to);
+  const fs::path path = folder / (name + ".toml");
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+// One simulated session; its log is results/<study>/<participant>/events.jsonl.
+void run_session(const std::string& config, const std::string& participant, const fs::path& results,
+                 const std::string& observer = "simulated") {
+  const CommandResult run = fovlab_command("run " + config + " --participant " + participant + " --headless --results " +
+                                           results.string() + " --observer " + observer);
+  ASSERT_EQ(run.exit_code, 0) << config << " " << participant << ": " << run.err;
+}
+
+CommandResult analyze(const std::string& arguments) { return fovlab_command("analyze " + arguments); }
+
+// Every file under a folder and its bytes: the logs before and after an analysis.
+std::map<std::string, std::string> snapshot(const fs::path& folder) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) files[entry.path().string()] = read_all(entry.path());
+  return files;
+}
+
+void expect_unchanged(const std::map<std::string, std::string>& before, const fs::path& folder) {
+  const std::map<std::string, std::string> after = snapshot(folder);
+  EXPECT_EQ(after.size(), before.size()) << "files were added to or removed from " << folder;
+  for (const auto& [path, bytes] : before) {
+    const auto found = after.find(path);
+    ASSERT_NE(found, after.end()) << path << " was removed";
+    EXPECT_TRUE(found->second == bytes) << path << " was modified";
+  }
+}
+
+json load_json(const fs::path& path) {
+  const std::string text = read_all(path);
+  const json parsed = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  EXPECT_FALSE(parsed.is_discarded()) << path << " is not JSON";
+  return parsed.is_discarded() ? json::object() : parsed;
+}
+
+// The reasons `left_out` gives for items whose `what` contains `what`.
+std::vector<std::string> left_out_reasons(const json& thresholds, const std::string& what) {
+  std::vector<std::string> reasons;
+  for (const json& item : thresholds.value("left_out", json::array()))
+    if (item.value("what", "").find(what) != std::string::npos) reasons.push_back(item.value("reason", ""));
+  return reasons;
+}
+
+std::string joined(const std::vector<std::string>& texts) {
+  std::string all;
+  for (const std::string& text : texts) all += text + " | ";
+  return all;
+}
+
+// The report's "Left out" section (to the end of the page).
+std::string html_left_out(const fs::path& out) {
+  const std::string html = read_all(out / "report.html");
+  const size_t at = html.find("<h2 id=\"left-out\">");
+  EXPECT_NE(at, std::string::npos) << "report.html has no Left out section";
+  return at == std::string::npos ? std::string() : html.substr(at);
+}
+
+// `what` is listed in thresholds.json's left_out with a reason containing `reason`, and the report's
+// Left out section names it with that reason.
+void expect_left_out(const fs::path& out, const std::string& what, const std::string& reason) {
+  const json thresholds = load_json(out / "thresholds.json");
+  const std::vector<std::string> reasons = left_out_reasons(thresholds, what);
+  ASSERT_FALSE(reasons.empty()) << what << " is not in left_out: " << thresholds["left_out"].dump();
+  EXPECT_TRUE(std::any_of(reasons.begin(), reasons.end(),
+                          [&](const std::string& r) { return r.find(reason) != std::string::npos; }))
+      << what << ": " << joined(reasons) << " does not say " << reason;
+  const std::string section = html_left_out(out);
+  EXPECT_NE(section.find(what), std::string::npos) << "report.html's Left out does not name " << what << ":\n" << section;
+  bool with_reason = false;
+  for (size_t named = section.find(what); named != std::string::npos; named = section.find(what, named + 1)) {
+    const size_t item_end = section.find("</li>", named);
+    with_reason = with_reason || section.substr(named, item_end - named).find(reason) != std::string::npos;
+  }
+  EXPECT_TRUE(with_reason) << "report.html's Left out gives " << what << " no reason with " << reason << ":\n" << section;
+}
+
+std::vector<std::string> participants_of(const json& thresholds) {
+  std::vector<std::string> ids;
+  for (const json& participant : thresholds.value("participants", json::array()))
+    ids.push_back(participant.value("participant", ""));
+  return ids;
+}
+
+// The data rows of a CSV file, split at commas (the tests only read columns before any quoted one).
+std::vector<std::vector<std::string>> csv_rows(const fs::path& path) {
+  std::istringstream text(read_all(path));
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  bool header = true;
+  while (std::getline(text, line)) {
+    if (header) {
+      header = false;
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream cells_text(line);
+    while (std::getline(cells_text, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// tiny_2afc sessions of P001..P00n under results/tiny_2afc.
+void run_2afc_participants(const fs::path& results, int count) {
+  for (int i = 1; i <= count; ++i) run_session(fixture("tiny_2afc"), "P00" + std::to_string(i), results);
+}
+
+fs::path log_of(const fs::path& results, const std::string& study, const std::string& participant) {
+  return results / study / participant / "events.jsonl";
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct ProtocolCase {
+  const char* fixture;
+  const char* study;
+  const char* protocol;
+};
+
+TEST(AnalyzeCli, EveryProtocolEndToEnd) {
+  const ProtocolCase cases[] = {{"tiny_2afc", "tiny_2afc", "2afc"},
+                                {"pair", "tiny_pair", "pair"},
+                                {"ramp", "tiny_ramp", "ramp"},
+                                {"slider", "tiny_slider", "slider"},
+                                {"rating", "tiny_rating", "rating"}};
+  for (const ProtocolCase& c : cases) {
+    SCOPED_TRACE(c.fixture);
+    const fs::path results = scratch("protocols") / c.fixture;
+    run_session(fixture(c.fixture), "P001", results);
+    run_session(fixture(c.fixture), "P002", results);
+    ASSERT_FALSE(testing::Test::HasFatalFailure());
+    const auto before = snapshot(results);
+    const fs::path out = scratch("protocols") / (std::string(c.fixture) + "-out");
+
+    const CommandResult result = analyze((results / c.study).string() + " --bootstrap 20 --out " + out.string());
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_TRUE(result.err.empty()) << result.err;
+    for (const char* file : {"thresholds.json", "conditions.csv", "participants.csv", "report.html"})
+      EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
+    expect_unchanged(before, results);
+
+    const json thresholds = load_json(out / "thresholds.json");
+    EXPECT_EQ(thresholds.value("study", ""), c.study);
+    EXPECT_EQ(thresholds.value("protocol", ""), c.protocol);
+    EXPECT_EQ(thresholds["test"].value("alternative", ""), "two-sided");
+    EXPECT_EQ(thresholds["inputs"].size(), 2u) << thresholds["inputs"].dump();
+    EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+    for (const json& participant : thresholds["participants"]) {
+      EXPECT_FALSE(participant.value("excluded", true));
+      EXPECT_TRUE(participant.value("session_ended", false));
+      EXPECT_GT(participant.value("complete_trials", 0), 0);
+    }
+    EXPECT_TRUE(thresholds["left_out"].empty()) << thresholds["left_out"].dump();
+    ASSERT_FALSE(thresholds["thresholds"].empty());
+
+    const std::string protocol = c.protocol;
+    const bool per_participant = protocol == "pair" || protocol == "ramp" || protocol == "slider";
+    if (per_participant) {
+      // Every participant has a threshold per group, and the study's per-participant thresholds
+      // (pair also has pooled ones) average them.
+      for (const json& participant : thresholds["participants"]) {
+        ASSERT_FALSE(participant["thresholds"].empty()) << participant.dump();
+        for (const json& threshold : participant["thresholds"])
+          EXPECT_TRUE(threshold["level"].is_number()) << participant.dump();
+      }
+      size_t across_participants = 0;
+      for (const json& threshold : thresholds["thresholds"]) {
+        if (threshold.value("definition", "").find("per participant") == std::string::npos) continue;
+        ++across_participants;
+        EXPECT_TRUE(threshold["level"].is_number()) << threshold.dump();
+        EXPECT_TRUE(threshold["mean"].is_number()) << threshold.dump();
+        EXPECT_EQ(threshold.value("participants_with_threshold", 0), 2) << threshold.dump();
+      }
+      EXPECT_EQ(across_participants, thresholds["participants"][0]["thresholds"].size());
+      // participants.csv: a row per participant and group, each with its threshold.
+      const auto rows = csv_rows(out / "participants.csv");
+      ASSERT_FALSE(rows.empty());
+      for (const auto& row : rows) {
+        ASSERT_GE(row.size(), 9u) << row.front();
+        EXPECT_FALSE(row[8].empty()) << "participants.csv: no threshold for " << row[0] << " " << row[6];
+      }
+    }
+    if (protocol == "2afc" || protocol == "pair" || protocol == "rating") {
+      // Comparison protocols: conditions with trials, and a threshold per group.
+      ASSERT_FALSE(thresholds["conditions"].empty());
+      for (const json& condition : thresholds["conditions"]) {
+        EXPECT_GT(condition.value("n", 0), 0) << condition.dump();
+        EXPECT_LE(condition.value("k", 0), condition.value("n", 0)) << condition.dump();
+      }
+      for (const json& threshold : thresholds["thresholds"])
+        EXPECT_FALSE(threshold.value("definition", "").empty()) << threshold.dump();
+      if (protocol == "rating") {
+        for (const json& condition : thresholds["conditions"]) EXPECT_TRUE(condition["mean_rating"].is_number());
+      }
+    }
+    // conditions.csv: the JSON's rows, each with n >= k (n column 7, k column 8).
+    const auto rows = csv_rows(out / "conditions.csv");
+    EXPECT_EQ(rows.size(), thresholds["conditions"].size());
+    for (const auto& row : rows) {
+      ASSERT_GE(row.size(), 9u);
+      EXPECT_EQ(row[1], protocol);
+      EXPECT_EQ(row[4], "ipr") << "method of the test stimuli";
+      EXPECT_GE(std::stoull(row[7]), std::stoull(row[8])) << "n < k in " << row[5];
+      EXPECT_GT(std::stoull(row[7]), 0u) << row[5];
+    }
+
+    const std::string html = read_all(out / "report.html");
+    EXPECT_NE(html.find("fovlab analysis: " + std::string(c.study)), std::string::npos);
+    EXPECT_NE(html.find("two-sided"), std::string::npos);
+    EXPECT_NE(html_left_out(out).find("<p>nothing</p>"), std::string::npos) << html_left_out(out);
+    EXPECT_NE(result.out.find("study " + std::string(c.study)), std::string::npos) << result.out;
+  }
+}
+
+// A crash's torn last line: not read, the complete trials before it are, and both are listed.
+TEST(AnalyzeCli, TornLastLineIsListedAndTheLogStillAnalysed) {
+  const fs::path results = scratch("torn") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path torn = log_of(results, "tiny_2afc", "P001");
+  const int trials_before = [&] {
+    const fs::path out = scratch("torn") / "out-intact";
+    const CommandResult intact = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+    EXPECT_EQ(intact.exit_code, 0) << intact.err;
+    return load_json(out / "thresholds.json")["participants"][0].value("complete_trials", -1);
+  }();
+  ASSERT_GT(trials_before, 0);
+  std::ofstream(torn, std::ios::binary | std::ios::app) << "{\"attention_check\":false,\"block\":1,\"chain\":\"12";
+
+  // P002: cut in the middle of a trial's line, as a crash leaves it (a started trial, a torn line).
+  const fs::path cut = log_of(results, "tiny_2afc", "P002");
+  std::string text = read_all(cut);
+  const size_t trial_start = text.rfind("\"event\":\"trial_start\"");
+  ASSERT_NE(trial_start, std::string::npos);
+  const size_t response = text.find("\"event\":\"response\"", trial_start);
+  ASSERT_NE(response, std::string::npos);
+  std::ofstream(cut, std::ios::binary | std::ios::trunc) << text.substr(0, response);
+
+  const auto before = snapshot(results);
+  const fs::path out = scratch("torn") / "out";
+  const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_EQ(thresholds["participants"][0].value("complete_trials", -1), trials_before);
+  EXPECT_LT(thresholds["participants"][1].value("complete_trials", -1), trials_before);
+  expect_left_out(out, torn.string(), "cut off");
+  expect_left_out(out, cut.string(), "cut off");
+  expect_left_out(out, cut.string(), "not finished");
+  EXPECT_NE(result.out.find("cut off"), std::string::npos) << result.out;
+  EXPECT_FALSE(thresholds["conditions"].empty());
+}
+
+// A log of a schema version this build does not read is left out, naming the version.
+TEST(AnalyzeCli, UnknownSchemaVersionIsLeftOutOthersAnalysed) {
+  const fs::path results = scratch("schema") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path copy = results / "tiny_2afc" / "P003" / "events.jsonl";
+  fs::create_directories(copy.parent_path());
+  std::string text = read_all(log_of(results, "tiny_2afc", "P002"));
+  const size_t first_line_end = text.find('\n');
+  const size_t version = text.find("\"schema_version\":");
+  ASSERT_LT(version, first_line_end);
+  const size_t value = version + std::string("\"schema_version\":").size();
+  text.replace(value, text.find_first_not_of("0123456789", value) - value, "99");
+  // Another participant ID, so only the schema version is wrong with it.
+  const size_t participant = text.find("\"participant\":\"P002\"");
+  ASSERT_LT(participant, text.find('\n'));
+  text.replace(participant, std::string("\"participant\":\"P002\"").size(), "\"participant\":\"P003\"");
+  std::ofstream(copy, std::ios::binary) << text;
+
+  const auto before = snapshot(results);
+  const fs::path out = scratch("schema") / "out";
+  const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  const std::string reasons = joined(left_out_reasons(thresholds, copy.string()));
+  EXPECT_TRUE(reasons.find("schema_version 99") != std::string::npos || reasons.find("chain") != std::string::npos)
+      << reasons;
+  expect_left_out(out, copy.string(), reasons.find("schema_version") != std::string::npos ? "schema_version" : "chain");
+}
+
+// Logs of two studies in one folder: the study most logs belong to is analysed (here the second
+// in path order), the other study's log is listed.
+TEST(AnalyzeCli, LogsOfDifferentStudiesAnalyseTheMajority) {
+  const fs::path results = scratch("mixed") / "results";
+  run_session(fixture("tiny_2afc"), "P001", results);
+  run_session(fixture("rating"), "P001", results);
+  run_session(fixture("rating"), "P002", results);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const auto before = snapshot(results);
+  const fs::path out = scratch("mixed") / "out";
+  const CommandResult result = analyze(results.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(thresholds.value("study", ""), "tiny_rating");
+  EXPECT_EQ(thresholds.value("protocol", ""), "rating");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  for (const json& participant : thresholds["participants"])
+    EXPECT_NE(participant.value("log_path", "").find("tiny_rating"), std::string::npos) << participant.dump();
+  expect_left_out(out, log_of(results, "tiny_2afc", "P001").string(), "different studies");
+  EXPECT_NE(result.out.find("different studies"), std::string::npos) << result.out;
+
+  // A tie (two logs each), the studies' logs interleaved in path order (2afc, rating, rating,
+  // 2afc): the study whose first log comes first is analysed, not the one that reached two first.
+  const fs::path tie = scratch("mixed") / "tie";
+  const std::pair<const char*, fs::path> copies[] = {{"1", log_of(results, "tiny_2afc", "P001")},
+                                                     {"2", log_of(results, "tiny_rating", "P001")},
+                                                     {"3", log_of(results, "tiny_rating", "P002")},
+                                                     {"4", log_of(results, "tiny_2afc", "P001")}};
+  for (const auto& [folder, log] : copies) {
+    fs::create_directories(tie / folder);
+    fs::copy_file(log, tie / folder / "events.jsonl");
+  }
+  // (The second 2afc log is a copy of the first, so it is then left out as a duplicate: the study is
+  // chosen before duplicates are looked at.)
+  const fs::path tie_out = scratch("mixed") / "tie-out";
+  const CommandResult tied = analyze(tie.string() + " --bootstrap 0 --out " + tie_out.string());
+  ASSERT_EQ(tied.exit_code, 0) << tied.err;
+  EXPECT_EQ(load_json(tie_out / "thresholds.json").value("study", ""), "tiny_2afc") << tied.out;
+}
+
+// Two logs of one participant ID: the first in path order is used, the other listed.
+TEST(AnalyzeCli, DuplicateParticipantIdUsesTheFirstLog) {
+  const fs::path results = scratch("duplicate") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path copy = results / "tiny_2afc" / "P009";
+  fs::copy(results / "tiny_2afc" / "P001", copy, fs::copy_options::recursive);
+  const auto before = snapshot(results);
+  const fs::path out = scratch("duplicate") / "out";
+  const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_EQ(thresholds["participants"][0].value("log_path", ""), log_of(results, "tiny_2afc", "P001").string());
+  expect_left_out(out, (copy / "events.jsonl").string(), "duplicate");
+  // The copy's trials are not counted twice: every condition holds the two participants' trials.
+  const fs::path out_two = scratch("duplicate") / "out-two";
+  fs::remove_all(copy);
+  ASSERT_EQ(analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out_two.string()).exit_code, 0);
+  EXPECT_EQ(load_json(out_two / "thresholds.json")["conditions"], thresholds["conditions"]);
+}
+
+// An answer edited in a log breaks its hash chain: the log is left out, the others analysed.
+TEST(AnalyzeCli, EditedAnswerBreaksTheChainAndTheLogIsLeftOut) {
+  const fs::path results = scratch("edited") / "results";
+  run_2afc_participants(results, 3);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path edited = log_of(results, "tiny_2afc", "P002");
+  std::string text = read_all(edited);
+  const size_t at = text.find("\"answer\":\"same\"");
+  const size_t other = text.find("\"answer\":\"different\"");
+  ASSERT_TRUE(at != std::string::npos || other != std::string::npos);
+  if (at != std::string::npos) text.replace(at, 15, "\"answer\":\"different\"");
+  else text.replace(other, 20, "\"answer\":\"same\"");
+  std::ofstream(edited, std::ios::binary | std::ios::trunc) << text;
+
+  const auto before = snapshot(results);
+  const fs::path out = scratch("edited") / "out";
+  const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P003"}));
+  expect_left_out(out, edited.string(), "chain");
+  EXPECT_NE(result.out.find("chain"), std::string::npos) << result.out;
+}
+
+// Lines of an events.jsonl that start a trial and are not attention checks.
+int comparison_trials(const fs::path& log) {
+  std::istringstream text(read_all(log));
+  std::string line;
+  int count = 0;
+  while (std::getline(text, line))
+    if (line.find("\"event\":\"trial_start\"") != std::string::npos &&
+        line.find("\"attention_check\":false") != std::string::npos)
+      ++count;
+  return count;
+}
+
+// A participant excluded by attention checks is listed but none of their trials is counted.
+TEST(AnalyzeCli, ExcludedParticipantIsListedAndNotCounted) {
+  const fs::path folder = scratch("excluded");
+  const fs::path config = write_variant(folder, "strict_2afc", "tiny_2afc", {{"max_errors = 100", "max_errors = 1"}});
+  const fs::path results = folder / "results";
+  // An observer who fails attention checks often, with a seed whose first error comes after 25
+  // comparison trials (so that "not counted" is not trivially true).
+  run_session(config.string(), "P001", results, "simulated:guess=0.3,seed=2");
+  run_session(config.string(), "P002", results, "simulated:guess=0,lapse=0");
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path excluded_log = log_of(results, "tiny_2afc", "P001");
+  ASSERT_NE(read_all(excluded_log).find("\"event\":\"excluded\""), std::string::npos) << "P001 was not excluded";
+  ASSERT_EQ(read_all(log_of(results, "tiny_2afc", "P002")).find("\"event\":\"excluded\""), std::string::npos);
+  ASSERT_GT(comparison_trials(excluded_log), 0) << "P001 was excluded before any trial counted";
+
+  const auto before = snapshot(results);
+  const fs::path out = folder / "out";
+  const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  ASSERT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_TRUE(thresholds["participants"][0].value("excluded", false));
+  EXPECT_FALSE(thresholds["participants"][1].value("excluded", true));
+  expect_left_out(out, "participant P001", "excluded");
+  // Only P002's comparison trials are counted: per scene, n sums to P002's trials.
+  uint64_t counted = 0;
+  for (const json& condition : thresholds["conditions"])
+    if (condition.value("scene", "") != "all") counted += condition.value("n", 0u);
+  EXPECT_EQ(counted, static_cast<uint64_t>(comparison_trials(log_of(results, "tiny_2afc", "P002"))));
+  // The guess rate comes from the included participant's checks only (P002 never errs).
+  EXPECT_EQ(thresholds.value("guess_rate", -1.0), 0.0) << thresholds.value("guess_rate_source", "");
+  const auto rows = csv_rows(out / "participants.csv");
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0][0], "P001");
+  EXPECT_EQ(rows[0][1], "true");
+
+  // Only the excluded participant: still a report, saying no one is left.
+  const fs::path out_alone = folder / "out-alone";
+  const CommandResult alone = analyze(excluded_log.string() + " --bootstrap 0 --out " + out_alone.string());
+  EXPECT_EQ(alone.exit_code, 0) << alone.err;
+  if (alone.exit_code == 0) {
+    expect_left_out(out_alone, "participant P001", "excluded");
+    EXPECT_TRUE(load_json(out_alone / "thresholds.json")["conditions"].empty());
+  }
+}
+
+// Nothing to analyse: exit code 2, one line naming the file or folder, nothing written.
+TEST(AnalyzeCli, NothingAnalysableIsOneLineWithExitCode2) {
+  const fs::path folder = scratch("nothing");
+  const fs::path garbage = folder / "garbage" / "P001" / "events.jsonl";
+  fs::create_directories(garbage.parent_path());
+  std::ofstream(garbage, std::ios::binary) << "this is not a session log\n";
+  const fs::path empty = folder / "empty";
+  fs::create_directories(empty);
+  const fs::path missing = folder / "no-such-folder";
+  const fs::path out = folder / "out";
+
+  const auto before = snapshot(folder);
+  expect_one_line_error(analyze((folder / "garbage").string() + " --out " + out.string()), garbage.string());
+  expect_one_line_error(analyze(garbage.string() + " --out " + out.string()), garbage.string());
+  expect_one_line_error(analyze(empty.string() + " --out " + out.string()), empty.string());
+  expect_one_line_error(analyze(missing.string() + " --out " + out.string()), missing.string());
+  // An empty log file.
+  const fs::path blank = folder / "blank.jsonl";
+  std::ofstream(blank, std::ios::binary).flush();
+  expect_one_line_error(analyze(blank.string() + " --out " + out.string()), blank.string());
+  fs::remove(blank);
+  EXPECT_FALSE(fs::exists(out));
+  expect_unchanged(before, folder);
+}
+
+// Bad flags: exit code 2, one line naming the flag, nothing written under --out.
+TEST(AnalyzeCli, BadFlagsAreOneLineAndWriteNothing) {
+  const fs::path results = scratch("flags") / "results";
+  run_session(fixture("tiny_2afc"), "P001", results);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const auto before = snapshot(results);
+  const fs::path out = scratch("flags") / "out";
+  const std::string input = (results / "tiny_2afc").string() + " --out " + out.string();
+  const std::pair<const char*, const char*> flags[] = {{"--alternative sideways", "--alternative"},
+                                                       {"--alpha 0", "--alpha"},
+                                                       {"--alpha 1", "--alpha"},
+                                                       {"--guess-rate 1.5", "--guess-rate"},
+                                                       {"--guess-rate -0.5", "--guess-rate"},
+                                                       {"--guess-rate nan", "--guess-rate"},
+                                                       {"--rating-cutoff nan", "--rating-cutoff"},
+                                                       {"--rating-cutoff 4", "--rating-cutoff"},
+                                                       {"--seed -3", "--seed"},
+                                                       {"--bootstrap -1", "--bootstrap"},
+                                                       {"--bootstrap many", "--bootstrap"}};
+  for (const auto& [flag, name] : flags) {
+    SCOPED_TRACE(flag);
+    const CommandResult result = analyze(input + " " + flag);
+    expect_one_line_error(result, name);
+    EXPECT_TRUE(result.out.empty()) << result.out;
+    EXPECT_FALSE(fs::exists(out)) << flag << " wrote " << out;
+    fs::remove_all(out);
+  }
+  expect_unchanged(before, results);
+  // The same folder with good flags is analysed (the failures above were the flags').
+  EXPECT_EQ(analyze(input + " --bootstrap 0 --alternative less --alpha 0.01 --guess-rate 0.1").exit_code, 0);
+  EXPECT_TRUE(fs::is_regular_file(out / "thresholds.json"));
+}
+
+// --alternative greater on a 2afc "which is better" study: the test is named in every output.
+TEST(AnalyzeCli, AlternativeGreaterIsNamedInThresholdsAndReport) {
+  const fs::path folder = scratch("greater");
+  const fs::path config = write_variant(folder, "better_2afc", "tiny_2afc",
+                                        {{"question = \"same\"", "question = \"better\""},
+                                         // Attention checks need an answer meaning "identical": none.
+                                         {"[attention]\nshare = 0.2\nbreak_s = 2\nmax_errors = 100\n", ""}});
+  const fs::path results = folder / "results";
+  run_session(config.string(), "P001", results);
+  run_session(config.string(), "P002", results);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const auto before = snapshot(results);
+  const fs::path out = folder / "out";
+  const CommandResult result =
+      analyze((results / "tiny_2afc").string() + " --alternative greater --bootstrap 20 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_unchanged(before, results);
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(thresholds.value("protocol", ""), "2afc");
+  EXPECT_EQ(thresholds.value("question", ""), "better");
+  EXPECT_EQ(thresholds["test"].value("alternative", ""), "greater");
+  EXPECT_EQ(thresholds.value("guess_rate", -1.0), 0.5);
+  ASSERT_FALSE(thresholds["conditions"].empty());
+  ASSERT_FALSE(thresholds["thresholds"].empty());
+  for (const json& threshold : thresholds["thresholds"]) {
+    EXPECT_NE(threshold.value("definition", "").find("greater"), std::string::npos) << threshold.dump();
+    EXPECT_NE(threshold.value("note", "").find("--alternative greater"), std::string::npos) << threshold.dump();
+  }
+  const std::string html = read_all(out / "report.html");
+  EXPECT_NE(html.find("one-sided (greater)"), std::string::npos);
+  EXPECT_EQ(html.find("two-sided"), std::string::npos) << "report.html still names a two-sided test";
+  for (const auto& row : csv_rows(out / "conditions.csv")) {
+    ASSERT_GE(row.size(), 16u);
+    EXPECT_EQ(row[15], "greater");
+  }
+  EXPECT_NE(result.out.find("greater"), std::string::npos) << result.out;
+
+  // The p-values are the one-sided ones: k >= n/2 gives p <= 1/2, and p is monotone in k.
+  const fs::path out_two = folder / "out-two-sided";
+  ASSERT_EQ(analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out_two.string()).exit_code, 0);
+  const json two_sided = load_json(out_two / "thresholds.json");
+  ASSERT_EQ(two_sided["conditions"].size(), thresholds["conditions"].size());
+  for (size_t i = 0; i < thresholds["conditions"].size(); ++i) {
+    const json& greater = thresholds["conditions"][i];
+    const double p_greater = greater.value("p_value", -1.0), p_two = two_sided["conditions"][i].value("p_value", -1.0);
+    if (2 * greater.value("k", 0u) > greater.value("n", 0u)) {
+      EXPECT_LT(p_greater, p_two) << greater.dump();
+    } else {
+      EXPECT_GT(p_greater, 0.5) << greater.dump();  // k <= n/2: P(X >= k) > 1/2
+    }
+  }
+}
+
+}  // namespace
