@@ -18,6 +18,7 @@
 #include "analysis/rays/ray_count.h"
 #include "analysis/report/svg_chart.h"
 #include "app/commands.h"
+#include "app/display_flags.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
@@ -33,27 +34,12 @@ constexpr int64_t kMaxPixels = int64_t{1} << 25;
 
 struct RaysOptions {
   std::string resolution;
-  std::string diagonal_in;
-  std::string size_mm;
-  std::string distance_mm;
+  DisplayFlags display;
   std::string foveal_deg;
   std::string middle_deg;
-  std::string gaze;
   std::filesystem::path json;
   std::filesystem::path svg;
 };
-
-[[noreturn]] void fail(const std::string& flag, const std::string& expected, const std::string& got) {
-  throw InputError(flag + ": expected " + expected + ", got \"" + got + "\"");
-}
-
-// The whole of `text` as a number; std::from_chars takes no sign "+", no spaces and no locale.
-std::optional<double> parse_double(std::string_view text) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
 
 std::optional<int> parse_int(std::string_view text) {
   int value = 0;
@@ -62,42 +48,16 @@ std::optional<int> parse_int(std::string_view text) {
   return value;
 }
 
-// "AxB" (or "AXB") split in two; nullopt without exactly one separator.
-std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text,
-                                                                      std::string_view separators) {
-  const size_t at = text.find_first_of(separators);
-  if (at == std::string_view::npos || text.find_first_of(separators, at + 1) != std::string_view::npos) {
-    return std::nullopt;
-  }
-  return std::make_pair(text.substr(0, at), text.substr(at + 1));
-}
-
-double positive_number(const std::string& flag, const std::string& text, const std::string& unit) {
-  const std::optional<double> value = parse_double(text);
-  if (!value || *value <= 0.0) fail(flag, "a positive number of " + unit, text);
-  return *value;
-}
-
 std::pair<int, int> parse_resolution(const std::string& text) {
   const std::string expected = "WxH in pixels, two positive whole numbers (e.g. 1920x1080)";
   const auto parts = split_pair(text, "xX");
-  if (!parts) fail("--resolution", expected, text);
+  if (!parts) fail_flag("--resolution", expected, text);
   const std::optional<int> width = parse_int(parts->first);
   const std::optional<int> height = parse_int(parts->second);
-  if (!width || !height || *width <= 0 || *height <= 0) fail("--resolution", expected, text);
+  if (!width || !height || *width <= 0 || *height <= 0) fail_flag("--resolution", expected, text);
   if (int64_t{*width} * *height > kMaxPixels) {
-    fail("--resolution", "at most " + std::to_string(kMaxPixels) + " pixels (8K UHD, 7680x4320, fits)", text);
+    fail_flag("--resolution", "at most " + std::to_string(kMaxPixels) + " pixels (8K UHD, 7680x4320, fits)", text);
   }
-  return {*width, *height};
-}
-
-std::pair<double, double> parse_size_mm(const std::string& text) {
-  const std::string expected = "WxH in millimetres, two positive numbers (e.g. 597.7x336.2)";
-  const auto parts = split_pair(text, "xX");
-  if (!parts) fail("--size-mm", expected, text);
-  const std::optional<double> width = parse_double(parts->first);
-  const std::optional<double> height = parse_double(parts->second);
-  if (!width || !height || *width <= 0.0 || *height <= 0.0) fail("--size-mm", expected, text);
   return {*width, *height};
 }
 
@@ -107,23 +67,13 @@ std::vector<double> parse_angles(const std::string& flag, const std::string& tex
   std::string_view rest = text;
   while (true) {
     const size_t comma = rest.find(',');
-    const std::optional<double> angle = parse_double(rest.substr(0, comma));
-    if (!angle || *angle < 0.0) fail(flag, expected, text);
+    const std::optional<double> angle = parse_finite_number(rest.substr(0, comma));
+    if (!angle || *angle < 0.0) fail_flag(flag, expected, text);
     angles.push_back(*angle == 0.0 ? 0.0 : *angle);  // -0 reads as 0
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);
   }
   return angles;
-}
-
-std::pair<double, double> parse_gaze(const std::string& text) {
-  const std::string expected = "X,Y in pixels, two numbers (e.g. 960,540)";
-  const auto parts = split_pair(text, ",");
-  if (!parts) fail("--gaze", expected, text);
-  const std::optional<double> x = parse_double(parts->first);
-  const std::optional<double> y = parse_double(parts->second);
-  if (!x || !y) fail("--gaze", expected, text);
-  return {*x, *y};
 }
 
 // "4.99x": the speed-up rounded to two decimals.
@@ -178,27 +128,10 @@ nlohmann::json cells_json(const std::vector<analysis::RayCell>& cells) {
 void run_rays(const RaysOptions& options) {
   // Every flag is checked before the table is built.
   const auto [width_px, height_px] = parse_resolution(options.resolution);
-  const bool has_diagonal = !options.diagonal_in.empty();
-  const bool has_size = !options.size_mm.empty();
-  if (has_diagonal == has_size) {
-    throw InputError(std::string("--diagonal-in, --size-mm: expected exactly one of them (the display's diagonal in "
-                                 "inches, or its width x height in mm), got ") +
-                     (has_diagonal ? "both" : "neither"));
-  }
-  DisplayGeometry display;
-  const double distance_mm = positive_number("--distance-mm", options.distance_mm, "millimetres");
-  if (has_diagonal) {
-    const double diagonal_in = positive_number("--diagonal-in", options.diagonal_in, "inches");
-    display = display_from_diagonal(width_px, height_px, diagonal_in, distance_mm);
-  } else {
-    const auto [width_mm, height_mm] = parse_size_mm(options.size_mm);
-    display = display_from_size(width_px, height_px, width_mm, height_mm, distance_mm);
-  }
+  const DisplayGeometry display = parse_display(options.display, width_px, height_px);
   const std::vector<double> foveal = parse_angles("--foveal-deg", options.foveal_deg);
   const std::vector<double> middle = parse_angles("--middle-deg", options.middle_deg);
-  double gaze_x = width_px / 2.0;
-  double gaze_y = height_px / 2.0;
-  if (!options.gaze.empty()) std::tie(gaze_x, gaze_y) = parse_gaze(options.gaze);
+  const auto [gaze_x, gaze_y] = parse_gaze(options.display.gaze, width_px, height_px);
   if (!options.json.empty()) check_output_path(options.json, "--json");
   if (!options.svg.empty()) check_output_path(options.svg, "--svg");
 
@@ -211,7 +144,7 @@ void run_rays(const RaysOptions& options) {
   if (!options.svg.empty()) {  // seed 001 Fig. 8, as a heat map of the speed-up
     analysis::HeatMap map;
     map.title = "Speed-up from ray reduction (" + std::to_string(width_px) + "x" + std::to_string(height_px) + ", " +
-                format_number(distance_mm, 6) + " mm)";
+                format_number(display.viewing_distance_mm, 6) + " mm)";
     map.x_label = "middle zone (deg)";
     map.y_label = "foveal zone (deg)";
     map.x_values = middle;
@@ -230,15 +163,11 @@ void add_rays_command(CLI::App& app) {
       app.add_subcommand("rays", "Ray-count speed-up of a three-zone foveated frame (seed 001, Table 1)");
   command->add_option("--resolution", options->resolution, "Display resolution WxH in pixels, e.g. 1920x1080")
       ->required();
-  command->add_option("--diagonal-in", options->diagonal_in, "Display diagonal in inches (square pixels)");
-  command->add_option("--size-mm", options->size_mm, "Display width x height in mm, e.g. 597.7x336.2");
-  command->add_option("--distance-mm", options->distance_mm, "Viewing distance in mm, eye to the display's centre")
-      ->required();
+  add_display_flags(*command, options->display, /*required=*/true);
   command->add_option("--foveal-deg", options->foveal_deg, "Foveal zone angles, full aperture in degrees, e.g. 5,10,15")
       ->required();
   command->add_option("--middle-deg", options->middle_deg, "Middle zone angles, full aperture in degrees, e.g. 50,60")
       ->required();
-  command->add_option("--gaze", options->gaze, "Gaze point X,Y in pixels (default: the centre, W/2,H/2)");
   command->add_option("--json", options->json, "Also write the cells as JSON to this file");
   command->add_option("--svg", options->svg, "Also draw the speed-ups as a heat map (SVG) to this file");
   command->callback([options] { run_rays(*options); });

@@ -9,8 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "analysis/image_metrics/image_checks.h"
+
 namespace fovlab::analysis {
 namespace {
+
+using detail::require_same_size;
+using detail::require_valid_layout;
+using detail::size_text;
 
 // BT.601 luma weights, as MATLAB's rgb2gray (used by Wang et al.'s code).
 constexpr double kLumaRed = 0.299;
@@ -28,28 +34,8 @@ constexpr double kWindowSigma = 1.5;
 
 constexpr double kPsnrPeak = 1.0;
 
-std::string size_text(const Image& image) {
-  return std::to_string(image.width) + "x" + std::to_string(image.height);
-}
 
-void require_valid_layout(const Image& image) {
-  if (image.channels != 1 && image.channels != 3 && image.channels != 4) {
-    throw std::invalid_argument("image has " + std::to_string(image.channels) +
-                                " channels; expected 1 (grey), 3 (RGB) or 4 (RGBA)");
-  }
-  if (image.width < 0 || image.height < 0 ||
-      image.pixels.size() != image.pixel_count() * static_cast<std::size_t>(image.channels)) {
-    throw std::invalid_argument("image " + size_text(image) + "x" + std::to_string(image.channels) +
-                                " has " + std::to_string(image.pixels.size()) +
-                                " values; expected width * height * channels");
-  }
-}
 
-void require_same_size(const Image& a, const Image& b) {
-  if (a.width != b.width || a.height != b.height) {
-    throw std::invalid_argument("images differ in size: " + size_text(a) + " vs " + size_text(b));
-  }
-}
 
 // Number of channels that carry colour: alpha is not part of the picture.
 int colour_channel_count(const Image& image) { return image.channels == 4 ? 3 : image.channels; }

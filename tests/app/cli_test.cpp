@@ -52,10 +52,34 @@ TEST(Cli, CompareIdenticalAndDifferentImages) {
   const nlohmann::json same_json = nlohmann::json::parse(same.out);
   EXPECT_TRUE(same_json["psnr_db"].is_null());
   EXPECT_EQ(same_json["ssim"], 1.0);
+  EXPECT_EQ(same_json["flip"], 0.0);
+  EXPECT_EQ(same_json["flip_pixels_per_degree"], 67.0);  // FLIP's default without a display
+  EXPECT_TRUE(same_json["fpsnr_db"].is_null());
   const CommandResult different = run("compare " + gt.string() + " " + ipr.string());
   ASSERT_EQ(different.exit_code, 0) << different.err;
   EXPECT_NE(different.out.find("PSNR "), std::string::npos);
   EXPECT_NE(different.out.find("SSIM 0.9"), std::string::npos) << different.out;
+  EXPECT_NE(different.out.find("FLIP 0.0"), std::string::npos) << different.out;
+
+  // With the display: FLIP at its pixels per degree, and FPSNR around the gaze.
+  const std::string display = " --diagonal-in 27 --distance-mm 500";
+  const CommandResult centred = run("compare " + gt.string() + " " + ipr.string() + display + " --json");
+  ASSERT_EQ(centred.exit_code, 0) << centred.err;
+  const nlohmann::json centred_json = nlohmann::json::parse(centred.out);
+  EXPECT_GT(centred_json["flip_pixels_per_degree"].get<double>(), 0.0);
+  EXPECT_NE(centred_json["flip_pixels_per_degree"].get<double>(), 67.0);
+  ASSERT_TRUE(centred_json["fpsnr_db"].is_number()) << centred.out;
+  EXPECT_GE(centred_json["fpsnr_db"].get<double>(), 0.0);
+  const CommandResult cornered =
+      run("compare " + gt.string() + " " + ipr.string() + display + " --gaze 0,0 --json");
+  ASSERT_EQ(cornered.exit_code, 0) << cornered.err;
+  const nlohmann::json cornered_json = nlohmann::json::parse(cornered.out);
+  EXPECT_EQ(cornered_json["gaze"], nlohmann::json::array({0.0, 0.0}));
+  EXPECT_EQ(cornered_json["psnr_db"], centred_json["psnr_db"]);     // the gaze changes FPSNR only
+  EXPECT_EQ(cornered_json["flip"], centred_json["flip"]);
+  expect_one_line_error(run("compare " + gt.string() + " " + ipr.string() + " --gaze 3,4"), "--gaze");
+  expect_one_line_error(run("compare " + gt.string() + " " + ipr.string() + " --diagonal-in 27"), "--distance-mm");
+  expect_one_line_error(run("compare " + gt.string() + " " + ipr.string() + display + " --gaze a,b"), "--gaze");
 }
 
 TEST(Cli, BenchPrintsATableAndWritesJson) {

@@ -1,0 +1,40 @@
+#pragma once
+// The display and gaze flags of the commands that need a physical display (rays, compare):
+// --diagonal-in D | --size-mm WxH, --distance-mm D, --gaze X,Y. They are read as text and parsed
+// after CLI11, so every error is one line naming the flag and what was expected (exit code 2).
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include <CLI/CLI.hpp>
+
+#include "renderer/foveation/display_geometry.h"
+
+namespace fovlab::app {
+
+struct DisplayFlags {
+  std::string diagonal_in;
+  std::string size_mm;
+  std::string distance_mm;
+  std::string gaze;
+};
+
+// `required`: the command needs a display (exactly one size flag and the distance); otherwise they
+// may all be left out (has_display false).
+void add_display_flags(CLI::App& command, DisplayFlags& flags, bool required);
+bool has_display(const DisplayFlags& flags);
+// The display of width_px x height_px pixels. InputError naming the flag when a value is missing,
+// not a positive number, or both or neither of --diagonal-in and --size-mm are given.
+DisplayGeometry parse_display(const DisplayFlags& flags, int width_px, int height_px);
+// --gaze X,Y in pixels (any finite numbers: off the screen is allowed); empty: the centre.
+std::pair<double, double> parse_gaze(const std::string& text, int width_px, int height_px);
+
+// Helpers for other flags given as text.
+[[noreturn]] void fail_flag(const std::string& flag, const std::string& expected, const std::string& got);
+// The whole of `text` as a finite number (std::from_chars: no "+", no spaces, no locale).
+std::optional<double> parse_finite_number(std::string_view text);
+// "AxB" split at its one separator (any of `separators`); nullopt without exactly one.
+std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text, std::string_view separators);
+
+}  // namespace fovlab::app
