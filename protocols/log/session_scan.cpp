@@ -96,6 +96,13 @@ std::string line_chain(const std::string& previous, std::string_view line, std::
 
 }  // namespace
 
+namespace {
+
+// The scan of `size` bytes at `data`, which stay readable up to size + SIMDJSON_PADDING.
+ScannedSession scan_padded(const char* data, size_t size, const std::string& path);
+
+}  // namespace
+
 ScannedSession scan_session_log(const std::string& path) {
   // simdjson reads up to SIMDJSON_PADDING bytes past a document: every line is followed by the
   // rest of the file, and the file by the padding. The buffer is kept by the thread and reused, so
@@ -128,7 +135,20 @@ ScannedSession scan_session_log(const std::string& path) {
     size += static_cast<size_t>(got);
   }
   ::close(file);
-  const char* data = buffer.get();
+  return scan_padded(buffer.get(), size, path);
+}
+
+ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages) {
+  std::string padded;
+  padded.reserve(bytes.size() + simdjson::SIMDJSON_PADDING);
+  padded = bytes;
+  padded.append(simdjson::SIMDJSON_PADDING, ' ');
+  return scan_padded(padded.data(), bytes.size(), path_for_messages);
+}
+
+namespace {
+
+ScannedSession scan_padded(const char* data, size_t size, const std::string& path) {
   const size_t last_newline = std::string_view(data, size).rfind('\n');
   const size_t intact = last_newline == std::string_view::npos ? 0 : last_newline + 1;
   const size_t readable = size + simdjson::SIMDJSON_PADDING;
@@ -219,5 +239,7 @@ ScannedSession scan_session_log(const std::string& path) {
     if (trial.attention_correct && !*trial.attention_correct) ++session.attention_errors;
   return session;
 }
+
+}  // namespace
 
 }  // namespace fovlab

@@ -48,5 +48,7 @@ struct ScannedSession {
 // that is not one JSON object, no session header, another schema version, a trial event outside
 // its trial, a field of the wrong type).
 ScannedSession scan_session_log(const std::string& path);
+// The same from bytes already in memory (the fuzz target and the corpus replay use this).
+ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages);
 
 }  // namespace fovlab

@@ -1,18 +1,24 @@
-// libFuzzer harness: the session-log reader (protocols/log/event_log.h, session_record.h).
-// Contract: parse_event_log and read_session_record throw fovlab::InputError for bad input; any
-// other exception, a crash, a sanitizer report or a hang is a bug. Parses the bytes as an
-// events.jsonl, then, when that succeeded, builds the session record from it. Built two ways
+// libFuzzer harness: the session-log readers (protocols/log/event_log.h, session_record.h, and the
+// fast scan session_scan.h that fovlab analyze uses).
+// Contract: parse_event_log, read_session_record and scan_session_bytes throw fovlab::InputError
+// for bad input; any other exception, a crash, a sanitizer report or a hang is a bug. Parses the
+// bytes as an events.jsonl, then, when that succeeded, builds the session record from it. The scan
+// must tell the same story wherever a log's chain is intact: both accept it with the same trials,
+// or both reject it (the scan does not re-validate what it skips, so a log the full reader rejects
+// may pass the scan only with a broken chain, which analysis rejects). Built two ways
 // (tests/fuzz/fuzz.cmake): fovlab_log_fuzz (clang, libFuzzer + ASan + UBSan; scripts/fuzz) and
 // fovlab_log_corpus (corpus_runner.cpp replays tests/fuzz/corpus/log under CTest).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
 #include "protocols/log/session_record.h"
+#include "protocols/log/session_scan.h"
 
 namespace {
 
@@ -22,10 +28,22 @@ void expect(bool condition, const char* what) {
   std::abort();
 }
 
+// The fast scan, or nullopt when it rejects the bytes.
+std::optional<fovlab::ScannedSession> scan(const std::string& bytes) {
+  try {
+    return fovlab::scan_session_bytes(bytes, "fuzz.jsonl");
+  } catch (const fovlab::InputError&) {
+    return std::nullopt;
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);
+  const std::optional<fovlab::ScannedSession> scanned = scan(bytes);
+  std::optional<fovlab::SessionRecord> full;
+  std::optional<fovlab::EventLogFile> full_log;
   try {
     const fovlab::EventLogFile log = fovlab::parse_event_log(bytes, "fuzz.jsonl");
     expect(log.events.size() == log.line_numbers.size(), "one line number per event");
@@ -35,8 +53,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     expect(record.trials.size() <= log.events.size(), "no more trials than events");
     for (size_t i = 1; i < record.trials.size(); ++i)
       expect(record.trials[i - 1].index < record.trials[i].index, "trials ordered by index, one per index");
+    full = record;
+    full_log = log;
   } catch (const fovlab::InputError&) {
     // Rejected input, as the contract says.
   }
+  if (full && full_log->first_chain_error_line == 0) {
+    expect(scanned.has_value(), "the scan accepts an intact log the full reader accepts");
+    expect(scanned->first_chain_error_line == 0, "the scan finds the chain intact too");
+    expect(scanned->trials.size() == full->trials.size(), "the scan finds the same trials");
+    for (size_t i = 0; i < full->trials.size(); ++i)
+      expect(scanned->trials[i].index == full->trials[i].index &&
+                 scanned->trials[i].answers.size() == full->trials[i].responses.size(),
+             "the same trial indices and answers");
+    expect(scanned->excluded == full->excluded && scanned->ended == full->ended &&
+               scanned->incomplete_trial == full->incomplete_trial,
+           "the same session state");
+  }
+  if (scanned && scanned->first_chain_error_line == 0)
+    expect(full.has_value(), "an intact log the scan accepts is accepted by the full reader");
   return 0;
 }
