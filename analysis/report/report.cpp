@@ -353,8 +353,10 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
     for (const PsychometricFit& fit : group.fits) {
       XySeries curve;
       curve.style = XySeries::Style::line;
-      curve.label = std::string(shape_name(fit.model.shape)) + ", threshold " +
-                    format_number(fit.model.parameters.threshold, kHtmlDigits);
+      // "cumulative_normal" is the name in the tables; the legend has room for a short one.
+      const std::string shape =
+          fit.model.shape == PsychometricShape::cumulative_normal ? "normal" : shape_name(fit.model.shape);
+      curve.label = shape + ", threshold " + format_number(fit.model.parameters.threshold, kHtmlDigits);
       for (int i = 0; i < kCurveSamples; ++i) {
         const double level = lo + (hi - lo) * i / (kCurveSamples - 1);
         curve.x.push_back(level);
