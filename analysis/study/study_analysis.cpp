@@ -101,9 +101,8 @@ class ComparisonAnalysis {
 
   void run(const std::vector<const ParticipantData*>& included, bool pool_scenes) {
     count(included, pool_scenes);
-    for (auto& [group, conditions] : counts_) add_rows(group, conditions);
     for (const auto& [group, conditions] : counts_) {
-      (void)conditions;
+      add_rows(group, conditions);  // the threshold and the fits read the group's rows
       add_threshold(group);
       add_fits(group);
     }

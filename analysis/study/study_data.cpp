@@ -21,26 +21,23 @@ std::optional<double> optional_number(const nlohmann::json& object, const char* 
   return found->get<double>();
 }
 
-// The study-wide facts of one log, from its header and the config it carries.
+// Which study (and config version) a log belongs to, from its header; the config text it carries
+// is parsed once, for the study chosen (every log of it carries the same text: config_hash).
 struct LogStudy {
-  std::string study, config_hash, protocol, question, level_parameter;
-  std::vector<double> levels;
-  bool higher_is_better = true;
+  std::string study, config_hash, config_toml;
 };
 
-LogStudy study_of(const nlohmann::json& header, const std::string& path) {
-  const StudyConfig config = parse_study_config_text(header.value("config_toml", ""), path + " (config_toml)",
+void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
+  const StudyConfig config = parse_study_config_text(study.config_toml, path + " (config_toml)",
                                                      /*check_scene_files=*/false);
-  LogStudy study;
-  study.study = header.value("study", "");
-  study.config_hash = header.value("config_hash", "");
-  study.protocol = protocol_name(config.protocol.kind);
+  data.study = study.study;
+  data.config_hash = study.config_hash;
+  data.protocol = protocol_name(config.protocol.kind);
   if (config.protocol.kind == ProtocolKind::two_afc)
-    study.question = config.protocol.two_afc_question == TwoAfcQuestion::same ? "same" : "better";
-  study.level_parameter = config.levels.parameter;
-  study.levels = config.levels.values;
-  study.higher_is_better = config.levels.higher_is_better;
-  return study;
+    data.question = config.protocol.two_afc_question == TwoAfcQuestion::same ? "same" : "better";
+  data.level_parameter = config.levels.parameter;
+  data.levels = config.levels.values;
+  data.higher_is_better = config.levels.higher_is_better;
 }
 
 ParticipantData participant_of(ScannedSession& session) {
@@ -108,7 +105,8 @@ ReadLog read_log(const std::string& path) {
     if (session.first_chain_error_line)
       throw InputError("line " + std::to_string(session.first_chain_error_line) +
                        ": the hash chain is broken (the log was edited or damaged)");
-    read.study = study_of(session.header, path);
+    read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
+                          session.header.value("config_toml", "")};
     read.participant = participant_of(session);
     if (session.torn_tail_bytes)
       read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +
@@ -160,10 +158,14 @@ StudyData load_study(const std::vector<std::string>& paths) {
   for (const ReadLog& read : logs)
     if (read.study) ++logs_per_study[{read.study->study, read.study->config_hash}];
   const LogStudy* study = nullptr;
-  for (const ReadLog& read : logs)
+  std::string study_path;  // the study's first log, named if its config cannot be read
+  for (const ReadLog& read : logs) {
     if (read.study && (!study || logs_per_study[{read.study->study, read.study->config_hash}] >
-                                     logs_per_study[{study->study, study->config_hash}]))
+                                     logs_per_study[{study->study, study->config_hash}])) {
       study = &*read.study;
+      study_path = read.participant.log_path;
+    }
+  }
   if (!study) {
     const LeftOut& first = logs.empty() ? LeftOut{"", "no session log to analyse"} : logs.front().notes.front();
     throw InputError(first.what.empty() ? first.reason : first.what + ": " + first.reason);
@@ -195,13 +197,7 @@ StudyData load_study(const std::vector<std::string>& paths) {
     data.left_out.insert(data.left_out.end(), read.notes.begin(), read.notes.end());
     data.participants.push_back(std::move(read.participant));
   }
-  data.study = study->study;
-  data.config_hash = study->config_hash;
-  data.protocol = study->protocol;
-  data.question = study->question;
-  data.level_parameter = study->level_parameter;
-  data.levels = study->levels;
-  data.higher_is_better = study->higher_is_better;
+  describe_study(*study, study_path, data);
   return data;
 }
 

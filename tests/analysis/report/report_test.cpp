@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/temp_dir.h"
+
 namespace fovlab::analysis {
 namespace {
 
@@ -22,24 +24,7 @@ using nlohmann::json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kParkScene = "park, \"north\"";  // a comma and quotes: the CSV must quote it
 
-// A fresh folder under the system temp folder, removed at the end of the test.
-class TempDir {
- public:
-  explicit TempDir(const std::string& name)
-      : path_(fs::temp_directory_path() / ("fovlab_report_test_" + std::to_string(::getpid()) + "_" + name)) {
-    fs::remove_all(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using fovlab::testing::TempDir;  // a fresh folder, removed at the end of the test
 
 std::string read_text(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -6,7 +6,7 @@
 #include "core/input_error.h"
 #include "core/prng.h"
 #include "protocols/gaze/gaze_spec.h"
-#include "tests/protocols/gaze/temp_dir.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -67,7 +67,7 @@ TEST(GazeSpecMake, MakesTraceAndSyntheticSources) {
   EXPECT_EQ(source->describe(), "synthetic:seed=5");
   EXPECT_TRUE(source->sample(0.0).valid);
 
-  const fovlab::testing::GazeTempDir dir;
+  const fovlab::testing::TempDir dir;
   const std::string path = dir.write("g.csv", "time_s,x_px,y_px\n0,5,6\n");
   source = make_gaze_source(parse_gaze_spec("trace:" + path), 800, 600, 7);
   EXPECT_EQ(source->describe(), "trace:" + path);

@@ -6,12 +6,12 @@
 #include "core/input_error.h"
 #include "core/prng.h"
 #include "protocols/gaze/trace_gaze_source.h"
-#include "tests/protocols/gaze/temp_dir.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
 
-using fovlab::testing::GazeTempDir;
+using fovlab::testing::TempDir;
 
 // The InputError message of constructing a trace from this file (empty when none was thrown).
 std::string error_of(const std::string& path) {
@@ -24,7 +24,7 @@ std::string error_of(const std::string& path) {
 }
 
 TEST(GazeTrace, StepFunctionReturnsTheLatestSampleAtOrBeforeT) {
-  const GazeTempDir dir;
+  const TempDir dir;
   const std::string path = dir.write("gaze.csv",
                                      "time_s,x_px,y_px\n"
                                      "0.0,100,200\n"
@@ -58,7 +58,7 @@ TEST(GazeTrace, StepFunctionReturnsTheLatestSampleAtOrBeforeT) {
 }
 
 TEST(GazeTrace, ValidColumnEmptyFieldsNanSpacesAndCrlf) {
-  const GazeTempDir dir;
+  const TempDir dir;
   const std::string path = dir.write("gaze.csv",
                                      "\xEF\xBB\xBFtime_s, x_px, y_px, valid\r\n"
                                      "0.0, 10, 20, 1\r\n"
@@ -107,7 +107,7 @@ TEST(GazeTrace, BinarySearchAgreesWithALinearScan) {
   }
   const std::vector<GazeSample> samples = parse_gaze_trace(text, "inline.csv");
   ASSERT_EQ(samples.size(), 2000u);
-  const GazeTempDir dir;
+  const TempDir dir;
   TraceGazeSource source(dir.write("big.csv", text));
   for (int query = 0; query < 500; ++query) {
     const double q = rng.uniform(-0.1, t + 0.1);
@@ -120,7 +120,7 @@ TEST(GazeTrace, BinarySearchAgreesWithALinearScan) {
 }
 
 TEST(GazeTrace, MalformedLinesNameFileLineAndField) {
-  const GazeTempDir dir;
+  const TempDir dir;
   const auto error_for = [&](const std::string& text) { return error_of(dir.write("gaze.csv", text)); };
   const std::string p = (dir.path() / "gaze.csv").string();
 
@@ -142,7 +142,7 @@ TEST(GazeTrace, MalformedLinesNameFileLineAndField) {
 }
 
 TEST(GazeTrace, MissingFileIsAnInputError) {
-  const GazeTempDir dir;
+  const TempDir dir;
   const std::string path = (dir.path() / "absent.csv").string();
   EXPECT_EQ(error_of(path), path + ": cannot open gaze trace (No such file or directory)");
   EXPECT_EQ(error_of(dir.path().string()), dir.path().string() + ": cannot open gaze trace (Is a directory)");
@@ -151,7 +151,7 @@ TEST(GazeTrace, MissingFileIsAnInputError) {
 TEST(GazeTrace, NonFiniteQueryTimeIsABug) {
   const std::vector<GazeSample> samples = parse_gaze_trace("time_s,x_px,y_px\n0,1,2\n", "x.csv");
   ASSERT_EQ(samples.size(), 1u);
-  const GazeTempDir dir;
+  const TempDir dir;
   TraceGazeSource source(dir.write("gaze.csv", "time_s,x_px,y_px\n0,1,2\n"));
   EXPECT_THROW(source.sample(std::nan("")), std::invalid_argument);
 }

@@ -17,32 +17,14 @@
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
 #include "protocols/log/session_record.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
 
 using nlohmann::json;
 
-class LogTempDir {
- public:
-  LogTempDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("fovlab_log_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~LogTempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  LogTempDir(const LogTempDir&) = delete;
-  LogTempDir& operator=(const LogTempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using fovlab::testing::TempDir;
 
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -69,7 +51,7 @@ std::string join_lines(const std::vector<std::string>& lines) {
   return bytes;
 }
 
-std::string write_three(const LogTempDir& dir) {
+std::string write_three(const TempDir& dir) {
   const std::string path = dir.file("events.jsonl");
   EventLogWriter writer(path, "", 0);
   writer.append({{"event", "session_header"}, {"schema_version", 1}});
@@ -81,7 +63,7 @@ std::string write_three(const LogTempDir& dir) {
 // --- the event log ------------------------------------------------------------------------------------
 
 TEST(ProtocolsLog, WriterAndReaderAgree) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = write_three(dir);
   const std::string bytes = read_bytes(path);
   ASSERT_EQ(lines_of(bytes).size(), 3u);
@@ -117,7 +99,7 @@ TEST(ProtocolsLog, WriterAndReaderAgree) {
 }
 
 TEST(ProtocolsLog, OneLinePerEventWhateverTheText) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = dir.file("events.jsonl");
   const std::string text = "two\nlines, a \"quote\", a tab\t and \u00e9";
   {
@@ -136,7 +118,7 @@ TEST(ProtocolsLog, OneLinePerEventWhateverTheText) {
 }
 
 TEST(ProtocolsLog, WriterReplacesSeqAndChainGivenByTheCaller) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = dir.file("events.jsonl");
   {
     EventLogWriter writer(path, "", 0);
@@ -160,7 +142,7 @@ TEST(ProtocolsLog, EmptyLog) {
 }
 
 TEST(ProtocolsLog, AModifiedLineBreaksTheChainThere) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = write_three(dir);
   std::vector<std::string> lines = lines_of(read_bytes(path));
   // Change a value, keep "seq" and "chain": the chain no longer matches.
@@ -174,7 +156,7 @@ TEST(ProtocolsLog, AModifiedLineBreaksTheChainThere) {
   EXPECT_EQ(log.events[1]["t"], 1.75);
 
   // The same edit on the last line.
-  LogTempDir other_dir;
+  TempDir other_dir;
   std::vector<std::string> original = lines_of(read_bytes(write_three(other_dir)));
   ASSERT_EQ(original.size(), 3u);
   json last = json::parse(original[2]);
@@ -184,7 +166,7 @@ TEST(ProtocolsLog, AModifiedLineBreaksTheChainThere) {
 }
 
 TEST(ProtocolsLog, DroppedReorderedAndForgedLinesBreakTheChain) {
-  LogTempDir dir;
+  TempDir dir;
   const std::vector<std::string> lines = lines_of(read_bytes(write_three(dir)));
   // Dropped line 2: line 2 now holds seq 2.
   EXPECT_EQ(parse_event_log(lines[0] + "\n" + lines[2] + "\n", "x").first_chain_error_line, 2);
@@ -211,7 +193,7 @@ TEST(ProtocolsLog, DroppedReorderedAndForgedLinesBreakTheChain) {
 }
 
 TEST(ProtocolsLog, TornTailIsReturnedNotParsed) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = write_three(dir);
   const std::string intact = read_bytes(path);
   const std::string torn = R"({"event":"trial_start","trial":1,"se)";
@@ -239,7 +221,7 @@ TEST(ProtocolsLog, TornTailIsReturnedNotParsed) {
 }
 
 TEST(ProtocolsLog, CorruptMiddleLineIsAnInputErrorWithItsLine) {
-  LogTempDir dir;
+  TempDir dir;
   const std::vector<std::string> lines = lines_of(read_bytes(write_three(dir)));
   for (const std::string& bad : {std::string("garbage"), std::string("[1, 2]"), std::string("\"text\""),
                                  std::string(""), std::string("{\"event\": ")}) {
@@ -267,7 +249,7 @@ TEST(ProtocolsLog, MissingFileIsAnInputError) {
 }
 
 TEST(ProtocolsLog, ContinuingALogKeepsTheChain) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = dir.file("events.jsonl");
   {
     EventLogWriter writer(path, "", 0);
@@ -310,7 +292,7 @@ TEST(ProtocolsLog, ContinuingALogKeepsTheChain) {
 
 TEST(ProtocolsLog, ContinuingAfterATornTailAppendsAfterTheIntactBytes) {
   // A resume truncates the torn tail first (intact_bytes) and then continues the chain.
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = write_three(dir);
   const std::string intact = read_bytes(path);
   write_bytes(path, intact + "{\"event\":\"tri");
@@ -560,7 +542,7 @@ TEST(ProtocolsLog, HeaderSchemaVersionIsNotWrapped) {
 }
 
 TEST(ProtocolsLog, RecordFromAWrittenFile) {
-  LogTempDir dir;
+  TempDir dir;
   const std::string path = dir.file("events.jsonl");
   {
     EventLogWriter writer(path, "", 0);

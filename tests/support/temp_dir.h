@@ -1,5 +1,6 @@
 #pragma once
-// A fresh directory under the system temp directory for one test, removed with everything in it.
+// A fresh directory under the system temp directory for one test, named after the test (and an
+// optional label), removed with everything in it. The one temp-folder helper of the unit tests.
 #include <unistd.h>
 
 #include <atomic>
@@ -11,25 +12,27 @@
 
 namespace fovlab::testing {
 
-class GazeTempDir {
+class TempDir {
  public:
-  GazeTempDir() {
+  explicit TempDir(const std::string& label = "") {
     static std::atomic<int> counter{0};
     const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = "fovlab_gaze_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    std::string name = "fovlab_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    if (!label.empty()) name += "_" + label;
     if (info != nullptr) name += std::string("_") + info->test_suite_name() + "_" + info->name();
     path_ = std::filesystem::temp_directory_path() / name;
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
-  ~GazeTempDir() {
+  ~TempDir() {
     std::error_code ignored;
     std::filesystem::remove_all(path_, ignored);
   }
-  GazeTempDir(const GazeTempDir&) = delete;
-  GazeTempDir& operator=(const GazeTempDir&) = delete;
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
 
   const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& file_name) const { return (path_ / file_name).string(); }
 
   // Writes text (bytes as given) to a file in the directory and returns its path.
   std::string write(const std::string& file_name, const std::string& text) const {
