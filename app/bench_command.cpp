@@ -1,21 +1,31 @@
-// fovlab bench: ground truth against the inverted pyramid, scene by scene and spp by spp: median GPU
-// milliseconds, speed-up, steps per pixel, SSIM and PSNR against GT, and where the time goes.
-#include <algorithm>
-#include <chrono>
+// fovlab bench: ground truth against the inverted pyramid (IPR) and its foveated form (FIPR), scene by
+// scene and spp by spp (and, for FIPR, periphery refresh by fovea): median GPU milliseconds,
+// speed-up, steps per pixel, and SSIM, PSNR, FLIP and FPSNR against GT; where the time goes; the
+// trade-off between speed and error as charts with their Pareto fronts.
+//
+// The steps live in their own files: flags checked into a plan (bench_plan), frames timed and
+// measured (bench_runs), Pareto fronts and charts (bench_pareto), Markdown tables (bench_report).
+// This file registers the flags and runs the sweep.
 #include <cstdio>
-#include <map>
+#include <filesystem>
 #include <memory>
-#include <sstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/image_metrics/image_metrics.h"
+#include "app/bench_pareto.h"
+#include "app/bench_plan.h"
+#include "app/bench_report.h"
+#include "app/bench_runs.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/render_outputs.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
-#include "core/input_error.h"
+#include "core/number_text.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/context.h"
@@ -24,115 +34,93 @@ namespace fovlab::app {
 
 namespace {
 
-struct BenchOptions {
-  std::vector<std::string> scenes{"primitives", "columns", "temple"};
-  std::vector<int> spps{1, 4, 16};
-  SphereTraceSettings settings;
-  int repeats = 5;
-  std::filesystem::path json;
-  std::filesystem::path out_dir;
-  std::string device;
-};
+// The fovea of seed 000's Table 1 and of its speed-ups "at 7.5 degrees" (section 5.2).
+constexpr double kPaperFoveaDeg = 7.5;
+const char* const kPaperNote =
+    "Seed 000 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups 1.1x-16x "
+    "(section 5.2).";
 
-template <typename T>
-std::string join(const std::vector<T>& values) {
-  std::ostringstream out;
-  for (size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
-  return out.str();
+// FIPR-only flags say so first in their description (app/foveation_flags.cpp; --refresh and --fovea-deg below).
+constexpr std::string_view kFiprOnlyPrefix = "FIPR:";
+
+nlohmann::json display_json(const BenchPlan& plan) {
+  return {{"width_mm", plan.display.width_mm},
+          {"height_mm", plan.display.height_mm},
+          {"viewing_distance_mm", plan.display.viewing_distance_mm},
+          {"pixels_per_degree_at_centre", plan.display.pixels_per_degree_at_centre()}};
 }
 
-// The command that reproduces these numbers, every setting spelled out.
-std::string reproducing_command(const BenchOptions& options) {
-  const SphereTraceSettings& s = options.settings;
-  std::ostringstream out;
-  out << "fovlab bench --scenes " << join(options.scenes) << " --spp " << join(options.spps) << " --width " << s.width
-      << " --height " << s.height << " --repeats " << options.repeats << " --time " << s.time_s << " --levels "
-      << s.pyramid_levels << " --min-filter " << s.min_filter_size << " --max-steps " << s.max_steps
-      << " --hit-threshold " << s.hit_threshold;
-  return out.str();
+// GT's own cell: the reference, so its errors are those of identical frames.
+nlohmann::json gt_cell(const std::string& scene, int spp, const nlohmann::json& runs) {
+  nlohmann::json cell = {{"method", "gt"}, {"scene", scene}, {"spp", spp}};
+  cell.update(runs);
+  cell["gt_median_gpu_ms"] = runs["median_gpu_ms"];
+  cell["speedup"] = 1.0;
+  cell.update(FrameErrors{}.json());
+  cell["top_level_share"] = 1.0;
+  cell["refreshed_share"] = 0.0;
+  return cell;
 }
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+nlohmann::json measured_cell(const std::string& method, const std::string& scene, int spp, const nlohmann::json& runs,
+                             double gt_median_gpu_ms, const FrameErrors& errors) {
+  nlohmann::json cell = {{"method", method}, {"scene", scene}, {"spp", spp}};
+  cell.update(runs);
+  cell["gt_median_gpu_ms"] = gt_median_gpu_ms;
+  cell["speedup"] = gt_median_gpu_ms / runs["median_gpu_ms"].get<double>();
+  cell.update(errors.json());
+  return cell;
 }
 
-// Timings of one method over the repeats, plus the (deterministic) frame of its first run.
-struct MethodRuns {
-  SphereTraceResult frame;
-  std::vector<double> gpu_ms;
-  std::vector<double> wall_ms;
-  std::map<std::string, std::vector<double>> pass_ms;
-
-  void add(const SphereTraceResult& result, double wall) {
-    gpu_ms.push_back(result.gpu_ms);
-    wall_ms.push_back(wall);
-    for (const vk::PassTime& pass : result.passes) pass_ms[pass.name].push_back(pass.gpu_ms);
-  }
-
-  nlohmann::json json(const SphereTraceSettings& settings) const {
-    nlohmann::json passes = nlohmann::json::object();
-    for (const auto& [name, values] : pass_ms) passes[name] = median(values);
-    return {{"median_gpu_ms", median(gpu_ms)},
-            {"median_wall_ms", median(wall_ms)},
-            {"gpu_ms_runs", gpu_ms},
-            {"median_pass_gpu_ms", passes},
-            {"total_steps", frame.total_steps},
-            {"steps_per_pixel", frame.mean_steps_per_pixel()},
-            {"steps_per_sample", frame.mean_steps_per_pixel() / settings.samples_per_pixel},
-            {"capped_rays", frame.capped_rays},
-            {"restarted_rays", frame.restarted_rays}};
-  }
-};
-
-std::string table_header() {
-  return "| scene | spp | GT ms | IPR ms | speed-up | GT steps/px | IPR steps/px | SSIM | PSNR dB | capped GT/IPR |\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-}
-
-std::string table_row(const nlohmann::json& row) {
-  char text[512];
-  const nlohmann::json& gt = row["gt"];
-  const nlohmann::json& ipr = row["ipr"];
-  char psnr[32] = "inf";
-  if (!row["psnr_db"].is_null()) std::snprintf(psnr, sizeof(psnr), "%.2f", row["psnr_db"].get<double>());
-  std::snprintf(text, sizeof(text), "| %s | %d | %.1f | %.1f | %.2fx | %.1f | %.1f | %.5f | %s | %llu/%llu |\n",
-                row["scene"].get<std::string>().c_str(), row["spp"].get<int>(), gt["median_gpu_ms"].get<double>(),
-                ipr["median_gpu_ms"].get<double>(), row["speedup"].get<double>(), gt["steps_per_pixel"].get<double>(),
-                ipr["steps_per_pixel"].get<double>(), row["ssim"].get<double>(), psnr,
-                gt["capped_rays"].get<unsigned long long>(), ipr["capped_rays"].get<unsigned long long>());
-  return text;
-}
-
-std::string pass_table(const nlohmann::json& rows) {
-  std::ostringstream out;
-  out << "| scene | spp | method | pass | median GPU ms | share |\n|---|---:|---|---|---:|---:|\n";
-  for (const nlohmann::json& row : rows) {
-    for (const char* method : {"gt", "ipr"}) {
-      const nlohmann::json& runs = row[method];
-      const double total = runs["median_gpu_ms"].get<double>();
-      for (const auto& [name, ms] : runs["median_pass_gpu_ms"].items()) {
-        char text[256];
-        std::snprintf(text, sizeof(text), "| %s | %d | %s | %s | %.2f | %.0f%% |\n",
-                      row["scene"].get<std::string>().c_str(), row["spp"].get<int>(), method, name.c_str(),
-                      ms.get<double>(), total > 0 ? 100.0 * ms.get<double>() / total : 0.0);
-        out << text;
+// Marks each scene's cells on the Pareto fronts of speed-up against FLIP and against 1 - SSIM
+// ("pareto_flip", "pareto_one_minus_ssim").
+void mark_pareto_fronts(nlohmann::json& cells, const std::vector<std::string>& scenes) {
+  for (const std::string& scene : scenes) {
+    for (const char* error : {"flip", "ssim"}) {
+      std::vector<TradeOff> points;
+      std::vector<nlohmann::json*> of_scene;
+      for (nlohmann::json& cell : cells) {
+        if (cell["scene"] != scene) continue;
+        const double value = std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
+        points.push_back({cell["speedup"].get<double>(), value});
+        of_scene.push_back(&cell);
+      }
+      const std::vector<bool> front = pareto_front(points);
+      for (size_t i = 0; i < of_scene.size(); ++i) {
+        (*of_scene[i])[std::string(error) == "ssim" ? "pareto_one_minus_ssim" : "pareto_flip"] = bool(front[i]);
       }
     }
   }
-  return out.str();
+}
+
+std::vector<ChartCell> chart_cells(const nlohmann::json& cells, const std::string& scene, bool flip) {
+  std::vector<ChartCell> chart;
+  for (const nlohmann::json& cell : cells) {
+    if (cell["scene"] != scene) continue;
+    ChartCell point;
+    point.method = cell["method"].get<std::string>();
+    point.spp = cell["spp"].get<int>();
+    if (point.method == "fipr") {
+      point.refresh = cell["refresh"].get<int>();
+      point.fovea_deg = cell["fovea_deg"].get<double>();
+    }
+    point.trade_off = {cell["speedup"].get<double>(),
+                       flip ? cell["flip"].get<double>() : 1.0 - cell["ssim"].get<double>()};
+    point.on_front = cell[flip ? "pareto_flip" : "pareto_one_minus_ssim"].get<bool>();
+    chart.push_back(point);
+  }
+  return chart;
+}
+
+void write_frame_images(const std::filesystem::path& out_dir, const std::string& stem, const SphereTraceResult& frame,
+                        const SphereTraceSettings& settings) {
+  write_colour(out_dir / (stem + ".png"), frame.colour_linear);
+  write_step_heatmap(out_dir / (stem + "_steps.png"), frame, settings);
+  if (settings.method == TraceMethod::foveated_pyramid) write_image(out_dir / (stem + "_mask.png"), frame.mask);
 }
 
 void run_bench(const BenchOptions& options) {
-  if (options.repeats < 1 || options.repeats > 1000) {
-    throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
-  }
-  for (int spp : options.spps) {
-    SphereTraceSettings check = options.settings;
-    check.samples_per_pixel = spp;
-    validate(check);
-  }
+  const BenchPlan plan = plan_bench(options);
   std::vector<SceneSource> scenes;
   for (const std::string& name : options.scenes) scenes.push_back(load_scene(name));
   if (!options.json.empty()) check_output_path(options.json, "--json");
@@ -143,13 +131,31 @@ void run_bench(const BenchOptions& options) {
   }
 
   vk::Context context(context_options(options.device));
-  std::printf("fovlab bench on %s, %dx%d, %d repeats (median GPU ms)\n%s", context.description.name.c_str(),
-              options.settings.width, options.settings.height, options.repeats, table_header().c_str());
+  const int width = options.settings.width;
+  const int height = options.settings.height;
+  std::printf("fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
+              "%.1f px\n%s",
+              context.description.name.c_str(), width, height, options.repeats, plan.flip_pixels_per_degree,
+              plan.gaze_x_px, plan.gaze_y_px, plan.fipr ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
   std::fflush(stdout);
 
   nlohmann::json rows = nlohmann::json::array();
-  std::string table = table_header();
+  nlohmann::json cells = nlohmann::json::array();
+  std::string gt_ipr_table = gt_ipr_table_header();
+  std::string cell_table = cell_table_header();
+  const auto print = [&](const std::string& line) {
+    std::printf("%s", line.c_str());
+    std::fflush(stdout);
+  };
+  const auto add_cell = [&](nlohmann::json cell) {
+    cell_table += cell_table_row(cell);
+    if (plan.fipr) print(cell_table_row(cell));
+    cells.push_back(std::move(cell));
+  };
+
   for (const SceneSource& scene : scenes) {
+    // One tracer serves every method: a FIPR sequence starts at frame 0 (no history needed), and GT
+    // and IPR frames run only between sequences.
     SphereTracer tracer(context, scene);
     for (int spp : options.spps) {
       SphereTraceSettings gt_settings = options.settings;
@@ -160,83 +166,176 @@ void run_bench(const BenchOptions& options) {
 
       MethodRuns gt;
       MethodRuns ipr;
-      // The first run of each is not timed (allocation, caches); its frame is the one measured.
-      gt.frame = tracer.render(gt_settings);
-      ipr.frame = tracer.render(ipr_settings);
-      for (int r = 0; r < options.repeats; ++r) {  // interleaved, so both see the same machine load
-        for (auto* runs : {&gt, &ipr}) {
-          const SphereTraceSettings& settings = runs == &gt ? gt_settings : ipr_settings;
-          const auto started = std::chrono::steady_clock::now();
-          const SphereTraceResult result = tracer.render(settings);
-          runs->add(result, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count());
-        }
-      }
+      std::vector<std::pair<SphereTraceSettings, MethodRuns*>> methods{{gt_settings, &gt}};
+      if (plan.ipr) methods.emplace_back(ipr_settings, &ipr);
+      time_interleaved(tracer, methods, options.repeats);
       const Image gt_image = display_image(gt.frame);
-      const Image ipr_image = display_image(ipr.frame);
-      const analysis::PsnrResult psnr = analysis::psnr(gt_image, ipr_image);
-      nlohmann::json row = {{"scene", scene.name},
-                            {"spp", spp},
-                            {"gt", gt.json(gt_settings)},
-                            {"ipr", ipr.json(ipr_settings)},
-                            {"speedup", median(gt.gpu_ms) / median(ipr.gpu_ms)},
-                            {"ssim", analysis::ssim(gt_image, ipr_image).mean_ssim},
-                            {"psnr_db", psnr.identical ? nlohmann::json(nullptr) : nlohmann::json(psnr.psnr_db)}};
-      rows.push_back(row);
-      table += table_row(row);
-      std::printf("%s", table_row(row).c_str());
-      std::fflush(stdout);
+      const double gt_ms = gt.median_gpu_ms();
 
+      nlohmann::json row = {{"scene", scene.name}, {"spp", spp}, {"gt", gt.json(gt_settings)}};
+      nlohmann::json cell = gt_cell(scene.name, spp, row["gt"]);
+      cell["command"] = cell_command(options, plan, scene.name, spp, "gt");
+      add_cell(cell);
+      if (plan.ipr) {
+        const FrameErrors errors = frame_errors(gt_image, display_image(ipr.frame), plan);
+        row["ipr"] = ipr.json(ipr_settings);
+        row["speedup"] = gt_ms / ipr.median_gpu_ms();
+        row.update(errors.json());
+        cell = measured_cell("ipr", scene.name, spp, row["ipr"], gt_ms, errors);
+        cell["top_level_share"] = 1.0;
+        cell["refreshed_share"] = 0.0;
+        cell["command"] = cell_command(options, plan, scene.name, spp, "ipr");
+        add_cell(cell);
+      }
+      rows.push_back(row);
+      gt_ipr_table += gt_ipr_table_row(row);
+      if (!plan.fipr) print(gt_ipr_table_row(row));
+      const std::string stem = scene.name + "_spp" + std::to_string(spp);
       if (!options.out_dir.empty()) {
-        const std::string stem = scene.name + "_spp" + std::to_string(spp);
-        write_colour(options.out_dir / (stem + "_gt.png"), gt.frame.colour_linear);
-        write_colour(options.out_dir / (stem + "_ipr.png"), ipr.frame.colour_linear);
-        write_step_heatmap(options.out_dir / (stem + "_gt_steps.png"), gt.frame, gt_settings);
-        write_step_heatmap(options.out_dir / (stem + "_ipr_steps.png"), ipr.frame, ipr_settings);
+        write_frame_images(options.out_dir, stem + "_gt", gt.frame, gt_settings);
+        if (plan.ipr) write_frame_images(options.out_dir, stem + "_ipr", ipr.frame, ipr_settings);
+      }
+
+      for (const FiprVariant& variant : plan.variants) {
+        SphereTraceSettings fipr_settings = gt_settings;
+        fipr_settings.method = TraceMethod::foveated_pyramid;
+        fipr_settings.foveation = variant.foveation;
+        const FiprSequence sequence = time_fipr_sequence(tracer, fipr_settings, options.repeats);
+        const SphereTraceResult& frame = sequence.runs.frame;
+        const FrameErrors errors = frame_errors(gt_image, display_image(frame), plan);
+        cell = measured_cell("fipr", scene.name, spp, sequence.runs.json(fipr_settings), gt_ms, errors);
+        const double pixels = double(width) * double(height);
+        cell["refresh"] = variant.refresh;
+        cell["fovea_deg"] = variant.fovea_deg;
+        cell["top_level_share"] = double(frame.foveation.masked_pixels) / pixels;
+        cell["refreshed_share"] = double(frame.foveation.refreshed_pixels) / pixels;
+        cell["kept_share"] = double(frame.foveation.kept_pixels) / pixels;
+        fipr_settings.foveation.frame_index = sequence.last_timed_frame;
+        cell["foveation"] = stats_json(scene.name, fipr_settings, frame, 0.0, context)["foveation"];
+        cell["warmup_frames"] = sequence.warmup_frames;
+        cell["timed_frame_indices"] = {sequence.first_timed_frame, sequence.last_timed_frame};
+        cell["measured_frame_index"] = sequence.last_timed_frame;
+        cell["command"] = cell_command(options, plan, scene.name, spp, "fipr", &variant);
+        add_cell(cell);
+        if (!options.out_dir.empty()) {
+          write_frame_images(options.out_dir,
+                             stem + "_fipr_r" + std::to_string(variant.refresh) + "_fovea" + variant.fovea_text(),
+                             frame, fipr_settings);
+        }
       }
     }
   }
   fail_on_validation_messages(context);
 
+  std::vector<std::string> scene_names;
+  for (const SceneSource& scene : scenes) scene_names.push_back(scene.name);
+  mark_pareto_fronts(cells, scene_names);
+
   const std::string passes = pass_table(rows);
-  std::printf("\nWhere the time goes (median GPU ms per pass):\n%s", passes.c_str());
+  const std::string fovea_7_5 = plan.fipr ? fovea_table(cells, kPaperFoveaDeg) : "";
+  const std::string fronts = pareto_table(cells);
+  if (plan.fipr) {
+    if (plan.ipr) print("\nGT against IPR:\n" + gt_ipr_table);
+    print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
+    print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
+  }
+  print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
+
   nlohmann::json report = {{"device", context.description.name},
                            {"timestamps", context.timestamp_period_ns > 0},
-                           {"width", options.settings.width},
-                           {"height", options.settings.height},
+                           {"width", width},
+                           {"height", height},
                            {"repeats", options.repeats},
                            {"pyramid_levels", options.settings.pyramid_levels},
                            {"min_filter_size", options.settings.min_filter_size},
                            {"max_steps", options.settings.max_steps},
                            {"hit_threshold", options.settings.hit_threshold},
                            {"time_s", options.settings.time_s},
-                           {"command", reproducing_command(options)},
-                           {"rows", rows}};
-  if (!options.json.empty()) write_text_atomically(options.json, report.dump(2) + "\n");
-  if (!options.out_dir.empty()) {
-    write_text_atomically(options.out_dir / "bench.json", report.dump(2) + "\n");
-    write_text_atomically(options.out_dir / "table.md",
-                          "# fovlab bench\n\nCommand: `" + reproducing_command(options) + "`\n\nDevice: " +
-                              context.description.name + "; " + std::to_string(options.settings.width) + "x" +
-                              std::to_string(options.settings.height) + "; median of " +
-                              std::to_string(options.repeats) + " runs.\n\n" + table + "\n## Passes\n\n" + passes);
+                           {"command", sweep_command(options, plan)},
+                           {"methods", options.methods},
+                           {"camera", "static: every frame of every method is rendered at scene time time_s"},
+                           {"metrics",
+                            {{"reference", "the GT frame of the same scene and spp"},
+                             {"images", "sRGB-encoded display images"},
+                             {"flip_pixels_per_degree", plan.flip_pixels_per_degree},
+                             {"display", display_json(plan)},
+                             {"gaze_px", {plan.gaze_x_px, plan.gaze_y_px}}}},
+                           {"rows", rows},
+                           {"cells", cells}};
+  if (plan.fipr) {
+    report["fipr"] = {
+        {"refresh", plan.refreshes},
+        {"fovea_deg", plan.fovea_degs},
+        {"settings", "every FIPR setting of a cell is in its \"foveation\" object (as fovlab render --stats-json)"},
+        {"sequence",
+         "per cell: frames 0 to refresh - 1 untimed (frame 0 refreshes every pixel), then --repeats timed frames "
+         "continuing the sequence (frame_index increasing, static camera); median GPU ms of the timed frames; errors, "
+         "steps and shares of the last timed frame"},
+        {"speedup", "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
+                    "GPU ms"}};
   }
+  const std::string json_text = report.dump(2) + "\n";
+  if (!options.json.empty()) write_text_atomically(options.json, json_text);
+  if (options.out_dir.empty()) return;
+
+  write_text_atomically(options.out_dir / "bench.json", json_text);
+  for (const std::string& scene : scene_names) {
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    write_text_atomically(options.out_dir / (scene + "_pareto_flip.svg"),
+                          pareto_chart_svg(scene + ", " + size + ": speed-up against FLIP",
+                                           "FLIP against GT (mean, " + format_number(plan.flip_pixels_per_degree, 3) +
+                                               " px/deg)",
+                                           chart_cells(cells, scene, true)));
+    write_text_atomically(options.out_dir / (scene + "_pareto_ssim.svg"),
+                          pareto_chart_svg(scene + ", " + size + ": speed-up against 1 - SSIM", "1 - SSIM against GT",
+                                           chart_cells(cells, scene, false)));
+  }
+  std::string markdown = "# fovlab bench\n\nCommand: `" + sweep_command(options, plan) + "`\n\nDevice: " +
+                         context.description.name + "; " + std::to_string(width) + "x" + std::to_string(height) +
+                         "; median of " + std::to_string(options.repeats) + " runs.\n\n";
+  if (plan.ipr || !plan.fipr) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
+  if (plan.fipr) {
+    markdown += "## Every cell\n\n" + cell_table + "\n## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" +
+                kPaperNote + "\n\n";
+  }
+  markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
+  write_text_atomically(options.out_dir / "table.md", markdown);
 }
 
 }  // namespace
 
 void add_bench_command(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
-  CLI::App* command = app.add_subcommand("bench", "Benchmark GT against IPR: time, steps, SSIM, PSNR");
+  CLI::App* command =
+      app.add_subcommand("bench", "Benchmark GT against IPR and FIPR: time, steps, SSIM, PSNR, FLIP, FPSNR, Pareto fronts");
   command->add_option("--scenes", options->scenes, "Scenes, comma-separated (names or .glsl paths)")->delimiter(',');
   command->add_option("--spp", options->spps, "Samples per pixel, comma-separated (1, 4, 16)")->delimiter(',');
   command->add_option("--width", options->settings.width, "Frame width in pixels");
   command->add_option("--height", options->settings.height, "Frame height in pixels");
   command->add_option("--repeats", options->repeats, "Timed runs per method and cell (median reported)");
   command->add_option("--json", options->json, "Write the full results as JSON");
-  command->add_option("--out-dir", options->out_dir, "Write images, step heat maps, table.md and bench.json here");
+  command->add_option("--out-dir", options->out_dir,
+                      "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
+  command->add_option("--methods", options->methods, "Methods, comma-separated: gt (always), ipr, fipr (default gt,ipr)")
+      ->delimiter(',');
   add_trace_options(*command, options->settings);
-  command->callback([options] { run_bench(*options); });
+  // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
+  add_foveation_flags(*command, options->foveation, FoveationPoint::swept);
+  command->add_option("--refresh", options->refresh, "FIPR: periphery refresh periods, comma-separated (1, 2, 4)")
+      ->delimiter(',');
+  command->add_option("--fovea-deg", options->fovea_deg,
+                      "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
+      ->delimiter(',');
+  command->callback([options, command] {
+    options->fipr_flags_given.clear();
+    for (const CLI::Option* option : command->get_options()) {
+      if (option->count() > 0 && option->get_description().rfind(kFiprOnlyPrefix, 0) == 0) {
+        options->fipr_flags_given.push_back(option->get_name());
+      }
+    }
+    run_bench(*options);
+  });
 }
 
 }  // namespace fovlab::app

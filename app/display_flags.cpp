@@ -75,13 +75,16 @@ DisplayGeometry parse_display(const DisplayFlags& flags, int width_px, int heigh
 
 std::pair<double, double> parse_gaze(const std::string& text, int width_px, int height_px) {
   if (text.empty()) return {width_px / 2.0, height_px / 2.0};
-  const std::string expected = "X,Y in pixels, two numbers (e.g. 960,540)";
+  const std::string expected = "X,Y in pixels, or in percent of the frame with a trailing % (e.g. 960,540 or 50%,50%)";
   const auto parts = split_pair(text, ",");
   if (!parts) fail_flag("--gaze", expected, text);
-  const std::optional<double> x = parse_finite_number(parts->first);
-  const std::optional<double> y = parse_finite_number(parts->second);
-  if (!x || !y) fail_flag("--gaze", expected, text);
-  return {*x, *y};
+  const auto coordinate = [&](std::string_view part, int frame_px) {
+    const bool percent = !part.empty() && part.back() == '%';
+    const std::optional<double> value = parse_finite_number(percent ? part.substr(0, part.size() - 1) : part);
+    if (!value) fail_flag("--gaze", expected, text);
+    return percent ? *value / 100.0 * frame_px : *value;
+  };
+  return {coordinate(parts->first, width_px), coordinate(parts->second, height_px)};
 }
 
 }  // namespace fovlab::app

@@ -27,7 +27,8 @@ bool has_display(const DisplayFlags& flags);
 // The display of width_px x height_px pixels. InputError naming the flag when a value is missing,
 // not a positive number, or both or neither of --diagonal-in and --size-mm are given.
 DisplayGeometry parse_display(const DisplayFlags& flags, int width_px, int height_px);
-// --gaze X,Y in pixels (any finite numbers: off the screen is allowed); empty: the centre.
+// --gaze X,Y in pixels, or each in percent of the frame with a trailing % ("50%,50%" is the centre);
+// any finite numbers (off the screen is allowed); empty: the centre.
 std::pair<double, double> parse_gaze(const std::string& text, int width_px, int height_px);
 
 // Helpers for other flags given as text.

@@ -1,14 +1,19 @@
-// fovlab render: one frame of a scene with ground truth or the inverted pyramid.
+// fovlab render: a frame of a scene with ground truth, the inverted pyramid or its foveated form
+// (FIPR; --frames N renders a sequence, so the periphery refresh reuses earlier frames).
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/foveation_flags.h"
 #include "app/render_outputs.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/input_error.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/context.h"
@@ -23,33 +28,66 @@ struct RenderOptions {
   std::filesystem::path out;
   std::filesystem::path steps_out;
   std::filesystem::path stats_json;
+  std::filesystem::path mask_out;
   std::string device;
+  FoveationFlags foveation;
+  int frames = 1;
+  double frame_rate_hz = 60.0;
 };
 
 void run_render(const RenderOptions& options) {
   SphereTraceSettings settings = options.settings;
-  settings.method = options.method == "ipr" ? TraceMethod::inverted_pyramid : TraceMethod::ground_truth;
+  settings.method = parse_trace_method(options.method).value_or(TraceMethod::ground_truth);
+  const bool foveated = settings.method == TraceMethod::foveated_pyramid;
+  if (foveated) settings.foveation = parse_foveation(options.foveation, settings.width, settings.height);
   validate(settings);
+  if (options.frames < 1 || options.frames > 100000)
+    throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
+  if (!(options.frame_rate_hz > 0.0 && std::isfinite(options.frame_rate_hz)))
+    throw InputError("--frame-rate: expected a positive number of frames per second");
   check_image_output_path(options.out, "--out");
   if (!options.steps_out.empty()) check_image_output_path(options.steps_out, "--steps-out");
   if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");
+  if (!options.mask_out.empty()) {
+    if (!foveated) throw InputError("--mask-out: only FIPR (--method fipr) has a foveation mask");
+    check_image_output_path(options.mask_out, "--mask-out");
+  }
 
   const SceneSource scene = load_scene(options.scene);
   vk::Context context(context_options(options.device));
   SphereTracer tracer(context, scene);
+  // Frame k of a sequence is at scene time --time + k / --frame-rate; the last one is written.
+  SphereTraceResult result;
+  std::vector<double> gpu_ms;
   const auto started = std::chrono::steady_clock::now();
-  const SphereTraceResult result = tracer.render(settings);
+  for (int frame = 0; frame < options.frames; ++frame) {
+    SphereTraceSettings frame_settings = settings;
+    frame_settings.time_s = static_cast<float>(settings.time_s + frame / options.frame_rate_hz);
+    frame_settings.foveation.frame_index = static_cast<uint32_t>(frame);
+    result = tracer.render(frame_settings);
+    gpu_ms.push_back(result.gpu_ms);
+    settings = frame_settings;
+  }
   const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   fail_on_validation_messages(context);
 
   write_colour(options.out, result.colour_linear);
   if (!options.steps_out.empty()) write_step_heatmap(options.steps_out, result, settings);
-  const nlohmann::json stats = stats_json(scene.name, settings, result, wall_ms, context);
+  if (!options.mask_out.empty()) write_image(options.mask_out, result.mask);
+  nlohmann::json stats = stats_json(scene.name, settings, result, wall_ms / options.frames, context);
+  stats["frames"] = options.frames;
+  stats["gpu_ms_per_frame"] = gpu_ms;
   if (!options.stats_json.empty()) write_text_atomically(options.stats_json, stats.dump(2) + "\n");
-  std::printf("%s %s %dx%d spp %d: %.2f ms GPU, %.2f steps/pixel, %llu capped rays -> %s\n", scene.name.c_str(),
+  std::printf("%s %s %dx%d spp %d: %.2f ms GPU, %.2f steps/pixel, %llu capped rays", scene.name.c_str(),
               method_name(settings.method), settings.width, settings.height, settings.samples_per_pixel,
               result.gpu_ms, stats["steps_per_pixel"].get<double>(),
-              static_cast<unsigned long long>(result.capped_rays), options.out.c_str());
+              static_cast<unsigned long long>(result.capped_rays));
+  if (foveated) {
+    std::printf(", %.1f %% of pixels traced at the top level, %.1f %% refreshed from the mid level",
+                100.0 * stats["foveation"]["top_level_share"].get<double>(),
+                100.0 * stats["foveation"]["refreshed_share"].get<double>());
+  }
+  std::printf(" -> %s\n", options.out.c_str());
 }
 }  // namespace
 
@@ -57,8 +95,9 @@ void add_render_command(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* command = app.add_subcommand("render", "Render one frame of a scene to an image");
   command->add_option("--scene", options->scene, "Built-in scene name or path to a .glsl scene file")->required();
-  command->add_option("--method", options->method, "gt (ground truth) or ipr (inverted pyramid)")
-      ->check(CLI::IsMember({"gt", "ipr"}));
+  command->add_option("--method", options->method,
+                      "gt (ground truth), ipr (inverted pyramid) or fipr (foveated inverted pyramid)")
+      ->check(CLI::IsMember({"gt", "ipr", "fipr"}));
   command->add_option("--width", options->settings.width, "Frame width in pixels")->required();
   command->add_option("--height", options->settings.height, "Frame height in pixels")->required();
   command->add_option("--spp", options->settings.samples_per_pixel, "Samples per pixel: 1, 4 or 16");
@@ -66,7 +105,11 @@ void add_render_command(CLI::App& app) {
   command->add_option("--steps-out", options->steps_out, "Step-count heat map to write (blue 1 step, red cap)");
   command->add_option("--stats-json", options->stats_json, "Statistics of the frame as JSON");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
+  command->add_option("--frames", options->frames, "Frames to render in sequence (the last is written)");
+  command->add_option("--frame-rate", options->frame_rate_hz, "Frames per second of scene time in a sequence");
+  command->add_option("--mask-out", options->mask_out, "FIPR: foveation mask image to write (white: traced in full)");
   add_trace_options(*command, options->settings);
+  add_foveation_flags(*command, options->foveation, FoveationPoint::single);
   command->callback([options] { run_render(*options); });
 }
 

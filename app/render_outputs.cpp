@@ -1,5 +1,7 @@
 #include "app/render_outputs.h"
 
+#include <cmath>
+
 #include <algorithm>
 #include <cctype>
 
@@ -30,7 +32,12 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
   for (const vk::PassTime& pass : result.passes) passes[pass.name] = pass.gpu_ms;
   nlohmann::json levels = nlohmann::json::array();
   for (const PyramidLevelStats& level : result.levels) {
-    levels.push_back({{"width", level.width}, {"height", level.height}, {"scale", level.scale}, {"steps", level.steps}});
+    levels.push_back({{"width", level.width},
+                      {"height", level.height},
+                      {"scale", level.scale},
+                      {"steps", level.steps},
+                      {"traced_share", level.traced_share()},
+                      {"shaded_share", double(level.shaded_pixels) / (double(level.width) * double(level.height))}});
   }
   nlohmann::json stats = {
       {"scene", scene_name},
@@ -51,9 +58,33 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
       {"wall_ms", wall_ms},
       {"device", context.description.name},
   };
-  if (settings.method == TraceMethod::inverted_pyramid) {
+  if (settings.method != TraceMethod::ground_truth) {
     stats["pyramid_levels"] = settings.pyramid_levels;
     stats["min_filter_size"] = settings.min_filter_size;
+  }
+  if (settings.method == TraceMethod::foveated_pyramid) {
+    const FoveationSettings& f = settings.foveation;
+    const double pixels = double(settings.width) * double(settings.height);
+    const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
+    stats["foveation"] = {
+        {"gaze_px", has_gaze ? nlohmann::json::array({f.gaze_x_px, f.gaze_y_px}) : nlohmann::json(nullptr)},
+        {"fovea_deg", f.acuity.fovea_deg},
+        {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_deg) ? nlohmann::json(f.acuity.outer_periphery_deg)
+                                                                             : nlohmann::json(nullptr)},
+        {"combine", mask_combine_name(f.combine)},
+        {"edge_threshold", f.edge_threshold},
+        {"periphery_refresh", f.periphery_refresh},
+        {"periphery_steps", f.periphery_steps},
+        {"blur", f.blur},
+        {"seed", f.seed},
+        {"frame_index", f.frame_index},
+        {"display", {{"width_mm", f.display.width_mm}, {"height_mm", f.display.height_mm},
+                     {"viewing_distance_mm", f.display.viewing_distance_mm},
+                     {"pixels_per_degree_at_centre", f.display.pixels_per_degree_at_centre()}}},
+        {"top_level_share", double(result.foveation.masked_pixels) / pixels},
+        {"refreshed_share", double(result.foveation.refreshed_pixels) / pixels},
+        {"kept_share", double(result.foveation.kept_pixels) / pixels},
+    };
   }
   return stats;
 }

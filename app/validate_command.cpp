@@ -5,6 +5,7 @@
 #include "app/commands.h"
 #include "protocols/config/study_config.h"
 #include "protocols/schedule/study_plan.h"
+#include "protocols/stimuli/stimulus_spec.h"
 
 namespace fovlab::app {
 namespace {
@@ -28,9 +29,12 @@ void validate(const std::string& config_path, const std::string& participant) {
   for (const PlannedBlock& block : plan.blocks)
     std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
   const double frame_mib = config.display.width_px * config.display.height_px * 4.0 / (1024.0 * 1024.0);
-  std::printf("trials %zu (%d attention checks), conditions %zu, stimuli %zu x %d frames (%.0f MiB prepared)\n",
-              plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(),
-              frame_mib * double(plan.stimuli.size()) * config.stimulus.frame_count());
+  size_t prepared = 0;  // gaze-dependent stimuli (FIPR) render live and are not held in memory
+  for (const PlannedStimulus& stimulus : plan.stimuli) prepared += method_depends_on_gaze(stimulus.spec.method) ? 0 : 1;
+  std::printf("trials %zu (%d attention checks), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: %.0f MiB; "
+              "%zu rendered live with the gaze)\n",
+              plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
+              frame_mib * double(prepared) * config.stimulus.frame_count(), plan.stimuli.size() - prepared);
   std::printf("expected duration %.1f min (1.5 s an answer)\n", minutes);
 }
 

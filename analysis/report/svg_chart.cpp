@@ -529,10 +529,15 @@ std::string render_xy_chart_svg(const XyChart& chart) {
         break;
       }
       case XySeries::Style::points: {
+        const bool labelled = series.point_labels.size() >= n;
         for (std::size_t i = 0; i < n; ++i) {
           if (!frame.inside(series.x[i], series.y[i])) continue;
           if (errors) out += error_bar(frame, series.x[i], series.y_lower[i], series.y_upper[i], colour);
           out += marker(s, frame.px(series.x[i]), frame.py(series.y[i]), colour);
+          if (labelled && !series.point_labels[i].empty()) {
+            out += text_at(frame.px(series.x[i]) + 6, frame.py(series.y[i]) - 5, series.point_labels[i], "start",
+                           " font-size=\"9\" fill=\"#444444\"");
+          }
         }
         break;
       }

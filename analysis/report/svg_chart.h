@@ -26,6 +26,9 @@ struct XySeries {
   std::vector<double> y;
   std::vector<double> y_lower;       // error bars (points, bars): empty or one per point (else ignored)
   std::vector<double> y_upper;
+  // Points only: a short text drawn beside each point (e.g. the settings of a benchmark cell); empty or
+  // one per point (else ignored); "" for none at that point.
+  std::vector<std::string> point_labels;
 };
 
 // A shaded horizontal interval [x_lower, x_upper] (e.g. a threshold's confidence interval).

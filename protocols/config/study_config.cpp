@@ -11,6 +11,7 @@
 #include "core/content_hash.h"
 #include "core/file_bytes.h"
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "protocols/config/input_keys.h"
 #include "protocols/config/toml_fields.h"
 #include "protocols/config/toml_guard.h"
@@ -100,6 +101,66 @@ MethodConfig read_method(const TomlFields& fields) {
   if (!method_parameters(config.method)) fields.fail("method", "expected one of " + known_methods() + ", got \"" + config.method + "\"");
   config.parameters = read_parameters(fields, config.method, {"method"});
   return config;
+}
+
+// The method's defaults with `overrides` on top (later maps win).
+std::map<std::string, double> full_parameters(const std::string& method,
+                                              std::initializer_list<const std::map<std::string, double>*> overrides) {
+  std::map<std::string, double> values;
+  const auto parameters = method_parameters(method);
+  for (const MethodParameter& parameter : *parameters) values[parameter.name] = parameter.default_value;
+  for (const std::map<std::string, double>* layer : overrides)
+    for (const auto& [name, value] : *layer) values[name] = value;
+  return values;
+}
+
+// Rules between parameters (parameter_conflict: FIPR's outer periphery at or beyond its fovea) must
+// hold for every stimulus the config makes: the reference, and the test under every variant and
+// level. The error names the field that set one of the parameters involved, the last layer first:
+// the level values, the variant, the method's table (the table itself when only defaults clash).
+void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConfig& stimulus,
+                           const TomlFields* levels_fields, const LevelsConfig& levels) {
+  const auto fail_in = [](const TomlFields& fields, const std::map<std::string, double>& given,
+                          const ParameterConflict& conflict) {
+    for (const std::string& name : conflict.parameters)
+      if (given.count(name)) fields.fail(name, conflict.expected);
+  };
+  {
+    const MethodConfig& reference = stimulus.reference;
+    const auto conflict =
+        parameter_conflict(reference.method, full_parameters(reference.method, {&reference.parameters}));
+    if (conflict) {
+      const TomlFields fields = stimulus_fields.table("reference");
+      fail_in(fields, reference.parameters, *conflict);
+      fields.fail("", conflict->expected);
+    }
+  }
+  const MethodConfig& test = stimulus.test;
+  const TomlFields test_fields = stimulus_fields.table("test");
+  const std::vector<TomlFields> variant_fields =
+      stimulus.variants.empty() ? std::vector<TomlFields>{} : stimulus_fields.tables("variant");
+  std::vector<const VariantConfig*> variants;
+  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
+  if (variants.empty()) variants.push_back(nullptr);
+  std::vector<std::optional<double>> level_values(levels.values.begin(), levels.values.end());
+  if (level_values.empty()) level_values.emplace_back(std::nullopt);
+  const std::map<std::string, double> none;
+  for (size_t v = 0; v < variants.size(); ++v) {
+    const std::map<std::string, double>& variant = variants[v] ? variants[v]->parameters : none;
+    for (const std::optional<double>& level : level_values) {
+      std::map<std::string, double> level_parameter;
+      if (level) level_parameter[levels.parameter] = *level;
+      const auto conflict =
+          parameter_conflict(test.method, full_parameters(test.method, {&test.parameters, &variant, &level_parameter}));
+      if (!conflict) continue;
+      const std::vector<std::string>& involved = conflict->parameters;
+      if (level && levels_fields && std::find(involved.begin(), involved.end(), levels.parameter) != involved.end())
+        levels_fields->fail("values", "value " + format_number(*level, 6) + ": " + conflict->expected);
+      if (variants[v]) fail_in(variant_fields[v], variant, *conflict);
+      fail_in(test_fields, test.parameters, *conflict);
+      test_fields.fail("", conflict->expected);
+    }
+  }
 }
 
 ProtocolKind read_kind(const TomlFields& fields) {
@@ -376,8 +437,13 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 
   read_display(fields.table("display"), config.display);
   read_stimulus(fields.table("stimulus"), config.display, config.stimulus);
-  if (const toml::table* levels = fields.optional_table("levels"))
-    read_levels(TomlFields(*levels, path, "levels"), config.stimulus.test, config.levels);
+  std::optional<TomlFields> levels_fields;
+  if (const toml::table* levels = fields.optional_table("levels")) {
+    levels_fields.emplace(*levels, path, "levels");
+    read_levels(*levels_fields, config.stimulus.test, config.levels);
+  }
+  check_parameter_rules(fields.table("stimulus"), config.stimulus, levels_fields ? &*levels_fields : nullptr,
+                        config.levels);
   read_protocol(fields.table("protocol"), config.levels, config.protocol);
   if (const toml::table* timing = fields.optional_table("timing"))
     read_timing(TomlFields(*timing, path, "timing"), config.timing);

@@ -29,14 +29,15 @@ class PlanBuilder {
     StimulusSpec& spec = stimulus.spec;
     spec.scene = scene;
     spec.method = method.method;
+    spec.width_px = config_.display.width_px;
+    spec.height_px = config_.display.height_px;
     const auto parameters = method_parameters(method.method);
     for (const MethodParameter& parameter : *parameters) spec.parameters[parameter.name] = parameter.default_value;
     for (const auto& [name, value] : method.parameters) spec.parameters[name] = value;
     if (variant)
       for (const auto& [name, value] : variant->parameters) spec.parameters[name] = value;
     if (level) spec.parameters[config_.levels.parameter] = *level;
-    spec.width_px = config_.display.width_px;
-    spec.height_px = config_.display.height_px;
+    fill_display_parameters(spec, method, variant, level.has_value());
     spec.frame_count = config_.stimulus.frame_count();
     spec.frames_per_second = config_.stimulus.frames_per_second;
     spec.camera_start_s = config_.stimulus.camera_start_s;
@@ -46,6 +47,26 @@ class PlanBuilder {
         return static_cast<int>(id);
     plan_.stimuli.push_back(std::move(stimulus));
     return static_cast<int>(plan_.stimuli.size() - 1);
+  }
+
+  // FIPR's display parameters the config did not set come from [display]: the physical size of the
+  // stimulus image and the viewing distance. A stimulus of W x H pixels on a display of
+  // width_px x height_px covers W / width_px of its width (the window presenter shows a frame
+  // pixel for pixel, or integer-scaled, centred; stimuli are rendered at the display's size, so
+  // this is the whole display today).
+  void fill_display_parameters(StimulusSpec& spec, const MethodConfig& method, const VariantConfig* variant,
+                               bool has_level) const {
+    const DisplayConfig& display = config_.display;
+    const auto given = [&](const std::string& name) {
+      return method.parameters.count(name) > 0 || (variant && variant->parameters.count(name) > 0) ||
+             (has_level && config_.levels.parameter == name);
+    };
+    const std::pair<const char*, double> from_display[] = {
+        {kDisplayWidthParameter, display.width_mm * spec.width_px / display.width_px},
+        {kDisplayHeightParameter, display.height_mm * spec.height_px / display.height_px},
+        {kViewingDistanceParameter, display.viewing_distance_mm}};
+    for (const auto& [name, value] : from_display)
+      if (spec.parameters.count(name) > 0 && !given(name)) spec.parameters[name] = value;
   }
 
   std::vector<Trial> block_trials(int block_index, const BlockConfig& block, Pcg32& random) {

@@ -25,6 +25,13 @@ std::string frame_file_name(int stimulus, int frame) {
   return "stimulus" + std::to_string(stimulus) + "_frame" + std::to_string(frame) + ".png";
 }
 
+// A gaze-dependent stimulus has an image per refresh of each presentation; (trial, step) names
+// the presentation (slider steps count every showing).
+std::string image_file_name(int trial, int step, int stimulus, int image) {
+  return "trial" + std::to_string(trial) + "_step" + std::to_string(step) + "_stimulus" + std::to_string(stimulus) +
+         "_image" + std::to_string(image) + ".png";
+}
+
 class Differences {
  public:
   Differences(ReplayOutcome& outcome, int limit) : outcome_(outcome), limit_(limit) {}
@@ -99,32 +106,44 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   if (!options.frames_out.empty()) fs::create_directories(options.frames_out);
 
   StimulusLibrary library(context);
-  std::map<std::pair<int, int>, PreparedFrame> rendered;  // gaze-independent frames, rendered once
-  const auto frame_for = [&](int stimulus, int frame, const GazeSample& gaze) -> const PreparedFrame& {
-    const auto key = std::make_pair(stimulus, frame);
-    auto found = rendered.find(key);
-    if (found != rendered.end() && !method_depends_on_gaze(plan.stimuli[static_cast<size_t>(stimulus)].spec.method))
-      return found->second;
-    PreparedFrame made = library.render(plan.stimuli[static_cast<size_t>(stimulus)].spec, frame, gaze);
+  // Frames of gaze-independent stimuli are rendered once, by (stimulus, frame). Every image of a
+  // gaze-dependent stimulus (fipr) is rendered again, in the order of its presentation, with its
+  // logged gaze and its position in the stimulus event's arrays as the presentation's image index
+  // (SessionRun::present_stimulus), so the periphery refresh reuses the same previous images.
+  std::map<std::pair<int, int>, PreparedFrame> rendered;
+  PreparedFrame live;
+  const auto image_for = [&](int stimulus, const StimulusImage& image,
+                             const std::string& file_name) -> const PreparedFrame& {
+    const StimulusSpec& spec = plan.stimuli[static_cast<size_t>(stimulus)].spec;
+    const bool gaze_dependent = method_depends_on_gaze(spec.method);
+    const auto key = std::make_pair(stimulus, image.frame);
+    if (!gaze_dependent) {
+      const auto found = rendered.find(key);
+      if (found != rendered.end()) return found->second;
+    }
+    PreparedFrame made = library.render(spec, image);
     ++outcome.frames_rendered;
-    if (!options.frames_out.empty()) write_frame_image(fs::path(options.frames_out) / frame_file_name(stimulus, frame), made.image);
+    if (!options.frames_out.empty()) write_frame_image(fs::path(options.frames_out) / file_name, made.image);
     if (by_ssim) {
-      const fs::path reference_path = fs::path(options.reference_frames) / frame_file_name(stimulus, frame);
+      const fs::path reference_path = fs::path(options.reference_frames) / file_name;
       const double value = analysis::ssim(read_image(reference_path), frame_to_image(made.image)).mean_ssim;
       outcome.lowest_ssim = std::min(outcome.lowest_ssim, value);
       if (value < options.min_ssim)
         differences.add(reference_path.string(), "SSIM " + std::to_string(value) + " below " + std::to_string(options.min_ssim));
     }
-    return rendered.insert_or_assign(key, std::move(made)).first->second;
+    if (gaze_dependent) {
+      live = std::move(made);
+      return live;
+    }
+    return rendered.emplace(key, std::move(made)).first->second;
   };
 
-  std::map<std::pair<int, int>, std::string> reference_hashes;
-  const auto reference_hash = [&](int stimulus, int frame) -> const std::string& {
-    const auto key = std::make_pair(stimulus, frame);
-    auto found = reference_hashes.find(key);
+  std::map<std::string, std::string> reference_hashes;  // by file name
+  const auto reference_hash = [&](const std::string& file_name) -> const std::string& {
+    auto found = reference_hashes.find(file_name);
     if (found == reference_hashes.end()) {
-      const fs::path path = fs::path(options.reference_frames) / frame_file_name(stimulus, frame);
-      found = reference_hashes.emplace(key, frame_hash(image_to_frame(read_image(path)))).first;
+      const fs::path path = fs::path(options.reference_frames) / file_name;
+      found = reference_hashes.emplace(file_name, frame_hash(image_to_frame(read_image(path)))).first;
     }
     return found->second;
   };
@@ -194,26 +213,31 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
         differences.add(where + " (" + line_of(shown) + ")", "frame, hash and gaze arrays differ in length");
         continue;
       }
+      const bool gaze_dependent = method_depends_on_gaze(plan.stimuli[static_cast<size_t>(stimulus)].spec.method);
       for (size_t i = 0; i < frames.size(); ++i) {
-        GazeSample sample;
-        sample.x_px = gaze[i].at(0).get<double>();
-        sample.y_px = gaze[i].at(1).get<double>();
-        const int frame = frames[i].get<int>();
+        StimulusImage image;
+        image.image_index = static_cast<int>(i);
+        image.gaze.x_px = gaze[i].at(0).get<double>();
+        image.gaze.y_px = gaze[i].at(1).get<double>();
+        image.frame = frames[i].get<int>();
+        const int frame = image.frame;
         if (frame < 0 || frame >= plan.stimuli[static_cast<size_t>(stimulus)].spec.frame_count) {
           differences.add(where + " (" + line_of(shown) + ")", "frame " + std::to_string(frame) + " out of range");
           break;
         }
-        const PreparedFrame& again = frame_for(stimulus, frame, sample);
+        const std::string file_name =
+            gaze_dependent ? image_file_name(recorded.index, shown.value("step", -1), stimulus, image.image_index)
+                           : frame_file_name(stimulus, frame);
+        const PreparedFrame& again = image_for(stimulus, image, file_name);
         ++outcome.presents_checked;
-        if (by_ssim && reference_hash(stimulus, frame) != hashes[i].get<std::string>())
-          differences.add(where + " (" + line_of(shown) + ") stimulus " + std::to_string(stimulus) + " frame " +
-                              std::to_string(frame),
-                          "the reference frame's hash is not the logged one (frames from another session?)");
+        const std::string what = where + " (" + line_of(shown) + ") stimulus " + std::to_string(stimulus) + " frame " +
+                                 std::to_string(frame) + (gaze_dependent ? " image " + std::to_string(i) : "");
+        if (by_ssim && reference_hash(file_name) != hashes[i].get<std::string>())
+          differences.add(what, "the reference frame's hash is not the logged one (frames from another session?)");
         if (!by_ssim && again.hash != hashes[i].get<std::string>())
-          differences.add(where + " (" + line_of(shown) + ") stimulus " + std::to_string(stimulus) + " frame " +
-                              std::to_string(frame),
-                          "frame hash " + hashes[i].get<std::string>() + " logged, " + again.hash + " rendered" +
-                              (outcome.same_device ? "" : " (recorded on another device: use --reference-frames)"));
+          differences.add(what, "frame hash " + hashes[i].get<std::string>() + " logged, " + again.hash + " rendered" +
+                                    (outcome.same_device ? ""
+                                                         : " (recorded on another device: use --reference-frames)"));
       }
     }
   }

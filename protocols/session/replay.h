@@ -1,9 +1,10 @@
 #pragma once
 // Deterministic replay of a session from its log alone: the plan is rebuilt from the header (config
 // text, participant, seed) and compared with the logged trials; every presented frame is rendered
-// again with the logged gaze and compared by hash (same device) or by SSIM >= 0.999 against frames
-// saved on the recording device (--reference-frames); a simulated observer's answers are derived
-// again; the event chain is checked line by line.
+// again with the logged gaze (a gaze-dependent stimulus: every image of a presentation, in order)
+// and compared by hash (same device) or by SSIM >= 0.999 against frames saved on the recording
+// device (--reference-frames); a simulated observer's answers are derived again; the event chain is
+// checked line by line.
 #include <string>
 #include <vector>
 
@@ -11,7 +12,8 @@ namespace fovlab {
 
 struct ReplayOptions {
   std::string log_path;
-  std::string frames_out;         // write every re-rendered frame here (PNG)
+  std::string frames_out;         // write every re-rendered frame here (PNG): stimulusS_frameF.png, and for
+                                  // gaze-dependent stimuli one image a refresh, trialT_stepP_stimulusS_imageI.png
   std::string reference_frames;   // compare by SSIM with frames another device wrote with frames_out
   double min_ssim = 0.999;
   std::string device_selector;

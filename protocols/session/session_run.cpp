@@ -66,7 +66,10 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       sample.x_px = round_to(sample.x_px, 0.01);  // what is logged is exactly what is used
       sample.y_px = round_to(sample.y_px, 0.01);
       if (sample.valid) last_valid_gaze_ = sample;
-      const PreparedFrame& shown = library_.frame(stimulus_id, stimulus.spec, frame, sample);
+      // Image `frame * refreshes + refresh` of this presentation, its position in the logged arrays:
+      // a gaze-dependent stimulus (fipr) renders it now with this refresh's gaze (replay does the same).
+      const StimulusImage image{frame, frame * refreshes + refresh, sample};
+      const PreparedFrame& shown = library_.frame(stimulus_id, stimulus.spec, image);
       const double shown_at = time_base_s_ + presenter_.present(shown.image);
       if (previous >= 0) {
         const long periods = std::lround((shown_at - previous) * presenter_.refresh_hz());

@@ -40,7 +40,8 @@ class SessionRun {
   void show_text(const std::string& text);
   void show_black(double duration_s);
   void screenshot(const std::string& name);
-  // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh.
+  // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh; a
+  // gaze-dependent stimulus renders one image a refresh, the presentation's images in order.
   void present_stimulus(const Trial& trial, int step, int stimulus_id);
   // The question with the first key of each answer, e.g. "... \n\nS: same    D: different".
   std::string question_screen() const;

@@ -3,3 +3,5 @@ list(APPEND protocols_sources
   ${CMAKE_SOURCE_DIR}/protocols/stimuli/stimulus_spec.cpp)
 list(APPEND protocols_sources
   ${CMAKE_SOURCE_DIR}/protocols/stimuli/stimulus_library.cpp)
+list(APPEND protocols_tests
+  ${CMAKE_SOURCE_DIR}/tests/protocols/stimuli/fipr_stimulus_test.cpp)

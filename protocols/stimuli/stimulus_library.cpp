@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/colour.h"
 #include "core/content_hash.h"
@@ -39,11 +40,29 @@ SphereTracer& StimulusLibrary::tracer_for(const std::string& scene) {
   return *found->second;
 }
 
-PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, int frame_index, const GazeSample&) {
+PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
   const auto start = std::chrono::steady_clock::now();
   SphereTracer& tracer = tracer_for(spec.scene);
+  SphereTraceSettings settings = sphere_trace_settings(spec, image.frame);
+  LastImage& last = last_image_[spec.scene];
+  const bool sequence = method_depends_on_gaze(spec.method);
+  const std::string canonical = sequence ? spec.canonical() : std::string();
+  if (sequence) {
+    if (image.image_index < 0 ||
+        (image.image_index > 0 && (last.canonical != canonical || last.image_index != image.image_index - 1)))
+      throw std::logic_error("StimulusLibrary::render: image " + std::to_string(image.image_index) + " of " +
+                             canonical + " does not directly follow image " +
+                             std::to_string(image.image_index - 1) + " of the same presentation");
+    settings.foveation.gaze_x_px = image.gaze.x_px;
+    settings.foveation.gaze_y_px = image.gaze.y_px;
+    settings.foveation.frame_index = static_cast<uint32_t>(image.image_index);
+  }
+  // A gaze-independent frame overwrites what a sequence would continue from; a failed render
+  // leaves nothing to continue from either.
+  last = LastImage{};
   PreparedFrame prepared;
-  prepared.image = to_rgba8(tracer.render(sphere_trace_settings(spec, frame_index)).colour_linear);
+  prepared.image = to_rgba8(tracer.render(settings).colour_linear);
+  if (sequence) last = LastImage{canonical, image.image_index};
   prepared.hash = frame_hash(prepared.image);
   render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return prepared;
@@ -52,18 +71,26 @@ PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, int frame_index,
 double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli) {
   const double before = render_seconds_;
   for (const auto& [id, spec] : stimuli) {
-    if (method_depends_on_gaze(spec.method) || prepared_.count(id)) continue;
+    if (method_depends_on_gaze(spec.method)) {
+      // Rendered live; bad settings and scene errors come now all the same, not mid-session.
+      const auto start = std::chrono::steady_clock::now();
+      validate(sphere_trace_settings(spec, 0));
+      tracer_for(spec.scene);
+      render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      continue;
+    }
+    if (prepared_.count(id)) continue;
     std::vector<PreparedFrame> frames;
-    for (int frame = 0; frame < spec.frame_count; ++frame) frames.push_back(render(spec, frame, GazeSample{}));
+    for (int frame = 0; frame < spec.frame_count; ++frame) frames.push_back(render(spec, StimulusImage{frame, 0, {}}));
     prepared_.emplace(id, std::move(frames));
   }
   return render_seconds_ - before;
 }
 
-const PreparedFrame& StimulusLibrary::frame(int id, const StimulusSpec& spec, int frame_index, const GazeSample& gaze) {
+const PreparedFrame& StimulusLibrary::frame(int id, const StimulusSpec& spec, const StimulusImage& image) {
   const auto found = prepared_.find(id);
-  if (found != prepared_.end()) return found->second.at(static_cast<size_t>(frame_index));
-  live_ = render(spec, frame_index, gaze);
+  if (found != prepared_.end()) return found->second.at(static_cast<size_t>(image.frame));
+  live_ = render(spec, image);
   return live_;
 }
 

@@ -2,7 +2,8 @@
 // Renders the frames of a study's stimuli and keeps them ready for presentation. Stimuli whose
 // frames do not depend on gaze (gt, ipr) are rendered once, before the first trial, so no trial
 // waits on a compile or a render it could have done earlier; each frame is kept as the sRGB RGBA8
-// a presenter shows, with the content hash the log records.
+// a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr) are
+// rendered live, one image per refresh, with that refresh's gaze.
 #include <map>
 #include <memory>
 #include <string>
@@ -27,26 +28,49 @@ struct PreparedFrame {
 // The hash the log records for a presented frame.
 std::string frame_hash(const Rgba8Frame& frame);
 
+// One image of one presentation of a stimulus: SessionRun::present_stimulus shows, for every
+// animation frame, `refreshes` images (one a refresh), so the image index is
+// frame * refreshes + refresh, its position in the stimulus event's arrays (docs/log-schema.md).
+struct StimulusImage {
+  int frame = 0;        // animation frame of the stimulus (its scene time)
+  int image_index = 0;  // position in this presentation; 0 starts a presentation
+  GazeSample gaze;      // the position used, as logged (an invalid sample holds its substitute)
+};
+
 class StimulusLibrary {
  public:
   explicit StimulusLibrary(vk::Context& context);
   ~StimulusLibrary();
 
   // Renders every frame of the given stimuli that can be prepared ahead (ids are the caller's;
-  // the same id must always name the same spec). Returns the seconds spent.
+  // the same id must always name the same spec); for gaze-dependent ones it compiles the scene
+  // and checks the settings, so their errors too come before the first trial. Returns the seconds
+  // spent.
   double prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli);
-  // The frame to show; prepared stimuli answer from memory, others render now with the gaze.
-  const PreparedFrame& frame(int id, const StimulusSpec& spec, int frame_index, const GazeSample& gaze);
-  // Always renders (replay: the frame as this build and device make it now).
-  PreparedFrame render(const StimulusSpec& spec, int frame_index, const GazeSample& gaze);
+  // The image to show; prepared stimuli answer from memory (by frame), others render now.
+  const PreparedFrame& frame(int id, const StimulusSpec& spec, const StimulusImage& image);
+  // Always renders (replay: the image as this build and device make it now).
+  //
+  // Gaze-dependent methods keep state between the images of a presentation: FIPR with periphery
+  // refresh 2 or 4 keeps, for pixels not due, the colour of the previous image. Image 0 starts a
+  // presentation afresh (it depends on nothing rendered before); image k > 0 must directly follow
+  // image k - 1 of the same spec, else std::logic_error. So the images of a presentation are
+  // rendered in order, each with its own gaze, and the same gazes give the same images again.
+  PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image);
   double render_seconds() const { return render_seconds_; }
 
  private:
+  // The last image a scene's tracer rendered, for the sequence check of gaze-dependent methods.
+  struct LastImage {
+    std::string canonical;  // spec; empty after a gaze-independent frame
+    int image_index = -1;
+  };
   SphereTracer& tracer_for(const std::string& scene);
   vk::Context& context_;
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
+  std::map<std::string, LastImage> last_image_;                    // by scene
   std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id
-  PreparedFrame live_;                                             // the last gaze-dependent frame
+  PreparedFrame live_;                                             // the last gaze-dependent image
   double render_seconds_ = 0.0;
 };
 

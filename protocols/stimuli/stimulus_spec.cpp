@@ -1,25 +1,53 @@
 #include "protocols/stimuli/stimulus_spec.h"
 
+#include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "core/input_error.h"
 #include "core/number_text.h"
+#include "renderer/foveation/display_geometry.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab {
 namespace {
 
-std::vector<MethodParameter> sphere_trace_parameters(bool pyramid) {
+constexpr double kNoOuterPeripheryDeg = 180.0;  // eccentricities are below 180 degrees: no outer periphery
+
+std::vector<MethodParameter> sphere_trace_parameters(bool pyramid, int min_pyramid_levels) {
   const SphereTraceSettings defaults;
   std::vector<MethodParameter> parameters = {
       {"samples_per_pixel", 1, 1, 16, true, {1, 4, 16}},
       {"max_steps", double(defaults.max_steps), 1, 4096, true, {}},
-      {"hit_threshold", double(defaults.hit_threshold), 1e-4, 10.0, false, {}},
+      // The renderer takes (0, 8] (renderer/sphere_tracing/sphere_tracer.cpp, validate).
+      {"hit_threshold", double(defaults.hit_threshold), 1e-4, 8.0, false, {}},
   };
   if (pyramid) {
-    parameters.push_back({"pyramid_levels", double(defaults.pyramid_levels), 2, 5, true, {}});
+    parameters.push_back({"pyramid_levels", double(defaults.pyramid_levels), double(min_pyramid_levels), 5, true, {}});
     parameters.push_back({"min_filter_size", double(defaults.min_filter_size), 1, 5, true, {1, 3, 5}});
   }
+  return parameters;
+}
+
+// FIPR (seed 000 section 3.2): IPR's parameters with at least 3 levels (low, mid and top), the
+// foveation (renderer/sphere_tracing/sphere_tracer.h, FoveationSettings) and the display.
+std::vector<MethodParameter> fipr_parameters() {
+  std::vector<MethodParameter> parameters = sphere_trace_parameters(true, 3);
+  const std::vector<MethodParameter> foveation = {
+      {"fovea_deg", 7.5, 0, 180, false, {}},
+      {"outer_periphery_deg", kNoOuterPeripheryDeg, 0, kNoOuterPeripheryDeg, false, {}},
+      {"periphery_refresh", 1, 1, 4, true, {1, 2, 4}},
+      {"periphery_steps", double(FoveationSettings{}.periphery_steps), 0, 4096, true, {}},
+      {"blur", 0, 0, 1, true, {0, 1}},
+      {"combine", double(static_cast<uint32_t>(MaskCombine::max)), 0, 3, true, {0, 1, 2, 3}},
+      {"edge_threshold", 0.4, 1e-4, 1000, false, {}},
+      {"mask_seed", 0, 0, double(std::numeric_limits<uint32_t>::max()), true, {}},
+      {kDisplayWidthParameter, 0, 1, 1e6, false, {}},
+      {kDisplayHeightParameter, 0, 1, 1e6, false, {}},
+      {kViewingDistanceParameter, 0, 1, 1e6, false, {}},
+  };
+  parameters.insert(parameters.end(), foveation.begin(), foveation.end());
   return parameters;
 }
 
@@ -46,14 +74,26 @@ nlohmann::json to_json(const StimulusSpec& spec) {
 }
 
 std::optional<std::vector<MethodParameter>> method_parameters(const std::string& method) {
-  if (method == "gt") return sphere_trace_parameters(false);
-  if (method == "ipr") return sphere_trace_parameters(true);
+  if (method == "gt") return sphere_trace_parameters(false, 2);
+  if (method == "ipr") return sphere_trace_parameters(true, 2);
+  if (method == "fipr") return fipr_parameters();
   return std::nullopt;
 }
 
-std::string known_methods() { return "gt, ipr"; }
+std::string known_methods() { return "gt, ipr, fipr"; }
 
-bool method_depends_on_gaze(const std::string&) { return false; }  // gt and ipr do not
+bool method_depends_on_gaze(const std::string& method) { return method == "fipr"; }
+
+std::optional<ParameterConflict> parameter_conflict(const std::string& method,
+                                                    const std::map<std::string, double>& parameters) {
+  if (method != "fipr") return std::nullopt;
+  const auto fovea = parameters.find("fovea_deg");
+  const auto outer = parameters.find("outer_periphery_deg");
+  if (fovea == parameters.end() || outer == parameters.end() || outer->second >= fovea->second) return std::nullopt;
+  return ParameterConflict{{"fovea_deg", "outer_periphery_deg"},
+                           "expected outer_periphery_deg (" + format_number(outer->second, 6) + ") >= fovea_deg (" +
+                               format_number(fovea->second, 6) + "): the outer periphery starts beyond the fovea"};
+}
 
 SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   SphereTraceSettings settings;
@@ -61,6 +101,8 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
     settings.method = TraceMethod::ground_truth;
   } else if (spec.method == "ipr") {
     settings.method = TraceMethod::inverted_pyramid;
+  } else if (spec.method == "fipr") {
+    settings.method = TraceMethod::foveated_pyramid;
   } else {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + spec.method);
   }
@@ -76,6 +118,30 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   settings.hit_threshold = static_cast<float>(get("hit_threshold", settings.hit_threshold));
   settings.pyramid_levels = static_cast<int>(get("pyramid_levels", settings.pyramid_levels));
   settings.min_filter_size = static_cast<int>(get("min_filter_size", settings.min_filter_size));
+  if (settings.method != TraceMethod::foveated_pyramid) return settings;
+
+  FoveationSettings& foveation = settings.foveation;
+  const double width_mm = get(kDisplayWidthParameter, 0.0);
+  const double height_mm = get(kDisplayHeightParameter, 0.0);
+  const double distance_mm = get(kViewingDistanceParameter, 0.0);
+  if (!(width_mm > 0.0 && height_mm > 0.0 && distance_mm > 0.0))
+    throw InputError("stimulus " + spec.canonical() + ": fipr needs " + kDisplayWidthParameter + ", " +
+                     kDisplayHeightParameter + " and " + kViewingDistanceParameter +
+                     " (a study's schedule fills them from [display])");
+  foveation.display = display_from_size(spec.width_px, spec.height_px, width_mm, height_mm, distance_mm);
+  foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
+  foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
+  foveation.acuity.fovea_deg = get("fovea_deg", foveation.acuity.fovea_deg);
+  const double outer_deg = get("outer_periphery_deg", kNoOuterPeripheryDeg);
+  foveation.acuity.outer_periphery_deg =
+      outer_deg >= kNoOuterPeripheryDeg ? std::numeric_limits<double>::infinity() : outer_deg;
+  foveation.periphery_refresh = static_cast<int>(get("periphery_refresh", foveation.periphery_refresh));
+  foveation.periphery_steps = static_cast<int>(get("periphery_steps", foveation.periphery_steps));
+  foveation.blur = get("blur", 0.0) != 0.0;
+  foveation.combine = static_cast<MaskCombine>(static_cast<uint32_t>(get("combine", 0.0)));
+  foveation.edge_threshold = static_cast<float>(get("edge_threshold", foveation.edge_threshold));
+  foveation.seed = static_cast<uint32_t>(get("mask_seed", 0.0));
+  foveation.frame_index = 0;
   return settings;
 }
 

@@ -3,11 +3,17 @@
 namespace fovlab::shaders {
 
 namespace {
+#include "depth_edges.spv.h"
+#include "foveation_mask.spv.h"
+#include "masked_blur.spv.h"
 #include "min_filter.spv.h"
 #include "sphere_trace.glsl.h"
 }  // namespace
 
 const std::span<const uint32_t> min_filter_spirv{min_filter_spirv_words};
+const std::span<const uint32_t> depth_edges_spirv{depth_edges_spirv_words};
+const std::span<const uint32_t> foveation_mask_spirv{foveation_mask_spirv_words};
+const std::span<const uint32_t> masked_blur_spirv{masked_blur_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};
 
 }  // namespace fovlab::shaders

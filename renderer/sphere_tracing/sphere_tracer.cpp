@@ -19,6 +19,14 @@ namespace {
 
 constexpr uint32_t kFlagShade = 1;
 constexpr uint32_t kFlagHasStart = 2;
+constexpr uint32_t kFlagFoveatedMid = 4;
+constexpr uint32_t kFlagFoveatedTop = 8;
+constexpr uint32_t kFlagAllDue = 16;
+constexpr uint32_t kMaskFlagTraceAll = 1;
+constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (its eccentricities are ~90 degrees)
+
+// Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
+enum Counter : uint32_t { capped, restarted, masked, mid_traced, mid_shaded, refreshed, counter_count };
 constexpr int kMaxFrameSide = 16384;
 constexpr uint64_t kMaxSamplesPerFrame = uint64_t{1} << 28;  // keeps buffers and one submit bounded
 
@@ -33,6 +41,37 @@ struct TraceParams {
   uint32_t max_steps;
   uint32_t level_scale;
   uint32_t flags;
+  uint32_t refresh_period;
+  uint32_t frame_index;
+  uint32_t periphery_steps;
+};
+
+// Must match EdgeParams in depth_edges.comp.glsl.
+struct EdgeParams {
+  uint32_t size[2];
+  float relative_threshold;
+};
+
+// Must match MaskParams in foveation_mask.comp.glsl.
+struct MaskParams {
+  uint32_t frame_size[2];
+  uint32_t mid_size[2];
+  uint32_t low_size[2];
+  uint32_t low_scale;
+  uint32_t combine;
+  float gaze_px[2];
+  float pixel_pitch_mm[2];
+  float viewing_distance_mm;
+  float fovea_deg;
+  float outer_periphery_deg;
+  uint32_t seed;
+  uint32_t frame_index;
+  uint32_t flags;
+};
+
+// Must match BlurParams in masked_blur.comp.glsl.
+struct BlurParams {
+  uint32_t size[2];
 };
 
 // Must match MinFilterParams in min_filter.comp.glsl.
@@ -60,16 +99,26 @@ struct SphereTracer::FrameBuffers {
   int height = 0;
   int level_count = 0;
   bool filtered = false;
+  bool foveated = false;
+  bool history_valid = false;  // FIPR: `colour` holds the last FIPR frame of this layout
   std::vector<LevelBuffers> levels;  // bottom (coarsest) first
   vk::Buffer colour;
   vk::Buffer colour_readback;
   vk::Buffer counters;
   vk::Buffer counters_readback;
   vk::Buffer unused;  // bound where a pass has no such buffer
+  // FIPR only.
+  vk::Buffer edges;           // low level: 0 or 1
+  vk::Buffer mask;            // full resolution: 0 or 1
+  vk::Buffer mask_readback;
+  vk::Buffer mid_flags;       // mid level: masked children | children << 4
+  vk::Buffer mid_colour;      // mid level: shaded colour of pixels due for a refresh
+  vk::Buffer blurred;         // full resolution: pass 5's output
 
-  FrameBuffers(const vk::Context& context, int width_px, int height_px, int levels_count, bool with_filter)
+  FrameBuffers(const vk::Context& context, int width_px, int height_px, int levels_count, bool with_filter,
+               bool with_foveation)
       : width(width_px), height(height_px), level_count(levels_count), filtered(with_filter),
-        levels(static_cast<size_t>(levels_count)) {
+        foveated(with_foveation), levels(static_cast<size_t>(levels_count)) {
     for (int i = 0; i < level_count; ++i) {
       LevelBuffers& level = levels[static_cast<size_t>(i)];
       level.stats.scale = 1 << (level_count - 1 - i);
@@ -86,18 +135,72 @@ struct SphereTracer::FrameBuffers {
     const VkDeviceSize colour_bytes = VkDeviceSize(width) * VkDeviceSize(height) * 4 * sizeof(float);
     colour = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
     colour_readback = vk::Buffer(context, colour_bytes, vk::MemoryUse::host_readback);
-    counters = vk::Buffer(context, 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
-    counters_readback = vk::Buffer(context, 2 * sizeof(uint32_t), vk::MemoryUse::host_readback);
+    counters = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::device_local);
+    counters_readback = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::host_readback);
     unused = vk::Buffer(context, 16, vk::MemoryUse::device_local);
+    if (!foveated) return;
+    const auto pixels_of = [](const PyramidLevelStats& level) { return VkDeviceSize(level.width) * VkDeviceSize(level.height); };
+    const VkDeviceSize frame_pixels = VkDeviceSize(width) * VkDeviceSize(height);
+    const VkDeviceSize mid_pixels = pixels_of(levels[size_t(level_count - 2)].stats);
+    edges = vk::Buffer(context, pixels_of(levels[0].stats) * sizeof(uint32_t), vk::MemoryUse::device_local);
+    mask = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
+    mask_readback = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
+    mid_flags = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
+    mid_colour = vk::Buffer(context, mid_pixels * 4 * sizeof(float), vk::MemoryUse::device_local);
+    blurred = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
   }
 
-  bool fits(int width_px, int height_px, int levels_count, bool with_filter) const {
-    return width == width_px && height == height_px && level_count == levels_count && filtered == with_filter;
+  bool fits(int width_px, int height_px, int levels_count, bool with_filter, bool with_foveation) const {
+    return width == width_px && height == height_px && level_count == levels_count && filtered == with_filter &&
+           foveated == with_foveation;
   }
 };
 
 const char* method_name(TraceMethod method) {
-  return method == TraceMethod::ground_truth ? "gt" : "ipr";
+  switch (method) {
+    case TraceMethod::ground_truth: return "gt";
+    case TraceMethod::inverted_pyramid: return "ipr";
+    case TraceMethod::foveated_pyramid: return "fipr";
+  }
+  return "gt";
+}
+
+std::optional<TraceMethod> parse_trace_method(const std::string& name) {
+  for (TraceMethod method : {TraceMethod::ground_truth, TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid})
+    if (name == method_name(method)) return method;
+  return std::nullopt;
+}
+
+static void validate_foveation(const SphereTraceSettings& settings) {
+  const FoveationSettings& f = settings.foveation;
+  if (settings.pyramid_levels < 3) {
+    throw InputError("--levels " + std::to_string(settings.pyramid_levels) +
+                     ": FIPR needs at least 3 pyramid levels (low, mid and top)");
+  }
+  if (f.display.width_px != settings.width || f.display.height_px != settings.height) {
+    throw InputError("FIPR display of " + std::to_string(f.display.width_px) + "x" + std::to_string(f.display.height_px) +
+                     " pixels: expected the frame's " + std::to_string(settings.width) + "x" +
+                     std::to_string(settings.height));
+  }
+  const auto positive = [](double value) { return std::isfinite(value) && value > 0.0; };
+  if (!positive(f.display.width_mm) || !positive(f.display.height_mm) || !positive(f.display.viewing_distance_mm)) {
+    throw InputError("FIPR display: expected a positive finite width, height and viewing distance in mm");
+  }
+  if (!(std::isfinite(f.acuity.fovea_deg) && f.acuity.fovea_deg >= 0.0 && f.acuity.fovea_deg <= 180.0)) {
+    throw InputError("--fovea-deg: expected an eccentricity from 0 to 180 degrees");
+  }
+  if (std::isnan(f.acuity.outer_periphery_deg) || f.acuity.outer_periphery_deg < f.acuity.fovea_deg) {
+    throw InputError("--outer-periphery-deg: expected an eccentricity at least --fovea-deg");
+  }
+  if (f.periphery_refresh != 1 && f.periphery_refresh != 2 && f.periphery_refresh != 4) {
+    throw InputError("--refresh " + std::to_string(f.periphery_refresh) + ": expected 1, 2 or 4 (frames between periphery updates)");
+  }
+  if (f.periphery_steps < 0 || f.periphery_steps > 100000) {
+    throw InputError("--periphery-steps " + std::to_string(f.periphery_steps) + ": expected 0 to 100000");
+  }
+  if (!(f.edge_threshold > 0.0f && std::isfinite(f.edge_threshold))) {
+    throw InputError("--edge-threshold: expected a positive finite number");
+  }
 }
 
 void validate(const SphereTraceSettings& settings) {
@@ -132,17 +235,54 @@ void validate(const SphereTraceSettings& settings) {
     throw InputError("--hit-threshold: expected a value in (0, 8]");
   }
   if (!std::isfinite(settings.time_s)) throw InputError("--time: expected a finite number of seconds");
+  if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
 }
+
 
 SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
   CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source});
   shader_from_cache_ = trace.from_cache;
-  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 5, sizeof(TraceParams));
+  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 7, sizeof(TraceParams));
   min_filter_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2,
                                                                sizeof(MinFilterParams));
+  edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
+  mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 4, sizeof(MaskParams));
+  blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
 }
 
 SphereTracer::~SphereTracer() = default;
+
+namespace {
+
+// The mask pass's constants: display, gaze and acuity model in the shader's float terms.
+MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelStats& low, const PyramidLevelStats& mid) {
+  const FoveationSettings& f = settings.foveation;
+  MaskParams params{};
+  params.frame_size[0] = static_cast<uint32_t>(settings.width);
+  params.frame_size[1] = static_cast<uint32_t>(settings.height);
+  params.mid_size[0] = static_cast<uint32_t>(mid.width);
+  params.mid_size[1] = static_cast<uint32_t>(mid.height);
+  params.low_size[0] = static_cast<uint32_t>(low.width);
+  params.low_size[1] = static_cast<uint32_t>(low.height);
+  params.low_scale = static_cast<uint32_t>(low.scale);
+  params.combine = static_cast<uint32_t>(f.combine);
+  const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
+  params.flags = has_gaze ? 0u : kMaskFlagTraceAll;
+  if (has_gaze) {
+    params.gaze_px[0] = static_cast<float>(std::clamp(f.gaze_x_px, -kGazeLimitPx, settings.width + kGazeLimitPx));
+    params.gaze_px[1] = static_cast<float>(std::clamp(f.gaze_y_px, -kGazeLimitPx, settings.height + kGazeLimitPx));
+  }
+  params.pixel_pitch_mm[0] = static_cast<float>(f.display.pixel_pitch_x_mm());
+  params.pixel_pitch_mm[1] = static_cast<float>(f.display.pixel_pitch_y_mm());
+  params.viewing_distance_mm = static_cast<float>(f.display.viewing_distance_mm);
+  params.fovea_deg = static_cast<float>(f.acuity.fovea_deg);
+  params.outer_periphery_deg = static_cast<float>(std::min(f.acuity.outer_periphery_deg, 1e9));
+  params.seed = f.seed;
+  params.frame_index = f.frame_index;
+  return params;
+}
+
+}  // namespace
 
 SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   validate(settings);
@@ -152,34 +292,56 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
                      ": the frame needs " + std::to_string(colour_bytes >> 20) + " MiB in one buffer; expected at most " +
                      std::to_string(context_.max_storage_buffer_bytes >> 20) + " MiB on " + context_.description.name);
   }
+  const bool foveated = settings.method == TraceMethod::foveated_pyramid;
   const int level_count = settings.method == TraceMethod::ground_truth ? 1 : settings.pyramid_levels;
   const int filter_radius = settings.min_filter_size / 2;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
 
-  if (!frame_ || !frame_->fits(settings.width, settings.height, level_count, filter_radius > 0)) {
+  if (!frame_ || !frame_->fits(settings.width, settings.height, level_count, filter_radius > 0, foveated)) {
     frame_.reset();  // free the old layout before allocating the new one
-    frame_ = std::make_unique<FrameBuffers>(context_, settings.width, settings.height, level_count, filter_radius > 0);
+    frame_ = std::make_unique<FrameBuffers>(context_, settings.width, settings.height, level_count, filter_radius > 0,
+                                            foveated);
   }
-  std::vector<LevelBuffers>& levels = frame_->levels;
-  const vk::Buffer& colour = frame_->colour;
-  const vk::Buffer& colour_readback = frame_->colour_readback;
-  const vk::Buffer& counters = frame_->counters;
-  const vk::Buffer& counters_readback = frame_->counters_readback;
-  const vk::Buffer& unused = frame_->unused;
+  FrameBuffers& frame = *frame_;
+  std::vector<LevelBuffers>& levels = frame.levels;
+  const FoveationSettings& fov = settings.foveation;
+  const bool all_due = !frame.history_valid || fov.frame_index == 0;
+  const int mid_index = level_count - 2;
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count));
+  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 3));
   timer.reset(cmd);
-  vkCmdFillBuffer(cmd, counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  if (foveated && all_due) vkCmdFillBuffer(cmd, frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+
+  // FIPR passes 2 and 3, once the low level's depth exists.
+  const auto edges_and_mask = [&] {
+    const PyramidLevelStats& low = levels.front().stats;
+    EdgeParams edge_params{{uint32_t(low.width), uint32_t(low.height)}, fov.edge_threshold};
+    const VkBuffer edge_buffers[] = {levels.front().depth.handle(), frame.edges.handle()};
+    timer.begin(cmd, "sobel_edges");
+    edges_pipeline_->dispatch_2d(cmd, edge_buffers, &edge_params, edge_params.size[0], edge_params.size[1]);
+    timer.end(cmd);
+    vk::compute_to_compute_barrier(cmd);
+    const MaskParams params = mask_params(settings, low, levels[size_t(mid_index)].stats);
+    const VkBuffer mask_buffers[] = {frame.edges.handle(), frame.mask.handle(), frame.mid_flags.handle(),
+                                     frame.counters.handle()};
+    timer.begin(cmd, "foveation_mask");
+    mask_pipeline_->dispatch_2d(cmd, mask_buffers, &params, params.mid_size[0], params.mid_size[1]);
+    timer.end(cmd);
+    vk::compute_to_compute_barrier(cmd);
+  };
 
   const vk::Buffer* start = nullptr;  // start depth for the current level (the filtered level below)
   PyramidLevelStats start_stats;
   for (int i = 0; i < level_count; ++i) {
     LevelBuffers& level = levels[static_cast<size_t>(i)];
     const bool top = i + 1 == level_count;
+    const bool foveated_mid = foveated && i == mid_index;
+    const bool foveated_top = foveated && top;
     TraceParams params{};
     params.level_size[0] = static_cast<uint32_t>(level.stats.width);
     params.level_size[1] = static_cast<uint32_t>(level.stats.height);
@@ -192,15 +354,23 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     params.samples_per_pixel = top ? static_cast<uint32_t>(settings.samples_per_pixel) : 1u;
     params.max_steps = static_cast<uint32_t>(settings.max_steps);
     params.level_scale = static_cast<uint32_t>(level.stats.scale);
-    params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u);
-    const VkBuffer buffers[] = {start ? start->handle() : unused.handle(),
-                                top ? unused.handle() : level.depth.handle(), level.steps.handle(),
-                                top ? colour.handle() : unused.handle(), counters.handle()};
+    params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
+                   (foveated_top ? kFlagFoveatedTop : 0u) | (foveated && all_due ? kFlagAllDue : 0u);
+    params.refresh_period = static_cast<uint32_t>(fov.periphery_refresh);
+    params.frame_index = fov.frame_index;
+    params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
+    const VkBuffer colour_target = top ? frame.colour.handle() : foveated_mid ? frame.mid_colour.handle() : frame.unused.handle();
+    const VkBuffer mask_input = foveated_top ? frame.mask.handle() : foveated_mid ? frame.mid_flags.handle() : frame.unused.handle();
+    const VkBuffer buffers[] = {start ? start->handle() : frame.unused.handle(),
+                                top ? frame.unused.handle() : level.depth.handle(), level.steps.handle(),
+                                colour_target, frame.counters.handle(), mask_input,
+                                foveated_top ? frame.mid_colour.handle() : frame.unused.handle()};
     timer.begin(cmd, "trace_level" + std::to_string(i));
     trace_pipeline_->dispatch_2d(cmd, buffers, &params, params.level_size[0], params.level_size[1]);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
     if (top) break;
+    if (foveated && i == 0) edges_and_mask();
 
     start = &level.depth;
     if (filter_radius > 0) {
@@ -215,42 +385,74 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     start_stats = level.stats;
   }
 
+  const vk::Buffer* shown = &frame.colour;
+  if (foveated && fov.blur) {
+    BlurParams blur{{uint32_t(settings.width), uint32_t(settings.height)}};
+    const VkBuffer blur_buffers[] = {frame.colour.handle(), frame.mask.handle(), frame.blurred.handle()};
+    timer.begin(cmd, "masked_blur");
+    blur_pipeline_->dispatch_2d(cmd, blur_buffers, &blur, blur.size[0], blur.size[1]);
+    timer.end(cmd);
+    vk::compute_to_compute_barrier(cmd);
+    shown = &frame.blurred;
+  }
+
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
     VkBufferCopy region{0, 0, from.size_bytes()};
     vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
   };
-  copy(colour, colour_readback);
-  copy(counters, counters_readback);
+  copy(*shown, frame.colour_readback);
+  copy(frame.counters, frame.counters_readback);
+  if (foveated) copy(frame.mask, frame.mask_readback);
   for (const LevelBuffers& level : levels) copy(level.steps, level.steps_readback);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                      VK_ACCESS_HOST_READ_BIT);
   commands.submit_and_wait();
+  frame.history_valid = foveated;  // GT and IPR overwrite the colour buffer FIPR keeps
 
   SphereTraceResult result;
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
 
-  colour_readback.invalidate();
-  const auto* rgba = static_cast<const float*>(colour_readback.mapped());
+  frame.colour_readback.invalidate();
+  const auto* rgba = static_cast<const float*>(frame.colour_readback.mapped());
   result.colour_linear = Image(settings.width, settings.height, 3);
   for (uint64_t p = 0; p < frame_pixels; ++p) {
     for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
   }
 
-  counters_readback.invalidate();
-  uint32_t counter_values[2];
-  std::memcpy(counter_values, counters_readback.mapped(), sizeof(counter_values));
-  result.capped_rays = counter_values[0];
-  result.restarted_rays = counter_values[1];
+  frame.counters_readback.invalidate();
+  uint32_t counter_values[counter_count];
+  std::memcpy(counter_values, frame.counters_readback.mapped(), sizeof(counter_values));
+  result.capped_rays = counter_values[capped];
+  result.restarted_rays = counter_values[restarted];
+  if (foveated) {
+    result.foveation.masked_pixels = counter_values[masked];
+    result.foveation.refreshed_pixels = counter_values[refreshed];
+    result.foveation.kept_pixels = frame_pixels - counter_values[masked] - counter_values[refreshed];
+    frame.mask_readback.invalidate();
+    const auto* mask = static_cast<const uint32_t*>(frame.mask_readback.mapped());
+    result.mask = Image(settings.width, settings.height, 1);
+    for (uint64_t p = 0; p < frame_pixels; ++p) result.mask.pixels[p] = mask[p] != 0 ? 1.0f : 0.0f;
+  }
 
   // Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
   // per-pixel image sums to total_steps.
   result.steps_per_pixel = Image(settings.width, settings.height, 1);
-  for (const LevelBuffers& level : levels) {
+  for (int i = 0; i < level_count; ++i) {
+    const LevelBuffers& level = levels[size_t(i)];
     PyramidLevelStats stats = level.stats;
     stats.steps = 0;
+    const uint64_t level_pixels = uint64_t(stats.width) * uint64_t(stats.height);
+    const bool top = i + 1 == level_count;
+    stats.traced_pixels = level_pixels;
+    stats.shaded_pixels = top ? level_pixels : 0;
+    if (foveated && top) stats.traced_pixels = stats.shaded_pixels = counter_values[masked];
+    if (foveated && i == mid_index) {
+      stats.traced_pixels = counter_values[mid_traced];
+      stats.shaded_pixels = counter_values[mid_shaded];
+    }
     level.steps_readback.invalidate();
     const auto* steps = static_cast<const uint32_t*>(level.steps_readback.mapped());
     const int scale = level.stats.scale;

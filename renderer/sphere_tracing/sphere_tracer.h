@@ -1,13 +1,19 @@
 #pragma once
-// Sphere tracing of an SDF scene: ground truth (GT, every sample traced from the camera) and the
+// Sphere tracing of an SDF scene: ground truth (GT, every sample traced from the camera), the
 // inverted pyramid (IPR, seed 000 section 3.1/3.2.4: each level starts its rays at the min-filtered
-// depth of the level below; only the top level shades).
+// depth of the level below; only the top level shades) and its foveated form (FIPR, section 3.2:
+// Sobel edges of the low level and the acuity model choose the pixels traced at the top level; the
+// rest take the mid level's colour, refreshed every 1st, 2nd or 4th frame; optional masked blur).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/image.h"
+#include "renderer/foveation/acuity_model.h"
+#include "renderer/foveation/display_geometry.h"
+#include "renderer/foveation/foveation_mask.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/vk/submission.h"
 
@@ -18,9 +24,27 @@ class Context;
 class ComputePipeline;
 }  // namespace vk
 
-enum class TraceMethod { ground_truth, inverted_pyramid };
+enum class TraceMethod { ground_truth, inverted_pyramid, foveated_pyramid };
 
-const char* method_name(TraceMethod method);  // "gt" or "ipr"
+const char* method_name(TraceMethod method);  // "gt", "ipr" or "fipr"
+std::optional<TraceMethod> parse_trace_method(const std::string& name);
+
+// FIPR's inputs beyond IPR's (docs/foveation.md). The display's pixel counts must equal the frame's.
+struct FoveationSettings {
+  DisplayGeometry display;
+  double gaze_x_px = 0.0;       // gaze in frame pixels; non-finite: no gaze, every pixel traced in full
+  double gaze_y_px = 0.0;
+  AcuityModel acuity;           // fovea (eccentricity, degrees) and outer periphery
+  MaskCombine combine = MaskCombine::max;
+  float edge_threshold = 0.4f;  // Sobel magnitude of the low-level depth relative to the depth
+  int periphery_refresh = 1;    // unmasked pixels get a new colour every 1st, 2nd or 4th frame
+  int periphery_steps = 0;      // unmasked pixels: 0: the mid level's colour, bilinearly interpolated
+                                // (seed 000's reading); N > 0: traced (1 sample) from the mid depth with
+                                // a budget of min(N, max_steps) steps and shaded at full resolution
+  bool blur = false;            // pass 5: masked Gaussian blur
+  uint32_t seed = 0;            // of the per-pixel thresholds
+  uint32_t frame_index = 0;     // frame of a sequence; 0 starts one (every pixel refreshed)
+};
 
 struct SphereTraceSettings {
   TraceMethod method = TraceMethod::ground_truth;
@@ -32,6 +56,7 @@ struct SphereTraceSettings {
   int min_filter_size = 3;     // IPR: 1, 3 or 5
   int max_steps = 256;         // step cap of one ray at one level
   float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
+  FoveationSettings foveation;  // FIPR only
 };
 
 // Validates sizes and options; throws InputError naming the flag and what was expected.
@@ -42,6 +67,17 @@ struct PyramidLevelStats {
   int height = 0;
   int scale = 1;              // full-resolution pixels per level pixel along each axis
   uint64_t steps = 0;         // all steps of all rays of this level
+  uint64_t traced_pixels = 0; // level pixels whose ray was traced this frame (all but in FIPR's mid and top)
+  uint64_t shaded_pixels = 0; // level pixels shaded this frame (the top level; FIPR's mid level too)
+
+  double traced_share() const { return double(traced_pixels) / (double(width) * double(height)); }
+};
+
+// FIPR's frame at a glance.
+struct FoveationStats {
+  uint64_t masked_pixels = 0;     // traced at the top level
+  uint64_t refreshed_pixels = 0;  // unmasked pixels given the mid level's new colour this frame
+  uint64_t kept_pixels = 0;       // unmasked pixels that kept last frame's colour (refresh 2 and 4)
 };
 
 struct SphereTraceResult {
@@ -51,6 +87,8 @@ struct SphereTraceResult {
   uint64_t capped_rays = 0;     // rays stopped by max_steps before a hit or leaving the bounds
   uint64_t restarted_rays = 0;  // IPR rays whose start depth was inside geometry, restarted at the bounds
   std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT has one
+  FoveationStats foveation;               // FIPR only
+  Image mask;                             // FIPR only: 1 channel, 1 where traced at the top level
   std::vector<vk::PassTime> passes;
   double gpu_ms = 0.0;        // sum of the passes
 
@@ -75,7 +113,10 @@ class SphereTracer {
   bool shader_from_cache_ = false;
   std::unique_ptr<vk::ComputePipeline> trace_pipeline_;
   std::unique_ptr<vk::ComputePipeline> min_filter_pipeline_;
-  std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered
+  std::unique_ptr<vk::ComputePipeline> edges_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> mask_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> blur_pipeline_;
+  std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered (FIPR: its history)
 };
 
 }  // namespace fovlab

@@ -1,0 +1,192 @@
+#include "app/bench_plan.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <optional>
+#include <sstream>
+
+#include "app/display_flags.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
+
+namespace fovlab::app {
+
+namespace {
+
+constexpr int kMinSsimSidePx = 11;  // SSIM's 11x11 window must fit in the frame
+
+template <typename T>
+std::string join(const std::vector<T>& values) {
+  std::ostringstream out;
+  for (size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
+  return out.str();
+}
+
+std::string join_numbers(const std::vector<double>& values) {
+  std::string text;
+  for (size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + format_number(values[i], 6);
+  return text;
+}
+
+template <typename T>
+void refuse_repeats(const std::vector<T>& values, const std::string& flag, const std::string& text) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (std::find(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(i), values[i]) !=
+        values.begin() + static_cast<std::ptrdiff_t>(i)) {
+      fail_flag(flag, "each value once", text);
+    }
+  }
+}
+
+struct Methods {
+  bool ipr = false;
+  bool fipr = false;
+};
+
+Methods parse_methods(const std::vector<std::string>& names) {
+  const std::string text = join(names);
+  const std::string expected = "a comma-separated list of gt, ipr and fipr that includes gt (the reference)";
+  for (const std::string& name : names) {
+    if (name != "gt" && name != "ipr" && name != "fipr") fail_flag("--methods", expected, text);
+  }
+  refuse_repeats(names, "--methods", text);
+  if (std::find(names.begin(), names.end(), "gt") == names.end()) fail_flag("--methods", expected, text);
+  return {std::find(names.begin(), names.end(), "ipr") != names.end(),
+          std::find(names.begin(), names.end(), "fipr") != names.end()};
+}
+
+std::vector<int> parse_refreshes(const std::vector<std::string>& texts) {
+  const std::string text = join(texts);
+  const std::string expected = "periphery refresh periods from 1, 2 and 4 (frames), comma-separated";
+  if (texts.empty()) fail_flag("--refresh", expected, text);
+  std::vector<int> refreshes;
+  for (const std::string& value : texts) {
+    if (value != "1" && value != "2" && value != "4") fail_flag("--refresh", expected, text);
+    refreshes.push_back(value[0] - '0');
+  }
+  refuse_repeats(refreshes, "--refresh", text);
+  return refreshes;
+}
+
+std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
+  const std::string text = join(texts);
+  const std::string expected = "foveal eccentricities in degrees from 0 to 180, comma-separated";
+  if (texts.empty()) fail_flag("--fovea-deg", expected, text);
+  std::vector<double> degrees;
+  for (const std::string& value : texts) {
+    const std::optional<double> deg = parse_finite_number(value);
+    if (!deg || *deg < 0.0 || *deg > 180.0) fail_flag("--fovea-deg", expected, text);
+    degrees.push_back(*deg);
+  }
+  refuse_repeats(degrees, "--fovea-deg", text);
+  return degrees;
+}
+
+// --diagonal-in/--size-mm, --distance-mm and --gaze as they reproduce the display the metrics assumed.
+std::string display_text(const DisplayFlags& display) {
+  std::string text;
+  const auto add = [&](const char* flag, const std::string& value) {
+    if (!value.empty()) text += std::string(" ") + flag + " " + value;
+  };
+  if (has_display(display)) {
+    add("--diagonal-in", display.diagonal_in);
+    add("--size-mm", display.size_mm);
+    add("--distance-mm", display.distance_mm);
+  } else {
+    add("--diagonal-in", format_number(kDefaultDiagonalIn, 6));
+    add("--distance-mm", format_number(kDefaultViewingDistanceMm, 6));
+  }
+  add("--gaze", display.gaze);
+  return text;
+}
+
+std::string command_text(const BenchOptions& options, const std::string& scenes, const std::string& spps,
+                         const std::string& methods) {
+  const SphereTraceSettings& s = options.settings;
+  std::ostringstream out;
+  out << "fovlab bench --scenes " << scenes << " --spp " << spps << " --width " << s.width << " --height " << s.height
+      << " --repeats " << options.repeats << " --time " << s.time_s << " --levels " << s.pyramid_levels
+      << " --min-filter " << s.min_filter_size << " --max-steps " << s.max_steps << " --hit-threshold "
+      << s.hit_threshold << " --methods " << methods;
+  return out.str();
+}
+
+}  // namespace
+
+std::string FiprVariant::fovea_text() const { return format_number(fovea_deg, 6); }
+
+BenchPlan plan_bench(const BenchOptions& options) {
+  if (options.repeats < 1 || options.repeats > 1000) {
+    throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
+  }
+  const Methods methods = parse_methods(options.methods);
+  if (!methods.fipr && !options.fipr_flags_given.empty()) {
+    throw InputError(options.fipr_flags_given.front() + ": only FIPR uses it; add fipr to --methods (e.g. gt,ipr,fipr)");
+  }
+  const int width = options.settings.width;
+  const int height = options.settings.height;
+  for (int spp : options.spps) {
+    SphereTraceSettings check = options.settings;
+    check.samples_per_pixel = spp;
+    validate(check);
+  }
+  if (width < kMinSsimSidePx || height < kMinSsimSidePx) {
+    throw InputError("--width " + std::to_string(width) + " --height " + std::to_string(height) +
+                     ": expected at least 11x11 pixels (the SSIM window)");
+  }
+  if (options.foveation.display.gaze == "none") {
+    fail_flag("--gaze", "a gaze point X,Y (FPSNR and FIPR's mask need one; left out: the centre)", "none");
+  }
+
+  BenchPlan plan;
+  plan.ipr = methods.ipr;
+  plan.fipr = methods.fipr;
+  const FoveationSettings base = parse_foveation(options.foveation, width, height);
+  plan.display = base.display;
+  plan.gaze_x_px = base.gaze_x_px;
+  plan.gaze_y_px = base.gaze_y_px;
+  plan.flip_pixels_per_degree = plan.display.pixels_per_degree_at_centre();
+  if (!plan.fipr) return plan;
+
+  plan.refreshes = parse_refreshes(options.refresh);
+  plan.fovea_degs = parse_fovea_degs(options.fovea_deg);
+  for (int refresh : plan.refreshes) {
+    for (double fovea_deg : plan.fovea_degs) {
+      FoveationFlags flags = options.foveation;
+      flags.refresh = refresh;
+      flags.fovea_deg = fovea_deg;
+      FiprVariant variant{refresh, fovea_deg, parse_foveation(flags, width, height)};
+      for (int spp : options.spps) {
+        SphereTraceSettings check = options.settings;
+        check.samples_per_pixel = spp;
+        check.method = TraceMethod::foveated_pyramid;
+        check.foveation = variant.foveation;
+        validate(check);
+      }
+      plan.variants.push_back(variant);
+    }
+  }
+  return plan;
+}
+
+std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
+  std::string methods = plan.ipr ? "gt,ipr" : "gt";
+  if (plan.fipr) methods += ",fipr";
+  std::string text = command_text(options, join(options.scenes), join(options.spps), methods);
+  if (!plan.fipr) return text + display_text(options.foveation.display);
+  return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
+         foveation_flags_text(options.foveation);
+}
+
+std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, int spp,
+                         const std::string& method, const FiprVariant* variant) {
+  if (method != "fipr" || !variant) {
+    return command_text(options, scene, std::to_string(spp), plan.ipr ? "gt,ipr" : "gt") +
+           display_text(options.foveation.display);
+  }
+  return command_text(options, scene, std::to_string(spp), "gt,fipr") + " --refresh " +
+         std::to_string(variant->refresh) + " --fovea-deg " + variant->fovea_text() + " " +
+         foveation_flags_text(options.foveation);
+}
+
+}  // namespace fovlab::app

@@ -1,0 +1,67 @@
+#pragma once
+// fovlab bench, step 1: its flags as given, checked and turned into the plan of the sweep (methods,
+// FIPR variants, the display the metrics assume), and the commands that reproduce a sweep or one
+// of its cells. Everything here runs before Vulkan is opened: bad input is one InputError naming
+// the flag, and nothing is written.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/foveation_flags.h"
+#include "renderer/foveation/display_geometry.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+
+namespace fovlab::app {
+
+// The flags of `fovlab bench` as given (lists still as text where they are parsed by us).
+struct BenchOptions {
+  std::vector<std::string> scenes{"primitives", "columns", "temple"};
+  std::vector<int> spps{1, 4, 16};
+  SphereTraceSettings settings;
+  int repeats = 5;
+  std::filesystem::path json;
+  std::filesystem::path out_dir;
+  std::string device;
+  std::vector<std::string> methods{"gt", "ipr"};
+  // FIPR sweep (seed 000, 5.2: refresh 1, 1/2, 1/4; fovea 2.5 to 15 degrees in steps of 2.5).
+  std::vector<std::string> refresh{"1", "2", "4"};
+  std::vector<std::string> fovea_deg{"2.5", "5", "7.5", "10", "12.5", "15"};
+  FoveationFlags foveation;  // display, gaze and the other FIPR flags; its fovea_deg and refresh are unused
+  // FIPR-only flags the user gave (e.g. "--refresh"): refused unless fipr is among the methods.
+  std::vector<std::string> fipr_flags_given;
+};
+
+// One FIPR variant of the sweep: periphery refresh x fovea.
+struct FiprVariant {
+  int refresh = 1;
+  double fovea_deg = 0.0;
+  FoveationSettings foveation;  // everything but frame_index, for the frame size of the sweep
+
+  std::string fovea_text() const;  // "7.5"
+};
+
+struct BenchPlan {
+  bool ipr = false;
+  bool fipr = false;
+  std::vector<int> refreshes;       // as given, in order
+  std::vector<double> fovea_degs;   // as given, in order
+  std::vector<FiprVariant> variants;  // refresh-major: for each refresh, every fovea
+  // The display and gaze the metrics assume (FLIP at its pixels per degree, FPSNR), and FIPR's.
+  DisplayGeometry display;
+  double gaze_x_px = 0.0;
+  double gaze_y_px = 0.0;
+  double flip_pixels_per_degree = 0.0;
+};
+
+// Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)
+// and returns the plan. Throws InputError naming the flag.
+BenchPlan plan_bench(const BenchOptions& options);
+
+// The command that reproduces the whole sweep, every setting spelled out.
+std::string sweep_command(const BenchOptions& options, const BenchPlan& plan);
+// The command that reproduces one cell: GT against IPR for one scene and spp (method "gt" or "ipr"),
+// or one FIPR variant with its GT.
+std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, int spp,
+                         const std::string& method, const FiprVariant* variant = nullptr);
+
+}  // namespace fovlab::app

@@ -1,0 +1,29 @@
+#pragma once
+// fovlab bench, step 4: its results as Markdown tables, made from the JSON it writes (so the tables
+// and the JSON cannot disagree).
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace fovlab::app {
+
+// GT against IPR, one row per scene and spp (the JSON's "rows"); IPR's columns read "-" where IPR
+// was not run.
+std::string gt_ipr_table_header();
+std::string gt_ipr_table_row(const nlohmann::json& row);
+
+// Median GPU ms per pass of GT and IPR, per scene and spp.
+std::string pass_table(const nlohmann::json& rows);
+
+// Every cell (the JSON's "cells": GT, IPR and FIPR), one row each.
+std::string cell_table_header();
+std::string cell_table_row(const nlohmann::json& cell);
+
+// FIPR at one fovea (scene x spp x refresh: ms, speed-up, SSIM, FLIP), for comparison with seed 000's
+// Table 1 and section 5.2 at 7.5 degrees; a one-line note when no cell has that fovea.
+std::string fovea_table(const nlohmann::json& cells, double fovea_deg);
+
+// The cells on each scene's Pareto front, for FLIP and for 1 - SSIM.
+std::string pareto_table(const nlohmann::json& cells);
+
+}  // namespace fovlab::app

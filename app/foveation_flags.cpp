@@ -1,0 +1,79 @@
+#include "app/foveation_flags.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/input_error.h"
+#include "core/number_text.h"
+
+namespace fovlab::app {
+
+void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoint point) {
+  add_display_flags(command, flags.display, false);
+  if (point == FoveationPoint::single) {
+    command.add_option("--fovea-deg", flags.fovea_deg, "FIPR: foveal eccentricity in degrees (everything traced within)");
+    command.add_option("--refresh", flags.refresh, "FIPR: periphery refreshed every 1st, 2nd or 4th frame");
+  }
+  command.add_option("--outer-periphery-deg", flags.outer_periphery_deg,
+                     "FIPR: eccentricity beyond which nothing is traced at the top level (default: none)");
+  command.add_option("--periphery-steps", flags.periphery_steps,
+                     "FIPR: step budget of pixels outside the mask, traced from the mid depth; 0: mid level's colour");
+  command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")->check(CLI::IsMember({"on", "off"}));
+  command.add_option("--combine", flags.combine, "FIPR: acuity and edges combined by max, fovea-or-product, product, acuity")
+      ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
+  command.add_option("--edge-threshold", flags.edge_threshold,
+                     "FIPR: Sobel magnitude of the low-level depth, relative to the depth, that makes an edge");
+  command.add_option("--seed", flags.seed, "FIPR: seed of the per-pixel thresholds");
+}
+
+FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int height_px) {
+  FoveationSettings settings;
+  if (has_display(flags.display)) {
+    settings.display = parse_display(flags.display, width_px, height_px);
+  } else {
+    settings.display = display_from_diagonal(width_px, height_px, kDefaultDiagonalIn, kDefaultViewingDistanceMm);
+  }
+  if (flags.display.gaze == "none") {
+    settings.gaze_x_px = settings.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    std::tie(settings.gaze_x_px, settings.gaze_y_px) = parse_gaze(flags.display.gaze, width_px, height_px);
+  }
+  settings.acuity.fovea_deg = flags.fovea_deg;
+  if (!flags.outer_periphery_deg.empty()) {
+    const std::optional<double> outer = parse_finite_number(flags.outer_periphery_deg);
+    if (!outer) fail_flag("--outer-periphery-deg", "an eccentricity in degrees", flags.outer_periphery_deg);
+    settings.acuity.outer_periphery_deg = *outer;
+  }
+  settings.periphery_refresh = flags.refresh;
+  settings.periphery_steps = flags.periphery_steps;
+  settings.blur = flags.blur == "on";
+  settings.combine = parse_mask_combine(flags.combine).value_or(MaskCombine::max);
+  settings.edge_threshold = flags.edge_threshold;
+  settings.seed = flags.seed;
+  return settings;
+}
+
+std::string foveation_flags_text(const FoveationFlags& flags) {
+  std::string text;
+  const auto add = [&](const char* flag, const std::string& value) {
+    if (!value.empty()) text += std::string(text.empty() ? "" : " ") + flag + " " + value;
+  };
+  if (has_display(flags.display)) {
+    add("--diagonal-in", flags.display.diagonal_in);
+    add("--size-mm", flags.display.size_mm);
+    add("--distance-mm", flags.display.distance_mm);
+  } else {
+    add("--diagonal-in", format_number(kDefaultDiagonalIn, 6));
+    add("--distance-mm", format_number(kDefaultViewingDistanceMm, 6));
+  }
+  add("--gaze", flags.display.gaze);
+  add("--outer-periphery-deg", flags.outer_periphery_deg);
+  add("--periphery-steps", std::to_string(flags.periphery_steps));
+  add("--blur", flags.blur);
+  add("--combine", flags.combine);
+  add("--edge-threshold", format_number(flags.edge_threshold, 6));
+  add("--seed", std::to_string(flags.seed));
+  return text;
+}
+
+}  // namespace fovlab::app

@@ -1,0 +1,39 @@
+#pragma once
+// The FIPR flags of `render` and `bench`: display and gaze (app/display_flags.h), fovea, outer
+// periphery, periphery refresh, blur, how edges and acuity combine, edge threshold, seed. Without
+// display flags FIPR assumes a 24-inch display at 600 mm (docs/foveation.md).
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "app/display_flags.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+
+namespace fovlab::app {
+
+constexpr double kDefaultDiagonalIn = 24.0;
+constexpr double kDefaultViewingDistanceMm = 600.0;
+
+struct FoveationFlags {
+  DisplayFlags display;
+  double fovea_deg = 7.5;
+  std::string outer_periphery_deg;  // empty: none
+  int refresh = 1;
+  int periphery_steps = FoveationSettings{}.periphery_steps;
+  std::string blur = "off";
+  std::string combine = "max";
+  float edge_threshold = FoveationSettings{}.edge_threshold;
+  uint32_t seed = 0;
+};
+
+// `single`: --fovea-deg and --refresh take one value each (render); `swept`: the command adds its
+// own lists of them (bench).
+enum class FoveationPoint { single, swept };
+void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoint point);
+// Settings for a width_px x height_px frame; --gaze none means no gaze sample (every pixel traced in
+// full). InputError naming the flag on bad values.
+FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int height_px);
+// The flags that reproduce these settings, for bench reports ("--diagonal-in 24 --distance-mm 600 ...").
+std::string foveation_flags_text(const FoveationFlags& flags);
+
+}  // namespace fovlab::app

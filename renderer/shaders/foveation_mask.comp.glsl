@@ -1,0 +1,101 @@
+#version 460
+// FIPR pass 3 (seed 000 section 3.2.3): the binary foveation mask. One invocation per pixel of the
+// mid level; it decides its 2x2 full-resolution children. For each child: exact eccentricity from
+// the gaze (the angle at the eye, as renderer/foveation/display_geometry.cpp), the acuity
+// probability (acuity_model.cpp), combined with the upscaled edge flag (foveation_mask.cpp), then
+// traced at the top level when the pixel's hashed threshold is below that probability. The CPU code
+// is the reference; tests compare the two pixel by pixel.
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(std430, binding = 0) readonly buffer Edges { uint edges[]; };       // low level, 0 or 1
+layout(std430, binding = 1) writeonly buffer Mask { uint mask[]; };        // full resolution, 0 or 1
+layout(std430, binding = 2) writeonly buffer MidFlags { uint mid_flags[]; }; // masked children | children << 4
+layout(std430, binding = 3) buffer Counters { uint counters[]; };          // [2]: masked pixels
+
+const uint COMBINE_MAX = 0u;
+const uint COMBINE_FOVEA_OR_PRODUCT = 1u;
+const uint COMBINE_PRODUCT = 2u;
+const uint COMBINE_ACUITY = 3u;
+const uint FLAG_TRACE_ALL = 1u;  // no usable gaze: every pixel is traced in full
+
+layout(push_constant) uniform MaskParams {
+  uvec2 frame_size;       // full-resolution pixels
+  uvec2 mid_size;         // mid-level pixels
+  uvec2 low_size;         // low-level pixels (the edge map)
+  uint low_scale;         // full-resolution pixels per low-level pixel along each axis
+  uint combine;
+  vec2 gaze_px;           // in full-resolution pixels (finite, clamped by the renderer)
+  vec2 pixel_pitch_mm;
+  float viewing_distance_mm;
+  float fovea_deg;
+  float outer_periphery_deg;  // a huge value when there is none
+  uint seed;
+  uint frame_index;
+  uint flags;
+} params;
+
+uint lowbias32(uint x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+float mask_threshold(uvec2 pixel) {
+  uint h = lowbias32(pixel.x + lowbias32(pixel.y + lowbias32(params.frame_index + lowbias32(params.seed))));
+  return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+vec3 ray_to(vec2 point_px) {
+  vec3 r = vec3((point_px - 0.5 * vec2(params.frame_size)) * params.pixel_pitch_mm, params.viewing_distance_mm);
+  return r / max(max(abs(r.x), abs(r.y)), abs(r.z));
+}
+
+float eccentricity_deg(vec2 point_px) {
+  vec3 a = ray_to(params.gaze_px);
+  vec3 b = ray_to(point_px);
+  return degrees(atan(length(cross(a, b)), dot(a, b)));
+}
+
+float acuity_probability(float eccentricity) {
+  if (!(eccentricity > params.fovea_deg)) return 1.0;
+  if (eccentricity > params.outer_periphery_deg) return 0.0;
+  return 0.90964 * exp(-eccentricity / 2.9661) + 0.00792;
+}
+
+float combined_probability(float acuity, bool in_fovea, bool edge) {
+  float edge_value = edge ? 1.0 : 0.0;
+  if (params.combine == COMBINE_MAX) return max(acuity, edge_value);
+  if (params.combine == COMBINE_FOVEA_OR_PRODUCT) return in_fovea ? 1.0 : acuity * edge_value;
+  if (params.combine == COMBINE_PRODUCT) return acuity * edge_value;
+  return acuity;
+}
+
+void main() {
+  uvec2 mid = gl_GlobalInvocationID.xy;
+  if (any(greaterThanEqual(mid, params.mid_size))) return;
+  uint masked = 0u;
+  uint children = 0u;
+  for (uint j = 0u; j < 2u; ++j) {
+    for (uint i = 0u; i < 2u; ++i) {
+      uvec2 pixel = mid * 2u + uvec2(i, j);
+      if (any(greaterThanEqual(pixel, params.frame_size))) continue;
+      children += 1u;
+      bool traced = true;
+      if ((params.flags & FLAG_TRACE_ALL) == 0u) {
+        float eccentricity = eccentricity_deg(vec2(pixel) + 0.5);
+        uvec2 low = min(pixel / params.low_scale, params.low_size - 1u);
+        bool edge = edges[low.y * params.low_size.x + low.x] != 0u;
+        bool in_fovea = !(eccentricity > params.fovea_deg);
+        float probability = combined_probability(acuity_probability(eccentricity), in_fovea, edge);
+        traced = mask_threshold(pixel) < probability;
+      }
+      mask[pixel.y * params.frame_size.x + pixel.x] = traced ? 1u : 0u;
+      masked += traced ? 1u : 0u;
+    }
+  }
+  mid_flags[mid.y * params.mid_size.x + mid.x] = masked | (children << 4);
+  if (masked > 0u) atomicAdd(counters[2], masked);
+}

@@ -1,0 +1,143 @@
+// fovlab bench end to end with FIPR: a tiny sweep writes every cell (JSON, Markdown, images, Pareto
+// charts) with speed-ups that are the ratio of the medians; bad flags exit 2 with one line naming
+// the flag and write nothing. Speed is reported, never asserted.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/app/cli_test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using fovlab::cli_test::CommandResult;
+using fovlab::cli_test::expect_one_line_error;
+using fovlab::cli_test::read_all;
+using fovlab::cli_test::run;
+
+fs::path scratch() { return fovlab::cli_test::scratch("fovlab-bench-cli-test"); }
+
+const std::string kTiny = "bench --scenes primitives --spp 1 --width 64 --height 48 --repeats 1 ";
+
+TEST(BenchCli, FiprSweepWritesEveryCellWithSpeedUpsAndParetoCharts) {
+  const fs::path json_path = scratch() / "sweep.json";
+  const fs::path out_dir = scratch() / "sweep";
+  const CommandResult result = run(kTiny + "--methods gt,ipr,fipr --refresh 1,2 --fovea-deg 5,7.5 --json " +
+                                   json_path.string() + " --out-dir " + out_dir.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("| primitives | 1 | fipr | 2 | 7.5 |"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("FIPR at a fovea of 7.5 degrees"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("| primitives | 1 | 2 |"), std::string::npos) << result.out;  // the 7.5-degree table
+
+  const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
+  ASSERT_EQ(json["rows"].size(), 1u);  // GT against IPR, as without FIPR
+  EXPECT_TRUE(json["rows"][0].contains("flip"));
+  EXPECT_NE(json["command"].get<std::string>().find("--methods gt,ipr,fipr --refresh 1,2 --fovea-deg 5,7.5"),
+            std::string::npos);
+  const nlohmann::json& cells = json["cells"];
+  ASSERT_EQ(cells.size(), 6u);  // GT, IPR and 2 refresh x 2 foveae
+  double gt_ms = 0.0;
+  std::set<std::pair<int, double>> variants;
+  for (const nlohmann::json& cell : cells) {
+    EXPECT_EQ(cell["scene"], "primitives");
+    EXPECT_EQ(cell["spp"], 1);
+    ASSERT_TRUE(cell["command"].is_string());
+    const std::string method = cell["method"].get<std::string>();
+    if (method == "gt") gt_ms = cell["median_gpu_ms"].get<double>();
+    const double ssim = cell["ssim"].get<double>();
+    EXPECT_GT(ssim, 0.0) << method;
+    EXPECT_LE(ssim, 1.0) << method;
+    EXPECT_GE(cell["flip"].get<double>(), 0.0) << method;
+    EXPECT_LE(cell["flip"].get<double>(), 1.0) << method;
+    EXPECT_TRUE(cell.contains("fpsnr_db"));
+    EXPECT_TRUE(cell["pareto_flip"].is_boolean());
+    EXPECT_TRUE(cell["pareto_one_minus_ssim"].is_boolean());
+    if (method != "fipr") continue;
+    const int refresh = cell["refresh"].get<int>();
+    const double fovea = cell["fovea_deg"].get<double>();
+    variants.emplace(refresh, fovea);
+    EXPECT_EQ(cell["gpu_ms_runs"].size(), 1u);
+    const double ms = cell["median_gpu_ms"].get<double>();
+    ASSERT_GT(ms, 0.0);
+    EXPECT_DOUBLE_EQ(cell["gt_median_gpu_ms"].get<double>(), gt_ms);
+    EXPECT_DOUBLE_EQ(cell["speedup"].get<double>(), gt_ms / ms);
+    const double top = cell["top_level_share"].get<double>();
+    const double refreshed = cell["refreshed_share"].get<double>();
+    EXPECT_GT(top, 0.0);  // the fovea at the centre is traced in full
+    EXPECT_LE(top, 1.0);
+    EXPECT_GE(refreshed, 0.0);
+    EXPECT_NEAR(top + refreshed + cell["kept_share"].get<double>(), 1.0, 1e-9);
+    EXPECT_GT(cell["steps_per_pixel"].get<double>(), 0.0);
+    // Timed frames continue the sequence after one refresh cycle of warm-up.
+    EXPECT_EQ(cell["warmup_frames"], refresh);
+    EXPECT_EQ(cell["timed_frame_indices"][0], refresh);
+    const std::string command = cell["command"].get<std::string>();
+    EXPECT_NE(command.find("--methods gt,fipr --refresh " + std::to_string(refresh) + " --fovea-deg "), std::string::npos)
+        << command;
+    EXPECT_TRUE(fs::exists(out_dir / ("primitives_spp1_fipr_r" + std::to_string(refresh) + "_fovea" +
+                                      (fovea == 5.0 ? "5" : "7.5") + "_mask.png")));
+  }
+  EXPECT_EQ(variants, (std::set<std::pair<int, double>>{{1, 5.0}, {1, 7.5}, {2, 5.0}, {2, 7.5}}));
+  // GT is the reference (error 0, speed-up 1): nothing dominates it.
+  EXPECT_TRUE(cells[0]["pareto_flip"].get<bool>());
+
+  for (const char* chart : {"primitives_pareto_flip.svg", "primitives_pareto_ssim.svg"}) {
+    const std::string svg = read_all(out_dir / chart);
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u) << chart;
+    EXPECT_NE(svg.find("Pareto front (not dominated)"), std::string::npos) << chart;
+    EXPECT_NE(svg.find(">1/2/7.5</text>"), std::string::npos) << chart;  // a FIPR cell's label
+    EXPECT_NE(svg.find(">ipr 1</text>"), std::string::npos) << chart;
+  }
+  // A cell's command reproduces that cell alone (GT and the one FIPR variant).
+  const std::string command = cells.back()["command"].get<std::string>();
+  ASSERT_EQ(command.rfind("fovlab bench ", 0), 0u) << command;
+  const fs::path cell_json = scratch() / "cell.json";
+  const CommandResult again = run(command.substr(std::string("fovlab ").size()) + " --json " + cell_json.string());
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const nlohmann::json cell = nlohmann::json::parse(read_all(cell_json));
+  ASSERT_EQ(cell["cells"].size(), 2u);
+  EXPECT_EQ(cell["cells"][1]["refresh"], cells.back()["refresh"]);
+  EXPECT_EQ(cell["cells"][1]["fovea_deg"], cells.back()["fovea_deg"]);
+  EXPECT_EQ(cell["cells"][1]["foveation"], cells.back()["foveation"]);  // every FIPR setting, and the shares
+
+  const std::string table = read_all(out_dir / "table.md");
+  EXPECT_NE(table.find("## FIPR at a fovea of 7.5 degrees"), std::string::npos);
+  EXPECT_NE(table.find("## Pareto fronts"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out_dir / "bench.json"));
+}
+
+TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
+  const fs::path json_path = scratch() / "never.json";
+  const fs::path out_dir = scratch() / "never";
+  const std::string outputs = " --json " + json_path.string() + " --out-dir " + out_dir.string();
+  const std::string fipr = kTiny + "--methods gt,fipr ";
+  // Each run starts the process (most of a second in a Debug build): one case per kind of mistake.
+  const std::pair<std::string, std::string> cases[] = {
+      {kTiny + "--methods gt,rtx", "--methods"},
+      {kTiny + "--methods ipr,fipr", "--methods"},  // GT is the reference
+      {fipr + "--refresh 3", "--refresh"},
+      {fipr + "--refresh 1,1", "--refresh"},
+      {fipr + "--fovea-deg abc", "--fovea-deg"},
+      {fipr + "--fovea-deg 5,200", "--fovea-deg"},
+      {kTiny + "--methods gt,ipr --refresh 2", "--refresh"},  // a FIPR flag without fipr
+      {fipr + "--levels 2", "--levels 2"},
+      {fipr + "--gaze none", "--gaze"},
+      {fipr + "--combine sum", "--combine"},
+      {"bench --scenes primitives --spp 1 --width 8 --height 48 --repeats 1", "--width 8"},
+  };
+  for (const auto& [arguments, flag] : cases) {
+    SCOPED_TRACE(arguments);
+    expect_one_line_error(run(arguments + outputs), flag);
+    EXPECT_FALSE(fs::exists(json_path));
+    EXPECT_FALSE(fs::exists(out_dir));
+  }
+}
+
+}  // namespace

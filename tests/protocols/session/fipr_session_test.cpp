@@ -1,0 +1,322 @@
+// FIPR stimuli live in sessions and in replay: each refresh of a FIPR presentation is rendered with
+// that refresh's gaze and its image index (frame * refreshes + refresh), so the periphery refresh
+// reuses the presentation's previous image and every presentation starts afresh; replay renders the
+// same images in the same order and gets the same hashes. Small (64x48), short (6 images a
+// presentation) and on the primitives scene, so it runs in seconds on lavapipe.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "protocols/log/session_record.h"
+#include "protocols/schedule/study_plan.h"
+#include "protocols/session/replay.h"
+#include "protocols/session/session.h"
+#include "protocols/stimuli/stimulus_library.h"
+#include "tests/protocols/session/session_test_support.h"
+#include "tests/renderer/vulkan_test_fixture.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_folder;
+using test::read_file;
+using test::VulkanTest;
+
+// 2AFC, GT against FIPR with the periphery refreshed every 2nd image and taken from the mid level
+// (periphery_steps 0, the paper's reading, so the images depend on the gaze), two fovea sizes, 2 repeats:
+// 4 trials, each with one FIPR presentation of 2 frames x 3 refreshes = 6 images.
+const std::string kFiprStudy = R"([study]
+name = "fipr_session"
+seed = 5
+
+[display]
+width_px = 64
+height_px = 48
+refresh_hz = 60
+width_mm = 240
+height_mm = 180
+viewing_distance_mm = 300
+
+[stimulus]
+duration_s = 0.1
+frames_per_second = 20
+camera_start_s = 0.5
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "fipr"
+periphery_refresh = 2
+periphery_steps = 0
+mask_seed = 11
+
+[levels]
+parameter = "fovea_deg"
+values = [2.5, 10]
+
+[protocol]
+kind = "2afc"
+question = "same"
+repeats = 2
+
+[timing]
+black_interval_s = 0.05
+inter_trial_s = 0.05
+
+[[block]]
+scene = "primitives"
+)";
+
+StudyConfig fipr_config(const std::string& text = kFiprStudy) {
+  // Built-in scenes only: the path is for messages and the log header.
+  return parse_study_config_text(text, (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies/fipr.toml").string());
+}
+
+SessionOptions simulated(const fs::path& results, const fs::path& trace) {
+  SessionOptions options;
+  options.participant = "P1";
+  options.results_dir = results.string();
+  options.observer = "simulated";
+  options.gaze = "trace:" + trace.string();
+  options.headless = true;
+  options.validation = true;
+  return options;
+}
+
+ReplayOutcome replay(const std::string& log_path) {
+  ReplayOptions options;
+  options.log_path = log_path;
+  options.validation = true;
+  return replay_session(options);
+}
+
+// A gaze trace that moves every refresh (a Lissajous path over the frame) for `seconds`, with a
+// sample that has no position every 5th refresh (the session shows the last valid one instead), so
+// every presentation of 6 refreshes has one.
+fs::path moving_trace(const fs::path& folder, double seconds) {
+  const fs::path path = folder / "moving.csv";
+  std::ofstream out(path);
+  out << std::setprecision(17) << "time_s,x_px,y_px\n";
+  for (int i = 0; i * (1.0 / 60.0) < seconds; ++i) {
+    const double t = i / 60.0;
+    if (i % 5 == 4) {
+      out << t << ",,\n";
+      continue;
+    }
+    out << t << "," << 32.0 + 28.0 * std::sin(3.1 * t) << "," << 24.0 + 20.0 * std::cos(4.3 * t) << "\n";
+  }
+  return path;
+}
+
+fs::path still_trace(const fs::path& folder) {
+  const fs::path path = folder / "still.csv";
+  std::ofstream(path) << "time_s,x_px,y_px\n0,20.5,30.25\n";
+  return path;
+}
+
+// The stimulus events of the log's complete trials that showed a FIPR stimulus.
+std::vector<nlohmann::json> fipr_presentations(const std::string& log_path) {
+  const SessionRecord record = read_session_record(read_event_log(log_path));
+  const auto stimuli = record.header.at("stimuli").get<std::vector<nlohmann::json>>();
+  std::vector<nlohmann::json> shown;
+  for (const RecordedTrial& trial : record.trials)
+    for (const nlohmann::json& event : trial.stimuli)
+      if (stimuli.at(event.at("stimulus").get<size_t>()).at("method") == "fipr") shown.push_back(event);
+  return shown;
+}
+
+TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
+  const fs::path results = fresh_folder("fipr-moving");
+  const StudyConfig config = fipr_config();
+  const SessionOutcome outcome = run_session(config, simulated(results, moving_trace(results, 60.0)));
+  ASSERT_TRUE(outcome.finished);
+  EXPECT_EQ(outcome.trials_completed, 4);
+
+  // The header's FIPR stimuli carry the display of [display].
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  int fipr_stimuli = 0;
+  for (const nlohmann::json& stimulus : record.header.at("stimuli")) {
+    if (stimulus.at("method") != "fipr") continue;
+    ++fipr_stimuli;
+    EXPECT_EQ(stimulus.at("parameters").at("display_width_mm"), 240.0);
+    EXPECT_EQ(stimulus.at("parameters").at("display_height_mm"), 180.0);
+    EXPECT_EQ(stimulus.at("parameters").at("viewing_distance_mm"), 300.0);
+  }
+  EXPECT_EQ(fipr_stimuli, 2);
+
+  const std::vector<nlohmann::json> presentations = fipr_presentations(outcome.log_path);
+  ASSERT_EQ(presentations.size(), 4u);
+  std::set<std::vector<double>> positions;
+  int invalid = 0;
+  for (const nlohmann::json& shown : presentations) {
+    EXPECT_EQ(shown.at("hash").size(), 6u);
+    EXPECT_EQ(shown.at("frame"), nlohmann::json({0, 0, 0, 1, 1, 1}));
+    for (const nlohmann::json& gaze : shown.at("gaze")) positions.insert(gaze.get<std::vector<double>>());
+    invalid += static_cast<int>(shown.at("invalid_gaze").size());
+  }
+  EXPECT_GT(positions.size(), 12u) << "the gaze moves from refresh to refresh";
+  EXPECT_GE(invalid, 4) << "the trace's samples without a position were shown with a held one";
+
+  const ReplayOutcome replayed = replay(outcome.log_path);
+  EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+  EXPECT_EQ(replayed.trials, 4);
+  // Every FIPR image is rendered again (4 x 6), the GT reference's 2 frames once.
+  EXPECT_EQ(replayed.frames_rendered, 4 * 6 + 2);
+  EXPECT_EQ(replayed.presents_checked, 4 * 6 + 4 * 6);
+
+  // Another gaze for one presentation: replay renders other images and says so.
+  const std::string original = read_file(outcome.log_path);
+  std::string altered;
+  std::istringstream lines(original);
+  bool done = false;
+  for (std::string line; std::getline(lines, line);) {
+    if (!done && line.find("\"event\":\"stimulus\"") != std::string::npos) {
+      nlohmann::json event = nlohmann::json::parse(line);
+      if (event.at("seq") == presentations.front().at("seq")) {
+        for (nlohmann::json& gaze : event.at("gaze")) gaze = nlohmann::json({63.5, 0.5});
+        line = event.dump();
+        done = true;
+      }
+    }
+    altered += line + "\n";
+  }
+  ASSERT_TRUE(done);
+  const fs::path altered_path = results / "altered.jsonl";
+  std::ofstream(altered_path, std::ios::binary) << altered;
+  const ReplayOutcome tampered = replay(altered_path.string());
+  bool hash_named = false;
+  for (const std::string& difference : tampered.differences)
+    hash_named |= difference.find("frame hash") != std::string::npos && difference.find("image") != std::string::npos;
+  EXPECT_TRUE(hash_named) << "a changed gaze changes the FIPR images";
+}
+
+TEST(FiprSession, EveryPresentationStartsAfreshSoTheSameGazeGivesTheSameImages) {
+  const fs::path results = fresh_folder("fipr-still");
+  const SessionOutcome outcome = run_session(fipr_config(), simulated(results, still_trace(results)));
+  ASSERT_TRUE(outcome.finished);
+  // Each FIPR stimulus is shown twice (2 repeats), other stimuli in between: the two presentations
+  // of a stimulus are image for image the same, though the periphery refresh keeps pixels of the
+  // previous image within one.
+  std::map<int, std::vector<nlohmann::json>> hashes_by_stimulus;
+  for (const nlohmann::json& shown : fipr_presentations(outcome.log_path))
+    hashes_by_stimulus[shown.at("stimulus").get<int>()].push_back(shown.at("hash"));
+  ASSERT_EQ(hashes_by_stimulus.size(), 2u);
+  for (const auto& [stimulus, presentations] : hashes_by_stimulus) {
+    ASSERT_EQ(presentations.size(), 2u) << "stimulus " << stimulus;
+    EXPECT_EQ(presentations[0], presentations[1]) << "stimulus " << stimulus;
+  }
+  EXPECT_NE(hashes_by_stimulus.begin()->second.front(), hashes_by_stimulus.rbegin()->second.front())
+      << "a 2.5 and a 10 degree fovea give other images";
+  EXPECT_EQ(replay(outcome.log_path).difference_count, 0);
+}
+
+TEST(FiprSession, AResumedSessionReplays) {
+  const fs::path results = fresh_folder("fipr-resume");
+  const StudyConfig config = fipr_config();
+  const fs::path trace = moving_trace(results, 60.0);
+  const SessionOutcome whole = run_session(config, simulated(results / "whole", trace));
+  const std::string text = read_file(whole.log_path);
+  // Cut the log inside the third trial's events (after its trial_start), then resume.
+  size_t cut = text.find("\"event\":\"trial_start\"");
+  for (int i = 0; i < 2 && cut != std::string::npos; ++i) cut = text.find("\"event\":\"trial_start\"", cut + 1);
+  ASSERT_NE(cut, std::string::npos);
+  cut = text.find('\n', cut) + 1;
+  const std::string log_path = session_log_path((results / "cut").string(), config.name, "P1");
+  fs::create_directories(fs::path(log_path).parent_path());
+  std::ofstream(log_path, std::ios::binary) << text.substr(0, cut);
+  const SessionOutcome resumed = run_session(config, simulated(results / "cut", trace));
+  EXPECT_TRUE(resumed.resumed);
+  EXPECT_TRUE(resumed.finished);
+  const ReplayOutcome replayed = replay(resumed.log_path);
+  EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+  EXPECT_EQ(replayed.trials, 4);
+}
+
+// --- the library ------------------------------------------------------------------------------------
+
+StimulusSpec fipr_spec(const StudyPlan& plan, double fovea_deg) {
+  for (const PlannedStimulus& stimulus : plan.stimuli)
+    if (stimulus.spec.method == "fipr" && stimulus.level == fovea_deg) return stimulus.spec;
+  throw std::logic_error("no FIPR stimulus");
+}
+
+class FiprLibrary : public VulkanTest {};
+
+TEST_F(FiprLibrary, ImagesOfAPresentationFollowEachOtherAndIndexZeroRestarts) {
+  const StudyPlan plan = make_study_plan(fipr_config(), "P1");
+  StimulusSpec spec = fipr_spec(plan, 2.5);
+  spec.parameters["periphery_refresh"] = 4;
+  const StimulusSpec other = fipr_spec(plan, 10);
+  StimulusLibrary library(context());
+  const auto present = [&](const StimulusSpec& shown, double gaze_shift_px) {
+    std::vector<std::string> hashes;
+    for (int i = 0; i < 6; ++i) {
+      StimulusImage image;
+      image.frame = i / 3;
+      image.image_index = i;
+      image.gaze.x_px = 10.0 + 8.0 * i + gaze_shift_px;
+      image.gaze.y_px = 40.0 - 5.0 * i;
+      hashes.push_back(library.render(shown, image).hash);
+    }
+    return hashes;
+  };
+  const std::vector<std::string> first = present(spec, 0.0);
+  // Other work on the same scene between two presentations: a GT frame, another FIPR stimulus,
+  // the same stimulus with another gaze.
+  StimulusSpec gt = plan.stimuli.at(0).spec;
+  ASSERT_EQ(gt.method, "gt");
+  library.render(gt, StimulusImage{});
+  present(other, 0.0);
+  const std::vector<std::string> moved = present(spec, 13.0);
+  EXPECT_NE(moved, first);
+  EXPECT_EQ(present(spec, 0.0), first);
+
+  // The history matters: image 1 with the same gaze, after another image 0, is another image
+  // (pixels not due keep image 0's colour, traced in full near image 0's gaze; in flat regions the
+  // full and the mid-level colour agree, so a few places are tried).
+  std::set<std::string> after_other_image0;
+  for (const auto& [x, y] : {std::pair{32.0, 44.0}, {56.0, 40.0}, {40.0, 24.0}, {8.0, 20.0}}) {
+    StimulusImage image0, image1;
+    image0.gaze.x_px = x;
+    image0.gaze.y_px = y;
+    image1.image_index = 1;
+    image1.gaze.x_px = 18.0;
+    image1.gaze.y_px = 35.0;
+    library.render(spec, image0);
+    after_other_image0.insert(library.render(spec, image1).hash);
+  }
+  after_other_image0.erase(first[1]);
+  EXPECT_FALSE(after_other_image0.empty());
+
+  // Image k > 0 must directly follow image k - 1 of the same stimulus.
+  StimulusImage second;
+  second.image_index = 1;
+  EXPECT_THROW(library.render(spec, second), std::logic_error);  // after image 5
+  library.render(gt, StimulusImage{});
+  EXPECT_THROW(library.render(spec, second), std::logic_error);  // after a GT frame
+  library.render(other, StimulusImage{});
+  EXPECT_THROW(library.render(spec, second), std::logic_error);  // after another stimulus's image
+  library.render(spec, StimulusImage{});
+  EXPECT_NO_THROW(library.render(spec, second));
+
+  // frame() renders gaze-dependent stimuli live, the same way.
+  library.prepare({{0, gt}, {1, spec}});
+  StimulusImage image;
+  image.gaze.x_px = 10.0;
+  image.gaze.y_px = 40.0;
+  EXPECT_EQ(library.frame(1, spec, image).hash, first.front());
+}
+
+}  // namespace
+}  // namespace fovlab

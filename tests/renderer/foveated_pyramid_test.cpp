@@ -1,0 +1,349 @@
+// FIPR (seed 000 section 3.2) at small sizes: the GPU mask against the CPU reference, the fallbacks
+// for missing or far gaze, the periphery refresh, the blur, the statistics and the bad settings.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/input_error.h"
+#include "renderer/foveation/display_geometry.h"
+#include "renderer/foveation/foveation_mask.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+#include "tests/renderer/vulkan_test_fixture.h"
+
+namespace fovlab {
+namespace {
+
+using test::VulkanTest;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A small frame on a small, close display, so the fovea, the periphery and the frame's edges all
+// show at 96x64 pixels: the frame spans about 43 x 30 degrees.
+SphereTraceSettings fipr_frame(int width = 96, int height = 64) {
+  SphereTraceSettings settings;
+  settings.method = TraceMethod::foveated_pyramid;
+  settings.width = width;
+  settings.height = height;
+  settings.foveation.display = display_from_size(width, height, 240.0, 160.0, 300.0);
+  settings.foveation.gaze_x_px = width * 0.5;
+  settings.foveation.gaze_y_px = height * 0.5;
+  settings.foveation.acuity.fovea_deg = 5.0;
+  return settings;
+}
+
+bool all_finite(const Image& image) {
+  return std::all_of(image.pixels.begin(), image.pixels.end(), [](float v) { return std::isfinite(v); });
+}
+
+double mask_sum(const SphereTraceResult& result) {
+  return std::accumulate(result.mask.pixels.begin(), result.mask.pixels.end(), 0.0);
+}
+
+// The CPU reference of a pixel's probability without edges (MaskCombine::acuity).
+double acuity_probability(const SphereTraceSettings& settings, int x, int y) {
+  const FoveationSettings& f = settings.foveation;
+  return f.acuity.trace_probability(eccentricity_deg(f.display, f.gaze_x_px, f.gaze_y_px, x + 0.5, y + 0.5));
+}
+
+// With edges left out the mask is a function of geometry, acuity and the hash alone: the GPU must
+// agree with the CPU reference on every pixel whose threshold is not within float rounding of its
+// probability.
+TEST_F(VulkanTest, FoveationMaskMatchesTheCpuReference) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  for (const auto& [gaze_x, gaze_y] : {std::pair{48.0, 32.0}, {3.0, 60.0}, {-40.0, 10.0}}) {
+    SphereTraceSettings settings = fipr_frame();
+    settings.foveation.combine = MaskCombine::acuity;
+    settings.foveation.gaze_x_px = gaze_x;
+    settings.foveation.gaze_y_px = gaze_y;
+    settings.foveation.seed = 17;
+    settings.foveation.frame_index = 3;
+    const SphereTraceResult result = tracer.render(settings);
+    int compared = 0, masked = 0;
+    for (int y = 0; y < settings.height; ++y) {
+      for (int x = 0; x < settings.width; ++x) {
+        const double p = acuity_probability(settings, x, y);
+        const double xi = mask_threshold(17, 3, uint32_t(x), uint32_t(y));
+        if (std::fabs(p - xi) < 1e-5) continue;
+        ++compared;
+        const bool expected = xi < p;
+        masked += expected;
+        ASSERT_EQ(result.mask.at(x, y, 0), expected ? 1.0f : 0.0f) << "pixel " << x << "," << y << " gaze " << gaze_x;
+      }
+    }
+    EXPECT_GT(compared, settings.width * settings.height - 10);
+    EXPECT_GT(masked, 0);
+    EXPECT_LT(masked, compared) << "the periphery is not traced in full";
+    EXPECT_EQ(result.foveation.masked_pixels, uint64_t(mask_sum(result)));
+  }
+}
+
+// Under `max` every pixel the acuity model alone would trace is traced, the whole fovea included,
+// and edges add pixels; under the literal product a fovea pixel off the edges is not traced.
+TEST_F(VulkanTest, MaskCombinationsOrderAsDocumented) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  SphereTraceSettings settings = fipr_frame();
+  const auto render_with = [&](MaskCombine combine) {
+    settings.foveation.combine = combine;
+    return tracer.render(settings);
+  };
+  const SphereTraceResult acuity = render_with(MaskCombine::acuity);
+  const SphereTraceResult max = render_with(MaskCombine::max);
+  const SphereTraceResult fovea_or_product = render_with(MaskCombine::fovea_or_product);
+  const SphereTraceResult product = render_with(MaskCombine::product);
+  int fovea_pixels = 0, product_fovea_dropped = 0;
+  for (int y = 0; y < settings.height; ++y) {
+    for (int x = 0; x < settings.width; ++x) {
+      EXPECT_GE(max.mask.at(x, y, 0), acuity.mask.at(x, y, 0));
+      EXPECT_GE(max.mask.at(x, y, 0), fovea_or_product.mask.at(x, y, 0));
+      EXPECT_GE(fovea_or_product.mask.at(x, y, 0), product.mask.at(x, y, 0));
+      if (acuity_probability(settings, x, y) == 1.0) {
+        ++fovea_pixels;
+        EXPECT_EQ(max.mask.at(x, y, 0), 1.0f);
+        EXPECT_EQ(fovea_or_product.mask.at(x, y, 0), 1.0f);
+        product_fovea_dropped += product.mask.at(x, y, 0) == 0.0f;
+      }
+    }
+  }
+  EXPECT_GT(fovea_pixels, 100);
+  EXPECT_GT(product_fovea_dropped, 0) << "the literal product drops fovea pixels off the edges (Fig. 6 does not)";
+  EXPECT_GT(mask_sum(max), mask_sum(acuity)) << "edges add peripheral pixels";
+}
+
+// No gaze (NaN) or a fovea covering everything: every pixel is traced at the top level, which is
+// exactly the inverted pyramid's frame.
+TEST_F(VulkanTest, MissingGazeOrWholeFoveaRendersTheInvertedPyramidFrame) {
+  SphereTracer tracer(context(), load_scene("columns"));
+  SphereTraceSettings settings = fipr_frame();
+  settings.method = TraceMethod::inverted_pyramid;
+  const SphereTraceResult ipr = tracer.render(settings);
+  settings.method = TraceMethod::foveated_pyramid;
+  for (int variant = 0; variant < 2; ++variant) {
+    SphereTraceSettings fipr = settings;
+    if (variant == 0) fipr.foveation.gaze_x_px = kNaN;
+    if (variant == 1) fipr.foveation.acuity.fovea_deg = 180.0;
+    const SphereTraceResult result = tracer.render(fipr);
+    EXPECT_EQ(mask_sum(result), double(settings.width * settings.height));
+    EXPECT_EQ(result.colour_linear.pixels, ipr.colour_linear.pixels) << "variant " << variant;
+    EXPECT_EQ(result.foveation.refreshed_pixels, 0u);
+  }
+}
+
+// Gaze swept over the frame, its corners and far off it: every pixel of every scene stays finite,
+// and the share traced at the top level falls as the gaze leaves the frame.
+TEST_F(VulkanTest, GazeSweepKeepsEveryPixelFinite) {
+  for (const char* scene : {"primitives", "columns", "temple"}) {
+    SphereTracer tracer(context(), load_scene(scene));
+    SphereTraceSettings settings = fipr_frame(64, 40);
+    double centre_share = 0.0, far_share = 1.0;
+    const double positions[] = {-1e12, -500.0, 0.0, 0.5, 0.25, 0.75, 1.0, 1.0 + 500.0 / 64, 1e12};
+    for (double gx : positions) {
+      for (double gy : positions) {
+        settings.foveation.gaze_x_px = std::fabs(gx) > 2.0 ? gx : gx * settings.width;
+        settings.foveation.gaze_y_px = std::fabs(gy) > 2.0 ? gy : gy * settings.height;
+        const SphereTraceResult result = tracer.render(settings);
+        ASSERT_TRUE(all_finite(result.colour_linear)) << scene << " gaze " << gx << "," << gy;
+        const double share = mask_sum(result) / (settings.width * settings.height);
+        if (gx == 0.5 && gy == 0.5) centre_share = share;
+        if (gx == 1e12 && gy == 1e12) far_share = share;
+      }
+    }
+    EXPECT_LT(far_share, centre_share) << scene;
+  }
+}
+
+// Extreme displays: the eye almost touching the screen (every pixel but the gaze's is near 90
+// degrees away), and a screen kilometres wide seen from 600 mm (the same). Only the gaze pixel's
+// neighbourhood is foveal; the frame stays finite; eccentricity 0 at the gaze pixel itself.
+TEST_F(VulkanTest, ExtremeDisplaysKeepTheFoveaAtTheGazeAndEveryPixelFinite) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  for (const DisplayGeometry& display : {display_from_size(96, 64, 240.0, 160.0, 1e-3),
+                                         display_from_size(96, 64, 1e7, 6.667e6, 600.0),
+                                         display_from_size(96, 64, 1e-3, 6.67e-4, 600.0)}) {
+    SphereTraceSettings settings = fipr_frame();
+    settings.foveation.display = display;
+    settings.foveation.combine = MaskCombine::acuity;
+    settings.foveation.gaze_x_px = 10.5;  // the centre of pixel (10, 20)
+    settings.foveation.gaze_y_px = 20.5;
+    const SphereTraceResult result = tracer.render(settings);
+    ASSERT_TRUE(all_finite(result.colour_linear)) << display.viewing_distance_mm;
+    EXPECT_EQ(result.mask.at(10, 20, 0), 1.0f) << "eccentricity 0 is foveal";
+    const double share = mask_sum(result) / (settings.width * settings.height);
+    if (display.width_mm < 1.0) {
+      EXPECT_EQ(share, 1.0) << "a screen 1 micrometre wide at 600 mm is all fovea";
+    } else {
+      EXPECT_LT(share, 0.05) << "almost every pixel is near 90 degrees away";
+    }
+  }
+}
+
+// Refresh 4: frame 0 refreshes everything; later frames give a new mid-level colour to a quarter of
+// the unmasked pixels (one 2x2 phase of the mid level) and every other unmasked pixel keeps the
+// colour it had, bit for bit.
+TEST_F(VulkanTest, PeripheryRefreshKeepsPixelsThatAreNotDue) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  SphereTraceSettings settings = fipr_frame();
+  settings.foveation.periphery_refresh = 4;
+  SphereTraceSettings reference = settings;
+  reference.foveation.periphery_refresh = 1;
+  const SphereTraceResult all_refreshed = tracer.render(reference);
+  const SphereTraceResult first = tracer.render(settings);
+  EXPECT_EQ(first.colour_linear.pixels, all_refreshed.colour_linear.pixels) << "frame 0 refreshes every pixel";
+  EXPECT_EQ(first.foveation.kept_pixels, 0u);
+
+  SphereTraceResult previous = first;
+  for (uint32_t frame = 1; frame < 6; ++frame) {
+    settings.foveation.frame_index = frame;
+    const SphereTraceResult result = tracer.render(settings);
+    uint64_t kept = 0;
+    for (int y = 0; y < settings.height; ++y) {
+      for (int x = 0; x < settings.width; ++x) {
+        if (result.mask.at(x, y, 0) != 0.0f) continue;
+        const uint32_t phase = uint32_t((x / 2) & 1) | (uint32_t((y / 2) & 1) << 1);
+        if (phase == frame % 4) continue;
+        ++kept;
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(result.colour_linear.at(x, y, c), previous.colour_linear.at(x, y, c));
+      }
+    }
+    EXPECT_EQ(kept, result.foveation.kept_pixels);
+    EXPECT_EQ(result.foveation.masked_pixels + result.foveation.refreshed_pixels + result.foveation.kept_pixels,
+              uint64_t(settings.width * settings.height));
+    EXPECT_GT(kept, 2 * result.foveation.refreshed_pixels) << "about three quarters of the periphery is kept";
+    previous = result;
+  }
+  settings.foveation.frame_index = 0;
+  EXPECT_EQ(tracer.render(settings).colour_linear.pixels, all_refreshed.colour_linear.pixels)
+      << "frame 0 starts a new sequence";
+}
+
+// The blur changes only pixels filled from the mid level, and only next to top-level pixels.
+TEST_F(VulkanTest, MaskedBlurTouchesOnlyTransitionPixels) {
+  SphereTracer tracer(context(), load_scene("temple"));
+  SphereTraceSettings settings = fipr_frame();
+  const SphereTraceResult sharp = tracer.render(settings);
+  settings.foveation.blur = true;
+  const SphereTraceResult blurred = tracer.render(settings);
+  ASSERT_EQ(sharp.mask.pixels, blurred.mask.pixels);
+  int changed = 0;
+  for (int y = 0; y < settings.height; ++y) {
+    for (int x = 0; x < settings.width; ++x) {
+      bool differs = false;
+      for (int c = 0; c < 3; ++c) differs = differs || sharp.colour_linear.at(x, y, c) != blurred.colour_linear.at(x, y, c);
+      if (!differs) continue;
+      ++changed;
+      ASSERT_EQ(sharp.mask.at(x, y, 0), 0.0f) << "a top-level pixel was blurred at " << x << "," << y;
+      bool near_top = false;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < settings.width && ny < settings.height) near_top = near_top || sharp.mask.at(nx, ny, 0) != 0.0f;
+        }
+      ASSERT_TRUE(near_top) << x << "," << y;
+    }
+  }
+  EXPECT_GT(changed, 0);
+}
+
+// With one sample per pixel and a full step budget the periphery's rays are IPR's top-level rays,
+// so every pixel equals IPR's; with the mid level's colour instead (periphery_steps 0) the frame
+// differs from IPR only outside the mask.
+TEST_F(VulkanTest, PeripheryTracedInFullEqualsTheInvertedPyramid) {
+  SphereTracer tracer(context(), load_scene("temple"));
+  SphereTraceSettings settings = fipr_frame();
+  settings.method = TraceMethod::inverted_pyramid;
+  const SphereTraceResult ipr = tracer.render(settings);
+  settings.method = TraceMethod::foveated_pyramid;
+  settings.foveation.periphery_steps = settings.max_steps;
+  EXPECT_EQ(tracer.render(settings).colour_linear.pixels, ipr.colour_linear.pixels);
+  settings.foveation.periphery_steps = 0;
+  const SphereTraceResult from_mid = tracer.render(settings);
+  int differing = 0;
+  for (int y = 0; y < settings.height; ++y) {
+    for (int x = 0; x < settings.width; ++x) {
+      bool differs = false;
+      for (int c = 0; c < 3; ++c) differs = differs || from_mid.colour_linear.at(x, y, c) != ipr.colour_linear.at(x, y, c);
+      if (from_mid.mask.at(x, y, 0) != 0.0f) {
+        ASSERT_FALSE(differs) << "a top-level pixel at " << x << "," << y;
+      }
+      differing += differs;
+    }
+  }
+  EXPECT_GT(differing, 0);
+}
+
+// Level statistics: the top level traces the masked pixels, the mid level at most all of its
+// pixels, the low level all; with the periphery from the mid level (the default), fewer steps than
+// the inverted pyramid.
+TEST_F(VulkanTest, FoveatedStatisticsAddUp) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  SphereTraceSettings settings = fipr_frame(160, 90);
+  const SphereTraceResult fipr = tracer.render(settings);
+  ASSERT_EQ(fipr.levels.size(), 3u);
+  EXPECT_EQ(fipr.levels[2].traced_pixels, fipr.foveation.masked_pixels);
+  EXPECT_LE(fipr.levels[1].traced_pixels, uint64_t(fipr.levels[1].width * fipr.levels[1].height));
+  EXPECT_EQ(fipr.levels[0].traced_share(), 1.0);
+  EXPECT_EQ(fipr.foveation.masked_pixels + fipr.foveation.refreshed_pixels, uint64_t(160 * 90));
+  std::vector<std::string> pass_names;
+  for (const vk::PassTime& pass : fipr.passes) pass_names.push_back(pass.name);
+  EXPECT_NE(std::find(pass_names.begin(), pass_names.end(), "sobel_edges"), pass_names.end());
+  EXPECT_NE(std::find(pass_names.begin(), pass_names.end(), "foveation_mask"), pass_names.end());
+  settings.method = TraceMethod::inverted_pyramid;
+  EXPECT_LT(fipr.total_steps, tracer.render(settings).total_steps);
+}
+
+TEST(FoveationSettingsValidation, BadSettingsNameTheirFlag) {
+  const auto message_for = [](auto change) {
+    SphereTraceSettings settings = fipr_frame();
+    change(settings);
+    try {
+      validate(settings);
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.pyramid_levels = 2; }).find("--levels"), std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.periphery_refresh = 3; }).find("--refresh"), std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = -1; }).find("--fovea-deg"), std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = kNaN; }).find("--fovea-deg"), std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.acuity.outer_periphery_deg = 1.0; }).find("--outer-periphery-deg"),
+            std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.edge_threshold = 0.0f; }).find("--edge-threshold"),
+            std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.periphery_steps = -1; }).find("--periphery-steps"),
+            std::string::npos);
+  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.width = 50; }).find("display"), std::string::npos);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.gaze_x_px = kNaN; }), "accepted");
+}
+
+TEST(FoveationMask, CombinationsAndThresholds) {
+  EXPECT_EQ(mask_probability(MaskCombine::max, 0.05, false, true), 1.0);
+  EXPECT_EQ(mask_probability(MaskCombine::max, 0.05, false, false), 0.05);
+  EXPECT_EQ(mask_probability(MaskCombine::product, 1.0, true, false), 0.0);
+  EXPECT_EQ(mask_probability(MaskCombine::fovea_or_product, 1.0, true, false), 1.0);
+  EXPECT_EQ(mask_probability(MaskCombine::fovea_or_product, 0.05, false, true), 0.05);
+  EXPECT_EQ(mask_probability(MaskCombine::acuity, 0.05, false, true), 0.05);
+  for (MaskCombine combine : {MaskCombine::max, MaskCombine::fovea_or_product, MaskCombine::product, MaskCombine::acuity})
+    EXPECT_EQ(parse_mask_combine(mask_combine_name(combine)), combine);
+  EXPECT_FALSE(parse_mask_combine("sum").has_value());
+  // Thresholds are uniform on [0, 1): the mean and the share below 0.1 of 200,000 pixels.
+  double sum = 0.0;
+  int below = 0;
+  for (uint32_t y = 0; y < 400; ++y)
+    for (uint32_t x = 0; x < 500; ++x) {
+      const double xi = mask_threshold(5, 2, x, y);
+      ASSERT_GE(xi, 0.0);
+      ASSERT_LT(xi, 1.0);
+      sum += xi;
+      below += xi < 0.1;
+    }
+  EXPECT_NEAR(sum / 200000.0, 0.5, 0.003);
+  EXPECT_NEAR(below / 200000.0, 0.1, 0.002);
+  EXPECT_NE(mask_hash(5, 2, 10, 10), mask_hash(5, 3, 10, 10)) << "the frame changes the thresholds";
+  EXPECT_NE(mask_hash(5, 2, 10, 10), mask_hash(6, 2, 10, 10)) << "so does the seed";
+}
+
+}  // namespace
+}  // namespace fovlab
