@@ -40,9 +40,6 @@ const char* const kPaperNote =
     "Seed 000 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups 1.1x-16x "
     "(section 5.2).";
 
-// FIPR-only flags say so first in their description (app/foveation_flags.cpp; --refresh and --fovea-deg below).
-constexpr std::string_view kFiprOnlyPrefix = "FIPR:";
-
 nlohmann::json display_json(const BenchPlan& plan) {
   return {{"width_mm", plan.display.width_mm},
           {"height_mm", plan.display.height_mm},
@@ -253,7 +250,8 @@ void run_bench(const BenchOptions& options) {
                            {"time_s", options.settings.time_s},
                            {"command", sweep_command(options, plan)},
                            {"methods", options.methods},
-                           {"camera", "static: every frame of every method is rendered at scene time time_s"},
+                           {"camera", "GT and IPR at scene time time_s; a FIPR cell's frames at 60 Hz of scene time "
+                                      "ending at time_s (the camera moves), the last compared with GT"},
                            {"metrics",
                             {{"reference", "the GT frame of the same scene and spp"},
                              {"images", "sRGB-encoded display images"},
@@ -269,8 +267,8 @@ void run_bench(const BenchOptions& options) {
         {"settings", "every FIPR setting of a cell is in its \"foveation\" object (as fovlab render --stats-json)"},
         {"sequence",
          "per cell: frames 0 to refresh - 1 untimed (frame 0 refreshes every pixel), then --repeats timed frames "
-         "continuing the sequence (frame_index increasing, static camera); median GPU ms of the timed frames; errors, "
-         "steps and shares of the last timed frame"},
+         "continuing the sequence (frame_index increasing, scene time advancing 1/60 s a frame, ending at time_s); "
+         "median GPU ms of the timed frames; errors, steps and shares of the last timed frame"},
         {"speedup", "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
                     "GPU ms"}};
   }
@@ -328,12 +326,7 @@ void add_bench_command(CLI::App& app) {
                       "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
       ->delimiter(',');
   command->callback([options, command] {
-    options->fipr_flags_given.clear();
-    for (const CLI::Option* option : command->get_options()) {
-      if (option->count() > 0 && option->get_description().rfind(kFiprOnlyPrefix, 0) == 0) {
-        options->fipr_flags_given.push_back(option->get_name());
-      }
-    }
+    options->fipr_flags_given = given_fipr_only_flags(*command);
     run_bench(*options);
   });
 }

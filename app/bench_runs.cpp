@@ -59,14 +59,22 @@ void time_interleaved(SphereTracer& tracer, const std::vector<std::pair<SphereTr
 FiprSequence time_fipr_sequence(SphereTracer& tracer, SphereTraceSettings settings, int repeats) {
   FiprSequence sequence;
   sequence.warmup_frames = settings.foveation.periphery_refresh;
+  // The camera moves: frame k is at scene time time_s - (last - k) / kSequenceFrameRateHz, so the
+  // last frame (the one compared with GT at time_s) carries the error of the pixels it reused.
+  const float end_time_s = settings.time_s;
+  const uint32_t last = static_cast<uint32_t>(sequence.warmup_frames + repeats - 1);
+  const auto at_frame = [&](uint32_t frame) {
+    settings.foveation.frame_index = frame;
+    settings.time_s = static_cast<float>(end_time_s - double(last - frame) / kSequenceFrameRateHz);
+  };
   uint32_t frame = 0;
   for (; frame < static_cast<uint32_t>(sequence.warmup_frames); ++frame) {
-    settings.foveation.frame_index = frame;
+    at_frame(frame);
     tracer.render(settings);
   }
   sequence.first_timed_frame = frame;
   for (int r = 0; r < repeats; ++r, ++frame) {
-    settings.foveation.frame_index = frame;
+    at_frame(frame);
     const auto started = std::chrono::steady_clock::now();
     SphereTraceResult result = tracer.render(settings);
     sequence.runs.add(result, elapsed_ms(started));

@@ -41,6 +41,9 @@ void time_interleaved(SphereTracer& tracer, const std::vector<std::pair<SphereTr
 // untimed (frame 0 starts the sequence and refreshes every pixel, the others complete one refresh
 // cycle, so the history exists), then `repeats` timed frames continuing the sequence. The measured
 // frame is the last timed one.
+// Scene-time rate of a FIPR cell's frames (a display's refresh rate).
+constexpr double kSequenceFrameRateHz = 60.0;
+
 struct FiprSequence {
   MethodRuns runs;
   int warmup_frames = 0;

@@ -26,6 +26,14 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
   command.add_option("--seed", flags.seed, "FIPR: seed of the per-pixel thresholds");
 }
 
+std::vector<std::string> given_fipr_only_flags(const CLI::App& command) {
+  std::vector<std::string> given;
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->count() > 0 && option->get_description().rfind("FIPR:", 0) == 0) given.push_back(option->get_name());
+  }
+  return given;
+}
+
 FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int height_px) {
   FoveationSettings settings;
   if (has_display(flags.display)) {

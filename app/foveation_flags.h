@@ -3,6 +3,7 @@
 // periphery, periphery refresh, blur, how edges and acuity combine, edge threshold, seed. Without
 // display flags FIPR assumes a 24-inch display at 600 mm (docs/foveation.md).
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +31,10 @@ struct FoveationFlags {
 // own lists of them (bench).
 enum class FoveationPoint { single, swept };
 void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoint point);
+// The FIPR-only flags given on a command line (their descriptions start with "FIPR:"; the display
+// flags serve other methods too), so a command can refuse them without --method fipr.
+std::vector<std::string> given_fipr_only_flags(const CLI::App& command);
+
 // Settings for a width_px x height_px frame; --gaze none means no gaze sample (every pixel traced in
 // full). InputError naming the flag on bad values.
 FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int height_px);

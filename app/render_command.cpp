@@ -31,6 +31,7 @@ struct RenderOptions {
   std::filesystem::path mask_out;
   std::string device;
   FoveationFlags foveation;
+  std::vector<std::string> fipr_flags_given;
   int frames = 1;
   double frame_rate_hz = 60.0;
 };
@@ -40,6 +41,8 @@ void run_render(const RenderOptions& options) {
   settings.method = parse_trace_method(options.method).value_or(TraceMethod::ground_truth);
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
   if (foveated) settings.foveation = parse_foveation(options.foveation, settings.width, settings.height);
+  if (!foveated && !options.fipr_flags_given.empty())
+    throw InputError(options.fipr_flags_given.front() + ": only FIPR uses it; add --method fipr");
   validate(settings);
   if (options.frames < 1 || options.frames > 100000)
     throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
@@ -83,7 +86,7 @@ void run_render(const RenderOptions& options) {
               result.gpu_ms, stats["steps_per_pixel"].get<double>(),
               static_cast<unsigned long long>(result.capped_rays));
   if (foveated) {
-    std::printf(", %.1f %% of pixels traced at the top level, %.1f %% refreshed from the mid level",
+    std::printf(", %.1f %% of pixels traced at the top level, %.1f %% refreshed",
                 100.0 * stats["foveation"]["top_level_share"].get<double>(),
                 100.0 * stats["foveation"]["refreshed_share"].get<double>());
   }
@@ -110,7 +113,10 @@ void add_render_command(CLI::App& app) {
   command->add_option("--mask-out", options->mask_out, "FIPR: foveation mask image to write (white: traced in full)");
   add_trace_options(*command, options->settings);
   add_foveation_flags(*command, options->foveation, FoveationPoint::single);
-  command->callback([options] { run_render(*options); });
+  command->callback([options, command] {
+    options->fipr_flags_given = given_fipr_only_flags(*command);
+    run_render(*options);
+  });
 }
 
 }  // namespace fovlab::app

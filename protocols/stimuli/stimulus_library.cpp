@@ -44,6 +44,7 @@ PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusIm
   const auto start = std::chrono::steady_clock::now();
   SphereTracer& tracer = tracer_for(spec.scene);
   SphereTraceSettings settings = sphere_trace_settings(spec, image.frame);
+  settings.colour_only = true;  // a presented frame needs no step counts or mask
   LastImage& last = last_image_[spec.scene];
   const bool sequence = method_depends_on_gaze(spec.method);
   const std::string canonical = sequence ? spec.canonical() : std::string();

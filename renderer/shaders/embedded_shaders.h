@@ -12,6 +12,8 @@ extern const std::span<const uint32_t> min_filter_spirv;
 extern const std::span<const uint32_t> depth_edges_spirv;
 extern const std::span<const uint32_t> foveation_mask_spirv;
 extern const std::span<const uint32_t> masked_blur_spirv;
+extern const std::span<const uint32_t> fipr_reconstruct_spirv;
+extern const std::span<const uint32_t> masked_list_dispatch_spirv;
 extern const std::string_view sphere_trace_source;
 
 }  // namespace fovlab::shaders

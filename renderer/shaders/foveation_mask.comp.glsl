@@ -4,19 +4,26 @@
 // the gaze (the angle at the eye, as renderer/foveation/display_geometry.cpp), the acuity
 // probability (acuity_model.cpp), combined with the upscaled edge flag (foveation_mask.cpp), then
 // traced at the top level when the pixel's hashed threshold is below that probability. The CPU code
-// is the reference; tests compare the two pixel by pixel.
+// is the reference; tests compare the two pixel by pixel. Masked pixels are also appended to a list
+// (in no fixed order; each pixel's result does not depend on it), so the top level traces them
+// densely instead of leaving most SIMD lanes idle on a sparse mask.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Edges { uint edges[]; };       // low level, 0 or 1
 layout(std430, binding = 1) writeonly buffer Mask { uint mask[]; };        // full resolution, 0 or 1
-layout(std430, binding = 2) writeonly buffer MidFlags { uint mid_flags[]; }; // masked children | children << 4
+// Per mid pixel: masked children (bits 0-3) | children (bits 4-7) | due for a refresh (bit 8).
+layout(std430, binding = 2) writeonly buffer MidFlags { uint mid_flags[]; };
 layout(std430, binding = 3) buffer Counters { uint counters[]; };          // [2]: masked pixels
+layout(std430, binding = 4) writeonly buffer MaskedList { uint masked_list[]; };  // their pixel indices
+layout(std430, binding = 5) writeonly buffer RefreshList { uint refresh_list[]; };  // unmasked pixels due now
 
 const uint COMBINE_MAX = 0u;
 const uint COMBINE_FOVEA_OR_PRODUCT = 1u;
 const uint COMBINE_PRODUCT = 2u;
 const uint COMBINE_ACUITY = 3u;
-const uint FLAG_TRACE_ALL = 1u;  // no usable gaze: every pixel is traced in full
+const uint FLAG_TRACE_ALL = 1u;     // no usable gaze: every pixel is traced in full
+const uint FLAG_ALL_DUE = 2u;       // no history yet: every unmasked pixel is due for a refresh
+const uint FLAG_LIST_REFRESH = 4u;  // the periphery is traced: list the unmasked pixels due (counters[6])
 
 layout(push_constant) uniform MaskParams {
   uvec2 frame_size;       // full-resolution pixels
@@ -32,7 +39,20 @@ layout(push_constant) uniform MaskParams {
   uint seed;
   uint frame_index;
   uint flags;
+  uint refresh_period;
 } params;
+
+// Whether the unmasked pixels under a mid pixel get a new colour this frame (the mid and
+// reconstruction passes read it from the mid flags). Periods are staggered over tiles of 16x16
+// full-resolution pixels (8x8 mid pixels): period 2 in a checkerboard of tiles, period 4 in 2x2
+// blocks of tiles, so each frame refreshes an even spread of 1/2 or 1/4 of the periphery, and a tile
+// is one workgroup of the mid level, whose pixels then skip or trace together (docs/foveation.md).
+bool refresh_due(uvec2 mid_pixel) {
+  if ((params.flags & FLAG_ALL_DUE) != 0u || params.refresh_period <= 1u) return true;
+  uvec2 tile = mid_pixel / 8u;
+  uint phase = params.refresh_period == 2u ? ((tile.x + tile.y) & 1u) : ((tile.x & 1u) | ((tile.y & 1u) << 1));
+  return phase == params.frame_index % params.refresh_period;
+}
 
 uint lowbias32(uint x) {
   x ^= x >> 16;
@@ -78,6 +98,11 @@ void main() {
   if (any(greaterThanEqual(mid, params.mid_size))) return;
   uint masked = 0u;
   uint children = 0u;
+  uint masked_indices[4];
+  uint due = 0u;
+  uint due_indices[4];
+  bool due_now = refresh_due(mid);
+  bool list_due = (params.flags & FLAG_LIST_REFRESH) != 0u && due_now;
   for (uint j = 0u; j < 2u; ++j) {
     for (uint i = 0u; i < 2u; ++i) {
       uvec2 pixel = mid * 2u + uvec2(i, j);
@@ -92,10 +117,22 @@ void main() {
         float probability = combined_probability(acuity_probability(eccentricity), in_fovea, edge);
         traced = mask_threshold(pixel) < probability;
       }
-      mask[pixel.y * params.frame_size.x + pixel.x] = traced ? 1u : 0u;
-      masked += traced ? 1u : 0u;
+      uint pixel_index = pixel.y * params.frame_size.x + pixel.x;
+      mask[pixel_index] = traced ? 1u : 0u;
+      if (traced) {
+        masked_indices[masked++] = pixel_index;
+      } else if (list_due) {
+        due_indices[due++] = pixel_index;
+      }
     }
   }
-  mid_flags[mid.y * params.mid_size.x + mid.x] = masked | (children << 4);
-  if (masked > 0u) atomicAdd(counters[2], masked);
+  mid_flags[mid.y * params.mid_size.x + mid.x] = masked | (children << 4) | (due_now ? 256u : 0u);
+  if (masked > 0u) {
+    uint first = atomicAdd(counters[2], masked);
+    for (uint i = 0u; i < masked; ++i) masked_list[first + i] = masked_indices[i];
+  }
+  if (due > 0u) {
+    uint first = atomicAdd(counters[6], due);
+    for (uint i = 0u; i < due; ++i) refresh_list[first + i] = due_indices[i];
+  }
 }

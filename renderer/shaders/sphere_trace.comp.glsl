@@ -10,9 +10,13 @@
 //   - the mid level (FLAG_FOVEATED_MID) traces a pixel only when the top level needs its depth
 //     (a masked pixel within its 3x3 neighbourhood) or its unmasked children are due for a refresh,
 //     and shades it (one sample) in the second case; other pixels pass their start depth on;
-//   - the top level (FLAG_FOVEATED_TOP) traces and shades masked pixels only; an unmasked pixel
-//     takes its mid-level parent's colour when due, and otherwise keeps the value it has (the colour
-//     buffer persists between frames: the reduced periphery refresh).
+//   - the top level runs twice: over the list of masked pixels (FLAG_MASKED_LIST, an indirect
+//     dispatch of 64 list entries a workgroup), tracing and shading them as IPR does; then, when
+//     the periphery is traced (periphery_steps > 0), over the list of unmasked pixels due for a
+//     refresh (FLAG_FOVEATED_TOP): each is traced from the mid depth with that step budget and
+//     shaded. Pixels not listed keep the value they have (the colour buffer persists between
+//     frames: the reduced periphery refresh). With periphery_steps 0, fipr_reconstruct.comp.glsl
+//     fills the unmasked pixels from the mid level instead.
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -26,16 +30,17 @@ layout(std430, binding = 4) buffer TraceCounters {
   uint masked_pixels;       // written by the mask pass
   uint mid_traced_pixels;
   uint mid_shaded_pixels;
-  uint refreshed_pixels;    // unmasked pixels given a new mid-level colour this frame
+  uint refreshed_pixels;    // unmasked pixels given a new colour this frame
+  uint refresh_list_pixels; // written by the mask pass when the periphery is traced
 };
-layout(std430, binding = 5) readonly buffer FoveationMask { uint mask_values[]; };  // top: mask; mid: mid flags
-layout(std430, binding = 6) readonly buffer MidColour { vec4 mid_colour[]; };       // top: the mid level's colour
+layout(std430, binding = 5) readonly buffer FoveationMask { uint mask_values[]; };  // top: a pixel list; mid: flags
 
 const uint FLAG_SHADE = 1u;          // top level: shade and write colour
 const uint FLAG_HAS_START = 2u;      // start rays at start_depth of the parent pixel
 const uint FLAG_FOVEATED_MID = 4u;   // FIPR mid level
-const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level
-const uint FLAG_ALL_DUE = 16u;       // FIPR: no history yet, every pixel is refreshed
+const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level: the periphery's refresh list in mask_values
+const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
+const uint MID_FLAG_DUE = 256u;      // FIPR mid flags (foveation_mask.comp.glsl): the children are due for a refresh
 
 layout(push_constant) uniform TraceParams {
   uvec2 level_size;          // pixels of this level
@@ -47,10 +52,11 @@ layout(push_constant) uniform TraceParams {
   uint max_steps;            // step cap of one ray at this level
   uint level_scale;          // full-resolution pixels per level pixel along each axis (1, 2, 4, ...)
   uint flags;
-  uint refresh_period;       // FIPR: unmasked pixels are refreshed every 1st, 2nd or 4th frame
-  uint frame_index;          // FIPR: frame of the sequence (selects which pixels are due)
-  uint periphery_steps;      // FIPR: 0: unmasked pixels take the mid level's colour; else they are
-                             // traced from the mid depth with this step budget and shaded (1 sample)
+  uint frame_index;          // FIPR: frame of the sequence (stamps the mid level's colours)
+  uint periphery_steps;      // FIPR: 0: the mid level shades the pixels its unmasked children take
+                             // (fipr_reconstruct); else those are traced from the mid depth with this
+                             // step budget and shaded (1 sample)
+  int min_filter_radius;     // FIPR mid level: the top level starts from the min over this radius
 } params;
 
 struct Ray { vec3 origin; vec3 direction; };
@@ -106,12 +112,23 @@ const uint OUTCOME_CAPPED = 2u;
 
 struct TraceResult { float t; uint steps; uint outcome; float distance; float material_id; };
 
+// One step more onto the surface of a hit, within the step cap.
+void fovlab_refine_hit(Ray ray, inout TraceResult result, uint step_cap) {
+  if (result.outcome != OUTCOME_HIT || result.steps >= step_cap) return;
+  result.t += result.distance;
+  vec2 refined = scene_map(ray.origin + result.t * ray.direction);
+  result.distance = refined.x;
+  result.material_id = refined.y;
+  result.steps += 1u;
+}
+
 // Sphere traces from t_start. A start inside geometry (a neighbour's depth behind a surface this ray
 // meets earlier) shows as a negative distance at the first step; the ray then restarts where it
 // enters the bounds. That first evaluation doubles as the first step of the march.
-// step_cap: params.max_steps, or FIPR's smaller budget for peripheral pixels (whose rays stopping
-// at it are not counted as capped: stopping early is what they are for).
-TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool refine_hit, uint step_cap) {
+// step_cap: params.max_steps, or FIPR's budget for peripheral pixels; count_capped: whether a ray
+// stopped by it counts in capped_rays (not FIPR's peripheral rays: stopping early is their purpose).
+TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool refine_hit, uint step_cap,
+                         bool count_capped) {
   TraceResult result;
   result.steps = 0u;
   result.distance = 0.0;
@@ -140,15 +157,11 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
       // point then depends far less on where the march started, so IPR and GT shade the same point
       // (thin detail such as flutes otherwise shades differently within the epsilon band). Depth
       // levels keep the unrefined, slightly conservative distance.
-      if (refine_hit && result.steps < step_cap) {
-        t += sample_.x;
-        sample_ = scene_map(ray.origin + t * ray.direction);
-        result.steps += 1u;
-      }
       result.t = t;
       result.outcome = OUTCOME_HIT;
       result.distance = sample_.x;
       result.material_id = sample_.y;
+      if (refine_hit) fovlab_refine_hit(ray, result, step_cap);
       return result;
     }
     t += sample_.x;
@@ -158,7 +171,7 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
   vec2 final_sample = scene_map(ray.origin + t * ray.direction);
   result.distance = final_sample.x;
   result.material_id = final_sample.y;
-  if (step_cap == params.max_steps) atomicAdd(capped_rays, 1u);
+  if (count_capped) atomicAdd(capped_rays, 1u);
   return result;
 }
 
@@ -203,63 +216,18 @@ float fovlab_depth_to_pass_on(TraceResult result) {
   return result.outcome == OUTCOME_MISS ? MISS_DEPTH : result.t;
 }
 
-// FIPR: whether the unmasked pixels under a mid-level pixel get a new colour this frame. Refresh
-// periods are staggered over the mid level: period 2 in a checkerboard, period 4 in 2x2 blocks, so
-// each frame refreshes an even spread of 1/2 or 1/4 of the periphery.
-bool fovlab_refresh_due(uvec2 mid_pixel) {
-  if ((params.flags & FLAG_ALL_DUE) != 0u || params.refresh_period <= 1u) return true;
-  uint phase = params.refresh_period == 2u ? ((mid_pixel.x + mid_pixel.y) & 1u)
-                                           : ((mid_pixel.x & 1u) | ((mid_pixel.y & 1u) << 1));
-  return phase == params.frame_index % params.refresh_period;
-}
-
-// One hit point shaded from one ray (the refining step of fovlab_trace, done here for a ray whose
-// depth was kept unrefined).
-vec3 fovlab_refine_and_shade(Ray ray, TraceResult result, float epsilon_per_unit_t) {
-  if (result.outcome == OUTCOME_HIT) {
-    result.t += result.distance;
-    vec2 refined = scene_map(ray.origin + result.t * ray.direction);
-    result.distance = refined.x;
-    result.material_id = refined.y;
-  }
-  return fovlab_shade(ray, result, epsilon_per_unit_t);
-}
-
-// FIPR: the mid level's colour at a full-resolution pixel, bilinearly interpolated. Mid pixels
-// never shaded in this sequence (alpha 0: all their children were traced at the top level) are left
-// out and the weights renormalised; the pixel's own parent was just shaded, so one tap always counts.
-vec3 fovlab_upsampled_mid_colour(uvec2 pixel) {
-  vec2 position = (vec2(pixel) + 0.5) * 0.5 - 0.5;  // in mid-level pixel centres
-  ivec2 base = ivec2(floor(position));
-  vec2 f = position - vec2(base);
-  ivec2 last = ivec2(params.start_size) - 1;
-  vec3 sum = vec3(0.0);
-  float weight_sum = 0.0;
-  for (int j = 0; j <= 1; ++j) {
-    for (int i = 0; i <= 1; ++i) {
-      ivec2 tap = clamp(base + ivec2(i, j), ivec2(0), last);
-      vec4 value = mid_colour[tap.y * int(params.start_size.x) + tap.x];
-      float weight = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y) * value.a;
-      sum += weight * value.rgb;
-      weight_sum += weight;
-    }
-  }
-  if (weight_sum > 0.0) return sum / weight_sum;
-  uvec2 parent = pixel / 2u;
-  return mid_colour[parent.y * params.start_size.x + parent.x].rgb;
-}
-
 void fovlab_foveated_mid(uvec2 pixel, uint index, float t_start, vec2 centre_px, float scale) {
   bool need_depth = false;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
+  int radius = params.min_filter_radius;
+  for (int dy = -radius; dy <= radius; ++dy) {
+    for (int dx = -radius; dx <= radius; ++dx) {
       uvec2 neighbour = uvec2(clamp(ivec2(pixel) + ivec2(dx, dy), ivec2(0), ivec2(params.level_size) - 1));
       need_depth = need_depth || (mask_values[neighbour.y * params.level_size.x + neighbour.x] & 15u) != 0u;
     }
   }
   uint flags_here = mask_values[index];
-  uint unmasked_children = (flags_here >> 4) - (flags_here & 15u);
-  bool refresh_children = unmasked_children > 0u && fovlab_refresh_due(pixel);
+  uint unmasked_children = ((flags_here >> 4) & 15u) - (flags_here & 15u);
+  bool refresh_children = unmasked_children > 0u && (flags_here & MID_FLAG_DUE) != 0u;
   bool need_shade = refresh_children && params.periphery_steps == 0u;
   if (!need_depth && !refresh_children) {
     level_depth[index] = t_start;  // conservative: in front of every surface the parent saw
@@ -269,37 +237,39 @@ void fovlab_foveated_mid(uvec2 pixel, uint index, float t_start, vec2 centre_px,
   float pixel_angle_rad;
   Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
   float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
-  TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, false, params.max_steps);
+  TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, false, params.max_steps, true);
   level_depth[index] = fovlab_depth_to_pass_on(result);
   atomicAdd(mid_traced_pixels, 1u);
-  uint steps = result.steps;
   if (need_shade) {
-    level_colour[index] = vec4(fovlab_refine_and_shade(ray, result, epsilon_per_unit_t), 1.0);
-    steps += result.outcome == OUTCOME_HIT ? 1u : 0u;
+    fovlab_refine_hit(ray, result, params.max_steps);
+    // Alpha stamps the frame (+1; 0: never shaded), so the reconstruction can tell stale taps.
+    level_colour[index] = vec4(fovlab_shade(ray, result, epsilon_per_unit_t), float(params.frame_index + 1u));
     atomicAdd(mid_shaded_pixels, 1u);
   }
   if (refresh_children) atomicAdd(refreshed_pixels, unmasked_children);
-  level_steps[index] = steps;
+  level_steps[index] = result.steps;
 }
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, params.level_size))) return;
-  uint index = pixel.y * params.level_size.x + pixel.x;
+  uint index;
+  if ((params.flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP)) != 0u) {
+    uint slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    if (slot >= ((params.flags & FLAG_MASKED_LIST) != 0u ? masked_pixels : refresh_list_pixels)) return;
+    index = mask_values[slot];
+    pixel = uvec2(index % params.level_size.x, index / params.level_size.x);
+  } else {
+    if (any(greaterThanEqual(pixel, params.level_size))) return;
+    index = pixel.y * params.level_size.x + pixel.x;
+  }
 
-  if ((params.flags & FLAG_FOVEATED_TOP) != 0u && mask_values[index] == 0u) {
-    level_steps[index] = 0u;
-    if (!fovlab_refresh_due(pixel / 2u)) return;
-    if (params.periphery_steps == 0u) {
-      level_colour[index] = vec4(fovlab_upsampled_mid_colour(pixel), 1.0);
-      return;
-    }
+  if ((params.flags & FLAG_FOVEATED_TOP) != 0u) {
     uvec2 parent = min(pixel / 2u, params.start_size - 1u);
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(vec2(pixel) + 0.5, pixel_angle_rad);
     float epsilon_per_unit_t = pixel_angle_rad * params.hit_threshold;
     TraceResult result = fovlab_trace(ray, start_depth[parent.y * params.start_size.x + parent.x], epsilon_per_unit_t,
-                                      true, params.periphery_steps);
+                                      true, params.periphery_steps, false);
     level_colour[index] = vec4(fovlab_shade(ray, result, epsilon_per_unit_t), 1.0);
     level_steps[index] = result.steps;
     return;
@@ -320,7 +290,7 @@ void main() {
   if ((params.flags & FLAG_SHADE) == 0u) {
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
-    TraceResult result = fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps);
+    TraceResult result = fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true);
     level_depth[index] = fovlab_depth_to_pass_on(result);
     level_steps[index] = result.steps;
     return;
@@ -333,7 +303,7 @@ void main() {
     Ray ray = fovlab_camera_ray(centre_px + fovlab_sample_offset(s, params.samples_per_pixel) * scale,
                                 pixel_angle_rad);
     float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
-    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, true, params.max_steps);
+    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, true, params.max_steps, true);
     steps += result.steps;
     colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);
   }

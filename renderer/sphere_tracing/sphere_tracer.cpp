@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <sstream>
 #include <string>
 
 #include "core/input_error.h"
@@ -21,12 +22,14 @@ constexpr uint32_t kFlagShade = 1;
 constexpr uint32_t kFlagHasStart = 2;
 constexpr uint32_t kFlagFoveatedMid = 4;
 constexpr uint32_t kFlagFoveatedTop = 8;
-constexpr uint32_t kFlagAllDue = 16;
+constexpr uint32_t kFlagMaskedList = 32;
 constexpr uint32_t kMaskFlagTraceAll = 1;
+constexpr uint32_t kMaskFlagAllDue = 2;
+constexpr uint32_t kMaskFlagListRefresh = 4;
 constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (its eccentricities are ~90 degrees)
 
 // Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
-enum Counter : uint32_t { capped, restarted, masked, mid_traced, mid_shaded, refreshed, counter_count };
+enum Counter : uint32_t { capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, counter_count };
 constexpr int kMaxFrameSide = 16384;
 constexpr uint64_t kMaxSamplesPerFrame = uint64_t{1} << 28;  // keeps buffers and one submit bounded
 
@@ -41,9 +44,9 @@ struct TraceParams {
   uint32_t max_steps;
   uint32_t level_scale;
   uint32_t flags;
-  uint32_t refresh_period;
   uint32_t frame_index;
   uint32_t periphery_steps;
+  int32_t min_filter_radius;
 };
 
 // Must match EdgeParams in depth_edges.comp.glsl.
@@ -67,6 +70,15 @@ struct MaskParams {
   uint32_t seed;
   uint32_t frame_index;
   uint32_t flags;
+  uint32_t refresh_period;
+};
+
+// Must match ReconstructParams in fipr_reconstruct.comp.glsl.
+struct ReconstructParams {
+  uint32_t frame_size[2];
+  uint32_t mid_size[2];
+  uint32_t refresh_period;
+  uint32_t frame_index;
 };
 
 // Must match BlurParams in masked_blur.comp.glsl.
@@ -100,7 +112,11 @@ struct SphereTracer::FrameBuffers {
   int level_count = 0;
   bool filtered = false;
   bool foveated = false;
-  bool history_valid = false;  // FIPR: `colour` holds the last FIPR frame of this layout
+  // FIPR: `colour` and `mid_colour` hold the frame `history_index` of a sequence rendered with
+  // `history_key`; the next frame may reuse them only if it continues that sequence.
+  bool history_valid = false;
+  uint32_t history_index = 0;
+  std::string history_key;
   std::vector<LevelBuffers> levels;  // bottom (coarsest) first
   vk::Buffer colour;
   vk::Buffer colour_readback;
@@ -111,6 +127,9 @@ struct SphereTracer::FrameBuffers {
   vk::Buffer edges;           // low level: 0 or 1
   vk::Buffer mask;            // full resolution: 0 or 1
   vk::Buffer mask_readback;
+  vk::Buffer masked_list;     // full-resolution pixel indices of the masked pixels (the first counters[masked])
+  vk::Buffer refresh_list;    // and of the unmasked pixels due for a refresh, when the periphery is traced
+  vk::Buffer list_dispatch;   // workgroup counts of the top level's passes over the two lists
   vk::Buffer mid_flags;       // mid level: masked children | children << 4
   vk::Buffer mid_colour;      // mid level: shaded colour of pixels due for a refresh
   vk::Buffer blurred;         // full resolution: pass 5's output
@@ -145,6 +164,9 @@ struct SphereTracer::FrameBuffers {
     edges = vk::Buffer(context, pixels_of(levels[0].stats) * sizeof(uint32_t), vk::MemoryUse::device_local);
     mask = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     mask_readback = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
+    masked_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
+    refresh_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
+    list_dispatch = vk::Buffer(context, 6 * sizeof(uint32_t), vk::MemoryUse::device_local);
     mid_flags = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     mid_colour = vk::Buffer(context, mid_pixels * 4 * sizeof(float), vk::MemoryUse::device_local);
     blurred = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
@@ -242,11 +264,14 @@ void validate(const SphereTraceSettings& settings) {
 SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
   CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source});
   shader_from_cache_ = trace.from_cache;
-  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 7, sizeof(TraceParams));
+  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 6, sizeof(TraceParams));
   min_filter_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2,
                                                                sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
-  mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 4, sizeof(MaskParams));
+  mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 6, sizeof(MaskParams));
+  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_list_dispatch_spirv, 2, 0);
+  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
+                                                                sizeof(ReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
 }
 
@@ -254,8 +279,21 @@ SphereTracer::~SphereTracer() = default;
 
 namespace {
 
+// Everything a FIPR frame's reusable pixels depend on, except gaze, scene time and frame index.
+std::string history_key_of(const SphereTraceSettings& s) {
+  const FoveationSettings& f = s.foveation;
+  std::ostringstream key;
+  key.precision(17);
+  key << s.samples_per_pixel << ' ' << s.pyramid_levels << ' ' << s.min_filter_size << ' ' << s.max_steps << ' '
+      << s.hit_threshold << ' ' << f.display.width_mm << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm
+      << ' ' << f.acuity.fovea_deg << ' ' << f.acuity.outer_periphery_deg << ' ' << static_cast<uint32_t>(f.combine)
+      << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed;
+  return key.str();
+}
+
 // The mask pass's constants: display, gaze and acuity model in the shader's float terms.
-MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelStats& low, const PyramidLevelStats& mid) {
+MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelStats& low, const PyramidLevelStats& mid,
+                       bool all_due) {
   const FoveationSettings& f = settings.foveation;
   MaskParams params{};
   params.frame_size[0] = static_cast<uint32_t>(settings.width);
@@ -279,6 +317,9 @@ MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelSt
   params.outer_periphery_deg = static_cast<float>(std::min(f.acuity.outer_periphery_deg, 1e9));
   params.seed = f.seed;
   params.frame_index = f.frame_index;
+  params.refresh_period = static_cast<uint32_t>(f.periphery_refresh);
+  if (all_due) params.flags |= kMaskFlagAllDue;
+  if (f.periphery_steps > 0) params.flags |= kMaskFlagListRefresh;
   return params;
 }
 
@@ -305,15 +346,20 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   FrameBuffers& frame = *frame_;
   std::vector<LevelBuffers>& levels = frame.levels;
   const FoveationSettings& fov = settings.foveation;
-  const bool all_due = !frame.history_valid || fov.frame_index == 0;
+  // A frame continues the sequence in the buffers only if it is the next one, with the same settings
+  // (all but gaze, scene time and frame index); otherwise every pixel is refreshed.
+  const std::string history_key = foveated ? history_key_of(settings) : std::string();
+  const bool all_due = !frame.history_valid || fov.frame_index == 0 || fov.frame_index != frame.history_index + 1 ||
+                       history_key != frame.history_key;
   const int mid_index = level_count - 2;
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 3));
+  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 6));
   timer.reset(cmd);
   vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   if (foveated && all_due) vkCmdFillBuffer(cmd, frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
+  if (foveated) vkCmdFillBuffer(cmd, levels.back().steps.handle(), 0, VK_WHOLE_SIZE, 0);  // pixels not traced: 0
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
@@ -326,13 +372,20 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     edges_pipeline_->dispatch_2d(cmd, edge_buffers, &edge_params, edge_params.size[0], edge_params.size[1]);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
-    const MaskParams params = mask_params(settings, low, levels[size_t(mid_index)].stats);
+    const MaskParams params = mask_params(settings, low, levels[size_t(mid_index)].stats, all_due);
     const VkBuffer mask_buffers[] = {frame.edges.handle(), frame.mask.handle(), frame.mid_flags.handle(),
-                                     frame.counters.handle()};
+                                     frame.counters.handle(), frame.masked_list.handle(), frame.refresh_list.handle()};
     timer.begin(cmd, "foveation_mask");
     mask_pipeline_->dispatch_2d(cmd, mask_buffers, &params, params.mid_size[0], params.mid_size[1]);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
+    const VkBuffer dispatch_buffers[] = {frame.counters.handle(), frame.list_dispatch.handle()};
+    timer.begin(cmd, "list_dispatch");
+    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, nullptr, 1, 1);
+    timer.end(cmd);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
   };
 
   const vk::Buffer* start = nullptr;  // start depth for the current level (the filtered level below)
@@ -355,16 +408,49 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     params.max_steps = static_cast<uint32_t>(settings.max_steps);
     params.level_scale = static_cast<uint32_t>(level.stats.scale);
     params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
-                   (foveated_top ? kFlagFoveatedTop : 0u) | (foveated && all_due ? kFlagAllDue : 0u);
-    params.refresh_period = static_cast<uint32_t>(fov.periphery_refresh);
+                   (foveated_top ? kFlagFoveatedTop : 0u);
     params.frame_index = fov.frame_index;
     params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
+    params.min_filter_radius = filter_radius;
     const VkBuffer colour_target = top ? frame.colour.handle() : foveated_mid ? frame.mid_colour.handle() : frame.unused.handle();
     const VkBuffer mask_input = foveated_top ? frame.mask.handle() : foveated_mid ? frame.mid_flags.handle() : frame.unused.handle();
     const VkBuffer buffers[] = {start ? start->handle() : frame.unused.handle(),
                                 top ? frame.unused.handle() : level.depth.handle(), level.steps.handle(),
-                                colour_target, frame.counters.handle(), mask_input,
-                                foveated_top ? frame.mid_colour.handle() : frame.unused.handle()};
+                                colour_target, frame.counters.handle(), mask_input};
+    if (foveated_top) {
+      // Masked pixels first, densely from their list; then the rest of the frame (reconstruction).
+      // The two passes write disjoint pixels (mask 1, mask 0), so neither waits for the other.
+      TraceParams list_params = params;
+      list_params.flags = (params.flags & ~kFlagFoveatedTop) | kFlagMaskedList;
+      const VkBuffer list_buffers[] = {buffers[0], buffers[1], buffers[2], buffers[3], buffers[4],
+                                       frame.masked_list.handle()};
+      timer.begin(cmd, "trace_level" + std::to_string(i));
+      trace_pipeline_->dispatch_indirect(cmd, list_buffers, &list_params, frame.list_dispatch.handle(), 0);
+      timer.end(cmd);
+      if (fov.periphery_steps > 0) {
+        TraceParams periphery_params = params;
+        periphery_params.samples_per_pixel = 1;  // one ray per peripheral pixel (also its texture footprint)
+        const VkBuffer refresh_buffers[] = {buffers[0], buffers[1], buffers[2], buffers[3], buffers[4],
+                                            frame.refresh_list.handle()};
+        timer.begin(cmd, "periphery_trace");
+        trace_pipeline_->dispatch_indirect(cmd, refresh_buffers, &periphery_params, frame.list_dispatch.handle(),
+                                           3 * sizeof(uint32_t));
+        timer.end(cmd);
+      } else {
+        const PyramidLevelStats& mid = levels[size_t(mid_index)].stats;
+        ReconstructParams reconstruct{{params.level_size[0], params.level_size[1]},
+                                      {uint32_t(mid.width), uint32_t(mid.height)},
+                                      static_cast<uint32_t>(fov.periphery_refresh), params.frame_index};
+        const VkBuffer reconstruct_buffers[] = {frame.mask.handle(), frame.mid_flags.handle(), frame.mid_colour.handle(),
+                                                frame.colour.handle()};
+        timer.begin(cmd, "reconstruct");
+        reconstruct_pipeline_->dispatch_2d(cmd, reconstruct_buffers, &reconstruct, params.level_size[0],
+                                           params.level_size[1]);
+        timer.end(cmd);
+      }
+      vk::compute_to_compute_barrier(cmd);
+      break;
+    }
     timer.begin(cmd, "trace_level" + std::to_string(i));
     trace_pipeline_->dispatch_2d(cmd, buffers, &params, params.level_size[0], params.level_size[1]);
     timer.end(cmd);
@@ -404,12 +490,16 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   };
   copy(*shown, frame.colour_readback);
   copy(frame.counters, frame.counters_readback);
-  if (foveated) copy(frame.mask, frame.mask_readback);
-  for (const LevelBuffers& level : levels) copy(level.steps, level.steps_readback);
+  if (!settings.colour_only) {
+    if (foveated) copy(frame.mask, frame.mask_readback);
+    for (const LevelBuffers& level : levels) copy(level.steps, level.steps_readback);
+  }
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                      VK_ACCESS_HOST_READ_BIT);
   commands.submit_and_wait();
-  frame.history_valid = foveated;  // GT and IPR overwrite the colour buffer FIPR keeps
+  frame.history_valid = foveated;  // (a GT or IPR frame has its own layout: changing method resets history)
+  frame.history_index = fov.frame_index;
+  frame.history_key = history_key;
 
   SphereTraceResult result;
   result.passes = timer.results();
@@ -431,6 +521,8 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     result.foveation.masked_pixels = counter_values[masked];
     result.foveation.refreshed_pixels = counter_values[refreshed];
     result.foveation.kept_pixels = frame_pixels - counter_values[masked] - counter_values[refreshed];
+  }
+  if (foveated && !settings.colour_only) {
     frame.mask_readback.invalidate();
     const auto* mask = static_cast<const uint32_t*>(frame.mask_readback.mapped());
     result.mask = Image(settings.width, settings.height, 1);
@@ -439,7 +531,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
   // Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
   // per-pixel image sums to total_steps.
-  result.steps_per_pixel = Image(settings.width, settings.height, 1);
+  if (!settings.colour_only) result.steps_per_pixel = Image(settings.width, settings.height, 1);
   for (int i = 0; i < level_count; ++i) {
     const LevelBuffers& level = levels[size_t(i)];
     PyramidLevelStats stats = level.stats;
@@ -448,10 +540,17 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     const bool top = i + 1 == level_count;
     stats.traced_pixels = level_pixels;
     stats.shaded_pixels = top ? level_pixels : 0;
-    if (foveated && top) stats.traced_pixels = stats.shaded_pixels = counter_values[masked];
+    if (foveated && top) {  // the masked pixels, and the periphery's refresh list when it is traced
+      stats.traced_pixels = stats.shaded_pixels =
+          counter_values[masked] + (fov.periphery_steps > 0 ? counter_values[refresh_listed] : 0u);
+    }
     if (foveated && i == mid_index) {
       stats.traced_pixels = counter_values[mid_traced];
       stats.shaded_pixels = counter_values[mid_shaded];
+    }
+    if (settings.colour_only) {
+      result.levels.push_back(stats);
+      continue;
     }
     level.steps_readback.invalidate();
     const auto* steps = static_cast<const uint32_t*>(level.steps_readback.mapped());

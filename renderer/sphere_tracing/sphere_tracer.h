@@ -3,7 +3,8 @@
 // inverted pyramid (IPR, seed 000 section 3.1/3.2.4: each level starts its rays at the min-filtered
 // depth of the level below; only the top level shades) and its foveated form (FIPR, section 3.2:
 // Sobel edges of the low level and the acuity model choose the pixels traced at the top level; the
-// rest take the mid level's colour, refreshed every 1st, 2nd or 4th frame; optional masked blur).
+// rest take the mid level's colour, or one traced ray, refreshed every 1st, 2nd or 4th frame;
+// optional masked blur). docs/foveation.md.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -57,6 +58,7 @@ struct SphereTraceSettings {
   int max_steps = 256;         // step cap of one ray at one level
   float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
   FoveationSettings foveation;  // FIPR only
+  bool colour_only = false;     // read back the colour only (live frames of a session): no steps, no mask
 };
 
 // Validates sizes and options; throws InputError naming the flag and what was expected.
@@ -76,19 +78,19 @@ struct PyramidLevelStats {
 // FIPR's frame at a glance.
 struct FoveationStats {
   uint64_t masked_pixels = 0;     // traced at the top level
-  uint64_t refreshed_pixels = 0;  // unmasked pixels given the mid level's new colour this frame
+  uint64_t refreshed_pixels = 0;  // unmasked pixels given a new colour this frame (mid level's, or traced)
   uint64_t kept_pixels = 0;       // unmasked pixels that kept last frame's colour (refresh 2 and 4)
 };
 
 struct SphereTraceResult {
   Image colour_linear;        // RGB, linear light
-  Image steps_per_pixel;      // 1 channel: the pixel's own steps plus its share of the levels below
+  Image steps_per_pixel;      // 1 channel: the pixel's own steps plus its share of the levels below (empty: colour_only)
   uint64_t total_steps = 0;
   uint64_t capped_rays = 0;     // rays stopped by max_steps before a hit or leaving the bounds
   uint64_t restarted_rays = 0;  // IPR rays whose start depth was inside geometry, restarted at the bounds
   std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT has one
   FoveationStats foveation;               // FIPR only
-  Image mask;                             // FIPR only: 1 channel, 1 where traced at the top level
+  Image mask;                             // FIPR only (not colour_only): 1 channel, 1 where traced at the top level
   std::vector<vk::PassTime> passes;
   double gpu_ms = 0.0;        // sum of the passes
 
@@ -115,6 +117,8 @@ class SphereTracer {
   std::unique_ptr<vk::ComputePipeline> min_filter_pipeline_;
   std::unique_ptr<vk::ComputePipeline> edges_pipeline_;
   std::unique_ptr<vk::ComputePipeline> mask_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> list_dispatch_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> reconstruct_pipeline_;
   std::unique_ptr<vk::ComputePipeline> blur_pipeline_;
   std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered (FIPR: its history)
 };

@@ -71,9 +71,9 @@ void ComputePipeline::release() {
 
 ComputePipeline::~ComputePipeline() { release(); }
 
-void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
-                                  const void* push_constants, uint32_t width, uint32_t height) const {
-  if (buffers.size() != storage_buffer_count_) throw std::logic_error("dispatch_2d: wrong number of buffers");
+void ComputePipeline::bind(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
+                           const void* push_constants) const {
+  if (buffers.size() != storage_buffer_count_) throw std::logic_error("dispatch: wrong number of buffers");
   std::vector<VkDescriptorBufferInfo> infos(buffers.size());
   std::vector<VkWriteDescriptorSet> writes(buffers.size());
   for (uint32_t i = 0; i < buffers.size(); ++i) {
@@ -90,7 +90,18 @@ void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBu
   if (push_constant_bytes_) {
     vkCmdPushConstants(commands, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes_, push_constants);
   }
+}
+
+void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
+                                  const void* push_constants, uint32_t width, uint32_t height) const {
+  bind(commands, buffers, push_constants);
   vkCmdDispatch(commands, (width + kWorkgroupSize - 1) / kWorkgroupSize, (height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
+}
+
+void ComputePipeline::dispatch_indirect(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
+                                        const void* push_constants, VkBuffer arguments, VkDeviceSize offset) const {
+  bind(commands, buffers, push_constants);
+  vkCmdDispatchIndirect(commands, arguments, offset);
 }
 
 }  // namespace fovlab::vk

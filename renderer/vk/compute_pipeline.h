@@ -22,8 +22,13 @@ class ComputePipeline {
   // and dispatches enough 8x8 workgroups to cover width x height invocations.
   void dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants,
                    uint32_t width, uint32_t height) const;
+  // The same, with the workgroup counts (three uint32) read by the device from `arguments` at
+  // `offset` when the dispatch runs (written by an earlier pass; see memory_barrier for the wait).
+  void dispatch_indirect(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants,
+                         VkBuffer arguments, VkDeviceSize offset) const;
 
  private:
+  void bind(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants) const;
   void release();
   const Context& context_;
   uint32_t storage_buffer_count_;

@@ -38,6 +38,12 @@ bool all_finite(const Image& image) {
   return std::all_of(image.pixels.begin(), image.pixels.end(), [](float v) { return std::isfinite(v); });
 }
 
+bool colour_differs(const Image& a, const Image& b, int x, int y) {
+  for (int c = 0; c < 3; ++c)
+    if (a.at(x, y, c) != b.at(x, y, c)) return true;
+  return false;
+}
+
 double mask_sum(const SphereTraceResult& result) {
   return std::accumulate(result.mask.pixels.begin(), result.mask.pixels.end(), 0.0);
 }
@@ -179,12 +185,14 @@ TEST_F(VulkanTest, ExtremeDisplaysKeepTheFoveaAtTheGazeAndEveryPixelFinite) {
   }
 }
 
-// Refresh 4: frame 0 refreshes everything; later frames give a new mid-level colour to a quarter of
-// the unmasked pixels (one 2x2 phase of the mid level) and every other unmasked pixel keeps the
-// colour it had, bit for bit.
-TEST_F(VulkanTest, PeripheryRefreshKeepsPixelsThatAreNotDue) {
-  SphereTracer tracer(context(), load_scene("primitives"));
+// Refresh 4 with a moving camera: frame 0 refreshes everything; later frames give a new colour to the
+// unmasked pixels of one phase of the 2x2 pattern of 16x16-pixel tiles (and they change), and every
+// other unmasked pixel keeps the colour it had, bit for bit.
+void check_periphery_refresh(vk::Context& context, int periphery_steps) {
+  SCOPED_TRACE("periphery_steps " + std::to_string(periphery_steps));
+  SphereTracer tracer(context, load_scene("primitives"));
   SphereTraceSettings settings = fipr_frame();
+  settings.foveation.periphery_steps = periphery_steps;
   settings.foveation.periphery_refresh = 4;
   SphereTraceSettings reference = settings;
   reference.foveation.periphery_refresh = 1;
@@ -194,28 +202,54 @@ TEST_F(VulkanTest, PeripheryRefreshKeepsPixelsThatAreNotDue) {
   EXPECT_EQ(first.foveation.kept_pixels, 0u);
 
   SphereTraceResult previous = first;
+  uint64_t kept_in_cycle = 0, refreshed_in_cycle = 0;
   for (uint32_t frame = 1; frame < 6; ++frame) {
     settings.foveation.frame_index = frame;
+    settings.time_s = 0.25f * float(frame);  // the camera moves: refreshed pixels change
     const SphereTraceResult result = tracer.render(settings);
-    uint64_t kept = 0;
+    uint64_t kept = 0, due_changed = 0;
     for (int y = 0; y < settings.height; ++y) {
       for (int x = 0; x < settings.width; ++x) {
         if (result.mask.at(x, y, 0) != 0.0f) continue;
-        const uint32_t phase = uint32_t((x / 2) & 1) | (uint32_t((y / 2) & 1) << 1);
-        if (phase == frame % 4) continue;
+        const uint32_t phase = uint32_t((x / 16) & 1) | (uint32_t((y / 16) & 1) << 1);  // 16x16-pixel tiles
+        if (phase == frame % 4) {
+          due_changed += colour_differs(result.colour_linear, previous.colour_linear, x, y);
+          continue;
+        }
         ++kept;
         for (int c = 0; c < 3; ++c) ASSERT_EQ(result.colour_linear.at(x, y, c), previous.colour_linear.at(x, y, c));
       }
     }
     EXPECT_EQ(kept, result.foveation.kept_pixels);
+    EXPECT_GT(result.foveation.refreshed_pixels, 0u);
+    EXPECT_GT(due_changed, result.foveation.refreshed_pixels / 4) << "refreshed pixels show the moved camera";
     EXPECT_EQ(result.foveation.masked_pixels + result.foveation.refreshed_pixels + result.foveation.kept_pixels,
               uint64_t(settings.width * settings.height));
-    EXPECT_GT(kept, 2 * result.foveation.refreshed_pixels) << "about three quarters of the periphery is kept";
+    if (frame <= 4) {  // one whole cycle: every tile refreshed once
+      kept_in_cycle += kept;
+      refreshed_in_cycle += result.foveation.refreshed_pixels;
+    }
     previous = result;
   }
+  EXPECT_GT(kept_in_cycle, 2 * refreshed_in_cycle) << "about three quarters of the periphery is kept";
   settings.foveation.frame_index = 0;
+  settings.time_s = 0.0f;
   EXPECT_EQ(tracer.render(settings).colour_linear.pixels, all_refreshed.colour_linear.pixels)
       << "frame 0 starts a new sequence";
+  // Skipping a frame, or changing a setting, also starts one (no reuse of the wrong history).
+  settings.foveation.frame_index = 1;
+  const SphereTraceResult continued = tracer.render(settings);
+  EXPECT_GT(continued.foveation.kept_pixels, 0u);
+  settings.foveation.frame_index = 3;
+  EXPECT_EQ(tracer.render(settings).foveation.kept_pixels, 0u) << "frame 3 after frame 1";
+  settings.foveation.frame_index = 4;
+  settings.foveation.seed += 1;
+  EXPECT_EQ(tracer.render(settings).foveation.kept_pixels, 0u) << "another seed";
+}
+
+TEST_F(VulkanTest, PeripheryRefreshKeepsPixelsThatAreNotDue) {
+  check_periphery_refresh(context(), 0);    // from the mid level
+  check_periphery_refresh(context(), 256);  // traced from the mid depth, from the refresh list
 }
 
 // The blur changes only pixels filled from the mid level, and only next to top-level pixels.
@@ -229,9 +263,7 @@ TEST_F(VulkanTest, MaskedBlurTouchesOnlyTransitionPixels) {
   int changed = 0;
   for (int y = 0; y < settings.height; ++y) {
     for (int x = 0; x < settings.width; ++x) {
-      bool differs = false;
-      for (int c = 0; c < 3; ++c) differs = differs || sharp.colour_linear.at(x, y, c) != blurred.colour_linear.at(x, y, c);
-      if (!differs) continue;
+      if (!colour_differs(sharp.colour_linear, blurred.colour_linear, x, y)) continue;
       ++changed;
       ASSERT_EQ(sharp.mask.at(x, y, 0), 0.0f) << "a top-level pixel was blurred at " << x << "," << y;
       bool near_top = false;
@@ -262,8 +294,7 @@ TEST_F(VulkanTest, PeripheryTracedInFullEqualsTheInvertedPyramid) {
   int differing = 0;
   for (int y = 0; y < settings.height; ++y) {
     for (int x = 0; x < settings.width; ++x) {
-      bool differs = false;
-      for (int c = 0; c < 3; ++c) differs = differs || from_mid.colour_linear.at(x, y, c) != ipr.colour_linear.at(x, y, c);
+      const bool differs = colour_differs(from_mid.colour_linear, ipr.colour_linear, x, y);
       if (from_mid.mask.at(x, y, 0) != 0.0f) {
         ASSERT_FALSE(differs) << "a top-level pixel at " << x << "," << y;
       }
@@ -281,7 +312,8 @@ TEST_F(VulkanTest, FoveatedStatisticsAddUp) {
   SphereTraceSettings settings = fipr_frame(160, 90);
   const SphereTraceResult fipr = tracer.render(settings);
   ASSERT_EQ(fipr.levels.size(), 3u);
-  EXPECT_EQ(fipr.levels[2].traced_pixels, fipr.foveation.masked_pixels);
+  EXPECT_EQ(fipr.levels[2].traced_pixels, uint64_t(mask_sum(fipr)));
+  EXPECT_EQ(fipr.foveation.masked_pixels, uint64_t(mask_sum(fipr)));
   EXPECT_LE(fipr.levels[1].traced_pixels, uint64_t(fipr.levels[1].width * fipr.levels[1].height));
   EXPECT_EQ(fipr.levels[0].traced_share(), 1.0);
   EXPECT_EQ(fipr.foveation.masked_pixels + fipr.foveation.refreshed_pixels, uint64_t(160 * 90));
@@ -289,8 +321,47 @@ TEST_F(VulkanTest, FoveatedStatisticsAddUp) {
   for (const vk::PassTime& pass : fipr.passes) pass_names.push_back(pass.name);
   EXPECT_NE(std::find(pass_names.begin(), pass_names.end(), "sobel_edges"), pass_names.end());
   EXPECT_NE(std::find(pass_names.begin(), pass_names.end(), "foveation_mask"), pass_names.end());
+  SphereTraceSettings traced = settings;
+  traced.foveation.periphery_steps = 256;
+  const SphereTraceResult traced_periphery = tracer.render(traced);
+  EXPECT_EQ(traced_periphery.levels[2].traced_pixels, uint64_t(160 * 90)) << "frame 0: the periphery is traced too";
+  EXPECT_EQ(traced_periphery.levels[1].shaded_pixels, 0u) << "and the mid level shades nothing";
   settings.method = TraceMethod::inverted_pyramid;
   EXPECT_LT(fipr.total_steps, tracer.render(settings).total_steps);
+}
+
+// Other layouts: an odd frame size, four pyramid levels, a 5x5 min filter and 4 samples per pixel.
+// The masked pixels are IPR's pixels exactly (their start depths are the same), whether the
+// periphery comes from the mid level or is traced, and every pixel is finite.
+TEST_F(VulkanTest, OddSizesDeeperPyramidsAndWiderFiltersKeepMaskedPixelsExact) {
+  SphereTracer tracer(context(), load_scene("columns"));
+  for (const auto& [levels, filter] : {std::pair{4, 5}, {3, 1}, {5, 3}}) {
+    SphereTraceSettings settings = fipr_frame(97, 61);
+    settings.pyramid_levels = levels;
+    settings.min_filter_size = filter;
+    settings.samples_per_pixel = 4;
+    settings.method = TraceMethod::inverted_pyramid;
+    const SphereTraceResult ipr = tracer.render(settings);
+    settings.method = TraceMethod::foveated_pyramid;
+    for (int periphery_steps : {0, 256}) {
+      settings.foveation.periphery_steps = periphery_steps;
+      const SphereTraceResult fipr = tracer.render(settings);
+      ASSERT_TRUE(all_finite(fipr.colour_linear));
+      ASSERT_EQ(fipr.levels.size(), size_t(levels));
+      int masked = 0;
+      for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+          if (fipr.mask.at(x, y, 0) == 0.0f) continue;
+          ++masked;
+          for (int c = 0; c < 3; ++c) {
+            ASSERT_EQ(fipr.colour_linear.at(x, y, c), ipr.colour_linear.at(x, y, c))
+                << "levels " << levels << " filter " << filter << " pixel " << x << "," << y;
+          }
+        }
+      }
+      EXPECT_GT(masked, 100);
+    }
+  }
 }
 
 TEST(FoveationSettingsValidation, BadSettingsNameTheirFlag) {
