@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   fovlab::app::add_export_command(app);
   fovlab::app::add_analyze_command(app);
   fovlab::app::add_rays_command(app);
+  fovlab::app::add_upsample_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -13,6 +13,7 @@ extern const std::span<const uint32_t> depth_edges_spirv;
 extern const std::span<const uint32_t> foveation_mask_spirv;
 extern const std::span<const uint32_t> masked_blur_spirv;
 extern const std::span<const uint32_t> fipr_reconstruct_spirv;
+extern const std::span<const uint32_t> upsample_spirv;
 extern const std::span<const uint32_t> masked_list_dispatch_spirv;
 extern const std::string_view sphere_trace_source;
 

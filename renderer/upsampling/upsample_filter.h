@@ -1,0 +1,32 @@
+#pragma once
+// Upsampling of the emulated foveated path tracer's zone buffers (seed 001 section 3.1): a buffer
+// of 1/4 or 1/16 the pixel count, made by nearest-neighbour decimation, is brought back to full
+// size by an integer factor per axis. This file holds the filters and the double-precision CPU
+// reference; renderer/upsampling/upsampler.h runs the same filter on the GPU. Definitions in
+// docs/foveated-path-tracing.md ("Upsampling").
+//
+// Sampling: output pixel x (centre x + 0.5) reads the input at u = (x + 0.5) / factor - 0.5 (in
+// input pixel centres), so the output covers exactly the input's extent. Taps outside the input
+// repeat its edge pixel (clamp). Weights are normalised to sum to 1 per output pixel and axis.
+// Lanczos-3 can ring: values are not clamped, so an output may leave the input's range by the
+// filter's overshoot (at most about 1.3 % of a step's height in 1-D); linear-light EXR keeps it.
+#include <optional>
+#include <string>
+
+#include "core/image.h"
+
+namespace fovlab {
+
+enum class UpsampleFilter { lanczos3, bilinear, nearest };
+
+const char* upsample_filter_name(UpsampleFilter filter);  // "lanczos3", "bilinear", "nearest"
+std::optional<UpsampleFilter> parse_upsample_filter(const std::string& name);
+
+// The 1-D kernel: Lanczos-3 L(t) = sinc(t) sinc(t / 3) for |t| < 3, else 0 (sinc(t) = sin(pi t) /
+// (pi t), 1 at 0); bilinear max(0, 1 - |t|); nearest 1 for -0.5 <= t < 0.5.
+double upsample_kernel(UpsampleFilter filter, double t);
+
+// Upsamples every channel of `image` by `factor` (1 to 8) along each axis, in double precision.
+Image upsample_reference(const Image& image, int factor, UpsampleFilter filter);
+
+}  // namespace fovlab

@@ -1,0 +1,103 @@
+#include "renderer/upsampling/upsampler.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "core/input_error.h"
+#include "renderer/shaders/embedded_shaders.h"
+#include "renderer/vk/buffer.h"
+#include "renderer/vk/compute_pipeline.h"
+#include "renderer/vk/context.h"
+#include "renderer/vk/submission.h"
+
+namespace fovlab {
+
+namespace {
+
+// Must match UpsampleParams in upsample.comp.glsl.
+struct UpsampleParams {
+  uint32_t source_size[2];
+  uint32_t target_size[2];
+  uint32_t factor;
+  uint32_t axis;
+  uint32_t filter_kind;
+};
+
+uint32_t filter_kind(UpsampleFilter filter) {
+  switch (filter) {
+    case UpsampleFilter::lanczos3: return 0;
+    case UpsampleFilter::bilinear: return 1;
+    case UpsampleFilter::nearest: return 2;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Upsampler::Upsampler(vk::Context& context)
+    : context_(context),
+      pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::upsample_spirv, 2, sizeof(UpsampleParams))) {}
+
+Upsampler::~Upsampler() = default;
+
+UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilter filter) {
+  if (factor < 1 || factor > 8) throw std::invalid_argument("Upsampler: factor must be 1 to 8");
+  if (image.channels < 1 || image.channels > 4 || image.width < 1 || image.height < 1)
+    throw std::invalid_argument("Upsampler: expected a non-empty image of 1 to 4 channels");
+  const uint32_t width = uint32_t(image.width), height = uint32_t(image.height), f = uint32_t(factor);
+  const VkDeviceSize texel = 4 * sizeof(float);
+  const VkDeviceSize source_bytes = VkDeviceSize(width) * height * texel;
+  const VkDeviceSize middle_bytes = VkDeviceSize(width) * f * height * texel;
+  const VkDeviceSize target_bytes = middle_bytes * f;
+  if (target_bytes > context_.max_storage_buffer_bytes) {
+    throw InputError("upsampled image of " + std::to_string(width * f) + "x" + std::to_string(height * f) +
+                     " pixels: expected at most " + std::to_string(context_.max_storage_buffer_bytes >> 20) +
+                     " MiB in one buffer on " + context_.description.name);
+  }
+  vk::Buffer source(context_, source_bytes, vk::MemoryUse::host_upload);
+  vk::Buffer middle(context_, middle_bytes, vk::MemoryUse::device_local);
+  vk::Buffer target(context_, target_bytes, vk::MemoryUse::device_local);
+  vk::Buffer readback(context_, target_bytes, vk::MemoryUse::host_readback);
+
+  auto* texels = static_cast<float*>(source.mapped());
+  for (size_t p = 0; p < image.pixel_count(); ++p)
+    for (int c = 0; c < 4; ++c)
+      texels[p * 4 + size_t(c)] = c < image.channels ? image.pixels[p * size_t(image.channels) + size_t(c)] : 0.0f;
+  source.flush();
+
+  vk::OneTimeCommands commands(context_);
+  VkCommandBuffer cmd = commands.handle();
+  vk::PassTimer timer(context_, 2);
+  timer.reset(cmd);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_SHADER_READ_BIT);
+  const UpsampleParams along_x{{width, height}, {width * f, height}, f, 0, filter_kind(filter)};
+  const VkBuffer x_buffers[] = {source.handle(), middle.handle()};
+  timer.begin(cmd, "upsample_x");
+  pipeline_->dispatch_2d(cmd, x_buffers, &along_x, width * f, height);
+  timer.end(cmd);
+  vk::compute_to_compute_barrier(cmd);
+  const UpsampleParams along_y{{width * f, height}, {width * f, height * f}, f, 1, filter_kind(filter)};
+  const VkBuffer y_buffers[] = {middle.handle(), target.handle()};
+  timer.begin(cmd, "upsample_y");
+  pipeline_->dispatch_2d(cmd, y_buffers, &along_y, width * f, height * f);
+  timer.end(cmd);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{0, 0, target_bytes};
+  vkCmdCopyBuffer(cmd, target.handle(), readback.handle(), 1, &region);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                     VK_ACCESS_HOST_READ_BIT);
+  commands.submit_and_wait();
+
+  UpsampleResult result;
+  for (const vk::PassTime& pass : timer.results()) result.gpu_ms += pass.gpu_ms;
+  readback.invalidate();
+  const auto* out = static_cast<const float*>(readback.mapped());
+  result.image = Image(int(width * f), int(height * f), image.channels);
+  for (size_t p = 0; p < result.image.pixel_count(); ++p)
+    for (int c = 0; c < image.channels; ++c) result.image.pixels[p * size_t(image.channels) + size_t(c)] = out[p * 4 + size_t(c)];
+  return result;
+}
+
+}  // namespace fovlab
