@@ -8,8 +8,9 @@
 // Sampling: output pixel x (centre x + 0.5) reads the input at u = (x + 0.5) / factor - 0.5 (in
 // input pixel centres), so the output covers exactly the input's extent. Taps outside the input
 // repeat its edge pixel (clamp). Weights are normalised to sum to 1 per output pixel and axis.
-// Lanczos-3 can ring: values are not clamped, so an output may leave the input's range by the
-// filter's overshoot (at most about 1.3 % of a step's height in 1-D); linear-light EXR keeps it.
+// Lanczos-3 rings: values are not clamped, so an output may leave the input's range by the
+// filter's overshoot (on a 1-D step, 10.3 % of its height at factor 2 and 11.8 % at factor 4, on
+// either side); linear-light EXR keeps it.
 #include <optional>
 #include <string>
 
