@@ -13,6 +13,7 @@
 // either side); linear-light EXR keeps it.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/image.h"
 
@@ -26,6 +27,13 @@ std::optional<UpsampleFilter> parse_upsample_filter(const std::string& name);
 // The 1-D kernel: Lanczos-3 L(t) = sinc(t) sinc(t / 3) for |t| < 3, else 0 (sinc(t) = sin(pi t) /
 // (pi t), 1 at 0); bilinear max(0, 1 - |t|); nearest 1 for -0.5 <= t < 0.5.
 double upsample_kernel(UpsampleFilter filter, double t);
+
+// The normalised weights the GPU passes use, computed in double: for each phase r = 0 .. factor - 1
+// (output coordinate i with i mod factor = r), kUpsampleTaps weights for the input pixels
+// floor(u) - 2 .. floor(u) + 3 (bilinear and nearest use the middle two, floor(u) and floor(u) + 1,
+// the others 0). factor * kUpsampleTaps values.
+constexpr int kUpsampleTaps = 6;
+std::vector<float> upsample_weights(UpsampleFilter filter, int factor);
 
 // Upsamples every channel of `image` by `factor` (1 to 8) along each axis, in double precision.
 Image upsample_reference(const Image& image, int factor, UpsampleFilter filter);

@@ -1,6 +1,8 @@
 #include "renderer/upsampling/upsampler.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <vector>
 #include <string>
 
 #include "core/input_error.h"
@@ -20,23 +22,13 @@ struct UpsampleParams {
   uint32_t target_size[2];
   uint32_t factor;
   uint32_t axis;
-  uint32_t filter_kind;
 };
-
-uint32_t filter_kind(UpsampleFilter filter) {
-  switch (filter) {
-    case UpsampleFilter::lanczos3: return 0;
-    case UpsampleFilter::bilinear: return 1;
-    case UpsampleFilter::nearest: return 2;
-  }
-  return 0;
-}
 
 }  // namespace
 
 Upsampler::Upsampler(vk::Context& context)
     : context_(context),
-      pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::upsample_spirv, 2, sizeof(UpsampleParams))) {}
+      pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::upsample_spirv, 3, sizeof(UpsampleParams))) {}
 
 Upsampler::~Upsampler() = default;
 
@@ -64,6 +56,10 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
     for (int c = 0; c < 4; ++c)
       texels[p * 4 + size_t(c)] = c < image.channels ? image.pixels[p * size_t(image.channels) + size_t(c)] : 0.0f;
   source.flush();
+  const std::vector<float> table = upsample_weights(filter, factor);
+  vk::Buffer weights(context_, table.size() * sizeof(float), vk::MemoryUse::host_upload);
+  std::copy(table.begin(), table.end(), static_cast<float*>(weights.mapped()));
+  weights.flush();
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
@@ -71,14 +67,14 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
   timer.reset(cmd);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_SHADER_READ_BIT);
-  const UpsampleParams along_x{{width, height}, {width * f, height}, f, 0, filter_kind(filter)};
-  const VkBuffer x_buffers[] = {source.handle(), middle.handle()};
+  const UpsampleParams along_x{{width, height}, {width * f, height}, f, 0};
+  const VkBuffer x_buffers[] = {source.handle(), middle.handle(), weights.handle()};
   timer.begin(cmd, "upsample_x");
   pipeline_->dispatch_2d(cmd, x_buffers, &along_x, width * f, height);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
-  const UpsampleParams along_y{{width * f, height}, {width * f, height * f}, f, 1, filter_kind(filter)};
-  const VkBuffer y_buffers[] = {middle.handle(), target.handle()};
+  const UpsampleParams along_y{{width * f, height}, {width * f, height * f}, f, 1};
+  const VkBuffer y_buffers[] = {middle.handle(), target.handle(), weights.handle()};
   timer.begin(cmd, "upsample_y");
   pipeline_->dispatch_2d(cmd, y_buffers, &along_y, width * f, height * f);
   timer.end(cmd);
