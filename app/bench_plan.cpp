@@ -82,23 +82,6 @@ std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
   return degrees;
 }
 
-// --diagonal-in/--size-mm, --distance-mm and --gaze as they reproduce the display the metrics assumed.
-std::string display_text(const DisplayFlags& display) {
-  std::string text;
-  const auto add = [&](const char* flag, const std::string& value) {
-    if (!value.empty()) text += std::string(" ") + flag + " " + value;
-  };
-  if (has_display(display)) {
-    add("--diagonal-in", display.diagonal_in);
-    add("--size-mm", display.size_mm);
-    add("--distance-mm", display.distance_mm);
-  } else {
-    add("--diagonal-in", format_number(kDefaultDiagonalIn, 6));
-    add("--distance-mm", format_number(kDefaultViewingDistanceMm, 6));
-  }
-  add("--gaze", display.gaze);
-  return text;
-}
 
 std::string command_text(const BenchOptions& options, const std::string& scenes, const std::string& spps,
                          const std::string& methods) {
@@ -173,7 +156,7 @@ std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
   std::string methods = plan.ipr ? "gt,ipr" : "gt";
   if (plan.fipr) methods += ",fipr";
   std::string text = command_text(options, join(options.scenes), join(options.spps), methods);
-  if (!plan.fipr) return text + display_text(options.foveation.display);
+  if (!plan.fipr) return text + " " + display_flags_text(options.foveation.display);
   return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
          foveation_flags_text(options.foveation);
 }
@@ -182,7 +165,7 @@ std::string cell_command(const BenchOptions& options, const BenchPlan& plan, con
                          const std::string& method, const FiprVariant* variant) {
   if (method != "fipr" || !variant) {
     return command_text(options, scene, std::to_string(spp), plan.ipr ? "gt,ipr" : "gt") +
-           display_text(options.foveation.display);
+           " " + display_flags_text(options.foveation.display);
   }
   return command_text(options, scene, std::to_string(spp), "gt,fipr") + " --refresh " +
          std::to_string(variant->refresh) + " --fovea-deg " + variant->fovea_text() + " " +

@@ -61,20 +61,28 @@ FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int
   return settings;
 }
 
-std::string foveation_flags_text(const FoveationFlags& flags) {
+std::string display_flags_text(const DisplayFlags& display) {
   std::string text;
   const auto add = [&](const char* flag, const std::string& value) {
     if (!value.empty()) text += std::string(text.empty() ? "" : " ") + flag + " " + value;
   };
-  if (has_display(flags.display)) {
-    add("--diagonal-in", flags.display.diagonal_in);
-    add("--size-mm", flags.display.size_mm);
-    add("--distance-mm", flags.display.distance_mm);
+  if (has_display(display)) {
+    add("--diagonal-in", display.diagonal_in);
+    add("--size-mm", display.size_mm);
+    add("--distance-mm", display.distance_mm);
   } else {
     add("--diagonal-in", format_number(kDefaultDiagonalIn, 6));
     add("--distance-mm", format_number(kDefaultViewingDistanceMm, 6));
   }
-  add("--gaze", flags.display.gaze);
+  add("--gaze", display.gaze);
+  return text;
+}
+
+std::string foveation_flags_text(const FoveationFlags& flags) {
+  std::string text = display_flags_text(flags.display);
+  const auto add = [&](const char* flag, const std::string& value) {
+    if (!value.empty()) text += std::string(" ") + flag + " " + value;
+  };
   add("--outer-periphery-deg", flags.outer_periphery_deg);
   add("--periphery-steps", std::to_string(flags.periphery_steps));
   add("--blur", flags.blur);

@@ -38,6 +38,8 @@ std::vector<std::string> given_fipr_only_flags(const CLI::App& command);
 // Settings for a width_px x height_px frame; --gaze none means no gaze sample (every pixel traced in
 // full). InputError naming the flag on bad values.
 FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int height_px);
+// The display flags as they reproduce the display assumed (the default one spelled out), and --gaze.
+std::string display_flags_text(const DisplayFlags& display);
 // The flags that reproduce these settings, for bench reports ("--diagonal-in 24 --distance-mm 600 ...").
 std::string foveation_flags_text(const FoveationFlags& flags);
 

@@ -13,6 +13,7 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "app/bench_runs.h"  // median
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "core/image_io.h"
@@ -33,12 +34,6 @@ struct UpsampleOptions {
   int repeats = 1;
   bool against_oiio = false;
 };
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 // Over the pixels at least `margin` pixels from every border.
 double largest_difference(const Image& a, const Image& b, int margin = 0) {
