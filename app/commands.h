@@ -16,6 +16,8 @@ void add_export_command(CLI::App& app);
 void add_analyze_command(CLI::App& app);
 void add_rays_command(CLI::App& app);
 void add_upsample_command(CLI::App& app);
+void add_blend_command(CLI::App& app);
+void add_prerender_command(CLI::App& app);
 
 // Thrown by a command that finished but must report failure with this exit code (replay --verify
 // found differences: 1).

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   fovlab::app::add_analyze_command(app);
   fovlab::app::add_rays_command(app);
   fovlab::app::add_upsample_command(app);
+  fovlab::app::add_blend_command(app);
+  fovlab::app::add_prerender_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

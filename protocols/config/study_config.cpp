@@ -16,6 +16,7 @@
 #include "protocols/config/toml_fields.h"
 #include "protocols/config/toml_guard.h"
 #include "protocols/stimuli/stimulus_spec.h"
+#include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
 
 namespace fovlab {
@@ -356,9 +357,14 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   fields.finish();
 }
 
+// Sphere-traced methods take SDF scenes (built-in names or .glsl files), path-traced ones
+// path-traced scenes (courtyard or .obj files); files are relative to the config.
 std::string resolve_scene(const TomlFields& fields, const std::string& scene, const std::string& config_path,
-                          bool check_file) {
-  const auto names = builtin_scene_names();
+                          bool check_file, bool path_traced) {
+  const std::vector<std::string> names = path_traced ? std::vector<std::string>{known_path_scenes()} : builtin_scene_names();
+  if (path_traced && !is_path_scene_name(scene))
+    fields.fail("scene", "expected a path-traced scene (" + known_path_scenes() + " or a .obj file) for pt and fpt, got \"" +
+                             scene + "\"");
   if (std::find(names.begin(), names.end(), scene) != names.end()) return scene;
   std::filesystem::path path(scene);
   if (path.is_relative()) path = std::filesystem::path(config_path).parent_path() / path;
@@ -450,10 +456,16 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
   if (const toml::table* attention = fields.optional_table("attention"))
     read_attention(TomlFields(*attention, path, "attention"), config.protocol, config.attention);
 
+  const bool path_traced = is_path_traced_method(config.stimulus.reference.method);
+  if (is_path_traced_method(config.stimulus.test.method) != path_traced)
+    fields.table("stimulus").table("test").fail(
+        "method", "expected " + std::string(path_traced ? "a path-traced method (pt, fpt)" : "a sphere-traced method (gt, ipr, fipr)") +
+                      " like the reference's \"" + config.stimulus.reference.method +
+                      "\" (both render the same scene), got \"" + config.stimulus.test.method + "\"");
   std::set<std::string> block_names;
   for (const TomlFields& block_fields : fields.tables("block")) {
     BlockConfig block;
-    block.scene = resolve_scene(block_fields, block_fields.string("scene"), path, check_scene_files);
+    block.scene = resolve_scene(block_fields, block_fields.string("scene"), path, check_scene_files, path_traced);
     block.name = block_fields.string("name", std::filesystem::path(block.scene).stem().string());
     if (!is_safe_name(block.name)) block_fields.fail("name", "expected letters, digits, '_', '-' or '.'");
     if (!block_names.insert(block.name).second) block_fields.fail("name", "duplicate block \"" + block.name + "\"");

@@ -11,6 +11,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "core/atomic_file.h"
 #include "core/input_error.h"
@@ -203,16 +204,21 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     std::fprintf(stderr, "fovlab: %s: the last line was cut off by a crash (%zu bytes); set aside in %s\n",
                  outcome.log_path.c_str(), existing->torn_tail->size(), torn_aside.c_str());
   }
+  // The header before the log file exists: an error making it (a scene file gone) leaves no empty log.
+  std::optional<nlohmann::json> header;
+  if (!record) {
+    SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
+                               presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
+                               gaze->describe(), presenter->refresh_hz(), utc_now()};
+    header = make_session_header(inputs);
+  }
   if (!existing) create_durable_directory(fs::path(outcome.log_path).parent_path());
   EventLogWriter writer(outcome.log_path, existing ? existing->last_chain : std::string(),
                         existing ? static_cast<int64_t>(existing->events.size()) : 0);
   const double time_base_s = record ? record->last_time_s : 0.0;
   SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s);
-  if (!record) {
-    SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
-                               presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
-                               gaze->describe(), presenter->refresh_hz(), utc_now()};
-    run.log(make_session_header(inputs));
+  if (header) {
+    run.log(*header);
   } else {
     nlohmann::json resumed = {{"event", "session_resumed"}, {"next_trial", record->next_trial},
                               {"started_utc", utc_now()}, {"gaze", gaze->describe()}};

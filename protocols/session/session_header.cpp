@@ -1,10 +1,12 @@
 #include "protocols/session/session_header.h"
 
+#include <map>
 #include <set>
 
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
+#include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/vk/context.h"
 
@@ -38,9 +40,11 @@ ObserverModel observer_from_json(const nlohmann::json& json) {
 
 nlohmann::json scene_hashes(const StudyPlan& plan) {
   nlohmann::json hashes = nlohmann::json::object();
-  std::set<std::string> scenes;
-  for (const PlannedStimulus& stimulus : plan.stimuli) scenes.insert(stimulus.spec.scene);
-  for (const std::string& scene : scenes) hashes[scene] = ContentHash().add(load_scene(scene).text).hex();
+  std::map<std::string, bool> scenes;  // name -> path-traced
+  for (const PlannedStimulus& stimulus : plan.stimuli)
+    scenes[stimulus.spec.scene] = is_path_traced_method(stimulus.spec.method);
+  for (const auto& [scene, path_traced] : scenes)
+    hashes[scene] = path_traced ? load_path_scene(scene).content_hash : ContentHash().add(load_scene(scene).text).hex();
   return hashes;
 }
 

@@ -6,8 +6,11 @@
 
 #include "core/colour.h"
 #include "core/content_hash.h"
+#include "core/input_error.h"
+#include "renderer/prerender/frame_cache.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/zone_blend/zone_blender.h"
 
 namespace fovlab {
 namespace {
@@ -30,7 +33,8 @@ std::string frame_hash(const Rgba8Frame& frame) {
       .hex();
 }
 
-StimulusLibrary::StimulusLibrary(vk::Context& context) : context_(context) {}
+StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root)
+    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)) {}
 StimulusLibrary::~StimulusLibrary() = default;
 
 SphereTracer& StimulusLibrary::tracer_for(const std::string& scene) {
@@ -42,6 +46,14 @@ SphereTracer& StimulusLibrary::tracer_for(const std::string& scene) {
 
 PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
   const auto start = std::chrono::steady_clock::now();
+  PreparedFrame prepared;
+  prepared.image = is_path_traced_method(spec.method) ? render_path_traced(spec, image) : render_sphere_traced(spec, image);
+  prepared.hash = frame_hash(prepared.image);
+  render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return prepared;
+}
+
+Rgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image) {
   SphereTracer& tracer = tracer_for(spec.scene);
   SphereTraceSettings settings = sphere_trace_settings(spec, image.frame);
   settings.colour_only = true;  // a presented frame needs no step counts or mask
@@ -61,18 +73,63 @@ PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusIm
   // A gaze-independent frame overwrites what a sequence would continue from; a failed render
   // leaves nothing to continue from either.
   last = LastImage{};
-  PreparedFrame prepared;
-  prepared.image = to_rgba8(tracer.render(settings).colour_linear);
+  Rgba8Frame frame = to_rgba8(tracer.render(settings).colour_linear);
   if (sequence) last = LastImage{canonical, image.image_index};
-  prepared.hash = frame_hash(prepared.image);
-  render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return prepared;
+  return frame;
+}
+
+Rgba8Frame StimulusLibrary::render_path_traced(const StimulusSpec& spec, const StimulusImage& image) {
+  const PathTracedFrames frames = path_traced_frames(spec);
+  if (spec.method == "pt") return to_rgba8(frame_cache_->frame(frames.sequences[0], image.frame));
+  // fpt: the zone buffers change with the animation frame, the blend with every gaze sample. No
+  // state carries from one image to the next, so any image can be rendered on its own.
+  const std::string key = spec.canonical() + "#" + std::to_string(image.frame);
+  if (key != blender_frame_) {
+    blender_frame_.clear();
+    const Image foveal = frame_cache_->frame(frames.sequences[0], image.frame);
+    if (frames.sequences.size() > 1) {
+      const Image periphery = frame_cache_->frame(frames.sequences[1], image.frame);
+      blender().set_frame(foveal, &periphery);
+    } else {
+      blender().set_frame(foveal);
+    }
+    blender_frame_ = key;
+  }
+  // A gaze sample that is not a number (none usable, not even a substitute) shows the frame
+  // itself: the full-resolution zone everywhere, never a guess at where the eye is.
+  if (!std::isfinite(image.gaze.x_px) || !std::isfinite(image.gaze.y_px))
+    return to_rgba8(blender().zone_buffer(Zone::foveal));
+  return to_rgba8(blender().blend(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec)).image);
+}
+
+ZoneBlender& StimulusLibrary::blender() {
+  if (!blender_) blender_ = std::make_unique<ZoneBlender>(context_);
+  return *blender_;
+}
+
+void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
+  if (spec.method != "fpt") return;  // pt frames are loaded (or rendered) by prepare's render loop
+  stimulus_display(spec);
+  check_zone_bounds(zone_bounds(spec));
+  if (spec.width_px % 4 != 0 || spec.height_px % 4 != 0)
+    throw InputError("stimulus " + spec.canonical() +
+                     ": fpt needs a width and height that are multiples of 4 (its outer zone is 1/4 per axis)");
+  // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
+  // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
+  // error naming its file now rather than mid-session.
+  for (const PathTraceSequence& sequence : path_traced_frames(spec).sequences)
+    for (int frame = 0; frame < sequence.frame_count; ++frame) frame_cache_->frame(sequence, frame);
 }
 
 double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli) {
   const double before = render_seconds_;
   for (const auto& [id, spec] : stimuli) {
-    if (method_depends_on_gaze(spec.method)) {
+    if (is_path_traced_method(spec.method)) {
+      const auto start = std::chrono::steady_clock::now();
+      prepare_path_traced(spec);
+      render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (spec.method == "fpt") continue;  // blended live
+    } else if (method_depends_on_gaze(spec.method)) {
       // Rendered live; bad settings and scene errors come now all the same, not mid-session.
       const auto start = std::chrono::steady_clock::now();
       validate(sphere_trace_settings(spec, 0));

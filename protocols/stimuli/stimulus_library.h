@@ -1,9 +1,12 @@
 #pragma once
 // Renders the frames of a study's stimuli and keeps them ready for presentation. Stimuli whose
-// frames do not depend on gaze (gt, ipr) are rendered once, before the first trial, so no trial
+// frames do not depend on gaze (gt, ipr, pt) are rendered once, before the first trial, so no trial
 // waits on a compile or a render it could have done earlier; each frame is kept as the sRGB RGBA8
-// a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr) are
-// rendered live, one image per refresh, with that refresh's gaze.
+// a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr, fpt) are
+// rendered live, one image per refresh, with that refresh's gaze. Path-traced frames (pt, fpt) come
+// from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
+// before the first trial.
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -19,6 +22,8 @@ namespace vk {
 class Context;
 }
 class SphereTracer;
+class FrameCache;
+class ZoneBlender;
 
 struct PreparedFrame {
   Rgba8Frame image;
@@ -39,7 +44,8 @@ struct StimulusImage {
 
 class StimulusLibrary {
  public:
-  explicit StimulusLibrary(vk::Context& context);
+  // `cache_root`: the pre-render cache's folder (path-traced methods).
+  explicit StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root = "stimuli/cache");
   ~StimulusLibrary();
 
   // Renders every frame of the given stimuli that can be prepared ahead (ids are the caller's;
@@ -51,8 +57,8 @@ class StimulusLibrary {
   const PreparedFrame& frame(int id, const StimulusSpec& spec, const StimulusImage& image);
   // Always renders (replay: the image as this build and device make it now).
   //
-  // Gaze-dependent methods keep state between the images of a presentation: FIPR with periphery
-  // refresh 2 or 4 keeps, for pixels not due, the colour of the previous image. Image 0 starts a
+  // FIPR keeps state between the images of a presentation: with periphery refresh 2 or 4 it keeps,
+  // for pixels not due, the colour of the previous image (FPT keeps none). Image 0 starts a
   // presentation afresh (it depends on nothing rendered before); image k > 0 must directly follow
   // image k - 1 of the same spec, else std::logic_error. So the images of a presentation are
   // rendered in order, each with its own gaze, and the same gazes give the same images again.
@@ -66,7 +72,14 @@ class StimulusLibrary {
     int image_index = -1;
   };
   SphereTracer& tracer_for(const std::string& scene);
+  Rgba8Frame render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image);
+  Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);
+  void prepare_path_traced(const StimulusSpec& spec);
+  ZoneBlender& blender();
   vk::Context& context_;
+  std::unique_ptr<FrameCache> frame_cache_;
+  std::unique_ptr<ZoneBlender> blender_;
+  std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
   std::map<std::string, LastImage> last_image_;                    // by scene
   std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id

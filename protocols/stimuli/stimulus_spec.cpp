@@ -8,12 +8,24 @@
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "renderer/foveation/display_geometry.h"
+#include "renderer/prerender/frame_cache.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/zone_blend/zone_layout.h"
 
 namespace fovlab {
 namespace {
 
 constexpr double kNoOuterPeripheryDeg = 180.0;  // eccentricities are below 180 degrees: no outer periphery
+
+// The physical display of fipr and fpt (0: not given; the schedule fills them from [display]).
+const std::vector<MethodParameter>& display_parameters() {
+  static const std::vector<MethodParameter> parameters = {
+      {kDisplayWidthParameter, 0, 1, 1e6, false, {}},
+      {kDisplayHeightParameter, 0, 1, 1e6, false, {}},
+      {kViewingDistanceParameter, 0, 1, 1e6, false, {}},
+  };
+  return parameters;
+}
 
 std::vector<MethodParameter> sphere_trace_parameters(bool pyramid, int min_pyramid_levels) {
   const SphereTraceSettings defaults;
@@ -43,12 +55,42 @@ std::vector<MethodParameter> fipr_parameters() {
       {"combine", double(static_cast<uint32_t>(MaskCombine::max)), 0, 3, true, {0, 1, 2, 3}},
       {"edge_threshold", 0.4, 1e-4, 1000, false, {}},
       {"mask_seed", 0, 0, double(std::numeric_limits<uint32_t>::max()), true, {}},
-      {kDisplayWidthParameter, 0, 1, 1e6, false, {}},
-      {kDisplayHeightParameter, 0, 1, 1e6, false, {}},
-      {kViewingDistanceParameter, 0, 1, 1e6, false, {}},
   };
   parameters.insert(parameters.end(), foveation.begin(), foveation.end());
+  parameters.insert(parameters.end(), display_parameters().begin(), display_parameters().end());
   return parameters;
+}
+
+// Path tracing (renderer/path_tracing/path_tracer.h): the paper's reference is 128 samples and 32
+// bounces.
+std::vector<MethodParameter> path_trace_parameters() {
+  const PathTraceSettings defaults;
+  return {
+      {"samples_per_pixel", double(defaults.samples_per_pixel), 1, 65536, true, {}},
+      {"max_bounces", double(defaults.max_bounces), 0, 1024, true, {}},
+      {"path_seed", double(defaults.seed), 0, double(std::numeric_limits<uint32_t>::max()), true, {}},
+  };
+}
+
+// The emulated foveated path tracer (seed 001 section 3.2; renderer/zone_blend/zone_layout.h):
+// zone angles are full apertures; -1 periphery bounces: the same as max_bounces.
+std::vector<MethodParameter> fpt_parameters() {
+  std::vector<MethodParameter> parameters = path_trace_parameters();
+  const ZoneBounds defaults;
+  const std::vector<MethodParameter> zones = {
+      {"foveal_deg", defaults.foveal_deg, 0, 360, false, {}},
+      {"middle_over_foveal_deg", kMiddleOverFovealDeg, 0, 360, false, {}},
+      {"band_deg", defaults.band_deg, 0, 90, false, {}},
+      {"periphery_bounces", -1, -1, 1024, true, {}},
+  };
+  parameters.insert(parameters.end(), zones.begin(), zones.end());
+  parameters.insert(parameters.end(), display_parameters().begin(), display_parameters().end());
+  return parameters;
+}
+
+double parameter_or(const StimulusSpec& spec, const char* name, double fallback) {
+  const auto found = spec.parameters.find(name);
+  return found == spec.parameters.end() ? fallback : found->second;
 }
 
 }  // namespace
@@ -77,12 +119,16 @@ std::optional<std::vector<MethodParameter>> method_parameters(const std::string&
   if (method == "gt") return sphere_trace_parameters(false, 2);
   if (method == "ipr") return sphere_trace_parameters(true, 2);
   if (method == "fipr") return fipr_parameters();
+  if (method == "pt") return path_trace_parameters();
+  if (method == "fpt") return fpt_parameters();
   return std::nullopt;
 }
 
-std::string known_methods() { return "gt, ipr, fipr"; }
+std::string known_methods() { return "gt, ipr, fipr, pt, fpt"; }
 
-bool method_depends_on_gaze(const std::string& method) { return method == "fipr"; }
+bool method_depends_on_gaze(const std::string& method) { return method == "fipr" || method == "fpt"; }
+
+bool is_path_traced_method(const std::string& method) { return method == "pt" || method == "fpt"; }
 
 std::optional<ParameterConflict> parameter_conflict(const std::string& method,
                                                     const std::map<std::string, double>& parameters) {
@@ -106,10 +152,7 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   } else {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + spec.method);
   }
-  const auto get = [&](const char* name, double fallback) {
-    const auto found = spec.parameters.find(name);
-    return found == spec.parameters.end() ? fallback : found->second;
-  };
+  const auto get = [&](const char* name, double fallback) { return parameter_or(spec, name, fallback); };
   settings.width = spec.width_px;
   settings.height = spec.height_px;
   settings.time_s = static_cast<float>(spec.frame_time_s(frame));
@@ -121,14 +164,7 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   if (settings.method != TraceMethod::foveated_pyramid) return settings;
 
   FoveationSettings& foveation = settings.foveation;
-  const double width_mm = get(kDisplayWidthParameter, 0.0);
-  const double height_mm = get(kDisplayHeightParameter, 0.0);
-  const double distance_mm = get(kViewingDistanceParameter, 0.0);
-  if (!(width_mm > 0.0 && height_mm > 0.0 && distance_mm > 0.0))
-    throw InputError("stimulus " + spec.canonical() + ": fipr needs " + kDisplayWidthParameter + ", " +
-                     kDisplayHeightParameter + " and " + kViewingDistanceParameter +
-                     " (a study's schedule fills them from [display])");
-  foveation.display = display_from_size(spec.width_px, spec.height_px, width_mm, height_mm, distance_mm);
+  foveation.display = stimulus_display(spec);
   foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
   foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
   foveation.acuity.fovea_deg = get("fovea_deg", foveation.acuity.fovea_deg);
@@ -143,6 +179,48 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   foveation.seed = static_cast<uint32_t>(get("mask_seed", 0.0));
   foveation.frame_index = 0;
   return settings;
+}
+
+DisplayGeometry stimulus_display(const StimulusSpec& spec) {
+  const double width_mm = parameter_or(spec, kDisplayWidthParameter, 0.0);
+  const double height_mm = parameter_or(spec, kDisplayHeightParameter, 0.0);
+  const double distance_mm = parameter_or(spec, kViewingDistanceParameter, 0.0);
+  if (!(width_mm > 0.0 && height_mm > 0.0 && distance_mm > 0.0))
+    throw InputError("stimulus " + spec.canonical() + ": " + spec.method + " needs " + kDisplayWidthParameter + ", " +
+                     kDisplayHeightParameter + " and " + kViewingDistanceParameter +
+                     " (a study's schedule fills them from [display])");
+  return display_from_size(spec.width_px, spec.height_px, width_mm, height_mm, distance_mm);
+}
+
+PathTracedFrames path_traced_frames(const StimulusSpec& spec) {
+  if (!is_path_traced_method(spec.method))
+    throw std::logic_error("path_traced_frames: not a path-traced method: " + spec.method);
+  PathTraceSequence frames;
+  frames.scene = spec.scene;
+  frames.width_px = spec.width_px;
+  frames.height_px = spec.height_px;
+  frames.samples_per_pixel = static_cast<int>(parameter_or(spec, "samples_per_pixel", frames.samples_per_pixel));
+  frames.max_bounces = static_cast<int>(parameter_or(spec, "max_bounces", frames.max_bounces));
+  frames.seed = static_cast<uint32_t>(parameter_or(spec, "path_seed", frames.seed));
+  frames.frames_per_second = spec.frames_per_second;
+  frames.camera_start_s = spec.camera_start_s;
+  frames.frame_count = spec.frame_count;
+  PathTracedFrames result{{frames}};
+  const int periphery_bounces = static_cast<int>(parameter_or(spec, "periphery_bounces", -1));
+  if (spec.method == "fpt" && periphery_bounces >= 0 && periphery_bounces != frames.max_bounces) {
+    PathTraceSequence periphery = frames;
+    periphery.max_bounces = periphery_bounces;
+    result.sequences.push_back(periphery);
+  }
+  return result;
+}
+
+ZoneBounds zone_bounds(const StimulusSpec& spec) {
+  ZoneBounds bounds;
+  bounds.foveal_deg = parameter_or(spec, "foveal_deg", bounds.foveal_deg);
+  bounds.middle_deg = bounds.foveal_deg + parameter_or(spec, "middle_over_foveal_deg", kMiddleOverFovealDeg);
+  bounds.band_deg = parameter_or(spec, "band_deg", bounds.band_deg);
+  return bounds;
 }
 
 }  // namespace fovlab

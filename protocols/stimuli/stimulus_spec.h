@@ -12,10 +12,13 @@
 namespace fovlab {
 
 struct SphereTraceSettings;
+struct DisplayGeometry;
+struct ZoneBounds;
+struct PathTraceSequence;
 
 struct StimulusSpec {
   std::string scene;                          // built-in scene name or path to a .glsl scene
-  std::string method;                         // "gt", "ipr" or "fipr" (see method_parameters)
+  std::string method;                         // "gt", "ipr", "fipr", "pt" or "fpt" (see method_parameters)
   std::map<std::string, double> parameters;   // every parameter of the method, defaults filled in
   int width_px = 0;
   int height_px = 0;
@@ -42,7 +45,7 @@ struct MethodParameter {
   std::vector<double> choices;
 };
 
-// FIPR's display parameters: the physical size of the stimulus image and the eye's distance from
+// The display parameters of FIPR and FPT: the physical size of the stimulus image and the eye's distance from
 // it. Their default (0) means "not given": the schedule fills them from the config's [display]
 // (protocols/schedule/study_plan.cpp), so a planned spec always holds them and they are part of its
 // canonical text and id.
@@ -52,7 +55,7 @@ inline constexpr const char* kViewingDistanceParameter = "viewing_distance_mm";
 
 // The parameters of a method, or nullopt when the method is unknown.
 std::optional<std::vector<MethodParameter>> method_parameters(const std::string& method);
-// "gt, ipr, fipr": for messages.
+// "gt, ipr, fipr, pt, fpt": for messages.
 std::string known_methods();
 // Whether frames of this method depend on the gaze sample (then they cannot be prepared ahead).
 bool method_depends_on_gaze(const std::string& method);
@@ -73,5 +76,25 @@ std::optional<ParameterConflict> parameter_conflict(const std::string& method,
 // gaze: every pixel traced in full) and frame_index 0, for the caller (StimulusLibrary) to set.
 // Throws InputError when a FIPR spec lacks its display parameters.
 SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
+
+// The display a spec's display parameters describe (fipr, fpt); InputError when they are missing.
+DisplayGeometry stimulus_display(const StimulusSpec& spec);
+
+// Path-traced methods (seed 001; docs/foveated-path-tracing.md): "pt" shows pre-rendered frames as
+// they are (the non-foveated reference), "fpt" blends their three zone buffers by the gaze of each
+// refresh (the emulated foveated path tracer). Their scenes are path-traced ones
+// (renderer/prerender/path_scene_source.h).
+bool is_path_traced_method(const std::string& method);
+
+// The pre-rendered sequences a pt or fpt spec shows: its frames, and for fpt with
+// periphery_bounces >= 0 other than max_bounces (seed 001 section 4.2's pilot variant) a second
+// sequence with that many bounces, the source of the middle and outer zones.
+struct PathTracedFrames {
+  std::vector<PathTraceSequence> sequences;  // [0]: the frames; [1]: the periphery's, if any
+};
+PathTracedFrames path_traced_frames(const StimulusSpec& spec);
+
+// The zones of an fpt spec: foveal_deg, middle = foveal_deg + middle_over_foveal_deg, band_deg.
+ZoneBounds zone_bounds(const StimulusSpec& spec);
 
 }  // namespace fovlab

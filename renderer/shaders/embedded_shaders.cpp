@@ -9,7 +9,9 @@ namespace {
 #include "masked_blur.spv.h"
 #include "masked_list_dispatch.spv.h"
 #include "min_filter.spv.h"
+#include "path_trace.spv.h"
 #include "upsample.spv.h"
+#include "zone_blend.spv.h"
 #include "sphere_trace.glsl.h"
 }  // namespace
 
@@ -19,7 +21,9 @@ const std::span<const uint32_t> foveation_mask_spirv{foveation_mask_spirv_words}
 const std::span<const uint32_t> masked_blur_spirv{masked_blur_spirv_words};
 const std::span<const uint32_t> fipr_reconstruct_spirv{fipr_reconstruct_spirv_words};
 const std::span<const uint32_t> upsample_spirv{upsample_spirv_words};
+const std::span<const uint32_t> zone_blend_spirv{zone_blend_spirv_words};
 const std::span<const uint32_t> masked_list_dispatch_spirv{masked_list_dispatch_spirv_words};
+const std::span<const uint32_t> path_trace_spirv{path_trace_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};
 
 }  // namespace fovlab::shaders

@@ -7,6 +7,10 @@
 // is the reference; tests compare the two pixel by pixel. Masked pixels are also appended to a list
 // (in no fixed order; each pixel's result does not depend on it), so the top level traces them
 // densely instead of leaving most SIMD lanes idle on a sparse mask.
+#extension GL_GOOGLE_include_directive : require
+#include "eccentricity.glsl"
+#include "lowbias32.glsl"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Edges { uint edges[]; };       // low level, 0 or 1
@@ -54,29 +58,15 @@ bool refresh_due(uvec2 mid_pixel) {
   return phase == params.frame_index % params.refresh_period;
 }
 
-uint lowbias32(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-
 float mask_threshold(uvec2 pixel) {
   uint h = lowbias32(pixel.x + lowbias32(pixel.y + lowbias32(params.frame_index + lowbias32(params.seed))));
   return float(h >> 8) * (1.0 / 16777216.0);
 }
 
-vec3 ray_to(vec2 point_px) {
-  vec3 r = vec3((point_px - 0.5 * vec2(params.frame_size)) * params.pixel_pitch_mm, params.viewing_distance_mm);
-  return r / max(max(abs(r.x), abs(r.y)), abs(r.z));
-}
-
 float eccentricity_deg(vec2 point_px) {
-  vec3 a = ray_to(params.gaze_px);
-  vec3 b = ray_to(point_px);
-  return degrees(atan(length(cross(a, b)), dot(a, b)));
+  vec3 gaze_ray = ray_from_eye(params.gaze_px, params.frame_size, params.pixel_pitch_mm, params.viewing_distance_mm);
+  return eccentricity_between_deg(gaze_ray, ray_from_eye(point_px, params.frame_size, params.pixel_pitch_mm,
+                                                         params.viewing_distance_mm));
 }
 
 float acuity_probability(float eccentricity) {

@@ -44,17 +44,21 @@ double upsample_kernel(UpsampleFilter filter, double t) {
   return 0.0;
 }
 
-std::vector<float> upsample_weights(UpsampleFilter filter, int factor) {
-  if (factor < 1 || factor > 8) throw std::invalid_argument("upsample_weights: factor must be 1 to 8");
+std::vector<float> upsample_cell_weights(UpsampleFilter filter, int factor) {
+  if (factor < 1 || factor > 8) throw std::invalid_argument("upsample_cell_weights: factor must be 1 to 8");
   const int radius = kernel_radius(filter);
-  std::vector<float> weights(size_t(factor) * kUpsampleTaps, 0.0f);
+  std::vector<float> weights(size_t(factor) * kUpsampleCellTaps, 0.0f);
   for (int phase = 0; phase < factor; ++phase) {
-    const double u = (phase + 0.5) / factor - 0.5;  // the offset from floor(u) is the same for every i with i mod factor = phase
-    const double fraction = u - std::floor(u);
+    // u relative to the cell's input pixel c is the same for every cell: floor(u) is c - 1 or c.
+    const double u = (phase + 0.5) / factor - 0.5;
+    const double floor_u = std::floor(u);
+    const double fraction = u - floor_u;
     double sum = 0.0;
     for (int k = 1 - radius; k <= radius; ++k) sum += upsample_kernel(filter, fraction - k);
-    for (int k = 1 - radius; k <= radius; ++k)
-      weights[size_t(phase) * kUpsampleTaps + size_t(k + 2)] = static_cast<float>(upsample_kernel(filter, fraction - k) / sum);
+    for (int k = 1 - radius; k <= radius; ++k) {
+      const int slot = int(floor_u) + k + 3;  // input pixel c + floor(u) + k
+      weights[size_t(phase) * kUpsampleCellTaps + size_t(slot)] = static_cast<float>(upsample_kernel(filter, fraction - k) / sum);
+    }
   }
   return weights;
 }

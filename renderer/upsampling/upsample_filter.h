@@ -28,12 +28,13 @@ std::optional<UpsampleFilter> parse_upsample_filter(const std::string& name);
 // (pi t), 1 at 0); bilinear max(0, 1 - |t|); nearest 1 for -0.5 <= t < 0.5.
 double upsample_kernel(UpsampleFilter filter, double t);
 
-// The normalised weights the GPU passes use, computed in double: for each phase r = 0 .. factor - 1
-// (output coordinate i with i mod factor = r), kUpsampleTaps weights for the input pixels
-// floor(u) - 2 .. floor(u) + 3 (bilinear and nearest use the middle two, floor(u) and floor(u) + 1,
-// the others 0). factor * kUpsampleTaps values.
-constexpr int kUpsampleTaps = 6;
-std::vector<float> upsample_weights(UpsampleFilter filter, int factor);
+// The normalised weights the GPU passes use, computed in double, by input cell: the outputs
+// c * factor + r (phase r = 0 .. factor - 1) of input pixel c all read their taps from the
+// kUpsampleCellTaps input pixels c - 3 .. c + 3. For each phase, kUpsampleCellTaps weights for those
+// pixels, 0 where the phase's kernel does not reach (Lanczos-3 reaches six of them, bilinear and
+// nearest two). factor * kUpsampleCellTaps values.
+constexpr int kUpsampleCellTaps = 7;
+std::vector<float> upsample_cell_weights(UpsampleFilter filter, int factor);
 
 // Upsamples every channel of `image` by `factor` (1 to 8) along each axis, in double precision.
 Image upsample_reference(const Image& image, int factor, UpsampleFilter filter);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 #include <string>
 
@@ -10,6 +11,7 @@
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
+#include "renderer/vk/image_texels.h"
 #include "renderer/vk/submission.h"
 
 namespace fovlab {
@@ -51,12 +53,9 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
   vk::Buffer target(context_, target_bytes, vk::MemoryUse::device_local);
   vk::Buffer readback(context_, target_bytes, vk::MemoryUse::host_readback);
 
-  auto* texels = static_cast<float*>(source.mapped());
-  for (size_t p = 0; p < image.pixel_count(); ++p)
-    for (int c = 0; c < 4; ++c)
-      texels[p * 4 + size_t(c)] = c < image.channels ? image.pixels[p * size_t(image.channels) + size_t(c)] : 0.0f;
+  vk::pack_rgba_texels(image, static_cast<float*>(source.mapped()));
   source.flush();
-  const std::vector<float> table = upsample_weights(filter, factor);
+  const std::vector<float> table = upsample_cell_weights(filter, factor);
   vk::Buffer weights(context_, table.size() * sizeof(float), vk::MemoryUse::host_upload);
   std::copy(table.begin(), table.end(), static_cast<float*>(weights.mapped()));
   weights.flush();
@@ -67,17 +66,7 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
   timer.reset(cmd);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_SHADER_READ_BIT);
-  const UpsampleParams along_x{{width, height}, {width * f, height}, f, 0};
-  const VkBuffer x_buffers[] = {source.handle(), middle.handle(), weights.handle()};
-  timer.begin(cmd, "upsample_x");
-  pipeline_->dispatch_2d(cmd, x_buffers, &along_x, width * f, height);
-  timer.end(cmd);
-  vk::compute_to_compute_barrier(cmd);
-  const UpsampleParams along_y{{width * f, height}, {width * f, height * f}, f, 1};
-  const VkBuffer y_buffers[] = {middle.handle(), target.handle(), weights.handle()};
-  timer.begin(cmd, "upsample_y");
-  pipeline_->dispatch_2d(cmd, y_buffers, &along_y, width * f, height * f);
-  timer.end(cmd);
+  record(cmd, source.handle(), middle.handle(), target.handle(), weights.handle(), width, height, f, &timer);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   const VkBufferCopy region{0, 0, target_bytes};
@@ -89,11 +78,33 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
   UpsampleResult result;
   for (const vk::PassTime& pass : timer.results()) result.gpu_ms += pass.gpu_ms;
   readback.invalidate();
-  const auto* out = static_cast<const float*>(readback.mapped());
-  result.image = Image(int(width * f), int(height * f), image.channels);
-  for (size_t p = 0; p < result.image.pixel_count(); ++p)
-    for (int c = 0; c < image.channels; ++c) result.image.pixels[p * size_t(image.channels) + size_t(c)] = out[p * 4 + size_t(c)];
+  result.image = vk::unpack_rgba_texels(static_cast<const float*>(readback.mapped()), int(width * f), int(height * f),
+                                        image.channels);
   return result;
+}
+
+void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, VkBuffer weights,
+                       uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer) const {
+  constexpr uint32_t kGroupWidth = 64;           // local_size_x of upsample.comp.glsl
+  constexpr uint32_t kCellsPerInvocation = 8;    // CELLS_PER_INVOCATION there
+  const auto groups = [&](uint32_t lines, uint32_t cells) {
+    return std::pair{(lines + kGroupWidth - 1) / kGroupWidth, (cells + kCellsPerInvocation - 1) / kCellsPerInvocation};
+  };
+  // Along x: one invocation a row and run of cells.
+  const UpsampleParams along_x{{width, height}, {width * factor, height}, factor, 0};
+  const VkBuffer x_buffers[] = {source, scratch, weights};
+  if (timer) timer->begin(commands, "upsample_x");
+  const auto [x_groups, x_runs] = groups(height, width);
+  pipeline_->dispatch_groups(commands, x_buffers, &along_x, x_groups, x_runs);
+  if (timer) timer->end(commands);
+  vk::compute_to_compute_barrier(commands);
+  // Along y: one invocation a column and run of cells.
+  const UpsampleParams along_y{{width * factor, height}, {width * factor, height * factor}, factor, 1};
+  const VkBuffer y_buffers[] = {scratch, target, weights};
+  if (timer) timer->begin(commands, "upsample_y");
+  const auto [y_groups, y_runs] = groups(width * factor, height);
+  pipeline_->dispatch_groups(commands, y_buffers, &along_y, y_groups, y_runs);
+  if (timer) timer->end(commands);
 }
 
 }  // namespace fovlab

@@ -1,6 +1,8 @@
 #pragma once
 // The zone-buffer upsampling of renderer/upsampling/upsample_filter.h on the GPU: two compute
 // passes (along x, then y) of renderer/shaders/upsample.comp.glsl, each timed.
+#include <vulkan/vulkan.h>
+
 #include <memory>
 
 #include "core/image.h"
@@ -11,6 +13,7 @@ namespace fovlab {
 namespace vk {
 class Context;
 class ComputePipeline;
+class PassTimer;
 }  // namespace vk
 
 struct UpsampleResult {
@@ -27,6 +30,13 @@ class Upsampler {
 
   // factor 1 to 8 per axis; 1 to 4 channels. InputError when the output would not fit a buffer.
   UpsampleResult upsample(const Image& image, int factor, UpsampleFilter filter);
+
+  // Records the two passes on device buffers of RGBA float texels: `source` (width x height) to
+  // `target` (both times factor) through `scratch` (width * factor x height); `weights` holds
+  // upsample_cell_weights(filter, factor). Timed as "upsample_x" and "upsample_y" when `timer` is
+  // given. The caller orders the source's writes before and the target's reads after.
+  void record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, VkBuffer weights,
+              uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer) const;
 
  private:
   vk::Context& context_;

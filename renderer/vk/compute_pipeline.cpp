@@ -98,6 +98,12 @@ void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBu
   vkCmdDispatch(commands, (width + kWorkgroupSize - 1) / kWorkgroupSize, (height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
 }
 
+void ComputePipeline::dispatch_groups(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
+                                      const void* push_constants, uint32_t group_count_x, uint32_t group_count_y) const {
+  bind(commands, buffers, push_constants);
+  vkCmdDispatch(commands, group_count_x, group_count_y, 1);
+}
+
 void ComputePipeline::dispatch_indirect(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
                                         const void* push_constants, VkBuffer arguments, VkDeviceSize offset) const {
   bind(commands, buffers, push_constants);

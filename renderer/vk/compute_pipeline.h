@@ -22,6 +22,9 @@ class ComputePipeline {
   // and dispatches enough 8x8 workgroups to cover width x height invocations.
   void dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants,
                    uint32_t width, uint32_t height) const;
+  // The same with the workgroup counts given (shaders of another local size).
+  void dispatch_groups(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants,
+                       uint32_t group_count_x, uint32_t group_count_y) const;
   // The same, with the workgroup counts (three uint32) read by the device from `arguments` at
   // `offset` when the dispatch runs (written by an earlier pass; see memory_barrier for the wait).
   void dispatch_indirect(VkCommandBuffer commands, std::span<const VkBuffer> buffers, const void* push_constants,

@@ -60,4 +60,23 @@ inline void expect_one_line_error(const CommandResult& result, const std::string
   EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
 }
 
+// An empty folder `name` under `parent`, for a command that works in its working directory.
+inline std::filesystem::path fresh_folder(const std::filesystem::path& parent, const std::string& name) {
+  const std::filesystem::path dir = parent / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// `run` with `dir` as the working directory (the pre-render cache is stimuli/cache under it) and no
+// display, so sessions are headless.
+inline CommandResult run_in(const std::filesystem::path& dir, const std::string& arguments) {
+  return run(arguments, "cd " + dir.string() + " && env -u DISPLAY -u WAYLAND_DISPLAY");
+}
+
+inline std::filesystem::path write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
 }  // namespace fovlab::cli_test

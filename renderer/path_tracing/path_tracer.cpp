@@ -1,0 +1,197 @@
+#include "renderer/path_tracing/path_tracer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "core/input_error.h"
+#include "renderer/path_tracing/bvh.h"
+#include "renderer/path_tracing/gpu_scene.h"
+#include "renderer/shaders/embedded_shaders.h"
+#include "renderer/vk/buffer.h"
+#include "renderer/vk/compute_pipeline.h"
+#include "renderer/vk/context.h"
+#include "renderer/vk/submission.h"
+
+namespace fovlab {
+
+namespace {
+
+constexpr int kMaxSizePx = 16384;
+constexpr int kMaxSamplesPerPixel = 65536;
+constexpr int kMaxBounces = 1024;
+// Samples one dispatch traces, about: small enough that a dispatch of long paths stays well under a
+// driver's timeout (and lavapipe answers between batches), large enough to fill a GPU.
+constexpr uint64_t kSamplesPerBatch = uint64_t(1) << 19;
+constexpr int kMaxSamplesPerPixelPerBatch = 16;
+constexpr uint32_t kFlagNextEventEstimation = 1u;
+
+// Must match PathTraceParams in path_trace.comp.glsl (push constants, 112 bytes).
+struct PathTraceParams {
+  float eye[4];
+  float right[4];    // camera right scaled by tan(fov / 2) x aspect
+  float up[4];       // camera up scaled by tan(fov / 2)
+  float forward[4];
+  float sky_radiance[4];
+  uint32_t size[2];
+  uint32_t sample_begin;
+  uint32_t sample_count;
+  uint32_t max_bounces;
+  uint32_t seed;
+  uint32_t emitter_count;
+  uint32_t flags;
+};
+static_assert(sizeof(PathTraceParams) == 112, "PathTraceParams must match the shader");
+
+void copy3(float* out, const glm::vec3& v) {
+  out[0] = v.x;
+  out[1] = v.y;
+  out[2] = v.z;
+  out[3] = 0.0f;
+}
+
+template <typename T>
+std::unique_ptr<vk::Buffer> device_buffer(vk::Context& context, const std::vector<T>& items, const char* what) {
+  const VkDeviceSize bytes = std::max<VkDeviceSize>(sizeof(T) * items.size(), sizeof(T));
+  if (bytes > context.max_storage_buffer_bytes)
+    throw InputError(std::string("scene: ") + std::to_string(items.size()) + " " + what + ": expected at most " +
+                     std::to_string(context.max_storage_buffer_bytes / sizeof(T)) + " on " + context.description.name);
+  vk::Buffer staging(context, bytes, vk::MemoryUse::host_upload);
+  std::memset(staging.mapped(), 0, bytes);
+  if (!items.empty()) std::memcpy(staging.mapped(), items.data(), sizeof(T) * items.size());
+  staging.flush();
+  auto buffer = std::make_unique<vk::Buffer>(context, bytes, vk::MemoryUse::device_local);
+  vk::OneTimeCommands commands(context);
+  vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(commands.handle(), staging.handle(), buffer->handle(), 1, &region);
+  vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+  commands.submit_and_wait();
+  return buffer;
+}
+
+void check_range(const char* name, int value, int low, int high) {
+  if (value < low || value > high)
+    throw InputError(std::string(name) + " " + std::to_string(value) + ": expected " + std::to_string(low) + " to " +
+                     std::to_string(high));
+}
+
+}  // namespace
+
+void validate(const PathTraceSettings& settings) {
+  check_range("path tracing width", settings.width_px, 1, kMaxSizePx);
+  check_range("path tracing height", settings.height_px, 1, kMaxSizePx);
+  check_range("path tracing samples per pixel", settings.samples_per_pixel, 1, kMaxSamplesPerPixel);
+  check_range("path tracing max bounces", settings.max_bounces, 0, kMaxBounces);
+  if (!std::isfinite(settings.time_s))
+    throw InputError("path tracing time " + std::to_string(settings.time_s) + " s: expected a finite number");
+}
+
+PathTracer::PathTracer(vk::Context& context, const PathScene& scene) : context_(context) {
+  validate(scene);
+  camera_ = scene.camera;
+  sky_radiance_ = scene.sky_radiance;
+  const Bvh bvh = build_bvh(scene);
+  const PackedScene packed = pack_scene(scene, bvh);
+  triangle_count_ = packed.triangles.size();
+  emitter_count_ = packed.emitters.size();
+  bvh_depth_ = bvh.depth;
+  nodes_ = device_buffer(context, packed.nodes, "BVH nodes");
+  triangles_ = device_buffer(context, packed.triangles, "triangles");
+  materials_ = device_buffer(context, packed.materials, "materials");
+  emitters_ = device_buffer(context, packed.emitters, "emitters");
+  pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::path_trace_spirv, 5, sizeof(PathTraceParams));
+}
+
+PathTracer::~PathTracer() = default;
+
+PathTraceResult PathTracer::render(const PathTraceSettings& settings) {
+  validate(settings);
+  const uint32_t width = uint32_t(settings.width_px), height = uint32_t(settings.height_px);
+  const uint64_t pixels = uint64_t(width) * height;
+  const VkDeviceSize accumulation_bytes = pixels * 4 * sizeof(float);
+  if (accumulation_bytes > context_.max_storage_buffer_bytes)
+    throw InputError("path tracing size " + std::to_string(width) + "x" + std::to_string(height) +
+                     ": expected at most " + std::to_string(context_.max_storage_buffer_bytes >> 20) +
+                     " MiB in one buffer on " + context_.description.name);
+
+  const CameraPose pose = camera_pose_at(camera_, settings.time_s);
+  const glm::vec3 forward = glm::normalize(pose.target - pose.eye);
+  const glm::vec3 side = glm::cross(forward, glm::normalize(camera_.up));
+  if (!(glm::length(side) > 1e-6f))
+    throw InputError("scene camera at " + std::to_string(settings.time_s) +
+                     " s: view direction parallel to the up vector: expected them apart");
+  const float tan_half = std::tan(glm::radians(camera_.vertical_fov_deg) * 0.5f);
+  const float aspect = float(width) / float(height);
+  const glm::vec3 right = glm::normalize(side);
+  const glm::vec3 up = glm::cross(right, forward);
+
+  PathTraceParams params{};
+  copy3(params.eye, pose.eye);
+  copy3(params.right, right * (tan_half * aspect));
+  copy3(params.up, up * tan_half);
+  copy3(params.forward, forward);
+  copy3(params.sky_radiance, sky_radiance_);
+  params.size[0] = width;
+  params.size[1] = height;
+  params.max_bounces = uint32_t(settings.max_bounces);
+  params.seed = settings.seed;
+  params.emitter_count = settings.next_event_estimation ? uint32_t(emitter_count_) : 0u;
+  params.flags = settings.next_event_estimation ? kFlagNextEventEstimation : 0u;
+
+  vk::Buffer accumulation(context_, accumulation_bytes, vk::MemoryUse::device_local);
+  vk::Buffer readback(context_, accumulation_bytes, vk::MemoryUse::host_readback);
+  const VkBuffer buffers[] = {nodes_->handle(), triangles_->handle(), materials_->handle(), emitters_->handle(),
+                              accumulation.handle()};
+  const auto per_batch = uint32_t(std::clamp<uint64_t>(kSamplesPerBatch / pixels, 1, kMaxSamplesPerPixelPerBatch));
+  const auto total = uint32_t(settings.samples_per_pixel);
+
+  PathTraceResult result;
+  vk::PassTimer timer(context_, 1);
+  for (uint32_t begin = 0; begin < total; begin += per_batch) {
+    params.sample_begin = begin;
+    params.sample_count = std::min(per_batch, total - begin);
+    const bool last = begin + params.sample_count == total;
+    vk::OneTimeCommands commands(context_);
+    VkCommandBuffer cmd = commands.handle();
+    timer.reset(cmd);
+    if (begin == 0) {
+      vkCmdFillBuffer(cmd, accumulation.handle(), 0, VK_WHOLE_SIZE, 0);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    } else {
+      vk::compute_to_compute_barrier(cmd);  // the previous batch's sums, written in an earlier submission
+    }
+    timer.begin(cmd, "path_trace");
+    pipeline_->dispatch_2d(cmd, buffers, &params, width, height);
+    timer.end(cmd);
+    if (last) {
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+      const VkBufferCopy region{0, 0, accumulation_bytes};
+      vkCmdCopyBuffer(cmd, accumulation.handle(), readback.handle(), 1, &region);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                         VK_ACCESS_HOST_READ_BIT);
+    }
+    commands.submit_and_wait();
+    for (const vk::PassTime& pass : timer.results()) result.gpu_ms += pass.gpu_ms;
+    ++result.batches;
+  }
+
+  readback.invalidate();
+  const auto* sums = static_cast<const float*>(readback.mapped());
+  result.image = Image(int(width), int(height), 3);
+  for (size_t p = 0; p < pixels; ++p)
+    for (size_t c = 0; c < 3; ++c) result.image.pixels[p * 3 + c] = sums[p * 4 + c] / float(total);
+  result.samples = pixels * total;
+  return result;
+}
+
+}  // namespace fovlab

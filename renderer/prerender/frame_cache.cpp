@@ -1,0 +1,125 @@
+#include "renderer/prerender/frame_cache.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "core/content_hash.h"
+#include "core/file_bytes.h"
+#include "core/image_io.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
+
+namespace fovlab {
+
+namespace {
+
+constexpr const char* kCacheFormat = "fovlab-frame-cache-1";
+
+std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+
+}  // namespace
+
+PathTraceSettings PathTraceSequence::settings(int frame) const {
+  PathTraceSettings settings;
+  settings.width_px = width_px;
+  settings.height_px = height_px;
+  settings.samples_per_pixel = samples_per_pixel;
+  settings.max_bounces = max_bounces;
+  settings.seed = seed;
+  settings.time_s = frame_time_s(frame);
+  return settings;
+}
+
+std::string PathTraceSequence::description() const {
+  return "scene=" + scene + ";size=" + size_text(width_px, height_px) + ";samples_per_pixel=" +
+         std::to_string(samples_per_pixel) + ";max_bounces=" + std::to_string(max_bounces) +
+         ";seed=" + std::to_string(seed) + ";frames_per_second=" + format_number(frames_per_second, 17) +
+         ";camera_start_s=" + format_number(camera_start_s, 17);
+}
+
+FrameCache::FrameCache(vk::Context& context, std::filesystem::path root) : context_(context), root_(std::move(root)) {}
+FrameCache::~FrameCache() = default;
+
+FrameCache::SceneEntry& FrameCache::scene_entry(const std::string& scene) {
+  auto found = scenes_.find(scene);
+  if (found == scenes_.end()) found = scenes_.emplace(scene, SceneEntry{load_path_scene(scene), nullptr}).first;
+  return found->second;
+}
+
+const std::string& FrameCache::scene_note(const std::string& scene) { return scene_entry(scene).loaded.load_note; }
+
+std::filesystem::path FrameCache::folder(const PathTraceSequence& sequence) {
+  validate(sequence.settings(0));
+  const std::string description = sequence.description();
+  if (const auto known = folders_.find(description); known != folders_.end()) return known->second;
+  const std::string& scene_hash = scene_entry(sequence.scene).loaded.content_hash;
+  // The scene enters by content, so an edited OBJ or a changed built-in gets a new folder.
+  const std::string key = ContentHash().add(kCacheFormat).add(scene_hash).add(description).hex();
+  const std::filesystem::path folder = root_ / key;
+  const std::filesystem::path manifest = folder / "cache.json";
+  const nlohmann::json expected = {{"format", kCacheFormat}, {"scene_content_hash", scene_hash},
+                                   {"sequence", description}};
+  std::error_code error;
+  if (std::filesystem::exists(manifest, error)) {
+    nlohmann::json found;
+    try {
+      found = nlohmann::json::parse(read_file_bytes(manifest).value_or(""));
+    } catch (const nlohmann::json::exception&) {
+      throw InputError(manifest.string() + ": not JSON; expected the pre-render cache's description (delete the folder)");
+    }
+    if (found != expected) {
+      const bool has_sequence = found.is_object() && found.contains("sequence") && found["sequence"].is_string();
+      throw InputError(manifest.string() + ": made for other parameters (" +
+                       (has_sequence ? found["sequence"].get<std::string>() : std::string("not a cache description")) +
+                       "); expected " + description + " (delete the folder to render it again)");
+    }
+  } else {
+    std::filesystem::create_directories(folder, error);
+    if (error) throw InputError(folder.string() + ": cannot create the cache folder (" + error.message() + ")");
+    write_text_atomically(manifest, expected.dump(2) + "\n");
+  }
+  folders_.emplace(description, folder);
+  return folder;
+}
+
+std::filesystem::path FrameCache::frame_file(const PathTraceSequence& sequence, int frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06d.exr", frame);
+  return folder(sequence) / name;
+}
+
+bool FrameCache::has_frame(const PathTraceSequence& sequence, int frame) {
+  const std::filesystem::path file = frame_file(sequence, frame);
+  std::error_code error;
+  if (!std::filesystem::exists(file, error)) return false;
+  try {
+    const Image image = read_image(file);  // decoded in full: a damaged file with a good header is not done
+    return image.width == sequence.width_px && image.height == sequence.height_px && image.channels >= 3;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+PathTraceResult FrameCache::render_frame(const PathTraceSequence& sequence, int frame) {
+  const std::filesystem::path file = frame_file(sequence, frame);
+  SceneEntry& entry = scene_entry(sequence.scene);
+  if (!entry.tracer) entry.tracer = std::make_unique<PathTracer>(context_, entry.loaded.scene);
+  PathTraceResult result = entry.tracer->render(sequence.settings(frame));
+  write_image(file, result.image);  // atomic: a temporary file renamed over the target
+  return result;
+}
+
+Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
+  const std::filesystem::path file = frame_file(sequence, frame);
+  std::error_code error;
+  if (!std::filesystem::exists(file, error)) return render_frame(sequence, frame).image;
+  Image image = read_image(file);  // InputError naming the file when it cannot be decoded
+  if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
+    throw InputError(file.string() + ": " + size_text(image.width, image.height) + " with " +
+                     std::to_string(image.channels) + " channels; expected a " +
+                     size_text(sequence.width_px, sequence.height_px) + " RGB frame of the pre-render cache");
+  return image;
+}
+
+}  // namespace fovlab

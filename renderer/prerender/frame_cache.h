@@ -1,0 +1,83 @@
+#pragma once
+// The pre-render cache of path-traced frames (seed 001: reference frames too slow to render live are
+// rendered once, then shown at display rate). A sequence (scene, size, samples, bounces, seed,
+// camera timing) owns one folder, stimuli/cache/<key>/, named by a content hash of the scene's
+// content and every setting that changes a pixel; it holds cache.json (what the folder was made
+// for, checked on every use) and one linear-light EXR a frame, frame_000000.exr and on. Frames are
+// written atomically (a temporary name, then a rename), so a killed pre-render leaves only whole
+// frames and resumes with what is missing. docs/foveated-path-tracing.md ("Pre-render cache").
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "core/image.h"
+#include "renderer/path_tracing/path_tracer.h"
+#include "renderer/prerender/path_scene_source.h"
+
+namespace fovlab {
+
+namespace vk {
+class Context;
+}
+
+struct PathTraceSequence {
+  std::string scene;  // "courtyard" or an OBJ path (renderer/prerender/path_scene_source.h)
+  int width_px = 0;
+  int height_px = 0;
+  int samples_per_pixel = 128;
+  int max_bounces = 32;
+  uint32_t seed = 1;
+  double frames_per_second = 30.0;
+  double camera_start_s = 0.0;
+  int frame_count = 1;  // not part of the key: a longer sequence extends a shorter one's folder
+
+  double frame_time_s(int frame) const { return camera_start_s + frame / frames_per_second; }
+  PathTraceSettings settings(int frame) const;
+  // Every setting that changes a pixel, as text ("scene=...;size=...;..."), the scene by name.
+  std::string description() const;
+  bool operator==(const PathTraceSequence& other) const {
+    return description() == other.description() && frame_count == other.frame_count;
+  }
+};
+
+// The default cache root, relative to the working directory.
+inline const std::filesystem::path kDefaultCacheRoot = "stimuli/cache";
+
+class FrameCache {
+ public:
+  // The context renders missing frames (frame()); the root is created on first use.
+  FrameCache(vk::Context& context, std::filesystem::path root);
+  ~FrameCache();
+  FrameCache(const FrameCache&) = delete;
+  FrameCache& operator=(const FrameCache&) = delete;
+
+  // The sequence's folder: loads its scene once (to hash its content), creates the folder and its
+  // cache.json, or checks that an existing cache.json was made for this sequence (InputError naming
+  // the file otherwise: a cache from other parameters is never used).
+  std::filesystem::path folder(const PathTraceSequence& sequence);
+  std::filesystem::path frame_file(const PathTraceSequence& sequence, int frame);
+  // The frame is on disk as an EXR of the sequence's size that decodes in full.
+  bool has_frame(const PathTraceSequence& sequence, int frame);
+  // Renders the frame and stores it (replacing what was there). Returns the render's statistics.
+  PathTraceResult render_frame(const PathTraceSequence& sequence, int frame);
+  // The frame from the cache, rendered and stored first when missing. InputError naming the file
+  // when it is there but unreadable or of another size.
+  Image frame(const PathTraceSequence& sequence, int frame);
+  // The OBJ loader's note for a scene (dropped triangles...), empty for built-ins; after folder().
+  const std::string& scene_note(const std::string& scene);
+
+ private:
+  struct SceneEntry {
+    LoadedPathScene loaded;
+    std::unique_ptr<PathTracer> tracer;  // made on the first render
+  };
+  SceneEntry& scene_entry(const std::string& scene);
+  vk::Context& context_;
+  std::filesystem::path root_;
+  std::map<std::string, SceneEntry> scenes_;
+  std::map<std::string, std::filesystem::path> folders_;  // by description, once checked
+};
+
+}  // namespace fovlab

@@ -1,0 +1,291 @@
+// Path-traced studies end to end (seed 001): tiny pair, ramp and slider studies of the pre-rendered
+// reference (pt) against the emulated foveated path tracer (fpt) run headless with the simulated
+// observer, replay --verify and analyze; and bad input as one line with exit code 2 and no results
+// written: a pt reference with a sphere-traced test, an fpt study on a sphere-traced scene, an fpt
+// display whose size is not a multiple of 4, an unreadable frame in the pre-render cache.
+// 32x20 (or 36x20) frames, 2 samples, 2 bounces, 2 frames a stimulus, modelled on experiments/fpt_*.toml.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tests/app/cli_test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using fovlab::cli_test::CommandResult;
+using fovlab::cli_test::expect_one_line_error;
+using fovlab::cli_test::read_all;
+using fovlab::cli_test::run_in;
+using fovlab::cli_test::write_file;
+
+// A fresh working directory per test, its own top-level folder: ctest runs tests in parallel processes.
+fs::path working_dir(const std::string& name) {
+  return fovlab::cli_test::fresh_folder(fs::temp_directory_path(), "fovlab-fpt-study-cli-" + name);
+}
+
+void replace(std::string& text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+}
+
+// A study of pt against fpt on the courtyard, levels foveal_deg; `protocol` is the [protocol] table's body.
+std::string fpt_config(const std::string& name, const std::string& protocol, const std::string& values = "[5, 20]") {
+  return "[study]\nname = \"" + name +
+         "\"\nseed = 21\n\n"
+         "[display]\nwidth_px = 32\nheight_px = 20\nrefresh_hz = 60\ndiagonal_in = 27\nviewing_distance_mm = 500\n\n"
+         "[stimulus]\nduration_s = 0.1\nframes_per_second = 20\ncamera_start_s = 3.0\n\n"
+         "[stimulus.reference]\nmethod = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n\n"
+         "[stimulus.test]\nmethod = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n\n"
+         "[levels]\nparameter = \"foveal_deg\"\nvalues = " +
+         values +
+         "\nhigher_is_better = true\n\n"
+         "[protocol]\n" +
+         protocol +
+         "\n\n[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n"
+         "[[block]]\nscene = \"courtyard\"\n";
+}
+
+
+std::vector<fs::path> cache_frames(const fs::path& dir) {
+  std::vector<fs::path> frames;
+  if (!fs::exists(dir / "stimuli/cache")) return frames;
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "stimuli/cache"))
+    if (entry.path().extension() == ".exr") frames.push_back(entry.path());
+  std::sort(frames.begin(), frames.end());
+  return frames;
+}
+
+// Run a participant, replay --verify its log, analyze the study: each exits 0.
+void run_replay_analyze(const std::string& name, const std::string& protocol, const std::string& values) {
+  const fs::path dir = working_dir(name);
+  write_file(dir / "study.toml", fpt_config(name, protocol, values));
+  const std::string run_args =
+      "run study.toml --participant next --headless --observer simulated:threshold=15 --results results";
+  const CommandResult session = run_in(dir, run_args);
+  ASSERT_EQ(session.exit_code, 0) << session.out << session.err;
+  const fs::path log = dir / "results" / name / "P001" / "events.jsonl";
+  ASSERT_TRUE(fs::is_regular_file(log)) << session.out;
+  EXPECT_NE(session.out.find("(headless, virtual clock)"), std::string::npos) << session.out;
+  // The session rendered its missing frames into the cache under the working directory: 2 frames of
+  // one sequence shared by pt and fpt.
+  EXPECT_EQ(cache_frames(dir).size(), 2u);
+  // fpt is blended per refresh from the gaze, so its frames are logged; the log names both methods.
+  const std::string text = read_all(log);
+  EXPECT_NE(text.find("\"method\":\"fpt\""), std::string::npos);
+  EXPECT_NE(text.find("\"method\":\"pt\""), std::string::npos);
+  EXPECT_NE(text.find("session_end"), std::string::npos) << "the session finished";
+
+  const CommandResult replay = run_in(dir, "replay --verify " + log.string());
+  EXPECT_EQ(replay.exit_code, 0) << replay.out << replay.err;
+  EXPECT_NE(replay.out.find("replay matches the log"), std::string::npos) << replay.out;
+
+  const CommandResult analysis = run_in(dir, "analyze " + (dir / "results" / name).string());
+  EXPECT_EQ(analysis.exit_code, 0) << analysis.out << analysis.err;
+  EXPECT_NE(analysis.out.find("study " + name), std::string::npos) << analysis.out;
+  EXPECT_NE(analysis.out.find("  threshold "), std::string::npos) << analysis.out;
+  EXPECT_NE(analysis.out.find("1 participant(s)"), std::string::npos) << analysis.out;
+
+  // A second participant: the frames come from the cache (nothing added to it), same result files.
+  const auto frames_before = cache_frames(dir);
+  std::vector<std::string> frame_bytes;
+  for (const fs::path& frame : frames_before) frame_bytes.push_back(read_all(frame));
+  const CommandResult second = run_in(dir, run_args);
+  ASSERT_EQ(second.exit_code, 0) << second.out << second.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "results" / name / "P002" / "events.jsonl"));
+  ASSERT_EQ(cache_frames(dir), frames_before);
+  for (size_t i = 0; i < frames_before.size(); ++i) EXPECT_TRUE(read_all(frames_before[i]) == frame_bytes[i]) << frames_before[i] << " rewritten";
+}
+
+TEST(FptStudyCli, PairRunsReplaysAndAnalyzes) {
+  run_replay_analyze("tiny_fpt_pair", "kind = \"pair\"\nrepeats = 2", "[5, 20]");
+}
+
+TEST(FptStudyCli, RampRunsReplaysAndAnalyzes) {
+  run_replay_analyze("tiny_fpt_ramp", "kind = \"ramp\"\nrepeats = 1", "[5, 10, 20]");
+}
+
+TEST(FptStudyCli, SliderRunsReplaysAndAnalyzes) {
+  run_replay_analyze("tiny_fpt_slider", "kind = \"slider\"\nrepeats = 1\nstart_level = 10", "[5, 10, 20]");
+}
+
+TEST(FptStudyCli, ReplayDetectsAChangedCacheFrame) {
+  // The replay renders from the cache again: a cache frame changed after the session (same size, a
+  // valid EXR) makes the frames differ from the logged hashes.
+  const std::string name = "tiny_fpt_changed";
+  const fs::path dir = working_dir(name);
+  write_file(dir / "study.toml", fpt_config(name, "kind = \"pair\"\nrepeats = 2"));
+  const CommandResult session =
+      run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results");
+  ASSERT_EQ(session.exit_code, 0) << session.out << session.err;
+  const auto frames = cache_frames(dir);
+  ASSERT_EQ(frames.size(), 2u);
+  // Swap the two frames: both valid, each of the right size, but not what was shown.
+  const std::string frame0 = read_all(frames[0]);
+  const std::string frame1 = read_all(frames[1]);
+  ASSERT_TRUE(frame0 != frame1);
+  write_file(frames[0], frame1);
+  write_file(frames[1], frame0);
+  const CommandResult replay = run_in(dir, "replay --verify " + (dir / "results" / name / "P1/events.jsonl").string());
+  EXPECT_EQ(replay.exit_code, 1) << replay.out << replay.err;
+}
+
+// Bad input: exit code 2, one line naming the problem, and no results folder.
+TEST(FptStudyCli, PtReferenceWithASphereTracedTestIsRefused) {
+  const fs::path dir = working_dir("mixed");
+  std::string text = fpt_config("tiny_mixed", "kind = \"pair\"\nrepeats = 2");
+  replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
+  replace(text, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [4, 8]");
+  write_file(dir / "mixed.toml", text);
+  const std::string tail = " --participant P1 --headless --observer simulated --results results";
+  const CommandResult result = run_in(dir, "run mixed.toml" + tail);
+  expect_one_line_error(result, "stimulus.test.method");
+  EXPECT_NE(result.err.find("mixed.toml"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("\"pt\""), std::string::npos) << result.err;
+  expect_one_line_error(run_in(dir, "validate mixed.toml"), "stimulus.test.method");
+  // And the other way round: a gt reference with an fpt test.
+  std::string reversed = fpt_config("tiny_mixed2", "kind = \"pair\"\nrepeats = 2");
+  replace(reversed, "method = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
+  write_file(dir / "reversed.toml", reversed);
+  expect_one_line_error(run_in(dir, "run reversed.toml" + tail), "stimulus.test.method");
+  EXPECT_FALSE(fs::exists(dir / "results"));
+  EXPECT_FALSE(fs::exists(dir / "stimuli"));
+}
+
+// The mixed-methods message names the key, the reference's method and the test's value ("gt"),
+// like the config's other messages ("expected ..., got ...").
+TEST(FptStudyCli, PtReferenceWithAGtTestMessageNamesTheTestMethod) {
+  const fs::path dir = working_dir("mixed-value");
+  std::string text = fpt_config("tiny_mixed", "kind = \"pair\"\nrepeats = 2");
+  replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
+  replace(text, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [4, 8]");
+  write_file(dir / "mixed.toml", text);
+  const CommandResult result = run_in(dir, "validate mixed.toml");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("\"gt\""), std::string::npos) << "the message should say what the test's method is: " << result.err;
+}
+
+TEST(FptStudyCli, FptOnASphereTracedSceneIsRefused) {
+  const fs::path dir = working_dir("scene");
+  std::string text = fpt_config("tiny_scene", "kind = \"pair\"\nrepeats = 2");
+  replace(text, "scene = \"courtyard\"", "scene = \"primitives\"");
+  write_file(dir / "scene.toml", text);
+  const CommandResult result =
+      run_in(dir, "run scene.toml --participant P1 --headless --observer simulated --results results");
+  expect_one_line_error(result, "block[1].scene");
+  EXPECT_NE(result.err.find("primitives"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("courtyard"), std::string::npos) << "names what is expected: " << result.err;
+  // A sphere-traced .glsl scene file is no path-traced scene either.
+  std::string glsl = fpt_config("tiny_glsl", "kind = \"pair\"\nrepeats = 2");
+  replace(glsl, "scene = \"courtyard\"",
+          "scene = \"" + (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/scenes/sphere.glsl").string() + "\"");
+  write_file(dir / "glsl.toml", glsl);
+  expect_one_line_error(run_in(dir, "run glsl.toml --participant P1 --headless --observer simulated --results results"),
+                        "sphere.glsl");
+  EXPECT_FALSE(fs::exists(dir / "results"));
+  EXPECT_FALSE(fs::exists(dir / "stimuli"));
+}
+
+TEST(FptStudyCli, FptDisplayNotAMultipleOf4IsRefusedAtRun) {
+  const fs::path dir = working_dir("size");
+  std::string text = fpt_config("tiny_size", "kind = \"pair\"\nrepeats = 2");
+  replace(text, "width_px = 32", "width_px = 30");
+  write_file(dir / "size.toml", text);
+  const CommandResult result =
+      run_in(dir, "run size.toml --participant P1 --headless --observer simulated --results results");
+  expect_one_line_error(result, "multiples of 4");
+  EXPECT_NE(result.err.find("fpt"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
+  // 32x18: the height is the odd one out.
+  std::string height = fpt_config("tiny_height", "kind = \"pair\"\nrepeats = 2");
+  replace(height, "height_px = 20", "height_px = 18");
+  write_file(dir / "height.toml", height);
+  expect_one_line_error(run_in(dir, "run height.toml --participant P1 --headless --observer simulated --results results"),
+                        "multiples of 4");
+  EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
+}
+
+// Replaces a frame by its first half: the EXR's header is whole (so it counts as cached), its pixels
+// are not.
+void truncate_frame(const fs::path& frame) {
+  const std::string bytes = read_all(frame);
+  ASSERT_GT(bytes.size(), 64u);
+  write_file(frame, bytes.substr(0, bytes.size() / 2));
+}
+
+TEST(FptStudyCli, UnreadableCacheFrameIsRefusedNamingItAndWritesNoResults) {
+  const std::string name = "tiny_fpt_corrupt";
+  const fs::path dir = working_dir("corrupt");
+  write_file(dir / "study.toml", fpt_config(name, "kind = \"pair\"\nrepeats = 2"));
+  const CommandResult prerender = run_in(dir, "prerender study.toml");
+  ASSERT_EQ(prerender.exit_code, 0) << prerender.out << prerender.err;
+  const auto frames = cache_frames(dir);
+  ASSERT_EQ(frames.size(), 2u);
+  truncate_frame(frames[1]);
+  const std::string corrupt = read_all(frames[1]);
+
+  const CommandResult result =
+      run_in(dir, "run study.toml --participant next --headless --observer simulated:threshold=15 --results results");
+  expect_one_line_error(result, frames[1].filename().string());
+  EXPECT_NE(result.err.find((frames[1].parent_path().filename() / frames[1].filename()).string()), std::string::npos)
+      << result.err;
+  // Nothing of a session on disk: no participant folder, no log.
+  if (fs::exists(dir / "results")) {
+    for (const auto& entry : fs::recursive_directory_iterator(dir / "results"))
+      ADD_FAILURE() << "left behind: " << entry.path();
+  }
+  EXPECT_TRUE(read_all(frames[1]) == corrupt) << "the bad frame is left for the user to see";
+  EXPECT_EQ(cache_frames(dir), frames);
+
+  // Not an EXR at all: the same.
+  write_file(frames[1], "not an EXR");
+  expect_one_line_error(
+      run_in(dir, "run study.toml --participant next --headless --observer simulated:threshold=15 --results results"),
+      frames[1].filename().string());
+  EXPECT_FALSE(fs::exists(dir / "results" / name / "P001"));
+
+  // Deleted, it is rendered again and the run succeeds.
+  fs::remove(frames[1]);
+  const CommandResult again =
+      run_in(dir, "run study.toml --participant next --headless --observer simulated:threshold=15 --results results");
+  ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "results" / name / "P001" / "events.jsonl"));
+}
+
+// fpt frames that the pt reference does not show (here: the periphery_bounces sequence) are only
+// read when blended; an unreadable one must still fail before the session writes anything.
+TEST(FptStudyCli, UnreadableFptOnlyFrameIsRefusedBeforeTheSessionStarts) {
+  const std::string name = "tiny_fpt_corrupt_periphery";
+  const fs::path dir = working_dir("corrupt-periphery");
+  std::string text = fpt_config(name, "kind = \"pair\"\nrepeats = 2");
+  replace(text, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"periphery_bounces\"\nvalues = [1]");
+  replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2",
+          "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\nfoveal_deg = 5");
+  write_file(dir / "study.toml", text);
+  const CommandResult prerender = run_in(dir, "prerender study.toml");
+  ASSERT_EQ(prerender.exit_code, 0) << prerender.out << prerender.err;
+  const auto frames = cache_frames(dir);
+  ASSERT_EQ(frames.size(), 4u);
+  fs::path periphery_frame;
+  for (const fs::path& frame : frames)
+    if (read_all(frame.parent_path() / "cache.json").find("max_bounces=1;") != std::string::npos) periphery_frame = frame;
+  ASSERT_FALSE(periphery_frame.empty());
+  truncate_frame(periphery_frame);
+
+  const CommandResult result =
+      run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results");
+  expect_one_line_error(result, periphery_frame.filename().string());
+  if (fs::exists(dir / "results")) {
+    for (const auto& entry : fs::recursive_directory_iterator(dir / "results")) {
+      EXPECT_FALSE(entry.is_regular_file()) << "left behind: " << entry.path();
+    }
+  }
+}
+
+}  // namespace
