@@ -2,7 +2,8 @@
 //              [--zones-out IMG]: an offline preview of what a participant of the emulated foveated
 // path tracer sees for one frame and one gaze sample (renderer/zone_blend;
 // docs/foveated-path-tracing.md). The frame's three zone buffers are made and blended on the GPU.
-// --repeats N also times the blend against a plain device copy of one full-size buffer.
+// --repeats N also times the blend against plain copies of one full-size buffer (a copy shader and
+// vkCmdCopyBuffer).
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -10,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "app/bench_runs.h"  // median
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
+#include "app/fpt_timing.h"
 #include "app/render_outputs.h"
 #include "core/colour.h"
 #include "core/image_io.h"
@@ -80,8 +81,8 @@ void run_blend(BlendOptions options) {
   ZoneBlender blender(context);
   const double upsample_ms = blender.set_frame(frame, periphery ? &*periphery : nullptr);
   const ZoneBlendResult result = blender.blend(display, gaze_x, gaze_y, bounds);
-  std::vector<ZoneBlender::BlendCost> costs;
-  if (options.repeats > 0) costs = blender.measure_cost(display, gaze_x, gaze_y, bounds, options.repeats);
+  BlendTiming timing;
+  if (options.repeats > 0) timing = time_blend(blender, display, gaze_x, gaze_y, bounds, options.repeats);
   fail_on_validation_messages(context);
 
   // EXR frames are linear light: written linear to EXR, sRGB-encoded to 8-bit files. Other frames
@@ -96,18 +97,7 @@ void run_blend(BlendOptions options) {
               "GPU -> %s\n",
               options.frame.c_str(), frame.width, frame.height, gaze_x, gaze_y, bounds.foveal_deg, bounds.middle_deg,
               bounds.band_deg, upsample_ms, result.gpu_ms, options.out.c_str());
-  if (!costs.empty()) {
-    std::vector<double> blend_ms, shader_ms, buffer_ms;
-    for (const ZoneBlender::BlendCost& cost : costs) {
-      blend_ms.push_back(cost.blend_ms);
-      shader_ms.push_back(cost.copy_shader_ms);
-      buffer_ms.push_back(cost.copy_buffer_ms);
-    }
-    std::printf("GPU medians of %d: blend %.3f ms; copy of one full-size buffer: by the same shader %.3f ms "
-                "(blend / copy %.2f), by vkCmdCopyBuffer %.3f ms (blend / copy %.2f)\n",
-                options.repeats, median(blend_ms), median(shader_ms), median(blend_ms) / median(shader_ms),
-                median(buffer_ms), median(blend_ms) / median(buffer_ms));
-  }
+  if (options.repeats > 0) print_blend_timing(timing);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@ namespace fovlab::app {
 void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_bench_fpt_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_validate_command(CLI::App& app);

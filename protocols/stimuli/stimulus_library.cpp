@@ -80,7 +80,15 @@ Rgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec, const
 
 Rgba8Frame StimulusLibrary::render_path_traced(const StimulusSpec& spec, const StimulusImage& image) {
   const PathTracedFrames frames = path_traced_frames(spec);
-  if (spec.method == "pt") return to_rgba8(frame_cache_->frame(frames.sequences[0], image.frame));
+  Rgba8Frame frame;
+  frame.width = spec.width_px;
+  frame.height = spec.height_px;
+  // pt: the frame encoded by the shader that encodes fpt's frames, so that the two agree to the
+  // byte wherever fpt shows its full-resolution zone.
+  if (spec.method == "pt") {
+    frame.rgba = blender().encode_for_display(frame_cache_->frame(frames.sequences[0], image.frame));
+    return frame;
+  }
   // fpt: the zone buffers change with the animation frame, the blend with every gaze sample. No
   // state carries from one image to the next, so any image can be rendered on its own.
   const std::string key = spec.canonical() + "#" + std::to_string(image.frame);
@@ -95,11 +103,10 @@ Rgba8Frame StimulusLibrary::render_path_traced(const StimulusSpec& spec, const S
     }
     blender_frame_ = key;
   }
-  // A gaze sample that is not a number (none usable, not even a substitute) shows the frame
-  // itself: the full-resolution zone everywhere, never a guess at where the eye is.
-  if (!std::isfinite(image.gaze.x_px) || !std::isfinite(image.gaze.y_px))
-    return to_rgba8(blender().zone_buffer(Zone::foveal));
-  return to_rgba8(blender().blend(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec)).image);
+  // Blended and sRGB-encoded on the GPU. A gaze sample that is not a number (none usable, not even
+  // a substitute) shows the frame itself: the full-resolution zone everywhere.
+  frame.rgba = blender().display_frame(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec));
+  return frame;
 }
 
 ZoneBlender& StimulusLibrary::blender() {
@@ -107,13 +114,17 @@ ZoneBlender& StimulusLibrary::blender() {
   return *blender_;
 }
 
-void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
-  if (spec.method != "fpt") return;  // pt frames are loaded (or rendered) by prepare's render loop
+void StimulusLibrary::check_foveated_path_traced(const StimulusSpec& spec) {
   stimulus_display(spec);
   check_zone_bounds(zone_bounds(spec));
   if (spec.width_px % 4 != 0 || spec.height_px % 4 != 0)
     throw InputError("stimulus " + spec.canonical() +
                      ": fpt needs a width and height that are multiples of 4 (its outer zone is 1/4 per axis)");
+  check_zone_frame_size(context_, spec.width_px, spec.height_px);
+}
+
+void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
+  if (spec.method != "fpt") return;  // pt frames are loaded (or rendered) by prepare's render loop
   // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
   // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
   // error naming its file now rather than mid-session.
@@ -123,6 +134,9 @@ void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
 
 double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli) {
   const double before = render_seconds_;
+  // What can be refused without rendering is refused before anything is rendered.
+  for (const auto& [id, spec] : stimuli)
+    if (spec.method == "fpt") check_foveated_path_traced(spec);
   for (const auto& [id, spec] : stimuli) {
     if (is_path_traced_method(spec.method)) {
       const auto start = std::chrono::steady_clock::now();

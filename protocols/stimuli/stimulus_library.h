@@ -74,6 +74,9 @@ class StimulusLibrary {
   SphereTracer& tracer_for(const std::string& scene);
   Rgba8Frame render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image);
   Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);
+  // fpt's settings, size and display, without rendering (InputError).
+  void check_foveated_path_traced(const StimulusSpec& spec);
+  // fpt: every frame in the cache before the first trial.
   void prepare_path_traced(const StimulusSpec& spec);
   ZoneBlender& blender();
   vk::Context& context_;

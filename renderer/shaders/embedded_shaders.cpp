@@ -3,6 +3,7 @@
 namespace fovlab::shaders {
 
 namespace {
+#include "buffer_copy.spv.h"
 #include "depth_edges.spv.h"
 #include "fipr_reconstruct.spv.h"
 #include "foveation_mask.spv.h"
@@ -22,6 +23,7 @@ const std::span<const uint32_t> masked_blur_spirv{masked_blur_spirv_words};
 const std::span<const uint32_t> fipr_reconstruct_spirv{fipr_reconstruct_spirv_words};
 const std::span<const uint32_t> upsample_spirv{upsample_spirv_words};
 const std::span<const uint32_t> zone_blend_spirv{zone_blend_spirv_words};
+const std::span<const uint32_t> buffer_copy_spirv{buffer_copy_spirv_words};
 const std::span<const uint32_t> masked_list_dispatch_spirv{masked_list_dispatch_spirv_words};
 const std::span<const uint32_t> path_trace_spirv{path_trace_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};

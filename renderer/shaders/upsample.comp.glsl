@@ -21,6 +21,7 @@ layout(push_constant) uniform UpsampleParams {
   uvec2 target_size;  // source_size scaled by factor along `axis`
   uint factor;
   uint axis;          // 0: x, 1: y
+  uint target_offset; // texels before the target image in its buffer (a zone of ZoneBlender's buffer)
 } params;
 
 const uint CELLS_PER_INVOCATION = 8u;  // must match kCellsPerInvocation in upsampler.cpp
@@ -35,7 +36,7 @@ void main() {
   uint source_stride = params.axis == 0u ? 1u : params.source_size.x;
   uint source_line = params.axis == 0u ? line * params.source_size.x : line;
   uint target_stride = params.axis == 0u ? 1u : params.target_size.x;
-  uint target_line = params.axis == 0u ? line * params.target_size.x : line;
+  uint target_line = params.target_offset + (params.axis == 0u ? line * params.target_size.x : line);
   int last = int(cells) - 1;
 
   vec4 taps[7];

@@ -24,6 +24,7 @@ struct UpsampleParams {
   uint32_t target_size[2];
   uint32_t factor;
   uint32_t axis;
+  uint32_t target_offset;
 };
 
 }  // namespace
@@ -84,14 +85,15 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
 }
 
 void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, VkBuffer weights,
-                       uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer) const {
+                       uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer,
+                       uint32_t target_offset_texels) const {
   constexpr uint32_t kGroupWidth = 64;           // local_size_x of upsample.comp.glsl
   constexpr uint32_t kCellsPerInvocation = 8;    // CELLS_PER_INVOCATION there
   const auto groups = [&](uint32_t lines, uint32_t cells) {
     return std::pair{(lines + kGroupWidth - 1) / kGroupWidth, (cells + kCellsPerInvocation - 1) / kCellsPerInvocation};
   };
   // Along x: one invocation a row and run of cells.
-  const UpsampleParams along_x{{width, height}, {width * factor, height}, factor, 0};
+  const UpsampleParams along_x{{width, height}, {width * factor, height}, factor, 0, 0};
   const VkBuffer x_buffers[] = {source, scratch, weights};
   if (timer) timer->begin(commands, "upsample_x");
   const auto [x_groups, x_runs] = groups(height, width);
@@ -99,7 +101,8 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
   if (timer) timer->end(commands);
   vk::compute_to_compute_barrier(commands);
   // Along y: one invocation a column and run of cells.
-  const UpsampleParams along_y{{width * factor, height}, {width * factor, height * factor}, factor, 1};
+  const UpsampleParams along_y{{width * factor, height}, {width * factor, height * factor}, factor, 1,
+                               target_offset_texels};
   const VkBuffer y_buffers[] = {scratch, target, weights};
   if (timer) timer->begin(commands, "upsample_y");
   const auto [y_groups, y_runs] = groups(width * factor, height);

@@ -33,10 +33,12 @@ class Upsampler {
 
   // Records the two passes on device buffers of RGBA float texels: `source` (width x height) to
   // `target` (both times factor) through `scratch` (width * factor x height); `weights` holds
-  // upsample_cell_weights(filter, factor). Timed as "upsample_x" and "upsample_y" when `timer` is
-  // given. The caller orders the source's writes before and the target's reads after.
+  // upsample_cell_weights(filter, factor). The output starts `target_offset_texels` texels into
+  // `target`. Timed as "upsample_x" and "upsample_y" when `timer` is given. The caller orders the
+  // source's writes before and the target's reads after.
   void record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, VkBuffer weights,
-              uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer) const;
+              uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer,
+              uint32_t target_offset_texels = 0) const;
 
  private:
   vk::Context& context_;

@@ -1,8 +1,11 @@
 #include "renderer/zone_blend/zone_blender.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
+
+#include <glm/glm.hpp>
 
 #include "core/input_error.h"
 #include "renderer/shaders/embedded_shaders.h"
@@ -17,20 +20,24 @@ namespace fovlab {
 
 namespace {
 
+constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
+// zone_blend.comp.glsl's OUTPUT_SRGB8 (constant_id 0) for each variant.
+constexpr uint32_t kLinearVariant[] = {0}, kSrgb8Variant[] = {1};
+constexpr uint32_t kGroupWidth = 64;  // local_size_x of zone_blend and buffer_copy: one row of groups a pixel row
+
 // Must match BlendParams in zone_blend.comp.glsl.
 struct BlendParams {
   float edge_tan2[4];
-  uint32_t frame_size[2];
-  float gaze_px[2];
-  float pixel_pitch_mm[2];
+  float gaze_direction[3];
   float viewing_distance_mm;
-  float foveal_radius_deg;
-  float middle_radius_deg;
-  float band_deg;
-  uint32_t mode;
+  float first_pixel_mm[2];
+  float pixel_pitch_mm[2];
+  uint32_t frame_size[2];
+  float band_end_deg[2];
+  float band_per_deg;
+  uint32_t has_middle;
 };
-static_assert(sizeof(BlendParams) == 60, "BlendParams must match zone_blend.comp.glsl");
-constexpr uint32_t kModeBlend = 0, kModeCopy = 1;
+static_assert(sizeof(BlendParams) == 72, "BlendParams must match zone_blend.comp.glsl");
 
 // tan^2 of an eccentricity bound in degrees: -1 below 0 (nothing is inside), huge from 90 on.
 float tan2_of_bound(double bound_deg) {
@@ -39,7 +46,48 @@ float tan2_of_bound(double bound_deg) {
   const double t = std::tan(bound_deg * 3.14159265358979323846 / 180.0);
   return static_cast<float>(t * t);
 }
-constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
+
+// Every pixel inside the foveal zone (no gaze): edges at 90 degrees, no band, no middle zone. The
+// rays do not matter then; any will do.
+BlendParams whole_frame_foveal(int width, int height) {
+  BlendParams params{};
+  params.frame_size[0] = uint32_t(width);
+  params.frame_size[1] = uint32_t(height);
+  params.gaze_direction[2] = 1.0f;
+  params.viewing_distance_mm = 1.0f;
+  for (float& edge : params.edge_tan2) edge = tan2_of_bound(90.0);
+  return params;
+}
+
+// The blend of a width x height frame for a gaze point; a gaze that is not a number: the whole
+// frame foveal. In the eye's millimetres (renderer/foveation/display_geometry.h); the unit ray to
+// the gaze point is scaled by its largest component first, so that a gaze far off the screen
+// neither overflows nor loses its direction.
+BlendParams blend_params(int width, int height, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                         const ZoneBounds& bounds) {
+  BlendParams params = whole_frame_foveal(width, height);
+  if (!std::isfinite(gaze_x_px) || !std::isfinite(gaze_y_px)) return params;
+  const double pitch_x = display.pixel_pitch_x_mm(), pitch_y = display.pixel_pitch_y_mm();
+  params.pixel_pitch_mm[0] = static_cast<float>(pitch_x);
+  params.pixel_pitch_mm[1] = static_cast<float>(pitch_y);
+  params.first_pixel_mm[0] = static_cast<float>((0.5 - 0.5 * width) * pitch_x);
+  params.first_pixel_mm[1] = static_cast<float>((0.5 - 0.5 * height) * pitch_y);
+  params.viewing_distance_mm = static_cast<float>(display.viewing_distance_mm);
+  glm::dvec3 gaze{(gaze_x_px - 0.5 * width) * pitch_x, (gaze_y_px - 0.5 * height) * pitch_y,
+                  display.viewing_distance_mm};
+  gaze = glm::normalize(gaze / std::max({std::fabs(gaze.x), std::fabs(gaze.y), gaze.z}));
+  for (int i = 0; i < 3; ++i) params.gaze_direction[i] = static_cast<float>(gaze[i]);
+  const double half_band = 0.5 * bounds.band_deg;
+  params.edge_tan2[0] = tan2_of_bound(0.5 * bounds.foveal_deg - half_band);
+  params.edge_tan2[1] = tan2_of_bound(0.5 * bounds.foveal_deg + half_band);
+  params.edge_tan2[2] = tan2_of_bound(0.5 * bounds.middle_deg - half_band);
+  params.edge_tan2[3] = tan2_of_bound(0.5 * bounds.middle_deg + half_band);
+  params.band_end_deg[0] = static_cast<float>(0.5 * bounds.foveal_deg + half_band);
+  params.band_end_deg[1] = static_cast<float>(0.5 * bounds.middle_deg + half_band);
+  params.band_per_deg = bounds.band_deg > 0.0 ? static_cast<float>(1.0 / bounds.band_deg) : 0.0f;
+  params.has_middle = bounds.middle_deg > bounds.foveal_deg ? 1u : 0u;
+  return params;
+}
 
 vk::Buffer upload(const vk::Context& context, const Image& image) {
   vk::Buffer staging(context, VkDeviceSize(image.pixel_count()) * kTexelBytes, vk::MemoryUse::host_upload);
@@ -53,11 +101,48 @@ void copy_whole(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buff
   vkCmdCopyBuffer(commands, from.handle(), to.handle(), 1, &region);
 }
 
+// Copies `size_bytes` from `offset_bytes` of `from` (written by a shader or a copy) to the start of
+// the host-readable `to`, with the barriers on either side.
+void record_read_back(VkCommandBuffer commands, const vk::Buffer& from, VkDeviceSize offset_bytes,
+                      VkDeviceSize size_bytes, const vk::Buffer& to) {
+  vk::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{offset_bytes, 0, size_bytes};
+  vkCmdCopyBuffer(commands, from.handle(), to.handle(), 1, &region);
+  vk::memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                     VK_ACCESS_HOST_READ_BIT);
+}
+
+std::vector<uint8_t> mapped_bytes(const vk::Buffer& readback) {
+  readback.invalidate();
+  const auto* bytes = static_cast<const uint8_t*>(readback.mapped());
+  return std::vector<uint8_t>(bytes, bytes + readback.size_bytes());
+}
+
+void require_colour(int channels, const char* what) {
+  if (channels < 3)
+    throw InputError(std::string(what) + ": expected a colour frame (3 or 4 channels), not " + std::to_string(channels));
+}
+
 }  // namespace
+
+void check_zone_frame_size(const vk::Context& context, int width_px, int height_px) {
+  const VkDeviceSize pixels = VkDeviceSize(width_px) * VkDeviceSize(height_px);
+  if (3 * kTexelBytes * pixels > context.max_storage_buffer_bytes)
+    throw InputError("zone buffers of " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                     " pixels: expected at most " + std::to_string(context.max_storage_buffer_bytes / (3 * kTexelBytes)) +
+                     " pixels (48 bytes a pixel in one buffer of at most " +
+                     std::to_string(context.max_storage_buffer_bytes >> 20) + " MiB) on " + context.description.name);
+}
 
 ZoneBlender::ZoneBlender(vk::Context& context)
     : context_(context),
-      pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 4, sizeof(BlendParams))),
+      linear_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams),
+                                                             kLinearVariant)),
+      srgb8_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams),
+                                                            kSrgb8Variant)),
+      copy_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::buffer_copy_spirv, 2, 2 * sizeof(uint32_t))),
       upsampler_(std::make_unique<Upsampler>(context)) {}
 
 ZoneBlender::~ZoneBlender() = default;
@@ -72,16 +157,13 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   if (periphery_source.width != frame.width || periphery_source.height != frame.height ||
       periphery_source.channels != frame.channels)
     throw InputError("periphery frame: expected the size and channels of the foveal frame");
+  check_zone_frame_size(context_, frame.width, frame.height);  // the three zones share one buffer
   const VkDeviceSize frame_bytes = VkDeviceSize(frame.pixel_count()) * kTexelBytes;
-  if (frame_bytes > context_.max_storage_buffer_bytes)
-    throw InputError("zone buffers of " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " pixels: expected at most " + std::to_string(context_.max_storage_buffer_bytes >> 20) +
-                     " MiB a buffer on " + context_.description.name);
   if (frame.width != width_ || frame.height != height_) {
-    foveal_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
-    middle_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
-    outer_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
-    blended_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
+    zones_ = vk::Buffer(context_, 3 * frame_bytes, vk::MemoryUse::device_local);
+    blended_linear_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
+    blended_srgb8_ = vk::Buffer(context_, VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
+    blended_srgb8_readback_ = vk::Buffer(context_, blended_srgb8_.size_bytes(), vk::MemoryUse::host_readback);
     width_ = frame.width;
     height_ = frame.height;
   }
@@ -109,51 +191,53 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
-  copy_whole(cmd, foveal_staging, foveal_);
+  copy_whole(cmd, foveal_staging, zones_);  // the foveal zone: the frame itself, first
   const auto w = uint32_t(frame.width), h = uint32_t(frame.height);
-  upsampler_->record(cmd, half_staging.handle(), scratch.handle(), middle_.handle(), weights_2.handle(), w / 2, h / 2, 2,
-                     &timer);
+  const auto zone_texels = uint32_t(frame.pixel_count());
+  upsampler_->record(cmd, half_staging.handle(), scratch.handle(), zones_.handle(), weights_2.handle(), w / 2, h / 2, 2,
+                     &timer, zone_texels);
   vk::compute_to_compute_barrier(cmd);  // the scratch buffer is reused
-  upsampler_->record(cmd, quarter_staging.handle(), scratch.handle(), outer_.handle(), weights_4.handle(), w / 4, h / 4,
-                     4, &timer);
+  upsampler_->record(cmd, quarter_staging.handle(), scratch.handle(), zones_.handle(), weights_4.handle(), w / 4, h / 4,
+                     4, &timer, 2 * zone_texels);
   commands.submit_and_wait();
   double gpu_ms = 0;
   for (const vk::PassTime& pass : timer.results()) gpu_ms += pass.gpu_ms;
   return gpu_ms;
 }
 
-void ZoneBlender::record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
-                               double gaze_y_px, const ZoneBounds& bounds, uint32_t mode) {
-  BlendParams params{};
-  params.frame_size[0] = uint32_t(width_);
-  params.frame_size[1] = uint32_t(height_);
-  params.gaze_px[0] = static_cast<float>(gaze_x_px);
-  params.gaze_px[1] = static_cast<float>(gaze_y_px);
-  params.pixel_pitch_mm[0] = static_cast<float>(display.pixel_pitch_x_mm());
-  params.pixel_pitch_mm[1] = static_cast<float>(display.pixel_pitch_y_mm());
-  params.viewing_distance_mm = static_cast<float>(display.viewing_distance_mm);
-  params.foveal_radius_deg = static_cast<float>(0.5 * bounds.foveal_deg);
-  params.middle_radius_deg = bounds.middle_deg > bounds.foveal_deg ? static_cast<float>(0.5 * bounds.middle_deg) : -1.0f;
-  params.band_deg = static_cast<float>(bounds.band_deg);
-  const double half_band = 0.5 * bounds.band_deg;
-  params.edge_tan2[0] = tan2_of_bound(0.5 * bounds.foveal_deg - half_band);
-  params.edge_tan2[1] = tan2_of_bound(0.5 * bounds.foveal_deg + half_band);
-  params.edge_tan2[2] = tan2_of_bound(0.5 * bounds.middle_deg - half_band);
-  params.edge_tan2[3] = tan2_of_bound(0.5 * bounds.middle_deg + half_band);
-  params.mode = mode;
-  const VkBuffer buffers[] = {foveal_.handle(), middle_.handle(), outer_.handle(), blended_.handle()};
-  constexpr uint32_t kGroupWidth = 64;  // local_size_x of zone_blend.comp.glsl; one row of groups per pixel row
-  pipeline_->dispatch_groups(commands, buffers, &params, (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth,
-                             uint32_t(height_));
+void ZoneBlender::record_blend(VkCommandBuffer commands, const void* params, VkBuffer zones, VkBuffer output,
+                               Output output_kind, int width, int height) const {
+  const vk::ComputePipeline& pipeline = output_kind == Output::srgb8 ? *srgb8_pipeline_ : *linear_pipeline_;
+  const VkBuffer buffers[] = {zones, output};
+  pipeline.dispatch_groups(commands, buffers, params, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
+                           uint32_t(height));
 }
 
-ZoneBlendResult ZoneBlender::blend(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
-                                   const ZoneBounds& bounds) {
-  if (width_ == 0) throw std::logic_error("ZoneBlender::blend before set_frame");
+void ZoneBlender::record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
+                               double gaze_y_px, const ZoneBounds& bounds, Output output_kind) const {
+  const BlendParams params = blend_params(width_, height_, display, gaze_x_px, gaze_y_px, bounds);
+  const vk::Buffer& output = output_kind == Output::srgb8 ? blended_srgb8_ : blended_linear_;
+  record_blend(commands, &params, zones_.handle(), output.handle(), output_kind, width_, height_);
+}
+
+void ZoneBlender::record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const {
+  const uint32_t frame_size[] = {uint32_t(width_), uint32_t(height_)};
+  const VkBuffer buffers[] = {from.handle(), to.handle()};
+  copy_pipeline_->dispatch_groups(commands, buffers, frame_size, (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth,
+                                  uint32_t(height_));
+}
+
+void ZoneBlender::check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const {
+  if (width_ == 0) throw std::logic_error("ZoneBlender: blend before set_frame");
   check_zone_bounds(bounds);
   if (display.width_px != width_ || display.height_px != height_)
     throw InputError("zone blend: expected a display of the frame's " + std::to_string(width_) + "x" +
                      std::to_string(height_) + " pixels");
+}
+
+ZoneBlendResult ZoneBlender::blend(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                                   const ZoneBounds& bounds) {
+  check_blend(display, bounds);
   if (!std::isfinite(gaze_x_px) || !std::isfinite(gaze_y_px))
     throw InputError("zone blend: expected a finite gaze point");
   vk::OneTimeCommands commands(context_);
@@ -161,58 +245,91 @@ ZoneBlendResult ZoneBlender::blend(const DisplayGeometry& display, double gaze_x
   vk::PassTimer timer(context_, 1);
   timer.reset(cmd);
   timer.begin(cmd, "zone_blend");
-  record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, kModeBlend);
+  record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::linear);
   timer.end(cmd);
   commands.submit_and_wait();
   ZoneBlendResult result;
   result.gpu_ms = timer.results().front().gpu_ms;
-  result.image = read_back(blended_);
+  result.image = read_back(blended_linear_, 0, blended_linear_.size_bytes());
   return result;
+}
+
+std::vector<uint8_t> ZoneBlender::display_frame(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                                                const ZoneBounds& bounds) {
+  check_blend(display, bounds);
+  require_colour(channels_, "zone blend to the display");
+  vk::OneTimeCommands commands(context_);
+  VkCommandBuffer cmd = commands.handle();
+  record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::srgb8);
+  record_read_back(cmd, blended_srgb8_, 0, blended_srgb8_.size_bytes(), blended_srgb8_readback_);
+  commands.submit_and_wait();
+  return mapped_bytes(blended_srgb8_readback_);
+}
+
+std::vector<uint8_t> ZoneBlender::encode_for_display(const Image& frame) {
+  require_colour(frame.channels, "display encoding");
+  if (VkDeviceSize(frame.pixel_count()) * kTexelBytes > context_.max_storage_buffer_bytes || frame.pixel_count() == 0)
+    throw InputError("display encoding of a " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                     " frame: expected 1 to " + std::to_string(context_.max_storage_buffer_bytes / kTexelBytes) +
+                     " pixels on " + context_.description.name);
+  const vk::Buffer texels = upload(context_, frame);  // read as the foveal zone, the only one read
+  const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * 4;
+  const vk::Buffer encoded(context_, bytes, vk::MemoryUse::device_local);
+  const vk::Buffer readback(context_, bytes, vk::MemoryUse::host_readback);
+  const BlendParams params = whole_frame_foveal(frame.width, frame.height);
+  vk::OneTimeCommands commands(context_);
+  VkCommandBuffer cmd = commands.handle();
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_SHADER_READ_BIT);
+  record_blend(cmd, &params, texels.handle(), encoded.handle(), Output::srgb8, frame.width, frame.height);
+  record_read_back(cmd, encoded, 0, bytes, readback);
+  commands.submit_and_wait();
+  return mapped_bytes(readback);
 }
 
 Image ZoneBlender::zone_buffer(Zone zone) {
   if (width_ == 0) throw std::logic_error("ZoneBlender::zone_buffer before set_frame");
-  return read_back(zone == Zone::foveal ? foveal_ : zone == Zone::middle ? middle_ : outer_);
+  const VkDeviceSize zone_bytes = zones_.size_bytes() / 3;
+  return read_back(zones_, zone_bytes * (zone == Zone::foveal ? 0 : zone == Zone::middle ? 1 : 2), zone_bytes);
 }
 
 std::vector<ZoneBlender::BlendCost> ZoneBlender::measure_cost(const DisplayGeometry& display, double gaze_x_px,
                                                               double gaze_y_px, const ZoneBounds& bounds, int repeats) {
-  if (width_ == 0) throw std::logic_error("ZoneBlender::measure_cost before set_frame");
+  check_blend(display, bounds);
   std::vector<BlendCost> costs;
   for (int repeat = 0; repeat < repeats; ++repeat) {
     vk::OneTimeCommands commands(context_);
     VkCommandBuffer cmd = commands.handle();
-    vk::PassTimer timer(context_, 3);
+    vk::PassTimer timer(context_, 4);
     timer.reset(cmd);
-    timer.begin(cmd, "zone_blend");
-    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, kModeBlend);
+    timer.begin(cmd, "display_blend");
+    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::srgb8);
     timer.end(cmd);
-    vk::compute_to_compute_barrier(cmd);
+    vk::compute_to_compute_barrier(cmd);  // each timed pass alone on the device
+    timer.begin(cmd, "linear_blend");
+    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::linear);
+    timer.end(cmd);
+    vk::compute_to_compute_barrier(cmd);  // the copies overwrite the linear blend's output
     timer.begin(cmd, "copy_shader");
-    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, kModeCopy);
+    record_copy(cmd, zones_, blended_linear_);  // the foveal zone, the buffer's first width x height texels
     timer.end(cmd);
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
     timer.begin(cmd, "copy_buffer");
-    copy_whole(cmd, foveal_, blended_);
+    const VkBufferCopy foveal_zone{0, 0, blended_linear_.size_bytes()};
+    vkCmdCopyBuffer(cmd, zones_.handle(), blended_linear_.handle(), 1, &foveal_zone);
     timer.end(cmd);
     commands.submit_and_wait();
     const std::vector<vk::PassTime> times = timer.results();
-    costs.push_back({times[0].gpu_ms, times[1].gpu_ms, times[2].gpu_ms});
+    costs.push_back({times[0].gpu_ms, times[1].gpu_ms, times[2].gpu_ms, times[3].gpu_ms});
   }
   return costs;
 }
 
-Image ZoneBlender::read_back(const vk::Buffer& buffer) {
-  vk::Buffer readback(context_, buffer.size_bytes(), vk::MemoryUse::host_readback);
+Image ZoneBlender::read_back(const vk::Buffer& buffer, VkDeviceSize offset_bytes, VkDeviceSize size_bytes) {
+  vk::Buffer readback(context_, size_bytes, vk::MemoryUse::host_readback);
   vk::OneTimeCommands commands(context_);
-  VkCommandBuffer cmd = commands.handle();
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_TRANSFER_READ_BIT);
-  copy_whole(cmd, buffer, readback);
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                     VK_ACCESS_HOST_READ_BIT);
+  record_read_back(commands.handle(), buffer, offset_bytes, size_bytes, readback);
   commands.submit_and_wait();
   readback.invalidate();
   return vk::unpack_rgba_texels(static_cast<const float*>(readback.mapped()), width_, height_, channels_);

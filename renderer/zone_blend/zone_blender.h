@@ -6,6 +6,7 @@
 // reference and definitions in zone_layout.h).
 #include <vulkan/vulkan.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -23,6 +24,11 @@ class ComputePipeline;
 class Upsampler;
 
 enum class Zone { foveal, middle, outer };
+
+// The three zone buffers of a width x height frame share one storage buffer, 48 bytes a pixel, which
+// must fit the device's largest storage-buffer range (on lavapipe 128 MiB: 2.8 million pixels,
+// e.g. 1920x1080 or 2560x1080). Throws InputError saying so, before anything is rendered.
+void check_zone_frame_size(const vk::Context& context, int width_px, int height_px);
 
 struct ZoneBlendResult {
   Image image;        // linear light, the frame's channels
@@ -44,19 +50,33 @@ class ZoneBlender {
   int width() const { return width_; }
   int height() const { return height_; }
 
-  // The blend for one gaze point (pixel coordinates of the frame, finite; it may lie off the
-  // screen). `display` must have the frame's pixel size. InputError on a bad bound or size.
+  // The linear-light blend for one gaze point (pixel coordinates of the frame, finite; it may lie
+  // off the screen), all the frame's channels in float. `display` must have the frame's pixel size.
+  // InputError on a bad bound or size.
   ZoneBlendResult blend(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px, const ZoneBounds& bounds);
+  // What a participant sees for one gaze sample, the session's display-rate path: the same blend,
+  // sRGB-encoded to 8 bits a channel on the GPU (core/colour.h's encode_srgb, rounded to nearest),
+  // RGBA with alpha 255, row-major, width x height x 4 bytes. A gaze that is not a number (no
+  // usable sample) shows the full-resolution frame everywhere, never a guess at where the eye is.
+  // The frame needs 3 or 4 channels (InputError otherwise).
+  std::vector<uint8_t> display_frame(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                                     const ZoneBounds& bounds);
+  // A frame shown without foveation (the pt method): `frame` (3 or 4 channels, any size) encoded by
+  // the same shader as display_frame's full-resolution zone, so that a pt frame and the foveal zone
+  // of the fpt frame made from it are the same bytes. Leaves the zone buffers as they are.
+  std::vector<uint8_t> encode_for_display(const Image& frame);
   // One zone buffer as the blend reads it (full size; the middle and outer ones upsampled).
   Image zone_buffer(Zone zone);
 
   // The cost of the blend against the memory-bandwidth limit it is measured by: a plain copy of
-  // one full-size buffer into the output (every pixel read once and written once, the least the
-  // blend must do). Each repeat is one command buffer holding, between GPU timestamps, the blend for
-  // the gaze, the same dispatch in copy mode (same shader, same workgroups), and vkCmdCopyBuffer.
-  // One entry a repeat; zeros where the queue has no timestamps.
+  // one full-size float RGBA zone buffer into another (every pixel read once and written once, the
+  // least a blend must do). Each repeat is one command buffer holding, between GPU timestamps, the
+  // display blend (sRGB8 out), the linear blend (float RGBA out), a copy shader
+  // (buffer_copy.comp.glsl: one load and one store a texel, the blend's workgroups) and
+  // vkCmdCopyBuffer of the same buffer. One entry a repeat; zeros where the queue has no timestamps.
   struct BlendCost {
-    double blend_ms = 0;
+    double display_blend_ms = 0;
+    double linear_blend_ms = 0;
     double copy_shader_ms = 0;
     double copy_buffer_ms = 0;
   };
@@ -64,16 +84,25 @@ class ZoneBlender {
                                       const ZoneBounds& bounds, int repeats);
 
  private:
+  enum class Output { linear, srgb8 };
+  void check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const;
+  // One dispatch of zone_blend.comp.glsl (`params`: its push constants) from `zones` to `output`.
+  void record_blend(VkCommandBuffer commands, const void* params, VkBuffer zones, VkBuffer output, Output output_kind,
+                    int width, int height) const;
+  // The blend of the current zones for a gaze.
   void record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
-                    const ZoneBounds& bounds, uint32_t mode);
-  Image read_back(const vk::Buffer& buffer);
+                    const ZoneBounds& bounds, Output output_kind) const;
+  void record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const;
+  Image read_back(const vk::Buffer& buffer, VkDeviceSize offset_bytes, VkDeviceSize size_bytes);
   vk::Context& context_;
-  std::unique_ptr<vk::ComputePipeline> pipeline_;
+  std::unique_ptr<vk::ComputePipeline> linear_pipeline_, srgb8_pipeline_, copy_pipeline_;
   std::unique_ptr<Upsampler> upsampler_;
   int width_ = 0;
   int height_ = 0;
   int channels_ = 0;
-  vk::Buffer foveal_, middle_, outer_, blended_;
+  vk::Buffer zones_;                                 // foveal, middle, outer: width x height float RGBA texels each
+  vk::Buffer blended_linear_;                        // float RGBA a pixel
+  vk::Buffer blended_srgb8_, blended_srgb8_readback_;  // one packed RGBA8 uint a pixel
 };
 
 }  // namespace fovlab

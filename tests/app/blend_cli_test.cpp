@@ -36,7 +36,7 @@ TEST(BlendCli, WritesTheBlendOfTheZoneBuffersAndTheZonePicture) {
                           " --size-mm 240x160 --distance-mm 300 --repeats 2 --out " + out.string() +
                           " --zones-out " + zones.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("blend / copy"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("x the copy shader"), std::string::npos) << result.out;
   const fovlab::Image source = fovlab::read_image(frame);
   const fovlab::DisplayGeometry display = fovlab::display_from_size(48, 32, 240.0, 160.0, 300.0);
   const auto up = [&](int factor) {

@@ -20,11 +20,20 @@ struct CommandResult {
   std::string err;
 };
 
-// temp/<name>, emptied the first time this process asks for it.
+// temp/<name>-<pid>, emptied the first time this process asks for it and removed when it exits.
+// Per process, so tests that CTest runs side by side (ctest -j) never share or empty each other's
+// folders.
 inline std::filesystem::path scratch(const std::string& name) {
-  static std::set<std::string> prepared;
-  const auto path = std::filesystem::temp_directory_path() / name;
-  if (prepared.insert(name).second) {
+  struct Folders {
+    std::set<std::filesystem::path> paths;
+    ~Folders() {
+      std::error_code ignored;
+      for (const auto& path : paths) std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static Folders prepared;
+  const auto path = std::filesystem::temp_directory_path() / (name + "-" + std::to_string(getpid()));
+  if (prepared.paths.insert(path).second) {
     std::filesystem::remove_all(path);
     std::filesystem::create_directories(path);
   }

@@ -26,7 +26,7 @@ using fovlab::cli_test::write_file;
 
 // A fresh working directory per test, its own top-level folder: ctest runs tests in parallel processes.
 fs::path working_dir(const std::string& name) {
-  return fovlab::cli_test::fresh_folder(fs::temp_directory_path(), "fovlab-fpt-study-cli-" + name);
+  return fovlab::cli_test::fresh_folder(fovlab::cli_test::scratch("fovlab-fpt-study-cli"), name);
 }
 
 void replace(std::string& text, const std::string& from, const std::string& to) {
@@ -209,6 +209,21 @@ TEST(FptStudyCli, FptDisplayNotAMultipleOf4IsRefusedAtRun) {
   expect_one_line_error(run_in(dir, "run height.toml --participant P1 --headless --observer simulated --results results"),
                         "multiples of 4");
   EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
+}
+
+// A frame whose three zones cannot fit one storage buffer on any device is refused before anything is
+// rendered (not even the pt reference), naming the size.
+TEST(FptStudyCli, FptFrameTooLargeForTheDeviceIsRefusedBeforeRendering) {
+  const fs::path dir = working_dir("too-large");
+  std::string text = fpt_config("tiny_too_large", "kind = \"pair\"\nrepeats = 2");
+  replace(text, "width_px = 32", "width_px = 16384");
+  replace(text, "height_px = 20", "height_px = 16384");
+  write_file(dir / "large.toml", text);
+  const CommandResult result =
+      run_in(dir, "run large.toml --participant P1 --headless --observer simulated --results results");
+  expect_one_line_error(result, "16384x16384");
+  EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
+  EXPECT_FALSE(fs::exists(dir / "stimuli")) << "something was rendered";
 }
 
 // Replaces a frame by its first half: the EXR's header is whole (so it counts as cached), its pixels

@@ -1,20 +1,27 @@
 // fovlab prerender: every path-traced frame of a study rendered into stimuli/cache under the working
 // directory, what is there kept (a second run renders nothing, a deleted frame alone is rendered
-// again), shards that together cover every frame once, the periphery_bounces pilot's second
-// sequence, and bad input as one line with exit code 2. Tiny studies (32x20, 2 samples, 2 bounces,
+// again, a run killed with SIGKILL resumes with nothing lost), shards that together cover every frame
+// once, the periphery_bounces pilot's second sequence, and bad input as one line with exit code 2. Tiny studies (32x20, 2 samples, 2 bounces,
 // 3 frames) modelled on experiments/fpt_pair.toml.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/image_io.h"
+#include "core/prng.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {
@@ -29,7 +36,7 @@ using fovlab::cli_test::write_file;
 
 // A fresh working directory per test, its own top-level folder: ctest runs tests in parallel processes.
 fs::path working_dir(const std::string& name) {
-  return fovlab::cli_test::fresh_folder(fs::temp_directory_path(), "fovlab-prerender-cli-" + name);
+  return fovlab::cli_test::fresh_folder(fovlab::cli_test::scratch("fovlab-prerender-cli"), name);
 }
 
 // A pair study of pt against fpt on the courtyard: 3 frames (0.15 s at 20 frames a second) of 32x20,
@@ -207,6 +214,120 @@ TEST(PrerenderCli, ADeletedFrameIsRenderedAgainAndNothingElse) {
       << truncated.out;
   EXPECT_EQ(fovlab::read_image(folder / "frame_000000.exr").width, 32);
   EXPECT_NE(run_in(dir, "prerender study.toml").out.find("3 cached, 0 to render"), std::string::npos);
+}
+
+// `fovlab prerender study.toml` started in `dir` without waiting; its output is dropped.
+pid_t start_prerender(const fs::path& dir) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0) _exit(126);
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(FOVLAB_BINARY, FOVLAB_BINARY, "prerender", "study.toml", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+size_t frame_files(const fs::path& dir) {
+  size_t frames = 0;
+  std::error_code ignored;
+  if (!fs::is_directory(cache_root(dir), ignored)) return 0;
+  for (const auto& folder : fs::directory_iterator(cache_root(dir)))
+    for (const auto& file : fs::directory_iterator(folder.path()))
+      frames += file.path().filename().string().rfind("frame_", 0) == 0;
+  return frames;
+}
+
+// The resume promise with real crashes: prerender is killed with SIGKILL, first as soon as its first
+// frame is on disk (so the kill lands mid-run), then after random delays up to an uninterrupted
+// run's length, and run once more to the end. (Skipped where frames render too fast to land a kill
+// between them: a fast GPU.) Every frame ends up on disk exactly as an uninterrupted run renders it, the frames finished
+// before a kill are kept as they are, and a killed write leaves at most its hidden temporary
+// (".frame_NNNNNN.tmp-<pid>.exr"), never a frame.
+TEST(PrerenderCli, KilledRunsResumeWithNothingLost) {
+  // Six frames of 32x20 at 128 samples: long enough a run for kills to land between frames.
+  const auto config = [](const std::string& name) {
+    std::string text = pair_config(name);
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"duration_s = 0.15", "duration_s = 0.3"},
+                                   {"samples_per_pixel = 2", "samples_per_pixel = 128"}})
+      for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+        text.replace(at, from.size(), to);
+    return text;
+  };
+  const fs::path whole = working_dir("kill-whole");
+  const fs::path killed = working_dir("kill-killed");
+  write_file(whole / "study.toml", config("tiny_fpt_kill"));
+  write_file(killed / "study.toml", config("tiny_fpt_kill"));
+  constexpr size_t kFrames = 6;
+  // The uninterrupted run, watched: how long it takes, and how long from its first frame to its end.
+  const auto started = std::chrono::steady_clock::now();
+  const pid_t whole_pid = start_prerender(whole);
+  ASSERT_GT(whole_pid, 0);
+  std::optional<std::chrono::steady_clock::time_point> first_frame;
+  int whole_status = 0;
+  while (waitpid(whole_pid, &whole_status, WNOHANG) != whole_pid) {
+    if (!first_frame && frame_files(whole) > 0) first_frame = std::chrono::steady_clock::now();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  const auto ended = std::chrono::steady_clock::now();
+  ASSERT_TRUE(WIFEXITED(whole_status) && WEXITSTATUS(whole_status) == 0);
+  ASSERT_EQ(frame_files(whole), kFrames);
+  const double run_s = std::chrono::duration<double>(ended - started).count();
+  if (!first_frame || std::chrono::duration<double>(ended - *first_frame).count() < 0.1)
+    GTEST_SKIP() << "frames render too fast on this device to kill a run between them";
+
+  // Kill 0 as soon as a frame is on disk; kills 1 to 5 after random delays (a run may finish first).
+  fovlab::Pcg32 random(2026);
+  std::map<std::string, fs::file_time_type> done_at_first_kill;
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    const pid_t pid = start_prerender(killed);
+    ASSERT_GT(pid, 0);
+    const auto attempt_started = std::chrono::steady_clock::now();
+    const double delay_s = attempt == 0 ? 10.0 * run_s : run_s * (0.2 + 0.8 * random.uniform());
+    int status = 0;
+    bool exited = false;
+    while (!(exited = waitpid(pid, &status, WNOHANG) == pid)) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - attempt_started).count();
+      if (elapsed >= delay_s || (attempt == 0 && frame_files(killed) > 0)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (exited) {
+      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "attempt " << attempt;
+      ASSERT_GT(attempt, 0) << "the run finished before its first frame was seen";
+      break;
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    if (attempt == 0) {
+      ASSERT_LT(frame_files(killed), kFrames) << "the first kill came after the last frame";
+      for (const auto& folder : fs::directory_iterator(cache_root(killed)))
+        for (const auto& file : fs::directory_iterator(folder.path()))
+          if (file.path().filename().string().rfind("frame_", 0) == 0)
+            done_at_first_kill[file.path().filename().string()] = fs::last_write_time(file.path());
+    }
+  }
+  ASSERT_FALSE(done_at_first_kill.empty());
+
+  const CommandResult after = run_in(killed, "prerender study.toml");  // finishes what is left
+  ASSERT_EQ(after.exit_code, 0) << after.err;
+  const auto contents = cache_contents(whole);
+  ASSERT_EQ(contents.size(), 1u);
+  const std::string key = contents.begin()->first;
+  for (const auto& file : fs::directory_iterator(cache_root(killed) / key)) {
+    const std::string name = file.path().filename().string();
+    if (name[0] == '.') {
+      EXPECT_NE(name.find(".tmp-"), std::string::npos) << name;  // a killed write's temporary
+      continue;
+    }
+    ASSERT_TRUE(contents.begin()->second.count(name)) << name;
+    if (name != "cache.json") {
+      EXPECT_TRUE(pixels(file.path()) == pixels(cache_root(whole) / key / name)) << name;
+    }
+  }
+  EXPECT_EQ(frame_files(killed), kFrames);
+  for (const auto& [name, time] : done_at_first_kill)  // what was done before the kill is kept, not redone
+    EXPECT_EQ(fs::last_write_time(cache_root(killed) / key / name), time) << name;
 }
 
 TEST(PrerenderCli, PeripheryBouncesAddASecondSequence) {

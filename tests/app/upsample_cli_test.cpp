@@ -32,6 +32,13 @@ TEST(UpsampleCli, WritesTheReferenceImageAndComparesWithOpenImageIO) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("OpenImageIO"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("GPU - reference"), std::string::npos) << result.out;
+  // The three agree: the same filter on the GPU, in double and in OpenImageIO.
+  const auto difference_after = [&](const std::string& label) {
+    const size_t at = result.out.find(label);
+    return at == std::string::npos ? 1.0 : std::stod(result.out.substr(at + label.size()));
+  };
+  EXPECT_LT(difference_after("OpenImageIO - reference "), 1e-3) << result.out;
+  EXPECT_LT(difference_after("GPU - OpenImageIO "), 1e-3) << result.out;
   const fovlab::Image written = fovlab::read_image(out);
   const fovlab::Image expected =
       fovlab::upsample_reference(fovlab::read_image(in), 4, fovlab::UpsampleFilter::lanczos3);

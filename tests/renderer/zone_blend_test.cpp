@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "core/colour.h"
 #include "core/input_error.h"
 #include "core/prng.h"
 #include "renderer/upsampling/upsample_filter.h"
@@ -17,10 +20,10 @@ namespace {
 
 using test::VulkanTest;
 
-Image noisy_frame(int width, int height, uint64_t seed) {
+Image noisy_frame(int width, int height, uint64_t seed, float largest = 3.0f) {
   Pcg32 random(seed);
   Image image(width, height, 3);
-  for (float& value : image.pixels) value = static_cast<float>(random.uniform()) * 3.0f;
+  for (float& value : image.pixels) value = static_cast<float>(random.uniform()) * largest;
   return image;
 }
 
@@ -89,8 +92,9 @@ TEST_F(VulkanTest, ZoneBuffersAreTheDecimatedFrameUpsampled) {
   EXPECT_LT(largest_difference(blender.zone_buffer(Zone::outer), outer), 1e-4 * 3.0);
 }
 
-// The GPU blend against the double reference for gazes at the centre, a corner and off the screen,
-// with bands (weights continuous: 1e-4 of the values' range everywhere) and with hard edges (where pixels
+// The GPU blend against the double reference for gazes at the centre, a corner, off the screen and far
+// off it, with bands (weights continuous: 1e-4 of the values' range everywhere), with bands that
+// overlap (pixels with all three zones), without a middle zone, and with hard edges (where pixels
 // within 1e-3 degrees of a boundary may fall either side in float).
 TEST_F(VulkanTest, BlendMatchesTheReference) {
   const Image frame = noisy_frame(64, 48, 11);
@@ -99,9 +103,10 @@ TEST_F(VulkanTest, BlendMatchesTheReference) {
   blender.set_frame(frame);
   const Image middle = blender.zone_buffer(Zone::middle);
   const Image outer = blender.zone_buffer(Zone::outer);
-  const double gazes[][2] = {{32.0, 24.0}, {3.5, 44.0}, {-40.0, 10.0}};
+  const double gazes[][2] = {{32.0, 24.0}, {3.5, 44.0}, {-40.0, 10.0}, {-3.0e6, 2.0e6}};
   for (const auto& gaze : gazes)
-    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 40.0, 0.0}, ZoneBounds{10.0, 5.0, 1.0}}) {
+    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 40.0, 0.0}, ZoneBounds{10.0, 5.0, 1.0},
+                                    ZoneBounds{20.0, 24.0, 6.0}}) {
       const Image gpu = blender.blend(display, gaze[0], gaze[1], bounds).image;
       const Image reference = blend_zones_reference(display, gaze[0], gaze[1], bounds, frame, middle, outer);
       int compared = 0;
@@ -120,6 +125,76 @@ TEST_F(VulkanTest, BlendMatchesTheReference) {
     }
 }
 
+// What a session shows: the same blend, sRGB-encoded to 8 bits on the GPU. Against the CPU's
+// encoding of the linear blend, a byte may differ by one where float rounding lands on the other
+// side of a half step (a handful of pixels), never by more; alpha is opaque. No gaze (NaN) shows the
+// frame itself.
+TEST_F(VulkanTest, DisplayFrameIsTheBlendEncodedToEightBitSrgb) {
+  const Image frame = noisy_frame(64, 48, 5, 1.2f);  // some values above 1, to be clipped
+  const DisplayGeometry display = small_display();
+  ZoneBlender blender(context());
+  blender.set_frame(frame);
+  const auto expect_encoded = [&](const std::vector<uint8_t>& bytes, const Image& linear, const std::string& what) {
+    ASSERT_EQ(bytes.size(), linear.pixel_count() * 4) << what;
+    size_t off_by_one = 0;
+    for (size_t pixel = 0; pixel < linear.pixel_count(); ++pixel) {
+      for (size_t c = 0; c < 3; ++c) {
+        const long expected = std::lround(encode_srgb(linear.pixels[pixel * 3 + c]) * 255.0f);
+        const long got = bytes[pixel * 4 + c];
+        ASSERT_LE(std::labs(got - expected), 1) << what << " pixel " << pixel << " channel " << c;
+        off_by_one += got != expected;
+      }
+      ASSERT_EQ(bytes[pixel * 4 + 3], 255) << what;
+    }
+    EXPECT_LE(off_by_one, linear.pixel_count() * 3 / 100) << what;
+  };
+  for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 24.0, 6.0}}) {
+    const Image linear = blender.blend(display, 20.0, 30.0, bounds).image;
+    expect_encoded(blender.display_frame(display, 20.0, 30.0, bounds), linear, "gaze 20,30");
+  }
+  expect_encoded(blender.display_frame(display, std::nan(""), 10.0, {}), frame, "no gaze");
+  EXPECT_THROW(blender.display_frame(display_from_size(32, 24, 320.0, 240.0, 250.0), 1.0, 1.0, {}), InputError);
+}
+
+// The pt method's frames come from the shader that makes fpt's: the frame without foveation is the
+// same bytes as fpt's frame with no gaze, and as fpt's frame inside the fovea for any gaze. Grey
+// frames (one channel) are refused, not shown red.
+TEST_F(VulkanTest, EncodingForDisplayMatchesTheFovealZoneToTheByte) {
+  const Image frame = noisy_frame(64, 48, 6, 1.2f);
+  const DisplayGeometry display = small_display();
+  ZoneBlender blender(context());
+  blender.set_frame(frame);
+  const std::vector<uint8_t> encoded = blender.encode_for_display(frame);
+  EXPECT_EQ(encoded, blender.display_frame(display, std::nan(""), 0.0, {}));
+  const ZoneBounds bounds{20.0, 40.0, 2.0};
+  const std::vector<uint8_t> foveated = blender.display_frame(display, 30.0, 20.0, bounds);
+  int inside = 0;
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      if (zone_weights(bounds, eccentricity_deg(display, 30.0, 20.0, x + 0.5, y + 0.5)).foveal < 1.0) continue;
+      ++inside;
+      const size_t at = (size_t(y) * size_t(frame.width) + size_t(x)) * 4;
+      for (size_t c = 0; c < 4; ++c) ASSERT_EQ(foveated[at + c], encoded[at + c]) << x << "," << y;
+    }
+  EXPECT_GT(inside, 50);
+  // Any size, not only multiples of 4; the zones are left as they were.
+  EXPECT_EQ(blender.encode_for_display(noisy_frame(7, 5, 2)).size(), 7u * 5u * 4u);
+  EXPECT_EQ(blender.display_frame(display, 30.0, 20.0, bounds), foveated);
+  EXPECT_THROW(blender.encode_for_display(Image(8, 8, 1)), InputError);
+  blender.set_frame(Image(64, 48, 1));
+  EXPECT_THROW(blender.display_frame(display, 30.0, 20.0, bounds), InputError);
+}
+
+TEST_F(VulkanTest, ZoneFramesMustFitOneStorageBuffer) {
+  EXPECT_NO_THROW(check_zone_frame_size(context(), 1920, 1080));  // 99.5 MB: within every device's range
+  try {
+    check_zone_frame_size(context(), 16384, 16384);  // 12.9 GB: beyond any
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("16384x16384"), std::string::npos) << error.what();
+  }
+}
+
 // The zones are really there: with three distinct constant-ish buffers (a periphery frame of other
 // values), the fovea shows the frame, far pixels the periphery's upsampled buffers.
 TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
@@ -133,7 +208,17 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
   EXPECT_NEAR(blended.at(32, 24, 0), 1.0f, 1e-6);   // the gaze point
   EXPECT_NEAR(blended.at(0, 0, 1), 0.25f, 1e-5);    // a corner, about 34 degrees out: outer zone
   EXPECT_NEAR(blended.at(32, 8, 2), 0.25f, 1e-5);   // about 17 degrees out: middle zone
-  EXPECT_EQ(blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 0.5}, 2).size(), 2u);
+  const auto costs = blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 0.5}, 2);
+  ASSERT_EQ(costs.size(), 2u);
+  if (context().timestamp_period_ns > 0.0)
+    for (const ZoneBlender::BlendCost& cost : costs) {
+      EXPECT_GT(cost.display_blend_ms, 0.0);
+      EXPECT_GT(cost.linear_blend_ms, 0.0);
+      EXPECT_GT(cost.copy_shader_ms, 0.0);
+      EXPECT_GT(cost.copy_buffer_ms, 0.0);
+    }
+  // Timing leaves the zones as they were.
+  EXPECT_NEAR(blender.blend(display, 32.0, 24.0, {10.0, 40.0, 0.5}).image.at(32, 24, 0), 1.0f, 1e-6);
 }
 
 TEST_F(VulkanTest, ZoneBlenderRefusesFramesItCannotZone) {

@@ -47,7 +47,8 @@ fs::path write_variant(const fs::path& folder, const std::string& name, const st
     EXPECT_NE(at, std::string::npos) << from << " not in " << from_fixture;
     if (at != std::string::npos) text.replace(at, from.size(), to);
   };
-  replace("\"../scenes/sphere.glsl\"", "\"" + (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/scenes/sphere.glsl").string() + "\"");
+  const std::string scene = (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/scenes/sphere.glsl").string();
+  replace("\"../scenes/sphere.glsl\"", '"' + scene + '"');
   for (const auto& [from, to] : replacements) replace(from, to);
   const fs::path path = folder / (name + ".toml");
   std::ofstream(path, std::ios::binary) << text;
