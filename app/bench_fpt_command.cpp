@@ -18,6 +18,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
+#include "app/foveation_flags.h"  // display_flags_text
 #include "app/fpt_timing.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
@@ -50,9 +51,11 @@ struct BenchFptOptions {
   std::string device;
 };
 
-std::string command_line(const BenchFptOptions& o, const std::string& display_text) {
+// The command that gives the same run, every flag written out (the display's filled in).
+std::string command_line(const BenchFptOptions& o) {
   return "fovlab bench-fpt --scene " + o.scene + " --width " + std::to_string(o.width) + " --height " +
-         std::to_string(o.height) + " --repeats " + std::to_string(o.repeats) + display_text + " --foveal-deg " +
+         std::to_string(o.height) + " --repeats " + std::to_string(o.repeats) + " " + display_flags_text(o.display) +
+         " --foveal-deg " +
          format_number(o.foveal_deg, 6) +
          " --path-scene " + o.path_scene + " --path-width " + std::to_string(o.path_width) + " --path-height " +
          std::to_string(o.path_height) + " --path-samples " + std::to_string(o.path_samples) + " --path-bounces " +
@@ -70,8 +73,7 @@ void check_options(const BenchFptOptions& o) {
 
 void run_bench_fpt(BenchFptOptions options) {
   check_options(options);
-  if (options.display.diagonal_in.empty() && options.display.size_mm.empty()) options.display.diagonal_in = "27";
-  if (options.display.distance_mm.empty()) options.display.distance_mm = "500";
+  default_to_seed001_display(options.display);
   const DisplayGeometry display = parse_display(options.display, options.width, options.height);
   const auto [gaze_x, gaze_y] = parse_gaze(options.display.gaze, options.width, options.height);
   const ZoneBounds bounds{options.foveal_deg, default_middle_deg(options.foveal_deg), 1.0};
@@ -154,11 +156,7 @@ void run_bench_fpt(BenchFptOptions options) {
                            {"samples_per_s_wall", double(traced.samples) / wall_s}};
   fail_on_validation_messages(context);
 
-  const std::string display_text =
-      (options.display.size_mm.empty() ? " --diagonal-in " + options.display.diagonal_in
-                                       : " --size-mm " + options.display.size_mm) +
-      " --distance-mm " + options.display.distance_mm + (options.display.gaze.empty() ? "" : " --gaze " + options.display.gaze);
-  report["command"] = command_line(options, display_text);
+  report["command"] = command_line(options);
   std::printf("# fovlab bench-fpt\n\nCommand: `%s`\n\nDevice: %s; median of %d runs; frame: %s GT at %dx%d; blend: gaze "
               "%.0f,%.0f px, foveal %g, middle %g, band %g degrees.\n\n%s\n",
               report["command"].get<std::string>().c_str(), context.description.name.c_str(), options.repeats,

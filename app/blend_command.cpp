@@ -39,10 +39,6 @@ struct BlendOptions {
   int repeats = 0;
 };
 
-// Seed 001's set-up (section 4.1, 4.3): a 27" 16:9 monitor at 500 mm.
-constexpr double kDefaultDiagonalIn = 27.0;
-constexpr double kDefaultDistanceMm = 500.0;
-
 // The frame under the zone colours (red foveal, green middle, blue outer), half and half.
 Image zones_over_frame(const Image& zones, const Image& frame_display) {
   Image picture(zones.width, zones.height, 3);
@@ -57,9 +53,7 @@ Image zones_over_frame(const Image& zones, const Image& frame_display) {
 }
 
 void run_blend(BlendOptions options) {
-  if (options.display.diagonal_in.empty() && options.display.size_mm.empty())
-    options.display.diagonal_in = std::to_string(kDefaultDiagonalIn);
-  if (options.display.distance_mm.empty()) options.display.distance_mm = std::to_string(kDefaultDistanceMm);
+  default_to_seed001_display(options.display);
   check_image_output_path(options.out, "--out");
   if (!options.zones_out.empty()) check_image_output_path(options.zones_out, "--zones-out");
   if (options.repeats < 0 || options.repeats > 1000)

@@ -52,6 +52,11 @@ void add_display_flags(CLI::App& command, DisplayFlags& flags, bool required) {
   command.add_option("--gaze", flags.gaze, "Gaze point X,Y in pixels (default: the centre, W/2,H/2)");
 }
 
+void default_to_seed001_display(DisplayFlags& flags) {
+  if (flags.diagonal_in.empty() && flags.size_mm.empty()) flags.diagonal_in = "27";
+  if (flags.distance_mm.empty()) flags.distance_mm = "500";
+}
+
 bool has_display(const DisplayFlags& flags) {
   return !flags.diagonal_in.empty() || !flags.size_mm.empty() || !flags.distance_mm.empty();
 }

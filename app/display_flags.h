@@ -20,6 +20,10 @@ struct DisplayFlags {
   std::string gaze;
 };
 
+// Fills in what `flags` leaves out with seed 001's set-up (sections 4.1, 4.3), the default of the
+// emulated foveated path tracer's commands (blend, bench-fpt): a 27-inch 16:9 monitor at 500 mm.
+void default_to_seed001_display(DisplayFlags& flags);
+
 // `required`: the command needs a display (exactly one size flag and the distance); otherwise they
 // may all be left out (has_display false).
 void add_display_flags(CLI::App& command, DisplayFlags& flags, bool required);

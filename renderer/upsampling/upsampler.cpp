@@ -56,10 +56,6 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
 
   vk::pack_rgba_texels(image, static_cast<float*>(source.mapped()));
   source.flush();
-  const std::vector<float> table = upsample_cell_weights(filter, factor);
-  vk::Buffer weights(context_, table.size() * sizeof(float), vk::MemoryUse::host_upload);
-  std::copy(table.begin(), table.end(), static_cast<float*>(weights.mapped()));
-  weights.flush();
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
@@ -67,7 +63,7 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
   timer.reset(cmd);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_SHADER_READ_BIT);
-  record(cmd, source.handle(), middle.handle(), target.handle(), weights.handle(), width, height, f, &timer);
+  record(cmd, source.handle(), middle.handle(), target.handle(), width, height, f, filter, &timer);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   const VkBufferCopy region{0, 0, target_bytes};
@@ -84,9 +80,20 @@ UpsampleResult Upsampler::upsample(const Image& image, int factor, UpsampleFilte
   return result;
 }
 
-void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, VkBuffer weights,
-                       uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer,
-                       uint32_t target_offset_texels) const {
+const vk::Buffer& Upsampler::weights(UpsampleFilter filter, uint32_t factor) {
+  auto found = weights_.find({filter, factor});
+  if (found != weights_.end()) return found->second;
+  const std::vector<float> table = upsample_cell_weights(filter, int(factor));
+  vk::Buffer weights(context_, table.size() * sizeof(float), vk::MemoryUse::host_upload);
+  std::copy(table.begin(), table.end(), static_cast<float*>(weights.mapped()));
+  weights.flush();
+  return weights_.emplace(std::pair{filter, factor}, std::move(weights)).first->second;
+}
+
+void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, uint32_t width,
+                       uint32_t height, uint32_t factor, UpsampleFilter filter, vk::PassTimer* timer,
+                       uint32_t target_offset_texels) {
+  const VkBuffer weight_table = weights(filter, factor).handle();
   constexpr uint32_t kGroupWidth = 64;           // local_size_x of upsample.comp.glsl
   constexpr uint32_t kCellsPerInvocation = 8;    // CELLS_PER_INVOCATION there
   const auto groups = [&](uint32_t lines, uint32_t cells) {
@@ -94,7 +101,7 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
   };
   // Along x: one invocation a row and run of cells.
   const UpsampleParams along_x{{width, height}, {width * factor, height}, factor, 0, 0};
-  const VkBuffer x_buffers[] = {source, scratch, weights};
+  const VkBuffer x_buffers[] = {source, scratch, weight_table};
   if (timer) timer->begin(commands, "upsample_x");
   const auto [x_groups, x_runs] = groups(height, width);
   pipeline_->dispatch_groups(commands, x_buffers, &along_x, x_groups, x_runs);
@@ -103,7 +110,7 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
   // Along y: one invocation a column and run of cells.
   const UpsampleParams along_y{{width * factor, height}, {width * factor, height * factor}, factor, 1,
                                target_offset_texels};
-  const VkBuffer y_buffers[] = {scratch, target, weights};
+  const VkBuffer y_buffers[] = {scratch, target, weight_table};
   if (timer) timer->begin(commands, "upsample_y");
   const auto [y_groups, y_runs] = groups(width * factor, height);
   pipeline_->dispatch_groups(commands, y_buffers, &along_y, y_groups, y_runs);

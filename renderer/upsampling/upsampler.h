@@ -3,9 +3,13 @@
 // passes (along x, then y) of renderer/shaders/upsample.comp.glsl, each timed.
 #include <vulkan/vulkan.h>
 
+#include <cstdint>
+#include <map>
 #include <memory>
+#include <utility>
 
 #include "core/image.h"
+#include "renderer/vk/buffer.h"
 #include "renderer/upsampling/upsample_filter.h"
 
 namespace fovlab {
@@ -32,17 +36,19 @@ class Upsampler {
   UpsampleResult upsample(const Image& image, int factor, UpsampleFilter filter);
 
   // Records the two passes on device buffers of RGBA float texels: `source` (width x height) to
-  // `target` (both times factor) through `scratch` (width * factor x height); `weights` holds
-  // upsample_cell_weights(filter, factor). The output starts `target_offset_texels` texels into
-  // `target`. Timed as "upsample_x" and "upsample_y" when `timer` is given. The caller orders the
-  // source's writes before and the target's reads after.
-  void record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, VkBuffer weights,
-              uint32_t width, uint32_t height, uint32_t factor, vk::PassTimer* timer,
-              uint32_t target_offset_texels = 0) const;
+  // `target` (both times factor) through `scratch` (width * factor x height). The output starts
+  // `target_offset_texels` texels into `target`. Timed as "upsample_x" and "upsample_y" when
+  // `timer` is given. The caller orders the source's writes before and the target's reads after.
+  void record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, uint32_t width,
+              uint32_t height, uint32_t factor, UpsampleFilter filter, vk::PassTimer* timer,
+              uint32_t target_offset_texels = 0);
 
  private:
+  // upsample_cell_weights(filter, factor) in a host-visible buffer, made once for the upsampler.
+  const vk::Buffer& weights(UpsampleFilter filter, uint32_t factor);
   vk::Context& context_;
   std::unique_ptr<vk::ComputePipeline> pipeline_;
+  std::map<std::pair<UpsampleFilter, uint32_t>, vk::Buffer> weights_;
 };
 
 }  // namespace fovlab

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -159,8 +158,12 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
     throw InputError("periphery frame: expected the size and channels of the foveal frame");
   check_zone_frame_size(context_, frame.width, frame.height);  // the three zones share one buffer
   const VkDeviceSize frame_bytes = VkDeviceSize(frame.pixel_count()) * kTexelBytes;
-  if (frame.width != width_ || frame.height != height_) {
+  if (frame.width != width_ || frame.height != height_) {  // buffers kept from one animation frame to the next
     zones_ = vk::Buffer(context_, 3 * frame_bytes, vk::MemoryUse::device_local);
+    foveal_staging_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::host_upload);
+    half_staging_ = vk::Buffer(context_, frame_bytes / 4, vk::MemoryUse::host_upload);
+    quarter_staging_ = vk::Buffer(context_, frame_bytes / 16, vk::MemoryUse::host_upload);
+    upsample_scratch_ = vk::Buffer(context_, frame_bytes / 2, vk::MemoryUse::device_local);  // the x pass of factor 2
     blended_linear_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
     blended_srgb8_ = vk::Buffer(context_, VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
     blended_srgb8_readback_ = vk::Buffer(context_, blended_srgb8_.size_bytes(), vk::MemoryUse::host_readback);
@@ -168,21 +171,13 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
     height_ = frame.height;
   }
   channels_ = frame.channels;
-
-  const Image half = decimate_nearest(periphery_source, 2);
-  const Image quarter = decimate_nearest(periphery_source, 4);
-  const vk::Buffer foveal_staging = upload(context_, frame);
-  const vk::Buffer half_staging = upload(context_, half);
-  const vk::Buffer quarter_staging = upload(context_, quarter);
-  const vk::Buffer scratch(context_, frame_bytes / 2, vk::MemoryUse::device_local);  // the x pass of factor 2
-  const auto weights_for = [&](int factor) {
-    const std::vector<float> table = upsample_cell_weights(UpsampleFilter::lanczos3, factor);
-    vk::Buffer weights(context_, table.size() * sizeof(float), vk::MemoryUse::host_upload);
-    std::memcpy(weights.mapped(), table.data(), table.size() * sizeof(float));
-    weights.flush();
-    return weights;
+  const auto stage = [](const Image& image, const vk::Buffer& staging) {
+    vk::pack_rgba_texels(image, static_cast<float*>(staging.mapped()));
+    staging.flush();
   };
-  const vk::Buffer weights_2 = weights_for(2), weights_4 = weights_for(4);
+  stage(frame, foveal_staging_);
+  stage(decimate_nearest(periphery_source, 2), half_staging_);
+  stage(decimate_nearest(periphery_source, 4), quarter_staging_);
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
@@ -191,14 +186,14 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
-  copy_whole(cmd, foveal_staging, zones_);  // the foveal zone: the frame itself, first
+  copy_whole(cmd, foveal_staging_, zones_);  // the foveal zone: the frame itself, first
   const auto w = uint32_t(frame.width), h = uint32_t(frame.height);
   const auto zone_texels = uint32_t(frame.pixel_count());
-  upsampler_->record(cmd, half_staging.handle(), scratch.handle(), zones_.handle(), weights_2.handle(), w / 2, h / 2, 2,
-                     &timer, zone_texels);
+  upsampler_->record(cmd, half_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), w / 2, h / 2, 2,
+                     UpsampleFilter::lanczos3, &timer, zone_texels);
   vk::compute_to_compute_barrier(cmd);  // the scratch buffer is reused
-  upsampler_->record(cmd, quarter_staging.handle(), scratch.handle(), zones_.handle(), weights_4.handle(), w / 4, h / 4,
-                     4, &timer, 2 * zone_texels);
+  upsampler_->record(cmd, quarter_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), w / 4, h / 4, 4,
+                     UpsampleFilter::lanczos3, &timer, 2 * zone_texels);
   commands.submit_and_wait();
   double gpu_ms = 0;
   for (const vk::PassTime& pass : timer.results()) gpu_ms += pass.gpu_ms;

@@ -101,6 +101,7 @@ class ZoneBlender {
   int height_ = 0;
   int channels_ = 0;
   vk::Buffer zones_;                                 // foveal, middle, outer: width x height float RGBA texels each
+  vk::Buffer foveal_staging_, half_staging_, quarter_staging_, upsample_scratch_;  // set_frame's, kept for the next
   vk::Buffer blended_linear_;                        // float RGBA a pixel
   vk::Buffer blended_srgb8_, blended_srgb8_readback_;  // one packed RGBA8 uint a pixel
 };
