@@ -5,6 +5,7 @@
 // the double-precision reference; the gaze-contingent blend is timed against plain copies of one
 // full-size buffer; the path tracer's samples per second are measured on the studies' sequence.
 // Prints a Markdown table; --json writes every figure.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -121,7 +122,13 @@ void run_bench_fpt(BenchFptOptions options) {
   }
 
   ZoneBlender blender(context);
-  blender.set_frame(frame);
+  const double zone_buffers_ms = time_zone_buffers(blender, frame, options.repeats);
+  report["zone_buffers_gpu_ms"] = zone_buffers_ms;
+  std::snprintf(row, sizeof row,
+                "| an animation frame's zone buffers: both upsamplings and the sRGB8 encoding of three zones (GPU) "
+                "| %.2f | | | |\n",
+                zone_buffers_ms);
+  table += row;
   const BlendTiming blend = time_blend(blender, display, gaze_x, gaze_y, bounds, options.repeats);
   report["blend"] = blend.json();
   report["blend"]["bounds_deg"] = {{"foveal", bounds.foveal_deg}, {"middle", bounds.middle_deg}, {"band", bounds.band_deg}};
@@ -138,12 +145,16 @@ void run_bench_fpt(BenchFptOptions options) {
   std::snprintf(row, sizeof row, "| a session's refresh: sRGB8 blend read back (wall) | %.2f | | | |\n",
                 blend.refresh_wall_ms);
   table += row;
+  std::snprintf(row, sizeof row, "| band pixels, blended by the display blend's second pass | %u of %u (%.1f %%) | | | |\n",
+                blend.band_pixels, blend.frame_pixels, 100.0 * blend.band_pixels / std::max(1u, blend.frame_pixels));
+  table += row;
 
   PathTracer tracer(context, path_scene.scene);
   const auto started = std::chrono::steady_clock::now();
   const PathTraceResult traced = tracer.render(path_settings);
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  const double gpu_rate = traced.gpu_ms > 0 ? double(traced.samples) / (traced.gpu_ms / 1000.0) : 0.0;
+  const double gpu_rate = samples_per_second(traced.samples, traced.gpu_ms);
+  const double wall_rate = samples_per_second(traced.samples, 1000.0 * wall_s);
   report["path_tracer"] = {{"scene", options.path_scene},
                            {"width", options.path_width},
                            {"height", options.path_height},
@@ -153,7 +164,7 @@ void run_bench_fpt(BenchFptOptions options) {
                            {"gpu_ms", traced.gpu_ms},
                            {"wall_s", wall_s},
                            {"samples_per_s_gpu", gpu_rate},
-                           {"samples_per_s_wall", double(traced.samples) / wall_s}};
+                           {"samples_per_s_wall", wall_rate}};
   fail_on_validation_messages(context);
 
   report["command"] = command_line(options);
@@ -165,7 +176,7 @@ void run_bench_fpt(BenchFptOptions options) {
   std::printf("Path tracer, %s %dx%d, %d samples per pixel, %d bounces: %.3g samples/s on the GPU clock, %.3g on the "
               "wall clock (%.1f s)\n",
               options.path_scene.c_str(), options.path_width, options.path_height, options.path_samples,
-              options.path_bounces, gpu_rate, double(traced.samples) / wall_s, wall_s);
+              options.path_bounces, gpu_rate, wall_rate, wall_s);
   if (!options.json.empty()) write_text_atomically(options.json, report.dump(2) + "\n");
 }
 

@@ -60,7 +60,6 @@ void run_blend(BlendOptions options) {
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 0 to 1000");
   const Image frame = read_image(options.frame);
   const DisplayGeometry display = parse_display(options.display, frame.width, frame.height);
-  if (options.display.gaze.empty()) fail_flag("--gaze", "X,Y in pixels or percent of the frame", "nothing");
   const auto [gaze_x, gaze_y] = parse_gaze(options.display.gaze, frame.width, frame.height);
   if (gaze_x < 0 || gaze_y < 0 || gaze_x > frame.width || gaze_y > frame.height)
     fail_flag("--gaze", "a point on the " + std::to_string(frame.width) + "x" + std::to_string(frame.height) + " frame",
@@ -73,7 +72,7 @@ void run_blend(BlendOptions options) {
 
   vk::Context context(context_options(options.device));
   ZoneBlender blender(context);
-  const double upsample_ms = blender.set_frame(frame, periphery ? &*periphery : nullptr);
+  const double zone_buffers_ms = blender.set_frame(frame, periphery ? &*periphery : nullptr);
   const ZoneBlendResult result = blender.blend(display, gaze_x, gaze_y, bounds);
   BlendTiming timing;
   if (options.repeats > 0) timing = time_blend(blender, display, gaze_x, gaze_y, bounds, options.repeats);
@@ -87,10 +86,10 @@ void run_blend(BlendOptions options) {
   if (!options.zones_out.empty())
     write_image(options.zones_out, zones_over_frame(zone_map(display, gaze_x, gaze_y, bounds),
                                                     linear ? encode_srgb(frame) : frame));
-  std::printf("%s %dx%d, gaze %.1f,%.1f px, foveal %g deg, middle %g deg, band %g deg: upsampling %.2f ms, blend %.2f ms "
+  std::printf("%s %dx%d, gaze %.1f,%.1f px, foveal %g deg, middle %g deg, band %g deg: zone buffers %.2f ms, blend %.2f ms "
               "GPU -> %s\n",
               options.frame.c_str(), frame.width, frame.height, gaze_x, gaze_y, bounds.foveal_deg, bounds.middle_deg,
-              bounds.band_deg, upsample_ms, result.gpu_ms, options.out.c_str());
+              bounds.band_deg, zone_buffers_ms, result.gpu_ms, options.out.c_str());
   if (options.repeats > 0) print_blend_timing(timing);
 }
 
@@ -104,6 +103,7 @@ void add_blend_command(CLI::App& app) {
   command->add_option("--periphery-frame", options->periphery_frame,
                       "Source of the middle and outer zones instead of the frame (e.g. fewer bounces)");
   add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (seed 001)
+  command->get_option("--gaze")->required()->description("Gaze point X,Y in pixels, or each in percent of the frame");
   command->add_option("--foveal-deg", options->foveal_deg, "Foveal zone, full aperture in degrees")->required();
   command->add_option("--middle-deg", options->middle_deg, "Middle zone, full aperture (default foveal + 52.5)");
   command->add_option("--band-deg", options->band_deg, "Width of the linear band at each boundary (default 1)");

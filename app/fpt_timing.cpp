@@ -73,7 +73,9 @@ nlohmann::json UpsampleTiming::json() const {
 BlendTiming time_blend(ZoneBlender& blender, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                        const ZoneBounds& bounds, int repeats) {
   std::vector<double> display_ms, linear_ms, shader_ms, buffer_ms, refresh_ms;
+  uint32_t band_pixels = 0;
   for (const ZoneBlender::BlendCost& cost : blender.measure_cost(display, gaze_x_px, gaze_y_px, bounds, repeats)) {
+    band_pixels = cost.band_pixels;
     display_ms.push_back(cost.display_blend_ms);
     linear_ms.push_back(cost.linear_blend_ms);
     shader_ms.push_back(cost.copy_shader_ms);
@@ -84,7 +86,14 @@ BlendTiming time_blend(ZoneBlender& blender, const DisplayGeometry& display, dou
     blender.display_frame(display, gaze_x_px, gaze_y_px, bounds);
     refresh_ms.push_back(wall_ms_since(started));
   }
-  return {median(display_ms), median(linear_ms), median(shader_ms), median(buffer_ms), median(refresh_ms), repeats};
+  return {median(display_ms), median(linear_ms), median(shader_ms), median(buffer_ms), median(refresh_ms), repeats,
+          band_pixels, uint32_t(blender.width()) * uint32_t(blender.height())};
+}
+
+double time_zone_buffers(ZoneBlender& blender, const Image& frame, int repeats) {
+  std::vector<double> gpu_ms;
+  for (int run = 0; run < repeats; ++run) gpu_ms.push_back(blender.set_frame(frame));
+  return median(gpu_ms);
 }
 
 nlohmann::json BlendTiming::json() const {
@@ -97,6 +106,8 @@ nlohmann::json BlendTiming::json() const {
           {"linear_blend_over_copy_shader", linear_blend_ms / copy_shader_ms},
           {"linear_blend_over_copy_buffer", linear_blend_ms / copy_buffer_ms},
           {"refresh_wall_ms", refresh_wall_ms},
+          {"band_pixels", band_pixels},
+          {"frame_pixels", frame_pixels},
           {"repeats", repeats}};
 }
 
@@ -110,6 +121,8 @@ void print_blend_timing(const BlendTiming& timing) {
               timing.linear_blend_ms / timing.copy_buffer_ms);
   std::printf("  copy shader (buffer_copy)            %9.3f\n", timing.copy_shader_ms);
   std::printf("  vkCmdCopyBuffer                      %9.3f\n", timing.copy_buffer_ms);
+  std::printf("Band pixels (the display blend's second pass): %u of %u (%.1f %%)\n", timing.band_pixels,
+              timing.frame_pixels, 100.0 * timing.band_pixels / std::max(1u, timing.frame_pixels));
   std::printf("A session's refresh (sRGB8 blend, read back to the CPU): median %.3f ms wall of %d\n",
               timing.refresh_wall_ms, timing.repeats);
 }

@@ -41,12 +41,17 @@ struct BlendTiming {
   // A session's refresh on the wall clock: ZoneBlender::display_frame (blend, encode, read back).
   double refresh_wall_ms = 0;
   int repeats = 0;
+  uint32_t band_pixels = 0, frame_pixels = 0;  // the display blend's second pass blends the band pixels
   nlohmann::json json() const;
 };
 
 // The blend of `blender`'s current frame for one gaze, `repeats` times each way.
 BlendTiming time_blend(ZoneBlender& blender, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                        const ZoneBounds& bounds, int repeats);
+
+// The median GPU ms of `repeats` ZoneBlender::set_frame calls for `frame`: what one animation frame's
+// zone buffers cost (upsampling, and the sRGB8 encoding of the three zones).
+double time_zone_buffers(ZoneBlender& blender, const Image& frame, int repeats);
 
 // The lines `fovlab blend --repeats` and `fovlab bench-fpt` print.
 void print_blend_timing(const BlendTiming& timing);

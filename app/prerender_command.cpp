@@ -22,6 +22,7 @@
 #include "protocols/config/study_config.h"
 #include "protocols/schedule/study_plan.h"
 #include "protocols/stimuli/stimulus_spec.h"
+#include "renderer/path_tracing/path_tracer.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/vk/context.h"
 
@@ -143,8 +144,8 @@ void run_prerender(const PrerenderOptions& options) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!missing.empty())
     std::printf("rendered %zu frames in %s: %.3g samples/s on the GPU clock, %.3g on the wall clock (%s)\n",
-                missing.size(), duration_text(wall_s).c_str(), gpu_ms > 0 ? double(samples) / (gpu_ms / 1000.0) : 0.0,
-                double(samples) / wall_s, context.description.name.c_str());
+                missing.size(), duration_text(wall_s).c_str(), samples_per_second(samples, gpu_ms),
+                samples_per_second(samples, 1000.0 * wall_s), context.description.name.c_str());
 }
 
 }  // namespace

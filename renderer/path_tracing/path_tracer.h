@@ -39,6 +39,12 @@ struct PathTraceResult {
   int batches = 0;        // dispatches, each its own submission
 };
 
+// The rate of `samples` traced in `milliseconds` (GPU or wall clock), per second; 0 when no time was
+// measured (a queue without timestamps).
+inline double samples_per_second(uint64_t samples, double milliseconds) {
+  return milliseconds > 0.0 ? double(samples) / (milliseconds / 1000.0) : 0.0;
+}
+
 class PathTracer {
  public:
   // Validates the scene (InputError), builds its BVH and uploads it.

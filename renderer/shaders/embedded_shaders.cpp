@@ -6,13 +6,16 @@ namespace {
 #include "buffer_copy.spv.h"
 #include "depth_edges.spv.h"
 #include "fipr_reconstruct.spv.h"
+#include "list_dispatch.spv.h"
 #include "foveation_mask.spv.h"
 #include "masked_blur.spv.h"
-#include "masked_list_dispatch.spv.h"
 #include "min_filter.spv.h"
 #include "path_trace.spv.h"
+#include "srgb8_encode.spv.h"
 #include "upsample.spv.h"
+#include "zone_band.spv.h"
 #include "zone_blend.spv.h"
+#include "zone_display.spv.h"
 #include "sphere_trace.glsl.h"
 }  // namespace
 
@@ -23,8 +26,11 @@ const std::span<const uint32_t> masked_blur_spirv{masked_blur_spirv_words};
 const std::span<const uint32_t> fipr_reconstruct_spirv{fipr_reconstruct_spirv_words};
 const std::span<const uint32_t> upsample_spirv{upsample_spirv_words};
 const std::span<const uint32_t> zone_blend_spirv{zone_blend_spirv_words};
+const std::span<const uint32_t> zone_display_spirv{zone_display_spirv_words};
+const std::span<const uint32_t> zone_band_spirv{zone_band_spirv_words};
+const std::span<const uint32_t> srgb8_encode_spirv{srgb8_encode_spirv_words};
 const std::span<const uint32_t> buffer_copy_spirv{buffer_copy_spirv_words};
-const std::span<const uint32_t> masked_list_dispatch_spirv{masked_list_dispatch_spirv_words};
+const std::span<const uint32_t> list_dispatch_spirv{list_dispatch_spirv_words};
 const std::span<const uint32_t> path_trace_spirv{path_trace_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};
 

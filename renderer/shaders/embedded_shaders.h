@@ -15,8 +15,11 @@ extern const std::span<const uint32_t> masked_blur_spirv;
 extern const std::span<const uint32_t> fipr_reconstruct_spirv;
 extern const std::span<const uint32_t> upsample_spirv;
 extern const std::span<const uint32_t> zone_blend_spirv;
+extern const std::span<const uint32_t> zone_display_spirv;
+extern const std::span<const uint32_t> zone_band_spirv;
+extern const std::span<const uint32_t> srgb8_encode_spirv;
 extern const std::span<const uint32_t> buffer_copy_spirv;
-extern const std::span<const uint32_t> masked_list_dispatch_spirv;
+extern const std::span<const uint32_t> list_dispatch_spirv;
 extern const std::span<const uint32_t> path_trace_spirv;
 extern const std::string_view sphere_trace_source;
 

@@ -269,7 +269,7 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
                                                                sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
   mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 6, sizeof(MaskParams));
-  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_list_dispatch_spirv, 2, 0);
+  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, 3 * sizeof(uint32_t));
   reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
                                                                 sizeof(ReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
@@ -381,7 +381,8 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     vk::compute_to_compute_barrier(cmd);
     const VkBuffer dispatch_buffers[] = {frame.counters.handle(), frame.list_dispatch.handle()};
     timer.begin(cmd, "list_dispatch");
-    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, nullptr, 1, 1);
+    const uint32_t lists[] = {masked, refresh_listed, 2};  // list_dispatch.comp.glsl's ListParams
+    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists, 1, 1);
     timer.end(cmd);
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,

@@ -13,8 +13,7 @@ constexpr uint32_t kWorkgroupSize = 8;  // local_size_x and local_size_y of ever
 }
 
 ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_t> spirv,
-                                 uint32_t storage_buffer_count, uint32_t push_constant_bytes,
-                                 std::span<const uint32_t> specialization)
+                                 uint32_t storage_buffer_count, uint32_t push_constant_bytes)
     : context_(context), storage_buffer_count_(storage_buffer_count), push_constant_bytes_(push_constant_bytes) {
   VkDevice device = context.device;
   VkShaderModule module = VK_NULL_HANDLE;
@@ -45,16 +44,11 @@ ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_
     module_info.pCode = spirv.data();
     VK_CHECK(vkCreateShaderModule(device, &module_info, nullptr, &module));
 
-    std::vector<VkSpecializationMapEntry> entries(specialization.size());
-    for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
-    const VkSpecializationInfo specialization_info{static_cast<uint32_t>(entries.size()), entries.data(),
-                                                   specialization.size_bytes(), specialization.data()};
     VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     pipeline_info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     pipeline_info.stage.module = module;
     pipeline_info.stage.pName = "main";
-    if (!specialization.empty()) pipeline_info.stage.pSpecializationInfo = &specialization_info;
     pipeline_info.layout = layout_;
     VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
     vkDestroyShaderModule(device, module, nullptr);

@@ -1,8 +1,6 @@
 #pragma once
 // A compute pipeline whose bindings are N storage buffers (set 0, bindings 0..N-1), supplied at
-// dispatch time with push descriptors, and whose parameters are push constants. Shader variants come
-// from specialization constants: value i of `specialization` sets `constant_id = i` (32-bit each),
-// so the driver compiles each variant with its dead branches removed.
+// dispatch time with push descriptors, and whose parameters are push constants.
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
@@ -15,7 +13,7 @@ class Context;
 class ComputePipeline {
  public:
   ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
-                  uint32_t push_constant_bytes, std::span<const uint32_t> specialization = {});
+                  uint32_t push_constant_bytes);
   ~ComputePipeline();
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -20,11 +21,10 @@ namespace fovlab {
 namespace {
 
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
-// zone_blend.comp.glsl's OUTPUT_SRGB8 (constant_id 0) for each variant.
-constexpr uint32_t kLinearVariant[] = {0}, kSrgb8Variant[] = {1};
+constexpr int kMaxFrameSide = 16384;  // zone_display.comp.glsl lists band pixels as x | y << 16
 constexpr uint32_t kGroupWidth = 64;  // local_size_x of zone_blend and buffer_copy: one row of groups a pixel row
 
-// Must match BlendParams in zone_blend.comp.glsl.
+// Must match BlendParams in zone_weights.glsl.
 struct BlendParams {
   float edge_tan2[4];
   float gaze_direction[3];
@@ -36,7 +36,8 @@ struct BlendParams {
   float band_per_deg;
   uint32_t has_middle;
 };
-static_assert(sizeof(BlendParams) == 72, "BlendParams must match zone_blend.comp.glsl");
+static_assert(sizeof(BlendParams) == 72, "BlendParams must match zone_weights.glsl");
+constexpr uint32_t kBandList[] = {0, 0, 1};  // list_dispatch.comp.glsl's ListParams: one list, counted at word 0
 
 // tan^2 of an eccentricity bound in degrees: -1 below 0 (nothing is inside), huge from 90 on.
 float tan2_of_bound(double bound_deg) {
@@ -46,25 +47,19 @@ float tan2_of_bound(double bound_deg) {
   return static_cast<float>(t * t);
 }
 
-// Every pixel inside the foveal zone (no gaze): edges at 90 degrees, no band, no middle zone. The
-// rays do not matter then; any will do.
-BlendParams whole_frame_foveal(int width, int height) {
+// The blend of a width x height frame for a gaze point, in the eye's millimetres
+// (renderer/foveation/display_geometry.h); the unit ray to the gaze point is scaled by its largest
+// component first, so that a gaze far off the screen neither overflows nor loses its direction. A
+// gaze that is not a number: every pixel foveal (edges at 90 degrees, no band, no middle zone; the
+// rays do not matter then).
+BlendParams blend_params(int width, int height, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                         const ZoneBounds& bounds) {
   BlendParams params{};
   params.frame_size[0] = uint32_t(width);
   params.frame_size[1] = uint32_t(height);
   params.gaze_direction[2] = 1.0f;
   params.viewing_distance_mm = 1.0f;
   for (float& edge : params.edge_tan2) edge = tan2_of_bound(90.0);
-  return params;
-}
-
-// The blend of a width x height frame for a gaze point; a gaze that is not a number: the whole
-// frame foveal. In the eye's millimetres (renderer/foveation/display_geometry.h); the unit ray to
-// the gaze point is scaled by its largest component first, so that a gaze far off the screen
-// neither overflows nor loses its direction.
-BlendParams blend_params(int width, int height, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
-                         const ZoneBounds& bounds) {
-  BlendParams params = whole_frame_foveal(width, height);
   if (!std::isfinite(gaze_x_px) || !std::isfinite(gaze_y_px)) return params;
   const double pitch_x = display.pixel_pitch_x_mm(), pitch_y = display.pixel_pitch_y_mm();
   params.pixel_pitch_mm[0] = static_cast<float>(pitch_x);
@@ -137,10 +132,12 @@ void check_zone_frame_size(const vk::Context& context, int width_px, int height_
 
 ZoneBlender::ZoneBlender(vk::Context& context)
     : context_(context),
-      linear_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams),
-                                                             kLinearVariant)),
-      srgb8_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams),
-                                                            kSrgb8Variant)),
+      linear_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams))),
+      encode_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::srgb8_encode_spirv, 2, 2 * sizeof(uint32_t))),
+      display_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_display_spirv, 3, sizeof(BlendParams))),
+      band_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_band_spirv, 3, sizeof(BlendParams))),
+      list_dispatch_pipeline_(
+          std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(kBandList))),
       copy_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::buffer_copy_spirv, 2, 2 * sizeof(uint32_t))),
       upsampler_(std::make_unique<Upsampler>(context)) {}
 
@@ -148,10 +145,10 @@ ZoneBlender::~ZoneBlender() = default;
 
 double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   if (frame.channels < 1 || frame.channels > 4 || frame.width < 4 || frame.height < 4 || frame.width % 4 != 0 ||
-      frame.height % 4 != 0)
+      frame.height % 4 != 0 || frame.width > kMaxFrameSide || frame.height > kMaxFrameSide)
     throw InputError("zone buffers of a " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " frame: expected a width and height that are multiples of 4 (the outer zone is 1/4 per axis) "
-                     "and 1 to 4 channels");
+                     " frame: expected a width and height that are multiples of 4 (the outer zone is 1/4 per axis), "
+                     "at most " + std::to_string(kMaxFrameSide) + ", and 1 to 4 channels");
   const Image& periphery_source = periphery ? *periphery : frame;
   if (periphery_source.width != frame.width || periphery_source.height != frame.height ||
       periphery_source.channels != frame.channels)
@@ -165,6 +162,9 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
     quarter_staging_ = vk::Buffer(context_, frame_bytes / 16, vk::MemoryUse::host_upload);
     upsample_scratch_ = vk::Buffer(context_, frame_bytes / 2, vk::MemoryUse::device_local);  // the x pass of factor 2
     blended_linear_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
+    zones_srgb8_ = vk::Buffer(context_, 3 * VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
+    band_list_ = vk::Buffer(context_, (1 + VkDeviceSize(frame.pixel_count())) * 4, vk::MemoryUse::device_local);
+    band_dispatch_ = vk::Buffer(context_, 3 * sizeof(uint32_t), vk::MemoryUse::device_local);
     blended_srgb8_ = vk::Buffer(context_, VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
     blended_srgb8_readback_ = vk::Buffer(context_, blended_srgb8_.size_bytes(), vk::MemoryUse::host_readback);
     width_ = frame.width;
@@ -181,7 +181,7 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, 4);
+  vk::PassTimer timer(context_, 5);
   timer.reset(cmd);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
@@ -194,25 +194,53 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   vk::compute_to_compute_barrier(cmd);  // the scratch buffer is reused
   upsampler_->record(cmd, quarter_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), w / 4, h / 4, 4,
                      UpsampleFilter::lanczos3, &timer, 2 * zone_texels);
+  if (channels_ >= 3) {  // the zones as a session shows them (display_frame copies most pixels from there)
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_SHADER_READ_BIT);
+    timer.begin(cmd, "zones_to_srgb8");
+    record_encode(cmd, zones_, zones_srgb8_, frame.width, 3 * frame.height);  // one image, three zones high
+    timer.end(cmd);
+  }
   commands.submit_and_wait();
   double gpu_ms = 0;
   for (const vk::PassTime& pass : timer.results()) gpu_ms += pass.gpu_ms;
   return gpu_ms;
 }
 
-void ZoneBlender::record_blend(VkCommandBuffer commands, const void* params, VkBuffer zones, VkBuffer output,
-                               Output output_kind, int width, int height) const {
-  const vk::ComputePipeline& pipeline = output_kind == Output::srgb8 ? *srgb8_pipeline_ : *linear_pipeline_;
-  const VkBuffer buffers[] = {zones, output};
-  pipeline.dispatch_groups(commands, buffers, params, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
-                           uint32_t(height));
+void ZoneBlender::record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
+                               double gaze_y_px, const ZoneBounds& bounds) const {
+  const BlendParams params = blend_params(width_, height_, display, gaze_x_px, gaze_y_px, bounds);
+  const VkBuffer buffers[] = {zones_.handle(), blended_linear_.handle()};
+  linear_pipeline_->dispatch_groups(commands, buffers, &params, (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth,
+                                    uint32_t(height_));
 }
 
-void ZoneBlender::record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
-                               double gaze_y_px, const ZoneBounds& bounds, Output output_kind) const {
+void ZoneBlender::record_encode(VkCommandBuffer commands, const vk::Buffer& texels, const vk::Buffer& encoded,
+                                int width, int height) const {
+  const uint32_t image_size[] = {uint32_t(width), uint32_t(height)};
+  const VkBuffer buffers[] = {texels.handle(), encoded.handle()};
+  encode_pipeline_->dispatch_groups(commands, buffers, image_size, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
+                                    uint32_t(height));
+}
+
+void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
+                                 double gaze_y_px, const ZoneBounds& bounds) const {
   const BlendParams params = blend_params(width_, height_, display, gaze_x_px, gaze_y_px, bounds);
-  const vk::Buffer& output = output_kind == Output::srgb8 ? blended_srgb8_ : blended_linear_;
-  record_blend(commands, &params, zones_.handle(), output.handle(), output_kind, width_, height_);
+  vkCmdFillBuffer(commands, band_list_.handle(), 0, sizeof(uint32_t), 0);  // no band pixels listed yet
+  vk::memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  const VkBuffer display_buffers[] = {zones_srgb8_.handle(), blended_srgb8_.handle(), band_list_.handle()};
+  display_pipeline_->dispatch_groups(commands, display_buffers, &params,
+                                     (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth, uint32_t(height_));
+  vk::compute_to_compute_barrier(commands);
+  const VkBuffer dispatch_buffers[] = {band_list_.handle(), band_dispatch_.handle()};
+  list_dispatch_pipeline_->dispatch_2d(commands, dispatch_buffers, kBandList, 1, 1);
+  vk::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+  const VkBuffer band_buffers[] = {zones_.handle(), blended_srgb8_.handle(), band_list_.handle()};
+  band_pipeline_->dispatch_indirect(commands, band_buffers, &params, band_dispatch_.handle(), 0);
 }
 
 void ZoneBlender::record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const {
@@ -240,7 +268,7 @@ ZoneBlendResult ZoneBlender::blend(const DisplayGeometry& display, double gaze_x
   vk::PassTimer timer(context_, 1);
   timer.reset(cmd);
   timer.begin(cmd, "zone_blend");
-  record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::linear);
+  record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds);
   timer.end(cmd);
   commands.submit_and_wait();
   ZoneBlendResult result;
@@ -255,7 +283,7 @@ std::vector<uint8_t> ZoneBlender::display_frame(const DisplayGeometry& display, 
   require_colour(channels_, "zone blend to the display");
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::srgb8);
+  record_display(cmd, display, gaze_x_px, gaze_y_px, bounds);
   record_read_back(cmd, blended_srgb8_, 0, blended_srgb8_.size_bytes(), blended_srgb8_readback_);
   commands.submit_and_wait();
   return mapped_bytes(blended_srgb8_readback_);
@@ -271,12 +299,11 @@ std::vector<uint8_t> ZoneBlender::encode_for_display(const Image& frame) {
   const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * 4;
   const vk::Buffer encoded(context_, bytes, vk::MemoryUse::device_local);
   const vk::Buffer readback(context_, bytes, vk::MemoryUse::host_readback);
-  const BlendParams params = whole_frame_foveal(frame.width, frame.height);
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_SHADER_READ_BIT);
-  record_blend(cmd, &params, texels.handle(), encoded.handle(), Output::srgb8, frame.width, frame.height);
+  record_encode(cmd, texels, encoded, frame.width, frame.height);
   record_read_back(cmd, encoded, 0, bytes, readback);
   commands.submit_and_wait();
   return mapped_bytes(readback);
@@ -291,6 +318,8 @@ Image ZoneBlender::zone_buffer(Zone zone) {
 std::vector<ZoneBlender::BlendCost> ZoneBlender::measure_cost(const DisplayGeometry& display, double gaze_x_px,
                                                               double gaze_y_px, const ZoneBounds& bounds, int repeats) {
   check_blend(display, bounds);
+  require_colour(channels_, "zone blend to the display");
+  const vk::Buffer band_count_readback(context_, sizeof(uint32_t), vk::MemoryUse::host_readback);
   std::vector<BlendCost> costs;
   for (int repeat = 0; repeat < repeats; ++repeat) {
     vk::OneTimeCommands commands(context_);
@@ -298,11 +327,11 @@ std::vector<ZoneBlender::BlendCost> ZoneBlender::measure_cost(const DisplayGeome
     vk::PassTimer timer(context_, 4);
     timer.reset(cmd);
     timer.begin(cmd, "display_blend");
-    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::srgb8);
+    record_display(cmd, display, gaze_x_px, gaze_y_px, bounds);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);  // each timed pass alone on the device
     timer.begin(cmd, "linear_blend");
-    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds, Output::linear);
+    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);  // the copies overwrite the linear blend's output
     timer.begin(cmd, "copy_shader");
@@ -314,9 +343,13 @@ std::vector<ZoneBlender::BlendCost> ZoneBlender::measure_cost(const DisplayGeome
     const VkBufferCopy foveal_zone{0, 0, blended_linear_.size_bytes()};
     vkCmdCopyBuffer(cmd, zones_.handle(), blended_linear_.handle(), 1, &foveal_zone);
     timer.end(cmd);
+    record_read_back(cmd, band_list_, 0, sizeof(uint32_t), band_count_readback);
     commands.submit_and_wait();
     const std::vector<vk::PassTime> times = timer.results();
-    costs.push_back({times[0].gpu_ms, times[1].gpu_ms, times[2].gpu_ms, times[3].gpu_ms});
+    uint32_t band_pixels = 0;
+    band_count_readback.invalidate();
+    std::memcpy(&band_pixels, band_count_readback.mapped(), sizeof band_pixels);
+    costs.push_back({times[0].gpu_ms, times[1].gpu_ms, times[2].gpu_ms, times[3].gpu_ms, band_pixels});
   }
   return costs;
 }

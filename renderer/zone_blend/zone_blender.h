@@ -3,7 +3,10 @@
 // full-resolution linear-light frame becomes three zone buffers once per animation frame (the frame
 // itself; its nearest-neighbour decimations by 2 and 4, Lanczos-3 upsampled back to full size by
 // renderer/upsampling), then every gaze sample blends them (renderer/shaders/zone_blend.comp.glsl;
-// reference and definitions in zone_layout.h).
+// reference and definitions in zone_layout.h). What a session shows is made in two passes, so that
+// most pixels cost a copy (docs/foveated-path-tracing.md, "Zones and blend"): the zones are also
+// kept sRGB-encoded, zone_display copies the pixels outside the bands from there and lists the band
+// pixels, and zone_band blends those.
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
@@ -44,8 +47,9 @@ class ZoneBlender {
 
   // Makes the three zone buffers of a frame (1 to 4 channels). `periphery` (same size), when
   // given, is the source of the middle and outer buffers instead of the frame: seed 001's pilot
-  // variant (section 4.2) whose periphery is path traced with fewer bounces. Returns the GPU ms of
-  // the upsampling passes.
+  // variant (section 4.2) whose periphery is path traced with fewer bounces. A colour frame's zones
+  // are also encoded to sRGB8 for display_frame. Returns the GPU ms of those passes (upsampling,
+  // encoding).
   double set_frame(const Image& frame, const Image* periphery = nullptr);
   int width() const { return width_; }
   int height() const { return height_; }
@@ -55,7 +59,8 @@ class ZoneBlender {
   // InputError on a bad bound or size.
   ZoneBlendResult blend(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px, const ZoneBounds& bounds);
   // What a participant sees for one gaze sample, the session's display-rate path: the same blend,
-  // sRGB-encoded to 8 bits a channel on the GPU (core/colour.h's encode_srgb, rounded to nearest),
+  // sRGB-encoded to 8 bits a channel on the GPU (core/colour.h's encode_srgb, rounded to nearest;
+  // the same bytes as zone_blend.comp.glsl's sRGB8 variant, from two cheaper passes),
   // RGBA with alpha 255, row-major, width x height x 4 bytes. A gaze that is not a number (no
   // usable sample) shows the full-resolution frame everywhere, never a guess at where the eye is.
   // The frame needs 3 or 4 channels (InputError otherwise).
@@ -71,31 +76,37 @@ class ZoneBlender {
   // The cost of the blend against the memory-bandwidth limit it is measured by: a plain copy of
   // one full-size float RGBA zone buffer into another (every pixel read once and written once, the
   // least a blend must do). Each repeat is one command buffer holding, between GPU timestamps, the
-  // display blend (sRGB8 out), the linear blend (float RGBA out), a copy shader
+  // display blend (display_frame's passes, sRGB8 out), the linear blend (float RGBA out), a copy shader
   // (buffer_copy.comp.glsl: one load and one store a texel, the blend's workgroups) and
   // vkCmdCopyBuffer of the same buffer. One entry a repeat; zeros where the queue has no timestamps.
+  // Also the number of band pixels, which the display blend's second pass blends. Needs a colour
+  // frame, as display_frame does.
   struct BlendCost {
     double display_blend_ms = 0;
     double linear_blend_ms = 0;
     double copy_shader_ms = 0;
     double copy_buffer_ms = 0;
+    uint32_t band_pixels = 0;
   };
   std::vector<BlendCost> measure_cost(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                                       const ZoneBounds& bounds, int repeats);
 
  private:
-  enum class Output { linear, srgb8 };
   void check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const;
-  // One dispatch of zone_blend.comp.glsl (`params`: its push constants) from `zones` to `output`.
-  void record_blend(VkCommandBuffer commands, const void* params, VkBuffer zones, VkBuffer output, Output output_kind,
-                    int width, int height) const;
-  // The blend of the current zones for a gaze.
+  // The linear blend of the current zones for a gaze, into blended_linear_ (zone_blend.comp.glsl).
   void record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
-                    const ZoneBounds& bounds, Output output_kind) const;
+                    const ZoneBounds& bounds) const;
+  // srgb8_encode.comp.glsl: width x height float RGBA texels to packed sRGB8.
+  void record_encode(VkCommandBuffer commands, const vk::Buffer& texels, const vk::Buffer& encoded, int width,
+                     int height) const;
+  // display_frame's passes for a gaze, into blended_srgb8_.
+  void record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                      const ZoneBounds& bounds) const;
   void record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const;
   Image read_back(const vk::Buffer& buffer, VkDeviceSize offset_bytes, VkDeviceSize size_bytes);
   vk::Context& context_;
-  std::unique_ptr<vk::ComputePipeline> linear_pipeline_, srgb8_pipeline_, copy_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> linear_pipeline_, encode_pipeline_, display_pipeline_, band_pipeline_,
+      list_dispatch_pipeline_, copy_pipeline_;
   std::unique_ptr<Upsampler> upsampler_;
   int width_ = 0;
   int height_ = 0;
@@ -103,6 +114,9 @@ class ZoneBlender {
   vk::Buffer zones_;                                 // foveal, middle, outer: width x height float RGBA texels each
   vk::Buffer foveal_staging_, half_staging_, quarter_staging_, upsample_scratch_;  // set_frame's, kept for the next
   vk::Buffer blended_linear_;                        // float RGBA a pixel
+  vk::Buffer zones_srgb8_;    // the three zones sRGB-encoded, one packed RGBA8 uint a texel (colour frames)
+  vk::Buffer band_list_;      // display_frame's band pixels: a count, then the pixel indices
+  vk::Buffer band_dispatch_;  // the band pass's workgroup counts (vkCmdDispatchIndirect)
   vk::Buffer blended_srgb8_, blended_srgb8_readback_;  // one packed RGBA8 uint a pixel
 };
 

@@ -50,6 +50,11 @@ TEST(BenchFptCli, TinyRunWritesEveryFigure) {
     EXPECT_GE(blend[figure].get<double>(), 0.0) << figure;
   EXPECT_GT(blend["refresh_wall_ms"].get<double>(), 0.0);
   EXPECT_EQ(blend["bounds_deg"]["middle"].get<double>(), 62.5);  // the default: foveal + 52.5
+  EXPECT_EQ(blend["frame_pixels"].get<uint32_t>(), 64u * 48u);
+  EXPECT_GT(blend["band_pixels"].get<uint32_t>(), 0u);  // the foveal band: 10 degrees on a 64x48 frame of 27"
+  EXPECT_LT(blend["band_pixels"].get<uint32_t>(), 64u * 48u);
+  EXPECT_GE(json["zone_buffers_gpu_ms"].get<double>(), 0.0);
+  EXPECT_NE(result.out.find("an animation frame's zone buffers"), std::string::npos) << result.out;
   const nlohmann::json& path = json["path_tracer"];
   EXPECT_EQ(path["samples"].get<uint64_t>(), 16u * 8u * 2u);
   EXPECT_GT(path["samples_per_s_wall"].get<double>(), 0.0);

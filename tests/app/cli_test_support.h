@@ -8,9 +8,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <sstream>
 #include <string>
+
+#include "tests/support/temp_dir.h"
 
 namespace fovlab::cli_test {
 
@@ -20,25 +21,8 @@ struct CommandResult {
   std::string err;
 };
 
-// temp/<name>-<pid>, emptied the first time this process asks for it and removed when it exits.
-// Per process, so tests that CTest runs side by side (ctest -j) never share or empty each other's
-// folders.
-inline std::filesystem::path scratch(const std::string& name) {
-  struct Folders {
-    std::set<std::filesystem::path> paths;
-    ~Folders() {
-      std::error_code ignored;
-      for (const auto& path : paths) std::filesystem::remove_all(path, ignored);
-    }
-  };
-  static Folders prepared;
-  const auto path = std::filesystem::temp_directory_path() / (name + "-" + std::to_string(getpid()));
-  if (prepared.paths.insert(path).second) {
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  return path;
-}
+// A scratch folder of this test process (tests/support/temp_dir.h).
+inline std::filesystem::path scratch(const std::string& name) { return testing::scratch_folder(name); }
 
 inline std::string read_all(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -10,16 +10,12 @@
 #include "core/content_hash.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
 
-std::filesystem::path fresh_folder(const std::string& name) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("fovlab-test-" + name);
-  std::filesystem::remove_all(folder);
-  std::filesystem::create_directories(folder);
-  return folder;
-}
+std::filesystem::path fresh_folder(const std::string& name) { return testing::scratch_folder("fovlab-test-" + name); }
 
 std::string read_all(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -3,6 +3,7 @@
 // reference.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -125,10 +126,12 @@ TEST_F(VulkanTest, BlendMatchesTheReference) {
     }
 }
 
-// What a session shows: the same blend, sRGB-encoded to 8 bits on the GPU. Against the CPU's
-// encoding of the linear blend, a byte may differ by one where float rounding lands on the other
-// side of a half step (a handful of pixels), never by more; alpha is opaque. No gaze (NaN) shows the
-// frame itself.
+// What a session shows: the same blend, sRGB-encoded to 8 bits on the GPU (two passes: the pixels
+// outside the bands copied from the zones' own encoding, the listed band pixels blended). Against the
+// CPU's encoding of the linear blend, a byte may differ by one where float rounding lands on the
+// other side of a half step (a handful of pixels), never by more; alpha is opaque. Bands of the
+// usual kind, overlapping bands, none (an empty band list), every pixel in a band (the longest list)
+// and gazes off the screen; no gaze (NaN) shows the frame itself.
 TEST_F(VulkanTest, DisplayFrameIsTheBlendEncodedToEightBitSrgb) {
   const Image frame = noisy_frame(64, 48, 5, 1.2f);  // some values above 1, to be clipped
   const DisplayGeometry display = small_display();
@@ -148,10 +151,15 @@ TEST_F(VulkanTest, DisplayFrameIsTheBlendEncodedToEightBitSrgb) {
     }
     EXPECT_LE(off_by_one, linear.pixel_count() * 3 / 100) << what;
   };
-  for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 24.0, 6.0}}) {
-    const Image linear = blender.blend(display, 20.0, 30.0, bounds).image;
-    expect_encoded(blender.display_frame(display, 20.0, 30.0, bounds), linear, "gaze 20,30");
-  }
+  const double gazes[][2] = {{20.0, 30.0}, {-40.0, 10.0}, {-3.0e6, 2.0e6}};
+  for (const auto& gaze : gazes)
+    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 24.0, 6.0}, ZoneBounds{10.0, 62.5, 0.0},
+                                    ZoneBounds{10.0, 62.5, 400.0}}) {
+      const Image linear = blender.blend(display, gaze[0], gaze[1], bounds).image;
+      expect_encoded(blender.display_frame(display, gaze[0], gaze[1], bounds), linear,
+                     "gaze " + std::to_string(gaze[0]) + "," + std::to_string(gaze[1]) + " band " +
+                         std::to_string(bounds.band_deg));
+    }
   expect_encoded(blender.display_frame(display, std::nan(""), 10.0, {}), frame, "no gaze");
   EXPECT_THROW(blender.display_frame(display_from_size(32, 24, 320.0, 240.0, 250.0), 1.0, 1.0, {}), InputError);
 }
@@ -217,6 +225,19 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
       EXPECT_GT(cost.copy_shader_ms, 0.0);
       EXPECT_GT(cost.copy_buffer_ms, 0.0);
     }
+  // The band pixels the display blend's second pass blends: those the reference gives weights
+  // strictly between 0 and 1 (give or take a pixel on a band's edge, in float), none without bands,
+  // all of them in a band wider than the screen.
+  int reference_band_pixels = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const ZoneWeights w = zone_weights({10.0, 40.0, 0.5}, eccentricity_deg(display, 32.0, 24.0, x + 0.5, y + 0.5));
+      reference_band_pixels += std::max({w.foveal, w.middle, w.outer}) < 1.0;
+    }
+  EXPECT_GT(reference_band_pixels, 40);
+  EXPECT_NEAR(double(costs.front().band_pixels), double(reference_band_pixels), 4.0);
+  EXPECT_EQ(blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 0.0}, 1).front().band_pixels, 0u);
+  EXPECT_EQ(blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 400.0}, 1).front().band_pixels, 64u * 48u);
   // Timing leaves the zones as they were.
   EXPECT_NEAR(blender.blend(display, 32.0, 24.0, {10.0, 40.0, 0.5}).image.at(32, 24, 0), 1.0f, 1e-6);
 }

@@ -1,16 +1,40 @@
 #pragma once
-// A fresh directory under the system temp directory for one test, named after the test (and an
-// optional label), removed with everything in it. The one temp-folder helper of the unit tests.
+// The temp-folder helpers of the tests: TempDir, a fresh directory for one test, and scratch_folder,
+// one for a test process. Both are per process (the pid is in the name), so tests that CTest runs
+// side by side (ctest -j) never share or empty each other's folders, and both are removed with
+// everything in them.
 #include <unistd.h>
 
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
 
 namespace fovlab::testing {
+
+// temp/<name>-<pid>, emptied the first time this process asks for it and removed when the process
+// exits: for folders that several tests of a process (or fixtures made once) share.
+inline std::filesystem::path scratch_folder(const std::string& name) {
+  struct Folders {
+    std::set<std::filesystem::path> paths;
+    ~Folders() {
+      std::error_code ignored;
+      for (const auto& path : paths) std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static Folders made;
+  std::string folder_name = name;  // appended, not name + "-" + ...: GCC 12 warns falsely (-Wrestrict) on that
+  folder_name.append("-").append(std::to_string(::getpid()));
+  const auto path = std::filesystem::temp_directory_path() / folder_name;
+  if (made.paths.insert(path).second) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  return path;
+}
 
 class TempDir {
  public:

@@ -2,7 +2,6 @@
 // and replay use), on logs with every kind of trial event, a resume that drops a cut-off trial, a
 // torn tail, an edited line and lines it must reject.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +13,7 @@
 #include "protocols/log/event_log.h"
 #include "protocols/log/session_record.h"
 #include "protocols/log/session_scan.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -21,9 +21,7 @@ namespace {
 using nlohmann::json;
 
 std::string scratch_log(const std::string& name) {
-  const auto folder = std::filesystem::temp_directory_path() / ("fovlab_scan_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  const auto path = folder / name;
+  const auto path = testing::scratch_folder("fovlab-scan-test") / name;
   std::filesystem::remove(path);
   return path.string();
 }
@@ -155,7 +153,7 @@ TEST(SessionScan, TornTailsAndEditedLinesAreSeenAsTheFullReaderSeesThem) {
   const size_t line_end = spaced_bytes.find('\n', spaced_bytes.find("\"event\":\"trial_end\""));
   const size_t line_begin = spaced_bytes.rfind('\n', line_end - 1) + 1;
   std::string line = spaced_bytes.substr(line_begin, line_end - line_begin);
-  for (size_t at = line.find("\":"); at != std::string::npos; at = line.find("\":", at + 3)) line.insert(at + 2, " ");
+  for (size_t at = line.find("\":"); at != std::string::npos; at = line.find("\":", at + 3)) line.insert(at + 2, 1, ' ');
   spaced_bytes.replace(line_begin, line_end - line_begin, line);
   std::ofstream(spaced, std::ios::trunc) << spaced_bytes;
   expect_same_story(spaced);

@@ -16,6 +16,7 @@
 #include "protocols/presentation/glfw_input.h"
 #include "protocols/presentation/text_screen.h"
 #include "protocols/presentation/window_presenter.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -216,9 +217,7 @@ TEST(WindowPresenter, TextScreenScreenshotSavesAsPng) {
   const Rgba8Frame shot = presenter.screenshot();
   EXPECT_TRUE(same_pixels(shot, text));
 
-  const std::filesystem::path folder = std::filesystem::path(::testing::TempDir()) / "fovlab-window-presenter";
-  std::filesystem::create_directories(folder);
-  const std::filesystem::path png = folder / "text_screen.png";
+  const std::filesystem::path png = fovlab::testing::scratch_folder("fovlab-window-presenter") / "text_screen.png";
   write_frame_image(png, shot);
   EXPECT_TRUE(same_pixels(image_to_frame(read_image(png)), shot));
   EXPECT_EQ(presenter.validation_message_count(), 0u);

@@ -9,6 +9,7 @@
 
 #include "protocols/config/study_config.h"
 #include "protocols/log/session_record.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab::test {
 
@@ -33,11 +34,9 @@ inline StudyConfig fixture_with(const std::string& name, const std::string& from
   return parse_study_config_text(text, path.string());
 }
 
+// An empty folder for one session test, removed when the test process exits.
 inline std::filesystem::path fresh_folder(const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() / ("fovlab-session-test-" + name);
-  std::filesystem::remove_all(path);
-  std::filesystem::create_directories(path);
-  return path;
+  return testing::scratch_folder("fovlab-session-test-" + name);
 }
 
 // One line per complete trial: index, condition, stimuli shown, answers (no times).

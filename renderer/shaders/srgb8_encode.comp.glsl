@@ -1,0 +1,23 @@
+#version 460
+// Float RGBA texels to what a display shows: sRGB8, packed RGBA in one uint with alpha 255
+// (srgb8.glsl). ZoneBlender encodes the three zones with it once an animation frame (zone_display
+// then copies most pixels from there) and the pt method's frames (ZoneBlender::encode_for_display),
+// so that a pt frame and the fovea of the fpt frame made from it are the same bytes.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;  // rows of 64, as zone_blend
+
+const uint OUTPUT_SRGB8 = 1u;
+
+#include "srgb8.glsl"
+#include "zone_texels.glsl"
+
+layout(std430, binding = 1) writeonly buffer Encoded { uint encoded[]; };
+
+layout(push_constant) uniform EncodeParams { uvec2 image_size; } params;
+
+void main() {
+  uvec2 pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y);
+  if (pixel.x >= params.image_size.x) return;
+  uint index = pixel.y * params.image_size.x + pixel.x;
+  encoded[index] = packed_srgb8(texel(index));
+}
