@@ -1,5 +1,6 @@
-// The sRGB8 encoding of what a participant sees (shared by srgb8_encode and zone_band): core/colour.cpp's
-// encode_srgb, then rounded to the nearest of 256 levels; NaN shows black, values are clipped to [0, 1].
+// The sRGB8 encoding of what a participant sees (shared by srgb8_encode and zone_band):
+// core/colour.cpp's encode_srgb, then rounded to the nearest of 256 levels; NaN shows black, values
+// are clipped to [0, 1].
 
 uint srgb8(float linear) {
   float value = clamp(isnan(linear) ? 0.0 : linear, 0.0, 1.0);

@@ -1,8 +1,8 @@
 #version 460
 // What a participant sees for one gaze sample, second pass (ZoneBlender::display_frame): the band
 // pixels zone_display listed, blended from the float zones by their exact eccentricity and encoded
-// to sRGB8 (zone_blend's blend, srgb8_encode's encoding). Dispatched indirectly (list_dispatch): workgroup
-// (x, y) of 64 takes list items from (y * groups_x + x) * 64.
+// to sRGB8 (zone_blend's blend, srgb8_encode's encoding). Dispatched indirectly (list_dispatch):
+// workgroup (x, y) of 64 takes list items from (y * groups_x + x) * 64.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 

@@ -1,10 +1,10 @@
 #version 460
-// What a participant sees for one gaze sample, first of two passes (ZoneBlender::display_frame): a
-// pixel outside the bands shows one zone's texel as it is, so it is copied from the zones encoded
-// to sRGB8 once an animation frame (by srgb8_encode); a pixel in a band is listed for zone_band, which
-// blends it. No arctangent, no sRGB curve and one 4-byte load here: the per-sample cost of most
-// pixels is a copy's. (On lavapipe every branch runs for every pixel under a mask, so the band's
-// work must be in a pass of its own to be skipped.)
+// What a participant sees for one gaze sample, first of two passes (ZoneBlender::display_frame):
+// a pixel outside the bands shows one zone's texel as it is, so it is copied from the zones
+// encoded to sRGB8 once an animation frame (by srgb8_encode); a pixel in a band is listed for
+// zone_band, which blends it. No arctangent, no sRGB curve and one 4-byte load here: the
+// per-sample cost of most pixels is a copy's. (On lavapipe every branch runs for every pixel under
+// a mask, so the band's work must be in a pass of its own to be skipped.)
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 

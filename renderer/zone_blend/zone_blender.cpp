@@ -83,6 +83,11 @@ BlendParams blend_params(int width, int height, const DisplayGeometry& display, 
   return params;
 }
 
+std::unique_ptr<vk::ComputePipeline> pipeline(const vk::Context& context, std::span<const uint32_t> spirv,
+                                              uint32_t storage_buffers, uint32_t push_constant_bytes) {
+  return std::make_unique<vk::ComputePipeline>(context, spirv, storage_buffers, push_constant_bytes);
+}
+
 vk::Buffer upload(const vk::Context& context, const Image& image) {
   vk::Buffer staging(context, VkDeviceSize(image.pixel_count()) * kTexelBytes, vk::MemoryUse::host_upload);
   vk::pack_rgba_texels(image, static_cast<float*>(staging.mapped()));
@@ -132,13 +137,12 @@ void check_zone_frame_size(const vk::Context& context, int width_px, int height_
 
 ZoneBlender::ZoneBlender(vk::Context& context)
     : context_(context),
-      linear_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams))),
-      encode_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::srgb8_encode_spirv, 2, 2 * sizeof(uint32_t))),
-      display_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_display_spirv, 3, sizeof(BlendParams))),
-      band_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::zone_band_spirv, 3, sizeof(BlendParams))),
-      list_dispatch_pipeline_(
-          std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(kBandList))),
-      copy_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::buffer_copy_spirv, 2, 2 * sizeof(uint32_t))),
+      linear_pipeline_(pipeline(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams))),
+      encode_pipeline_(pipeline(context, shaders::srgb8_encode_spirv, 2, 2 * sizeof(uint32_t))),
+      display_pipeline_(pipeline(context, shaders::zone_display_spirv, 3, sizeof(BlendParams))),
+      band_pipeline_(pipeline(context, shaders::zone_band_spirv, 3, sizeof(BlendParams))),
+      list_dispatch_pipeline_(pipeline(context, shaders::list_dispatch_spirv, 2, sizeof(kBandList))),
+      copy_pipeline_(pipeline(context, shaders::buffer_copy_spirv, 2, 2 * sizeof(uint32_t))),
       upsampler_(std::make_unique<Upsampler>(context)) {}
 
 ZoneBlender::~ZoneBlender() = default;
