@@ -22,7 +22,7 @@ namespace {
 
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 constexpr int kMaxFrameSide = 16384;  // zone_display.comp.glsl lists band pixels as x | y << 16
-constexpr uint32_t kGroupWidth = 64;  // local_size_x of zone_blend and buffer_copy: one row of groups a pixel row
+constexpr uint32_t kGroupWidth = 64;  // local_size_x of the blend's and encoding's shaders and buffer_copy: rows of 64
 
 // Must match BlendParams in zone_weights.glsl.
 struct BlendParams {
@@ -231,6 +231,10 @@ void ZoneBlender::record_encode(VkCommandBuffer commands, const vk::Buffer& texe
 void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
                                  double gaze_y_px, const ZoneBounds& bounds) const {
   const BlendParams params = blend_params(width_, height_, display, gaze_x_px, gaze_y_px, bounds);
+  // The count of an earlier display blend in this command buffer is read by its band pass and indirect dispatch.
+  vk::memory_barrier(commands, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_TRANSFER_WRITE_BIT);
   vkCmdFillBuffer(commands, band_list_.handle(), 0, sizeof(uint32_t), 0);  // no band pixels listed yet
   vk::memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);

@@ -47,7 +47,8 @@ class ZoneBlender {
 
   // Makes the three zone buffers of a frame (1 to 4 channels). `periphery` (same size), when
   // given, is the source of the middle and outer buffers instead of the frame: seed 001's pilot
-  // variant (section 4.2) whose periphery is path traced with fewer bounces. A colour frame's zones
+  // variant (section 4.2) whose periphery is path traced with fewer bounces. Width and height:
+  // multiples of 4, at most 16384 (InputError otherwise). A colour frame's zones
   // are also encoded to sRGB8 for display_frame. Returns the GPU ms of those passes (upsampling,
   // encoding).
   double set_frame(const Image& frame, const Image* periphery = nullptr);
@@ -60,7 +61,7 @@ class ZoneBlender {
   ZoneBlendResult blend(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px, const ZoneBounds& bounds);
   // What a participant sees for one gaze sample, the session's display-rate path: the same blend,
   // sRGB-encoded to 8 bits a channel on the GPU (core/colour.h's encode_srgb, rounded to nearest;
-  // the same bytes as zone_blend.comp.glsl's sRGB8 variant, from two cheaper passes),
+  // the CPU's encoding of the linear blend up to float rounding at half steps, from two passes),
   // RGBA with alpha 255, row-major, width x height x 4 bytes. A gaze that is not a number (no
   // usable sample) shows the full-resolution frame everywhere, never a guess at where the eye is.
   // The frame needs 3 or 4 channels (InputError otherwise).
@@ -115,7 +116,7 @@ class ZoneBlender {
   vk::Buffer foveal_staging_, half_staging_, quarter_staging_, upsample_scratch_;  // set_frame's, kept for the next
   vk::Buffer blended_linear_;                        // float RGBA a pixel
   vk::Buffer zones_srgb8_;    // the three zones sRGB-encoded, one packed RGBA8 uint a texel (colour frames)
-  vk::Buffer band_list_;      // display_frame's band pixels: a count, then the pixel indices
+  vk::Buffer band_list_;      // display_frame's band pixels: a count, then x | y << 16 a pixel
   vk::Buffer band_dispatch_;  // the band pass's workgroup counts (vkCmdDispatchIndirect)
   vk::Buffer blended_srgb8_, blended_srgb8_readback_;  // one packed RGBA8 uint a pixel
 };

@@ -15,7 +15,7 @@
 namespace fovlab {
 namespace {
 
-std::filesystem::path fresh_folder(const std::string& name) { return testing::scratch_folder("fovlab-test-" + name); }
+std::filesystem::path fresh_folder(const std::string& name) { return testing::fresh_scratch_folder("fovlab-test-" + name); }
 
 std::string read_all(const std::filesystem::path& path) {
   std::ifstream in(path);

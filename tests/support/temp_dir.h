@@ -36,6 +36,14 @@ inline std::filesystem::path scratch_folder(const std::string& name) {
   return path;
 }
 
+// The same folder, emptied on every call: for a test that must start from nothing.
+inline std::filesystem::path fresh_scratch_folder(const std::string& name) {
+  const std::filesystem::path path = scratch_folder(name);
+  std::filesystem::remove_all(path);
+  std::filesystem::create_directories(path);
+  return path;
+}
+
 class TempDir {
  public:
   explicit TempDir(const std::string& label = "") {

@@ -36,7 +36,7 @@ inline StudyConfig fixture_with(const std::string& name, const std::string& from
 
 // An empty folder for one session test, removed when the test process exits.
 inline std::filesystem::path fresh_folder(const std::string& name) {
-  return testing::scratch_folder("fovlab-session-test-" + name);
+  return testing::fresh_scratch_folder("fovlab-session-test-" + name);
 }
 
 // One line per complete trial: index, condition, stimuli shown, answers (no times).
