@@ -9,13 +9,9 @@
 
 namespace fovlab::app {
 
-namespace {
-
 double elapsed_ms(std::chrono::steady_clock::time_point started) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
 }
-
-}  // namespace
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;

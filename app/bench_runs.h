@@ -1,6 +1,7 @@
 #pragma once
 // fovlab bench, step 2: timing frames (GT and IPR interleaved; FIPR as a steady sequence) and their
 // error against the GT frame.
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -17,6 +18,8 @@
 namespace fovlab::app {
 
 double median(std::vector<double> values);
+// Wall-clock milliseconds from `started` to now.
+double elapsed_ms(std::chrono::steady_clock::time_point started);
 
 // The timings of one method in one cell over the repeats, and the frame whose error is measured.
 struct MethodRuns {

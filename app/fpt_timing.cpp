@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/bench_runs.h"  // median
+#include "app/bench_runs.h"  // median, elapsed_ms
 #include "renderer/upsampling/openimageio_resize.h"
 #include "renderer/upsampling/upsampler.h"
 #include "renderer/zone_blend/zone_blender.h"
@@ -18,10 +18,6 @@ double largest_difference(const Image& a, const Image& b) {
   double largest = 0.0;
   for (size_t i = 0; i < a.pixels.size(); ++i) largest = std::max(largest, double(std::fabs(a.pixels[i] - b.pixels[i])));
   return largest;
-}
-
-double wall_ms_since(std::chrono::steady_clock::time_point started) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
 }
 
 }  // namespace
@@ -44,7 +40,7 @@ UpsampleTiming time_upsampling(Upsampler& upsampler, const Image& image, int fac
   for (int run = 0; run < repeats; ++run) {
     const auto started = std::chrono::steady_clock::now();
     resized = resize_with_openimageio(image, factor);
-    openimageio_ms.push_back(wall_ms_since(started));
+    openimageio_ms.push_back(elapsed_ms(started));
   }
   timing.openimageio_median_ms = median(openimageio_ms);
   const Image reference = upsample_reference(image, factor, filter);
@@ -84,7 +80,7 @@ BlendTiming time_blend(ZoneBlender& blender, const DisplayGeometry& display, dou
   for (int run = 0; run < repeats; ++run) {
     const auto started = std::chrono::steady_clock::now();
     blender.display_frame(display, gaze_x_px, gaze_y_px, bounds);
-    refresh_ms.push_back(wall_ms_since(started));
+    refresh_ms.push_back(elapsed_ms(started));
   }
   return {median(display_ms), median(linear_ms), median(shader_ms), median(buffer_ms), median(refresh_ms), repeats,
           band_pixels, uint32_t(blender.width()) * uint32_t(blender.height())};

@@ -88,10 +88,18 @@ std::unique_ptr<vk::ComputePipeline> pipeline(const vk::Context& context, std::s
   return std::make_unique<vk::ComputePipeline>(context, spirv, storage_buffers, push_constant_bytes);
 }
 
-vk::Buffer upload(const vk::Context& context, const Image& image) {
-  vk::Buffer staging(context, VkDeviceSize(image.pixel_count()) * kTexelBytes, vk::MemoryUse::host_upload);
+// Workgroups of kGroupWidth covering a row of `width` pixels.
+uint32_t row_groups(int width) { return (uint32_t(width) + kGroupWidth - 1) / kGroupWidth; }
+
+// `image` as RGBA float texels in the host-visible `staging`.
+void stage(const Image& image, const vk::Buffer& staging) {
   vk::pack_rgba_texels(image, static_cast<float*>(staging.mapped()));
   staging.flush();
+}
+
+vk::Buffer upload(const vk::Context& context, const Image& image) {
+  vk::Buffer staging(context, VkDeviceSize(image.pixel_count()) * kTexelBytes, vk::MemoryUse::host_upload);
+  stage(image, staging);
   return staging;
 }
 
@@ -175,10 +183,6 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
     height_ = frame.height;
   }
   channels_ = frame.channels;
-  const auto stage = [](const Image& image, const vk::Buffer& staging) {
-    vk::pack_rgba_texels(image, static_cast<float*>(staging.mapped()));
-    staging.flush();
-  };
   stage(frame, foveal_staging_);
   stage(decimate_nearest(periphery_source, 2), half_staging_);
   stage(decimate_nearest(periphery_source, 4), quarter_staging_);
@@ -216,16 +220,14 @@ void ZoneBlender::record_blend(VkCommandBuffer commands, const DisplayGeometry& 
                                double gaze_y_px, const ZoneBounds& bounds) const {
   const BlendParams params = blend_params(width_, height_, display, gaze_x_px, gaze_y_px, bounds);
   const VkBuffer buffers[] = {zones_.handle(), blended_linear_.handle()};
-  linear_pipeline_->dispatch_groups(commands, buffers, &params, (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth,
-                                    uint32_t(height_));
+  linear_pipeline_->dispatch_groups(commands, buffers, &params, row_groups(width_), uint32_t(height_));
 }
 
 void ZoneBlender::record_encode(VkCommandBuffer commands, const vk::Buffer& texels, const vk::Buffer& encoded,
                                 int width, int height) const {
   const uint32_t image_size[] = {uint32_t(width), uint32_t(height)};
   const VkBuffer buffers[] = {texels.handle(), encoded.handle()};
-  encode_pipeline_->dispatch_groups(commands, buffers, image_size, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
-                                    uint32_t(height));
+  encode_pipeline_->dispatch_groups(commands, buffers, image_size, row_groups(width), uint32_t(height));
 }
 
 void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
@@ -239,8 +241,7 @@ void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry
   vk::memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   const VkBuffer display_buffers[] = {zones_srgb8_.handle(), blended_srgb8_.handle(), band_list_.handle()};
-  display_pipeline_->dispatch_groups(commands, display_buffers, &params,
-                                     (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth, uint32_t(height_));
+  display_pipeline_->dispatch_groups(commands, display_buffers, &params, row_groups(width_), uint32_t(height_));
   vk::compute_to_compute_barrier(commands);
   const VkBuffer dispatch_buffers[] = {band_list_.handle(), band_dispatch_.handle()};
   list_dispatch_pipeline_->dispatch_2d(commands, dispatch_buffers, kBandList, 1, 1);
@@ -254,8 +255,7 @@ void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry
 void ZoneBlender::record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const {
   const uint32_t frame_size[] = {uint32_t(width_), uint32_t(height_)};
   const VkBuffer buffers[] = {from.handle(), to.handle()};
-  copy_pipeline_->dispatch_groups(commands, buffers, frame_size, (uint32_t(width_) + kGroupWidth - 1) / kGroupWidth,
-                                  uint32_t(height_));
+  copy_pipeline_->dispatch_groups(commands, buffers, frame_size, row_groups(width_), uint32_t(height_));
 }
 
 void ZoneBlender::check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const {
