@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
+#include "protocols/log/log_integrity.h"
 
 namespace fovlab::app {
 namespace {
@@ -25,6 +26,8 @@ struct AnalyzeArguments {
   int bootstrap = 1000;
   uint64_t seed = 1;
   double rating_cutoff = 2.0;
+  bool include_broken = false;
+  std::string lab_key_path;
 };
 
 // results/<study>/analysis: beside the participants when one study folder is given, else under
@@ -84,7 +87,10 @@ void analyze(const AnalyzeArguments& arguments) {
   if (!(arguments.rating_cutoff >= 1.0 && arguments.rating_cutoff <= 3.0))
     throw InputError("--rating-cutoff: expected a mean score in [1, 3]");
   options.rating_cutoff = arguments.rating_cutoff;
-  const analysis::StudyData data = analysis::load_study(arguments.inputs);
+  std::optional<LabKey> lab_key;
+  if (!arguments.lab_key_path.empty()) lab_key = read_lab_key(arguments.lab_key_path);
+  const analysis::StudyData data =
+      analysis::load_study(arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
   const analysis::AnalysisResult result = analysis::analyse_study(data, options);
   const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data.study) : arguments.out;
   const std::vector<std::string> written = analysis::write_analysis_report(result, out);
@@ -115,6 +121,9 @@ void add_analyze_command(CLI::App& app) {
           },
           "SEED"));
   command->add_option("--rating-cutoff", arguments->rating_cutoff, "Rating studies: the lowest acceptable mean score (default 2.0)");
+  command->add_flag("--include-broken", arguments->include_broken,
+                    "Analyse logs whose chain or seal is broken too (left out by default)");
+  command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");
   command->callback([arguments] { analyze(*arguments); });
 }
 

@@ -1,22 +1,36 @@
 // fovlab export: trials.csv (one row a complete trial) from one log or a study's results folder.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "app/commands.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
+#include "protocols/log/log_integrity.h"
 #include "protocols/session/trials_export.h"
 
 namespace fovlab::app {
 namespace {
 
-void export_trials(const std::string& input, std::string out, bool force) {
+struct ExportArguments {
+  std::string input;
+  std::string out;
+  bool force = false;
+  bool include_broken = false;
+  std::string lab_key_path;
+};
+
+void export_trials(const ExportArguments& arguments) {
   namespace fs = std::filesystem;
+  const std::string& input = arguments.input;
+  std::string out = arguments.out;
   const std::vector<std::string> logs = find_session_logs(input);
   if (out.empty()) out = (fs::is_directory(input) ? fs::path(input) : fs::path(input).parent_path()) / "trials.csv";
-  if (fs::exists(out) && !force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
-  const std::string csv = export_trials_csv(logs);
+  if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
+  std::optional<LabKey> lab_key;
+  if (!arguments.lab_key_path.empty()) lab_key = read_lab_key(arguments.lab_key_path);
+  const std::string csv = export_trials_csv(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
   write_text_atomically(out, csv);
   std::printf("%s: %zu log(s)\n", out.c_str(), logs.size());
 }
@@ -24,14 +38,15 @@ void export_trials(const std::string& input, std::string out, bool force) {
 }  // namespace
 
 void add_export_command(CLI::App& app) {
-  auto input = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  auto force = std::make_shared<bool>(false);
+  auto arguments = std::make_shared<ExportArguments>();
   CLI::App* command = app.add_subcommand("export", "Write trials.csv (one row a trial) from session logs");
-  command->add_option("logs", *input, "A session log, or a results folder (every events.jsonl under it)")->required();
-  command->add_option("--out", *out, "CSV file (default: trials.csv beside the log or in the folder)");
-  command->add_flag("--force", *force, "Replace an existing CSV");
-  command->callback([input, out, force] { export_trials(*input, *out, *force); });
+  command->add_option("logs", arguments->input, "A session log, or a results folder (every events.jsonl under it)")->required();
+  command->add_option("--out", arguments->out, "CSV file (default: trials.csv beside the log or in the folder)");
+  command->add_flag("--force", arguments->force, "Replace an existing CSV");
+  command->add_flag("--include-broken", arguments->include_broken,
+                    "Export logs whose chain or seal is broken too (their rows say log_status broken)");
+  command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");
+  command->callback([arguments] { export_trials(*arguments); });
 }
 
 }  // namespace fovlab::app

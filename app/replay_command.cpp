@@ -24,6 +24,7 @@ void replay(ReplayCommandOptions options) {
               outcome.frames_rendered, outcome.same_device ? ", same device" : ", another device", outcome.render_s,
               outcome.wall_s);
   if (outcome.comparison == "ssim") std::printf("lowest SSIM %.6f\n", outcome.lowest_ssim);
+  std::printf("log: %s\n", outcome.integrity.describe().c_str());
   if (outcome.difference_count > 0) {
     std::printf("%d difference(s)%s:\n", outcome.difference_count,
                 outcome.difference_count > static_cast<int>(outcome.differences.size()) ? ", the first" : "");
@@ -32,6 +33,10 @@ void replay(ReplayCommandOptions options) {
   }
   if (options.verify && !outcome.session_ended) {
     std::printf("the session did not reach its end (interrupted and not resumed): not verified\n");
+    throw CommandExit{1};
+  }
+  if (options.verify && outcome.integrity.status != LogStatus::sealed) {
+    std::printf("the log does not end with its seal: not verified\n");
     throw CommandExit{1};
   }
   std::printf("replay matches the log\n");
@@ -51,6 +56,7 @@ void add_replay_command(CLI::App& app) {
   command->add_option("--min-ssim", options->replay.min_ssim, "SSIM a frame must reach with --reference-frames")
       ->check(CLI::Range(0.0, 1.0));
   command->add_option("--device", options->device, "Vulkan device: index or part of its name");
+  command->add_option("--lab-key", options->replay.lab_key_path, "The lab key the session ran with: verify its seals' MACs");
   command->callback([options] { replay(*options); });
 }
 

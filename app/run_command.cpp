@@ -66,6 +66,9 @@ void add_run_command(CLI::App& app) {
   command->add_option("--screenshots", options->session.screenshots_dir,
                       "Windowed: save the instructions and the first stimulus as PNG here");
   command->add_option("--device", options->device, "Vulkan device for rendering: index or part of its name");
+  command->add_option("--lab-key", options->session.lab_key_path,
+                      "Key file (16-4096 bytes, kept outside the results folder): seals the log with an HMAC, so "
+                      "a changed log cannot be re-sealed without the key");
   command->callback([options] { run(*options); });
 }
 

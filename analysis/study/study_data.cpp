@@ -98,16 +98,19 @@ LeftOut left_out(const std::string& path, std::string reason) {
   return {path, reason};
 }
 
-ReadLog read_log(const std::string& path) {
+ReadLog read_log(const std::string& path, const LoadOptions& options) {
   ReadLog read;
   try {
-    ScannedSession session = scan_session_log(path);
-    if (session.first_chain_error_line)
-      throw InputError("line " + std::to_string(session.first_chain_error_line) +
-                       ": the hash chain is broken (the log was edited or damaged)");
+    ScannedSession session = scan_session_log(path, options.lab_key);
+    const LogIntegrity& integrity = session.integrity;
+    if (integrity.status == LogStatus::broken && !options.include_broken)
+      throw InputError("line " + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
+                       "); left out (--include-broken analyses it anyway)");
+    if (integrity.status != LogStatus::sealed) read.notes.push_back({path, integrity.describe()});
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
                           session.header.value("config_toml", "")};
     read.participant = participant_of(session);
+    read.participant.log_status = integrity.status;
     if (session.torn_tail_bytes)
       read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +
                                       " bytes, a write a crash interrupted): not read"});
@@ -128,11 +131,11 @@ ReadLog read_log(const std::string& path) {
 }
 
 // Every log, read by as many threads as the machine has cores (each log by one thread).
-std::vector<ReadLog> read_logs(const std::vector<std::string>& paths) {
+std::vector<ReadLog> read_logs(const std::vector<std::string>& paths, const LoadOptions& options) {
   std::vector<ReadLog> logs(paths.size());
   std::atomic<size_t> next{0};
   const auto work = [&] {
-    for (size_t i = next++; i < paths.size(); i = next++) logs[i] = read_log(paths[i]);
+    for (size_t i = next++; i < paths.size(); i = next++) logs[i] = read_log(paths[i], options);
   };
   const size_t thread_count = std::min<size_t>(paths.size(), std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::thread> threads;
@@ -144,13 +147,13 @@ std::vector<ReadLog> read_logs(const std::vector<std::string>& paths) {
 
 }  // namespace
 
-StudyData load_study(const std::vector<std::string>& paths) {
+StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options) {
   std::set<std::string> unique_logs;
   for (const std::string& path : paths)
     for (const std::string& log : find_session_logs(path)) unique_logs.insert(log);
   StudyData data;
   data.inputs.assign(unique_logs.begin(), unique_logs.end());
-  std::vector<ReadLog> logs = read_logs(data.inputs);
+  std::vector<ReadLog> logs = read_logs(data.inputs, options);
 
   // The study (and config) most readable logs belong to is analysed; ties: the one whose first log
   // comes first in path order.

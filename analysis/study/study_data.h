@@ -9,8 +9,12 @@
 #include <vector>
 
 #include "analysis/study/analysis_result.h"
+#include "protocols/log/log_integrity.h"
 
 namespace fovlab::analysis {
+
+using fovlab::LabKey;
+using fovlab::LogStatus;
 
 struct StudyTrial {
   int index = 0;
@@ -36,6 +40,7 @@ struct ParticipantData {
   int attention_checks = 0;
   int attention_errors = 0;
   std::vector<StudyTrial> trials;          // complete trials, in session order
+  LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with include_broken
 };
 
 struct StudyData {
@@ -51,10 +56,16 @@ struct StudyData {
   std::vector<LeftOut> left_out;
 };
 
+struct LoadOptions {
+  const LabKey* lab_key = nullptr;  // verify keyed seals
+  bool include_broken = false;      // analyse logs whose chain or seal is broken (else left out)
+};
+
 // `paths`: log files and/or folders (every events.jsonl under them). The study (and config) most
 // readable logs belong to is analysed (ties: the one whose first log comes first in sorted path
-// order); logs of another study or config are left out. Throws InputError when no log at all can
-// be read (naming the first reason).
-StudyData load_study(const std::vector<std::string>& paths);
+// order); logs of another study or config, and broken logs (unless include_broken), are left out;
+// unsealed logs are analysed and listed. Throws InputError when no log at all can be read (naming
+// the first reason).
+StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options = {});
 
 }  // namespace fovlab::analysis

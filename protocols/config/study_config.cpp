@@ -20,15 +20,18 @@
 #include "renderer/scene/scene_source.h"
 
 namespace fovlab {
-namespace {
 
-bool is_safe_name(const std::string& name) {
+bool is_valid_study_name(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.' || name[0] == '-') return false;
   return std::all_of(name.begin(), name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
            c == '.';
   });
 }
+
+namespace {
+
+bool is_safe_name(const std::string& name) { return is_valid_study_name(name); }
 
 void check_range(const TomlFields& fields, const std::string& key, double value, double low, double high) {
   if (!(value >= low && value <= high)) {

@@ -111,6 +111,10 @@ struct StudyConfig {
   std::string hash;             // content hash of source_text (hex)
 };
 
+// A study's name names its folder (results/<study>): 1-64 of [A-Za-z0-9_.-], not starting with '.'
+// or '-' (so never "." or ".."). Session logs' headers are held to the same rule.
+bool is_valid_study_name(const std::string& name);
+
 // Parses and validates; throws InputError "path:LINE: key: what was expected" (for a missing key,
 // LINE is the line of the table that should hold it).
 StudyConfig parse_study_config_file(const std::string& path);

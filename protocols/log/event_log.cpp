@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,26 +15,31 @@
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/file_bytes.h"
+#include "core/digest.h"
 #include "core/input_error.h"
+#include "protocols/log/log_integrity.h"
 
 namespace fovlab {
 
-std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain) {
-  return ContentHash().add(previous_chain).add(event_without_chain.dump()).hex();
+std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain, int schema_version) {
+  if (schema_version < 2) return ContentHash().add(previous_chain).add(event_without_chain.dump()).hex();
+  return sha256_hex(previous_chain, event_without_chain.dump());
 }
 
-EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq)
-    : path_(path), chain_(std::move(previous_chain)), next_seq_(next_seq) {
-  const bool created = ::access(path.c_str(), F_OK) != 0;
-  fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw InputError(path + ": cannot open the session log for writing (" + std::strerror(errno) + ")");
-  // One writer a log: a second `fovlab run` of the same participant would interleave events.
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key)
+    : path_(path), chain_(std::move(previous_chain)), next_seq_(next_seq), lab_key_(lab_key) {
+  fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd_ < 0) throw FileError(path, "opening the session log for writing", errno);
+  // One writer a log; the participant's lock (participant_lock.h) already ensures it, this flock
+  // also keeps out a fovlab older than that lock.
+  struct stat status {};
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0 || ::fstat(fd_, &status) != 0) {
     ::close(fd_);
     fd_ = -1;
     throw InputError(path + ": another fovlab process is writing this log");
   }
-  if (created) fsync_directory(std::filesystem::path(path).parent_path());
+  size_ = status.st_size;
+  if (size_ == 0) fsync_directory(std::filesystem::path(path).parent_path());
 }
 
 EventLogWriter::~EventLogWriter() {
@@ -44,29 +50,37 @@ void EventLogWriter::append(nlohmann::json event) {
   const auto start = std::chrono::steady_clock::now();
   event["seq"] = next_seq_;
   event.erase("chain");
+  if (event.value("event", "") == "seal") {
+    event["last_chain"] = chain_;
+    if (lab_key_) event["mac"] = seal_mac(*lab_key_, event);
+  }
   const std::string chain = event_chain(chain_, event);
   event["chain"] = chain;
   const std::string line = event.dump() + "\n";
+  // A failed write or fsync cuts the file back to its last complete line: a full disk leaves no
+  // partial event behind (and a resume, once there is space, continues from the last one).
+  const auto fail = [&](const char* operation) {
+    const int reason = errno;
+    if (::ftruncate(fd_, size_) == 0) ::fsync(fd_);
+    throw FileError(path_, operation, reason);
+  };
   size_t written = 0;
   while (written < line.size()) {
     const ssize_t result = ::write(fd_, line.data() + written, line.size() - written);
     if (result < 0) {
       if (errno == EINTR) continue;
-      throw std::runtime_error(path_ + ": writing the session log failed (" + std::strerror(errno) + ")");
+      fail("writing the session log");
     }
     written += static_cast<size_t>(result);
   }
-  if (::fsync(fd_) != 0) throw std::runtime_error(path_ + ": fsync of the session log failed (" + std::strerror(errno) + ")");
+  if (::fsync(fd_) != 0) fail("fsync of the session log");
+  size_ += static_cast<off_t>(line.size());
   chain_ = chain;
   ++next_seq_;
   seconds_writing_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-namespace {
-
-// Deepest array/object nesting of a line, strings skipped. nlohmann's parser recurses once per
-// level, so a hostile line of a million '[' would overflow the stack before it could fail.
-int nesting_depth(const std::string& line) {
+int json_nesting_depth(std::string_view line) {
   int depth = 0, deepest = 0;
   bool in_string = false;
   for (size_t i = 0; i < line.size(); ++i) {
@@ -85,9 +99,7 @@ int nesting_depth(const std::string& line) {
   return deepest;
 }
 
-constexpr int max_event_nesting = 32;  // events nest 3 levels deep; a header's config, 4
-
-}  // namespace
+size_t byte_order_mark_length(std::string_view bytes) { return bytes.starts_with("\xEF\xBB\xBF") ? 3 : 0; }
 
 EventLogFile parse_event_log(const std::string& bytes, const std::string& path) {
   EventLogFile log;
@@ -95,7 +107,7 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
   const size_t last_newline = bytes.rfind('\n');
   log.intact_bytes = last_newline == std::string::npos ? 0 : last_newline + 1;
   if (log.intact_bytes < bytes.size()) log.torn_tail = bytes.substr(log.intact_bytes);
-  size_t begin = 0;
+  size_t begin = byte_order_mark_length(bytes);
   int line_number = 0;
   std::string chain;
   while (begin < log.intact_bytes) {
@@ -103,12 +115,16 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
     ++line_number;
     const std::string line = bytes.substr(begin, end - begin);
     begin = end + 1;
-    if (nesting_depth(line) > max_event_nesting)
+    if (json_nesting_depth(line) > max_event_nesting)
       throw InputError(path + ":" + std::to_string(line_number) + ": not a session event (nested deeper than " +
                        std::to_string(max_event_nesting) + " levels)");
     nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
     if (event.is_discarded() || !event.is_object())
       throw InputError(path + ":" + std::to_string(line_number) + ": not a JSON event (expected one JSON object a line)");
+    if (line_number == 1) {
+      const auto schema = event.find("schema_version");
+      log.schema_version = schema != event.end() && schema->is_number_integer() ? schema->get<int>() : 0;
+    }
     if (!log.first_chain_error_line) {
       const auto seq = event.find("seq");
       const auto recorded = event.find("chain");
@@ -118,7 +134,7 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
       if (consistent) {
         nlohmann::json without_chain = event;
         without_chain.erase("chain");
-        const std::string expected = event_chain(chain, without_chain);
+        const std::string expected = event_chain(chain, without_chain, log.schema_version);
         consistent = expected == recorded->get<std::string>();
         chain = expected;
       }

@@ -2,30 +2,40 @@
 // The session log: results/<study>/<participant>/events.jsonl, one JSON object a line
 // (docs/log-schema.md). Every event is written with one write(2), then fsync'd before append()
 // returns, so what a participant did is on disk the moment it happens. Each event carries its
-// sequence number "seq" and "chain": FNV-1a-64 of the previous event's chain and this event's text
-// without "chain", so an edited, dropped or reordered line is detected (accidental damage or a naive
-// edit, not a determined forger: FNV is not a cryptographic hash).
+// sequence number "seq" and "chain": SHA-256 of the previous event's chain and this event's text
+// without "chain" (schema 1 logs: FNV-1a-64), so an edited, dropped or reordered line is detected;
+// `seal` events (log_integrity.h) close each run of the session, keyed with a lab key if given.
+#include <sys/types.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 namespace fovlab {
 
-inline constexpr int log_schema_version = 1;
+inline constexpr int log_schema_version = 2;      // what this build writes
+inline constexpr int oldest_log_schema_version = 1; // the oldest it reads (resume needs the current one)
+
+struct LabKey;
 
 class EventLogWriter {
  public:
-  // Opens for appending (creating it when missing). `previous_chain`/`next_seq` continue an
-  // existing log (resume); a new log starts with "" and 0.
-  EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq);
+  // Opens for appending (creating it when missing; never through a symbolic link). `previous_chain`
+  // and `next_seq` continue an existing log (resume); a new log starts with "" and 0. `lab_key`
+  // (may be null) keys the seals; it must outlive the writer. The caller holds the participant's
+  // lock (participant_lock.h), so no second writer exists.
+  EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key = nullptr);
   ~EventLogWriter();
   EventLogWriter(const EventLogWriter&) = delete;
   EventLogWriter& operator=(const EventLogWriter&) = delete;
 
-  // Adds "seq" and "chain", writes the line and fsyncs. Throws std::runtime_error on I/O failure.
+  // Adds "seq" and "chain", writes the line and fsyncs. A `seal` event also gets "last_chain" and,
+  // with a lab key, "mac". On failure (a full disk...) the file is cut back to what it was, so no
+  // partial line is left, and FileError says which operation failed and why.
   void append(nlohmann::json event);
   const std::string& path() const { return path_; }
   double seconds_writing() const { return seconds_writing_; }  // time in write + fsync so far
@@ -33,19 +43,33 @@ class EventLogWriter {
  private:
   std::string path_;
   int fd_ = -1;
+  off_t size_ = 0;  // bytes on disk, all complete lines
   std::string chain_;
   int64_t next_seq_ = 0;
+  const LabKey* lab_key_ = nullptr;
   double seconds_writing_ = 0.0;
 };
 
-// The chain value of an event (given the previous chain), as the writer computes it.
-std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain);
+// The chain value of an event (given the previous chain) in a log of this schema version, as the
+// writer computes it: SHA-256 (hex) from schema 2 on, FNV-1a-64 in schema 1.
+std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain,
+                        int schema_version = log_schema_version);
+
+// Events nest 3 levels deep and a header's config 4; a deeper line is refused before any recursive
+// parser sees it (nlohmann's recursion would overflow the stack on a line of a million '[').
+inline constexpr int max_event_nesting = 32;
+// The deepest array/object nesting of a line, strings skipped.
+int json_nesting_depth(std::string_view line);
+// A UTF-8 byte-order mark at the start of a log (an editor put it there; fovlab writes none) is
+// skipped by every reader: the length to skip.
+size_t byte_order_mark_length(std::string_view bytes);
 
 struct EventLogFile {
   std::string path;
   std::vector<nlohmann::json> events;   // every complete, parsed line, in order
   std::vector<int> line_numbers;        // of each event (1-based)
   std::optional<std::string> torn_tail; // bytes after the last newline: a write the crash cut short
+  int schema_version = 0;               // of the header (0: none readable); says how the chain is made
   uint64_t intact_bytes = 0;            // length of the file up to and including the last newline
   int first_chain_error_line = 0;       // 0 when every seq/chain is consistent
   std::string last_chain;               // chain of the last event ("" when none)

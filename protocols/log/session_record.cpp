@@ -4,6 +4,8 @@
 #include <map>
 
 #include "core/input_error.h"
+#include "protocols/config/study_config.h"
+#include "protocols/schedule/study_plan.h"
 #include "protocols/log/trial_assembly.h"
 
 namespace fovlab {
@@ -17,7 +19,7 @@ std::string text_of(const nlohmann::json& event, const char* key) {
 }  // namespace
 
 namespace {
-SessionRecord build_session_record(const EventLogFile& log);
+SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_key);
 }
 
 void check_session_header(const nlohmann::json& first_event, const std::string& path) {
@@ -26,9 +28,19 @@ void check_session_header(const nlohmann::json& first_event, const std::string& 
   const auto schema = first_event.find("schema_version");
   if (schema == first_event.end() || !schema->is_number_integer())
     fail("session_header: schema_version missing (expected " + std::to_string(log_schema_version) + ")");
-  if (schema->get<int64_t>() != log_schema_version)
+  if (schema->get<int64_t>() < oldest_log_schema_version || schema->get<int64_t>() > log_schema_version)
     fail("session_header: schema_version " + schema->dump() + " is not one this fovlab reads (expected " +
-         std::to_string(log_schema_version) + ")");
+         std::to_string(oldest_log_schema_version) + " to " + std::to_string(log_schema_version) + ")");
+  // Both name folders (results/<study>/<participant>) and analysis outputs: a header is as
+  // untrusted as any file, so they obey the config's rules before any path is made from them.
+  const std::string study = text_of(first_event, "study");
+  if (!is_valid_study_name(study))
+    fail("session_header: study \"" + study.substr(0, 80) + "\" is not a study name (expected 1-64 letters, digits, '_', '-' or '.', not starting with '.' or '-')");
+  try {
+    check_participant_id(text_of(first_event, "participant"));
+  } catch (const InputError& error) {
+    fail(std::string("session_header: ") + error.what());
+  }
 }
 
 bool is_trial_event(const std::string& kind, bool names_a_trial) {
@@ -36,9 +48,9 @@ bool is_trial_event(const std::string& kind, bool names_a_trial) {
          (kind == "break" && names_a_trial) || kind == "trial_end";
 }
 
-SessionRecord read_session_record(const EventLogFile& log) {
+SessionRecord read_session_record(const EventLogFile& log, const LabKey* lab_key) {
   try {
-    return build_session_record(log);
+    return build_session_record(log, lab_key);
   } catch (const nlohmann::json::exception& error) {
     // A field of the wrong type (e.g. "correct": "yes"): the log was damaged or written by hand.
     throw InputError(log.path + ": an event has a field of the wrong type (" + error.what() + ")");
@@ -47,7 +59,7 @@ SessionRecord read_session_record(const EventLogFile& log) {
 
 namespace {
 
-SessionRecord build_session_record(const EventLogFile& log) {
+SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_key) {
   const auto fail = [&](size_t event_index, const std::string& what) {
     const int line = event_index < log.line_numbers.size() ? log.line_numbers[event_index] : 1;
     throw InputError(log.path + ":" + std::to_string(line) + ": " + what);
@@ -56,12 +68,19 @@ SessionRecord build_session_record(const EventLogFile& log) {
   SessionRecord record;
   record.header = log.events.front();
   check_session_header(record.header, log.path);
+  IntegrityTracker integrity(lab_key);
+  integrity.header(record.header, log.path);
 
   TrialAssembly<RecordedTrial> trials;
   for (size_t i = 1; i < log.events.size(); ++i) {
     const nlohmann::json& event = log.events[i];
     const std::string kind = text_of(event, "event");
     if (kind.empty()) fail(i, "event: missing (expected a string naming the event)");
+    if (kind == "seal") {
+      integrity.seal(event, log.line_numbers[i], text_of(log.events[i - 1], "chain"), trials.complete_count());
+      continue;
+    }
+    integrity.event();
     if (const auto t = event.find("t"); t != event.end() && t->is_number())
       record.last_time_s = std::max(record.last_time_s, t->get<double>());
     const auto trial_field = event.find("trial");
@@ -92,10 +111,11 @@ SessionRecord build_session_record(const EventLogFile& log) {
     if (kind == "slider_saved" || kind == "break") open->other.push_back(event);
     if (kind == "trial_end") {
       open->end = event;
-      trials.end();
+      if (!trials.end()) fail(i, "trial_end: trial " + std::to_string(*trial_index) + " is complete twice in this log (forged or spliced)");
     }
   }
   record.incomplete_trial = trials.incomplete_index();
+  record.integrity = integrity.finish(log.first_chain_error_line, log.torn_tail.has_value());
   record.trials = trials.take_complete();
   for (const RecordedTrial& trial : record.trials) {
     if (trial.attention_check && !trial.attention_check->value("correct", true)) ++record.attention_errors;

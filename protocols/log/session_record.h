@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "protocols/log/event_log.h"
+#include "protocols/log/log_integrity.h"
 
 namespace fovlab {
 
@@ -32,13 +33,17 @@ struct SessionRecord {
   int next_trial = 0;                    // the first trial index with no complete record
   double last_time_s = 0.0;              // the latest session time in the log
   int incomplete_trial = -1;             // a trial started but not finished at the end of the log
+  LogIntegrity integrity;                // sealed, unsealed or broken (log_integrity.h)
 };
 
 // Throws InputError "path:LINE: ..." when the first event is not a session header of a schema this
-// build reads, or when events contradict each other (a trial_end without its start...).
-SessionRecord read_session_record(const EventLogFile& log);
+// build reads, or when events contradict each other (a trial_end without its start, a trial
+// completed twice...). `lab_key` (may be null) checks the seals' MACs of a keyed log; a key other
+// than the log's is an InputError.
+SessionRecord read_session_record(const EventLogFile& log, const LabKey* lab_key = nullptr);
 
-// The checks on a log's first event: a session_header of the schema version this build reads.
+// The checks on a log's first event: a session_header of a schema version this build reads, whose
+// study and participant are names the config's rules allow (they become folder names).
 // Throws InputError "path:1: ...".
 void check_session_header(const nlohmann::json& first_event, const std::string& path);
 

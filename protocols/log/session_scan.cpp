@@ -12,8 +12,10 @@
 #include <memory>
 
 #include "core/content_hash.h"
+#include "core/digest.h"
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
+#include "protocols/log/log_integrity.h"
 #include "protocols/log/session_record.h"
 #include "protocols/log/trial_assembly.h"
 
@@ -73,25 +75,37 @@ EventFields decode(simdjson::ondemand::document& document) {
   return fields;
 }
 
-// The chain of a line as the writer computed it: FNV over the event's text without its "chain"
-// member. Fast path: cut the member out of the line itself (the writer's text is canonical); when
-// that does not reproduce the recorded chain (a line re-formatted by hand, say), the canonical text
-// is rebuilt with nlohmann::json, exactly as read_event_log does. `scratch` is reused between lines.
-std::string line_chain(const std::string& previous, std::string_view line, std::string& scratch) {
+// The chain of a line as the writer computed it: a hash of the previous chain and the event's text
+// without its "chain" member (event_chain). Fast path: cut the member out of the line itself (the
+// writer's text is canonical); when that does not reproduce the recorded chain (a line re-formatted
+// by hand, say), the canonical text is rebuilt with nlohmann::json, exactly as read_event_log does
+// (after the same nesting guard). `scratch` is reused between lines.
+std::string line_chain(const std::string& previous, std::string_view line, std::string& scratch, int schema_version) {
+  const size_t digits = schema_version < 2 ? 16 : 64;
+  const auto hash = [&](std::string_view text) {
+    return schema_version < 2 ? ContentHash().add(previous).add(text).hex() : sha256_hex(previous, text);
+  };
   constexpr std::string_view member = "\"chain\":\"";
   const size_t at = line.find(member);
-  if (at != std::string_view::npos && at + member.size() + 17 <= line.size()) {
-    size_t begin = at, end = at + member.size() + 17;  // 16 hex digits and the closing quote
+  if (at != std::string_view::npos && at + member.size() + digits + 1 <= line.size()) {
+    size_t begin = at, end = at + member.size() + digits + 1;  // the hex digits and the closing quote
     if (begin > 0 && line[begin - 1] == ',') --begin;
     else if (end < line.size() && line[end] == ',') ++end;
     scratch.assign(line.substr(0, begin)).append(line.substr(end));
-    const std::string fast = ContentHash().add(previous).add(scratch).hex();
-    if (line.substr(at + member.size(), 16) == fast) return fast;
+    const std::string fast = hash(scratch);
+    if (line.substr(at + member.size(), digits) == fast) return fast;
   }
+  if (json_nesting_depth(line) > max_event_nesting) return {};
   nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
   if (event.is_discarded() || !event.is_object()) return {};
   event.erase("chain");
-  return event_chain(previous, event);
+  return event_chain(previous, event, schema_version);
+}
+
+// A whole event as nlohmann::json (the header, a seal: a few lines a log), after the nesting guard.
+nlohmann::json parse_whole_event(std::string_view line) {
+  if (json_nesting_depth(line) > max_event_nesting) return nlohmann::json(nlohmann::json::value_t::discarded);
+  return nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
 }
 
 }  // namespace
@@ -99,11 +113,11 @@ std::string line_chain(const std::string& previous, std::string_view line, std::
 namespace {
 
 // The scan of `size` bytes at `data`, which stay readable up to size + SIMDJSON_PADDING.
-ScannedSession scan_padded(const char* data, size_t size, const std::string& path);
+ScannedSession scan_padded(const char* data, size_t size, const std::string& path, const LabKey* lab_key);
 
 }  // namespace
 
-ScannedSession scan_session_log(const std::string& path) {
+ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) {
   // simdjson reads up to SIMDJSON_PADDING bytes past a document: every line is followed by the
   // rest of the file, and the file by the padding. The buffer is kept by the thread and reused, so
   // a scan of many logs neither clears nor faults in fresh memory for each.
@@ -135,20 +149,20 @@ ScannedSession scan_session_log(const std::string& path) {
     size += static_cast<size_t>(got);
   }
   ::close(file);
-  return scan_padded(buffer.get(), size, path);
+  return scan_padded(buffer.get(), size, path, lab_key);
 }
 
-ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages) {
+ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages, const LabKey* lab_key) {
   std::string padded;
   padded.reserve(bytes.size() + simdjson::SIMDJSON_PADDING);
   padded = bytes;
   padded.append(simdjson::SIMDJSON_PADDING, ' ');
-  return scan_padded(padded.data(), bytes.size(), path_for_messages);
+  return scan_padded(padded.data(), bytes.size(), path_for_messages, lab_key);
 }
 
 namespace {
 
-ScannedSession scan_padded(const char* data, size_t size, const std::string& path) {
+ScannedSession scan_padded(const char* data, size_t size, const std::string& path, const LabKey* lab_key) {
   const size_t last_newline = std::string_view(data, size).rfind('\n');
   const size_t intact = last_newline == std::string_view::npos ? 0 : last_newline + 1;
   const size_t readable = size + simdjson::SIMDJSON_PADDING;
@@ -159,9 +173,11 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
   std::string scratch;
 
   TrialAssembly<ScannedTrial> trials;
+  IntegrityTracker integrity(lab_key);
+  int schema_version = 0;
   std::string chain;
   int line_number = 0;
-  size_t begin = 0;
+  size_t begin = byte_order_mark_length(std::string_view(data, intact));
   while (begin < intact) {
     const size_t end = std::string_view(data, intact).find('\n', begin);
     const std::string_view line(data + begin, end - begin);
@@ -180,23 +196,33 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     }
     begin = end + 1;
 
+    if (line_number == 1) {
+      session.header = parse_whole_event(line);
+      if (session.header.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
+      check_session_header(session.header, path);
+      schema_version = session.header["schema_version"].get<int>();
+      integrity.header(session.header, path);
+    }
+    const std::string previous_chain = chain;
     if (!session.first_chain_error_line) {
-      bool consistent = fields.seq && *fields.seq == line_number - 1 && fields.chain.size() == 16;
+      bool consistent = fields.seq && *fields.seq == line_number - 1 && fields.chain.size() == (schema_version < 2 ? 16u : 64u);
       if (consistent) {
-        const std::string expected = line_chain(chain, line, scratch);
+        const std::string expected = line_chain(chain, line, scratch, schema_version);
         consistent = expected == fields.chain;
         chain = expected;
       }
       if (!consistent) session.first_chain_error_line = line_number;
     }
-    if (line_number == 1) {
-      session.header = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-      if (session.header.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
-      check_session_header(session.header, path);
-      continue;
-    }
+    if (line_number == 1) continue;
     if (fields.kind.empty()) fail("event: missing (expected a string naming the event)");
     const std::string kind(fields.kind);
+    if (kind == "seal") {
+      const nlohmann::json seal = parse_whole_event(line);
+      if (seal.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
+      integrity.seal(seal, line_number, previous_chain, trials.complete_count());
+      continue;
+    }
+    integrity.event();
     if (kind == "block_start") {
       session.block_names[fields.block.value_or(0)] = std::string(fields.name.empty() ? fields.scene : fields.name);
       continue;
@@ -230,10 +256,12 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     }
     if (kind == "slider_saved") open->saved_level = fields.level;
     if (kind == "attention_check") open->attention_correct = fields.correct.value_or(true);
-    if (kind == "trial_end") trials.end();
+    if (kind == "trial_end" && !trials.end())
+      fail("trial_end: trial " + std::to_string(*fields.trial) + " is complete twice in this log (forged or spliced)");
   }
   if (line_number == 0) throw InputError(path + ":1: the log has no complete event (expected a session_header first)");
   session.incomplete_trial = trials.incomplete_index();
+  session.integrity = integrity.finish(session.first_chain_error_line, session.torn_tail_bytes > 0);
   session.trials = trials.take_complete();
   for (const ScannedTrial& trial : session.trials)
     if (trial.attention_correct && !*trial.attention_correct) ++session.attention_errors;

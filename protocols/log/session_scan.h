@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "protocols/log/log_integrity.h"
+
 namespace fovlab {
 
 struct ScannedTrial {
@@ -42,13 +44,16 @@ struct ScannedSession {
   int incomplete_trial = -1;              // a trial started but not finished at the end of the log
   size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
   int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
+  LogIntegrity integrity;                 // sealed, unsealed or broken (log_integrity.h)
 };
 
 // Throws InputError "path:LINE: ..." for what read_event_log and read_session_record reject (a line
 // that is not one JSON object, no session header, another schema version, a trial event outside
 // its trial, a field of the wrong type).
-ScannedSession scan_session_log(const std::string& path);
+// `lab_key` (may be null) checks the seals' MACs of a keyed log.
+ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key = nullptr);
 // The same from bytes already in memory (the fuzz target and the corpus replay use this).
-ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages);
+ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages,
+                                  const LabKey* lab_key = nullptr);
 
 }  // namespace fovlab

@@ -8,6 +8,7 @@
 #include "analysis/image_metrics/image_metrics.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "protocols/log/log_integrity.h"
 #include "protocols/log/session_record.h"
 #include "protocols/presentation/frame_io.h"
 #include "protocols/observer/simulated_observer.h"
@@ -74,15 +75,23 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   ReplayOutcome outcome;
   Differences differences(outcome, options.max_differences);
   const EventLogFile log = read_event_log(options.log_path);
-  if (log.first_chain_error_line)
-    differences.add(options.log_path + ":" + std::to_string(log.first_chain_error_line),
-                    "the event chain breaks here (a line was edited, removed or reordered)");
+  std::optional<LabKey> lab_key;
+  if (!options.lab_key_path.empty()) lab_key = read_lab_key(options.lab_key_path);
+  const SessionRecord record = read_session_record(log, lab_key ? &*lab_key : nullptr);
+  outcome.integrity = record.integrity;
+  if (record.integrity.status == LogStatus::broken)
+    differences.add(options.log_path + ":" + std::to_string(record.integrity.line), record.integrity.reason);
   if (log.torn_tail)
     differences.add(options.log_path, "the last line is cut off (" + std::to_string(log.torn_tail->size()) +
                                           " bytes, not used); the session was interrupted and not resumed");
-  const SessionRecord record = read_session_record(log);
   const nlohmann::json& header = record.header;
   const StudyConfig config = parse_study_config_text(header.value("config_toml", ""), header.value("config_path", "config.toml"));
+  // The header's own claims about its config: the name and hash must be those of the text it holds.
+  if (header.value("study", "") != config.name)
+    differences.add("header", "study \"" + header.value("study", "") + "\" but its config_toml names study \"" + config.name + "\"");
+  if (header.value("config_hash", "") != config.hash)
+    differences.add("header", "config_hash " + header.value("config_hash", "") + " is not the hash of its config_toml (" +
+                                  config.hash + ")");
   const StudyPlan plan = make_study_plan(config, header.value("participant", ""));
   if (header.value("session_seed", uint64_t(0)) != plan.session_seed)
     differences.add("header", "session_seed differs from the one derived from the study seed and participant");

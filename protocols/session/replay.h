@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "protocols/log/log_integrity.h"
+
 namespace fovlab {
 
 struct ReplayOptions {
@@ -19,11 +21,13 @@ struct ReplayOptions {
   std::string device_selector;
   bool validation = false;
   int max_differences = 20;       // the list stops after this many
+  std::string lab_key_path;       // --lab-key: verify the seals' MACs of a keyed log
 };
 
 struct ReplayOutcome {
   int trials = 0;
   bool session_ended = false;     // the log has its session_end (completed or excluded)
+  LogIntegrity integrity;         // sealed, unsealed or broken
   int presents_checked = 0;       // logged presents whose frame was compared
   int frames_rendered = 0;        // distinct frames rendered again
   bool same_device = true;

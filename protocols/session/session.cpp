@@ -1,7 +1,6 @@
 #include "protocols/session/session.h"
 
 #include <fcntl.h>
-#include <sys/file.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -15,10 +14,13 @@
 
 #include "core/atomic_file.h"
 #include "core/input_error.h"
+#include "core/test_pause.h"
 #include "protocols/gaze/gaze_source.h"
 #include "protocols/gaze/gaze_spec.h"
 #include "protocols/gaze/mouse_gaze_source.h"
 #include "protocols/log/event_log.h"
+#include "protocols/log/log_integrity.h"
+#include "protocols/log/participant_lock.h"
 #include "protocols/log/session_record.h"
 #include "protocols/presentation/headless_presenter.h"
 #include "protocols/presentation/text_screen.h"
@@ -42,29 +44,53 @@ std::string utc_now() {
   return text;
 }
 
-// Moves an unterminated last line aside (events.jsonl.torn-N, fsync'd) and cuts it off the log.
+// Moves an unterminated last line aside (events.jsonl.torn-N, fsync'd) and cuts it off the log. The
+// caller holds the participant's lock. A failure (a full disk) leaves neither an empty or partial
+// torn-N file nor a changed log.
 std::string set_torn_tail_aside(const EventLogFile& log) {
   std::string aside;
   for (int n = 1;; ++n) {
     aside = log.path + ".torn-" + std::to_string(n);
-    if (!fs::exists(aside)) break;
+    if (!fs::exists(fs::symlink_status(aside))) break;
   }
   {
-    const int fd = ::open(aside.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::runtime_error(aside + ": cannot create");
+    const int fd = ::open(aside.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) throw FileError(aside, "creating the file for the cut-off last line", errno);
     const std::string& tail = *log.torn_tail;
-    const bool ok = ::write(fd, tail.data(), tail.size()) == static_cast<ssize_t>(tail.size()) && ::fsync(fd) == 0;
+    const bool written = ::write(fd, tail.data(), tail.size()) == static_cast<ssize_t>(tail.size());
+    const int reason = written ? 0 : (errno ? errno : ENOSPC);
+    const bool synced = written && ::fsync(fd) == 0;
+    const int sync_reason = errno;
     ::close(fd);
-    if (!ok) throw std::runtime_error(aside + ": cannot write the torn line aside");
+    if (!synced) {
+      ::unlink(aside.c_str());
+      throw FileError(aside, "writing the cut-off last line aside", written ? sync_reason : reason);
+    }
   }
   fsync_directory(fs::path(aside).parent_path());
-  const int fd = ::open(log.path.c_str(), O_WRONLY | O_CLOEXEC);
-  const bool cut = fd >= 0 && ::ftruncate(fd, static_cast<off_t>(log.intact_bytes)) == 0 && ::fsync(fd) == 0;
-  if (fd >= 0) ::close(fd);
-  if (!cut) throw std::runtime_error(log.path + ": cannot cut off the torn last line");
+  const int fd = ::open(log.path.c_str(), O_WRONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd < 0 || ::ftruncate(fd, static_cast<off_t>(log.intact_bytes)) != 0 || ::fsync(fd) != 0) {
+    const int reason = errno;
+    if (fd >= 0) ::close(fd);
+    throw FileError(log.path, "cutting off the torn last line", reason);
+  }
+  ::close(fd);
   return aside;
 }
 
+// A resumed log must be one this plan made: every complete trial's index within the plan and its
+// condition the plan's (a forged log cannot make a session "131 of 89 trials complete").
+void check_trials_against_plan(const SessionRecord& record, const StudyPlan& plan, const std::string& log_path) {
+  for (const RecordedTrial& trial : record.trials) {
+    const std::string where = log_path + ": trial " + std::to_string(trial.index);
+    if (trial.index < 0 || static_cast<size_t>(trial.index) >= plan.trials.size())
+      throw InputError(where + ": not in this study's plan (" + std::to_string(plan.trials.size()) +
+                       " trials); the log was not written by this config; not resuming");
+    if (trial.start.value("condition", "") != plan.trials[static_cast<size_t>(trial.index)].condition)
+      throw InputError(where + ": condition \"" + trial.start.value("condition", "") + "\" is not the plan's \"" +
+                       plan.trials[static_cast<size_t>(trial.index)].condition + "\"; not resuming");
+  }
+}
 
 // Whether `directory` can be made and written, without making it: its nearest existing ancestor
 // must be a writable folder.
@@ -80,15 +106,20 @@ void check_creatable_directory(const fs::path& directory) {
     throw InputError(directory.string() + ": the results folder is not writable (" + existing.string() + ")");
 }
 
-// Makes the folder and fsyncs it and its parents' entries, so a new log survives a power cut.
-void create_durable_directory(const fs::path& directory) {
-  std::error_code error;
-  fs::create_directories(directory, error);
-  if (error) throw InputError(directory.string() + ": cannot create the results folder (" + error.message() + ")");
-  for (fs::path folder = directory; !folder.empty(); folder = folder.parent_path()) {
-    fsync_directory(folder);
-    if (folder == folder.parent_path() || folder.parent_path().empty()) break;
-  }
+// A session that ended but was killed before its seal was written: the seal is all that is
+// missing (a torn seal line is set aside first). No trial runs.
+SessionOutcome seal_finished_session(const EventLogFile& log, const SessionRecord& record, const LabKey* lab_key,
+                                     SessionOutcome outcome) {
+  if (log.torn_tail) set_torn_tail_aside(log);
+  EventLogWriter writer(log.path, log.last_chain, static_cast<int64_t>(log.events.size()), lab_key);
+  writer.append({{"event", "seal"}, {"t", record.last_time_s}, {"trials_complete", static_cast<int>(record.trials.size())}});
+  outcome.resumed = true;
+  outcome.finished = true;
+  outcome.excluded = record.excluded;
+  outcome.trials_completed = static_cast<int>(record.trials.size());
+  outcome.events_written = 1;
+  outcome.stop_reason = "the session had ended; its seal was added";
+  return outcome;
 }
 
 }  // namespace
@@ -122,25 +153,32 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (!observer_model && options.headless)
     throw InputError("--headless: a headless session has no keyboard (add --observer simulated)");
 
+  std::optional<LabKey> lab_key;
+  if (!options.lab_key_path.empty()) lab_key = read_lab_key(options.lab_key_path, options.results_dir);
+
+  // The participant's folder is locked before anything in it is read, cut or renamed, and stays
+  // locked until this run exits: a second run of the participant changes nothing and exits 2.
+  check_creatable_directory(fs::path(outcome.log_path).parent_path());
+  const ParticipantLock lock(options.results_dir, config.name, options.participant);
+  test_pause_point("locked");
+
   // An existing log: the same study and config, intact, not finished -> resume.
   std::optional<SessionRecord> record;
   std::optional<EventLogFile> existing;
-  if (fs::exists(outcome.log_path)) {
-    // Refuse early while another run writes it (the writer holds an flock; see EventLogWriter).
-    const int fd = ::open(outcome.log_path.c_str(), O_RDONLY | O_CLOEXEC);
-    const bool busy = fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) != 0;
-    if (fd >= 0) ::close(fd);
-    if (busy) throw InputError(outcome.log_path + ": another fovlab process is writing this log");
-    existing = read_event_log(outcome.log_path);
-  }
+  if (fs::is_symlink(outcome.log_path))
+    throw InputError(outcome.log_path + ": the session log is a symbolic link (expected the log itself); not resuming");
+  if (fs::exists(fs::symlink_status(outcome.log_path))) existing = read_event_log(outcome.log_path);
   // A crash between creating the log and completing its header line leaves no event: the session
   // then starts afresh (a torn header line is set aside below, never used).
   if (existing && !existing->events.empty()) {
-    if (existing->first_chain_error_line)
-      throw InputError(outcome.log_path + ":" + std::to_string(existing->first_chain_error_line) +
-                       ": the log's event chain is broken here (edited or damaged); not resuming");
-    record = read_session_record(*existing);
+    record = read_session_record(*existing, lab_key ? &*lab_key : nullptr);
     const nlohmann::json& header = record->header;
+    if (record->integrity.status == LogStatus::broken)
+      throw InputError(outcome.log_path + ":" + std::to_string(record->integrity.line) + ": " + record->integrity.reason +
+                       "; not resuming");
+    if (existing->schema_version != log_schema_version)
+      throw InputError(outcome.log_path + ":1: written by an older fovlab (log schema " +
+                       std::to_string(existing->schema_version) + "); finish it with that version or use another participant ID");
     if (header.value("study", "") != config.name || header.value("participant", "") != options.participant)
       throw InputError(outcome.log_path + ":1: the log belongs to study \"" + header.value("study", "") +
                        "\", participant \"" + header.value("participant", "") + "\"");
@@ -152,16 +190,21 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     if (!header.contains("observer") || header["observer"] != observer)
       throw InputError(outcome.log_path + ":1: the session was started with observer " +
                        header.value("observer", nlohmann::json()).dump() + "; resume it with the same --observer");
-    if (record->ended)
+    if (record->integrity.keyed && !lab_key)
+      throw InputError(outcome.log_path + ":1: the session's seals are keyed (lab key " + header.value("lab_key_id", "") +
+                       "); resume it with the same --lab-key");
+    if (!record->integrity.keyed && lab_key)
+      throw InputError("--lab-key: the session started without a lab key (" + outcome.log_path +
+                       "); resume it without one, or use another participant ID");
+    if (record->ended && record->integrity.status == LogStatus::sealed)
       throw InputError(outcome.log_path + ": participant \"" + options.participant + "\" already finished this study (" +
                        record->end_reason + "); choose another participant ID");
-    outcome.resumed = true;
+    if (record->ended) return seal_finished_session(*existing, *record, lab_key ? &*lab_key : nullptr, outcome);
     if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan))
       throw InputError(outcome.log_path + ":1: a scene file changed since this participant started (scene_hashes); "
                                           "restore it to resume, or use another participant ID");
+    check_trials_against_plan(*record, plan, outcome.log_path);
     outcome.resumed = true;
-  } else if (!existing) {
-    check_creatable_directory(fs::path(outcome.log_path).parent_path());
   }
 
   // Everything that can fail on the user's input comes before the first write: gaze source (a
@@ -194,6 +237,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   std::vector<std::pair<int, StimulusSpec>> all;
   for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
   outcome.prepare_s = library.prepare(all);  // scene errors surface here, before any event is written
+  test_pause_point("prepared");
   std::unique_ptr<ResponseSource> responses;
   if (observer_model) responses = std::make_unique<ObserverResponses>(*observer_model, plan);
   else responses = std::make_unique<KeyResponses>(config.protocol.question);
@@ -211,10 +255,10 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                                presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
                                gaze->describe(), presenter->refresh_hz(), utc_now()};
     header = make_session_header(inputs);
+    (*header)["lab_key_id"] = lab_key ? nlohmann::json(lab_key->id) : nlohmann::json();
   }
-  if (!existing) create_durable_directory(fs::path(outcome.log_path).parent_path());
-  EventLogWriter writer(outcome.log_path, existing ? existing->last_chain : std::string(),
-                        existing ? static_cast<int64_t>(existing->events.size()) : 0);
+  EventLogWriter writer(outcome.log_path, record ? existing->last_chain : std::string(),
+                        record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
   const double time_base_s = record ? record->last_time_s : 0.0;
   SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s);
   if (header) {
@@ -236,12 +280,14 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     outcome.stop_reason = aborted.reason;
     run.log({{"event", "session_paused"}, {"reason", aborted.reason}});
   }
+  outcome.trials_run = run.trials_completed();
+  outcome.trials_completed = (record ? static_cast<int>(record->trials.size()) : 0) + outcome.trials_run;
+  // The end of this run, sealed: the complete trials and the chain so far (keyed with a lab key).
+  run.log({{"event", "seal"}, {"trials_complete", outcome.trials_completed}});
   outcome.trial_loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   if (auto* window = dynamic_cast<WindowPresenter*>(presenter.get()); window && window->validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +
                              " message(s) in the session window (see stderr)");
-  outcome.trials_run = run.trials_completed();
-  outcome.trials_completed = (record ? static_cast<int>(record->trials.size()) : 0) + outcome.trials_run;
   outcome.events_written = run.events_written();
   outcome.log_write_s = writer.seconds_writing();
   outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

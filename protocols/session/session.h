@@ -20,6 +20,7 @@ struct SessionOptions {
   std::string device_selector;    // --device
   bool validation = false;
   std::string screenshots_dir;    // windowed: save the instructions and the first stimulus here
+  std::string lab_key_path;       // --lab-key: key the log's seals (a file outside results_dir)
 };
 
 struct SessionOutcome {

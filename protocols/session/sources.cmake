@@ -9,5 +9,8 @@ list(APPEND protocols_sources
 list(APPEND protocols_tests
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/session_test.cpp
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/kill_resume_test.cpp
+  ${CMAKE_SOURCE_DIR}/tests/protocols/session/session_integrity_test.cpp
+  ${CMAKE_SOURCE_DIR}/tests/protocols/session/session_race_test.cpp
+  ${CMAKE_SOURCE_DIR}/tests/protocols/session/disk_full_test.cpp
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/windowed_session_test.cpp
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/fipr_session_test.cpp)

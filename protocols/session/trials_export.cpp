@@ -22,7 +22,7 @@ std::string number_cell(const nlohmann::json& value) {
 const char* const columns[] = {"study", "participant", "protocol", "trial", "block", "block_name", "scene",
                                "condition", "variant", "level", "attention_check", "reference_first",
                                "ramp_toward_reference", "answer", "answers", "rt_s", "saved_level",
-                               "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded"};
+                               "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status"};
 
 }  // namespace
 
@@ -30,7 +30,7 @@ const char* const columns[] = {"study", "participant", "protocol", "trial", "blo
 namespace {
 
 // The export; `current` names the log being read, for the caller's message.
-std::string export_checked(const std::vector<std::string>& log_paths, std::string& current) {
+std::string export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options, std::string& current) {
   std::ostringstream csv;
   csv << csv_line(std::vector<std::string>(std::begin(columns), std::end(columns)));
   for (const std::string& path : log_paths) {
@@ -39,7 +39,13 @@ std::string export_checked(const std::vector<std::string>& log_paths, std::strin
     if (log.torn_tail)
       std::fprintf(stderr, "fovlab: %s: the last line is cut off (%zu bytes); not exported\n", path.c_str(),
                    log.torn_tail->size());
-    const SessionRecord record = read_session_record(log);
+    const SessionRecord record = read_session_record(log, options.lab_key);
+    const LogIntegrity& integrity = record.integrity;
+    if (integrity.status == LogStatus::broken && !options.include_broken)
+      throw InputError(path + ":" + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
+                       "); not exported (pass --include-broken to export it anyway, marked broken)");
+    if (integrity.status != LogStatus::sealed)
+      std::fprintf(stderr, "fovlab: %s: %s\n", path.c_str(), integrity.describe().c_str());
     const nlohmann::json& header = record.header;
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
     for (const nlohmann::json& event : log.events)
@@ -83,7 +89,8 @@ std::string export_checked(const std::vector<std::string>& log_paths, std::strin
           number_cell(onset),
           number_cell(trial.end.value("t", nlohmann::json())),
           number_cell(dropped),
-          record.excluded ? "true" : "false"};
+          record.excluded ? "true" : "false",
+          log_status_name(integrity.status)};
       csv << csv_line(cells);
     }
   }
@@ -92,10 +99,10 @@ std::string export_checked(const std::vector<std::string>& log_paths, std::strin
 
 }  // namespace
 
-std::string export_trials_csv(const std::vector<std::string>& log_paths) {
+std::string export_trials_csv(const std::vector<std::string>& log_paths, const ExportOptions& options) {
   std::string current;
   try {
-    return export_checked(log_paths, current);
+    return export_checked(log_paths, options, current);
   } catch (const nlohmann::json::exception& error) {
     throw InputError(current + ": an event has a field of the wrong type (" + error.what() + ")");
   }

@@ -6,8 +6,17 @@
 
 namespace fovlab {
 
-// The CSV text for these logs (complete trials only; a torn last line is ignored and reported on
-// stderr). Throws InputError for a log that cannot be read.
-std::string export_trials_csv(const std::vector<std::string>& log_paths);
+struct LabKey;
+
+struct ExportOptions {
+  const LabKey* lab_key = nullptr;  // verify keyed seals
+  bool include_broken = false;      // export broken logs too (their rows say log_status "broken")
+};
+
+// The CSV text for these logs (complete trials only; a torn last line is ignored). Every log's chain
+// and seals are checked: a broken log is an InputError unless include_broken; an unsealed one is
+// exported and reported on stderr; the column log_status says which each row came from.
+// Throws InputError for a log that cannot be read.
+std::string export_trials_csv(const std::vector<std::string>& log_paths, const ExportOptions& options = {});
 
 }  // namespace fovlab

@@ -1,6 +1,7 @@
 // The crash-safety promise, with real crashes: `fovlab run` is killed with SIGKILL at many random
 // moments and started again each time until the session finishes; the final log must hold exactly
-// the trials and answers of an uninterrupted run, and replay must verify it.
+// the trials and answers of an uninterrupted run, end sealed, and replay must verify it. Every
+// protocol: the pair study with 20 kills, the others with 8 each (CI time).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "core/prng.h"
+#include "protocols/log/log_integrity.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "tests/protocols/session/session_test_support.h"
@@ -20,8 +22,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-pid_t start_run(const fs::path& results) {
-  const std::string config = test::study_fixture("pair").string();
+struct KillCase {
+  const char* fixture;   // tests/fixtures/studies/<fixture>.toml
+  const char* study;     // its name
+  int kill_attempts;
+};
+
+pid_t start_run(const fs::path& results, const KillCase& study) {
+  const std::string config = test::study_fixture(study.fixture).string();
   const std::string results_text = results.string();
   const pid_t pid = fork();
   if (pid == 0) {
@@ -49,32 +57,35 @@ int wait_for(pid_t pid, double limit_s, const std::string& log_path = "", uintma
   }
 }
 
-TEST(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials) {
-  const fs::path root = test::fresh_folder("kill");
+class SessionKill : public ::testing::TestWithParam<KillCase> {};
+
+TEST_P(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials) {
+  const KillCase study = GetParam();
+  const fs::path root = test::fresh_folder(std::string("kill-") + study.fixture);
   // The uninterrupted run, timed to its first logged event (start-up and stimulus preparation
   // come before it): time-based kills are spread over that part, size-based ones over the log.
   const fs::path whole_folder = root / "whole";
-  const std::string first_log = session_log_path(whole_folder.string(), "tiny_pair", "K1");
+  const std::string first_log = session_log_path(whole_folder.string(), study.study, "K1");
   const auto start = std::chrono::steady_clock::now();
-  const pid_t whole_pid = start_run(whole_folder);
+  const pid_t whole_pid = start_run(whole_folder, study);
   ASSERT_EQ(wait_for(whole_pid, 300.0, first_log, 1), -1) << "the run ended before writing its log";
   const double startup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int status = wait_for(whole_pid, 300.0);
   ASSERT_TRUE(status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  const std::string whole_log = session_log_path((root / "whole").string(), "tiny_pair", "K1");
+  const std::string whole_log = session_log_path((root / "whole").string(), study.study, "K1");
   const std::vector<std::string> expected = test::trial_summary(whole_log);
   ASSERT_FALSE(expected.empty());
 
   const fs::path results = root / "killed";
-  const std::string log_path = session_log_path(results.string(), "tiny_pair", "K1");
+  const std::string log_path = session_log_path(results.string(), study.study, "K1");
   Pcg32 random(20261123);
   std::set<size_t> log_sizes_at_kill;  // distinct points in the session where a kill landed
   int kills = 0;
   const uintmax_t whole_bytes = fs::file_size(whole_log);
-  // 20 attempts that are killed unless the session ends first, then one left to finish.
-  constexpr int kill_attempts = 20;
+  // Attempts that are killed unless the session ends first, then one left to finish.
+  const int kill_attempts = study.kill_attempts;
   for (int attempt = 0; attempt <= kill_attempts; ++attempt) {
-    const pid_t pid = start_run(results);
+    const pid_t pid = start_run(results, study);
     if (attempt == kill_attempts) {
       const int last = wait_for(pid, 300.0);
       ASSERT_TRUE(last >= 0 && WIFEXITED(last) && WEXITSTATUS(last) == 0) << test::read_file(root / "child-stderr.txt");
@@ -107,11 +118,17 @@ TEST(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials) {
     if (!log.events.empty() && read_session_record(log).ended) break;
   }
   ASSERT_TRUE(fs::exists(log_path));
+  // Killed between session_end and its seal: running it again adds the seal and nothing else.
+  if (read_session_record(read_event_log(log_path)).integrity.status != LogStatus::sealed) {
+    const int last = wait_for(start_run(results, study), 300.0);
+    ASSERT_TRUE(last >= 0 && WIFEXITED(last) && WEXITSTATUS(last) == 0) << test::read_file(root / "child-stderr.txt");
+  }
   const SessionRecord record = read_session_record(read_event_log(log_path));
+  EXPECT_EQ(record.integrity.status, LogStatus::sealed) << record.integrity.describe();
   ASSERT_TRUE(record.ended) << "the session did not finish within the attempts";
-  EXPECT_GE(kills, 15);
+  EXPECT_GE(kills, kill_attempts * 3 / 4);
   std::printf("%d kills, at %zu distinct log sizes\n", kills, log_sizes_at_kill.size());
-  EXPECT_GE(log_sizes_at_kill.size(), 8u) << "kills should land at several points of the session";
+  EXPECT_GE(log_sizes_at_kill.size(), static_cast<size_t>(kill_attempts * 2 / 5)) << "kills should land at several points of the session";
   EXPECT_EQ(test::trial_summary(log_path), expected);
 
   ReplayOptions replay;
@@ -119,6 +136,12 @@ TEST(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials) {
   replay.validation = true;
   EXPECT_EQ(replay_session(replay).difference_count, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(EveryProtocol, SessionKill,
+                         ::testing::Values(KillCase{"pair", "tiny_pair", 20}, KillCase{"tiny_2afc", "tiny_2afc", 8},
+                                           KillCase{"ramp", "tiny_ramp", 8}, KillCase{"slider", "tiny_slider", 8},
+                                           KillCase{"rating", "tiny_rating", 8}),
+                         [](const ::testing::TestParamInfo<KillCase>& param_info) { return std::string(param_info.param.fixture); });
 
 }  // namespace
 }  // namespace fovlab

@@ -1,0 +1,125 @@
+#include "protocols/log/log_integrity.h"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "core/digest.h"
+#include "core/file_bytes.h"
+#include "core/input_error.h"
+
+namespace fovlab {
+
+namespace fs = std::filesystem;
+
+LabKey read_lab_key(const std::string& path, const std::string& results_dir) {
+  const auto fail = [&](const std::string& what) { throw InputError("--lab-key " + path + ": " + what); };
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) fail(std::string("cannot read the key file (") + std::strerror(errno) + ")");
+  if (!S_ISREG(status.st_mode)) fail("not a regular file (expected a key file of 16 to 4096 bytes)");
+  if (status.st_size < 16 || status.st_size > 4096)
+    fail("holds " + std::to_string(status.st_size) + " bytes (expected 16 to 4096, e.g. made by `openssl rand -hex 32`)");
+  if (!results_dir.empty()) {
+    std::error_code error;
+    const fs::path key = fs::weakly_canonical(path, error);
+    const fs::path results = fs::weakly_canonical(results_dir, error);
+    const auto [results_end, key_end] = std::mismatch(results.begin(), results.end(), key.begin(), key.end());
+    if (!error && results_end == results.end())
+      fail("lies inside the results folder " + results_dir + " (keep the key where the logs' editors cannot read it)");
+  }
+  const std::optional<std::string> bytes = read_file_bytes(path);
+  if (!bytes || bytes->size() < 16) fail(std::string("cannot read the key file (") + std::strerror(errno) + ")");
+  return LabKey{*bytes, sha256_hex("fovlab lab key\n", *bytes).substr(0, 16)};
+}
+
+const char* log_status_name(LogStatus status) {
+  switch (status) {
+    case LogStatus::sealed: return "sealed";
+    case LogStatus::unsealed: return "unsealed";
+    case LogStatus::broken: return "broken";
+  }
+  return "broken";
+}
+
+std::string LogIntegrity::describe() const {
+  switch (status) {
+    case LogStatus::sealed:
+      if (!keyed) return "sealed (no lab key: detects accidents and edits, not a forger who rewrites the chain)";
+      return mac_checked ? "sealed (keyed, MAC verified)" : "sealed (keyed; MAC not checked: no --lab-key given)";
+    case LogStatus::unsealed: return "unsealed (" + reason + ")";
+    case LogStatus::broken: return "broken at line " + std::to_string(line) + ": " + reason;
+  }
+  return reason;
+}
+
+std::string seal_mac(const LabKey& key, const nlohmann::json& seal_event) {
+  nlohmann::json text = seal_event;
+  text.erase("chain");
+  text.erase("mac");
+  return hmac_sha256_hex(key.bytes, text.dump());
+}
+
+void IntegrityTracker::header(const nlohmann::json& header, const std::string& path) {
+  const auto schema = header.find("schema_version");
+  result_.schema_version = schema != header.end() && schema->is_number_integer() ? schema->get<int>() : 0;
+  const auto key_id = header.find("lab_key_id");
+  result_.keyed = key_id != header.end() && key_id->is_string();
+  if (result_.keyed && key_ && key_id->get<std::string>() != key_->id)
+    throw InputError(path + ":1: the log was sealed with lab key " + key_id->get<std::string>() +
+                     ", but --lab-key is key " + key_->id + " (give the key the session ran with)");
+  result_.mac_checked = result_.keyed && key_;
+  last_was_seal_ = false;
+}
+
+void IntegrityTracker::broken(int line, std::string reason) {
+  if (broken_line_) return;
+  broken_line_ = line;
+  result_.line = line;
+  result_.reason = std::move(reason);
+}
+
+void IntegrityTracker::seal(const nlohmann::json& seal_event, int line, const std::string& previous_chain,
+                            int trials_complete) {
+  ++result_.seals;
+  last_was_seal_ = true;
+  const auto count = seal_event.find("trials_complete");
+  if (count == seal_event.end() || !count->is_number_integer() || count->get<int64_t>() != trials_complete)
+    broken(line, "the seal commits " + (count == seal_event.end() ? std::string("no") : count->dump()) +
+                     " complete trials but the log holds " + std::to_string(trials_complete) + " up to it");
+  const auto last_chain = seal_event.find("last_chain");
+  if (last_chain == seal_event.end() || !last_chain->is_string() || last_chain->get<std::string>() != previous_chain)
+    broken(line, "the seal's last_chain is not the chain of the event before it");
+  if (!result_.keyed) return;
+  const auto mac = seal_event.find("mac");
+  if (mac == seal_event.end() || !mac->is_string()) return broken(line, "the log is keyed but this seal has no mac");
+  if (key_ && mac->get<std::string>() != seal_mac(*key_, seal_event))
+    broken(line, "the seal's MAC does not verify under the lab key (the log was changed after it was sealed)");
+}
+
+LogIntegrity IntegrityTracker::finish(int chain_error_line, bool torn_tail) const {
+  LogIntegrity result = result_;
+  if (chain_error_line && (!broken_line_ || chain_error_line <= *broken_line_)) {
+    result.status = LogStatus::broken;
+    result.line = chain_error_line;
+    result.reason = "the event chain breaks here (a line was edited, removed, inserted or reordered)";
+  } else if (broken_line_) {
+    result.status = LogStatus::broken;
+  } else if (result.schema_version < 2) {
+    result.status = LogStatus::unsealed;
+    result.reason = "schema " + std::to_string(result.schema_version) + " logs carry no seals";
+  } else if (torn_tail) {
+    result.status = LogStatus::unsealed;
+    result.reason = "the last line was cut off: the session was interrupted while writing";
+  } else if (!last_was_seal_) {
+    result.status = LogStatus::unsealed;
+    result.reason = "the log does not end with a seal: the session was interrupted (or the log was cut at a line boundary)";
+  } else {
+    result.status = LogStatus::sealed;
+    result.reason.clear();
+  }
+  return result;
+}
+
+}  // namespace fovlab

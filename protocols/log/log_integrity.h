@@ -1,0 +1,71 @@
+#pragma once
+// Whether a session log is as its writer left it (docs/log-schema.md, "Integrity"). Schema 2 logs
+// chain every event with SHA-256 and end each run of the session (its end, and every pause) with a
+// `seal` event that commits the number of complete trials and the chain so far; with a lab key
+// (a file kept outside results/) the seal also carries an HMAC-SHA-256 that only the key's holder
+// can make. Every reader (resume, replay, analyze, export) classifies a log as:
+//   sealed   - chain unbroken, every seal consistent, the last event a seal;
+//   unsealed - chain unbroken, every seal consistent, but the log does not end with a seal (the
+//              session was interrupted by a crash or kill; or someone cut it at a line boundary);
+//   broken   - the chain breaks, a seal contradicts the log, or a MAC does not verify.
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace fovlab {
+
+// A lab's secret for keyed seals: the bytes of a file (16 to 4096 bytes, e.g. `openssl rand -hex 32`).
+struct LabKey {
+  std::string bytes;
+  std::string id;  // the first 16 hex digits of a SHA-256 of the key: names it in logs, reveals nothing
+};
+
+// Reads a key file: a regular file of 16 to 4096 bytes, not inside `results_dir` when one is given
+// (a key beside the logs would let whoever can edit them forge seals). Throws InputError naming the
+// flag and the file.
+LabKey read_lab_key(const std::string& path, const std::string& results_dir = "");
+
+enum class LogStatus { sealed, unsealed, broken };
+const char* log_status_name(LogStatus status);
+
+struct LogIntegrity {
+  LogStatus status = LogStatus::unsealed;
+  int line = 0;             // broken: the first line found wrong
+  std::string reason;       // broken or unsealed: why, in words
+  int schema_version = 0;
+  bool keyed = false;       // the header names a lab key (lab_key_id)
+  bool mac_checked = false; // keyed and the key was given: every seal's MAC verified
+  int seals = 0;
+  // One line for a person: "sealed", "sealed (keyed; MAC not checked: no --lab-key)",
+  // "unsealed (...)", "broken at line N: ...".
+  std::string describe() const;
+};
+
+// The MAC of a seal event: HMAC-SHA-256 under the key of the event's canonical text (keys sorted,
+// as nlohmann::json writes them) without "chain" and "mac".
+std::string seal_mac(const LabKey& key, const nlohmann::json& seal_event);
+
+// Fed a log's events in order by either reader; says at the end what the log is.
+class IntegrityTracker {
+ public:
+  explicit IntegrityTracker(const LabKey* key) : key_(key) {}
+  // The first event. Throws InputError "path:1: ..." when the log was sealed with another key.
+  void header(const nlohmann::json& header, const std::string& path);
+  // Any later event but a seal (kind: its "event").
+  void event() { last_was_seal_ = false; }
+  // A seal at `line`; `previous_chain` is the chain of the event before it, `trials_complete` the
+  // complete trials of the log up to it.
+  void seal(const nlohmann::json& seal_event, int line, const std::string& previous_chain, int trials_complete);
+  // The chain breaks at `line` (0: it does not); `torn_tail`: bytes after the last newline.
+  LogIntegrity finish(int chain_error_line, bool torn_tail) const;
+
+ private:
+  void broken(int line, std::string reason);
+  const LabKey* key_;
+  LogIntegrity result_;
+  bool last_was_seal_ = false;
+  std::optional<int> broken_line_;
+};
+
+}  // namespace fovlab

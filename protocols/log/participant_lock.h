@@ -1,0 +1,35 @@
+#pragma once
+// One participant's folder, results/<study>/<participant>/, owned by one process at a time. A
+// `fovlab run` takes the lock before it reads, cuts or renames anything in the folder and holds it
+// until it exits, so two runs of one participant cannot interleave, truncate each other's events or
+// both start a session: the second changes nothing and exits 2 naming the first. The lock is an
+// flock on `session.lock` in the folder, which also says who holds it (pid, host, since); the
+// kernel drops it when the holder dies, however it dies.
+#include <filesystem>
+#include <string>
+
+namespace fovlab {
+
+class ParticipantLock {
+ public:
+  // Makes <results_dir>/<study>/<participant> when missing (mkdir is atomic: of two runs one
+  // creates it, both then race for the lock) and takes its lock. Refuses (InputError) a study or
+  // participant folder that is a symbolic link, and a folder another process holds: "...: another
+  // fovlab process runs this participant (pid N on HOST since TIME)". Other failures are FileError.
+  ParticipantLock(const std::filesystem::path& results_dir, const std::string& study, const std::string& participant);
+  // Releases the lock. A folder this lock created that still holds no log (the run failed before
+  // its first event) is removed again, so a failed start leaves nothing behind.
+  ~ParticipantLock();
+  ParticipantLock(const ParticipantLock&) = delete;
+  ParticipantLock& operator=(const ParticipantLock&) = delete;
+
+  const std::filesystem::path& folder() const { return folder_; }
+
+ private:
+  std::filesystem::path folder_;
+  std::filesystem::path lock_path_;
+  int fd_ = -1;
+  bool created_folder_ = false;
+};
+
+}  // namespace fovlab

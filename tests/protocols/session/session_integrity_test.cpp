@@ -1,0 +1,320 @@
+// Issue 14: a log says when it was altered. Sessions end sealed; every reader (resume, replay,
+// export, the fast scan of analyze) classifies a log as sealed, unsealed or broken; with a lab key a
+// forger who rewrites the whole chain is still caught by the seal's MAC; values read from a header
+// are checked before they name a folder; hostile lines cannot crash a reader.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/input_error.h"
+#include "protocols/log/event_log.h"
+#include "protocols/log/log_integrity.h"
+#include "protocols/log/session_scan.h"
+#include "protocols/session/replay.h"
+#include "protocols/session/session.h"
+#include "protocols/session/trials_export.h"
+#include "tests/protocols/session/session_test_support.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_folder;
+using test::read_file;
+using test::study_fixture;
+
+SessionOptions simulated(const fs::path& results, const std::string& participant = "P1") {
+  SessionOptions options;
+  options.participant = participant;
+  options.results_dir = results.string();
+  options.observer = "simulated";
+  options.headless = true;
+  options.validation = true;
+  return options;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  size_t begin = 0;
+  for (size_t end = text.find('\n'); end != std::string::npos; begin = end + 1, end = text.find('\n', begin))
+    lines.push_back(text.substr(begin, end - begin));
+  return lines;
+}
+
+// What a forger without the key does after editing lines: renumber and re-chain every event with
+// the public algorithm, so the chain itself is intact again.
+std::string rechained(const std::vector<std::string>& lines) {
+  std::string text, chain;
+  int64_t seq = 0;
+  for (const std::string& line : lines) {
+    nlohmann::json event = nlohmann::json::parse(line);
+    event.erase("chain");
+    event["seq"] = seq++;
+    if (event.value("event", "") == "seal") event["last_chain"] = chain;
+    chain = event_chain(chain, event);
+    event["chain"] = chain;
+    text += event.dump() + "\n";
+  }
+  return text;
+}
+
+// The first line holding `needle`, with `from` replaced by `to`; the text re-chained.
+std::string forged(const std::string& original, const std::string& needle, const std::string& from, const std::string& to) {
+  std::vector<std::string> lines = lines_of(original);
+  for (std::string& line : lines) {
+    if (line.find(needle) == std::string::npos) continue;
+    const size_t at = line.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    line.replace(at, from.size(), to);
+    break;
+  }
+  return rechained(lines);
+}
+
+fs::path write_copy(const fs::path& folder, const std::string& name, const std::string& text) {
+  const fs::path path = folder / name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+LogIntegrity full_reader(const fs::path& path, const LabKey* key = nullptr) {
+  return read_session_record(read_event_log(path.string()), key).integrity;
+}
+
+LogIntegrity fast_scan(const fs::path& path, const LabKey* key = nullptr) {
+  return scan_session_log(path.string(), key).integrity;
+}
+
+ReplayOutcome replay(const fs::path& log_path, const std::string& key_path = "") {
+  ReplayOptions options;
+  options.log_path = log_path.string();
+  options.validation = true;
+  options.lab_key_path = key_path;
+  return replay_session(options);
+}
+
+bool names(const ReplayOutcome& outcome, const std::string& text) {
+  for (const std::string& difference : outcome.differences)
+    if (difference.find(text) != std::string::npos) return true;
+  return false;
+}
+
+class SessionIntegrity : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    folder_ = new fs::path(fresh_folder("integrity"));
+    key_path_ = new fs::path(*folder_ / "lab.key");
+    std::ofstream(*key_path_, std::ios::binary) << "0123456789abcdef0123456789abcdef";
+    const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+    SessionOptions options = simulated(*folder_ / "results", "Plain");
+    unkeyed_log_ = new std::string(run_session(config, options).log_path);
+    options = simulated(*folder_ / "results", "Keyed");
+    options.lab_key_path = key_path_->string();
+    keyed_log_ = new std::string(run_session(config, options).log_path);
+  }
+  static LabKey key() { return read_lab_key(key_path_->string()); }
+  static fs::path* folder_;
+  static fs::path* key_path_;
+  static std::string* unkeyed_log_;
+  static std::string* keyed_log_;
+};
+fs::path* SessionIntegrity::folder_ = nullptr;
+fs::path* SessionIntegrity::key_path_ = nullptr;
+std::string* SessionIntegrity::unkeyed_log_ = nullptr;
+std::string* SessionIntegrity::keyed_log_ = nullptr;
+
+TEST_F(SessionIntegrity, AFinishedSessionIsSealedForEveryReader) {
+  const LabKey lab_key = key();
+  for (const std::string& log : {*unkeyed_log_, *keyed_log_}) {
+    SCOPED_TRACE(log);
+    const std::vector<std::string> lines = lines_of(read_file(log));
+    EXPECT_EQ(nlohmann::json::parse(lines.back()).value("event", ""), "seal");
+    EXPECT_EQ(nlohmann::json::parse(lines.front()).value("schema_version", 0), 2);
+    EXPECT_EQ(nlohmann::json::parse(lines.front())["chain"].get<std::string>().size(), 64u);  // SHA-256
+    EXPECT_EQ(full_reader(log, &lab_key).status, LogStatus::sealed);
+    EXPECT_EQ(fast_scan(log, &lab_key).status, LogStatus::sealed);
+    const ReplayOutcome replayed = replay(log, key_path_->string());
+    EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+    EXPECT_EQ(replayed.integrity.status, LogStatus::sealed);
+  }
+  EXPECT_TRUE(full_reader(*keyed_log_, &lab_key).mac_checked);
+  EXPECT_FALSE(full_reader(*keyed_log_).mac_checked);  // no key given: sealed, MAC unchecked
+  EXPECT_FALSE(full_reader(*unkeyed_log_).keyed);
+}
+
+TEST_F(SessionIntegrity, AnEditedAnswerWithTheChainRecomputedFailsTheKeyedSeal) {
+  const LabKey lab_key = key();
+  const std::string edited = forged(read_file(*keyed_log_), "\"event\":\"response\"", "\"rt_s\":", "\"rt_s\":1");
+  const fs::path path = write_copy(*folder_, "keyed-edited.jsonl", edited);
+  EXPECT_EQ(read_event_log(path.string()).first_chain_error_line, 0);  // the forger made the chain whole again
+  const LogIntegrity full = full_reader(path, &lab_key);
+  EXPECT_EQ(full.status, LogStatus::broken);
+  EXPECT_NE(full.reason.find("MAC"), std::string::npos) << full.reason;
+  EXPECT_EQ(fast_scan(path, &lab_key).status, LogStatus::broken);
+  const ReplayOutcome replayed = replay(path, key_path_->string());
+  EXPECT_TRUE(names(replayed, "MAC")) << replayed.difference_count;
+  // Without the key, the same log can only be called sealed with its MAC unchecked (documented).
+  EXPECT_EQ(full_reader(path).status, LogStatus::sealed);
+  EXPECT_FALSE(full_reader(path).mac_checked);
+  // A key other than the session's is an error, not a verdict.
+  const LabKey other_key = read_lab_key(write_copy(*folder_, "other.key", "another key of sixteen bytes or more").string());
+  EXPECT_THROW(full_reader(path, &other_key), InputError);
+}
+
+TEST_F(SessionIntegrity, ADroppedSealOrTrailingCutIsUnsealedAndAWrongCountIsBroken) {
+  std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
+  // Cut at a line boundary (the seal and session_end gone): what a crash leaves, and said so.
+  const fs::path cut = write_copy(*folder_, "cut.jsonl", rechained({lines.begin(), lines.end() - 2}));
+  EXPECT_EQ(full_reader(cut).status, LogStatus::unsealed);
+  EXPECT_EQ(fast_scan(cut).status, LogStatus::unsealed);
+  // A seal that commits another trial count than the log holds.
+  const std::string wrong = forged(read_file(*unkeyed_log_), "\"event\":\"seal\"", "\"trials_complete\":", "\"trials_complete\":9");
+  const fs::path wrong_path = write_copy(*folder_, "wrong-count.jsonl", wrong);
+  EXPECT_EQ(full_reader(wrong_path).status, LogStatus::broken);
+  EXPECT_EQ(fast_scan(wrong_path).status, LogStatus::broken);
+  // A plain edit without re-chaining: broken at that line, for both readers.
+  std::string edited = read_file(*unkeyed_log_);
+  edited.replace(edited.find("\"answer\":\""), 10, "\"answer\":\"x");
+  const fs::path edited_path = write_copy(*folder_, "edited.jsonl", edited);
+  EXPECT_EQ(full_reader(edited_path).status, LogStatus::broken);
+  EXPECT_EQ(fast_scan(edited_path).status, LogStatus::broken);
+  EXPECT_EQ(full_reader(edited_path).line, fast_scan(edited_path).line);
+}
+
+TEST_F(SessionIntegrity, ADuplicatedTrialIsRefusedByBothReaders) {
+  std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
+  size_t start = 0, end = 0;
+  for (size_t i = 0; i < lines.size() && !end; ++i) {
+    if (!start && lines[i].find("\"event\":\"trial_start\"") != std::string::npos) start = i;
+    if (start && lines[i].find("\"event\":\"trial_end\"") != std::string::npos) end = i;
+  }
+  ASSERT_GT(end, start);
+  std::vector<std::string> doubled(lines.begin(), lines.begin() + static_cast<long>(end) + 1);
+  doubled.insert(doubled.end(), lines.begin() + static_cast<long>(start), lines.begin() + static_cast<long>(end) + 1);
+  doubled.insert(doubled.end(), lines.begin() + static_cast<long>(end) + 1, lines.end());
+  const fs::path path = write_copy(*folder_, "duplicated.jsonl", rechained(doubled));
+  EXPECT_THROW(read_session_record(read_event_log(path.string())), InputError);
+  EXPECT_THROW(scan_session_log(path.string()), InputError);
+}
+
+TEST_F(SessionIntegrity, ReplayChecksTheHeaderAgainstItsOwnConfig) {
+  const std::string original = read_file(*unkeyed_log_);
+  const std::string hash_edited = forged(original, "session_header", "\"config_hash\":\"", "\"config_hash\":\"00");
+  const ReplayOutcome hash = replay(write_copy(*folder_, "config-hash.jsonl", hash_edited));
+  EXPECT_TRUE(names(hash, "config_hash")) << hash.difference_count;
+  const std::string study_edited = forged(original, "session_header", "\"study\":\"tiny_2afc\"", "\"study\":\"other_study\"");
+  const ReplayOutcome study = replay(write_copy(*folder_, "study.jsonl", study_edited));
+  EXPECT_TRUE(names(study, "study")) << study.difference_count;
+}
+
+TEST_F(SessionIntegrity, AHeaderStudyOrParticipantThatIsNotAFolderNameIsRefused) {
+  const std::string original = read_file(*unkeyed_log_);
+  for (const std::string bad : {"../../x", "/tmp/x", "..", ".hidden", "a/b"}) {
+    SCOPED_TRACE(bad);
+    const std::string study = forged(original, "session_header", "\"study\":\"tiny_2afc\"", "\"study\":\"" + bad + "\"");
+    const fs::path path = write_copy(*folder_, "bad-study.jsonl", study);
+    EXPECT_THROW(read_session_record(read_event_log(path.string())), InputError);
+    EXPECT_THROW(scan_session_log(path.string()), InputError);
+    const std::string participant = forged(original, "session_header", "\"participant\":\"Plain\"", "\"participant\":\"" + bad + "\"");
+    const fs::path participant_path = write_copy(*folder_, "bad-participant.jsonl", participant);
+    EXPECT_THROW(scan_session_log(participant_path.string()), InputError);
+  }
+}
+
+TEST_F(SessionIntegrity, ExportRefusesABrokenLogUnlessAskedAndSaysEachRowsStatus) {
+  std::string edited = read_file(*unkeyed_log_);
+  edited.replace(edited.find("\"answer\":\"same\""), 15, "\"answer\":\"different\"");
+  const fs::path broken = write_copy(*folder_, "export-broken.jsonl", edited);
+  EXPECT_THROW(export_trials_csv({broken.string()}), InputError);
+  ExportOptions include;
+  include.include_broken = true;
+  const std::string csv = export_trials_csv({broken.string()}, include);
+  EXPECT_NE(csv.find(",broken\n"), std::string::npos);
+  EXPECT_NE(export_trials_csv({*unkeyed_log_}).find(",sealed\n"), std::string::npos);
+  EXPECT_NE(csv.substr(0, csv.find('\n')).find("log_status"), std::string::npos);
+}
+
+TEST_F(SessionIntegrity, AForgedLogIsNotResumed) {
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
+  // The first half of the session, its trial indices moved past the end of the plan.
+  std::vector<std::string> half(lines.begin(), lines.begin() + static_cast<long>(lines.size() / 2));
+  std::string text = rechained(half);
+  for (size_t at = text.find("\"trial\":"); at != std::string::npos; at = text.find("\"trial\":", at + 1))
+    text.replace(at, 8, "\"trial\":9");
+  const fs::path results = *folder_ / "forged-results";
+  const fs::path log = session_log_path(results.string(), config.name, "Plain");
+  fs::create_directories(log.parent_path());
+  std::ofstream(log, std::ios::binary) << rechained(lines_of(text));
+  const std::string before = read_file(log);
+  try {
+    run_session(config, simulated(results, "Plain"));
+    ADD_FAILURE() << "a forged log was resumed";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("not in this study's plan"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(read_file(log), before);
+}
+
+TEST_F(SessionIntegrity, HostileLinesAreRefusedWithoutCrashingEitherReader) {
+  // An object line whose member nests 100,000 deep: the fast scan's fallback parser used to recurse
+  // on it and overflow the stack.
+  std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
+  std::string deep = lines[1];
+  deep.insert(deep.size() - 1, ",\"x\":" + std::string(100000, '[') + std::string(100000, ']'));
+  lines[1] = deep;
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  const fs::path path = write_copy(*folder_, "deep.jsonl", text);
+  EXPECT_THROW(read_event_log(path.string()), InputError);
+  try {
+    EXPECT_EQ(scan_session_log(path.string()).integrity.status, LogStatus::broken);
+  } catch (const InputError&) {  // refused outright: as good
+  }
+  // The same depth in the header line.
+  lines = lines_of(read_file(*unkeyed_log_));
+  lines[0].insert(lines[0].size() - 1, ",\"x\":" + std::string(100000, '[') + std::string(100000, ']'));
+  text.clear();
+  for (const std::string& line : lines) text += line + "\n";
+  const fs::path header_path = write_copy(*folder_, "deep-header.jsonl", text);
+  EXPECT_THROW(scan_session_log(header_path.string()), InputError);
+}
+
+TEST_F(SessionIntegrity, AByteOrderMarkIsReadTheSameByEveryReader) {
+  const fs::path path = write_copy(*folder_, "bom.jsonl", "\xEF\xBB\xBF" + read_file(*unkeyed_log_));
+  EXPECT_EQ(full_reader(path).status, LogStatus::sealed);
+  EXPECT_EQ(fast_scan(path).status, LogStatus::sealed);
+  EXPECT_EQ(scan_session_log(path.string()).trials.size(), read_session_record(read_event_log(path.string())).trials.size());
+}
+
+TEST_F(SessionIntegrity, ALabKeyInsideTheResultsFolderOrTooShortIsRefused) {
+  const fs::path results = *folder_ / "key-results";
+  fs::create_directories(results);
+  const fs::path inside = write_copy(results, "lab.key", "0123456789abcdef0123");
+  EXPECT_THROW(read_lab_key(inside.string(), results.string()), InputError);
+  EXPECT_NO_THROW(read_lab_key(key_path_->string(), results.string()));
+  const fs::path short_key = write_copy(*folder_, "short.key", "short");
+  EXPECT_THROW(read_lab_key(short_key.string()), InputError);
+  EXPECT_THROW(read_lab_key(folder_->string()), InputError);
+  // Resuming a keyed session without its key, or an unkeyed one with a key, is refused.
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  std::vector<std::string> lines = lines_of(read_file(*keyed_log_));
+  const fs::path resume_results = *folder_ / "resume-keyed";
+  const fs::path log = session_log_path(resume_results.string(), config.name, "Keyed");
+  fs::create_directories(log.parent_path());
+  std::string half;
+  for (size_t i = 0; i < lines.size() / 2; ++i) half += lines[i] + "\n";
+  std::ofstream(log, std::ios::binary) << half;
+  EXPECT_THROW(run_session(config, simulated(resume_results, "Keyed")), InputError);
+  SessionOptions keyed = simulated(resume_results, "Keyed");
+  keyed.lab_key_path = key_path_->string();
+  const SessionOutcome resumed = run_session(config, keyed);
+  EXPECT_TRUE(resumed.resumed && resumed.finished);
+  const LabKey lab_key = key();
+  EXPECT_EQ(full_reader(resumed.log_path, &lab_key).status, LogStatus::sealed);
+  EXPECT_TRUE(full_reader(resumed.log_path, &lab_key).mac_checked);
+}
+
+}  // namespace
+}  // namespace fovlab
