@@ -14,7 +14,6 @@
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
-#include "core/file_bytes.h"
 #include "core/digest.h"
 #include "core/input_error.h"
 #include "protocols/log/log_integrity.h"
@@ -22,7 +21,7 @@
 namespace fovlab {
 
 std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain, int schema_version) {
-  if (schema_version < 2) return ContentHash().add(previous_chain).add(event_without_chain.dump()).hex();
+  if (schema_version == 1) return ContentHash().add(previous_chain).add(event_without_chain.dump()).hex();
   return sha256_hex(previous_chain, event_without_chain.dump());
 }
 
@@ -147,10 +146,36 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
   return log;
 }
 
+void check_log_file(int fd, const std::string& path) {
+  struct stat status {};
+  if (::fstat(fd, &status) != 0) throw FileError(path, "reading the session log", errno);
+  if (!S_ISREG(status.st_mode)) throw InputError(path + ": not a regular file (expected a session log, events.jsonl)");
+  if (static_cast<uint64_t>(status.st_size) > max_log_bytes)
+    throw InputError(path + ": " + std::to_string(status.st_size) + " bytes, more than the " +
+                     std::to_string(max_log_bytes >> 20) + " MiB a session log can hold (expected a fovlab events.jsonl)");
+}
+
 EventLogFile read_event_log(const std::string& path) {
-  const std::optional<std::string> bytes = read_file_bytes(path);
-  if (!bytes) throw InputError(path + ": cannot open the session log (" + std::string(std::strerror(errno)) + ")");
-  return parse_event_log(*bytes, path);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError(path + ": cannot open the session log (" + std::string(std::strerror(errno)) + ")");
+  std::string bytes;
+  try {
+    check_log_file(fd, path);
+    char buffer[1 << 16];
+    for (;;) {
+      const ssize_t got = ::read(fd, buffer, sizeof buffer);
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) throw FileError(path, "reading the session log", errno);
+      if (got == 0) break;
+      bytes.append(buffer, static_cast<size_t>(got));
+      if (bytes.size() > max_log_bytes) throw InputError(path + ": grew past the size a session log can hold while it was read");
+    }
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  ::close(fd);
+  return parse_event_log(bytes, path);
 }
 
 std::vector<std::string> find_session_logs(const std::string& path) {

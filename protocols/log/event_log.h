@@ -51,9 +51,15 @@ class EventLogWriter {
 };
 
 // The chain value of an event (given the previous chain) in a log of this schema version, as the
-// writer computes it: SHA-256 (hex) from schema 2 on, FNV-1a-64 in schema 1.
+// writer computes it: FNV-1a-64 in schema 1, else SHA-256 (hex).
 std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain,
                         int schema_version = log_schema_version);
+
+// The largest log a reader takes (a 216-trial FIPR session logs about 5 MB): a bigger file is refused
+// before it is read, so a forged or runaway file cannot exhaust memory.
+inline constexpr uint64_t max_log_bytes = uint64_t{1} << 30;
+// Throws InputError when the file at `path` (open as `fd`) is not a regular file or is over max_log_bytes.
+void check_log_file(int fd, const std::string& path);
 
 // Events nest 3 levels deep and a header's config 4; a deeper line is refused before any recursive
 // parser sees it (nlohmann's recursion would overflow the stack on a line of a million '[').

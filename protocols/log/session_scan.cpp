@@ -81,9 +81,9 @@ EventFields decode(simdjson::ondemand::document& document) {
 // by hand, say), the canonical text is rebuilt with nlohmann::json, exactly as read_event_log does
 // (after the same nesting guard). `scratch` is reused between lines.
 std::string line_chain(const std::string& previous, std::string_view line, std::string& scratch, int schema_version) {
-  const size_t digits = schema_version < 2 ? 16 : 64;
+  const size_t digits = schema_version == 1 ? 16 : 64;
   const auto hash = [&](std::string_view text) {
-    return schema_version < 2 ? ContentHash().add(previous).add(text).hex() : sha256_hex(previous, text);
+    return schema_version == 1 ? ContentHash().add(previous).add(text).hex() : sha256_hex(previous, text);
   };
   constexpr std::string_view member = "\"chain\":\"";
   const size_t at = line.find(member);
@@ -133,10 +133,20 @@ ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) 
     buffer = std::move(larger);
     buffer_capacity = needed;
   };
+  try {
+    check_log_file(file, path);
+  } catch (...) {
+    ::close(file);
+    throw;
+  }
   struct stat status {};
   // fstat's size is where to start (+1 to see the end without growing); the file may still grow.
   ensure_capacity((::fstat(file, &status) == 0 ? static_cast<size_t>(status.st_size) : 0) + 1 + simdjson::SIMDJSON_PADDING);
   for (;;) {
+    if (size > max_log_bytes) {
+      ::close(file);
+      throw InputError(path + ": grew past the size a session log can hold while it was read");
+    }
     if (size + simdjson::SIMDJSON_PADDING == buffer_capacity) ensure_capacity(2 * buffer_capacity);
     const ssize_t got = ::read(file, buffer.get() + size, buffer_capacity - simdjson::SIMDJSON_PADDING - size);
     if (got < 0 && errno == EINTR) continue;
@@ -205,7 +215,7 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     }
     const std::string previous_chain = chain;
     if (!session.first_chain_error_line) {
-      bool consistent = fields.seq && *fields.seq == line_number - 1 && fields.chain.size() == (schema_version < 2 ? 16u : 64u);
+      bool consistent = fields.seq && *fields.seq == line_number - 1 && fields.chain.size() == (schema_version == 1 ? 16u : 64u);
       if (consistent) {
         const std::string expected = line_chain(chain, line, scratch, schema_version);
         consistent = expected == fields.chain;

@@ -5,7 +5,8 @@
 // bytes as an events.jsonl, then, when that succeeded, builds the session record from it. The scan
 // must tell the same story wherever a log's chain is intact: both accept it with the same trials,
 // or both reject it (the scan does not re-validate what it skips, so a log the full reader rejects
-// may pass the scan only with a broken chain, which analysis rejects). Built two ways
+// may pass the scan only with a broken chain, which analysis rejects), and both call it sealed,
+// unsealed or broken alike. Built two ways
 // (tests/fuzz/fuzz.cmake): fovlab_log_fuzz (clang, libFuzzer + ASan + UBSan; scripts/fuzz) and
 // fovlab_log_corpus (corpus_runner.cpp replays tests/fuzz/corpus/log under CTest).
 #include <cstddef>
@@ -69,6 +70,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     expect(scanned->excluded == full->excluded && scanned->ended == full->ended &&
                scanned->incomplete_trial == full->incomplete_trial,
            "the same session state");
+    expect(scanned->integrity.status == full->integrity.status && scanned->integrity.line == full->integrity.line,
+           "the same integrity verdict (sealed, unsealed or broken, at the same line)");
   }
   if (scanned && scanned->first_chain_error_line == 0)
     expect(full.has_value(), "an intact log the scan accepts is accepted by the full reader");

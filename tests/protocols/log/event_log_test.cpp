@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/content_hash.h"
+#include "core/digest.h"
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
 #include "protocols/log/session_record.h"
@@ -54,7 +55,7 @@ std::string join_lines(const std::vector<std::string>& lines) {
 std::string write_three(const TempDir& dir) {
   const std::string path = dir.file("events.jsonl");
   EventLogWriter writer(path, "", 0);
-  writer.append({{"event", "session_header"}, {"schema_version", 1}});
+  writer.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}});
   writer.append({{"event", "trial_start"}, {"trial", 0}, {"t", 1.5}});
   writer.append({{"event", "trial_end"}, {"trial", 0}, {"t", 2.5}});
   return path;
@@ -80,17 +81,17 @@ TEST(ProtocolsLog, WriterAndReaderAgree) {
   EXPECT_EQ(log.events[1]["trial"], 0);
   EXPECT_EQ(log.events[1]["t"], 1.5);
 
-  // seq counts from 0; chain_i = FNV-1a(chain_{i-1}, event_i without "chain"), chain_{-1} = "".
+  // seq counts from 0; chain_i = SHA-256(chain_{i-1} followed by event_i without "chain"), chain_{-1} = "".
   std::string previous;
   for (size_t i = 0; i < log.events.size(); ++i) {
     const json& event = log.events[i];
     EXPECT_EQ(event.at("seq").get<int64_t>(), static_cast<int64_t>(i));
     json without = event;
     without.erase("chain");
-    const std::string expected = ContentHash().add(previous).add(without.dump()).hex();
+    const std::string expected = sha256_hex(previous, without.dump());
     EXPECT_EQ(event_chain(previous, without), expected);
     EXPECT_EQ(event.at("chain").get<std::string>(), expected) << "event " << i;
-    EXPECT_EQ(expected.size(), 16u);
+    EXPECT_EQ(expected.size(), 64u);
     previous = expected;
   }
   EXPECT_EQ(log.last_chain, previous);
@@ -253,7 +254,7 @@ TEST(ProtocolsLog, ContinuingALogKeepsTheChain) {
   const std::string path = dir.file("events.jsonl");
   {
     EventLogWriter writer(path, "", 0);
-    writer.append({{"event", "session_header"}, {"schema_version", 1}});
+    writer.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}});
     writer.append({{"event", "trial_start"}, {"trial", 0}});
   }
   const EventLogFile first = read_event_log(path);
@@ -327,7 +328,9 @@ EventLogFile make_log(const std::vector<json>& events, const std::string& path =
   return parse_event_log(bytes, path);
 }
 
-json header() { return {{"event", "session_header"}, {"schema_version", log_schema_version}}; }
+json header() {
+  return {{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}};
+}
 
 std::vector<json> trial_events(int trial, double t, const std::string& answer, std::optional<bool> attention = std::nullopt) {
   std::vector<json> events = {{{"event", "trial_start"}, {"trial", trial}, {"t", t}},
@@ -455,17 +458,19 @@ TEST(ProtocolsLog, NextTrialIsTheFirstMissingIndex) {
   EXPECT_EQ(record.trials[2].index, 3);
   EXPECT_EQ(record.next_trial, 2);
 
-  // Trials come back ordered by index, one per index (a rerun replaces the earlier record).
+  // Trials come back ordered by index.
   std::vector<json> out_of_order = {header()};
   append(out_of_order, trial_events(1, 1.0, "a"));
   append(out_of_order, trial_events(0, 2.0, "b"));
-  append(out_of_order, trial_events(1, 3.0, "c"));
   const SessionRecord sorted = read_session_record(make_log(out_of_order));
   ASSERT_EQ(sorted.trials.size(), 2u);
   EXPECT_EQ(sorted.trials[0].index, 0);
   EXPECT_EQ(sorted.trials[1].index, 1);
-  EXPECT_EQ(sorted.trials[1].responses.at(0)["answer"], "c");
   EXPECT_EQ(sorted.next_trial, 2);
+  // A trial completes once: a second record of an index is a forged or spliced log (issue 14).
+  append(out_of_order, trial_events(1, 3.0, "c"));
+  const std::string message = record_error(make_log(out_of_order));
+  EXPECT_NE(message.find("trial 1 is complete twice"), std::string::npos) << message;
 }
 
 TEST(ProtocolsLog, BreaksAndSliderEventsBelongToTheirTrial) {
@@ -523,7 +528,7 @@ TEST(ProtocolsLog, HeaderSchemaChecks) {
     EXPECT_NE(message.find("schema_version"), std::string::npos) << message;
   }
   // schema_version of another version, or not an integer.
-  for (const json& version : {json(2), json(0), json("1"), json(1.5), json(nullptr)}) {
+  for (const json& version : {json(3), json(0), json("1"), json(1.5), json(nullptr)}) {
     const std::string message = record_error(make_log({{{"event", "session_header"}, {"schema_version", version}}}));
     EXPECT_EQ(message.rfind("results/s/p/events.jsonl:1: ", 0), 0u) << message;
     EXPECT_NE(message.find("schema_version"), std::string::npos) << message;
@@ -531,7 +536,7 @@ TEST(ProtocolsLog, HeaderSchemaChecks) {
   }
   // The version this build writes is accepted.
   EXPECT_NO_THROW(read_session_record(make_log({header()})));
-  EXPECT_EQ(log_schema_version, 1);
+  EXPECT_EQ(log_schema_version, 2);
 }
 
 TEST(ProtocolsLog, HeaderSchemaVersionIsNotWrapped) {

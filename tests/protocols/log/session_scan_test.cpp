@@ -31,8 +31,8 @@ std::string scratch_log(const std::string& name) {
 std::string write_rich_log(const std::string& name) {
   const std::string path = scratch_log(name);
   EventLogWriter log(path, "", 0);
-  log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"t", 0.0},
-              {"config_toml", "text with \"chain\":\"0000000000000000\" inside"}});
+  log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"},
+              {"t", 0.0}, {"config_toml", "text with \"chain\":\"" + std::string(64, '0') + "\" inside"}});
   log.append({{"event", "block_start"}, {"block", 0}, {"name", "courtyard"}, {"scene", "x.glsl"}, {"t", 0.1}});
   log.append({{"event", "block_start"}, {"block", 1}, {"name", ""}, {"scene", "temple"}, {"t", 0.1}});
   log.append({{"event", "trial_start"}, {"trial", 0}, {"block", 0}, {"condition", "blur/level=7.5"}, {"variant", "blur"},
@@ -173,17 +173,17 @@ TEST(SessionScan, RejectsWhatTheFullReaderRejects) {
     // The full reader rejects it too (in its own words where its checks differ).
     EXPECT_THROW(read_session_record(read_event_log(path)), InputError) << name;
   };
-  expect_rejected("not_json.jsonl", "{\"event\":\"session_header\",\"schema_version\":1}\nnot json\n", ":2: not a JSON event");
+  expect_rejected("not_json.jsonl", "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\nnot json\n", ":2: not a JSON event");
   expect_rejected("array.jsonl", "[1,2]\n", ":1: not a JSON event");
   expect_rejected("schema.jsonl", "{\"event\":\"session_header\",\"schema_version\":99}\n", "schema_version 99");
   expect_rejected("no_header.jsonl", "{\"event\":\"trial_end\",\"trial\":0}\n", "expected a session_header");
   expect_rejected("empty.jsonl", "", "no complete event");
-  expect_rejected("orphan.jsonl", "{\"event\":\"session_header\",\"schema_version\":1}\n{\"event\":\"trial_end\",\"trial\":4}\n",
+  expect_rejected("orphan.jsonl", "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n{\"event\":\"trial_end\",\"trial\":4}\n",
                   ":2: trial_end: trial does not match");
   expect_rejected("type.jsonl",
-                  "{\"event\":\"session_header\",\"schema_version\":1}\n{\"event\":\"trial_start\",\"trial\":\"zero\"}\n",
+                  "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n{\"event\":\"trial_start\",\"trial\":\"zero\"}\n",
                   ":2: an event has a field of the wrong type");
-  expect_rejected("deep.jsonl", "{\"event\":\"session_header\",\"schema_version\":1}\n" + std::string(5000, '[') + "\n",
+  expect_rejected("deep.jsonl", "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n" + std::string(5000, '[') + "\n",
                   ":2: not a JSON event");
   EXPECT_THROW(scan_session_log(scratch_log("never_written.jsonl")), InputError);
 }

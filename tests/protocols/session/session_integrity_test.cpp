@@ -281,6 +281,22 @@ TEST_F(SessionIntegrity, HostileLinesAreRefusedWithoutCrashingEitherReader) {
   EXPECT_THROW(scan_session_log(header_path.string()), InputError);
 }
 
+TEST_F(SessionIntegrity, AnOversizedLogOrAFolderIsRefusedBeforeAnythingIsRead) {
+  const fs::path huge = *folder_ / "huge.jsonl";
+  std::ofstream(huge, std::ios::binary) << read_file(*unkeyed_log_);
+  fs::resize_file(huge, max_log_bytes + 1);  // sparse: no disk, and never read
+  for (const fs::path& path : {huge, *folder_}) {
+    SCOPED_TRACE(path.string());
+    EXPECT_THROW(read_event_log(path.string()), InputError);
+    EXPECT_THROW(scan_session_log(path.string()), InputError);
+  }
+  try {
+    read_event_log(huge.string());
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("1024 MiB"), std::string::npos) << error.what();
+  }
+}
+
 TEST_F(SessionIntegrity, AByteOrderMarkIsReadTheSameByEveryReader) {
   const fs::path path = write_copy(*folder_, "bom.jsonl", "\xEF\xBB\xBF" + read_file(*unkeyed_log_));
   EXPECT_EQ(full_reader(path).status, LogStatus::sealed);
