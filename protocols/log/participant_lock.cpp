@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <ctime>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/input_error.h"
@@ -52,11 +53,20 @@ std::string read_holder(int fd) {
 
 ParticipantLock::ParticipantLock(const fs::path& results_dir, const std::string& study, const std::string& participant)
     : folder_(results_dir / study / participant), lock_path_(folder_ / "session.lock") {
+  // The results folder's missing ancestors, top down, made one mkdir at a time (remembered, so that
+  // a failed start can take them away again).
+  std::vector<fs::path> missing;
   std::error_code error;
-  fs::create_directories(results_dir, error);
-  if (error) throw FileError(results_dir.string(), "creating the results folder", error.value());
-  make_real_folder(results_dir / study, "study");
-  created_folder_ = make_real_folder(folder_, "participant");
+  for (fs::path folder = fs::absolute(results_dir).lexically_normal(); !folder.empty() && !fs::exists(fs::symlink_status(folder, error));
+       folder = folder.parent_path()) {
+    missing.push_back(folder);
+    if (folder == folder.parent_path()) break;
+  }
+  for (auto folder = missing.rbegin(); folder != missing.rend(); ++folder)
+    if (::mkdir(folder->c_str(), 0755) == 0) created_.push_back(*folder);
+    else if (errno != EEXIST) throw FileError(folder->string(), "creating the results folder", errno);
+  if (make_real_folder(results_dir / study, "study")) created_.push_back(results_dir / study);
+  if (make_real_folder(folder_, "participant")) created_.push_back(folder_);
   // The lock file is never removed while a run may hold it, except by its holder (below); a
   // process that opened a file its holder then removed sees another inode at the path and tries
   // again, so two processes never each hold a lock on a different file.
@@ -88,10 +98,11 @@ ParticipantLock::ParticipantLock(const fs::path& results_dir, const std::string&
 
 ParticipantLock::~ParticipantLock() {
   if (fd_ < 0) return;
-  if (created_folder_ && !fs::exists(folder_ / "events.jsonl")) {
+  if (!created_.empty() && created_.back() == folder_ && !fs::exists(folder_ / "events.jsonl")) {
     ::unlink(lock_path_.c_str());
-    ::rmdir(folder_.c_str());
-    fsync_directory(folder_.parent_path());
+    // Newest first; rmdir only takes an empty folder (another participant may be there by now).
+    for (auto folder = created_.rbegin(); folder != created_.rend(); ++folder) ::rmdir(folder->c_str());
+    fsync_directory(created_.front().parent_path());
   }
   ::close(fd_);
 }

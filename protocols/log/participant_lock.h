@@ -7,6 +7,7 @@
 // kernel drops it when the holder dies, however it dies.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace fovlab {
 
@@ -17,8 +18,9 @@ class ParticipantLock {
   // participant folder that is a symbolic link, and a folder another process holds: "...: another
   // fovlab process runs this participant (pid N on HOST since TIME)". Other failures are FileError.
   ParticipantLock(const std::filesystem::path& results_dir, const std::string& study, const std::string& participant);
-  // Releases the lock. A folder this lock created that still holds no log (the run failed before
-  // its first event) is removed again, so a failed start leaves nothing behind.
+  // Releases the lock. The folders this lock created (participant, study, results) are removed
+  // again when the participant's holds no log (the run failed before its first event), so a failed
+  // start leaves nothing behind.
   ~ParticipantLock();
   ParticipantLock(const ParticipantLock&) = delete;
   ParticipantLock& operator=(const ParticipantLock&) = delete;
@@ -29,7 +31,7 @@ class ParticipantLock {
   std::filesystem::path folder_;
   std::filesystem::path lock_path_;
   int fd_ = -1;
-  bool created_folder_ = false;
+  std::vector<std::filesystem::path> created_;  // the folders this lock made, oldest first
 };
 
 }  // namespace fovlab

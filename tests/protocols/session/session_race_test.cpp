@@ -11,6 +11,7 @@
 #include <chrono>
 #include <thread>
 
+#include "core/input_error.h"
 #include "protocols/log/log_integrity.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
@@ -141,6 +142,19 @@ TEST(SessionRace, AParticipantFolderThatIsASymbolicLinkIsRefused) {
   EXPECT_EQ(exit_code(run.pid), 2) << test::read_file(run.output);
   EXPECT_NE(test::read_file(run.output).find("symbolic link"), std::string::npos) << test::read_file(run.output);
   EXPECT_TRUE(fs::is_empty(outside));
+}
+
+TEST(SessionRace, AStartThatFailsAfterTakingTheLockLeavesNoFolder) {
+  const fs::path results = test::fresh_folder("race-failed-start");
+  const StudyConfig config = parse_study_config_file(test::study_fixture("pair").string());
+  SessionOptions options;
+  options.participant = "F1";
+  options.results_dir = results.string();
+  options.observer = "simulated";
+  options.headless = true;
+  options.gaze = "trace:" + (results / "no-such-trace.csv").string();  // read after the lock is taken
+  EXPECT_THROW(run_session(config, options), InputError);
+  EXPECT_TRUE(fs::is_empty(results)) << "a failed start left " << fs::directory_iterator(results)->path();
 }
 
 }  // namespace
