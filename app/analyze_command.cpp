@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
+#include "protocols/config/study_config.h"
 
 namespace fovlab::app {
 namespace {
@@ -25,11 +26,17 @@ struct AnalyzeArguments {
   int bootstrap = 1000;
   uint64_t seed = 1;
   double rating_cutoff = 2.0;
+  bool force = false;  // replace an earlier analysis at the output folder
 };
 
 // results/<study>/analysis: beside the participants when one study folder is given, else under
-// ./results.
-std::string default_out_dir(const std::vector<std::string>& inputs, const std::string& study) {
+// ./results. The study name comes from a log header: the reader (analysis/study) leaves out logs
+// whose name could not name a folder, and it is checked again here before it becomes a path.
+std::string default_out_dir(const std::vector<std::string>& inputs, const analysis::StudyData& data) {
+  const std::string& study = data.study;
+  if (!is_valid_study_name(study))
+    throw InputError((data.participants.empty() ? std::string("a session log") : data.participants.front().log_path) +
+                     ": line 1: study: expected a name that is one folder, got \"" + study + "\"");
   if (inputs.size() == 1 && fs::is_directory(inputs.front())) {
     const fs::path folder = fs::path(inputs.front()).lexically_normal();
     const fs::path named = folder.filename().empty() ? folder.parent_path() : folder;
@@ -85,9 +92,10 @@ void analyze(const AnalyzeArguments& arguments) {
     throw InputError("--rating-cutoff: expected a mean score in [1, 3]");
   options.rating_cutoff = arguments.rating_cutoff;
   const analysis::StudyData data = analysis::load_study(arguments.inputs);
+  const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;
+  analysis::check_analysis_destination(out, arguments.force);  // before the fits (which take a while)
   const analysis::AnalysisResult result = analysis::analyse_study(data, options);
-  const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data.study) : arguments.out;
-  const std::vector<std::string> written = analysis::write_analysis_report(result, out);
+  const std::vector<std::string> written = analysis::write_analysis_folder(result, out, arguments.force);
   print_summary(result);
   std::printf("wrote %zu file(s) to %s (report: %s)\n", written.size(), out.c_str(),
               (fs::path(out) / "report.html").string().c_str());
@@ -101,6 +109,7 @@ void add_analyze_command(CLI::App& app) {
   command->add_option("logs", arguments->inputs, "Session logs and/or results folders (every events.jsonl under them)")
       ->required();
   command->add_option("--out", arguments->out, "Output folder (default: results/<study>/analysis)");
+  command->add_flag("--force", arguments->force, "Replace an earlier analysis in the output folder");
   command->add_option("--alternative", arguments->alternative, "two-sided (default), greater or less: the binomial tests' alternative");
   command->add_option("--alpha", arguments->alpha, "Significance level of the threshold criteria (default 0.05)");
   command->add_option("--guess-rate", arguments->guess_rate,

@@ -107,6 +107,11 @@ ReadLog read_log(const std::string& path) {
                        ": the hash chain is broken (the log was edited or damaged)");
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
                           session.header.value("config_toml", "")};
+    // The study names the default output folder (results/<study>/analysis): a name that is not one
+    // folder name ("../../x", "/tmp/x") is never used.
+    if (!is_valid_study_name(read.study->study))
+      throw InputError("line 1: study: expected 1-64 letters, digits, '_', '-' or '.' (it names a folder), got \"" +
+                       read.study->study + "\"");
     read.participant = participant_of(session);
     if (session.torn_tail_bytes)
       read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +

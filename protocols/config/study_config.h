@@ -119,6 +119,11 @@ StudyConfig parse_study_config_file(const std::string& path);
 StudyConfig parse_study_config_text(const std::string& text, const std::string& path_for_messages,
                                     bool check_scene_files = true);
 
+// A study name (study.name, and the study a session log's header names): 1-64 letters, digits,
+// '_', '-' or '.', not starting with '.' or '-', so it is one folder name (results/<study>), never
+// a path. Block and variant names follow the same rule.
+bool is_valid_study_name(const std::string& name);
+
 // The answers a protocol collects, in order (e.g. {"same", "different"}); the config's keys must
 // map exactly these.
 std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion question);
