@@ -15,8 +15,7 @@ namespace {
 void validate(const std::string& config_path, const std::string& participant) {
   const StudyConfig config = parse_study_config_file(config_path);
   const StudyPlan plan = make_study_plan(config, participant);
-  std::vector<StimulusSpec> specs;
-  for (const PlannedStimulus& stimulus : plan.stimuli) specs.push_back(stimulus.spec);
+  const std::vector<StimulusSpec> specs = planned_specs(plan);
   // A config whose prepared frames would not fit in this machine's memory cannot run here: said now,
   // not after minutes of rendering (the session refuses it the same way).
   check_prepared_frames_fit(specs, config_path);

@@ -183,6 +183,12 @@ uint64_t session_seed(uint64_t study_seed, const std::string& participant) {
   return derive_seed(study_seed, "participant:" + participant);
 }
 
+std::vector<StimulusSpec> planned_specs(const StudyPlan& plan) {
+  std::vector<StimulusSpec> specs;
+  for (const PlannedStimulus& stimulus : plan.stimuli) specs.push_back(stimulus.spec);
+  return specs;
+}
+
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant) {
   check_participant_id(participant);
   StudyPlan plan;

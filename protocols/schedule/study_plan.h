@@ -68,4 +68,7 @@ int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_
 
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant);
 
+// The specs of the plan's stimuli, in id order (for StimulusLibrary and its memory check).
+std::vector<StimulusSpec> planned_specs(const StudyPlan& plan);
+
 }  // namespace fovlab
