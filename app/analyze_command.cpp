@@ -11,6 +11,7 @@
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "protocols/log/log_integrity.h"
+#include "protocols/config/study_config.h"
 
 namespace fovlab::app {
 namespace {
@@ -28,11 +29,17 @@ struct AnalyzeArguments {
   double rating_cutoff = 2.0;
   bool include_broken = false;
   std::string lab_key_path;
+  bool force = false;  // replace an earlier analysis at the output folder
 };
 
 // results/<study>/analysis: beside the participants when one study folder is given, else under
-// ./results.
-std::string default_out_dir(const std::vector<std::string>& inputs, const std::string& study) {
+// ./results. The study name comes from a log header: the reader (analysis/study) leaves out logs
+// whose name could not name a folder, and it is checked again here before it becomes a path.
+std::string default_out_dir(const std::vector<std::string>& inputs, const analysis::StudyData& data) {
+  const std::string& study = data.study;
+  if (!is_valid_study_name(study))
+    throw InputError((data.participants.empty() ? std::string("a session log") : data.participants.front().log_path) +
+                     ": line 1: study: expected a name that is one folder, got \"" + study + "\"");
   if (inputs.size() == 1 && fs::is_directory(inputs.front())) {
     const fs::path folder = fs::path(inputs.front()).lexically_normal();
     const fs::path named = folder.filename().empty() ? folder.parent_path() : folder;
@@ -64,6 +71,14 @@ void print_summary(const analysis::AnalysisResult& result) {
       std::printf("  fit %-10s %-18s threshold %s [%s, %s]\n", group.group.label().c_str(),
                   analysis::shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
                   format_number(fit.threshold_interval.lower, 5).c_str(), format_number(fit.threshold_interval.upper, 5).c_str());
+  std::vector<const analysis::ParticipantRow*> unsealed;
+  for (const auto& participant : result.participants)
+    if (participant.log_status != "sealed") unsealed.push_back(&participant);
+  if (!unsealed.empty()) {
+    std::printf("analysed, but not sealed (%zu):\n", unsealed.size());
+    for (const auto* participant : unsealed)
+      std::printf("  %s: %s\n", participant->log_path.c_str(), participant->log_note.c_str());
+  }
   if (!result.left_out.empty()) {
     std::printf("left out (%zu):\n", result.left_out.size());
     for (const auto& item : result.left_out) std::printf("  %s: %s\n", item.what.c_str(), item.reason.c_str());
@@ -91,9 +106,10 @@ void analyze(const AnalyzeArguments& arguments) {
   if (!arguments.lab_key_path.empty()) lab_key = read_lab_key(arguments.lab_key_path);
   const analysis::StudyData data =
       analysis::load_study(arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
+  const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;
+  analysis::check_analysis_destination(out, arguments.force);  // before the fits (which take a while)
   const analysis::AnalysisResult result = analysis::analyse_study(data, options);
-  const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data.study) : arguments.out;
-  const std::vector<std::string> written = analysis::write_analysis_report(result, out);
+  const std::vector<std::string> written = analysis::write_analysis_folder(result, out, arguments.force);
   print_summary(result);
   std::printf("wrote %zu file(s) to %s (report: %s)\n", written.size(), out.c_str(),
               (fs::path(out) / "report.html").string().c_str());
@@ -107,6 +123,7 @@ void add_analyze_command(CLI::App& app) {
   command->add_option("logs", arguments->inputs, "Session logs and/or results folders (every events.jsonl under them)")
       ->required();
   command->add_option("--out", arguments->out, "Output folder (default: results/<study>/analysis)");
+  command->add_flag("--force", arguments->force, "Replace an earlier analysis in the output folder");
   command->add_option("--alternative", arguments->alternative, "two-sided (default), greater or less: the binomial tests' alternative");
   command->add_option("--alpha", arguments->alpha, "Significance level of the threshold criteria (default 0.05)");
   command->add_option("--guess-rate", arguments->guess_rate,

@@ -6,6 +6,8 @@
 // The steps live in their own files: flags checked into a plan (bench_plan), frames timed and
 // measured (bench_runs), Pareto fronts and charts (bench_pareto), Markdown tables (bench_report).
 // This file registers the flags and runs the sweep.
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -25,6 +27,7 @@
 #include "app/render_outputs.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/memory_budget.h"
 #include "core/number_text.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -116,8 +119,37 @@ void write_frame_images(const std::filesystem::path& out_dir, const std::string&
   if (settings.method == TraceMethod::foveated_pyramid) write_image(out_dir / (stem + "_mask.png"), frame.mask);
 }
 
+// What a sweep holds at once, at least: one tracer layout (the largest of its methods: they share
+// the tracer, which frees a layout before making the next), and the results of GT, IPR and a FIPR
+// frame with the display images the errors compare.
+uint64_t bench_memory_bytes(const BenchOptions& options, const BenchPlan& plan) {
+  SphereTraceSettings settings = options.settings;
+  uint64_t layout_bytes = 0;
+  uint64_t results_bytes = 0;
+  const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
+  std::vector<SphereTraceSettings> methods;
+  settings.method = TraceMethod::ground_truth;
+  methods.push_back(settings);
+  settings.method = TraceMethod::inverted_pyramid;
+  if (plan.ipr) methods.push_back(settings);
+  if (plan.fipr && !plan.variants.empty()) {
+    settings.method = TraceMethod::foveated_pyramid;
+    settings.foveation = plan.variants.front().foveation;
+    methods.push_back(settings);
+  }
+  for (const SphereTraceSettings& method : methods) {
+    layout_bytes = std::max(layout_bytes, render_memory_bytes(method));
+    results_bytes += frame_pixels * sizeof(float) * (method.method == TraceMethod::foveated_pyramid ? 5 : 4);
+  }
+  return layout_bytes + results_bytes + 2 * frame_pixels * 3 * sizeof(float);  // + GT's and a test's display image
+}
+
 void run_bench(const BenchOptions& options) {
   const BenchPlan plan = plan_bench(options);
+  check_memory_fits(bench_memory_bytes(options, plan),
+                    "--width x --height = " + std::to_string(options.settings.width) + "x" +
+                        std::to_string(options.settings.height),
+                    "lower --width and --height");
   std::vector<SceneSource> scenes;
   for (const std::string& name : options.scenes) scenes.push_back(load_scene(name));
   if (!options.json.empty()) check_output_path(options.json, "--json");

@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "core/memory_budget.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/context.h"
@@ -48,6 +49,11 @@ void run_render(const RenderOptions& options) {
     throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
   if (!(options.frame_rate_hz > 0.0 && std::isfinite(options.frame_rate_hz)))
     throw InputError("--frame-rate: expected a positive number of frames per second");
+  // A frame too large for this machine's memory is refused now, before the scene is compiled.
+  check_memory_fits(render_memory_bytes(settings),
+                    "--width x --height = " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                        " (--method " + method_name(settings.method) + ")",
+                    "lower --width and --height");
   check_image_output_path(options.out, "--out");
   if (!options.steps_out.empty()) check_image_output_path(options.steps_out, "--steps-out");
   if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");

@@ -1,10 +1,12 @@
 // fovlab validate: checks a study config and prints the schedule it makes (trials, blocks, time).
 #include <cstdio>
 #include <set>
+#include <vector>
 
 #include "app/commands.h"
 #include "protocols/config/study_config.h"
 #include "protocols/schedule/study_plan.h"
+#include "protocols/stimuli/stimulus_library.h"
 #include "protocols/stimuli/stimulus_spec.h"
 
 namespace fovlab::app {
@@ -13,6 +15,10 @@ namespace {
 void validate(const std::string& config_path, const std::string& participant) {
   const StudyConfig config = parse_study_config_file(config_path);
   const StudyPlan plan = make_study_plan(config, participant);
+  const std::vector<StimulusSpec> specs = planned_specs(plan);
+  // A config whose prepared frames would not fit in this machine's memory cannot run here: said now,
+  // not after minutes of rendering (the session refuses it the same way).
+  check_prepared_frames_fit(specs, config_path);
   int checks = 0;
   for (const Trial& trial : plan.trials) checks += trial.attention_check ? 1 : 0;
   std::set<std::string> conditions;
@@ -28,13 +34,12 @@ void validate(const std::string& config_path, const std::string& participant) {
               config.display.viewing_distance_mm);
   for (const PlannedBlock& block : plan.blocks)
     std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
-  const double frame_mib = config.display.width_px * config.display.height_px * 4.0 / (1024.0 * 1024.0);
   size_t prepared = 0;  // gaze-dependent stimuli (FIPR) render live and are not held in memory
   for (const PlannedStimulus& stimulus : plan.stimuli) prepared += method_depends_on_gaze(stimulus.spec.method) ? 0 : 1;
   std::printf("trials %zu (%d attention checks), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: %.0f MiB; "
               "%zu rendered live with the gaze)\n",
               plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
-              frame_mib * double(prepared) * config.stimulus.frame_count(), plan.stimuli.size() - prepared);
+              double(prepared_frames_bytes(specs)) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
   std::printf("expected duration %.1f min (1.5 s an answer)\n", minutes);
 }
 

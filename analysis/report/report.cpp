@@ -16,6 +16,7 @@
 #include "analysis/report/svg_chart.h"
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/input_error.h"
 #include "core/number_text.h"
 
 namespace fovlab::analysis {
@@ -97,7 +98,7 @@ std::string conditions_csv(const AnalysisResult& result) {
 
 std::string participants_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"participant", "excluded", "session_ended", "complete_trials", "attention_checks",
-                              "attention_errors", "scene", "variant", "threshold", "note"});
+                              "attention_errors", "scene", "variant", "threshold", "note", "log_status"});
   for (const ParticipantRow& participant : result.participants) {
     const std::vector<std::string> common = {
         participant.participant,          participant.excluded ? "true" : "false",
@@ -105,13 +106,13 @@ std::string participants_csv(const AnalysisResult& result) {
         std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
-      cells.insert(cells.end(), {"", "", "", ""});
+      cells.insert(cells.end(), {"", "", "", "", participant.log_status});
       csv += csv_line(cells);
     }
     for (const ParticipantThreshold& threshold : participant.thresholds) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {threshold.group.scene, threshold.group.variant,
-                                 csv_number(threshold.level), threshold.note});
+                                 csv_number(threshold.level), threshold.note, participant.log_status});
       csv += csv_line(cells);
     }
   }
@@ -229,6 +230,7 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"log_path", participant.log_path},
                                     {"excluded", participant.excluded},
                                     {"session_ended", participant.session_ended},
+                                    {"log_status", participant.log_status},
                                     {"complete_trials", participant.complete_trials},
                                     {"attention_checks", participant.attention_checks},
                                     {"attention_errors", participant.attention_errors},
@@ -595,6 +597,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     std::vector<std::vector<std::string>> rows;
     for (const ParticipantRow& p : result.participants) {
       const std::vector<std::string> common = {p.participant, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
+                                               p.log_note.empty() ? p.log_status : p.log_note,
                                                std::to_string(p.complete_trials),
                                                std::to_string(p.attention_errors) + " / " +
                                                    std::to_string(p.attention_checks)};
@@ -609,7 +612,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
         rows.push_back(std::move(cells));
       }
     }
-    html += html_table({"participant", "excluded", "session ended", "complete trials", "attention errors / checks",
+    html += html_table({"participant", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
                         "scene", "variant", "threshold", "note"},
                        rows);
   }
@@ -655,6 +658,55 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
   for (const Plot& plot : plots) write(plot.file_name, plot.svg);
 
   write("report.html", report_html(result, plots));
+  return written;
+}
+
+namespace {
+
+// A name write_analysis_report writes, or the temporary of one (".<stem>.tmp-<pid>.<ext>", left
+// inside by a run killed before this folder-level writing existed).
+bool is_report_file_name(const std::string& name) {
+  if (name == "thresholds.json" || name == "conditions.csv" || name == "participants.csv" || name == "report.html")
+    return true;
+  const auto ends_with = [&](const std::string& end) {
+    return name.size() > end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0;
+  };
+  if (name[0] == '.' && name.find(".tmp-") != std::string::npos) return true;
+  return ends_with(".svg");
+}
+
+}  // namespace
+
+void check_analysis_destination(const std::string& out_dir, bool replace) {
+  const fs::path dir(out_dir);
+  remove_stale_folder_temporaries(dir);
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(dir, error);
+  if (!fs::exists(status)) return;
+  if (!fs::is_directory(status))
+    throw InputError(out_dir + ": is not a folder; give --out a folder for the analysis");
+  bool has_thresholds = false;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_regular_file() || entry.is_symlink() || !is_report_file_name(name))
+      throw InputError(out_dir + ": holds " + name +
+                       ", which fovlab analyze does not write; give --out another folder (--force replaces only an "
+                       "earlier analysis)");
+    has_thresholds = has_thresholds || name == "thresholds.json";
+  }
+  if (!has_thresholds && !fs::is_empty(dir))
+    throw InputError(out_dir + ": holds files but no thresholds.json (not an analysis); give --out another folder");
+  if (has_thresholds && !replace)
+    throw InputError(out_dir + ": an analysis is already there; add --force to replace it");
+}
+
+std::vector<std::string> write_analysis_folder(const AnalysisResult& result, const std::string& out_dir, bool replace) {
+  check_analysis_destination(out_dir, replace);
+  std::vector<std::string> written;
+  write_folder_atomically(out_dir, replace, [&](const fs::path& temporary) {
+    for (const std::string& path : write_analysis_report(result, temporary.string()))
+      written.push_back((fs::path(out_dir) / fs::path(path).filename()).string());
+  });
   return written;
 }
 

@@ -61,6 +61,8 @@ struct ParticipantRow {
   int attention_errors = 0;
   bool excluded = false;              // by attention checks (session log says "excluded")
   bool session_ended = false;
+  std::string log_status = "sealed";  // sealed, unsealed (interrupted) or broken (only with --include-broken)
+  std::string log_note;               // why, when not sealed
   std::vector<ParticipantThreshold> thresholds;
 };
 

@@ -106,11 +106,13 @@ ReadLog read_log(const std::string& path, const LoadOptions& options) {
     if (integrity.status == LogStatus::broken && !options.include_broken)
       throw InputError("line " + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
                        "); left out (--include-broken analyses it anyway)");
-    if (integrity.status != LogStatus::sealed) read.notes.push_back({path, integrity.describe()});
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
                           session.header.value("config_toml", "")};
+    // The study names the default output folder (results/<study>/analysis): the scan refused a
+    // header whose study is not one folder name ("../../x", "/tmp/x"; check_session_header).
     read.participant = participant_of(session);
     read.participant.log_status = integrity.status;
+    if (integrity.status != LogStatus::sealed) read.participant.log_note = integrity.describe();
     if (session.torn_tail_bytes)
       read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +
                                       " bytes, a write a crash interrupted): not read"});

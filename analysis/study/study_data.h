@@ -41,6 +41,7 @@ struct ParticipantData {
   int attention_errors = 0;
   std::vector<StudyTrial> trials;          // complete trials, in session order
   LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with include_broken
+  std::string log_note;                      // the verdict in words, when not sealed
 };
 
 struct StudyData {

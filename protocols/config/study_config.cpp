@@ -21,16 +21,9 @@
 
 namespace fovlab {
 
-bool is_valid_study_name(const std::string& name) {
-  if (name.empty() || name.size() > 64 || name[0] == '.' || name[0] == '-') return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-           c == '.';
-  });
-}
-
 namespace {
 
+// Block and variant names follow the study name's rule (they name files and label results).
 bool is_safe_name(const std::string& name) { return is_valid_study_name(name); }
 
 void check_range(const TomlFields& fields, const std::string& key, double value, double low, double high) {
@@ -393,6 +386,14 @@ const char* protocol_name(ProtocolKind kind) {
   return "?";
 }
 
+bool is_valid_study_name(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name[0] == '.' || name[0] == '-') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+  });
+}
+
 std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion question) {
   switch (kind) {
     case ProtocolKind::two_afc:
@@ -437,7 +438,7 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
   const TomlFields fields(root, path, "");
   const TomlFields study = fields.table("study");
   config.name = study.string("name");
-  if (!is_safe_name(config.name)) study.fail("name", "expected 1-64 letters, digits, '_', '-' or '.' (it names a folder)");
+  if (!is_valid_study_name(config.name)) study.fail("name", "expected 1-64 letters, digits, '_', '-' or '.' (it names a folder)");
   const int64_t seed = study.integer("seed");
   if (seed < 0) study.fail("seed", "expected a non-negative integer");
   config.seed = static_cast<uint64_t>(seed);

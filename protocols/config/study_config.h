@@ -111,10 +111,6 @@ struct StudyConfig {
   std::string hash;             // content hash of source_text (hex)
 };
 
-// A study's name names its folder (results/<study>): 1-64 of [A-Za-z0-9_.-], not starting with '.'
-// or '-' (so never "." or ".."). Session logs' headers are held to the same rule.
-bool is_valid_study_name(const std::string& name);
-
 // Parses and validates; throws InputError "path:LINE: key: what was expected" (for a missing key,
 // LINE is the line of the table that should hold it).
 StudyConfig parse_study_config_file(const std::string& path);
@@ -122,6 +118,11 @@ StudyConfig parse_study_config_file(const std::string& path);
 // without looking for the files, for readers of logs on another machine (fovlab analyze).
 StudyConfig parse_study_config_text(const std::string& text, const std::string& path_for_messages,
                                     bool check_scene_files = true);
+
+// A study name (study.name, and the study a session log's header names): 1-64 letters, digits,
+// '_', '-' or '.', not starting with '.' or '-', so it is one folder name (results/<study>), never
+// a path. Block and variant names follow the same rule.
+bool is_valid_study_name(const std::string& name);
 
 // The answers a protocol collects, in order (e.g. {"same", "different"}); the config's keys must
 // map exactly these.

@@ -1,6 +1,7 @@
 #include "protocols/schedule/study_plan.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "core/input_error.h"
@@ -161,6 +162,15 @@ void check_participant_id(const std::string& participant) {
   if (!ok)
     throw InputError("--participant: expected 1-64 letters, digits, '_' or '-' (it names a folder), got \"" +
                      participant + "\"");
+  if (is_reserved_participant_id(participant))
+    throw InputError("--participant: \"" + participant +
+                     "\" is reserved (results/<study>/analysis holds fovlab analyze's report); choose another ID");
+}
+
+bool is_reserved_participant_id(const std::string& participant) {
+  std::string lower = participant;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower == "analysis";
 }
 
 int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_index) {
@@ -171,6 +181,12 @@ int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_
 
 uint64_t session_seed(uint64_t study_seed, const std::string& participant) {
   return derive_seed(study_seed, "participant:" + participant);
+}
+
+std::vector<StimulusSpec> planned_specs(const StudyPlan& plan) {
+  std::vector<StimulusSpec> specs;
+  for (const PlannedStimulus& stimulus : plan.stimuli) specs.push_back(stimulus.spec);
+  return specs;
 }
 
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant) {

@@ -53,9 +53,12 @@ struct StudyPlan {
   double expected_duration_s(double response_s = 1.5) const;
 };
 
-// The participant ID names a folder: 1-64 of [A-Za-z0-9_-], not starting with '-'. Throws
-// InputError otherwise.
+// The participant ID names a folder: 1-64 of [A-Za-z0-9_-], not starting with '-', and not a
+// reserved name (is_reserved_participant_id). Throws InputError otherwise.
 void check_participant_id(const std::string& participant);
+// "analysis" in any letter case: results/<study>/analysis is fovlab analyze's report folder (its
+// temporaries beside it hold a '.', which IDs cannot).
+bool is_reserved_participant_id(const std::string& participant);
 
 uint64_t session_seed(uint64_t study_seed, const std::string& participant);
 
@@ -64,5 +67,8 @@ uint64_t session_seed(uint64_t study_seed, const std::string& participant);
 int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_index);
 
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant);
+
+// The specs of the plan's stimuli, in id order (for StimulusLibrary and its memory check).
+std::vector<StimulusSpec> planned_specs(const StudyPlan& plan);
 
 }  // namespace fovlab

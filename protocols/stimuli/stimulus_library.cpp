@@ -1,12 +1,15 @@
 #include "protocols/stimuli/stimulus_library.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 #include "core/colour.h"
 #include "core/content_hash.h"
 #include "core/input_error.h"
+#include "core/memory_budget.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -132,9 +135,40 @@ void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
     for (int frame = 0; frame < sequence.frame_count; ++frame) frame_cache_->frame(sequence, frame);
 }
 
+uint64_t prepared_frames_bytes(const std::vector<StimulusSpec>& stimuli) {
+  uint64_t bytes = 0;
+  for (const StimulusSpec& spec : stimuli)
+    if (!method_depends_on_gaze(spec.method))
+      bytes += uint64_t(spec.width_px) * uint64_t(spec.height_px) * 4 * uint64_t(std::max(spec.frame_count, 0));
+  return bytes;
+}
+
+void check_prepared_frames_fit(const std::vector<StimulusSpec>& stimuli, const std::string& source) {
+  const StimulusSpec* example = nullptr;
+  size_t prepared = 0;
+  for (const StimulusSpec& spec : stimuli) {
+    if (method_depends_on_gaze(spec.method)) continue;
+    ++prepared;
+    if (!example || spec.frame_count > example->frame_count) example = &spec;
+  }
+  if (!example) return;
+  std::string what = source.empty() ? std::string() : source + ": ";
+  what += std::to_string(prepared) + " prepared stimuli x " + std::to_string(example->frame_count) +
+          " frames (stimulus.duration_s x stimulus.frames_per_second) x " + std::to_string(example->width_px) + "x" +
+          std::to_string(example->height_px) + " px (display.width_px x display.height_px) x 4 bytes";
+  check_memory_fits(prepared_frames_bytes(stimuli), what,
+                    "shorten stimulus.duration_s, lower stimulus.frames_per_second or the display size, or use fewer "
+                    "levels, variants or blocks");
+}
+
 double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli) {
   const double before = render_seconds_;
   // What can be refused without rendering is refused before anything is rendered.
+  std::vector<StimulusSpec> held;
+  std::set<int> ids;
+  for (const auto& [id, spec] : stimuli)
+    if (!prepared_.count(id) && ids.insert(id).second) held.push_back(spec);
+  check_prepared_frames_fit(held);
   for (const auto& [id, spec] : stimuli)
     if (spec.method == "fpt") check_foveated_path_traced(spec);
   for (const auto& [id, spec] : stimuli) {

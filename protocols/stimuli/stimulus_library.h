@@ -6,6 +6,7 @@
 // rendered live, one image per refresh, with that refresh's gaze. Path-traced frames (pt, fpt) come
 // from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
 // before the first trial.
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -42,6 +43,17 @@ struct StimulusImage {
   GazeSample gaze;      // the position used, as logged (an invalid sample holds its substitute)
 };
 
+// The bytes StimulusLibrary::prepare keeps in memory for these stimuli: every frame of each one that
+// does not depend on gaze, as RGBA8 (width x height x 4 bytes a frame); gaze-dependent ones (fipr,
+// fpt) are rendered live and count nothing. `fovlab validate` prints this figure.
+uint64_t prepared_frames_bytes(const std::vector<StimulusSpec>& stimuli);
+
+// Refuses (InputError, one line) stimuli whose prepared frames would not fit in the memory available
+// (core/memory_budget.h), naming the config fields that drive the figure (stimulus.duration_s,
+// stimulus.frames_per_second, display.width_px, display.height_px), the figure and the memory
+// available. `source`, when given, starts the message (the config's path).
+void check_prepared_frames_fit(const std::vector<StimulusSpec>& stimuli, const std::string& source = "");
+
 class StimulusLibrary {
  public:
   // `cache_root`: the pre-render cache's folder (path-traced methods).
@@ -50,8 +62,9 @@ class StimulusLibrary {
 
   // Renders every frame of the given stimuli that can be prepared ahead (ids are the caller's;
   // the same id must always name the same spec); for gaze-dependent ones it compiles the scene
-  // and checks the settings, so their errors too come before the first trial. Returns the seconds
-  // spent.
+  // and checks the settings, so their errors too come before the first trial. Stimuli whose frames
+  // would not fit in memory are refused before anything is rendered (check_prepared_frames_fit).
+  // Returns the seconds spent.
   double prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli);
   // The image to show; prepared stimuli answer from memory (by frame), others render now.
   const PreparedFrame& frame(int id, const StimulusSpec& spec, const StimulusImage& image);

@@ -178,6 +178,33 @@ struct SphereTracer::FrameBuffers {
   }
 };
 
+// FrameBuffers' allocations (keep the two in step) plus the result's images.
+uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
+  const bool foveated = settings.method == TraceMethod::foveated_pyramid;
+  const int level_count = settings.method == TraceMethod::ground_truth ? 1 : settings.pyramid_levels;
+  const bool filtered = settings.min_filter_size / 2 > 0;
+  const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
+  uint64_t bytes = 0;
+  std::vector<uint64_t> level_pixels;
+  for (int i = 0; i < level_count; ++i) {
+    const int scale = 1 << (level_count - 1 - i);
+    const uint64_t pixels = uint64_t(ceil_div(settings.width, scale)) * uint64_t(ceil_div(settings.height, scale));
+    level_pixels.push_back(pixels);
+    bytes += pixels * 2 * sizeof(uint32_t);                                   // steps, and read back
+    if (i + 1 < level_count) bytes += pixels * sizeof(float) * (filtered ? 2 : 1);  // depth, start_for_next
+  }
+  bytes += frame_pixels * 4 * sizeof(float) * 2;  // colour, and read back
+  if (foveated && level_count >= 3) {
+    bytes += level_pixels[0] * sizeof(uint32_t);                                     // edges
+    bytes += frame_pixels * sizeof(uint32_t) * 4;                                    // mask, its readback, two lists
+    bytes += level_pixels[size_t(level_count - 2)] * (sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, colour
+    bytes += frame_pixels * 4 * sizeof(float);                                       // blurred
+  }
+  bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
+  if (!settings.colour_only) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
+  return bytes;
+}
+
 const char* method_name(TraceMethod method) {
   switch (method) {
     case TraceMethod::ground_truth: return "gt";

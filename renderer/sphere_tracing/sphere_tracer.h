@@ -64,6 +64,11 @@ struct SphereTraceSettings {
 // Validates sizes and options; throws InputError naming the flag and what was expected.
 void validate(const SphereTraceSettings& settings);
 
+// The memory one render of these settings holds, in bytes: the tracer's frame buffers (counted in
+// full: on a CPU device such as lavapipe they are host memory) and the images of its result.
+// `fovlab render` and `fovlab bench` refuse sizes that would not fit (core/memory_budget.h).
+uint64_t render_memory_bytes(const SphereTraceSettings& settings);
+
 struct PyramidLevelStats {
   int width = 0;
   int height = 0;

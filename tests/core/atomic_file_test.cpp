@@ -1,10 +1,16 @@
-// All-or-nothing file writes: a failed write leaves the old file untouched and no temporary behind.
+// All-or-nothing file and folder writes: a failed write leaves the old file (or folder) untouched and
+// no temporary behind; what killed writers left is cleaned up.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
@@ -45,6 +51,98 @@ TEST(AtomicFile, FailedWriteKeepsTheOldFile) {
                std::runtime_error);
   EXPECT_EQ(read_all(target), "previous content");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 1);
+}
+
+// --- whole folders --------------------------------------------------------------------------------
+
+// The names in a folder, sorted.
+std::vector<std::string> names_in(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A pid no process has now: a child's, after it exited and was reaped.
+pid_t pid_of_a_finished_process() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return child;
+}
+
+void write_set(const std::filesystem::path& target, bool replace, const std::string& text) {
+  write_folder_atomically(target, replace, [&](const std::filesystem::path& temporary) {
+    write_text_atomically(temporary / "a.txt", text);
+    write_text_atomically(temporary / "b.txt", text);
+  });
+}
+
+TEST(AtomicFolder, WritesTheSetAndReplacesOnlyWhenAsked) {
+  const auto folder = fresh_folder("atomic-folder");
+  const auto target = folder / "out";
+  write_set(target, false, "first");
+  EXPECT_EQ(names_in(folder), std::vector<std::string>{"out"});
+  EXPECT_EQ(names_in(target), (std::vector<std::string>{"a.txt", "b.txt"}));
+  try {
+    write_set(target, false, "second");
+    ADD_FAILURE() << "an existing folder was replaced without replace";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(target.string()), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(read_all(target / "a.txt"), "first");
+  write_set(target, true, "third");
+  EXPECT_EQ(read_all(target / "a.txt"), "third");
+  EXPECT_EQ(read_all(target / "b.txt"), "third");
+  EXPECT_EQ(names_in(folder), std::vector<std::string>{"out"}) << "a temporary or the old folder was left";
+  // An empty folder is not an earlier set: written without replace.
+  std::filesystem::create_directories(folder / "empty");
+  write_set(folder / "empty", false, "fourth");
+  EXPECT_EQ(read_all(folder / "empty" / "a.txt"), "fourth");
+}
+
+TEST(AtomicFolder, FailedWriteKeepsTheOldFolderAndNoTemporary) {
+  const auto folder = fresh_folder("atomic-folder-failure");
+  const auto target = folder / "out";
+  write_set(target, false, "old");
+  EXPECT_THROW(write_folder_atomically(target, true,
+                                       [](const std::filesystem::path& temporary) {
+                                         write_text_atomically(temporary / "a.txt", "half");
+                                         throw std::runtime_error("writer died halfway");
+                                       }),
+               std::runtime_error);
+  EXPECT_EQ(read_all(target / "a.txt"), "old");
+  EXPECT_EQ(names_in(folder), std::vector<std::string>{"out"});
+}
+
+// What killed writers left: temporaries of finished processes are removed, an old folder set aside
+// is put back when the target is missing, and the temporaries of a running process are kept.
+TEST(AtomicFolder, TemporariesOfKilledWritersAreCleanedUp) {
+  const auto folder = fresh_folder("atomic-folder-stale");
+  const auto target = folder / "out";
+  const std::string dead = std::to_string(pid_of_a_finished_process());
+  const std::string alive = std::to_string(::getpid());
+  const auto stale = folder / ("out.tmp-" + dead + "-0123456789abcdef");
+  const auto running = folder / ("out.tmp-" + alive + "-0123456789abcdef");
+  const auto aside = folder / ("out.old-" + dead + "-fedcba9876543210");
+  const auto unrelated = folder / "out.tmp-notes";
+  for (const auto& path : {stale, running, aside, unrelated}) std::filesystem::create_directories(path);
+  write_text_atomically(stale / "a.txt", "half");
+  write_text_atomically(aside / "a.txt", "the old set");
+
+  remove_stale_folder_temporaries(target);
+  EXPECT_EQ(read_all(target / "a.txt"), "the old set") << "the old folder set aside was not put back";
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_FALSE(std::filesystem::exists(aside));
+  EXPECT_TRUE(std::filesystem::exists(running)) << "a running writer's temporary was removed";
+  EXPECT_TRUE(std::filesystem::exists(unrelated));
+
+  // A new write cleans up the same way; an old folder set aside while the target exists is removed.
+  std::filesystem::create_directories(aside);
+  write_set(target, true, "new");
+  EXPECT_EQ(read_all(target / "a.txt"), "new");
+  EXPECT_EQ(names_in(folder), (std::vector<std::string>{"out", "out.tmp-" + alive + "-0123456789abcdef", "out.tmp-notes"}));
 }
 
 TEST(ImageIo, PngRoundTripAndErrorsNameThePath) {

@@ -230,11 +230,11 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
   ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "excluded", "session_ended", "complete_trials",
                                                "attention_checks", "attention_errors", "scene", "variant",
-                                               "threshold", "note"}));
-  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", kParkScene, "blur", "10", ""}));
+                                               "threshold", "note", "log_status"}));
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed"}));
   EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", "city", "", "",
-                                               "every step answered correctly, censored"}));
-  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "true", "false", "80", "6", "4", "", "", "", ""}));
+                                               "every step answered correctly, censored", "sealed"}));
+  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "true", "false", "80", "6", "4", "", "", "", "", "sealed"}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {

@@ -2,9 +2,12 @@
 // protocol's simulated sessions analysed into thresholds.json, conditions.csv, participants.csv and
 // report.html; bad input (a torn line, another schema version, logs of different studies, a
 // duplicate participant, an edited log, an excluded participant, nothing analysable, bad flags)
-// reported with its reason, what can still be analysed analysed, and the logs never modified; and
-// the test's alternative named in the outputs.
+// reported with its reason, what can still be analysed analysed, and the logs never modified; the
+// test's alternative named in the outputs; and the output folder written as a set (never a mix of
+// two analyses, never outside results/ for a study name of a log header, never a participant's).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -16,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "protocols/log/event_log.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {
@@ -599,6 +603,181 @@ TEST(AnalyzeCli, AlternativeGreaterIsNamedInThresholdsAndReport) {
       EXPECT_GT(p_greater, 0.5) << greater.dump();  // k <= n/2: P(X >= k) > 1/2
     }
   }
+}
+
+// --- the output folder as a set (docs/analysis.md, "The output folder") ------------------------------
+
+// The names in a folder, sorted.
+std::vector<std::string> names_in(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A pid no process has now: a child's, after it exited and was reaped.
+pid_t pid_of_a_finished_process() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return child;
+}
+
+// A copy of `log` at `to` with header fields replaced, every line's chain recomputed (as if the
+// runner had written it so).
+void write_log_with_header(const fs::path& log, const fs::path& to, const json& header_fields) {
+  const fovlab::EventLogFile file = fovlab::read_event_log(log.string());
+  std::string bytes, chain;
+  for (size_t i = 0; i < file.events.size(); ++i) {
+    json event = file.events[i];
+    if (i == 0) event.update(header_fields);
+    event.erase("chain");
+    chain = fovlab::event_chain(chain, event);
+    event["chain"] = chain;
+    bytes += event.dump() + "\n";
+  }
+  fs::create_directories(to.parent_path());
+  std::ofstream(to, std::ios::binary) << bytes;
+}
+
+// A run leaves exactly the report files at --out, and nothing beside it; the temporaries a killed
+// run left beside it (a dead process's) are removed, a running process's are not touched.
+TEST(AnalyzeCli, OutputIsCompleteAndKilledRunsLeaveNothingBehind) {
+  const fs::path folder = scratch("output-set");
+  const fs::path results = folder / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path parent = folder / "reports";
+  const fs::path out = parent / "analysis";
+  // A run killed while writing (files half there) and one killed after swapping (the old analysis
+  // under the temporary name), both of a finished process; and a temporary of a running one.
+  const std::string dead = std::to_string(pid_of_a_finished_process());
+  const fs::path killed_writing = parent / ("analysis.tmp-" + dead + "-00000000000000aa");
+  const fs::path killed_swapping = parent / ("analysis.tmp-" + dead + "-00000000000000bb");
+  const fs::path running = parent / ("analysis.tmp-" + std::to_string(::getpid()) + "-00000000000000cc");
+  for (const fs::path& path : {killed_writing, killed_swapping, running}) fs::create_directories(path);
+  std::ofstream(killed_writing / "thresholds.json") << "{\"study\": \"half";
+  std::ofstream(killed_writing / ".conditions.tmp-1.csv") << "study,proto";
+  std::ofstream(killed_swapping / "thresholds.json") << "{}";
+
+  const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(names_in(parent), (std::vector<std::string>{"analysis", running.filename().string()}))
+      << "a killed run's temporary is still there, or a new one was left";
+  const std::vector<std::string> files = names_in(out);
+  for (const char* file : {"thresholds.json", "conditions.csv", "participants.csv", "report.html", "share_per_level.svg"})
+    EXPECT_NE(std::find(files.begin(), files.end(), file), files.end()) << file << " is missing";
+  for (const std::string& file : files) {
+    EXPECT_NE(file[0], '.') << "hidden temporary left in the output: " << file;
+    EXPECT_EQ(file.find(".tmp"), std::string::npos) << file;
+  }
+  EXPECT_EQ(load_json(out / "thresholds.json").value("study", ""), "tiny_2afc");
+  EXPECT_NE(result.out.find("wrote " + std::to_string(files.size()) + " file(s)"), std::string::npos) << result.out;
+}
+
+// An earlier analysis is kept unless --force; with it, it is replaced whole. --force never
+// replaces a folder holding anything else.
+TEST(AnalyzeCli, ExistingOutputNeedsForceAndOnlyAnAnalysisIsReplaced) {
+  const fs::path folder = scratch("force");
+  const fs::path results = folder / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const std::string input = (results / "tiny_2afc").string() + " --bootstrap 0";
+  const fs::path out = folder / "out";
+  ASSERT_EQ(analyze(input + " --out " + out.string()).exit_code, 0);
+  const auto first = snapshot(out);
+
+  // Without --force: refused, the earlier analysis byte for byte as it was.
+  const CommandResult again = analyze(input + " --alternative less --out " + out.string());
+  expect_one_line_error(again, out.string());
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+  expect_unchanged(first, out);
+
+  // With --force: the new analysis, whole, and nothing left beside it.
+  const CommandResult forced = analyze(input + " --alternative less --force --out " + out.string());
+  ASSERT_EQ(forced.exit_code, 0) << forced.err;
+  EXPECT_EQ(load_json(out / "thresholds.json")["test"].value("alternative", ""), "less");
+  for (const auto& row : csv_rows(out / "conditions.csv")) EXPECT_EQ(row.at(15), "less");
+  EXPECT_EQ(names_in(folder), (std::vector<std::string>{"out", "results"}));
+
+  // A folder with anything analyze does not write is not replaced, not even with --force.
+  const fs::path mixed = folder / "mixed";
+  fs::create_directories(mixed);
+  std::ofstream(mixed / "notes.txt") << "keep me";
+  const auto logs = snapshot(results);
+  for (const fs::path& target : {mixed, results, results / "tiny_2afc"}) {
+    SCOPED_TRACE(target.string());
+    const auto before = snapshot(target);
+    expect_one_line_error(analyze(input + " --force --out " + target.string()), target.string());
+    expect_unchanged(before, target);
+  }
+  expect_unchanged(logs, results);
+}
+
+// The study of a log header names the default folder results/<study>/analysis: a name that is a
+// path ("../../x", absolute) leaves the log out (exit 2 when it is the only one) and nothing is
+// written anywhere.
+TEST(AnalyzeCli, StudyNameOfAHeaderCannotMakeAPathOutsideResults) {
+  const fs::path folder = scratch("traversal");
+  const fs::path made = folder / "made";
+  run_session(fixture("tiny_2afc"), "P001", made);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path work = folder / "work";
+  const fs::path absolute = folder / "absolute";
+  for (const std::string& study : {std::string("../../x"), absolute.string(), std::string(".."), std::string("a/b")}) {
+    SCOPED_TRACE(study);
+    fs::remove_all(work);
+    const fs::path log = work / "results" / "evil" / "P001" / "events.jsonl";
+    write_log_with_header(log_of(made, "tiny_2afc", "P001"), log, {{"study", study}});
+    const auto before = snapshot(folder);
+    const CommandResult result = fovlab::cli_test::run_in(work, "analyze results/evil --bootstrap 0");
+    expect_one_line_error(result, "results/evil/P001/events.jsonl");
+    EXPECT_NE(result.err.find("study"), std::string::npos) << result.err;
+    expect_unchanged(before, folder);
+    EXPECT_FALSE(fs::exists(folder / "x"));
+    EXPECT_FALSE(fs::exists(absolute));
+  }
+  // Beside a good log of the study, the bad one is left out with its reason.
+  fs::remove_all(work);
+  write_log_with_header(log_of(made, "tiny_2afc", "P001"), work / "results" / "tiny_2afc" / "P002" / "events.jsonl",
+                        {{"study", "../../x"}});
+  fs::copy(made / "tiny_2afc" / "P001", work / "results" / "tiny_2afc" / "P001", fs::copy_options::recursive);
+  const CommandResult mixed = fovlab::cli_test::run_in(work, "analyze results/tiny_2afc --bootstrap 0");
+  ASSERT_EQ(mixed.exit_code, 0) << mixed.err;
+  expect_left_out(work / "results" / "tiny_2afc" / "analysis", "results/tiny_2afc/P002/events.jsonl", "study");
+  EXPECT_FALSE(fs::exists(folder / "x"));
+}
+
+// A participant cannot be called "analysis" (the report folder); a log of one written before that
+// rule is never overwritten by the report.
+TEST(AnalyzeCli, ParticipantCalledAnalysisCannotShareTheReportFolder) {
+  const fs::path folder = scratch("participant-analysis");
+  const fs::path results = folder / "results";
+  for (const char* id : {"analysis", "Analysis", "ANALYSIS"}) {
+    SCOPED_TRACE(id);
+    const CommandResult run = fovlab_command("run " + fixture("tiny_2afc") + " --participant " + id +
+                                             " --headless --observer simulated --results " + results.string());
+    expect_one_line_error(run, std::string("\"") + id + "\" is reserved");
+    EXPECT_FALSE(fs::exists(results / "tiny_2afc" / id));
+  }
+  run_session(fixture("tiny_2afc"), "P001", results);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  // An older build's log of participant "analysis", in the default report folder.
+  const fs::path shared = results / "tiny_2afc" / "analysis";
+  write_log_with_header(log_of(results, "tiny_2afc", "P001"), shared / "events.jsonl", {{"participant", "analysis"}});
+  const auto before = snapshot(results);
+  for (const char* force : {"", " --force"}) {
+    SCOPED_TRACE(force);
+    const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0" + force);
+    expect_one_line_error(result, shared.string());
+    EXPECT_NE(result.err.find("events.jsonl"), std::string::npos) << result.err;
+    expect_unchanged(before, results);
+  }
+  // Another --out: analysed, that participant included.
+  const fs::path out = folder / "out";
+  ASSERT_EQ(analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string()).exit_code, 0);
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P001", "analysis"}));
 }
 
 }  // namespace

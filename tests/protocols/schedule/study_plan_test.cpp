@@ -594,7 +594,7 @@ TEST(ProtocolsSchedule, ATestIdenticalToTheReferenceIsStillATestStimulus) {
 // --- participants -------------------------------------------------------------------------------------
 
 TEST(ProtocolsSchedule, ParticipantIds) {
-  for (const std::string& bad : std::vector<std::string>{"../x", "a/b", "", "-x", std::string(65, 'a'), ".hidden", "a b", "a\\b", "ü", "p:1"}) {
+  for (const std::string& bad : std::vector<std::string>{"../x", "a/b", "", "-x", std::string(65, 'a'), ".hidden", "a b", "a\\b", "ü", "p:1", "analysis", "Analysis"}) {
     EXPECT_THROW(check_participant_id(bad), InputError) << "\"" << bad << "\"";
   }
   for (const std::string& good : std::vector<std::string>{"P01", "a", "a_b-c", "x-", std::string(64, 'z'), "0"}) {
