@@ -162,6 +162,10 @@ void check_participant_id(const std::string& participant) {
   if (!ok)
     throw InputError("--participant: expected 1-64 letters, digits, '_' or '-' (it names a folder), got \"" +
                      participant + "\"");
+}
+
+void check_new_participant_id(const std::string& participant) {
+  check_participant_id(participant);
   if (is_reserved_participant_id(participant))
     throw InputError("--participant: \"" + participant +
                      "\" is reserved (results/<study>/analysis holds fovlab analyze's report); choose another ID");

@@ -53,9 +53,12 @@ struct StudyPlan {
   double expected_duration_s(double response_s = 1.5) const;
 };
 
-// The participant ID names a folder: 1-64 of [A-Za-z0-9_-], not starting with '-', and not a
-// reserved name (is_reserved_participant_id). Throws InputError otherwise.
+// The participant ID names a folder: 1-64 of [A-Za-z0-9_-], not starting with '-'. Throws
+// InputError otherwise. Every reader of a log holds its header's participant to this rule.
 void check_participant_id(const std::string& participant);
+// A participant a session may start or resume now: check_participant_id, and not a reserved name
+// (is_reserved_participant_id). Logs of a reserved name made by an older fovlab stay readable.
+void check_new_participant_id(const std::string& participant);
 // "analysis" in any letter case: results/<study>/analysis is fovlab analyze's report folder (its
 // temporaries beside it hold a '.', which IDs cannot).
 bool is_reserved_participant_id(const std::string& participant);

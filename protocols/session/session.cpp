@@ -138,11 +138,13 @@ std::string next_participant_id(const std::string& results_dir, const std::strin
 
 SessionOutcome run_session(const StudyConfig& config, const SessionOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
+  check_new_participant_id(options.participant);
   const StudyPlan plan = make_study_plan(config, options.participant);
   SessionOutcome outcome;
   outcome.plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   outcome.trials_total = static_cast<int>(plan.trials.size());
   outcome.log_path = session_log_path(options.results_dir, config.name, options.participant);
+  check_prepared_frames_fit(planned_specs(plan), config.source_path);  // before the window, the lock, any render
 
   // Answers and gaze: parsed before anything is written.
   std::optional<ObserverModel> observer_model;

@@ -633,6 +633,7 @@ void write_log_with_header(const fs::path& log, const fs::path& to, const json& 
     json event = file.events[i];
     if (i == 0) event.update(header_fields);
     event.erase("chain");
+    if (event.value("event", "") == "seal") event["last_chain"] = chain;  // an unkeyed seal, made again
     chain = fovlab::event_chain(chain, event);
     event["chain"] = chain;
     bytes += event.dump() + "\n";
