@@ -21,18 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_folder;
+using test::simulated;
 using test::read_file;
 using test::study_fixture;
-
-SessionOptions simulated(const fs::path& results, const std::string& participant = "P1") {
-  SessionOptions options;
-  options.participant = participant;
-  options.results_dir = results.string();
-  options.observer = "simulated";
-  options.headless = true;
-  options.validation = true;
-  return options;
-}
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;

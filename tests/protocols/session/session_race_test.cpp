@@ -147,11 +147,7 @@ TEST(SessionRace, AParticipantFolderThatIsASymbolicLinkIsRefused) {
 TEST(SessionRace, AStartThatFailsAfterTakingTheLockLeavesNoFolder) {
   const fs::path results = test::fresh_folder("race-failed-start");
   const StudyConfig config = parse_study_config_file(test::study_fixture("pair").string());
-  SessionOptions options;
-  options.participant = "F1";
-  options.results_dir = results.string();
-  options.observer = "simulated";
-  options.headless = true;
+  SessionOptions options = test::simulated(results, "F1");
   options.gaze = "trace:" + (results / "no-such-trace.csv").string();  // read after the lock is taken
   EXPECT_THROW(run_session(config, options), InputError);
   EXPECT_TRUE(fs::is_empty(results)) << "a failed start left " << fs::directory_iterator(results)->path();

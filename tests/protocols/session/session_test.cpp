@@ -17,19 +17,10 @@ namespace {
 namespace fs = std::filesystem;
 using test::fixture_with;
 using test::fresh_folder;
+using test::simulated;
 using test::read_file;
 using test::study_fixture;
 using test::trial_summary;
-
-SessionOptions simulated(const fs::path& results, const std::string& participant = "P1") {
-  SessionOptions options;
-  options.participant = participant;
-  options.results_dir = results.string();
-  options.observer = "simulated";
-  options.headless = true;
-  options.validation = true;
-  return options;
-}
 
 ReplayOutcome replay(const std::string& log_path) {
   ReplayOptions options;

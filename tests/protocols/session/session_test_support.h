@@ -9,6 +9,7 @@
 
 #include "protocols/config/study_config.h"
 #include "protocols/log/session_record.h"
+#include "protocols/session/session.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab::test {
@@ -32,6 +33,17 @@ inline StudyConfig fixture_with(const std::string& name, const std::string& from
   if (at == std::string::npos) throw std::logic_error("fixture_with: \"" + from + "\" not in " + name);
   text.replace(at, from.size(), to);
   return parse_study_config_text(text, path.string());
+}
+
+// A headless session answered by the simulated observer, with the validation layer on.
+inline SessionOptions simulated(const std::filesystem::path& results, const std::string& participant = "P1") {
+  SessionOptions options;
+  options.participant = participant;
+  options.results_dir = results.string();
+  options.observer = "simulated";
+  options.headless = true;
+  options.validation = true;
+  return options;
 }
 
 // An empty folder for one session test, removed when the test process exits.
