@@ -20,9 +20,13 @@
 
 namespace fovlab {
 
+std::string chain_of_text(const std::string& previous_chain, std::string_view text, int schema_version) {
+  if (schema_version == 1) return ContentHash().add(previous_chain).add(text).hex();
+  return sha256_hex(previous_chain, text);
+}
+
 std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain, int schema_version) {
-  if (schema_version == 1) return ContentHash().add(previous_chain).add(event_without_chain.dump()).hex();
-  return sha256_hex(previous_chain, event_without_chain.dump());
+  return chain_of_text(previous_chain, event_without_chain.dump(), schema_version);
 }
 
 EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key)
@@ -32,10 +36,16 @@ EventLogWriter::EventLogWriter(const std::string& path, std::string previous_cha
   // One writer a log; the participant's lock (participant_lock.h) already ensures it, this flock
   // also keeps out a fovlab older than that lock.
   struct stat status {};
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0 || ::fstat(fd_, &status) != 0) {
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(fd_);
     fd_ = -1;
     throw InputError(path + ": another fovlab process is writing this log");
+  }
+  if (::fstat(fd_, &status) != 0) {
+    const int reason = errno;
+    ::close(fd_);
+    fd_ = -1;
+    throw FileError(path, "reading the session log's size", reason);
   }
   size_ = status.st_size;
   if (size_ == 0) fsync_directory(std::filesystem::path(path).parent_path());
@@ -49,12 +59,11 @@ void EventLogWriter::append(nlohmann::json event) {
   const auto start = std::chrono::steady_clock::now();
   event["seq"] = next_seq_;
   event.erase("chain");
-  if (event.value("event", "") == "seal") {
-    event["last_chain"] = chain_;
-    if (lab_key_) event["mac"] = seal_mac(*lab_key_, event);
-  }
+  event.erase("mac");
+  if (event.value("event", "") == "seal") event["last_chain"] = chain_;
   const std::string chain = event_chain(chain_, event);
   event["chain"] = chain;
+  if (lab_key_) event["mac"] = event_mac(*lab_key_, chain);
   const std::string line = event.dump() + "\n";
   // A failed write or fsync cuts the file back to its last complete line: a full disk leaves no
   // partial event behind (and a resume, once there is space, continues from the last one).
@@ -133,6 +142,7 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
       if (consistent) {
         nlohmann::json without_chain = event;
         without_chain.erase("chain");
+        without_chain.erase("mac");
         const std::string expected = event_chain(chain, without_chain, log.schema_version);
         consistent = expected == recorded->get<std::string>();
         chain = expected;

@@ -33,8 +33,8 @@ class EventLogWriter {
   EventLogWriter(const EventLogWriter&) = delete;
   EventLogWriter& operator=(const EventLogWriter&) = delete;
 
-  // Adds "seq" and "chain", writes the line and fsyncs. A `seal` event also gets "last_chain" and,
-  // with a lab key, "mac". On failure (a full disk...) the file is cut back to what it was, so no
+  // Adds "seq", "chain" and, with a lab key, "mac"; writes the line and fsyncs. A `seal` event also
+  // gets "last_chain". On failure (a full disk...) the file is cut back to what it was, so no
   // partial line is left, and FileError says which operation failed and why.
   void append(nlohmann::json event);
   const std::string& path() const { return path_; }
@@ -51,7 +51,9 @@ class EventLogWriter {
 };
 
 // The chain value of an event (given the previous chain) in a log of this schema version, as the
-// writer computes it: FNV-1a-64 in schema 1, else SHA-256 (hex).
+// writer computes it: FNV-1a-64 in schema 1, else SHA-256 (hex), of the previous chain followed by
+// the event's text without "chain" and "mac" (keys sorted, as nlohmann::json writes them).
+std::string chain_of_text(const std::string& previous_chain, std::string_view text, int schema_version);
 std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain,
                         int schema_version = log_schema_version);
 

@@ -48,19 +48,14 @@ std::string LogIntegrity::describe() const {
   switch (status) {
     case LogStatus::sealed:
       if (!keyed) return "sealed (no lab key: detects accidents and edits, not a forger who rewrites the chain)";
-      return mac_checked ? "sealed (keyed, MAC verified)" : "sealed (keyed; MAC not checked: no --lab-key given)";
+      return mac_checked ? "sealed (keyed, every MAC verified)" : "sealed (keyed; MACs not checked: no --lab-key given)";
     case LogStatus::unsealed: return "unsealed (" + reason + ")";
     case LogStatus::broken: return "broken at line " + std::to_string(line) + ": " + reason;
   }
   return reason;
 }
 
-std::string seal_mac(const LabKey& key, const nlohmann::json& seal_event) {
-  nlohmann::json text = seal_event;
-  text.erase("chain");
-  text.erase("mac");
-  return hmac_sha256_hex(key.bytes, text.dump());
-}
+std::string event_mac(const LabKey& key, const std::string& chain) { return hmac_sha256_hex(key.bytes, chain); }
 
 void IntegrityTracker::header(const nlohmann::json& header, const std::string& path) {
   const auto schema = header.find("schema_version");
@@ -71,7 +66,17 @@ void IntegrityTracker::header(const nlohmann::json& header, const std::string& p
     throw InputError(path + ":1: the log was sealed with lab key " + key_id->get<std::string>() +
                      ", but --lab-key is key " + key_->id + " (give the key the session ran with)");
   result_.mac_checked = result_.keyed && key_;
+  // A reader given the lab key expects the lab's logs keyed with it: one that is not could have
+  // had its key id and MACs stripped by someone rewriting it.
+  key_not_used_ = key_ && !result_.keyed;
   last_was_seal_ = false;
+}
+
+void IntegrityTracker::mac(const std::string& chain, const std::optional<std::string>& mac, int line) {
+  if (!result_.keyed) return;
+  if (!mac) return broken(line, "the log is keyed but this event has no mac");
+  if (key_ && *mac != event_mac(*key_, chain))
+    broken(line, "the event's MAC does not verify under the lab key (the log was changed after it was written)");
 }
 
 void IntegrityTracker::broken(int line, std::string reason) {
@@ -92,16 +97,15 @@ void IntegrityTracker::seal(const nlohmann::json& seal_event, int line, const st
   const auto last_chain = seal_event.find("last_chain");
   if (last_chain == seal_event.end() || !last_chain->is_string() || last_chain->get<std::string>() != previous_chain)
     broken(line, "the seal's last_chain is not the chain of the event before it");
-  if (!result_.keyed) return;
-  const auto mac = seal_event.find("mac");
-  if (mac == seal_event.end() || !mac->is_string()) return broken(line, "the log is keyed but this seal has no mac");
-  if (key_ && mac->get<std::string>() != seal_mac(*key_, seal_event))
-    broken(line, "the seal's MAC does not verify under the lab key (the log was changed after it was sealed)");
 }
 
 LogIntegrity IntegrityTracker::finish(int chain_error_line, bool torn_tail) const {
   LogIntegrity result = result_;
-  if (chain_error_line && (!broken_line_ || chain_error_line <= *broken_line_)) {
+  if (key_not_used_) {
+    result.status = LogStatus::broken;
+    result.line = 1;
+    result.reason = "--lab-key was given but the log is not keyed (no lab_key_id): its events cannot be verified";
+  } else if (chain_error_line && (!broken_line_ || chain_error_line <= *broken_line_)) {
     result.status = LogStatus::broken;
     result.line = chain_error_line;
     result.reason = "the event chain breaks here (a line was edited, removed, inserted or reordered)";

@@ -1,13 +1,15 @@
 #pragma once
 // Whether a session log is as its writer left it (docs/log-schema.md, "Integrity"). Schema 2 logs
 // chain every event with SHA-256 and end each run of the session (its end, and every pause) with a
-// `seal` event that commits the number of complete trials and the chain so far; with a lab key
-// (a file kept outside results/) the seal also carries an HMAC-SHA-256 that only the key's holder
-// can make. Every reader (resume, replay, analyze, export) classifies a log as:
+// `seal` event that commits the number of complete trials and the chain so far. With a lab key (a
+// file kept outside results/) every event also carries "mac", an HMAC-SHA-256 of its chain that
+// only the key's holder can make, so no event can be rewritten without the key. Every reader
+// (resume, replay, analyze, export) classifies a log as:
 //   sealed   - chain unbroken, every seal consistent, the last event a seal;
 //   unsealed - chain unbroken, every seal consistent, but the log does not end with a seal (the
 //              session was interrupted by a crash or kill; or someone cut it at a line boundary);
-//   broken   - the chain breaks, a seal contradicts the log, or a MAC does not verify.
+//   broken   - the chain breaks, a seal contradicts the log, a MAC is missing or does not verify,
+//              or a lab key was given and the log is not keyed with it.
 #include <optional>
 #include <string>
 
@@ -35,16 +37,16 @@ struct LogIntegrity {
   std::string reason;       // broken or unsealed: why, in words
   int schema_version = 0;
   bool keyed = false;       // the header names a lab key (lab_key_id)
-  bool mac_checked = false; // keyed and the key was given: every seal's MAC verified
+  bool mac_checked = false; // keyed and the key was given: every event's MAC verified
   int seals = 0;
   // One line for a person: "sealed", "sealed (keyed; MAC not checked: no --lab-key)",
   // "unsealed (...)", "broken at line N: ...".
   std::string describe() const;
 };
 
-// The MAC of a seal event: HMAC-SHA-256 under the key of the event's canonical text (keys sorted,
-// as nlohmann::json writes them) without "chain" and "mac".
-std::string seal_mac(const LabKey& key, const nlohmann::json& seal_event);
+// The MAC of an event in a keyed log: HMAC-SHA-256 under the key of the event's chain (which
+// commits the event's text and every event before it).
+std::string event_mac(const LabKey& key, const std::string& chain);
 
 // Fed a log's events in order by either reader; says at the end what the log is.
 class IntegrityTracker {
@@ -52,7 +54,10 @@ class IntegrityTracker {
   explicit IntegrityTracker(const LabKey* key) : key_(key) {}
   // The first event. Throws InputError "path:1: ..." when the log was sealed with another key.
   void header(const nlohmann::json& header, const std::string& path);
-  // Any later event but a seal (kind: its "event").
+  // Every event, the header too, with its recomputed chain and its "mac" (none: absent or not a
+  // string). Checks the MAC of a keyed log when the key was given.
+  void mac(const std::string& chain, const std::optional<std::string>& mac, int line);
+  // Any later event but a seal.
   void event() { last_was_seal_ = false; }
   // A seal at `line`; `previous_chain` is the chain of the event before it, `trials_complete` the
   // complete trials of the log up to it.
@@ -65,6 +70,7 @@ class IntegrityTracker {
   const LabKey* key_;
   LogIntegrity result_;
   bool last_was_seal_ = false;
+  bool key_not_used_ = false;  // a key was given but the log is not keyed with any
   std::optional<int> broken_line_;
 };
 

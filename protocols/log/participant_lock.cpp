@@ -53,8 +53,17 @@ std::string read_holder(int fd) {
 
 ParticipantLock::ParticipantLock(const fs::path& results_dir, const std::string& study, const std::string& participant)
     : folder_(results_dir / study / participant), lock_path_(folder_ / "session.lock") {
-  // The results folder's missing ancestors, top down, made one mkdir at a time (remembered, so that
-  // a failed start can take them away again).
+  try {
+    acquire(results_dir, study);
+  } catch (...) {
+    release();  // a failed start leaves nothing it made, and never touches a lock another process holds
+    throw;
+  }
+}
+
+void ParticipantLock::acquire(const fs::path& results_dir, const std::string& study) {
+  // The results folder's missing ancestors, top down, made one mkdir at a time, each entry fsync'd
+  // (remembered, so that a failed start can take them away again).
   std::vector<fs::path> missing;
   std::error_code error;
   for (fs::path folder = fs::absolute(results_dir).lexically_normal(); !folder.empty() && !fs::exists(fs::symlink_status(folder, error));
@@ -62,49 +71,67 @@ ParticipantLock::ParticipantLock(const fs::path& results_dir, const std::string&
     missing.push_back(folder);
     if (folder == folder.parent_path()) break;
   }
-  for (auto folder = missing.rbegin(); folder != missing.rend(); ++folder)
-    if (::mkdir(folder->c_str(), 0755) == 0) created_.push_back(*folder);
-    else if (errno != EEXIST) throw FileError(folder->string(), "creating the results folder", errno);
+  for (auto folder = missing.rbegin(); folder != missing.rend(); ++folder) {
+    if (::mkdir(folder->c_str(), 0755) == 0) {
+      created_.push_back(*folder);
+      fsync_directory(folder->parent_path());
+    } else if (errno != EEXIST) {
+      throw FileError(folder->string(), "creating the results folder", errno);
+    }
+  }
   if (make_real_folder(results_dir / study, "study")) created_.push_back(results_dir / study);
   if (make_real_folder(folder_, "participant")) created_.push_back(folder_);
-  // The lock file is never removed while a run may hold it, except by its holder (below); a
+  // The lock file is never removed while a run may hold it, except by its holder (release); a
   // process that opened a file its holder then removed sees another inode at the path and tries
   // again, so two processes never each hold a lock on a different file.
   for (int attempt = 0; attempt < 100; ++attempt) {
-    fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (fd_ < 0) throw FileError(lock_path_.string(), "opening the participant's lock", errno);
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int fd = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) throw FileError(lock_path_.string(), "opening the participant's lock", errno);
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int reason = errno;
-      const std::string holder = read_holder(fd_);
-      ::close(fd_);
-      fd_ = -1;
+      const std::string holder = read_holder(fd);
+      ::close(fd);
       if (reason == EWOULDBLOCK)
         throw InputError(folder_.string() + ": another fovlab process runs this participant (" + holder +
                          "); nothing was changed");
       throw FileError(lock_path_.string(), "locking the participant's folder", reason);
     }
     struct stat opened {}, named {};
-    if (::fstat(fd_, &opened) == 0 && ::lstat(lock_path_.c_str(), &named) == 0 && opened.st_ino == named.st_ino &&
-        opened.st_dev == named.st_dev)
+    if (::fstat(fd, &opened) == 0 && ::lstat(lock_path_.c_str(), &named) == 0 && opened.st_ino == named.st_ino &&
+        opened.st_dev == named.st_dev) {
+      fd_ = fd;
       break;
-    ::close(fd_);
-    fd_ = -1;
+    }
+    ::close(fd);
   }
   if (fd_ < 0) throw InputError(lock_path_.string() + ": the lock file keeps being replaced; nothing was changed");
+  // Who holds it, for the message of a second run: best effort (a full disk must not stop a run
+  // that may only be resuming to seal).
   const std::string holder = holder_text() + "\n";
-  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, holder.data(), holder.size(), 0) != static_cast<ssize_t>(holder.size()))
-    throw FileError(lock_path_.string(), "writing the participant's lock", errno);
+  if (::ftruncate(fd_, 0) == 0) (void)!::pwrite(fd_, holder.data(), holder.size(), 0);
 }
 
-ParticipantLock::~ParticipantLock() {
-  if (fd_ < 0) return;
-  if (!created_.empty() && created_.back() == folder_ && !fs::exists(folder_ / "events.jsonl")) {
-    ::unlink(lock_path_.c_str());
-    // Newest first; rmdir only takes an empty folder (another participant may be there by now).
-    for (auto folder = created_.rbegin(); folder != created_.rend(); ++folder) ::rmdir(folder->c_str());
-    fsync_directory(created_.front().parent_path());
+void ParticipantLock::release() {
+  // Only what this lock made, and only when the participant's folder holds no log (a log a failed
+  // write left empty holds nothing): newest first, rmdir takes an empty folder only (another
+  // participant may be in the study folder by now).
+  if (!created_.empty() && created_.back() == folder_) {
+    std::error_code error;
+    const fs::path log = folder_ / "events.jsonl";
+    const bool no_log = !fs::exists(fs::symlink_status(log, error)) || fs::file_size(log, error) == 0;
+    if (no_log) {
+      if (fd_ >= 0) {
+        ::unlink(log.c_str());
+        ::unlink(lock_path_.c_str());
+      }
+      for (auto folder = created_.rbegin(); folder != created_.rend(); ++folder) ::rmdir(folder->c_str());
+      fsync_directory(created_.front().parent_path());
+    }
   }
-  ::close(fd_);
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
 }
+
+ParticipantLock::~ParticipantLock() { release(); }
 
 }  // namespace fovlab

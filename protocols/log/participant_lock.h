@@ -4,7 +4,9 @@
 // until it exits, so two runs of one participant cannot interleave, truncate each other's events or
 // both start a session: the second changes nothing and exits 2 naming the first. The lock is an
 // flock on `session.lock` in the folder, which also says who holds it (pid, host, since); the
-// kernel drops it when the holder dies, however it dies.
+// kernel drops it when the holder dies, however it dies. It is as good as the file system's flock:
+// local file systems and NFS with its lock manager honour it between hosts; SMB/CIFS mounts and NFS
+// without locking may not.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -28,6 +30,9 @@ class ParticipantLock {
   const std::filesystem::path& folder() const { return folder_; }
 
  private:
+  void acquire(const std::filesystem::path& results_dir, const std::string& study);
+  void release();
+
   std::filesystem::path folder_;
   std::filesystem::path lock_path_;
   int fd_ = -1;

@@ -1,6 +1,7 @@
 #include "protocols/log/session_record.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
 
 #include "core/input_error.h"
@@ -14,6 +15,28 @@ namespace {
 std::string text_of(const nlohmann::json& event, const char* key) {
   const auto found = event.find(key);
   return found != event.end() && found->is_string() ? found->get<std::string>() : std::string();
+}
+
+// The types of the fields a trial summary reads, in every event, as the fast scan's decoder
+// (session_scan.cpp) enforces them, so that both readers accept and refuse the same logs: a trial,
+// block or step is a 32-bit integer, names and answers are strings, a level a number or null, the
+// flags booleans, a sequence an array of 32-bit integers. `fail` throws.
+template <typename Fail>
+void check_field_types(const nlohmann::json& event, const Fail& fail) {
+  const auto small_int = [](const nlohmann::json& value) {
+    return value.is_number_integer() && value.get<int64_t>() >= INT32_MIN && value.get<int64_t>() <= INT32_MAX;
+  };
+  for (const auto& [key, value] : event.items()) {
+    bool ok = true;
+    if (key == "trial" || key == "block" || key == "step") ok = small_int(value);
+    else if (key == "event" || key == "condition" || key == "variant" || key == "answer" || key == "name" || key == "scene")
+      ok = value.is_string();
+    else if (key == "level") ok = value.is_number() || value.is_null();
+    else if (key == "attention_check" || key == "reference_first" || key == "ramp_toward_reference" || key == "correct")
+      ok = value.is_boolean();
+    else if (key == "sequence") ok = value.is_array() && std::all_of(value.begin(), value.end(), small_int);
+    if (!ok) fail("an event has a field of the wrong type (" + key + ": " + value.dump().substr(0, 40) + ")");
+  }
 }
 
 }  // namespace
@@ -70,6 +93,13 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
   check_session_header(record.header, log.path);
   IntegrityTracker integrity(lab_key);
   integrity.header(record.header, log.path);
+  for (size_t i = 0; i < log.events.size(); ++i) {
+    check_field_types(log.events[i], [&](const std::string& what) { fail(i, what); });
+    const auto mac = log.events[i].find("mac");
+    integrity.mac(text_of(log.events[i], "chain"),
+                  mac != log.events[i].end() && mac->is_string() ? std::optional<std::string>(mac->get<std::string>()) : std::nullopt,
+                  log.line_numbers[i]);
+  }
 
   TrialAssembly<RecordedTrial> trials;
   for (size_t i = 1; i < log.events.size(); ++i) {

@@ -11,8 +11,6 @@
 #include <cstring>
 #include <memory>
 
-#include "core/content_hash.h"
-#include "core/digest.h"
 #include "core/input_error.h"
 #include "protocols/log/event_log.h"
 #include "protocols/log/log_integrity.h"
@@ -26,7 +24,8 @@ namespace {
 struct EventFields {
   std::string_view kind;
   std::optional<int64_t> seq;
-  std::string_view chain;
+  std::string_view chain;  // empty when absent or not a string (the chain then does not match)
+  std::optional<std::string_view> mac;
   std::optional<int> trial;
   std::optional<int> block;
   std::optional<int> step;
@@ -50,8 +49,16 @@ EventFields decode(simdjson::ondemand::document& document) {
     const std::string_view key = field.unescaped_key();
     simdjson::ondemand::value value = field.value();
     if (key == "event") fields.kind = value.get_string();
-    else if (key == "seq") fields.seq = value.get_int64();
-    else if (key == "chain") fields.chain = value.get_string();
+    else if (key == "seq") {
+      int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
+      if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
+    } else if (key == "chain") {
+      std::string_view chain;
+      if (value.get_string().get(chain) == simdjson::SUCCESS) fields.chain = chain;
+    } else if (key == "mac") {
+      std::string_view mac;
+      if (value.get_string().get(mac) == simdjson::SUCCESS) fields.mac = mac;
+    }
     else if (key == "trial") fields.trial = small_int(value);
     else if (key == "block") fields.block = small_int(value);
     else if (key == "step") fields.step = small_int(value);
@@ -80,25 +87,32 @@ EventFields decode(simdjson::ondemand::document& document) {
 // writer's text is canonical); when that does not reproduce the recorded chain (a line re-formatted
 // by hand, say), the canonical text is rebuilt with nlohmann::json, exactly as read_event_log does
 // (after the same nesting guard). `scratch` is reused between lines.
-std::string line_chain(const std::string& previous, std::string_view line, std::string& scratch, int schema_version) {
+// `text` without its member `"name":"<digits hex characters>"` (and the comma joining it), or false
+// when there is none of that shape.
+bool cut_member(std::string_view text, std::string_view name, size_t digits, std::string& out) {
+  const std::string member = "\"" + std::string(name) + "\":\"";
+  const size_t at = text.find(member);
+  if (at == std::string_view::npos || at + member.size() + digits + 1 > text.size()) return false;
+  size_t begin = at, end = at + member.size() + digits + 1;  // the hex digits and the closing quote
+  if (begin > 0 && text[begin - 1] == ',') --begin;
+  else if (end < text.size() && text[end] == ',') ++end;
+  out.assign(text.substr(0, begin)).append(text.substr(end));
+  return true;
+}
+
+std::string line_chain(const std::string& previous, std::string_view line, bool has_mac, std::string& scratch,
+                       std::string& scratch_mac, int schema_version) {
   const size_t digits = schema_version == 1 ? 16 : 64;
-  const auto hash = [&](std::string_view text) {
-    return schema_version == 1 ? ContentHash().add(previous).add(text).hex() : sha256_hex(previous, text);
-  };
-  constexpr std::string_view member = "\"chain\":\"";
-  const size_t at = line.find(member);
-  if (at != std::string_view::npos && at + member.size() + digits + 1 <= line.size()) {
-    size_t begin = at, end = at + member.size() + digits + 1;  // the hex digits and the closing quote
-    if (begin > 0 && line[begin - 1] == ',') --begin;
-    else if (end < line.size() && line[end] == ',') ++end;
-    scratch.assign(line.substr(0, begin)).append(line.substr(end));
-    const std::string fast = hash(scratch);
-    if (line.substr(at + member.size(), digits) == fast) return fast;
+  if (cut_member(line, "chain", digits, scratch) && (!has_mac || cut_member(scratch, "mac", 64, scratch_mac))) {
+    const std::string fast = chain_of_text(previous, has_mac ? scratch_mac : scratch, schema_version);
+    const size_t at = line.find("\"chain\":\"") + 9;
+    if (line.substr(at, digits) == fast) return fast;
   }
   if (json_nesting_depth(line) > max_event_nesting) return {};
   nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
   if (event.is_discarded() || !event.is_object()) return {};
   event.erase("chain");
+  event.erase("mac");
   return event_chain(previous, event, schema_version);
 }
 
@@ -180,7 +194,7 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
   session.path = path;
   session.torn_tail_bytes = size - intact;
   simdjson::ondemand::parser parser;
-  std::string scratch;
+  std::string scratch, scratch_mac;
 
   TrialAssembly<ScannedTrial> trials;
   IntegrityTracker integrity(lab_key);
@@ -217,12 +231,13 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (!session.first_chain_error_line) {
       bool consistent = fields.seq && *fields.seq == line_number - 1 && fields.chain.size() == (schema_version == 1 ? 16u : 64u);
       if (consistent) {
-        const std::string expected = line_chain(chain, line, scratch, schema_version);
+        const std::string expected = line_chain(chain, line, fields.mac.has_value(), scratch, scratch_mac, schema_version);
         consistent = expected == fields.chain;
         chain = expected;
       }
       if (!consistent) session.first_chain_error_line = line_number;
     }
+    integrity.mac(std::string(fields.chain), fields.mac ? std::optional<std::string>(*fields.mac) : std::nullopt, line_number);
     if (line_number == 1) continue;
     if (fields.kind.empty()) fail("event: missing (expected a string naming the event)");
     const std::string kind(fields.kind);

@@ -201,11 +201,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     if (record->ended && record->integrity.status == LogStatus::sealed)
       throw InputError(outcome.log_path + ": participant \"" + options.participant + "\" already finished this study (" +
                        record->end_reason + "); choose another participant ID");
-    if (record->ended) return seal_finished_session(*existing, *record, lab_key ? &*lab_key : nullptr, outcome);
     if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan))
       throw InputError(outcome.log_path + ":1: a scene file changed since this participant started (scene_hashes); "
                                           "restore it to resume, or use another participant ID");
     check_trials_against_plan(*record, plan, outcome.log_path);
+    // Ended, but killed before its seal: every check above passed, so the seal is all it lacks.
+    if (record->ended) return seal_finished_session(*existing, *record, lab_key ? &*lab_key : nullptr, outcome);
     outcome.resumed = true;
   }
 
