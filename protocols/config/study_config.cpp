@@ -1,15 +1,13 @@
 #include "protocols/config/study_config.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <set>
 #include <sstream>
 
 #include "core/content_hash.h"
-#include "core/file_bytes.h"
+#include "core/input_file.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "protocols/config/input_keys.h"
@@ -419,6 +417,12 @@ int StimulusConfig::refreshes_per_frame(double refresh_hz) const {
 }
 
 StudyConfig parse_study_config_text(const std::string& text, const std::string& path, bool check_scene_files) {
+  // The guards in front of toml++, here so that configs from files and from session logs' headers
+  // (replay, analyze) pass the same ones.
+  if (text.size() > kMaxStudyConfigBytes)
+    throw InputError(path + ": " + std::to_string(text.size()) + " bytes: expected a study config of at most " +
+                     byte_size_text(kMaxStudyConfigBytes));
+  check_toml_nesting(text, path, kMaxStudyConfigNesting);
   toml::table root;
   try {
     root = toml::parse(shield_toml_hazards(text, path), path);
@@ -477,9 +481,7 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 }
 
 StudyConfig parse_study_config_file(const std::string& path) {
-  const std::optional<std::string> text = read_file_bytes(path);
-  if (!text) throw InputError(path + ": cannot open study config (" + std::string(std::strerror(errno)) + ")");
-  return parse_study_config_text(*text, path);
+  return parse_study_config_text(read_input_file(path, "a study config (.toml)", kMaxStudyConfigBytes), path);
 }
 
 }  // namespace fovlab

@@ -18,6 +18,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "protocols/config/study_config.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -264,6 +265,67 @@ TEST(ProtocolsConfig, ParsesTheShippedExperiments) {
 
 TEST(ProtocolsConfig, MissingFileIsAnInputError) {
   EXPECT_THROW(parse_study_config_file("/nonexistent/fovlab/none.toml"), InputError);
+}
+
+// --- guards in front of the file and of toml++ ----------------------------------------------------
+
+// The error of reading `path` as a study config ("" and a test failure when it is read).
+std::string file_error_of(const std::string& path) {
+  try {
+    parse_study_config_file(path);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "read without an error: " << path;
+  return "";
+}
+
+TEST(ProtocolsConfig, ADirectoryIsNotAConfig) {
+  const testing::TempDir dir;
+  const std::string message = file_error_of(dir.path().string());
+  EXPECT_EQ(message, dir.path().string() + ": not a regular file (a directory): expected a study config (.toml)");
+}
+
+TEST(ProtocolsConfig, ADeviceIsRefusedBeforeItIsRead) {
+  // /dev/zero never ends: reading it whole took 2.2 GB before it failed.
+  EXPECT_EQ(file_error_of("/dev/zero"), "/dev/zero: not a regular file (a character device): expected a study config (.toml)");
+}
+
+TEST(ProtocolsConfig, AFileOverTheSizeCapIsRefusedFromItsSize) {
+  const testing::TempDir dir;
+  const std::string path = dir.file("big.toml");
+  {
+    // A valid config, then a comment that takes the file one byte past the cap; sparse, so cheap.
+    std::ofstream out(path, std::ios::binary);
+    out << ConfigText().text() << "#";
+  }
+  std::filesystem::resize_file(path, kMaxStudyConfigBytes + 1);
+  EXPECT_EQ(file_error_of(path), path + ": larger than 16 MiB (" + std::to_string(kMaxStudyConfigBytes + 1) +
+                                     " bytes): expected a study config (.toml) of at most 16 MiB");
+  // The same text from a session log's header (replay, analyze) passes the same cap.
+  const std::string message = error_of(std::string(kMaxStudyConfigBytes + 1, '#'));
+  EXPECT_EQ(message, kPath + ": " + std::to_string(kMaxStudyConfigBytes + 1) +
+                         " bytes: expected a study config of at most 16 MiB");
+  // At the cap it is read and parsed (the padding is a comment).
+  std::string text = ConfigText().text() + "#";
+  text.resize(kMaxStudyConfigBytes, ' ');
+  EXPECT_EQ(parse_study_config_file(dir.write("at_cap.toml", text)).source_text.size(), kMaxStudyConfigBytes);
+}
+
+TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
+  // Editors on Windows write one; a config with it is the same study (and hashes its own bytes).
+  const std::string text = ConfigText().text();
+  const StudyConfig plain = parse(text);
+  const StudyConfig marked = parse("\xEF\xBB\xBF" + text);
+  EXPECT_EQ(marked.name, plain.name);
+  EXPECT_EQ(marked.blocks.size(), plain.blocks.size());
+  EXPECT_EQ(marked.source_text, "\xEF\xBB\xBF" + text);
+  const testing::TempDir dir;
+  EXPECT_EQ(parse_study_config_file(dir.write("bom.toml", "\xEF\xBB\xBF" + text)).name, plain.name);
+  // Lines are counted as without it, and only the first three bytes may be one.
+  expect_error("\xEF\xBB\xBF" + replace_once(text, "seed = 7", "seed = -7"), line_of(text, "seed = 7"), "study.seed",
+               "non-negative");
+  EXPECT_EQ(error_of("\n\xEF\xBB\xBF" + text).rfind(kPath + ":2: ", 0), 0u);
 }
 
 TEST(ProtocolsConfig, TwoAfcBetter) {
