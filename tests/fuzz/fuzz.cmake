@@ -1,5 +1,5 @@
 # Fuzzing the parsers of what users give fovlab (tests/fuzz/*_fuzz.cpp): study configs, session
-# logs and gaze traces. Included at the end of the top CMakeLists.txt, after
+# logs, gaze traces and OBJ meshes. Included at the end of the top CMakeLists.txt, after
 # fovlab_tests exists.
 #
 # Every build: fovlab_<name>_corpus replays the checked-in corpus (tests/fuzz/corpus/<name>)
@@ -12,11 +12,13 @@
 option(FOVLAB_FUZZ "Build the libFuzzer targets fovlab_<name>_fuzz (clang; see scripts/fuzz)" OFF)
 
 set(fovlab_fuzz_dir ${CMAKE_SOURCE_DIR}/tests/fuzz)
-# Harness name and the library it needs.
-set(fovlab_fuzz_harnesses config log gaze_trace)
+# Harness name and the library it needs: the OBJ loader is in fovlab_renderer (parse only, no
+# Vulkan device is made), the others in fovlab_protocols.
+set(fovlab_fuzz_harnesses config log gaze_trace obj)
 set(fovlab_fuzz_library_config fovlab_protocols)
 set(fovlab_fuzz_library_log fovlab_protocols)
 set(fovlab_fuzz_library_gaze_trace fovlab_protocols)
+set(fovlab_fuzz_library_obj fovlab_renderer)
 
 foreach(fovlab_fuzz_name ${fovlab_fuzz_harnesses})
   add_executable(fovlab_${fovlab_fuzz_name}_corpus
@@ -45,6 +47,11 @@ if(FOVLAB_FUZZ)
   if(TARGET tomlplusplus::tomlplusplus)
     set_property(TARGET tomlplusplus::tomlplusplus PROPERTY INTERFACE_COMPILE_OPTIONS -DTOML_HEADER_ONLY=1)
   endif()
+  # The same for tinyobjloader (a prebuilt libtinyobjloader.so): its implementation is compiled
+  # into fovlab_renderer here, and these definitions take precedence over the shared library's.
+  # Third-party code: its warnings are not ours to fix.
+  target_sources(fovlab_renderer PRIVATE ${fovlab_fuzz_dir}/tinyobjloader_instrumented.cpp)
+  set_source_files_properties(${fovlab_fuzz_dir}/tinyobjloader_instrumented.cpp PROPERTIES COMPILE_OPTIONS -w)
   foreach(fovlab_fuzz_name ${fovlab_fuzz_harnesses})
     add_executable(fovlab_${fovlab_fuzz_name}_fuzz ${fovlab_fuzz_dir}/${fovlab_fuzz_name}_fuzz.cpp)
     target_link_libraries(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE ${fovlab_fuzz_library_${fovlab_fuzz_name}} fovlab_warnings)
