@@ -10,6 +10,7 @@
 #include <map>
 #include <regex>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -326,6 +327,46 @@ TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
   expect_error("\xEF\xBB\xBF" + replace_once(text, "seed = 7", "seed = -7"), line_of(text, "seed = 7"), "study.seed",
                "non-negative");
   EXPECT_EQ(error_of("\n\xEF\xBB\xBF" + text).rfind(kPath + ":2: ", 0), 0u);
+}
+
+// --- the renderers' frame-size rules, named after the config's fields -------------------------------
+
+TEST(ProtocolsConfig, FptFrameSidesMustBeMultiplesOfFourNamingTheDisplayField) {
+  // Was refused only at run, as "stimulus ...: fpt needs ... multiples of 4", naming no field.
+  ConfigText base;
+  base.stimulus = replace_once(replace_once(base.stimulus, "method = \"gt\"\n\n[stimulus.test]", "method = \"pt\"\n\n[stimulus.test]"),
+                               "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"fpt\"");
+  base.levels = "";
+  base.blocks = "[[block]]\nscene = \"courtyard\"\n";
+  EXPECT_EQ(parse(base.text()).stimulus.test.method, "fpt");  // 320x180: both sides multiples of 4
+  for (const auto& [key, from, to] : {std::tuple<std::string, std::string, std::string>{"width_px", "width_px = 320", "width_px = 318"},
+                                      {"height_px", "height_px = 180", "height_px = 182"}}) {
+    ConfigText odd = base;
+    odd.display = replace_once(odd.display, from, to);
+    const std::string text = odd.text();
+    expect_error(text, line_of(text, to), "display." + key,
+                 "expected a multiple of 4 for fpt stimuli (the outer zone is 1/4 of the frame per axis), got " +
+                     to.substr(to.size() - 3));
+  }
+}
+
+TEST(ProtocolsConfig, SphereTracedSamplesAFrameNamingTheDisplayField) {
+  // 16384 x 16384 x 4 samples: refused by the renderer at run as "--width x --height x --spp = ...".
+  ConfigText base;
+  base.display = replace_once(replace_once(base.display, "width_px = 320", "width_px = 16384"), "height_px = 180", "height_px = 16384");
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"gt\"\nsamples_per_pixel = 4");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "width_px = 16384"), "display.width_px",
+               "expected width_px x height_px x samples_per_pixel of at most 268435456 samples a frame (gt), got "
+               "16384 x 16384 x 4 = 1073741824");
+  // Every stimulus counts: here only the level 16 of 8192 x 4096 is too many.
+  base.display = replace_once(replace_once(base.display, "width_px = 16384", "width_px = 8192"), "height_px = 16384", "height_px = 4096");
+  base.stimulus = replace_once(base.stimulus, "\nsamples_per_pixel = 4", "");
+  base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4, 16]\n";
+  text = base.text();
+  expect_error(text, line_of(text, "width_px = 8192"), "display.width_px", "8192 x 4096 x 16 = 536870912");
+  base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4]\n";
+  EXPECT_EQ(parse(base.text()).display.width_px, 8192);
 }
 
 TEST(ProtocolsConfig, TwoAfcBetter) {
