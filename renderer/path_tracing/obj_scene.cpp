@@ -37,6 +37,10 @@ std::string_view trim(std::string_view s) {
 struct ObjPrescan {
   std::vector<int> face_lines;
   std::vector<std::pair<std::string, int>> material_libraries;  // name, line
+  // Where the skin-weight lines (`vw`, a tinyobjloader extension fovlab ignores) start: tinyobjloader
+  // converts their joint ids to int unchecked (undefined behaviour for 1e30; found by fuzzing), so
+  // they are made comments before it sees them.
+  std::vector<size_t> skin_weight_lines;
 };
 
 ObjPrescan prescan(const std::string& text, const std::string& file) {
@@ -60,6 +64,8 @@ ObjPrescan prescan(const std::string& text, const std::string& file) {
           throw InputError(file + ":" + std::to_string(line_number) + ": expected three finite vertex coordinates");
         rest = rest.substr(token_end);
       }
+    } else if (line.size() > 3 && line[0] == 'v' && line[1] == 'w' && (line[2] == ' ' || line[2] == '\t')) {
+      result.skin_weight_lines.push_back(static_cast<size_t>(line.data() - text.data()));
     } else if (line.size() > 2 && line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) {
       result.face_lines.push_back(line_number);
     } else if (line.rfind("mtllib", 0) == 0 && line.size() > 7) {
@@ -134,8 +140,9 @@ PathScene load_obj_scene(const std::filesystem::path& obj_file, ObjLoadReport* r
 PathScene parse_obj_scene(const std::string& obj_text, const std::string& name, const MtlLibraryReader& read_library,
                           ObjLoadReport* report) {
   const std::string& file = name;
-  const std::string text = without_byte_order_mark(obj_text);
+  std::string text = without_byte_order_mark(obj_text);
   const ObjPrescan scan = prescan(text, file);
+  for (const size_t line_start : scan.skin_weight_lines) text[line_start] = '#';
   std::string mtl_text;
   for (const auto& [library, line] : scan.material_libraries) {
     try {

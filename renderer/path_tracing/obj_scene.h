@@ -20,7 +20,7 @@ struct ObjLoadReport {
 
 // Materials: Ke > 0 -> emissive (radiance Ke); else d < 1 or illum 4, 6 or 7 -> glass (tint Tf, or
 // white when Tf is 0; IOR Ni, or 1.5 when Ni <= 1); else Lambertian (Kd clamped to [0, 1]).
-// Textures and normals are ignored. The camera path frames the bounding box (a slow orbit over
+// Textures, normals and skin weights (`vw`) are ignored. The camera path frames the bounding box (a slow orbit over
 // 10 s); the sky is a soft blue-white. Throws InputError "<file>:<line>: expected ..." for a missing
 // or unreadable file, a missing material library, a vertex that is not three finite numbers, a face
 // index out of range; "<file>: ..." when no triangle is left. Zero-area triangles are dropped and

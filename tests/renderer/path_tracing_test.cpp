@@ -337,6 +337,20 @@ TEST(ObjScene, AByteOrderMarkIsIgnoredNotTheFirstLineLost) {
   EXPECT_EQ(scene.materials.at(scene.material_per_triangle.at(0)).colour, glm::vec3(0.9f, 0.1f, 0.1f));
 }
 
+TEST(ObjScene, SkinWeightLinesAreIgnored) {
+  // tinyobjloader refused a negative joint id ("Failed parse `vw' line") and converted 1e30 to int
+  // (undefined behaviour; tests/fuzz/corpus/obj/finding-obj-skin-weight-joint-out-of-int-range.obj).
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const auto no_library = [](const std::string& name) -> std::string { throw InputError(name + ": none"); };
+  for (const char* weights : {"vw 1 -1 0.5\n", "vw 0 1e30 1\n", "  vw\t2 0 0.25 1 0.75\n"}) {
+    const PathScene scene = parse_obj_scene(weights + triangle, "weights.obj", no_library);
+    EXPECT_EQ(scene.triangle_count(), 1u) << weights;
+  }
+  // Lines keep their numbers: the bad vertex after a skin-weight line is on line 2.
+  EXPECT_EQ(input_error([&] { parse_obj_scene("vw 1 -1 0.5\nv 0 nan 0\n", "weights.obj", no_library); }),
+            "weights.obj:2: expected three finite vertex coordinates");
+}
+
 TEST(ObjScene, ParsesTextWithLibrariesFromTheCaller) {
   const std::string obj = "# a comment\nmtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n";
   const auto library = [](const std::string& name) -> std::string {
