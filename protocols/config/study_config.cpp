@@ -1,15 +1,13 @@
 #include "protocols/config/study_config.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <set>
 #include <sstream>
 
 #include "core/content_hash.h"
-#include "core/file_bytes.h"
+#include "core/input_file.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "protocols/config/input_keys.h"
@@ -18,6 +16,8 @@
 #include "protocols/stimuli/stimulus_spec.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/zone_blend/zone_layout.h"
 
 namespace fovlab {
 
@@ -156,6 +156,54 @@ void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConf
       if (variants[v]) fail_in(variant_fields[v], variant, *conflict);
       fail_in(test_fields, test.parameters, *conflict);
       test_fields.fail("", conflict->expected);
+    }
+  }
+}
+
+// The method and full parameters of every stimulus the config makes: the reference, and the test
+// under every variant and level.
+std::vector<std::pair<std::string, std::map<std::string, double>>> stimulus_parameters(const StimulusConfig& stimulus,
+                                                                                        const LevelsConfig& levels) {
+  std::vector<std::pair<std::string, std::map<std::string, double>>> all;
+  const MethodConfig& reference = stimulus.reference;
+  all.emplace_back(reference.method, full_parameters(reference.method, {&reference.parameters}));
+  const std::map<std::string, double> none;
+  std::vector<const std::map<std::string, double>*> variants;
+  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant.parameters);
+  if (variants.empty()) variants.push_back(&none);
+  std::vector<std::map<std::string, double>> level_parameters;
+  for (double value : levels.values) level_parameters.push_back({{levels.parameter, value}});
+  if (level_parameters.empty()) level_parameters.emplace_back();
+  const MethodConfig& test = stimulus.test;
+  for (const auto* variant : variants)
+    for (const auto& level : level_parameters)
+      all.emplace_back(test.method, full_parameters(test.method, {&test.parameters, variant, &level}));
+  return all;
+}
+
+// The renderers' rules on the frame size, which is the display's: checked here, so that they name
+// the config's fields (and fovlab validate finds them). What depends on the device (one storage
+// buffer) is checked when a session prepares its stimuli (StimulusLibrary::prepare).
+void check_frame_size_rules(const TomlFields& display_fields, const DisplayConfig& display,
+                            const StimulusConfig& stimulus, const LevelsConfig& levels) {
+  for (const auto& [method, parameters] : stimulus_parameters(stimulus, levels)) {
+    if (method == "fpt") {
+      for (const auto& [key, side_px] : {std::pair<const char*, int>{"width_px", display.width_px}, {"height_px", display.height_px}})
+        if (side_px % kZoneSideMultiplePx != 0)
+          display_fields.fail(key, "expected a multiple of " + std::to_string(kZoneSideMultiplePx) +
+                                       " for fpt stimuli (the outer zone is 1/" + std::to_string(kZoneSideMultiplePx) +
+                                       " of the frame per axis), got " + std::to_string(side_px));
+    }
+    const auto samples_per_pixel = parameters.find("samples_per_pixel");
+    if (!is_path_traced_method(method) && samples_per_pixel != parameters.end()) {
+      const uint64_t samples = uint64_t(display.width_px) * uint64_t(display.height_px) *
+                               static_cast<uint64_t>(samples_per_pixel->second);
+      if (samples > kMaxSphereTraceSamplesPerFrame)
+        display_fields.fail("width_px", "expected width_px x height_px x samples_per_pixel of at most " +
+                                            std::to_string(kMaxSphereTraceSamplesPerFrame) + " samples a frame (" +
+                                            method + "), got " + std::to_string(display.width_px) + " x " +
+                                            std::to_string(display.height_px) + " x " +
+                                            format_number(samples_per_pixel->second, 6) + " = " + std::to_string(samples));
     }
   }
 }
@@ -423,6 +471,12 @@ int StimulusConfig::refreshes_per_frame(double refresh_hz) const {
 }
 
 StudyConfig parse_study_config_text(const std::string& text, const std::string& path, bool check_scene_files) {
+  // The guards in front of toml++, here so that configs from files and from session logs' headers
+  // (replay, analyze) pass the same ones.
+  if (text.size() > kMaxStudyConfigBytes)
+    throw InputError(path + ": " + std::to_string(text.size()) + " bytes: expected a study config of at most " +
+                     byte_size_text(kMaxStudyConfigBytes));
+  check_toml_nesting(text, path, kMaxStudyConfigNesting);
   toml::table root;
   try {
     root = toml::parse(shield_toml_hazards(text, path), path);
@@ -454,6 +508,7 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
   }
   check_parameter_rules(fields.table("stimulus"), config.stimulus, levels_fields ? &*levels_fields : nullptr,
                         config.levels);
+  check_frame_size_rules(fields.table("display"), config.display, config.stimulus, config.levels);
   read_protocol(fields.table("protocol"), config.levels, config.protocol);
   if (const toml::table* timing = fields.optional_table("timing"))
     read_timing(TomlFields(*timing, path, "timing"), config.timing);
@@ -481,9 +536,7 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 }
 
 StudyConfig parse_study_config_file(const std::string& path) {
-  const std::optional<std::string> text = read_file_bytes(path);
-  if (!text) throw InputError(path + ": cannot open study config (" + std::string(std::strerror(errno)) + ")");
-  return parse_study_config_text(*text, path);
+  return parse_study_config_text(read_input_file(path, "a study config (.toml)", kMaxStudyConfigBytes), path);
 }
 
 }  // namespace fovlab

@@ -111,8 +111,16 @@ struct StudyConfig {
   std::string hash;             // content hash of source_text (hex)
 };
 
+// Limits on the text of a config, far above any real one's (a few KiB, nested 4 levels deep), so
+// that no input can exhaust memory or toml++'s stack: the bytes of the file (or of the text, when
+// it comes from a session log's header) and the depth of nesting (toml_guard.h check_toml_nesting).
+constexpr uint64_t kMaxStudyConfigBytes = uint64_t(16) << 20;  // 16 MiB
+constexpr int kMaxStudyConfigNesting = 32;
+
 // Parses and validates; throws InputError "path:LINE: key: what was expected" (for a missing key,
-// LINE is the line of the table that should hold it).
+// LINE is the line of the table that should hold it). The file must be a regular file of at most
+// kMaxStudyConfigBytes ("path: not a regular file (a directory): expected a study config (.toml)").
+// A UTF-8 byte-order mark at the start is accepted (and ignored), as by every reader of fovlab.
 StudyConfig parse_study_config_file(const std::string& path);
 // `check_scene_files` false: scene paths are taken as written (resolved against the config's folder)
 // without looking for the files, for readers of logs on another machine (fovlab analyze).

@@ -1,6 +1,7 @@
 #include "protocols/config/toml_guard.h"
 
 #include <cstdint>
+#include <vector>
 
 #include "core/input_error.h"
 
@@ -112,6 +113,167 @@ std::string unshield_toml_hazards(const std::string& text) {
   return transcode(text, [](char32_t c) -> char32_t {
     return c >= placeholder_base && c < placeholder_end ? hazard_at(static_cast<int>(c - placeholder_base)) : 0;
   });
+}
+
+namespace {
+
+// A scanner of TOML text that sees only what builds depth: table headers, dotted keys, arrays and
+// inline tables; strings and comments are stepped over, everything else is left to toml++.
+class NestingScanner {
+ public:
+  NestingScanner(const std::string& text, const std::string& path, int max_depth)
+      : text_(text), path_(path), max_depth_(max_depth) {}
+
+  void run() {
+    if (text_.compare(0, 3, "\xEF\xBB\xBF") == 0) i_ = 3;  // a byte-order mark, skipped by toml++ too
+    while (i_ < text_.size()) {
+      const char c = text_[i_];
+      if (c == '\n') {
+        ++line_;
+        ++i_;
+        if (frames_.empty()) start_line();  // a top-level value ends at its line's end
+        continue;
+      }
+      if (c == '#') {
+        while (i_ < text_.size() && text_[i_] != '\n') ++i_;
+        continue;
+      }
+      if (c == '"' || c == '\'') {
+        skip_string();
+        continue;
+      }
+      ++i_;
+      switch (mode_) {
+        case Mode::key: key_character(c); break;
+        case Mode::header: header_character(c); break;
+        case Mode::value: value_character(c); break;
+        case Mode::rest_of_line: break;
+      }
+    }
+  }
+
+ private:
+  enum class Mode { key, header, value, rest_of_line };
+  struct Frame {
+    bool inline_table;    // else an array
+    int depth;            // of the array or table itself
+    int value_depth = 0;  // inline table: depth of the value being read (its key's last part)
+  };
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(path_ + ":" + std::to_string(line_) + ": " + what + " nested deeper than " +
+                     std::to_string(max_depth_) + " levels: expected at most " + std::to_string(max_depth_) +
+                     " (table header parts, dotted key parts, arrays and inline tables together)");
+  }
+
+  void start_line() {
+    mode_ = Mode::key;
+    key_parts_ = 1;
+  }
+
+  int key_base() const { return frames_.empty() ? header_depth_ : frames_.back().depth; }
+
+  int value_depth() const {
+    if (frames_.empty()) return top_value_depth_;
+    return frames_.back().inline_table ? frames_.back().value_depth : frames_.back().depth;
+  }
+
+  void key_character(char c) {
+    if (c == '[' && frames_.empty()) {  // a table header, [a.b] or [[a.b]]
+      mode_ = Mode::header;
+      key_parts_ = 1;
+      header_extra_ = 0;
+      if (i_ < text_.size() && text_[i_] == '[') {
+        header_extra_ = 1;  // an array of tables: one level more
+        ++i_;
+      }
+    } else if (c == '.') {
+      if (key_base() + ++key_parts_ > max_depth_) fail("dotted key");
+    } else if (c == '=') {
+      const int depth = key_base() + key_parts_;
+      if (frames_.empty()) top_value_depth_ = depth;
+      else frames_.back().value_depth = depth;
+      mode_ = Mode::value;
+    } else if (c == '}' && !frames_.empty() && frames_.back().inline_table) {  // {} or a trailing comma
+      frames_.pop_back();
+      mode_ = Mode::value;
+    }
+  }
+
+  void header_character(char c) {
+    if (c == '.') {
+      if (++key_parts_ + header_extra_ > max_depth_) fail("table header");
+    } else if (c == ']') {
+      header_depth_ = key_parts_ + header_extra_;
+      if (header_extra_ && i_ < text_.size() && text_[i_] == ']') ++i_;
+      mode_ = Mode::rest_of_line;
+    }
+  }
+
+  void value_character(char c) {
+    if (c == '[' || c == '{') {
+      const int depth = value_depth() + 1;
+      if (depth > max_depth_) fail(c == '[' ? "array" : "inline table");
+      frames_.push_back({c == '{', depth});
+      if (c == '{') {
+        mode_ = Mode::key;
+        key_parts_ = 1;
+      }
+    } else if ((c == ']' || c == '}') && !frames_.empty() && frames_.back().inline_table == (c == '}')) {
+      frames_.pop_back();
+    } else if (c == ',' && !frames_.empty() && frames_.back().inline_table) {
+      mode_ = Mode::key;
+      key_parts_ = 1;
+    }
+  }
+
+  // Steps over a basic or literal string, single- or multi-line, counting its lines. An unclosed
+  // single-line string ends at its line's end (toml++ reports it).
+  void skip_string() {
+    const char quote = text_[i_];
+    const bool multi_line = text_.compare(i_, 3, std::string(3, quote)) == 0;
+    i_ += multi_line ? 3 : 1;
+    while (i_ < text_.size()) {
+      const char c = text_[i_];
+      if (c == '\n') {
+        if (!multi_line) return;
+        ++line_;
+      } else if (c == '\\' && quote == '"') {
+        if (i_ + 1 < text_.size() && text_[i_ + 1] == '\n') ++line_;
+        i_ += 2;
+        continue;
+      } else if (c == quote) {
+        if (!multi_line) {
+          ++i_;
+          return;
+        }
+        if (text_.compare(i_, 3, std::string(3, quote)) == 0) {
+          i_ += 3;
+          for (int extra = 0; extra < 2 && i_ < text_.size() && text_[i_] == quote; ++extra) ++i_;  // """a""""" is a""
+          return;
+        }
+      }
+      ++i_;
+    }
+  }
+
+  const std::string& text_;
+  const std::string& path_;
+  const int max_depth_;
+  size_t i_ = 0;
+  int line_ = 1;
+  Mode mode_ = Mode::key;
+  int key_parts_ = 1;
+  int header_extra_ = 0;
+  int header_depth_ = 0;      // of the current [table] (0 for the root table)
+  int top_value_depth_ = 0;   // of the top-level key/value being read
+  std::vector<Frame> frames_;  // open arrays and inline tables, innermost last
+};
+
+}  // namespace
+
+void check_toml_nesting(const std::string& text, const std::string& path, int max_depth) {
+  NestingScanner(text, path, max_depth).run();
 }
 
 }  // namespace fovlab

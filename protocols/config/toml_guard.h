@@ -20,4 +20,13 @@ std::string shield_toml_hazards(const std::string& text, const std::string& path
 // The inverse, for strings read from the parsed table (and messages that quote them).
 std::string unshield_toml_hazards(const std::string& text);
 
+// toml++ parses and frees nested values recursively and bounds only arrays and inline tables (256
+// levels), not dotted keys: a key of 40,000 parts (`a.a.a...= 1`, in a header or a key/value line)
+// overflows the stack. Before toml++ sees the text, check_toml_nesting measures every value's
+// depth: the parts of its table header, plus the parts of the dotted keys leading to it, plus the
+// arrays and inline tables around it (`[a.b]` then `c.d = [{e = 1}]`: e is at depth 2 + 2 + 2 + 1).
+// Throws InputError "path:LINE: ..." at the first point deeper than max_depth. Strings and comments
+// are skipped as TOML defines them; anything malformed is left to toml++ to report.
+void check_toml_nesting(const std::string& text, const std::string& path, int max_depth);
+
 }  // namespace fovlab

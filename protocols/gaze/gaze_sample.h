@@ -12,9 +12,18 @@ struct GazeSample {
   std::string invalid_reason;  // "blink", "off_screen", "not_finite", "no_data", "low_confidence"; empty when valid
 };
 
-// What a session shows when a sample is invalid: the last valid position (held), or the screen
-// centre before any valid sample. The returned sample keeps valid = false and the reason, so the log
-// says the position was substituted.
+// Sessions use and log gaze positions rounded to this step (the log's JSON numbers stay short and
+// a replay reads back exactly what was used).
+constexpr double kGazeStepPx = 0.01;
+
+// A position rounded to kGazeStepPx (a non-finite one is returned as it is; never -0).
+double round_gaze_px(double position_px);
+
+// The position a session uses for a raw sample, rounded to kGazeStepPx. Validity is decided on the
+// rounded position: one that rounds to the screen's width or height (x = 31.996 on a 32-pixel-wide
+// display is 32.00) is off_screen. When a sample is invalid: the last valid position (held), or the
+// screen centre before any valid sample. The returned sample keeps valid = false and the reason, so
+// the log says the position was substituted.
 GazeSample sanitize_gaze(const GazeSample& raw, int width_px, int height_px, const GazeSample* last_valid);
 
 }  // namespace fovlab

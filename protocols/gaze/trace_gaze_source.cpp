@@ -1,16 +1,12 @@
 #include "protocols/gaze/trace_gaze_source.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <stdexcept>
-#include <system_error>
 
 #include "core/input_error.h"
+#include "core/input_file.h"
 
 namespace fovlab {
 
@@ -48,6 +44,27 @@ std::string format_number(double value) {
   return std::string(buffer, result.ptr);
 }
 
+// A field or line as a message quotes it: at most 48 bytes, control characters as \xNN, so the
+// message stays one readable line.
+std::string quoted(std::string_view text) {
+  constexpr size_t kShown = 48;
+  std::string out = "\"";
+  for (const char c : text.substr(0, kShown)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7F || c == '"' || c == '\\') {
+      static constexpr char hex[] = "0123456789abcdef";
+      out += "\\x";
+      out += hex[byte >> 4];
+      out += hex[byte & 0xF];
+    } else {
+      out += c;
+    }
+  }
+  out += "\"";
+  if (text.size() > kShown) out += " (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
+
 class LineError {
  public:
   LineError(const std::string& name, size_t line) : prefix_(name + ":" + std::to_string(line) + ": ") {}
@@ -57,28 +74,12 @@ class LineError {
   std::string prefix_;
 };
 
-std::string read_file(const std::string& path) {
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored)) {
-    throw InputError(path + ": cannot open gaze trace (" + std::strerror(EISDIR) + ")");
-  }
-  errno = 0;
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) throw InputError(path + ": cannot open gaze trace (" + std::strerror(errno) + ")");
-  std::string text;
-  char buffer[1 << 16];
-  size_t count = 0;
-  while ((count = std::fread(buffer, 1, sizeof buffer, file)) > 0) text.append(buffer, count);
-  const bool failed = std::ferror(file) != 0;
-  const int error = errno;
-  std::fclose(file);
-  if (failed) throw InputError(path + ": cannot read gaze trace (" + std::strerror(error) + ")");
-  return text;
-}
-
 }  // namespace
 
 std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::string& name) {
+  if (text.size() > kMaxGazeTraceBytes)
+    throw InputError(name + ": " + std::to_string(text.size()) + " bytes: expected a gaze trace of at most " +
+                     byte_size_text(kMaxGazeTraceBytes));
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte order mark
 
   std::vector<GazeSample> samples;
@@ -90,6 +91,9 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
     text.remove_prefix(newline == std::string_view::npos ? text.size() : newline + 1);
     ++line_number;
     const LineError error(name, line_number);
+    if (line.size() > kMaxGazeTraceLineBytes)
+      error.fail("a line of " + std::to_string(line.size()) + " bytes: expected at most " +
+                 std::to_string(kMaxGazeTraceLineBytes) + " (time_s,x_px,y_px[,valid])");
     if (trim(line).empty()) continue;
 
     const std::vector<std::string_view> fields = split_fields(line);
@@ -100,8 +104,8 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
       } else if (base && fields.size() == 4 && fields[3] == "valid") {
         column_count = 4;
       } else {
-        error.fail("expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got \"" +
-                   std::string(trim(line)) + "\"");
+        error.fail("expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got " +
+                   quoted(trim(line)));
       }
       continue;
     }
@@ -114,10 +118,10 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
 
     GazeSample sample;
     if (!parse_number(fields[0], sample.time_s)) {
-      error.fail("time_s: expected a number, got \"" + std::string(fields[0]) + "\"");
+      error.fail("time_s: expected a number, got " + quoted(fields[0]));
     }
     if (!std::isfinite(sample.time_s)) {
-      error.fail("time_s: expected a finite number, got \"" + std::string(fields[0]) + "\"");
+      error.fail("time_s: expected a finite number, got " + quoted(fields[0]));
     }
     if (!samples.empty() && sample.time_s < samples.back().time_s) {
       error.fail("time_s: " + format_number(sample.time_s) + " is earlier than the previous sample (" +
@@ -136,8 +140,7 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
       }
       double value = 0.0;
       if (!parse_number(field, value)) {
-        error.fail(std::string(axis_names[axis]) + ": expected a number, an empty field or nan, got \"" +
-                   std::string(field) + "\"");
+        error.fail(std::string(axis_names[axis]) + ": expected a number, an empty field or nan, got " + quoted(field));
       }
       if (std::isfinite(value)) {
         position[axis] = value;
@@ -151,7 +154,7 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
       if (fields[3] == "0") {
         blink = true;
       } else if (fields[3] != "1") {
-        error.fail("valid: expected 0 or 1, got \"" + std::string(fields[3]) + "\"");
+        error.fail("valid: expected 0 or 1, got " + quoted(fields[3]));
       }
     }
 
@@ -179,7 +182,7 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
 }
 
 TraceGazeSource::TraceGazeSource(std::string path) : path_(std::move(path)) {
-  samples_ = parse_gaze_trace(read_file(path_), path_);
+  samples_ = parse_gaze_trace(read_input_file(path_, "a gaze trace (.csv)", kMaxGazeTraceBytes), path_);
 }
 
 GazeSample TraceGazeSource::sample(double time_s) {

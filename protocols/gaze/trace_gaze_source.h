@@ -7,12 +7,16 @@
 //   position (invalid, "no_data"); `nan`/`inf` mean invalid, "not_finite". The position is not
 //   checked against the screen here (the source does not know the screen): sanitize_gaze does it.
 // - valid (optional): 1 or 0; 0 marks a blink (invalid, "blink", takes precedence over the above).
-// Blank lines are skipped; Windows line ends and spaces around fields are accepted. Invalid samples
-// without a position have x_px = y_px = 0.
+// Blank lines are skipped; Windows line ends, spaces around fields and a UTF-8 byte-order mark at
+// the start are accepted. Invalid samples without a position have x_px = y_px = 0.
+// Limits: a regular file (not a directory, device or FIFO) of at most kMaxGazeTraceBytes (a trace
+// of 1000 Hz for two hours is about 200 MB), lines of at most kMaxGazeTraceLineBytes (a sample
+// needs some 40).
 //
 // sample(t) is a step function, not an interpolation: it returns the last sample (as recorded,
 // with its own time_s) whose time_s <= t; before the first sample it returns the first sample.
 // A query is a binary search, O(log n).
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,8 +25,13 @@
 
 namespace fovlab {
 
+constexpr uint64_t kMaxGazeTraceBytes = uint64_t(256) << 20;  // 256 MiB
+constexpr size_t kMaxGazeTraceLineBytes = 1024;
+
 // Parses the CSV text of a gaze trace. `name` (normally the path) starts every error message:
-// InputError("name:LINE: field: what was expected, got ..."). Throws when there is no sample.
+// InputError("name:LINE: field: what was expected, got ..."), one line (what it quotes is cut
+// short and its control characters escaped). Throws when there is no sample, and for text over
+// the limits above.
 std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::string& name);
 
 class TraceGazeSource final : public GazeSource {

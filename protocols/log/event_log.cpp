@@ -16,6 +16,7 @@
 #include "core/content_hash.h"
 #include "core/digest.h"
 #include "core/input_error.h"
+#include "core/input_file.h"
 #include "protocols/log/log_integrity.h"
 
 namespace fovlab {
@@ -166,26 +167,7 @@ void check_log_file(int fd, const std::string& path) {
 }
 
 EventLogFile read_event_log(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError(path + ": cannot open the session log (" + std::string(std::strerror(errno)) + ")");
-  std::string bytes;
-  try {
-    check_log_file(fd, path);
-    char buffer[1 << 16];
-    for (;;) {
-      const ssize_t got = ::read(fd, buffer, sizeof buffer);
-      if (got < 0 && errno == EINTR) continue;
-      if (got < 0) throw FileError(path, "reading the session log", errno);
-      if (got == 0) break;
-      bytes.append(buffer, static_cast<size_t>(got));
-      if (bytes.size() > max_log_bytes) throw InputError(path + ": grew past the size a session log can hold while it was read");
-    }
-  } catch (...) {
-    ::close(fd);
-    throw;
-  }
-  ::close(fd);
-  return parse_event_log(bytes, path);
+  return parse_event_log(read_input_file(path, "a session log (events.jsonl)", max_log_bytes), path);
 }
 
 std::vector<std::string> find_session_logs(const std::string& path) {

@@ -60,7 +60,9 @@ std::string event_chain(const std::string& previous_chain, const nlohmann::json&
 // The largest log a reader takes (a 216-trial FIPR session logs about 5 MB): a bigger file is refused
 // before it is read, so a forged or runaway file cannot exhaust memory.
 inline constexpr uint64_t max_log_bytes = uint64_t{1} << 30;
-// Throws InputError when the file at `path` (open as `fd`) is not a regular file or is over max_log_bytes.
+// Throws InputError when the file at `path` (open as `fd`) is not a regular file or is over
+// max_log_bytes: the fast scan's check, which reads into its own buffer; read_event_log reads
+// through core/input_file.h with the same limit.
 void check_log_file(int fd, const std::string& path);
 
 // Events nest 3 levels deep and a header's config 4; a deeper line is refused before any recursive

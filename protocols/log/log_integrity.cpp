@@ -1,15 +1,13 @@
 #include "protocols/log/log_integrity.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 
 #include "core/digest.h"
-#include "core/file_bytes.h"
 #include "core/input_error.h"
+#include "core/input_file.h"
 
 namespace fovlab {
 
@@ -17,11 +15,6 @@ namespace fs = std::filesystem;
 
 LabKey read_lab_key(const std::string& path, const std::string& results_dir) {
   const auto fail = [&](const std::string& what) { throw InputError("--lab-key " + path + ": " + what); };
-  struct stat status {};
-  if (::stat(path.c_str(), &status) != 0) fail(std::string("cannot read the key file (") + std::strerror(errno) + ")");
-  if (!S_ISREG(status.st_mode)) fail("not a regular file (expected a key file of 16 to 4096 bytes)");
-  if (status.st_size < 16 || status.st_size > 4096)
-    fail("holds " + std::to_string(status.st_size) + " bytes (expected 16 to 4096, e.g. made by `openssl rand -hex 32`)");
   if (!results_dir.empty()) {
     std::error_code error;
     const fs::path key = fs::weakly_canonical(path, error);
@@ -30,9 +23,15 @@ LabKey read_lab_key(const std::string& path, const std::string& results_dir) {
     if (!error && results_end == results.end())
       fail("lies inside the results folder " + results_dir + " (keep the key where the logs' editors cannot read it)");
   }
-  const std::optional<std::string> bytes = read_file_bytes(path);
-  if (!bytes || bytes->size() < 16) fail(std::string("cannot read the key file (") + std::strerror(errno) + ")");
-  return LabKey{*bytes, sha256_hex("fovlab lab key\n", *bytes).substr(0, 16)};
+  std::string bytes;
+  try {
+    bytes = read_input_file(path, "a lab key file of 16 to 4096 bytes (e.g. made by `openssl rand -hex 32`)", 4096);
+  } catch (const InputError& error) {
+    throw InputError(std::string("--lab-key ") + error.what());
+  }
+  if (bytes.size() < 16)
+    fail("holds " + std::to_string(bytes.size()) + " bytes (expected 16 to 4096, e.g. made by `openssl rand -hex 32`)");
+  return LabKey{bytes, sha256_hex("fovlab lab key\n", bytes).substr(0, 16)};
 }
 
 const char* log_status_name(LogStatus status) {

@@ -10,6 +10,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "core/memory_budget.h"
+#include "renderer/path_tracing/path_tracer.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -117,13 +118,38 @@ ZoneBlender& StimulusLibrary::blender() {
   return *blender_;
 }
 
+namespace {
+
+// Where a study's frame size comes from, for error messages.
+const std::string kConfigFrameSize = "display.width_px x display.height_px";
+
+std::string config_frame_size(const StimulusSpec& spec) {
+  return kConfigFrameSize + " = " + std::to_string(spec.width_px) + "x" + std::to_string(spec.height_px);
+}
+
+}  // namespace
+
 void StimulusLibrary::check_foveated_path_traced(const StimulusSpec& spec) {
   stimulus_display(spec);
   check_zone_bounds(zone_bounds(spec));
-  if (spec.width_px % 4 != 0 || spec.height_px % 4 != 0)
-    throw InputError("stimulus " + spec.canonical() +
-                     ": fpt needs a width and height that are multiples of 4 (its outer zone is 1/4 per axis)");
-  check_zone_frame_size(context_, spec.width_px, spec.height_px);
+  // The config parser refuses these sizes already; a spec made otherwise is refused here all the same.
+  if (spec.width_px % kZoneSideMultiplePx != 0 || spec.height_px % kZoneSideMultiplePx != 0)
+    throw InputError("stimulus " + spec.canonical() + ": " + config_frame_size(spec) + ": fpt needs multiples of " +
+                     std::to_string(kZoneSideMultiplePx) + " (its outer zone is 1/" +
+                     std::to_string(kZoneSideMultiplePx) + " per axis)");
+}
+
+void StimulusLibrary::check_frame_size(const StimulusSpec& spec) {
+  if (!is_path_traced_method(spec.method)) {
+    check_sphere_trace_frame_bytes(context_, spec.width_px, spec.height_px, kConfigFrameSize);
+    return;
+  }
+  try {
+    check_path_trace_frame_bytes(context_, spec.width_px, spec.height_px);
+    if (spec.method == "fpt") check_zone_frame_size(context_, spec.width_px, spec.height_px);
+  } catch (const InputError& error) {
+    throw InputError(config_frame_size(spec) + ": " + error.what());
+  }
 }
 
 void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
@@ -169,8 +195,10 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
   for (const auto& [id, spec] : stimuli)
     if (!prepared_.count(id) && ids.insert(id).second) held.push_back(spec);
   check_prepared_frames_fit(held);
-  for (const auto& [id, spec] : stimuli)
+  for (const auto& [id, spec] : stimuli) {
+    check_frame_size(spec);
     if (spec.method == "fpt") check_foveated_path_traced(spec);
+  }
   for (const auto& [id, spec] : stimuli) {
     if (is_path_traced_method(spec.method)) {
       const auto start = std::chrono::steady_clock::now();

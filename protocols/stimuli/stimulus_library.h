@@ -89,6 +89,9 @@ class StimulusLibrary {
   Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);
   // fpt's settings, size and display, without rendering (InputError).
   void check_foveated_path_traced(const StimulusSpec& spec);
+  // The device's limits on the frame size, which is the study config's display size: errors name
+  // its fields ([display] width_px, height_px), not a command's flags.
+  void check_frame_size(const StimulusSpec& spec);
   // fpt: every frame in the cache before the first trial.
   void prepare_path_traced(const StimulusSpec& spec);
   ZoneBlender& blender();

@@ -12,7 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "core/file_bytes.h"
+#include "core/input_file.h"
 #include "core/input_error.h"
 
 namespace fovlab {
@@ -37,6 +37,10 @@ std::string_view trim(std::string_view s) {
 struct ObjPrescan {
   std::vector<int> face_lines;
   std::vector<std::pair<std::string, int>> material_libraries;  // name, line
+  // Where the skin-weight lines (`vw`, a tinyobjloader extension fovlab ignores) start: tinyobjloader
+  // converts their joint ids to int unchecked (undefined behaviour for 1e30; found by fuzzing), so
+  // they are made comments before it sees them.
+  std::vector<size_t> skin_weight_lines;
 };
 
 ObjPrescan prescan(const std::string& text, const std::string& file) {
@@ -60,6 +64,8 @@ ObjPrescan prescan(const std::string& text, const std::string& file) {
           throw InputError(file + ":" + std::to_string(line_number) + ": expected three finite vertex coordinates");
         rest = rest.substr(token_end);
       }
+    } else if (line.size() > 3 && line[0] == 'v' && line[1] == 'w' && (line[2] == ' ' || line[2] == '\t')) {
+      result.skin_weight_lines.push_back(static_cast<size_t>(line.data() - text.data()));
     } else if (line.size() > 2 && line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) {
       result.face_lines.push_back(line_number);
     } else if (line.rfind("mtllib", 0) == 0 && line.size() > 7) {
@@ -68,6 +74,19 @@ ObjPrescan prescan(const std::string& text, const std::string& file) {
     if (end == text.size()) break;
   }
   return result;
+}
+
+// The text without a UTF-8 byte-order mark at its start (tinyobjloader would take the mark for part
+// of the first line's keyword and skip that line: a vertex lost, every index after it shifted).
+std::string without_byte_order_mark(const std::string& text) {
+  return text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? text.substr(3) : text;
+}
+
+// tinyobjloader's messages, a line each, as one line.
+std::string one_line(const std::string& text) {
+  std::string out;
+  for (const char c : trim(text)) out += (c == '\n' || c == '\r') ? ' ' : c;
+  return out;
 }
 
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
@@ -111,26 +130,34 @@ std::string ObjLoadReport::summary() const {
 }
 
 PathScene load_obj_scene(const std::filesystem::path& obj_file, ObjLoadReport* report) {
-  const std::string file = obj_file.string();
-  const std::optional<std::string> text = read_file_bytes(obj_file);
-  if (!text) throw InputError(file + ": cannot read the file: expected an OBJ file");
-  const ObjPrescan scan = prescan(*text, file);
+  const std::string text = read_input_file(obj_file, "an OBJ mesh", kMaxObjBytes);
+  const auto read_library = [&](const std::string& library) {
+    return read_input_file(obj_file.parent_path() / library, "an MTL material library", kMaxMtlBytes);
+  };
+  return parse_obj_scene(text, obj_file.string(), read_library, report);
+}
+
+PathScene parse_obj_scene(const std::string& obj_text, const std::string& name, const MtlLibraryReader& read_library,
+                          ObjLoadReport* report) {
+  const std::string& file = name;
+  std::string text = without_byte_order_mark(obj_text);
+  const ObjPrescan scan = prescan(text, file);
+  for (const size_t line_start : scan.skin_weight_lines) text[line_start] = '#';
   std::string mtl_text;
-  for (const auto& [name, line] : scan.material_libraries) {
-    const std::filesystem::path mtl_path = obj_file.parent_path() / name;
-    const std::optional<std::string> mtl = read_file_bytes(mtl_path);
-    if (!mtl)
-      throw InputError(file + ":" + std::to_string(line) + ": material library " + mtl_path.string() +
-                       ": expected a readable MTL file");
-    mtl_text += *mtl + "\n";
+  for (const auto& [library, line] : scan.material_libraries) {
+    try {
+      mtl_text += without_byte_order_mark(read_library(library)) + "\n";
+    } catch (const InputError& error) {
+      throw InputError(file + ":" + std::to_string(line) + ": material library: " + error.what());
+    }
   }
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;  // fans below, so faces keep their lines
   config.vertex_color = false;
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromString(*text, mtl_text, config))
-    throw InputError(file + ": expected a Wavefront OBJ file: " + std::string(trim(reader.Error())));
+  if (!reader.ParseFromString(text, mtl_text, config))
+    throw InputError(file + ": expected a Wavefront OBJ file: " + one_line(reader.Error()));
 
   PathScene scene;
   for (const tinyobj::material_t& material : reader.GetMaterials())
@@ -191,7 +218,11 @@ PathScene load_obj_scene(const std::filesystem::path& obj_file, ObjLoadReport* r
   }
   scene.camera = framing_camera(lo, hi);
   scene.sky_radiance = kDefaultSkyRadiance;
-  validate(scene);
+  try {
+    validate(scene);
+  } catch (const InputError& error) {
+    throw InputError(file + ": " + error.what());
+  }
   if (report) *report = counts;
   return scene;
 }

@@ -112,15 +112,20 @@ PathTracer::PathTracer(vk::Context& context, const PathScene& scene) : context_(
 
 PathTracer::~PathTracer() = default;
 
+void check_path_trace_frame_bytes(const vk::Context& context, int width_px, int height_px) {
+  const VkDeviceSize accumulation_bytes = VkDeviceSize(width_px) * VkDeviceSize(height_px) * 4 * sizeof(float);
+  if (accumulation_bytes > context.max_storage_buffer_bytes)
+    throw InputError("path tracing size " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                     ": expected at most " + std::to_string(context.max_storage_buffer_bytes >> 20) +
+                     " MiB in one buffer on " + context.description.name);
+}
+
 PathTraceResult PathTracer::render(const PathTraceSettings& settings) {
   validate(settings);
+  check_path_trace_frame_bytes(context_, settings.width_px, settings.height_px);
   const uint32_t width = uint32_t(settings.width_px), height = uint32_t(settings.height_px);
   const uint64_t pixels = uint64_t(width) * height;
   const VkDeviceSize accumulation_bytes = pixels * 4 * sizeof(float);
-  if (accumulation_bytes > context_.max_storage_buffer_bytes)
-    throw InputError("path tracing size " + std::to_string(width) + "x" + std::to_string(height) +
-                     ": expected at most " + std::to_string(context_.max_storage_buffer_bytes >> 20) +
-                     " MiB in one buffer on " + context_.description.name);
 
   const CameraPose pose = camera_pose_at(camera_, settings.time_s);
   const glm::vec3 forward = glm::normalize(pose.target - pose.eye);

@@ -32,6 +32,10 @@ struct PathTraceSettings {
 // bounces in range, a finite time.
 void validate(const PathTraceSettings& settings);
 
+// The frame's accumulation must fit one storage buffer of the device: throws InputError
+// "path tracing size WxH: expected at most M MiB in one buffer on <device>".
+void check_path_trace_frame_bytes(const vk::Context& context, int width_px, int height_px);
+
 struct PathTraceResult {
   Image image;            // RGB, linear light: the mean of samples_per_pixel samples
   double gpu_ms = 0.0;    // every batch's dispatch (0 when the queue has no timestamps)

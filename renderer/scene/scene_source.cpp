@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "core/file_bytes.h"
+#include "core/input_file.h"
 #include "core/input_error.h"
 
 namespace fovlab {
@@ -39,10 +39,8 @@ SceneSource load_scene(const std::string& name_or_file) {
     }
   }
   scene.name = scene.path.stem().string();
-  const std::optional<std::string> text =
-      std::filesystem::is_directory(scene.path) ? std::nullopt : read_file_bytes(scene.path);
-  if (!text) throw InputError(scene.path.string() + ": cannot read scene file; expected a GLSL file (docs/scenes.md)");
-  scene.text = *text;
+  scene.text = read_input_file(scene.path, "a GLSL scene file (docs/scenes.md)", kMaxSceneBytes);
+  if (scene.text.compare(0, 3, "\xEF\xBB\xBF") == 0) scene.text.erase(0, 3);  // a byte-order mark
   return scene;
 }
 

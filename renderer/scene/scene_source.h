@@ -1,5 +1,6 @@
 #pragma once
 // Finding and reading a scene: a built-in name (a file in stimuli/scenes/) or a path to a .glsl file.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -18,8 +19,13 @@ std::filesystem::path builtin_scenes_directory();
 // Names of the built-in scenes, sorted.
 std::vector<std::string> builtin_scene_names();
 
+// A scene file must be a regular file (not a directory, device or FIFO) of at most this size; the
+// built-in scenes are about 10 KiB.
+constexpr uint64_t kMaxSceneBytes = uint64_t(4) << 20;  // 4 MiB
+
 // `name_or_file` is a built-in name ("columns") or a path ("my/scene.glsl"). Throws InputError
-// naming the scene and what was expected when it cannot be found or read.
+// naming the scene and what was expected when it cannot be found or read. A UTF-8 byte-order mark
+// at the start of the file is left out of `text` (GLSL has no place for one).
 SceneSource load_scene(const std::string& name_or_file);
 
 }  // namespace fovlab

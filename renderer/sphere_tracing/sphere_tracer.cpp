@@ -31,7 +31,6 @@ constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (
 // Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
 enum Counter : uint32_t { capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, counter_count };
 constexpr int kMaxFrameSide = 16384;
-constexpr uint64_t kMaxSamplesPerFrame = uint64_t{1} << 28;  // keeps buffers and one submit bounded
 
 // Must match TraceParams in sphere_trace.comp.glsl (std430 push constant layout).
 struct TraceParams {
@@ -266,9 +265,9 @@ void validate(const SphereTraceSettings& settings) {
     throw InputError("--spp " + std::to_string(spp) + ": expected 1, 4 or 16 samples per pixel");
   }
   const uint64_t samples = uint64_t(settings.width) * uint64_t(settings.height) * uint64_t(spp);
-  if (samples > kMaxSamplesPerFrame) {
+  if (samples > kMaxSphereTraceSamplesPerFrame) {
     throw InputError("--width x --height x --spp = " + std::to_string(samples) + " samples: expected at most " +
-                     std::to_string(kMaxSamplesPerFrame));
+                     std::to_string(kMaxSphereTraceSamplesPerFrame));
   }
   if (settings.pyramid_levels < 2 || settings.pyramid_levels > 5) {
     throw InputError("--levels " + std::to_string(settings.pyramid_levels) + ": expected 2 to 5 pyramid levels");
@@ -352,14 +351,18 @@ MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelSt
 
 }  // namespace
 
+void check_sphere_trace_frame_bytes(const vk::Context& context, int width, int height, const std::string& size_name) {
+  const VkDeviceSize colour_bytes = VkDeviceSize(width) * VkDeviceSize(height) * 4 * sizeof(float);
+  if (colour_bytes > context.max_storage_buffer_bytes) {
+    throw InputError(size_name + " = " + std::to_string(width) + "x" + std::to_string(height) + ": the frame needs " +
+                     std::to_string(colour_bytes >> 20) + " MiB in one buffer; expected at most " +
+                     std::to_string(context.max_storage_buffer_bytes >> 20) + " MiB on " + context.description.name);
+  }
+}
+
 SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   validate(settings);
-  const VkDeviceSize colour_bytes = VkDeviceSize(settings.width) * VkDeviceSize(settings.height) * 4 * sizeof(float);
-  if (colour_bytes > context_.max_storage_buffer_bytes) {
-    throw InputError("--width x --height = " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-                     ": the frame needs " + std::to_string(colour_bytes >> 20) + " MiB in one buffer; expected at most " +
-                     std::to_string(context_.max_storage_buffer_bytes >> 20) + " MiB on " + context_.description.name);
-  }
+  check_sphere_trace_frame_bytes(context_, settings.width, settings.height, "--width x --height");
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
   const int level_count = settings.method == TraceMethod::ground_truth ? 1 : settings.pyramid_levels;
   const int filter_radius = settings.min_filter_size / 2;

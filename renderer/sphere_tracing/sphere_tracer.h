@@ -69,6 +69,15 @@ void validate(const SphereTraceSettings& settings);
 // `fovlab render` and `fovlab bench` refuse sizes that would not fit (core/memory_budget.h).
 uint64_t render_memory_bytes(const SphereTraceSettings& settings);
 
+// At most this many samples a frame (pixels x samples per pixel): keeps buffers and one submit bounded.
+constexpr uint64_t kMaxSphereTraceSamplesPerFrame = uint64_t{1} << 28;
+
+// The frame's colour must fit one storage buffer of the device: throws InputError
+// "<size_name> = WxH: the frame needs N MiB in one buffer; expected at most M MiB on <device>".
+// `size_name` says where the size came from: "--width x --height" for a command, a study config's
+// fields for a study.
+void check_sphere_trace_frame_bytes(const vk::Context& context, int width, int height, const std::string& size_name);
+
 struct PyramidLevelStats {
   int width = 0;
   int height = 0;

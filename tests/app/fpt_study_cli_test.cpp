@@ -192,27 +192,28 @@ TEST(FptStudyCli, FptOnASphereTracedSceneIsRefused) {
   EXPECT_FALSE(fs::exists(dir / "stimuli"));
 }
 
-TEST(FptStudyCli, FptDisplayNotAMultipleOf4IsRefusedAtRun) {
+TEST(FptStudyCli, FptDisplayNotAMultipleOf4IsRefusedNamingTheConfigField) {
+  // Refused when the config is read (validate and run), at the field's line.
   const fs::path dir = working_dir("size");
   std::string text = fpt_config("tiny_size", "kind = \"pair\"\nrepeats = 2");
   replace(text, "width_px = 32", "width_px = 30");
   write_file(dir / "size.toml", text);
   const CommandResult result =
       run_in(dir, "run size.toml --participant P1 --headless --observer simulated --results results");
-  expect_one_line_error(result, "multiples of 4");
-  EXPECT_NE(result.err.find("fpt"), std::string::npos) << result.err;
+  expect_one_line_error(result, "size.toml:6: display.width_px: expected a multiple of 4 for fpt stimuli");
   EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
+  expect_one_line_error(run_in(dir, "validate size.toml"), "size.toml:6: display.width_px: expected a multiple of 4");
   // 32x18: the height is the odd one out.
   std::string height = fpt_config("tiny_height", "kind = \"pair\"\nrepeats = 2");
   replace(height, "height_px = 20", "height_px = 18");
   write_file(dir / "height.toml", height);
   expect_one_line_error(run_in(dir, "run height.toml --participant P1 --headless --observer simulated --results results"),
-                        "multiples of 4");
+                        "height.toml:7: display.height_px: expected a multiple of 4 for fpt stimuli");
   EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
 }
 
 // A frame whose three zones cannot fit one storage buffer on any device is refused before anything is
-// rendered (not even the pt reference), naming the size.
+// rendered (not even the pt reference), naming the size and the config fields it came from.
 TEST(FptStudyCli, FptFrameTooLargeForTheDeviceIsRefusedBeforeRendering) {
   const fs::path dir = working_dir("too-large");
   std::string text = fpt_config("tiny_too_large", "kind = \"pair\"\nrepeats = 2");
@@ -221,9 +222,24 @@ TEST(FptStudyCli, FptFrameTooLargeForTheDeviceIsRefusedBeforeRendering) {
   write_file(dir / "large.toml", text);
   const CommandResult result =
       run_in(dir, "run large.toml --participant P1 --headless --observer simulated --results results");
-  expect_one_line_error(result, "16384x16384");
+  expect_one_line_error(result, "display.width_px x display.height_px = 16384x16384: ");
   EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
   EXPECT_FALSE(fs::exists(dir / "stimuli")) << "something was rendered";
+}
+
+// The same for a sphere-traced study: its frame named --width x --height, flags a study does not have.
+TEST(FptStudyCli, SphereTracedFrameTooLargeForTheDeviceNamesTheConfigFields) {
+  const fs::path dir = working_dir("gt-too-large");
+  std::string text = read_all(fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies/tiny_2afc.toml");
+  replace(text, "width_px = 64", "width_px = 16384");  // 16 bytes a pixel: 4 GiB, over any device's range
+  replace(text, "height_px = 36", "height_px = 16384");
+  replace(text, "../scenes/sphere.glsl", (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/scenes/sphere.glsl").string());
+  write_file(dir / "gt.toml", text);
+  const CommandResult result =
+      run_in(dir, "run gt.toml --participant P1 --headless --observer simulated --results results");
+  expect_one_line_error(result, "display.width_px x display.height_px = 16384x16384: the frame needs 4096 MiB");
+  EXPECT_EQ(result.err.find("--width"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(dir / "results")) << "bad input created results";
 }
 
 // Replaces a frame by its first half: the EXR's header is whole (so it counts as cached), its pixels

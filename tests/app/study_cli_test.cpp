@@ -110,4 +110,17 @@ TEST(StudyCli, BadInputIsOneLineWithExitCode2AndWritesNothing) {
     fs::remove(fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (std::string("generated_") + name + ".toml"));
 }
 
+TEST(StudyCli, ValidateRefusesWhatCannotBeAConfigInOneLine) {
+  // A directory read as an empty text ("study: missing"), /dev/zero was read for 2.2 GB, and a
+  // dotted key of 40,000 parts overflowed toml++'s stack.
+  const fs::path dir = scratch() / "a_folder.toml";
+  fs::create_directories(dir);
+  expect_one_line_error(run("validate " + dir.string()), dir.string() + ": not a regular file (a directory)");
+  expect_one_line_error(run("validate /dev/zero"), "/dev/zero: not a regular file (a character device)");
+  std::string key = "a";
+  for (int part = 1; part < 40000; ++part) key += ".a";
+  const fs::path deep = fovlab::cli_test::write_file(scratch() / "deep.toml", "# deep\n" + key + " = 1\n");
+  expect_one_line_error(run("validate " + deep.string()), deep.string() + ":2: dotted key nested deeper than");
+}
+
 }  // namespace

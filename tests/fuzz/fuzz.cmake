@@ -1,23 +1,30 @@
-# Fuzzing the study-config parser and the session-log reader (tests/fuzz/*_fuzz.cpp).
-# Included at the end of the top CMakeLists.txt, after fovlab_tests exists.
+# Fuzzing the parsers of what users give fovlab (tests/fuzz/*_fuzz.cpp): study configs, session
+# logs, gaze traces and OBJ meshes. Included at the end of the top CMakeLists.txt, after
+# fovlab_tests exists.
 #
-# Every build: fovlab_config_corpus and fovlab_log_corpus replay the checked-in corpus
-# (tests/fuzz/corpus/{config,log}) through the same harnesses without libFuzzer, as the CTest
-# entries FuzzCorpus.config and FuzzCorpus.log.
+# Every build: fovlab_<name>_corpus replays the checked-in corpus (tests/fuzz/corpus/<name>)
+# through the same harness without libFuzzer, as the CTest entry FuzzCorpus.<name>.
 #
 # -DFOVLAB_FUZZ=ON (clang only; scripts/fuzz configures build/fuzz this way): also the libFuzzer
-# targets fovlab_config_fuzz and fovlab_log_fuzz. The rest of the project must be instrumented
-# too, which this late include cannot arrange for targets already defined: pass
+# targets fovlab_<name>_fuzz. The rest of the project must be instrumented too, which this late
+# include cannot arrange for targets already defined: pass
 # -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link" (scripts/fuzz does).
-option(FOVLAB_FUZZ "Build the libFuzzer targets fovlab_config_fuzz and fovlab_log_fuzz (clang; see scripts/fuzz)" OFF)
+option(FOVLAB_FUZZ "Build the libFuzzer targets fovlab_<name>_fuzz (clang; see scripts/fuzz)" OFF)
 
 set(fovlab_fuzz_dir ${CMAKE_SOURCE_DIR}/tests/fuzz)
+# Harness name and the library it needs: the OBJ loader is in fovlab_renderer (parse only, no
+# Vulkan device is made), the others in fovlab_protocols.
+set(fovlab_fuzz_harnesses config log gaze_trace obj)
+set(fovlab_fuzz_library_config fovlab_protocols)
+set(fovlab_fuzz_library_log fovlab_protocols)
+set(fovlab_fuzz_library_gaze_trace fovlab_protocols)
+set(fovlab_fuzz_library_obj fovlab_renderer)
 
-foreach(fovlab_fuzz_name config log)
+foreach(fovlab_fuzz_name ${fovlab_fuzz_harnesses})
   add_executable(fovlab_${fovlab_fuzz_name}_corpus
     ${fovlab_fuzz_dir}/corpus_runner.cpp
     ${fovlab_fuzz_dir}/${fovlab_fuzz_name}_fuzz.cpp)
-  target_link_libraries(fovlab_${fovlab_fuzz_name}_corpus PRIVATE fovlab_protocols fovlab_warnings)
+  target_link_libraries(fovlab_${fovlab_fuzz_name}_corpus PRIVATE ${fovlab_fuzz_library_${fovlab_fuzz_name}} fovlab_warnings)
   add_test(NAME FuzzCorpus.${fovlab_fuzz_name}
     COMMAND fovlab_${fovlab_fuzz_name}_corpus ${fovlab_fuzz_dir}/corpus/${fovlab_fuzz_name})
   set_tests_properties(FuzzCorpus.${fovlab_fuzz_name} PROPERTIES
@@ -40,9 +47,14 @@ if(FOVLAB_FUZZ)
   if(TARGET tomlplusplus::tomlplusplus)
     set_property(TARGET tomlplusplus::tomlplusplus PROPERTY INTERFACE_COMPILE_OPTIONS -DTOML_HEADER_ONLY=1)
   endif()
-  foreach(fovlab_fuzz_name config log)
+  # The same for tinyobjloader (a prebuilt libtinyobjloader.so): its implementation is compiled
+  # into fovlab_renderer here, and these definitions take precedence over the shared library's.
+  # Third-party code: its warnings are not ours to fix.
+  target_sources(fovlab_renderer PRIVATE ${fovlab_fuzz_dir}/tinyobjloader_instrumented.cpp)
+  set_source_files_properties(${fovlab_fuzz_dir}/tinyobjloader_instrumented.cpp PROPERTIES COMPILE_OPTIONS -w)
+  foreach(fovlab_fuzz_name ${fovlab_fuzz_harnesses})
     add_executable(fovlab_${fovlab_fuzz_name}_fuzz ${fovlab_fuzz_dir}/${fovlab_fuzz_name}_fuzz.cpp)
-    target_link_libraries(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE fovlab_protocols fovlab_warnings)
+    target_link_libraries(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE ${fovlab_fuzz_library_${fovlab_fuzz_name}} fovlab_warnings)
     target_compile_options(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE -fsanitize=fuzzer,address,undefined)
     target_link_options(fovlab_${fovlab_fuzz_name}_fuzz PRIVATE -fsanitize=fuzzer,address,undefined)
   endforeach()

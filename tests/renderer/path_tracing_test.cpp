@@ -298,8 +298,75 @@ TEST(ObjScene, BadFilesAreInputErrorsNamingFileAndLine) {
   EXPECT_NE(missing_library.find("missing_library.obj:3: material library"), std::string::npos) << missing_library;
   EXPECT_NE(missing_library.find("no_such_library.mtl"), std::string::npos);
   EXPECT_NE(input_error([] { load_obj_scene(kMeshes + "no_such_mesh.obj"); })
-                .find("no_such_mesh.obj: cannot read the file: expected an OBJ file"),
+                .find("no_such_mesh.obj: cannot open (No such file or directory): expected an OBJ mesh"),
             std::string::npos);
+}
+
+TEST(ObjScene, OnlyRegularFilesWithinTheCapsAreRead) {
+  testing::TempDir dir;
+  EXPECT_EQ(input_error([&] { load_obj_scene(dir.path()); }),
+            dir.path().string() + ": not a regular file (a directory): expected an OBJ mesh");
+  EXPECT_EQ(input_error([] { load_obj_scene("/dev/zero"); }),
+            "/dev/zero: not a regular file (a character device): expected an OBJ mesh");
+  // A folder named as the material library was read as an empty library: materials silently lost.
+  std::filesystem::create_directories(dir.path() / "library.mtl");
+  const std::string with_folder = dir.write("folder_library.obj", "mtllib library.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(input_error([&] { load_obj_scene(with_folder); }),
+            with_folder + ":1: material library: " + (dir.path() / "library.mtl").string() +
+                ": not a regular file (a directory): expected an MTL material library");
+  // One byte over the cap (sparse: nothing is written), refused from its size.
+  const std::string big = dir.write("big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  std::filesystem::resize_file(big, kMaxObjBytes + 1);
+  EXPECT_EQ(input_error([&] { load_obj_scene(big); }),
+            big + ": larger than 512 MiB (" + std::to_string(kMaxObjBytes + 1) +
+                " bytes): expected an OBJ mesh of at most 512 MiB");
+}
+
+TEST(ObjScene, AByteOrderMarkIsIgnoredNotTheFirstLineLost) {
+  // tinyobjloader read "\xEF\xBB\xBFv" as an unknown keyword: the first vertex was dropped and the
+  // face's index 3 was out of range.
+  testing::TempDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  dir.write("bom.mtl", bom + "newmtl red\nKd 0.9 0.1 0.1\n");  // the same in an MTL file: "newmtl red" was lost
+  ObjLoadReport report;
+  const PathScene scene =
+      load_obj_scene(dir.write("bom.obj", bom + "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib bom.mtl\nusemtl red\nf 1 2 3\n"), &report);
+  ASSERT_EQ(scene.triangle_count(), 1u);
+  EXPECT_EQ(scene.positions.at(0), glm::vec3(0.0f));
+  EXPECT_EQ(report.triangles_without_material, 0u);
+  EXPECT_EQ(scene.materials.at(scene.material_per_triangle.at(0)).colour, glm::vec3(0.9f, 0.1f, 0.1f));
+}
+
+TEST(ObjScene, SkinWeightLinesAreIgnored) {
+  // tinyobjloader refused a negative joint id ("Failed parse `vw' line") and converted 1e30 to int
+  // (undefined behaviour; tests/fuzz/corpus/obj/finding-obj-skin-weight-joint-out-of-int-range.obj).
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const auto no_library = [](const std::string& name) -> std::string { throw InputError(name + ": none"); };
+  for (const char* weights : {"vw 1 -1 0.5\n", "vw 0 1e30 1\n", "  vw\t2 0 0.25 1 0.75\n"}) {
+    const PathScene scene = parse_obj_scene(weights + triangle, "weights.obj", no_library);
+    EXPECT_EQ(scene.triangle_count(), 1u) << weights;
+  }
+  // Lines keep their numbers: the bad vertex after a skin-weight line is on line 2.
+  EXPECT_EQ(input_error([&] { parse_obj_scene("vw 1 -1 0.5\nv 0 nan 0\n", "weights.obj", no_library); }),
+            "weights.obj:2: expected three finite vertex coordinates");
+}
+
+TEST(ObjScene, ParsesTextWithLibrariesFromTheCaller) {
+  const std::string obj = "# a comment\nmtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n";
+  const auto library = [](const std::string& name) -> std::string {
+    if (name != "lib.mtl") throw InputError(name + ": no such library");
+    return "newmtl lamp\nKe 2 2 2\n";
+  };
+  const PathScene scene = parse_obj_scene(obj, "text.obj", library);
+  ASSERT_EQ(scene.triangle_count(), 1u);
+  EXPECT_EQ(scene.materials.at(scene.material_per_triangle.at(0)).kind, MaterialKind::emissive);
+  EXPECT_EQ(input_error([&] { parse_obj_scene("mtllib other.mtl\n", "text.obj", library); }),
+            "text.obj:1: material library: other.mtl: no such library");
+  // What validate() refuses in the scene made names the file too (a bounding box too large for
+  // float: the camera's distance is infinite).
+  EXPECT_EQ(input_error([&] { parse_obj_scene("v 3e38 3e38 3e38\nv -3e38 -3e38 3e38\nv 3e38 -3e38 -3e38\nf 1 2 3\n", "huge.obj", library); })
+                .rfind("huge.obj: scene camera", 0),
+            0u);
 }
 
 // ---- GPU -----------------------------------------------------------------------------------------

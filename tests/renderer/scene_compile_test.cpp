@@ -1,5 +1,6 @@
 // Run-time scene compilation: errors name the scene file and line; the cache avoids recompiling.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "renderer/scene/scene_compiler.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -88,6 +90,40 @@ TEST(SceneSource, UnknownNameListsTheBuiltInScenes) {
     EXPECT_NE(message.find("primitives"), std::string::npos) << message;
   }
   EXPECT_THROW(load_scene("missing/file.glsl"), InputError);
+}
+
+std::string load_error(const std::string& name_or_file) {
+  try {
+    load_scene(name_or_file);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(SceneSource, OnlyARegularFileWithinTheCapIsRead) {
+  const testing::TempDir dir;
+  const std::string folder = dir.file("folder.glsl");
+  std::filesystem::create_directories(folder);
+  EXPECT_EQ(load_error(folder), folder + ": not a regular file (a directory): expected a GLSL scene file (docs/scenes.md)");
+  const std::string fifo = dir.file("fifo.glsl");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);  // was opened, and waited for a writer for ever
+  EXPECT_EQ(load_error(fifo), fifo + ": not a regular file (a FIFO or pipe): expected a GLSL scene file (docs/scenes.md)");
+  // One byte over the cap (sparse: nothing is written) was read whole and handed to the compiler.
+  const std::string big = dir.write("big.glsl", "// big\n");
+  std::filesystem::resize_file(big, kMaxSceneBytes + 1);
+  EXPECT_EQ(load_error(big), big + ": larger than 4 MiB (" + std::to_string(kMaxSceneBytes + 1) +
+                                 " bytes): expected a GLSL scene file (docs/scenes.md) of at most 4 MiB");
+}
+
+TEST(SceneSource, AByteOrderMarkIsLeftOutAndTheSceneCompiles) {
+  // glslang took the mark for a stray character: "syntax error" on line 1.
+  const testing::TempDir dir;
+  const SceneSource plain = fixture_scene();
+  const std::string comment = unique_comment();
+  const SceneSource scene = load_scene(dir.write("bom.glsl", "\xEF\xBB\xBF" + comment + plain.text));
+  EXPECT_EQ(scene.text, comment + plain.text);
+  EXPECT_EQ(compile_error(scene), "");
 }
 
 TEST(SceneSource, BuiltInScenesAreTheThreeOfTheIssue) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <regex>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "protocols/config/study_config.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -264,6 +266,107 @@ TEST(ProtocolsConfig, ParsesTheShippedExperiments) {
 
 TEST(ProtocolsConfig, MissingFileIsAnInputError) {
   EXPECT_THROW(parse_study_config_file("/nonexistent/fovlab/none.toml"), InputError);
+}
+
+// --- guards in front of the file and of toml++ ----------------------------------------------------
+
+// The error of reading `path` as a study config ("" and a test failure when it is read).
+std::string file_error_of(const std::string& path) {
+  try {
+    parse_study_config_file(path);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "read without an error: " << path;
+  return "";
+}
+
+TEST(ProtocolsConfig, ADirectoryIsNotAConfig) {
+  const testing::TempDir dir;
+  const std::string message = file_error_of(dir.path().string());
+  EXPECT_EQ(message, dir.path().string() + ": not a regular file (a directory): expected a study config (.toml)");
+}
+
+TEST(ProtocolsConfig, ADeviceIsRefusedBeforeItIsRead) {
+  // /dev/zero never ends: reading it whole took 2.2 GB before it failed.
+  EXPECT_EQ(file_error_of("/dev/zero"), "/dev/zero: not a regular file (a character device): expected a study config (.toml)");
+}
+
+TEST(ProtocolsConfig, AFileOverTheSizeCapIsRefusedFromItsSize) {
+  const testing::TempDir dir;
+  const std::string path = dir.file("big.toml");
+  {
+    // A valid config, then a comment that takes the file one byte past the cap; sparse, so cheap.
+    std::ofstream out(path, std::ios::binary);
+    out << ConfigText().text() << "#";
+  }
+  std::filesystem::resize_file(path, kMaxStudyConfigBytes + 1);
+  EXPECT_EQ(file_error_of(path), path + ": larger than 16 MiB (" + std::to_string(kMaxStudyConfigBytes + 1) +
+                                     " bytes): expected a study config (.toml) of at most 16 MiB");
+  // The same text from a session log's header (replay, analyze) passes the same cap.
+  const std::string message = error_of(std::string(kMaxStudyConfigBytes + 1, '#'));
+  EXPECT_EQ(message, kPath + ": " + std::to_string(kMaxStudyConfigBytes + 1) +
+                         " bytes: expected a study config of at most 16 MiB");
+  // At the cap it is read and parsed (the padding is a comment).
+  std::string text = ConfigText().text() + "#";
+  text.resize(kMaxStudyConfigBytes, ' ');
+  EXPECT_EQ(parse_study_config_file(dir.write("at_cap.toml", text)).source_text.size(), kMaxStudyConfigBytes);
+}
+
+TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
+  // Editors on Windows write one; a config with it is the same study (and hashes its own bytes).
+  const std::string text = ConfigText().text();
+  const StudyConfig plain = parse(text);
+  const StudyConfig marked = parse("\xEF\xBB\xBF" + text);
+  EXPECT_EQ(marked.name, plain.name);
+  EXPECT_EQ(marked.blocks.size(), plain.blocks.size());
+  EXPECT_EQ(marked.source_text, "\xEF\xBB\xBF" + text);
+  const testing::TempDir dir;
+  EXPECT_EQ(parse_study_config_file(dir.write("bom.toml", "\xEF\xBB\xBF" + text)).name, plain.name);
+  // Lines are counted as without it, and only the first three bytes may be one.
+  expect_error("\xEF\xBB\xBF" + replace_once(text, "seed = 7", "seed = -7"), line_of(text, "seed = 7"), "study.seed",
+               "non-negative");
+  EXPECT_EQ(error_of("\n\xEF\xBB\xBF" + text).rfind(kPath + ":2: ", 0), 0u);
+}
+
+// --- the renderers' frame-size rules, named after the config's fields -------------------------------
+
+TEST(ProtocolsConfig, FptFrameSidesMustBeMultiplesOfFourNamingTheDisplayField) {
+  // Was refused only at run, as "stimulus ...: fpt needs ... multiples of 4", naming no field.
+  ConfigText base;
+  base.stimulus = replace_once(replace_once(base.stimulus, "method = \"gt\"\n\n[stimulus.test]", "method = \"pt\"\n\n[stimulus.test]"),
+                               "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"fpt\"");
+  base.levels = "";
+  base.blocks = "[[block]]\nscene = \"courtyard\"\n";
+  EXPECT_EQ(parse(base.text()).stimulus.test.method, "fpt");  // 320x180: both sides multiples of 4
+  for (const auto& [key, from, to] : {std::tuple<std::string, std::string, std::string>{"width_px", "width_px = 320", "width_px = 318"},
+                                      {"height_px", "height_px = 180", "height_px = 182"}}) {
+    ConfigText odd = base;
+    odd.display = replace_once(odd.display, from, to);
+    const std::string text = odd.text();
+    expect_error(text, line_of(text, to), "display." + key,
+                 "expected a multiple of 4 for fpt stimuli (the outer zone is 1/4 of the frame per axis), got " +
+                     to.substr(to.size() - 3));
+  }
+}
+
+TEST(ProtocolsConfig, SphereTracedSamplesAFrameNamingTheDisplayField) {
+  // 16384 x 16384 x 4 samples: refused by the renderer at run as "--width x --height x --spp = ...".
+  ConfigText base;
+  base.display = replace_once(replace_once(base.display, "width_px = 320", "width_px = 16384"), "height_px = 180", "height_px = 16384");
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"gt\"\nsamples_per_pixel = 4");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "width_px = 16384"), "display.width_px",
+               "expected width_px x height_px x samples_per_pixel of at most 268435456 samples a frame (gt), got "
+               "16384 x 16384 x 4 = 1073741824");
+  // Every stimulus counts: here only the level 16 of 8192 x 4096 is too many.
+  base.display = replace_once(replace_once(base.display, "width_px = 16384", "width_px = 8192"), "height_px = 16384", "height_px = 4096");
+  base.stimulus = replace_once(base.stimulus, "\nsamples_per_pixel = 4", "");
+  base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4, 16]\n";
+  text = base.text();
+  expect_error(text, line_of(text, "width_px = 8192"), "display.width_px", "8192 x 4096 x 16 = 536870912");
+  base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4]\n";
+  EXPECT_EQ(parse(base.text()).display.width_px, 8192);
 }
 
 TEST(ProtocolsConfig, TwoAfcBetter) {

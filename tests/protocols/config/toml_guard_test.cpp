@@ -3,6 +3,7 @@
 // its line, and the inputs the fuzzer found parse to errors, not to undefined behaviour.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -60,6 +61,85 @@ TEST(ProtocolsTomlGuard, HazardsOutsideStringsAreErrorsWithTheirLine) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("private.toml:2: code points U+F0000"), std::string::npos) << error.what();
   }
+}
+
+// The error of parsing `text` as a config named "deep.toml" ("" and a failure when there is none).
+std::string config_error(const std::string& text) {
+  try {
+    parse_study_config_text(text, "deep.toml");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "accepted";
+  return "";
+}
+
+// The error must be the nesting guard's one line, at `line`, about `what`.
+void expect_too_deep(const std::string& text, int line, const std::string& what) {
+  const std::string message = config_error(text);
+  const std::string limit = std::to_string(kMaxStudyConfigNesting);
+  EXPECT_EQ(message.rfind("deep.toml:" + std::to_string(line) + ": " + what + " nested deeper than " + limit +
+                              " levels: expected at most " + limit,
+                          0),
+            0u)
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+std::string repeated(const std::string& part, int count, const std::string& separator = "") {
+  std::string text;
+  for (int i = 0; i < count; ++i) text += (i ? separator : "") + part;
+  return text;
+}
+
+int line_count(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+TEST(ProtocolsTomlGuard, DottedKeysOfTensOfThousandsOfPartsAreRefusedNotAStackOverflow) {
+  // 40,000 parts overflowed toml++'s stack: fovlab validate crashed. Configs also come from session
+  // logs' headers (replay, analyze), through the same parse_study_config_text.
+  expect_too_deep("# first\n\n" + repeated("a", 40000, ".") + " = 1\n", 3, "dotted key");
+  expect_too_deep(demo_text() + "[" + repeated("b", 40000, ".") + "]\n", line_count(demo_text()) + 1, "table header");
+  expect_too_deep("[[" + repeated("'q.'", 40000, " . ") + "]]\n", 1, "table header");
+  expect_too_deep("x = {" + repeated("c", 40000, ".") + " = 2}\n", 1, "dotted key");
+}
+
+TEST(ProtocolsTomlGuard, DeepArraysAndInlineTablesAreRefusedWithTheirLine) {
+  // Within toml++'s own limit (256 levels), so only the guard refuses them.
+  expect_too_deep("a = 1\nx = " + repeated("[", 100) + repeated("]", 100) + "\n", 2, "array");
+  expect_too_deep("x = [\n  1,\n  " + repeated("{y = ", 100) + "0" + repeated("}", 100) + "]\n", 3, "inline table");
+  // Levels add up: a table header's parts, the key's parts and the arrays around the value.
+  const int limit = kMaxStudyConfigNesting;
+  const auto nested = [&](int header_parts, int key_parts, int arrays) {
+    return "[" + repeated("t", header_parts, ".") + "]\n" + repeated("k", key_parts, ".") + " = " +
+           repeated("[", arrays) + "1" + repeated("]", arrays) + "\n";
+  };
+  EXPECT_NO_THROW(check_toml_nesting(nested(10, 10, limit - 20), "deep.toml", limit));
+  EXPECT_THROW(check_toml_nesting(nested(10, 10, limit - 19), "deep.toml", limit), InputError);
+  EXPECT_NO_THROW(check_toml_nesting(nested(10, limit - 10, 0), "deep.toml", limit));
+  EXPECT_THROW(check_toml_nesting(nested(10, limit - 9, 0), "deep.toml", limit), InputError);
+  EXPECT_NO_THROW(check_toml_nesting("[[" + repeated("t", limit - 1, ".") + "]]\n", "deep.toml", limit));
+  EXPECT_THROW(check_toml_nesting("[[" + repeated("t", limit, ".") + "]]\n", "deep.toml", limit), InputError);
+  // A config at the limit is no error of the guard's (an inline table deep in a key's array).
+  EXPECT_EQ(config_error(demo_text() + "[protocol.keys]\nsame = " + repeated("[", limit - 3) + repeated("]", limit - 3) + "\n")
+                .find("nested deeper"),
+            std::string::npos);
+}
+
+TEST(ProtocolsTomlGuard, BracketsDotsAndQuotesInStringsAndCommentsDoNotCount) {
+  const std::string deep = repeated("[", 100) + repeated("{", 100) + repeated("a.", 100);
+  const std::string texts[] = {
+      R"(s = ")" + deep + R"(\" )" + deep + "\"\n",
+      "s = '" + deep + "'\n",
+      "s = \"\"\"\n" + deep + "\n\"\"\"\n",
+      "s = '''" + deep + "\\'''\n",
+      "# " + deep + "\n",
+      R"(s = """a""""" # )" + deep + "\n",
+      "\"" + deep + "\" = 1\n",
+      R"(x = ["]", 1.5, 1979-05-27T07:32:00Z] # )" + deep + "\n",
+  };
+  for (const std::string& text : texts) EXPECT_NO_THROW(check_toml_nesting(text, "strings.toml", 4)) << text;
+  // After multi-line strings and an escaped line end, lines are still counted right.
+  expect_too_deep("s = \"\"\"\none\ntwo\\\n\"\"\"\nt = '''\n'''\nx = " + repeated("[", 40) + "\n", 7, "array");
 }
 
 }  // namespace

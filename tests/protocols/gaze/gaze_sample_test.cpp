@@ -28,7 +28,38 @@ TEST(GazeSanitize, ValidSampleIsReturnedUnchanged) {
   EXPECT_DOUBLE_EQ(out.y_px, 200.25);
   // Corners: 0 is inside, width - tiny is inside.
   EXPECT_TRUE(sanitize_gaze(make(0, 0.0, 0.0), 640, 480, nullptr).valid);
-  EXPECT_TRUE(sanitize_gaze(make(0, 639.999, 479.999), 640, 480, nullptr).valid);
+  EXPECT_TRUE(sanitize_gaze(make(0, 639.994, 479.994), 640, 480, nullptr).valid);
+}
+
+TEST(GazeSanitize, ValidityIsDecidedOnThePositionRoundedAsUsed) {
+  // x = 31.996 on a 32-pixel-wide display was used and logged as 32.00 (off the screen) but valid.
+  const GazeSample last = make(0.5, 3.0, 4.0);
+  for (const GazeSample& raw : {make(1.0, 31.996, 5.0), make(1.0, 5.0, 15.996)}) {
+    const GazeSample out = sanitize_gaze(raw, 32, 16, &last);
+    EXPECT_FALSE(out.valid) << raw.x_px << "," << raw.y_px;
+    EXPECT_EQ(out.invalid_reason, "off_screen");
+    EXPECT_DOUBLE_EQ(out.x_px, 3.0);
+    EXPECT_DOUBLE_EQ(out.y_px, 4.0);
+  }
+  // Just inside: valid, and the position returned is the rounded one the session uses.
+  const GazeSample inside = sanitize_gaze(make(1.0, 31.994, 15.9949), 32, 16, &last);
+  EXPECT_TRUE(inside.valid);
+  EXPECT_EQ(inside.x_px, round_gaze_px(31.994));
+  EXPECT_DOUBLE_EQ(inside.x_px, 31.99);
+  EXPECT_DOUBLE_EQ(inside.y_px, 15.99);
+  // Rounding never makes -0 (a JSON "-0.0" in the log): -0.004 is 0, on the screen.
+  const GazeSample edge = sanitize_gaze(make(1.0, -0.004, 0.0), 32, 16, &last);
+  EXPECT_TRUE(edge.valid);
+  EXPECT_FALSE(std::signbit(edge.x_px));
+  // A held position that rounds off the screen is not held: the centre is used.
+  const GazeSample held_outside = make(0.5, 31.996, 4.0);
+  const GazeSample centre = sanitize_gaze(make(1.0, -1.0, 1.0), 32, 16, &held_outside);
+  EXPECT_DOUBLE_EQ(centre.x_px, 16.0);
+  EXPECT_DOUBLE_EQ(centre.y_px, 8.0);
+  // Rounding is idempotent (the session's own rounding of the result changes nothing), and a
+  // position too far off to round is kept, off_screen rather than not_finite.
+  EXPECT_EQ(round_gaze_px(round_gaze_px(123.456789)), round_gaze_px(123.456789));
+  EXPECT_EQ(sanitize_gaze(make(1.0, 1.7e308, 1.0), 32, 16, nullptr).invalid_reason, "off_screen");
 }
 
 TEST(GazeSanitize, NotFiniteUsesCentreBeforeAnyValidSample) {

@@ -1,3 +1,6 @@
+#include <sys/stat.h>
+
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -144,8 +147,50 @@ TEST(GazeTrace, MalformedLinesNameFileLineAndField) {
 TEST(GazeTrace, MissingFileIsAnInputError) {
   const TempDir dir;
   const std::string path = (dir.path() / "absent.csv").string();
-  EXPECT_EQ(error_of(path), path + ": cannot open gaze trace (No such file or directory)");
-  EXPECT_EQ(error_of(dir.path().string()), dir.path().string() + ": cannot open gaze trace (Is a directory)");
+  EXPECT_EQ(error_of(path), path + ": cannot open (No such file or directory): expected a gaze trace (.csv)");
+  EXPECT_EQ(error_of(dir.path().string()),
+            dir.path().string() + ": not a regular file (a directory): expected a gaze trace (.csv)");
+}
+
+TEST(GazeTrace, OnlyARegularFileWithinTheSizeCapIsRead) {
+  // /dev/zero was read until memory ran out, and a FIFO without a writer blocked for ever.
+  EXPECT_EQ(error_of("/dev/zero"), "/dev/zero: not a regular file (a character device): expected a gaze trace (.csv)");
+  const TempDir dir;
+  const std::string fifo = dir.file("gaze.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(error_of(fifo), fifo + ": not a regular file (a FIFO or pipe): expected a gaze trace (.csv)");
+  // One byte over the cap (sparse: nothing is written), refused from its size.
+  const std::string big = dir.write("big.csv", "time_s,x_px,y_px\n0,1,2\n");
+  std::filesystem::resize_file(big, kMaxGazeTraceBytes + 1);
+  EXPECT_EQ(error_of(big), big + ": larger than 256 MiB (" + std::to_string(kMaxGazeTraceBytes + 1) +
+                               " bytes): expected a gaze trace (.csv) of at most 256 MiB");
+}
+
+TEST(GazeTrace, LongLinesAndOddBytesGiveOneReadableLine) {
+  const auto error_for = [](const std::string& text) {
+    try {
+      parse_gaze_trace(text, "g.csv");
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string();
+  };
+  // Spaces around fields are accepted, but not without end.
+  const std::string padded = "0,1," + std::string(kMaxGazeTraceLineBytes, ' ') + "2";
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n" + padded + "\n"),
+            "g.csv:2: a line of " + std::to_string(padded.size()) + " bytes: expected at most " +
+                std::to_string(kMaxGazeTraceLineBytes) + " (time_s,x_px,y_px[,valid])");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1," + std::string(kMaxGazeTraceLineBytes - 5, ' ') + "2\n"), "");
+  // A carriage return or NUL inside a field is quoted escaped, and a long field is cut short.
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1\r2,3\n"),
+            "g.csv:2: x_px: expected a number, an empty field or nan, got \"1\\x0d2\"");
+  EXPECT_EQ(error_for(std::string("time_s,x_px,y_px\n0,1,\"\0\"\n", 25)),
+            "g.csv:2: y_px: expected a number, an empty field or nan, got \"\\x22\\x00\\x22\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n" + std::string(300, '7') + "x,1,2\n"),
+            "g.csv:2: time_s: expected a number, got \"" + std::string(48, '7') + "\" (301 bytes)");
+  // The text's own cap, for bytes that come from elsewhere than a file (the fuzzer).
+  EXPECT_EQ(error_for(std::string(kMaxGazeTraceBytes + 1, '\n')),
+            "g.csv: " + std::to_string(kMaxGazeTraceBytes + 1) + " bytes: expected a gaze trace of at most 256 MiB");
 }
 
 TEST(GazeTrace, NonFiniteQueryTimeIsABug) {

@@ -34,13 +34,18 @@ std::vector<std::string> lines_of(const std::string& text) {
 }
 
 // What a forger without the key does after editing lines: renumber and re-chain every event with
-// the public algorithm, so the chain itself is intact again.
-std::string rechained(const std::vector<std::string>& lines) {
+// the public algorithm, so the chain itself is intact again (the MACs of a keyed log, which need the
+// key, are kept as they were, or with `strip_keys` removed along with the header's lab_key_id).
+std::string rechained(const std::vector<std::string>& lines, bool strip_keys = false) {
   std::string text, chain;
   int64_t seq = 0;
   for (const std::string& line : lines) {
     nlohmann::json event = nlohmann::json::parse(line);
     event.erase("chain");
+    if (strip_keys) {
+      event.erase("mac");
+      if (event.contains("lab_key_id")) event["lab_key_id"] = nullptr;
+    }
     event["seq"] = seq++;
     if (event.value("event", "") == "seal") event["last_chain"] = chain;
     chain = event_chain(chain, event);
@@ -153,6 +158,42 @@ TEST_F(SessionIntegrity, AnEditedAnswerWithTheChainRecomputedFailsTheKeyedSeal) 
   EXPECT_THROW(full_reader(path, &other_key), InputError);
 }
 
+TEST_F(SessionIntegrity, AKeyedLogStrippedOfItsKeyOrCutBeforeItsSealCannotBeResealed) {
+  const LabKey lab_key = key();
+  const std::vector<std::string> lines = lines_of(read_file(*keyed_log_));
+  // Every answer flipped, the key id and every MAC removed, the chain made whole again.
+  std::vector<std::string> flipped = lines;
+  for (std::string& line : flipped)
+    if (const size_t at = line.find("\"answer\":\"same\""); at != std::string::npos) line.replace(at, 15, "\"answer\":\"different\"");
+  const fs::path stripped = write_copy(*folder_, "keyed-stripped.jsonl", rechained(flipped, /*strip_keys=*/true));
+  EXPECT_EQ(full_reader(stripped, &lab_key).status, LogStatus::broken);
+  EXPECT_EQ(fast_scan(stripped, &lab_key).status, LogStatus::broken);
+  EXPECT_EQ(full_reader(stripped, &lab_key).line, 1);
+  EXPECT_THROW(export_trials_csv({stripped.string()}, ExportOptions{&lab_key, false}), InputError);
+
+  // The final seal cut off (session_end kept) and the answers rewritten: the next run with the key
+  // refuses it instead of sealing it.
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  const fs::path results = *folder_ / "reseal";
+  const fs::path log = session_log_path(results.string(), config.name, "Keyed");
+  fs::create_directories(log.parent_path());
+  std::vector<std::string> no_seal(flipped.begin(), flipped.end() - 1);
+  std::ofstream(log, std::ios::binary) << rechained(no_seal);
+  const std::string before = read_file(log);
+  SessionOptions keyed = simulated(results, "Keyed");
+  keyed.lab_key_path = key_path_->string();
+  EXPECT_THROW(run_session(config, keyed), InputError);
+  EXPECT_EQ(read_file(log), before);
+  // The same cut without the rewrite (a kill between session_end and its seal): sealed by the next run.
+  std::string authentic;
+  for (size_t i = 0; i + 1 < lines.size(); ++i) authentic += lines[i] + "\n";
+  std::ofstream(log, std::ios::binary | std::ios::trunc) << authentic;
+  const SessionOutcome sealed = run_session(config, keyed);
+  EXPECT_TRUE(sealed.finished);
+  EXPECT_EQ(full_reader(log, &lab_key).status, LogStatus::sealed);
+  EXPECT_EQ(lines_of(read_file(log)).size(), lines.size());
+}
+
 TEST_F(SessionIntegrity, ADroppedSealOrTrailingCutIsUnsealedAndAWrongCountIsBroken) {
   std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
   // Cut at a line boundary (the seal and session_end gone): what a crash leaves, and said so.
@@ -187,6 +228,32 @@ TEST_F(SessionIntegrity, ADuplicatedTrialIsRefusedByBothReaders) {
   const fs::path path = write_copy(*folder_, "duplicated.jsonl", rechained(doubled));
   EXPECT_THROW(read_session_record(read_event_log(path.string())), InputError);
   EXPECT_THROW(scan_session_log(path.string()), InputError);
+}
+
+TEST_F(SessionIntegrity, BothReadersHoldTheSameFieldTypesAndSeqRule) {
+  const std::string original = read_file(*unkeyed_log_);
+  // Fields the full reader does not use in that event, but the scan decodes in every event.
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"\"event\":\"session_end\"", "\"event\":\"session_end\",\"trial\":3.0"},
+           {"\"event\":\"session_end\"", "\"event\":\"session_end\",\"condition\":5"},
+           {"\"event\":\"trial_end\",", "\"event\":\"trial_end\",\"block\":4294967296,"}}) {
+    SCOPED_TRACE(to);
+    const fs::path path = write_copy(*folder_, "types.jsonl", forged(original, from, from, to));
+    EXPECT_THROW(read_session_record(read_event_log(path.string())), InputError);
+    EXPECT_THROW(scan_session_log(path.string()), InputError);
+  }
+  // A seq that is not an integer: the chain breaks there, for both.
+  std::vector<std::string> lines = lines_of(original);
+  const size_t at = lines[3].find("\"seq\":3");
+  ASSERT_NE(at, std::string::npos);
+  lines[3].replace(at, 7, "\"seq\":3.5");
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  const fs::path path = write_copy(*folder_, "seq.jsonl", text);
+  EXPECT_EQ(full_reader(path).status, LogStatus::broken);
+  EXPECT_EQ(fast_scan(path).status, LogStatus::broken);
+  EXPECT_EQ(full_reader(path).line, 4);
+  EXPECT_EQ(fast_scan(path).line, 4);
 }
 
 TEST_F(SessionIntegrity, ReplayChecksTheHeaderAgainstItsOwnConfig) {
