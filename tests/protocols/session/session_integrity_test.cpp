@@ -42,14 +42,14 @@ std::string rechained(const std::vector<std::string>& lines, bool strip_keys = f
   for (const std::string& line : lines) {
     nlohmann::json event = nlohmann::json::parse(line);
     event.erase("chain");
-    if (strip_keys) {
-      event.erase("mac");
-      if (event.contains("lab_key_id")) event["lab_key_id"] = nullptr;
-    }
+    const nlohmann::json old_mac = event.value("mac", nlohmann::json());
+    event.erase("mac");
+    if (strip_keys && event.contains("lab_key_id")) event["lab_key_id"] = nullptr;
     event["seq"] = seq++;
     if (event.value("event", "") == "seal") event["last_chain"] = chain;
     chain = event_chain(chain, event);
     event["chain"] = chain;
+    if (!strip_keys && !old_mac.is_null()) event["mac"] = old_mac;
     text += event.dump() + "\n";
   }
   return text;
@@ -124,19 +124,22 @@ TEST_F(SessionIntegrity, AFinishedSessionIsSealedForEveryReader) {
   const LabKey lab_key = key();
   for (const std::string& log : {*unkeyed_log_, *keyed_log_}) {
     SCOPED_TRACE(log);
+    const LabKey* given = log == *keyed_log_ ? &lab_key : nullptr;  // a key given for an unkeyed log: broken (below)
     const std::vector<std::string> lines = lines_of(read_file(log));
     EXPECT_EQ(nlohmann::json::parse(lines.back()).value("event", ""), "seal");
     EXPECT_EQ(nlohmann::json::parse(lines.front()).value("schema_version", 0), 2);
     EXPECT_EQ(nlohmann::json::parse(lines.front())["chain"].get<std::string>().size(), 64u);  // SHA-256
-    EXPECT_EQ(full_reader(log, &lab_key).status, LogStatus::sealed);
-    EXPECT_EQ(fast_scan(log, &lab_key).status, LogStatus::sealed);
-    const ReplayOutcome replayed = replay(log, key_path_->string());
+    EXPECT_EQ(full_reader(log, given).status, LogStatus::sealed);
+    EXPECT_EQ(fast_scan(log, given).status, LogStatus::sealed);
+    const ReplayOutcome replayed = replay(log, given ? key_path_->string() : "");
     EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
     EXPECT_EQ(replayed.integrity.status, LogStatus::sealed);
   }
   EXPECT_TRUE(full_reader(*keyed_log_, &lab_key).mac_checked);
   EXPECT_FALSE(full_reader(*keyed_log_).mac_checked);  // no key given: sealed, MAC unchecked
   EXPECT_FALSE(full_reader(*unkeyed_log_).keyed);
+  EXPECT_EQ(full_reader(*unkeyed_log_, &lab_key).status, LogStatus::broken);  // the lab expects its key
+  EXPECT_EQ(fast_scan(*unkeyed_log_, &lab_key).status, LogStatus::broken);
 }
 
 TEST_F(SessionIntegrity, AnEditedAnswerWithTheChainRecomputedFailsTheKeyedSeal) {
