@@ -13,8 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-double round_to(double value, double step) { return std::round(value / step) * step; }
-
 }  // namespace
 
 SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Presenter& presenter, GazeSource& gaze,
@@ -61,10 +59,9 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   double previous = -1.0;
   for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
     for (int refresh = 0; refresh < refreshes; ++refresh) {
-      GazeSample sample = sanitize_gaze(gaze_.sample(t()), stimulus.spec.width_px, stimulus.spec.height_px,
-                                        last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
-      sample.x_px = round_to(sample.x_px, 0.01);  // what is logged is exactly what is used
-      sample.y_px = round_to(sample.y_px, 0.01);
+      // Rounded to kGazeStepPx by sanitize_gaze: what is logged is exactly what is used.
+      const GazeSample sample = sanitize_gaze(gaze_.sample(t()), stimulus.spec.width_px, stimulus.spec.height_px,
+                                              last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
       if (sample.valid) last_valid_gaze_ = sample;
       // Image `frame * refreshes + refresh` of this presentation, its position in the logged arrays:
       // a gaze-dependent stimulus (fipr) renders it now with this refresh's gaze (replay does the same).
