@@ -55,22 +55,8 @@ TEST(AtomicFile, FailedWriteKeepsTheOldFile) {
 
 // --- whole folders --------------------------------------------------------------------------------
 
-// The names in a folder, sorted.
-std::vector<std::string> names_in(const std::filesystem::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-// A pid no process has now: a child's, after it exited and was reaped.
-pid_t pid_of_a_finished_process() {
-  const pid_t child = ::fork();
-  if (child == 0) ::_exit(0);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  return child;
-}
+using testing::names_in;
+using testing::pid_of_a_finished_process;
 
 void write_set(const std::filesystem::path& target, bool replace, const std::string& text) {
   write_folder_atomically(target, replace, [&](const std::filesystem::path& temporary) {

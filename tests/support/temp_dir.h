@@ -3,7 +3,11 @@
 // one for a test process. Both are per process (the pid is in the name), so tests that CTest runs
 // side by side (ctest -j) never share or empty each other's folders, and both are removed with
 // everything in them.
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <vector>
 
 #include <atomic>
 #include <filesystem>
@@ -77,5 +81,23 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The names in a folder, sorted.
+inline std::vector<std::string> names_in(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A pid no process has now: a child's, after it exited and was reaped (the temporaries of a
+// "killed" writer carry it).
+inline pid_t pid_of_a_finished_process() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return child;
+}
 
 }  // namespace fovlab::testing

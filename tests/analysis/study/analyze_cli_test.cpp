@@ -21,6 +21,7 @@
 
 #include "protocols/log/event_log.h"
 #include "tests/app/cli_test_support.h"
+#include "tests/support/temp_dir.h"
 
 namespace {
 
@@ -607,22 +608,8 @@ TEST(AnalyzeCli, AlternativeGreaterIsNamedInThresholdsAndReport) {
 
 // --- the output folder as a set (docs/analysis.md, "The output folder") ------------------------------
 
-// The names in a folder, sorted.
-std::vector<std::string> names_in(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-// A pid no process has now: a child's, after it exited and was reaped.
-pid_t pid_of_a_finished_process() {
-  const pid_t child = ::fork();
-  if (child == 0) ::_exit(0);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  return child;
-}
+using fovlab::testing::names_in;
+using fovlab::testing::pid_of_a_finished_process;
 
 // A copy of `log` at `to` with header fields replaced, every line's chain recomputed (as if the
 // runner had written it so).
