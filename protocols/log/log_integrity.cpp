@@ -115,10 +115,10 @@ LogIntegrity IntegrityTracker::finish(int chain_error_line, bool torn_tail) cons
     result.reason = "schema " + std::to_string(result.schema_version) + " logs carry no seals";
   } else if (torn_tail) {
     result.status = LogStatus::unsealed;
-    result.reason = "the last line was cut off: the session was interrupted while writing";
+    result.reason = "its last line is cut off: the session was interrupted while writing";
   } else if (!last_was_seal_) {
     result.status = LogStatus::unsealed;
-    result.reason = "the log does not end with a seal: the session was interrupted (or the log was cut at a line boundary)";
+    result.reason = "no seal at its end: the session was interrupted, or the log cut at a line boundary";
   } else {
     result.status = LogStatus::sealed;
     result.reason.clear();
