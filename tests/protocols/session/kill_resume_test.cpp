@@ -28,6 +28,9 @@ struct KillCase {
   int kill_attempts;
 };
 
+// How CTest lists a case: the fixture and its kills, not the struct's bytes.
+void PrintTo(const KillCase& study, std::ostream* out) { *out << study.fixture << ", " << study.kill_attempts << " kills"; }
+
 pid_t start_run(const fs::path& results, const KillCase& study) {
   const std::string config = test::study_fixture(study.fixture).string();
   const std::string results_text = results.string();
