@@ -73,7 +73,7 @@ void print_summary(const analysis::AnalysisResult& result) {
                   format_number(fit.threshold_interval.lower, 5).c_str(), format_number(fit.threshold_interval.upper, 5).c_str());
   std::vector<const analysis::ParticipantRow*> unsealed;
   for (const auto& participant : result.participants)
-    if (participant.log_status != "sealed") unsealed.push_back(&participant);
+    if (participant.log_status != LogStatus::sealed) unsealed.push_back(&participant);
   if (!unsealed.empty()) {
     std::printf("analysed, but not sealed (%zu):\n", unsealed.size());
     for (const auto* participant : unsealed)
@@ -102,8 +102,7 @@ void analyze(const AnalyzeArguments& arguments) {
   if (!(arguments.rating_cutoff >= 1.0 && arguments.rating_cutoff <= 3.0))
     throw InputError("--rating-cutoff: expected a mean score in [1, 3]");
   options.rating_cutoff = arguments.rating_cutoff;
-  std::optional<LabKey> lab_key;
-  if (!arguments.lab_key_path.empty()) lab_key = read_lab_key(arguments.lab_key_path);
+  const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
   const analysis::StudyData data =
       analysis::load_study(arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
   const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;

@@ -28,8 +28,7 @@ void export_trials(const ExportArguments& arguments) {
   const std::vector<std::string> logs = find_session_logs(input);
   if (out.empty()) out = (fs::is_directory(input) ? fs::path(input) : fs::path(input).parent_path()) / "trials.csv";
   if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
-  std::optional<LabKey> lab_key;
-  if (!arguments.lab_key_path.empty()) lab_key = read_lab_key(arguments.lab_key_path);
+  const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
   const std::string csv = export_trials_csv(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
   write_text_atomically(out, csv);
   std::printf("%s: %zu log(s)\n", out.c_str(), logs.size());

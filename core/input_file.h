@@ -32,18 +32,20 @@ inline std::string byte_size_text(std::uint64_t bytes) {
   return std::to_string(bytes) + " bytes";
 }
 
-// `expected` names what the file should be, with its article: "a study config (.toml)".
-inline std::string read_input_file(const std::filesystem::path& path, const std::string& expected,
-                                   std::uint64_t max_bytes) {
-  const std::string name = path.string();
-  const auto fail = [&](const std::string& what) -> void { throw InputError(name + ": " + what + ": expected " + expected); };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) fail(std::string("cannot open (") + std::strerror(errno) + ")");
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
+// "NAME: larger than CAP (SIZE): expected WHAT of at most CAP".
+[[noreturn]] inline void throw_too_large(const std::string& name, const std::string& expected, std::uint64_t max_bytes,
+                                         const std::string& size) {
+  throw InputError(name + ": larger than " + byte_size_text(max_bytes) + " (" + size + "): expected " + expected +
+                   " of at most " + byte_size_text(max_bytes));
+}
 
+// The checks on a file open as `fd` before a byte of it is read: a regular file of at most
+// `max_bytes`. Returns its size (a file may still grow while it is read; readers cap what they read
+// at max_bytes + 1). `expected` names what the file should be, with its article: "a study config
+// (.toml)". Throws the one-line InputErrors above.
+inline std::uint64_t check_input_file(int fd, const std::string& name, const std::string& expected,
+                                      std::uint64_t max_bytes) {
+  const auto fail = [&](const std::string& what) -> void { throw InputError(name + ": " + what + ": expected " + expected); };
   struct stat status {};
   if (::fstat(fd, &status) != 0) fail(std::string("cannot read (") + std::strerror(errno) + ")");
   if (!S_ISREG(status.st_mode)) {
@@ -55,15 +57,25 @@ inline std::string read_input_file(const std::filesystem::path& path, const std:
                                                   : "not a plain file";
     fail(std::string("not a regular file (") + kind + ")");
   }
-  const auto too_large = [&](const std::string& size) {
-    throw InputError(name + ": larger than " + byte_size_text(max_bytes) + " (" + size + "): expected " + expected +
-                     " of at most " + byte_size_text(max_bytes));
-  };
   if (status.st_size > 0 && std::uint64_t(status.st_size) > max_bytes)
-    too_large(std::to_string(status.st_size) + " bytes");
+    throw_too_large(name, expected, max_bytes, std::to_string(status.st_size) + " bytes");
+  return status.st_size > 0 ? std::uint64_t(status.st_size) : 0;
+}
+
+inline std::string read_input_file(const std::filesystem::path& path, const std::string& expected,
+                                   std::uint64_t max_bytes) {
+  const std::string name = path.string();
+  const auto fail = [&](const std::string& what) -> void { throw InputError(name + ": " + what + ": expected " + expected); };
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) fail(std::string("cannot open (") + std::strerror(errno) + ")");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  const std::uint64_t size = check_input_file(fd, name, expected, max_bytes);
 
   std::string bytes;
-  bytes.reserve(static_cast<size_t>(status.st_size > 0 ? status.st_size : 0));
+  bytes.reserve(static_cast<size_t>(size));
   char buffer[1 << 16];
   for (;;) {
     // Never more than max_bytes + 1 in all: one byte past the cap is enough to know it is exceeded.
@@ -75,7 +87,7 @@ inline std::string read_input_file(const std::filesystem::path& path, const std:
     }
     if (count == 0) break;
     bytes.append(buffer, static_cast<size_t>(count));
-    if (bytes.size() > max_bytes) too_large("it grew while it was read");
+    if (bytes.size() > max_bytes) throw_too_large(name, expected, max_bytes, "it grew while it was read");
   }
   return bytes;
 }

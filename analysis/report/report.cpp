@@ -106,13 +106,13 @@ std::string participants_csv(const AnalysisResult& result) {
         std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
-      cells.insert(cells.end(), {"", "", "", "", participant.log_status});
+      cells.insert(cells.end(), {"", "", "", "", log_status_name(participant.log_status)});
       csv += csv_line(cells);
     }
     for (const ParticipantThreshold& threshold : participant.thresholds) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {threshold.group.scene, threshold.group.variant,
-                                 csv_number(threshold.level), threshold.note, participant.log_status});
+                                 csv_number(threshold.level), threshold.note, log_status_name(participant.log_status)});
       csv += csv_line(cells);
     }
   }
@@ -230,7 +230,7 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"log_path", participant.log_path},
                                     {"excluded", participant.excluded},
                                     {"session_ended", participant.session_ended},
-                                    {"log_status", participant.log_status},
+                                    {"log_status", log_status_name(participant.log_status)},
                                     {"complete_trials", participant.complete_trials},
                                     {"attention_checks", participant.attention_checks},
                                     {"attention_errors", participant.attention_errors},
@@ -597,7 +597,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     std::vector<std::vector<std::string>> rows;
     for (const ParticipantRow& p : result.participants) {
       const std::vector<std::string> common = {p.participant, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
-                                               p.log_note.empty() ? p.log_status : p.log_note,
+                                               p.log_note.empty() ? log_status_name(p.log_status) : p.log_note,
                                                std::to_string(p.complete_trials),
                                                std::to_string(p.attention_errors) + " / " +
                                                    std::to_string(p.attention_checks)};

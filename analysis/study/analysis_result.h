@@ -10,8 +10,11 @@
 
 #include "analysis/psychometric/psychometric_fit.h"
 #include "analysis/statistics/binomial.h"
+#include "protocols/log/log_integrity.h"
 
 namespace fovlab::analysis {
+
+using fovlab::LogStatus;
 
 // A group of conditions that share a reference and a level axis: one scene (block scene, or "all"
 // pooled over scenes) and one variant (e.g. "blur", or "" when the study has none).
@@ -61,7 +64,7 @@ struct ParticipantRow {
   int attention_errors = 0;
   bool excluded = false;              // by attention checks (session log says "excluded")
   bool session_ended = false;
-  std::string log_status = "sealed";  // sealed, unsealed (interrupted) or broken (only with --include-broken)
+  LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with --include-broken
   std::string log_note;               // why, when not sealed
   std::vector<ParticipantThreshold> thresholds;
 };

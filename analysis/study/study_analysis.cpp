@@ -467,7 +467,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.attention_errors = participant.attention_errors;
     row.excluded = participant.excluded;
     row.session_ended = participant.session_ended;
-    row.log_status = log_status_name(participant.log_status);
+    row.log_status = participant.log_status;
     row.log_note = participant.log_note;
     result.participants.push_back(row);
     if (participant.excluded) {

@@ -14,7 +14,6 @@
 namespace fovlab::analysis {
 
 using fovlab::LabKey;
-using fovlab::LogStatus;
 
 struct StudyTrial {
   int index = 0;

@@ -157,17 +157,8 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
   return log;
 }
 
-void check_log_file(int fd, const std::string& path) {
-  struct stat status {};
-  if (::fstat(fd, &status) != 0) throw FileError(path, "reading the session log", errno);
-  if (!S_ISREG(status.st_mode)) throw InputError(path + ": not a regular file (expected a session log, events.jsonl)");
-  if (static_cast<uint64_t>(status.st_size) > max_log_bytes)
-    throw InputError(path + ": " + std::to_string(status.st_size) + " bytes, more than the " +
-                     std::to_string(max_log_bytes >> 20) + " MiB a session log can hold (expected a fovlab events.jsonl)");
-}
-
 EventLogFile read_event_log(const std::string& path) {
-  return parse_event_log(read_input_file(path, "a session log (events.jsonl)", max_log_bytes), path);
+  return parse_event_log(read_input_file(path, session_log_kind, max_log_bytes), path);
 }
 
 std::vector<std::string> find_session_logs(const std::string& path) {

@@ -57,13 +57,11 @@ std::string chain_of_text(const std::string& previous_chain, std::string_view te
 std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain,
                         int schema_version = log_schema_version);
 
-// The largest log a reader takes (a 216-trial FIPR session logs about 5 MB): a bigger file is refused
-// before it is read, so a forged or runaway file cannot exhaust memory.
+// The largest log a reader takes (a 216-trial FIPR session logs about 5 MB): a bigger file, or one
+// that is not a regular file, is refused before it is read (core/input_file.h, which both readers
+// use), so a forged or runaway file cannot exhaust memory.
 inline constexpr uint64_t max_log_bytes = uint64_t{1} << 30;
-// Throws InputError when the file at `path` (open as `fd`) is not a regular file or is over
-// max_log_bytes: the fast scan's check, which reads into its own buffer; read_event_log reads
-// through core/input_file.h with the same limit.
-void check_log_file(int fd, const std::string& path);
+inline constexpr const char* session_log_kind = "a session log (events.jsonl)";
 
 // Events nest 3 levels deep and a header's config 4; a deeper line is refused before any recursive
 // parser sees it (nlohmann's recursion would overflow the stack on a line of a million '[').

@@ -34,6 +34,11 @@ LabKey read_lab_key(const std::string& path, const std::string& results_dir) {
   return LabKey{bytes, sha256_hex("fovlab lab key\n", bytes).substr(0, 16)};
 }
 
+std::optional<LabKey> read_optional_lab_key(const std::string& path, const std::string& results_dir) {
+  if (path.empty()) return std::nullopt;
+  return read_lab_key(path, results_dir);
+}
+
 const char* log_status_name(LogStatus status) {
   switch (status) {
     case LogStatus::sealed: return "sealed";
@@ -87,7 +92,6 @@ void IntegrityTracker::broken(int line, std::string reason) {
 
 void IntegrityTracker::seal(const nlohmann::json& seal_event, int line, const std::string& previous_chain,
                             int trials_complete) {
-  ++result_.seals;
   last_was_seal_ = true;
   const auto count = seal_event.find("trials_complete");
   if (count == seal_event.end() || !count->is_number_integer() || count->get<int64_t>() != trials_complete)

@@ -27,6 +27,8 @@ struct LabKey {
 // (a key beside the logs would let whoever can edit them forge seals). Throws InputError naming the
 // flag and the file.
 LabKey read_lab_key(const std::string& path, const std::string& results_dir = "");
+// The same for an optional --lab-key: none when `path` is empty.
+std::optional<LabKey> read_optional_lab_key(const std::string& path, const std::string& results_dir = "");
 
 enum class LogStatus { sealed, unsealed, broken };
 const char* log_status_name(LogStatus status);
@@ -38,7 +40,6 @@ struct LogIntegrity {
   int schema_version = 0;
   bool keyed = false;       // the header names a lab key (lab_key_id)
   bool mac_checked = false; // keyed and the key was given: every event's MAC verified
-  int seals = 0;
   // One line for a person: "sealed", "sealed (keyed; MAC not checked: no --lab-key)",
   // "unsealed (...)", "broken at line N: ...".
   std::string describe() const;

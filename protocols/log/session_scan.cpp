@@ -3,7 +3,6 @@
 #include <simdjson.h>
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <memory>
 
 #include "core/input_error.h"
+#include "core/input_file.h"
 #include "protocols/log/event_log.h"
 #include "protocols/log/log_integrity.h"
 #include "protocols/log/session_record.h"
@@ -135,7 +135,7 @@ ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) 
   // simdjson reads up to SIMDJSON_PADDING bytes past a document: every line is followed by the
   // rest of the file, and the file by the padding. The buffer is kept by the thread and reused, so
   // a scan of many logs neither clears nor faults in fresh memory for each.
-  const int file = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int file = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // a FIFO must not block
   if (file < 0) throw InputError(path + ": cannot open the session log (" + std::string(std::strerror(errno)) + ")");
   thread_local std::unique_ptr<char[]> buffer;
   thread_local size_t buffer_capacity = 0;
@@ -147,19 +147,19 @@ ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) 
     buffer = std::move(larger);
     buffer_capacity = needed;
   };
+  uint64_t file_size = 0;
   try {
-    check_log_file(file, path);
+    file_size = check_input_file(file, path, session_log_kind, max_log_bytes);
   } catch (...) {
     ::close(file);
     throw;
   }
-  struct stat status {};
-  // fstat's size is where to start (+1 to see the end without growing); the file may still grow.
-  ensure_capacity((::fstat(file, &status) == 0 ? static_cast<size_t>(status.st_size) : 0) + 1 + simdjson::SIMDJSON_PADDING);
+  // The size is where to start (+1 to see the end without growing); the file may still grow.
+  ensure_capacity(static_cast<size_t>(file_size) + 1 + simdjson::SIMDJSON_PADDING);
   for (;;) {
     if (size > max_log_bytes) {
       ::close(file);
-      throw InputError(path + ": grew past the size a session log can hold while it was read");
+      throw_too_large(path, session_log_kind, max_log_bytes, "it grew while it was read");
     }
     if (size + simdjson::SIMDJSON_PADDING == buffer_capacity) ensure_capacity(2 * buffer_capacity);
     const ssize_t got = ::read(file, buffer.get() + size, buffer_capacity - simdjson::SIMDJSON_PADDING - size);

@@ -75,8 +75,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   ReplayOutcome outcome;
   Differences differences(outcome, options.max_differences);
   const EventLogFile log = read_event_log(options.log_path);
-  std::optional<LabKey> lab_key;
-  if (!options.lab_key_path.empty()) lab_key = read_lab_key(options.lab_key_path);
+  const std::optional<LabKey> lab_key = read_optional_lab_key(options.lab_key_path);
   const SessionRecord record = read_session_record(log, lab_key ? &*lab_key : nullptr);
   outcome.integrity = record.integrity;
   if (record.integrity.status == LogStatus::broken)

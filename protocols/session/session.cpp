@@ -155,8 +155,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (!observer_model && options.headless)
     throw InputError("--headless: a headless session has no keyboard (add --observer simulated)");
 
-  std::optional<LabKey> lab_key;
-  if (!options.lab_key_path.empty()) lab_key = read_lab_key(options.lab_key_path, options.results_dir);
+  const std::optional<LabKey> lab_key = read_optional_lab_key(options.lab_key_path, options.results_dir);
 
   // The participant's folder is locked before anything in it is read, cut or renamed, and stays
   // locked until this run exits: a second run of the participant changes nothing and exits 2.
