@@ -10,8 +10,8 @@
 #include "app/commands.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
-#include "protocols/log/log_integrity.h"
-#include "protocols/config/study_config.h"
+#include "study/log/log_integrity.h"
+#include "study/config/study_config.h"
 
 namespace fovlab::app {
 namespace {

@@ -18,10 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_pareto.h"
+#include "bench/bench_pareto.h"
 #include "app/bench_plan.h"
-#include "app/bench_report.h"
-#include "app/bench_runs.h"
+#include "bench/bench_report.h"
+#include "bench/bench_runs.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/render_outputs.h"

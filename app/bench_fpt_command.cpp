@@ -20,7 +20,7 @@
 #include "app/commands.h"
 #include "app/display_flags.h"
 #include "app/foveation_flags.h"  // display_flags_text
-#include "app/fpt_timing.h"
+#include "bench/fpt_timing.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
 #include "core/number_text.h"

@@ -96,7 +96,6 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
 
 }  // namespace
 
-std::string FiprVariant::fovea_text() const { return format_number(fovea_deg, 6); }
 
 BenchPlan plan_bench(const BenchOptions& options) {
   if (options.repeats < 1 || options.repeats > 1000) {

@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "app/foveation_flags.h"
-#include "renderer/foveation/display_geometry.h"
+#include "bench/bench_plan.h"
+#include "foveation/display_geometry.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab::app {
@@ -29,28 +30,6 @@ struct BenchOptions {
   FoveationFlags foveation;  // display, gaze and the other FIPR flags; its fovea_deg and refresh are unused
   // FIPR-only flags the user gave (e.g. "--refresh"): refused unless fipr is among the methods.
   std::vector<std::string> fipr_flags_given;
-};
-
-// One FIPR variant of the sweep: periphery refresh x fovea.
-struct FiprVariant {
-  int refresh = 1;
-  double fovea_deg = 0.0;
-  FoveationSettings foveation;  // everything but frame_index, for the frame size of the sweep
-
-  std::string fovea_text() const;  // "7.5"
-};
-
-struct BenchPlan {
-  bool ipr = false;
-  bool fipr = false;
-  std::vector<int> refreshes;       // as given, in order
-  std::vector<double> fovea_degs;   // as given, in order
-  std::vector<FiprVariant> variants;  // refresh-major: for each refresh, every fovea
-  // The display and gaze the metrics assume (FLIP at its pixels per degree, FPSNR), and FIPR's.
-  DisplayGeometry display;
-  double gaze_x_px = 0.0;
-  double gaze_y_px = 0.0;
-  double flip_pixels_per_degree = 0.0;
 };
 
 // Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)

@@ -14,7 +14,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
-#include "app/fpt_timing.h"
+#include "bench/fpt_timing.h"
 #include "app/render_outputs.h"
 #include "core/colour.h"
 #include "core/image_io.h"

@@ -10,6 +10,7 @@ void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_bench_fpt_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
+void add_methods_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_validate_command(CLI::App& app);
 void add_replay_command(CLI::App& app);

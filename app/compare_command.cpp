@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/image_metrics/flip.h"
-#include "analysis/image_metrics/fpsnr.h"
-#include "analysis/image_metrics/image_metrics.h"
+#include "metrics/flip.h"
+#include "metrics/fpsnr.h"
+#include "metrics/image_metrics.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
 #include "core/colour.h"

@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "renderer/foveation/display_geometry.h"
+#include "foveation/display_geometry.h"
 
 namespace fovlab::app {
 

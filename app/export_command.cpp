@@ -6,8 +6,8 @@
 #include "app/commands.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
-#include "protocols/log/event_log.h"
-#include "protocols/log/log_integrity.h"
+#include "study/log/event_log.h"
+#include "study/log/log_integrity.h"
 #include "protocols/session/trials_export.h"
 
 namespace fovlab::app {

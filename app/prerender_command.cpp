@@ -19,9 +19,9 @@
 #include "app/commands.h"
 #include "app/display_flags.h"
 #include "core/input_error.h"
-#include "protocols/config/study_config.h"
-#include "protocols/schedule/study_plan.h"
-#include "protocols/stimuli/stimulus_spec.h"
+#include "study/config/study_config.h"
+#include "study/schedule/study_plan.h"
+#include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/path_tracing/path_tracer.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/vk/context.h"
@@ -61,7 +61,7 @@ struct FrameJob {
 std::vector<FrameJob> frame_jobs(const StudyPlan& plan) {
   std::vector<PathTraceSequence> sequences;
   for (const PlannedStimulus& stimulus : plan.stimuli) {
-    if (!is_path_traced_method(stimulus.spec.method)) continue;
+    if (!is_path_traced(stimulus.spec.method())) continue;
     for (const PathTraceSequence& sequence : path_traced_frames(stimulus.spec).sequences) {
       bool known = false;
       for (PathTraceSequence& other : sequences)
@@ -106,7 +106,7 @@ void print_progress(bool terminal, int done, int total, double seconds_per_frame
 
 void run_prerender(const PrerenderOptions& options) {
   const Shard shard = parse_shard(options.shard);
-  const StudyConfig config = parse_study_config_file(options.config);
+  const StudyConfig config = parse_study_config_file(options.config, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
   const std::vector<FrameJob> all_jobs = frame_jobs(plan);
   if (all_jobs.empty())

@@ -23,7 +23,7 @@
 #include "core/image_io.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
-#include "renderer/foveation/display_geometry.h"
+#include "foveation/display_geometry.h"
 
 namespace fovlab::app {
 

@@ -6,7 +6,8 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "core/input_error.h"
-#include "protocols/config/study_config.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "study/config/study_config.h"
 #include "protocols/session/session.h"
 
 namespace fovlab::app {
@@ -25,7 +26,7 @@ bool display_available() {
 }
 
 void run(RunOptions options) {
-  const StudyConfig config = parse_study_config_file(options.config_path);
+  const StudyConfig config = parse_study_config_file(options.config_path, renderer_scene_catalog());
   SessionOptions& session = options.session;
   if (!session.headless && !display_available()) {
     if (session.observer.empty())

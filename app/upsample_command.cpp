@@ -12,7 +12,7 @@
 
 #include "app/cli_support.h"
 #include "app/commands.h"
-#include "app/fpt_timing.h"
+#include "bench/fpt_timing.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
 #include "renderer/upsampling/upsampler.h"

@@ -4,16 +4,16 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "protocols/config/study_config.h"
-#include "protocols/schedule/study_plan.h"
+#include "study/config/study_config.h"
+#include "study/schedule/study_plan.h"
 #include "protocols/stimuli/stimulus_library.h"
-#include "protocols/stimuli/stimulus_spec.h"
+#include "protocols/stimuli/stimulus_settings.h"
 
 namespace fovlab::app {
 namespace {
 
 void validate(const std::string& config_path, const std::string& participant) {
-  const StudyConfig config = parse_study_config_file(config_path);
+  const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, participant);
   const std::vector<StimulusSpec> specs = planned_specs(plan);
   // A config whose prepared frames would not fit in this machine's memory cannot run here: said now,
@@ -35,7 +35,7 @@ void validate(const std::string& config_path, const std::string& participant) {
   for (const PlannedBlock& block : plan.blocks)
     std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
   size_t prepared = 0;  // gaze-dependent stimuli (FIPR) render live and are not held in memory
-  for (const PlannedStimulus& stimulus : plan.stimuli) prepared += method_depends_on_gaze(stimulus.spec.method) ? 0 : 1;
+  for (const PlannedStimulus& stimulus : plan.stimuli) prepared += describe(stimulus.spec.method()).depends_on_gaze ? 0 : 1;
   std::printf("trials %zu (%d attention checks), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: %.0f MiB; "
               "%zu rendered live with the gaze)\n",
               plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "renderer/foveation/display_geometry.h"
+#include "foveation/display_geometry.h"
 
 namespace fovlab::analysis {
 

@@ -10,7 +10,7 @@
 
 #include "analysis/psychometric/psychometric_fit.h"
 #include "analysis/statistics/binomial.h"
-#include "protocols/log/log_integrity.h"
+#include "study/log/log_integrity.h"
 
 namespace fovlab::analysis {
 

@@ -8,9 +8,9 @@
 #include <set>
 
 #include "core/input_error.h"
-#include "protocols/config/study_config.h"
-#include "protocols/log/event_log.h"
-#include "protocols/log/session_scan.h"
+#include "study/config/study_config.h"
+#include "study/log/event_log.h"
+#include "study/log/session_scan.h"
 
 namespace fovlab::analysis {
 namespace {
@@ -28,8 +28,7 @@ struct LogStudy {
 };
 
 void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
-  const StudyConfig config = parse_study_config_text(study.config_toml, path + " (config_toml)",
-                                                     /*check_scene_files=*/false);
+  const StudyConfig config = parse_logged_study_config(study.config_toml, path + " (config_toml)", nullptr);
   data.study = study.study;
   data.config_hash = study.config_hash;
   data.protocol = protocol_name(config.protocol.kind);

@@ -1,7 +1,7 @@
 #pragma once
 // A study's logs as the analysis needs them: per participant, the complete trials with their
 // scene, condition, level and answers. Logs are read through the runner's log reader
-// (protocols/log) and never modified. A log that cannot be used (unreadable, another study or
+// (study/log) and never modified. A log that cannot be used (unreadable, another study or
 // config, a schema this build does not read, a duplicate participant) is left out with its reason;
 // the rest is still analysed.
 #include <optional>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "analysis/study/analysis_result.h"
-#include "protocols/log/log_integrity.h"
+#include "study/log/log_integrity.h"
 
 namespace fovlab::analysis {
 

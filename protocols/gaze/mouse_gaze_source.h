@@ -3,7 +3,7 @@
 // window, or over a letterbox, the sample is invalid ("off_screen") and the session holds the last
 // valid position.
 #include "protocols/gaze/gaze_source.h"
-#include "protocols/presentation/presenter.h"
+#include "display/presenter.h"
 
 namespace fovlab {
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "protocols/schedule/study_plan.h"
+#include "study/schedule/study_plan.h"
 
 namespace fovlab {
 

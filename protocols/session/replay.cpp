@@ -5,14 +5,14 @@
 #include <algorithm>
 #include <map>
 
-#include "analysis/image_metrics/image_metrics.h"
+#include "metrics/image_metrics.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
-#include "protocols/log/log_integrity.h"
-#include "protocols/log/session_record.h"
-#include "protocols/presentation/frame_io.h"
+#include "study/log/log_integrity.h"
+#include "study/log/session_record.h"
+#include "display/frame_io.h"
 #include "protocols/observer/simulated_observer.h"
-#include "protocols/schedule/study_plan.h"
+#include "study/schedule/study_plan.h"
 #include "protocols/session/session_header.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
@@ -84,7 +84,9 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     differences.add(options.log_path, "the last line is cut off (" + std::to_string(log.torn_tail->size()) +
                                           " bytes, not used); the session was interrupted and not resumed");
   const nlohmann::json& header = record.header;
-  const StudyConfig config = parse_study_config_text(header.value("config_toml", ""), header.value("config_path", "config.toml"));
+  const SceneCatalog scenes = renderer_scene_catalog();
+  const StudyConfig config =
+      parse_logged_study_config(header.value("config_toml", ""), header.value("config_path", "config.toml"), &scenes);
   // The header's own claims about its config: the name and hash must be those of the text it holds.
   if (header.value("study", "") != config.name)
     differences.add("header", "study \"" + header.value("study", "") + "\" but its config_toml names study \"" + config.name + "\"");
@@ -123,7 +125,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   const auto image_for = [&](int stimulus, const StimulusImage& image,
                              const std::string& file_name) -> const PreparedFrame& {
     const StimulusSpec& spec = plan.stimuli[static_cast<size_t>(stimulus)].spec;
-    const bool gaze_dependent = method_depends_on_gaze(spec.method);
+    const bool gaze_dependent = describe(spec.method()).depends_on_gaze;
     const auto key = std::make_pair(stimulus, image.frame);
     if (!gaze_dependent) {
       const auto found = rendered.find(key);
@@ -221,7 +223,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
         differences.add(where + " (" + line_of(shown) + ")", "frame, hash and gaze arrays differ in length");
         continue;
       }
-      const bool gaze_dependent = method_depends_on_gaze(plan.stimuli[static_cast<size_t>(stimulus)].spec.method);
+      const bool gaze_dependent = describe(plan.stimuli[static_cast<size_t>(stimulus)].spec.method()).depends_on_gaze;
       for (size_t i = 0; i < frames.size(); ++i) {
         StimulusImage image;
         image.image_index = static_cast<int>(i);

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "protocols/log/log_integrity.h"
+#include "study/log/log_integrity.h"
 
 namespace fovlab {
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "protocols/config/study_config.h"
+#include "study/config/study_config.h"
 #include "protocols/observer/simulated_observer.h"
-#include "protocols/presentation/presenter.h"
+#include "display/presenter.h"
 
 namespace fovlab {
 

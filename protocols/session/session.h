@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "protocols/config/study_config.h"
+#include "study/config/study_config.h"
 
 namespace fovlab {
 

@@ -5,7 +5,8 @@
 
 #include "core/content_hash.h"
 #include "core/input_error.h"
-#include "protocols/log/event_log.h"
+#include "study/log/event_log.h"
+#include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/vk/context.h"
@@ -42,7 +43,7 @@ nlohmann::json scene_hashes(const StudyPlan& plan) {
   nlohmann::json hashes = nlohmann::json::object();
   std::map<std::string, bool> scenes;  // name -> path-traced
   for (const PlannedStimulus& stimulus : plan.stimuli)
-    scenes[stimulus.spec.scene] = is_path_traced_method(stimulus.spec.method);
+    scenes[stimulus.spec.scene] = is_path_traced(stimulus.spec.method());
   for (const auto& [scene, path_traced] : scenes)
     hashes[scene] = path_traced ? load_path_scene(scene).content_hash : ContentHash().add(load_scene(scene).text).hex();
   return hashes;

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "protocols/observer/simulated_observer.h"
-#include "protocols/schedule/study_plan.h"
+#include "study/schedule/study_plan.h"
 
 namespace fovlab {
 

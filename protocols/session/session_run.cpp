@@ -4,9 +4,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "protocols/presentation/frame_io.h"
-#include "protocols/presentation/text_screen.h"
-#include "protocols/presentation/window_presenter.h"
+#include "display/frame_io.h"
+#include "display/text_screen.h"
+#include "display/window_presenter.h"
 
 namespace fovlab {
 namespace {

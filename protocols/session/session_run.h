@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "protocols/gaze/gaze_source.h"
-#include "protocols/log/event_log.h"
-#include "protocols/presentation/presenter.h"
-#include "protocols/schedule/study_plan.h"
+#include "study/log/event_log.h"
+#include "display/presenter.h"
+#include "study/schedule/study_plan.h"
 #include "protocols/session/response_source.h"
 #include "protocols/session/session.h"
 #include "protocols/stimuli/stimulus_library.h"

@@ -6,7 +6,7 @@
 #include "core/csv.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
-#include "protocols/log/session_record.h"
+#include "study/log/session_record.h"
 
 namespace fovlab {
 namespace {

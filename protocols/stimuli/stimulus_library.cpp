@@ -51,7 +51,7 @@ SphereTracer& StimulusLibrary::tracer_for(const std::string& scene) {
 PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
   const auto start = std::chrono::steady_clock::now();
   PreparedFrame prepared;
-  prepared.image = is_path_traced_method(spec.method) ? render_path_traced(spec, image) : render_sphere_traced(spec, image);
+  prepared.image = is_path_traced(spec.method()) ? render_path_traced(spec, image) : render_sphere_traced(spec, image);
   prepared.hash = frame_hash(prepared.image);
   render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return prepared;
@@ -62,7 +62,7 @@ Rgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec, const
   SphereTraceSettings settings = sphere_trace_settings(spec, image.frame);
   settings.colour_only = true;  // a presented frame needs no step counts or mask
   LastImage& last = last_image_[spec.scene];
-  const bool sequence = method_depends_on_gaze(spec.method);
+  const bool sequence = describe(spec.method()).depends_on_gaze;
   const std::string canonical = sequence ? spec.canonical() : std::string();
   if (sequence) {
     if (image.image_index < 0 ||
@@ -89,7 +89,7 @@ Rgba8Frame StimulusLibrary::render_path_traced(const StimulusSpec& spec, const S
   frame.height = spec.height_px;
   // pt: the frame encoded by the shader that encodes fpt's frames, so that the two agree to the
   // byte wherever fpt shows its full-resolution zone.
-  if (spec.method == "pt") {
+  if (spec.method() == RenderMethod::path_traced) {
     frame.rgba = blender().encode_for_display(frame_cache_->frame(frames.sequences[0], image.frame));
     return frame;
   }
@@ -140,20 +140,20 @@ void StimulusLibrary::check_foveated_path_traced(const StimulusSpec& spec) {
 }
 
 void StimulusLibrary::check_frame_size(const StimulusSpec& spec) {
-  if (!is_path_traced_method(spec.method)) {
+  if (!is_path_traced(spec.method())) {
     check_sphere_trace_frame_bytes(context_, spec.width_px, spec.height_px, kConfigFrameSize);
     return;
   }
   try {
     check_path_trace_frame_bytes(context_, spec.width_px, spec.height_px);
-    if (spec.method == "fpt") check_zone_frame_size(context_, spec.width_px, spec.height_px);
+    if (spec.method() == RenderMethod::foveated_path_traced) check_zone_frame_size(context_, spec.width_px, spec.height_px);
   } catch (const InputError& error) {
     throw InputError(config_frame_size(spec) + ": " + error.what());
   }
 }
 
 void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
-  if (spec.method != "fpt") return;  // pt frames are loaded (or rendered) by prepare's render loop
+  if (spec.method() != RenderMethod::foveated_path_traced) return;  // pt frames are loaded (or rendered) by prepare's render loop
   // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
   // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
   // error naming its file now rather than mid-session.
@@ -164,7 +164,7 @@ void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
 uint64_t prepared_frames_bytes(const std::vector<StimulusSpec>& stimuli) {
   uint64_t bytes = 0;
   for (const StimulusSpec& spec : stimuli)
-    if (!method_depends_on_gaze(spec.method))
+    if (!describe(spec.method()).depends_on_gaze)
       bytes += uint64_t(spec.width_px) * uint64_t(spec.height_px) * 4 * uint64_t(std::max(spec.frame_count, 0));
   return bytes;
 }
@@ -173,7 +173,7 @@ void check_prepared_frames_fit(const std::vector<StimulusSpec>& stimuli, const s
   const StimulusSpec* example = nullptr;
   size_t prepared = 0;
   for (const StimulusSpec& spec : stimuli) {
-    if (method_depends_on_gaze(spec.method)) continue;
+    if (describe(spec.method()).depends_on_gaze) continue;
     ++prepared;
     if (!example || spec.frame_count > example->frame_count) example = &spec;
   }
@@ -197,15 +197,15 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
   check_prepared_frames_fit(held);
   for (const auto& [id, spec] : stimuli) {
     check_frame_size(spec);
-    if (spec.method == "fpt") check_foveated_path_traced(spec);
+    if (spec.method() == RenderMethod::foveated_path_traced) check_foveated_path_traced(spec);
   }
   for (const auto& [id, spec] : stimuli) {
-    if (is_path_traced_method(spec.method)) {
+    if (is_path_traced(spec.method())) {
       const auto start = std::chrono::steady_clock::now();
       prepare_path_traced(spec);
       render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (spec.method == "fpt") continue;  // blended live
-    } else if (method_depends_on_gaze(spec.method)) {
+      if (spec.method() == RenderMethod::foveated_path_traced) continue;  // blended live
+    } else if (describe(spec.method()).depends_on_gaze) {
       // Rendered live; bad settings and scene errors come now all the same, not mid-session.
       const auto start = std::chrono::steady_clock::now();
       validate(sphere_trace_settings(spec, 0));

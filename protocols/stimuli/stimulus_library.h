@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "protocols/gaze/gaze_sample.h"
-#include "protocols/presentation/frame.h"
-#include "protocols/stimuli/stimulus_spec.h"
+#include "display/frame.h"
+#include "protocols/stimuli/stimulus_settings.h"
 
 namespace fovlab {
 

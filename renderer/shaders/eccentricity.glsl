@@ -1,4 +1,4 @@
-// Exact eccentricity in the shaders, as renderer/foveation/display_geometry.cpp computes it on the
+// Exact eccentricity in the shaders, as foveation/display_geometry.cpp computes it on the
 // CPU (the reference): the angle at the eye between the rays to the gaze point and to a point, with
 // the eye on the perpendicular through the display's centre. Included by the passes that need it.
 

@@ -1,7 +1,7 @@
 #version 460
 // FIPR pass 3 (seed 000 section 3.2.3): the binary foveation mask. One invocation per pixel of the
 // mid level; it decides its 2x2 full-resolution children. For each child: exact eccentricity from
-// the gaze (the angle at the eye, as renderer/foveation/display_geometry.cpp), the acuity
+// the gaze (the angle at the eye, as foveation/display_geometry.cpp), the acuity
 // probability (acuity_model.cpp), combined with the upscaled edge flag (foveation_mask.cpp), then
 // traced at the top level when the pixel's hashed threshold is below that probability. The CPU code
 // is the reference; tests compare the two pixel by pixel. Masked pixels are also appended to a list

@@ -1,6 +1,6 @@
 // lowbias32 (Chris Wellons' integer hash): the shaders' stateless random numbers, a hash of what
 // identifies a draw (seed, frame, pixel, sample, dimension), so the same inputs give the same bits.
-// The CPU copy for reference tests is in renderer/foveation/foveation_mask.cpp.
+// The CPU copy for reference tests is in foveation/foveation_mask.cpp.
 uint lowbias32(uint x) {
   x ^= x >> 16;
   x *= 0x7feb352du;

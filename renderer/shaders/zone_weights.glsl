@@ -1,5 +1,5 @@
 // The blend's parameters and the zone weights of a pixel, shared by the zone blend's shaders
-// (zone_blend, zone_display, zone_band). renderer/zone_blend/zone_layout.cpp is the reference
+// (zone_blend, zone_display, zone_band). foveation/zone_layout.cpp is the reference
 // (zone_weights, blend_zones_reference); ZoneBlender fills BlendParams (zone_blender.cpp).
 
 layout(push_constant) uniform BlendParams {
@@ -8,7 +8,7 @@ layout(push_constant) uniform BlendParams {
   // zone follows from tan^2 of the eccentricity, |g x p|^2 / (g . p)^2 for the unit ray g to the
   // gaze and the ray p to the pixel, without an arctangent.
   vec4 edge_tan2;
-  // In the eye's millimetres (renderer/foveation/display_geometry.h): g, made on the CPU in double,
+  // In the eye's millimetres (foveation/display_geometry.h): g, made on the CPU in double,
   // so that a gaze far off the screen stays exact; pixel (x, y)'s centre at
   // (first_pixel_mm + (x, y) * pixel_pitch_mm, viewing_distance_mm).
   vec3 gaze_direction;

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "core/image.h"
-#include "renderer/foveation/acuity_model.h"
-#include "renderer/foveation/display_geometry.h"
-#include "renderer/foveation/foveation_mask.h"
+#include "foveation/acuity_model.h"
+#include "foveation/display_geometry.h"
+#include "foveation/foveation_mask.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/vk/submission.h"
 

@@ -48,7 +48,7 @@ float tan2_of_bound(double bound_deg) {
 }
 
 // The blend of a width x height frame for a gaze point, in the eye's millimetres
-// (renderer/foveation/display_geometry.h); the unit ray to the gaze point is scaled by its largest
+// (foveation/display_geometry.h); the unit ray to the gaze point is scaled by its largest
 // component first, so that a gaze far off the screen neither overflows nor loses its direction. A
 // gaze that is not a number: every pixel foveal (edges at 90 degrees, no band, no middle zone; the
 // rays do not matter then).

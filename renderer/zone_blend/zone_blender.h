@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "core/image.h"
-#include "renderer/foveation/display_geometry.h"
+#include "foveation/display_geometry.h"
 #include "renderer/vk/buffer.h"
-#include "renderer/zone_blend/zone_layout.h"
+#include "foveation/zone_layout.h"
 
 namespace fovlab {
 

@@ -6,9 +6,9 @@
 #include <filesystem>
 
 #include "core/image_io.h"
-#include "renderer/foveation/display_geometry.h"
+#include "foveation/display_geometry.h"
 #include "renderer/upsampling/upsample_filter.h"
-#include "renderer/zone_blend/zone_layout.h"
+#include "foveation/zone_layout.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {

@@ -43,7 +43,7 @@ std::string fpt_config(const std::string& name, const std::string& protocol, con
          "[stimulus]\nduration_s = 0.1\nframes_per_second = 20\ncamera_start_s = 3.0\n\n"
          "[stimulus.reference]\nmethod = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n\n"
          "[stimulus.test]\nmethod = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n\n"
-         "[levels]\nparameter = \"foveal_deg\"\nvalues = " +
+         "[levels]\nparameter = \"foveal_aperture_deg\"\nvalues = " +
          values +
          "\nhigher_is_better = true\n\n"
          "[protocol]\n" +
@@ -141,7 +141,7 @@ TEST(FptStudyCli, PtReferenceWithASphereTracedTestIsRefused) {
   const fs::path dir = working_dir("mixed");
   std::string text = fpt_config("tiny_mixed", "kind = \"pair\"\nrepeats = 2");
   replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
-  replace(text, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [4, 8]");
+  replace(text, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [4, 8]");
   write_file(dir / "mixed.toml", text);
   const std::string tail = " --participant P1 --headless --observer simulated --results results";
   const CommandResult result = run_in(dir, "run mixed.toml" + tail);
@@ -164,7 +164,7 @@ TEST(FptStudyCli, PtReferenceWithAGtTestMessageNamesTheTestMethod) {
   const fs::path dir = working_dir("mixed-value");
   std::string text = fpt_config("tiny_mixed", "kind = \"pair\"\nrepeats = 2");
   replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
-  replace(text, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [4, 8]");
+  replace(text, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [4, 8]");
   write_file(dir / "mixed.toml", text);
   const CommandResult result = run_in(dir, "validate mixed.toml");
   EXPECT_EQ(result.exit_code, 2);
@@ -295,9 +295,9 @@ TEST(FptStudyCli, UnreadableFptOnlyFrameIsRefusedBeforeTheSessionStarts) {
   const std::string name = "tiny_fpt_corrupt_periphery";
   const fs::path dir = working_dir("corrupt-periphery");
   std::string text = fpt_config(name, "kind = \"pair\"\nrepeats = 2");
-  replace(text, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"periphery_bounces\"\nvalues = [1]");
+  replace(text, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]", "parameter = \"periphery_bounces\"\nvalues = [1]");
   replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2",
-          "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\nfoveal_deg = 5");
+          "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\nfoveal_aperture_deg = 5");
   write_file(dir / "study.toml", text);
   const CommandResult prerender = run_in(dir, "prerender study.toml");
   ASSERT_EQ(prerender.exit_code, 0) << prerender.out << prerender.err;

@@ -41,7 +41,7 @@ fs::path working_dir(const std::string& name) {
 
 // A pair study of pt against fpt on the courtyard: 3 frames (0.15 s at 20 frames a second) of 32x20,
 // 2 samples a pixel, 2 bounces. `test_extra` and `levels` replace the test's extra keys and levels.
-std::string pair_config(const std::string& name, const std::string& levels = "parameter = \"foveal_deg\"\nvalues = [5, 20]",
+std::string pair_config(const std::string& name, const std::string& levels = "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]",
                         const std::string& test_extra = "") {
   return "[study]\nname = \"" + name +
          "\"\nseed = 11\n\n"
@@ -335,7 +335,7 @@ TEST(PrerenderCli, PeripheryBouncesAddASecondSequence) {
   // Like experiments/fpt_pilot_bounces.toml: periphery_bounces 1 (its own sequence) and 2 (the
   // same as max_bounces: no other sequence) at a fixed fovea.
   write_file(dir / "study.toml", pair_config("tiny_fpt_bounces", "parameter = \"periphery_bounces\"\nvalues = [1, 2]",
-                                             "foveal_deg = 15\n"));
+                                             "foveal_aperture_deg = 15\n"));
   const CommandResult result = run_in(dir, "prerender study.toml");
   ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
   EXPECT_NE(result.out.find("6 frames in all, shard 0/1 holds 6: 0 cached, 6 to render"), std::string::npos) << result.out;
@@ -379,7 +379,7 @@ TEST(PrerenderCli, ConfigsWithoutPathTracedStimuliAreRefused) {
   };
   replace(sphere, "method = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
   replace(sphere, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"ipr\"");
-  replace(sphere, "parameter = \"foveal_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [2, 8]");
+  replace(sphere, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [2, 8]");
   replace(sphere, "scene = \"courtyard\"", "scene = \"primitives\"");
   write_file(dir / "sphere.toml", sphere);
   const CommandResult result = run_in(dir, "prerender sphere.toml");

@@ -1,4 +1,4 @@
-// libFuzzer harness: the study-config parser (protocols/config/study_config.h).
+// libFuzzer harness: the study-config parser (study/config/study_config.h).
 // Contract: parse_study_config_text throws fovlab::InputError for bad input; any other exception,
 // a crash, a sanitizer report or a hang is a bug. Built two ways (tests/fuzz/fuzz.cmake):
 // fovlab_config_fuzz (clang, libFuzzer + ASan + UBSan; scripts/fuzz) and fovlab_config_corpus
@@ -13,7 +13,7 @@
 #include <string>
 
 #include "core/input_error.h"
-#include "protocols/config/study_config.h"
+#include "study/config/study_config.h"
 
 namespace {
 
@@ -30,7 +30,10 @@ void expect(bool condition, const char* what) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const fovlab::StudyConfig config = fovlab::parse_study_config_text(text, "fuzz.toml");
+    // Scene names are checked against a fixed catalog (the harness links no renderer); files are not
+    // looked for.
+    static const fovlab::SceneCatalog scenes{{"primitives", "columns", "temple"}, {"courtyard"}, ".obj", false};
+    const fovlab::StudyConfig config = fovlab::parse_study_config_text(text, "fuzz.toml", scenes);
     expect(config.source_text == text, "source_text is the input");
     expect(!config.blocks.empty(), "at least one block");
     expect(config.stimulus.frame_count() >= 1, "at least one frame");

@@ -1,5 +1,5 @@
 # Fuzzing the parsers of what users give fovlab (tests/fuzz/*_fuzz.cpp): study configs, session
-# logs, gaze traces and OBJ meshes. Included at the end of the top CMakeLists.txt, after
+# logs, gaze traces and OBJ meshes. Included at the end of tests/CMakeLists.txt, after
 # fovlab_tests exists.
 #
 # Every build: fovlab_<name>_corpus replays the checked-in corpus (tests/fuzz/corpus/<name>)
@@ -13,10 +13,10 @@ option(FOVLAB_FUZZ "Build the libFuzzer targets fovlab_<name>_fuzz (clang; see s
 
 set(fovlab_fuzz_dir ${CMAKE_SOURCE_DIR}/tests/fuzz)
 # Harness name and the library it needs: the OBJ loader is in fovlab_renderer (parse only, no
-# Vulkan device is made), the others in fovlab_protocols.
+# Vulkan device is made), the gaze trace in fovlab_protocols, configs and logs in fovlab_study.
 set(fovlab_fuzz_harnesses config log gaze_trace obj)
-set(fovlab_fuzz_library_config fovlab_protocols)
-set(fovlab_fuzz_library_log fovlab_protocols)
+set(fovlab_fuzz_library_config fovlab_study)
+set(fovlab_fuzz_library_log fovlab_study)
 set(fovlab_fuzz_library_gaze_trace fovlab_protocols)
 set(fovlab_fuzz_library_obj fovlab_renderer)
 
@@ -43,7 +43,7 @@ if(FOVLAB_FUZZ)
   # Debian's toml++ is a prebuilt shared library (-DTOML_HEADER_ONLY=0), compiled without coverage
   # or sanitizers: the TOML parser, the bulk of the config parsing, would be invisible to the
   # fuzzer. In this build use its header-only mode instead, so it is compiled (and instrumented)
-  # into fovlab_protocols; its inline definitions take precedence over the shared library's.
+  # into fovlab_study; its inline definitions take precedence over the shared library's.
   if(TARGET tomlplusplus::tomlplusplus)
     set_property(TARGET tomlplusplus::tomlplusplus PROPERTY INTERFACE_COMPILE_OPTIONS -DTOML_HEADER_ONLY=1)
   endif()

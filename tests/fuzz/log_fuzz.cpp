@@ -1,4 +1,4 @@
-// libFuzzer harness: the session-log readers (protocols/log/event_log.h, session_record.h, and the
+// libFuzzer harness: the session-log readers (study/log/event_log.h, session_record.h, and the
 // fast scan session_scan.h that fovlab analyze uses).
 // Contract: parse_event_log, read_session_record and scan_session_bytes throw fovlab::InputError
 // for bad input; any other exception, a crash, a sanitizer report or a hang is a bug. Parses the
@@ -17,9 +17,9 @@
 #include <string>
 
 #include "core/input_error.h"
-#include "protocols/log/event_log.h"
-#include "protocols/log/session_record.h"
-#include "protocols/log/session_scan.h"
+#include "study/log/event_log.h"
+#include "study/log/session_record.h"
+#include "study/log/session_scan.h"
 
 namespace {
 

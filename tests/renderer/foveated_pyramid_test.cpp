@@ -8,8 +8,8 @@
 #include <numeric>
 
 #include "core/input_error.h"
-#include "renderer/foveation/display_geometry.h"
-#include "renderer/foveation/foveation_mask.h"
+#include "foveation/display_geometry.h"
+#include "foveation/foveation_mask.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "analysis/image_metrics/image_metrics.h"
+#include "metrics/image_metrics.h"
 #include "core/colour.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "tests/renderer/vulkan_test_fixture.h"

@@ -5,7 +5,7 @@
 #include <map>
 #include <numeric>
 
-#include "analysis/image_metrics/image_metrics.h"
+#include "metrics/image_metrics.h"
 #include "core/colour.h"
 #include "core/input_error.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"

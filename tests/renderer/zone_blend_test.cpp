@@ -13,7 +13,7 @@
 #include "core/prng.h"
 #include "renderer/upsampling/upsample_filter.h"
 #include "renderer/zone_blend/zone_blender.h"
-#include "renderer/zone_blend/zone_layout.h"
+#include "foveation/zone_layout.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 
 namespace fovlab {

@@ -12,7 +12,7 @@
 
 #include "analysis/rays/ray_count.h"
 #include "core/input_error.h"
-#include "renderer/foveation/display_geometry.h"
+#include "foveation/display_geometry.h"
 
 namespace {
 

@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "protocols/log/event_log.h"
+#include "study/log/event_log.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/support/temp_dir.h"
 

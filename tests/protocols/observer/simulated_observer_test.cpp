@@ -9,11 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "core/prng.h"
-#include "protocols/config/study_config.h"
+#include "study/config/study_config.h"
 #include "protocols/observer/simulated_observer.h"
-#include "protocols/schedule/study_plan.h"
+#include "study/schedule/study_plan.h"
 
 namespace fovlab {
 namespace {
@@ -44,7 +45,7 @@ method = "gt"
 [[block]]
 scene = "primitives"
 )";
-  return parse_study_config_text(text, "observer_test.toml");
+  return parse_study_config_text(text, "observer_test.toml", renderer_scene_catalog());
 }
 
 const std::string kLevels = "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16, 32, 64]\n";

@@ -11,7 +11,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "protocols/log/log_integrity.h"
+#include "study/log/log_integrity.h"
 #include "protocols/session/session.h"
 #include "tests/protocols/session/session_test_support.h"
 

@@ -16,8 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "protocols/log/session_record.h"
-#include "protocols/schedule/study_plan.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "study/log/session_record.h"
+#include "study/schedule/study_plan.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "protocols/stimuli/stimulus_library.h"
@@ -62,7 +63,7 @@ periphery_steps = 0
 mask_seed = 11
 
 [levels]
-parameter = "fovea_deg"
+parameter = "fovea_radius_deg"
 values = [2.5, 10]
 
 [protocol]
@@ -80,7 +81,7 @@ scene = "primitives"
 
 StudyConfig fipr_config(const std::string& text = kFiprStudy) {
   // Built-in scenes only: the path is for messages and the log header.
-  return parse_study_config_text(text, (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies/fipr.toml").string());
+  return parse_study_config_text(text, (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies/fipr.toml").string(), renderer_scene_catalog());
 }
 
 SessionOptions simulated(const fs::path& results, const fs::path& trace) {
@@ -247,7 +248,7 @@ TEST(FiprSession, AResumedSessionReplays) {
 
 StimulusSpec fipr_spec(const StudyPlan& plan, double fovea_deg) {
   for (const PlannedStimulus& stimulus : plan.stimuli)
-    if (stimulus.spec.method == "fipr" && stimulus.level == fovea_deg) return stimulus.spec;
+    if (stimulus.spec.method() == RenderMethod::foveated_pyramid && stimulus.level == fovea_deg) return stimulus.spec;
   throw std::logic_error("no FIPR stimulus");
 }
 
@@ -256,7 +257,7 @@ class FiprLibrary : public VulkanTest {};
 TEST_F(FiprLibrary, ImagesOfAPresentationFollowEachOtherAndIndexZeroRestarts) {
   const StudyPlan plan = make_study_plan(fipr_config(), "P1");
   StimulusSpec spec = fipr_spec(plan, 2.5);
-  spec.parameters["periphery_refresh"] = 4;
+  std::get<FoveatedPyramidParameters>(spec.parameters).periphery_refresh = 4;
   const StimulusSpec other = fipr_spec(plan, 10);
   StimulusLibrary library(context());
   const auto present = [&](const StimulusSpec& shown, double gaze_shift_px) {
@@ -275,7 +276,7 @@ TEST_F(FiprLibrary, ImagesOfAPresentationFollowEachOtherAndIndexZeroRestarts) {
   // Other work on the same scene between two presentations: a GT frame, another FIPR stimulus,
   // the same stimulus with another gaze.
   StimulusSpec gt = plan.stimuli.at(0).spec;
-  ASSERT_EQ(gt.method, "gt");
+  ASSERT_EQ(gt.method(), RenderMethod::ground_truth);
   library.render(gt, StimulusImage{});
   present(other, 0.0);
   const std::vector<std::string> moved = present(spec, 13.0);

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "core/prng.h"
-#include "protocols/log/log_integrity.h"
+#include "study/log/log_integrity.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "tests/protocols/session/session_test_support.h"

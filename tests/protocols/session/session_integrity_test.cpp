@@ -7,10 +7,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
-#include "protocols/log/event_log.h"
-#include "protocols/log/log_integrity.h"
-#include "protocols/log/session_scan.h"
+#include "study/log/event_log.h"
+#include "study/log/log_integrity.h"
+#include "study/log/session_scan.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "protocols/session/trials_export.h"
@@ -102,7 +103,7 @@ class SessionIntegrity : public ::testing::Test {
     folder_ = new fs::path(fresh_folder("integrity"));
     key_path_ = new fs::path(*folder_ / "lab.key");
     std::ofstream(*key_path_, std::ios::binary) << "0123456789abcdef0123456789abcdef";
-    const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+    const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
     SessionOptions options = simulated(*folder_ / "results", "Plain");
     unkeyed_log_ = new std::string(run_session(config, options).log_path);
     options = simulated(*folder_ / "results", "Keyed");
@@ -176,7 +177,7 @@ TEST_F(SessionIntegrity, AKeyedLogStrippedOfItsKeyOrCutBeforeItsSealCannotBeRese
 
   // The final seal cut off (session_end kept) and the answers rewritten: the next run with the key
   // refuses it instead of sealing it.
-  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   const fs::path results = *folder_ / "reseal";
   const fs::path log = session_log_path(results.string(), config.name, "Keyed");
   fs::create_directories(log.parent_path());
@@ -297,7 +298,7 @@ TEST_F(SessionIntegrity, ExportRefusesABrokenLogUnlessAskedAndSaysEachRowsStatus
 }
 
 TEST_F(SessionIntegrity, AForgedLogIsNotResumed) {
-  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
   // The first half of the session, its trial indices moved past the end of the plan.
   std::vector<std::string> half(lines.begin(), lines.begin() + static_cast<long>(lines.size() / 2));
@@ -375,7 +376,7 @@ TEST_F(SessionIntegrity, ALabKeyInsideTheResultsFolderOrTooShortIsRefused) {
   EXPECT_THROW(read_lab_key(short_key.string()), InputError);
   EXPECT_THROW(read_lab_key(folder_->string()), InputError);
   // Resuming a keyed session without its key, or an unkeyed one with a key, is refused.
-  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   std::vector<std::string> lines = lines_of(read_file(*keyed_log_));
   const fs::path resume_results = *folder_ / "resume-keyed";
   const fs::path log = session_log_path(resume_results.string(), config.name, "Keyed");

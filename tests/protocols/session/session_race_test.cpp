@@ -11,8 +11,9 @@
 #include <chrono>
 #include <thread>
 
+#include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
-#include "protocols/log/log_integrity.h"
+#include "study/log/log_integrity.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "tests/protocols/session/session_test_support.h"
@@ -146,7 +147,7 @@ TEST(SessionRace, AParticipantFolderThatIsASymbolicLinkIsRefused) {
 
 TEST(SessionRace, AStartThatFailsAfterTakingTheLockLeavesNoFolder) {
   const fs::path results = test::fresh_folder("race-failed-start");
-  const StudyConfig config = parse_study_config_file(test::study_fixture("pair").string());
+  const StudyConfig config = parse_study_config_file(test::study_fixture("pair").string(), renderer_scene_catalog());
   SessionOptions options = test::simulated(results, "F1");
   options.gaze = "trace:" + (results / "no-such-trace.csv").string();  // read after the lock is taken
   EXPECT_THROW(run_session(config, options), InputError);

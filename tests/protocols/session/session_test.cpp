@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
@@ -33,7 +34,7 @@ class EveryProtocol : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(EveryProtocol, RunsHeadlessReplaysAndExports) {
   const fs::path results = fresh_folder(std::string("protocol-") + GetParam());
-  const StudyConfig config = parse_study_config_file(study_fixture(GetParam()).string());
+  const StudyConfig config = parse_study_config_file(study_fixture(GetParam()).string(), renderer_scene_catalog());
   const SessionOutcome outcome = run_session(config, simulated(results));
   EXPECT_TRUE(outcome.finished);
   EXPECT_FALSE(outcome.resumed);
@@ -54,7 +55,7 @@ INSTANTIATE_TEST_SUITE_P(Session, EveryProtocol, ::testing::Values("tiny_2afc", 
 TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
   const fs::path results = fresh_folder("ramp-slider");
   for (const char* name : {"ramp", "slider"}) {
-    const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture(name).string()), simulated(results));
+    const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture(name).string(), renderer_scene_catalog()), simulated(results));
     const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
     for (const RecordedTrial& trial : record.trials) {
       const size_t steps = trial.start["sequence"].size();
@@ -74,7 +75,7 @@ TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
 
 TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
   const fs::path results = fresh_folder("resume");
-  const StudyConfig config = parse_study_config_file(study_fixture("pair").string());
+  const StudyConfig config = parse_study_config_file(study_fixture("pair").string(), renderer_scene_catalog());
   const SessionOutcome reference = run_session(config, simulated(results / "whole"));
   const std::vector<std::string> expected = trial_summary(reference.log_path);
   const std::string whole = read_file(reference.log_path);
@@ -105,7 +106,7 @@ TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
 
 TEST(Session, ACrashBeforeTheHeaderWasCompleteStartsAfresh) {
   const fs::path results = fresh_folder("no-header");
-  const StudyConfig config = parse_study_config_file(study_fixture("rating").string());
+  const StudyConfig config = parse_study_config_file(study_fixture("rating").string(), renderer_scene_catalog());
   for (const std::string& left_behind : {std::string(), std::string("{\"event\":\"session_hea")}) {
     const std::string participant = left_behind.empty() ? "Empty" : "Torn";
     const std::string log_path = session_log_path(results.string(), config.name, participant);
@@ -163,7 +164,7 @@ TEST(Session, ExcludesAfterMaxAttentionErrors) {
 
 TEST(Session, ReplayDetectsAnAlteredResponseOrFrame) {
   const fs::path results = fresh_folder("tamper");
-  const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture("tiny_2afc").string()), simulated(results));
+  const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), simulated(results));
   const std::string original = read_file(outcome.log_path);
   const auto altered_copy = [&](const std::string& from, const std::string& to) {
     std::string text = original;
@@ -185,7 +186,7 @@ TEST(Session, ReplayDetectsAnAlteredResponseOrFrame) {
 
 TEST(Session, BadInputWritesNothingAndKeepsExistingLogs) {
   const fs::path results = fresh_folder("bad-input");
-  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string());
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   SessionOptions options = simulated(results, "../escape");
   EXPECT_THROW(run_session(config, options), InputError);
   EXPECT_TRUE(fs::is_empty(results));

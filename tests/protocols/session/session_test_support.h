@@ -7,8 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "protocols/config/study_config.h"
-#include "protocols/log/session_record.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "study/config/study_config.h"
+#include "study/log/session_record.h"
 #include "protocols/session/session.h"
 #include "tests/support/temp_dir.h"
 
@@ -32,7 +33,7 @@ inline StudyConfig fixture_with(const std::string& name, const std::string& from
   const size_t at = text.find(from);
   if (at == std::string::npos) throw std::logic_error("fixture_with: \"" + from + "\" not in " + name);
   text.replace(at, from.size(), to);
-  return parse_study_config_text(text, path.string());
+  return parse_study_config_text(text, path.string(), renderer_scene_catalog());
 }
 
 // A headless session answered by the simulated observer, with the validation layer on.

@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "core/image_io.h"
-#include "protocols/presentation/frame_io.h"
+#include "display/frame_io.h"
 #include "protocols/session/session.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "tests/protocols/session/session_test_support.h"

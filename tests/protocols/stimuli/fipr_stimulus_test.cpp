@@ -1,4 +1,4 @@
-// FIPR as a study stimulus (protocols/stimuli/stimulus_spec.h, protocols/schedule/study_plan.cpp):
+// FIPR as a study stimulus (study/stimulus/stimulus_spec.h, study/schedule/study_plan.cpp):
 // its parameters (defaults, ranges, choices), their one-line config errors, the rule between fovea
 // and outer periphery, the display the schedule fills in from [display], the settings handed to the
 // renderer, and the shipped FIPR main study (experiments/fipr_main.toml).
@@ -12,10 +12,12 @@
 
 #include <gtest/gtest.h>
 
+#include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
-#include "protocols/config/study_config.h"
-#include "protocols/schedule/study_plan.h"
-#include "protocols/stimuli/stimulus_spec.h"
+#include "study/config/study_config.h"
+#include "study/schedule/study_plan.h"
+#include "study/stimulus/stimulus_spec.h"
+#include "renderer/path_tracing/path_tracer.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab {
@@ -35,7 +37,7 @@ viewing_distance_mm = 600
 )";
   std::string test = "[stimulus.test]\nmethod = \"fipr\"\n";
   std::string variants;
-  std::string levels = "[levels]\nparameter = \"fovea_deg\"\nvalues = [2.5, 5, 7.5]\n";
+  std::string levels = "[levels]\nparameter = \"fovea_radius_deg\"\nvalues = [2.5, 5, 7.5]\n";
 
   std::string text() const {
     return R"([study]
@@ -62,7 +64,7 @@ scene = "primitives"
   }
 };
 
-StudyConfig parse(const std::string& text) { return parse_study_config_text(text, kPath); }
+StudyConfig parse(const std::string& text) { return parse_study_config_text(text, kPath, renderer_scene_catalog()); }
 
 int line_of(const std::string& text, const std::string& needle) {
   const size_t at = text.find(needle);
@@ -90,74 +92,81 @@ void expect_error(const std::string& text, int line, const std::string& key, con
   EXPECT_NE(message.find(fragment), std::string::npos) << "expected to contain \"" << fragment << "\"";
 }
 
-const MethodParameter& parameter_named(const std::vector<MethodParameter>& parameters, const std::string& name) {
-  for (const MethodParameter& parameter : parameters)
-    if (parameter.name == name) return parameter;
-  throw std::logic_error("no parameter " + name);
+const ParameterDescriptor& parameter_named(const MethodDescriptor& method, const std::string& key) {
+  const ParameterDescriptor* parameter = find_parameter(method, key);
+  if (!parameter) throw std::logic_error("no parameter " + key);
+  return *parameter;
+}
+
+// A FIPR spec of 64 x 48 pixels at every default.
+StimulusSpec default_fipr_spec() {
+  StimulusSpec spec;
+  spec.scene = "primitives";
+  spec.parameters = default_parameters(RenderMethod::foveated_pyramid);
+  spec.width_px = 64;
+  spec.height_px = 48;
+  return spec;
 }
 
 // --- the method -------------------------------------------------------------------------------------
 
 TEST(FiprStimulus, IsAKnownGazeDependentMethod) {
   EXPECT_NE(known_methods().find("fipr"), std::string::npos);
-  EXPECT_TRUE(method_depends_on_gaze("fipr"));
-  EXPECT_FALSE(method_depends_on_gaze("gt"));
-  EXPECT_FALSE(method_depends_on_gaze("ipr"));
-  ASSERT_TRUE(method_parameters("fipr"));
+  ASSERT_EQ(find_method("fipr"), RenderMethod::foveated_pyramid);
+  EXPECT_TRUE(describe(RenderMethod::foveated_pyramid).depends_on_gaze);
+  EXPECT_TRUE(describe(RenderMethod::foveated_pyramid).needs_display);
+  EXPECT_FALSE(describe(RenderMethod::ground_truth).depends_on_gaze);
+  EXPECT_FALSE(describe(RenderMethod::inverted_pyramid).depends_on_gaze);
+  EXPECT_FALSE(find_method("FIPR"));
 }
 
 TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
-  const std::vector<MethodParameter> parameters = *method_parameters("fipr");
+  const MethodDescriptor& parameters = describe(RenderMethod::foveated_pyramid);
   std::set<std::string> names;
-  for (const MethodParameter& parameter : parameters) names.insert(parameter.name);
+  for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
   EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels",
-                                          "min_filter_size", "fovea_deg", "outer_periphery_deg", "periphery_refresh",
-                                          "periphery_steps",
-                                          "blur", "combine", "edge_threshold", "mask_seed", "display_width_mm",
-                                          "display_height_mm", "viewing_distance_mm"}));
+                                          "min_filter_size", "fovea_radius_deg", "outer_periphery_radius_deg",
+                                          "periphery_refresh", "periphery_steps", "blur", "combine", "edge_threshold",
+                                          "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
   EXPECT_EQ(levels.default_value, 3);
   EXPECT_EQ(levels.min_value, 3);  // low, mid and top
   EXPECT_EQ(levels.max_value, 5);
-  EXPECT_EQ(parameter_named(parameters, "samples_per_pixel").choices, (std::vector<double>{1, 4, 16}));
-  EXPECT_EQ(parameter_named(parameters, "min_filter_size").choices, (std::vector<double>{1, 3, 5}));
-  EXPECT_EQ(parameter_named(parameters, "fovea_deg").default_value, 7.5);
-  EXPECT_EQ(parameter_named(parameters, "fovea_deg").max_value, 180);
-  EXPECT_EQ(parameter_named(parameters, "outer_periphery_deg").default_value, 180);
-  EXPECT_EQ(parameter_named(parameters, "periphery_refresh").choices, (std::vector<double>{1, 2, 4}));
+  EXPECT_EQ(parameter_named(parameters, "samples_per_pixel").allowed, (std::vector<double>{1, 4, 16}));
+  EXPECT_EQ(parameter_named(parameters, "min_filter_size").allowed, (std::vector<double>{1, 3, 5}));
+  EXPECT_EQ(parameter_named(parameters, "fovea_radius_deg").default_value, 7.5);
+  EXPECT_EQ(parameter_named(parameters, "fovea_radius_deg").max_value, 180);
+  EXPECT_EQ(parameter_named(parameters, "fovea_radius_deg").unit, "deg");
+  EXPECT_EQ(parameter_named(parameters, "fovea_radius_deg").legacy_key, "fovea_deg");
+  EXPECT_EQ(parameter_named(parameters, "outer_periphery_radius_deg").default_value, 180);
+  EXPECT_EQ(parameter_named(parameters, "periphery_refresh").allowed, (std::vector<double>{1, 2, 4}));
   EXPECT_EQ(parameter_named(parameters, "periphery_steps").default_value, FoveationSettings{}.periphery_steps);
   EXPECT_EQ(parameter_named(parameters, "periphery_steps").min_value, 0);  // 0: the mid level's colour
-  EXPECT_EQ(parameter_named(parameters, "blur").choices, (std::vector<double>{0, 1}));
-  EXPECT_EQ(parameter_named(parameters, "combine").choices, (std::vector<double>{0, 1, 2, 3}));
+  EXPECT_EQ(parameter_named(parameters, "blur").choices, (std::vector<std::string_view>{"off", "on"}));
+  EXPECT_EQ(parameter_named(parameters, "combine").choices,
+            (std::vector<std::string_view>{"max", "fovea-or-product", "product", "acuity"}));
   EXPECT_EQ(parameter_named(parameters, "edge_threshold").default_value, 0.4);
   EXPECT_GT(parameter_named(parameters, "edge_threshold").min_value, 0.0);
-  EXPECT_TRUE(parameter_named(parameters, "mask_seed").integral);
+  EXPECT_EQ(parameter_named(parameters, "mask_seed").type, ParameterType::integer);
   EXPECT_EQ(parameter_named(parameters, "mask_seed").max_value, 4294967295.0);
   for (const char* display : {"display_width_mm", "display_height_mm", "viewing_distance_mm"})
     EXPECT_EQ(parameter_named(parameters, display).default_value, 0) << display << ": 0 means from [display]";
-  // The other methods do not have them.
-  const std::vector<MethodParameter> ipr = *method_parameters("ipr");
-  for (const MethodParameter& parameter : ipr) EXPECT_EQ(names.count(parameter.name), 1u);
-  EXPECT_EQ(method_parameters("ipr")->size(), 5u);
+  // IPR's parameters are FIPR's first five.
+  for (const ParameterDescriptor& parameter : describe(RenderMethod::inverted_pyramid).parameters)
+    EXPECT_EQ(names.count(std::string(parameter.key)), 1u);
+  EXPECT_EQ(describe(RenderMethod::inverted_pyramid).parameters.size(), 5u);
 }
 
 TEST(FiprStimulus, SettingsForTheRenderer) {
-  StimulusSpec spec;
-  spec.scene = "primitives";
-  spec.method = "fipr";
-  const std::vector<MethodParameter> fipr = *method_parameters("fipr");
-  for (const MethodParameter& parameter : fipr) spec.parameters[parameter.name] = parameter.default_value;
-  spec.width_px = 64;
-  spec.height_px = 48;
+  StimulusSpec spec = default_fipr_spec();
   spec.frame_count = 3;
   spec.frames_per_second = 20;
   spec.camera_start_s = 1.0;
   // Without its display a FIPR spec cannot be rendered (the schedule always fills it in).
   EXPECT_THROW(sphere_trace_settings(spec, 0), InputError);
 
-  spec.parameters["display_width_mm"] = 400;
-  spec.parameters["display_height_mm"] = 300;
-  spec.parameters["viewing_distance_mm"] = 600;
+  auto& fipr = std::get<FoveatedPyramidParameters>(spec.parameters);
+  fipr.display = {400, 300, 600};
   SphereTraceSettings settings = sphere_trace_settings(spec, 2);
   EXPECT_EQ(settings.method, TraceMethod::foveated_pyramid);
   EXPECT_EQ(settings.width, 64);
@@ -182,14 +191,14 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(f.seed, 0u);
   EXPECT_NO_THROW(validate(settings));
 
-  spec.parameters["fovea_deg"] = 12.5;
-  spec.parameters["outer_periphery_deg"] = 40;
-  spec.parameters["periphery_refresh"] = 4;
-  spec.parameters["periphery_steps"] = 0;
-  spec.parameters["blur"] = 1;
-  spec.parameters["combine"] = 2;
-  spec.parameters["edge_threshold"] = 0.1;
-  spec.parameters["mask_seed"] = 4294967295.0;
+  fipr.fovea_radius_deg = 12.5;
+  fipr.outer_periphery_radius_deg = 40;
+  fipr.periphery_refresh = 4;
+  fipr.periphery_steps = 0;
+  fipr.blur = true;
+  fipr.combine = FiprCombine::product;
+  fipr.edge_threshold = 0.1;
+  fipr.mask_seed = 4294967295u;
   settings = sphere_trace_settings(spec, 0);
   EXPECT_EQ(settings.foveation.acuity.fovea_deg, 12.5);
   EXPECT_EQ(settings.foveation.acuity.outer_periphery_deg, 40);
@@ -203,18 +212,45 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
 }
 
 TEST(FiprStimulus, OuterPeripheryRule) {
-  std::map<std::string, double> parameters;
-  const std::vector<MethodParameter> fipr = *method_parameters("fipr");
-  for (const MethodParameter& parameter : fipr) parameters[parameter.name] = parameter.default_value;
-  EXPECT_FALSE(parameter_conflict("fipr", parameters));
-  parameters["outer_periphery_deg"] = 7.5;  // equal: allowed
-  EXPECT_FALSE(parameter_conflict("fipr", parameters));
-  parameters["outer_periphery_deg"] = 5;
-  const auto conflict = parameter_conflict("fipr", parameters);
+  MethodParameters parameters = default_parameters(RenderMethod::foveated_pyramid);
+  EXPECT_FALSE(parameter_conflict(parameters));
+  std::get<FoveatedPyramidParameters>(parameters).outer_periphery_radius_deg = 7.5;  // equal: allowed
+  EXPECT_FALSE(parameter_conflict(parameters));
+  std::get<FoveatedPyramidParameters>(parameters).outer_periphery_radius_deg = 5;
+  const auto conflict = parameter_conflict(parameters);
   ASSERT_TRUE(conflict);
-  EXPECT_NE(conflict->expected.find("outer_periphery_deg (5) >= fovea_deg (7.5)"), std::string::npos)
+  EXPECT_NE(conflict->expected.find("outer_periphery_radius_deg (5) >= fovea_radius_deg (7.5)"), std::string::npos)
       << conflict->expected;
-  EXPECT_FALSE(parameter_conflict("gt", {{"max_steps", 4}}));
+  EXPECT_FALSE(parameter_conflict(default_parameters(RenderMethod::ground_truth)));
+}
+
+// The renderer's enumeration and frame rules are the descriptors': a change on one side fails here.
+TEST(FiprStimulus, DescriptorsAgreeWithTheRenderer) {
+  const ParameterDescriptor& combine = parameter_named(describe(RenderMethod::foveated_pyramid), "combine");
+  for (size_t i = 0; i < combine.choices.size(); ++i)
+    EXPECT_EQ(combine.choices[i], mask_combine_name(static_cast<MaskCombine>(i)));
+  for (RenderMethod method : {RenderMethod::ground_truth, RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid})
+    EXPECT_EQ(describe(method).max_samples_per_frame, kMaxSphereTraceSamplesPerFrame);
+  EXPECT_EQ(describe(RenderMethod::foveated_path_traced).frame_side_multiple_px, kZoneSideMultiplePx);
+  // The defaults the renderer's own settings start from are the descriptors' (the CLI's render
+  // command and the benchmarks construct those settings directly).
+  const SphereTraceSettings trace;
+  const MethodDescriptor& fipr = describe(RenderMethod::foveated_pyramid);
+  EXPECT_EQ(parameter_named(fipr, "max_steps").default_value, trace.max_steps);
+  EXPECT_EQ(parameter_named(fipr, "samples_per_pixel").default_value, trace.samples_per_pixel);
+  EXPECT_FLOAT_EQ(float(parameter_named(fipr, "hit_threshold").default_value), trace.hit_threshold);
+  EXPECT_EQ(parameter_named(fipr, "pyramid_levels").default_value, trace.pyramid_levels);
+  EXPECT_EQ(parameter_named(fipr, "min_filter_size").default_value, trace.min_filter_size);
+  EXPECT_FLOAT_EQ(float(parameter_named(fipr, "edge_threshold").default_value), trace.foveation.edge_threshold);
+  const PathTraceSettings paths;
+  const MethodDescriptor& fpt = describe(RenderMethod::foveated_path_traced);
+  EXPECT_EQ(parameter_named(fpt, "samples_per_pixel").default_value, paths.samples_per_pixel);
+  EXPECT_EQ(parameter_named(fpt, "max_bounces").default_value, paths.max_bounces);
+  EXPECT_EQ(parameter_named(fpt, "path_seed").default_value, paths.seed);
+  const ZoneBounds zones;
+  EXPECT_EQ(parameter_named(fpt, "foveal_aperture_deg").default_value, zones.foveal_deg);
+  EXPECT_EQ(parameter_named(fpt, "middle_minus_foveal_aperture_deg").default_value, zones.middle_deg - zones.foveal_deg);
+  EXPECT_EQ(parameter_named(fpt, "band_width_deg").default_value, zones.band_deg);
 }
 
 // --- configs ----------------------------------------------------------------------------------------
@@ -228,11 +264,11 @@ max_steps = 128
 hit_threshold = 0.5
 pyramid_levels = 4
 min_filter_size = 5
-outer_periphery_deg = 40
+outer_periphery_radius_deg = 40
 periphery_refresh = 2
 periphery_steps = 16
-blur = 1
-combine = 3
+blur = "on"
+combine = "acuity"
 edge_threshold = 0.25
 mask_seed = 77
 display_width_mm = 200
@@ -240,9 +276,14 @@ display_height_mm = 150
 viewing_distance_mm = 300
 )";
   const StudyConfig config = parse(base.text());
-  EXPECT_EQ(config.stimulus.test.method, "fipr");
+  EXPECT_EQ(describe(config.stimulus.test.method).name, "fipr");
   EXPECT_EQ(config.stimulus.test.parameters.size(), 15u);
   EXPECT_EQ(config.stimulus.test.parameters.at("mask_seed"), 77);
+  EXPECT_EQ(config.stimulus.test.parameters.at("combine"), 3);  // its index
+  const auto typed = std::get<FoveatedPyramidParameters>(parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters}));
+  EXPECT_EQ(typed.combine, FiprCombine::acuity);
+  EXPECT_TRUE(typed.blur);
+  EXPECT_EQ(typed.outer_periphery_radius_deg, 40);
 }
 
 TEST(FiprStimulus, BadValuesAreOneLineErrorsNamingTheField) {
@@ -250,17 +291,20 @@ TEST(FiprStimulus, BadValuesAreOneLineErrorsNamingTheField) {
     std::string line;
     std::string fragment;
   } cases[] = {
-      {"fovea_deg = 200", "expected a value in [0, 180], got 200"},
-      {"fovea_deg = -1", "expected a value in [0, 180]"},
-      {"outer_periphery_deg = 181", "expected a value in [0, 180]"},
+      {"fovea_radius_deg = 200", "expected a value in [0, 180], got 200"},
+      {"fovea_radius_deg = -1", "expected a value in [0, 180]"},
+      {"outer_periphery_radius_deg = 181", "expected a value in [0, 180]"},
       {"pyramid_levels = 2", "expected a value in [3, 5], got 2"},
       {"min_filter_size = 2", "expected one of 1 3 5, got 2"},
       {"samples_per_pixel = 2", "expected one of 1 4 16, got 2"},
       {"periphery_refresh = 3", "expected one of 1 2 4, got 3"},
       {"periphery_steps = -1", "expected a value in [0, 4096], got -1"},
       {"periphery_steps = 2.5", "whole number"},
-      {"blur = 0.5", "expected one of 0 1, got 0.5"},
-      {"combine = 4", "expected one of 0 1 2 3, got 4"},
+      {"blur = 1", "expected one of \"off\", \"on\" (a name), got 1"},
+      {"blur = \"yes\"", "expected one of \"off\", \"on\", got \"yes\""},
+      {"combine = 3", "(a name), got 3"},
+      {"combine = \"min\"", "expected one of \"max\", \"fovea-or-product\", \"product\", \"acuity\", got \"min\""},
+      {"fovea_deg = 5", "not a parameter of method \"fipr\""},
       {"edge_threshold = 0", "expected a value in"},
       {"mask_seed = 1.5", "whole number"},
       {"mask_seed = 4294967296", "expected a value in"},
@@ -278,36 +322,42 @@ TEST(FiprStimulus, BadValuesAreOneLineErrorsNamingTheField) {
   }
   // Levels are checked against the parameter's range too.
   FiprText base;
-  base.levels = "[levels]\nparameter = \"fovea_deg\"\nvalues = [2.5, 190]\n";
+  base.levels = "[levels]\nparameter = \"fovea_radius_deg\"\nvalues = [2.5, 190]\n";
   std::string text = base.text();
   expect_error(text, line_of(text, "values = [2.5, 190]"), "levels.values", "got 190");
   // A FIPR parameter on an IPR test is not a parameter of that method.
   base = FiprText{};
-  base.test = "[stimulus.test]\nmethod = \"ipr\"\nfovea_deg = 5\n";
+  base.test = "[stimulus.test]\nmethod = \"ipr\"\nfovea_radius_deg = 5\n";
   base.levels.clear();
   text = base.text();
-  expect_error(text, line_of(text, "fovea_deg = 5"), "stimulus.test.fovea_deg", "not a parameter of method \"ipr\"");
+  expect_error(text, line_of(text, "fovea_radius_deg = 5"), "stimulus.test.fovea_radius_deg",
+               "not a parameter of method \"ipr\"");
+  // A choice parameter cannot be the levels' (levels are ordered numbers).
+  base = FiprText{};
+  base.levels = "[levels]\nparameter = \"combine\"\nvalues = [0, 1]\n";
+  text = base.text();
+  expect_error(text, line_of(text, "parameter = \"combine\""), "levels.parameter", "not a numeric parameter");
 }
 
 TEST(FiprStimulus, OuterPeripheryInsideTheFoveaNamesTheFieldThatSetIt) {
   // In the test table, against the default fovea.
   FiprText base;
   base.levels.clear();
-  base.test += "outer_periphery_deg = 5\n";
+  base.test += "outer_periphery_radius_deg = 5\n";
   std::string text = base.text();
-  expect_error(text, line_of(text, "outer_periphery_deg = 5"), "stimulus.test.outer_periphery_deg",
-               "expected outer_periphery_deg (5) >= fovea_deg (7.5)");
+  expect_error(text, line_of(text, "outer_periphery_radius_deg = 5"), "stimulus.test.outer_periphery_radius_deg",
+               "expected outer_periphery_radius_deg (5) >= fovea_radius_deg (7.5)");
 
   // A level value beyond the test's outer periphery: the levels are named.
   base = FiprText{};
-  base.test += "outer_periphery_deg = 6\n";
+  base.test += "outer_periphery_radius_deg = 6\n";
   text = base.text();
   expect_error(text, line_of(text, "values = [2.5, 5, 7.5]"), "levels.values",
-               "value 7.5: expected outer_periphery_deg (6)");
+               "value 7.5: expected outer_periphery_radius_deg (6)");
 
   // A variant's outer periphery inside a level's fovea: the level is what moved last.
   base = FiprText{};
-  base.variants = "[[stimulus.variant]]\nname = \"near\"\nouter_periphery_deg = 3\n";
+  base.variants = "[[stimulus.variant]]\nname = \"near\"\nouter_periphery_radius_deg = 3\n";
   text = base.text();
   expect_error(text, line_of(text, "values = [2.5, 5, 7.5]"), "levels.values", "value 5:");
 
@@ -315,17 +365,18 @@ TEST(FiprStimulus, OuterPeripheryInsideTheFoveaNamesTheFieldThatSetIt) {
   base = FiprText{};
   base.levels.clear();
   base.variants =
-      "[[stimulus.variant]]\nname = \"wide\"\n\n[[stimulus.variant]]\nname = \"near\"\nouter_periphery_deg = 3\n";
+      "[[stimulus.variant]]\nname = \"wide\"\n\n[[stimulus.variant]]\nname = \"near\"\nouter_periphery_radius_deg = 3\n";
   text = base.text();
-  expect_error(text, line_of(text, "outer_periphery_deg = 3"), "stimulus.variant[2].outer_periphery_deg",
-               "expected outer_periphery_deg (3) >= fovea_deg (7.5)");
+  expect_error(text, line_of(text, "outer_periphery_radius_deg = 3"), "stimulus.variant[2].outer_periphery_radius_deg",
+               "expected outer_periphery_radius_deg (3) >= fovea_radius_deg (7.5)");
 
   // The reference may be FIPR too.
   text = FiprText{}.text();
   const std::string gt_reference = "[stimulus.reference]\nmethod = \"gt\"\n";
   text.replace(text.find(gt_reference), gt_reference.size(),
-               "[stimulus.reference]\nmethod = \"fipr\"\nouter_periphery_deg = 10\nfovea_deg = 20\n");
-  expect_error(text, line_of(text, "fovea_deg = 20"), "stimulus.reference.fovea_deg", "outer_periphery_deg (10)");
+               "[stimulus.reference]\nmethod = \"fipr\"\nouter_periphery_radius_deg = 10\nfovea_radius_deg = 20\n");
+  expect_error(text, line_of(text, "fovea_radius_deg = 20"), "stimulus.reference.fovea_radius_deg",
+               "outer_periphery_radius_deg (10)");
 }
 
 // --- the schedule -----------------------------------------------------------------------------------
@@ -334,16 +385,16 @@ TEST(FiprStimulus, TheScheduleFillsTheDisplayFromTheConfig) {
   const StudyPlan plan = make_study_plan(parse(FiprText{}.text()), "P1");
   int fipr = 0;
   for (const PlannedStimulus& stimulus : plan.stimuli) {
-    if (stimulus.spec.method != "fipr") {
-      EXPECT_EQ(stimulus.spec.parameters.count("display_width_mm"), 0u);  // GT has no display parameters
+    if (stimulus.spec.method() != RenderMethod::foveated_pyramid) {
+      EXPECT_FALSE(parameter_value(stimulus.spec.parameters, "display_width_mm"));  // GT has no display parameters
       continue;
     }
     ++fipr;
-    EXPECT_EQ(stimulus.spec.parameters.at("display_width_mm"), 400);
-    EXPECT_EQ(stimulus.spec.parameters.at("display_height_mm"), 300);
-    EXPECT_EQ(stimulus.spec.parameters.at("viewing_distance_mm"), 600);
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "display_width_mm"), 400);
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "display_height_mm"), 300);
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "viewing_distance_mm"), 600);
     EXPECT_NE(stimulus.spec.canonical().find("display_width_mm=400"), std::string::npos);
-    EXPECT_EQ(stimulus.spec.parameters.at("fovea_deg"), *stimulus.level);
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "fovea_radius_deg"), *stimulus.level);
     const SphereTraceSettings settings = sphere_trace_settings(stimulus.spec, 0);
     EXPECT_NO_THROW(validate(settings));
     EXPECT_EQ(settings.foveation.display.width_mm, 400);
@@ -356,11 +407,12 @@ TEST(FiprStimulus, TheScheduleFillsTheDisplayFromTheConfig) {
   const StudyConfig config = parse(diagonal.text());
   const StudyPlan from_diagonal = make_study_plan(config, "P1");
   const StimulusSpec& spec = from_diagonal.stimuli.at(1).spec;
-  ASSERT_EQ(spec.method, "fipr");
-  EXPECT_DOUBLE_EQ(spec.parameters.at("display_width_mm"), 20 * 25.4 * 0.8);  // 4:3
-  EXPECT_DOUBLE_EQ(spec.parameters.at("display_height_mm"), 20 * 25.4 * 0.6);
-  EXPECT_EQ(spec.parameters.at("viewing_distance_mm"), 700);
-  EXPECT_DOUBLE_EQ(spec.parameters.at("display_width_mm"), config.display.width_mm);
+  ASSERT_EQ(spec.method(), RenderMethod::foveated_pyramid);
+  const StimulusDisplay& shown = std::get<FoveatedPyramidParameters>(spec.parameters).display;
+  EXPECT_DOUBLE_EQ(shown.display_width_mm, 20 * 25.4 * 0.8);  // 4:3
+  EXPECT_DOUBLE_EQ(shown.display_height_mm, 20 * 25.4 * 0.6);
+  EXPECT_EQ(shown.viewing_distance_mm, 700);
+  EXPECT_DOUBLE_EQ(shown.display_width_mm, config.display.width_mm);
 }
 
 TEST(FiprStimulus, ADisplayTheConfigSetsIsKeptAndMakesAnotherStimulus) {
@@ -373,12 +425,12 @@ TEST(FiprStimulus, ADisplayTheConfigSetsIsKeptAndMakesAnotherStimulus) {
   int fipr = 0;
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     canonical.insert(stimulus.spec.canonical());
-    if (stimulus.spec.method != "fipr") continue;
+    if (stimulus.spec.method() != RenderMethod::foveated_pyramid) continue;
     ++fipr;
-    EXPECT_EQ(stimulus.spec.parameters.at("viewing_distance_mm"), 450);
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "viewing_distance_mm"), 450);
     const bool small = stimulus.variant == "small";
-    EXPECT_EQ(stimulus.spec.parameters.at("display_width_mm"), small ? 200 : 400) << stimulus.variant;
-    EXPECT_EQ(stimulus.spec.parameters.at("display_height_mm"), small ? 150 : 300) << stimulus.variant;
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "display_width_mm"), small ? 200 : 400) << stimulus.variant;
+    EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "display_height_mm"), small ? 150 : 300) << stimulus.variant;
   }
   EXPECT_EQ(fipr, 6);  // 2 variants x 3 levels
   EXPECT_EQ(canonical.size(), plan.stimuli.size());  // the display tells them apart
@@ -389,19 +441,20 @@ TEST(FiprStimulus, ADisplayTheConfigSetsIsKeptAndMakesAnotherStimulus) {
   const StudyPlan by_distance = make_study_plan(parse(base.text()), "P1");
   std::set<double> distances;
   for (const PlannedStimulus& stimulus : by_distance.stimuli)
-    if (stimulus.spec.method == "fipr") distances.insert(stimulus.spec.parameters.at("viewing_distance_mm"));
+    if (stimulus.spec.method() == RenderMethod::foveated_pyramid)
+      distances.insert(*parameter_value(stimulus.spec.parameters, "viewing_distance_mm"));
   EXPECT_EQ(distances, (std::set<double>{300, 900}));
 }
 
 TEST(FiprStimulus, TheShippedMainStudy) {
   const std::string path = std::string(FOVLAB_SOURCE_DIR) + "/experiments/fipr_main.toml";
-  const StudyConfig config = parse_study_config_file(path);
+  const StudyConfig config = parse_study_config_file(path, renderer_scene_catalog());
   EXPECT_EQ(config.name, "fipr_main");
   EXPECT_EQ(config.protocol.kind, ProtocolKind::two_afc);
   EXPECT_EQ(config.protocol.two_afc_question, TwoAfcQuestion::same);
-  EXPECT_EQ(config.stimulus.reference.method, "gt");
-  EXPECT_EQ(config.stimulus.test.method, "fipr");
-  EXPECT_EQ(config.levels.parameter, "fovea_deg");
+  EXPECT_EQ(describe(config.stimulus.reference.method).name, "gt");
+  EXPECT_EQ(describe(config.stimulus.test.method).name, "fipr");
+  EXPECT_EQ(config.levels.parameter, "fovea_radius_deg");
   EXPECT_EQ(config.levels.values, (std::vector<double>{2.5, 5, 7.5, 10, 12.5, 15}));
   EXPECT_EQ(config.attention.share, 0.0);
   const StudyPlan plan = make_study_plan(config, "P01");
@@ -420,7 +473,7 @@ TEST(FiprStimulus, TheShippedMainStudy) {
     reference_first[plan.blocks[size_t(trial.block)].name + "/" + trial.condition] += trial.reference_first ? 1 : 0;
     for (int id : trial.sequence) {
       const StimulusSpec& spec = plan.stimuli[size_t(id)].spec;
-      if (spec.method == "fipr") blur.insert(spec.parameters.at("blur"));
+      if (spec.method() == RenderMethod::foveated_pyramid) blur.insert(*parameter_value(spec.parameters, "blur"));
     }
   }
   EXPECT_EQ(per_condition.size(), 36u);  // 3 scenes x 2 variants x 6 levels

@@ -1,0 +1,35 @@
+#pragma once
+// The plan of a fovlab bench sweep, once its flags are checked (app/bench_plan.h makes it): the
+// methods, the FIPR variants, and the display and gaze the error metrics assume.
+#include <string>
+#include <vector>
+
+#include "core/number_text.h"
+#include "foveation/display_geometry.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+
+namespace fovlab::app {
+
+// One FIPR variant of the sweep: periphery refresh x fovea.
+struct FiprVariant {
+  int refresh = 1;
+  double fovea_deg = 0.0;
+  FoveationSettings foveation;  // everything but frame_index, for the frame size of the sweep
+
+  std::string fovea_text() const { return format_number(fovea_deg, 6); }  // "7.5"
+};
+
+struct BenchPlan {
+  bool ipr = false;
+  bool fipr = false;
+  std::vector<int> refreshes;       // as given, in order
+  std::vector<double> fovea_degs;   // as given, in order
+  std::vector<FiprVariant> variants;  // refresh-major: for each refresh, every fovea
+  // The display and gaze the metrics assume (FLIP at its pixels per degree, FPSNR), and FIPR's.
+  DisplayGeometry display;
+  double gaze_x_px = 0.0;
+  double gaze_y_px = 0.0;
+  double flip_pixels_per_degree = 0.0;
+};
+
+}  // namespace fovlab::app

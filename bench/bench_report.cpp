@@ -1,0 +1,144 @@
+#include "bench/bench_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+#include <tuple>
+#include <vector>
+
+#include "core/number_text.h"
+
+namespace fovlab::app {
+
+namespace {
+
+std::string number(const nlohmann::json& value, const char* format) {
+  if (value.is_null()) return "inf";  // PSNR and FPSNR of identical frames
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value.get<double>());
+  return text;
+}
+
+std::string percent(const nlohmann::json& share) {
+  return share.is_number() ? number(100.0 * share.get<double>(), "%.1f%%") : "-";
+}
+
+std::string cell_settings_label(const nlohmann::json& cell) {
+  const std::string method = cell["method"].get<std::string>();
+  if (method != "fipr") return method + " " + std::to_string(cell["spp"].get<int>());
+  return std::to_string(cell["spp"].get<int>()) + "/" + std::to_string(cell["refresh"].get<int>()) + "/" +
+         format_number(cell["fovea_deg"].get<double>(), 6);
+}
+
+}  // namespace
+
+std::string gt_ipr_table_header() {
+  return "| scene | spp | GT ms | IPR ms | speed-up | GT steps/px | IPR steps/px | SSIM | PSNR dB | FLIP | FPSNR dB | "
+         "capped GT/IPR |\n"
+         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+}
+
+std::string gt_ipr_table_row(const nlohmann::json& row) {
+  const nlohmann::json& gt = row["gt"];
+  std::ostringstream out;
+  out << "| " << row["scene"].get<std::string>() << " | " << row["spp"].get<int>() << " | "
+      << number(gt["median_gpu_ms"], "%.1f") << " | ";
+  if (!row.contains("ipr")) {
+    out << "- | - | " << number(gt["steps_per_pixel"], "%.1f") << " | - | - | - | - | - | "
+        << gt["capped_rays"].get<unsigned long long>() << "/- |\n";
+    return out.str();
+  }
+  const nlohmann::json& ipr = row["ipr"];
+  out << number(ipr["median_gpu_ms"], "%.1f") << " | " << number(row["speedup"], "%.2fx") << " | "
+      << number(gt["steps_per_pixel"], "%.1f") << " | " << number(ipr["steps_per_pixel"], "%.1f") << " | "
+      << number(row["ssim"], "%.5f") << " | " << number(row["psnr_db"], "%.2f") << " | " << number(row["flip"], "%.5f")
+      << " | " << number(row["fpsnr_db"], "%.2f") << " | " << gt["capped_rays"].get<unsigned long long>() << "/"
+      << ipr["capped_rays"].get<unsigned long long>() << " |\n";
+  return out.str();
+}
+
+std::string pass_table(const nlohmann::json& rows) {
+  std::ostringstream out;
+  out << "| scene | spp | method | pass | median GPU ms | share |\n|---|---:|---|---|---:|---:|\n";
+  for (const nlohmann::json& row : rows) {
+    for (const char* method : {"gt", "ipr"}) {
+      if (!row.contains(method)) continue;
+      const nlohmann::json& runs = row[method];
+      const double total = runs["median_gpu_ms"].get<double>();
+      for (const auto& [name, ms] : runs["median_pass_gpu_ms"].items()) {
+        char text[256];
+        std::snprintf(text, sizeof(text), "| %s | %d | %s | %s | %.2f | %.0f%% |\n",
+                      row["scene"].get<std::string>().c_str(), row["spp"].get<int>(), method, name.c_str(),
+                      ms.get<double>(), total > 0 ? 100.0 * ms.get<double>() / total : 0.0);
+        out << text;
+      }
+    }
+  }
+  return out.str();
+}
+
+std::string cell_table_header() {
+  return "| scene | spp | method | refresh | fovea deg | GPU ms | speed-up | steps/px | top level | refreshed | SSIM | "
+         "FLIP | FPSNR dB |\n"
+         "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+}
+
+std::string cell_table_row(const nlohmann::json& cell) {
+  const bool fipr = cell["method"] == "fipr";
+  std::ostringstream out;
+  out << "| " << cell["scene"].get<std::string>() << " | " << cell["spp"].get<int>() << " | "
+      << cell["method"].get<std::string>() << " | " << (fipr ? std::to_string(cell["refresh"].get<int>()) : "-")
+      << " | " << (fipr ? format_number(cell["fovea_deg"].get<double>(), 6) : "-") << " | "
+      << number(cell["median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
+      << number(cell["steps_per_pixel"], "%.1f") << " | " << percent(cell["top_level_share"]) << " | "
+      << percent(cell["refreshed_share"]) << " | " << number(cell["ssim"], "%.5f") << " | "
+      << number(cell["flip"], "%.5f") << " | " << number(cell["fpsnr_db"], "%.2f") << " |\n";
+  return out.str();
+}
+
+std::string fovea_table(const nlohmann::json& cells, double fovea_deg) {
+  std::ostringstream out;
+  out << "| scene | spp | refresh | FIPR ms | GT ms | speed-up | SSIM | FLIP |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  int count = 0;
+  for (const nlohmann::json& cell : cells) {
+    if (cell["method"] != "fipr" || cell["fovea_deg"].get<double>() != fovea_deg) continue;
+    ++count;
+    out << "| " << cell["scene"].get<std::string>() << " | " << cell["spp"].get<int>() << " | "
+        << cell["refresh"].get<int>() << " | " << number(cell["median_gpu_ms"], "%.1f") << " | "
+        << number(cell["gt_median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
+        << number(cell["ssim"], "%.5f") << " | " << number(cell["flip"], "%.5f") << " |\n";
+  }
+  if (count == 0) return "No FIPR cell has a fovea of " + format_number(fovea_deg, 6) + " degrees (--fovea-deg).\n";
+  return out.str();
+}
+
+std::string pareto_table(const nlohmann::json& cells) {
+  std::vector<std::string> scenes;
+  for (const nlohmann::json& cell : cells) {
+    const std::string scene = cell["scene"].get<std::string>();
+    if (scenes.empty() || scenes.back() != scene) scenes.push_back(scene);
+  }
+  std::ostringstream out;
+  out << "| scene | error | on the Pareto front, by speed-up (speed-up, error; FIPR as spp/refresh/fovea deg) |\n"
+         "|---|---|---|\n";
+  for (const std::string& scene : scenes) {
+    for (const auto& [key, error, name] : {std::tuple{"pareto_flip", "flip", "FLIP"},
+                                           std::tuple{"pareto_one_minus_ssim", "ssim", "1 - SSIM"}}) {
+      std::vector<std::tuple<double, double, std::string>> front;  // speed-up, error, settings
+      for (const nlohmann::json& cell : cells) {
+        if (cell["scene"] != scene || !cell.value(key, false)) continue;
+        const double value = std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
+        front.emplace_back(cell["speedup"].get<double>(), value, cell_settings_label(cell));
+      }
+      std::sort(front.begin(), front.end());
+      std::string list;
+      for (const auto& [speedup, value, label] : front) {
+        list += (list.empty() ? "" : ", ") + label + " (" + number(speedup, "%.2fx") + ", " + number(value, "%.4f") + ")";
+      }
+      out << "| " << scene << " | " << name << " | " << list << " |\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace fovlab::app

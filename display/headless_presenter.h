@@ -1,0 +1,36 @@
+#pragma once
+// Presentation without a window, on a virtual clock: every present advances the clock by exactly
+// one refresh period, waits jump the clock forward, and there is no input (answers come from a
+// simulated observer). Sessions run as fast as their stimuli can be fetched, and their times are
+// reproducible.
+#include <cmath>
+
+#include "display/presenter.h"
+
+namespace fovlab {
+
+class HeadlessPresenter final : public Presenter {
+ public:
+  explicit HeadlessPresenter(double refresh_hz, double start_s = 0.0) : refresh_hz_(refresh_hz), now_s_(start_s) {}
+
+  double now_s() override { return now_s_; }
+  double present(const Rgba8Frame&) override {
+    now_s_ += 1.0 / refresh_hz_;
+    return now_s_;
+  }
+  std::vector<InputEvent> poll_input() override { return {}; }
+  void wait_until(double time_s) override {
+    // Whole refreshes, as a real display would show: the next vsync at or after time_s.
+    if (time_s > now_s_) now_s_ += std::ceil((time_s - now_s_) * refresh_hz_ - 1e-9) / refresh_hz_;
+  }
+  std::optional<std::pair<double, double>> cursor_px() override { return std::nullopt; }
+  bool close_requested() override { return false; }
+  double refresh_hz() const override { return refresh_hz_; }
+  bool is_headless() const override { return true; }
+
+ private:
+  double refresh_hz_;
+  double now_s_;
+};
+
+}  // namespace fovlab

@@ -1,0 +1,41 @@
+#pragma once
+// Shows frames and collects input. Two implementations: headless (a virtual clock that advances one
+// refresh period per present; no window) and a GLFW window with a Vulkan swapchain (real clock,
+// vsync). The session state machine only talks to this interface.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "display/frame.h"
+
+namespace fovlab {
+
+// A key or gamepad button press. Names are normalised: keyboard "a".."z", "0".."9", "space",
+// "enter", "escape", "left", "right", "up", "down"; gamepad (GLFW's standard mapping) "pad_a",
+// "pad_b", "pad_x", "pad_y", "pad_left", "pad_right", "pad_up", "pad_down", "pad_start", "pad_back",
+// "pad_lb", "pad_rb".
+struct InputEvent {
+  double time_s = 0.0;  // session clock when the press was seen
+  std::string key;
+};
+
+class Presenter {
+ public:
+  virtual ~Presenter() = default;
+  // Session clock now, in seconds since the presenter was created.
+  virtual double now_s() = 0;
+  // Shows the frame at the next refresh; returns the session time it was presented (after vsync).
+  virtual double present(const Rgba8Frame& frame) = 0;
+  // Key and button presses since the last call, oldest first.
+  virtual std::vector<InputEvent> poll_input() = 0;
+  // Waits (real clock) or advances (virtual clock) until time_s, keeping the last frame on screen.
+  virtual void wait_until(double time_s) = 0;
+  // The mouse cursor in frame pixels when there is a pointer over the window; nullopt otherwise.
+  virtual std::optional<std::pair<double, double>> cursor_px() = 0;
+  // The participant or operator asked to stop (window closed, Escape pressed 3 times within 1 s).
+  virtual bool close_requested() = 0;
+  virtual double refresh_hz() const = 0;
+  virtual bool is_headless() const = 0;
+};
+
+}  // namespace fovlab

@@ -1,0 +1,190 @@
+#pragma once
+// The presenter of a real session: a GLFW window (no OpenGL context) with its own small Vulkan
+// instance, device and FIFO swapchain. Frames arrive as CPU RGBA8 (sRGB-encoded bytes) and are
+// copied into the swapchain images unchanged (R/B swapped on the CPU for BGRA formats), so the
+// renderer may run on any device. Keyboard, gamepad and mouse come from GLFW.
+//
+// Clock: glfwGetTime() relative to construction. present() returns the session time right after
+// the frame was queued for presentation (vkQueuePresentKHR) and the copy into the swapchain image
+// had completed (its fence). The swapchain has the fewest images the surface allows, and with FIFO
+// a full queue makes the acquire block until a flip releases an image, so in steady state
+// present() returns paced at the refresh rate and its time estimates the flip at which the frame
+// appears (at or shortly before it): it is not a photon time (no display latency, no scan-out
+// position). A present that would return less than half a refresh period after the previous one
+// (the queue still filling, or a FIFO swapchain that never blocks: software presentation such as
+// lavapipe on an X server or Xvfb) sleeps until one period after the previous one, so the clock
+// advances by refreshes even then (emulated: no flip is observed).
+//
+// Threads: GLFW requires every call (construction included) on the main thread.
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "display/glfw_input.h"
+#include "display/presenter.h"
+#include "renderer/vk/context.h"
+#include "renderer/vk/instance_support.h"
+
+struct GLFWwindow;
+
+namespace fovlab {
+
+struct WindowPresenterOptions {
+  int width_px = 1280;   // the frame size; windowed: the window's client size (not resizable)
+  int height_px = 720;
+  // Full screen on the primary monitor at its current video mode. Frames are centred, scaled up by
+  // the largest integer factor that fits (1 when none does; a frame larger than the screen is
+  // cropped to its centre) and letterboxed with black.
+  bool fullscreen = false;
+  std::string title = "fovlab";
+  // FIFO (vsync). false: MAILBOX, else IMMEDIATE, where the surface offers them (timing tests).
+  bool vsync = true;
+  // Khronos validation layer; default as the renderer: on in Debug builds, FOVLAB_VALIDATION=0/1
+  // overrides. Messages go to stderr and are counted (validation_message_count()).
+  bool validation = vk::validation_requested_by_default();
+  // Read every presented image back from the swapchain (see screenshot()); costs one image copy a
+  // frame. Off: screenshot() returns the last input frame.
+  bool screenshots = true;
+  // Empty: automatic (a device that can present to the window: discrete > integrated > virtual >
+  // CPU); else an index or a case-insensitive part of a device name, like the renderer's --device.
+  std::string device_selector;
+};
+
+class WindowPresenter final : public Presenter {
+ public:
+  // Throws InputError when no window can be opened (no display) or no device can present to it.
+  explicit WindowPresenter(const WindowPresenterOptions& options);
+  ~WindowPresenter() override;
+  WindowPresenter(const WindowPresenter&) = delete;
+  WindowPresenter& operator=(const WindowPresenter&) = delete;
+
+  double now_s() override;
+  // Any frame size works (centred, integer-scaled, letterboxed or cropped to the swapchain).
+  // Throws std::invalid_argument when rgba.size() is not width * height * 4.
+  double present(const Rgba8Frame& frame) override;
+  // Key presses are time-stamped when GLFW delivers them: events are pumped in every present(),
+  // wait_until(), poll_input(), cursor_px() and close_requested(), so at refresh resolution during
+  // a trial. Gamepad buttons (every connected gamepad, GLFW's standard mapping) are sampled at the
+  // same pumps, edge-detected. A single Escape is delivered as "escape" too.
+  std::vector<InputEvent> poll_input() override;
+  // Re-presents the last frame while at least one refresh period remains (the clock advances by
+  // real refreshes and the window stays responsive), then sleeps in short slices, pumping events,
+  // until now_s() >= time_s; never overshoots by a whole refresh. Re-presents are limited to the
+  // refresh rate when the swapchain does not pace them (e.g. software X servers).
+  void wait_until(double time_s) override;
+  // The pointer in frame pixels (x right, y down, from the frame's top-left corner; divided by the
+  // fullscreen scale, so fractional there) while it is over the window and inside the frame's
+  // rectangle; nullopt otherwise (letterbox included).
+  std::optional<std::pair<double, double>> cursor_px() override;
+  // The window was closed, or Escape was pressed 3 times within 1 s.
+  bool close_requested() override;
+  // The primary monitor's refresh rate (glfwGetVideoMode), 60 when unknown.
+  double refresh_hz() const override { return refresh_hz_; }
+  bool is_headless() const override { return false; }
+
+  // The last presented swapchain image as read back from the GPU (the whole swapchain extent,
+  // letterbox included, R/B in frame order): copied out of the swapchain image in the same
+  // submission, after the frame was written and before the present, so it is what the swapchain
+  // held, not the input.
+  // When the swapchain images cannot be transfer sources (or options.screenshots is off) this is
+  // the last input frame instead: screenshot_is_readback() says which. Empty before any present.
+  Rgba8Frame screenshot() const;
+  bool screenshot_is_readback() const;
+
+  uint32_t validation_message_count() const { return validation_log_->messages.load(); }
+  bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
+  std::string device_name() const { return device_name_; }
+  VkFormat swapchain_format() const { return format_; }
+  std::pair<int, int> swapchain_extent_px() const {
+    return {static_cast<int>(extent_.width), static_cast<int>(extent_.height)};
+  }
+  // The GLFW window, for tests and for callers that need GLFW directly (cursor warps, icons).
+  GLFWwindow* glfw_window() const { return window_; }
+
+ private:
+  struct HostBuffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize size = 0;
+    void* mapped = nullptr;
+  };
+  struct Layout {  // where a frame lands in the swapchain image
+    int scale = 1;
+    int scaled_width = 0, scaled_height = 0;  // frame size times scale
+    int src_x = 0, src_y = 0;                 // first scaled pixel copied (crop)
+    int dst_x = 0, dst_y = 0;                 // where it lands
+    int copy_width = 0, copy_height = 0;
+    bool covers_image = false;
+  };
+
+  void create_window();
+  void create_instance();
+  void choose_device();
+  void create_swapchain();
+  void destroy_swapchain(bool keep_handle_for_recreation);
+  void recreate_swapchain();
+  void release();
+  HostBuffer create_host_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool prefer_cached);
+  void destroy_host_buffer(HostBuffer& buffer);
+  Layout layout_for(int frame_width, int frame_height) const;
+  void pump_events();
+  void poll_gamepads();
+  void on_key(int key, const char* layout_name);
+  static void key_callback(GLFWwindow* window, int key, int scancode, int action, int mods);
+
+  WindowPresenterOptions options_;
+  GLFWwindow* window_ = nullptr;
+  bool glfw_initialised_ = false;
+  double clock_origin_s_ = 0.0;
+  double refresh_hz_ = 60.0;
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  std::unique_ptr<vk::ValidationLog> validation_log_;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;
+  std::string device_name_;
+  VkPhysicalDeviceMemoryProperties memory_properties_{};
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+  VkFence frame_fence_ = VK_NULL_HANDLE;
+  VkSemaphore image_available_ = VK_NULL_HANDLE;
+
+  VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
+  VkFormat format_ = VK_FORMAT_UNDEFINED;
+  VkColorSpaceKHR colour_space_ = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
+  bool format_is_bgra_ = false;
+  bool can_read_back_ = false;
+  VkPresentModeKHR present_mode_ = VK_PRESENT_MODE_FIFO_KHR;
+  VkExtent2D extent_{0, 0};
+  std::vector<VkImage> images_;
+  std::vector<VkSemaphore> render_finished_;  // one per swapchain image
+  bool swapchain_stale_ = false;
+
+  HostBuffer staging_;
+  HostBuffer readback_;
+  Rgba8Frame last_frame_;
+  bool has_presented_ = false;
+  bool last_present_read_back_ = false;
+  VkExtent2D readback_extent_{0, 0};
+  bool readback_is_bgra_ = false;
+  double last_present_s_ = -1.0;
+
+  std::deque<InputEvent> events_;
+  EscapeRepeatDetector escape_detector_;
+  bool escape_close_ = false;
+  std::array<std::array<unsigned char, 15>, 16> gamepad_buttons_{};  // GLFW's 16 joysticks x 15 buttons
+};
+
+}  // namespace fovlab

@@ -1,0 +1,117 @@
+#include "protocols/stimuli/stimulus_settings.h"
+
+#include <limits>
+#include <stdexcept>
+
+#include "renderer/prerender/path_scene_source.h"
+#include "renderer/scene/scene_source.h"
+
+namespace fovlab {
+namespace {
+
+// Eccentricities are below 180 degrees: the descriptor's 180 means no outer periphery.
+constexpr double kNoOuterPeripheryDeg = 180.0;
+
+void set_pyramid(SphereTraceSettings& settings, int pyramid_levels, int min_filter_size) {
+  settings.pyramid_levels = pyramid_levels;
+  settings.min_filter_size = min_filter_size;
+}
+
+}  // namespace
+
+SceneCatalog renderer_scene_catalog(bool check_files) {
+  SceneCatalog catalog;
+  catalog.signed_distance_names = builtin_scene_names();
+  catalog.path_traced_names = {known_path_scenes()};
+  catalog.path_traced_file_extension = ".obj";
+  catalog.check_files = check_files;
+  return catalog;
+}
+
+SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
+  SphereTraceSettings settings;
+  settings.width = spec.width_px;
+  settings.height = spec.height_px;
+  settings.time_s = static_cast<float>(spec.frame_time_s(frame));
+  const auto set_trace = [&](const auto& p) {
+    settings.samples_per_pixel = p.samples_per_pixel;
+    settings.max_steps = p.max_steps;
+    settings.hit_threshold = static_cast<float>(p.hit_threshold);
+  };
+  if (const auto* gt = std::get_if<GroundTruthParameters>(&spec.parameters)) {
+    settings.method = TraceMethod::ground_truth;
+    set_trace(*gt);
+  } else if (const auto* ipr = std::get_if<InvertedPyramidParameters>(&spec.parameters)) {
+    settings.method = TraceMethod::inverted_pyramid;
+    set_trace(*ipr);
+    set_pyramid(settings, ipr->pyramid_levels, ipr->min_filter_size);
+  } else if (const auto* fipr = std::get_if<FoveatedPyramidParameters>(&spec.parameters)) {
+    settings.method = TraceMethod::foveated_pyramid;
+    set_trace(*fipr);
+    set_pyramid(settings, fipr->pyramid_levels, fipr->min_filter_size);
+    FoveationSettings& foveation = settings.foveation;
+    foveation.display = stimulus_display(spec);
+    foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
+    foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
+    foveation.acuity.fovea_deg = fipr->fovea_radius_deg;
+    foveation.acuity.outer_periphery_deg = fipr->outer_periphery_radius_deg >= kNoOuterPeripheryDeg
+                                               ? std::numeric_limits<double>::infinity()
+                                               : fipr->outer_periphery_radius_deg;
+    foveation.periphery_refresh = fipr->periphery_refresh;
+    foveation.periphery_steps = fipr->periphery_steps;
+    foveation.blur = fipr->blur;
+    foveation.combine = static_cast<MaskCombine>(static_cast<uint32_t>(fipr->combine));
+    foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);
+    foveation.seed = fipr->mask_seed;
+    foveation.frame_index = 0;
+  } else {
+    throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + std::string(spec.method_name()));
+  }
+  return settings;
+}
+
+DisplayGeometry stimulus_display(const StimulusSpec& spec) {
+  const DisplaySize size = stimulus_display_size(spec);
+  return display_from_size(spec.width_px, spec.height_px, size.width_mm, size.height_mm, size.viewing_distance_mm);
+}
+
+PathTracedFrames path_traced_frames(const StimulusSpec& spec) {
+  PathTraceSequence frames;
+  frames.scene = spec.scene;
+  frames.width_px = spec.width_px;
+  frames.height_px = spec.height_px;
+  frames.frames_per_second = spec.frames_per_second;
+  frames.camera_start_s = spec.camera_start_s;
+  frames.frame_count = spec.frame_count;
+  const auto set_paths = [&](const auto& p) {
+    frames.samples_per_pixel = p.samples_per_pixel;
+    frames.max_bounces = p.max_bounces;
+    frames.seed = p.path_seed;
+  };
+  if (const auto* pt = std::get_if<PathTracedParameters>(&spec.parameters)) {
+    set_paths(*pt);
+    return {{frames}};
+  }
+  const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&spec.parameters);
+  if (!fpt) throw std::logic_error("path_traced_frames: not a path-traced method: " + std::string(spec.method_name()));
+  set_paths(*fpt);
+  PathTracedFrames result{{frames}};
+  if (fpt->periphery_bounces >= 0 && fpt->periphery_bounces != frames.max_bounces) {
+    PathTraceSequence periphery = frames;
+    periphery.max_bounces = fpt->periphery_bounces;
+    result.sequences.push_back(periphery);
+  }
+  return result;
+}
+
+ZoneBounds zone_bounds(const StimulusSpec& spec) {
+  const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&spec.parameters);
+  if (!fpt) throw std::logic_error("zone_bounds: not an fpt stimulus: " + std::string(spec.method_name()));
+  ZoneBounds bounds;
+  bounds.foveal_deg = fpt->foveal_aperture_deg;
+  bounds.middle_deg = fpt->foveal_aperture_deg + fpt->middle_minus_foveal_aperture_deg;
+  bounds.band_deg = fpt->band_width_deg;
+  return bounds;
+}
+
+}  // namespace fovlab

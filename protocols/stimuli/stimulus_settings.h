@@ -1,0 +1,43 @@
+#pragma once
+// From a typed stimulus spec (study/stimulus) to the settings of the renderer that draws it: the
+// one place that knows both. Adding a rendering method adds its conversion here.
+#include <vector>
+
+#include "foveation/display_geometry.h"
+#include "foveation/zone_layout.h"
+#include "renderer/prerender/frame_cache.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+#include "study/config/scene_catalog.h"
+#include "study/stimulus/stimulus_spec.h"
+
+namespace fovlab {
+
+// The scenes the renderer knows: built-in SDF scenes (stimuli/scenes), the built-in path-traced
+// courtyard and OBJ files. check_files: scene files must exist.
+SceneCatalog renderer_scene_catalog(bool check_files = true);
+
+// Whether a method's frames come from the sphere tracer (gt, ipr, fipr) or from pre-rendered
+// path-traced sequences (pt, fpt).
+inline bool is_path_traced(RenderMethod method) { return describe(method).scene_kind == SceneKind::path_traced; }
+
+// The sphere-tracer settings of a gt, ipr or fipr spec (frame time of the given frame). FIPR: the
+// display comes from the spec's display parameters and pixel size; the gaze is left non-finite (no
+// gaze: every pixel traced in full) and frame_index 0, for the caller (StimulusLibrary) to set.
+// Throws InputError when a FIPR spec lacks its display parameters; std::logic_error for pt, fpt.
+SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
+
+// The display a foveated spec's display parameters describe (fipr, fpt); InputError when missing.
+DisplayGeometry stimulus_display(const StimulusSpec& spec);
+
+// The pre-rendered sequences a pt or fpt spec shows: its frames, and for fpt with
+// periphery_bounces >= 0 other than max_bounces (seed 001 section 4.2's pilot variant) a second
+// sequence with that many bounces, the source of the middle and outer zones.
+struct PathTracedFrames {
+  std::vector<PathTraceSequence> sequences;  // [0]: the frames; [1]: the periphery's, if any
+};
+PathTracedFrames path_traced_frames(const StimulusSpec& spec);
+
+// The zones of an fpt spec: foveal aperture, middle = foveal + middle_minus_foveal, band width.
+ZoneBounds zone_bounds(const StimulusSpec& spec);
+
+}  // namespace fovlab

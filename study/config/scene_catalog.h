@@ -1,0 +1,17 @@
+#pragma once
+// The scenes a config may name, by the kind of scene a method renders. The study library knows no
+// renderer: whoever parses a config passes the catalog in (protocols/stimuli/scene_catalog.h makes
+// the renderer's).
+#include <string>
+#include <vector>
+
+namespace fovlab {
+
+struct SceneCatalog {
+  std::vector<std::string> signed_distance_names;  // built-in SDF scenes; any other name is a file path
+  std::vector<std::string> path_traced_names;      // built-in path-traced scenes
+  std::string path_traced_file_extension;          // the only files a path-traced scene may be (".obj")
+  bool check_files = true;                         // scene files must exist (false: taken as written)
+};
+
+}  // namespace fovlab

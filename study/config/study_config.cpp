@@ -1,0 +1,558 @@
+#include "study/config/study_config.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "core/content_hash.h"
+#include "core/input_file.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
+#include "study/config/input_keys.h"
+#include "study/config/toml_fields.h"
+#include "study/config/toml_guard.h"
+#include "study/stimulus/render_method.h"
+
+namespace fovlab {
+
+namespace {
+
+// Block and variant names follow the study name's rule (they name files and label results).
+bool is_safe_name(const std::string& name) { return is_valid_study_name(name); }
+
+void check_range(const TomlFields& fields, const std::string& key, double value, double low, double high) {
+  if (!(value >= low && value <= high)) {
+    std::ostringstream text;
+    text << "expected a value in [" << low << ", " << high << "], got " << value;
+    fields.fail(key, text.str());
+  }
+}
+
+// An integer field (required when `fallback` is empty) in [low, high]; the range is checked on the
+// 64-bit value, before it is narrowed.
+int bounded_integer(const TomlFields& fields, const std::string& key, std::optional<int64_t> fallback, int low, int high) {
+  const int64_t value = fallback ? fields.integer(key, *fallback) : fields.integer(key);
+  if (value < low || value > high)
+    fields.fail(key, "expected a value in [" + std::to_string(low) + ", " + std::to_string(high) + "], got " +
+                         std::to_string(value));
+  return static_cast<int>(value);
+}
+
+// How a config is read: where its scene names are checked, and whether the keys of configs from
+// before the typed model (log schema 2 and earlier) are taken (only for configs a log carries).
+struct Reading {
+  const SceneCatalog* scenes = nullptr;  // nullptr: scene names taken as written
+  bool legacy_keys = false;
+};
+
+// Reads every key of the table but `skip` as a parameter of the method: by its key (or a legacy
+// key), its value checked against the descriptor. A choice is its name (legacy configs: its index).
+std::map<std::string, double> read_parameters(const TomlFields& fields, RenderMethod method,
+                                              const std::set<std::string>& skip, const Reading& reading) {
+  const MethodDescriptor& descriptor = describe(method);
+  std::map<std::string, double> values;
+  for (auto&& [key, node] : fields.raw()) {
+    const std::string name(key.str());
+    if (skip.count(name)) continue;
+    const ParameterDescriptor* parameter = find_parameter(descriptor, name, reading.legacy_keys);
+    if (!parameter)
+      fields.fail(name, "not a parameter of method \"" + std::string(descriptor.name) + "\" (expected one of: " +
+                            parameter_keys(descriptor) + ")");
+    double value = 0.0;
+    if (parameter->type == ParameterType::choice && !(reading.legacy_keys && node.is_number())) {
+      if (!node.is_string())
+        fields.fail(name, "expected " + *check_parameter_value(*parameter, -1) + " (a name), got " +
+                              (node.is_number() ? format_number(fields.number(name), 17) : "another type"));
+      const std::string choice = fields.string(name);
+      const std::optional<double> index = parse_choice(*parameter, choice);
+      if (!index) fields.fail(name, "expected " + *check_parameter_value(*parameter, -1) + ", got \"" + choice + "\"");
+      value = *index;
+    } else {
+      value = fields.number(name);
+    }
+    if (const std::optional<std::string> expected = check_parameter_value(*parameter, value))
+      fields.fail(name, "expected " + *expected + ", got " + parameter_value_text(*parameter, value));
+    values[std::string(parameter->key)] = value;
+  }
+  return values;
+}
+
+MethodConfig read_method(const TomlFields& fields, const Reading& reading) {
+  MethodConfig config;
+  const std::string name = fields.string("method");
+  const std::optional<RenderMethod> method = find_method(name);
+  if (!method) fields.fail("method", "expected one of " + known_methods() + ", got \"" + name + "\"");
+  config.method = *method;
+  config.parameters = read_parameters(fields, config.method, {"method"}, reading);
+  return config;
+}
+
+// Rules between parameters (parameter_conflict: FIPR's outer periphery at or beyond its fovea) must
+// hold for every stimulus the config makes: the reference, and the test under every variant and
+// level. The error names the field that set one of the parameters involved, the last layer first:
+// the level values, the variant, the method's table (the table itself when only defaults clash).
+void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConfig& stimulus,
+                           const TomlFields* levels_fields, const LevelsConfig& levels) {
+  const auto fail_in = [](const TomlFields& fields, const std::map<std::string, double>& given,
+                          const ParameterConflict& conflict) {
+    for (std::string_view key : conflict.keys)
+      if (given.count(std::string(key))) fields.fail(std::string(key), conflict.expected);
+  };
+  {
+    const MethodConfig& reference = stimulus.reference;
+    const auto conflict =
+        parameter_conflict(parameters_with(reference.method, {&reference.parameters}));
+    if (conflict) {
+      const TomlFields fields = stimulus_fields.table("reference");
+      fail_in(fields, reference.parameters, *conflict);
+      fields.fail("", conflict->expected);
+    }
+  }
+  const MethodConfig& test = stimulus.test;
+  const TomlFields test_fields = stimulus_fields.table("test");
+  const std::vector<TomlFields> variant_fields =
+      stimulus.variants.empty() ? std::vector<TomlFields>{} : stimulus_fields.tables("variant");
+  std::vector<const VariantConfig*> variants;
+  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
+  if (variants.empty()) variants.push_back(nullptr);
+  std::vector<std::optional<double>> level_values(levels.values.begin(), levels.values.end());
+  if (level_values.empty()) level_values.emplace_back(std::nullopt);
+  const std::map<std::string, double> none;
+  for (size_t v = 0; v < variants.size(); ++v) {
+    const std::map<std::string, double>& variant = variants[v] ? variants[v]->parameters : none;
+    for (const std::optional<double>& level : level_values) {
+      std::map<std::string, double> level_parameter;
+      if (level) level_parameter[levels.parameter] = *level;
+      const auto conflict =
+          parameter_conflict(parameters_with(test.method, {&test.parameters, &variant, &level_parameter}));
+      if (!conflict) continue;
+      const std::vector<std::string_view>& involved = conflict->keys;
+      if (level && levels_fields && std::find(involved.begin(), involved.end(), levels.parameter) != involved.end())
+        levels_fields->fail("values", "value " + format_number(*level, 6) + ": " + conflict->expected);
+      if (variants[v]) fail_in(variant_fields[v], variant, *conflict);
+      fail_in(test_fields, test.parameters, *conflict);
+      test_fields.fail("", conflict->expected);
+    }
+  }
+}
+
+// The method and full parameters of every stimulus the config makes: the reference, and the test
+// under every variant and level.
+std::vector<MethodParameters> stimulus_parameters(const StimulusConfig& stimulus, const LevelsConfig& levels) {
+  std::vector<MethodParameters> all;
+  all.push_back(parameters_with(stimulus.reference.method, {&stimulus.reference.parameters}));
+  const ParameterLayer none;
+  std::vector<const ParameterLayer*> variants;
+  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant.parameters);
+  if (variants.empty()) variants.push_back(&none);
+  std::vector<ParameterLayer> level_parameters;
+  for (double value : levels.values) level_parameters.push_back({{levels.parameter, value}});
+  if (level_parameters.empty()) level_parameters.emplace_back();
+  for (const ParameterLayer* variant : variants)
+    for (const ParameterLayer& level : level_parameters)
+      all.push_back(parameters_with(stimulus.test.method, {&stimulus.test.parameters, variant, &level}));
+  return all;
+}
+
+// The renderers' rules on the frame size (the method descriptors' frame_side_multiple_px and
+// max_samples_per_frame), which is the display's: checked here, so that they name the config's
+// fields (and fovlab validate finds them). What depends on the device (one storage buffer) is
+// checked when a session prepares its stimuli (StimulusLibrary::prepare).
+void check_frame_size_rules(const TomlFields& display_fields, const DisplayConfig& display,
+                            const StimulusConfig& stimulus, const LevelsConfig& levels) {
+  for (const MethodParameters& parameters : stimulus_parameters(stimulus, levels)) {
+    const MethodDescriptor& method = describe(method_of(parameters));
+    const int multiple = method.frame_side_multiple_px;
+    for (const auto& [key, side_px] : {std::pair<const char*, int>{"width_px", display.width_px}, {"height_px", display.height_px}})
+      if (side_px % multiple != 0)
+        display_fields.fail(key, "expected a multiple of " + std::to_string(multiple) + " for " +
+                                     std::string(method.name) + " stimuli (the outer zone is 1/" +
+                                     std::to_string(multiple) + " of the frame per axis), got " + std::to_string(side_px));
+    const ParameterDescriptor* samples_per_pixel = find_parameter(method, "samples_per_pixel");
+    if (method.max_samples_per_frame > 0 && samples_per_pixel) {
+      const double spp = samples_per_pixel->read(parameters);
+      const uint64_t samples = uint64_t(display.width_px) * uint64_t(display.height_px) * static_cast<uint64_t>(spp);
+      if (samples > method.max_samples_per_frame)
+        display_fields.fail("width_px", "expected width_px x height_px x samples_per_pixel of at most " +
+                                            std::to_string(method.max_samples_per_frame) + " samples a frame (" +
+                                            std::string(method.name) + "), got " + std::to_string(display.width_px) +
+                                            " x " + std::to_string(display.height_px) + " x " + format_number(spp, 6) +
+                                            " = " + std::to_string(samples));
+    }
+  }
+}
+
+ProtocolKind read_kind(const TomlFields& fields) {
+  const std::string kind = fields.string("kind");
+  for (ProtocolKind candidate : {ProtocolKind::two_afc, ProtocolKind::pair, ProtocolKind::ramp, ProtocolKind::slider,
+                                 ProtocolKind::rating})
+    if (kind == protocol_name(candidate)) return candidate;
+  fields.fail("kind", "expected one of 2afc, pair, ramp, slider, rating, got \"" + kind + "\"");
+}
+
+std::vector<std::string> default_keys(const std::string& answer) {
+  static const std::map<std::string, std::vector<std::string>> defaults = {
+      {"first", {"1", "left", "pad_left"}},   {"second", {"2", "right", "pad_right"}},
+      {"same", {"s", "space", "pad_a"}},      {"different", {"d", "pad_b"}},
+      {"increased", {"up", "pad_up"}},        {"decreased", {"down", "pad_down"}},
+      {"1", {"1", "pad_b"}},                  {"2", {"2", "pad_y"}},
+      {"3", {"3", "pad_a"}},                  {"up", {"up", "right", "pad_up"}},
+      {"down", {"down", "left", "pad_down"}}, {"reference", {"r", "pad_x"}},
+      {"save", {"enter", "space", "pad_a"}}};
+  return defaults.at(answer);
+}
+
+std::string default_question(ProtocolKind kind, TwoAfcQuestion question) {
+  switch (kind) {
+    case ProtocolKind::two_afc:
+      return question == TwoAfcQuestion::same ? "Was the quality the same in both sequences?"
+                                              : "Which sequence had the better quality?";
+    case ProtocolKind::pair: return "Which rendering was better, or were they the same?";
+    case ProtocolKind::ramp: return "Did the quality increase, decrease or stay the same?";
+    case ProtocolKind::slider:
+      return "Change the level until the quality matches the reference; save when it does.";
+    case ProtocolKind::rating:
+      return "Score the difference: 3 identical, 2 minimal difference, 1 significant difference.";
+  }
+  return "";
+}
+
+void read_display(const TomlFields& fields, DisplayConfig& display) {
+  display.width_px = bounded_integer(fields, "width_px", std::nullopt, 8, 16384);
+  display.height_px = bounded_integer(fields, "height_px", std::nullopt, 8, 16384);
+  display.refresh_hz = fields.number("refresh_hz", 60.0);
+  check_range(fields, "refresh_hz", display.refresh_hz, 1.0, 1000.0);
+  const bool has_diagonal = fields.has("diagonal_in");
+  const bool has_size = fields.has("width_mm") || fields.has("height_mm");
+  if (has_diagonal == has_size)
+    fields.fail("", "expected either diagonal_in or width_mm and height_mm (the visible area), not both or neither");
+  if (has_diagonal) {
+    const double diagonal_in = fields.number("diagonal_in");
+    check_range(fields, "diagonal_in", diagonal_in, 0.1, 10000.0);
+    // Square pixels: the visible area has the resolution's aspect ratio.
+    const double diagonal_px = std::hypot(double(display.width_px), double(display.height_px));
+    display.width_mm = diagonal_in * 25.4 * display.width_px / diagonal_px;
+    display.height_mm = diagonal_in * 25.4 * display.height_px / diagonal_px;
+  } else {
+    display.width_mm = fields.number("width_mm");
+    check_range(fields, "width_mm", display.width_mm, 1.0, 1e6);
+    display.height_mm = fields.number("height_mm");
+    check_range(fields, "height_mm", display.height_mm, 1.0, 1e6);
+  }
+  display.viewing_distance_mm = fields.number("viewing_distance_mm");
+  check_range(fields, "viewing_distance_mm", display.viewing_distance_mm, 1.0, 1e6);
+  display.fullscreen = fields.boolean("fullscreen", false);
+  fields.finish();
+}
+
+void read_stimulus(const TomlFields& fields, const DisplayConfig& display, const Reading& reading,
+                   StimulusConfig& stimulus) {
+  stimulus.duration_s = fields.number("duration_s");
+  check_range(fields, "duration_s", stimulus.duration_s, 1e-3, 3600.0);
+  stimulus.frames_per_second = fields.number("frames_per_second", display.refresh_hz);
+  check_range(fields, "frames_per_second", stimulus.frames_per_second, 1e-3, display.refresh_hz);
+  const double ratio = display.refresh_hz / stimulus.frames_per_second;
+  if (std::abs(ratio - std::round(ratio)) > 1e-6)
+    fields.fail("frames_per_second", "expected the display's refresh rate divided by a whole number (each frame "
+                                     "is held for the same number of refreshes)");
+  stimulus.camera_start_s = fields.number("camera_start_s", 0.0);
+  stimulus.reference = read_method(fields.table("reference"), reading);
+  stimulus.test = read_method(fields.table("test"), reading);
+  if (fields.has("variant")) {
+    std::set<std::string> names;
+    for (const TomlFields& variant_fields : fields.tables("variant")) {
+      VariantConfig variant;
+      variant.name = variant_fields.string("name");
+      if (!is_safe_name(variant.name)) variant_fields.fail("name", "expected letters, digits, '_', '-' or '.'");
+      if (!names.insert(variant.name).second) variant_fields.fail("name", "duplicate variant \"" + variant.name + "\"");
+      variant.parameters = read_parameters(variant_fields, stimulus.test.method, {"name"}, reading);
+      stimulus.variants.push_back(std::move(variant));
+    }
+  }
+  fields.finish();
+}
+
+void read_levels(const TomlFields& fields, const MethodConfig& test, const Reading& reading, LevelsConfig& levels) {
+  const MethodDescriptor& method = describe(test.method);
+  const std::string name = fields.string("parameter");
+  const ParameterDescriptor* parameter = find_parameter(method, name, reading.legacy_keys);
+  if (!parameter || parameter->type == ParameterType::choice) {
+    std::string numeric;
+    for (const ParameterDescriptor& candidate : method.parameters)
+      if (candidate.type != ParameterType::choice) numeric += (numeric.empty() ? "" : ", ") + std::string(candidate.key);
+    fields.fail("parameter", "not a numeric parameter of the test method \"" + std::string(method.name) +
+                                 "\" (expected one of: " + numeric + ")");
+  }
+  levels.parameter = parameter->key;
+  levels.values = fields.numbers("values");
+  for (size_t i = 0; i < levels.values.size(); ++i) {
+    if (const std::optional<std::string> expected = check_parameter_value(*parameter, levels.values[i]))
+      fields.fail("values", "expected " + *expected + ", got " + format_number(levels.values[i], 17));
+    if (i > 0 && !(levels.values[i] > levels.values[i - 1])) fields.fail("values", "expected strictly ascending values");
+  }
+  levels.higher_is_better = fields.boolean("higher_is_better", true);
+  fields.finish();
+}
+
+void read_protocol(const TomlFields& fields, const LevelsConfig& levels, ProtocolConfig& protocol) {
+  protocol.kind = read_kind(fields);
+  if ((protocol.kind == ProtocolKind::ramp || protocol.kind == ProtocolKind::slider) && levels.values.size() < 2)
+    fields.fail("kind", std::string(protocol_name(protocol.kind)) + " needs a [levels] table with at least two values");
+  if (protocol.kind == ProtocolKind::two_afc) {
+    const std::string question = fields.string("question");
+    if (question == "same") protocol.two_afc_question = TwoAfcQuestion::same;
+    else if (question == "better") protocol.two_afc_question = TwoAfcQuestion::better;
+    else fields.fail("question", "expected \"same\" (same/different) or \"better\" (first/second), got \"" + question + "\"");
+  }
+  protocol.repeats = bounded_integer(fields, "repeats", 1, 1, 1000);
+  const bool two_intervals = protocol.kind == ProtocolKind::two_afc || protocol.kind == ProtocolKind::pair ||
+                             protocol.kind == ProtocolKind::rating;
+  // Default: counterbalanced whenever the repeats can be split in halves.
+  protocol.counterbalance = fields.boolean("counterbalance", two_intervals && protocol.repeats % 2 == 0);
+  if (protocol.counterbalance && !two_intervals)
+    fields.fail("counterbalance", "only 2afc, pair and rating trials have an order to counterbalance");
+  if (protocol.counterbalance && protocol.repeats % 2 != 0)
+    fields.fail("repeats", "expected an even number with counterbalance = true (half with the reference first)");
+  const std::string trial_order = fields.string("trial_order", "random");
+  if (trial_order != "random" && trial_order != "fixed") fields.fail("trial_order", "expected \"random\" or \"fixed\"");
+  protocol.randomise_trials = trial_order == "random";
+  const std::string block_order = fields.string("block_order", "fixed");
+  if (block_order != "random" && block_order != "fixed") fields.fail("block_order", "expected \"random\" or \"fixed\"");
+  protocol.randomise_blocks = block_order == "random";
+  protocol.question.text = fields.string("question_text", default_question(protocol.kind, protocol.two_afc_question));
+
+  const std::vector<std::string> answers = protocol_answers(protocol.kind, protocol.two_afc_question);
+  const toml::table* keys_table = fields.optional_table("keys");
+  std::map<std::string, std::string> answer_of_key;
+  for (const std::string& answer : answers) {
+    std::vector<std::string> keys = default_keys(answer);
+    if (keys_table) {
+      const TomlFields keys_fields(*keys_table, fields.path(), fields.name_of("keys"));
+      if (keys_fields.has(answer)) {
+        keys = keys_fields.strings(answer);
+        for (const std::string& key : keys)
+          if (!is_input_name(key))
+            keys_fields.fail(answer, "unknown key \"" + key + "\" (expected one of " + input_names_summary() + ")");
+      }
+    }
+    for (const std::string& key : keys) {
+      const auto [where, inserted] = answer_of_key.emplace(key, answer);
+      if (!inserted) fields.fail("keys", "key \"" + key + "\" is bound to both \"" + where->second + "\" and \"" + answer + "\"");
+    }
+    protocol.question.answers.emplace_back(answer, std::move(keys));
+  }
+  if (keys_table) {
+    const TomlFields keys_fields(*keys_table, fields.path(), fields.name_of("keys"));
+    for (auto&& [key, node] : *keys_table)
+      if (std::find(answers.begin(), answers.end(), std::string(key.str())) == answers.end()) {
+        std::string expected;
+        for (const std::string& answer : answers) expected += (expected.empty() ? "" : ", ") + answer;
+        keys_fields.fail(std::string(key.str()), "not an answer of this protocol (expected " + expected + ")");
+      }
+  }
+  if (protocol.kind == ProtocolKind::slider) {
+    protocol.slider.start_level = fields.number("start_level", levels.values.empty() ? 0.0 : levels.values.front());
+    if (std::find(levels.values.begin(), levels.values.end(), protocol.slider.start_level) == levels.values.end())
+      fields.fail("start_level", "expected one of [levels] values");
+  }
+  fields.finish();
+}
+
+void read_timing(const TomlFields& fields, TimingConfig& timing) {
+  timing.black_interval_s = fields.number("black_interval_s", timing.black_interval_s);
+  check_range(fields, "black_interval_s", timing.black_interval_s, 0.0, 600.0);
+  timing.inter_trial_s = fields.number("inter_trial_s", timing.inter_trial_s);
+  check_range(fields, "inter_trial_s", timing.inter_trial_s, 0.0, 600.0);
+  timing.rest_between_blocks_s = fields.number("rest_between_blocks_s", timing.rest_between_blocks_s);
+  check_range(fields, "rest_between_blocks_s", timing.rest_between_blocks_s, 0.0, 7200.0);
+  timing.response_timeout_s = fields.number("response_timeout_s", timing.response_timeout_s);
+  check_range(fields, "response_timeout_s", timing.response_timeout_s, 0.0, 3600.0);
+  fields.finish();
+}
+
+void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, AttentionConfig& attention) {
+  attention.share = fields.number("share");
+  check_range(fields, "share", attention.share, 0.0, 0.9);
+  if (attention.share > 0 && identical_answer(protocol).empty())
+    fields.fail("share", "attention checks need an answer that means \"identical\" (2afc with question = \"same\", "
+                         "pair or rating)");
+  attention.break_s = fields.number("break_s", attention.break_s);
+  check_range(fields, "break_s", attention.break_s, 0.0, 3600.0);
+  attention.max_errors = bounded_integer(fields, "max_errors", attention.max_errors, 1, 1000);
+  fields.finish();
+}
+
+// The methods that render a kind of scene: "pt and fpt", for messages.
+std::string methods_of_kind(SceneKind kind, const char* conjunction) {
+  std::vector<std::string> names;
+  for (const MethodDescriptor& method : all_methods())
+    if (method.scene_kind == kind) names.emplace_back(method.name);
+  std::string text;
+  for (size_t i = 0; i < names.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == names.size() ? std::string(" ") + conjunction + " " : ", ") + names[i];
+  return text;
+}
+
+// Sphere-traced methods take SDF scenes (built-in names or files), path-traced ones path-traced
+// scenes (built-in names or files with the catalog's extension); files are relative to the config.
+// Without a catalog the scene is taken as written.
+std::string resolve_scene(const TomlFields& fields, const std::string& scene, const std::string& config_path,
+                          const SceneCatalog* catalog, SceneKind kind) {
+  if (!catalog) return scene;
+  const bool path_traced = kind == SceneKind::path_traced;
+  const std::vector<std::string>& names = path_traced ? catalog->path_traced_names : catalog->signed_distance_names;
+  std::string known;
+  for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
+  if (std::find(names.begin(), names.end(), scene) != names.end()) return scene;
+  const std::string& extension = catalog->path_traced_file_extension;
+  std::string tail = scene.size() >= extension.size() ? scene.substr(scene.size() - extension.size()) : std::string();
+  for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (path_traced && tail != extension)
+    fields.fail("scene", "expected a path-traced scene (" + known + " or a " + extension + " file) for " +
+                             methods_of_kind(SceneKind::path_traced, "and") + ", got \"" + scene + "\"");
+  std::filesystem::path path(scene);
+  if (path.is_relative()) path = std::filesystem::path(config_path).parent_path() / path;
+  std::error_code error;  // e.g. a name too long for the file system: not found, not a crash
+  if (catalog->check_files && !std::filesystem::is_regular_file(path, error))
+    fields.fail("scene", "no built-in scene or file \"" + scene + "\" (built-in: " + known + ")");
+  return path.lexically_normal().string();
+}
+
+}  // namespace
+
+const char* protocol_name(ProtocolKind kind) {
+  switch (kind) {
+    case ProtocolKind::two_afc: return "2afc";
+    case ProtocolKind::pair: return "pair";
+    case ProtocolKind::ramp: return "ramp";
+    case ProtocolKind::slider: return "slider";
+    case ProtocolKind::rating: return "rating";
+  }
+  return "?";
+}
+
+bool is_valid_study_name(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name[0] == '.' || name[0] == '-') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+  });
+}
+
+std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion question) {
+  switch (kind) {
+    case ProtocolKind::two_afc:
+      return question == TwoAfcQuestion::same ? std::vector<std::string>{"same", "different"}
+                                              : std::vector<std::string>{"first", "second"};
+    case ProtocolKind::pair: return {"first", "second", "same"};
+    case ProtocolKind::ramp: return {"increased", "decreased", "same"};
+    case ProtocolKind::slider: return {"up", "down", "reference", "save"};
+    case ProtocolKind::rating: return {"1", "2", "3"};
+  }
+  return {};
+}
+
+std::string identical_answer(const ProtocolConfig& protocol) {
+  if (protocol.kind == ProtocolKind::rating) return "3";
+  if (protocol.kind == ProtocolKind::pair) return "same";
+  if (protocol.kind == ProtocolKind::two_afc && protocol.two_afc_question == TwoAfcQuestion::same) return "same";
+  return "";
+}
+
+int StimulusConfig::frame_count() const {
+  return std::max(1, static_cast<int>(std::lround(duration_s * frames_per_second)));
+}
+
+int StimulusConfig::refreshes_per_frame(double refresh_hz) const {
+  return std::max(1, static_cast<int>(std::lround(refresh_hz / frames_per_second)));
+}
+
+namespace {
+
+StudyConfig parse_config(const std::string& text, const std::string& path, const Reading& reading) {
+  // The guards in front of toml++, here so that configs from files and from session logs' headers
+  // (replay, analyze) pass the same ones.
+  if (text.size() > kMaxStudyConfigBytes)
+    throw InputError(path + ": " + std::to_string(text.size()) + " bytes: expected a study config of at most " +
+                     byte_size_text(kMaxStudyConfigBytes));
+  check_toml_nesting(text, path, kMaxStudyConfigNesting);
+  toml::table root;
+  try {
+    root = toml::parse(shield_toml_hazards(text, path), path);
+  } catch (const toml::parse_error& error) {
+    throw InputError(path + ":" + std::to_string(error.source().begin.line) + ": " +
+                     unshield_toml_hazards(std::string(error.description())) + " (not valid TOML)");
+  }
+  StudyConfig config;
+  config.source_path = path;
+  config.source_text = text;
+  config.hash = ContentHash().add(text).hex();
+
+  const TomlFields fields(root, path, "");
+  const TomlFields study = fields.table("study");
+  config.name = study.string("name");
+  if (!is_valid_study_name(config.name)) study.fail("name", "expected 1-64 letters, digits, '_', '-' or '.' (it names a folder)");
+  const int64_t seed = study.integer("seed");
+  if (seed < 0) study.fail("seed", "expected a non-negative integer");
+  config.seed = static_cast<uint64_t>(seed);
+  config.instructions = study.string("instructions", "Press any answer key to begin.");
+  study.finish();
+
+  read_display(fields.table("display"), config.display);
+  read_stimulus(fields.table("stimulus"), config.display, reading, config.stimulus);
+  std::optional<TomlFields> levels_fields;
+  if (const toml::table* levels = fields.optional_table("levels")) {
+    levels_fields.emplace(*levels, path, "levels");
+    read_levels(*levels_fields, config.stimulus.test, reading, config.levels);
+  }
+  check_parameter_rules(fields.table("stimulus"), config.stimulus, levels_fields ? &*levels_fields : nullptr,
+                        config.levels);
+  check_frame_size_rules(fields.table("display"), config.display, config.stimulus, config.levels);
+  read_protocol(fields.table("protocol"), config.levels, config.protocol);
+  if (const toml::table* timing = fields.optional_table("timing"))
+    read_timing(TomlFields(*timing, path, "timing"), config.timing);
+  if (const toml::table* attention = fields.optional_table("attention"))
+    read_attention(TomlFields(*attention, path, "attention"), config.protocol, config.attention);
+
+  const SceneKind scene_kind = describe(config.stimulus.reference.method).scene_kind;
+  const MethodDescriptor& test = describe(config.stimulus.test.method);
+  if (test.scene_kind != scene_kind) {
+    const bool path_traced = scene_kind == SceneKind::path_traced;
+    fields.table("stimulus").table("test").fail(
+        "method", "expected " + std::string(path_traced ? "a path-traced method (" : "a sphere-traced method (") +
+                      methods_of_kind(scene_kind, "or") + ") like the reference's \"" +
+                      std::string(describe(config.stimulus.reference.method).name) +
+                      "\" (both render the same scene), got \"" + std::string(test.name) + "\"");
+  }
+  std::set<std::string> block_names;
+  for (const TomlFields& block_fields : fields.tables("block")) {
+    BlockConfig block;
+    block.scene = resolve_scene(block_fields, block_fields.string("scene"), path, reading.scenes, scene_kind);
+    block.name = block_fields.string("name", std::filesystem::path(block.scene).stem().string());
+    if (!is_safe_name(block.name)) block_fields.fail("name", "expected letters, digits, '_', '-' or '.'");
+    if (!block_names.insert(block.name).second) block_fields.fail("name", "duplicate block \"" + block.name + "\"");
+    block_fields.finish();
+    config.blocks.push_back(std::move(block));
+  }
+  fields.finish();
+  return config;
+}
+
+}  // namespace
+
+StudyConfig parse_study_config_text(const std::string& text, const std::string& path, const SceneCatalog& scenes) {
+  return parse_config(text, path, Reading{&scenes, false});
+}
+
+StudyConfig parse_study_config_file(const std::string& path, const SceneCatalog& scenes) {
+  return parse_study_config_text(read_input_file(path, "a study config (.toml)", kMaxStudyConfigBytes), path, scenes);
+}
+
+StudyConfig parse_logged_study_config(const std::string& text, const std::string& path, const SceneCatalog* scenes) {
+  return parse_config(text, path, Reading{scenes, true});
+}
+
+}  // namespace fovlab

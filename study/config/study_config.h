@@ -1,0 +1,150 @@
+#pragma once
+// A study as its TOML config describes it (docs/config.md, field by field). Parsing validates
+// everything before a session can start: a StudyConfig that exists is a runnable study.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "study/config/scene_catalog.h"
+#include "study/stimulus/render_method.h"
+
+namespace fovlab {
+
+enum class ProtocolKind { two_afc, pair, ramp, slider, rating };
+enum class TwoAfcQuestion { better, same };  // "which was better?" or "was the quality the same?"
+
+const char* protocol_name(ProtocolKind kind);  // "2afc", "pair", "ramp", "slider", "rating"
+
+struct DisplayConfig {
+  int width_px = 0;
+  int height_px = 0;
+  double refresh_hz = 60.0;
+  double width_mm = 0.0;    // physical size of the visible area (given, or from diagonal_in)
+  double height_mm = 0.0;
+  double viewing_distance_mm = 0.0;
+  bool fullscreen = false;
+};
+
+// A rendering method and its parameters (names and ranges in study/stimulus/stimulus_spec.h).
+struct MethodConfig {
+  RenderMethod method = RenderMethod::ground_truth;
+  ParameterLayer parameters;  // as given (by key; a choice as its index); the schedule adds the defaults
+};
+
+// A named set of overrides of the test method's parameters (e.g. blur on / off); conditions are
+// variants x levels.
+struct VariantConfig {
+  std::string name;
+  ParameterLayer parameters;  // overrides of the test method's parameters
+};
+
+struct StimulusConfig {
+  double duration_s = 2.0;
+  double frames_per_second = 30.0;  // animation rate; each frame is held refresh_hz / fps refreshes
+  double camera_start_s = 0.0;      // scene time of the first frame
+  MethodConfig reference;
+  MethodConfig test;
+  std::vector<VariantConfig> variants;  // empty: one unnamed variant
+
+  int frame_count() const;            // round(duration_s * frames_per_second), at least 1
+  int refreshes_per_frame(double refresh_hz) const;
+};
+
+struct LevelsConfig {
+  std::string parameter;        // key of the test parameter each level sets; empty: one condition
+  std::vector<double> values;   // ascending
+  bool higher_is_better = true; // which end of the values looks more like the reference
+};
+
+struct BlockConfig {
+  std::string name;
+  std::string scene;
+};
+
+struct TimingConfig {
+  double black_interval_s = 0.5;   // between the intervals of a trial (0.5 s seed 001, 0.75 s seed 002)
+  double inter_trial_s = 0.5;      // black screen after a response
+  double rest_between_blocks_s = 0.0;  // minimum rest between blocks (600 s in seed 000)
+  double response_timeout_s = 0.0;     // 0: wait for an answer as long as it takes
+};
+
+struct QuestionConfig {
+  std::string text;
+  // answer -> keys (normalised key names of display/presenter.h), in answer order
+  std::vector<std::pair<std::string, std::vector<std::string>>> answers;
+};
+
+struct AttentionConfig {
+  double share = 0.0;      // share of all trials of a block that are attention checks, in [0, 0.9]
+  double break_s = 30.0;   // forced break after a wrong answer
+  int max_errors = 3;      // at this many wrong answers the session ends, participant excluded
+};
+
+struct SliderConfig {
+  double start_level = 0.0;  // one of the level values
+};
+
+struct ProtocolConfig {
+  ProtocolKind kind = ProtocolKind::two_afc;
+  TwoAfcQuestion two_afc_question = TwoAfcQuestion::same;
+  int repeats = 1;                 // presentations of each condition per block (per direction for ramp)
+  bool counterbalance = true;      // reference first in half of the presentations
+  bool randomise_trials = true;    // shuffle trials within a block
+  bool randomise_blocks = false;   // shuffle block order per participant
+  QuestionConfig question;
+  SliderConfig slider;
+};
+
+struct StudyConfig {
+  std::string name;             // results/<name>/...
+  uint64_t seed = 0;
+  std::string instructions;
+  DisplayConfig display;
+  StimulusConfig stimulus;
+  ProtocolConfig protocol;
+  LevelsConfig levels;
+  std::vector<BlockConfig> blocks;
+  TimingConfig timing;
+  AttentionConfig attention;
+
+  std::string source_path;      // where it was read from (messages)
+  std::string source_text;      // the file's bytes (logged in the header, so a replay needs nothing else)
+  std::string hash;             // content hash of source_text (hex)
+};
+
+// Limits on the text of a config, far above any real one's (a few KiB, nested 4 levels deep), so
+// that no input can exhaust memory or toml++'s stack: the bytes of the file (or of the text, when
+// it comes from a session log's header) and the depth of nesting (toml_guard.h check_toml_nesting).
+constexpr uint64_t kMaxStudyConfigBytes = uint64_t(16) << 20;  // 16 MiB
+constexpr int kMaxStudyConfigNesting = 32;
+
+// Parses and validates; throws InputError "path:LINE: key: what was expected" (for a missing key,
+// LINE is the line of the table that should hold it). The file must be a regular file of at most
+// kMaxStudyConfigBytes ("path: not a regular file (a directory): expected a study config (.toml)").
+// A UTF-8 byte-order mark at the start is accepted (and ignored), as by every reader of fovlab.
+// Scene names are checked against `scenes` (the renderer's: protocols/stimuli/scene_catalog.h).
+StudyConfig parse_study_config_file(const std::string& path, const SceneCatalog& scenes);
+StudyConfig parse_study_config_text(const std::string& text, const std::string& path_for_messages,
+                                    const SceneCatalog& scenes);
+// A config that a session log carries (replay, analyze): also takes the parameter keys and numeric
+// choices of configs written before the typed model (log schema 2 and earlier; docs/config.md).
+// Without a catalog (readers of logs on another machine) scene names are taken as written.
+StudyConfig parse_logged_study_config(const std::string& text, const std::string& path_for_messages,
+                                      const SceneCatalog* scenes);
+
+// A study name (study.name, and the study a session log's header names): 1-64 letters, digits,
+// '_', '-' or '.', not starting with '.' or '-', so it is one folder name (results/<study>), never
+// a path. Block and variant names follow the same rule.
+bool is_valid_study_name(const std::string& name);
+
+// The answers a protocol collects, in order (e.g. {"same", "different"}); the config's keys must
+// map exactly these.
+std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion question);
+
+// The answer that means "identical" (the correct answer to an attention check): "same" for 2afc
+// with question "same" and pair, "3" for rating; "" for protocols that have none.
+std::string identical_answer(const ProtocolConfig& protocol);
+
+}  // namespace fovlab

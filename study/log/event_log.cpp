@@ -1,0 +1,175 @@
+#include "study/log/event_log.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+#include "core/content_hash.h"
+#include "core/digest.h"
+#include "core/input_error.h"
+#include "core/input_file.h"
+#include "study/log/log_integrity.h"
+
+namespace fovlab {
+
+std::string chain_of_text(const std::string& previous_chain, std::string_view text, int schema_version) {
+  if (schema_version == 1) return ContentHash().add(previous_chain).add(text).hex();
+  return sha256_hex(previous_chain, text);
+}
+
+std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain, int schema_version) {
+  return chain_of_text(previous_chain, event_without_chain.dump(), schema_version);
+}
+
+EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key)
+    : path_(path), chain_(std::move(previous_chain)), next_seq_(next_seq), lab_key_(lab_key) {
+  fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd_ < 0) throw FileError(path, "opening the session log for writing", errno);
+  // One writer a log; the participant's lock (participant_lock.h) already ensures it, this flock
+  // also keeps out a fovlab older than that lock.
+  struct stat status {};
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(path + ": another fovlab process is writing this log");
+  }
+  if (::fstat(fd_, &status) != 0) {
+    const int reason = errno;
+    ::close(fd_);
+    fd_ = -1;
+    throw FileError(path, "reading the session log's size", reason);
+  }
+  size_ = status.st_size;
+  if (size_ == 0) fsync_directory(std::filesystem::path(path).parent_path());
+}
+
+EventLogWriter::~EventLogWriter() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void EventLogWriter::append(nlohmann::json event) {
+  const auto start = std::chrono::steady_clock::now();
+  event["seq"] = next_seq_;
+  event.erase("chain");
+  event.erase("mac");
+  if (event.value("event", "") == "seal") event["last_chain"] = chain_;
+  const std::string chain = event_chain(chain_, event);
+  event["chain"] = chain;
+  if (lab_key_) event["mac"] = event_mac(*lab_key_, chain);
+  const std::string line = event.dump() + "\n";
+  // A failed write or fsync cuts the file back to its last complete line: a full disk leaves no
+  // partial event behind (and a resume, once there is space, continues from the last one).
+  const auto fail = [&](const char* operation) {
+    const int reason = errno;
+    if (::ftruncate(fd_, size_) == 0) ::fsync(fd_);
+    throw FileError(path_, operation, reason);
+  };
+  size_t written = 0;
+  while (written < line.size()) {
+    const ssize_t result = ::write(fd_, line.data() + written, line.size() - written);
+    if (result < 0) {
+      if (errno == EINTR) continue;
+      fail("writing the session log");
+    }
+    written += static_cast<size_t>(result);
+  }
+  if (::fsync(fd_) != 0) fail("fsync of the session log");
+  size_ += static_cast<off_t>(line.size());
+  chain_ = chain;
+  ++next_seq_;
+  seconds_writing_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int json_nesting_depth(std::string_view line) {
+  int depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+size_t byte_order_mark_length(std::string_view bytes) { return bytes.starts_with("\xEF\xBB\xBF") ? 3 : 0; }
+
+EventLogFile parse_event_log(const std::string& bytes, const std::string& path) {
+  EventLogFile log;
+  log.path = path;
+  const size_t last_newline = bytes.rfind('\n');
+  log.intact_bytes = last_newline == std::string::npos ? 0 : last_newline + 1;
+  if (log.intact_bytes < bytes.size()) log.torn_tail = bytes.substr(log.intact_bytes);
+  size_t begin = byte_order_mark_length(bytes);
+  int line_number = 0;
+  std::string chain;
+  while (begin < log.intact_bytes) {
+    const size_t end = bytes.find('\n', begin);
+    ++line_number;
+    const std::string line = bytes.substr(begin, end - begin);
+    begin = end + 1;
+    if (json_nesting_depth(line) > max_event_nesting)
+      throw InputError(path + ":" + std::to_string(line_number) + ": not a session event (nested deeper than " +
+                       std::to_string(max_event_nesting) + " levels)");
+    nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (event.is_discarded() || !event.is_object())
+      throw InputError(path + ":" + std::to_string(line_number) + ": not a JSON event (expected one JSON object a line)");
+    if (line_number == 1) {
+      const auto schema = event.find("schema_version");
+      log.schema_version = schema != event.end() && schema->is_number_integer() ? schema->get<int>() : 0;
+    }
+    if (!log.first_chain_error_line) {
+      const auto seq = event.find("seq");
+      const auto recorded = event.find("chain");
+      bool consistent = seq != event.end() && seq->is_number_integer() &&
+                        seq->get<int64_t>() == static_cast<int64_t>(log.events.size()) && recorded != event.end() &&
+                        recorded->is_string();
+      if (consistent) {
+        nlohmann::json without_chain = event;
+        without_chain.erase("chain");
+        without_chain.erase("mac");
+        const std::string expected = event_chain(chain, without_chain, log.schema_version);
+        consistent = expected == recorded->get<std::string>();
+        chain = expected;
+      }
+      if (!consistent) log.first_chain_error_line = line_number;
+    }
+    log.events.push_back(std::move(event));
+    log.line_numbers.push_back(line_number);
+  }
+  log.last_chain = chain;
+  return log;
+}
+
+EventLogFile read_event_log(const std::string& path) {
+  return parse_event_log(read_input_file(path, session_log_kind, max_log_bytes), path);
+}
+
+std::vector<std::string> find_session_logs(const std::string& path) {
+  std::vector<std::string> logs;
+  if (std::filesystem::is_regular_file(path)) return {path};
+  if (!std::filesystem::is_directory(path)) throw InputError(path + ": no such log file or results folder");
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(path))
+    if (entry.is_regular_file() && entry.path().filename() == "events.jsonl") logs.push_back(entry.path().string());
+  std::sort(logs.begin(), logs.end());
+  if (logs.empty()) throw InputError(path + ": no events.jsonl under this folder");
+  return logs;
+}
+
+}  // namespace fovlab

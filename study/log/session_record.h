@@ -1,0 +1,54 @@
+#pragma once
+// A session as its log tells it: the header, the complete trials (trial_start ... trial_end), and
+// the state a resumed session continues from. Events of a trial that was cut off by a crash are not
+// part of any complete trial; the resumed session runs that trial again.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "study/log/event_log.h"
+#include "study/log/log_integrity.h"
+
+namespace fovlab {
+
+struct RecordedTrial {
+  int index = 0;
+  nlohmann::json start;                  // the trial_start event
+  std::vector<nlohmann::json> stimuli;   // "stimulus" events, in order
+  std::vector<nlohmann::json> responses; // "response" events, in order
+  std::optional<nlohmann::json> attention_check;
+  std::vector<nlohmann::json> other;     // slider_saved, attention breaks
+  nlohmann::json end;                    // the trial_end event
+};
+
+struct SessionRecord {
+  nlohmann::json header;                 // the first event (session_header)
+  std::vector<RecordedTrial> trials;     // complete trials, ordered by index, one per index
+  int attention_errors = 0;              // wrong attention-check answers in complete trials
+  bool excluded = false;
+  bool ended = false;                    // a session_end event exists
+  std::string end_reason;
+  int next_trial = 0;                    // the first trial index with no complete record
+  double last_time_s = 0.0;              // the latest session time in the log
+  int incomplete_trial = -1;             // a trial started but not finished at the end of the log
+  LogIntegrity integrity;                // sealed, unsealed or broken (log_integrity.h)
+};
+
+// Throws InputError "path:LINE: ..." when the first event is not a session header of a schema this
+// build reads, or when events contradict each other (a trial_end without its start, a trial
+// completed twice...). `lab_key` (may be null) checks the seals' MACs of a keyed log; a key other
+// than the log's is an InputError.
+SessionRecord read_session_record(const EventLogFile& log, const LabKey* lab_key = nullptr);
+
+// The checks on a log's first event: a session_header of a schema version this build reads, whose
+// study and participant are names the config's rules allow (they become folder names).
+// Throws InputError "path:1: ...".
+void check_session_header(const nlohmann::json& first_event, const std::string& path);
+
+// The event kinds that belong to the trial started last ("stimulus", "response", ...). A `break`
+// belongs to a trial only when it names one (attention-check breaks).
+bool is_trial_event(const std::string& kind, bool names_a_trial);
+
+}  // namespace fovlab

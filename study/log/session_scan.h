@@ -1,0 +1,59 @@
+#pragma once
+// A fast read of a session log for analysing many of them (fovlab analyze reads a million trials):
+// every line is still checked (one JSON object, its seq, the hash chain), but only the fields a
+// trial summary needs are decoded, with simdjson's On-Demand API, and the per-refresh arrays of
+// stimulus events are skipped, never built. Trials are assembled by the rules of session_record.h
+// (complete at trial_end; a session_resumed drops the trial a crash cut off);
+// tests/study/log/session_scan_test.cpp checks that both readers agree on every protocol.
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "study/log/log_integrity.h"
+
+namespace fovlab {
+
+struct ScannedTrial {
+  int index = 0;
+  int block = 0;
+  std::string condition;
+  std::string variant;
+  std::optional<double> level;
+  bool attention_check = false;
+  bool reference_first = true;
+  bool ramp_toward_reference = true;
+  std::vector<int> sequence;              // stimulus ids in presentation order
+  std::vector<std::string> answers;       // response events, in order
+  std::vector<int> answer_steps;          // their `step`
+  std::optional<double> saved_level;      // slider_saved
+  std::optional<bool> attention_correct;  // attention_check
+};
+
+struct ScannedSession {
+  std::string path;
+  nlohmann::json header;                  // the first event, whole
+  std::map<int, std::string> block_names; // block index -> name, or its scene when unnamed
+  std::vector<ScannedTrial> trials;       // complete trials, ordered by index, one per index
+  int attention_errors = 0;               // wrong attention-check answers in complete trials
+  bool excluded = false;
+  bool ended = false;
+  int incomplete_trial = -1;              // a trial started but not finished at the end of the log
+  size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
+  int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
+  LogIntegrity integrity;                 // sealed, unsealed or broken (log_integrity.h)
+};
+
+// Throws InputError "path:LINE: ..." for what read_event_log and read_session_record reject (a line
+// that is not one JSON object, no session header, another schema version, a trial event outside
+// its trial, a field of the wrong type).
+// `lab_key` (may be null) checks the seals' MACs of a keyed log.
+ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key = nullptr);
+// The same from bytes already in memory (the fuzz target and the corpus replay use this).
+ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages,
+                                  const LabKey* lab_key = nullptr);
+
+}  // namespace fovlab

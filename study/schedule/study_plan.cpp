@@ -1,0 +1,239 @@
+#include "study/schedule/study_plan.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "core/input_error.h"
+#include "core/number_text.h"
+#include "core/prng.h"
+
+namespace fovlab {
+namespace {
+
+std::string condition_name(const std::string& variant, std::optional<double> level) {
+  std::string name = variant;
+  if (level) name += (name.empty() ? "" : "/") + std::string("level=") + format_number(*level, 6);
+  return name.empty() ? "test" : name;
+}
+
+class PlanBuilder {
+ public:
+  PlanBuilder(const StudyConfig& config, StudyPlan& plan) : config_(config), plan_(plan) {}
+
+  int add_stimulus(const std::string& scene, const MethodConfig& method, const VariantConfig* variant,
+                   std::optional<double> level, bool is_reference) {
+    PlannedStimulus stimulus;
+    stimulus.is_reference = is_reference;
+    stimulus.level = level;
+    stimulus.variant = variant ? variant->name : "";
+    StimulusSpec& spec = stimulus.spec;
+    spec.scene = scene;
+    spec.width_px = config_.display.width_px;
+    spec.height_px = config_.display.height_px;
+    const ParameterLayer none;
+    ParameterLayer level_layer;
+    if (level) level_layer[config_.levels.parameter] = *level;
+    spec.parameters = parameters_with(method.method, {&method.parameters, variant ? &variant->parameters : &none, &level_layer});
+    fill_display_parameters(spec, method, variant, level.has_value());
+    spec.frame_count = config_.stimulus.frame_count();
+    spec.frames_per_second = config_.stimulus.frames_per_second;
+    spec.camera_start_s = config_.stimulus.camera_start_s;
+    for (size_t id = 0; id < plan_.stimuli.size(); ++id)
+      if (plan_.stimuli[id].spec == spec && plan_.stimuli[id].is_reference == is_reference &&
+          plan_.stimuli[id].level == level && plan_.stimuli[id].variant == stimulus.variant)
+        return static_cast<int>(id);
+    plan_.stimuli.push_back(std::move(stimulus));
+    return static_cast<int>(plan_.stimuli.size() - 1);
+  }
+
+  // FIPR's display parameters the config did not set come from [display]: the physical size of the
+  // stimulus image and the viewing distance. A stimulus of W x H pixels on a display of
+  // width_px x height_px covers W / width_px of its width (the window presenter shows a frame
+  // pixel for pixel, or integer-scaled, centred; stimuli are rendered at the display's size, so
+  // this is the whole display today).
+  void fill_display_parameters(StimulusSpec& spec, const MethodConfig& method, const VariantConfig* variant,
+                               bool has_level) const {
+    const DisplayConfig& display = config_.display;
+    const auto given = [&](const std::string& name) {
+      return method.parameters.count(name) > 0 || (variant && variant->parameters.count(name) > 0) ||
+             (has_level && config_.levels.parameter == name);
+    };
+    StimulusDisplay* stimulus_display = display_of(spec.parameters);
+    if (!stimulus_display) return;
+    if (!given("display_width_mm")) stimulus_display->display_width_mm = display.width_mm * spec.width_px / display.width_px;
+    if (!given("display_height_mm"))
+      stimulus_display->display_height_mm = display.height_mm * spec.height_px / display.height_px;
+    if (!given("viewing_distance_mm")) stimulus_display->viewing_distance_mm = display.viewing_distance_mm;
+  }
+
+  std::vector<Trial> block_trials(int block_index, const BlockConfig& block, Pcg32& random) {
+    const StimulusConfig& stimulus = config_.stimulus;
+    const ProtocolConfig& protocol = config_.protocol;
+    const int reference = add_stimulus(block.scene, stimulus.reference, nullptr, std::nullopt, true);
+    std::vector<const VariantConfig*> variants;
+    for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
+    if (variants.empty()) variants.push_back(nullptr);
+    std::vector<std::optional<double>> levels;
+    for (double value : config_.levels.values) levels.emplace_back(value);
+    if (levels.empty()) levels.emplace_back(std::nullopt);
+
+    std::vector<Trial> trials;
+    const auto base_trial = [&](const VariantConfig* variant) {
+      Trial trial;
+      trial.block = block_index;
+      trial.reference = reference;
+      trial.variant = variant ? variant->name : "";
+      return trial;
+    };
+    for (const VariantConfig* variant : variants) {
+      if (protocol.kind == ProtocolKind::ramp || protocol.kind == ProtocolKind::slider) {
+        // The ladder from the level least like the reference to the one most like it.
+        std::vector<int> ladder;
+        for (const auto& level : levels) ladder.push_back(add_stimulus(block.scene, stimulus.test, variant, level, false));
+        if (!config_.levels.higher_is_better) std::reverse(ladder.begin(), ladder.end());
+        for (int repeat = 0; repeat < protocol.repeats; ++repeat) {
+          if (protocol.kind == ProtocolKind::slider) {
+            Trial trial = base_trial(variant);
+            trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + "slider";
+            trial.sequence = ladder;
+            const auto start = std::find(config_.levels.values.begin(), config_.levels.values.end(),
+                                         protocol.slider.start_level) - config_.levels.values.begin();
+            trial.slider_start = config_.levels.higher_is_better ? int(start) : int(ladder.size()) - 1 - int(start);
+            trials.push_back(std::move(trial));
+            continue;
+          }
+          for (bool toward : {true, false}) {
+            Trial trial = base_trial(variant);
+            trial.ramp_toward_reference = toward;
+            trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + (toward ? "ramp_up" : "ramp_down");
+            trial.sequence = ladder;
+            trial.sequence.push_back(reference);
+            if (!toward) std::reverse(trial.sequence.begin(), trial.sequence.end());
+            trials.push_back(std::move(trial));
+          }
+        }
+        continue;
+      }
+      for (const auto& level : levels) {
+        const int test = add_stimulus(block.scene, stimulus.test, variant, level, false);
+        for (int repeat = 0; repeat < protocol.repeats; ++repeat) {
+          Trial trial = base_trial(variant);
+          trial.level = level;
+          trial.condition = condition_name(trial.variant, level);
+          trial.reference_first = protocol.counterbalance ? repeat % 2 == 0 : random.below(2) == 0;
+          trial.sequence = trial.reference_first ? std::vector<int>{reference, test} : std::vector<int>{test, reference};
+          trials.push_back(std::move(trial));
+        }
+      }
+    }
+    // Attention checks: identical stimuli, `share` of all the block's trials.
+    const double share = config_.attention.share;
+    const int checks = share > 0 ? static_cast<int>(std::lround(share / (1.0 - share) * double(trials.size()))) : 0;
+    for (int check = 0; check < checks; ++check) {
+      Trial trial;
+      trial.block = block_index;
+      trial.reference = reference;
+      trial.attention_check = true;
+      trial.condition = "attention_check";
+      trial.sequence = {reference, reference};
+      trials.push_back(std::move(trial));
+    }
+    if (protocol.randomise_trials) random.shuffle(trials);
+    return trials;
+  }
+
+ private:
+  const StudyConfig& config_;
+  StudyPlan& plan_;
+};
+
+}  // namespace
+
+void check_participant_id(const std::string& participant) {
+  const bool ok = !participant.empty() && participant.size() <= 64 && participant[0] != '-' &&
+                  std::all_of(participant.begin(), participant.end(), [](char c) {
+                    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+                           c == '-';
+                  });
+  if (!ok)
+    throw InputError("--participant: expected 1-64 letters, digits, '_' or '-' (it names a folder), got \"" +
+                     participant + "\"");
+}
+
+void check_new_participant_id(const std::string& participant) {
+  check_participant_id(participant);
+  if (is_reserved_participant_id(participant))
+    throw InputError("--participant: \"" + participant +
+                     "\" is reserved (results/<study>/analysis holds fovlab analyze's report); choose another ID");
+}
+
+bool is_reserved_participant_id(const std::string& participant) {
+  std::string lower = participant;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower == "analysis";
+}
+
+int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_index) {
+  if (answer == "up" && ladder_index + 1 < static_cast<int>(trial.sequence.size())) return ladder_index + 1;
+  if (answer == "down" && ladder_index > 0) return ladder_index - 1;
+  return ladder_index;
+}
+
+uint64_t session_seed(uint64_t study_seed, const std::string& participant) {
+  return derive_seed(study_seed, "participant:" + participant);
+}
+
+std::vector<StimulusSpec> planned_specs(const StudyPlan& plan) {
+  std::vector<StimulusSpec> specs;
+  for (const PlannedStimulus& stimulus : plan.stimuli) specs.push_back(stimulus.spec);
+  return specs;
+}
+
+StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant) {
+  check_participant_id(participant);
+  StudyPlan plan;
+  plan.config = config;
+  plan.participant = participant;
+  plan.session_seed = session_seed(config.seed, participant);
+
+  std::vector<int> block_order(config.blocks.size());
+  for (size_t i = 0; i < block_order.size(); ++i) block_order[i] = static_cast<int>(i);
+  if (config.protocol.randomise_blocks) {
+    Pcg32 random(derive_seed(plan.session_seed, "blocks"));
+    random.shuffle(block_order);
+  }
+  PlanBuilder builder(config, plan);
+  for (int position = 0; position < static_cast<int>(block_order.size()); ++position) {
+    const BlockConfig& block = config.blocks[static_cast<size_t>(block_order[static_cast<size_t>(position)])];
+    Pcg32 random(derive_seed(plan.session_seed, "trials:" + block.name));
+    std::vector<Trial> trials = builder.block_trials(position, block, random);
+    PlannedBlock planned{block.name, block.scene, static_cast<int>(plan.trials.size()), static_cast<int>(trials.size())};
+    for (Trial& trial : trials) {
+      trial.index = static_cast<int>(plan.trials.size());
+      plan.trials.push_back(std::move(trial));
+    }
+    plan.blocks.push_back(std::move(planned));
+  }
+  return plan;
+}
+
+double StudyPlan::expected_duration_s(double response_s) const {
+  const double stimulus_s = config.stimulus.frame_count() / config.stimulus.frames_per_second;
+  const TimingConfig& timing = config.timing;
+  double total = 0.0;
+  for (const Trial& trial : trials) {
+    double steps = double(trial.sequence.size());
+    double answers = 1.0;
+    if (config.protocol.kind == ProtocolKind::ramp) answers = steps - 1.0;
+    if (config.protocol.kind == ProtocolKind::slider) {
+      steps = 1.0 + 0.5 * double(trial.sequence.size());  // the reference, then half the ladder
+      answers = steps;
+    }
+    total += steps * stimulus_s + (steps - 1.0) * timing.black_interval_s + answers * response_s + timing.inter_trial_s;
+  }
+  if (!blocks.empty()) total += double(blocks.size() - 1) * timing.rest_between_blocks_s;
+  return total;
+}
+
+}  // namespace fovlab

@@ -1,0 +1,396 @@
+#include "study/stimulus/render_method.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <type_traits>
+
+#include "core/number_text.h"
+
+namespace fovlab {
+namespace {
+
+// Reading and writing one member of one method's struct as a double (the edges' number).
+template <class>
+struct MemberOf;
+template <class Struct, class Value>
+struct MemberOf<Value Struct::*> {
+  using object = Struct;
+  using value = Value;
+};
+
+template <auto Member>
+double read_member(const MethodParameters& parameters) {
+  using Traits = MemberOf<decltype(Member)>;
+  const auto value = std::get<typename Traits::object>(parameters).*Member;
+  if constexpr (std::is_enum_v<typename Traits::value>)
+    return static_cast<double>(static_cast<std::underlying_type_t<typename Traits::value>>(value));
+  else
+    return static_cast<double>(value);
+}
+
+template <auto Member>
+void write_member(MethodParameters& parameters, double value) {
+  using Traits = MemberOf<decltype(Member)>;
+  using Value = typename Traits::value;
+  auto& member = std::get<typename Traits::object>(parameters).*Member;
+  if constexpr (std::is_enum_v<Value>)
+    member = static_cast<Value>(static_cast<std::underlying_type_t<Value>>(value));
+  else if constexpr (std::is_same_v<Value, bool>)
+    member = value != 0.0;
+  else
+    member = static_cast<Value>(value);
+}
+
+template <auto Member>
+ParameterDescriptor parameter(std::string_view key, std::string_view unit, ParameterType type, double default_value,
+                              double min_value, double max_value, std::string_view help) {
+  ParameterDescriptor descriptor;
+  descriptor.key = key;
+  descriptor.unit = unit;
+  descriptor.help = help;
+  descriptor.type = type;
+  descriptor.default_value = default_value;
+  descriptor.min_value = min_value;
+  descriptor.max_value = max_value;
+  descriptor.read = &read_member<Member>;
+  descriptor.write = &write_member<Member>;
+  return descriptor;
+}
+
+ParameterDescriptor with_allowed(ParameterDescriptor descriptor, std::vector<double> allowed) {
+  descriptor.allowed = std::move(allowed);
+  return descriptor;
+}
+
+ParameterDescriptor with_legacy_key(ParameterDescriptor descriptor, std::string_view legacy_key) {
+  descriptor.legacy_key = legacy_key;
+  return descriptor;
+}
+
+constexpr double kSeedMax = double(std::numeric_limits<uint32_t>::max());
+// Eccentricities are below 180 degrees: an outer periphery at 180 is none.
+constexpr double kNoOuterPeripheryDeg = 180.0;
+// The sphere tracer's samples of one frame live in one buffer indexed by 32-bit words
+// (renderer/sphere_tracing/sphere_tracer.h kMaxSphereTraceSamplesPerFrame; protocols/stimuli checks).
+constexpr uint64_t kSphereTraceSamplesPerFrame = uint64_t{1} << 28;
+// The emulated path tracer's outer zone is 1/4 of the frame per axis (foveation/zone_layout.h).
+constexpr int kZoneFrameSideMultiplePx = 4;
+
+// The parameters GT, IPR and FIPR share, then IPR's and FIPR's pyramid.
+template <class Struct>
+std::vector<ParameterDescriptor> sphere_trace_parameters() {
+  return {
+      with_allowed(parameter<&Struct::samples_per_pixel>("samples_per_pixel", "", ParameterType::integer, 1, 1, 16,
+                                                         "samples a pixel (fixed sample patterns, docs/scenes.md)"),
+                   {1, 4, 16}),
+      parameter<&Struct::max_steps>("max_steps", "steps", ParameterType::integer, 256, 1, 4096,
+                                    "step cap of one ray at one level"),
+      parameter<&Struct::hit_threshold>("hit_threshold", "", ParameterType::real, 0.25, 1e-4, 8.0,
+                                        "a ray hits when its distance is below t x pixel angle x level scale x this"),
+  };
+}
+
+template <class Struct>
+void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int min_levels) {
+  parameters.push_back(parameter<&Struct::pyramid_levels>("pyramid_levels", "", ParameterType::integer, 3, min_levels,
+                                                          5, "levels, each with 1/4 the pixels of the one above (FIPR: low, mid and top at least)"));
+  parameters.push_back(with_allowed(parameter<&Struct::min_filter_size>("min_filter_size", "px", ParameterType::integer,
+                                                                        3, 1, 5, "side of the depth min filter"),
+                                    {1, 3, 5}));
+}
+
+template <class Struct>
+void add_display_parameters(std::vector<ParameterDescriptor>& parameters) {
+  const auto display = [](std::string_view key, std::string_view help, double (*read)(const MethodParameters&),
+                          void (*write)(MethodParameters&, double)) {
+    ParameterDescriptor descriptor;
+    descriptor.key = key;
+    descriptor.unit = "mm";
+    descriptor.help = help;
+    descriptor.type = ParameterType::real;
+    descriptor.default_value = 0.0;  // not given: the schedule fills it from [display]
+    descriptor.min_value = 1.0;
+    descriptor.max_value = 1e6;
+    descriptor.read = read;
+    descriptor.write = write;
+    return descriptor;
+  };
+  parameters.push_back(display(
+      "display_width_mm", "physical width of the stimulus image (default: from [display])",
+      [](const MethodParameters& p) { return display_of(p)->display_width_mm; },
+      [](MethodParameters& p, double value) { display_of(p)->display_width_mm = value; }));
+  parameters.push_back(display(
+      "display_height_mm", "physical height of the stimulus image (default: from [display])",
+      [](const MethodParameters& p) { return display_of(p)->display_height_mm; },
+      [](MethodParameters& p, double value) { display_of(p)->display_height_mm = value; }));
+  parameters.push_back(display(
+      "viewing_distance_mm", "eye to screen (default: from [display])",
+      [](const MethodParameters& p) { return display_of(p)->viewing_distance_mm; },
+      [](MethodParameters& p, double value) { display_of(p)->viewing_distance_mm = value; }));
+}
+
+MethodDescriptor ground_truth() {
+  MethodDescriptor method{RenderMethod::ground_truth, "gt", "sphere tracing, every sample from the camera",
+                          SceneKind::signed_distance};
+  method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
+  method.parameters = sphere_trace_parameters<GroundTruthParameters>();
+  return method;
+}
+
+MethodDescriptor inverted_pyramid() {
+  MethodDescriptor method{RenderMethod::inverted_pyramid, "ipr", "the inverted pyramid (seed 000 section 3.1)",
+                          SceneKind::signed_distance};
+  method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
+  method.parameters = sphere_trace_parameters<InvertedPyramidParameters>();
+  add_pyramid_parameters<InvertedPyramidParameters>(method.parameters, 2);
+  return method;
+}
+
+MethodDescriptor foveated_pyramid() {
+  using P = FoveatedPyramidParameters;
+  MethodDescriptor method{RenderMethod::foveated_pyramid, "fipr",
+                          "the foveated inverted pyramid (seed 000 section 3.2)", SceneKind::signed_distance};
+  method.depends_on_gaze = true;
+  method.needs_display = true;
+  method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
+  method.parameters = sphere_trace_parameters<P>();
+  add_pyramid_parameters<P>(method.parameters, 3);
+  auto& list = method.parameters;
+  list.push_back(with_legacy_key(
+      parameter<&P::fovea_radius_deg>("fovea_radius_deg", "deg", ParameterType::real, 7.5, 0, 180,
+                                      "radius (eccentricity from the gaze, not an aperture) within which every pixel is traced at the top level"),
+      "fovea_deg"));
+  list.push_back(with_legacy_key(
+      parameter<&P::outer_periphery_radius_deg>("outer_periphery_radius_deg", "deg", ParameterType::real,
+                                                kNoOuterPeripheryDeg, 0, kNoOuterPeripheryDeg,
+                                                "radius (eccentricity) beyond which no pixel is traced at the top level for acuity (edges still are with combine max); 180: none; at least fovea_radius_deg"),
+      "outer_periphery_deg"));
+  list.push_back(with_allowed(parameter<&P::periphery_refresh>("periphery_refresh", "frames", ParameterType::integer,
+                                                               1, 1, 4, "pixels the mask leaves out get a new colour every 1st, 2nd or 4th image, else keep the previous image's"),
+                              {1, 2, 4}));
+  list.push_back(parameter<&P::periphery_steps>("periphery_steps", "steps", ParameterType::integer, 0, 0, 4096,
+                                                "how a pixel the mask leaves out gets its new colour: 0 the mid level's colour, interpolated (the paper's reading); N traced at full resolution from the mid level's depth with at most N steps (and max_steps)"));
+  ParameterDescriptor blur = parameter<&P::blur>("blur", "", ParameterType::choice, 0, 0, 1, "pass 5, the masked Gaussian blur of the transition zones");
+  blur.choices = {"off", "on"};
+  list.push_back(blur);
+  ParameterDescriptor combine = parameter<&P::combine>("combine", "", ParameterType::choice, 0, 0, 3,
+                                                       "how acuity and edges make a pixel's probability: max (fovea, every peripheral edge, the rest by acuity), fovea-or-product, product (the paper's words), acuity (edges ignored); docs/foveation.md");
+  combine.choices = {"max", "fovea-or-product", "product", "acuity"};
+  list.push_back(combine);
+  list.push_back(parameter<&P::edge_threshold>("edge_threshold", "", ParameterType::real, 0.4, 1e-4, 1000,
+                                               "Sobel magnitude of the low level's depth, relative to the depth, that makes an edge"));
+  list.push_back(parameter<&P::mask_seed>("mask_seed", "", ParameterType::integer, 0, 0, kSeedMax,
+                                          "seed of the per-pixel thresholds of the mask"));
+  add_display_parameters<P>(list);
+  return method;
+}
+
+template <class Struct>
+std::vector<ParameterDescriptor> path_trace_parameters() {
+  return {
+      parameter<&Struct::samples_per_pixel>("samples_per_pixel", "", ParameterType::integer, 128, 1, 65536,
+                                            "samples of each pre-rendered frame"),
+      parameter<&Struct::max_bounces>("max_bounces", "", ParameterType::integer, 32, 0, 1024,
+                                      "scattering events a path may have (docs/path-tracing.md)"),
+      parameter<&Struct::path_seed>("path_seed", "", ParameterType::integer, 1, 0, kSeedMax,
+                                    "the path tracer's seed"),
+  };
+}
+
+MethodDescriptor path_traced() {
+  MethodDescriptor method{RenderMethod::path_traced, "pt", "path tracing, pre-rendered (seed 001's reference)",
+                          SceneKind::path_traced};
+  method.parameters = path_trace_parameters<PathTracedParameters>();
+  return method;
+}
+
+MethodDescriptor foveated_path_traced() {
+  using P = FoveatedPathTracedParameters;
+  MethodDescriptor method{RenderMethod::foveated_path_traced, "fpt",
+                          "the emulated foveated path tracer (seed 001 section 3.2)", SceneKind::path_traced};
+  method.depends_on_gaze = true;
+  method.needs_display = true;
+  method.frame_side_multiple_px = kZoneFrameSideMultiplePx;
+  method.parameters = path_trace_parameters<P>();
+  auto& list = method.parameters;
+  list.push_back(with_legacy_key(
+      parameter<&P::foveal_aperture_deg>("foveal_aperture_deg", "deg", ParameterType::real, 10.0, 0, 360,
+                                         "the foveal zone's full aperture (eccentricity up to half of it)"),
+      "foveal_deg"));
+  list.push_back(with_legacy_key(
+      parameter<&P::middle_minus_foveal_aperture_deg>("middle_minus_foveal_aperture_deg", "deg", ParameterType::real,
+                                                      52.5, 0, 360,
+                                                      "how much wider the middle zone's aperture is than the foveal one's (seed 001's 5 to 30)"),
+      "middle_over_foveal_deg"));
+  list.push_back(with_legacy_key(
+      parameter<&P::band_width_deg>("band_width_deg", "deg", ParameterType::real, 1.0, 0, 90,
+                                    "width, in degrees of eccentricity, of the linear band at each zone boundary; 0 a hard edge"),
+      "band_deg"));
+  list.push_back(parameter<&P::periphery_bounces>("periphery_bounces", "", ParameterType::integer, -1, -1, 1024,
+                                                  "-1: the middle and outer zones come from the same frames; else from frames path traced with this many bounces (seed 001 section 4.2's pilot)"));
+  add_display_parameters<P>(list);
+  return method;
+}
+
+const std::vector<MethodDescriptor>& methods() {
+  static const std::vector<MethodDescriptor> all = {ground_truth(), inverted_pyramid(), foveated_pyramid(),
+                                                    path_traced(), foveated_path_traced()};
+  return all;
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
+}
+
+}  // namespace
+
+std::span<const MethodDescriptor> all_methods() { return methods(); }
+
+const MethodDescriptor& describe(RenderMethod method) { return methods().at(static_cast<size_t>(method)); }
+
+std::optional<RenderMethod> find_method(std::string_view name) {
+  for (const MethodDescriptor& method : methods())
+    if (method.name == name) return method.method;
+  return std::nullopt;
+}
+
+std::string known_methods() {
+  std::vector<std::string> names;
+  for (const MethodDescriptor& method : methods()) names.emplace_back(method.name);
+  return join(names);
+}
+
+const ParameterDescriptor* find_parameter(const MethodDescriptor& method, std::string_view key, bool legacy) {
+  for (const ParameterDescriptor& parameter : method.parameters)
+    if (parameter.key == key || (legacy && !parameter.legacy_key.empty() && parameter.legacy_key == key))
+      return &parameter;
+  return nullptr;
+}
+
+std::string parameter_keys(const MethodDescriptor& method) {
+  std::vector<std::string> keys;
+  for (const ParameterDescriptor& parameter : method.parameters) keys.emplace_back(parameter.key);
+  return join(keys);
+}
+
+std::optional<std::string> check_parameter_value(const ParameterDescriptor& parameter, double value) {
+  if (parameter.type == ParameterType::choice) {
+    std::vector<std::string> names;
+    for (std::string_view name : parameter.choices) names.push_back("\"" + std::string(name) + "\"");
+    const double index = std::floor(value);
+    if (std::isfinite(value) && index == value && index >= 0 && index < double(parameter.choices.size()))
+      return std::nullopt;
+    return "one of " + join(names);
+  }
+  if (!parameter.allowed.empty()) {
+    for (double allowed : parameter.allowed)
+      if (value == allowed) return std::nullopt;
+    std::string values;
+    for (double allowed : parameter.allowed) values += " " + format_number(allowed, 17);
+    return "one of" + values;
+  }
+  if (!(value >= parameter.min_value && value <= parameter.max_value))
+    return "a value in [" + format_number(parameter.min_value, 17) + ", " + format_number(parameter.max_value, 17) + "]";
+  if (parameter.type == ParameterType::integer && std::floor(value) != value) return "a whole number";
+  return std::nullopt;
+}
+
+std::string parameter_value_text(const ParameterDescriptor& parameter, double value) {
+  if (parameter.type == ParameterType::choice && value >= 0 && value < double(parameter.choices.size()))
+    return std::string(parameter.choices[static_cast<size_t>(value)]);
+  return format_number(value, 17);
+}
+
+std::optional<double> parse_choice(const ParameterDescriptor& parameter, std::string_view name) {
+  for (size_t i = 0; i < parameter.choices.size(); ++i)
+    if (parameter.choices[i] == name) return double(i);
+  return std::nullopt;
+}
+
+std::optional<double> parameter_value(const MethodParameters& parameters, std::string_view key) {
+  const ParameterDescriptor* parameter = find_parameter(describe(method_of(parameters)), key);
+  if (!parameter) return std::nullopt;
+  return parameter->read(parameters);
+}
+
+MethodParameters default_parameters(RenderMethod method) {
+  MethodParameters parameters;
+  switch (method) {
+    case RenderMethod::ground_truth: parameters = GroundTruthParameters{}; break;
+    case RenderMethod::inverted_pyramid: parameters = InvertedPyramidParameters{}; break;
+    case RenderMethod::foveated_pyramid: parameters = FoveatedPyramidParameters{}; break;
+    case RenderMethod::path_traced: parameters = PathTracedParameters{}; break;
+    case RenderMethod::foveated_path_traced: parameters = FoveatedPathTracedParameters{}; break;
+  }
+  for (const ParameterDescriptor& parameter : describe(method).parameters)
+    parameter.write(parameters, parameter.default_value);
+  return parameters;
+}
+
+MethodParameters parameters_with(RenderMethod method, std::initializer_list<const ParameterLayer*> layers) {
+  MethodParameters parameters = default_parameters(method);
+  const MethodDescriptor& descriptor = describe(method);
+  for (const ParameterLayer* layer : layers)
+    for (const auto& [key, value] : *layer) {
+      const ParameterDescriptor* parameter = find_parameter(descriptor, key);
+      if (!parameter)
+        throw std::logic_error("parameters_with: " + std::string(descriptor.name) + " has no parameter " + key);
+      parameter->write(parameters, value);
+    }
+  return parameters;
+}
+
+std::optional<ParameterConflict> parameter_conflict(const MethodParameters& parameters) {
+  const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters);
+  if (!fipr || fipr->outer_periphery_radius_deg >= fipr->fovea_radius_deg) return std::nullopt;
+  return ParameterConflict{{"fovea_radius_deg", "outer_periphery_radius_deg"},
+                           "expected outer_periphery_radius_deg (" + format_number(fipr->outer_periphery_radius_deg, 6) +
+                               ") >= fovea_radius_deg (" + format_number(fipr->fovea_radius_deg, 6) +
+                               "): the outer periphery starts beyond the fovea"};
+}
+
+std::string methods_markdown() {
+  std::string text;
+  for (const MethodDescriptor& method : methods()) {
+    text += "### `method = \"" + std::string(method.name) + "\"`: " + std::string(method.summary) + "\n\n";
+    text += std::string("Scenes: ") +
+            (method.scene_kind == SceneKind::signed_distance ? "SDF (built-in names or .glsl files)"
+                                                             : "path-traced (courtyard or .obj files)") +
+            ". Frames " + (method.depends_on_gaze ? "follow the gaze of each refresh" : "do not depend on the gaze");
+    if (method.frame_side_multiple_px > 1)
+      text += "; width_px and height_px must be multiples of " + std::to_string(method.frame_side_multiple_px);
+    if (method.max_samples_per_frame > 0)
+      text += "; width_px x height_px x samples_per_pixel at most " + std::to_string(method.max_samples_per_frame);
+    text += ".\n\n| key | unit | default | allowed | what |\n|---|---|---|---|---|\n";
+    for (const ParameterDescriptor& parameter : method.parameters) {
+      std::string allowed;
+      if (parameter.type == ParameterType::choice) {
+        std::vector<std::string> names;
+        for (std::string_view name : parameter.choices) names.push_back("`\"" + std::string(name) + "\"`");
+        allowed = join(names);
+      } else if (!parameter.allowed.empty()) {
+        std::vector<std::string> values;
+        for (double value : parameter.allowed) values.push_back(format_number(value, 17));
+        allowed = join(values);
+      } else {
+        allowed = (parameter.type == ParameterType::integer ? "integer " : "") + format_number(parameter.min_value, 17) +
+                  " to " + format_number(parameter.max_value, 17);
+      }
+      // A default outside the range is "not given": the display's, filled in by the schedule.
+      const std::string default_text =
+          parameter.type == ParameterType::choice ? "`\"" + parameter_value_text(parameter, parameter.default_value) + "\"`"
+          : parameter.default_value < parameter.min_value ? "from `[display]`"
+                                                          : parameter_value_text(parameter, parameter.default_value);
+      text += "| `" + std::string(parameter.key) + "` | " + std::string(parameter.unit) + " | " + default_text + " | " +
+              allowed + " | " + std::string(parameter.help) +
+              (parameter.legacy_key.empty() ? "" : " (was `" + std::string(parameter.legacy_key) + "`)") + " |\n";
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+}  // namespace fovlab

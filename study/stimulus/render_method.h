@@ -1,0 +1,100 @@
+#pragma once
+// The rendering methods a stimulus can use, each described once: its name, the scenes it renders,
+// whether its frames follow the gaze, its rules on the frame size, and every parameter with its
+// type, unit, range, default and help. The config reader, the canonical text, the log's JSON and
+// docs/config.md's table (`fovlab methods`) are all made from these descriptors; the typed
+// parameters themselves are in method_parameters.h. Adding a method: its parameter struct there,
+// its descriptor in render_method.cpp, its renderer (protocols/stimuli/stimulus_settings.cpp).
+#include <cstdint>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "study/stimulus/method_parameters.h"
+
+namespace fovlab {
+
+// The scenes a method renders: SDF scenes (GLSL) for the sphere tracers, path-traced scenes (the
+// built-in courtyard or OBJ files) for the path tracer and its emulation.
+enum class SceneKind { signed_distance, path_traced };
+
+enum class ParameterType { integer, real, choice };
+
+// One parameter of a method. Its value travels as a double between the edges (TOML, JSON) and the
+// typed struct; a choice is the index of its name in `choices`.
+struct ParameterDescriptor {
+  std::string_view key;   // TOML key, JSON key and canonical text: "fovea_radius_deg"
+  std::string_view unit;  // "deg", "mm", "steps", "px", "" (a count or a name)
+  std::string_view help;
+  ParameterType type = ParameterType::real;
+  double default_value = 0.0;
+  double min_value = 0.0;  // inclusive range
+  double max_value = 0.0;
+  std::vector<double> allowed;            // integer: the only values allowed (empty: the whole range)
+  std::vector<std::string_view> choices;  // choice: the names, in the order of their values
+  // The key this parameter had in configs written before the typed model (log schema 2 and
+  // earlier); read only from configs that a session log carries (parse_logged_study_config).
+  std::string_view legacy_key;
+  double (*read)(const MethodParameters&) = nullptr;
+  void (*write)(MethodParameters&, double) = nullptr;
+};
+
+struct MethodDescriptor {
+  RenderMethod method = RenderMethod::ground_truth;
+  std::string_view name;  // "gt", "ipr", "fipr", "pt", "fpt": the config's `method`
+  std::string_view summary;
+  SceneKind scene_kind = SceneKind::signed_distance;
+  bool depends_on_gaze = false;     // frames follow the gaze sample (cannot be prepared ahead)
+  bool needs_display = false;       // reads display_width_mm, display_height_mm, viewing_distance_mm
+  int frame_side_multiple_px = 1;   // width and height must be multiples of this
+  // Samples a frame may hold at most (width x height x samples_per_pixel); 0: no such limit.
+  uint64_t max_samples_per_frame = 0;
+  std::vector<ParameterDescriptor> parameters;
+};
+
+// Every method, in the order of RenderMethod.
+std::span<const MethodDescriptor> all_methods();
+const MethodDescriptor& describe(RenderMethod method);
+// The method of a config's `method` name; nullopt when no method has it.
+std::optional<RenderMethod> find_method(std::string_view name);
+// "gt, ipr, fipr, pt, fpt": for messages.
+std::string known_methods();
+// The parameter of a method with this key (or, with `legacy`, this legacy key); nullptr if none.
+const ParameterDescriptor* find_parameter(const MethodDescriptor& method, std::string_view key, bool legacy = false);
+// "a, b, c": the keys of a method's parameters, for messages.
+std::string parameter_keys(const MethodDescriptor& method);
+
+// Whether `value` is one the parameter takes; otherwise what was expected ("an integer in 1..16",
+// "one of 1, 4, 16", ...), for the caller to word with the field it came from.
+std::optional<std::string> check_parameter_value(const ParameterDescriptor& parameter, double value);
+// A value as the edges show it: a choice by its name, a number as the shortest text that reads back.
+std::string parameter_value_text(const ParameterDescriptor& parameter, double value);
+// The index of a choice's name; nullopt when the parameter has no such choice.
+std::optional<double> parse_choice(const ParameterDescriptor& parameter, std::string_view name);
+
+// The value of a parameter by key (a choice as its index); nullopt when the method has none.
+std::optional<double> parameter_value(const MethodParameters& parameters, std::string_view key);
+
+// Every parameter at its default.
+MethodParameters default_parameters(RenderMethod method);
+// The defaults with each layer on top, in order (later layers win). A layer maps keys to values as
+// the edges carry them (a choice as its index), already checked by the reader; std::logic_error
+// for a key the method does not have.
+using ParameterLayer = std::map<std::string, double>;
+MethodParameters parameters_with(RenderMethod method, std::initializer_list<const ParameterLayer*> layers);
+// A rule between parameters of a method that no value breaks on its own (FIPR: the outer periphery
+// lies at or beyond the fovea): the keys involved and what was expected, with the values.
+struct ParameterConflict {
+  std::vector<std::string_view> keys;
+  std::string expected;
+};
+std::optional<ParameterConflict> parameter_conflict(const MethodParameters& parameters);
+
+// docs/config.md's table of methods and parameters (Markdown), made from the descriptors.
+std::string methods_markdown();
+
+}  // namespace fovlab

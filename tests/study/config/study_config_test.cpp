@@ -1,0 +1,1087 @@
+// Tests of study/config/study_config.h and toml_fields.h: valid configs of every protocol kind,
+// and the one-line "path:LINE: key: what was expected" InputError of every kind of bad input.
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "protocols/stimuli/stimulus_settings.h"
+#include "core/content_hash.h"
+#include "core/input_error.h"
+#include "study/config/study_config.h"
+#include "tests/support/temp_dir.h"
+
+namespace fovlab {
+namespace {
+
+const std::string kPath = "studies/unit.toml";
+
+// The sections of a valid 2afc same/different study; tests replace sections or lines.
+struct ConfigText {
+  std::string study = R"([study]
+name = "unit"
+seed = 7
+instructions = "Go."
+)";
+  std::string display = R"([display]
+width_px = 320
+height_px = 180
+refresh_hz = 60
+diagonal_in = 27
+viewing_distance_mm = 500
+)";
+  std::string stimulus = R"([stimulus]
+duration_s = 0.5
+frames_per_second = 10
+camera_start_s = 1.0
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "gt"
+)";
+  std::string levels = R"([levels]
+parameter = "max_steps"
+values = [4, 8, 16, 32, 64]
+higher_is_better = true
+)";
+  std::string protocol = R"([protocol]
+kind = "2afc"
+question = "same"
+repeats = 2
+)";
+  std::string timing = R"([timing]
+black_interval_s = 0.25
+inter_trial_s = 0.75
+)";
+  std::string attention = R"([attention]
+share = 0.2
+break_s = 5
+max_errors = 3
+)";
+  std::string blocks = R"([[block]]
+scene = "primitives"
+
+[[block]]
+scene = "columns"
+name = "cols"
+)";
+
+  std::string text() const {
+    std::string result;
+    for (const std::string* section : {&study, &display, &stimulus, &levels, &protocol, &timing, &attention, &blocks})
+      if (!section->empty()) result += *section + "\n";
+    return result;
+  }
+};
+
+// Replaces the one occurrence of `from` (the test fails when there is none or more than one).
+std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "not found: " << from;
+  if (at == std::string::npos) return text;
+  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << "found twice: " << from;
+  return text.replace(at, from.size(), to);
+}
+
+// 1-based line of the n-th (from 1) occurrence of `needle`.
+int line_of(const std::string& text, const std::string& needle, int occurrence = 1) {
+  size_t at = std::string::npos;
+  size_t from = 0;
+  for (int i = 0; i < occurrence; ++i) {
+    at = text.find(needle, from);
+    if (at == std::string::npos) {
+      ADD_FAILURE() << "not found: " << needle;
+      return -1;
+    }
+    from = at + 1;
+  }
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_study_config_text(text, kPath, renderer_scene_catalog());
+  } catch (const InputError& error) {
+    return error.what();
+  } catch (const std::exception& error) {
+    ADD_FAILURE() << "not an InputError: " << error.what();
+    return "";
+  }
+  ADD_FAILURE() << "no error for:\n" << text;
+  return "";
+}
+
+// The error must be one line "studies/unit.toml:LINE: KEY: ..." containing `fragment`.
+void expect_error(const std::string& text, int line, const std::string& key, const std::string& fragment) {
+  const std::string message = error_of(text);
+  SCOPED_TRACE(message);
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "more than one line";
+  EXPECT_TRUE(std::regex_match(message, std::regex(R"(studies/unit\.toml:[0-9]+: [A-Za-z0-9_.\[\]]+: .+)")))
+      << "not of the form path:LINE: key: expected";
+  const std::string prefix = kPath + ":" + std::to_string(line) + ": " + key + ": ";
+  EXPECT_EQ(message.rfind(prefix, 0), 0u) << "expected the prefix \"" << prefix << "\"";
+  EXPECT_NE(message.find(fragment), std::string::npos) << "expected to contain \"" << fragment << "\"";
+}
+
+StudyConfig parse(const std::string& text) { return parse_study_config_text(text, kPath, renderer_scene_catalog()); }
+
+std::vector<std::string> answer_names(const StudyConfig& config) {
+  std::vector<std::string> names;
+  for (const auto& [answer, keys] : config.protocol.question.answers) names.push_back(answer);
+  return names;
+}
+
+std::vector<std::string> keys_of(const StudyConfig& config, const std::string& answer) {
+  for (const auto& [name, keys] : config.protocol.question.answers)
+    if (name == answer) return keys;
+  ADD_FAILURE() << "no answer " << answer;
+  return {};
+}
+
+// --- valid configs ----------------------------------------------------------------------------------
+
+TEST(ProtocolsConfig, ParsesTheBaseTwoAfcSameConfigFieldByField) {
+  const ConfigText base;
+  const std::string text = base.text();
+  const StudyConfig config = parse(text);
+  EXPECT_EQ(config.name, "unit");
+  EXPECT_EQ(config.seed, 7u);
+  EXPECT_EQ(config.instructions, "Go.");
+
+  EXPECT_EQ(config.display.width_px, 320);
+  EXPECT_EQ(config.display.height_px, 180);
+  EXPECT_DOUBLE_EQ(config.display.refresh_hz, 60.0);
+  // Square pixels: the 27" diagonal split in the 320:180 aspect ratio.
+  const double diagonal_px = std::hypot(320.0, 180.0);
+  EXPECT_NEAR(config.display.width_mm, 27 * 25.4 * 320 / diagonal_px, 1e-9);
+  EXPECT_NEAR(config.display.height_mm, 27 * 25.4 * 180 / diagonal_px, 1e-9);
+  EXPECT_NEAR(std::hypot(config.display.width_mm, config.display.height_mm), 27 * 25.4, 1e-9);
+  EXPECT_DOUBLE_EQ(config.display.viewing_distance_mm, 500.0);
+  EXPECT_FALSE(config.display.fullscreen);
+
+  EXPECT_DOUBLE_EQ(config.stimulus.duration_s, 0.5);
+  EXPECT_DOUBLE_EQ(config.stimulus.frames_per_second, 10.0);
+  EXPECT_DOUBLE_EQ(config.stimulus.camera_start_s, 1.0);
+  EXPECT_EQ(config.stimulus.frame_count(), 5);
+  EXPECT_EQ(config.stimulus.refreshes_per_frame(60.0), 6);
+  EXPECT_EQ(describe(config.stimulus.reference.method).name, "gt");
+  EXPECT_TRUE(config.stimulus.reference.parameters.empty());
+  EXPECT_EQ(describe(config.stimulus.test.method).name, "gt");
+  EXPECT_TRUE(config.stimulus.test.parameters.empty());
+  EXPECT_TRUE(config.stimulus.variants.empty());
+
+  EXPECT_EQ(config.levels.parameter, "max_steps");
+  EXPECT_EQ(config.levels.values, (std::vector<double>{4, 8, 16, 32, 64}));
+  EXPECT_TRUE(config.levels.higher_is_better);
+
+  EXPECT_EQ(config.protocol.kind, ProtocolKind::two_afc);
+  EXPECT_EQ(config.protocol.two_afc_question, TwoAfcQuestion::same);
+  EXPECT_EQ(config.protocol.repeats, 2);
+  EXPECT_TRUE(config.protocol.counterbalance);   // default for two-interval protocols
+  EXPECT_TRUE(config.protocol.randomise_trials); // trial_order defaults to random
+  EXPECT_FALSE(config.protocol.randomise_blocks);// block_order defaults to fixed
+  EXPECT_EQ(config.protocol.question.text, "Was the quality the same in both sequences?");
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"same", "different"}));
+  EXPECT_EQ(keys_of(config, "same"), (std::vector<std::string>{"s", "space", "pad_a"}));
+  EXPECT_EQ(keys_of(config, "different"), (std::vector<std::string>{"d", "pad_b"}));
+
+  EXPECT_DOUBLE_EQ(config.timing.black_interval_s, 0.25);
+  EXPECT_DOUBLE_EQ(config.timing.inter_trial_s, 0.75);
+  EXPECT_DOUBLE_EQ(config.timing.rest_between_blocks_s, 0.0);
+  EXPECT_DOUBLE_EQ(config.timing.response_timeout_s, 0.0);
+
+  EXPECT_DOUBLE_EQ(config.attention.share, 0.2);
+  EXPECT_DOUBLE_EQ(config.attention.break_s, 5.0);
+  EXPECT_EQ(config.attention.max_errors, 3);
+
+  ASSERT_EQ(config.blocks.size(), 2u);
+  EXPECT_EQ(config.blocks[0].name, "primitives");  // the scene's name by default
+  EXPECT_EQ(config.blocks[0].scene, "primitives");
+  EXPECT_EQ(config.blocks[1].name, "cols");
+  EXPECT_EQ(config.blocks[1].scene, "columns");
+
+  EXPECT_EQ(config.source_path, kPath);
+  EXPECT_EQ(config.source_text, text);
+  EXPECT_EQ(config.hash, ContentHash().add(text).hex());
+  EXPECT_EQ(config.hash.size(), 16u);
+  // One changed byte, another hash.
+  EXPECT_NE(parse(replace_once(text, "seed = 7", "seed = 8")).hash, config.hash);
+}
+
+TEST(ProtocolsConfig, DefaultsOfOptionalTablesAndKeys) {
+  ConfigText base;
+  base.timing.clear();
+  base.attention.clear();
+  base.study = "[study]\nname = \"unit\"\nseed = 0\n";
+  base.stimulus = replace_once(base.stimulus, "frames_per_second = 10\ncamera_start_s = 1.0\n", "");
+  base.levels = "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8]\n";
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.seed, 0u);
+  EXPECT_EQ(config.instructions, "Press any answer key to begin.");
+  EXPECT_DOUBLE_EQ(config.stimulus.frames_per_second, 60.0);  // the display's refresh rate
+  EXPECT_DOUBLE_EQ(config.stimulus.camera_start_s, 0.0);
+  EXPECT_EQ(config.stimulus.frame_count(), 30);
+  EXPECT_EQ(config.stimulus.refreshes_per_frame(60.0), 1);
+  EXPECT_TRUE(config.levels.higher_is_better);
+  EXPECT_DOUBLE_EQ(config.timing.black_interval_s, 0.5);
+  EXPECT_DOUBLE_EQ(config.timing.inter_trial_s, 0.5);
+  EXPECT_DOUBLE_EQ(config.attention.share, 0.0);
+  EXPECT_DOUBLE_EQ(config.attention.break_s, 30.0);
+  EXPECT_EQ(config.attention.max_errors, 3);
+}
+
+TEST(ProtocolsConfig, NoLevelsTableMeansOneCondition) {
+  ConfigText base;
+  base.levels.clear();
+  const StudyConfig config = parse(base.text());
+  EXPECT_TRUE(config.levels.parameter.empty());
+  EXPECT_TRUE(config.levels.values.empty());
+}
+
+TEST(ProtocolsConfig, ParsesTheShippedExperiments) {
+  // The shipped configs must stay valid (their contents may change, so only their identity is pinned).
+  const StudyConfig demo = parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/demo.toml", renderer_scene_catalog());
+  EXPECT_EQ(demo.name, "demo");
+  EXPECT_EQ(demo.source_path, std::string(FOVLAB_SOURCE_DIR) + "/experiments/demo.toml");
+  EXPECT_FALSE(demo.blocks.empty());
+  EXPECT_EQ(demo.hash, ContentHash().add(demo.source_text).hex());
+
+  const StudyConfig pilot = parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/ipr_pilot.toml", renderer_scene_catalog());
+  EXPECT_EQ(pilot.name, "ipr_pilot");
+  EXPECT_EQ(describe(pilot.stimulus.test.method).name, "ipr");
+  EXPECT_FALSE(pilot.blocks.empty());
+}
+
+TEST(ProtocolsConfig, MissingFileIsAnInputError) {
+  EXPECT_THROW(parse_study_config_file("/nonexistent/fovlab/none.toml", renderer_scene_catalog()), InputError);
+}
+
+// --- guards in front of the file and of toml++ ----------------------------------------------------
+
+// The error of reading `path` as a study config ("" and a test failure when it is read).
+std::string file_error_of(const std::string& path) {
+  try {
+    parse_study_config_file(path, renderer_scene_catalog());
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "read without an error: " << path;
+  return "";
+}
+
+TEST(ProtocolsConfig, ADirectoryIsNotAConfig) {
+  const testing::TempDir dir;
+  const std::string message = file_error_of(dir.path().string());
+  EXPECT_EQ(message, dir.path().string() + ": not a regular file (a directory): expected a study config (.toml)");
+}
+
+TEST(ProtocolsConfig, ADeviceIsRefusedBeforeItIsRead) {
+  // /dev/zero never ends: reading it whole took 2.2 GB before it failed.
+  EXPECT_EQ(file_error_of("/dev/zero"), "/dev/zero: not a regular file (a character device): expected a study config (.toml)");
+}
+
+TEST(ProtocolsConfig, AFileOverTheSizeCapIsRefusedFromItsSize) {
+  const testing::TempDir dir;
+  const std::string path = dir.file("big.toml");
+  {
+    // A valid config, then a comment that takes the file one byte past the cap; sparse, so cheap.
+    std::ofstream out(path, std::ios::binary);
+    out << ConfigText().text() << "#";
+  }
+  std::filesystem::resize_file(path, kMaxStudyConfigBytes + 1);
+  EXPECT_EQ(file_error_of(path), path + ": larger than 16 MiB (" + std::to_string(kMaxStudyConfigBytes + 1) +
+                                     " bytes): expected a study config (.toml) of at most 16 MiB");
+  // The same text from a session log's header (replay, analyze) passes the same cap.
+  const std::string message = error_of(std::string(kMaxStudyConfigBytes + 1, '#'));
+  EXPECT_EQ(message, kPath + ": " + std::to_string(kMaxStudyConfigBytes + 1) +
+                         " bytes: expected a study config of at most 16 MiB");
+  // At the cap it is read and parsed (the padding is a comment).
+  std::string text = ConfigText().text() + "#";
+  text.resize(kMaxStudyConfigBytes, ' ');
+  EXPECT_EQ(parse_study_config_file(dir.write("at_cap.toml", text), renderer_scene_catalog()).source_text.size(), kMaxStudyConfigBytes);
+}
+
+TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
+  // Editors on Windows write one; a config with it is the same study (and hashes its own bytes).
+  const std::string text = ConfigText().text();
+  const StudyConfig plain = parse(text);
+  const StudyConfig marked = parse("\xEF\xBB\xBF" + text);
+  EXPECT_EQ(marked.name, plain.name);
+  EXPECT_EQ(marked.blocks.size(), plain.blocks.size());
+  EXPECT_EQ(marked.source_text, "\xEF\xBB\xBF" + text);
+  const testing::TempDir dir;
+  EXPECT_EQ(parse_study_config_file(dir.write("bom.toml", "\xEF\xBB\xBF" + text), renderer_scene_catalog()).name, plain.name);
+  // Lines are counted as without it, and only the first three bytes may be one.
+  expect_error("\xEF\xBB\xBF" + replace_once(text, "seed = 7", "seed = -7"), line_of(text, "seed = 7"), "study.seed",
+               "non-negative");
+  EXPECT_EQ(error_of("\n\xEF\xBB\xBF" + text).rfind(kPath + ":2: ", 0), 0u);
+}
+
+// --- the renderers' frame-size rules, named after the config's fields -------------------------------
+
+TEST(ProtocolsConfig, FptFrameSidesMustBeMultiplesOfFourNamingTheDisplayField) {
+  // Was refused only at run, as "stimulus ...: fpt needs ... multiples of 4", naming no field.
+  ConfigText base;
+  base.stimulus = replace_once(replace_once(base.stimulus, "method = \"gt\"\n\n[stimulus.test]", "method = \"pt\"\n\n[stimulus.test]"),
+                               "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"fpt\"");
+  base.levels = "";
+  base.blocks = "[[block]]\nscene = \"courtyard\"\n";
+  EXPECT_EQ(parse(base.text()).stimulus.test.method, RenderMethod::foveated_path_traced);  // 320x180: both sides multiples of 4
+  for (const auto& [key, from, to] : {std::tuple<std::string, std::string, std::string>{"width_px", "width_px = 320", "width_px = 318"},
+                                      {"height_px", "height_px = 180", "height_px = 182"}}) {
+    ConfigText odd = base;
+    odd.display = replace_once(odd.display, from, to);
+    const std::string text = odd.text();
+    expect_error(text, line_of(text, to), "display." + key,
+                 "expected a multiple of 4 for fpt stimuli (the outer zone is 1/4 of the frame per axis), got " +
+                     to.substr(to.size() - 3));
+  }
+}
+
+TEST(ProtocolsConfig, SphereTracedSamplesAFrameNamingTheDisplayField) {
+  // 16384 x 16384 x 4 samples: refused by the renderer at run as "--width x --height x --spp = ...".
+  ConfigText base;
+  base.display = replace_once(replace_once(base.display, "width_px = 320", "width_px = 16384"), "height_px = 180", "height_px = 16384");
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"gt\"\nsamples_per_pixel = 4");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "width_px = 16384"), "display.width_px",
+               "expected width_px x height_px x samples_per_pixel of at most 268435456 samples a frame (gt), got "
+               "16384 x 16384 x 4 = 1073741824");
+  // Every stimulus counts: here only the level 16 of 8192 x 4096 is too many.
+  base.display = replace_once(replace_once(base.display, "width_px = 16384", "width_px = 8192"), "height_px = 16384", "height_px = 4096");
+  base.stimulus = replace_once(base.stimulus, "\nsamples_per_pixel = 4", "");
+  base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4, 16]\n";
+  text = base.text();
+  expect_error(text, line_of(text, "width_px = 8192"), "display.width_px", "8192 x 4096 x 16 = 536870912");
+  base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4]\n";
+  EXPECT_EQ(parse(base.text()).display.width_px, 8192);
+}
+
+TEST(ProtocolsConfig, TwoAfcBetter) {
+  ConfigText base;
+  base.attention.clear();
+  base.protocol = replace_once(base.protocol, "question = \"same\"", "question = \"better\"");
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.protocol.kind, ProtocolKind::two_afc);
+  EXPECT_EQ(config.protocol.two_afc_question, TwoAfcQuestion::better);
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"first", "second"}));
+  EXPECT_EQ(keys_of(config, "first"), (std::vector<std::string>{"1", "left", "pad_left"}));
+  EXPECT_EQ(keys_of(config, "second"), (std::vector<std::string>{"2", "right", "pad_right"}));
+  EXPECT_EQ(config.protocol.question.text, "Which sequence had the better quality?");
+  EXPECT_EQ(protocol_answers(ProtocolKind::two_afc, TwoAfcQuestion::better),
+            (std::vector<std::string>{"first", "second"}));
+}
+
+TEST(ProtocolsConfig, TwoAfcNeedsAKnownQuestion) {
+  ConfigText base;
+  base.protocol = replace_once(base.protocol, "question = \"same\"", "question = \"worse\"");
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "question = \"worse\""), "protocol.question", "\"worse\"");
+  base.protocol = replace_once(base.protocol, "question = \"worse\"\n", "");
+  const std::string missing = base.text();
+  // A missing key: the error names the table's line ([protocol]).
+  expect_error(missing, line_of(missing, "[protocol]"), "protocol.question", "missing");
+}
+
+TEST(ProtocolsConfig, Pair) {
+  ConfigText base;
+  base.protocol = "[protocol]\nkind = \"pair\"\nrepeats = 4\nquestion_text = \"Better?\"\ntrial_order = \"fixed\"\n"
+                  "block_order = \"random\"\n";
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.protocol.kind, ProtocolKind::pair);
+  EXPECT_EQ(config.protocol.repeats, 4);
+  EXPECT_TRUE(config.protocol.counterbalance);
+  EXPECT_FALSE(config.protocol.randomise_trials);
+  EXPECT_TRUE(config.protocol.randomise_blocks);
+  EXPECT_EQ(config.protocol.question.text, "Better?");
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"first", "second", "same"}));
+  EXPECT_EQ(keys_of(config, "same"), (std::vector<std::string>{"s", "space", "pad_a"}));
+  EXPECT_DOUBLE_EQ(config.attention.share, 0.2);  // pair has a "same" answer
+}
+
+TEST(ProtocolsConfig, PairRejectsTheTwoAfcQuestionKey) {
+  ConfigText base;
+  base.protocol = "[protocol]\nkind = \"pair\"\nquestion = \"same\"\nrepeats = 2\n";
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "question = \"same\""), "protocol.question", "unknown key");
+}
+
+TEST(ProtocolsConfig, Ramp) {
+  ConfigText base;
+  base.attention.clear();
+  base.levels = replace_once(base.levels, "higher_is_better = true", "higher_is_better = false");
+  base.protocol = "[protocol]\nkind = \"ramp\"\nrepeats = 3\n";
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.protocol.kind, ProtocolKind::ramp);
+  EXPECT_EQ(config.protocol.repeats, 3);         // odd is fine: no counterbalancing for ramps
+  EXPECT_FALSE(config.protocol.counterbalance);
+  EXPECT_FALSE(config.levels.higher_is_better);
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"increased", "decreased", "same"}));
+  EXPECT_EQ(keys_of(config, "increased"), (std::vector<std::string>{"up", "pad_up"}));
+  EXPECT_EQ(keys_of(config, "decreased"), (std::vector<std::string>{"down", "pad_down"}));
+  EXPECT_EQ(config.protocol.question.text, "Did the quality increase, decrease or stay the same?");
+}
+
+TEST(ProtocolsConfig, Slider) {
+  ConfigText base;
+  base.attention.clear();
+  base.protocol = "[protocol]\nkind = \"slider\"\n";
+  StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.protocol.kind, ProtocolKind::slider);
+  EXPECT_EQ(config.protocol.repeats, 1);
+  EXPECT_FALSE(config.protocol.counterbalance);
+  EXPECT_DOUBLE_EQ(config.protocol.slider.start_level, 4.0);  // the first level by default
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"up", "down", "reference", "save"}));
+  EXPECT_EQ(keys_of(config, "save"), (std::vector<std::string>{"enter", "space", "pad_a"}));
+
+  base.protocol = "[protocol]\nkind = \"slider\"\nstart_level = 16\n";
+  config = parse(base.text());
+  EXPECT_DOUBLE_EQ(config.protocol.slider.start_level, 16.0);
+
+  base.protocol = "[protocol]\nkind = \"slider\"\nstart_level = 17\n";
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "start_level = 17"), "protocol.start_level", "[levels]");
+}
+
+TEST(ProtocolsConfig, Rating) {
+  ConfigText base;
+  base.protocol = "[protocol]\nkind = \"rating\"\nrepeats = 2\ncounterbalance = false\n";
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.protocol.kind, ProtocolKind::rating);
+  EXPECT_FALSE(config.protocol.counterbalance);
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"1", "2", "3"}));
+  EXPECT_EQ(keys_of(config, "1"), (std::vector<std::string>{"1", "pad_b"}));
+  EXPECT_EQ(keys_of(config, "3"), (std::vector<std::string>{"3", "pad_a"}));
+  EXPECT_DOUBLE_EQ(config.attention.share, 0.2);
+}
+
+TEST(ProtocolsConfig, ProtocolNamesAndAnswers) {
+  EXPECT_STREQ(protocol_name(ProtocolKind::two_afc), "2afc");
+  EXPECT_STREQ(protocol_name(ProtocolKind::pair), "pair");
+  EXPECT_STREQ(protocol_name(ProtocolKind::ramp), "ramp");
+  EXPECT_STREQ(protocol_name(ProtocolKind::slider), "slider");
+  EXPECT_STREQ(protocol_name(ProtocolKind::rating), "rating");
+  EXPECT_EQ(protocol_answers(ProtocolKind::two_afc, TwoAfcQuestion::same), (std::vector<std::string>{"same", "different"}));
+  EXPECT_EQ(protocol_answers(ProtocolKind::rating, TwoAfcQuestion::same), (std::vector<std::string>{"1", "2", "3"}));
+}
+
+TEST(ProtocolsConfig, UnknownProtocolKind) {
+  ConfigText base;
+  base.protocol = "[protocol]\nkind = \"3afc\"\n";
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "kind = \"3afc\""), "protocol.kind", "\"3afc\"");
+}
+
+TEST(ProtocolsConfig, Variants) {
+  ConfigText base;
+  base.stimulus = R"([stimulus]
+duration_s = 0.5
+frames_per_second = 10
+
+[stimulus.reference]
+method = "gt"
+samples_per_pixel = 4
+
+[stimulus.test]
+method = "ipr"
+pyramid_levels = 3
+
+[[stimulus.variant]]
+name = "coarse"
+pyramid_levels = 2
+
+[[stimulus.variant]]
+name = "fine"
+pyramid_levels = 5
+min_filter_size = 1
+)";
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.stimulus.reference.parameters, (std::map<std::string, double>{{"samples_per_pixel", 4.0}}));
+  EXPECT_EQ(describe(config.stimulus.test.method).name, "ipr");
+  EXPECT_EQ(config.stimulus.test.parameters, (std::map<std::string, double>{{"pyramid_levels", 3.0}}));
+  ASSERT_EQ(config.stimulus.variants.size(), 2u);
+  EXPECT_EQ(config.stimulus.variants[0].name, "coarse");
+  EXPECT_EQ(config.stimulus.variants[0].parameters, (std::map<std::string, double>{{"pyramid_levels", 2.0}}));
+  EXPECT_EQ(config.stimulus.variants[1].name, "fine");
+  EXPECT_EQ(config.stimulus.variants[1].parameters,
+            (std::map<std::string, double>{{"min_filter_size", 1.0}, {"pyramid_levels", 5.0}}));
+}
+
+TEST(ProtocolsConfig, VariantErrors) {
+  ConfigText base;
+  const std::string variants = "\n[[stimulus.variant]]\nname = \"a\"\nmax_steps = 8\n\n[[stimulus.variant]]\nname = \"a\"\n";
+  base.stimulus += variants;
+  std::string text = base.text();
+  expect_error(text, line_of(text, "name = \"a\"", 2), "stimulus.variant[2].name", "duplicate variant \"a\"");
+
+  base = ConfigText{};
+  base.stimulus += "\n[[stimulus.variant]]\nname = \"a\"\npyramid_levels = 3\n";  // the test method is gt
+  text = base.text();
+  expect_error(text, line_of(text, "pyramid_levels = 3"), "stimulus.variant[1].pyramid_levels",
+               "not a parameter of method \"gt\"");
+
+  base = ConfigText{};
+  base.stimulus += "\n[[stimulus.variant]]\nname = \"a/b\"\n";
+  text = base.text();
+  expect_error(text, line_of(text, "name = \"a/b\""), "stimulus.variant[1].name", "expected");
+
+  base = ConfigText{};
+  base.stimulus += "\n[[stimulus.variant]]\nmax_steps = 8\n";
+  text = base.text();
+  expect_error(text, line_of(text, "[[stimulus.variant]]"), "stimulus.variant[1].name", "missing");
+}
+
+TEST(ProtocolsConfig, CustomKeys) {
+  ConfigText base;
+  base.protocol += "\n[protocol.keys]\nsame = [\"j\", \"pad_x\"]\ndifferent = [\"k\"]\n";
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(answer_names(config), (std::vector<std::string>{"same", "different"}));
+  EXPECT_EQ(keys_of(config, "same"), (std::vector<std::string>{"j", "pad_x"}));
+  EXPECT_EQ(keys_of(config, "different"), (std::vector<std::string>{"k"}));
+
+  // Only one answer rebound: the other keeps its defaults.
+  base = ConfigText{};
+  base.protocol += "\n[protocol.keys]\ndifferent = [\"k\", \"enter\"]\n";
+  const StudyConfig partial = parse(base.text());
+  EXPECT_EQ(keys_of(partial, "same"), (std::vector<std::string>{"s", "space", "pad_a"}));
+  EXPECT_EQ(keys_of(partial, "different"), (std::vector<std::string>{"k", "enter"}));
+}
+
+TEST(ProtocolsConfig, KeyBoundToTwoAnswers) {
+  ConfigText base;
+  // "d" is the default key of "different".
+  base.protocol += "\n[protocol.keys]\nsame = [\"d\"]\n";
+  const std::string text = base.text();
+  const std::string message = error_of(text);
+  SCOPED_TRACE(message);
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+  EXPECT_EQ(message.rfind(kPath + ":" + std::to_string(line_of(text, "[protocol.keys]")) + ": protocol.keys: ", 0), 0u);
+  EXPECT_NE(message.find("\"d\""), std::string::npos);
+  EXPECT_NE(message.find("\"same\""), std::string::npos);
+  EXPECT_NE(message.find("\"different\""), std::string::npos);
+
+  base = ConfigText{};
+  base.protocol += "\n[protocol.keys]\nsame = [\"j\"]\ndifferent = [\"k\", \"j\"]\n";
+  const std::string both = base.text();
+  EXPECT_NE(error_of(both).find("\"j\""), std::string::npos);
+}
+
+TEST(ProtocolsConfig, KeyErrors) {
+  ConfigText base;
+  base.protocol += "\n[protocol.keys]\nsame = [\"F1\"]\n";
+  std::string text = base.text();
+  expect_error(text, line_of(text, "same = [\"F1\"]"), "protocol.keys.same", "unknown key \"F1\"");
+
+  base = ConfigText{};
+  base.protocol += "\n[protocol.keys]\nfirst = [\"f\"]\n";
+  text = base.text();
+  expect_error(text, line_of(text, "first = [\"f\"]"), "protocol.keys.first", "not an answer of this protocol");
+
+  base = ConfigText{};
+  base.protocol += "\n[protocol.keys]\nsame = \"s\"\n";
+  text = base.text();
+  expect_error(text, line_of(text, "same = \"s\""), "protocol.keys.same", "array of strings");
+
+  base = ConfigText{};
+  base.protocol += "\n[protocol.keys]\nsame = []\n";
+  text = base.text();
+  expect_error(text, line_of(text, "same = []"), "protocol.keys.same", "non-empty");
+}
+
+// --- errors ---------------------------------------------------------------------------------------
+
+TEST(ProtocolsConfig, UnknownKeyWithItsLine) {
+  ConfigText base;
+  base.display = replace_once(base.display, "refresh_hz = 60\n", "refresh_hz = 60\ncolour = 3\n");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "colour = 3"), "display.colour", "unknown key");
+
+  base = ConfigText{};
+  base.study += "sede = 3\n";
+  text = base.text();
+  expect_error(text, line_of(text, "sede = 3"), "study.sede", "unknown key");
+
+  base = ConfigText{};
+  base.timing += "black_intervall_s = 1\n";
+  text = base.text();
+  expect_error(text, line_of(text, "black_intervall_s"), "timing.black_intervall_s", "unknown key");
+
+  base = ConfigText{};
+  base.blocks += "scale = 2\n";  // in the second block
+  text = base.text();
+  expect_error(text, line_of(text, "scale = 2"), "block[2].scale", "unknown key");
+
+  base = ConfigText{};
+  base.protocol += "repeat = 2\n";
+  text = base.text();
+  expect_error(text, line_of(text, "repeat = 2"), "protocol.repeat", "unknown key");
+
+  base = ConfigText{};
+  base.levels += "higher_is_beter = false\n";
+  text = base.text();
+  expect_error(text, line_of(text, "higher_is_beter"), "levels.higher_is_beter", "unknown key");
+
+  base = ConfigText{};
+  base.attention += "breaks = 2\n";
+  text = base.text();
+  expect_error(text, line_of(text, "breaks = 2"), "attention.breaks", "unknown key");
+}
+
+TEST(ProtocolsConfig, UnknownTopLevelTable) {
+  ConfigText base;
+  base.blocks += "\n[extras]\nfoo = 1\n";
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "[extras]"), "extras", "unknown key");
+}
+
+TEST(ProtocolsConfig, WrongType) {
+  ConfigText base;
+  base.display = replace_once(base.display, "width_px = 320", "width_px = \"320\"");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "width_px = \"320\""), "display.width_px", "expected an integer, got a string");
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "width_px = 320", "width_px = 320.5");
+  text = base.text();
+  expect_error(text, line_of(text, "width_px = 320.5"), "display.width_px", "expected an integer, got a number");
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "refresh_hz = 60", "refresh_hz = \"60\"");
+  text = base.text();
+  expect_error(text, line_of(text, "refresh_hz = \"60\""), "display.refresh_hz", "expected a number, got a string");
+
+  base = ConfigText{};
+  base.display += "fullscreen = 1\n";
+  text = base.text();
+  expect_error(text, line_of(text, "fullscreen = 1"), "display.fullscreen", "expected true or false, got an integer");
+
+  base = ConfigText{};
+  base.study = replace_once(base.study, "name = \"unit\"", "name = 3");
+  text = base.text();
+  expect_error(text, line_of(text, "name = 3"), "study.name", "expected a string, got an integer");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "values = [4, 8, 16, 32, 64]", "values = 4");
+  text = base.text();
+  expect_error(text, line_of(text, "values = 4"), "levels.values", "array of numbers");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "values = [4, 8, 16, 32, 64]", "values = [4, \"8\"]");
+  text = base.text();
+  expect_error(text, line_of(text, "values = [4"), "levels.values", "a string");
+
+  base = ConfigText{};
+  base.study += "\ndisplay = 3\n";  // a value where a table is required
+  base.display.clear();
+  text = base.text();
+  expect_error(text, line_of(text, "display = 3"), "study.display", "unknown key");
+}
+
+TEST(ProtocolsConfig, TableWhereAValueIsRequired) {
+  ConfigText base;
+  base.display.clear();
+  base.study = "display = 3\n" + base.study;  // a root key, before [study]
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "display = 3"), "display", "expected a table ([display]), got an integer");
+}
+
+TEST(ProtocolsConfig, OutOfRange) {
+  ConfigText base;
+  base.display = replace_once(base.display, "width_px = 320", "width_px = 4");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "width_px = 4"), "display.width_px", "expected a value in [8, 16384], got 4");
+
+  base = ConfigText{};
+  base.attention = replace_once(base.attention, "share = 0.2", "share = 0.95");
+  text = base.text();
+  expect_error(text, line_of(text, "share = 0.95"), "attention.share", "expected a value in [0, 0.9], got 0.95");
+
+  base = ConfigText{};
+  base.protocol = replace_once(base.protocol, "repeats = 2", "repeats = 0");
+  text = base.text();
+  expect_error(text, line_of(text, "repeats = 0"), "protocol.repeats", "[1, 1000]");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "[stimulus.reference]\nmethod = \"gt\"\n",
+                               "[stimulus.reference]\nmethod = \"gt\"\nsamples_per_pixel = 3\n");
+  text = base.text();
+  expect_error(text, line_of(text, "samples_per_pixel = 3"), "stimulus.reference.samples_per_pixel",
+               "expected one of 1 4 16, got 3");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "values = [4, 8, 16, 32, 64]", "values = [4, 8, 5000]");
+  text = base.text();
+  expect_error(text, line_of(text, "values = [4, 8, 5000]"), "levels.values", "got 5000");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "values = [4, 8, 16, 32, 64]", "values = [4, 8.5]");
+  text = base.text();
+  expect_error(text, line_of(text, "values = [4, 8.5]"), "levels.values", "whole number");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "values = [4, 8, 16, 32, 64]", "values = [8, 4]");
+  text = base.text();
+  expect_error(text, line_of(text, "values = [8, 4]"), "levels.values", "ascending");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "values = [4, 8, 16, 32, 64]", "values = [4, 4]");
+  text = base.text();
+  expect_error(text, line_of(text, "values = [4, 4]"), "levels.values", "ascending");
+
+  base = ConfigText{};
+  base.study = replace_once(base.study, "seed = 7", "seed = -1");
+  text = base.text();
+  expect_error(text, line_of(text, "seed = -1"), "study.seed", "non-negative");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "duration_s = 0.5", "duration_s = 0");
+  text = base.text();
+  expect_error(text, line_of(text, "duration_s = 0"), "stimulus.duration_s", "expected a value in");
+
+  base = ConfigText{};
+  base.timing = replace_once(base.timing, "black_interval_s = 0.25", "black_interval_s = -0.1");
+  text = base.text();
+  expect_error(text, line_of(text, "black_interval_s = -0.1"), "timing.black_interval_s", "expected a value in");
+
+  base = ConfigText{};
+  base.attention = replace_once(base.attention, "max_errors = 3", "max_errors = 0");
+  text = base.text();
+  expect_error(text, line_of(text, "max_errors = 0"), "attention.max_errors", "expected a value in [1, 1000]");
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "refresh_hz = 60", "refresh_hz = inf");
+  text = base.text();
+  expect_error(text, line_of(text, "refresh_hz = inf"), "display.refresh_hz", "finite");
+}
+
+TEST(ProtocolsConfig, HugeIntegersAreOutOfRangeNotWrapped) {
+  // 2^32 + 320 is far outside [8, 16384]; it must not be read as 320 (an int cast before the range
+  // check would wrap it into range).
+  ConfigText base;
+  base.display = replace_once(base.display, "width_px = 320", "width_px = 4294967616");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "width_px = 4294967616"), "display.width_px", "expected a value in [8, 16384]");
+
+  base = ConfigText{};
+  base.protocol = replace_once(base.protocol, "repeats = 2", "repeats = 4294967298");  // 2^32 + 2
+  text = base.text();
+  expect_error(text, line_of(text, "repeats = 4294967298"), "protocol.repeats", "expected a value in [1, 1000]");
+
+  base = ConfigText{};
+  base.attention = replace_once(base.attention, "max_errors = 3", "max_errors = -4294967293");  // -2^32 + 3
+  text = base.text();
+  expect_error(text, line_of(text, "max_errors = -4294967293"), "attention.max_errors", "expected a value in [1, 1000]");
+}
+
+TEST(ProtocolsConfig, UnsafeNames) {
+  ConfigText base;
+  base.study = replace_once(base.study, "name = \"unit\"", "name = \"../unit\"");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "name = \"../unit\""), "study.name", "expected");
+
+  base = ConfigText{};
+  base.study = replace_once(base.study, "name = \"unit\"", "name = \"\"");
+  text = base.text();
+  expect_error(text, line_of(text, "name = \"\""), "study.name", "expected");
+
+  base = ConfigText{};
+  base.study = replace_once(base.study, "name = \"unit\"", "name = \"" + std::string(65, 'a') + "\"");
+  text = base.text();
+  expect_error(text, line_of(text, "name = \"aaa"), "study.name", "expected");
+
+  base = ConfigText{};
+  base.blocks = replace_once(base.blocks, "name = \"cols\"", "name = \"a b\"");
+  text = base.text();
+  expect_error(text, line_of(text, "name = \"a b\""), "block[2].name", "expected");
+}
+
+TEST(ProtocolsConfig, MissingRequiredKey) {
+  // A missing key is reported at the line of its table (the header says LINE may be omitted; when
+  // it is present it must be the table's line).
+  const auto check_missing = [](const std::string& text, const std::string& table_header, const std::string& key) {
+    const std::string message = error_of(text);
+    SCOPED_TRACE(message);
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+    const std::string with_line = kPath + ":" + std::to_string(line_of(text, table_header)) + ": " + key + ": ";
+    const std::string without_line = kPath + ": " + key + ": ";
+    EXPECT_TRUE(message.rfind(with_line, 0) == 0 || message.rfind(without_line, 0) == 0)
+        << "expected \"" << with_line << "\" or \"" << without_line << "\"";
+    EXPECT_NE(message.find("missing"), std::string::npos);
+  };
+  ConfigText base;
+  base.display = replace_once(base.display, "height_px = 180\n", "");
+  check_missing(base.text(), "[display]", "display.height_px");
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "viewing_distance_mm = 500\n", "");
+  check_missing(base.text(), "[display]", "display.viewing_distance_mm");
+
+  base = ConfigText{};
+  base.study = replace_once(base.study, "seed = 7\n", "");
+  check_missing(base.text(), "[study]", "study.seed");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "duration_s = 0.5\n", "");
+  check_missing(base.text(), "[stimulus]", "stimulus.duration_s");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"\n", "[stimulus.test]\n");
+  check_missing(base.text(), "[stimulus.test]", "stimulus.test.method");
+
+  base = ConfigText{};
+  base.protocol = replace_once(base.protocol, "kind = \"2afc\"\n", "");
+  check_missing(base.text(), "[protocol]", "protocol.kind");
+
+  base = ConfigText{};
+  base.attention = replace_once(base.attention, "share = 0.2\n", "");
+  check_missing(base.text(), "[attention]", "attention.share");
+
+  base = ConfigText{};
+  base.blocks = replace_once(base.blocks, "scene = \"columns\"\n", "");
+  const std::string no_scene = base.text();
+  const std::string message = error_of(no_scene);
+  EXPECT_NE(message.find("block[2].scene: missing"), std::string::npos) << message;
+}
+
+TEST(ProtocolsConfig, MissingRequiredTable) {
+  for (const char* table : {"protocol", "block", "display", "study", "stimulus"}) {
+    ConfigText base;
+    if (std::string(table) == "protocol") base.protocol.clear();
+    if (std::string(table) == "block") base.blocks.clear();
+    if (std::string(table) == "display") base.display.clear();
+    if (std::string(table) == "study") base.study.clear();
+    if (std::string(table) == "stimulus") base.stimulus.clear();
+    const std::string message = error_of(base.text());
+    SCOPED_TRACE(message);
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+    EXPECT_EQ(message.rfind(kPath + ":", 0), 0u);
+    EXPECT_NE(message.find(std::string(" ") + table + ": "), std::string::npos);
+    EXPECT_NE(message.find("missing"), std::string::npos);
+  }
+}
+
+TEST(ProtocolsConfig, DuplicateBlockName) {
+  ConfigText base;
+  base.blocks = "[[block]]\nscene = \"primitives\"\n\n[[block]]\nscene = \"columns\"\n\n[[block]]\nscene = \"primitives\"\n";
+  std::string text = base.text();
+  // The third block has no name key: the error points at its [[block]] header.
+  expect_error(text, line_of(text, "[[block]]", 3), "block[3].name", "duplicate block \"primitives\"");
+
+  base.blocks = "[[block]]\nscene = \"primitives\"\nname = \"x\"\n\n[[block]]\nscene = \"columns\"\nname = \"x\"\n";
+  text = base.text();
+  expect_error(text, line_of(text, "name = \"x\"", 2), "block[2].name", "duplicate block \"x\"");
+
+  // The same scene under two names is fine.
+  base.blocks = "[[block]]\nscene = \"primitives\"\nname = \"p1\"\n\n[[block]]\nscene = \"primitives\"\nname = \"p2\"\n";
+  const StudyConfig config = parse(base.text());
+  ASSERT_EQ(config.blocks.size(), 2u);
+  EXPECT_EQ(config.blocks[1].name, "p2");
+  EXPECT_EQ(config.blocks[1].scene, "primitives");
+}
+
+TEST(ProtocolsConfig, UnknownScene) {
+  ConfigText base;
+  base.blocks = replace_once(base.blocks, "scene = \"columns\"", "scene = \"no_such_scene\"");
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "scene = \"no_such_scene\""), "block[2].scene",
+               "no built-in scene or file \"no_such_scene\"");
+  // The message lists the built-in scenes.
+  EXPECT_NE(error_of(text).find("primitives"), std::string::npos);
+}
+
+TEST(ProtocolsConfig, SceneFileRelativeToTheConfig) {
+  static std::atomic<int> counter{0};
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("fovlab_config_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  std::filesystem::create_directories(dir / "scenes");
+  {
+    std::ofstream scene(dir / "scenes" / "my_scene.glsl");
+    scene << "// a scene\n";
+  }
+  ConfigText base;
+  base.blocks = "[[block]]\nscene = \"scenes/my_scene.glsl\"\n";
+  const std::string config_path = (dir / "study.toml").string();
+  const StudyConfig config = parse_study_config_text(base.text(), config_path, renderer_scene_catalog());
+  ASSERT_EQ(config.blocks.size(), 1u);
+  EXPECT_EQ(config.blocks[0].name, "my_scene");
+  EXPECT_EQ(std::filesystem::path(config.blocks[0].scene), (dir / "scenes" / "my_scene.glsl").lexically_normal());
+  // The same file relative to another folder does not exist.
+  EXPECT_THROW(parse_study_config_text(base.text(), kPath, renderer_scene_catalog()), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ProtocolsConfig, UnknownMethod) {
+  ConfigText base;
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"foveated\"");
+  const std::string text = base.text();
+  expect_error(text, line_of(text, "method = \"foveated\""), "stimulus.test.method", "expected one of gt, ipr, fipr, pt, fpt, got \"foveated\"");
+}
+
+TEST(ProtocolsConfig, ParameterNotOfTheMethod) {
+  ConfigText base;
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"",
+                               "[stimulus.test]\nmethod = \"gt\"\npyramid_levels = 3");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "pyramid_levels = 3"), "stimulus.test.pyramid_levels",
+               "not a parameter of method \"gt\"");
+
+  // The levels parameter must be one of the test method's parameters too.
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "parameter = \"max_steps\"", "parameter = \"pyramid_levels\"");
+  text = base.text();
+  expect_error(text, line_of(text, "parameter = \"pyramid_levels\""), "levels.parameter", "\"gt\"");
+}
+
+TEST(ProtocolsConfig, CounterbalanceNeedsEvenRepeats) {
+  ConfigText base;
+  base.protocol = replace_once(base.protocol, "repeats = 2", "repeats = 3");
+  // Odd repeats: not counterbalanced by default (a fair coin per trial)...
+  EXPECT_FALSE(parse(base.text()).protocol.counterbalance);
+  // ...and asking for counterbalancing with them is an error.
+  base.protocol += "counterbalance = true\n";
+  std::string text = base.text();
+  expect_error(text, line_of(text, "repeats = 3"), "protocol.repeats", "even");
+
+  // Ramps and sliders have no order to counterbalance.
+  base = ConfigText{};
+  base.attention.clear();
+  base.protocol = "[protocol]\nkind = \"ramp\"\ncounterbalance = true\nrepeats = 2\n";
+  text = base.text();
+  expect_error(text, line_of(text, "counterbalance = true"), "protocol.counterbalance", "counterbalance");
+}
+
+TEST(ProtocolsConfig, RampAndSliderNeedLevels) {
+  for (const char* kind : {"ramp", "slider"}) {
+    ConfigText base;
+    base.attention.clear();
+    base.levels.clear();
+    base.protocol = std::string("[protocol]\nkind = \"") + kind + "\"\n";
+    std::string text = base.text();
+    expect_error(text, line_of(text, "kind = "), "protocol.kind", "[levels]");
+
+    base.levels = "[levels]\nparameter = \"max_steps\"\nvalues = [16]\n";  // one level is not a ladder
+    text = base.text();
+    expect_error(text, line_of(text, "kind = "), "protocol.kind", "at least two");
+  }
+}
+
+TEST(ProtocolsConfig, AttentionChecksNeedAnIdenticalAnswer) {
+  const std::vector<std::string> protocols = {"[protocol]\nkind = \"2afc\"\nquestion = \"better\"\nrepeats = 2\n",
+                                              "[protocol]\nkind = \"ramp\"\n", "[protocol]\nkind = \"slider\"\n"};
+  for (const std::string& protocol : protocols) {
+    ConfigText base;
+    base.protocol = protocol;
+    const std::string text = base.text();
+    expect_error(text, line_of(text, "share = 0.2"), "attention.share", "identical");
+    // share = 0 is allowed with any protocol.
+    base.attention = replace_once(base.attention, "share = 0.2", "share = 0");
+    EXPECT_DOUBLE_EQ(parse(base.text()).attention.share, 0.0);
+  }
+}
+
+TEST(ProtocolsConfig, InvalidTomlSyntaxWithItsLine) {
+  ConfigText base;
+  base.display = replace_once(base.display, "height_px = 180", "height_px = = 180");
+  std::string text = base.text();
+  std::string message = error_of(text);
+  EXPECT_EQ(message.rfind(kPath + ":" + std::to_string(line_of(text, "height_px = = 180")) + ": ", 0), 0u) << message;
+  EXPECT_NE(message.find("not valid TOML"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+  base = ConfigText{};
+  base.blocks += "[[block]\nscene = \"temple\"\n";  // unclosed array-of-tables header
+  text = base.text();
+  message = error_of(text);
+  EXPECT_EQ(message.rfind(kPath + ":" + std::to_string(line_of(text, "[[block]\n")) + ": ", 0), 0u) << message;
+  EXPECT_NE(message.find("not valid TOML"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+  // A key given twice is invalid TOML, reported at the second one.
+  base = ConfigText{};
+  base.display += "width_px = 640\n";
+  text = base.text();
+  message = error_of(text);
+  EXPECT_EQ(message.rfind(kPath + ":" + std::to_string(line_of(text, "width_px = 640")) + ": ", 0), 0u) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(ProtocolsConfig, FramesPerSecondMustDivideTheRefreshRate) {
+  ConfigText base;
+  base.stimulus = replace_once(base.stimulus, "frames_per_second = 10", "frames_per_second = 25");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "frames_per_second = 25"), "stimulus.frames_per_second", "refresh rate");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "frames_per_second = 10", "frames_per_second = 120");
+  text = base.text();
+  expect_error(text, line_of(text, "frames_per_second = 120"), "stimulus.frames_per_second", "expected a value in");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "frames_per_second = 10", "frames_per_second = 20");
+  const StudyConfig config = parse(base.text());
+  EXPECT_EQ(config.stimulus.refreshes_per_frame(60.0), 3);
+  EXPECT_EQ(config.stimulus.frame_count(), 10);
+
+  // 144 Hz: 48 fps divides it, 60 does not.
+  base = ConfigText{};
+  base.display = replace_once(base.display, "refresh_hz = 60", "refresh_hz = 144");
+  base.stimulus = replace_once(base.stimulus, "frames_per_second = 10", "frames_per_second = 48");
+  EXPECT_EQ(parse(base.text()).stimulus.refreshes_per_frame(144.0), 3);
+  base.stimulus = replace_once(base.stimulus, "frames_per_second = 48", "frames_per_second = 60");
+  text = base.text();
+  expect_error(text, line_of(text, "frames_per_second = 60"), "stimulus.frames_per_second", "refresh rate");
+}
+
+TEST(ProtocolsConfig, DiagonalOrPhysicalSizeNotBoth) {
+  ConfigText base;
+  base.display += "width_mm = 600\n";
+  std::string text = base.text();
+  expect_error(text, line_of(text, "[display]"), "display", "not both or neither");
+
+  base = ConfigText{};
+  base.display += "width_mm = 600\nheight_mm = 340\n";
+  text = base.text();
+  expect_error(text, line_of(text, "[display]"), "display", "not both or neither");
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "diagonal_in = 27\n", "");
+  text = base.text();
+  expect_error(text, line_of(text, "[display]"), "display", "not both or neither");
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "diagonal_in = 27\n", "width_mm = 600\nheight_mm = 340\n");
+  const StudyConfig config = parse(base.text());
+  EXPECT_DOUBLE_EQ(config.display.width_mm, 600.0);
+  EXPECT_DOUBLE_EQ(config.display.height_mm, 340.0);
+
+  base = ConfigText{};
+  base.display = replace_once(base.display, "diagonal_in = 27\n", "width_mm = 600\n");
+  text = base.text();
+  const std::string message = error_of(text);
+  EXPECT_NE(message.find("display.height_mm: missing"), std::string::npos) << message;
+}
+
+TEST(ProtocolsConfig, TheFirstErrorIsReported) {
+  // Two errors: the one met first ([display] is read before [protocol]) is reported.
+  ConfigText base;
+  base.display = replace_once(base.display, "width_px = 320", "width_px = 2");
+  base.protocol = replace_once(base.protocol, "repeats = 2", "repeats = 3");
+  const std::string message = error_of(base.text());
+  EXPECT_NE(message.find("display.width_px"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -1,0 +1,161 @@
+// The method descriptors (study/stimulus/render_method.h): every parameter binds to its own member,
+// defaults are the descriptors', choices travel by name, configs of the previous schema still read
+// when a log carries them, and docs/config.md's table is the one they make.
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/input_error.h"
+#include "study/config/study_config.h"
+#include "study/stimulus/render_method.h"
+#include "study/stimulus/stimulus_spec.h"
+
+namespace fovlab {
+namespace {
+
+const SceneCatalog kScenes{{"primitives"}, {"courtyard"}, ".obj", false};
+
+TEST(RenderMethod, EveryParameterReadsBackWhatItWrote) {
+  for (const MethodDescriptor& method : all_methods()) {
+    SCOPED_TRACE(std::string(method.name));
+    EXPECT_EQ(find_method(method.name), method.method);
+    std::set<std::string_view> keys;
+    MethodParameters parameters = default_parameters(method.method);
+    ASSERT_EQ(method_of(parameters), method.method);
+    for (const ParameterDescriptor& parameter : method.parameters) {
+      EXPECT_TRUE(keys.insert(parameter.key).second) << "duplicate key " << parameter.key;
+      EXPECT_EQ(parameter.read(parameters), parameter.default_value) << parameter.key;
+    }
+    // Each parameter set to a value of its own (the top of its range, or its last choice) changes
+    // that parameter alone: no two keys share a member.
+    for (const ParameterDescriptor& parameter : method.parameters) {
+      const double value = !parameter.allowed.empty() ? parameter.allowed.back()
+                           : parameter.type == ParameterType::choice ? double(parameter.choices.size() - 1)
+                                                                     : parameter.max_value;
+      MethodParameters changed = default_parameters(method.method);
+      parameter.write(changed, value);
+      EXPECT_EQ(parameter.read(changed), value) << parameter.key;
+      EXPECT_FALSE(check_parameter_value(parameter, value)) << parameter.key;
+      for (const ParameterDescriptor& other : method.parameters) {
+        if (&other == &parameter || other.default_value == value) continue;
+        EXPECT_EQ(other.read(changed), other.default_value) << parameter.key << " moved " << other.key;
+      }
+    }
+  }
+}
+
+TEST(RenderMethod, ChoicesTravelByNameInTheCanonicalTextAndJson) {
+  StimulusSpec spec;
+  spec.scene = "primitives";
+  spec.parameters = default_parameters(RenderMethod::foveated_pyramid);
+  std::get<FoveatedPyramidParameters>(spec.parameters).combine = FiprCombine::fovea_or_product;
+  EXPECT_NE(spec.canonical().find(";combine=fovea-or-product;"), std::string::npos) << spec.canonical();
+  EXPECT_NE(spec.canonical().find(";blur=off;"), std::string::npos);
+  EXPECT_NE(spec.canonical().find(";fovea_radius_deg=7.5;"), std::string::npos);
+  const nlohmann::json json = to_json(spec);
+  EXPECT_EQ(json["method"], "fipr");
+  EXPECT_EQ(json["parameters"]["combine"], "fovea-or-product");
+  EXPECT_EQ(json["parameters"]["pyramid_levels"], 3);
+  EXPECT_EQ(spec.method_name(), "fipr");
+}
+
+TEST(RenderMethod, ValuesOutsideTheDescriptorAreRefusedWithWhatWasExpected) {
+  const MethodDescriptor& fpt = describe(RenderMethod::foveated_path_traced);
+  const ParameterDescriptor& bounces = *find_parameter(fpt, "periphery_bounces");
+  EXPECT_EQ(check_parameter_value(bounces, -2), "a value in [-1, 1024]");
+  EXPECT_EQ(check_parameter_value(bounces, 1.5), "a whole number");
+  EXPECT_FALSE(check_parameter_value(bounces, -1));
+  const ParameterDescriptor& combine = *find_parameter(describe(RenderMethod::foveated_pyramid), "combine");
+  EXPECT_EQ(check_parameter_value(combine, 4), "one of \"max\", \"fovea-or-product\", \"product\", \"acuity\"");
+  EXPECT_EQ(parse_choice(combine, "product"), 2.0);
+  EXPECT_FALSE(parse_choice(combine, "Product"));
+  EXPECT_FALSE(find_parameter(fpt, "foveal_deg"));
+  EXPECT_EQ(find_parameter(fpt, "foveal_deg", /*legacy=*/true)->key, "foveal_aperture_deg");
+}
+
+// A FIPR study as fovlab wrote it before the typed model (log schema 2): old keys, numeric choices.
+const char* kLegacyConfig = R"([study]
+name = "legacy"
+seed = 1
+[display]
+width_px = 64
+height_px = 48
+refresh_hz = 60
+width_mm = 400
+height_mm = 300
+viewing_distance_mm = 600
+[stimulus]
+duration_s = 0.1
+[stimulus.reference]
+method = "gt"
+[stimulus.test]
+method = "fipr"
+outer_periphery_deg = 40
+combine = 2
+[[stimulus.variant]]
+name = "blurred"
+blur = 1
+[levels]
+parameter = "fovea_deg"
+values = [2.5, 5]
+[protocol]
+kind = "2afc"
+question = "same"
+[[block]]
+scene = "primitives"
+)";
+
+TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
+  const StudyConfig config = parse_logged_study_config(kLegacyConfig, "events.jsonl (config_toml)", &kScenes);
+  EXPECT_EQ(config.levels.parameter, "fovea_radius_deg");
+  const auto test = std::get<FoveatedPyramidParameters>(
+      parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters, &config.stimulus.variants[0].parameters}));
+  EXPECT_EQ(test.outer_periphery_radius_deg, 40);
+  EXPECT_EQ(test.combine, FiprCombine::product);
+  EXPECT_TRUE(test.blur);
+  // Without a catalog (a log read on another machine) the scene is taken as written.
+  EXPECT_EQ(parse_logged_study_config(kLegacyConfig, "events.jsonl", nullptr).blocks[0].scene, "primitives");
+  // A config file of today must use today's keys: the old one is named as unknown.
+  try {
+    parse_study_config_text(kLegacyConfig, "old.toml", kScenes);
+    FAIL() << "an old key was accepted in a config file";
+  } catch (const InputError& error) {
+    // (toml++ hands the table's keys over sorted: combine comes before outer_periphery_deg.)
+    EXPECT_EQ(std::string(error.what()),
+              "old.toml:18: stimulus.test.combine: expected one of \"max\", \"fovea-or-product\", \"product\", "
+              "\"acuity\" (a name), got 2");
+  }
+  std::string without_combine = kLegacyConfig;
+  without_combine.replace(without_combine.find("combine = 2\n"), 12, "");
+  try {
+    parse_study_config_text(without_combine, "old.toml", kScenes);
+    FAIL() << "an old key was accepted in a config file";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("old.toml:17: stimulus.test.outer_periphery_deg: not a parameter of method "
+                                              "\"fipr\"", 0),
+              0u)
+        << error.what();
+  }
+}
+
+TEST(RenderMethod, DocsConfigCarriesTheTableTheDescriptorsMake) {
+  std::ifstream file(std::string(FOVLAB_SOURCE_DIR) + "/docs/config.md");
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string doc = text.str();
+  const std::string begin = "<!-- methods: made by `fovlab methods`; begin -->\n";
+  const std::string end = "<!-- methods: end -->";
+  const size_t from = doc.find(begin);
+  const size_t to = doc.find(end);
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), methods_markdown())
+      << "docs/config.md is out of date: replace its table with the output of `fovlab methods`";
+}
+
+}  // namespace
+}  // namespace fovlab
