@@ -10,6 +10,7 @@
 
 #include "analysis/psychometric/psychometric_fit.h"
 #include "analysis/statistics/binomial.h"
+#include "analysis/statistics/percentile.h"
 #include "protocols/log/log_integrity.h"
 
 namespace fovlab::analysis {
@@ -66,6 +67,12 @@ struct ParticipantRow {
   bool session_ended = false;
   LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with --include-broken
   std::string log_note;               // why, when not sealed
+  // Gaze-to-present latency (nearest-rank median and 95th percentile over every stimulus refresh
+  // of the complete trials) and dropped frames; latency_recorded false for logs older than schema 3.
+  bool latency_recorded = false;
+  LatencySummary latency;
+  int64_t dropped_frames = 0;
+  std::string present_clock;
   std::vector<ParticipantThreshold> thresholds;
 };
 

@@ -469,6 +469,10 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.session_ended = participant.session_ended;
     row.log_status = participant.log_status;
     row.log_note = participant.log_note;
+    row.latency_recorded = participant.latency_recorded;
+    row.latency = participant.latency;
+    row.dropped_frames = participant.dropped_frames;
+    row.present_clock = participant.present_clock;
     result.participants.push_back(row);
     if (participant.excluded) {
       result.left_out.push_back({"participant " + participant.participant,

@@ -41,6 +41,12 @@ struct ParticipantData {
   std::vector<StudyTrial> trials;          // complete trials, in session order
   LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with include_broken
   std::string log_note;                      // the verdict in words, when not sealed
+  // Gaze-to-present latency over the complete trials' stimulus refreshes, from the log's
+  // gaze_age_s (schema 3); a schema 1-2 log has none (latency_recorded false: "not recorded").
+  bool latency_recorded = false;
+  LatencySummary latency;
+  int64_t dropped_frames = 0;                // refresh periods missed in the complete trials (every schema)
+  std::string present_clock;                 // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
 };
 
 struct StudyData {

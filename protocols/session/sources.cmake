@@ -13,4 +13,5 @@ list(APPEND protocols_tests
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/session_race_test.cpp
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/disk_full_test.cpp
   ${CMAKE_SOURCE_DIR}/tests/protocols/session/windowed_session_test.cpp
-  ${CMAKE_SOURCE_DIR}/tests/protocols/session/fipr_session_test.cpp)
+  ${CMAKE_SOURCE_DIR}/tests/protocols/session/fipr_session_test.cpp
+  ${CMAKE_SOURCE_DIR}/tests/protocols/session/latency_session_test.cpp)
