@@ -53,7 +53,8 @@ void print_summary(const analysis::AnalysisResult& result) {
   int excluded = 0;
   for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
   std::printf("study %s (%s%s): %zu participant(s), %d excluded; test: exact binomial, %s, H0 1/2, Holm, alpha %s\n",
-              result.study.c_str(), result.protocol.c_str(), result.question.empty() ? "" : (" " + result.question).c_str(),
+              result.study.c_str(), result.rules().name.data(),
+              result.rules().question_name.empty() ? "" : (" " + std::string(result.rules().question_name)).c_str(),
               result.participants.size(), excluded, analysis::alternative_name(result.alternative),
               format_number(result.alpha, 6).c_str());
   for (const auto& threshold : result.thresholds) {
@@ -62,7 +63,7 @@ void print_summary(const analysis::AnalysisResult& result) {
     if (threshold.mean)
       std::printf(" (mean of %d participants, SD %s)", threshold.participants_with_threshold,
                   threshold.sd ? format_number(*threshold.sd, 4).c_str() : "-");
-    else if (result.protocol == "pair")
+    else if (result.protocol == ProtocolKind::pair)
       std::printf(" (pooled over participants)");
     std::printf("\n");
   }

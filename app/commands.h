@@ -9,6 +9,7 @@ void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_bench_fpt_command(CLI::App& app);
+void add_bench_present_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_methods_command(CLI::App& app);
 void add_run_command(CLI::App& app);

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   fovlab::app::add_compare_command(app);
   fovlab::app::add_bench_command(app);
   fovlab::app::add_bench_fpt_command(app);
+  fovlab::app::add_bench_present_command(app);
   fovlab::app::add_devices_command(app);
   fovlab::app::add_methods_command(app);
   fovlab::app::add_run_command(app);

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "analysis/statistics/percentile.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "core/input_error.h"
@@ -49,6 +50,15 @@ void run(RunOptions options) {
               1e3 * outcome.plan_s, outcome.prepare_s, outcome.trial_loop_s, 1e3 * outcome.trial_loop_s / trials_run,
               outcome.events_written, outcome.events_written ? 1e3 * outcome.log_write_s / outcome.events_written : 0.0,
               outcome.wall_s);
+  // Gaze-to-present latency of this run's stimulus refreshes (nearest-rank percentiles).
+  const analysis::LatencySummary latency = analysis::summarise_latency(outcome.gaze_age_s);
+  if (latency.median_ms) {
+    std::printf("latency: gaze-to-present median %.2f ms, p95 %.2f ms over %zu refreshes (%s clock), %d dropped frames\n",
+                *latency.median_ms, *latency.p95_ms, latency.refreshes, outcome.present_clock.c_str(),
+                outcome.dropped_frames);
+  } else {
+    std::printf("latency: no stimulus refresh with a gaze sample in this run, %d dropped frames\n", outcome.dropped_frames);
+  }
 }
 
 }  // namespace
@@ -62,7 +72,8 @@ void add_run_command(CLI::App& app) {
                       "simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N] instead of a person at the keys");
   command->add_flag("--headless", options->session.headless, "No window: a virtual clock (needs --observer)");
   command->add_option("--gaze", options->session.gaze,
-                      "mouse | trace:FILE | synthetic[:seed=N] | pupil[:HOST[:PORT]] (default: mouse, or synthetic headless)");
+                      "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | pupil[:HOST[:PORT]] (default: mouse, or synthetic "
+                      "headless; age_ms: how old each synthetic sample is when read)");
   command->add_option("--results", options->session.results_dir, "Results folder (default: results)");
   command->add_option("--screenshots", options->session.screenshots_dir,
                       "Windowed: save the instructions and the first stimulus as PNG here");

@@ -27,6 +27,7 @@ class HeadlessPresenter final : public Presenter {
   bool close_requested() override { return false; }
   double refresh_hz() const override { return refresh_hz_; }
   bool is_headless() const override { return true; }
+  std::string present_clock() const override { return "virtual"; }
 
  private:
   double refresh_hz_;

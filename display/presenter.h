@@ -36,6 +36,10 @@ class Presenter {
   virtual bool close_requested() = 0;
   virtual double refresh_hz() const = 0;
   virtual bool is_headless() const = 0;
+  // What the times present() returns measure, as the log names it: "virtual" (the headless clock),
+  // "present_wait" (VK_KHR_present_wait said the image was presented), "after_queue_present" (the
+  // time after vkQueuePresentKHR returned and the frame's copy completed; no display feedback).
+  virtual std::string present_clock() const = 0;
 };
 
 }  // namespace fovlab

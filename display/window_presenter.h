@@ -89,6 +89,9 @@ class WindowPresenter final : public Presenter {
   // The primary monitor's refresh rate (glfwGetVideoMode), 60 when unknown.
   double refresh_hz() const override { return refresh_hz_; }
   bool is_headless() const override { return false; }
+  // "after_queue_present" (the clock above); VK_KHR_present_wait is not used yet (lavapipe does not
+  // offer it).
+  std::string present_clock() const override { return "after_queue_present"; }
 
   // The last presented swapchain image as read back from the GPU (the whole swapchain extent,
   // letterbox included, R/B in frame order): copied out of the swapchain image in the same

@@ -73,7 +73,7 @@ std::string test_description(const AnalysisResult& result) {
   return "exact binomial, " + sidedness + ", H0 p = 1/2, Holm across levels, alpha " + format_number(result.alpha, 6);
 }
 
-bool is_rating(const AnalysisResult& result) { return result.protocol == "rating"; }
+bool is_rating(const AnalysisResult& result) { return result.protocol == ProtocolKind::rating; }
 
 std::string level_axis_label(const AnalysisResult& result) {
   return result.level_parameter.empty() ? "level" : "level (" + result.level_parameter + ")";
@@ -86,7 +86,7 @@ std::string conditions_csv(const AnalysisResult& result) {
                               "ci_lower", "ci_upper", "p_value", "p_holm", "stars", "alternative", "mean_rating",
                               "sd_rating"});
   for (const ConditionRow& row : result.conditions) {
-    csv += csv_line({result.study, result.protocol, row.group.scene,
+    csv += csv_line({result.study, std::string(result.rules().name), row.group.scene,
                      row.group.variant, row.method, row.condition, csv_number(row.level),
                      std::to_string(row.n), std::to_string(row.k), csv_number(row.proportion),
                      csv_number(row.interval.lower), csv_number(row.interval.upper), csv_number(row.p_value),
@@ -96,23 +96,38 @@ std::string conditions_csv(const AnalysisResult& result) {
   return csv;
 }
 
+// The latency columns of a participant: median and p95 (ms), refreshes counted, dropped frames and
+// the present clock ("not recorded" for a log older than schema 3, whose latency cells are empty).
+std::vector<std::string> latency_cells(const ParticipantRow& participant) {
+  if (!participant.latency_recorded)
+    return {"", "", "", std::to_string(participant.dropped_frames), "not recorded"};
+  return {csv_number(participant.latency.median_ms), csv_number(participant.latency.p95_ms),
+          std::to_string(participant.latency.refreshes), std::to_string(participant.dropped_frames),
+          participant.present_clock};
+}
+
 std::string participants_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"participant", "excluded", "session_ended", "complete_trials", "attention_checks",
-                              "attention_errors", "scene", "variant", "threshold", "note", "log_status"});
+                              "attention_errors", "scene", "variant", "threshold", "note", "log_status",
+                              "latency_median_ms", "latency_p95_ms", "latency_refreshes", "dropped_frames",
+                              "present_clock"});
   for (const ParticipantRow& participant : result.participants) {
     const std::vector<std::string> common = {
         participant.participant,          participant.excluded ? "true" : "false",
         participant.session_ended ? "true" : "false", std::to_string(participant.complete_trials),
         std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
+    const std::vector<std::string> latency = latency_cells(participant);
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {"", "", "", "", log_status_name(participant.log_status)});
+      cells.insert(cells.end(), latency.begin(), latency.end());
       csv += csv_line(cells);
     }
     for (const ParticipantThreshold& threshold : participant.thresholds) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {threshold.group.scene, threshold.group.variant,
                                  csv_number(threshold.level), threshold.note, log_status_name(participant.log_status)});
+      cells.insert(cells.end(), latency.begin(), latency.end());
       csv += csv_line(cells);
     }
   }
@@ -125,11 +140,22 @@ json interval_json(const ParameterInterval& interval) {
   return {{"lower", json_number(interval.lower)}, {"upper", json_number(interval.upper)}};
 }
 
+// A participant's latency in thresholds.json: null numbers and "recorded": false for logs older
+// than schema 3.
+json latency_json(const ParticipantRow& participant) {
+  return {{"recorded", participant.latency_recorded},
+          {"median_ms", json_number(participant.latency.median_ms)},
+          {"p95_ms", json_number(participant.latency.p95_ms)},
+          {"refreshes", participant.latency.refreshes},
+          {"dropped_frames", participant.dropped_frames},
+          {"present_clock", participant.latency_recorded ? json(participant.present_clock) : json(nullptr)}};
+}
+
 json thresholds_json(const AnalysisResult& result) {
   json root;
   root["study"] = result.study;
-  root["protocol"] = result.protocol;
-  root["question"] = result.question;
+  root["protocol"] = result.rules().name;
+  root["question"] = result.rules().question_name;
   root["level_parameter"] = result.level_parameter;
   root["higher_is_better"] = result.higher_is_better;
   root["levels"] = json::array();
@@ -234,6 +260,7 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"complete_trials", participant.complete_trials},
                                     {"attention_checks", participant.attention_checks},
                                     {"attention_errors", participant.attention_errors},
+                                    {"latency", latency_json(participant)},
                                     {"thresholds", thresholds}});
   }
 
@@ -491,7 +518,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     html += "<dt>" + html_escape(term) + "</dt><dd>" + html_escape(value) + "</dd>\n";
   };
   item("Study", result.study);
-  item("Protocol", result.protocol + (result.question.empty() ? "" : " (question: " + result.question + ")"));
+  const std::string question(result.rules().question_name);
+  item("Protocol", std::string(result.rules().name) + (question.empty() ? "" : " (question: " + question + ")"));
   if (!result.level_parameter.empty()) {
     item("Level parameter", result.level_parameter + (result.higher_is_better ? " (higher is better)" : " (lower is better)"));
   }
@@ -600,7 +628,12 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
                                                p.log_note.empty() ? log_status_name(p.log_status) : p.log_note,
                                                std::to_string(p.complete_trials),
                                                std::to_string(p.attention_errors) + " / " +
-                                                   std::to_string(p.attention_checks)};
+                                                   std::to_string(p.attention_checks),
+                                               p.latency_recorded ? html_number(p.latency.median_ms) + " / " +
+                                                                        html_number(p.latency.p95_ms) + " (" +
+                                                                        p.present_clock + ")"
+                                                                  : "not recorded",
+                                               std::to_string(p.dropped_frames)};
       if (p.thresholds.empty()) {
         auto cells = common;
         cells.insert(cells.end(), {"", "", "", ""});
@@ -613,7 +646,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
       }
     }
     html += html_table({"participant", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
-                        "scene", "variant", "threshold", "note"},
+                        "gaze-to-present ms, median / p95 (clock)", "dropped frames", "scene", "variant", "threshold",
+                        "note"},
                        rows);
   }
 

@@ -10,6 +10,8 @@
 
 #include "analysis/psychometric/psychometric_fit.h"
 #include "analysis/statistics/binomial.h"
+#include "analysis/statistics/percentile.h"
+#include "study/protocol/protocol_rules.h"
 #include "study/log/log_integrity.h"
 
 namespace fovlab::analysis {
@@ -66,6 +68,12 @@ struct ParticipantRow {
   bool session_ended = false;
   LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with --include-broken
   std::string log_note;               // why, when not sealed
+  // Gaze-to-present latency (nearest-rank median and 95th percentile over every stimulus refresh
+  // of the complete trials) and dropped frames; latency_recorded false for logs older than schema 3.
+  bool latency_recorded = false;
+  LatencySummary latency;
+  int64_t dropped_frames = 0;
+  std::string present_clock;
   std::vector<ParticipantThreshold> thresholds;
 };
 
@@ -96,8 +104,9 @@ struct LeftOut {
 
 struct AnalysisResult {
   std::string study;
-  std::string protocol;               // "2afc", "pair", "ramp", "slider", "rating"
-  std::string question;               // 2afc: "same" or "better"; else ""
+  ProtocolKind protocol = ProtocolKind::two_afc;
+  TwoAfcQuestion question = TwoAfcQuestion::same;  // 2afc only
+  const ProtocolRules& rules() const { return protocol_rules(protocol, question); }
   std::string level_parameter;        // e.g. "foveal_deg"; "" without levels
   bool higher_is_better = true;
   std::vector<double> levels;

@@ -34,31 +34,10 @@ std::optional<double> more_degraded(std::optional<double> a, std::optional<doubl
   return higher_is_better ? std::min(*a, *b) : std::max(*a, *b);
 }
 
-// Comparison protocols: whether an answer is in favour of the test stimulus (docs/analysis.md).
-// nullopt: the answer is not one of the protocol's (a timeout, "").
+// Comparison protocols: whether an answer is in favour of the test stimulus (docs/analysis.md,
+// the protocol's rules). nullopt: the answer is not one of the protocol's (a timeout, "").
 std::optional<bool> in_favour_of_test(const StudyData& data, const StudyTrial& trial, const std::string& answer) {
-  const auto test_chosen = [&]() -> std::optional<bool> {
-    if (answer != "first" && answer != "second") return std::nullopt;
-    return (answer == "first") != trial.reference_first;
-  };
-  if (data.protocol == "2afc") {
-    if (data.question == "same") {
-      if (answer == "same") return true;
-      if (answer == "different") return false;
-      return std::nullopt;
-    }
-    return test_chosen();
-  }
-  if (data.protocol == "pair") return answer == "same" ? std::optional<bool>(true) : test_chosen();
-  if (data.protocol == "rating") {
-    if (answer == "3") return true;
-    if (answer == "1" || answer == "2") return false;
-  }
-  return std::nullopt;
-}
-
-bool is_comparison_protocol(const std::string& protocol) {
-  return protocol == "2afc" || protocol == "pair" || protocol == "rating";
+  return data.rules().in_favour_of_test(answer, trial.reference_first);
 }
 
 struct ConditionCounts {
@@ -126,7 +105,7 @@ class ComparisonAnalysis {
           counts.methods.insert(trial.method);
           ++counts.n;
           counts.k += *favour ? 1 : 0;
-          if (data_.protocol == "rating") {
+          if (data_.protocol == ProtocolKind::rating) {
             const double score = std::stod(answer);
             counts.rating_sum += score;
             counts.rating_square_sum += score * score;
@@ -166,7 +145,7 @@ class ComparisonAnalysis {
       row.p_value = binomial_test_p_value(counts.k, counts.n, 0.5, options_.alternative);
       row.stars = significance_stars(row.p_value);
       row.interval = clopper_pearson_interval(counts.k, counts.n, 0.95);
-      if (data_.protocol == "rating") {
+      if (data_.protocol == ProtocolKind::rating) {
         const double n = double(counts.n);
         const double mean = counts.rating_sum / n;
         row.mean_rating = mean;
@@ -216,17 +195,15 @@ class ComparisonAnalysis {
     if (rows_of(group).empty()) return;
     GroupThreshold threshold;
     threshold.group = group;
-    if (data_.protocol == "rating") {
+    if (data_.protocol == ProtocolKind::rating) {
       threshold.definition = "seed 002, 4.4.2: the most degraded level whose mean rating, and that of every better level, "
                              "is at least " + format_number(options_.rating_cutoff, 6);
       threshold.level = walk_from_best(
           group, [&](const ConditionRow& row) { return row.mean_rating && *row.mean_rating >= options_.rating_cutoff; },
           threshold.note);
     } else {
-      const std::string judged = data_.protocol == "2afc" && data_.question == "same" ? "judged identical"
-                                 : data_.protocol == "pair"                          ? "judged as good or better"
-                                                                                     : "preferred";
-      threshold.definition = std::string(data_.protocol == "pair" ? "seed 001, 4.7 (pooled)" : data_.question == "same" ? "seed 000, 4.4 and 5.1" : "seed 002, 5.2") +
+      const std::string judged(data_.rules().judged_words);
+      threshold.definition = std::string(data_.rules().threshold_definition) +
                              ": the most degraded level from which on no level is distinguished from the reference; a level is "
                              "distinguished when the test is " + judged +
                              " in less than half of its trials and the Holm-adjusted exact binomial p (H0: 1/2, " +
@@ -285,13 +262,14 @@ void choose_guess_rate(const StudyData& data, const AnalysisOptions& options,
     result.guess_rate_source = "--guess-rate";
     return;
   }
-  if (data.protocol == "2afc" && data.question == "better") {
+  const ProtocolRules& rules = data.rules();
+  if (rules.kind == ProtocolKind::two_afc && rules.identical.empty()) {
     result.guess_rate = 0.5;
     result.guess_rate_source = "2afc forced choice: chance is 1/2";
     return;
   }
   // Attention checks show identical stimuli: any answer but "identical" is a false alarm.
-  const std::string identical = data.protocol == "rating" ? "3" : "same";
+  const std::string_view identical = rules.identical;
   uint64_t checks = 0, false_alarms = 0;
   for (const ParticipantData* participant : included)
     for (const StudyTrial& trial : participant->trials)
@@ -306,10 +284,10 @@ void choose_guess_rate(const StudyData& data, const AnalysisOptions& options,
   }
   const double false_alarm_rate = double(false_alarms) / double(checks);
   // Pair: a false alarm picks either interval, so half of them name the reference.
-  result.guess_rate = data.protocol == "pair" ? 0.5 * false_alarm_rate : false_alarm_rate;
+  result.guess_rate = rules.guess_rate_scale * false_alarm_rate;
   result.guess_rate_source = "attention checks of included participants: " + std::to_string(false_alarms) + " of " +
                              std::to_string(checks) + " not judged identical" +
-                             (data.protocol == "pair" ? " (halved: either interval)" : "");
+                             (rules.guess_rate_scale != 1.0 ? " (halved: either interval)" : "");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -345,7 +323,7 @@ std::optional<double> pair_threshold(const StudyData& data, const std::vector<co
 enum class RampOutcome { wrong_step, all_right, unanswered_step };
 
 RampOutcome ramp_trial_threshold(const StudyData& data, const StudyTrial& trial, std::optional<double>& threshold) {
-  const std::string correct = trial.ramp_toward_reference ? "increased" : "decreased";
+  const std::string_view correct = trial.ramp_toward_reference ? answers::increased : answers::decreased;
   const size_t steps = trial.sequence_levels.empty() ? 0 : trial.sequence_levels.size() - 1;
   std::vector<bool> answered(steps + 1, false);
   threshold.reset();
@@ -382,9 +360,9 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
     for (const auto& [group, group_trials] : trials) {
       ParticipantThreshold threshold;
       threshold.group = group;
-      if (data.protocol == "pair") {
+      if (data.protocol == ProtocolKind::pair) {
         threshold.level = pair_threshold(data, group_trials, threshold.note);
-      } else if (data.protocol == "ramp") {
+      } else if (data.protocol == ProtocolKind::ramp) {
         std::vector<double> levels;
         int censored_count = 0, unanswered_count = 0;
         for (const StudyTrial* trial : group_trials) {
@@ -401,7 +379,7 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
         if (unanswered_count > 0)
           threshold.note += std::string(threshold.note.empty() ? "" : "; ") + std::to_string(unanswered_count) + of_ramps +
                             "had a step left unanswered: not counted";
-      } else if (data.protocol == "slider") {
+      } else if (data.protocol == ProtocolKind::slider) {
         std::vector<double> levels;
         for (const StudyTrial* trial : group_trials)
           if (trial->saved_level) levels.push_back(*trial->saved_level);
@@ -415,10 +393,10 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
     }
   }
   const char* definition =
-      data.protocol == "pair"
+      data.protocol == ProtocolKind::pair
           ? "seed 001, 4.7: per participant, the most degraded level such that it and every better level were judged "
             "as good as or better than the reference in at least half of the trials; mean and SD across participants"
-      : data.protocol == "ramp"
+      : data.protocol == ProtocolKind::ramp
           ? "seed 001, 4.7: per ramp, the most degraded level of a step answered wrongly (a change missed or seen the wrong "
             "way; every step right: the best level); per participant the mean over ramps; mean and SD across participants"
           : "seed 001, 4.7: per participant, the mean saved level; mean and SD across participants";
@@ -469,6 +447,10 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.session_ended = participant.session_ended;
     row.log_status = participant.log_status;
     row.log_note = participant.log_note;
+    row.latency_recorded = participant.latency_recorded;
+    row.latency = participant.latency;
+    row.dropped_frames = participant.dropped_frames;
+    row.present_clock = participant.present_clock;
     result.participants.push_back(row);
     if (participant.excluded) {
       result.left_out.push_back({"participant " + participant.participant,
@@ -484,8 +466,8 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     result.left_out.push_back({"thresholds and fits", "the study has no levels: its conditions are tested, but there is "
                                                       "no level axis for a threshold or a fit"});
   choose_guess_rate(data, options, included, result);
-  if (is_comparison_protocol(data.protocol)) ComparisonAnalysis(data, options, result).run(included, pool_scenes);
-  if (data.protocol == "pair" || data.protocol == "ramp" || data.protocol == "slider")
+  if (data.rules().judges_against_reference) ComparisonAnalysis(data, options, result).run(included, pool_scenes);
+  if (data.protocol == ProtocolKind::pair || data.protocol == ProtocolKind::ramp || data.protocol == ProtocolKind::slider)
     add_participant_thresholds(data, pool_scenes, result);
   if (included.empty())
     result.left_out.push_back({"study " + data.study, "every participant was excluded: no result"});

@@ -31,9 +31,8 @@ void describe_study(const LogStudy& study, const std::string& path, StudyData& d
   const StudyConfig config = parse_logged_study_config(study.config_toml, path + " (config_toml)", nullptr);
   data.study = study.study;
   data.config_hash = study.config_hash;
-  data.protocol = protocol_name(config.protocol.kind);
-  if (config.protocol.kind == ProtocolKind::two_afc)
-    data.question = config.protocol.two_afc_question == TwoAfcQuestion::same ? "same" : "better";
+  data.protocol = config.protocol.kind;
+  data.question = config.protocol.two_afc_question;
   data.level_parameter = config.levels.parameter;
   data.levels = config.levels.values;
   data.higher_is_better = config.levels.higher_is_better;
@@ -59,6 +58,17 @@ ParticipantData participant_of(ScannedSession& session) {
   participant.excluded = session.excluded;
   participant.session_ended = session.ended;
   participant.attention_errors = session.attention_errors;
+  // Latency: every age of the complete trials, summarised here so the ages are not kept.
+  std::vector<double> gaze_age_s;
+  for (ScannedTrial& scanned : session.trials) {
+    participant.dropped_frames += scanned.dropped_frames;
+    if (scanned.stimuli_with_latency > 0) participant.latency_recorded = true;
+    gaze_age_s.insert(gaze_age_s.end(), scanned.gaze_age_s.begin(), scanned.gaze_age_s.end());
+    scanned.gaze_age_s = {};
+  }
+  participant.latency = summarise_latency(gaze_age_s);
+  for (const std::string& clock : session.present_clocks)
+    participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
   for (ScannedTrial& scanned : session.trials) {
     StudyTrial trial;
     trial.index = scanned.index;

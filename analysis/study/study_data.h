@@ -41,13 +41,20 @@ struct ParticipantData {
   std::vector<StudyTrial> trials;          // complete trials, in session order
   LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with include_broken
   std::string log_note;                      // the verdict in words, when not sealed
+  // Gaze-to-present latency over the complete trials' stimulus refreshes, from the log's
+  // gaze_age_s (schema 3); a schema 1-2 log has none (latency_recorded false: "not recorded").
+  bool latency_recorded = false;
+  LatencySummary latency;
+  int64_t dropped_frames = 0;                // refresh periods missed in the complete trials (every schema)
+  std::string present_clock;                 // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
 };
 
 struct StudyData {
   std::string study;
   std::string config_hash;
-  std::string protocol;                    // "2afc", "pair", "ramp", "slider", "rating"
-  std::string question;                    // 2afc: "same" or "better"
+  ProtocolKind protocol = ProtocolKind::two_afc;
+  TwoAfcQuestion question = TwoAfcQuestion::same;  // 2afc only
+  const ProtocolRules& rules() const { return protocol_rules(protocol, question); }
   std::string level_parameter;
   std::vector<double> levels;              // ascending
   bool higher_is_better = true;

@@ -41,6 +41,7 @@ GazeSample sanitize_gaze(const GazeSample& measured, int width_px, int height_px
 
   GazeSample held;
   held.time_s = raw.time_s;
+  held.acquired_s = raw.acquired_s;
   held.valid = false;
   held.invalid_reason = std::move(reason);
   // The held position must itself be a usable one; otherwise fall back to the centre.

@@ -1,11 +1,17 @@
 #pragma once
 // One gaze sample in screen pixels (origin top-left, x right, y down) at a session time.
+#include <optional>
 #include <string>
 
 namespace fovlab {
 
 struct GazeSample {
   double time_s = 0.0;  // session clock (virtual in headless sessions)
+  // When the sample itself was taken, on the session clock: the cursor read (mouse), the trace's
+  // time (trace), the query time less the configured age (synthetic), the tracker's timestamp mapped
+  // to the session clock (pupil). nullopt when there was no sample at all (a live tracker with
+  // nothing recent: "no_data"). The session logs it and its age at present time.
+  std::optional<double> acquired_s;
   double x_px = 0.0;
   double y_px = 0.0;
   bool valid = true;
@@ -23,7 +29,8 @@ double round_gaze_px(double position_px);
 // rounded position: one that rounds to the screen's width or height (x = 31.996 on a 32-pixel-wide
 // display is 32.00) is off_screen. When a sample is invalid: the last valid position (held), or the
 // screen centre before any valid sample. The returned sample keeps valid = false and the reason, so
-// the log says the position was substituted.
+// the log says the position was substituted. acquired_s stays that of the sample read (the held
+// position may be older).
 GazeSample sanitize_gaze(const GazeSample& raw, int width_px, int height_px, const GazeSample* last_valid);
 
 }  // namespace fovlab

@@ -1,6 +1,7 @@
 #include "protocols/gaze/gaze_spec.h"
 
 #include <charconv>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string_view>
@@ -27,6 +28,28 @@ bool parse_whole(std::string_view text, T& value) {
   return error == std::errc() && end == text.data() + text.size();
 }
 
+// The options of "synthetic:...": comma-separated seed=N and age_ms=A, each at most once.
+void parse_synthetic_options(const std::string& text, std::string_view options, GazeSpec& spec) {
+  bool age_given = false;
+  while (true) {
+    const size_t comma = options.find(',');
+    const std::string_view option = options.substr(0, comma);
+    if (option.substr(0, 5) == "seed=" && !spec.seed_given) {
+      if (!parse_whole(option.substr(5), spec.seed)) bad_spec(text);  // decimal digits only: no sign, no spaces
+      spec.seed_given = true;
+    } else if (option.substr(0, 7) == "age_ms=" && !age_given) {
+      const std::string_view value = option.substr(7);
+      if (!parse_whole(value, spec.age_ms) || !std::isfinite(spec.age_ms) || spec.age_ms < 0.0 || spec.age_ms > 10000.0)
+        throw InputError("--gaze: age_ms: expected milliseconds 0..10000, got \"" + std::string(value) + "\"");
+      age_given = true;
+    } else {
+      bad_spec(text);
+    }
+    if (comma == std::string_view::npos) break;
+    options.remove_prefix(comma + 1);
+  }
+}
+
 }  // namespace
 
 GazeSpec parse_gaze_spec(const std::string& text) {
@@ -45,10 +68,9 @@ GazeSpec parse_gaze_spec(const std::string& text) {
     spec.trace_path = std::string(*path);
   } else if (view == "synthetic") {
     spec.kind = GazeSpec::Kind::synthetic;
-  } else if (const auto seed = after("synthetic:seed=")) {
-    if (!parse_whole(*seed, spec.seed)) bad_spec(text);  // decimal digits only: no sign, no spaces
+  } else if (const auto options = after("synthetic:")) {
+    parse_synthetic_options(text, *options, spec);
     spec.kind = GazeSpec::Kind::synthetic;
-    spec.seed_given = true;
   } else if (view == "pupil") {
     spec.kind = GazeSpec::Kind::pupil;
   } else if (const auto address = after("pupil:")) {
@@ -66,7 +88,7 @@ GazeSpec parse_gaze_spec(const std::string& text) {
 }
 
 std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px,
-                                             uint64_t session_seed) {
+                                             uint64_t session_seed, SessionClock session_clock) {
   switch (spec.kind) {
     case GazeSpec::Kind::mouse:
       throw std::logic_error("make_gaze_source: the mouse gaze source is made by the session from its presenter");
@@ -75,12 +97,14 @@ std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px,
     case GazeSpec::Kind::synthetic: {
       SyntheticGazeParams params;
       params.seed = spec.seed_given ? spec.seed : derive_seed(session_seed, "gaze");
+      params.sample_age_ms = spec.age_ms;
       return std::make_unique<SyntheticGazeSource>(params, width_px, height_px);
     }
     case GazeSpec::Kind::pupil: {
       PupilGazeOptions options;
       options.host = spec.host;
       options.port = spec.port;
+      if (session_clock) options.session_clock = std::move(session_clock);
       return std::make_unique<PupilGazeSource>(options, width_px, height_px);
     }
   }

@@ -4,9 +4,12 @@
 //   trace:FILE          a recorded CSV trace (trace_gaze_source.h)
 //   synthetic           a random fixation pattern seeded from the session seed
 //   synthetic:seed=N    ... with an explicit seed (decimal, 0..2^64-1)
+//   synthetic:age_ms=A  ... whose samples are A ms old when read (0..10000; imitates a tracker's
+//                       latency); with a seed: synthetic:seed=N,age_ms=A (options in any order)
 //   pupil               Pupil Core on 127.0.0.1:50020
 //   pupil:HOST:PORT     Pupil Core's Pupil Remote at HOST:PORT (pupil:HOST alone means port 50020)
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -22,15 +25,21 @@ struct GazeSpec {
   int port = 50020;                // pupil
   uint64_t seed = 0;               // synthetic, when seed_given
   bool seed_given = false;         // synthetic: false = derive_seed(session seed, "gaze")
+  double age_ms = 0.0;             // synthetic: how old each sample is when read
 };
 
-// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil:HOST:PORT, got \"...\"").
+// The session clock (seconds) as the session reads it: the Pupil source maps the tracker's time
+// onto it at start-up. Empty: a monotonic clock of the process (fine for sources that need none).
+using SessionClock = std::function<double()>;
+
+// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil:HOST:PORT, got \"...\"");
+// InputError("--gaze: age_ms: expected milliseconds 0..10000, got \"...\"") for a bad age.
 GazeSpec parse_gaze_spec(const std::string& text);
 
 // The source of a trace, synthetic or pupil spec for a screen of width_px x height_px (the pupil one
 // connects now, so it may throw InputError). std::logic_error for mouse: the session makes that one
 // from its window presenter.
 std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px,
-                                             uint64_t session_seed);
+                                             uint64_t session_seed, SessionClock session_clock = {});
 
 }  // namespace fovlab

@@ -13,7 +13,10 @@ class MouseGazeSource final : public GazeSource {
   GazeSample sample(double time_s) override {
     GazeSample sample;
     sample.time_s = time_s;
+    // The cursor is read now: time_s plus what the read itself took (it pumps window events).
+    const double before_s = presenter_.now_s();
     const auto cursor = presenter_.cursor_px();
+    sample.acquired_s = time_s + (presenter_.now_s() - before_s);
     if (!cursor) {
       sample.valid = false;
       sample.invalid_reason = "off_screen";

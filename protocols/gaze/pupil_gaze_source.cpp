@@ -24,6 +24,10 @@ namespace {
 
 constexpr int receive_poll_ms = 20;  // how often the receiver thread looks at its stop flag
 
+double steady_seconds(std::chrono::steady_clock::time_point time) {
+  return std::chrono::duration<double>(time.time_since_epoch()).count();
+}
+
 std::string format_number(double value) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
@@ -102,6 +106,7 @@ std::optional<GazeSample> decode_pupil_surface_gaze(std::string_view payload, do
   const bool on_surface = on_surf == nullptr || on_surf->type != msgpack::type::BOOLEAN || on_surf->via.boolean;
 
   GazeSample sample;
+  if (std::isfinite(chosen_time)) sample.acquired_s = chosen_time;  // Pupil time; the source maps it
   sample.x_px = *x * width_px;
   sample.y_px = (1.0 - *y) * height_px;
   if (!std::isfinite(sample.x_px) || !std::isfinite(sample.y_px)) {
@@ -132,9 +137,14 @@ struct PupilGazeSource::Impl {
   std::atomic<uint64_t> received{0};
   std::atomic<uint64_t> malformed{0};
 
+  // Set before the receiver starts, read-only afterwards.
+  double clock_offset_s = 0.0;  // Pupil time - session time
+  double clock_sync_rtt_s = 0.0;
+  double steady_to_session_s = 0.0;  // session time - steady clock seconds, at the sync
+
   std::mutex mutex;  // guards the three below
   bool have_sample = false;
-  GazeSample latest;
+  GazeSample latest;  // acquired_s already on the session clock
   std::chrono::steady_clock::time_point latest_arrival;
 
   void receive_loop() {
@@ -155,9 +165,12 @@ struct PupilGazeSource::Impl {
         const std::optional<GazeSample> sample =
             decode_pupil_surface_gaze(parts[1].to_string_view(), options.min_confidence, width_px, height_px);
         if (!sample) continue;  // no gaze on this world frame
+        GazeSample mapped = *sample;
+        mapped.acquired_s = sample->acquired_s ? *sample->acquired_s - clock_offset_s
+                                               : steady_seconds(arrival) + steady_to_session_s;
         {
           const std::lock_guard lock(mutex);
-          latest = *sample;
+          latest = mapped;
           latest_arrival = arrival;
           have_sample = true;
         }
@@ -197,7 +210,12 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
   const int timeout_ms = std::max(1, static_cast<int>(std::lround(impl.options.timeout_s * 1000.0)));
   const std::string no_answer = "no answer from Pupil Remote within " + format_number(impl.options.timeout_s) +
                                 " s (is Pupil Capture running with the Network API plugin?)";
-  std::string sub_port_text;
+  const auto session_now = [&impl] {
+    return impl.options.session_clock ? impl.options.session_clock()
+                                       : steady_seconds(std::chrono::steady_clock::now());
+  };
+  std::string sub_port_text, pupil_time_text;
+  double session_midpoint_s = 0.0;
   try {
     zmq::socket_t remote(impl.context, zmq::socket_type::req);
     remote.set(zmq::sockopt::linger, 0);
@@ -208,6 +226,17 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
     zmq::message_t reply;
     if (!remote.recv(reply, zmq::recv_flags::none)) fail(no_answer);
     sub_port_text = reply.to_string();
+    // Pupil time against the session clock, read on both sides of the request.
+    const double before_s = session_now();
+    const double steady_before_s = steady_seconds(std::chrono::steady_clock::now());
+    if (!remote.send(zmq::str_buffer("t"), zmq::send_flags::none)) fail(no_answer);
+    if (!remote.recv(reply, zmq::recv_flags::none)) fail(no_answer);
+    const double after_s = session_now();
+    const double steady_after_s = steady_seconds(std::chrono::steady_clock::now());
+    pupil_time_text = reply.to_string();
+    session_midpoint_s = 0.5 * (before_s + after_s);
+    impl.clock_sync_rtt_s = after_s - before_s;
+    impl.steady_to_session_s = session_midpoint_s - 0.5 * (steady_before_s + steady_after_s);
   } catch (const zmq::error_t& error) {
     fail(std::string("cannot talk to Pupil Remote (") + error.what() + ")");
   }
@@ -217,6 +246,15 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
   if (error != std::errc() || end != sub_port_text.data() + sub_port_text.size() || sub_port < 1 || sub_port > 65535) {
     fail("Pupil Remote answered SUB_PORT with \"" + sub_port_text + "\", expected a port number");
   }
+
+  double pupil_time_s = 0.0;
+  const auto [time_end, time_error] =
+      std::from_chars(pupil_time_text.data(), pupil_time_text.data() + pupil_time_text.size(), pupil_time_s);
+  if (time_error != std::errc() || time_end != pupil_time_text.data() + pupil_time_text.size() ||
+      !std::isfinite(pupil_time_s)) {
+    fail("Pupil Remote answered t with \"" + pupil_time_text.substr(0, 40) + "\", expected Pupil time in seconds");
+  }
+  impl.clock_offset_s = pupil_time_s - session_midpoint_s;
 
   try {
     impl.subscriber = zmq::socket_t(impl.context, zmq::socket_type::sub);
@@ -257,6 +295,8 @@ GazeSample PupilGazeSource::sample(double time_s) {
 std::string PupilGazeSource::describe() const { return impl_->name; }
 
 uint64_t PupilGazeSource::messages_received() const { return impl_->received.load(); }
+double PupilGazeSource::clock_offset_s() const { return impl_->clock_offset_s; }
+double PupilGazeSource::clock_sync_rtt_s() const { return impl_->clock_sync_rtt_s; }
 uint64_t PupilGazeSource::messages_malformed() const { return impl_->malformed.load(); }
 
 }  // namespace fovlab

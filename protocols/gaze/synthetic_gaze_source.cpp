@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <stdexcept>
 
@@ -31,6 +32,8 @@ SyntheticGazeSource::SyntheticGazeSource(const SyntheticGazeParams& params, int 
           "target_fraction must be in (0, 1], got " + std::to_string(params.target_fraction));
   require(std::isfinite(params.jitter_sigma_fraction) && params.jitter_sigma_fraction >= 0.0,
           "jitter_sigma_fraction must be >= 0, got " + std::to_string(params.jitter_sigma_fraction));
+  require(std::isfinite(params.sample_age_ms) && params.sample_age_ms >= 0.0 && params.sample_age_ms <= 10000.0,
+          "age_ms must be in [0, 10000], got " + std::to_string(params.sample_age_ms));
   generate_next();
 }
 
@@ -44,15 +47,18 @@ void SyntheticGazeSource::generate_next() {
   fixations_.push_back(next);
 }
 
-GazeSample SyntheticGazeSource::sample(double time_s) {
-  if (!std::isfinite(time_s)) throw std::invalid_argument("SyntheticGazeSource::sample: time is not finite");
+GazeSample SyntheticGazeSource::sample(double query_s) {
+  if (!std::isfinite(query_s)) throw std::invalid_argument("SyntheticGazeSource::sample: time is not finite");
+  // The sample read at query_s was taken sample_age_ms earlier: its position is the one of then.
+  const double time_s = params_.sample_age_ms > 0.0 ? query_s - params_.sample_age_ms * 1e-3 : query_s;
   // The cache grows with t (about 2.3 fixations a second); a session time beyond 10^6 s is a bug.
   if (time_s > max_time_s) throw std::out_of_range("SyntheticGazeSource::sample: time beyond 10^6 s");
   // Generate until a fixation starts after time_s, so the one in use and the next target are known.
   while (fixations_.back().start_s <= time_s) generate_next();
 
   GazeSample sample;
-  sample.time_s = time_s;
+  sample.time_s = query_s;
+  sample.acquired_s = time_s;
   // Last fixation that started at or before time_s (the first one before t = 0).
   const auto later = std::upper_bound(fixations_.begin(), fixations_.end(), time_s,
                                       [](double t, const Fixation& f) { return t < f.start_s; });
@@ -77,6 +83,14 @@ GazeSample SyntheticGazeSource::sample(double time_s) {
   return sample;
 }
 
-std::string SyntheticGazeSource::describe() const { return "synthetic:seed=" + std::to_string(params_.seed); }
+std::string SyntheticGazeSource::describe() const {
+  std::string text = "synthetic:seed=" + std::to_string(params_.seed);
+  if (params_.sample_age_ms > 0.0) {
+    char buffer[64];  // shortest text that reads back as the same double
+    const auto written = std::to_chars(buffer, buffer + sizeof buffer, params_.sample_age_ms);
+    text += ",age_ms=" + std::string(buffer, written.ptr);
+  }
+  return text;
+}
 
 }  // namespace fovlab

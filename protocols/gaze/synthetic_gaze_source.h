@@ -12,6 +12,10 @@
 // sample(t) is a pure function of (parameters, screen size, t): the fixation sequence is generated
 // lazily in order and cached, so any order of queries (backwards too, or in another run) gives the
 // same answer for the same t. Samples are always valid; time_s is the queried t.
+//
+// sample_age_ms imitates a tracker's latency: the sample returned at t is the one taken at
+// t - sample_age_ms (its position and its acquired_s), as a real tracker's latest sample is that old
+// when the session reads it. 0 (the default): acquired_s = t, positions as without the option.
 #include <cstdint>
 #include <vector>
 
@@ -26,6 +30,7 @@ struct SyntheticGazeParams {
   double saccade_s = 0.03;           // duration of each saccade (>= 0; 0 = jumps)
   double target_fraction = 0.8;      // targets uniform over this central fraction of width and height
   double jitter_sigma_fraction = 0.0;  // fixational jitter sigma as a fraction of the width (0.001 typical)
+  double sample_age_ms = 0.0;          // how old a sample is when it is read (0..10000 ms)
   uint64_t seed = 0;
 };
 
@@ -36,7 +41,7 @@ class SyntheticGazeSource final : public GazeSource {
 
   // std::invalid_argument for a non-finite time, std::out_of_range beyond max_time_s.
   GazeSample sample(double time_s) override;
-  std::string describe() const override;  // "synthetic:seed=<seed>"
+  std::string describe() const override;  // "synthetic:seed=<seed>", then ",age_ms=<ms>" when not 0
 
   static constexpr double max_time_s = 1e6;  // the fixation cache grows with t
 

@@ -190,7 +190,9 @@ GazeSample TraceGazeSource::sample(double time_s) {
   // First sample later than time_s; the one before it is in use (or the first before the trace).
   const auto later = std::upper_bound(samples_.begin(), samples_.end(), time_s,
                                       [](double t, const GazeSample& s) { return t < s.time_s; });
-  return later == samples_.begin() ? samples_.front() : *(later - 1);
+  GazeSample sample = later == samples_.begin() ? samples_.front() : *(later - 1);
+  sample.acquired_s = sample.time_s;  // the recorded sample's own time
+  return sample;
 }
 
 std::string TraceGazeSource::describe() const { return "trace:" + path_; }

@@ -14,7 +14,8 @@
 // needs some 40).
 //
 // sample(t) is a step function, not an interpolation: it returns the last sample (as recorded,
-// with its own time_s) whose time_s <= t; before the first sample it returns the first sample.
+// with its own time_s, also its acquired_s) whose time_s <= t; before the first sample it returns
+// the first sample.
 // A query is a binary search, O(log n).
 #include <cstdint>
 #include <string>

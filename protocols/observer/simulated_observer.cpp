@@ -97,22 +97,22 @@ ObserverAnswer SimulatedObserver::answer_comparison(const Trial& trial) const {
   switch (protocol.kind) {
     case ProtocolKind::two_afc:
       if (protocol.two_afc_question == TwoAfcQuestion::same) {
-        answer.answer = detected ? "different" : "same";
+        answer.answer = detected ? answers::different : answers::same;
       } else {
         const bool choose_reference = detected || random.uniform() < 0.5;
-        answer.answer = (choose_reference == trial.reference_first) ? "first" : "second";
+        answer.answer = (choose_reference == trial.reference_first) ? answers::first : answers::second;
       }
       break;
     case ProtocolKind::pair:
-      answer.answer = !detected ? "same" : (trial.reference_first ? "first" : "second");
+      answer.answer = !detected ? answers::same : (trial.reference_first ? answers::first : answers::second);
       break;
     case ProtocolKind::rating:
       // Seen differences are "significant" (1) as often as they are plainly visible.
-      // One character chosen, then assigned (GCC 12 warns falsely on assigning a chosen literal).
-      answer.answer.assign(1, !detected ? '3' : (random.uniform() < model_.p_see(effective) ? '1' : '2'));
+      answer.answer = !detected ? answers::rating_3
+                                : (random.uniform() < model_.p_see(effective) ? answers::rating_1 : answers::rating_2);
       break;
     default:
-      answer.answer = "same";
+      answer.answer = answers::same;
   }
   answer.response_time_s = response_time(random, model_.mean_response_s);
   return answer;
@@ -128,7 +128,7 @@ ObserverAnswer SimulatedObserver::answer_ramp_step(const Trial& trial, int step)
   const bool now = seen(step);
   Pcg32 random = stream(model_.seed, trial.index, step);
   ObserverAnswer answer;
-  answer.answer = before == now ? "same" : (before ? "increased" : "decreased");
+  answer.answer = before == now ? answers::same : (before ? answers::increased : answers::decreased);
   answer.response_time_s = response_time(random, model_.mean_response_s);
   return answer;
 }
@@ -138,13 +138,13 @@ ObserverAnswer SimulatedObserver::answer_slider(const Trial& trial, int action, 
   ObserverAnswer answer;
   answer.response_time_s = response_time(random, model_.mean_response_s);
   if (action == 0) {  // look at the reference once before adjusting
-    answer.answer = "reference";
+    answer.answer = answers::reference;
     return answer;
   }
   const bool detected = random.uniform() < model_.p_detect(level_of(trial.sequence.at(static_cast<size_t>(ladder_index))));
   const bool can_improve = ladder_index + 1 < static_cast<int>(trial.sequence.size());
   // The ladder runs from least to most like the reference: "up" is toward the reference.
-  answer.answer = detected && can_improve ? "up" : "save";
+  answer.answer = detected && can_improve ? answers::up : answers::save;
   return answer;
 }
 

@@ -230,9 +230,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                        " but the monitor runs at " + std::to_string(measured_hz) +
                        " Hz (stimulus durations would be wrong); set the monitor or the config to match");
   }
+  // The session clock continues a resumed log's last time; a tracker's clock is mapped onto it.
+  const double time_base_s = record ? record->last_time_s : 0.0;
   std::unique_ptr<GazeSource> gaze;
   if (gaze_spec.kind == GazeSpec::Kind::mouse) gaze = std::make_unique<MouseGazeSource>(*presenter);
-  else gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed);
+  else gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed,
+                               [&presenter, time_base_s] { return time_base_s + presenter->now_s(); });
 
   vk::Context context(vk::ContextOptions{options.device_selector, options.validation});
   StimulusLibrary library(context);
@@ -261,7 +264,6 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   }
   EventLogWriter writer(outcome.log_path, record ? existing->last_chain : std::string(),
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
-  const double time_base_s = record ? record->last_time_s : 0.0;
   SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s);
   if (header) {
     run.log(*header);
@@ -291,6 +293,9 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +
                              " message(s) in the session window (see stderr)");
   outcome.events_written = run.events_written();
+  outcome.gaze_age_s = run.gaze_age_s();
+  outcome.dropped_frames = run.dropped_frames();
+  outcome.present_clock = presenter->present_clock();
   outcome.log_write_s = writer.seconds_writing();
   outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (context.validation_message_count() > 0)

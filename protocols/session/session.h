@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "study/config/study_config.h"
 
@@ -38,6 +39,11 @@ struct SessionOutcome {
   double wall_s = 0.0;
   double log_write_s = 0.0;       // write + fsync of all events of this run
   int events_written = 0;
+  // Gaze-to-present latency of this run: every stimulus refresh's gaze sample age at present time
+  // (refreshes without a sample left out), the refresh periods missed, and the present clock.
+  std::vector<double> gaze_age_s;
+  int dropped_frames = 0;
+  std::string present_clock;
 };
 
 // The log path of a participant: <results>/<study>/<participant>/events.jsonl.

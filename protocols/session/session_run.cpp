@@ -53,7 +53,8 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   const int refreshes = plan_.config.stimulus.refreshes_per_frame(plan_.config.display.refresh_hz);
   nlohmann::json present_s = nlohmann::json::array(), frames = nlohmann::json::array(),
                  hashes = nlohmann::json::array(), gaze = nlohmann::json::array(),
-                 invalid = nlohmann::json::array();
+                 invalid = nlohmann::json::array(), acquired = nlohmann::json::array(),
+                 ages = nlohmann::json::array();
   const double onset = t();
   int dropped = 0;
   double previous = -1.0;
@@ -78,6 +79,17 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       frames.push_back(frame);
       hashes.push_back(shown.hash);
       gaze.push_back({sample.x_px, sample.y_px});
+      // The sample's own time (already on the session clock: the source was asked at t()) and its
+      // age when the frame made with it was presented (null: the tracker had no sample).
+      if (sample.acquired_s) {
+        const double acquired_s = *sample.acquired_s;
+        acquired.push_back(acquired_s);
+        ages.push_back(shown_at - acquired_s);
+        gaze_age_s_.push_back(shown_at - acquired_s);
+      } else {
+        acquired.push_back(nullptr);
+        ages.push_back(nullptr);
+      }
     }
     if (frame == 0 && !screenshot_taken_) {
       screenshot("stimulus");
@@ -86,7 +98,9 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   }
   log({{"event", "stimulus"}, {"trial", trial.index}, {"step", step}, {"stimulus", stimulus_id},
        {"onset_s", onset}, {"t", t()}, {"present_s", present_s}, {"frame", frames}, {"hash", hashes},
-       {"gaze", gaze}, {"invalid_gaze", invalid}, {"dropped_frames", dropped}});
+       {"gaze", gaze}, {"invalid_gaze", invalid}, {"dropped_frames", dropped}, {"gaze_acquired_s", acquired},
+       {"gaze_age_s", ages}, {"present_clock", presenter_.present_clock()}});
+  dropped_frames_ += dropped;
 }
 
 std::string SessionRun::question_screen() const {
@@ -135,14 +149,14 @@ void SessionRun::run_slider(const Trial& trial) {
     show_black(plan_.config.timing.black_interval_s);
     present_stimulus(trial, step++, trial.sequence.at(static_cast<size_t>(ladder_index)));
     const Answer answer = ask(trial, action, ladder_index);
-    if (answer.answer == "save") {
+    if (answer.answer == answers::save) {
       log({{"event", "slider_saved"}, {"trial", trial.index}, {"ladder_index", ladder_index},
            {"stimulus", trial.sequence.at(static_cast<size_t>(ladder_index))},
            {"level", plan_.stimuli.at(static_cast<size_t>(trial.sequence.at(static_cast<size_t>(ladder_index)))).level.value_or(0.0)}});
       return;
     }
     ladder_index = next_ladder_index(trial, answer.answer, ladder_index);
-    if (answer.answer == "reference") {
+    if (answer.answer == answers::reference) {
       show_black(plan_.config.timing.black_interval_s);
       present_stimulus(trial, step++, trial.reference);
     }

@@ -4,6 +4,7 @@
 // logged as it happens. run_session (session.h) sets it up: plan, presenter, gaze, answers, log.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -35,6 +36,10 @@ class SessionRun {
   void set_excluded_logged(bool logged) { excluded_logged_ = logged; }
   int events_written() const { return events_written_; }
   int trials_completed() const { return trials_completed_; }  // trial_end events of this run
+  // Of this run's stimulus refreshes: the gaze sample's age at present time (those with a sample),
+  // and the refresh periods missed.
+  const std::vector<double>& gaze_age_s() const { return gaze_age_s_; }
+  int dropped_frames() const { return dropped_frames_; }
 
  private:
   void show_text(const std::string& text);
@@ -64,6 +69,8 @@ class SessionRun {
   bool excluded_logged_ = false;
   int events_written_ = 0;
   int trials_completed_ = 0;
+  std::vector<double> gaze_age_s_;
+  int dropped_frames_ = 0;
 };
 
 }  // namespace fovlab

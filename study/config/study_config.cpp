@@ -187,37 +187,9 @@ void check_frame_size_rules(const TomlFields& display_fields, const DisplayConfi
 
 ProtocolKind read_kind(const TomlFields& fields) {
   const std::string kind = fields.string("kind");
-  for (ProtocolKind candidate : {ProtocolKind::two_afc, ProtocolKind::pair, ProtocolKind::ramp, ProtocolKind::slider,
-                                 ProtocolKind::rating})
-    if (kind == protocol_name(candidate)) return candidate;
-  fields.fail("kind", "expected one of 2afc, pair, ramp, slider, rating, got \"" + kind + "\"");
-}
-
-std::vector<std::string> default_keys(const std::string& answer) {
-  static const std::map<std::string, std::vector<std::string>> defaults = {
-      {"first", {"1", "left", "pad_left"}},   {"second", {"2", "right", "pad_right"}},
-      {"same", {"s", "space", "pad_a"}},      {"different", {"d", "pad_b"}},
-      {"increased", {"up", "pad_up"}},        {"decreased", {"down", "pad_down"}},
-      {"1", {"1", "pad_b"}},                  {"2", {"2", "pad_y"}},
-      {"3", {"3", "pad_a"}},                  {"up", {"up", "right", "pad_up"}},
-      {"down", {"down", "left", "pad_down"}}, {"reference", {"r", "pad_x"}},
-      {"save", {"enter", "space", "pad_a"}}};
-  return defaults.at(answer);
-}
-
-std::string default_question(ProtocolKind kind, TwoAfcQuestion question) {
-  switch (kind) {
-    case ProtocolKind::two_afc:
-      return question == TwoAfcQuestion::same ? "Was the quality the same in both sequences?"
-                                              : "Which sequence had the better quality?";
-    case ProtocolKind::pair: return "Which rendering was better, or were they the same?";
-    case ProtocolKind::ramp: return "Did the quality increase, decrease or stay the same?";
-    case ProtocolKind::slider:
-      return "Change the level until the quality matches the reference; save when it does.";
-    case ProtocolKind::rating:
-      return "Score the difference: 3 identical, 2 minimal difference, 1 significant difference.";
-  }
-  return "";
+  const std::optional<ProtocolKind> found = find_protocol(kind);
+  if (!found) fields.fail("kind", "expected one of " + known_protocols() + ", got \"" + kind + "\"");
+  return *found;
 }
 
 void read_display(const TomlFields& fields, DisplayConfig& display) {
@@ -303,13 +275,14 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
     fields.fail("kind", std::string(protocol_name(protocol.kind)) + " needs a [levels] table with at least two values");
   if (protocol.kind == ProtocolKind::two_afc) {
     const std::string question = fields.string("question");
-    if (question == "same") protocol.two_afc_question = TwoAfcQuestion::same;
-    else if (question == "better") protocol.two_afc_question = TwoAfcQuestion::better;
-    else fields.fail("question", "expected \"same\" (same/different) or \"better\" (first/second), got \"" + question + "\"");
+    const std::optional<TwoAfcQuestion> found = find_two_afc_question(question);
+    if (!found)
+      fields.fail("question", "expected \"same\" (same/different) or \"better\" (first/second), got \"" + question + "\"");
+    protocol.two_afc_question = *found;
   }
   protocol.repeats = bounded_integer(fields, "repeats", 1, 1, 1000);
-  const bool two_intervals = protocol.kind == ProtocolKind::two_afc || protocol.kind == ProtocolKind::pair ||
-                             protocol.kind == ProtocolKind::rating;
+  const ProtocolRules& rules = protocol.rules();
+  const bool two_intervals = rules.two_intervals;
   // Default: counterbalanced whenever the repeats can be split in halves.
   protocol.counterbalance = fields.boolean("counterbalance", two_intervals && protocol.repeats % 2 == 0);
   if (protocol.counterbalance && !two_intervals)
@@ -322,13 +295,14 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
   const std::string block_order = fields.string("block_order", "fixed");
   if (block_order != "random" && block_order != "fixed") fields.fail("block_order", "expected \"random\" or \"fixed\"");
   protocol.randomise_blocks = block_order == "random";
-  protocol.question.text = fields.string("question_text", default_question(protocol.kind, protocol.two_afc_question));
+  protocol.question.text = fields.string("question_text", std::string(rules.default_question));
 
   const std::vector<std::string> answers = protocol_answers(protocol.kind, protocol.two_afc_question);
   const toml::table* keys_table = fields.optional_table("keys");
   std::map<std::string, std::string> answer_of_key;
-  for (const std::string& answer : answers) {
-    std::vector<std::string> keys = default_keys(answer);
+  for (const ProtocolAnswer& rule : rules.answers) {
+    const std::string answer(rule.name);
+    std::vector<std::string> keys(rule.default_keys.begin(), rule.default_keys.end());
     if (keys_table) {
       const TomlFields keys_fields(*keys_table, fields.path(), fields.name_of("keys"));
       if (keys_fields.has(answer)) {
@@ -423,17 +397,6 @@ std::string resolve_scene(const TomlFields& fields, const std::string& scene, co
 
 }  // namespace
 
-const char* protocol_name(ProtocolKind kind) {
-  switch (kind) {
-    case ProtocolKind::two_afc: return "2afc";
-    case ProtocolKind::pair: return "pair";
-    case ProtocolKind::ramp: return "ramp";
-    case ProtocolKind::slider: return "slider";
-    case ProtocolKind::rating: return "rating";
-  }
-  return "?";
-}
-
 bool is_valid_study_name(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.' || name[0] == '-') return false;
   return std::all_of(name.begin(), name.end(), [](char c) {
@@ -443,24 +406,12 @@ bool is_valid_study_name(const std::string& name) {
 }
 
 std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion question) {
-  switch (kind) {
-    case ProtocolKind::two_afc:
-      return question == TwoAfcQuestion::same ? std::vector<std::string>{"same", "different"}
-                                              : std::vector<std::string>{"first", "second"};
-    case ProtocolKind::pair: return {"first", "second", "same"};
-    case ProtocolKind::ramp: return {"increased", "decreased", "same"};
-    case ProtocolKind::slider: return {"up", "down", "reference", "save"};
-    case ProtocolKind::rating: return {"1", "2", "3"};
-  }
-  return {};
+  std::vector<std::string> names;
+  for (const ProtocolAnswer& answer : protocol_rules(kind, question).answers) names.emplace_back(answer.name);
+  return names;
 }
 
-std::string identical_answer(const ProtocolConfig& protocol) {
-  if (protocol.kind == ProtocolKind::rating) return "3";
-  if (protocol.kind == ProtocolKind::pair) return "same";
-  if (protocol.kind == ProtocolKind::two_afc && protocol.two_afc_question == TwoAfcQuestion::same) return "same";
-  return "";
-}
+std::string identical_answer(const ProtocolConfig& protocol) { return std::string(protocol.rules().identical); }
 
 int StimulusConfig::frame_count() const {
   return std::max(1, static_cast<int>(std::lround(duration_s * frames_per_second)));

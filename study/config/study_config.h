@@ -8,14 +8,14 @@
 #include <vector>
 
 #include "study/config/scene_catalog.h"
+#include "study/protocol/protocol_rules.h"
 #include "study/stimulus/render_method.h"
 
 namespace fovlab {
 
-enum class ProtocolKind { two_afc, pair, ramp, slider, rating };
-enum class TwoAfcQuestion { better, same };  // "which was better?" or "was the quality the same?"
-
-const char* protocol_name(ProtocolKind kind);  // "2afc", "pair", "ramp", "slider", "rating"
+// The protocol's name in configs and logs (study/protocol/protocol_rules.h).
+// (The rules' names are string literals, so the view is NUL-terminated.)
+inline const char* protocol_name(ProtocolKind kind) { return protocol_rules(kind).name.data(); }
 
 struct DisplayConfig {
   int width_px = 0;
@@ -89,6 +89,7 @@ struct SliderConfig {
 struct ProtocolConfig {
   ProtocolKind kind = ProtocolKind::two_afc;
   TwoAfcQuestion two_afc_question = TwoAfcQuestion::same;
+  const ProtocolRules& rules() const { return protocol_rules(kind, two_afc_question); }
   int repeats = 1;                 // presentations of each condition per block (per direction for ramp)
   bool counterbalance = true;      // reference first in half of the presentations
   bool randomise_trials = true;    // shuffle trials within a block

@@ -17,7 +17,7 @@
 
 namespace fovlab {
 
-inline constexpr int log_schema_version = 2;      // what this build writes
+inline constexpr int log_schema_version = 3;      // what this build writes
 inline constexpr int oldest_log_schema_version = 1; // the oldest it reads (resume needs the current one)
 
 struct LabKey;

@@ -20,7 +20,9 @@ std::string text_of(const nlohmann::json& event, const char* key) {
 // The types of the fields a trial summary reads, in every event, as the fast scan's decoder
 // (session_scan.cpp) enforces them, so that both readers accept and refuse the same logs: a trial,
 // block or step is a 32-bit integer, names and answers are strings, a level a number or null, the
-// flags booleans, a sequence an array of 32-bit integers. `fail` throws.
+// flags booleans, a sequence an array of 32-bit integers; of stimulus events (schema 3) the
+// latency fields: gaze_acquired_s and gaze_age_s arrays of numbers or nulls, present_clock a string,
+// dropped_frames a 32-bit integer. `fail` throws.
 template <typename Fail>
 void check_field_types(const nlohmann::json& event, const Fail& fail) {
   const auto small_int = [](const nlohmann::json& value) {
@@ -35,6 +37,12 @@ void check_field_types(const nlohmann::json& event, const Fail& fail) {
     else if (key == "attention_check" || key == "reference_first" || key == "ramp_toward_reference" || key == "correct")
       ok = value.is_boolean();
     else if (key == "sequence") ok = value.is_array() && std::all_of(value.begin(), value.end(), small_int);
+    else if (key == "dropped_frames") ok = small_int(value);
+    else if (key == "present_clock") ok = value.is_string();
+    else if (key == "gaze_acquired_s" || key == "gaze_age_s")
+      ok = value.is_array() && std::all_of(value.begin(), value.end(), [](const nlohmann::json& element) {
+             return element.is_number() || element.is_null();
+           });
     if (!ok) fail("an event has a field of the wrong type (" + key + ": " + value.dump().substr(0, 40) + ")");
   }
 }

@@ -33,7 +33,22 @@ struct EventFields {
   std::optional<double> level;
   std::optional<bool> attention_check, reference_first, ramp_toward_reference, correct;
   std::vector<int> sequence;
+  std::optional<int> dropped_frames;
+  std::string_view present_clock;
+  bool has_gaze_age = false;
+  std::vector<double> gaze_age_s;  // the non-null entries
 };
+
+// An array of numbers or nulls (the per-refresh latency arrays), as check_field_types wants it;
+// the numbers go to `out` when it is given. Any other element is a type error.
+void number_or_null_array(simdjson::ondemand::value value, std::vector<double>* out) {
+  for (auto element : value.get_array()) {
+    simdjson::ondemand::value item = element.value();
+    if (item.is_null()) continue;
+    const double number = item.get_double();
+    if (out) out->push_back(number);
+  }
+}
 
 int small_int(simdjson::ondemand::value value) {
   const int64_t number = value.get_int64();
@@ -75,6 +90,13 @@ EventFields decode(simdjson::ondemand::document& document) {
     else if (key == "correct") fields.correct = value.get_bool();
     else if (key == "sequence") {
       for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
+    }
+    else if (key == "dropped_frames") fields.dropped_frames = small_int(value);
+    else if (key == "present_clock") fields.present_clock = value.get_string();
+    else if (key == "gaze_acquired_s") number_or_null_array(value, nullptr);
+    else if (key == "gaze_age_s") {
+      fields.has_gaze_age = true;
+      number_or_null_array(value, &fields.gaze_age_s);
     }
   }
   // Anything after the object is not looked for here: such a line is not the writer's canonical
@@ -275,6 +297,17 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     }
     ScannedTrial* open = trials.open_for(fields.trial);
     if (!open) fail(kind + ": trial does not match the trial started last");
+    if (kind == "stimulus") {
+      open->dropped_frames += fields.dropped_frames.value_or(0);
+      if (fields.has_gaze_age) {
+        ++open->stimuli_with_latency;
+        open->gaze_age_s.insert(open->gaze_age_s.end(), fields.gaze_age_s.begin(), fields.gaze_age_s.end());
+      }
+      if (!fields.present_clock.empty() &&
+          std::find(session.present_clocks.begin(), session.present_clocks.end(), fields.present_clock) ==
+              session.present_clocks.end())
+        session.present_clocks.emplace_back(fields.present_clock);
+    }
     if (kind == "response") {
       open->answers.emplace_back(fields.answer);
       open->answer_steps.push_back(fields.step.value_or(0));

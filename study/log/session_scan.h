@@ -1,11 +1,13 @@
 #pragma once
 // A fast read of a session log for analysing many of them (fovlab analyze reads a million trials):
 // every line is still checked (one JSON object, its seq, the hash chain), but only the fields a
-// trial summary needs are decoded, with simdjson's On-Demand API, and the per-refresh arrays of
-// stimulus events are skipped, never built. Trials are assembled by the rules of session_record.h
+// trial summary needs are decoded, with simdjson's On-Demand API; of the per-refresh arrays of
+// stimulus events only the gaze ages (and the acquisition times, for their types) are read, the
+// rest skipped, never built. Trials are assembled by the rules of session_record.h
 // (complete at trial_end; a session_resumed drops the trial a crash cut off);
 // tests/study/log/session_scan_test.cpp checks that both readers agree on every protocol.
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -31,6 +33,12 @@ struct ScannedTrial {
   std::vector<int> answer_steps;          // their `step`
   std::optional<double> saved_level;      // slider_saved
   std::optional<bool> attention_correct;  // attention_check
+  // Of the trial's stimulus events: every refresh's gaze sample age at present time, in seconds
+  // (schema 3; refreshes without a sample, null in the log, left out), the refresh periods missed,
+  // and how many of those events recorded ages at all (0 in schema 1-2 logs: not recorded).
+  std::vector<double> gaze_age_s;
+  int64_t dropped_frames = 0;
+  int stimuli_with_latency = 0;
 };
 
 struct ScannedSession {
@@ -43,6 +51,7 @@ struct ScannedSession {
   bool ended = false;
   int incomplete_trial = -1;              // a trial started but not finished at the end of the log
   size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
+  std::vector<std::string> present_clocks; // the stimulus events' present_clock values, first seen first
   int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
   LogIntegrity integrity;                 // sealed, unsealed or broken (log_integrity.h)
 };

@@ -95,7 +95,7 @@ class PlanBuilder {
         for (int repeat = 0; repeat < protocol.repeats; ++repeat) {
           if (protocol.kind == ProtocolKind::slider) {
             Trial trial = base_trial(variant);
-            trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + "slider";
+            trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + std::string(protocol_name(ProtocolKind::slider));
             trial.sequence = ladder;
             const auto start = std::find(config_.levels.values.begin(), config_.levels.values.end(),
                                          protocol.slider.start_level) - config_.levels.values.begin();

@@ -117,7 +117,7 @@ AnalysisResult sample_result() {
   const GroupKey city{"city", ""};
   AnalysisResult result;
   result.study = "demo <study>";
-  result.protocol = "pair";
+  result.protocol = ProtocolKind::pair;
   result.level_parameter = "foveal_deg";
   result.higher_is_better = true;
   result.levels = {5, 10, 20};
@@ -143,6 +143,12 @@ AnalysisResult sample_result() {
   p1.attention_errors = 0;
   p1.session_ended = true;
   p1.thresholds = {{park, 10.0, ""}, {city, std::nullopt, "every step answered correctly, censored"}};
+  p1.latency_recorded = true;
+  p1.latency.refreshes = 720;
+  p1.latency.median_ms = 56.5;
+  p1.latency.p95_ms = 73.25;
+  p1.dropped_frames = 3;
+  p1.present_clock = "after_queue_present";
   ParticipantRow p2;
   p2.participant = "P002";
   p2.log_path = "results/demo/P002/events.jsonl";
@@ -150,6 +156,7 @@ AnalysisResult sample_result() {
   p2.attention_checks = 6;
   p2.attention_errors = 4;
   p2.excluded = true;
+  p2.dropped_frames = 1;  // a schema 2 log: no latency recorded
   result.participants = {p1, p2};
 
   GroupThreshold t_park;
@@ -230,11 +237,16 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
   ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "excluded", "session_ended", "complete_trials",
                                                "attention_checks", "attention_errors", "scene", "variant",
-                                               "threshold", "note", "log_status"}));
-  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed"}));
+                                               "threshold", "note", "log_status", "latency_median_ms",
+                                               "latency_p95_ms", "latency_refreshes", "dropped_frames",
+                                               "present_clock"}));
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
+                                               "56.5", "73.25", "720", "3", "after_queue_present"}));
   EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", "city", "", "",
-                                               "every step answered correctly, censored", "sealed"}));
-  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "true", "false", "80", "6", "4", "", "", "", "", "sealed"}));
+                                               "every step answered correctly, censored", "sealed",
+                                               "56.5", "73.25", "720", "3", "after_queue_present"}));
+  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
+                                               "", "", "", "1", "not recorded"}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
@@ -295,6 +307,12 @@ TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
 
   ASSERT_EQ(root["participants"].size(), 2u);
   EXPECT_EQ(root["participants"][0]["thresholds"].size(), 2u);
+  EXPECT_EQ(root["participants"][0]["latency"],
+            json({{"recorded", true}, {"median_ms", 56.5}, {"p95_ms", 73.25}, {"refreshes", 720},
+                  {"dropped_frames", 3}, {"present_clock", "after_queue_present"}}));
+  EXPECT_EQ(root["participants"][1]["latency"],
+            json({{"recorded", false}, {"median_ms", nullptr}, {"p95_ms", nullptr}, {"refreshes", 0},
+                  {"dropped_frames", 1}, {"present_clock", nullptr}}));
   EXPECT_TRUE(root["participants"][0]["thresholds"][1]["level"].is_null());
   EXPECT_EQ(root["participants"][1]["excluded"], true);
   EXPECT_EQ(root["participants"][1]["attention_errors"], 4);
@@ -389,7 +407,7 @@ TEST(AnalysisReport, PsychometricCurveFollowsTheModel) {
 TEST(AnalysisReport, RatingStudyPlotsMeanRatingAgainstTheCutoff) {
   TempDir dir("rating");
   AnalysisResult result = sample_result();
-  result.protocol = "rating";
+  result.protocol = ProtocolKind::rating;
   result.alternative = Alternative::two_sided;
   result.fits.clear();
   for (ConditionRow& row : result.conditions) {

@@ -11,8 +11,8 @@ StudyData study(const std::string& protocol, const std::string& question, std::v
                 bool higher_is_better = true) {
   StudyData data;
   data.study = "hand_made";
-  data.protocol = protocol;
-  data.question = question;
+  data.protocol = find_protocol(protocol).value();
+  data.question = find_two_afc_question(question).value_or(TwoAfcQuestion::same);
   data.level_parameter = "foveal_deg";
   data.levels = std::move(levels);
   data.higher_is_better = higher_is_better;

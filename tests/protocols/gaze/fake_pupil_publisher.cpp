@@ -1,6 +1,7 @@
 #include "tests/protocols/gaze/fake_pupil_publisher.h"
 
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 
 #include <msgpack.hpp>
@@ -46,8 +47,13 @@ std::string pack_surface_message(const std::string& surface, const std::vector<F
   return std::string(buffer.data(), buffer.size());
 }
 
-FakePupilPublisher::FakePupilPublisher()
-    : remote_(context_, zmq::socket_type::rep), publisher_(context_, zmq::socket_type::pub) {
+double steady_now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+FakePupilPublisher::FakePupilPublisher(double pupil_minus_steady_s, std::string time_answer)
+    : remote_(context_, zmq::socket_type::rep), publisher_(context_, zmq::socket_type::pub),
+      pupil_minus_steady_s_(pupil_minus_steady_s), time_answer_(std::move(time_answer)) {
   remote_.set(zmq::sockopt::linger, 0);
   remote_.set(zmq::sockopt::rcvtimeo, 10);
   remote_.bind("tcp://127.0.0.1:*");
@@ -69,9 +75,17 @@ void FakePupilPublisher::answer_loop() {
   while (!stop_.load()) {
     zmq::message_t request;
     if (!remote_.recv(request, zmq::recv_flags::none)) continue;
-    const std::string answer = request.to_string() == "SUB_PORT" ? std::to_string(pub_port_) : "unknown command";
+    std::string answer = "unknown command";
+    if (request.to_string() == "SUB_PORT") {
+      answer = std::to_string(pub_port_);
+    } else if (request.to_string() == "t") {
+      char text[64];  // Pupil answers with the time as a decimal number
+      std::snprintf(text, sizeof text, "%.9f", pupil_time_at(steady_now_s()));
+      answer = time_answer_.empty() ? std::string(text) : time_answer_;
+    }
     remote_.send(zmq::buffer(answer), zmq::send_flags::none);
-    requests_answered_.fetch_add(1);
+    if (request.to_string() == "t") time_requests_answered_.fetch_add(1);
+    else requests_answered_.fetch_add(1);
   }
 }
 

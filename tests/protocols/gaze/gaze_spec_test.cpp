@@ -1,3 +1,4 @@
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -58,6 +59,49 @@ TEST(GazeSpecParse, RejectsEverythingElse) {
   }
 }
 
+TEST(GazeSpecParse, SyntheticSampleAge) {
+  GazeSpec spec = parse_gaze_spec("synthetic:age_ms=40");
+  EXPECT_EQ(spec.kind, GazeSpec::Kind::synthetic);
+  EXPECT_FALSE(spec.seed_given);
+  EXPECT_DOUBLE_EQ(spec.age_ms, 40.0);
+  spec = parse_gaze_spec("synthetic:seed=5,age_ms=12.5");
+  EXPECT_TRUE(spec.seed_given);
+  EXPECT_EQ(spec.seed, 5u);
+  EXPECT_DOUBLE_EQ(spec.age_ms, 12.5);
+  spec = parse_gaze_spec("synthetic:age_ms=0,seed=9");
+  EXPECT_EQ(spec.seed, 9u);
+  EXPECT_DOUBLE_EQ(spec.age_ms, 0.0);
+  EXPECT_DOUBLE_EQ(parse_gaze_spec("synthetic").age_ms, 0.0);  // the default
+
+  try {
+    parse_gaze_spec("synthetic:age_ms=-3");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), "--gaze: age_ms: expected milliseconds 0..10000, got \"-3\"");
+  }
+  for (const char* text : {"synthetic:age_ms=", "synthetic:age_ms=nan", "synthetic:age_ms=inf", "synthetic:age_ms=10001",
+                           "synthetic:age_ms=4x", "synthetic:age_ms=1,age_ms=2", "synthetic:seed=1,seed=2",
+                           "synthetic:seed=1,", "synthetic:,age_ms=1", "synthetic:age=40"}) {
+    EXPECT_THROW(parse_gaze_spec(text), InputError) << '"' << text << '"';
+  }
+}
+
+TEST(GazeSpecMake, SyntheticSamplesAreAsOldAsConfigured) {
+  auto source = make_gaze_source(parse_gaze_spec("synthetic:seed=5,age_ms=40"), 800, 600, 7);
+  EXPECT_EQ(source->describe(), "synthetic:seed=5,age_ms=40");
+  const auto fresh = make_gaze_source(parse_gaze_spec("synthetic:seed=5"), 800, 600, 7);
+  const GazeSample aged = source->sample(1.0);
+  EXPECT_DOUBLE_EQ(aged.time_s, 1.0);
+  ASSERT_TRUE(aged.acquired_s.has_value());
+  EXPECT_DOUBLE_EQ(*aged.acquired_s, 1.0 - 0.040);
+  // The position is the one of the moment the sample was taken.
+  const GazeSample then = fresh->sample(1.0 - 0.040);
+  EXPECT_DOUBLE_EQ(aged.x_px, then.x_px);
+  EXPECT_DOUBLE_EQ(aged.y_px, then.y_px);
+  ASSERT_TRUE(then.acquired_s.has_value());
+  EXPECT_DOUBLE_EQ(*then.acquired_s, 1.0 - 0.040);  // age 0: taken when asked
+}
+
 TEST(GazeSpecMake, MakesTraceAndSyntheticSources) {
   EXPECT_THROW(make_gaze_source(parse_gaze_spec("mouse"), 800, 600, 1), std::logic_error);
 
@@ -72,6 +116,7 @@ TEST(GazeSpecMake, MakesTraceAndSyntheticSources) {
   source = make_gaze_source(parse_gaze_spec("trace:" + path), 800, 600, 7);
   EXPECT_EQ(source->describe(), "trace:" + path);
   EXPECT_DOUBLE_EQ(source->sample(1.0).y_px, 6.0);
+  EXPECT_EQ(source->sample(1.0).acquired_s, std::optional<double>(0.0));  // the trace sample's own time
   EXPECT_THROW(make_gaze_source(parse_gaze_spec("trace:" + path + ".missing"), 800, 600, 7), InputError);
 }
 

@@ -204,3 +204,67 @@ TEST(GazePupil, DecodesPayloadsDirectly) {
 
 }  // namespace
 }  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+// Pupil time is mapped to the session clock at start-up with Pupil Remote's "t": the offset is
+// Pupil time minus the midpoint of the request's round trip, so a sample's acquisition time on the
+// session clock is its Pupil timestamp minus that offset, within half the round trip.
+TEST(PupilTimeSync, MapsPupilTimestampsToTheSessionClock) {
+  constexpr double pupil_minus_steady_s = 12345.25;  // Pupil's clock runs from another origin
+  FakePupilPublisher fake(pupil_minus_steady_s);
+  PupilGazeOptions options = options_for(fake);
+  options.staleness_s = 10.0;
+  // A session clock that started 3 s ago on the steady clock.
+  const double session_origin_s = fovlab::testing::steady_now_s() - 3.0;
+  options.session_clock = [&] { return fovlab::testing::steady_now_s() - session_origin_s; };
+  PupilGazeSource source(options, width, height);
+  EXPECT_EQ(fake.time_requests_answered(), 1);
+  EXPECT_GE(source.clock_sync_rtt_s(), 0.0);
+  EXPECT_LT(source.clock_sync_rtt_s(), 0.5);
+  // Pupil time - session time = (steady + 12345.25) - (steady - origin).
+  const double expected_offset_s = pupil_minus_steady_s + session_origin_s;
+  EXPECT_NEAR(source.clock_offset_s(), expected_offset_s, 0.5 * source.clock_sync_rtt_s() + 1e-6);
+
+  // A sample the tracker took at session time 2.75 s carries that time, whatever its Pupil stamp.
+  const double taken_session_s = 2.75;
+  const double pupil_stamp_s = fake.pupil_time_at(session_origin_s + taken_session_s);
+  deliver(fake, source, {gaze(0.5, 0.5, 0.95, true, pupil_stamp_s)});
+  const GazeSample sample = source.sample(3.5);
+  ASSERT_TRUE(sample.valid);
+  EXPECT_DOUBLE_EQ(sample.time_s, 3.5);  // the query time stays the session's
+  ASSERT_TRUE(sample.acquired_s.has_value());
+  EXPECT_NEAR(*sample.acquired_s, taken_session_s, 0.5 * source.clock_sync_rtt_s() + 1e-6);
+  EXPECT_DOUBLE_EQ(*sample.acquired_s, pupil_stamp_s - source.clock_offset_s());
+}
+
+TEST(PupilTimeSync, NoSampleHasNoAcquisitionTime) {
+  FakePupilPublisher fake;
+  PupilGazeSource source(options_for(fake), width, height);
+  const GazeSample sample = source.sample(0.25);
+  EXPECT_EQ(sample.invalid_reason, "no_data");
+  EXPECT_FALSE(sample.acquired_s.has_value());
+}
+
+TEST(PupilTimeSync, ABadTimeAnswerIsAnInputError) {
+  FakePupilPublisher fake(0.0, "not a time");
+  try {
+    PupilGazeSource source(options_for(fake), width, height);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), "pupil:127.0.0.1:" + std::to_string(fake.remote_port()) +
+                                             ": Pupil Remote answered t with \"not a time\", expected Pupil time in seconds");
+  }
+}
+
+TEST(PupilTimeSync, DecodedSampleKeepsThePupilTimestamp) {
+  const std::optional<GazeSample> sample =
+      decode_pupil_surface_gaze(pack_surface_message("screen", {gaze(0.5, 0.5, 0.9, true, 4321.5)}), 0.6, 100, 50);
+  ASSERT_TRUE(sample.has_value());
+  ASSERT_TRUE(sample->acquired_s.has_value());
+  EXPECT_DOUBLE_EQ(*sample->acquired_s, 4321.5);
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -58,6 +58,20 @@ TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
   // Present times are real: increasing, about one refresh apart.
   const auto& times = first["present_s"];
   for (size_t i = 1; i < times.size(); ++i) EXPECT_GT(times[i].get<double>(), times[i - 1].get<double>());
+
+  // Every refresh carries its gaze sample's time and its age at present time, on the clock the
+  // window names (no present_wait on lavapipe under Xvfb).
+  EXPECT_EQ(first.value("present_clock", ""), "after_queue_present");
+  ASSERT_EQ(first["gaze_acquired_s"].size(), times.size());
+  ASSERT_EQ(first["gaze_age_s"].size(), times.size());
+  for (size_t i = 0; i < times.size(); ++i) {
+    const double age_s = first["gaze_age_s"][i].get<double>();
+    EXPECT_GT(age_s, 0.0);
+    EXPECT_LT(age_s, 1.0);
+    EXPECT_NEAR(times[i].get<double>() - first["gaze_acquired_s"][i].get<double>(), age_s, 1e-9);
+  }
+  EXPECT_EQ(outcome.present_clock, "after_queue_present");
+  EXPECT_FALSE(outcome.gaze_age_s.empty());
 }
 
 }  // namespace
