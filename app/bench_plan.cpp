@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "app/cli_support.h"
 #include "app/display_flags.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
@@ -110,7 +111,7 @@ BenchPlan plan_bench(const BenchOptions& options) {
   for (int spp : options.spps) {
     SphereTraceSettings check = options.settings;
     check.samples_per_pixel = spp;
-    validate(check);
+    validate_trace_flags(check);
   }
   if (width < kMinSsimSidePx || height < kMinSsimSidePx) {
     throw InputError("--width " + std::to_string(width) + " --height " + std::to_string(height) +
@@ -143,7 +144,7 @@ BenchPlan plan_bench(const BenchOptions& options) {
         check.samples_per_pixel = spp;
         check.method = TraceMethod::foveated_pyramid;
         check.foveation = variant.foveation;
-        validate(check);
+        validate_trace_flags(check);
       }
       plan.variants.push_back(variant);
     }

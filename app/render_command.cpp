@@ -44,7 +44,7 @@ void run_render(const RenderOptions& options) {
   if (foveated) settings.foveation = parse_foveation(options.foveation, settings.width, settings.height);
   if (!foveated && !options.fipr_flags_given.empty())
     throw InputError(options.fipr_flags_given.front() + ": only FIPR uses it; add --method fipr");
-  validate(settings);
+  validate_trace_flags(settings);
   if (options.frames < 1 || options.frames > 100000)
     throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
   if (!(options.frame_rate_hz > 0.0 && std::isfinite(options.frame_rate_hz)))

@@ -13,6 +13,19 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A setting out of its range, named by the field of the settings struct that holds it
+// ("pyramid_levels 7: expected 2 to 5 pyramid levels"). The renderer knows only its fields; the
+// layer that knows where the value came from words it for the user (the CLI as its flag:
+// app/cli_support.h reword_setting_error).
+class SettingError : public InputError {
+ public:
+  // `detail` follows the field in the message: " 7: expected ..." or ": expected ...".
+  SettingError(const std::string& field_name, const std::string& detail_text)
+      : InputError(field_name + detail_text), field(field_name), detail(detail_text) {}
+  std::string field;
+  std::string detail;
+};
+
 // A file operation refused by the system (a full disk, a read-only folder, a permission): the
 // operator has to act, as on bad input, so it is one line on stderr and exit code 2 too:
 // "PATH: OPERATION failed (REASON)".

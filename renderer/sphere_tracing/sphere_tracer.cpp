@@ -222,8 +222,8 @@ std::optional<TraceMethod> parse_trace_method(const std::string& name) {
 static void validate_foveation(const SphereTraceSettings& settings) {
   const FoveationSettings& f = settings.foveation;
   if (settings.pyramid_levels < 3) {
-    throw InputError("--levels " + std::to_string(settings.pyramid_levels) +
-                     ": FIPR needs at least 3 pyramid levels (low, mid and top)");
+    throw SettingError("pyramid_levels", " " + std::to_string(settings.pyramid_levels) +
+                                             ": FIPR needs at least 3 pyramid levels (low, mid and top)");
   }
   if (f.display.width_px != settings.width || f.display.height_px != settings.height) {
     throw InputError("FIPR display of " + std::to_string(f.display.width_px) + "x" + std::to_string(f.display.height_px) +
@@ -235,54 +235,53 @@ static void validate_foveation(const SphereTraceSettings& settings) {
     throw InputError("FIPR display: expected a positive finite width, height and viewing distance in mm");
   }
   if (!(std::isfinite(f.acuity.fovea_deg) && f.acuity.fovea_deg >= 0.0 && f.acuity.fovea_deg <= 180.0)) {
-    throw InputError("--fovea-deg: expected an eccentricity from 0 to 180 degrees");
+    throw SettingError("fovea_deg", ": expected an eccentricity from 0 to 180 degrees");
   }
   if (std::isnan(f.acuity.outer_periphery_deg) || f.acuity.outer_periphery_deg < f.acuity.fovea_deg) {
-    throw InputError("--outer-periphery-deg: expected an eccentricity at least --fovea-deg");
+    throw SettingError("outer_periphery_deg", ": expected an eccentricity at least the fovea's");
   }
   if (f.periphery_refresh != 1 && f.periphery_refresh != 2 && f.periphery_refresh != 4) {
-    throw InputError("--refresh " + std::to_string(f.periphery_refresh) + ": expected 1, 2 or 4 (frames between periphery updates)");
+    throw SettingError("periphery_refresh",
+                       " " + std::to_string(f.periphery_refresh) + ": expected 1, 2 or 4 (frames between periphery updates)");
   }
   if (f.periphery_steps < 0 || f.periphery_steps > 100000) {
-    throw InputError("--periphery-steps " + std::to_string(f.periphery_steps) + ": expected 0 to 100000");
+    throw SettingError("periphery_steps", " " + std::to_string(f.periphery_steps) + ": expected 0 to 100000");
   }
   if (!(f.edge_threshold > 0.0f && std::isfinite(f.edge_threshold))) {
-    throw InputError("--edge-threshold: expected a positive finite number");
+    throw SettingError("edge_threshold", ": expected a positive finite number");
   }
 }
 
 void validate(const SphereTraceSettings& settings) {
-  auto check_side = [](int value, const char* flag) {
-    if (value <= 0 || value > kMaxFrameSide) {
-      throw InputError(std::string(flag) + " " + std::to_string(value) + ": expected 1 to " +
-                       std::to_string(kMaxFrameSide) + " pixels");
-    }
+  auto check_side = [](int value, const char* field) {
+    if (value <= 0 || value > kMaxFrameSide)
+      throw SettingError(field, " " + std::to_string(value) + ": expected 1 to " + std::to_string(kMaxFrameSide) + " pixels");
   };
-  check_side(settings.width, "--width");
-  check_side(settings.height, "--height");
+  check_side(settings.width, "width");
+  check_side(settings.height, "height");
   const int spp = settings.samples_per_pixel;
   if (spp != 1 && spp != 4 && spp != 16) {
-    throw InputError("--spp " + std::to_string(spp) + ": expected 1, 4 or 16 samples per pixel");
+    throw SettingError("samples_per_pixel", " " + std::to_string(spp) + ": expected 1, 4 or 16 samples per pixel");
   }
   const uint64_t samples = uint64_t(settings.width) * uint64_t(settings.height) * uint64_t(spp);
   if (samples > kMaxSphereTraceSamplesPerFrame) {
-    throw InputError("--width x --height x --spp = " + std::to_string(samples) + " samples: expected at most " +
-                     std::to_string(kMaxSphereTraceSamplesPerFrame));
+    throw SettingError(kSamplesPerFrameField, " = " + std::to_string(samples) + " samples: expected at most " +
+                                                  std::to_string(kMaxSphereTraceSamplesPerFrame));
   }
   if (settings.pyramid_levels < 2 || settings.pyramid_levels > 5) {
-    throw InputError("--levels " + std::to_string(settings.pyramid_levels) + ": expected 2 to 5 pyramid levels");
+    throw SettingError("pyramid_levels", " " + std::to_string(settings.pyramid_levels) + ": expected 2 to 5 pyramid levels");
   }
   const int filter = settings.min_filter_size;
   if (filter != 1 && filter != 3 && filter != 5) {
-    throw InputError("--min-filter " + std::to_string(filter) + ": expected 1, 3 or 5");
+    throw SettingError("min_filter_size", " " + std::to_string(filter) + ": expected 1, 3 or 5");
   }
   if (settings.max_steps < 1 || settings.max_steps > 100000) {
-    throw InputError("--max-steps " + std::to_string(settings.max_steps) + ": expected 1 to 100000");
+    throw SettingError("max_steps", " " + std::to_string(settings.max_steps) + ": expected 1 to 100000");
   }
   if (!(settings.hit_threshold > 0.0f && settings.hit_threshold <= 8.0f)) {
-    throw InputError("--hit-threshold: expected a value in (0, 8]");
+    throw SettingError("hit_threshold", ": expected a value in (0, 8]");
   }
-  if (!std::isfinite(settings.time_s)) throw InputError("--time: expected a finite number of seconds");
+  if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite number of seconds");
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
 }
 

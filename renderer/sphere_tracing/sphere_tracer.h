@@ -61,7 +61,8 @@ struct SphereTraceSettings {
   bool colour_only = false;     // read back the colour only (live frames of a session): no steps, no mask
 };
 
-// Validates sizes and options; throws InputError naming the flag and what was expected.
+// Validates sizes and options; throws SettingError naming the field of the settings and what was
+// expected (the CLI words it as its flag), or InputError for a display that is not the frame's.
 void validate(const SphereTraceSettings& settings);
 
 // The memory one render of these settings holds, in bytes: the tracer's frame buffers (counted in
@@ -71,6 +72,8 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings);
 
 // At most this many samples a frame (pixels x samples per pixel): keeps buffers and one submit bounded.
 constexpr uint64_t kMaxSphereTraceSamplesPerFrame = uint64_t{1} << 28;
+// The field a SettingError names when width x height x samples_per_pixel is over that.
+inline constexpr const char* kSamplesPerFrameField = "width x height x samples_per_pixel";
 
 // The frame's colour must fit one storage buffer of the device: throws InputError
 // "<size_name> = WxH: the frame needs N MiB in one buffer; expected at most M MiB on <device>".

@@ -107,6 +107,9 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   expect_one_line_error(run(render + " --width 0 --height 32"), "--width 0");
   expect_one_line_error(run(render + " --width 99999 --height 32"), "--width 99999");
   expect_one_line_error(run(render + kSmall + "--spp 3"), "--spp 3");
+  // The renderer names its settings' fields; render words them as its flags.
+  expect_one_line_error(run(render + kSmall + "--levels 6"), "--levels 6: expected 2 to 5 pyramid levels");
+  expect_one_line_error(run(render + kSmall + "--method fipr --levels 2"), "--levels 2: FIPR needs at least 3");
   expect_one_line_error(run(render + kSmall + "--method rtx"), "--method");
   expect_one_line_error(run(render + kSmall + "--steps-out " + (scratch() / "steps.foo").string()), "steps.foo");
   expect_one_line_error(run("render --scene primitives" + kSmall + "--out /nonexistent-folder/x.png"),

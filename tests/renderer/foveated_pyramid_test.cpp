@@ -364,7 +364,7 @@ TEST_F(VulkanTest, OddSizesDeeperPyramidsAndWiderFiltersKeepMaskedPixelsExact) {
   }
 }
 
-TEST(FoveationSettingsValidation, BadSettingsNameTheirFlag) {
+TEST(FoveationSettingsValidation, BadSettingsNameTheirField) {
   const auto message_for = [](auto change) {
     SphereTraceSettings settings = fipr_frame();
     change(settings);
@@ -375,16 +375,25 @@ TEST(FoveationSettingsValidation, BadSettingsNameTheirFlag) {
     }
     return std::string("accepted");
   };
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.pyramid_levels = 2; }).find("--levels"), std::string::npos);
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.periphery_refresh = 3; }).find("--refresh"), std::string::npos);
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = -1; }).find("--fovea-deg"), std::string::npos);
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = kNaN; }).find("--fovea-deg"), std::string::npos);
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.acuity.outer_periphery_deg = 1.0; }).find("--outer-periphery-deg"),
-            std::string::npos);
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.edge_threshold = 0.0f; }).find("--edge-threshold"),
-            std::string::npos);
-  EXPECT_NE(message_for([](SphereTraceSettings& s) { s.foveation.periphery_steps = -1; }).find("--periphery-steps"),
-            std::string::npos);
+  // The renderer names the field of its settings (the CLI words it as its flag, a study as its key).
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.pyramid_levels = 2; }),
+            "pyramid_levels 2: FIPR needs at least 3 pyramid levels (low, mid and top)");
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.periphery_refresh = 3; }).rfind("periphery_refresh 3:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = -1; }).rfind("fovea_deg:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = kNaN; }).rfind("fovea_deg:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.outer_periphery_deg = 1.0; }).rfind("outer_periphery_deg:", 0),
+            0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.edge_threshold = 0.0f; }).rfind("edge_threshold:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.periphery_steps = -1; }).rfind("periphery_steps -1:", 0), 0u);
+  try {
+    SphereTraceSettings bad = fipr_frame();
+    bad.max_steps = 0;
+    validate(bad);
+    FAIL() << "max_steps 0 accepted";
+  } catch (const SettingError& error) {
+    EXPECT_EQ(error.field, "max_steps");
+    EXPECT_EQ(error.detail, " 0: expected 1 to 100000");
+  }
   EXPECT_NE(message_for([](SphereTraceSettings& s) { s.width = 50; }).find("display"), std::string::npos);
   EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.gaze_x_px = kNaN; }), "accepted");
 }
