@@ -11,20 +11,34 @@
 namespace fovlab {
 namespace {
 
-// The method's parameters sorted by key (the canonical order).
-std::vector<const ParameterDescriptor*> sorted_parameters(RenderMethod method) {
-  std::vector<const ParameterDescriptor*> sorted;
-  for (const ParameterDescriptor& parameter : describe(method).parameters) sorted.push_back(&parameter);
-  std::sort(sorted.begin(), sorted.end(), [](const auto* a, const auto* b) { return a->key < b->key; });
-  return sorted;
+// The method's parameters sorted by key (the canonical order), sorted once per method: specs are
+// compared by their canonical text while a schedule is made.
+const std::vector<const ParameterDescriptor*>& sorted_parameters(RenderMethod method) {
+  static const std::vector<std::vector<const ParameterDescriptor*>> by_method = [] {
+    std::vector<std::vector<const ParameterDescriptor*>> all;
+    for (const MethodDescriptor& descriptor : all_methods()) {
+      std::vector<const ParameterDescriptor*> sorted;
+      for (const ParameterDescriptor& parameter : descriptor.parameters) sorted.push_back(&parameter);
+      std::sort(sorted.begin(), sorted.end(), [](const auto* a, const auto* b) { return a->key < b->key; });
+      all.push_back(std::move(sorted));
+    }
+    return all;
+  }();
+  return by_method.at(static_cast<size_t>(method));
 }
 
 }  // namespace
 
 std::string StimulusSpec::canonical() const {
-  std::string text = "scene=" + scene + ";method=" + std::string(method_name());
-  for (const ParameterDescriptor* parameter : sorted_parameters(method()))
-    text += ";" + std::string(parameter->key) + "=" + parameter_value_text(*parameter, parameter->read(parameters));
+  std::string text = "scene=" + scene + ";method=";
+  text.reserve(256);
+  text += method_name();
+  for (const ParameterDescriptor* parameter : sorted_parameters(method())) {
+    text += ';';
+    text += parameter->key;
+    text += '=';
+    text += parameter_value_text(*parameter, parameter->read(parameters));
+  }
   text += ";size=" + std::to_string(width_px) + "x" + std::to_string(height_px);
   text += ";frames=" + std::to_string(frame_count) + "@" + format_number(frames_per_second, 17);
   text += ";camera_start_s=" + format_number(camera_start_s, 17);
