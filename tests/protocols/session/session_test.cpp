@@ -58,16 +58,17 @@ TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
     const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture(name).string(), renderer_scene_catalog()), simulated(results));
     const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
     for (const RecordedTrial& trial : record.trials) {
-      const size_t steps = trial.start["sequence"].size();
+      const size_t steps = trial.start.sequence.size();
       if (std::string(name) == "ramp") {
         EXPECT_EQ(trial.responses.size(), steps - 1);  // an answer at every step after the first
         EXPECT_EQ(trial.stimuli.size(), steps);
       } else {
         ASSERT_FALSE(trial.responses.empty());
-        EXPECT_EQ(trial.responses.front().value("answer", ""), "reference");
-        EXPECT_EQ(trial.responses.back().value("answer", ""), "save");
-        ASSERT_EQ(trial.other.size(), 1u);
-        EXPECT_EQ(trial.other.front().value("event", ""), "slider_saved");
+        EXPECT_EQ(trial.responses.front().answer, "reference");
+        EXPECT_EQ(trial.responses.back().answer, "save");
+        ASSERT_EQ(trial.slider_saved.size(), 1u);  // the only other event of a slider trial
+        EXPECT_TRUE(trial.breaks.empty());
+        EXPECT_EQ(trial.slider_saved.front().trial, trial.index);
       }
     }
   }
@@ -138,7 +139,7 @@ TEST(Session, ExcludesAfterMaxAttentionErrors) {
   EXPECT_EQ(record.end_reason, "excluded");
   int breaks = 0;
   for (const RecordedTrial& trial : record.trials)
-    for (const auto& other : trial.other) breaks += other.value("reason", "") == "attention_check" ? 1 : 0;
+    for (const BreakEvent& pause : trial.breaks) breaks += pause.reason == "attention_check" ? 1 : 0;
   EXPECT_EQ(breaks, 1);  // after the first error; the second ends the session
   // A finished (excluded) participant cannot run again.
   EXPECT_THROW(run_session(config, options), InputError);
