@@ -534,6 +534,32 @@ SealEvent parse_seal(const nlohmann::json& json, FieldCheck check) {
   return event;
 }
 
+nlohmann::json to_json(const LogEvent& event) {
+  return std::visit([](const auto& typed) { return to_json(typed); }, event);
+}
+
+LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check) {
+  const std::string kind = event_kind(json);
+  if (kind == SessionHeaderEvent::kind) return parse_session_header(json, check);
+  if (kind == SessionResumedEvent::kind) return parse_session_resumed(json, check);
+  if (kind == InstructionsEvent::kind) return parse_instructions(json, check);
+  if (kind == BlockStartEvent::kind) return parse_block_start(json, check);
+  if (kind == BreakEvent::kind) return parse_break(json, check);
+  if (kind == TrialStartEvent::kind) return parse_trial_start(json, check);
+  if (kind == StimulusEvent::kind) return parse_stimulus(json, check);
+  if (kind == ResponseEvent::kind) return parse_response(json, check);
+  if (kind == SliderSavedEvent::kind) return parse_slider_saved(json, check);
+  if (kind == AttentionCheckEvent::kind) return parse_attention_check(json, check);
+  if (kind == TrialEndEvent::kind) return parse_trial_end(json, check);
+  if (kind == ExcludedEvent::kind) return parse_excluded(json, check);
+  if (kind == SessionPausedEvent::kind) return parse_session_paused(json, check);
+  if (kind == SessionEndEvent::kind) return parse_session_end(json, check);
+  if (kind == SealEvent::kind) return parse_seal(json, check);
+  throw InputError(std::string(log_keys::event) + ": " +
+                   (kind.empty() ? std::string("missing (expected a string naming the event)")
+                                 : "\"" + kind.substr(0, 40) + "\" is not an event of the log schema"));
+}
+
 std::string event_kind(const nlohmann::json& event) {
   if (!event.is_object()) return {};
   const auto found = event.find(k::event);

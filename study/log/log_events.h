@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -301,6 +302,14 @@ ExcludedEvent parse_excluded(const nlohmann::json& json, FieldCheck check = Fiel
 SessionPausedEvent parse_session_paused(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 SealEvent parse_seal(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
+
+// Any event of a log.
+using LogEvent = std::variant<SessionHeaderEvent, SessionResumedEvent, InstructionsEvent, BlockStartEvent, BreakEvent,
+                              TrialStartEvent, StimulusEvent, ResponseEvent, SliderSavedEvent, AttentionCheckEvent,
+                              TrialEndEvent, ExcludedEvent, SessionPausedEvent, SessionEndEvent, SealEvent>;
+nlohmann::json to_json(const LogEvent& event);
+// By its "event"; an unknown or missing kind is an InputError.
+LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 
 // The "event" of a logged event, or "" when it has none or it is not a string.
 std::string event_kind(const nlohmann::json& event);

@@ -10,6 +10,7 @@
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "protocols/session/trials_export.h"
+#include "study/log/log_events.h"
 #include "tests/protocols/session/session_test_support.h"
 
 namespace fovlab {
@@ -48,6 +49,14 @@ TEST_P(EveryProtocol, RunsHeadlessReplaysAndExports) {
 
   const std::string csv = export_trials_csv({outcome.log_path});
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), outcome.trials_total + 1);
+
+  // Every event the run wrote reads strictly as its struct (study/log/log_events.h), which writes
+  // back the same text (less the writer's chain).
+  for (nlohmann::json event : read_event_log(outcome.log_path).events) {
+    const LogEvent typed = parse_log_event(event);
+    event.erase("chain");
+    EXPECT_EQ(to_json(typed).dump(), event.dump());
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Session, EveryProtocol, ::testing::Values("tiny_2afc", "pair", "ramp", "slider", "rating"));

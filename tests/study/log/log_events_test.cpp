@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
 
 #include "core/input_error.h"
+#include "study/log/event_log.h"
 
 namespace fovlab {
 namespace {
@@ -265,6 +267,26 @@ TEST(LogEvents, ToJsonWritesTheBytesTheOldLiteralsWrote) {
     if (keyed) header.lab_key_id = "0123456789abcdef";
     same(to_json(header), old);
   }
+}
+
+// Logs an earlier fovlab wrote (schema 2, plain and keyed): every event reads strictly, and its
+// struct writes back exactly the text it was read from (less the writer's chain and MAC).
+TEST(LogEvents, LogsOfAnEarlierFovlabWriteBackTheSameText) {
+  for (const char* name : {"22_schema2_rating_sealed.jsonl", "23_schema2_rating_keyed_seal.jsonl"}) {
+    const EventLogFile log = read_event_log(std::string(FOVLAB_SOURCE_DIR) + "/tests/fuzz/corpus/log/" + name);
+    ASSERT_GT(log.events.size(), 10u) << name;
+    std::set<std::string> kinds;
+    for (nlohmann::json event : log.events) {
+      const LogEvent typed = parse_log_event(event);
+      kinds.insert(event_kind(event));
+      event.erase("chain");
+      event.erase("mac");
+      EXPECT_EQ(to_json(typed).dump(), event.dump()) << name;
+    }
+    EXPECT_EQ(kinds.size(), 10u) << name;  // header, instructions, block, trial, stimulus, response, check, end, session end, seal
+  }
+  EXPECT_THROW(parse_log_event({{"event", "interval"}}), InputError);
+  EXPECT_THROW(parse_log_event({{"trial", 1}}), InputError);
 }
 
 TEST(LogEvents, StrictParseNamesTheFieldLenientKeepsTheDefault) {
