@@ -46,7 +46,7 @@ class Differences {
   int limit_;
 };
 
-std::string line_of(const nlohmann::json& event) { return "seq " + std::to_string(event.value("seq", -1)); }
+std::string line_of(const EventStamp& stamp) { return "seq " + std::to_string(stamp.seq.value_or(-1)); }
 
 // The answers a simulated observer gives must come out the same again.
 void check_observer_answers(const SimulatedObserver& observer, const StudyPlan& plan, const RecordedTrial& recorded,
@@ -56,15 +56,15 @@ void check_observer_answers(const SimulatedObserver& observer, const StudyPlan& 
   const std::string where = "trial " + std::to_string(recorded.index);
   int ladder_index = trial.slider_start;
   for (size_t i = 0; i < recorded.responses.size(); ++i) {
-    const nlohmann::json& response = recorded.responses[i];
-    const int step = response.value("step", 0);
+    const ResponseEvent& response = recorded.responses[i];
+    const int step = response.step;
     ObserverAnswer expected;
     if (kind == ProtocolKind::ramp) expected = observer.answer_ramp_step(trial, step);
     else if (kind == ProtocolKind::slider) expected = observer.answer_slider(trial, step, ladder_index);
     else expected = observer.answer_comparison(trial);
-    const std::string logged = response.value("answer", "");
+    const std::string& logged = response.answer;
     if (logged != expected.answer)
-      differences.add(where + " (" + line_of(response) + ")",
+      differences.add(where + " (" + line_of(response.stamp) + ")",
                       "answer \"" + logged + "\" but the simulated observer answers \"" + expected.answer + "\"");
     if (kind == ProtocolKind::slider) ladder_index = next_ladder_index(trial, expected.answer, ladder_index);
   }
@@ -83,31 +83,35 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   if (log.torn_tail)
     differences.add(options.log_path, "the last line is cut off (" + std::to_string(log.torn_tail->size()) +
                                           " bytes, not used); the session was interrupted and not resumed");
-  const nlohmann::json& header = record.header;
+  SessionHeaderEvent header;
+  try {
+    header = parse_session_header(record.header);
+  } catch (const InputError& error) {
+    throw InputError(options.log_path + ":1: " + error.what());
+  }
+  if (!record.header.contains(log_keys::config_path)) header.config_path = "config.toml";
   const SceneCatalog scenes = renderer_scene_catalog();
-  const StudyConfig config =
-      parse_logged_study_config(header.value("config_toml", ""), header.value("config_path", "config.toml"), &scenes);
+  const StudyConfig config = parse_logged_study_config(header.config_toml, header.config_path, &scenes);
   // The header's own claims about its config: the name and hash must be those of the text it holds.
-  if (header.value("study", "") != config.name)
-    differences.add("header", "study \"" + header.value("study", "") + "\" but its config_toml names study \"" + config.name + "\"");
-  if (header.value("config_hash", "") != config.hash)
-    differences.add("header", "config_hash " + header.value("config_hash", "") + " is not the hash of its config_toml (" +
+  if (header.study != config.name)
+    differences.add("header", "study \"" + header.study + "\" but its config_toml names study \"" + config.name + "\"");
+  if (header.config_hash != config.hash)
+    differences.add("header", "config_hash " + header.config_hash + " is not the hash of its config_toml (" +
                                   config.hash + ")");
-  const StudyPlan plan = make_study_plan(config, header.value("participant", ""));
-  if (header.value("session_seed", uint64_t(0)) != plan.session_seed)
+  const StudyPlan plan = make_study_plan(config, header.participant);
+  if (header.session_seed != plan.session_seed)
     differences.add("header", "session_seed differs from the one derived from the study seed and participant");
-  const nlohmann::json recorded_scenes = header.value("scene_hashes", nlohmann::json::object());
+  const nlohmann::json& recorded_scenes = header.scene_hashes;
   const nlohmann::json current_scenes = scene_hashes(plan);
   if (recorded_scenes != current_scenes)
     differences.add("header", "scene files changed since the session (scene_hashes " + recorded_scenes.dump() +
                                   " now " + current_scenes.dump() + ")");
 
   std::optional<SimulatedObserver> observer;
-  if (header.contains("observer") && header["observer"].is_object())
-    observer.emplace(observer_from_json(header["observer"]), plan);
+  if (header.observer.is_object()) observer.emplace(observer_from_json(header.observer), plan);
 
   vk::Context context(vk::ContextOptions{options.device_selector, options.validation});
-  const nlohmann::json device = header.value("device", nlohmann::json::object());
+  const nlohmann::json& device = header.device;
   outcome.same_device = device.value("name", "") == context.description.name &&
                         device.value("driver", "") == context.description.driver &&
                         device.value("api_version", "") == context.description.api_version;
@@ -170,29 +174,29 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
       continue;
     }
     const Trial& trial = plan.trials[static_cast<size_t>(recorded.index)];
-    const nlohmann::json& start = recorded.start;
-    if (start.value("sequence", nlohmann::json()) != nlohmann::json(trial.sequence) ||
-        start.value("condition", "") != trial.condition || start.value("attention_check", false) != trial.attention_check)
+    const TrialStartEvent& start = recorded.start;
+    if (start.sequence != trial.sequence || start.condition != trial.condition ||
+        start.attention_check != trial.attention_check)
       differences.add(where, "trial_start differs from the schedule rebuilt from the header (sequence " +
-                                 start.value("sequence", nlohmann::json()).dump() + ", schedule " +
+                                 nlohmann::json(start.sequence).dump() + ", schedule " +
                                  nlohmann::json(trial.sequence).dump() + ")");
     const auto allowed = protocol_answers(config.protocol.kind, config.protocol.two_afc_question);
-    for (const nlohmann::json& response : recorded.responses) {
-      const std::string answer = response.value("answer", "");
+    for (const ResponseEvent& response : recorded.responses) {
+      const std::string& answer = response.answer;
       if (!answer.empty() && std::find(allowed.begin(), allowed.end(), answer) == allowed.end())
-        differences.add(where + " (" + line_of(response) + ")", "answer \"" + answer + "\" is not an answer of this protocol");
+        differences.add(where + " (" + line_of(response.stamp) + ")", "answer \"" + answer + "\" is not an answer of this protocol");
     }
     if (observer) check_observer_answers(*observer, plan, recorded, differences);
     if (recorded.attention_check && !recorded.responses.empty()) {
-      const bool correct = recorded.responses.front().value("answer", "") == identical_answer(config.protocol);
-      if (recorded.attention_check->value("correct", !correct) != correct)
+      const bool correct = recorded.responses.front().answer == identical_answer(config.protocol);
+      if (recorded.attention_check->correct != correct)
         differences.add(where, "attention_check.correct does not match the answer");
     }
 
     // The stimuli shown, in order: comparison and ramp trials show their sequence; a slider trial
     // starts with the reference and then shows ladder steps or the reference again.
     std::vector<int> shown_ids;
-    for (const nlohmann::json& shown : recorded.stimuli) shown_ids.push_back(shown.value("stimulus", -1));
+    for (const StimulusEvent& shown : recorded.stimuli) shown_ids.push_back(shown.stimulus);
     if (config.protocol.kind == ProtocolKind::slider) {
       for (size_t i = 0; i < shown_ids.size(); ++i) {
         const bool on_ladder = std::find(trial.sequence.begin(), trial.sequence.end(), shown_ids[i]) != trial.sequence.end();
@@ -204,48 +208,49 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
                                  nlohmann::json(trial.sequence).dump());
     }
     const int refreshes = config.stimulus.refreshes_per_frame(config.display.refresh_hz);
-    for (const nlohmann::json& shown : recorded.stimuli) {
-      const int stimulus = shown.value("stimulus", -1);
+    for (const StimulusEvent& shown : recorded.stimuli) {
+      const int stimulus = shown.stimulus;
+      const std::string line = line_of(shown.stamp);
       std::vector<int> expected_frames;  // every animation frame, each held `refreshes` refreshes
       for (int frame = 0; frame < config.stimulus.frame_count(); ++frame)
         for (int refresh = 0; refresh < refreshes; ++refresh) expected_frames.push_back(frame);
-      if (shown.value("frame", nlohmann::json::array()) != nlohmann::json(expected_frames))
-        differences.add(where + " (" + line_of(shown) + ")", "the frames shown are not every frame of the stimulus, " +
+      if (shown.frame != expected_frames)
+        differences.add(where + " (" + line + ")", "the frames shown are not every frame of the stimulus, " +
                                                                  std::to_string(refreshes) + " refreshes each");
       if (stimulus < 0 || stimulus >= static_cast<int>(plan.stimuli.size())) {
-        differences.add(where + " (" + line_of(shown) + ")", "stimulus id " + std::to_string(stimulus) + " not in the plan");
+        differences.add(where + " (" + line + ")", "stimulus id " + std::to_string(stimulus) + " not in the plan");
         continue;
       }
-      const nlohmann::json frames = shown.value("frame", nlohmann::json::array());
-      const nlohmann::json hashes = shown.value("hash", nlohmann::json::array());
-      const nlohmann::json gaze = shown.value("gaze", nlohmann::json::array());
+      const std::vector<int>& frames = shown.frame;
+      const std::vector<std::string>& hashes = shown.hash;
+      const std::vector<std::array<double, 2>>& gaze = shown.gaze;
       if (frames.size() != hashes.size() || frames.size() != gaze.size()) {
-        differences.add(where + " (" + line_of(shown) + ")", "frame, hash and gaze arrays differ in length");
+        differences.add(where + " (" + line + ")", "frame, hash and gaze arrays differ in length");
         continue;
       }
       const bool gaze_dependent = describe(plan.stimuli[static_cast<size_t>(stimulus)].spec.method()).depends_on_gaze;
       for (size_t i = 0; i < frames.size(); ++i) {
         StimulusImage image;
         image.image_index = static_cast<int>(i);
-        image.gaze.x_px = gaze[i].at(0).get<double>();
-        image.gaze.y_px = gaze[i].at(1).get<double>();
-        image.frame = frames[i].get<int>();
+        image.gaze.x_px = gaze[i][0];
+        image.gaze.y_px = gaze[i][1];
+        image.frame = frames[i];
         const int frame = image.frame;
         if (frame < 0 || frame >= plan.stimuli[static_cast<size_t>(stimulus)].spec.frame_count) {
-          differences.add(where + " (" + line_of(shown) + ")", "frame " + std::to_string(frame) + " out of range");
+          differences.add(where + " (" + line + ")", "frame " + std::to_string(frame) + " out of range");
           break;
         }
         const std::string file_name =
-            gaze_dependent ? image_file_name(recorded.index, shown.value("step", -1), stimulus, image.image_index)
+            gaze_dependent ? image_file_name(recorded.index, shown.step, stimulus, image.image_index)
                            : frame_file_name(stimulus, frame);
         const PreparedFrame& again = image_for(stimulus, image, file_name);
         ++outcome.presents_checked;
-        const std::string what = where + " (" + line_of(shown) + ") stimulus " + std::to_string(stimulus) + " frame " +
+        const std::string what = where + " (" + line + ") stimulus " + std::to_string(stimulus) + " frame " +
                                  std::to_string(frame) + (gaze_dependent ? " image " + std::to_string(i) : "");
-        if (by_ssim && reference_hash(file_name) != hashes[i].get<std::string>())
+        if (by_ssim && reference_hash(file_name) != hashes[i])
           differences.add(what, "the reference frame's hash is not the logged one (frames from another session?)");
-        if (!by_ssim && again.hash != hashes[i].get<std::string>())
-          differences.add(what, "frame hash " + hashes[i].get<std::string>() + " logged, " + again.hash + " rendered" +
+        if (!by_ssim && again.hash != hashes[i])
+          differences.add(what, "frame hash " + hashes[i] + " logged, " + again.hash + " rendered" +
                                     (outcome.same_device ? ""
                                                          : " (recorded on another device: use --reference-frames)"));
       }

@@ -19,6 +19,7 @@
 #include "protocols/gaze/gaze_spec.h"
 #include "protocols/gaze/mouse_gaze_source.h"
 #include "study/log/event_log.h"
+#include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
 #include "study/log/participant_lock.h"
 #include "study/log/session_record.h"
@@ -86,8 +87,8 @@ void check_trials_against_plan(const SessionRecord& record, const StudyPlan& pla
     if (trial.index < 0 || static_cast<size_t>(trial.index) >= plan.trials.size())
       throw InputError(where + ": not in this study's plan (" + std::to_string(plan.trials.size()) +
                        " trials); the log was not written by this config; not resuming");
-    if (trial.start.value("condition", "") != plan.trials[static_cast<size_t>(trial.index)].condition)
-      throw InputError(where + ": condition \"" + trial.start.value("condition", "") + "\" is not the plan's \"" +
+    if (trial.start.condition != plan.trials[static_cast<size_t>(trial.index)].condition)
+      throw InputError(where + ": condition \"" + trial.start.condition + "\" is not the plan's \"" +
                        plan.trials[static_cast<size_t>(trial.index)].condition + "\"; not resuming");
   }
 }
@@ -112,7 +113,10 @@ SessionOutcome seal_finished_session(const EventLogFile& log, const SessionRecor
                                      SessionOutcome outcome) {
   if (log.torn_tail) set_torn_tail_aside(log);
   EventLogWriter writer(log.path, log.last_chain, static_cast<int64_t>(log.events.size()), lab_key);
-  writer.append({{"event", "seal"}, {"t", record.last_time_s}, {"trials_complete", static_cast<int>(record.trials.size())}});
+  SealEvent seal;
+  seal.stamp.t = record.last_time_s;
+  seal.trials_complete = static_cast<int>(record.trials.size());
+  writer.append(to_json(seal));
   outcome.resumed = true;
   outcome.finished = true;
   outcome.excluded = record.excluded;
@@ -254,25 +258,27 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                  outcome.log_path.c_str(), existing->torn_tail->size(), torn_aside.c_str());
   }
   // The header before the log file exists: an error making it (a scene file gone) leaves no empty log.
-  std::optional<nlohmann::json> header;
+  std::optional<SessionHeaderEvent> header;
   if (!record) {
     SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
                                presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
                                gaze->describe(), presenter->refresh_hz(), utc_now()};
     header = make_session_header(inputs);
-    (*header)["lab_key_id"] = lab_key ? nlohmann::json(lab_key->id) : nlohmann::json();
+    if (lab_key) header->lab_key_id = lab_key->id;
   }
   EventLogWriter writer(outcome.log_path, record ? existing->last_chain : std::string(),
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
   SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s);
   if (header) {
-    run.log(*header);
+    run.log(to_json(*header));
   } else {
-    nlohmann::json resumed = {{"event", "session_resumed"}, {"next_trial", record->next_trial},
-                              {"started_utc", utc_now()}, {"gaze", gaze->describe()}};
-    resumed["discarded_trial"] = record->incomplete_trial >= 0 ? nlohmann::json(record->incomplete_trial) : nlohmann::json();
-    resumed["torn_line_set_aside"] = torn_aside.empty() ? nlohmann::json() : nlohmann::json(torn_aside);
-    run.log(resumed);
+    SessionResumedEvent resumed;
+    resumed.next_trial = record->next_trial;
+    resumed.started_utc = utc_now();
+    resumed.gaze = gaze->describe();
+    if (record->incomplete_trial >= 0) resumed.discarded_trial = record->incomplete_trial;
+    if (!torn_aside.empty()) resumed.torn_line_set_aside = torn_aside;
+    run.log(to_json(resumed));
   }
   if (record) run.set_excluded_logged(record->excluded);
   const auto loop_start = std::chrono::steady_clock::now();
@@ -282,12 +288,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     outcome.excluded = !kept;
   } catch (const SessionAborted& aborted) {
     outcome.stop_reason = aborted.reason;
-    run.log({{"event", "session_paused"}, {"reason", aborted.reason}});
+    run.log(to_json(SessionPausedEvent{{}, aborted.reason}));
   }
   outcome.trials_run = run.trials_completed();
   outcome.trials_completed = (record ? static_cast<int>(record->trials.size()) : 0) + outcome.trials_run;
   // The end of this run, sealed: the complete trials and the chain so far (keyed with a lab key).
-  run.log({{"event", "seal"}, {"trials_complete", outcome.trials_completed}});
+  run.log(to_json(SealEvent{{}, outcome.trials_completed, {}}));
   outcome.trial_loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   if (auto* window = dynamic_cast<WindowPresenter*>(presenter.get()); window && window->validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +

@@ -49,36 +49,34 @@ nlohmann::json scene_hashes(const StudyPlan& plan) {
   return hashes;
 }
 
-nlohmann::json make_session_header(const SessionHeaderInputs& inputs) {
+SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   const StudyPlan& plan = *inputs.plan;
   const StudyConfig& config = plan.config;
   const DisplayConfig& display = config.display;
-  nlohmann::json header = {
-      {"event", "session_header"},
-      {"schema_version", log_schema_version},
-      {"fovlab_version", FOVLAB_VERSION},
-      {"study", config.name},
-      {"participant", plan.participant},
-      {"study_seed", config.seed},
-      {"session_seed", plan.session_seed},
-      {"config_path", config.source_path},
-      {"config_hash", config.hash},
-      {"config_toml", config.source_text},
-      {"protocol", protocol_name(config.protocol.kind)},
-      {"trial_count", plan.trials.size()},
-      {"scene_hashes", scene_hashes(plan)},
-      {"device",
-       {{"name", inputs.device->name}, {"type", inputs.device->type}, {"api_version", inputs.device->api_version},
-        {"driver", inputs.device->driver}}},
-      {"display",
-       {{"width_px", display.width_px}, {"height_px", display.height_px}, {"refresh_hz", display.refresh_hz},
-        {"measured_refresh_hz", inputs.refresh_hz}, {"width_mm", display.width_mm}, {"height_mm", display.height_mm},
-        {"viewing_distance_mm", display.viewing_distance_mm}, {"fullscreen", display.fullscreen}}},
-      {"presenter", inputs.presenter},
-      {"gaze", inputs.gaze},
-      {"observer", inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human")},
-      {"started_utc", inputs.started_utc},
-      {"t", 0.0}};
+  SessionHeaderEvent header;
+  header.stamp.t = 0.0;
+  header.schema_version = log_schema_version;
+  header.fovlab_version = FOVLAB_VERSION;
+  header.study = config.name;
+  header.participant = plan.participant;
+  header.study_seed = config.seed;
+  header.session_seed = plan.session_seed;
+  header.config_path = config.source_path;
+  header.config_hash = config.hash;
+  header.config_toml = config.source_text;
+  header.protocol = protocol_name(config.protocol.kind);
+  header.trial_count = static_cast<int64_t>(plan.trials.size());
+  header.scene_hashes = scene_hashes(plan);
+  header.device = {{"name", inputs.device->name}, {"type", inputs.device->type},
+                   {"api_version", inputs.device->api_version}, {"driver", inputs.device->driver}};
+  header.display = {{"width_px", display.width_px}, {"height_px", display.height_px}, {"refresh_hz", display.refresh_hz},
+                    {"measured_refresh_hz", inputs.refresh_hz}, {"width_mm", display.width_mm},
+                    {"height_mm", display.height_mm}, {"viewing_distance_mm", display.viewing_distance_mm},
+                    {"fullscreen", display.fullscreen}};
+  header.presenter = inputs.presenter;
+  header.gaze = inputs.gaze;
+  header.observer = inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human");
+  header.started_utc = inputs.started_utc;
   nlohmann::json stimuli = nlohmann::json::array();
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     nlohmann::json entry = to_json(stimulus.spec);
@@ -87,7 +85,7 @@ nlohmann::json make_session_header(const SessionHeaderInputs& inputs) {
     entry["level"] = stimulus.level ? nlohmann::json(*stimulus.level) : nlohmann::json();
     stimuli.push_back(entry);
   }
-  header["stimuli"] = stimuli;
+  header.stimuli = stimuli;
   return header;
 }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "protocols/observer/simulated_observer.h"
+#include "study/log/log_events.h"
 #include "study/schedule/study_plan.h"
 
 namespace fovlab {
@@ -24,7 +25,8 @@ struct SessionHeaderInputs {
   std::string started_utc;
 };
 
-nlohmann::json make_session_header(const SessionHeaderInputs& inputs);
+// The header event; lab_key_id is left null (run_session sets it for a keyed log).
+SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs);
 
 nlohmann::json observer_json(const ObserverModel& model);
 ObserverModel observer_from_json(const nlohmann::json& json);  // throws InputError when malformed

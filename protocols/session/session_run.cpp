@@ -7,6 +7,7 @@
 #include "display/frame_io.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
+#include "study/log/log_events.h"
 
 namespace fovlab {
 namespace {
@@ -22,7 +23,7 @@ SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Pre
 
 void SessionRun::log(nlohmann::json event) {
   if (!event.contains("t")) event["t"] = t();
-  const bool trial_end = event.value("event", "") == "trial_end";
+  const bool trial_end = event_kind(event) == TrialEndEvent::kind;
   log_.append(std::move(event));
   ++events_written_;
   if (trial_end) ++trials_completed_;
@@ -51,11 +52,12 @@ void SessionRun::screenshot(const std::string& name) {
 void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id) {
   const PlannedStimulus& stimulus = plan_.stimuli.at(static_cast<size_t>(stimulus_id));
   const int refreshes = plan_.config.stimulus.refreshes_per_frame(plan_.config.display.refresh_hz);
-  nlohmann::json present_s = nlohmann::json::array(), frames = nlohmann::json::array(),
-                 hashes = nlohmann::json::array(), gaze = nlohmann::json::array(),
-                 invalid = nlohmann::json::array(), acquired = nlohmann::json::array(),
-                 ages = nlohmann::json::array();
-  const double onset = t();
+  StimulusEvent event;
+  event.trial = trial.index;
+  event.step = step;
+  event.stimulus = stimulus_id;
+  event.onset_s = t();
+  std::vector<std::optional<double>> acquired, ages;
   int dropped = 0;
   double previous = -1.0;
   for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
@@ -74,11 +76,12 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         if (periods > 1) dropped += static_cast<int>(periods - 1);
       }
       previous = shown_at;
-      if (!sample.valid) invalid.push_back({{"i", present_s.size()}, {"reason", sample.invalid_reason}});
-      present_s.push_back(shown_at);
-      frames.push_back(frame);
-      hashes.push_back(shown.hash);
-      gaze.push_back({sample.x_px, sample.y_px});
+      if (!sample.valid)
+        event.invalid_gaze.push_back({static_cast<int>(event.present_s.size()), sample.invalid_reason});
+      event.present_s.push_back(shown_at);
+      event.frame.push_back(frame);
+      event.hash.push_back(shown.hash);
+      event.gaze.push_back({sample.x_px, sample.y_px});
       // The sample's own time (already on the session clock: the source was asked at t()) and its
       // age when the frame made with it was presented (null: the tracker had no sample).
       if (sample.acquired_s) {
@@ -87,8 +90,8 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         ages.push_back(shown_at - acquired_s);
         gaze_age_s_.push_back(shown_at - acquired_s);
       } else {
-        acquired.push_back(nullptr);
-        ages.push_back(nullptr);
+        acquired.push_back(std::nullopt);
+        ages.push_back(std::nullopt);
       }
     }
     if (frame == 0 && !screenshot_taken_) {
@@ -96,10 +99,12 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       screenshot_taken_ = true;
     }
   }
-  log({{"event", "stimulus"}, {"trial", trial.index}, {"step", step}, {"stimulus", stimulus_id},
-       {"onset_s", onset}, {"t", t()}, {"present_s", present_s}, {"frame", frames}, {"hash", hashes},
-       {"gaze", gaze}, {"invalid_gaze", invalid}, {"dropped_frames", dropped}, {"gaze_acquired_s", acquired},
-       {"gaze_age_s", ages}, {"present_clock", presenter_.present_clock()}});
+  event.stamp.t = t();
+  event.dropped_frames = dropped;
+  event.gaze_acquired_s = std::move(acquired);
+  event.gaze_age_s = std::move(ages);
+  event.present_clock = presenter_.present_clock();
+  log(to_json(event));
   dropped_frames_ += dropped;
 }
 
@@ -120,8 +125,14 @@ Answer SessionRun::ask(const Trial& trial, int step, int ladder_index) {
   const std::optional<Answer> answer =
       responses_.await(request, presenter_, plan_.config.timing.response_timeout_s);
   Answer result = answer.value_or(Answer{"", "", presenter_.now_s()});
-  log({{"event", "response"}, {"trial", trial.index}, {"step", step}, {"answer", result.answer},
-       {"key", result.key}, {"rt_s", result.time_s - request.onset_s}, {"t", time_base_s_ + result.time_s}});
+  ResponseEvent event;
+  event.stamp.t = time_base_s_ + result.time_s;
+  event.trial = trial.index;
+  event.step = step;
+  event.answer = result.answer;
+  event.key = result.key;
+  event.rt_s = result.time_s - request.onset_s;
+  log(to_json(event));
   return result;
 }
 
@@ -150,9 +161,12 @@ void SessionRun::run_slider(const Trial& trial) {
     present_stimulus(trial, step++, trial.sequence.at(static_cast<size_t>(ladder_index)));
     const Answer answer = ask(trial, action, ladder_index);
     if (answer.answer == answers::save) {
-      log({{"event", "slider_saved"}, {"trial", trial.index}, {"ladder_index", ladder_index},
-           {"stimulus", trial.sequence.at(static_cast<size_t>(ladder_index))},
-           {"level", plan_.stimuli.at(static_cast<size_t>(trial.sequence.at(static_cast<size_t>(ladder_index)))).level.value_or(0.0)}});
+      SliderSavedEvent saved;
+      saved.trial = trial.index;
+      saved.ladder_index = ladder_index;
+      saved.stimulus = trial.sequence.at(static_cast<size_t>(ladder_index));
+      saved.level = plan_.stimuli.at(static_cast<size_t>(saved.stimulus)).level.value_or(0.0);
+      log(to_json(saved));
       return;
     }
     ladder_index = next_ladder_index(trial, answer.answer, ladder_index);
@@ -167,9 +181,8 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
   const StudyConfig& config = plan_.config;
   const bool checks_on = config.attention.share > 0;
   const auto exclude = [&](bool excluded_logged, int completed_trials) {
-    if (!excluded_logged)
-      log({{"event", "excluded"}, {"errors", attention_errors}, {"max_errors", config.attention.max_errors}});
-    log({{"event", "session_end"}, {"reason", "excluded"}, {"completed_trials", completed_trials}});
+    if (!excluded_logged) log(to_json(ExcludedEvent{{}, attention_errors, config.attention.max_errors}));
+    log(to_json(SessionEndEvent{{}, SessionEndEvent::excluded, completed_trials}));
     return false;
   };
   // A crash after the trial that reached max_errors (before session_end): the session is over.
@@ -179,7 +192,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     screenshot("instructions");
     AnswerRequest request{nullptr, 0, 0, presenter_.now_s()};
     responses_.await(request, presenter_, 0.0);
-    log({{"event", "instructions"}, {"shown_s", time_base_s_ + request.onset_s}});
+    log(to_json(InstructionsEvent{{}, time_base_s_ + request.onset_s}));
   }
   for (size_t index = static_cast<size_t>(first); index < plan_.trials.size(); ++index) {
     const Trial& trial = plan_.trials[index];
@@ -189,19 +202,23 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
         const double start = t();
         show_text("Rest. The next block starts in " + std::to_string(int(config.timing.rest_between_blocks_s)) + " s.");
         presenter_.wait_until(presenter_.now_s() + config.timing.rest_between_blocks_s);
-        log({{"event", "break"}, {"reason", "rest"}, {"start_s", start}, {"duration_s", t() - start}});
+        log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
       }
-      log({{"event", "block_start"}, {"block", trial.block}, {"name", block.name}, {"scene", block.scene}});
+      log(to_json(BlockStartEvent{{}, trial.block, block.name, block.scene}));
     }
-    nlohmann::json start = {{"event", "trial_start"}, {"trial", trial.index}, {"block", trial.block},
-                            {"condition", trial.condition}, {"variant", trial.variant},
-                            {"attention_check", trial.attention_check}, {"sequence", trial.sequence},
-                            {"reference", trial.reference}};
-    if (trial.level) start["level"] = *trial.level;
-    if (config.protocol.kind == ProtocolKind::ramp) start["ramp_toward_reference"] = trial.ramp_toward_reference;
-    else if (config.protocol.kind == ProtocolKind::slider) start["slider_start"] = trial.slider_start;
-    else start["reference_first"] = trial.reference_first;
-    log(start);
+    TrialStartEvent start;
+    start.trial = trial.index;
+    start.block = trial.block;
+    start.condition = trial.condition;
+    start.variant = trial.variant;
+    start.level = trial.level;
+    start.attention_check = trial.attention_check;
+    start.sequence = trial.sequence;
+    start.reference = trial.reference;
+    if (config.protocol.kind == ProtocolKind::ramp) start.ramp_toward_reference = trial.ramp_toward_reference;
+    else if (config.protocol.kind == ProtocolKind::slider) start.slider_start = trial.slider_start;
+    else start.reference_first = trial.reference_first;
+    log(to_json(start));
 
     std::string answer;
     if (config.protocol.kind == ProtocolKind::ramp) run_ramp(trial);
@@ -211,21 +228,20 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     if (trial.attention_check) {
       const bool correct = answer == identical_answer(config.protocol);
       if (!correct) ++attention_errors;
-      log({{"event", "attention_check"}, {"trial", trial.index}, {"correct", correct}, {"errors", attention_errors}});
+      log(to_json(AttentionCheckEvent{{}, trial.index, correct, attention_errors}));
       if (!correct && attention_errors < config.attention.max_errors && config.attention.break_s > 0) {
         const double break_start = t();
         show_text("Please take a break of at least " + std::to_string(int(config.attention.break_s)) + " s.");
         presenter_.wait_until(presenter_.now_s() + config.attention.break_s);
-        log({{"event", "break"}, {"trial", trial.index}, {"reason", "attention_check"}, {"start_s", break_start},
-             {"duration_s", t() - break_start}});
+        log(to_json(BreakEvent{{}, BreakEvent::attention_check, trial.index, break_start, t() - break_start}));
       }
     }
-    log({{"event", "trial_end"}, {"trial", trial.index}});
+    log(to_json(TrialEndEvent{{}, trial.index}));
     if (checks_on && attention_errors >= config.attention.max_errors) return exclude(false, trial.index + 1);
     show_black(config.timing.inter_trial_s);
   }
   show_text("Thank you. The session is complete.");
-  log({{"event", "session_end"}, {"reason", "completed"}, {"completed_trials", plan_.trials.size()}});
+  log(to_json(SessionEndEvent{{}, SessionEndEvent::completed, static_cast<int>(plan_.trials.size())}));
   return true;
 }
 

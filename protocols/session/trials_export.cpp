@@ -19,6 +19,11 @@ std::string number_cell(const nlohmann::json& value) {
   return value.is_string() ? value.get<std::string>() : value.dump();
 }
 
+template <typename T>
+nlohmann::json optional_json(const std::optional<T>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json();
+}
+
 const char* const columns[] = {"study", "participant", "protocol", "trial", "block", "block_name", "scene",
                                "condition", "variant", "level", "attention_check", "reference_first",
                                "ramp_toward_reference", "answer", "answers", "rt_s", "saved_level",
@@ -48,24 +53,21 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
       std::fprintf(stderr, "fovlab: %s: %s\n", path.c_str(), integrity.describe().c_str());
     const nlohmann::json& header = record.header;
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
-    for (const nlohmann::json& event : log.events)
-      if (event.value("event", "") == "block_start")
-        blocks[event.value("block", 0)] = {event.value("name", ""), event.value("scene", "")};
+    for (const BlockStartEvent& event : record.blocks) blocks[event.block] = {event.name, event.scene};
     for (const RecordedTrial& trial : record.trials) {
-      const nlohmann::json& start = trial.start;
+      const TrialStartEvent& start = trial.start;
       std::string answers, answer;
-      for (const nlohmann::json& response : trial.responses) {
+      for (const ResponseEvent& response : trial.responses) {
         if (!answers.empty()) answers += ';';
-        answers += response.value("answer", std::string());
-        answer = response.value("answer", std::string());
+        answers += response.answer;
+        answer = response.answer;
       }
       nlohmann::json rt, saved_level, onset, dropped = 0;
-      if (trial.responses.size() == 1) rt = trial.responses.front().value("rt_s", nlohmann::json());
-      for (const nlohmann::json& other : trial.other)
-        if (other.value("event", "") == "slider_saved") saved_level = other.value("level", nlohmann::json());
-      if (!trial.stimuli.empty()) onset = trial.stimuli.front().value("onset_s", nlohmann::json());
-      for (const nlohmann::json& shown : trial.stimuli) dropped = dropped.get<int>() + shown.value("dropped_frames", 0);
-      const int block = start.value("block", 0);
+      if (trial.responses.size() == 1) rt = optional_json(trial.responses.front().rt_s);
+      for (const SliderSavedEvent& saved : trial.slider_saved) saved_level = optional_json(saved.level);
+      if (!trial.stimuli.empty()) onset = trial.stimuli.front().onset_s;
+      for (const StimulusEvent& shown : trial.stimuli) dropped = dropped.get<int>() + shown.dropped_frames;
+      const int block = start.block;
       const auto block_info = blocks.count(block) ? blocks[block] : std::pair<std::string, std::string>();
       const std::vector<std::string> cells = {
           header.value("study", ""),
@@ -75,19 +77,19 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
           std::to_string(block),
           block_info.first,
           block_info.second,
-          start.value("condition", ""),
-          start.value("variant", ""),
-          number_cell(start.value("level", nlohmann::json())),
-          number_cell(start.value("attention_check", false)),
-          number_cell(start.value("reference_first", nlohmann::json())),
-          number_cell(start.value("ramp_toward_reference", nlohmann::json())),
+          start.condition,
+          start.variant,
+          number_cell(optional_json(start.level)),
+          number_cell(start.attention_check),
+          number_cell(optional_json(start.reference_first)),
+          number_cell(optional_json(start.ramp_toward_reference)),
           answer,
           answers,
           number_cell(rt),
           number_cell(saved_level),
-          trial.attention_check ? number_cell(trial.attention_check->value("correct", nlohmann::json())) : "",
+          trial.attention_check ? number_cell(optional_json(trial.attention_check->correct)) : "",
           number_cell(onset),
-          number_cell(trial.end.value("t", nlohmann::json())),
+          number_cell(optional_json(trial.end.stamp.t)),
           number_cell(dropped),
           record.excluded ? "true" : "false",
           log_status_name(integrity.status)};

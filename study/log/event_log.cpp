@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "study/log/log_events.h"
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/digest.h"
@@ -58,13 +59,13 @@ EventLogWriter::~EventLogWriter() {
 
 void EventLogWriter::append(nlohmann::json event) {
   const auto start = std::chrono::steady_clock::now();
-  event["seq"] = next_seq_;
-  event.erase("chain");
-  event.erase("mac");
-  if (event.value("event", "") == "seal") event["last_chain"] = chain_;
+  event[log_keys::seq] = next_seq_;
+  event.erase(log_keys::chain);
+  event.erase(log_keys::mac);
+  if (event_kind(event) == SealEvent::kind) event[log_keys::last_chain] = chain_;
   const std::string chain = event_chain(chain_, event);
-  event["chain"] = chain;
-  if (lab_key_) event["mac"] = event_mac(*lab_key_, chain);
+  event[log_keys::chain] = chain;
+  if (lab_key_) event[log_keys::mac] = event_mac(*lab_key_, chain);
   const std::string line = event.dump() + "\n";
   // A failed write or fsync cuts the file back to its last complete line: a full disk leaves no
   // partial event behind (and a resume, once there is space, continues from the last one).
@@ -131,19 +132,19 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
     if (event.is_discarded() || !event.is_object())
       throw InputError(path + ":" + std::to_string(line_number) + ": not a JSON event (expected one JSON object a line)");
     if (line_number == 1) {
-      const auto schema = event.find("schema_version");
+      const auto schema = event.find(log_keys::schema_version);
       log.schema_version = schema != event.end() && schema->is_number_integer() ? schema->get<int>() : 0;
     }
     if (!log.first_chain_error_line) {
-      const auto seq = event.find("seq");
-      const auto recorded = event.find("chain");
+      const auto seq = event.find(log_keys::seq);
+      const auto recorded = event.find(log_keys::chain);
       bool consistent = seq != event.end() && seq->is_number_integer() &&
                         seq->get<int64_t>() == static_cast<int64_t>(log.events.size()) && recorded != event.end() &&
                         recorded->is_string();
       if (consistent) {
         nlohmann::json without_chain = event;
-        without_chain.erase("chain");
-        without_chain.erase("mac");
+        without_chain.erase(log_keys::chain);
+        without_chain.erase(log_keys::mac);
         const std::string expected = event_chain(chain, without_chain, log.schema_version);
         consistent = expected == recorded->get<std::string>();
         chain = expected;

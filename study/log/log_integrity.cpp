@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "study/log/log_events.h"
 #include "core/digest.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
@@ -62,9 +63,9 @@ std::string LogIntegrity::describe() const {
 std::string event_mac(const LabKey& key, const std::string& chain) { return hmac_sha256_hex(key.bytes, chain); }
 
 void IntegrityTracker::header(const nlohmann::json& header, const std::string& path) {
-  const auto schema = header.find("schema_version");
+  const auto schema = header.find(log_keys::schema_version);
   result_.schema_version = schema != header.end() && schema->is_number_integer() ? schema->get<int>() : 0;
-  const auto key_id = header.find("lab_key_id");
+  const auto key_id = header.find(log_keys::lab_key_id);
   result_.keyed = key_id != header.end() && key_id->is_string();
   if (result_.keyed && key_ && key_id->get<std::string>() != key_->id)
     throw InputError(path + ":1: the log was sealed with lab key " + key_id->get<std::string>() +
@@ -93,11 +94,11 @@ void IntegrityTracker::broken(int line, std::string reason) {
 void IntegrityTracker::seal(const nlohmann::json& seal_event, int line, const std::string& previous_chain,
                             int trials_complete) {
   last_was_seal_ = true;
-  const auto count = seal_event.find("trials_complete");
+  const auto count = seal_event.find(log_keys::trials_complete);
   if (count == seal_event.end() || !count->is_number_integer() || count->get<int64_t>() != trials_complete)
     broken(line, "the seal commits " + (count == seal_event.end() ? std::string("no") : count->dump()) +
                      " complete trials but the log holds " + std::to_string(trials_complete) + " up to it");
-  const auto last_chain = seal_event.find("last_chain");
+  const auto last_chain = seal_event.find(log_keys::last_chain);
   if (last_chain == seal_event.end() || !last_chain->is_string() || last_chain->get<std::string>() != previous_chain)
     broken(line, "the seal's last_chain is not the chain of the event before it");
 }

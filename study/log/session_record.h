@@ -9,22 +9,27 @@
 #include <nlohmann/json.hpp>
 
 #include "study/log/event_log.h"
+#include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
 
 namespace fovlab {
 
+// The trial's events, typed (log_events.h). Fields the shared type checks do not cover
+// (check_log_field_types) are read leniently: a value of the wrong type there is left at its default.
 struct RecordedTrial {
   int index = 0;
-  nlohmann::json start;                  // the trial_start event
-  std::vector<nlohmann::json> stimuli;   // "stimulus" events, in order
-  std::vector<nlohmann::json> responses; // "response" events, in order
-  std::optional<nlohmann::json> attention_check;
-  std::vector<nlohmann::json> other;     // slider_saved, attention breaks
-  nlohmann::json end;                    // the trial_end event
+  TrialStartEvent start;
+  std::vector<StimulusEvent> stimuli;      // in order
+  std::vector<ResponseEvent> responses;    // in order
+  std::optional<AttentionCheckEvent> attention_check;
+  std::vector<SliderSavedEvent> slider_saved;  // slider trials: one
+  std::vector<BreakEvent> breaks;          // attention-check breaks
+  TrialEndEvent end;
 };
 
 struct SessionRecord {
-  nlohmann::json header;                 // the first event (session_header)
+  nlohmann::json header;                 // the first event (session_header), as logged
+  std::vector<BlockStartEvent> blocks;   // every block_start, in log order
   std::vector<RecordedTrial> trials;     // complete trials, ordered by index, one per index
   int attention_errors = 0;              // wrong attention-check answers in complete trials
   bool excluded = false;

@@ -13,6 +13,7 @@
 #include "core/input_error.h"
 #include "core/input_file.h"
 #include "study/log/event_log.h"
+#include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
 #include "study/log/session_record.h"
 #include "study/log/trial_assembly.h"
@@ -63,38 +64,38 @@ EventFields decode(simdjson::ondemand::document& document) {
   for (auto field : object) {
     const std::string_view key = field.unescaped_key();
     simdjson::ondemand::value value = field.value();
-    if (key == "event") fields.kind = value.get_string();
-    else if (key == "seq") {
+    if (key == log_keys::event) fields.kind = value.get_string();
+    else if (key == log_keys::seq) {
       int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
       if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
-    } else if (key == "chain") {
+    } else if (key == log_keys::chain) {
       std::string_view chain;
       if (value.get_string().get(chain) == simdjson::SUCCESS) fields.chain = chain;
-    } else if (key == "mac") {
+    } else if (key == log_keys::mac) {
       std::string_view mac;
       if (value.get_string().get(mac) == simdjson::SUCCESS) fields.mac = mac;
     }
-    else if (key == "trial") fields.trial = small_int(value);
-    else if (key == "block") fields.block = small_int(value);
-    else if (key == "step") fields.step = small_int(value);
-    else if (key == "condition") fields.condition = value.get_string();
-    else if (key == "variant") fields.variant = value.get_string();
-    else if (key == "answer") fields.answer = value.get_string();
-    else if (key == "name") fields.name = value.get_string();
-    else if (key == "scene") fields.scene = value.get_string();
-    else if (key == "level") {
+    else if (key == log_keys::trial) fields.trial = small_int(value);
+    else if (key == log_keys::block) fields.block = small_int(value);
+    else if (key == log_keys::step) fields.step = small_int(value);
+    else if (key == log_keys::condition) fields.condition = value.get_string();
+    else if (key == log_keys::variant) fields.variant = value.get_string();
+    else if (key == log_keys::answer) fields.answer = value.get_string();
+    else if (key == log_keys::name) fields.name = value.get_string();
+    else if (key == log_keys::scene) fields.scene = value.get_string();
+    else if (key == log_keys::level) {
       if (!value.is_null()) fields.level = value.get_double();
-    } else if (key == "attention_check") fields.attention_check = value.get_bool();
-    else if (key == "reference_first") fields.reference_first = value.get_bool();
-    else if (key == "ramp_toward_reference") fields.ramp_toward_reference = value.get_bool();
-    else if (key == "correct") fields.correct = value.get_bool();
-    else if (key == "sequence") {
+    } else if (key == log_keys::attention_check) fields.attention_check = value.get_bool();
+    else if (key == log_keys::reference_first) fields.reference_first = value.get_bool();
+    else if (key == log_keys::ramp_toward_reference) fields.ramp_toward_reference = value.get_bool();
+    else if (key == log_keys::correct) fields.correct = value.get_bool();
+    else if (key == log_keys::sequence) {
       for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
     }
-    else if (key == "dropped_frames") fields.dropped_frames = small_int(value);
-    else if (key == "present_clock") fields.present_clock = value.get_string();
-    else if (key == "gaze_acquired_s") number_or_null_array(value, nullptr);
-    else if (key == "gaze_age_s") {
+    else if (key == log_keys::dropped_frames) fields.dropped_frames = small_int(value);
+    else if (key == log_keys::present_clock) fields.present_clock = value.get_string();
+    else if (key == log_keys::gaze_acquired_s) number_or_null_array(value, nullptr);
+    else if (key == log_keys::gaze_age_s) {
       fields.has_gaze_age = true;
       number_or_null_array(value, &fields.gaze_age_s);
     }
@@ -125,16 +126,17 @@ bool cut_member(std::string_view text, std::string_view name, size_t digits, std
 std::string line_chain(const std::string& previous, std::string_view line, bool has_mac, std::string& scratch,
                        std::string& scratch_mac, int schema_version) {
   const size_t digits = schema_version == 1 ? 16 : 64;
-  if (cut_member(line, "chain", digits, scratch) && (!has_mac || cut_member(scratch, "mac", 64, scratch_mac))) {
+  if (cut_member(line, log_keys::chain, digits, scratch) && (!has_mac || cut_member(scratch, log_keys::mac, 64, scratch_mac))) {
     const std::string fast = chain_of_text(previous, has_mac ? scratch_mac : scratch, schema_version);
-    const size_t at = line.find("\"chain\":\"") + 9;
+    const std::string member = "\"" + std::string(log_keys::chain) + "\":\"";
+    const size_t at = line.find(member) + member.size();
     if (line.substr(at, digits) == fast) return fast;
   }
   if (json_nesting_depth(line) > max_event_nesting) return {};
   nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
   if (event.is_discarded() || !event.is_object()) return {};
-  event.erase("chain");
-  event.erase("mac");
+  event.erase(log_keys::chain);
+  event.erase(log_keys::mac);
   return event_chain(previous, event, schema_version);
 }
 
@@ -246,7 +248,7 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       session.header = parse_whole_event(line);
       if (session.header.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
       check_session_header(session.header, path);
-      schema_version = session.header["schema_version"].get<int>();
+      schema_version = session.header[log_keys::schema_version].get<int>();
       integrity.header(session.header, path);
     }
     const std::string previous_chain = chain;
@@ -263,18 +265,18 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (line_number == 1) continue;
     if (fields.kind.empty()) fail("event: missing (expected a string naming the event)");
     const std::string kind(fields.kind);
-    if (kind == "seal") {
+    if (kind == SealEvent::kind) {
       const nlohmann::json seal = parse_whole_event(line);
       if (seal.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
       integrity.seal(seal, line_number, previous_chain, trials.complete_count());
       continue;
     }
     integrity.event();
-    if (kind == "block_start") {
+    if (kind == BlockStartEvent::kind) {
       session.block_names[fields.block.value_or(0)] = std::string(fields.name.empty() ? fields.scene : fields.name);
       continue;
     }
-    if (kind == "trial_start") {
+    if (kind == TrialStartEvent::kind) {
       if (!fields.trial) fail("trial_start: trial missing (expected the trial index)");
       ScannedTrial trial;
       trial.index = *fields.trial;
@@ -290,14 +292,14 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       continue;
     }
     if (!is_trial_event(kind, fields.trial.has_value())) {
-      if (kind == "excluded") session.excluded = true;
-      if (kind == "session_end") session.ended = true;
-      if (kind == "session_resumed") trials.resume();
+      if (kind == ExcludedEvent::kind) session.excluded = true;
+      if (kind == SessionEndEvent::kind) session.ended = true;
+      if (kind == SessionResumedEvent::kind) trials.resume();
       continue;
     }
     ScannedTrial* open = trials.open_for(fields.trial);
     if (!open) fail(kind + ": trial does not match the trial started last");
-    if (kind == "stimulus") {
+    if (kind == StimulusEvent::kind) {
       open->dropped_frames += fields.dropped_frames.value_or(0);
       if (fields.has_gaze_age) {
         ++open->stimuli_with_latency;
@@ -308,13 +310,13 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
               session.present_clocks.end())
         session.present_clocks.emplace_back(fields.present_clock);
     }
-    if (kind == "response") {
+    if (kind == ResponseEvent::kind) {
       open->answers.emplace_back(fields.answer);
       open->answer_steps.push_back(fields.step.value_or(0));
     }
-    if (kind == "slider_saved") open->saved_level = fields.level;
-    if (kind == "attention_check") open->attention_correct = fields.correct.value_or(true);
-    if (kind == "trial_end" && !trials.end())
+    if (kind == SliderSavedEvent::kind) open->saved_level = fields.level;
+    if (kind == AttentionCheckEvent::kind) open->attention_correct = fields.correct.value_or(true);
+    if (kind == TrialEndEvent::kind && !trials.end())
       fail("trial_end: trial " + std::to_string(*fields.trial) + " is complete twice in this log (forged or spliced)");
   }
   if (line_number == 0) throw InputError(path + ":1: the log has no complete event (expected a session_header first)");

@@ -127,13 +127,13 @@ fs::path still_trace(const fs::path& folder) {
 }
 
 // The stimulus events of the log's complete trials that showed a FIPR stimulus.
-std::vector<nlohmann::json> fipr_presentations(const std::string& log_path) {
+std::vector<StimulusEvent> fipr_presentations(const std::string& log_path) {
   const SessionRecord record = read_session_record(read_event_log(log_path));
   const auto stimuli = record.header.at("stimuli").get<std::vector<nlohmann::json>>();
-  std::vector<nlohmann::json> shown;
+  std::vector<StimulusEvent> shown;
   for (const RecordedTrial& trial : record.trials)
-    for (const nlohmann::json& event : trial.stimuli)
-      if (stimuli.at(event.at("stimulus").get<size_t>()).at("method") == "fipr") shown.push_back(event);
+    for (const StimulusEvent& event : trial.stimuli)
+      if (stimuli.at(static_cast<size_t>(event.stimulus)).at("method") == "fipr") shown.push_back(event);
   return shown;
 }
 
@@ -156,15 +156,15 @@ TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
   }
   EXPECT_EQ(fipr_stimuli, 2);
 
-  const std::vector<nlohmann::json> presentations = fipr_presentations(outcome.log_path);
+  const std::vector<StimulusEvent> presentations = fipr_presentations(outcome.log_path);
   ASSERT_EQ(presentations.size(), 4u);
   std::set<std::vector<double>> positions;
   int invalid = 0;
-  for (const nlohmann::json& shown : presentations) {
-    EXPECT_EQ(shown.at("hash").size(), 6u);
-    EXPECT_EQ(shown.at("frame"), nlohmann::json({0, 0, 0, 1, 1, 1}));
-    for (const nlohmann::json& gaze : shown.at("gaze")) positions.insert(gaze.get<std::vector<double>>());
-    invalid += static_cast<int>(shown.at("invalid_gaze").size());
+  for (const StimulusEvent& shown : presentations) {
+    EXPECT_EQ(shown.hash.size(), 6u);
+    EXPECT_EQ(shown.frame, std::vector<int>({0, 0, 0, 1, 1, 1}));
+    for (const auto& [x, y] : shown.gaze) positions.insert({x, y});
+    invalid += static_cast<int>(shown.invalid_gaze.size());
   }
   EXPECT_GT(positions.size(), 12u) << "the gaze moves from refresh to refresh";
   EXPECT_GE(invalid, 4) << "the trace's samples without a position were shown with a held one";
@@ -184,7 +184,8 @@ TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
   for (std::string line; std::getline(lines, line);) {
     if (!done && line.find("\"event\":\"stimulus\"") != std::string::npos) {
       nlohmann::json event = nlohmann::json::parse(line);
-      if (event.at("seq") == presentations.front().at("seq")) {
+      ASSERT_TRUE(presentations.front().stamp.seq);
+      if (event.at("seq") == *presentations.front().stamp.seq) {
         for (nlohmann::json& gaze : event.at("gaze")) gaze = nlohmann::json({63.5, 0.5});
         line = event.dump();
         done = true;
@@ -209,9 +210,9 @@ TEST(FiprSession, EveryPresentationStartsAfreshSoTheSameGazeGivesTheSameImages) 
   // Each FIPR stimulus is shown twice (2 repeats), other stimuli in between: the two presentations
   // of a stimulus are image for image the same, though the periphery refresh keeps pixels of the
   // previous image within one.
-  std::map<int, std::vector<nlohmann::json>> hashes_by_stimulus;
-  for (const nlohmann::json& shown : fipr_presentations(outcome.log_path))
-    hashes_by_stimulus[shown.at("stimulus").get<int>()].push_back(shown.at("hash"));
+  std::map<int, std::vector<std::vector<std::string>>> hashes_by_stimulus;
+  for (const StimulusEvent& shown : fipr_presentations(outcome.log_path))
+    hashes_by_stimulus[shown.stimulus].push_back(shown.hash);
   ASSERT_EQ(hashes_by_stimulus.size(), 2u);
   for (const auto& [stimulus, presentations] : hashes_by_stimulus) {
     ASSERT_EQ(presentations.size(), 2u) << "stimulus " << stimulus;

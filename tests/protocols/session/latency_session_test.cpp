@@ -71,19 +71,21 @@ TEST_F(SessionLatency, EveryRefreshLogsItsSampleTimeAndAgeOnTheVirtualClock) {
   int stimuli = 0;
   size_t refreshes = 0;
   for (const RecordedTrial& trial : record.trials) {
-    for (const nlohmann::json& stimulus : trial.stimuli) {
+    for (const StimulusEvent& stimulus : trial.stimuli) {
       ++stimuli;
-      EXPECT_EQ(stimulus.value("present_clock", ""), "virtual");
-      const nlohmann::json& present = stimulus.at("present_s");
-      const nlohmann::json& acquired = stimulus.at("gaze_acquired_s");
-      const nlohmann::json& ages = stimulus.at("gaze_age_s");
+      EXPECT_EQ(stimulus.present_clock, "virtual");
+      const std::vector<double>& present = stimulus.present_s;
+      ASSERT_TRUE(stimulus.gaze_acquired_s && stimulus.gaze_age_s);
+      const std::vector<std::optional<double>>& acquired = *stimulus.gaze_acquired_s;
+      const std::vector<std::optional<double>>& ages = *stimulus.gaze_age_s;
       ASSERT_EQ(acquired.size(), present.size());
       ASSERT_EQ(ages.size(), present.size());
       for (size_t i = 0; i < present.size(); ++i) {
         // Asked at the previous refresh (or the onset), stamped 40 ms before that, shown one
         // period later: 40 ms + 16.67 ms, to rounding.
-        EXPECT_NEAR(ages[i].get<double>(), kAgeS + kRefreshS, 1e-9) << "refresh " << i;
-        EXPECT_NEAR(present[i].get<double>() - acquired[i].get<double>(), ages[i].get<double>(), 1e-12);
+        ASSERT_TRUE(ages[i] && acquired[i]) << "refresh " << i;
+        EXPECT_NEAR(*ages[i], kAgeS + kRefreshS, 1e-9) << "refresh " << i;
+        EXPECT_NEAR(present[i] - *acquired[i], *ages[i], 1e-12);
         ++refreshes;
       }
     }

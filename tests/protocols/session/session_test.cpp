@@ -10,6 +10,7 @@
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "protocols/session/trials_export.h"
+#include "study/log/log_events.h"
 #include "tests/protocols/session/session_test_support.h"
 
 namespace fovlab {
@@ -48,6 +49,14 @@ TEST_P(EveryProtocol, RunsHeadlessReplaysAndExports) {
 
   const std::string csv = export_trials_csv({outcome.log_path});
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), outcome.trials_total + 1);
+
+  // Every event the run wrote reads strictly as its struct (study/log/log_events.h), which writes
+  // back the same text (less the writer's chain).
+  for (nlohmann::json event : read_event_log(outcome.log_path).events) {
+    const LogEvent typed = parse_log_event(event);
+    event.erase("chain");
+    EXPECT_EQ(to_json(typed).dump(), event.dump());
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Session, EveryProtocol, ::testing::Values("tiny_2afc", "pair", "ramp", "slider", "rating"));
@@ -58,16 +67,17 @@ TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
     const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture(name).string(), renderer_scene_catalog()), simulated(results));
     const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
     for (const RecordedTrial& trial : record.trials) {
-      const size_t steps = trial.start["sequence"].size();
+      const size_t steps = trial.start.sequence.size();
       if (std::string(name) == "ramp") {
         EXPECT_EQ(trial.responses.size(), steps - 1);  // an answer at every step after the first
         EXPECT_EQ(trial.stimuli.size(), steps);
       } else {
         ASSERT_FALSE(trial.responses.empty());
-        EXPECT_EQ(trial.responses.front().value("answer", ""), "reference");
-        EXPECT_EQ(trial.responses.back().value("answer", ""), "save");
-        ASSERT_EQ(trial.other.size(), 1u);
-        EXPECT_EQ(trial.other.front().value("event", ""), "slider_saved");
+        EXPECT_EQ(trial.responses.front().answer, "reference");
+        EXPECT_EQ(trial.responses.back().answer, "save");
+        ASSERT_EQ(trial.slider_saved.size(), 1u);  // the only other event of a slider trial
+        EXPECT_TRUE(trial.breaks.empty());
+        EXPECT_EQ(trial.slider_saved.front().trial, trial.index);
       }
     }
   }
@@ -138,7 +148,7 @@ TEST(Session, ExcludesAfterMaxAttentionErrors) {
   EXPECT_EQ(record.end_reason, "excluded");
   int breaks = 0;
   for (const RecordedTrial& trial : record.trials)
-    for (const auto& other : trial.other) breaks += other.value("reason", "") == "attention_check" ? 1 : 0;
+    for (const BreakEvent& pause : trial.breaks) breaks += pause.reason == "attention_check" ? 1 : 0;
   EXPECT_EQ(breaks, 1);  // after the first error; the second ends the session
   // A finished (excluded) participant cannot run again.
   EXPECT_THROW(run_session(config, options), InputError);

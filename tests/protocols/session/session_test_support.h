@@ -57,10 +57,10 @@ inline std::vector<std::string> trial_summary(const std::string& log_path) {
   const SessionRecord record = read_session_record(read_event_log(log_path));
   std::vector<std::string> lines;
   for (const RecordedTrial& trial : record.trials) {
-    std::string line = std::to_string(trial.index) + "|" + trial.start.value("condition", "") + "|";
-    for (const auto& shown : trial.stimuli) line += std::to_string(shown.value("stimulus", -1)) + ",";
+    std::string line = std::to_string(trial.index) + "|" + trial.start.condition + "|";
+    for (const StimulusEvent& shown : trial.stimuli) line += std::to_string(shown.stimulus) + ",";
     line += "|";
-    for (const auto& response : trial.responses) line += response.value("answer", "") + ",";
+    for (const ResponseEvent& response : trial.responses) line += response.answer + ",";
     lines.push_back(line);
   }
   return lines;

@@ -48,7 +48,8 @@ TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
   const Rgba8Frame stimulus = image_to_frame(read_image(results / "shots/stimulus.png"));
   const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
   ASSERT_FALSE(record.trials.empty());
-  const nlohmann::json& first = record.trials.front().stimuli.front();
+  ASSERT_FALSE(record.trials.front().stimuli.empty());
+  const nlohmann::json first = to_json(record.trials.front().stimuli.front());  // the event as logged
   size_t last_of_frame0 = 0;  // the screenshot is taken after frame 0's refreshes
   for (size_t i = 0; i < first["frame"].size(); ++i)
     if (first["frame"][i] == 0) last_of_frame0 = i;

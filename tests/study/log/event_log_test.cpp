@@ -365,11 +365,14 @@ TEST(ProtocolsLog, RecordOfACompleteSession) {
   EXPECT_EQ(record.trials[0].index, 0);
   EXPECT_EQ(record.trials[1].index, 1);
   EXPECT_EQ(record.trials[0].stimuli.size(), 2u);
-  EXPECT_EQ(record.trials[0].stimuli[1]["interval"], 1);
+  ASSERT_TRUE(record.trials[0].stimuli[1].stamp.t);
+  EXPECT_DOUBLE_EQ(*record.trials[0].stimuli[1].stamp.t, 1.2);  // the second, in order
   ASSERT_EQ(record.trials[0].responses.size(), 1u);
-  EXPECT_EQ(record.trials[0].responses[0]["answer"], "same");
-  EXPECT_EQ(record.trials[0].start["event"], "trial_start");
-  EXPECT_EQ(record.trials[0].end["event"], "trial_end");
+  EXPECT_EQ(record.trials[0].responses[0].answer, "same");
+  EXPECT_EQ(record.trials[0].start.trial, 0);
+  EXPECT_EQ(record.trials[0].start.stamp.t, 1.0);  // the trial_start event
+  EXPECT_EQ(record.trials[0].end.trial, 0);
+  EXPECT_EQ(record.trials[0].end.stamp.t, 1.4);  // the trial_end event
   EXPECT_FALSE(record.trials[0].attention_check.has_value());
   ASSERT_TRUE(record.trials[1].attention_check.has_value());
   EXPECT_EQ(record.attention_errors, 0);
@@ -413,7 +416,7 @@ TEST(ProtocolsLog, SessionResumedDiscardsTheOpenTrial) {
   const SessionRecord record = read_session_record(make_log(events));
   ASSERT_EQ(record.trials.size(), 2u);
   ASSERT_EQ(record.trials[1].responses.size(), 1u);
-  EXPECT_EQ(record.trials[1].responses[0]["answer"], "second attempt");
+  EXPECT_EQ(record.trials[1].responses[0].answer, "second attempt");
   EXPECT_EQ(record.incomplete_trial, -1);
   EXPECT_EQ(record.next_trial, 2);
 
@@ -482,9 +485,10 @@ TEST(ProtocolsLog, BreaksAndSliderEventsBelongToTheirTrial) {
   events.push_back({{"event", "break"}, {"t", 7.0}});  // a rest between blocks: no trial
   const SessionRecord record = read_session_record(make_log(events));
   ASSERT_EQ(record.trials.size(), 1u);
-  ASSERT_EQ(record.trials[0].other.size(), 2u);
-  EXPECT_EQ(record.trials[0].other[0]["event"], "slider_saved");
-  EXPECT_EQ(record.trials[0].other[1]["event"], "break");
+  ASSERT_EQ(record.trials[0].slider_saved.size(), 1u);
+  EXPECT_EQ(record.trials[0].slider_saved[0].level, 16.0);
+  ASSERT_EQ(record.trials[0].breaks.size(), 1u);
+  EXPECT_EQ(record.trials[0].breaks[0].trial, 0);
   EXPECT_DOUBLE_EQ(record.last_time_s, 7.0);
 }
 

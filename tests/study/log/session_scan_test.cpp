@@ -80,29 +80,25 @@ void expect_same_story(const std::string& path) {
     const ScannedTrial& fast = scan.trials[i];
     const RecordedTrial& full = record.trials[i];
     EXPECT_EQ(fast.index, full.index);
-    EXPECT_EQ(fast.block, full.start.value("block", 0));
-    EXPECT_EQ(fast.condition, full.start.value("condition", ""));
-    EXPECT_EQ(fast.variant, full.start.value("variant", ""));
-    EXPECT_EQ(fast.level.has_value(), full.start.contains("level"));
-    if (fast.level) {
-      EXPECT_EQ(*fast.level, full.start["level"].get<double>());
-    }
-    EXPECT_EQ(fast.attention_check, full.start.value("attention_check", false));
-    EXPECT_EQ(fast.reference_first, full.start.value("reference_first", true));
-    EXPECT_EQ(fast.sequence, full.start.value("sequence", std::vector<int>()));
+    EXPECT_EQ(fast.block, full.start.block);
+    EXPECT_EQ(fast.condition, full.start.condition);
+    EXPECT_EQ(fast.variant, full.start.variant);
+    EXPECT_EQ(fast.level, full.start.level);
+    EXPECT_EQ(fast.attention_check, full.start.attention_check);
+    EXPECT_EQ(fast.reference_first, full.start.reference_first.value_or(true));
+    EXPECT_EQ(fast.sequence, full.start.sequence);
     ASSERT_EQ(fast.answers.size(), full.responses.size());
     for (size_t j = 0; j < fast.answers.size(); ++j) {
-      EXPECT_EQ(fast.answers[j], full.responses[j].value("answer", ""));
-      EXPECT_EQ(fast.answer_steps[j], full.responses[j].value("step", 0));
+      EXPECT_EQ(fast.answers[j], full.responses[j].answer);
+      EXPECT_EQ(fast.answer_steps[j], full.responses[j].step);
     }
-    EXPECT_EQ(fast.ramp_toward_reference, full.start.value("ramp_toward_reference", true));
+    EXPECT_EQ(fast.ramp_toward_reference, full.start.ramp_toward_reference.value_or(true));
     EXPECT_EQ(fast.attention_correct.has_value(), full.attention_check.has_value());
     if (fast.attention_correct) {
-      EXPECT_EQ(*fast.attention_correct, full.attention_check->value("correct", true));
+      EXPECT_EQ(*fast.attention_correct, full.attention_check->correct.value_or(true));
     }
     std::optional<double> saved;
-    for (const json& other : full.other)
-      if (other.value("event", "") == "slider_saved") saved = other["level"].get<double>();
+    for (const SliderSavedEvent& event : full.slider_saved) saved = event.level;
     EXPECT_EQ(fast.saved_level, saved);
   }
   std::map<int, std::string> block_names;  // from the full reader's events
