@@ -34,12 +34,6 @@ std::optional<double> more_degraded(std::optional<double> a, std::optional<doubl
   return higher_is_better ? std::min(*a, *b) : std::max(*a, *b);
 }
 
-// Comparison protocols: whether an answer is in favour of the test stimulus (docs/analysis.md,
-// the protocol's rules). nullopt: the answer is not one of the protocol's (a timeout, "").
-std::optional<bool> in_favour_of_test(const StudyData& data, const StudyTrial& trial, const std::string& answer) {
-  return data.rules().in_favour_of_test(answer, trial.reference_first);
-}
-
 struct ConditionCounts {
   std::optional<double> level;
   std::set<std::string> methods;
@@ -94,7 +88,7 @@ class ComparisonAnalysis {
       for (const StudyTrial& trial : participant->trials) {
         if (trial.attention_check || trial.answers.empty()) continue;
         const std::string& answer = trial.answers.back();
-        const std::optional<bool> favour = in_favour_of_test(data_, trial, answer);
+        const std::optional<bool> favour = data_.rules().in_favour_of_test(answer, trial.reference_first);
         if (!favour) {
           ++unanswered;
           continue;
@@ -299,7 +293,7 @@ std::optional<double> pair_threshold(const StudyData& data, const std::vector<co
                                      std::string& note) {
   std::map<double, std::pair<int, int>> counts;  // level -> (in favour, n)
   for (const StudyTrial* trial : trials) {
-    const std::optional<bool> favour = in_favour_of_test(data, *trial, trial->answers.back());
+    const std::optional<bool> favour = data.rules().in_favour_of_test(trial->answers.back(), trial->reference_first);
     if (!favour || !trial->level) continue;
     auto& [k, n] = counts[*trial->level];
     k += *favour ? 1 : 0;

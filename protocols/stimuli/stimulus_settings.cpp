@@ -9,9 +9,6 @@
 namespace fovlab {
 namespace {
 
-// Eccentricities are below 180 degrees: the descriptor's 180 means no outer periphery.
-constexpr double kNoOuterPeripheryDeg = 180.0;
-
 void set_pyramid(SphereTraceSettings& settings, int pyramid_levels, int min_filter_size) {
   settings.pyramid_levels = pyramid_levels;
   settings.min_filter_size = min_filter_size;
@@ -54,7 +51,7 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
     foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
     foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
     foveation.acuity.fovea_deg = fipr->fovea_radius_deg;
-    foveation.acuity.outer_periphery_deg = fipr->outer_periphery_radius_deg >= kNoOuterPeripheryDeg
+    foveation.acuity.outer_periphery_deg = fipr->outer_periphery_radius_deg >= kNoOuterPeripheryRadiusDeg
                                                ? std::numeric_limits<double>::infinity()
                                                : fipr->outer_periphery_radius_deg;
     foveation.periphery_refresh = fipr->periphery_refresh;

@@ -297,7 +297,6 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
   protocol.randomise_blocks = block_order == "random";
   protocol.question.text = fields.string("question_text", std::string(rules.default_question));
 
-  const std::vector<std::string> answers = protocol_answers(protocol.kind, protocol.two_afc_question);
   const toml::table* keys_table = fields.optional_table("keys");
   std::map<std::string, std::string> answer_of_key;
   for (const ProtocolAnswer& rule : rules.answers) {
@@ -321,9 +320,9 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
   if (keys_table) {
     const TomlFields keys_fields(*keys_table, fields.path(), fields.name_of("keys"));
     for (auto&& [key, node] : *keys_table)
-      if (std::find(answers.begin(), answers.end(), std::string(key.str())) == answers.end()) {
+      if (!rules.is_answer(key.str())) {
         std::string expected;
-        for (const std::string& answer : answers) expected += (expected.empty() ? "" : ", ") + answer;
+        for (const ProtocolAnswer& answer : rules.answers) expected += (expected.empty() ? "" : ", ") + std::string(answer.name);
         keys_fields.fail(std::string(key.str()), "not an answer of this protocol (expected " + expected + ")");
       }
   }

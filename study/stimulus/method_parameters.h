@@ -41,6 +41,10 @@ struct InvertedPyramidParameters {
   int min_filter_size;
 };
 
+// FIPR's outer periphery at this radius is none (eccentricities are below 180 degrees); the
+// renderer's is then infinite (protocols/stimuli/stimulus_settings.cpp).
+inline constexpr double kNoOuterPeripheryRadiusDeg = 180.0;
+
 // The foveated inverted pyramid (FIPR, seed 000 section 3.2).
 struct FoveatedPyramidParameters {
   int samples_per_pixel;

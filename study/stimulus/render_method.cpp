@@ -69,8 +69,6 @@ ParameterDescriptor with_legacy_key(ParameterDescriptor descriptor, std::string_
 }
 
 constexpr double kSeedMax = double(std::numeric_limits<uint32_t>::max());
-// Eccentricities are below 180 degrees: an outer periphery at 180 is none.
-constexpr double kNoOuterPeripheryDeg = 180.0;
 // The sphere tracer's samples of one frame live in one buffer indexed by 32-bit words
 // (renderer/sphere_tracing/sphere_tracer.h kMaxSphereTraceSamplesPerFrame; protocols/stimuli checks).
 constexpr uint64_t kSphereTraceSamplesPerFrame = uint64_t{1} << 28;
@@ -163,7 +161,7 @@ MethodDescriptor foveated_pyramid() {
       "fovea_deg"));
   list.push_back(with_legacy_key(
       parameter<&P::outer_periphery_radius_deg>("outer_periphery_radius_deg", "deg", ParameterType::real,
-                                                kNoOuterPeripheryDeg, 0, kNoOuterPeripheryDeg,
+                                                kNoOuterPeripheryRadiusDeg, 0, kNoOuterPeripheryRadiusDeg,
                                                 "radius (eccentricity) beyond which no pixel is traced at the top level for acuity (edges still are with combine max); 180: none; at least fovea_radius_deg"),
       "outer_periphery_deg"));
   list.push_back(with_allowed(parameter<&P::periphery_refresh>("periphery_refresh", "frames", ParameterType::integer,
