@@ -97,7 +97,7 @@ void run_bench_fpt(BenchFptOptions options) {
   SphereTraceSettings frame_settings;
   frame_settings.width = options.width;
   frame_settings.height = options.height;
-  frame_settings.colour_only = true;
+  frame_settings.outputs = TraceOutputs::colour;
   const Image frame = SphereTracer(context, scene).render(frame_settings).colour_linear;
 
   nlohmann::json report = {{"device", context.description.name},

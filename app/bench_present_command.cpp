@@ -1,11 +1,16 @@
 // fovlab bench-present: the time from reading a gaze sample to the present of the frame rendered
 // with it, for a FIPR stimulus, as a session spends it on every refresh (SessionRun::
-// present_stimulus): the sample is read, the FIPR image is rendered with it on the rendering device,
-// read back and hashed (StimulusLibrary::frame), then handed to the presenter, which copies it to
-// its own device and presents it. Timed on the steady clock from the read to present()'s return
-// (the window's "after_queue_present" time, which the log records); the headless presenter's row is
-// the same path without a display (its present is free), so the two rows part the render from the
-// presentation. Prints a Markdown table; --json writes every figure.
+// present_stimulus): the sample is read, the FIPR image is rendered with it and sRGB-encoded on the
+// rendering device (StimulusLibrary::frame), handed to the presenter and presented; then the frame
+// is read back and hashed for the log (StimulusLibrary::hash), after the present. Timed on the
+// steady clock from the read to present()'s return (the window's "after_queue_present" time, which
+// the log records). Rows by the frame's path to the swapchain:
+// - window, on_device: one device renders and presents (a session's default): no host round trip;
+// - window, via_host: the renderer on a device of its own, the window on another (fovlab run
+//   --present-device): the frame is read back and uploaded on every refresh, as every session did
+//   before presentation moved to the rendering device;
+// - headless: the same render and hash without a display (its present is free).
+// Prints a Markdown table; --json writes every figure.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -92,11 +97,12 @@ StimulusSpec fipr_spec(const std::string& scene, Size size, int images) {
 }
 
 struct Row {
-  std::string presenter;  // "window", "headless"
+  std::string presenter;   // "window", "headless"
+  std::string frame_path;  // "on_device", "via_host", "none"
   std::string presenter_device;
   std::string present_clock;
   Size size;
-  std::vector<double> latency_s, render_s, present_s;
+  std::vector<double> latency_s, render_s, present_s, hash_s;
   int dropped_frames = 0;  // refresh periods missed between presents (the presenter's clock)
 };
 
@@ -122,8 +128,11 @@ Row measure(Presenter& presenter, StimulusLibrary& library, int id, const Stimul
     if (sample.valid) last_valid = sample;
     const PreparedFrame& frame = library.frame(id, spec, StimulusImage{image, image, sample});
     const double render_s = seconds_since(read_at);
-    const double shown_s = presenter.present(frame.image);
+    const double shown_s = frame.on_device ? presenter.present(frame.on_device) : presenter.present(frame.image);
     const double latency_s = seconds_since(read_at);
+    const auto hash_start = std::chrono::steady_clock::now();
+    library.hash(frame);  // after the present, as a session does
+    const double hash_s = seconds_since(hash_start);
     if (image < kWarmupRefreshes) continue;
     if (previous_present_s >= 0) {
       const long periods = std::lround((shown_s - previous_present_s) * presenter.refresh_hz());
@@ -133,6 +142,7 @@ Row measure(Presenter& presenter, StimulusLibrary& library, int id, const Stimul
     row.latency_s.push_back(latency_s);
     row.render_s.push_back(render_s);
     row.present_s.push_back(latency_s - render_s);
+    row.hash_s.push_back(hash_s);
   }
   return row;
 }
@@ -184,20 +194,31 @@ void run_bench_present(const BenchPresentOptions& options) {
       window.title = "fovlab bench-present";
       window.screenshots = false;  // as in a session without --screenshots
       window.validation = context_settings.validation;
-      WindowPresenter presenter(window);
-      Row row = measure(presenter, library, id, spec, options.refreshes);
-      row.presenter = "window";
-      row.presenter_device = presenter.device_name();
-      if (presenter.validation_message_count() > 0)
-        throw std::runtime_error("the Vulkan validation layer reported " +
-                                 std::to_string(presenter.validation_message_count()) +
-                                 " message(s) in the window (see stderr)");
-      rows.push_back(std::move(row));
+      window.device_selector = context_settings.device_selector;
+      for (const bool on_device : {true, false}) {
+        WindowPresenter presenter(window);
+        // on_device: a library on the window's own device; via_host: the one on `context`.
+        std::optional<StimulusLibrary> window_library;
+        if (on_device) {
+          window_library.emplace(presenter.context());
+          window_library->prepare({{id, spec}});
+        }
+        Row row = measure(presenter, on_device ? *window_library : library, id, spec, options.refreshes);
+        row.presenter = "window";
+        row.frame_path = on_device ? "on_device" : "via_host";
+        row.presenter_device = presenter.device_name();
+        if (presenter.validation_message_count() > 0)
+          throw std::runtime_error("the Vulkan validation layer reported " +
+                                   std::to_string(presenter.validation_message_count()) +
+                                   " message(s) in the window (see stderr)");
+        rows.push_back(std::move(row));
+      }
     }
     if (options.presenter != "window") {
       HeadlessPresenter presenter(60.0);
       Row row = measure(presenter, library, id, spec, options.refreshes);
       row.presenter = "headless";
+      row.frame_path = "none";
       row.presenter_device = "none";
       rows.push_back(std::move(row));
     }
@@ -213,11 +234,13 @@ void run_bench_present(const BenchPresentOptions& options) {
                            {"percentiles", "nearest rank"},
                            {"rows", nlohmann::json::array()}};
   std::string table =
-      "| presenter | size | gaze to present, median ms | p95 ms | render + read-back + hash, median ms | present, median "
-      "ms | dropped frames | present clock |\n|---|---|---:|---:|---:|---:|---:|---|\n";
+      "| presenter | frame path | size | gaze to present, median ms | p95 ms | render, median ms | present, median ms | "
+      "read-back + hash after the present, median ms | dropped frames | present clock |\n"
+      "|---|---|---|---:|---:|---:|---:|---:|---:|---|\n";
   char line[512];
   for (const Row& row : rows) {
     report["rows"].push_back({{"presenter", row.presenter},
+                              {"frame_path", row.frame_path},
                               {"presenter_device", row.presenter_device},
                               {"present_clock", row.present_clock},
                               {"width", row.size.width},
@@ -227,10 +250,12 @@ void run_bench_present(const BenchPresentOptions& options) {
                               {"p95_ms", p95_ms(row.latency_s)},
                               {"render_median_ms", median_ms(row.render_s)},
                               {"present_median_ms", median_ms(row.present_s)},
+                              {"hash_median_ms", median_ms(row.hash_s)},
                               {"dropped_frames", row.dropped_frames}});
-    std::snprintf(line, sizeof line, "| %s | %dx%d | %.2f | %.2f | %.2f | %.2f | %d | %s |\n", row.presenter.c_str(),
-                  row.size.width, row.size.height, median_ms(row.latency_s), p95_ms(row.latency_s),
-                  median_ms(row.render_s), median_ms(row.present_s), row.dropped_frames, row.present_clock.c_str());
+    std::snprintf(line, sizeof line, "| %s | %s | %dx%d | %.2f | %.2f | %.2f | %.2f | %.2f | %d | %s |\n",
+                  row.presenter.c_str(), row.frame_path.c_str(), row.size.width, row.size.height,
+                  median_ms(row.latency_s), p95_ms(row.latency_s), median_ms(row.render_s), median_ms(row.present_s),
+                  median_ms(row.hash_s), row.dropped_frames, row.present_clock.c_str());
     table += line;
   }
   std::printf("# fovlab bench-present\n\nCommand: `%s`\n\nRender device: %s; FIPR on %s; %d timed refreshes after %d "

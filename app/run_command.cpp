@@ -59,6 +59,10 @@ void run(RunOptions options) {
   } else {
     std::printf("latency: no stimulus refresh with a gaze sample in this run, %d dropped frames\n", outcome.dropped_frames);
   }
+  if (outcome.frame_path == "via_host")
+    std::printf("presentation: on another device than the renderer's; %d frames copied through the host, %.3f ms each\n",
+                outcome.cross_device_frames,
+                outcome.cross_device_frames ? 1e3 * outcome.cross_device_copy_s / outcome.cross_device_frames : 0.0);
 }
 
 }  // namespace
@@ -77,7 +81,11 @@ void add_run_command(CLI::App& app) {
   command->add_option("--results", options->session.results_dir, "Results folder (default: results)");
   command->add_option("--screenshots", options->session.screenshots_dir,
                       "Windowed: save the instructions and the first stimulus as PNG here");
-  command->add_option("--device", options->device, "Vulkan device for rendering: index or part of its name");
+  command->add_option("--device", options->device,
+                      "Vulkan device that renders and, in a window, presents: index or part of its name");
+  command->add_option("--present-device", options->session.present_device_selector,
+                      "Present on another device than --device (e.g. the GPU wired to the monitor of a two-GPU "
+                      "laptop): frames are then copied through the host, and the copy is timed");
   command->add_option("--lab-key", options->session.lab_key_path,
                       "Key file (16-4096 bytes, kept outside the results folder): seals the log with an HMAC, so "
                       "a changed log cannot be re-sealed without the key");

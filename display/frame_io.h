@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "core/image.h"
-#include "display/frame.h"
+#include "core/rgba8_frame.h"
 
 namespace fovlab {
 

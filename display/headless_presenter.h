@@ -14,10 +14,8 @@ class HeadlessPresenter final : public Presenter {
   explicit HeadlessPresenter(double refresh_hz, double start_s = 0.0) : refresh_hz_(refresh_hz), now_s_(start_s) {}
 
   double now_s() override { return now_s_; }
-  double present(const Rgba8Frame&) override {
-    now_s_ += 1.0 / refresh_hz_;
-    return now_s_;
-  }
+  double present(const Rgba8Frame&) override { return next_refresh(); }
+  double present(const DeviceRgba8Frame&) override { return next_refresh(); }
   std::vector<InputEvent> poll_input() override { return {}; }
   void wait_until(double time_s) override {
     // Whole refreshes, as a real display would show: the next vsync at or after time_s.
@@ -30,6 +28,10 @@ class HeadlessPresenter final : public Presenter {
   std::string present_clock() const override { return "virtual"; }
 
  private:
+  double next_refresh() {
+    now_s_ += 1.0 / refresh_hz_;
+    return now_s_;
+  }
   double refresh_hz_;
   double now_s_;
 };

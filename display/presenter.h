@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "display/frame.h"
+#include "core/rgba8_frame.h"
+#include "renderer/present/device_frame.h"
 
 namespace fovlab {
 
@@ -26,6 +27,9 @@ class Presenter {
   virtual double now_s() = 0;
   // Shows the frame at the next refresh; returns the session time it was presented (after vsync).
   virtual double present(const Rgba8Frame& frame) = 0;
+  // The same for a frame held on a device (a live stimulus as the renderer left it); a window on
+  // that device shows it without a copy through the host.
+  virtual double present(const DeviceRgba8Frame& frame) = 0;
   // Key and button presses since the last call, oldest first.
   virtual std::vector<InputEvent> poll_input() = 0;
   // Waits (real clock) or advances (virtual clock) until time_s, keeping the last frame on screen.

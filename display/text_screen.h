@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "display/frame.h"
+#include "core/rgba8_frame.h"
 
 namespace fovlab {
 

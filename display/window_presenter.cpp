@@ -14,7 +14,7 @@
 
 #include "core/input_error.h"
 #include "renderer/vk/check.h"
-#include "renderer/vk/instance_support.h"
+#include "renderer/vk/submission.h"
 
 namespace fovlab {
 
@@ -75,16 +75,14 @@ void sleep_s(double seconds) {
 
 }  // namespace
 
-WindowPresenter::WindowPresenter(const WindowPresenterOptions& options)
-    : options_(options), validation_log_(std::make_unique<vk::ValidationLog>("window")) {
+WindowPresenter::WindowPresenter(const WindowPresenterOptions& options) : options_(options) {
   if (options_.width_px <= 0 || options_.height_px <= 0) {
     throw std::invalid_argument("window: frame size must be positive, got " + std::to_string(options_.width_px) + "x" +
                                 std::to_string(options_.height_px));
   }
   try {
     create_window();
-    create_instance();
-    choose_device();
+    create_context();
     create_swapchain();
   } catch (...) {
     release();
@@ -141,124 +139,40 @@ void WindowPresenter::create_window() {
   });
 }
 
-void WindowPresenter::create_instance() {
+void WindowPresenter::create_context() {
   uint32_t glfw_extension_count = 0;
   const char** glfw_extensions = glfwGetRequiredInstanceExtensions(&glfw_extension_count);
   if (!glfw_extensions) {
     throw InputError("window: Vulkan cannot present to this display (" + glfw_error_description() + ")");
   }
-  std::vector<const char*> extensions(glfw_extensions, glfw_extensions + glfw_extension_count);
-  std::vector<const char*> layers;
-  VkDebugUtilsMessengerCreateInfoEXT debug_info = vk::validation_messenger_info(validation_log_.get());
-  if (options_.validation) vk::enable_validation(layers, extensions);
-  VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  application.pApplicationName = "fovlab window";
-  application.apiVersion = VK_API_VERSION_1_1;
-  VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  info.pNext = options_.validation ? &debug_info : nullptr;  // also reports on instance creation
-  info.pApplicationInfo = &application;
-  info.enabledLayerCount = static_cast<uint32_t>(layers.size());
-  info.ppEnabledLayerNames = layers.data();
-  info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
-  info.ppEnabledExtensionNames = extensions.data();
-  const VkResult result = vkCreateInstance(&info, nullptr, &instance_);
-  if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_EXTENSION_NOT_PRESENT) {
-    throw InputError("window: no Vulkan driver can present to a window (" + std::string(vk::result_name(result)) +
-                     "); expected a GPU driver or Mesa lavapipe (mesa-vulkan-drivers)");
-  }
-  VK_CHECK(result);
-  if (options_.validation) messenger_ = vk::create_validation_messenger(instance_, debug_info);
-  VK_CHECK(glfwCreateWindowSurface(instance_, window_, nullptr, &surface_));
-}
-
-void WindowPresenter::choose_device() {
-  const std::vector<VkPhysicalDevice> devices = vk::physical_devices(instance_);
-
-  struct Candidate {
-    uint32_t index;
-    std::string name;
-    int preference;
-    int queue_family = -1;
-    std::string unusable_reason;
+  vk::SurfaceRequest request;
+  request.instance_extensions.assign(glfw_extensions, glfw_extensions + glfw_extension_count);
+  request.create_surface = [this](VkInstance instance) {
+    VkSurfaceKHR surface = VK_NULL_HANDLE;
+    VK_CHECK(glfwCreateWindowSurface(instance, window_, nullptr, &surface));
+    return surface;
   };
-  std::vector<Candidate> candidates;
-  for (uint32_t i = 0; i < devices.size(); ++i) {
-    VkPhysicalDeviceProperties properties;
-    vkGetPhysicalDeviceProperties(devices[i], &properties);
-    Candidate candidate{i, properties.deviceName, vk::device_type_preference(properties.deviceType)};
-    if (!vk::has_device_extension(devices[i], VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
-      candidate.unusable_reason = "no VK_KHR_swapchain";
-    } else {
-      const std::vector<VkQueueFamilyProperties> families = vk::queue_families(devices[i]);
-      // vkCmdClearColorImage needs a graphics or compute queue; graphics preferred.
-      for (uint32_t f = 0; f < families.size(); ++f) {
-        if (!(families[f].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT))) continue;
-        VkBool32 supported = VK_FALSE;
-        if (vkGetPhysicalDeviceSurfaceSupportKHR(devices[i], f, surface_, &supported) != VK_SUCCESS || !supported) continue;
-        const bool graphics = families[f].queueFlags & VK_QUEUE_GRAPHICS_BIT;
-        if (candidate.queue_family < 0 || graphics) candidate.queue_family = static_cast<int>(f);
-        if (graphics) break;
-      }
-      if (candidate.queue_family < 0) {
-        candidate.unusable_reason = "cannot present to this window";
-      } else if (!choose_format(surface_formats(devices[i], surface_))) {
-        candidate.unusable_reason = "no 8-bit RGBA/BGRA surface format";
-      }
-    }
-    candidates.push_back(candidate);
-  }
-
-  std::string names;
-  for (const Candidate& c : candidates) {
-    names += (c.index ? ", " : "") + std::to_string(c.index) + " '" + c.name + "'" +
-             (c.unusable_reason.empty() ? "" : " (" + c.unusable_reason + ")");
-  }
-  const Candidate* chosen = nullptr;
-  const std::string& selector = options_.device_selector;
-  if (!selector.empty()) {
-    for (const Candidate& c : candidates) {
-      if (!vk::device_selector_matches(selector, c.index, c.name)) continue;
-      if (!c.unusable_reason.empty()) {
-        throw InputError("window: device " + selector + ": '" + c.name + "' " + c.unusable_reason);
-      }
-      chosen = &c;
-      break;
-    }
-    if (!chosen) throw InputError("window: device " + selector + ": no such device among " + names);
-  } else {
-    for (const Candidate& c : candidates) {
-      if (c.unusable_reason.empty() && (!chosen || c.preference > chosen->preference)) chosen = &c;
-    }
-    if (!chosen) {
-      throw InputError("window: no Vulkan device can present to the window" +
-                       (names.empty() ? std::string(" (no device)") : " among " + names));
-    }
-  }
-
-  physical_device_ = devices[chosen->index];
-  device_name_ = chosen->name;
-  queue_family_ = static_cast<uint32_t>(chosen->queue_family);
-  vkGetPhysicalDeviceMemoryProperties(physical_device_, &memory_properties_);
-
-  device_ = vk::create_device(physical_device_, queue_family_, VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-
-  command_pool_ = vk::create_command_pool(device_, queue_family_);
+  request.unmet_need = [](VkPhysicalDevice device, VkSurfaceKHR surface) {
+    return choose_format(surface_formats(device, surface)) ? std::string() : std::string("no 8-bit RGBA/BGRA surface format");
+  };
+  context_ = std::make_unique<vk::Context>(vk::ContextOptions{options_.device_selector, options_.validation, request});
+  composer_ = std::make_unique<FrameComposer>(*context_);
+  const VkDevice device = context_->device;
   VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  allocate.commandPool = command_pool_;
+  allocate.commandPool = context_->command_pool;
   allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   allocate.commandBufferCount = 1;
-  VK_CHECK(vkAllocateCommandBuffers(device_, &allocate, &command_buffer_));
+  VK_CHECK(vkAllocateCommandBuffers(device, &allocate, &command_buffer_));
   VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   fence_info.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-  VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &frame_fence_));
+  VK_CHECK(vkCreateFence(device, &fence_info, nullptr, &frame_fence_));
   VkSemaphoreCreateInfo semaphore_info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  VK_CHECK(vkCreateSemaphore(device_, &semaphore_info, nullptr, &image_available_));
+  VK_CHECK(vkCreateSemaphore(device, &semaphore_info, nullptr, &image_available_));
 }
 
 void WindowPresenter::create_swapchain() {
   VkSurfaceCapabilitiesKHR caps;
-  VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical_device_, surface_, &caps));
+  VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(context_->physical_device, context_->surface, &caps));
   VkExtent2D extent = caps.currentExtent;
   if (extent.width == std::numeric_limits<uint32_t>::max()) {
     int width = 0, height = 0;
@@ -271,25 +185,25 @@ void WindowPresenter::create_swapchain() {
   swapchain_ = VK_NULL_HANDLE;
   extent_ = extent;
   if (extent.width == 0 || extent.height == 0) {  // minimised: nothing to present to until it comes back
-    if (old) vkDestroySwapchainKHR(device_, old, nullptr);
+    if (old) vkDestroySwapchainKHR(context_->device, old, nullptr);
     swapchain_stale_ = true;
     return;
   }
 
-  const auto format = choose_format(surface_formats(physical_device_, surface_));
+  const auto format = choose_format(surface_formats(context_->physical_device, context_->surface));
   if (!format) throw std::runtime_error("window: the surface offers no 8-bit RGBA/BGRA format");
   format_ = format->first.format;
   colour_space_ = format->first.colorSpace;
   format_is_bgra_ = format->second;
   if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT)) {
-    throw std::runtime_error("window: swapchain images of '" + device_name_ + "' cannot be copied into");
+    throw std::runtime_error("window: swapchain images of '" + context_->description.name + "' cannot be copied into");
   }
   can_read_back_ = options_.screenshots && (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
 
   uint32_t mode_count = 0;
-  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical_device_, surface_, &mode_count, nullptr));
+  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count, nullptr));
   std::vector<VkPresentModeKHR> modes(mode_count);
-  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical_device_, surface_, &mode_count, modes.data()));
+  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count, modes.data()));
   present_mode_ = VK_PRESENT_MODE_FIFO_KHR;  // always supported
   if (!options_.vsync) {
     for (VkPresentModeKHR wanted : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR}) {
@@ -312,7 +226,7 @@ void WindowPresenter::create_swapchain() {
   }
 
   VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
-  info.surface = surface_;
+  info.surface = context_->surface;
   // The fewest images: the acquire then blocks on flips soonest, which paces present() (latency).
   info.minImageCount = std::max(caps.minImageCount, 2u);
   if (caps.maxImageCount > 0) info.minImageCount = std::min(info.minImageCount, caps.maxImageCount);
@@ -327,25 +241,28 @@ void WindowPresenter::create_swapchain() {
   info.presentMode = present_mode_;
   info.clipped = VK_FALSE;  // every pixel is kept, so a screenshot is the whole frame even when covered
   info.oldSwapchain = old;
-  const VkResult result = vkCreateSwapchainKHR(device_, &info, nullptr, &swapchain_);
-  if (old) vkDestroySwapchainKHR(device_, old, nullptr);
+  const VkResult result = vkCreateSwapchainKHR(context_->device, &info, nullptr, &swapchain_);
+  if (old) vkDestroySwapchainKHR(context_->device, old, nullptr);
   VK_CHECK(result);
 
   uint32_t image_count = 0;
-  VK_CHECK(vkGetSwapchainImagesKHR(device_, swapchain_, &image_count, nullptr));
+  VK_CHECK(vkGetSwapchainImagesKHR(context_->device, swapchain_, &image_count, nullptr));
   images_.resize(image_count);
-  VK_CHECK(vkGetSwapchainImagesKHR(device_, swapchain_, &image_count, images_.data()));
+  VK_CHECK(vkGetSwapchainImagesKHR(context_->device, swapchain_, &image_count, images_.data()));
   images_.resize(image_count);
   VkSemaphoreCreateInfo semaphore_info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
   render_finished_.assign(image_count, VK_NULL_HANDLE);
-  for (VkSemaphore& semaphore : render_finished_) VK_CHECK(vkCreateSemaphore(device_, &semaphore_info, nullptr, &semaphore));
+  for (VkSemaphore& semaphore : render_finished_) VK_CHECK(vkCreateSemaphore(context_->device, &semaphore_info, nullptr, &semaphore));
 
-  if (can_read_back_) {
-    const VkDeviceSize bytes = VkDeviceSize{extent.width} * extent.height * 4;
-    if (readback_.size < bytes) {
-      destroy_host_buffer(readback_);
-      readback_ = create_host_buffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
-    }
+  const VkDeviceSize bytes = VkDeviceSize{extent.width} * extent.height * 4;
+  if (composed_.size_bytes() < bytes) {
+    composed_ = vk::Buffer();
+    composed_ = vk::Buffer(*context_, bytes, vk::MemoryUse::device_local);
+  }
+  composed_extent_ = {0, 0};  // holds no frame at this extent yet
+  if (can_read_back_ && readback_.size_bytes() < bytes) {
+    readback_ = vk::Buffer();
+    readback_ = vk::Buffer(*context_, bytes, vk::MemoryUse::host_readback);
   }
   swapchain_stale_ = false;
 }
@@ -353,44 +270,37 @@ void WindowPresenter::create_swapchain() {
 // Semaphores and images of the swapchain; the swapchain itself stays when it is handed to the next
 // one as oldSwapchain.
 void WindowPresenter::destroy_swapchain(bool keep_handle_for_recreation) {
-  for (VkSemaphore semaphore : render_finished_) vkDestroySemaphore(device_, semaphore, nullptr);
+  for (VkSemaphore semaphore : render_finished_) vkDestroySemaphore(context_->device, semaphore, nullptr);
   render_finished_.clear();
   images_.clear();
   if (!keep_handle_for_recreation && swapchain_) {
-    vkDestroySwapchainKHR(device_, swapchain_, nullptr);
+    vkDestroySwapchainKHR(context_->device, swapchain_, nullptr);
     swapchain_ = VK_NULL_HANDLE;
   }
 }
 
 void WindowPresenter::recreate_swapchain() {
-  VK_CHECK(vkDeviceWaitIdle(device_));
+  VK_CHECK(vkDeviceWaitIdle(context_->device));
   destroy_swapchain(true);
   create_swapchain();
 }
 
 void WindowPresenter::release() {
-  if (device_) {
-    vkDeviceWaitIdle(device_);
-    destroy_host_buffer(staging_);
-    destroy_host_buffer(readback_);
+  if (context_) {
+    const VkDevice device = context_->device;
+    vkDeviceWaitIdle(device);
+    upload_ = vk::Buffer();
+    composed_ = vk::Buffer();
+    readback_ = vk::Buffer();
     destroy_swapchain(false);
-    if (image_available_) vkDestroySemaphore(device_, image_available_, nullptr);
-    if (frame_fence_) vkDestroyFence(device_, frame_fence_, nullptr);
-    if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
-    vkDestroyDevice(device_, nullptr);
-    device_ = VK_NULL_HANDLE;
-  }
-  if (surface_) {
-    vkDestroySurfaceKHR(instance_, surface_, nullptr);
-    surface_ = VK_NULL_HANDLE;
-  }
-  if (messenger_) {
-    vk::destroy_validation_messenger(instance_, messenger_);
-    messenger_ = VK_NULL_HANDLE;
-  }
-  if (instance_) {
-    vkDestroyInstance(instance_, nullptr);
-    instance_ = VK_NULL_HANDLE;
+    if (image_available_) vkDestroySemaphore(device, image_available_, nullptr);
+    if (frame_fence_) vkDestroyFence(device, frame_fence_, nullptr);
+    if (command_buffer_) vkFreeCommandBuffers(device, context_->command_pool, 1, &command_buffer_);
+    image_available_ = VK_NULL_HANDLE;
+    frame_fence_ = VK_NULL_HANDLE;
+    command_buffer_ = VK_NULL_HANDLE;
+    composer_.reset();
+    context_.reset();  // the device, the surface and the instance
   }
   if (window_) {
     glfwDestroyWindow(window_);
@@ -403,77 +313,18 @@ void WindowPresenter::release() {
   }
 }
 
-WindowPresenter::HostBuffer WindowPresenter::create_host_buffer(VkDeviceSize size, VkBufferUsageFlags usage,
-                                                                bool prefer_cached) {
-  HostBuffer result;
-  result.size = size;
-  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-  info.size = size;
-  info.usage = usage;
-  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &result.buffer));
-  VkMemoryRequirements requirements;
-  vkGetBufferMemoryRequirements(device_, result.buffer, &requirements);
-  // Host-coherent always (no flush/invalidate); cached too where offered for buffers the CPU reads.
-  const VkMemoryPropertyFlags required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  int chosen = -1;
-  for (int pass = prefer_cached ? 0 : 1; pass < 2 && chosen < 0; ++pass) {
-    const VkMemoryPropertyFlags wanted = required | (pass == 0 ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0);
-    for (uint32_t i = 0; i < memory_properties_.memoryTypeCount; ++i) {
-      if ((requirements.memoryTypeBits & (1u << i)) &&
-          (memory_properties_.memoryTypes[i].propertyFlags & wanted) == wanted) {
-        chosen = static_cast<int>(i);
-        break;
-      }
-    }
-  }
-  if (chosen < 0) {
-    vkDestroyBuffer(device_, result.buffer, nullptr);
-    throw std::runtime_error("window: '" + device_name_ + "' has no host-visible coherent memory");
-  }
-  VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  allocate.allocationSize = requirements.size;
-  allocate.memoryTypeIndex = static_cast<uint32_t>(chosen);
-  VkResult allocated = vkAllocateMemory(device_, &allocate, nullptr, &result.memory);
-  if (allocated != VK_SUCCESS) {
-    vkDestroyBuffer(device_, result.buffer, nullptr);
-    VK_CHECK(allocated);
-  }
-  VK_CHECK(vkBindBufferMemory(device_, result.buffer, result.memory, 0));
-  VK_CHECK(vkMapMemory(device_, result.memory, 0, VK_WHOLE_SIZE, 0, &result.mapped));
-  return result;
-}
-
-void WindowPresenter::destroy_host_buffer(HostBuffer& buffer) {
-  if (buffer.buffer) vkDestroyBuffer(device_, buffer.buffer, nullptr);
-  if (buffer.memory) vkFreeMemory(device_, buffer.memory, nullptr);  // unmaps
-  buffer = HostBuffer{};
-}
-
-WindowPresenter::Layout WindowPresenter::layout_for(int frame_width, int frame_height) const {
-  Layout layout;
-  const int image_width = static_cast<int>(extent_.width), image_height = static_cast<int>(extent_.height);
-  layout.scale = std::max(1, std::min(image_width / frame_width, image_height / frame_height));
-  layout.scaled_width = frame_width * layout.scale;
-  layout.scaled_height = frame_height * layout.scale;
-  auto place = [](int scaled, int image, int& src, int& dst, int& size) {
-    if (scaled <= image) {
-      src = 0;
-      dst = (image - scaled) / 2;
-      size = scaled;
-    } else {  // larger than the screen: its centre
-      src = (scaled - image) / 2;
-      dst = 0;
-      size = image;
-    }
-  };
-  place(layout.scaled_width, image_width, layout.src_x, layout.dst_x, layout.copy_width);
-  place(layout.scaled_height, image_height, layout.src_y, layout.dst_y, layout.copy_height);
-  layout.covers_image = layout.copy_width == image_width && layout.copy_height == image_height;
-  return layout;
-}
-
 double WindowPresenter::now_s() { return glfwGetTime() - clock_origin_s_; }
+
+WindowPresenter::ComposeSource WindowPresenter::upload(const Rgba8Frame& frame) {
+  if (upload_.size_bytes() < frame.rgba.size()) {
+    upload_ = vk::Buffer();
+    upload_ = vk::Buffer(*context_, frame.rgba.size(), vk::MemoryUse::host_upload);
+  }
+  // The previous compose reading upload_ has finished: present_source waits for its fence.
+  std::memcpy(upload_.mapped(), frame.rgba.data(), frame.rgba.size());
+  upload_.flush();
+  return ComposeSource{upload_.handle(), frame.width, frame.height};
+}
 
 double WindowPresenter::present(const Rgba8Frame& frame) {
   if (frame.width <= 0 || frame.height <= 0 ||
@@ -482,11 +333,39 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
                                 std::to_string(frame.height) + " holds " + std::to_string(frame.rgba.size()) +
                                 " bytes; expected width * height * 4");
   }
-  pump_events();
+  VK_CHECK(vkWaitForFences(context_->device, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
   if (&frame != &last_frame_) last_frame_ = frame;
-  has_presented_ = true;
+  last_device_frame_ = DeviceRgba8Frame{};
+  return present_source(upload(last_frame_), true);
+}
 
-  VK_CHECK(vkWaitForFences(device_, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
+double WindowPresenter::present(const DeviceRgba8Frame& frame) {
+  if (!frame || frame.width <= 0 || frame.height <= 0)
+    throw std::invalid_argument("window: present: no frame on a device");
+  if (frame.context != context_.get()) {  // rendered on another device: through the host, timed
+    const auto start = std::chrono::steady_clock::now();
+    Rgba8Frame bytes = read_back(frame);
+    VK_CHECK(vkWaitForFences(context_->device, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
+    last_frame_ = std::move(bytes);
+    const ComposeSource source = upload(last_frame_);
+    cross_device_copies_.frames += 1;
+    cross_device_copies_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    last_device_frame_ = DeviceRgba8Frame{};
+    return present_source(source, true);
+  }
+  last_frame_ = Rgba8Frame{};
+  last_device_frame_ = frame;
+  return present_source(ComposeSource{frame.buffer, frame.width, frame.height}, true);
+}
+
+double WindowPresenter::present_source(const ComposeSource& source, bool recompose) {
+  pump_events();
+  has_presented_ = true;
+  last_width_ = source.width;
+  last_height_ = source.height;
+
+  const VkDevice device = context_->device;
+  VK_CHECK(vkWaitForFences(device, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
   uint32_t image_index = 0;
   for (int attempt = 0;; ++attempt) {
     if (swapchain_stale_ || !swapchain_) recreate_swapchain();
@@ -496,7 +375,7 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
       return last_present_s_;
     }
     const VkResult acquired =
-        vkAcquireNextImageKHR(device_, swapchain_, UINT64_MAX, image_available_, VK_NULL_HANDLE, &image_index);
+        vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, image_available_, VK_NULL_HANDLE, &image_index);
     if (acquired == VK_SUCCESS) break;
     if (acquired == VK_SUBOPTIMAL_KHR) {  // usable this time; recreated after the present
       swapchain_stale_ = true;
@@ -508,39 +387,7 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
     }
     vk::throw_vulkan_error("vkAcquireNextImageKHR", acquired);
   }
-
-  // The frame, integer-scaled and in the swapchain's byte order, into the staging buffer.
-  const Layout layout = layout_for(frame.width, frame.height);
-  const VkDeviceSize staging_bytes =
-      static_cast<VkDeviceSize>(layout.scaled_width) * static_cast<VkDeviceSize>(layout.scaled_height) * 4;
-  if (staging_.size < staging_bytes) {
-    destroy_host_buffer(staging_);
-    staging_ = create_host_buffer(staging_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
-  }
-  {
-    uint8_t* out = static_cast<uint8_t*>(staging_.mapped);
-    const size_t scaled_row_bytes = static_cast<size_t>(layout.scaled_width) * 4;
-    const int s = layout.scale;
-    for (int y = 0; y < frame.height; ++y) {
-      const uint8_t* in = frame.rgba.data() + static_cast<size_t>(y) * static_cast<size_t>(frame.width) * 4;
-      uint8_t* row = out + static_cast<size_t>(y) * static_cast<size_t>(s) * scaled_row_bytes;
-      if (s == 1 && !format_is_bgra_) {
-        std::memcpy(row, in, scaled_row_bytes);
-      } else {
-        uint8_t* p = row;
-        for (int x = 0; x < frame.width; ++x, in += 4) {
-          const uint8_t r = format_is_bgra_ ? in[2] : in[0], b = format_is_bgra_ ? in[0] : in[2];
-          for (int k = 0; k < s; ++k, p += 4) {
-            p[0] = r;
-            p[1] = in[1];
-            p[2] = b;
-            p[3] = in[3];
-          }
-        }
-      }
-      for (int k = 1; k < s; ++k) std::memcpy(row + static_cast<size_t>(k) * scaled_row_bytes, row, scaled_row_bytes);
-    }
-  }
+  const bool compose = recompose || composed_extent_.width != extent_.width || composed_extent_.height != extent_.height;
 
   const VkImage image = images_[image_index];
   const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
@@ -562,43 +409,32 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   VK_CHECK(vkBeginCommandBuffer(command_buffer_, &begin));
+  if (compose) {
+    // The frame (written by the renderer's earlier submission, or by the host) into the image's
+    // pixels; the compose does not touch the swapchain image, so it may run before the acquire's
+    // semaphore is signalled.
+    vk::memory_barrier(command_buffer_, VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_ACCESS_HOST_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    composer_->record(command_buffer_, source.buffer, source.width, source.height, composed_.handle(),
+                      static_cast<int>(extent_.width), static_cast<int>(extent_.height), format_is_bgra_);
+    vk::memory_barrier(command_buffer_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  }
   // The acquire semaphore is waited at the transfer stage; the barrier chains on it.
   image_barrier(VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-  if (!layout.covers_image) {  // letterbox
-    const VkClearColorValue black{{0.0f, 0.0f, 0.0f, 1.0f}};
-    vkCmdClearColorImage(command_buffer_, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
-    image_barrier(VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                  VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  VK_PIPELINE_STAGE_TRANSFER_BIT);
-  }
-  VkBufferImageCopy upload{};
-  upload.bufferOffset =
-      (static_cast<VkDeviceSize>(layout.src_y) * static_cast<VkDeviceSize>(layout.scaled_width) +
-       static_cast<VkDeviceSize>(layout.src_x)) * 4;
-  upload.bufferRowLength = static_cast<uint32_t>(layout.scaled_width);
-  upload.bufferImageHeight = static_cast<uint32_t>(layout.scaled_height);
-  upload.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  upload.imageOffset = {layout.dst_x, layout.dst_y, 0};
-  upload.imageExtent = {static_cast<uint32_t>(layout.copy_width), static_cast<uint32_t>(layout.copy_height), 1};
-  vkCmdCopyBufferToImage(command_buffer_, staging_.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &upload);
+  VkBufferImageCopy copy{};
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageExtent = {extent_.width, extent_.height, 1};
+  vkCmdCopyBufferToImage(command_buffer_, composed_.handle(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   if (can_read_back_) {
     image_barrier(VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                   VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkBufferImageCopy download{};
-    download.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    download.imageExtent = {extent_.width, extent_.height, 1};
-    vkCmdCopyImageToBuffer(command_buffer_, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1, &download);
-    VkBufferMemoryBarrier to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
-    to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    to_host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    to_host.buffer = readback_.buffer;
-    to_host.size = VK_WHOLE_SIZE;
-    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1,
-                         &to_host, 0, nullptr);
+    vkCmdCopyImageToBuffer(command_buffer_, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.handle(), 1, &copy);
+    vk::memory_barrier(command_buffer_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     image_barrier(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, 0, 0,
                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
   } else {
@@ -607,7 +443,7 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
   }
   VK_CHECK(vkEndCommandBuffer(command_buffer_));
 
-  VK_CHECK(vkResetFences(device_, 1, &frame_fence_));
+  VK_CHECK(vkResetFences(device, 1, &frame_fence_));
   const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.waitSemaphoreCount = 1;
@@ -617,7 +453,8 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
   submit.pCommandBuffers = &command_buffer_;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &render_finished_[image_index];
-  VK_CHECK(vkQueueSubmit(queue_, 1, &submit, frame_fence_));
+  VK_CHECK(vkQueueSubmit(context_->queue, 1, &submit, frame_fence_));
+  composed_extent_ = extent_;
 
   VkPresentInfoKHR present_info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present_info.waitSemaphoreCount = 1;
@@ -625,13 +462,13 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
   present_info.swapchainCount = 1;
   present_info.pSwapchains = &swapchain_;
   present_info.pImageIndices = &image_index;
-  const VkResult presented = vkQueuePresentKHR(queue_, &present_info);
+  const VkResult presented = vkQueuePresentKHR(context_->queue, &present_info);
   if (presented == VK_SUBOPTIMAL_KHR || presented == VK_ERROR_OUT_OF_DATE_KHR) {
     swapchain_stale_ = true;
   } else if (presented != VK_SUCCESS) {
     vk::throw_vulkan_error("vkQueuePresentKHR", presented);
   }
-  VK_CHECK(vkWaitForFences(device_, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
+  VK_CHECK(vkWaitForFences(device, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
   double presented_s = now_s();
   // A FIFO swapchain that did not block (software presentation: lavapipe on X11, Xvfb) would let
   // presents run faster than the display; pace to one refresh period after the previous present.
@@ -649,13 +486,22 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
   return last_present_s_;
 }
 
+// Re-presents what is on screen: the composed pixels when the swapchain kept its extent, else the
+// last frame composed again.
+double WindowPresenter::present_again() {
+  if (last_device_frame_)
+    return present_source(ComposeSource{last_device_frame_.buffer, last_width_, last_height_}, false);
+  return present_source(ComposeSource{upload_.handle(), last_width_, last_height_}, false);
+}
+
 bool WindowPresenter::screenshot_is_readback() const { return last_present_read_back_; }
 
 Rgba8Frame WindowPresenter::screenshot() const {
   if (!has_presented_) return Rgba8Frame{};
-  if (!last_present_read_back_) return last_frame_;
+  if (!last_present_read_back_) return last_device_frame_ ? read_back(last_device_frame_) : last_frame_;
   Rgba8Frame shot(static_cast<int>(readback_extent_.width), static_cast<int>(readback_extent_.height));
-  std::memcpy(shot.rgba.data(), readback_.mapped, shot.rgba.size());
+  readback_.invalidate();
+  std::memcpy(shot.rgba.data(), readback_.mapped(), shot.rgba.size());
   if (readback_is_bgra_) {
     for (size_t i = 0; i < shot.rgba.size(); i += 4) std::swap(shot.rgba[i], shot.rgba[i + 2]);
   }
@@ -716,7 +562,7 @@ void WindowPresenter::wait_until(double time_s) {
     if (now >= time_s) return;
     const double remaining = time_s - now;
     if (has_presented_ && remaining >= period_s && now - last_present_s_ >= 0.5 * period_s) {
-      present(last_frame_);
+      present_again();
     } else {
       sleep_s(std::min(remaining, 0.001));
     }
@@ -734,14 +580,15 @@ std::optional<std::pair<double, double>> WindowPresenter::cursor_px() {
   if (window_width <= 0 || window_height <= 0 || framebuffer_width <= 0 || framebuffer_height <= 0) return std::nullopt;
   x *= static_cast<double>(framebuffer_width) / window_width;  // screen coordinates to pixels
   y *= static_cast<double>(framebuffer_height) / window_height;
-  const int frame_width = has_presented_ ? last_frame_.width : options_.width_px;
-  const int frame_height = has_presented_ ? last_frame_.height : options_.height_px;
+  const int frame_width = has_presented_ ? last_width_ : options_.width_px;
+  const int frame_height = has_presented_ ? last_height_ : options_.height_px;
   if (extent_.width == 0 || extent_.height == 0) return std::nullopt;
-  const Layout layout = layout_for(frame_width, frame_height);
+  const FramePlacement layout =
+      place_frame(frame_width, frame_height, static_cast<int>(extent_.width), static_cast<int>(extent_.height));
   const double frame_x = (x - layout.dst_x + layout.src_x) / layout.scale;
   const double frame_y = (y - layout.dst_y + layout.src_y) / layout.scale;
-  if (x < layout.dst_x || y < layout.dst_y || x >= layout.dst_x + layout.copy_width ||
-      y >= layout.dst_y + layout.copy_height || frame_x < 0 || frame_y < 0 || frame_x >= frame_width ||
+  if (x < layout.dst_x || y < layout.dst_y || x >= layout.dst_x + layout.shown_width ||
+      y >= layout.dst_y + layout.shown_height || frame_x < 0 || frame_y < 0 || frame_x >= frame_width ||
       frame_y >= frame_height) {
     return std::nullopt;
   }

@@ -1,8 +1,13 @@
 #pragma once
-// The presenter of a real session: a GLFW window (no OpenGL context) with its own small Vulkan
-// instance, device and FIFO swapchain. Frames arrive as CPU RGBA8 (sRGB-encoded bytes) and are
-// copied into the swapchain images unchanged (R/B swapped on the CPU for BGRA formats), so the
-// renderer may run on any device. Keyboard, gamepad and mouse come from GLFW.
+// The presenter of a real session: a GLFW window (no OpenGL context) and a FIFO swapchain on a
+// vk::Context made to present to it (renderer/vk/context.h). That context is a full renderer
+// context: a session renders its stimuli on it (context()), so a gaze-contingent frame goes from
+// the renderer's output buffer to the swapchain image on the GPU (present(DeviceRgba8Frame): one
+// compute pass places it, integer-scaled, centred and letterboxed, in the swapchain's byte order,
+// renderer/present/frame_compose.h; then one copy into the image), never through the host. Frames
+// from the host (text screens, prepared stimuli) are uploaded first; a frame held by another
+// device (a session rendering on one GPU and presenting on another) is read back and uploaded, and
+// that copy is timed (cross_device_copies()). Keyboard, gamepad and mouse come from GLFW.
 //
 // Clock: glfwGetTime() relative to construction. present() returns the session time right after
 // the frame was queued for presentation (vkQueuePresentKHR) and the copy into the swapchain image
@@ -19,7 +24,6 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -30,8 +34,9 @@
 
 #include "display/glfw_input.h"
 #include "display/presenter.h"
+#include "renderer/present/frame_compose.h"
+#include "renderer/vk/buffer.h"
 #include "renderer/vk/context.h"
-#include "renderer/vk/instance_support.h"
 
 struct GLFWwindow;
 
@@ -47,14 +52,14 @@ struct WindowPresenterOptions {
   std::string title = "fovlab";
   // FIFO (vsync). false: MAILBOX, else IMMEDIATE, where the surface offers them (timing tests).
   bool vsync = true;
-  // Khronos validation layer; default as the renderer: on in Debug builds, FOVLAB_VALIDATION=0/1
-  // overrides. Messages go to stderr and are counted (validation_message_count()).
+  // Khronos validation layer of the presenting context; default as the renderer: on in Debug
+  // builds, FOVLAB_VALIDATION=0/1 overrides. Messages go to stderr and are counted.
   bool validation = vk::validation_requested_by_default();
   // Read every presented image back from the swapchain (see screenshot()); costs one image copy a
   // frame. Off: screenshot() returns the last input frame.
   bool screenshots = true;
-  // Empty: automatic (a device that can present to the window: discrete > integrated > virtual >
-  // CPU); else an index or a case-insensitive part of a device name, like the renderer's --device.
+  // Empty: automatic (a device that can render and present to the window: discrete > integrated >
+  // virtual > CPU); else an index or a case-insensitive part of a device name, as --device.
   std::string device_selector;
 };
 
@@ -70,6 +75,11 @@ class WindowPresenter final : public Presenter {
   // Any frame size works (centred, integer-scaled, letterboxed or cropped to the swapchain).
   // Throws std::invalid_argument when rgba.size() is not width * height * 4.
   double present(const Rgba8Frame& frame) override;
+  // A frame on a device: on context() it is composed onto the swapchain image directly; on another
+  // device it is read back and uploaded (timed: cross_device_copies()). Its buffer must stay as it is
+  // until the next present (wait_until re-presents the composed image, or the frame again after a
+  // swapchain change). Throws std::invalid_argument for an empty frame.
+  double present(const DeviceRgba8Frame& frame) override;
   // Key presses are time-stamped when GLFW delivers them: events are pumped in every present(),
   // wait_until(), poll_input(), cursor_px() and close_requested(), so at refresh resolution during
   // a trial. Gamepad buttons (every connected gamepad, GLFW's standard mapping) are sampled at the
@@ -102,9 +112,18 @@ class WindowPresenter final : public Presenter {
   Rgba8Frame screenshot() const;
   bool screenshot_is_readback() const;
 
-  uint32_t validation_message_count() const { return validation_log_->messages.load(); }
-  bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
-  std::string device_name() const { return device_name_; }
+  // The device that presents; a session renders on it too (and so does bench-present).
+  vk::Context& context() { return *context_; }
+  uint32_t validation_message_count() const { return context_->validation_message_count(); }
+  bool validation_enabled() const { return context_->validation_enabled(); }
+  std::string device_name() const { return context_->description.name; }
+  // Frames presented from another device (read back there, uploaded here) and the seconds those
+  // copies took, on the steady clock.
+  struct CrossDeviceCopies {
+    int frames = 0;
+    double seconds = 0.0;
+  };
+  CrossDeviceCopies cross_device_copies() const { return cross_device_copies_; }
   VkFormat swapchain_format() const { return format_; }
   std::pair<int, int> swapchain_extent_px() const {
     return {static_cast<int>(extent_.width), static_cast<int>(extent_.height)};
@@ -113,31 +132,22 @@ class WindowPresenter final : public Presenter {
   GLFWwindow* glfw_window() const { return window_; }
 
  private:
-  struct HostBuffer {
+  // What the next compose reads: a buffer on context() (the upload buffer, or a device frame's).
+  struct ComposeSource {
     VkBuffer buffer = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkDeviceSize size = 0;
-    void* mapped = nullptr;
+    int width = 0, height = 0;
   };
-  struct Layout {  // where a frame lands in the swapchain image
-    int scale = 1;
-    int scaled_width = 0, scaled_height = 0;  // frame size times scale
-    int src_x = 0, src_y = 0;                 // first scaled pixel copied (crop)
-    int dst_x = 0, dst_y = 0;                 // where it lands
-    int copy_width = 0, copy_height = 0;
-    bool covers_image = false;
-  };
-
   void create_window();
-  void create_instance();
-  void choose_device();
+  void create_context();
   void create_swapchain();
   void destroy_swapchain(bool keep_handle_for_recreation);
   void recreate_swapchain();
   void release();
-  HostBuffer create_host_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool prefer_cached);
-  void destroy_host_buffer(HostBuffer& buffer);
-  Layout layout_for(int frame_width, int frame_height) const;
+  ComposeSource upload(const Rgba8Frame& frame);
+  // Acquires an image, composes `source` into composed_ (unless `recompose` is false and composed_
+  // already holds the last frame at this extent), copies it into the image and presents it.
+  double present_source(const ComposeSource& source, bool recompose);
+  double present_again();
   void pump_events();
   void poll_gamepads();
   void on_key(int key, const char* layout_name);
@@ -149,17 +159,8 @@ class WindowPresenter final : public Presenter {
   double clock_origin_s_ = 0.0;
   double refresh_hz_ = 60.0;
 
-  VkInstance instance_ = VK_NULL_HANDLE;
-  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
-  std::unique_ptr<vk::ValidationLog> validation_log_;
-  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
-  VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;
-  std::string device_name_;
-  VkPhysicalDeviceMemoryProperties memory_properties_{};
-  VkDevice device_ = VK_NULL_HANDLE;
-  VkQueue queue_ = VK_NULL_HANDLE;
-  uint32_t queue_family_ = 0;
-  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  std::unique_ptr<vk::Context> context_;
+  std::unique_ptr<FrameComposer> composer_;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence frame_fence_ = VK_NULL_HANDLE;
   VkSemaphore image_available_ = VK_NULL_HANDLE;
@@ -175,14 +176,20 @@ class WindowPresenter final : public Presenter {
   std::vector<VkSemaphore> render_finished_;  // one per swapchain image
   bool swapchain_stale_ = false;
 
-  HostBuffer staging_;
-  HostBuffer readback_;
+  vk::Buffer upload_;    // host frames, packed RGBA8
+  vk::Buffer composed_;  // the swapchain image's pixels as composed, kept for re-presents
+  VkExtent2D composed_extent_{0, 0};
+  vk::Buffer readback_;  // screenshots: the swapchain image after the copy
+  // The last frame shown: its bytes when it came from the host (or another device), else the device frame.
   Rgba8Frame last_frame_;
+  DeviceRgba8Frame last_device_frame_;
+  int last_width_ = 0, last_height_ = 0;
   bool has_presented_ = false;
   bool last_present_read_back_ = false;
   VkExtent2D readback_extent_{0, 0};
   bool readback_is_bgra_ = false;
   double last_present_s_ = -1.0;
+  CrossDeviceCopies cross_device_copies_;
 
   std::deque<InputEvent> events_;
   EscapeRepeatDetector escape_detector_;

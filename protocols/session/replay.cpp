@@ -251,8 +251,12 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
           differences.add(what, "the reference frame's hash is not the logged one (frames from another session?)");
         if (!by_ssim && again.hash != hashes[i])
           differences.add(what, "frame hash " + hashes[i] + " logged, " + again.hash + " rendered" +
-                                    (outcome.same_device ? ""
-                                                         : " (recorded on another device: use --reference-frames)"));
+                                    (!outcome.same_device ? " (recorded on another device: use --reference-frames)"
+                                     : header.schema_version < 4
+                                         ? " (a schema " + std::to_string(header.schema_version) +
+                                               " log: its sphere-traced frames were sRGB-encoded on the CPU, which "
+                                               "may round a channel the other way; use --reference-frames)"
+                                         : ""));
       }
     }
   }

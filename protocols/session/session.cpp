@@ -226,6 +226,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     window.title = "fovlab: " + config.name;
     window.screenshots = !options.screenshots_dir.empty();
     window.validation = options.validation;
+    window.device_selector =
+        options.present_device_selector.empty() ? options.device_selector : options.present_device_selector;
     presenter = std::make_unique<WindowPresenter>(window);
     find_font_path();  // the text screens' font: missing -> an error naming the package, now
     const double measured_hz = presenter->refresh_hz();
@@ -241,7 +243,19 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   else gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed,
                                [&presenter, time_base_s] { return time_base_s + presenter->now_s(); });
 
-  vk::Context context(vk::ContextOptions{options.device_selector, options.validation});
+  // One device renders and presents unless --present-device names another (or, chosen
+  // automatically, the preferred rendering device cannot present to the window).
+  auto* window = dynamic_cast<WindowPresenter*>(presenter.get());
+  std::unique_ptr<vk::Context> render_context;
+  if (!window || !options.present_device_selector.empty() ||
+      (options.device_selector.empty() && !vk::is_preferred_device(window->context().description))) {
+    render_context = std::make_unique<vk::Context>(vk::ContextOptions{options.device_selector, options.validation});
+  }
+  vk::Context& context = render_context ? *render_context : window->context();
+  outcome.frame_path = !window ? "none" : render_context ? "via_host" : "on_device";
+  if (outcome.frame_path == "via_host")
+    std::fprintf(stderr, "fovlab: rendering on '%s', presenting on '%s': frames are copied through the host\n",
+                 context.description.name.c_str(), window->device_name().c_str());
   StimulusLibrary library(context);
   std::vector<std::pair<int, StimulusSpec>> all;
   for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
@@ -262,7 +276,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (!record) {
     SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
                                presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
-                               gaze->describe(), presenter->refresh_hz(), utc_now()};
+                               window ? window->device_name() : "", outcome.frame_path, gaze->describe(),
+                               presenter->refresh_hz(), utc_now()};
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
   }
@@ -295,9 +310,13 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // The end of this run, sealed: the complete trials and the chain so far (keyed with a lab key).
   run.log(to_json(SealEvent{{}, outcome.trials_completed, {}}));
   outcome.trial_loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
-  if (auto* window = dynamic_cast<WindowPresenter*>(presenter.get()); window && window->validation_message_count() > 0)
+  if (window && render_context && window->validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +
                              " message(s) in the session window (see stderr)");
+  if (window) {
+    outcome.cross_device_frames = window->cross_device_copies().frames;
+    outcome.cross_device_copy_s = window->cross_device_copies().seconds;
+  }
   outcome.events_written = run.events_written();
   outcome.gaze_age_s = run.gaze_age_s();
   outcome.dropped_frames = run.dropped_frames();

@@ -18,7 +18,8 @@ struct SessionOptions {
   std::string observer;           // "" for a human at the keys, else "simulated[:k=v,...]"
   std::string gaze;               // "" for the default: mouse in a window, synthetic headless
   bool headless = false;
-  std::string device_selector;    // --device
+  std::string device_selector;    // --device: renders (and, in a window, presents unless present_device_selector)
+  std::string present_device_selector;  // --present-device: a window on another device (frames copied through the host)
   bool validation = false;
   std::string screenshots_dir;    // windowed: save the instructions and the first stimulus here
   std::string lab_key_path;       // --lab-key: key the log's seals (a file outside results_dir)
@@ -44,6 +45,9 @@ struct SessionOutcome {
   std::vector<double> gaze_age_s;
   int dropped_frames = 0;
   std::string present_clock;
+  std::string frame_path;         // "on_device", "via_host", "none" (headless)
+  int cross_device_frames = 0;    // via_host: frames copied from the rendering device to the presenting one
+  double cross_device_copy_s = 0.0;  // and the seconds those copies took
 };
 
 // The log path of a participant: <results>/<study>/<participant>/events.jsonl.

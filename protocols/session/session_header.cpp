@@ -72,7 +72,8 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.display = {{"width_px", display.width_px}, {"height_px", display.height_px}, {"refresh_hz", display.refresh_hz},
                     {"measured_refresh_hz", inputs.refresh_hz}, {"width_mm", display.width_mm},
                     {"height_mm", display.height_mm}, {"viewing_distance_mm", display.viewing_distance_mm},
-                    {"fullscreen", display.fullscreen}};
+                    {"fullscreen", display.fullscreen}, {"present_device", inputs.present_device},
+                    {"frame_path", inputs.frame_path}};
   header.presenter = inputs.presenter;
   header.gaze = inputs.gaze;
   header.observer = inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human");

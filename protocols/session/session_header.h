@@ -20,6 +20,8 @@ struct SessionHeaderInputs {
   const vk::DeviceDescription* device = nullptr;
   const ObserverModel* observer = nullptr;  // nullptr: a human at the keys
   std::string presenter;                    // "headless", "window", "fullscreen"
+  std::string present_device;               // the device that presents ("" headless)
+  std::string frame_path;                   // "on_device", "via_host" (another device presents), "none" (headless)
   std::string gaze;                         // GazeSource::describe()
   double refresh_hz = 0.0;                  // measured by the presenter
   std::string started_utc;

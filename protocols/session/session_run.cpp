@@ -70,7 +70,8 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       // a gaze-dependent stimulus (fipr) renders it now with this refresh's gaze (replay does the same).
       const StimulusImage image{frame, frame * refreshes + refresh, sample};
       const PreparedFrame& shown = library_.frame(stimulus_id, stimulus.spec, image);
-      const double shown_at = time_base_s_ + presenter_.present(shown.image);
+      const double shown_at =
+          time_base_s_ + (shown.on_device ? presenter_.present(shown.on_device) : presenter_.present(shown.image));
       if (previous >= 0) {
         const long periods = std::lround((shown_at - previous) * presenter_.refresh_hz());
         if (periods > 1) dropped += static_cast<int>(periods - 1);
@@ -80,7 +81,7 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         event.invalid_gaze.push_back({static_cast<int>(event.present_s.size()), sample.invalid_reason});
       event.present_s.push_back(shown_at);
       event.frame.push_back(frame);
-      event.hash.push_back(shown.hash);
+      event.hash.push_back(library_.hash(shown));  // a live frame's: read back now, after its present
       event.gaze.push_back({sample.x_px, sample.y_px});
       // The sample's own time (already on the session clock: the source was asked at t()) and its
       // age when the frame made with it was presented (null: the tracker had no sample).

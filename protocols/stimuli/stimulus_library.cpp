@@ -6,7 +6,6 @@
 #include <set>
 #include <stdexcept>
 
-#include "core/colour.h"
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "core/memory_budget.h"
@@ -17,20 +16,6 @@
 #include "renderer/zone_blend/zone_blender.h"
 
 namespace fovlab {
-namespace {
-
-Rgba8Frame to_rgba8(const Image& linear) {
-  Rgba8Frame frame(linear.width, linear.height);
-  for (size_t pixel = 0; pixel < linear.pixel_count(); ++pixel)
-    for (int c = 0; c < 3; ++c) {
-      const float encoded = encode_srgb(linear.pixels[pixel * static_cast<size_t>(linear.channels) + static_cast<size_t>(c)]);
-      frame.rgba[pixel * 4 + static_cast<size_t>(c)] = static_cast<uint8_t>(std::lround(encoded * 255.0f));
-    }
-  return frame;
-}
-
-}  // namespace
-
 std::string frame_hash(const Rgba8Frame& frame) {
   return ContentHash()
       .add(std::string_view(reinterpret_cast<const char*>(frame.rgba.data()), frame.rgba.size()))
@@ -48,19 +33,43 @@ SphereTracer& StimulusLibrary::tracer_for(const std::string& scene) {
   return *found->second;
 }
 
-PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
+PreparedFrame StimulusLibrary::render_live(const StimulusSpec& spec, const StimulusImage& image) {
   const auto start = std::chrono::steady_clock::now();
-  PreparedFrame prepared;
-  prepared.image = is_path_traced(spec.method()) ? render_path_traced(spec, image) : render_sphere_traced(spec, image);
-  prepared.hash = frame_hash(prepared.image);
+  PreparedFrame rendered;
+  if (spec.method() == RenderMethod::path_traced) {
+    rendered.image = render_path_traced(spec, image);
+    rendered.hash = frame_hash(rendered.image);
+  } else if (spec.method() == RenderMethod::foveated_path_traced) {
+    rendered.on_device = blend_foveated_path_traced(spec, image);
+  } else {
+    rendered.on_device = render_sphere_traced(spec, image);
+  }
   render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return prepared;
+  return rendered;
 }
 
-Rgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image) {
+PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
+  PreparedFrame rendered = render_live(spec, image);
+  if (rendered.on_device) {
+    rendered.image = read_back(rendered.on_device);
+    rendered.hash = frame_hash(rendered.image);
+    rendered.on_device = DeviceRgba8Frame{};  // the buffer is the renderer's, reused by the next render
+  }
+  return rendered;
+}
+
+const std::string& StimulusLibrary::hash(const PreparedFrame& frame) {
+  if (!frame.hash.empty()) return frame.hash;
+  if (&frame != &live_ || !live_.on_device) throw std::logic_error("StimulusLibrary::hash: not the last live frame");
+  live_.image = read_back(live_.on_device);
+  live_.hash = frame_hash(live_.image);
+  return live_.hash;
+}
+
+DeviceRgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image) {
   SphereTracer& tracer = tracer_for(spec.scene);
   SphereTraceSettings settings = sphere_trace_settings(spec, image.frame);
-  settings.colour_only = true;  // a presented frame needs no step counts or mask
+  settings.outputs = TraceOutputs::display;  // encoded on the device; no step counts or mask
   LastImage& last = last_image_[spec.scene];
   const bool sequence = describe(spec.method()).depends_on_gaze;
   const std::string canonical = sequence ? spec.canonical() : std::string();
@@ -77,7 +86,7 @@ Rgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec, const
   // A gaze-independent frame overwrites what a sequence would continue from; a failed render
   // leaves nothing to continue from either.
   last = LastImage{};
-  Rgba8Frame frame = to_rgba8(tracer.render(settings).colour_linear);
+  const DeviceRgba8Frame frame = tracer.render(settings).display;
   if (sequence) last = LastImage{canonical, image.image_index};
   return frame;
 }
@@ -89,10 +98,12 @@ Rgba8Frame StimulusLibrary::render_path_traced(const StimulusSpec& spec, const S
   frame.height = spec.height_px;
   // pt: the frame encoded by the shader that encodes fpt's frames, so that the two agree to the
   // byte wherever fpt shows its full-resolution zone.
-  if (spec.method() == RenderMethod::path_traced) {
-    frame.rgba = blender().encode_for_display(frame_cache_->frame(frames.sequences[0], image.frame));
-    return frame;
-  }
+  frame.rgba = blender().encode_for_display(frame_cache_->frame(frames.sequences[0], image.frame));
+  return frame;
+}
+
+DeviceRgba8Frame StimulusLibrary::blend_foveated_path_traced(const StimulusSpec& spec, const StimulusImage& image) {
+  const PathTracedFrames frames = path_traced_frames(spec);
   // fpt: the zone buffers change with the animation frame, the blend with every gaze sample. No
   // state carries from one image to the next, so any image can be rendered on its own.
   const std::string key = spec.canonical() + "#" + std::to_string(image.frame);
@@ -109,8 +120,7 @@ Rgba8Frame StimulusLibrary::render_path_traced(const StimulusSpec& spec, const S
   }
   // Blended and sRGB-encoded on the GPU. A gaze sample that is not a number (none usable, not even
   // a substitute) shows the frame itself: the full-resolution zone everywhere.
-  frame.rgba = blender().display_frame(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec));
-  return frame;
+  return blender().display_frame_on_device(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec));
 }
 
 ZoneBlender& StimulusLibrary::blender() {
@@ -224,7 +234,7 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
 const PreparedFrame& StimulusLibrary::frame(int id, const StimulusSpec& spec, const StimulusImage& image) {
   const auto found = prepared_.find(id);
   if (found != prepared_.end()) return found->second.at(static_cast<size_t>(image.frame));
-  live_ = render(spec, image);
+  live_ = render_live(spec, image);
   return live_;
 }
 

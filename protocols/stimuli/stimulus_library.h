@@ -3,7 +3,10 @@
 // frames do not depend on gaze (gt, ipr, pt) are rendered once, before the first trial, so no trial
 // waits on a compile or a render it could have done earlier; each frame is kept as the sRGB RGBA8
 // a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr, fpt) are
-// rendered live, one image per refresh, with that refresh's gaze. Path-traced frames (pt, fpt) come
+// rendered live, one image per refresh, with that refresh's gaze, and left on the rendering device
+// (sRGB-encoded there by the one encoder, renderer/present/srgb8_encoder.h), so that a presenter on
+// that device shows them without a copy through the host; their hash is taken after the present
+// (hash()). Path-traced frames (pt, fpt) come
 // from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
 // before the first trial.
 #include <cstdint>
@@ -13,9 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "core/rgba8_frame.h"
 #include "protocols/gaze/gaze_sample.h"
-#include "display/frame.h"
 #include "protocols/stimuli/stimulus_settings.h"
+#include "renderer/present/device_frame.h"
 
 namespace fovlab {
 
@@ -27,8 +31,9 @@ class FrameCache;
 class ZoneBlender;
 
 struct PreparedFrame {
-  Rgba8Frame image;
-  std::string hash;  // FNV-1a-64 of the RGBA bytes (hex)
+  Rgba8Frame image;            // the bytes (prepared frames; a live frame once hash() read it back)
+  DeviceRgba8Frame on_device;  // a live frame as the renderer left it, valid until the library's next render
+  std::string hash;            // FNV-1a-64 of the RGBA bytes (hex); a live frame's: empty until hash()
 };
 
 // The hash the log records for a presented frame.
@@ -66,9 +71,15 @@ class StimulusLibrary {
   // would not fit in memory are refused before anything is rendered (check_prepared_frames_fit).
   // Returns the seconds spent.
   double prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli);
-  // The image to show; prepared stimuli answer from memory (by frame), others render now.
+  // The image to show; prepared stimuli answer from memory (by frame), others render now and leave
+  // it on the device (PreparedFrame::on_device), without its hash.
   const PreparedFrame& frame(int id, const StimulusSpec& spec, const StimulusImage& image);
-  // Always renders (replay: the image as this build and device make it now).
+  // The hash of a frame frame() returned: prepared ones have it; the last live one is read back from
+  // the device and hashed now, which a session does after presenting it (off the path from the gaze
+  // sample to the present). std::logic_error for a live frame that is no longer the last.
+  const std::string& hash(const PreparedFrame& frame);
+  // Always renders, and returns the bytes and their hash (replay: the image as this build and device
+  // make it now).
   //
   // FIPR keeps state between the images of a presentation: with periphery refresh 2 or 4 it keeps,
   // for pixels not due, the colour of the previous image (FPT keeps none). Image 0 starts a
@@ -85,8 +96,12 @@ class StimulusLibrary {
     int image_index = -1;
   };
   SphereTracer& tracer_for(const std::string& scene);
-  Rgba8Frame render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image);
-  Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);
+  // render() without the read-back: gaze-dependent methods and the sphere-traced ones leave the
+  // frame on the device (no hash yet); pt frames come back as bytes with their hash.
+  PreparedFrame render_live(const StimulusSpec& spec, const StimulusImage& image);
+  DeviceRgba8Frame render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image);
+  Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt
+  DeviceRgba8Frame blend_foveated_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // fpt
   // fpt's settings, size and display, without rendering (InputError).
   void check_foveated_path_traced(const StimulusSpec& spec);
   // The device's limits on the frame size, which is the study config's display size: errors name

@@ -8,6 +8,7 @@ namespace {
 #include "fipr_reconstruct.spv.h"
 #include "list_dispatch.spv.h"
 #include "foveation_mask.spv.h"
+#include "frame_compose.spv.h"
 #include "masked_blur.spv.h"
 #include "min_filter.spv.h"
 #include "path_trace.spv.h"
@@ -29,6 +30,7 @@ const std::span<const uint32_t> zone_blend_spirv{zone_blend_spirv_words};
 const std::span<const uint32_t> zone_display_spirv{zone_display_spirv_words};
 const std::span<const uint32_t> zone_band_spirv{zone_band_spirv_words};
 const std::span<const uint32_t> srgb8_encode_spirv{srgb8_encode_spirv_words};
+const std::span<const uint32_t> frame_compose_spirv{frame_compose_spirv_words};
 const std::span<const uint32_t> buffer_copy_spirv{buffer_copy_spirv_words};
 const std::span<const uint32_t> list_dispatch_spirv{list_dispatch_spirv_words};
 const std::span<const uint32_t> path_trace_spirv{path_trace_spirv_words};

@@ -18,6 +18,7 @@ extern const std::span<const uint32_t> zone_blend_spirv;
 extern const std::span<const uint32_t> zone_display_spirv;
 extern const std::span<const uint32_t> zone_band_spirv;
 extern const std::span<const uint32_t> srgb8_encode_spirv;
+extern const std::span<const uint32_t> frame_compose_spirv;
 extern const std::span<const uint32_t> buffer_copy_spirv;
 extern const std::span<const uint32_t> list_dispatch_spirv;
 extern const std::span<const uint32_t> path_trace_spirv;

@@ -1,8 +1,9 @@
 #version 460
 // Float RGBA texels to what a display shows: sRGB8, packed RGBA in one uint with alpha 255
-// (srgb8.glsl). ZoneBlender encodes the three zones with it once an animation frame (zone_display
-// then copies most pixels from there) and the pt method's frames (ZoneBlender::encode_for_display),
-// so that a pt frame and the fovea of the fpt frame made from it are the same bytes.
+// (srgb8.glsl); renderer/present/srgb8_encoder.h dispatches it. The one encoder of displayed frames:
+// SphereTracer's display output (gt, ipr, fipr), and ZoneBlender's zones once an animation frame
+// (zone_display then copies most pixels from there) and the pt method's frames, so that a pt frame
+// and the fovea of the fpt frame made from it are the same bytes.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;  // rows of 64, as zone_blend
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/input_error.h"
+#include "renderer/present/srgb8_encoder.h"
 #include "renderer/scene/scene_compiler.h"
 #include "renderer/shaders/embedded_shaders.h"
 #include "renderer/vk/buffer.h"
@@ -119,6 +120,7 @@ struct SphereTracer::FrameBuffers {
   std::vector<LevelBuffers> levels;  // bottom (coarsest) first
   vk::Buffer colour;
   vk::Buffer colour_readback;
+  vk::Buffer display_srgb8;  // TraceOutputs::display: the shown colour, packed sRGB8
   vk::Buffer counters;
   vk::Buffer counters_readback;
   vk::Buffer unused;  // bound where a pass has no such buffer
@@ -153,6 +155,7 @@ struct SphereTracer::FrameBuffers {
     const VkDeviceSize colour_bytes = VkDeviceSize(width) * VkDeviceSize(height) * 4 * sizeof(float);
     colour = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
     colour_readback = vk::Buffer(context, colour_bytes, vk::MemoryUse::host_readback);
+    display_srgb8 = vk::Buffer(context, VkDeviceSize(width) * VkDeviceSize(height) * 4, vk::MemoryUse::device_local);
     counters = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::device_local);
     counters_readback = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::host_readback);
     unused = vk::Buffer(context, 16, vk::MemoryUse::device_local);
@@ -193,14 +196,15 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
     if (i + 1 < level_count) bytes += pixels * sizeof(float) * (filtered ? 2 : 1);  // depth, start_for_next
   }
   bytes += frame_pixels * 4 * sizeof(float) * 2;  // colour, and read back
+  bytes += frame_pixels * 4;                      // display_srgb8
   if (foveated && level_count >= 3) {
     bytes += level_pixels[0] * sizeof(uint32_t);                                     // edges
     bytes += frame_pixels * sizeof(uint32_t) * 4;                                    // mask, its readback, two lists
     bytes += level_pixels[size_t(level_count - 2)] * (sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, colour
     bytes += frame_pixels * 4 * sizeof(float);                                       // blurred
   }
-  bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
-  if (!settings.colour_only) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
+  if (settings.outputs != TraceOutputs::display) bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
+  if (settings.outputs == TraceOutputs::all) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
   return bytes;
 }
 
@@ -298,6 +302,7 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
   reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
                                                                 sizeof(ReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
+  encoder_ = std::make_unique<Srgb8Encoder>(context);
 }
 
 SphereTracer::~SphereTracer() = default;
@@ -384,7 +389,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 6));
+  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 7));
   timer.reset(cmd);
   vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   if (foveated && all_due) vkCmdFillBuffer(cmd, frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
@@ -512,15 +517,21 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     shown = &frame.blurred;
   }
 
+  const bool on_device = settings.outputs == TraceOutputs::display;
+  if (on_device) {
+    timer.begin(cmd, "srgb8_encode");
+    encoder_->record(cmd, shown->handle(), frame.display_srgb8.handle(), settings.width, settings.height);
+    timer.end(cmd);
+  }
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
     VkBufferCopy region{0, 0, from.size_bytes()};
     vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
   };
-  copy(*shown, frame.colour_readback);
+  if (!on_device) copy(*shown, frame.colour_readback);
   copy(frame.counters, frame.counters_readback);
-  if (!settings.colour_only) {
+  if (settings.outputs == TraceOutputs::all) {
     if (foveated) copy(frame.mask, frame.mask_readback);
     for (const LevelBuffers& level : levels) copy(level.steps, level.steps_readback);
   }
@@ -535,11 +546,15 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
 
-  frame.colour_readback.invalidate();
-  const auto* rgba = static_cast<const float*>(frame.colour_readback.mapped());
-  result.colour_linear = Image(settings.width, settings.height, 3);
-  for (uint64_t p = 0; p < frame_pixels; ++p) {
-    for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
+  if (on_device) {
+    result.display = DeviceRgba8Frame{&context_, frame.display_srgb8.handle(), settings.width, settings.height};
+  } else {
+    frame.colour_readback.invalidate();
+    const auto* rgba = static_cast<const float*>(frame.colour_readback.mapped());
+    result.colour_linear = Image(settings.width, settings.height, 3);
+    for (uint64_t p = 0; p < frame_pixels; ++p) {
+      for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
+    }
   }
 
   frame.counters_readback.invalidate();
@@ -552,7 +567,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     result.foveation.refreshed_pixels = counter_values[refreshed];
     result.foveation.kept_pixels = frame_pixels - counter_values[masked] - counter_values[refreshed];
   }
-  if (foveated && !settings.colour_only) {
+  if (foveated && settings.outputs == TraceOutputs::all) {
     frame.mask_readback.invalidate();
     const auto* mask = static_cast<const uint32_t*>(frame.mask_readback.mapped());
     result.mask = Image(settings.width, settings.height, 1);
@@ -561,7 +576,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
   // Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
   // per-pixel image sums to total_steps.
-  if (!settings.colour_only) result.steps_per_pixel = Image(settings.width, settings.height, 1);
+  if (settings.outputs == TraceOutputs::all) result.steps_per_pixel = Image(settings.width, settings.height, 1);
   for (int i = 0; i < level_count; ++i) {
     const LevelBuffers& level = levels[size_t(i)];
     PyramidLevelStats stats = level.stats;
@@ -578,7 +593,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       stats.traced_pixels = counter_values[mid_traced];
       stats.shaded_pixels = counter_values[mid_shaded];
     }
-    if (settings.colour_only) {
+    if (settings.outputs != TraceOutputs::all) {
       result.levels.push_back(stats);
       continue;
     }

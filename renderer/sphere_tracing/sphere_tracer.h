@@ -15,6 +15,7 @@
 #include "foveation/acuity_model.h"
 #include "foveation/display_geometry.h"
 #include "foveation/foveation_mask.h"
+#include "renderer/present/device_frame.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/vk/submission.h"
 
@@ -24,6 +25,7 @@ namespace vk {
 class Context;
 class ComputePipeline;
 }  // namespace vk
+class Srgb8Encoder;
 
 enum class TraceMethod { ground_truth, inverted_pyramid, foveated_pyramid };
 
@@ -47,6 +49,14 @@ struct FoveationSettings {
   uint32_t frame_index = 0;     // frame of a sequence; 0 starts one (every pixel refreshed)
 };
 
+// What render() gives besides the statistics and the pass times.
+enum class TraceOutputs {
+  all,      // the linear colour, steps per pixel and (FIPR) the mask, read back: render, bench, analysis
+  colour,   // the linear colour alone, read back
+  display,  // nothing read back: the colour sRGB8-encoded on the device (SphereTraceResult::display),
+            // what a session shows, for a presenter on the same device or a read-back when needed
+};
+
 struct SphereTraceSettings {
   TraceMethod method = TraceMethod::ground_truth;
   int width = 640;
@@ -58,7 +68,7 @@ struct SphereTraceSettings {
   int max_steps = 256;         // step cap of one ray at one level
   float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
   FoveationSettings foveation;  // FIPR only
-  bool colour_only = false;     // read back the colour only (live frames of a session): no steps, no mask
+  TraceOutputs outputs = TraceOutputs::all;
 };
 
 // Validates sizes and options; throws SettingError naming the field of the settings and what was
@@ -100,14 +110,15 @@ struct FoveationStats {
 };
 
 struct SphereTraceResult {
-  Image colour_linear;        // RGB, linear light
-  Image steps_per_pixel;      // 1 channel: the pixel's own steps plus its share of the levels below (empty: colour_only)
+  Image colour_linear;        // RGB, linear light (empty: TraceOutputs::display)
+  Image steps_per_pixel;      // 1 channel: the pixel's own steps plus its share of the levels below (TraceOutputs::all)
+  DeviceRgba8Frame display;   // TraceOutputs::display: the frame on the device, valid until the next render
   uint64_t total_steps = 0;
   uint64_t capped_rays = 0;     // rays stopped by max_steps before a hit or leaving the bounds
   uint64_t restarted_rays = 0;  // IPR rays whose start depth was inside geometry, restarted at the bounds
   std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT has one
   FoveationStats foveation;               // FIPR only
-  Image mask;                             // FIPR only (not colour_only): 1 channel, 1 where traced at the top level
+  Image mask;                             // FIPR, TraceOutputs::all: 1 channel, 1 where traced at the top level
   std::vector<vk::PassTime> passes;
   double gpu_ms = 0.0;        // sum of the passes
 
@@ -137,6 +148,7 @@ class SphereTracer {
   std::unique_ptr<vk::ComputePipeline> list_dispatch_pipeline_;
   std::unique_ptr<vk::ComputePipeline> reconstruct_pipeline_;
   std::unique_ptr<vk::ComputePipeline> blur_pipeline_;
+  std::unique_ptr<Srgb8Encoder> encoder_;
   std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered (FIPR: its history)
 };
 

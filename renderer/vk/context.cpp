@@ -29,16 +29,21 @@ std::string type_name(VkPhysicalDeviceType type) {
   }
 }
 
-// The first queue family that can run compute work, or -1.
-int compute_queue_family(VkPhysicalDevice device) {
+// The first queue family that can run compute work (and present to `surface` when there is one), or -1.
+int compute_queue_family(VkPhysicalDevice device, VkSurfaceKHR surface) {
   const std::vector<VkQueueFamilyProperties> families = queue_families(device);
   for (uint32_t i = 0; i < families.size(); ++i) {
-    if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return static_cast<int>(i);
+    if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+    VkBool32 presents = VK_TRUE;
+    if (surface && vkGetPhysicalDeviceSurfaceSupportKHR(device, i, surface, &presents) != VK_SUCCESS) presents = VK_FALSE;
+    if (presents) return static_cast<int>(i);
   }
   return -1;
 }
 
-DeviceDescription describe(VkPhysicalDevice device, uint32_t index) {
+// `present_to` and `surface`: also whether the device can present to the window.
+DeviceDescription describe(VkPhysicalDevice device, uint32_t index, const SurfaceRequest* present_to = nullptr,
+                           VkSurfaceKHR surface = VK_NULL_HANDLE) {
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   VkPhysicalDeviceProperties basic{};
@@ -56,21 +61,27 @@ DeviceDescription describe(VkPhysicalDevice device, uint32_t index) {
   if (has_driver_properties) description.driver = std::string(driver.driverName) + " " + driver.driverInfo;
   if (properties.properties.apiVersion < kApiVersion) {
     description.unusable_reason = "needs Vulkan 1.1";
-  } else if (compute_queue_family(device) < 0) {
+  } else if (compute_queue_family(device, VK_NULL_HANDLE) < 0) {
     description.unusable_reason = "no compute queue";
   } else if (!has_device_extension(device, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) {
     description.unusable_reason = "no VK_KHR_push_descriptor";
+  } else if (surface && !has_device_extension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
+    description.unusable_reason = "no VK_KHR_swapchain";
+  } else if (surface && compute_queue_family(device, surface) < 0) {
+    description.unusable_reason = "cannot present to the window from a compute queue";
+  } else if (surface && present_to->unmet_need) {
+    description.unusable_reason = present_to->unmet_need(device, surface);
   }
   description.usable = description.unusable_reason.empty();
   return description;
 }
 
-VkInstance create_instance(bool validation) {
+VkInstance create_instance(bool validation, const std::vector<const char*>& window_extensions = {}) {
   VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   application.pApplicationName = "fovlab";
   application.apiVersion = kInstanceApiVersion;
   std::vector<const char*> layers;
-  std::vector<const char*> extensions;
+  std::vector<const char*> extensions = window_extensions;
   if (validation) {
     enable_validation(layers, extensions);
   }
@@ -85,25 +96,32 @@ VkInstance create_instance(bool validation) {
   if (result == VK_ERROR_INCOMPATIBLE_DRIVER) {
     throw InputError("no Vulkan driver found; expected a GPU driver or Mesa lavapipe (mesa-vulkan-drivers)");
   }
+  if (result == VK_ERROR_EXTENSION_NOT_PRESENT && !window_extensions.empty()) {
+    throw InputError("window: no Vulkan driver can present to a window (VK_ERROR_EXTENSION_NOT_PRESENT); expected a "
+                     "GPU driver or Mesa lavapipe (mesa-vulkan-drivers)");
+  }
   VK_CHECK(result);
   return instance;
 }
 
 // Descriptions of every device, in enumeration order; throws InputError when there is none.
-std::vector<DeviceDescription> describe_all(const std::vector<VkPhysicalDevice>& devices) {
+std::vector<DeviceDescription> describe_all(const std::vector<VkPhysicalDevice>& devices,
+                                            const SurfaceRequest* present_to = nullptr, VkSurfaceKHR surface = VK_NULL_HANDLE) {
   std::vector<DeviceDescription> descriptions;
-  for (uint32_t i = 0; i < devices.size(); ++i) descriptions.push_back(describe(devices[i], i));
+  for (uint32_t i = 0; i < devices.size(); ++i) descriptions.push_back(describe(devices[i], i, present_to, surface));
   if (descriptions.empty()) {
     throw InputError("no Vulkan device found; expected a GPU or Mesa lavapipe (mesa-vulkan-drivers)");
   }
   return descriptions;
 }
 
-DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, const std::string& selector) {
-  const std::vector<DeviceDescription> descriptions = describe_all(devices);
+DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, const std::string& selector,
+                                const SurfaceRequest* present_to, VkSurfaceKHR surface) {
+  const std::vector<DeviceDescription> descriptions = describe_all(devices, present_to, surface);
   std::string names;
   for (const DeviceDescription& d : descriptions) {
-    names += (d.index ? ", " : "") + std::to_string(d.index) + " '" + d.name + "'";
+    names += (d.index ? ", " : "") + std::to_string(d.index) + " '" + d.name + "'" +
+             (surface && !d.usable ? " (" + d.unusable_reason + ")" : "");
   }
   if (!selector.empty()) {
     for (const DeviceDescription& d : descriptions) {
@@ -117,6 +135,7 @@ DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, co
   for (const DeviceDescription& d : descriptions) {
     if (d.usable && (!best || d.preference > best->preference)) best = &d;
   }
+  if (!best && surface) throw InputError("window: no Vulkan device can render and present to the window among " + names);
   if (!best) throw InputError("no usable Vulkan device among " + names + "; fovlab needs compute and VK_KHR_push_descriptor");
   return *best;
 }
@@ -144,18 +163,26 @@ std::vector<DeviceDescription> list_devices() {
   }
 }
 
+bool is_preferred_device(const DeviceDescription& device) {
+  for (const DeviceDescription& other : list_devices())
+    if (other.usable && other.preference > device.preference) return false;
+  return true;
+}
+
 Context::Context(const ContextOptions& options)
     : validation_log_(std::make_unique<ValidationLog>("")) {
-  instance = create_instance(options.validation);
+  const SurfaceRequest* present_to = options.present_to ? &*options.present_to : nullptr;
+  instance = create_instance(options.validation, present_to ? present_to->instance_extensions : std::vector<const char*>{});
   try {
     if (options.validation) {
       messenger_ = create_validation_messenger(instance, validation_messenger_info(validation_log_.get()));
     }
+    if (present_to) surface = present_to->create_surface(instance);
 
     std::vector<VkPhysicalDevice> devices = physical_devices(instance);
-    description = choose_device(devices, options.device_selector);
+    description = choose_device(devices, options.device_selector, present_to, surface);
     physical_device = devices[description.index];
-    queue_family = static_cast<uint32_t>(compute_queue_family(physical_device));
+    queue_family = static_cast<uint32_t>(compute_queue_family(physical_device, surface));
     vkGetPhysicalDeviceMemoryProperties(physical_device, &memory_properties);
 
     VkPhysicalDeviceProperties properties;
@@ -164,7 +191,9 @@ Context::Context(const ContextOptions& options)
     if (timestamp_valid_bits > 0) timestamp_period_ns = static_cast<double>(properties.limits.timestampPeriod);
     max_storage_buffer_bytes = properties.limits.maxStorageBufferRange;
 
-    device = create_device(physical_device, queue_family, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    if (surface) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    device = create_device(physical_device, queue_family, extensions);
     vkGetDeviceQueue(device, queue_family, 0, &queue);
     cmd_push_descriptor_set =
         reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR"));
@@ -184,6 +213,10 @@ void Context::release() {
     if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
     vkDestroyDevice(device, nullptr);
     device = VK_NULL_HANDLE;
+  }
+  if (surface) {
+    vkDestroySurfaceKHR(instance, surface, nullptr);
+    surface = VK_NULL_HANDLE;
   }
   if (messenger_) {
     destroy_validation_messenger(instance, messenger_);

@@ -9,7 +9,9 @@
 #include <vulkan/vulkan.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,9 +30,22 @@ struct DeviceDescription {
   std::string unusable_reason;
 };
 
+// A context that also presents to a window (display/window_presenter.h): the instance gets the
+// window system's extensions, the surface is made on it, and only a device with a queue family that
+// both computes and presents to that surface (and VK_KHR_swapchain) is usable; that family is the
+// context's one queue, so frames go from the renderer's buffers to the swapchain on one device.
+struct SurfaceRequest {
+  std::vector<const char*> instance_extensions;           // e.g. glfwGetRequiredInstanceExtensions
+  std::function<VkSurfaceKHR(VkInstance)> create_surface;  // the context owns and destroys the result
+  // Further needs of the presenter on a candidate device: empty when met, else why not (e.g. "no
+  // 8-bit RGBA/BGRA surface format"), shown in the device error.
+  std::function<std::string(VkPhysicalDevice, VkSurfaceKHR)> unmet_need;
+};
+
 struct ContextOptions {
   std::string device_selector;  // empty: automatic; an index ("0") or part of a name ("llvmpipe")
   bool validation = false;
+  std::optional<SurfaceRequest> present_to;  // none: compute only
 };
 
 // Validation on by default in Debug builds; FOVLAB_VALIDATION=0/1 overrides either way.
@@ -55,6 +70,7 @@ class Context {
   uint32_t timestamp_valid_bits = 0;
   VkDeviceSize max_storage_buffer_bytes = 0;  // maxStorageBufferRange: the largest buffer one binding sees
   PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set = nullptr;
+  VkSurfaceKHR surface = VK_NULL_HANDLE;  // made for ContextOptions::present_to; the queue presents to it
 
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
   // Warnings and errors reported by the validation layer since the context was created.
@@ -68,5 +84,10 @@ class Context {
 
 // Every physical device the loader sees, usable or not. Throws InputError when there is none.
 std::vector<DeviceDescription> list_devices();
+
+// Whether `device` is the one a compute-only context would choose with no --device: no usable
+// device is preferred to it (a window's context may have had to settle for a lesser one, e.g. a
+// CPU device when the GPU cannot present to a virtual display).
+bool is_preferred_device(const DeviceDescription& device);
 
 }  // namespace fovlab::vk

@@ -98,7 +98,7 @@ std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device) {
   return families;
 }
 
-VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, const char* extension) {
+VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, const std::vector<const char*>& extensions) {
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queue_info.queueFamilyIndex = queue_family;
@@ -107,8 +107,8 @@ VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, 
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
-  device_info.enabledExtensionCount = 1;
-  device_info.ppEnabledExtensionNames = &extension;
+  device_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  device_info.ppEnabledExtensionNames = extensions.data();
   VkDevice device = VK_NULL_HANDLE;
   VK_CHECK(vkCreateDevice(physical_device, &device_info, nullptr, &device));
   return device;

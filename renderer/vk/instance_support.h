@@ -1,5 +1,5 @@
 #pragma once
-// Instance and device helpers shared by the renderer's Context and the session's WindowPresenter:
+// Instance and device helpers of the renderer's Context:
 // the validation layer and its messenger, layer and extension checks, the device choice rules, and
 // creation of a one-queue device and its command pool.
 #include <vulkan/vulkan.h>
@@ -35,8 +35,8 @@ void destroy_validation_messenger(VkInstance instance, VkDebugUtilsMessengerEXT 
 std::vector<VkPhysicalDevice> physical_devices(VkInstance instance);
 std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device);
 
-// A logical device with one queue (priority 1) of `queue_family` and one device extension enabled.
-VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, const char* extension);
+// A logical device with one queue (priority 1) of `queue_family` and the given device extensions.
+VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, const std::vector<const char*>& extensions);
 // A command pool on `queue_family` whose buffers can be reset one by one.
 VkCommandPool create_command_pool(VkDevice device, uint32_t queue_family);
 

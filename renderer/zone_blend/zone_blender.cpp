@@ -146,7 +146,7 @@ void check_zone_frame_size(const vk::Context& context, int width_px, int height_
 ZoneBlender::ZoneBlender(vk::Context& context)
     : context_(context),
       linear_pipeline_(pipeline(context, shaders::zone_blend_spirv, 2, sizeof(BlendParams))),
-      encode_pipeline_(pipeline(context, shaders::srgb8_encode_spirv, 2, 2 * sizeof(uint32_t))),
+      encoder_(std::make_unique<Srgb8Encoder>(context)),
       display_pipeline_(pipeline(context, shaders::zone_display_spirv, 3, sizeof(BlendParams))),
       band_pipeline_(pipeline(context, shaders::zone_band_spirv, 3, sizeof(BlendParams))),
       list_dispatch_pipeline_(pipeline(context, shaders::list_dispatch_spirv, 2, sizeof(kBandList))),
@@ -207,7 +207,7 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
                        VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_ACCESS_SHADER_READ_BIT);
     timer.begin(cmd, "zones_to_srgb8");
-    record_encode(cmd, zones_, zones_srgb8_, frame.width, 3 * frame.height);  // one image, three zones high
+    encoder_->record(cmd, zones_.handle(), zones_srgb8_.handle(), frame.width, 3 * frame.height);  // one image, three zones high
     timer.end(cmd);
   }
   commands.submit_and_wait();
@@ -221,13 +221,6 @@ void ZoneBlender::record_blend(VkCommandBuffer commands, const DisplayGeometry& 
   const BlendParams params = blend_params(width_, height_, display, gaze_x_px, gaze_y_px, bounds);
   const VkBuffer buffers[] = {zones_.handle(), blended_linear_.handle()};
   linear_pipeline_->dispatch_groups(commands, buffers, &params, row_groups(width_), uint32_t(height_));
-}
-
-void ZoneBlender::record_encode(VkCommandBuffer commands, const vk::Buffer& texels, const vk::Buffer& encoded,
-                                int width, int height) const {
-  const uint32_t image_size[] = {uint32_t(width), uint32_t(height)};
-  const VkBuffer buffers[] = {texels.handle(), encoded.handle()};
-  encode_pipeline_->dispatch_groups(commands, buffers, image_size, row_groups(width), uint32_t(height));
 }
 
 void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px,
@@ -297,6 +290,16 @@ std::vector<uint8_t> ZoneBlender::display_frame(const DisplayGeometry& display, 
   return mapped_bytes(blended_srgb8_readback_);
 }
 
+DeviceRgba8Frame ZoneBlender::display_frame_on_device(const DisplayGeometry& display, double gaze_x_px,
+                                                      double gaze_y_px, const ZoneBounds& bounds) {
+  check_blend(display, bounds);
+  require_colour(channels_, "zone blend to the display");
+  vk::OneTimeCommands commands(context_);
+  record_display(commands.handle(), display, gaze_x_px, gaze_y_px, bounds);
+  commands.submit_and_wait();
+  return DeviceRgba8Frame{&context_, blended_srgb8_.handle(), width_, height_};
+}
+
 std::vector<uint8_t> ZoneBlender::encode_for_display(const Image& frame) {
   require_colour(frame.channels, "display encoding");
   if (VkDeviceSize(frame.pixel_count()) * kTexelBytes > context_.max_storage_buffer_bytes || frame.pixel_count() == 0)
@@ -311,7 +314,7 @@ std::vector<uint8_t> ZoneBlender::encode_for_display(const Image& frame) {
   VkCommandBuffer cmd = commands.handle();
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_SHADER_READ_BIT);
-  record_encode(cmd, texels, encoded, frame.width, frame.height);
+  encoder_->record(cmd, texels.handle(), encoded.handle(), frame.width, frame.height);
   record_read_back(cmd, encoded, 0, bytes, readback);
   commands.submit_and_wait();
   return mapped_bytes(readback);

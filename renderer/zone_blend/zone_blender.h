@@ -15,8 +15,10 @@
 
 #include "core/image.h"
 #include "foveation/display_geometry.h"
-#include "renderer/vk/buffer.h"
 #include "foveation/zone_layout.h"
+#include "renderer/present/device_frame.h"
+#include "renderer/present/srgb8_encoder.h"
+#include "renderer/vk/buffer.h"
 
 namespace fovlab {
 
@@ -67,6 +69,10 @@ class ZoneBlender {
   // The frame needs 3 or 4 channels (InputError otherwise).
   std::vector<uint8_t> display_frame(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                                      const ZoneBounds& bounds);
+  // The same frame left on the device (nothing read back), for a presenter on this device: valid
+  // until the next display_frame or display_frame_on_device.
+  DeviceRgba8Frame display_frame_on_device(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+                                           const ZoneBounds& bounds);
   // A frame shown without foveation (the pt method): `frame` (3 or 4 channels, any size) encoded by
   // the same shader as display_frame's full-resolution zone, so that a pt frame and the foveal zone
   // of the fpt frame made from it are the same bytes. Leaves the zone buffers as they are.
@@ -97,17 +103,15 @@ class ZoneBlender {
   // The linear blend of the current zones for a gaze, into blended_linear_ (zone_blend.comp.glsl).
   void record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                     const ZoneBounds& bounds) const;
-  // srgb8_encode.comp.glsl: width x height float RGBA texels to packed sRGB8.
-  void record_encode(VkCommandBuffer commands, const vk::Buffer& texels, const vk::Buffer& encoded, int width,
-                     int height) const;
   // display_frame's passes for a gaze, into blended_srgb8_.
   void record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                       const ZoneBounds& bounds) const;
   void record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const;
   Image read_back(const vk::Buffer& buffer, VkDeviceSize offset_bytes, VkDeviceSize size_bytes);
   vk::Context& context_;
-  std::unique_ptr<vk::ComputePipeline> linear_pipeline_, encode_pipeline_, display_pipeline_, band_pipeline_,
-      list_dispatch_pipeline_, copy_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> linear_pipeline_;
+  std::unique_ptr<Srgb8Encoder> encoder_;
+  std::unique_ptr<vk::ComputePipeline> display_pipeline_, band_pipeline_, list_dispatch_pipeline_, copy_pipeline_;
   std::unique_ptr<Upsampler> upsampler_;
   int width_ = 0;
   int height_ = 0;

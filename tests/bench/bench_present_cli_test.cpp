@@ -23,18 +23,25 @@ using fovlab::cli_test::run;
 
 fs::path scratch() { return fovlab::cli_test::scratch("fovlab-bench-present-cli-test"); }
 
+// One row a frame path: the window's on_device (one device renders and presents) then via_host
+// (a second device, the frame through the host); headless: none.
 void expect_rows(const nlohmann::json& json, const std::string& presenter) {
-  ASSERT_EQ(json["rows"].size(), 1u);
-  const nlohmann::json& row = json["rows"][0];
-  EXPECT_EQ(row["presenter"], presenter);
-  EXPECT_EQ(row["width"], 64);
-  EXPECT_EQ(row["height"], 48);
-  EXPECT_EQ(row["refreshes"], 3);
-  for (const char* figure : {"median_ms", "p95_ms", "render_median_ms", "present_median_ms"})
-    EXPECT_GE(row[figure].get<double>(), 0.0) << figure;
-  EXPECT_GE(row["p95_ms"].get<double>(), row["median_ms"].get<double>());
-  EXPECT_GE(row["dropped_frames"].get<int>(), 0);
-  EXPECT_EQ(row["present_clock"], presenter == "headless" ? "virtual" : "after_queue_present");
+  const std::vector<std::string> paths =
+      presenter == "headless" ? std::vector<std::string>{"none"} : std::vector<std::string>{"on_device", "via_host"};
+  ASSERT_EQ(json["rows"].size(), paths.size());
+  for (size_t i = 0; i < paths.size(); ++i) {
+    const nlohmann::json& row = json["rows"][i];
+    EXPECT_EQ(row["presenter"], presenter);
+    EXPECT_EQ(row["frame_path"], paths[i]);
+    EXPECT_EQ(row["width"], 64);
+    EXPECT_EQ(row["height"], 48);
+    EXPECT_EQ(row["refreshes"], 3);
+    for (const char* figure : {"median_ms", "p95_ms", "render_median_ms", "present_median_ms", "hash_median_ms"})
+      EXPECT_GE(row[figure].get<double>(), 0.0) << figure;
+    EXPECT_GE(row["p95_ms"].get<double>(), row["median_ms"].get<double>());
+    EXPECT_GE(row["dropped_frames"].get<int>(), 0);
+    EXPECT_EQ(row["present_clock"], presenter == "headless" ? "virtual" : "after_queue_present");
+  }
   EXPECT_EQ(json["refreshes"], 3);
   EXPECT_EQ(json["stimulus"]["method"], "fipr");
   EXPECT_EQ(json["percentiles"], "nearest rank");
@@ -46,7 +53,7 @@ TEST(BenchPresentCli, HeadlessTinyRunWritesTheJson) {
   const CommandResult result = run("bench-present --presenter headless --width 64 --height 48 --refreshes 3 --json " +
                                    json_path.string(), "env -u DISPLAY -u WAYLAND_DISPLAY");
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("| headless | 64x48 |"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("| headless | none | 64x48 |"), std::string::npos) << result.out;
   const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
   expect_rows(json, "headless");
   EXPECT_NE(json["command"].get<std::string>().find("--sizes 64x48 --refreshes 3 --presenter headless"),
@@ -71,7 +78,7 @@ TEST(BenchPresentCli, AWindowWithoutADisplayAndBadFlagsAreOneLineErrors) {
   expect_one_line_error(result, "--refreshes 0");
 }
 
-// Under Xvfb (CTest: BenchPresentUnderXvfb): the window row, through the window presenter.
+// Under Xvfb (CTest: BenchPresentUnderXvfb): the window rows, through the window presenter.
 TEST(BenchPresentWindow, WindowRowUnderXvfb) {
   const char* display = std::getenv("DISPLAY");
   if (!display || !*display) {

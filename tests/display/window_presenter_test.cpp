@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -16,6 +17,8 @@
 #include "display/glfw_input.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
+#include "renderer/vk/buffer.h"
+#include "renderer/vk/context.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab {
@@ -123,6 +126,50 @@ TEST(WindowPresenter, PresentsPatternExactly) {
   EXPECT_TRUE(presenter.screenshot_is_readback()) << "device " << presenter.device_name();
   EXPECT_TRUE(same_pixels(presenter.screenshot(), pattern)) << "device " << presenter.device_name();
   EXPECT_EQ(presenter.validation_message_count(), 0u);
+}
+
+// A frame held in a buffer of `context` (host-visible memory, read by the compose pass as any
+// storage buffer).
+struct FrameOnDevice {
+  vk::Buffer buffer;
+  DeviceRgba8Frame frame;
+};
+FrameOnDevice on_device(const vk::Context& context, const Rgba8Frame& bytes) {
+  FrameOnDevice held{vk::Buffer(context, bytes.rgba.size(), vk::MemoryUse::host_upload), {}};
+  std::memcpy(held.buffer.mapped(), bytes.rgba.data(), bytes.rgba.size());
+  held.buffer.flush();
+  held.frame = DeviceRgba8Frame{&context, held.buffer.handle(), bytes.width, bytes.height};
+  return held;
+}
+
+// A frame on the presenter's own device goes to the swapchain without the host; one on another
+// device is read back and uploaded, and counted. Both show exactly, and wait_until keeps them.
+TEST(WindowPresenter, PresentsFramesHeldOnItsDeviceAndOnAnother) {
+  REQUIRE_DISPLAY();
+  WindowPresenter presenter(small_window());
+  const Rgba8Frame pattern = quadrant_pattern(320, 180);
+  const FrameOnDevice same = on_device(presenter.context(), pattern);
+  presenter.present(same.frame);
+  EXPECT_TRUE(same_pixels(presenter.screenshot(), pattern));
+  presenter.wait_until(presenter.now_s() + 3.0 / presenter.refresh_hz());  // re-presents the composed image
+  EXPECT_TRUE(same_pixels(presenter.screenshot(), pattern));
+  EXPECT_EQ(presenter.cross_device_copies().frames, 0);
+
+  vk::Context other(vk::ContextOptions{"", true, std::nullopt});
+  const Rgba8Frame small = quadrant_pattern(100, 50);
+  const FrameOnDevice elsewhere = on_device(other, small);
+  presenter.present(elsewhere.frame);
+  Rgba8Frame expected(320, 180);  // x3 at (10, 15)
+  for (int y = 0; y < 150; ++y)
+    for (int x = 0; x < 300; ++x) {
+      const uint8_t* p = small.rgba.data() + (static_cast<size_t>(y / 3) * 100 + static_cast<size_t>(x / 3)) * 4;
+      set_pixel(expected, x + 10, y + 15, p[0], p[1], p[2]);
+    }
+  EXPECT_TRUE(same_pixels(presenter.screenshot(), expected));
+  EXPECT_EQ(presenter.cross_device_copies().frames, 1);
+  EXPECT_GT(presenter.cross_device_copies().seconds, 0.0);
+  EXPECT_EQ(presenter.validation_message_count(), 0u);
+  EXPECT_EQ(other.validation_message_count(), 0u);
 }
 
 TEST(WindowPresenter, LetterboxesASmallerFrameAtAnIntegerScale) {

@@ -312,12 +312,22 @@ TEST_F(FiprLibrary, ImagesOfAPresentationFollowEachOtherAndIndexZeroRestarts) {
   library.render(spec, StimulusImage{});
   EXPECT_NO_THROW(library.render(spec, second));
 
-  // frame() renders gaze-dependent stimuli live, the same way.
+  // frame() renders gaze-dependent stimuli live, the same way, and leaves the image on the device:
+  // its hash comes when asked for (after the present), and a later render makes it stale.
   library.prepare({{0, gt}, {1, spec}});
   StimulusImage image;
   image.gaze.x_px = 10.0;
   image.gaze.y_px = 40.0;
-  EXPECT_EQ(library.frame(1, spec, image).hash, first.front());
+  const PreparedFrame& live = library.frame(1, spec, image);
+  EXPECT_TRUE(live.on_device);
+  EXPECT_TRUE(live.hash.empty());
+  EXPECT_EQ(library.hash(live), first.front());
+  EXPECT_EQ(library.hash(live), first.front());  // asked again: the same
+  const PreparedFrame& prepared = library.frame(0, gt, StimulusImage{});
+  EXPECT_FALSE(prepared.on_device);
+  EXPECT_EQ(library.hash(prepared), prepared.hash);
+  const PreparedFrame copy = library.frame(1, spec, image);  // a copy, not the library's own
+  EXPECT_THROW(library.hash(copy), std::logic_error);
 }
 
 }  // namespace

@@ -23,7 +23,16 @@ TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
     GTEST_SKIP() << "no DISPLAY: runs under xvfb-run (CTest: WindowedSessionUnderXvfb)";
   }
   const fs::path results = test::fresh_folder("windowed");
-  const StudyConfig config = test::fixture_with("tiny_2afc", "repeats = 4", "repeats = 2");
+  // The test stimulus is FIPR: rendered live on every refresh with that refresh's gaze, on the
+  // device that presents.
+  const fs::path fixture = test::study_fixture("tiny_2afc");
+  std::string text = test::read_file(fixture);
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"method = \"ipr\"", "method = \"fipr\""},
+                                 {"repeats = 4", "repeats = 2"}}) {
+    ASSERT_NE(text.find(from), std::string::npos) << from;
+    text.replace(text.find(from), from.size(), to);
+  }
+  const StudyConfig config = parse_study_config_text(text, fixture.string(), renderer_scene_catalog());
   SessionOptions options;
   options.participant = "W1";
   options.results_dir = results.string();
@@ -55,6 +64,14 @@ TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
     if (first["frame"][i] == 0) last_of_frame0 = i;
   EXPECT_EQ(frame_hash(stimulus), first["hash"][last_of_frame0].get<std::string>());
   EXPECT_EQ(record.header.value("presenter", ""), "window");
+  // One device rendered and presented: FIPR frames went from the renderer's buffer to the swapchain.
+  EXPECT_EQ(outcome.frame_path, "on_device");
+  EXPECT_EQ(record.header["display"].value("frame_path", ""), "on_device");
+  EXPECT_EQ(record.header["display"].value("present_device", ""), record.header["device"].value("name", "?"));
+  EXPECT_EQ(outcome.cross_device_frames, 0);
+  int fipr_stimuli = 0;
+  for (const auto& spec_json : record.header["stimuli"]) fipr_stimuli += spec_json.value("method", "") == "fipr";
+  EXPECT_GT(fipr_stimuli, 0);
 
   // Present times are real: increasing, about one refresh apart.
   const auto& times = first["present_s"];

@@ -540,7 +540,7 @@ TEST(ProtocolsLog, HeaderSchemaChecks) {
   }
   // The version this build writes is accepted.
   EXPECT_NO_THROW(read_session_record(make_log({header()})));
-  EXPECT_EQ(log_schema_version, 3);
+  EXPECT_EQ(log_schema_version, 4);
 }
 
 TEST(ProtocolsLog, HeaderSchemaVersionIsNotWrapped) {

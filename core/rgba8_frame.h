@@ -1,5 +1,5 @@
 #pragma once
-// What a presenter shows: 8-bit sRGB-encoded RGBA, row-major, top row first, alpha 255.
+// What a display shows (display/presenter.h): 8-bit sRGB-encoded RGBA, row-major, top row first, alpha 255.
 #include <cstdint>
 #include <vector>
 

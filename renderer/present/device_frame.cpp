@@ -1,0 +1,31 @@
+#include "renderer/present/device_frame.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "renderer/vk/buffer.h"
+#include "renderer/vk/submission.h"
+
+namespace fovlab {
+
+Rgba8Frame read_back(const DeviceRgba8Frame& frame) {
+  if (!frame || !frame.context || frame.width <= 0 || frame.height <= 0)
+    throw std::invalid_argument("read_back: no frame on a device");
+  Rgba8Frame host(frame.width, frame.height);
+  const vk::Buffer readback(*frame.context, host.rgba.size(), vk::MemoryUse::host_readback);
+  vk::OneTimeCommands commands(*frame.context);
+  const VkCommandBuffer cmd = commands.handle();
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{0, 0, host.rgba.size()};
+  vkCmdCopyBuffer(cmd, frame.buffer, readback.handle(), 1, &region);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                     VK_ACCESS_HOST_READ_BIT);
+  commands.submit_and_wait();
+  readback.invalidate();
+  std::memcpy(host.rgba.data(), readback.mapped(), host.rgba.size());
+  return host;
+}
+
+}  // namespace fovlab

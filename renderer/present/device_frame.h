@@ -1,0 +1,29 @@
+#pragma once
+// A frame as a display shows it, kept on the device that made it: packed RGBA8, sRGB-encoded, one
+// uint a pixel (R in the low byte, alpha 255), row-major, top row first. The sRGB8 encoder writes
+// it (srgb8_encoder.h) and a presenter on the same device composes it onto the swapchain image
+// without a copy through the host (display/window_presenter.h).
+#include <vulkan/vulkan.h>
+
+#include "core/rgba8_frame.h"
+
+namespace fovlab {
+
+namespace vk {
+class Context;
+}
+
+struct DeviceRgba8Frame {
+  const vk::Context* context = nullptr;  // the device holding `buffer`
+  VkBuffer buffer = VK_NULL_HANDLE;      // at least width * height * 4 bytes; owned by whoever wrote it
+  int width = 0;
+  int height = 0;
+
+  explicit operator bool() const { return buffer != VK_NULL_HANDLE; }
+};
+
+// The frame's bytes on the host: one copy into a host-visible buffer, submitted on the frame's
+// device and waited for. Throws std::invalid_argument for an empty frame.
+Rgba8Frame read_back(const DeviceRgba8Frame& frame);
+
+}  // namespace fovlab
