@@ -1,9 +1,11 @@
 #include "app/cli_support.h"
 
+#include <cmath>
 #include <map>
 #include <stdexcept>
 
 #include "core/input_error.h"
+#include "study/stimulus/render_method.h"
 
 namespace fovlab::app {
 
@@ -27,7 +29,46 @@ void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
                      "Hit when distance < t x pixel angle x this (pixel-footprint epsilon)");
 }
 
+namespace {
+
+// The flags that set a method's parameters, checked against its descriptor (study/stimulus/
+// render_method.h): the config's ranges and allowed values are the command line's too.
+void check_flags_against_descriptor(const SphereTraceSettings& settings) {
+  const std::optional<RenderMethod> method = find_method(method_name(settings.method));
+  if (!method) return;
+  const MethodDescriptor& descriptor = describe(*method);
+  const FoveationSettings& fov = settings.foveation;
+  struct Flag {
+    const char* flag;
+    const char* key;
+    double value;
+  };
+  std::vector<Flag> flags = {{"--spp", "samples_per_pixel", double(settings.samples_per_pixel)},
+                             {"--max-steps", "max_steps", double(settings.max_steps)},
+                             {"--hit-threshold", "hit_threshold", double(settings.hit_threshold)},
+                             {"--levels", "pyramid_levels", double(settings.pyramid_levels)},
+                             {"--min-filter", "min_filter_size", double(settings.min_filter_size)}};
+  if (settings.method == TraceMethod::foveated_pyramid) {
+    flags.push_back({"--fovea-deg", "fovea_radius_deg", fov.acuity.fovea_deg});
+    if (std::isfinite(fov.acuity.outer_periphery_deg))
+      flags.push_back({"--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_deg});
+    flags.push_back({"--refresh", "periphery_refresh", double(fov.periphery_refresh)});
+    flags.push_back({"--periphery-steps", "periphery_steps", double(fov.periphery_steps)});
+    flags.push_back({"--edge-threshold", "edge_threshold", double(fov.edge_threshold)});
+  }
+  for (const Flag& flag : flags) {
+    const ParameterDescriptor* parameter = find_parameter(descriptor, flag.key);
+    if (!parameter) continue;  // not a parameter of this method (e.g. --levels of gt)
+    if (const std::optional<std::string> expected = check_parameter_value(*parameter, flag.value))
+      throw InputError(std::string(flag.flag) + " " + parameter_value_text(*parameter, flag.value) + ": expected " +
+                       *expected);
+  }
+}
+
+}  // namespace
+
 void validate_trace_flags(const SphereTraceSettings& settings) {
+  check_flags_against_descriptor(settings);
   static const std::map<std::string, std::string> flag_of_field = {
       {"width", "--width"},
       {"height", "--height"},

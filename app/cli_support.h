@@ -20,8 +20,9 @@ void fail_on_validation_messages(const vk::Context& context);
 // --time, --levels, --min-filter, --max-steps, --hit-threshold.
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings);
 
-// The sphere tracer's validate(settings), its SettingError worded with the flag of render and
-// bench that sets the field ("--levels 7: expected 2 to 5 pyramid levels").
+// The flags checked against the method's descriptor first (the ranges and values a study config
+// takes: "--max-steps 5000: expected an integer in 1..4096"), then the sphere tracer's
+// validate(settings), its SettingError worded with the flag of render and bench that sets the field.
 void validate_trace_flags(const SphereTraceSettings& settings);
 
 }  // namespace fovlab::app

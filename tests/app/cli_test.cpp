@@ -109,7 +109,12 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   expect_one_line_error(run(render + kSmall + "--spp 3"), "--spp 3");
   // The renderer names its settings' fields; render words them as its flags.
   expect_one_line_error(run(render + kSmall + "--levels 6"), "--levels 6: expected 2 to 5 pyramid levels");
-  expect_one_line_error(run(render + kSmall + "--method fipr --levels 2"), "--levels 2: FIPR needs at least 3");
+  // A method's parameter flags take what a study config takes (its descriptor's range and values).
+  expect_one_line_error(run(render + kSmall + "--method fipr --levels 2"), "--levels 2: expected a value in [3, 5]");
+  expect_one_line_error(run(render + kSmall + "--max-steps 5000"), "--max-steps 5000: expected a value in [1, 4096]");
+  expect_one_line_error(run(render + kSmall + "--method fipr --fovea-deg 200"),
+                        "--fovea-deg 200: expected a value in [0, 180]");
+  expect_one_line_error(run(render + kSmall + "--method ipr --min-filter 2"), "--min-filter 2: expected one of 1 3 5");
   expect_one_line_error(run(render + kSmall + "--method rtx"), "--method");
   expect_one_line_error(run(render + kSmall + "--steps-out " + (scratch() / "steps.foo").string()), "steps.foo");
   expect_one_line_error(run("render --scene primitives" + kSmall + "--out /nonexistent-folder/x.png"),
