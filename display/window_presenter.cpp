@@ -155,7 +155,8 @@ void WindowPresenter::create_context() {
   request.unmet_need = [](VkPhysicalDevice device, VkSurfaceKHR surface) {
     return choose_format(surface_formats(device, surface)) ? std::string() : std::string("no 8-bit RGBA/BGRA surface format");
   };
-  context_ = std::make_unique<vk::Context>(vk::ContextOptions{options_.device_selector, options_.validation, request});
+  context_ = std::make_unique<vk::Context>(
+      vk::ContextOptions{options_.device_selector, options_.validation, request, options_.device_flag});
   composer_ = std::make_unique<FrameComposer>(*context_);
   const VkDevice device = context_->device;
   VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};

@@ -61,6 +61,7 @@ struct WindowPresenterOptions {
   // Empty: automatic (a device that can render and present to the window: discrete > integrated >
   // virtual > CPU); else an index or a case-insensitive part of a device name, as --device.
   std::string device_selector;
+  std::string device_flag = "--device";  // the flag that gave device_selector, for its errors
 };
 
 class WindowPresenter final : public Presenter {

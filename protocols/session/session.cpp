@@ -226,8 +226,9 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     window.title = "fovlab: " + config.name;
     window.screenshots = !options.screenshots_dir.empty();
     window.validation = options.validation;
-    window.device_selector =
-        options.present_device_selector.empty() ? options.device_selector : options.present_device_selector;
+    const bool own_present_device = !options.present_device_selector.empty();
+    window.device_selector = own_present_device ? options.present_device_selector : options.device_selector;
+    window.device_flag = own_present_device ? "--present-device" : "--device";
     presenter = std::make_unique<WindowPresenter>(window);
     find_font_path();  // the text screens' font: missing -> an error naming the package, now
     const double measured_hz = presenter->refresh_hz();

@@ -13,6 +13,7 @@
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/vk/buffer.h"
 #include "renderer/zone_blend/zone_blender.h"
 
 namespace fovlab {
@@ -23,7 +24,8 @@ std::string frame_hash(const Rgba8Frame& frame) {
 }
 
 StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root)
-    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)) {}
+    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)),
+      readback_(std::make_unique<vk::Buffer>()) {}
 StimulusLibrary::~StimulusLibrary() = default;
 
 SphereTracer& StimulusLibrary::tracer_for(const std::string& scene) {
@@ -51,7 +53,7 @@ PreparedFrame StimulusLibrary::render_live(const StimulusSpec& spec, const Stimu
 PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
   PreparedFrame rendered = render_live(spec, image);
   if (rendered.on_device) {
-    rendered.image = read_back(rendered.on_device);
+    rendered.image = read_back(rendered.on_device, *readback_);
     rendered.hash = frame_hash(rendered.image);
     rendered.on_device = DeviceRgba8Frame{};  // the buffer is the renderer's, reused by the next render
   }
@@ -61,7 +63,7 @@ PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusIm
 const std::string& StimulusLibrary::hash(const PreparedFrame& frame) {
   if (!frame.hash.empty()) return frame.hash;
   if (&frame != &live_ || !live_.on_device) throw std::logic_error("StimulusLibrary::hash: not the last live frame");
-  live_.image = read_back(live_.on_device);
+  live_.image = read_back(live_.on_device, *readback_);
   live_.hash = frame_hash(live_.image);
   return live_.hash;
 }

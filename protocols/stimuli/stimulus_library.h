@@ -24,8 +24,9 @@
 namespace fovlab {
 
 namespace vk {
+class Buffer;
 class Context;
-}
+}  // namespace vk
 class SphereTracer;
 class FrameCache;
 class ZoneBlender;
@@ -118,6 +119,7 @@ class StimulusLibrary {
   std::map<std::string, LastImage> last_image_;                    // by scene
   std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id
   PreparedFrame live_;                                             // the last gaze-dependent image
+  std::unique_ptr<vk::Buffer> readback_;                           // frames read back from the device
   double render_seconds_ = 0.0;
 };
 

@@ -4,15 +4,24 @@
 #include <stdexcept>
 
 #include "renderer/vk/buffer.h"
+#include "renderer/vk/context.h"
 #include "renderer/vk/submission.h"
 
 namespace fovlab {
 
 Rgba8Frame read_back(const DeviceRgba8Frame& frame) {
+  vk::Buffer scratch;
+  return read_back(frame, scratch);
+}
+
+Rgba8Frame read_back(const DeviceRgba8Frame& frame, vk::Buffer& readback) {
   if (!frame || !frame.context || frame.width <= 0 || frame.height <= 0)
     throw std::invalid_argument("read_back: no frame on a device");
   Rgba8Frame host(frame.width, frame.height);
-  const vk::Buffer readback(*frame.context, host.rgba.size(), vk::MemoryUse::host_readback);
+  if (readback.size_bytes() < host.rgba.size() || readback.device() != frame.context->device) {
+    readback = vk::Buffer();
+    readback = vk::Buffer(*frame.context, host.rgba.size(), vk::MemoryUse::host_readback);
+  }
   vk::OneTimeCommands commands(*frame.context);
   const VkCommandBuffer cmd = commands.handle();
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,

@@ -10,8 +10,9 @@
 namespace fovlab {
 
 namespace vk {
+class Buffer;
 class Context;
-}
+}  // namespace vk
 
 struct DeviceRgba8Frame {
   const vk::Context* context = nullptr;  // the device holding `buffer`
@@ -25,5 +26,8 @@ struct DeviceRgba8Frame {
 // The frame's bytes on the host: one copy into a host-visible buffer, submitted on the frame's
 // device and waited for. Throws std::invalid_argument for an empty frame.
 Rgba8Frame read_back(const DeviceRgba8Frame& frame);
+// The same through `scratch`, a host-readback buffer of the frame's device kept by the caller for
+// the next frame (replaced when it is too small or of another device).
+Rgba8Frame read_back(const DeviceRgba8Frame& frame, vk::Buffer& scratch);
 
 }  // namespace fovlab

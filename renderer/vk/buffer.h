@@ -25,6 +25,7 @@ class Buffer {
   Buffer& operator=(const Buffer&) = delete;
 
   VkBuffer handle() const { return buffer_; }
+  VkDevice device() const { return device_; }  // VK_NULL_HANDLE for an empty buffer
   VkDeviceSize size_bytes() const { return size_bytes_; }
   // Mapped host pointer of a host-visible buffer (null for device_local). On memory that is not
   // host-coherent, call invalidate() before reading what the GPU wrote and flush() after writing.

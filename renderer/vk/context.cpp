@@ -116,7 +116,7 @@ std::vector<DeviceDescription> describe_all(const std::vector<VkPhysicalDevice>&
 }
 
 DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, const std::string& selector,
-                                const SurfaceRequest* present_to, VkSurfaceKHR surface) {
+                                const std::string& flag, const SurfaceRequest* present_to, VkSurfaceKHR surface) {
   const std::vector<DeviceDescription> descriptions = describe_all(devices, present_to, surface);
   std::string names;
   for (const DeviceDescription& d : descriptions) {
@@ -126,10 +126,10 @@ DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, co
   if (!selector.empty()) {
     for (const DeviceDescription& d : descriptions) {
       if (!device_selector_matches(selector, d.index, d.name)) continue;
-      if (!d.usable) throw InputError("--device " + selector + ": '" + d.name + "' cannot be used: " + d.unusable_reason);
+      if (!d.usable) throw InputError(flag + " " + selector + ": '" + d.name + "' cannot be used: " + d.unusable_reason);
       return d;
     }
-    throw InputError("--device " + selector + ": no such device; expected an index or part of a name among " + names);
+    throw InputError(flag + " " + selector + ": no such device; expected an index or part of a name among " + names);
   }
   const DeviceDescription* best = nullptr;
   for (const DeviceDescription& d : descriptions) {
@@ -180,7 +180,7 @@ Context::Context(const ContextOptions& options)
     if (present_to) surface = present_to->create_surface(instance);
 
     std::vector<VkPhysicalDevice> devices = physical_devices(instance);
-    description = choose_device(devices, options.device_selector, present_to, surface);
+    description = choose_device(devices, options.device_selector, options.device_flag, present_to, surface);
     physical_device = devices[description.index];
     queue_family = static_cast<uint32_t>(compute_queue_family(physical_device, surface));
     vkGetPhysicalDeviceMemoryProperties(physical_device, &memory_properties);

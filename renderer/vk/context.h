@@ -46,6 +46,7 @@ struct ContextOptions {
   std::string device_selector;  // empty: automatic; an index ("0") or part of a name ("llvmpipe")
   bool validation = false;
   std::optional<SurfaceRequest> present_to;  // none: compute only
+  std::string device_flag = "--device";      // names device_selector in errors
 };
 
 // Validation on by default in Debug builds; FOVLAB_VALIDATION=0/1 overrides either way.

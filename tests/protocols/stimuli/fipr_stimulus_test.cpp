@@ -157,6 +157,30 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   EXPECT_EQ(describe(RenderMethod::inverted_pyramid).parameters.size(), 5u);
 }
 
+// One default per setting: a FIPR spec at its descriptor's defaults gives the renderer's own
+// defaults (SphereTraceSettings{}), which the command line's flags start from too.
+TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
+  StimulusSpec spec = default_fipr_spec();
+  std::get<FoveatedPyramidParameters>(spec.parameters).display = {400, 300, 600};
+  const SphereTraceSettings from_spec = sphere_trace_settings(spec, 0);
+  const SphereTraceSettings renderer;
+  EXPECT_EQ(from_spec.samples_per_pixel, renderer.samples_per_pixel);
+  EXPECT_EQ(from_spec.max_steps, renderer.max_steps);
+  EXPECT_EQ(from_spec.hit_threshold, renderer.hit_threshold);
+  EXPECT_EQ(from_spec.pyramid_levels, renderer.pyramid_levels);
+  EXPECT_EQ(from_spec.min_filter_size, renderer.min_filter_size);
+  const FoveationSettings& f = from_spec.foveation;
+  const FoveationSettings& r = renderer.foveation;
+  EXPECT_EQ(f.acuity.fovea_deg, r.acuity.fovea_deg);
+  EXPECT_EQ(f.acuity.outer_periphery_deg, r.acuity.outer_periphery_deg);
+  EXPECT_EQ(f.combine, r.combine);
+  EXPECT_EQ(f.edge_threshold, r.edge_threshold);
+  EXPECT_EQ(f.periphery_refresh, r.periphery_refresh);
+  EXPECT_EQ(f.periphery_steps, r.periphery_steps);
+  EXPECT_EQ(f.blur, r.blur);
+  EXPECT_EQ(f.seed, r.seed);
+}
+
 TEST(FiprStimulus, SettingsForTheRenderer) {
   StimulusSpec spec = default_fipr_spec();
   spec.frame_count = 3;
