@@ -215,6 +215,9 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
 
   // Everything that can fail on the user's input comes before the first write: gaze source (a
   // trace file, the tracker's address), the window and its font, the scenes' compilation.
+  // --present-device naming the rendering device's own selector is no second device.
+  const bool own_present_device =
+      !options.present_device_selector.empty() && options.present_device_selector != options.device_selector;
   std::unique_ptr<Presenter> presenter;
   if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
@@ -226,7 +229,6 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     window.title = "fovlab: " + config.name;
     window.screenshots = !options.screenshots_dir.empty();
     window.validation = options.validation;
-    const bool own_present_device = !options.present_device_selector.empty();
     window.device_selector = own_present_device ? options.present_device_selector : options.device_selector;
     window.device_flag = own_present_device ? "--present-device" : "--device";
     presenter = std::make_unique<WindowPresenter>(window);
@@ -248,7 +250,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // automatically, the preferred rendering device cannot present to the window).
   auto* window = dynamic_cast<WindowPresenter*>(presenter.get());
   std::unique_ptr<vk::Context> render_context;
-  if (!window || !options.present_device_selector.empty() ||
+  if (!window || own_present_device ||
       (options.device_selector.empty() && !vk::is_preferred_device(window->context().description))) {
     render_context = std::make_unique<vk::Context>(vk::ContextOptions{options.device_selector, options.validation});
   }

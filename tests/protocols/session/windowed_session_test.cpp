@@ -4,9 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "core/image_io.h"
 #include "display/frame_io.h"
+#include "display/window_presenter.h"
 #include "protocols/session/session.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "tests/protocols/session/session_test_support.h"
@@ -16,23 +20,32 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
-  const char* display = std::getenv("DISPLAY");
-  if (!display || !*display) {
-    if (std::getenv("FOVLAB_REQUIRE_DISPLAY")) FAIL() << "FOVLAB_REQUIRE_DISPLAY set but no DISPLAY";
-    GTEST_SKIP() << "no DISPLAY: runs under xvfb-run (CTest: WindowedSessionUnderXvfb)";
-  }
-  const fs::path results = test::fresh_folder("windowed");
-  // The test stimulus is FIPR: rendered live on every refresh with that refresh's gaze, on the
-  // device that presents.
+#define REQUIRE_DISPLAY()                                                                          \
+  do {                                                                                             \
+    const char* display = std::getenv("DISPLAY");                                                  \
+    if (!display || !*display) {                                                                   \
+      if (std::getenv("FOVLAB_REQUIRE_DISPLAY")) FAIL() << "FOVLAB_REQUIRE_DISPLAY set but no DISPLAY"; \
+      GTEST_SKIP() << "no DISPLAY: runs under xvfb-run (CTest: WindowedSessionUnderXvfb)";         \
+    }                                                                                              \
+  } while (false)
+
+// tiny_2afc with FIPR as its test stimulus: rendered live on every refresh with that refresh's gaze.
+StudyConfig fipr_study(int repeats) {
   const fs::path fixture = test::study_fixture("tiny_2afc");
   std::string text = test::read_file(fixture);
   for (const auto& [from, to] : {std::pair<std::string, std::string>{"method = \"ipr\"", "method = \"fipr\""},
-                                 {"repeats = 4", "repeats = 2"}}) {
-    ASSERT_NE(text.find(from), std::string::npos) << from;
+                                 {"repeats = 4", "repeats = " + std::to_string(repeats)}}) {
+    if (text.find(from) == std::string::npos) throw std::logic_error("tiny_2afc lacks " + from);
     text.replace(text.find(from), from.size(), to);
   }
-  const StudyConfig config = parse_study_config_text(text, fixture.string(), renderer_scene_catalog());
+  return parse_study_config_text(text, fixture.string(), renderer_scene_catalog());
+}
+
+TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
+  REQUIRE_DISPLAY();
+  const fs::path results = test::fresh_folder("windowed");
+  // The FIPR frames are rendered on the device that presents them.
+  const StudyConfig config = fipr_study(2);
   SessionOptions options;
   options.participant = "W1";
   options.results_dir = results.string();
@@ -90,6 +103,48 @@ TEST(WindowedSession, ShowsInstructionsAndStimuliAndSavesScreenshots) {
   }
   EXPECT_EQ(outcome.present_clock, "after_queue_present");
   EXPECT_FALSE(outcome.gaze_age_s.empty());
+}
+
+// --present-device naming a second device (here a second Vulkan device of the same GPU or
+// lavapipe, named otherwise than --device): the renderer keeps its own device, every frame goes
+// through the host, and the log and the outcome say so; what is shown is still what is logged.
+TEST(WindowedSession, PresentingOnAnotherDeviceCopiesThroughTheHostAndSaysSo) {
+  REQUIRE_DISPLAY();
+  std::string presenting;  // a device that can present here, by name; rendering names it by index
+  uint32_t index = 0;
+  {
+    WindowPresenterOptions probe;
+    probe.width_px = 64;
+    probe.height_px = 36;
+    WindowPresenter window(probe);
+    presenting = window.device_name();
+    index = window.context().description.index;
+  }
+  const fs::path results = test::fresh_folder("windowed-two-devices");
+  const StudyConfig config = fipr_study(1);
+  SessionOptions options;
+  options.participant = "W2";
+  options.results_dir = results.string();
+  options.observer = "simulated:rt=0.05";
+  options.gaze = "synthetic";
+  options.validation = true;
+  options.device_selector = std::to_string(index);
+  options.present_device_selector = presenting;
+  options.screenshots_dir = (results / "shots").string();
+  const SessionOutcome outcome = run_session(config, options);
+  EXPECT_TRUE(outcome.finished);
+  EXPECT_EQ(outcome.frame_path, "via_host");
+  EXPECT_GT(outcome.cross_device_frames, 0);
+  EXPECT_GT(outcome.cross_device_copy_s, 0.0);
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  EXPECT_EQ(record.header["display"].value("frame_path", ""), "via_host");
+  EXPECT_EQ(record.header["display"].value("present_device", ""), presenting);
+  const nlohmann::json first = to_json(record.trials.front().stimuli.front());
+  size_t last_of_frame0 = 0;
+  for (size_t i = 0; i < first["frame"].size(); ++i)
+    if (first["frame"][i] == 0) last_of_frame0 = i;
+  const Rgba8Frame stimulus = image_to_frame(read_image(results / "shots/stimulus.png"));
+  EXPECT_EQ(frame_hash(stimulus), first["hash"][last_of_frame0].get<std::string>());
 }
 
 }  // namespace
