@@ -35,6 +35,8 @@
 
 namespace fovlab::app {
 
+using namespace fovlab::bench;  // the benchmark library this command prints
+
 namespace {
 
 // The fovea of seed 000's Table 1 and of its speed-ups "at 7.5 degrees" (section 5.2).

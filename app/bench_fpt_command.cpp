@@ -34,6 +34,8 @@
 
 namespace fovlab::app {
 
+using namespace fovlab::bench;  // the benchmark library this command prints
+
 namespace {
 
 struct BenchFptOptions {

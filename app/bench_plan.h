@@ -14,6 +14,9 @@
 
 namespace fovlab::app {
 
+using bench::BenchPlan;
+using bench::FiprVariant;
+
 // The flags of `fovlab bench` as given (lists still as text where they are parsed by us).
 struct BenchOptions {
   std::vector<std::string> scenes{"primitives", "columns", "temple"};

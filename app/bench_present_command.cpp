@@ -174,7 +174,7 @@ void run_bench_present(const BenchPresentOptions& options) {
   const bool want_window = options.presenter != "headless";
   if (want_window && !display_available())
     throw InputError("bench-present: no display for the window presenter (DISPLAY is not set); run it under Xvfb "
-                     "(xvfb-run -a fovlab bench-present ...) or with --presenter headless");
+                     "(xvfb-run -a -s -noreset fovlab bench-present ...) or with --presenter headless");
   const std::filesystem::path json_folder = options.json.parent_path();
   if (!options.json.empty() && !json_folder.empty() && !std::filesystem::is_directory(json_folder))
     throw InputError("--json " + options.json.string() + ": expected a file in an existing folder");
@@ -277,7 +277,7 @@ void add_bench_present_command(CLI::App& app) {
   command->add_option("--height", options->height, "One stimulus height instead of --sizes (with --width)");
   command->add_option("--refreshes", options->refreshes, "Timed refreshes a row (120)");
   command->add_option("--presenter", options->presenter,
-                      "window, headless or both (both; the window needs a display: xvfb-run -a without one)");
+                      "window, headless or both (both; the window needs a display: xvfb-run -a -s -noreset without one)");
   command->add_option("--scene", options->scene, "Sphere-traced scene of the FIPR stimulus (primitives)");
   command->add_option("--json", options->json, "Write every figure as JSON");
   command->add_option("--device", options->device, "Vulkan device for rendering: index or part of its name");

@@ -49,9 +49,9 @@ void check_flags_against_descriptor(const SphereTraceSettings& settings) {
                              {"--levels", "pyramid_levels", double(settings.pyramid_levels)},
                              {"--min-filter", "min_filter_size", double(settings.min_filter_size)}};
   if (settings.method == TraceMethod::foveated_pyramid) {
-    flags.push_back({"--fovea-deg", "fovea_radius_deg", fov.acuity.fovea_deg});
-    if (std::isfinite(fov.acuity.outer_periphery_deg))
-      flags.push_back({"--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_deg});
+    flags.push_back({"--fovea-deg", "fovea_radius_deg", fov.acuity.fovea_radius_deg});
+    if (std::isfinite(fov.acuity.outer_periphery_radius_deg))
+      flags.push_back({"--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_radius_deg});
     flags.push_back({"--refresh", "periphery_refresh", double(fov.periphery_refresh)});
     flags.push_back({"--periphery-steps", "periphery_steps", double(fov.periphery_steps)});
     flags.push_back({"--edge-threshold", "edge_threshold", double(fov.edge_threshold)});
@@ -79,8 +79,8 @@ void validate_trace_flags(const SphereTraceSettings& settings) {
       {"max_steps", "--max-steps"},
       {"hit_threshold", "--hit-threshold"},
       {"time_s", "--time"},
-      {"fovea_deg", "--fovea-deg"},
-      {"outer_periphery_deg", "--outer-periphery-deg"},
+      {"fovea_radius_deg", "--fovea-deg"},
+      {"outer_periphery_radius_deg", "--outer-periphery-deg"},
       {"periphery_refresh", "--refresh"},
       {"periphery_steps", "--periphery-steps"},
       {"edge_threshold", "--edge-threshold"}};

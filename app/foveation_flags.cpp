@@ -46,11 +46,11 @@ FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int
   } else {
     std::tie(settings.gaze_x_px, settings.gaze_y_px) = parse_gaze(flags.display.gaze, width_px, height_px);
   }
-  settings.acuity.fovea_deg = flags.fovea_deg;
+  settings.acuity.fovea_radius_deg = flags.fovea_deg;
   if (!flags.outer_periphery_deg.empty()) {
     const std::optional<double> outer = parse_finite_number(flags.outer_periphery_deg);
     if (!outer) fail_flag("--outer-periphery-deg", "an eccentricity in degrees", flags.outer_periphery_deg);
-    settings.acuity.outer_periphery_deg = *outer;
+    settings.acuity.outer_periphery_radius_deg = *outer;
   }
   settings.periphery_refresh = flags.refresh;
   settings.periphery_steps = flags.periphery_steps;

@@ -17,7 +17,7 @@ constexpr double kDefaultViewingDistanceMm = 600.0;
 
 struct FoveationFlags {
   DisplayFlags display;
-  double fovea_deg = AcuityModel{}.fovea_deg;
+  double fovea_deg = AcuityModel{}.fovea_radius_deg;
   std::string outer_periphery_deg;  // empty: none
   int refresh = 1;
   int periphery_steps = FoveationSettings{}.periphery_steps;

@@ -68,8 +68,8 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
     const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
     stats["foveation"] = {
         {"gaze_px", has_gaze ? nlohmann::json::array({f.gaze_x_px, f.gaze_y_px}) : nlohmann::json(nullptr)},
-        {"fovea_deg", f.acuity.fovea_deg},
-        {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_deg) ? nlohmann::json(f.acuity.outer_periphery_deg)
+        {"fovea_deg", f.acuity.fovea_radius_deg},
+        {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_radius_deg) ? nlohmann::json(f.acuity.outer_periphery_radius_deg)
                                                                              : nlohmann::json(nullptr)},
         {"combine", mask_combine_name(f.combine)},
         {"edge_threshold", f.edge_threshold},

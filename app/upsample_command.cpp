@@ -20,6 +20,8 @@
 
 namespace fovlab::app {
 
+using namespace fovlab::bench;  // the benchmark library this command prints
+
 namespace {
 
 struct UpsampleOptions {

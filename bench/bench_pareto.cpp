@@ -8,7 +8,7 @@
 #include "analysis/report/svg_chart.h"
 #include "core/number_text.h"
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 namespace {
 
@@ -87,4 +87,4 @@ std::string pareto_chart_svg(const std::string& title, const std::string& error_
   return analysis::render_xy_chart_svg(chart);
 }
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 struct TradeOff {
   double speedup = 1.0;  // against GT of the same spp (higher is better)
@@ -35,4 +35,4 @@ std::string cell_label(const ChartCell& cell);
 std::string pareto_chart_svg(const std::string& title, const std::string& error_label,
                              const std::vector<ChartCell>& cells);
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -8,7 +8,7 @@
 #include "foveation/display_geometry.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 // One FIPR variant of the sweep: periphery refresh x fovea.
 struct FiprVariant {
@@ -32,4 +32,4 @@ struct BenchPlan {
   double flip_pixels_per_degree = 0.0;
 };
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -8,7 +8,7 @@
 
 #include "core/number_text.h"
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 namespace {
 
@@ -141,4 +141,4 @@ std::string pareto_table(const nlohmann::json& cells) {
   return out.str();
 }
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 // GT against IPR, one row per scene and spp (the JSON's "rows"); IPR's columns read "-" where IPR
 // was not run.
@@ -26,4 +26,4 @@ std::string fovea_table(const nlohmann::json& cells, double fovea_deg);
 // The cells on each scene's Pareto front, for FLIP and for 1 - SSIM.
 std::string pareto_table(const nlohmann::json& cells);
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -7,7 +7,7 @@
 #include "metrics/fpsnr.h"
 #include "metrics/image_metrics.h"
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 double elapsed_ms(std::chrono::steady_clock::time_point started) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
@@ -98,4 +98,4 @@ FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& pl
   return errors;
 }
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

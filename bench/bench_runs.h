@@ -15,7 +15,7 @@
 #include "core/image.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 double median(std::vector<double> values);
 // Wall-clock milliseconds from `started` to now.
@@ -67,4 +67,4 @@ struct FrameErrors {
 };
 FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& plan);
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

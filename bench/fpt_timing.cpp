@@ -10,7 +10,7 @@
 #include "renderer/upsampling/upsampler.h"
 #include "renderer/zone_blend/zone_blender.h"
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 namespace {
 
@@ -123,4 +123,4 @@ void print_blend_timing(const BlendTiming& timing) {
               timing.refresh_wall_ms, timing.repeats);
 }
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -16,7 +16,7 @@ class Upsampler;
 class ZoneBlender;
 }  // namespace fovlab
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 struct UpsampleTiming {
   Image upsampled;                    // the GPU's image (of the last run)
@@ -56,4 +56,4 @@ double time_zone_buffers(ZoneBlender& blender, const Image& frame, int repeats);
 // The lines `fovlab blend --repeats` and `fovlab bench-fpt` print.
 void print_blend_timing(const BlendTiming& timing);
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

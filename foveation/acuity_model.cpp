@@ -10,8 +10,8 @@ double acuity_fit(double eccentricity_deg) {
 }
 
 double AcuityModel::trace_probability(double eccentricity_deg) const {
-  if (!(eccentricity_deg > fovea_deg)) return 1.0;  // also NaN and negative values
-  if (eccentricity_deg > outer_periphery_deg) return 0.0;
+  if (!(eccentricity_deg > fovea_radius_deg)) return 1.0;  // also NaN and negative values
+  if (eccentricity_deg > outer_periphery_radius_deg) return 0.0;
   return acuity_fit(eccentricity_deg);
 }
 

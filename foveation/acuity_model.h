@@ -17,8 +17,8 @@ namespace fovlab {
 double acuity_fit(double eccentricity_deg);
 
 struct AcuityModel {
-  double fovea_deg = 7.5;  // eccentricity (a radius, not an aperture) up to which P = 1; FIPR's default (study/stimulus/render_method.cpp)
-  double outer_periphery_deg = std::numeric_limits<double>::infinity();  // beyond it P = 0
+  double fovea_radius_deg = 7.5;  // eccentricity (a radius, not an aperture) up to which P = 1; FIPR's default (study/stimulus/render_method.cpp)
+  double outer_periphery_radius_deg = std::numeric_limits<double>::infinity();  // beyond it P = 0
 
   // Eq. 2 with the outer periphery: in [0, 1]. A non-finite or negative eccentricity (a gaze sample
   // that is not a number) is treated as the fovea: the pixel is traced in full, never dropped.

@@ -50,8 +50,8 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
     foveation.display = stimulus_display(spec);
     foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
     foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
-    foveation.acuity.fovea_deg = fipr->fovea_radius_deg;
-    foveation.acuity.outer_periphery_deg = fipr->outer_periphery_radius_deg >= kNoOuterPeripheryRadiusDeg
+    foveation.acuity.fovea_radius_deg = fipr->fovea_radius_deg;
+    foveation.acuity.outer_periphery_radius_deg = fipr->outer_periphery_radius_deg >= kNoOuterPeripheryRadiusDeg
                                                ? std::numeric_limits<double>::infinity()
                                                : fipr->outer_periphery_radius_deg;
     foveation.periphery_refresh = fipr->periphery_refresh;

@@ -38,8 +38,8 @@ layout(push_constant) uniform MaskParams {
   vec2 gaze_px;           // in full-resolution pixels (finite, clamped by the renderer)
   vec2 pixel_pitch_mm;
   float viewing_distance_mm;
-  float fovea_deg;
-  float outer_periphery_deg;  // a huge value when there is none
+  float fovea_radius_deg;
+  float outer_periphery_radius_deg;  // a huge value when there is none
   uint seed;
   uint frame_index;
   uint flags;
@@ -70,8 +70,8 @@ float eccentricity_deg(vec2 point_px) {
 }
 
 float acuity_probability(float eccentricity) {
-  if (!(eccentricity > params.fovea_deg)) return 1.0;
-  if (eccentricity > params.outer_periphery_deg) return 0.0;
+  if (!(eccentricity > params.fovea_radius_deg)) return 1.0;
+  if (eccentricity > params.outer_periphery_radius_deg) return 0.0;
   return 0.90964 * exp(-eccentricity / 2.9661) + 0.00792;
 }
 
@@ -103,7 +103,7 @@ void main() {
         float eccentricity = eccentricity_deg(vec2(pixel) + 0.5);
         uvec2 low = min(pixel / params.low_scale, params.low_size - 1u);
         bool edge = edges[low.y * params.low_size.x + low.x] != 0u;
-        bool in_fovea = !(eccentricity > params.fovea_deg);
+        bool in_fovea = !(eccentricity > params.fovea_radius_deg);
         float probability = combined_probability(acuity_probability(eccentricity), in_fovea, edge);
         traced = mask_threshold(pixel) < probability;
       }

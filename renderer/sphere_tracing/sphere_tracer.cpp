@@ -65,8 +65,8 @@ struct MaskParams {
   float gaze_px[2];
   float pixel_pitch_mm[2];
   float viewing_distance_mm;
-  float fovea_deg;
-  float outer_periphery_deg;
+  float fovea_radius_deg;
+  float outer_periphery_radius_deg;
   uint32_t seed;
   uint32_t frame_index;
   uint32_t flags;
@@ -238,11 +238,11 @@ static void validate_foveation(const SphereTraceSettings& settings) {
   if (!positive(f.display.width_mm) || !positive(f.display.height_mm) || !positive(f.display.viewing_distance_mm)) {
     throw InputError("FIPR display: expected a positive finite width, height and viewing distance in mm");
   }
-  if (!(std::isfinite(f.acuity.fovea_deg) && f.acuity.fovea_deg >= 0.0 && f.acuity.fovea_deg <= 180.0)) {
-    throw SettingError("fovea_deg", ": expected an eccentricity from 0 to 180 degrees");
+  if (!(std::isfinite(f.acuity.fovea_radius_deg) && f.acuity.fovea_radius_deg >= 0.0 && f.acuity.fovea_radius_deg <= 180.0)) {
+    throw SettingError("fovea_radius_deg", ": expected an eccentricity from 0 to 180 degrees");
   }
-  if (std::isnan(f.acuity.outer_periphery_deg) || f.acuity.outer_periphery_deg < f.acuity.fovea_deg) {
-    throw SettingError("outer_periphery_deg", ": expected an eccentricity at least the fovea's");
+  if (std::isnan(f.acuity.outer_periphery_radius_deg) || f.acuity.outer_periphery_radius_deg < f.acuity.fovea_radius_deg) {
+    throw SettingError("outer_periphery_radius_deg", ": expected an eccentricity at least the fovea's");
   }
   if (f.periphery_refresh != 1 && f.periphery_refresh != 2 && f.periphery_refresh != 4) {
     throw SettingError("periphery_refresh",
@@ -316,7 +316,7 @@ std::string history_key_of(const SphereTraceSettings& s) {
   key.precision(17);
   key << s.samples_per_pixel << ' ' << s.pyramid_levels << ' ' << s.min_filter_size << ' ' << s.max_steps << ' '
       << s.hit_threshold << ' ' << f.display.width_mm << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm
-      << ' ' << f.acuity.fovea_deg << ' ' << f.acuity.outer_periphery_deg << ' ' << static_cast<uint32_t>(f.combine)
+      << ' ' << f.acuity.fovea_radius_deg << ' ' << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine)
       << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed;
   return key.str();
 }
@@ -343,8 +343,8 @@ MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelSt
   params.pixel_pitch_mm[0] = static_cast<float>(f.display.pixel_pitch_x_mm());
   params.pixel_pitch_mm[1] = static_cast<float>(f.display.pixel_pitch_y_mm());
   params.viewing_distance_mm = static_cast<float>(f.display.viewing_distance_mm);
-  params.fovea_deg = static_cast<float>(f.acuity.fovea_deg);
-  params.outer_periphery_deg = static_cast<float>(std::min(f.acuity.outer_periphery_deg, 1e9));
+  params.fovea_radius_deg = static_cast<float>(f.acuity.fovea_radius_deg);
+  params.outer_periphery_radius_deg = static_cast<float>(std::min(f.acuity.outer_periphery_radius_deg, 1e9));
   params.seed = f.seed;
   params.frame_index = f.frame_index;
   params.refresh_period = static_cast<uint32_t>(f.periphery_refresh);

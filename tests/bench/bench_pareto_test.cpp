@@ -11,11 +11,11 @@
 
 namespace {
 
-using fovlab::app::cell_label;
-using fovlab::app::ChartCell;
-using fovlab::app::pareto_chart_svg;
-using fovlab::app::pareto_front;
-using fovlab::app::TradeOff;
+using fovlab::bench::cell_label;
+using fovlab::bench::ChartCell;
+using fovlab::bench::pareto_chart_svg;
+using fovlab::bench::pareto_front;
+using fovlab::bench::TradeOff;
 
 TEST(BenchPareto, FrontKeepsThePointsNothingBeatsInBoth) {
   const double nan = std::numeric_limits<double>::quiet_NaN();

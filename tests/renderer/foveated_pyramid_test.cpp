@@ -30,7 +30,7 @@ SphereTraceSettings fipr_frame(int width = 96, int height = 64) {
   settings.foveation.display = display_from_size(width, height, 240.0, 160.0, 300.0);
   settings.foveation.gaze_x_px = width * 0.5;
   settings.foveation.gaze_y_px = height * 0.5;
-  settings.foveation.acuity.fovea_deg = 5.0;
+  settings.foveation.acuity.fovea_radius_deg = 5.0;
   return settings;
 }
 
@@ -129,7 +129,7 @@ TEST_F(VulkanTest, MissingGazeOrWholeFoveaRendersTheInvertedPyramidFrame) {
   for (int variant = 0; variant < 2; ++variant) {
     SphereTraceSettings fipr = settings;
     if (variant == 0) fipr.foveation.gaze_x_px = kNaN;
-    if (variant == 1) fipr.foveation.acuity.fovea_deg = 180.0;
+    if (variant == 1) fipr.foveation.acuity.fovea_radius_deg = 180.0;
     const SphereTraceResult result = tracer.render(fipr);
     EXPECT_EQ(mask_sum(result), double(settings.width * settings.height));
     EXPECT_EQ(result.colour_linear.pixels, ipr.colour_linear.pixels) << "variant " << variant;
@@ -379,9 +379,9 @@ TEST(FoveationSettingsValidation, BadSettingsNameTheirField) {
   EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.pyramid_levels = 2; }),
             "pyramid_levels 2: FIPR needs at least 3 pyramid levels (low, mid and top)");
   EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.periphery_refresh = 3; }).rfind("periphery_refresh 3:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = -1; }).rfind("fovea_deg:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_deg = kNaN; }).rfind("fovea_deg:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.outer_periphery_deg = 1.0; }).rfind("outer_periphery_deg:", 0),
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_radius_deg = -1; }).rfind("fovea_radius_deg:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_radius_deg = kNaN; }).rfind("fovea_radius_deg:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.outer_periphery_radius_deg = 1.0; }).rfind("outer_periphery_radius_deg:", 0),
             0u);
   EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.edge_threshold = 0.0f; }).rfind("edge_threshold:", 0), 0u);
   EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.periphery_steps = -1; }).rfind("periphery_steps -1:", 0), 0u);

@@ -171,8 +171,8 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   EXPECT_EQ(from_spec.min_filter_size, renderer.min_filter_size);
   const FoveationSettings& f = from_spec.foveation;
   const FoveationSettings& r = renderer.foveation;
-  EXPECT_EQ(f.acuity.fovea_deg, r.acuity.fovea_deg);
-  EXPECT_EQ(f.acuity.outer_periphery_deg, r.acuity.outer_periphery_deg);
+  EXPECT_EQ(f.acuity.fovea_radius_deg, r.acuity.fovea_radius_deg);
+  EXPECT_EQ(f.acuity.outer_periphery_radius_deg, r.acuity.outer_periphery_radius_deg);
   EXPECT_EQ(f.combine, r.combine);
   EXPECT_EQ(f.edge_threshold, r.edge_threshold);
   EXPECT_EQ(f.periphery_refresh, r.periphery_refresh);
@@ -205,8 +205,8 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(f.display.viewing_distance_mm, 600);
   EXPECT_FALSE(std::isfinite(f.gaze_x_px));  // the library sets the gaze
   EXPECT_EQ(f.frame_index, 0u);
-  EXPECT_EQ(f.acuity.fovea_deg, 7.5);
-  EXPECT_EQ(f.acuity.outer_periphery_deg, std::numeric_limits<double>::infinity());  // 180: none
+  EXPECT_EQ(f.acuity.fovea_radius_deg, 7.5);
+  EXPECT_EQ(f.acuity.outer_periphery_radius_deg, std::numeric_limits<double>::infinity());  // 180: none
   EXPECT_EQ(f.periphery_refresh, 1);
   EXPECT_EQ(f.periphery_steps, FoveationSettings{}.periphery_steps);
   EXPECT_FALSE(f.blur);
@@ -224,8 +224,8 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   fipr.edge_threshold = 0.1;
   fipr.mask_seed = 4294967295u;
   settings = sphere_trace_settings(spec, 0);
-  EXPECT_EQ(settings.foveation.acuity.fovea_deg, 12.5);
-  EXPECT_EQ(settings.foveation.acuity.outer_periphery_deg, 40);
+  EXPECT_EQ(settings.foveation.acuity.fovea_radius_deg, 12.5);
+  EXPECT_EQ(settings.foveation.acuity.outer_periphery_radius_deg, 40);
   EXPECT_EQ(settings.foveation.periphery_refresh, 4);
   EXPECT_EQ(settings.foveation.periphery_steps, 0);
   EXPECT_TRUE(settings.foveation.blur);
