@@ -35,6 +35,9 @@ void run(RunOptions options) {
                        "(for a simulated pilot add --observer simulated)");
     session.headless = true;
   }
+  if (session.headless && !session.present_device_selector.empty())
+    throw InputError("--present-device " + session.present_device_selector +
+                     ": a headless session presents nothing; drop it or run with a window");
   if (session.participant == "next") session.participant = next_participant_id(session.results_dir, config.name);
   const vk::ContextOptions context = context_options(options.device);
   session.device_selector = context.device_selector;

@@ -97,6 +97,8 @@ TEST(StudyCli, BadInputIsOneLineWithExitCode2AndWritesNothing) {
                             " --participant P1" + tail),
                         "block[2].scene: no built-in scene or file \"no_such_scene\"");
   expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant ../P1" + tail), "--participant: expected");
+  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --headless --present-device 0" + tail),
+                        "--present-device 0: a headless session presents nothing");
   expect_one_line_error(run("run /no/such/study.toml --participant P1" + tail), "/no/such/study.toml: cannot open");
   expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --gaze eyes" + tail), "--gaze: expected");
   expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --observer simulated:slope=-1 --results " +
