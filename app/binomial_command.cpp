@@ -11,6 +11,7 @@
 #include "analysis/statistics/binomial.h"
 #include "app/commands.h"
 #include "core/input_error.h"
+#include "core/number_text.h"
 
 namespace fovlab::app {
 
@@ -35,21 +36,15 @@ uint64_t parse_count(const std::string& text, const char* what) {
   return value;
 }
 
-std::string number_text(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 void run_binomial(const BinomialOptions& options) {
   const uint64_t k = parse_count(options.successes, "K");
   const uint64_t n = parse_count(options.trials, "N");
   if (n == 0) throw InputError("N 0: expected at least one trial");
   if (k > n) throw InputError("K " + std::to_string(k) + ": expected at most N = " + std::to_string(n));
   if (!(options.p0 > 0.0 && options.p0 < 1.0))
-    throw InputError("--p0 " + number_text(options.p0) + ": expected a probability strictly between 0 and 1");
+    throw InputError("--p0 " + format_number(options.p0, 6) + ": expected a probability strictly between 0 and 1");
   if (!(options.confidence > 0.0 && options.confidence < 1.0))
-    throw InputError("--confidence " + number_text(options.confidence) + ": expected a level strictly between 0 and 1");
+    throw InputError("--confidence " + format_number(options.confidence, 6) + ": expected a level strictly between 0 and 1");
   const analysis::Alternative alternative = analysis::parse_alternative(options.alternative);
   const double p = analysis::binomial_test_p_value(k, n, options.p0, alternative);
   const analysis::ProportionInterval interval = analysis::clopper_pearson_interval(k, n, options.confidence);
