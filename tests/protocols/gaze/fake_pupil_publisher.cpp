@@ -83,9 +83,11 @@ void FakePupilPublisher::answer_loop() {
       std::snprintf(text, sizeof text, "%.9f", pupil_time_at(steady_now_s()));
       answer = time_answer_.empty() ? std::string(text) : time_answer_;
     }
-    remote_.send(zmq::buffer(answer), zmq::send_flags::none);
+    // Counted before the reply goes out: a test that reads the count once its request was
+    // answered must see it (counting after the send raced with the reader).
     if (request.to_string() == "t") time_requests_answered_.fetch_add(1);
     else requests_answered_.fetch_add(1);
+    remote_.send(zmq::buffer(answer), zmq::send_flags::none);
   }
 }
 
