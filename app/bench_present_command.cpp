@@ -75,12 +75,6 @@ Size parse_size(const std::string& text) {
   return size;
 }
 
-bool display_available() {
-  const char* x11 = std::getenv("DISPLAY");
-  const char* wayland = std::getenv("WAYLAND_DISPLAY");
-  return (x11 && *x11) || (wayland && *wayland);
-}
-
 // A FIPR stimulus of the given size with the method's defaults, on a 600 mm wide display seen from
 // 600 mm, one animation frame a refresh at 60 frames a second.
 StimulusSpec fipr_spec(const std::string& scene, Size size, int images) {

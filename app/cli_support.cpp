@@ -1,6 +1,7 @@
 #include "app/cli_support.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <stdexcept>
 
@@ -11,6 +12,12 @@ namespace fovlab::app {
 
 vk::ContextOptions context_options(const std::string& device_selector) {
   return {device_selector, vk::validation_requested_by_default()};
+}
+
+bool display_available() {
+  const char* x11 = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  return (x11 && *x11) || (wayland && *wayland);
 }
 
 void fail_on_validation_messages(const vk::Context& context) {

@@ -17,6 +17,9 @@ vk::ContextOptions context_options(const std::string& device_selector);
 // contract, and the tests run the command with validation on.
 void fail_on_validation_messages(const vk::Context& context);
 
+// Whether a window can be opened: DISPLAY (X11) or WAYLAND_DISPLAY is set.
+bool display_available();
+
 // --time, --levels, --min-filter, --max-steps, --hit-threshold.
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings);
 

@@ -20,12 +20,6 @@ struct RunOptions {
   std::string device;
 };
 
-bool display_available() {
-  const char* x11 = std::getenv("DISPLAY");
-  const char* wayland = std::getenv("WAYLAND_DISPLAY");
-  return (x11 && *x11) || (wayland && *wayland);
-}
-
 void run(RunOptions options) {
   const StudyConfig config = parse_study_config_file(options.config_path, renderer_scene_catalog());
   SessionOptions& session = options.session;
