@@ -1,5 +1,6 @@
-// fovlab bench: ground truth against the inverted pyramid (IPR) and its foveated form (FIPR), scene by
-// scene and spp by spp (and, for FIPR, periphery refresh by fovea): median GPU milliseconds,
+// fovlab bench: ground truth against the inverted pyramid (IPR), its foveated form (FIPR) and seed
+// 002's sampling models (rmfr, hyperbolic, linear, kfr), scene by scene and spp by spp (and, for
+// FIPR, periphery refresh by fovea): median GPU milliseconds,
 // speed-up, steps per pixel, and SSIM, PSNR, FLIP and FPSNR against GT; where the time goes; the
 // trade-off between speed and error as charts with their Pareto fronts.
 //
@@ -119,6 +120,7 @@ void write_frame_images(const std::filesystem::path& out_dir, const std::string&
   write_colour(out_dir / (stem + ".png"), frame.colour_linear);
   write_step_heatmap(out_dir / (stem + "_steps.png"), frame, settings);
   if (settings.method == TraceMethod::foveated_pyramid) write_image(out_dir / (stem + "_mask.png"), frame.mask);
+  if (settings.sampling) write_image(out_dir / (stem + "_samples.png"), samples_per_pixel_image(frame.mask));
 }
 
 // What a sweep holds at once, at least: one tracer layout (the largest of its methods: they share
@@ -167,7 +169,7 @@ void run_bench(const BenchOptions& options) {
   std::printf("fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
               "%.1f px\n%s",
               context.description.name.c_str(), width, height, options.repeats, plan.flip_pixels_per_degree,
-              plan.gaze_x_px, plan.gaze_y_px, plan.fipr ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
+              plan.gaze_x_px, plan.gaze_y_px, plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
   std::fflush(stdout);
 
   nlohmann::json rows = nlohmann::json::array();
@@ -180,7 +182,7 @@ void run_bench(const BenchOptions& options) {
   };
   const auto add_cell = [&](nlohmann::json cell) {
     cell_table += cell_table_row(cell);
-    if (plan.fipr) print(cell_table_row(cell));
+    if (plan.has_cells()) print(cell_table_row(cell));
     cells.push_back(std::move(cell));
   };
 
@@ -220,7 +222,7 @@ void run_bench(const BenchOptions& options) {
       }
       rows.push_back(row);
       gt_ipr_table += gt_ipr_table_row(row);
-      if (!plan.fipr) print(gt_ipr_table_row(row));
+      if (!plan.has_cells()) print(gt_ipr_table_row(row));
       const std::string stem = scene.name + "_spp" + std::to_string(spp);
       if (!options.out_dir.empty()) {
         write_frame_images(options.out_dir, stem + "_gt", gt.frame, gt_settings);
@@ -254,6 +256,23 @@ void run_bench(const BenchOptions& options) {
                              frame, fipr_settings);
         }
       }
+
+      for (const SamplingMap& map : plan.sampling_maps) {
+        const std::string name = sampling_model_name(model_of(map));
+        SphereTraceSettings model_settings = gt_settings;
+        model_settings.method = TraceMethod::sampling_model;
+        model_settings.sampling = map;
+        MethodRuns runs;
+        time_interleaved(tracer, {{model_settings, &runs}}, options.repeats);
+        const FrameErrors errors = frame_errors(gt_image, display_image(runs.frame), plan);
+        cell = measured_cell(name, scene.name, spp, runs.json(model_settings), gt_ms, errors);
+        cell["sampling"] = stats_json(scene.name, model_settings, runs.frame, 0.0, context)["sampling"];
+        cell["top_level_share"] = cell["sampling"]["shaded_share"];
+        cell["refreshed_share"] = 0.0;
+        cell["command"] = cell_command(options, plan, scene.name, spp, name);
+        add_cell(cell);
+        if (!options.out_dir.empty()) write_frame_images(options.out_dir, stem + "_" + name, runs.frame, model_settings);
+      }
     }
   }
   fail_on_validation_messages(context);
@@ -265,9 +284,11 @@ void run_bench(const BenchOptions& options) {
   const std::string passes = pass_table(rows);
   const std::string fovea_7_5 = plan.fipr ? fovea_table(cells, kPaperFoveaDeg) : "";
   const std::string fronts = pareto_table(cells);
-  if (plan.fipr) {
+  const std::string models = plan.sampling_maps.empty() ? "" : sampling_table(cells);
+  if (plan.has_cells()) {
     if (plan.ipr) print("\nGT against IPR:\n" + gt_ipr_table);
-    print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
+    if (plan.fipr) print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
+    if (!models.empty()) print("\nSampling models (seed 002) against GT:\n" + models);
     print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
   }
   print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
@@ -325,11 +346,10 @@ void run_bench(const BenchOptions& options) {
   std::string markdown = "# fovlab bench\n\nCommand: `" + sweep_command(options, plan) + "`\n\nDevice: " +
                          context.description.name + "; " + std::to_string(width) + "x" + std::to_string(height) +
                          "; median of " + std::to_string(options.repeats) + " runs.\n\n";
-  if (plan.ipr || !plan.fipr) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
-  if (plan.fipr) {
-    markdown += "## Every cell\n\n" + cell_table + "\n## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" +
-                kPaperNote + "\n\n";
-  }
+  if (plan.ipr || !plan.has_cells()) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
+  if (plan.has_cells()) markdown += "## Every cell\n\n" + cell_table + "\n";
+  if (plan.fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";
+  if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
   markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
   write_text_atomically(options.out_dir / "table.md", markdown);
 }
@@ -339,7 +359,7 @@ void run_bench(const BenchOptions& options) {
 void add_bench_command(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* command =
-      app.add_subcommand("bench", "Benchmark GT against IPR and FIPR: time, steps, SSIM, PSNR, FLIP, FPSNR, Pareto fronts");
+      app.add_subcommand("bench", "Benchmark GT against IPR, FIPR and the sampling models: time, steps, SSIM, PSNR, FLIP, FPSNR, Pareto fronts");
   command->add_option("--scenes", options->scenes, "Scenes, comma-separated (names or .glsl paths)")->delimiter(',');
   command->add_option("--spp", options->spps, "Samples per pixel, comma-separated (1, 4, 16)")->delimiter(',');
   command->add_option("--width", options->settings.width, "Frame width in pixels");
@@ -349,7 +369,8 @@ void add_bench_command(CLI::App& app) {
   command->add_option("--out-dir", options->out_dir,
                       "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
-  command->add_option("--methods", options->methods, "Methods, comma-separated: gt (always), ipr, fipr (default gt,ipr)")
+  command->add_option("--methods", options->methods,
+                      "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
       ->delimiter(',');
   add_trace_options(*command, options->settings);
   // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
@@ -359,8 +380,10 @@ void add_bench_command(CLI::App& app) {
   command->add_option("--fovea-deg", options->fovea_deg,
                       "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
       ->delimiter(',');
+  add_sampling_flags(*command, options->sampling);
   command->callback([options, command] {
     options->fipr_flags_given = given_fipr_only_flags(*command);
+    options->sampling_flags_given = given_sampling_only_flags(*command);
     run_bench(*options);
   });
 }

@@ -42,18 +42,31 @@ void refuse_repeats(const std::vector<T>& values, const std::string& flag, const
 struct Methods {
   bool ipr = false;
   bool fipr = false;
+  std::vector<SamplingModel> sampling_models;  // in the order given
 };
 
 Methods parse_methods(const std::vector<std::string>& names) {
   const std::string text = join(names);
-  const std::string expected = "a comma-separated list of gt, ipr and fipr that includes gt (the reference)";
+  const std::string expected =
+      "a comma-separated list of gt, ipr, fipr, rmfr, hyperbolic, linear and kfr that includes gt (the reference)";
+  Methods methods;
   for (const std::string& name : names) {
-    if (name != "gt" && name != "ipr" && name != "fipr") fail_flag("--methods", expected, text);
+    if (const std::optional<SamplingModel> model = parse_sampling_model(name)) methods.sampling_models.push_back(*model);
+    else if (name != "gt" && name != "ipr" && name != "fipr") fail_flag("--methods", expected, text);
   }
   refuse_repeats(names, "--methods", text);
   if (std::find(names.begin(), names.end(), "gt") == names.end()) fail_flag("--methods", expected, text);
-  return {std::find(names.begin(), names.end(), "ipr") != names.end(),
-          std::find(names.begin(), names.end(), "fipr") != names.end()};
+  methods.ipr = std::find(names.begin(), names.end(), "ipr") != names.end();
+  methods.fipr = std::find(names.begin(), names.end(), "fipr") != names.end();
+  return methods;
+}
+
+// "gt,ipr,fipr,rmfr,...": the methods of a plan, as --methods takes them.
+std::string methods_text(const BenchPlan& plan, bool with_ipr, bool with_fipr) {
+  std::string text = with_ipr ? "gt,ipr" : "gt";
+  if (with_fipr) text += ",fipr";
+  for (const SamplingMap& map : plan.sampling_maps) text += std::string(",") + sampling_model_name(model_of(map));
+  return text;
 }
 
 std::vector<int> parse_refreshes(const std::vector<std::string>& texts) {
@@ -106,6 +119,10 @@ BenchPlan plan_bench(const BenchOptions& options) {
   if (!methods.fipr && !options.fipr_flags_given.empty()) {
     throw InputError(options.fipr_flags_given.front() + ": only FIPR uses it; add fipr to --methods (e.g. gt,ipr,fipr)");
   }
+  if (methods.sampling_models.empty() && !options.sampling_flags_given.empty()) {
+    throw InputError(options.sampling_flags_given.front() +
+                     ": only the sampling models use it; add rmfr, hyperbolic, linear or kfr to --methods");
+  }
   const int width = options.settings.width;
   const int height = options.settings.height;
   for (int spp : options.spps) {
@@ -129,6 +146,8 @@ BenchPlan plan_bench(const BenchOptions& options) {
   plan.gaze_x_px = base.gaze_x_px;
   plan.gaze_y_px = base.gaze_y_px;
   plan.flip_pixels_per_degree = plan.display.pixels_per_degree_at_centre();
+  plan.sampling = options.sampling;
+  for (SamplingModel model : methods.sampling_models) plan.sampling_maps.push_back(parse_sampling(model, options.sampling, base));
   if (!plan.fipr) return plan;
 
   plan.refreshes = parse_refreshes(options.refresh);
@@ -153,9 +172,8 @@ BenchPlan plan_bench(const BenchOptions& options) {
 }
 
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
-  std::string methods = plan.ipr ? "gt,ipr" : "gt";
-  if (plan.fipr) methods += ",fipr";
-  std::string text = command_text(options, join(options.scenes), join(options.spps), methods);
+  std::string text = command_text(options, join(options.scenes), join(options.spps), methods_text(plan, plan.ipr, plan.fipr));
+  if (!plan.sampling_maps.empty()) text += " " + all_sampling_flags_text(plan.sampling);
   if (!plan.fipr) return text + " " + display_flags_text(options.foveation.display);
   return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
          foveation_flags_text(options.foveation);
@@ -163,6 +181,10 @@ std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
 
 std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, int spp,
                          const std::string& method, const FiprVariant* variant) {
+  if (const std::optional<SamplingModel> model = parse_sampling_model(method)) {
+    return command_text(options, scene, std::to_string(spp), "gt," + method) + " " +
+           sampling_flags_text(*model, plan.sampling) + " " + display_flags_text(options.foveation.display);
+  }
   if (method != "fipr" || !variant) {
     return command_text(options, scene, std::to_string(spp), plan.ipr ? "gt,ipr" : "gt") +
            " " + display_flags_text(options.foveation.display);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/foveation_flags.h"
+#include "app/sampling_flags.h"
 #include "bench/bench_plan.h"
 #include "foveation/display_geometry.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -33,6 +34,8 @@ struct BenchOptions {
   FoveationFlags foveation;  // display, gaze and the other FIPR flags; its fovea_deg and refresh are unused
   // FIPR-only flags the user gave (e.g. "--refresh"): refused unless fipr is among the methods.
   std::vector<std::string> fipr_flags_given;
+  SamplingSettings sampling;  // seed 002's sampling models (rmfr, hyperbolic, linear, kfr in --methods)
+  std::vector<std::string> sampling_flags_given;
 };
 
 // Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)
@@ -42,7 +45,7 @@ BenchPlan plan_bench(const BenchOptions& options);
 // The command that reproduces the whole sweep, every setting spelled out.
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan);
 // The command that reproduces one cell: GT against IPR for one scene and spp (method "gt" or "ipr"),
-// or one FIPR variant with its GT.
+// one FIPR variant with its GT, or one sampling model ("rmfr", ...) with its GT.
 std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, int spp,
                          const std::string& method, const FiprVariant* variant = nullptr);
 

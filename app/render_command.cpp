@@ -1,5 +1,6 @@
 // fovlab render: a frame of a scene with ground truth, the inverted pyramid or its foveated form
-// (FIPR; --frames N renders a sequence, so the periphery refresh reuses earlier frames).
+// (FIPR; --frames N renders a sequence, so the periphery refresh reuses earlier frames), or one of
+// seed 002's sampling models (rmfr, hyperbolic, linear, kfr), which shade only their samples.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "app/commands.h"
 #include "app/foveation_flags.h"
 #include "app/render_outputs.h"
+#include "app/sampling_flags.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
@@ -30,7 +32,10 @@ struct RenderOptions {
   std::filesystem::path steps_out;
   std::filesystem::path stats_json;
   std::filesystem::path mask_out;
+  std::filesystem::path density_out;
   std::string device;
+  SamplingSettings sampling;
+  std::vector<std::string> sampling_flags_given;
   FoveationFlags foveation;
   std::vector<std::string> fipr_flags_given;
   int frames = 1;
@@ -39,11 +44,18 @@ struct RenderOptions {
 
 void run_render(const RenderOptions& options) {
   SphereTraceSettings settings = options.settings;
-  settings.method = parse_trace_method(options.method).value_or(TraceMethod::ground_truth);
+  const std::optional<SamplingModel> model = parse_sampling_model(options.method);
+  settings.method = model ? TraceMethod::sampling_model
+                          : parse_trace_method(options.method).value_or(TraceMethod::ground_truth);
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
-  if (foveated) settings.foveation = parse_foveation(options.foveation, settings.width, settings.height);
+  if (foveated || model) settings.foveation = parse_foveation(options.foveation, settings.width, settings.height);
   if (!foveated && !options.fipr_flags_given.empty())
     throw InputError(options.fipr_flags_given.front() + ": only FIPR uses it; add --method fipr");
+  if (!model && !options.sampling_flags_given.empty())
+    throw InputError(options.sampling_flags_given.front() + ": only the sampling models use it; add --method rmfr, hyperbolic, linear or kfr");
+  if (!model && !options.density_out.empty())
+    throw InputError("--density-out: only the sampling models (--method rmfr, hyperbolic, linear or kfr) have a sampling density");
+  if (model) settings.sampling = parse_sampling(*model, options.sampling, settings.foveation);
   validate_trace_flags(settings);
   if (options.frames < 1 || options.frames > 100000)
     throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
@@ -58,9 +70,11 @@ void run_render(const RenderOptions& options) {
   if (!options.steps_out.empty()) check_image_output_path(options.steps_out, "--steps-out");
   if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");
   if (!options.mask_out.empty()) {
-    if (!foveated) throw InputError("--mask-out: only FIPR (--method fipr) has a foveation mask");
+    if (!foveated && !model)
+      throw InputError("--mask-out: only FIPR and the sampling models have a foveation mask (--method fipr, rmfr, hyperbolic, linear, kfr)");
     check_image_output_path(options.mask_out, "--mask-out");
   }
+  if (!options.density_out.empty()) check_image_output_path(options.density_out, "--density-out");
 
   const SceneSource scene = load_scene(options.scene);
   vk::Context context(context_options(options.device));
@@ -82,13 +96,14 @@ void run_render(const RenderOptions& options) {
 
   write_colour(options.out, result.colour_linear);
   if (!options.steps_out.empty()) write_step_heatmap(options.steps_out, result, settings);
-  if (!options.mask_out.empty()) write_image(options.mask_out, result.mask);
+  if (!options.mask_out.empty()) write_image(options.mask_out, model ? samples_per_pixel_image(result.mask) : result.mask);
+  if (!options.density_out.empty()) write_image(options.density_out, density_image(*settings.sampling));
   nlohmann::json stats = stats_json(scene.name, settings, result, wall_ms / options.frames, context);
   stats["frames"] = options.frames;
   stats["gpu_ms_per_frame"] = gpu_ms;
   if (!options.stats_json.empty()) write_text_atomically(options.stats_json, stats.dump(2) + "\n");
   std::printf("%s %s %dx%d spp %d: %.2f ms GPU, %.2f steps/pixel, %llu capped rays", scene.name.c_str(),
-              method_name(settings.method), settings.width, settings.height, settings.samples_per_pixel,
+              model ? sampling_model_name(*model) : method_name(settings.method), settings.width, settings.height, settings.samples_per_pixel,
               result.gpu_ms, stats["steps_per_pixel"].get<double>(),
               static_cast<unsigned long long>(result.capped_rays));
   if (foveated) {
@@ -96,6 +111,8 @@ void run_render(const RenderOptions& options) {
                 100.0 * stats["foveation"]["top_level_share"].get<double>(),
                 100.0 * stats["foveation"]["refreshed_share"].get<double>());
   }
+  if (model) std::printf(", %s; %llu samples traced", sampling_summary(*settings.sampling).c_str(),
+                         static_cast<unsigned long long>(result.shaded_samples));
   std::printf(" -> %s\n", options.out.c_str());
 }
 }  // namespace
@@ -105,8 +122,9 @@ void add_render_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("render", "Render one frame of a scene to an image");
   command->add_option("--scene", options->scene, "Built-in scene name or path to a .glsl scene file")->required();
   command->add_option("--method", options->method,
-                      "gt (ground truth), ipr (inverted pyramid) or fipr (foveated inverted pyramid)")
-      ->check(CLI::IsMember({"gt", "ipr", "fipr"}));
+                      "gt (ground truth), ipr (inverted pyramid), fipr (foveated inverted pyramid), or a sampling model of seed 002: "
+      "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar)")
+      ->check(CLI::IsMember({"gt", "ipr", "fipr", "rmfr", "hyperbolic", "linear", "kfr"}));
   command->add_option("--width", options->settings.width, "Frame width in pixels")->required();
   command->add_option("--height", options->settings.height, "Frame height in pixels")->required();
   command->add_option("--spp", options->settings.samples_per_pixel, "Samples per pixel: 1, 4 or 16");
@@ -116,11 +134,16 @@ void add_render_command(CLI::App& app) {
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->add_option("--frames", options->frames, "Frames to render in sequence (the last is written)");
   command->add_option("--frame-rate", options->frame_rate_hz, "Frames per second of scene time in a sequence");
-  command->add_option("--mask-out", options->mask_out, "FIPR: foveation mask image to write (white: traced in full)");
+  command->add_option("--mask-out", options->mask_out,
+                      "Foveation mask image to write (FIPR: white where traced in full; sampling models: samples per pixel, white 1 or more)");
+  command->add_option("--density-out", options->density_out,
+                      "Sampling models: image of the sampling density (samples per pixel; white 1 or more, log scale below)");
   add_trace_options(*command, options->settings);
   add_foveation_flags(*command, options->foveation, FoveationPoint::single);
+  add_sampling_flags(*command, options->sampling);
   command->callback([options, command] {
     options->fipr_flags_given = given_fipr_only_flags(*command);
+    options->sampling_flags_given = given_sampling_only_flags(*command);
     run_render(*options);
   });
 }

@@ -58,7 +58,19 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
       {"wall_ms", wall_ms},
       {"device", context.description.name},
   };
-  if (settings.method != TraceMethod::ground_truth) {
+  if (settings.sampling) {
+    const SamplingMap& map = *settings.sampling;
+    const double pixels = double(settings.width) * double(settings.height);
+    stats["method"] = sampling_model_name(model_of(map));
+    stats["sampling"] = {
+        {"model", sampling_model_name(model_of(map))},
+        {"shaded_samples", result.shaded_samples},
+        {"shaded_share", double(result.shaded_samples) / pixels},
+        {"theoretical_speedup", theoretical_speedup(map)},
+        {"effective_speedup", pixels / double(std::max<uint64_t>(1, result.shaded_samples))},
+        {"mean_density", mean_density(map)},
+    };
+  } else if (settings.method != TraceMethod::ground_truth) {
     stats["pyramid_levels"] = settings.pyramid_levels;
     stats["min_filter_size"] = settings.min_filter_size;
   }
@@ -87,6 +99,26 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
     };
   }
   return stats;
+}
+
+namespace {
+float density_grey(double samples_per_pixel) {
+  if (!(samples_per_pixel > 0)) return 0.0f;
+  return static_cast<float>(std::clamp(1.0 + std::log2(samples_per_pixel) / 8.0, 0.0, 1.0));
+}
+}  // namespace
+
+Image density_image(const SamplingMap& map) {
+  Image image(screen_width_px(map), screen_height_px(map), 1);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) image.at(x, y, 0) = density_grey(density(map, x + 0.5, y + 0.5));
+  return image;
+}
+
+Image samples_per_pixel_image(const Image& samples) {
+  Image image(samples.width, samples.height, 1);
+  for (size_t p = 0; p < samples.pixels.size(); ++p) image.pixels[p] = density_grey(samples.pixels[p]);
+  return image;
 }
 
 }  // namespace fovlab::app

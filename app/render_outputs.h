@@ -16,6 +16,12 @@ void write_colour(const std::filesystem::path& path, const Image& colour_linear)
 // Display image (sRGB-encoded) of a render, as the metrics compare it.
 Image display_image(const SphereTraceResult& result);
 
+// A sampling model's density (foveation/sampling_map.h density()) as a grey image: white at one
+// sample a pixel or more, black at 1/256 or less, log2 in between (each stop 1/8 of the range).
+Image density_image(const SamplingMap& map);
+// The samples each pixel holds (SphereTraceResult::mask of a sampling model) on the same scale.
+Image samples_per_pixel_image(const Image& samples);
+
 void write_step_heatmap(const std::filesystem::path& path, const SphereTraceResult& result,
                         const SphereTraceSettings& settings);
 

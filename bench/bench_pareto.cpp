@@ -41,6 +41,7 @@ std::string cell_label(const ChartCell& cell) {
     return std::to_string(cell.spp) + "/" + std::to_string(cell.refresh) + "/" + format_number(cell.fovea_deg, 6);
   }
   if (cell.method == "ipr") return "ipr " + std::to_string(cell.spp);
+  if (cell.method != "gt") return cell.method + " " + std::to_string(cell.spp);  // a sampling model
   return cell.method;
 }
 
@@ -55,12 +56,17 @@ std::string pareto_chart_svg(const std::string& title, const std::string& error_
   analysis::XySeries gt{"GT (speed-up 1, error 0)", analysis::XySeries::Style::points, {}, {}, {}, {}, {}};
   analysis::XySeries ipr{"IPR (label: ipr spp)", analysis::XySeries::Style::points, {}, {}, {}, {}, {}};
   std::map<int, analysis::XySeries> fipr_by_spp;
+  std::map<std::string, analysis::XySeries> model_series;  // seed 002's sampling models, one series each
   std::vector<std::pair<double, double>> front;
   for (const ChartCell& cell : cells) {
     if (cell.method == "gt") {
       if (gt.x.empty()) add_point(gt, cell);
     } else if (cell.method == "ipr") {
       add_point(ipr, cell);
+    } else if (cell.method != "fipr") {
+      analysis::XySeries& series = model_series[cell.method];
+      series.label = cell.method + " (label: method spp)";
+      add_point(series, cell);
     } else {
       analysis::XySeries& series = fipr_by_spp[cell.spp];
       series.label = "FIPR " + std::to_string(cell.spp) + " spp (spp/refresh/fovea deg)";
@@ -74,6 +80,7 @@ std::string pareto_chart_svg(const std::string& title, const std::string& error_
   if (!gt.x.empty()) chart.series.push_back(gt);
   if (!ipr.x.empty()) chart.series.push_back(ipr);
   for (auto& [spp, series] : fipr_by_spp) chart.series.push_back(std::move(series));
+  for (auto& [method, series] : model_series) chart.series.push_back(std::move(series));
   analysis::XySeries line{"", analysis::XySeries::Style::line, {}, {}, {}, {}, {}};
   analysis::XySeries markers{"Pareto front (not dominated)", analysis::XySeries::Style::points, {}, {}, {}, {}, {}};
   for (const auto& [speedup, error] : front) {

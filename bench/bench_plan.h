@@ -1,11 +1,13 @@
 #pragma once
 // The plan of a fovlab bench sweep, once its flags are checked (app/bench_plan.h makes it): the
-// methods, the FIPR variants, and the display and gaze the error metrics assume.
+// methods, the FIPR variants, the sampling models' maps, and the display and gaze the error metrics
+// assume.
 #include <string>
 #include <vector>
 
 #include "core/number_text.h"
 #include "foveation/display_geometry.h"
+#include "foveation/sampling_map.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab::bench {
@@ -25,6 +27,12 @@ struct BenchPlan {
   std::vector<int> refreshes;       // as given, in order
   std::vector<double> fovea_degs;   // as given, in order
   std::vector<FiprVariant> variants;  // refresh-major: for each refresh, every fovea
+  // Seed 002's sampling models in the order given, each with its map of the sweep's frame and gaze.
+  std::vector<SamplingMap> sampling_maps;
+  SamplingSettings sampling;  // the flags they were made with
+
+  // Whether the sweep has cells beyond GT against IPR (FIPR variants or sampling models).
+  bool has_cells() const { return fipr || !sampling_maps.empty(); }
   // The display and gaze the metrics assume (FLIP at its pixels per degree, FPSNR), and FIPR's.
   DisplayGeometry display;
   double gaze_x_px = 0.0;

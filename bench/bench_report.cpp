@@ -96,6 +96,24 @@ std::string cell_table_row(const nlohmann::json& cell) {
   return out.str();
 }
 
+std::string sampling_table(const nlohmann::json& cells) {
+  std::ostringstream out;
+  out << "| scene | spp | model | GPU ms | GT ms | speed-up | theoretical | effective | shaded | PSNR dB | SSIM | FLIP | "
+         "FPSNR dB |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const nlohmann::json& cell : cells) {
+    if (!cell.contains("sampling")) continue;
+    const nlohmann::json& sampling = cell["sampling"];
+    out << "| " << cell["scene"].get<std::string>() << " | " << cell["spp"].get<int>() << " | "
+        << cell["method"].get<std::string>() << " | " << number(cell["median_gpu_ms"], "%.1f") << " | "
+        << number(cell["gt_median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
+        << number(sampling["theoretical_speedup"], "%.2fx") << " | " << number(sampling["effective_speedup"], "%.2fx")
+        << " | " << percent(sampling["shaded_share"]) << " | " << number(cell["psnr_db"], "%.2f") << " | "
+        << number(cell["ssim"], "%.5f") << " | " << number(cell["flip"], "%.5f") << " | "
+        << number(cell["fpsnr_db"], "%.2f") << " |\n";
+  }
+  return out.str();
+}
+
 std::string fovea_table(const nlohmann::json& cells, double fovea_deg) {
   std::ostringstream out;
   out << "| scene | spp | refresh | FIPR ms | GT ms | speed-up | SSIM | FLIP |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";

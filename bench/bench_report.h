@@ -23,6 +23,10 @@ std::string cell_table_row(const nlohmann::json& cell);
 // Table 1 and section 5.2 at 7.5 degrees; a one-line note when no cell has that fovea.
 std::string fovea_table(const nlohmann::json& cells, double fovea_deg);
 
+// The sampling models' cells (seed 002): GPU ms, measured speed-up over GT, the speed-up the model is
+// set for and the one its shaded samples allow, the share of pixels shaded, PSNR, SSIM, FLIP, FPSNR.
+std::string sampling_table(const nlohmann::json& cells);
+
 // The cells on each scene's Pareto front, for FLIP and for 1 - SSIM.
 std::string pareto_table(const nlohmann::json& cells);
 

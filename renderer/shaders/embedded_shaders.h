@@ -22,6 +22,9 @@ extern const std::span<const uint32_t> frame_compose_spirv;
 extern const std::span<const uint32_t> buffer_copy_spirv;
 extern const std::span<const uint32_t> list_dispatch_spirv;
 extern const std::span<const uint32_t> path_trace_spirv;
+extern const std::span<const uint32_t> sampling_positions_spirv;
+extern const std::span<const uint32_t> sampling_reconstruct_spirv;
+extern const std::span<const uint32_t> pull_push_spirv;
 extern const std::string_view sphere_trace_source;
 
 }  // namespace fovlab::shaders

@@ -58,10 +58,7 @@ bool refresh_due(uvec2 mid_pixel) {
   return phase == params.frame_index % params.refresh_period;
 }
 
-float mask_threshold(uvec2 pixel) {
-  uint h = lowbias32(pixel.x + lowbias32(pixel.y + lowbias32(params.frame_index + lowbias32(params.seed))));
-  return float(h >> 8) * (1.0 / 16777216.0);
-}
+float mask_threshold(uvec2 pixel) { return pixel_threshold(params.seed, params.frame_index, pixel); }
 
 float eccentricity_deg(vec2 point_px) {
   vec3 gaze_ray = ray_from_eye(params.gaze_px, params.frame_size, params.pixel_pitch_mm, params.viewing_distance_mm);

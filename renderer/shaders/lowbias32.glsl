@@ -9,3 +9,10 @@ uint lowbias32(uint x) {
   x ^= x >> 16;
   return x;
 }
+
+// A pixel's threshold in [0, 1) for a mask drawn with `seed` at `frame`: the top 24 bits of the
+// chained hash, exact in float (foveation/foveation_mask.cpp mask_threshold is the CPU copy).
+float pixel_threshold(uint seed, uint frame, uvec2 pixel) {
+  uint h = lowbias32(pixel.x + lowbias32(pixel.y + lowbias32(frame + lowbias32(seed))));
+  return float(h >> 8) * (1.0 / 16777216.0);
+}

@@ -17,6 +17,9 @@
 //     shaded. Pixels not listed keep the value they have (the colour buffer persists between
 //     frames: the reduced periphery refresh). With periphery_steps 0, fipr_reconstruct.comp.glsl
 //     fills the unmasked pixels from the mid level instead.
+// The sampling models of seed 002 (FLAG_SAMPLE_LIST) trace and shade one list of screen positions
+// (sampling_positions.comp.glsl) with spp samples each, spread and filtered over the samples'
+// spacing (their footprint) as a pyramid level's scale does.
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -40,6 +43,9 @@ const uint FLAG_HAS_START = 2u;      // start rays at start_depth of the parent 
 const uint FLAG_FOVEATED_MID = 4u;   // FIPR mid level
 const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level: the periphery's refresh list in mask_values
 const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
+const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in mask_values, four words each
+                                     // (x, y and footprint in pixels as float bits, then the sample's entry);
+                                     // colour (alpha 1: shaded) and steps go to that entry
 const uint MID_FLAG_DUE = 256u;      // FIPR mid flags (foveation_mask.comp.glsl): the children are due for a refresh
 
 layout(push_constant) uniform TraceParams {
@@ -250,13 +256,37 @@ void fovlab_foveated_mid(uvec2 pixel, uint index, float t_start, vec2 centre_px,
   level_steps[index] = result.steps;
 }
 
+// Shades a pixel's (or a sample's) spp rays around centre_px, spread over `scale` pixels.
+void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale) {
+  vec3 colour_sum = vec3(0.0);
+  uint steps = 0u;
+  for (uint s = 0u; s < params.samples_per_pixel; ++s) {
+    float pixel_angle_rad;
+    Ray ray = fovlab_camera_ray(centre_px + fovlab_sample_offset(s, params.samples_per_pixel) * scale,
+                                pixel_angle_rad);
+    float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
+    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, true, params.max_steps, true);
+    steps += result.steps;
+    colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);
+  }
+  level_colour[index] = vec4(colour_sum / float(params.samples_per_pixel), 1.0);
+  level_steps[index] = steps;
+}
+
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
   uint index;
+  uint list_slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+  if ((params.flags & FLAG_SAMPLE_LIST) != 0u) {
+    if (list_slot >= masked_pixels) return;
+    uvec4 entry = uvec4(mask_values[4u * list_slot], mask_values[4u * list_slot + 1u], mask_values[4u * list_slot + 2u],
+                        mask_values[4u * list_slot + 3u]);
+    fovlab_shade_samples(entry.w, 0.0, uintBitsToFloat(entry.xy), uintBitsToFloat(entry.z));
+    return;
+  }
   if ((params.flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP)) != 0u) {
-    uint slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-    if (slot >= ((params.flags & FLAG_MASKED_LIST) != 0u ? masked_pixels : refresh_list_pixels)) return;
-    index = mask_values[slot];
+    if (list_slot >= ((params.flags & FLAG_MASKED_LIST) != 0u ? masked_pixels : refresh_list_pixels)) return;
+    index = mask_values[list_slot];
     pixel = uvec2(index % params.level_size.x, index / params.level_size.x);
   } else {
     if (any(greaterThanEqual(pixel, params.level_size))) return;
@@ -296,17 +326,5 @@ void main() {
     return;
   }
 
-  vec3 colour_sum = vec3(0.0);
-  uint steps = 0u;
-  for (uint s = 0u; s < params.samples_per_pixel; ++s) {
-    float pixel_angle_rad;
-    Ray ray = fovlab_camera_ray(centre_px + fovlab_sample_offset(s, params.samples_per_pixel) * scale,
-                                pixel_angle_rad);
-    float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
-    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, true, params.max_steps, true);
-    steps += result.steps;
-    colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);
-  }
-  level_colour[index] = vec4(colour_sum / float(params.samples_per_pixel), 1.0);
-  level_steps[index] = steps;
+  fovlab_shade_samples(index, t_start, centre_px, scale);
 }

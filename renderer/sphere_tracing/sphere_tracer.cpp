@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/input_error.h"
+#include "renderer/foveated_sampling/sampling_passes.h"
 #include "renderer/present/srgb8_encoder.h"
 #include "renderer/scene/scene_compiler.h"
 #include "renderer/shaders/embedded_shaders.h"
@@ -24,6 +25,7 @@ constexpr uint32_t kFlagHasStart = 2;
 constexpr uint32_t kFlagFoveatedMid = 4;
 constexpr uint32_t kFlagFoveatedTop = 8;
 constexpr uint32_t kFlagMaskedList = 32;
+constexpr uint32_t kFlagSampleList = 64;
 constexpr uint32_t kMaskFlagTraceAll = 1;
 constexpr uint32_t kMaskFlagAllDue = 2;
 constexpr uint32_t kMaskFlagListRefresh = 4;
@@ -183,7 +185,8 @@ struct SphereTracer::FrameBuffers {
 // FrameBuffers' allocations (keep the two in step) plus the result's images.
 uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
-  const int level_count = settings.method == TraceMethod::ground_truth ? 1 : settings.pyramid_levels;
+  const bool single_level = settings.method == TraceMethod::ground_truth || settings.method == TraceMethod::sampling_model;
+  const int level_count = single_level ? 1 : settings.pyramid_levels;
   const bool filtered = settings.min_filter_size / 2 > 0;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
   uint64_t bytes = 0;
@@ -205,6 +208,9 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
   }
   if (settings.outputs != TraceOutputs::display) bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
   if (settings.outputs == TraceOutputs::all) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
+  // Sampling models: the sample list, colours and steps, each with room for a sample a pixel and a
+  // quarter more (the hyperbolic layers' overlap; the linear model's pull-push levels).
+  if (settings.method == TraceMethod::sampling_model) bytes += frame_pixels * 5 / 4 * (4 * 4 + 4 * 4 + 4 * 2 + 4);
   return bytes;
 }
 
@@ -213,6 +219,7 @@ const char* method_name(TraceMethod method) {
     case TraceMethod::ground_truth: return "gt";
     case TraceMethod::inverted_pyramid: return "ipr";
     case TraceMethod::foveated_pyramid: return "fipr";
+    case TraceMethod::sampling_model: return "sampling";
   }
   return "gt";
 }
@@ -287,6 +294,13 @@ void validate(const SphereTraceSettings& settings) {
   }
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite number of seconds");
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
+  if (settings.method == TraceMethod::sampling_model) {
+    if (!settings.sampling) throw SettingError("sampling", ": expected a sampling model's map");
+    if (screen_width_px(*settings.sampling) != settings.width || screen_height_px(*settings.sampling) != settings.height)
+      throw InputError("sampling map of " + std::to_string(screen_width_px(*settings.sampling)) + "x" +
+                       std::to_string(screen_height_px(*settings.sampling)) + " pixels: expected the frame's " +
+                       std::to_string(settings.width) + "x" + std::to_string(settings.height));
+  }
 }
 
 
@@ -364,6 +378,12 @@ void check_sphere_trace_frame_bytes(const vk::Context& context, int width, int h
   }
 }
 
+void SphereTracer::prepare_frame(int width, int height, int level_count, bool filtered, bool foveated) {
+  if (frame_ && frame_->fits(width, height, level_count, filtered, foveated)) return;
+  frame_.reset();  // free the old layout before allocating the new one
+  frame_ = std::make_unique<FrameBuffers>(context_, width, height, level_count, filtered, foveated);
+}
+
 SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   validate(settings);
   check_sphere_trace_frame_bytes(context_, settings.width, settings.height, "--width x --height");
@@ -372,11 +392,8 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   const int filter_radius = settings.min_filter_size / 2;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
 
-  if (!frame_ || !frame_->fits(settings.width, settings.height, level_count, filter_radius > 0, foveated)) {
-    frame_.reset();  // free the old layout before allocating the new one
-    frame_ = std::make_unique<FrameBuffers>(context_, settings.width, settings.height, level_count, filter_radius > 0,
-                                            foveated);
-  }
+  if (settings.method == TraceMethod::sampling_model) return render_sampled(settings);
+  prepare_frame(settings.width, settings.height, level_count, filter_radius > 0, foveated);
   FrameBuffers& frame = *frame_;
   std::vector<LevelBuffers>& levels = frame.levels;
   const FoveationSettings& fov = settings.foveation;
@@ -616,6 +633,104 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     }
     result.total_steps += stats.steps;
     result.levels.push_back(stats);
+  }
+  return result;
+}
+
+// The sampling models: list the samples, trace and shade them, make every pixel from them.
+SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settings) {
+  prepare_frame(settings.width, settings.height, 1, false, false);
+  FrameBuffers& frame = *frame_;
+  frame.history_valid = false;
+  if (!sampling_) sampling_ = std::make_unique<SamplingPasses>(context_);
+  SamplingPasses& sampling = *sampling_;
+  sampling.prepare(*settings.sampling);
+
+  vk::OneTimeCommands commands(context_);
+  VkCommandBuffer cmd = commands.handle();
+  vk::PassTimer timer(context_, SamplingPasses::kMaxTimedPasses + 2);
+  timer.reset(cmd);
+  vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  sampling.record_positions(cmd, timer, frame.counters.handle(), masked);
+
+  TraceParams params{};
+  params.level_size[0] = static_cast<uint32_t>(settings.width);
+  params.level_size[1] = static_cast<uint32_t>(settings.height);
+  params.frame_size[0] = static_cast<float>(settings.width);
+  params.frame_size[1] = static_cast<float>(settings.height);
+  params.time_s = settings.time_s;
+  params.hit_threshold = settings.hit_threshold;
+  params.samples_per_pixel = static_cast<uint32_t>(settings.samples_per_pixel);
+  params.max_steps = static_cast<uint32_t>(settings.max_steps);
+  params.level_scale = 1;
+  params.flags = kFlagShade | kFlagSampleList;
+  const VkBuffer trace_buffers[] = {frame.unused.handle(), frame.unused.handle(), sampling.sample_steps(),
+                                    sampling.sample_colours(), frame.counters.handle(), sampling.sample_list()};
+  timer.begin(cmd, "trace_samples");
+  trace_pipeline_->dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
+  timer.end(cmd);
+  vk::compute_to_compute_barrier(cmd);
+  sampling.record_reconstruct(cmd, timer, frame.colour.handle());
+
+  const bool on_device = settings.outputs == TraceOutputs::display;
+  if (on_device) {
+    timer.begin(cmd, "srgb8_encode");
+    encoder_->record(cmd, frame.colour.handle(), frame.display_srgb8.handle(), settings.width, settings.height);
+    timer.end(cmd);
+  }
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  const auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
+    VkBufferCopy region{0, 0, from.size_bytes()};
+    vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+  };
+  if (!on_device) copy(frame.colour, frame.colour_readback);
+  copy(frame.counters, frame.counters_readback);
+  sampling.record_readback(cmd);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                     VK_ACCESS_HOST_READ_BIT);
+  commands.submit_and_wait();
+
+  SphereTraceResult result;
+  result.passes = timer.results();
+  for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
+  const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
+  if (on_device) {
+    result.display = DeviceRgba8Frame{&context_, frame.display_srgb8.handle(), settings.width, settings.height};
+  } else {
+    frame.colour_readback.invalidate();
+    const auto* rgba = static_cast<const float*>(frame.colour_readback.mapped());
+    result.colour_linear = Image(settings.width, settings.height, 3);
+    for (uint64_t p = 0; p < frame_pixels; ++p)
+      for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
+  }
+  frame.counters_readback.invalidate();
+  uint32_t counter_values[counter_count];
+  std::memcpy(counter_values, frame.counters_readback.mapped(), sizeof(counter_values));
+  result.capped_rays = counter_values[capped];
+  result.restarted_rays = counter_values[restarted];
+  result.shaded_samples = counter_values[masked];
+
+  PyramidLevelStats stats;
+  stats.width = settings.width;
+  stats.height = settings.height;
+  stats.traced_pixels = stats.shaded_pixels = result.shaded_samples;
+  const std::vector<uint32_t> entry_steps = sampling.entry_steps();
+  for (uint32_t steps : entry_steps) stats.steps += steps;
+  result.total_steps = stats.steps;
+  result.levels.push_back(stats);
+  if (settings.outputs == TraceOutputs::all) {
+    // Each sample's steps and count go to the pixel that holds its position.
+    result.steps_per_pixel = Image(settings.width, settings.height, 1);
+    result.mask = Image(settings.width, settings.height, 1);
+    for (const ListedSample& sample : sampling.listed_samples(counter_values[masked])) {
+      const int x = int(std::floor(sample.x_px)), y = int(std::floor(sample.y_px));
+      if (x < 0 || y < 0 || x >= settings.width || y >= settings.height) continue;  // a tap just off the screen
+      result.steps_per_pixel.at(x, y, 0) += float(entry_steps[sample.entry]);
+      result.mask.at(x, y, 0) += 1.0f;
+    }
   }
   return result;
 }

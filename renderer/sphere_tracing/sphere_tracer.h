@@ -4,7 +4,8 @@
 // depth of the level below; only the top level shades) and its foveated form (FIPR, section 3.2:
 // Sobel edges of the low level and the acuity model choose the pixels traced at the top level; the
 // rest take the mid level's colour, or one traced ray, refreshed every 1st, 2nd or 4th frame;
-// optional masked blur). docs/foveation.md.
+// optional masked blur). docs/foveation.md. The sampling models of seed 002 (RMFR, hyperbolic, linear,
+// KFR: foveation/sampling_map.h) shade only their samples (renderer/foveated_sampling/).
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -15,6 +16,7 @@
 #include "foveation/acuity_model.h"
 #include "foveation/display_geometry.h"
 #include "foveation/foveation_mask.h"
+#include "foveation/sampling_map.h"
 #include "renderer/present/device_frame.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/vk/submission.h"
@@ -26,10 +28,11 @@ class Context;
 class ComputePipeline;
 }  // namespace vk
 class Srgb8Encoder;
+class SamplingPasses;
 
-enum class TraceMethod { ground_truth, inverted_pyramid, foveated_pyramid };
+enum class TraceMethod { ground_truth, inverted_pyramid, foveated_pyramid, sampling_model };
 
-const char* method_name(TraceMethod method);  // "gt", "ipr" or "fipr"
+const char* method_name(TraceMethod method);  // "gt", "ipr", "fipr" or "sampling"
 std::optional<TraceMethod> parse_trace_method(const std::string& name);
 
 // FIPR's inputs beyond IPR's (docs/foveation.md). The display's pixel counts must equal the frame's.
@@ -68,6 +71,9 @@ struct SphereTraceSettings {
   int max_steps = 256;         // step cap of one ray at one level
   float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
   FoveationSettings foveation;  // FIPR only
+  // TraceMethod::sampling_model: the frame's map, whose screen is width x height. Each sample is
+  // traced with samples_per_pixel rays spread over its footprint, from the camera (no pyramid).
+  std::optional<SamplingMap> sampling;
   TraceOutputs outputs = TraceOutputs::all;
 };
 
@@ -116,9 +122,11 @@ struct SphereTraceResult {
   uint64_t total_steps = 0;
   uint64_t capped_rays = 0;     // rays stopped by max_steps before a hit or leaving the bounds
   uint64_t restarted_rays = 0;  // IPR rays whose start depth was inside geometry, restarted at the bounds
-  std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT has one
+  std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT and the sampling models have one
   FoveationStats foveation;               // FIPR only
-  Image mask;                             // FIPR, TraceOutputs::all: 1 channel, 1 where traced at the top level
+  Image mask;                             // FIPR, TraceOutputs::all: 1 channel, 1 where traced at the top level;
+                                          // sampling models: the samples shaded in each pixel
+  uint64_t shaded_samples = 0;            // sampling models: samples traced and shaded this frame
   std::vector<vk::PassTime> passes;
   double gpu_ms = 0.0;        // sum of the passes
 
@@ -139,6 +147,8 @@ class SphereTracer {
 
  private:
   struct FrameBuffers;
+  void prepare_frame(int width, int height, int level_count, bool filtered, bool foveated);
+  SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   vk::Context& context_;
   bool shader_from_cache_ = false;
   std::unique_ptr<vk::ComputePipeline> trace_pipeline_;
@@ -149,6 +159,7 @@ class SphereTracer {
   std::unique_ptr<vk::ComputePipeline> reconstruct_pipeline_;
   std::unique_ptr<vk::ComputePipeline> blur_pipeline_;
   std::unique_ptr<Srgb8Encoder> encoder_;
+  std::unique_ptr<SamplingPasses> sampling_;  // made on the first sampled frame
   std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered (FIPR: its history)
 };
 

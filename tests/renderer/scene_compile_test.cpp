@@ -126,9 +126,11 @@ TEST(SceneSource, AByteOrderMarkIsLeftOutAndTheSceneCompiles) {
   EXPECT_EQ(compile_error(scene), "");
 }
 
-TEST(SceneSource, BuiltInScenesAreTheThreeOfTheIssue) {
+// The three scenes of seed 000's Fig. 7 and seed 002's three rotating patterns of Figure 12.
+TEST(SceneSource, BuiltInScenesAreThoseOfTheIssues) {
   const std::vector<std::string> names = builtin_scene_names();
-  for (const char* expected : {"primitives", "columns", "temple"}) {
+  for (const char* expected : {"primitives", "columns", "temple", "rotating-rod", "rotating-textured-rod",
+                               "rotating-texture"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
 }

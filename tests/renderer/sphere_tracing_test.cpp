@@ -54,7 +54,10 @@ TEST_P(BuiltInScene, InvertedPyramidMatchesGroundTruthWithFewerSteps) {
   EXPECT_EQ(gt.capped_rays, 0u) << "the built-in scenes converge within the step cap";
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, BuiltInScene, ::testing::Values("primitives", "columns", "temple"));
+// The rotating patterns are a plane and a capsule: a few steps a ray, cheap next to the others.
+INSTANTIATE_TEST_SUITE_P(Scenes, BuiltInScene,
+                         ::testing::Values("primitives", "columns", "temple", "rotating-rod", "rotating-textured-rod",
+                                           "rotating-texture"));
 
 TEST_F(VulkanTest, StepImageSharesEveryLevelsStepsExactly) {
   SphereTracer tracer(context(), load_scene("primitives"));

@@ -1,0 +1,32 @@
+#pragma once
+// The flags of seed 002's sampling models (rmfr, hyperbolic, linear, kfr) for `render` and `bench`:
+// sigma, RMFR's focal shares, KFR's alpha, the hyperbolic and linear radii, pixel sizes and p_min,
+// --equalise. Their descriptions start with "Sampling:" so a command can refuse them for other
+// methods. The display and gaze come from the display flags (app/foveation_flags.h's defaults).
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "foveation/sampling_map.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+
+namespace fovlab::app {
+
+void add_sampling_flags(CLI::App& command, SamplingSettings& settings);
+std::vector<std::string> given_sampling_only_flags(const CLI::App& command);
+
+// The map of `model` for the frame the foveation settings describe (their display and gaze; no
+// gaze: the centre). InputError naming the flag on bad values.
+SamplingMap parse_sampling(SamplingModel model, const SamplingSettings& settings, const FoveationSettings& foveation);
+
+// The flags that reproduce a model's settings, for reports ("--sigma 2.6 --fx 0.3 --fy 0.3").
+std::string sampling_flags_text(SamplingModel model, const SamplingSettings& settings);
+// Every model's flags, for a sweep over several.
+std::string all_sampling_flags_text(const SamplingSettings& settings);
+
+// One line on what the map really samples: "rmfr: 14.8 % of pixels shaded (theoretical speed-up
+// 6.76, effective 6.76), mean density 0.148".
+std::string sampling_summary(const SamplingMap& map);
+
+}  // namespace fovlab::app

@@ -1,0 +1,71 @@
+#version 460
+// Pass 2 of the sampling models (seed 002): each screen pixel from the shaded samples.
+//   - RMFR: the forward map gives the pixel's place in the reduced buffer, read bilinearly;
+//   - KFR: the same in the log-polar buffer (its angle wraps around);
+//   - hyperbolic: each layer with weight at the pixel is read bilinearly, the reads blended.
+// (The linear model's pixels are filled by pull_push.comp.glsl instead.) A sample that was not
+// shaded has alpha 0 and is left out of the bilinear weights, so a pixel never reads a stale value.
+// foveation/sampling_map.cpp is the reference of the maps and weights.
+#extension GL_GOOGLE_include_directive : require
+#include "eccentricity.glsl"
+#include "sampling_map.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(std430, binding = 1) readonly buffer SampleColours { vec4 sample_colours[]; };  // alpha 1: shaded
+layout(std430, binding = 2) writeonly buffer FrameColour { vec4 frame_colour[]; };
+
+layout(push_constant) uniform ReconstructParams {
+  uint unused;
+} params;
+
+// Alpha-weighted bilinear read of a grid of `grid_size` samples stored row-major from `first`, at a
+// continuous position in grid pixels (sample centres at + 0.5). Columns clamp; rows clamp or wrap.
+// Returns the colour and the weight of the shaded taps (0: none was shaded).
+vec4 grid_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
+  vec2 p = grid_px - 0.5;
+  vec2 base = floor(p);
+  vec2 f = p - base;
+  ivec2 size = ivec2(grid_size);
+  vec4 sum = vec4(0.0);
+  for (int dy = 0; dy <= 1; ++dy) {
+    for (int dx = 0; dx <= 1; ++dx) {
+      ivec2 q = ivec2(base) + ivec2(dx, dy);
+      q.x = clamp(q.x, 0, size.x - 1);
+      q.y = wrap_rows ? ((q.y % size.y) + size.y) % size.y : clamp(q.y, 0, size.y - 1);
+      float w = (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
+      vec4 c = sample_colours[first + uint(q.y) * grid_size.x + uint(q.x)];
+      sum += w * c.a * vec4(c.rgb, 1.0);
+    }
+  }
+  return sum.a > 0.0 ? vec4(sum.rgb / sum.a, sum.a) : vec4(0.0);
+}
+
+void main() {
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  if (any(greaterThanEqual(pixel, sampling.screen_size))) return;
+  vec2 centre = vec2(pixel) + 0.5;
+  vec2 screen = vec2(sampling.screen_size);
+  vec4 colour = vec4(0.0);
+  if (sampling.model == MODEL_RECTANGULAR) {
+    vec2 share = centre / screen;
+    vec2 buffer_share = vec2(rmfr_to_buffer(share.x, sampling.gaze_share.x, sampling.focal_share.x),
+                             rmfr_to_buffer(share.y, sampling.gaze_share.y, sampling.focal_share.y));
+    colour = grid_bilinear(0u, sampling.buffer_size, buffer_share * vec2(sampling.buffer_size), false);
+  } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
+    colour = grid_bilinear(0u, sampling.buffer_size, kfr_to_buffer_px(centre), true);
+  } else if (sampling.model == MODEL_HYPERBOLIC) {
+    vec3 weights = hyperbolic_weights(centre);
+    vec4 sum = vec4(0.0);
+    for (int i = 0; i < 3; ++i) {
+      if (weights[i] <= 0.0) continue;
+      SamplingLayer layer = sampling.layers[i];
+      if (layer.grid_size.x == 0u || layer.grid_size.y == 0u) continue;
+      vec4 read = grid_bilinear(layer.first_sample, layer.grid_size, (centre - layer.origin_px) / layer.pixel_size_px,
+                                false);
+      if (read.a > 0.0) sum += weights[i] * vec4(read.rgb, 1.0);
+    }
+    colour = sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
+  }
+  frame_colour[pixel.y * sampling.screen_size.x + pixel.x] = vec4(colour.rgb, 1.0);
+}
