@@ -93,7 +93,10 @@ HyperbolicLayer layer_over(const Box& box, double pixel_size_px, double from_deg
   return layer;
 }
 
-// Screen-pixel areas (counts of pixel centres) by eccentricity band, for the densities' means.
+// Shares of the screen by eccentricity band, for the densities' means: over every pixel centre up
+// to kExactBandPixels pixels (exact), over every stride-th pixel of each axis beyond (a session
+// equalises once a gaze sample: 1280x720 then costs about 58,000 eccentricities, not 921,600).
+constexpr int64_t kExactBandPixels = 65536;
 struct BandAreas {
   double inside_inner = 0;   // e < r1
   double between = 0;        // r1 <= e < r2
@@ -101,10 +104,14 @@ struct BandAreas {
   double outside_outer = 0;  // e >= r2
 };
 BandAreas band_areas(const DisplayGeometry& display, double gaze_x, double gaze_y, double r1_deg, double r2_deg) {
+  const int64_t pixels = int64_t(display.width_px) * display.height_px;
+  const int stride = pixels <= kExactBandPixels ? 1 : int(std::ceil(std::sqrt(double(pixels) / kExactBandPixels)));
   BandAreas areas;
-  for (int y = 0; y < display.height_px; ++y)
-    for (int x = 0; x < display.width_px; ++x) {
+  double count = 0;
+  for (int y = stride / 2; y < display.height_px; y += stride)
+    for (int x = stride / 2; x < display.width_px; x += stride) {
       const double e = eccentricity(display, gaze_x, gaze_y, x + 0.5, y + 0.5);
+      count += 1;
       if (e < r1_deg) areas.inside_inner += 1;
       else if (e < r2_deg) {
         areas.between += 1;
@@ -112,6 +119,7 @@ BandAreas band_areas(const DisplayGeometry& display, double gaze_x, double gaze_
       } else
         areas.outside_outer += 1;
     }
+  for (double* area : {&areas.inside_inner, &areas.between, &areas.between_ramp, &areas.outside_outer}) *area /= count;
   return areas;
 }
 
@@ -150,6 +158,7 @@ std::pair<double, double> KernelLogPolarMapping::to_buffer_px(double x_px, doubl
   const double log_share = std::clamp(std::log(std::max(radius, 1.0)) / log_max_radius, 0.0, 1.0);
   double angle = std::atan2(dy, dx);
   if (angle < 0) angle += kTwoPi;
+  if (angle >= kTwoPi) angle = 0.0;  // a point a rounding error below the zero ray
   return {buffer_width_px * std::pow(log_share, alpha), buffer_height_px * angle / kTwoPi};
 }
 
@@ -169,16 +178,17 @@ double KernelLogPolarMapping::density(double x_px, double y_px) const {
          (kTwoPi * log_max_radius * radius * radius);
 }
 
-double KernelLogPolarMapping::sample_spacing_px(double u_px) const {
+std::pair<double, double> KernelLogPolarMapping::sample_spacings_px(double u_px) const {
   const double share = std::clamp(u_px / buffer_width_px, 1e-6, 1.0);
   const double radius = std::exp(log_max_radius * std::pow(share, 1.0 / alpha));
   const double dr_du = radius * log_max_radius * std::pow(share, 1.0 / alpha - 1.0) / (alpha * buffer_width_px);
-  return std::sqrt(dr_du * kTwoPi * radius / buffer_height_px);
+  return {dr_du, kTwoPi * radius / buffer_height_px};
 }
 
 bool KernelLogPolarMapping::sample_shaded(int u, int v) const {
   const auto [x, y] = to_screen_px(u + 0.5, v + 0.5);
-  const double margin = 2.0 * sample_spacing_px(u + 0.5);
+  const auto [radial, tangential] = sample_spacings_px(u + 0.5);
+  const double margin = radial + tangential;
   return x >= -margin && x < screen_width_px + margin && y >= -margin && y < screen_height_px + margin;
 }
 
@@ -360,29 +370,28 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
     if (settings.equalise) {
       // mean p = (inside + between - ramp + (ramp + outside) p_min) / pixels: linear in p_min.
       const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);
-      const double pixels = double(display.width_px) * display.height_px;
-      const double fixed = (areas.inside_inner + areas.between - areas.between_ramp) / pixels;
-      const double per_p_min = (areas.between_ramp + areas.outside_outer) / pixels;
+      const double fixed = areas.inside_inner + areas.between - areas.between_ramp;
+      const double per_p_min = areas.between_ramp + areas.outside_outer;
       const double p_min = per_p_min > 0 ? (target_density - fixed) / per_p_min : -1.0;
       if (!(p_min >= 0.0 && p_min <= 1.0))
-        throw InputError("--equalise: the linear model cannot reach " + target_text + " on this display: the pixels within " +
-                         format_number(settings.inner_radius_deg, 4) + " deg alone give " + format_number(fixed, 4) +
-                         " (lower sigma or the radii)");
+        throw InputError("--equalise: the linear model cannot reach " + target_text + " on this display: with p_min 0 " +
+                         "its density within " + format_number(settings.outer_radius_deg, 4) + " deg alone is " +
+                         format_number(fixed, 4) + " (lower sigma or the radii)");
       linear.min_probability = p_min;
     }
     return linear;
   }
 
   check_range("middle_pixel_size_px", settings.middle_pixel_size_px, 1.0, 64.0);
-  check_range("outer_pixel_size_px", settings.outer_pixel_size_px, settings.middle_pixel_size_px, 256.0);
+  if (!settings.equalise)  // else solved below
+    check_range("outer_pixel_size_px", settings.outer_pixel_size_px, settings.middle_pixel_size_px, 256.0);
   check_range("blend_band_deg", settings.blend_band_deg, 0.0, settings.inner_radius_deg);
   double outer_pixel_size_px = settings.outer_pixel_size_px;
   if (settings.equalise) {
     const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);
-    const double pixels = double(display.width_px) * display.height_px;
-    const double fixed = (areas.inside_inner + areas.between / (settings.middle_pixel_size_px * settings.middle_pixel_size_px)) / pixels;
+    const double fixed = areas.inside_inner + areas.between / (settings.middle_pixel_size_px * settings.middle_pixel_size_px);
     const double left = target_density - fixed;
-    const double size = left > 0 && areas.outside_outer > 0 ? std::sqrt(areas.outside_outer / pixels / left) : -1.0;
+    const double size = left > 0 && areas.outside_outer > 0 ? std::sqrt(areas.outside_outer / left) : -1.0;
     if (!(size >= settings.middle_pixel_size_px && size <= 256.0))
       throw InputError("--equalise: the hyperbolic model cannot reach " + target_text + " on this display: its inner and middle layers alone give " +
                        format_number(fixed, 4) + (size > 0 ? " (the outer pixel would be " + format_number(size, 4) + " px)" : "") +

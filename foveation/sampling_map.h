@@ -35,8 +35,8 @@ inline constexpr double kKfrMaxAlpha = 8.0;
 // KFR's buffer: u = w (ln r / L)^alpha, v = h theta / (2 pi) for the distance r (pixels, at least 1)
 // and the angle theta in [0, 2 pi) of a point around the gaze; L = ln of the largest distance from
 // the gaze to a screen corner. Inverse: r = exp(L (u / w)^(1 / alpha)). The buffer covers the disc
-// of radius e^L, so part of it falls off the screen: a sample more than two sample spacings off it
-// is not shaded (closer ones are the bilinear taps of pixels at the edge).
+// of radius e^L, so part of it falls off the screen: a sample further off it than a radial plus a
+// tangential spacing is not shaded (closer ones are the bilinear taps of pixels at the edge).
 struct KernelLogPolarMapping {
   int screen_width_px = 0, screen_height_px = 0;
   int buffer_width_px = 0, buffer_height_px = 0;  // round(screen / sigma)
@@ -49,10 +49,11 @@ struct KernelLogPolarMapping {
   // Buffer pixels per screen pixel: w h alpha (ln r / L)^(alpha - 1) / (2 pi L r^2); 0 within one
   // pixel of the gaze (the buffer's first column lies further out, and fills those pixels).
   double density(double x_px, double y_px) const;
-  // The samples' spacing on the screen at buffer column u: the geometric mean of the radial
-  // dr/du = r L s^(1/alpha - 1) / (alpha w) (s = u / w) and the tangential 2 pi r / h.
-  double sample_spacing_px(double u_px) const;
-  // Whether buffer sample (u, v) is shaded: its centre within two spacings of the screen.
+  // The samples' spacings on the screen at buffer column u: radial dr/du = r L s^(1/alpha - 1) /
+  // (alpha w) (s = u / w) and tangential 2 pi r / h.
+  std::pair<double, double> sample_spacings_px(double u_px) const;
+  // Whether buffer sample (u, v) is shaded: its centre within the sum of the two spacings of the
+  // screen, so that every bilinear tap of every screen pixel is shaded.
   bool sample_shaded(int u, int v) const;
 };
 
@@ -113,8 +114,8 @@ int screen_height_px(const SamplingMap& map);
 double density(const SamplingMap& map, double x_px, double y_px);
 // The density's mean over the screen's pixel centres.
 double mean_density(const SamplingMap& map);
-// Samples one frame shades: the buffer's (RMFR), those landing on the screen (KFR), the layers'
-// needed samples (hyperbolic), the sampled pixels (linear). What the GPU pass traces.
+// Samples one frame shades: the buffer's (RMFR), those that serve the screen (KFR sample_shaded),
+// the layers' needed samples (hyperbolic), the sampled pixels (linear). What the GPU pass traces.
 uint64_t shaded_samples(const SamplingMap& map);
 // The speed-up the model is set for: screen over buffer pixels (RMFR, KFR: sigma^2 up to rounding),
 // 1 / mean density (hyperbolic, linear).

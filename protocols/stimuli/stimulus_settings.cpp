@@ -1,5 +1,6 @@
 #include "protocols/stimuli/stimulus_settings.h"
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -61,10 +62,57 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
     foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);
     foveation.seed = fipr->mask_seed;
     foveation.frame_index = 0;
+  } else if (is_sampling_model(spec.method())) {
+    settings.method = TraceMethod::sampling_model;
+    std::visit(
+        [&](const auto& p) {
+          if constexpr (requires { p.max_steps; }) set_trace(p);
+        },
+        spec.parameters);
+    settings.sampling = sampling_map(spec, std::nan(""), std::nan(""));
   } else {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + std::string(spec.method_name()));
   }
   return settings;
+}
+
+SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px) {
+  SamplingSettings settings;
+  DisplayGeometry display;
+  display.width_px = spec.width_px;
+  display.height_px = spec.height_px;
+  if (const auto* rmfr = std::get_if<RectangularMappingParameters>(&spec.parameters)) {
+    settings.model = SamplingModel::rectangular;
+    settings.sigma = rmfr->sigma;
+    settings.focal_share_x = rmfr->focal_share_x;
+    settings.focal_share_y = rmfr->focal_share_y;
+  } else if (const auto* kfr = std::get_if<KernelLogPolarParameters>(&spec.parameters)) {
+    settings.model = SamplingModel::kernel_log_polar;
+    settings.sigma = kfr->sigma;
+    settings.alpha = kfr->alpha;
+  } else if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&spec.parameters)) {
+    settings.model = SamplingModel::hyperbolic;
+    settings.inner_radius_deg = layers->inner_radius_deg;
+    settings.outer_radius_deg = layers->outer_radius_deg;
+    settings.middle_pixel_size_px = layers->middle_pixel_size_px;
+    settings.outer_pixel_size_px = layers->outer_pixel_size_px;
+    settings.blend_band_deg = layers->blend_band_deg;
+    settings.equalise = layers->equalise;
+    settings.sigma = layers->sigma;
+    display = stimulus_display(spec);
+  } else if (const auto* linear = std::get_if<LinearFalloffParameters>(&spec.parameters)) {
+    settings.model = SamplingModel::linear;
+    settings.inner_radius_deg = linear->inner_radius_deg;
+    settings.outer_radius_deg = linear->outer_radius_deg;
+    settings.min_probability = linear->min_probability;
+    settings.seed = linear->sample_seed;
+    settings.equalise = linear->equalise;
+    settings.sigma = linear->sigma;
+    display = stimulus_display(spec);
+  } else {
+    throw std::logic_error("sampling_map: not a sampling model: " + std::string(spec.method_name()));
+  }
+  return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);
 }
 
 DisplayGeometry stimulus_display(const StimulusSpec& spec) {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "foveation/display_geometry.h"
+#include "foveation/sampling_map.h"
 #include "foveation/zone_layout.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -20,14 +21,29 @@ SceneCatalog renderer_scene_catalog(bool check_files = true);
 // path-traced sequences (pt, fpt).
 inline bool is_path_traced(RenderMethod method) { return describe(method).scene_kind == SceneKind::path_traced; }
 
-// The sphere-tracer settings of a gt, ipr or fipr spec (frame time of the given frame). FIPR: the
-// display comes from the spec's display parameters and pixel size; the gaze is left non-finite (no
-// gaze: every pixel traced in full) and frame_index 0, for the caller (StimulusLibrary) to set.
+// Whether a method is one of seed 002's sampling models (rmfr, hyperbolic, linear, kfr).
+inline bool is_sampling_model(RenderMethod method) {
+  return method == RenderMethod::rectangular_mapping || method == RenderMethod::hyperbolic_layers ||
+         method == RenderMethod::linear_falloff || method == RenderMethod::kernel_log_polar;
+}
+
+// The sphere-tracer settings of a gt, ipr, fipr or sampling-model spec (frame time of the given
+// frame). FIPR: the display comes from the spec's display parameters and pixel size; the gaze is left
+// non-finite (no gaze: every pixel traced in full) and frame_index 0, for the caller
+// (StimulusLibrary) to set. Sampling models: the map of a gaze at the centre, for the caller to
+// replace with each gaze sample's (sampling_map).
 // Throws InputError when a FIPR spec lacks its display parameters; std::logic_error for pt, fpt.
 SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
 
-// The display a foveated spec's display parameters describe (fipr, fpt); InputError when missing.
+// The display a foveated spec's display parameters describe (fipr, fpt, hyperbolic, linear);
+// InputError when missing.
 DisplayGeometry stimulus_display(const StimulusSpec& spec);
+
+// The sampling model of an rmfr, hyperbolic, linear or kfr spec for one gaze sample (NaN: the
+// centre): the map SphereTraceSettings::sampling takes. rmfr and kfr need only the frame's pixels;
+// hyperbolic and linear the spec's display. InputError when equalising cannot reach 1 / sigma^2
+// there; std::logic_error for other methods.
+SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px);
 
 // The pre-rendered sequences a pt or fpt spec shows: its frames, and for fpt with
 // periphery_bounces >= 0 other than max_bounces (seed 001 section 4.2's pilot variant) a second

@@ -74,6 +74,7 @@ vec2 kfr_to_buffer_px(vec2 point_px) {
   float log_share = clamp(log(max(radius, 1.0)) / sampling.log_max_radius, 0.0, 1.0);
   float angle = atan(d.y, d.x);
   if (angle < 0.0) angle += TWO_PI;
+  if (angle >= TWO_PI) angle = 0.0;
   return vec2(float(sampling.buffer_size.x) * pow(log_share, sampling.alpha),
               float(sampling.buffer_size.y) * angle / TWO_PI);
 }
@@ -85,14 +86,14 @@ vec2 kfr_to_screen_px(vec2 buffer_px) {
   return sampling.gaze_px + radius * vec2(cos(angle), sin(angle));
 }
 
-// The spacing of KFR's samples on the screen around a buffer point: the geometric mean of the
-// radial spacing dr/du = r L s^(1/alpha - 1) / (alpha w) (s = u / w) and the tangential 2 pi r / h.
-float kfr_spacing_px(vec2 buffer_px) {
-  float share = clamp(buffer_px.x / float(sampling.buffer_size.x), 1e-6, 1.0);
+// KFR's sample spacings on the screen around a buffer column (sampling_map.cpp sample_spacings_px):
+// radial dr/du = r L s^(1/alpha - 1) / (alpha w) (s = u / w) and tangential 2 pi r / h.
+vec2 kfr_spacings_px(float buffer_u_px) {
+  float share = clamp(buffer_u_px / float(sampling.buffer_size.x), 1e-6, 1.0);
   float radius = exp(sampling.log_max_radius * pow(share, 1.0 / sampling.alpha));
   float dr_du = radius * sampling.log_max_radius * pow(share, 1.0 / sampling.alpha - 1.0) /
                 (sampling.alpha * float(sampling.buffer_size.x));
-  return sqrt(dr_du * TWO_PI * radius / float(sampling.buffer_size.y));
+  return vec2(dr_du, TWO_PI * radius / float(sampling.buffer_size.y));
 }
 
 // --- Hyperbolic ------------------------------------------------------------------------------------

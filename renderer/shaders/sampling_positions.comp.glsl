@@ -4,9 +4,10 @@
 // layers of the hyperbolic model, the screen's pixels for the linear model); an entry that is
 // shaded appends (x, y, footprint, entry) to the sample list, which the sphere tracer traces
 // (FLAG_SAMPLE_LIST) or the pre-rendered frame is read at. Entries not listed are not shaded:
-// KFR's that fall more than two sample spacings off the screen, the hyperbolic layers' where the layer has no weight, the linear
+// KFR's that fall further off the screen than their bilinear reach, the hyperbolic layers' where the layer has no weight, the linear
 // model's pixels whose threshold is at or above their probability.
-// The footprint is the samples' spacing on the screen there, in pixels (at least 1): it widens the
+// The footprint is the samples' spacing on the screen there (the geometric mean of the two axes'),
+// in pixels (at least 1): it widens the
 // ray's hit threshold and texture filter the way a coarser pyramid level does.
 // foveation/sampling_map.cpp is the CPU reference (shaded_samples counts the same entries).
 #extension GL_GOOGLE_include_directive : require
@@ -31,11 +32,11 @@ void append(vec2 position_px, float footprint_px, uint entry) {
   sample_list[4u * slot + 3u] = entry;
 }
 
-// Whether a sample serves a screen pixel: within two sample spacings of the screen (a pixel at the
-// edge reads its bilinear taps from there).
-bool serves_screen(vec2 point_px, float footprint_px) {
-  float margin = 2.0 * footprint_px;
-  return all(greaterThanEqual(point_px, vec2(-margin))) && all(lessThan(point_px, vec2(sampling.screen_size) + margin));
+// Whether a sample serves a screen pixel: within `margin_px` of the screen (a pixel at the edge
+// reads its bilinear taps from there).
+bool serves_screen(vec2 point_px, float margin_px) {
+  return all(greaterThanEqual(point_px, vec2(-margin_px))) &&
+         all(lessThan(point_px, vec2(sampling.screen_size) + margin_px));
 }
 
 // The point `distance_px` along the line from the gaze through `point_px` (sampling_map.cpp).
@@ -65,8 +66,8 @@ void main() {
     append(screen_share * screen, inversesqrt(per_pixel.x * per_pixel.y), entry);
   } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
     vec2 position = kfr_to_screen_px(buffer_centre);
-    float footprint = kfr_spacing_px(buffer_centre);
-    if (serves_screen(position, footprint)) append(position, footprint, entry);
+    vec2 spacings = kfr_spacings_px(buffer_centre.x);
+    if (serves_screen(position, spacings.x + spacings.y)) append(position, sqrt(spacings.x * spacings.y), entry);
   } else if (sampling.model == MODEL_HYPERBOLIC) {
     for (int i = 0; i < 3; ++i) {
       SamplingLayer layer = sampling.layers[i];

@@ -11,7 +11,17 @@
 
 namespace fovlab {
 
-enum class RenderMethod { ground_truth, inverted_pyramid, foveated_pyramid, path_traced, foveated_path_traced };
+enum class RenderMethod {
+  ground_truth,
+  inverted_pyramid,
+  foveated_pyramid,
+  path_traced,
+  foveated_path_traced,
+  rectangular_mapping,  // seed 002's sampling models (foveation/sampling_map.h), on the sphere tracer
+  hyperbolic_layers,
+  linear_falloff,
+  kernel_log_polar,
+};
 
 // How FIPR combines the acuity probability and the depth edges (docs/foveation.md); the order is
 // that of foveation/foveation_mask.h's MaskCombine (protocols/stimuli checks it).
@@ -83,8 +93,61 @@ struct FoveatedPathTracedParameters {
   StimulusDisplay display;
 };
 
-using MethodParameters = std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters,
-                                      PathTracedParameters, FoveatedPathTracedParameters>;
+// Seed 002's sampling models (section 5.1; foveation/sampling_map.h): every sample traced from the
+// camera, only the model's samples shaded, the frame made from them per gaze sample.
+// RMFR: a buffer sigma times smaller per axis, each axis warped towards the gaze.
+struct RectangularMappingParameters {
+  int samples_per_pixel;  // rays a sample, spread over the sample's footprint
+  int max_steps;
+  double hit_threshold;
+  double sigma;
+  double focal_share_x;  // f_x / W
+  double focal_share_y;  // f_y / H
+};
+
+// KFR: a buffer sigma times smaller per axis in (log radius)^alpha and angle around the gaze.
+struct KernelLogPolarParameters {
+  int samples_per_pixel;
+  int max_steps;
+  double hit_threshold;
+  double sigma;
+  double alpha;
+};
+
+// The hyperbolic model: layers of pixel size 1, 2 (middle_pixel_size_px) and s3 out to r1, r2 and
+// the whole screen, blended over blend_band_deg at each border.
+struct HyperbolicLayersParameters {
+  int samples_per_pixel;
+  int max_steps;
+  double hit_threshold;
+  double inner_radius_deg;   // r1, an eccentricity (radius)
+  double outer_radius_deg;   // r2
+  double middle_pixel_size_px;
+  double outer_pixel_size_px;
+  double blend_band_deg;
+  bool equalise;             // s3 solved per gaze so that the mean density is 1 / sigma^2
+  double sigma;              // the target of equalise
+  StimulusDisplay display;
+};
+
+// The linear model: every pixel shaded with a probability 1 up to r1, falling linearly to p_min at r2.
+struct LinearFalloffParameters {
+  int samples_per_pixel;
+  int max_steps;
+  double hit_threshold;
+  double inner_radius_deg;
+  double outer_radius_deg;
+  double min_probability;
+  uint32_t sample_seed;
+  bool equalise;             // p_min solved per gaze so that the mean density is 1 / sigma^2
+  double sigma;
+  StimulusDisplay display;
+};
+
+using MethodParameters =
+    std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters, PathTracedParameters,
+                 FoveatedPathTracedParameters, RectangularMappingParameters, HyperbolicLayersParameters,
+                 LinearFalloffParameters, KernelLogPolarParameters>;
 
 inline RenderMethod method_of(const MethodParameters& parameters) {
   return static_cast<RenderMethod>(parameters.index());
@@ -94,6 +157,8 @@ inline RenderMethod method_of(const MethodParameters& parameters) {
 inline const StimulusDisplay* display_of(const MethodParameters& parameters) {
   if (const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters)) return &fipr->display;
   if (const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&parameters)) return &fpt->display;
+  if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) return &layers->display;
+  if (const auto* linear = std::get_if<LinearFalloffParameters>(&parameters)) return &linear->display;
   return nullptr;
 }
 inline StimulusDisplay* display_of(MethodParameters& parameters) {

@@ -231,9 +231,106 @@ MethodDescriptor foveated_path_traced() {
   return method;
 }
 
+// The ranges foveation/sampling_map.h checks (study/ uses core only; protocols/stimuli's tests keep
+// the two in step).
+constexpr double kMinSigma = 1.0, kMaxSigma = 8.0;
+constexpr double kMinFocalShare = 1e-3, kMaxFocalShare = 1.0;
+constexpr double kMinAlpha = 0.25, kMaxAlpha = 8.0;
+
+// Seed 002's sampling models: the sphere tracer's parameters, then the model's.
+template <class Struct>
+MethodDescriptor sampling_model(RenderMethod method, std::string_view name, std::string_view summary) {
+  MethodDescriptor descriptor{method, name, summary, SceneKind::signed_distance};
+  descriptor.depends_on_gaze = true;
+  descriptor.max_samples_per_frame = kSphereTraceSamplesPerFrame;
+  descriptor.parameters = sphere_trace_parameters<Struct>();
+  descriptor.parameters[0].help = "rays a sample, spread over the sample's footprint on the screen";
+  return descriptor;
+}
+
+template <class Struct>
+ParameterDescriptor sigma_parameter(std::string_view help) {
+  return parameter<&Struct::sigma>("sigma", "", ParameterType::real, 2.6, kMinSigma, kMaxSigma, help);
+}
+
+template <class Struct>
+void add_radii(std::vector<ParameterDescriptor>& list) {
+  list.push_back(parameter<&Struct::inner_radius_deg>("inner_radius_deg", "deg", ParameterType::real, 10.0, 0, 90,
+                                                      "r1: radius (eccentricity) of the full-resolution zone"));
+  list.push_back(parameter<&Struct::outer_radius_deg>("outer_radius_deg", "deg", ParameterType::real, 20.0, 0, 90,
+                                                      "r2: radius (eccentricity) where the fall-off ends; at least inner_radius_deg"));
+}
+
+template <class Struct>
+void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solved) {
+  ParameterDescriptor equalise = parameter<&Struct::equalise>(
+      "equalise", "", ParameterType::choice, 0, 0, 1,
+      solved);
+  equalise.choices = {"off", "on"};
+  list.push_back(equalise);
+  list.push_back(sigma_parameter<Struct>("with equalise on: the mean density sought is 1 / sigma^2"));
+}
+
+MethodDescriptor rectangular_mapping() {
+  using P = RectangularMappingParameters;
+  MethodDescriptor method = sampling_model<P>(RenderMethod::rectangular_mapping, "rmfr",
+                                              "rectangular mapping-based foveated rendering (seed 002 section 3)");
+  method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis: sigma^2 is the theoretical speed-up"));
+  method.parameters.push_back(parameter<&P::focal_share_x>("focal_share_x", "", ParameterType::real, 0.3, kMinFocalShare,
+                                                           kMaxFocalShare, "f_x as a share of the width"));
+  method.parameters.push_back(parameter<&P::focal_share_y>("focal_share_y", "", ParameterType::real, 0.3, kMinFocalShare,
+                                                           kMaxFocalShare, "f_y as a share of the height"));
+  return method;
+}
+
+MethodDescriptor hyperbolic_layers() {
+  using P = HyperbolicLayersParameters;
+  MethodDescriptor method = sampling_model<P>(RenderMethod::hyperbolic_layers, "hyperbolic",
+                                              "three layers of falling resolution (Guenter et al.; seed 002 section 5.1)");
+  method.needs_display = true;
+  auto& list = method.parameters;
+  add_radii<P>(list);
+  list.push_back(parameter<&P::middle_pixel_size_px>("middle_pixel_size_px", "px", ParameterType::real, 2.0, 1, 64,
+                                                     "s2: the middle layer's pixel size in screen pixels"));
+  list.push_back(parameter<&P::outer_pixel_size_px>("outer_pixel_size_px", "px", ParameterType::real, 12.35, 1, 256,
+                                                    "s3: the outer layer's pixel size; at least middle_pixel_size_px"));
+  list.push_back(parameter<&P::blend_band_deg>("blend_band_deg", "deg", ParameterType::real, 1.0, 0, 90,
+                                               "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
+  add_equalise<P>(list, "on: outer_pixel_size_px is solved per gaze sample so that the mean density is 1 / sigma^2");
+  add_display_parameters<P>(list);
+  return method;
+}
+
+MethodDescriptor linear_falloff() {
+  using P = LinearFalloffParameters;
+  MethodDescriptor method = sampling_model<P>(RenderMethod::linear_falloff, "linear",
+                                              "linear fall-off of the sampling probability (Weier et al.; seed 002 section 5.1)");
+  method.needs_display = true;
+  auto& list = method.parameters;
+  add_radii<P>(list);
+  list.push_back(parameter<&P::min_probability>("min_probability", "", ParameterType::real, 0.047, 0, 1,
+                                                "p_min: the probability beyond outer_radius_deg"));
+  list.push_back(parameter<&P::sample_seed>("sample_seed", "", ParameterType::integer, 0, 0, kSeedMax,
+                                            "seed of the per-pixel thresholds"));
+  add_equalise<P>(list, "on: min_probability is solved per gaze sample so that the mean density is 1 / sigma^2");
+  add_display_parameters<P>(list);
+  return method;
+}
+
+MethodDescriptor kernel_log_polar() {
+  using P = KernelLogPolarParameters;
+  MethodDescriptor method = sampling_model<P>(RenderMethod::kernel_log_polar, "kfr",
+                                              "kernel log-polar foveated rendering (Meng et al.; seed 002 section 5.1)");
+  method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis"));
+  method.parameters.push_back(parameter<&P::alpha>("alpha", "", ParameterType::real, 4.0, kMinAlpha, kMaxAlpha,
+                                                   "the kernel's exponent: u = w (ln r / L)^alpha"));
+  return method;
+}
+
 const std::vector<MethodDescriptor>& methods() {
-  static const std::vector<MethodDescriptor> all = {ground_truth(), inverted_pyramid(), foveated_pyramid(),
-                                                    path_traced(), foveated_path_traced()};
+  static const std::vector<MethodDescriptor> all = {ground_truth(),        inverted_pyramid(),  foveated_pyramid(),
+                                                    path_traced(),         foveated_path_traced(), rectangular_mapping(),
+                                                    hyperbolic_layers(),   linear_falloff(),    kernel_log_polar()};
   return all;
 }
 
@@ -322,6 +419,10 @@ MethodParameters default_parameters(RenderMethod method) {
     case RenderMethod::foveated_pyramid: parameters = FoveatedPyramidParameters{}; break;
     case RenderMethod::path_traced: parameters = PathTracedParameters{}; break;
     case RenderMethod::foveated_path_traced: parameters = FoveatedPathTracedParameters{}; break;
+    case RenderMethod::rectangular_mapping: parameters = RectangularMappingParameters{}; break;
+    case RenderMethod::hyperbolic_layers: parameters = HyperbolicLayersParameters{}; break;
+    case RenderMethod::linear_falloff: parameters = LinearFalloffParameters{}; break;
+    case RenderMethod::kernel_log_polar: parameters = KernelLogPolarParameters{}; break;
   }
   for (const ParameterDescriptor& parameter : describe(method).parameters)
     parameter.write(parameters, parameter.default_value);
@@ -342,6 +443,23 @@ MethodParameters parameters_with(RenderMethod method, std::initializer_list<cons
 }
 
 std::optional<ParameterConflict> parameter_conflict(const MethodParameters& parameters) {
+  const auto at_least = [](std::string_view larger, double larger_value, std::string_view smaller,
+                           double smaller_value) -> std::optional<ParameterConflict> {
+    if (larger_value >= smaller_value) return std::nullopt;
+    return ParameterConflict{{smaller, larger}, "expected " + std::string(larger) + " (" + format_number(larger_value, 6) +
+                                                    ") >= " + std::string(smaller) + " (" +
+                                                    format_number(smaller_value, 6) + ")"};
+  };
+  if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) {
+    if (auto conflict = at_least("outer_radius_deg", layers->outer_radius_deg, "inner_radius_deg", layers->inner_radius_deg))
+      return conflict;
+    if (auto conflict = at_least("outer_pixel_size_px", layers->outer_pixel_size_px, "middle_pixel_size_px",
+                                 layers->middle_pixel_size_px))
+      return conflict;
+    return at_least("inner_radius_deg", layers->inner_radius_deg, "blend_band_deg", layers->blend_band_deg);
+  }
+  if (const auto* linear = std::get_if<LinearFalloffParameters>(&parameters))
+    return at_least("outer_radius_deg", linear->outer_radius_deg, "inner_radius_deg", linear->inner_radius_deg);
   const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters);
   if (!fipr || fipr->outer_periphery_radius_deg >= fipr->fovea_radius_deg) return std::nullopt;
   return ParameterConflict{{"fovea_radius_deg", "outer_periphery_radius_deg"},

@@ -54,6 +54,12 @@ std::vector<std::pair<double, double>> gazes_on(int width, int height) {
           {0.5 * w, 0}, {0, 0.5 * h}, {w, 0.5 * h}, {0.5 * w, h}, {0.31 * w, 0.77 * h}};
 }
 
+// Fewer gazes where a test loops over layers and taps: the centre, two corners, two edges, one odd point.
+std::vector<std::pair<double, double>> tap_gazes_on(int width, int height) {
+  const double w = width, h = height;
+  return {{0.5 * w, 0.5 * h}, {0, 0}, {w, h}, {0.5 * w, 0}, {0, 0.5 * h}, {0.31 * w, 0.77 * h}};
+}
+
 // --- KFR ------------------------------------------------------------------------------------------
 
 struct KfrCase {
@@ -211,7 +217,7 @@ TEST(SamplingMapKfr, DensityIsTheJacobianOfTheMap) {
 
 // The density summed over the screen's pixel centres counts the buffer samples whose centres land
 // on the screen, within a few percent. shaded_samples counts sample_shaded (those plus the samples
-// within two spacings of the screen); still, part of the buffer lies off the screen, so the
+// within a radial plus a tangential spacing of the screen); still, part of the buffer lies off the screen, so the
 // effective density is below the buffer's share.
 TEST(SamplingMapKfr, DensityIntegratesToTheSamplesOnTheScreen) {
   for (const KfrCase& c : kKfrCases) {
@@ -254,9 +260,9 @@ TEST(SamplingMapKfr, DensityIntegratesToTheSamplesOnTheScreen) {
   }
 }
 
-// sample_spacing_px is the geometric mean of the radial spacing dr/du (here by central differences
-// of to_screen) and the tangential 2 pi r / h.
-TEST(SamplingMapKfr, SampleSpacingIsTheGeometricMeanOfBothDirections) {
+// sample_spacings_px are the radial spacing dr/du (here by central differences of to_screen) and the
+// tangential 2 pi r / h.
+TEST(SamplingMapKfr, SampleSpacingsAreThoseOfBothDirections) {
   for (const KfrCase& c : kKfrCases) {
     const KernelLogPolarMapping m = make_kernel_log_polar_mapping(c.width, c.height, c.sigma, c.alpha, 0.4 * c.width, 0.6 * c.height);
     for (int u = 0; u < m.buffer_width_px; ++u) {
@@ -266,10 +272,11 @@ TEST(SamplingMapKfr, SampleSpacingIsTheGeometricMeanOfBothDirections) {
         return std::hypot(x - m.gaze_x_px, y - m.gaze_y_px);
       };
       const double dr_du = (radius_at(centre + h) - radius_at(centre - h)) / (2 * h);
-      const double expected = std::sqrt(dr_du * kTwoPi * radius_at(centre) / m.buffer_height_px);
-      const double spacing = m.sample_spacing_px(centre);
-      EXPECT_TRUE(std::isfinite(spacing) && spacing > 0.0) << describe(m) << " u " << u;
-      EXPECT_NEAR(spacing, expected, 1e-5 * expected) << describe(m) << " u " << u;
+      const double tangential = kTwoPi * radius_at(centre) / m.buffer_height_px;
+      const auto [radial_spacing, tangential_spacing] = m.sample_spacings_px(centre);
+      EXPECT_TRUE(std::isfinite(radial_spacing) && radial_spacing > 0.0) << describe(m) << " u " << u;
+      EXPECT_NEAR(radial_spacing, dr_du, 1e-5 * dr_du + 1e-9) << describe(m) << " u " << u;  // (differences of tiny radii)
+      EXPECT_NEAR(tangential_spacing, tangential, 1e-9 * tangential) << describe(m) << " u " << u;
     }
   }
 }
@@ -303,7 +310,7 @@ TEST(SamplingMapKfr, EveryBilinearTapOfAScreenPixelIsShaded) {
                 first = "pixel " + std::to_string(x) + "," + std::to_string(y) + " (u " + std::to_string(u) + " v " +
                         std::to_string(v) + "): tap " + std::to_string(cu) + "," + std::to_string(rv) + " at " +
                         std::to_string(sx) + "," + std::to_string(sy) + ", margin " +
-                        std::to_string(2.0 * m.sample_spacing_px(cu + 0.5)) + " px, tangential spacing " +
+                        std::to_string(m.sample_spacings_px(cu + 0.5).first + m.sample_spacings_px(cu + 0.5).second) + " px, tangential spacing " +
                         std::to_string(kTwoPi * std::hypot(sx - m.gaze_x_px, sy - m.gaze_y_px) / h) + " px";
             }
         }
@@ -466,8 +473,8 @@ TEST(SamplingMapHyperbolic, WeightsAndDensityFollowTheEccentricity) {
 }
 
 // The key property: every screen pixel that gives a layer weight finds all four of its bilinear
-// taps in that layer's grid shaded (sample_needed), and lies within the grid. shaded_samples counts
-// exactly the needed samples.
+// taps in that layer's grid shaded (sample_needed), and lies within the grid; a tap falls outside
+// the grid only beyond the screen's edge. shaded_samples counts exactly the needed samples.
 TEST(SamplingMapHyperbolic, EveryBilinearTapOfAWeightedPixelIsShaded) {
   struct Variant {
     double r1, r2, s2, s3, band;
@@ -476,7 +483,7 @@ TEST(SamplingMapHyperbolic, EveryBilinearTapOfAWeightedPixelIsShaded) {
                               {2, 30, 4, 9, 2}};
   for (const DisplayGeometry& display : {display_600(), display_128x72_300()})
     for (const Variant& variant : variants)
-      for (const auto& [gx, gy] : gazes_on(display.width_px, display.height_px)) {
+      for (const auto& [gx, gy] : tap_gazes_on(display.width_px, display.height_px)) {
         SamplingSettings settings = settings_of(SamplingModel::hyperbolic);
         settings.inner_radius_deg = variant.r1;
         settings.outer_radius_deg = variant.r2;
@@ -521,8 +528,17 @@ TEST(SamplingMapHyperbolic, EveryBilinearTapOfAWeightedPixelIsShaded) {
               const int row0 = int(std::floor((py - grid.origin_y_px) / s - 0.5));
               for (const int column : {column0, column0 + 1})
                 for (const int row : {row0, row0 + 1}) {
-                  // Taps beyond the grid's edge read its edge (clamp to edge).
+                  // A tap beyond the grid's edge reads its edge (clamp to edge): acceptable only where the
+                  // missing sample would lie beyond the screen's edge too.
                   const int c = std::clamp(column, 0, grid.columns - 1), r = std::clamp(row, 0, grid.rows - 1);
+                  if (c != column || r != row) {
+                    const auto [mx, my] = m.sample_centre_px(int(layer), column, row);
+                    const bool beyond_screen = (column < 0 && mx < 0) || (column >= grid.columns && mx > display.width_px) ||
+                                               (row < 0 && my < 0) || (row >= grid.rows && my > display.height_px);
+                    if (!beyond_screen && failures++ == 0)
+                      first = where + ": tap " + std::to_string(column) + "," + std::to_string(row) +
+                              " (centre " + std::to_string(mx) + "," + std::to_string(my) + ") outside the grid, on the screen";
+                  }
                   if (!needed[layer][size_t(r) * size_t(grid.columns) + size_t(c)] && failures++ == 0) {
                     const auto [sx, sy] = m.sample_centre_px(int(layer), c, r);
                     first = where + ": tap " + std::to_string(c) + "," + std::to_string(r) + " (centre " +
