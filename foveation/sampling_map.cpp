@@ -374,7 +374,7 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
       const double per_p_min = areas.between_ramp + areas.outside_outer;
       const double p_min = per_p_min > 0 ? (target_density - fixed) / per_p_min : -1.0;
       if (!(p_min >= 0.0 && p_min <= 1.0))
-        throw InputError("--equalise: the linear model cannot reach " + target_text + " on this display: with p_min 0 " +
+        throw InputError("equalise: the linear model cannot reach " + target_text + " on this display: with p_min 0 " +
                          "its density within " + format_number(settings.outer_radius_deg, 4) + " deg alone is " +
                          format_number(fixed, 4) + " (lower sigma or the radii)");
       linear.min_probability = p_min;
@@ -393,7 +393,7 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
     const double left = target_density - fixed;
     const double size = left > 0 && areas.outside_outer > 0 ? std::sqrt(areas.outside_outer / left) : -1.0;
     if (!(size >= settings.middle_pixel_size_px && size <= 256.0))
-      throw InputError("--equalise: the hyperbolic model cannot reach " + target_text + " on this display: its inner and middle layers alone give " +
+      throw InputError("equalise: the hyperbolic model cannot reach " + target_text + " on this display: its inner and middle layers alone give " +
                        format_number(fixed, 4) + (size > 0 ? " (the outer pixel would be " + format_number(size, 4) + " px)" : "") +
                        " (lower sigma or the radii)");
     outer_pixel_size_px = size;

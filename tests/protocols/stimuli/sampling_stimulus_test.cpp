@@ -1,0 +1,102 @@
+// Seed 002's sampling models as stimulus methods: their descriptors agree with the CPU models
+// (foveation/sampling_map.h), and a spec becomes the map of each gaze sample.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/input_error.h"
+#include "foveation/sampling_map.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "study/stimulus/stimulus_spec.h"
+
+namespace fovlab {
+namespace {
+
+const ParameterDescriptor& parameter_named(RenderMethod method, const std::string& key) {
+  const ParameterDescriptor* parameter = find_parameter(describe(method), key);
+  if (!parameter) throw std::logic_error("no parameter " + key);
+  return *parameter;
+}
+
+StimulusSpec spec_of(RenderMethod method) {
+  StimulusSpec spec;
+  spec.scene = "primitives";
+  spec.parameters = default_parameters(method);
+  spec.width_px = 96;
+  spec.height_px = 54;
+  if (StimulusDisplay* display = display_of(spec.parameters)) *display = StimulusDisplay{250.0, 140.625, 400.0};
+  return spec;
+}
+
+// study/ may not include foveation/, so the descriptors repeat the models' ranges and defaults.
+TEST(SamplingStimulus, DescriptorsAgreeWithTheModels) {
+  const SamplingSettings defaults;
+  for (RenderMethod method : {RenderMethod::rectangular_mapping, RenderMethod::kernel_log_polar,
+                              RenderMethod::hyperbolic_layers, RenderMethod::linear_falloff}) {
+    const ParameterDescriptor& sigma = parameter_named(method, "sigma");
+    EXPECT_EQ(sigma.min_value, kRmfrMinSigma);
+    EXPECT_EQ(sigma.max_value, kRmfrMaxSigma);
+    EXPECT_EQ(sigma.default_value, defaults.sigma);
+    EXPECT_TRUE(is_sampling_model(method));
+    EXPECT_TRUE(describe(method).depends_on_gaze);
+  }
+  const RenderMethod rmfr = RenderMethod::rectangular_mapping;
+  EXPECT_EQ(parameter_named(rmfr, "focal_share_x").min_value, kRmfrMinFocalShare);
+  EXPECT_EQ(parameter_named(rmfr, "focal_share_x").max_value, kRmfrMaxFocalShare);
+  EXPECT_EQ(parameter_named(rmfr, "focal_share_x").default_value, defaults.focal_share_x);
+  EXPECT_EQ(parameter_named(rmfr, "focal_share_y").default_value, defaults.focal_share_y);
+  const RenderMethod kfr = RenderMethod::kernel_log_polar;
+  EXPECT_EQ(parameter_named(kfr, "alpha").min_value, kKfrMinAlpha);
+  EXPECT_EQ(parameter_named(kfr, "alpha").max_value, kKfrMaxAlpha);
+  EXPECT_EQ(parameter_named(kfr, "alpha").default_value, defaults.alpha);
+  const RenderMethod layers = RenderMethod::hyperbolic_layers;
+  EXPECT_EQ(parameter_named(layers, "inner_radius_deg").default_value, defaults.inner_radius_deg);
+  EXPECT_EQ(parameter_named(layers, "outer_radius_deg").default_value, defaults.outer_radius_deg);
+  EXPECT_EQ(parameter_named(layers, "middle_pixel_size_px").default_value, defaults.middle_pixel_size_px);
+  EXPECT_EQ(parameter_named(layers, "outer_pixel_size_px").default_value, defaults.outer_pixel_size_px);
+  EXPECT_EQ(parameter_named(layers, "blend_band_deg").default_value, defaults.blend_band_deg);
+  EXPECT_EQ(parameter_named(RenderMethod::linear_falloff, "min_probability").default_value, defaults.min_probability);
+  EXPECT_TRUE(describe(layers).needs_display);
+  EXPECT_TRUE(describe(RenderMethod::linear_falloff).needs_display);
+  EXPECT_FALSE(describe(rmfr).needs_display);
+}
+
+TEST(SamplingStimulus, SpecBecomesTheMapOfEachGazeSample) {
+  const struct {
+    RenderMethod method;
+    SamplingModel model;
+  } cases[] = {{RenderMethod::rectangular_mapping, SamplingModel::rectangular},
+               {RenderMethod::kernel_log_polar, SamplingModel::kernel_log_polar},
+               {RenderMethod::hyperbolic_layers, SamplingModel::hyperbolic},
+               {RenderMethod::linear_falloff, SamplingModel::linear}};
+  for (const auto& c : cases) {
+    const StimulusSpec spec = spec_of(c.method);
+    const SphereTraceSettings settings = sphere_trace_settings(spec, 0);
+    ASSERT_EQ(settings.method, TraceMethod::sampling_model) << spec.method_name();
+    ASSERT_TRUE(settings.sampling.has_value());
+    EXPECT_EQ(model_of(*settings.sampling), c.model);
+    EXPECT_NO_THROW(validate(settings)) << spec.method_name();
+    // Without a gaze the map is the centre's; with one it follows it.
+    const SamplingMap centre = sampling_map(spec, std::nan(""), std::nan(""));
+    const SamplingMap corner = sampling_map(spec, 5.0, 5.0);
+    EXPECT_NE(density(centre, 5.5, 5.5), density(corner, 5.5, 5.5)) << spec.method_name();
+    EXPECT_EQ(density(centre, 48, 27), density(sampling_map(spec, 48, 27), 48, 27)) << spec.method_name();
+  }
+}
+
+TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
+  StimulusSpec spec = spec_of(RenderMethod::linear_falloff);
+  auto& linear = std::get<LinearFalloffParameters>(spec.parameters);
+  linear.equalise = true;
+  linear.sigma = 1.05;  // this small display is mostly within 20 degrees: only a small sigma is reachable
+  EXPECT_NEAR(mean_density(sampling_map(spec, 48, 27)), 1.0 / (1.05 * 1.05), 1e-9);
+  linear.sigma = 8.0;  // the full-resolution zone alone is denser than 1/64
+  EXPECT_THROW(sampling_map(spec, 48, 27), InputError);
+  StimulusSpec no_display = spec_of(RenderMethod::hyperbolic_layers);
+  *display_of(no_display.parameters) = StimulusDisplay{};
+  EXPECT_THROW(sampling_map(no_display, 48, 27), InputError);
+}
+
+}  // namespace
+}  // namespace fovlab
