@@ -1,5 +1,6 @@
 // fovlab analyze: per-study thresholds from session logs (analysis/study), written as JSON, CSV,
 // SVG and one HTML report (analysis/report).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -49,6 +50,59 @@ std::string default_out_dir(const std::vector<std::string>& inputs, const analys
   return (fs::path("results") / study / "analysis").string();
 }
 
+// Seed 002, 4.4.1: per block (and pooled), the grid of mean scores over every level, rows from the
+// largest y down, the best pair starred.
+void print_rating_grid(const analysis::RatingGrid& grid) {
+  std::printf("pilot grid (seed 002, 4.4.1): mean score (3 identical, 1 significant difference) per %s (columns) and %s "
+              "(rows) over every level: each participant's mean, then the mean over participants; * the best\n",
+              grid.x_key.c_str(), grid.y_key.c_str());
+  const size_t columns = grid.x_values.size();
+  for (const analysis::GridMap& map : grid.maps) {
+    if (map.level) continue;
+    std::string best;
+    for (size_t index : map.best)
+      best += (best.empty() ? "" : " and ") + std::string("(") + format_number(map.cells[index].x, 6) + ", " +
+              format_number(map.cells[index].y, 6) + ")";
+    if (map.best.empty()) {
+      std::printf("  %-24s no answered trial\n", map.scene.c_str());
+      continue;
+    }
+    std::printf("  %-24s best (%s, %s) %s: mean %s%s\n", map.scene.c_str(), grid.x_key.c_str(), grid.y_key.c_str(),
+                best.c_str(), format_number(*map.cells[map.best.front()].mean_score, 4).c_str(),
+                map.best.size() > 1 ? " (a tie)" : "");
+    std::printf("    %8s", "y \\ x");
+    for (double x : grid.x_values) std::printf(" %7s", format_number(x, 4).c_str());
+    std::printf("\n");
+    for (size_t row = grid.y_values.size(); row-- > 0;) {
+      std::printf("    %8s", format_number(grid.y_values[row], 4).c_str());
+      for (size_t column = 0; column < columns; ++column) {
+        const size_t index = row * columns + column;
+        const analysis::GridCell& cell = map.cells[index];
+        const bool starred = std::find(map.best.begin(), map.best.end(), index) != map.best.end();
+        std::string text = cell.mean_score ? format_number(*cell.mean_score, 3) : "-";
+        std::printf(" %6s%s", text.c_str(), starred ? "*" : " ");
+      }
+      std::printf("\n");
+    }
+  }
+}
+
+// Seed 002, Table 2: the votes for the reference, one-sided whatever --alternative says.
+void print_preference_table(const std::vector<analysis::PreferenceRow>& rows) {
+  std::printf("preference table (seed 002, Table 2): votes for the reference; exact binomial, ONE-sided (greater: the "
+              "reference preferred), H0 1/2, whatever --alternative says; 95 %% Clopper-Pearson\n");
+  std::printf("  %-24s %-16s %-24s %9s %7s %10s %5s  %s\n", "scene", "condition", "reference v. test", "votes", "share",
+              "p", "stars", "95 % CI");
+  for (const analysis::PreferenceRow& row : rows) {
+    const std::string group = row.group.label();
+    const std::string versus = row.reference_method + " v. " + row.test_method;
+    const std::string votes = std::to_string(row.reference_votes) + "/" + std::to_string(row.n);
+    std::printf("  %-24s %-16s %-24s %9s %5.1f %% %10s %5s  [%.3f, %.3f]\n", group.c_str(), row.condition.c_str(),
+                versus.c_str(), votes.c_str(), 100.0 * row.share, format_number(row.p_value, 4).c_str(),
+                row.stars.c_str(), row.interval.lower, row.interval.upper);
+  }
+}
+
 void print_summary(const analysis::AnalysisResult& result) {
   int excluded = 0;
   for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
@@ -72,6 +126,8 @@ void print_summary(const analysis::AnalysisResult& result) {
       std::printf("  fit %-10s %-18s threshold %s [%s, %s]\n", group.group.label().c_str(),
                   analysis::shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
                   format_number(fit.threshold_interval.lower, 5).c_str(), format_number(fit.threshold_interval.upper, 5).c_str());
+  if (result.rating_grid) print_rating_grid(*result.rating_grid);
+  if (!result.preferences.empty()) print_preference_table(result.preferences);
   std::vector<const analysis::ParticipantRow*> unsealed;
   for (const auto& participant : result.participants)
     if (participant.log_status != LogStatus::sealed) unsealed.push_back(&participant);

@@ -180,7 +180,11 @@ void run_bench(const BenchOptions& options) {
     std::printf("%s", line.c_str());
     std::fflush(stdout);
   };
+  // With --times every cell says its scene time; images of each time are kept apart.
+  const bool several_times = plan.times_s.size() > 1;
+  float current_time_s = plan.times_s.front();
   const auto add_cell = [&](nlohmann::json cell) {
+    cell["time_s"] = current_time_s;
     cell_table += cell_table_row(cell);
     if (plan.has_cells()) print(cell_table_row(cell));
     cells.push_back(std::move(cell));
@@ -190,9 +194,12 @@ void run_bench(const BenchOptions& options) {
     // One tracer serves every method: a FIPR sequence starts at frame 0 (no history needed), and GT
     // and IPR frames run only between sequences.
     SphereTracer tracer(context, scene);
+    for (float time_s : plan.times_s)
     for (int spp : options.spps) {
+      current_time_s = time_s;
       SphereTraceSettings gt_settings = options.settings;
       gt_settings.samples_per_pixel = spp;
+      gt_settings.time_s = time_s;
       gt_settings.method = TraceMethod::ground_truth;
       SphereTraceSettings ipr_settings = gt_settings;
       ipr_settings.method = TraceMethod::inverted_pyramid;
@@ -205,9 +212,9 @@ void run_bench(const BenchOptions& options) {
       const Image gt_image = display_image(gt.frame);
       const double gt_ms = gt.median_gpu_ms();
 
-      nlohmann::json row = {{"scene", scene.name}, {"spp", spp}, {"gt", gt.json(gt_settings)}};
+      nlohmann::json row = {{"scene", scene.name}, {"spp", spp}, {"time_s", time_s}, {"gt", gt.json(gt_settings)}};
       nlohmann::json cell = gt_cell(scene.name, spp, row["gt"]);
-      cell["command"] = cell_command(options, plan, scene.name, spp, "gt");
+      cell["command"] = cell_command(options, plan, scene.name, time_s, spp, "gt");
       add_cell(cell);
       if (plan.ipr) {
         const FrameErrors errors = frame_errors(gt_image, display_image(ipr.frame), plan);
@@ -217,13 +224,14 @@ void run_bench(const BenchOptions& options) {
         cell = measured_cell("ipr", scene.name, spp, row["ipr"], gt_ms, errors);
         cell["top_level_share"] = 1.0;
         cell["refreshed_share"] = 0.0;
-        cell["command"] = cell_command(options, plan, scene.name, spp, "ipr");
+        cell["command"] = cell_command(options, plan, scene.name, time_s, spp, "ipr");
         add_cell(cell);
       }
       rows.push_back(row);
       gt_ipr_table += gt_ipr_table_row(row);
       if (!plan.has_cells()) print(gt_ipr_table_row(row));
-      const std::string stem = scene.name + "_spp" + std::to_string(spp);
+      const std::string stem =
+          scene.name + (several_times ? "_t" + format_number(time_s, 6) : std::string()) + "_spp" + std::to_string(spp);
       if (!options.out_dir.empty()) {
         write_frame_images(options.out_dir, stem + "_gt", gt.frame, gt_settings);
         if (plan.ipr) write_frame_images(options.out_dir, stem + "_ipr", ipr.frame, ipr_settings);
@@ -248,7 +256,7 @@ void run_bench(const BenchOptions& options) {
         cell["warmup_frames"] = sequence.warmup_frames;
         cell["timed_frame_indices"] = {sequence.first_timed_frame, sequence.last_timed_frame};
         cell["measured_frame_index"] = sequence.last_timed_frame;
-        cell["command"] = cell_command(options, plan, scene.name, spp, "fipr", &variant);
+        cell["command"] = cell_command(options, plan, scene.name, time_s, spp, "fipr", &variant);
         add_cell(cell);
         if (!options.out_dir.empty()) {
           write_frame_images(options.out_dir,
@@ -269,7 +277,7 @@ void run_bench(const BenchOptions& options) {
         cell["sampling"] = stats_json(scene.name, model_settings, runs.frame, 0.0, context)["sampling"];
         cell["top_level_share"] = cell["sampling"]["shaded_share"];
         cell["refreshed_share"] = 0.0;
-        cell["command"] = cell_command(options, plan, scene.name, spp, name);
+        cell["command"] = cell_command(options, plan, scene.name, time_s, spp, name);
         add_cell(cell);
         if (!options.out_dir.empty()) write_frame_images(options.out_dir, stem + "_" + name, runs.frame, model_settings);
       }
@@ -285,10 +293,12 @@ void run_bench(const BenchOptions& options) {
   const std::string fovea_7_5 = plan.fipr ? fovea_table(cells, kPaperFoveaDeg) : "";
   const std::string fronts = pareto_table(cells);
   const std::string models = plan.sampling_maps.empty() ? "" : sampling_table(cells);
+  const std::string ranking = plan.sampling_maps.empty() ? "" : sampling_ranking_table(cells);
   if (plan.has_cells()) {
     if (plan.ipr) print("\nGT against IPR:\n" + gt_ipr_table);
     if (plan.fipr) print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
     if (!models.empty()) print("\nSampling models (seed 002) against GT:\n" + models);
+    if (several_times && !ranking.empty()) print("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
     print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
   }
   print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
@@ -303,6 +313,7 @@ void run_bench(const BenchOptions& options) {
                            {"max_steps", options.settings.max_steps},
                            {"hit_threshold", options.settings.hit_threshold},
                            {"time_s", options.settings.time_s},
+                           {"times_s", plan.times_s},
                            {"command", sweep_command(options, plan)},
                            {"methods", options.methods},
                            {"camera", "GT and IPR at scene time time_s; a FIPR cell's frames at 60 Hz of scene time "
@@ -350,6 +361,8 @@ void run_bench(const BenchOptions& options) {
   if (plan.has_cells()) markdown += "## Every cell\n\n" + cell_table + "\n";
   if (plan.fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";
   if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
+  if (several_times && !ranking.empty())
+    markdown += "## Sampling models ranked by mean FPSNR over the scene times\n\n" + ranking + "\n";
   markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
   write_text_atomically(options.out_dir / "table.md", markdown);
 }
@@ -373,6 +386,10 @@ void add_bench_command(CLI::App& app) {
                       "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
       ->delimiter(',');
   add_trace_options(*command, options->settings);
+  command->add_option("--times", options->times,
+                      "Scene times in seconds, comma-separated, instead of --time: every scene is measured at each "
+                      "(the rotating patterns turn 10 degrees a second)")
+      ->delimiter(',');
   // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
   add_foveation_flags(*command, options->foveation, FoveationPoint::swept);
   command->add_option("--refresh", options->refresh, "FIPR: periphery refresh periods, comma-separated (1, 2, 4)")
@@ -384,6 +401,7 @@ void add_bench_command(CLI::App& app) {
   command->callback([options, command] {
     options->fipr_flags_given = given_fipr_only_flags(*command);
     options->sampling_flags_given = given_sampling_only_flags(*command);
+    options->time_given = command->count("--time") > 0;
     run_bench(*options);
   });
 }

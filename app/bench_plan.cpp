@@ -1,6 +1,7 @@
 #include "app/bench_plan.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <sstream>
@@ -97,12 +98,33 @@ std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
 }
 
 
+std::vector<float> parse_times(const std::vector<std::string>& texts) {
+  const std::string text = join(texts);
+  const std::string expected = "scene times in seconds, finite, comma-separated, none twice";
+  std::vector<float> times;
+  for (const std::string& value : texts) {
+    const std::optional<double> time = parse_finite_number(value);
+    if (!time || std::abs(*time) > 1e6) fail_flag("--times", expected, text);
+    times.push_back(static_cast<float>(*time));
+  }
+  if (times.empty()) fail_flag("--times", expected, text);
+  refuse_repeats(times, "--times", text);
+  return times;
+}
+
+std::string time_flag(float time_s) {
+  std::ostringstream out;
+  out << "--time " << time_s;
+  return out.str();
+}
+
+// `time_text`: "--time T" or "--times A,B,...".
 std::string command_text(const BenchOptions& options, const std::string& scenes, const std::string& spps,
-                         const std::string& methods) {
+                         const std::string& methods, const std::string& time_text) {
   const SphereTraceSettings& s = options.settings;
   std::ostringstream out;
   out << "fovlab bench --scenes " << scenes << " --spp " << spps << " --width " << s.width << " --height " << s.height
-      << " --repeats " << options.repeats << " --time " << s.time_s << " --levels " << s.pyramid_levels
+      << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
       << " --min-filter " << s.min_filter_size << " --max-steps " << s.max_steps << " --hit-threshold "
       << s.hit_threshold << " --methods " << methods;
   return out.str();
@@ -141,6 +163,10 @@ BenchPlan plan_bench(const BenchOptions& options) {
   BenchPlan plan;
   plan.ipr = methods.ipr;
   plan.fipr = methods.fipr;
+  if (!options.times.empty() && options.time_given) {
+    throw InputError("--time, --times: expected one of them (one scene time, or a comma-separated list)");
+  }
+  plan.times_s = options.times.empty() ? std::vector<float>{options.settings.time_s} : parse_times(options.times);
   const FoveationSettings base = parse_foveation(options.foveation, width, height);
   plan.display = base.display;
   plan.gaze_x_px = base.gaze_x_px;
@@ -172,24 +198,29 @@ BenchPlan plan_bench(const BenchOptions& options) {
 }
 
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
-  std::string text = command_text(options, join(options.scenes), join(options.spps), methods_text(plan, plan.ipr, plan.fipr));
+  std::ostringstream times;
+  for (size_t i = 0; i < plan.times_s.size(); ++i) times << (i ? "," : "") << plan.times_s[i];
+  const std::string time_text = options.times.empty() ? time_flag(options.settings.time_s) : "--times " + times.str();
+  std::string text = command_text(options, join(options.scenes), join(options.spps),
+                                  methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!plan.sampling_maps.empty()) text += " " + all_sampling_flags_text(plan.sampling);
   if (!plan.fipr) return text + " " + display_flags_text(options.foveation.display);
   return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
          foveation_flags_text(options.foveation);
 }
 
-std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, int spp,
-                         const std::string& method, const FiprVariant* variant) {
+std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, float time_s,
+                         int spp, const std::string& method, const FiprVariant* variant) {
+  const std::string time_text = time_flag(time_s);
   if (const std::optional<SamplingModel> model = parse_sampling_model(method)) {
-    return command_text(options, scene, std::to_string(spp), "gt," + method) + " " +
+    return command_text(options, scene, std::to_string(spp), "gt," + method, time_text) + " " +
            sampling_flags_text(*model, plan.sampling) + " " + display_flags_text(options.foveation.display);
   }
   if (method != "fipr" || !variant) {
-    return command_text(options, scene, std::to_string(spp), plan.ipr ? "gt,ipr" : "gt") +
+    return command_text(options, scene, std::to_string(spp), plan.ipr ? "gt,ipr" : "gt", time_text) +
            " " + display_flags_text(options.foveation.display);
   }
-  return command_text(options, scene, std::to_string(spp), "gt,fipr") + " --refresh " +
+  return command_text(options, scene, std::to_string(spp), "gt,fipr", time_text) + " --refresh " +
          std::to_string(variant->refresh) + " --fovea-deg " + variant->fovea_text() + " " +
          foveation_flags_text(options.foveation);
 }

@@ -28,6 +28,10 @@ struct BenchOptions {
   std::filesystem::path out_dir;
   std::string device;
   std::vector<std::string> methods{"gt", "ipr"};
+  // --times: scene times in seconds, comma-separated (e.g. the rotating patterns' angles); empty:
+  // --time alone. time_given: --time was on the command line too (refused with --times).
+  std::vector<std::string> times;
+  bool time_given = false;
   // FIPR sweep (seed 000, 5.2: refresh 1, 1/2, 1/4; fovea 2.5 to 15 degrees in steps of 2.5).
   std::vector<std::string> refresh{"1", "2", "4"};
   std::vector<std::string> fovea_deg{"2.5", "5", "7.5", "10", "12.5", "15"};
@@ -44,9 +48,9 @@ BenchPlan plan_bench(const BenchOptions& options);
 
 // The command that reproduces the whole sweep, every setting spelled out.
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan);
-// The command that reproduces one cell: GT against IPR for one scene and spp (method "gt" or "ipr"),
-// one FIPR variant with its GT, or one sampling model ("rmfr", ...) with its GT.
-std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, int spp,
-                         const std::string& method, const FiprVariant* variant = nullptr);
+// The command that reproduces one cell: GT against IPR for one scene, scene time and spp (method
+// "gt" or "ipr"), one FIPR variant with its GT, or one sampling model ("rmfr", ...) with its GT.
+std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, float time_s,
+                         int spp, const std::string& method, const FiprVariant* variant = nullptr);
 
 }  // namespace fovlab::app

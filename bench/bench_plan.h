@@ -27,6 +27,7 @@ struct BenchPlan {
   std::vector<int> refreshes;       // as given, in order
   std::vector<double> fovea_degs;   // as given, in order
   std::vector<FiprVariant> variants;  // refresh-major: for each refresh, every fovea
+  std::vector<float> times_s;         // scene times of each scene's cells (--times; else --time alone)
   // Seed 002's sampling models in the order given, each with its map of the sweep's frame and gaze.
   std::vector<SamplingMap> sampling_maps;
   SamplingSettings sampling;  // the flags they were made with

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <sstream>
 #include <tuple>
 #include <vector>
@@ -78,16 +79,17 @@ std::string pass_table(const nlohmann::json& rows) {
 }
 
 std::string cell_table_header() {
-  return "| scene | spp | method | refresh | fovea deg | GPU ms | speed-up | steps/px | top level | refreshed | SSIM | "
-         "FLIP | FPSNR dB |\n"
-         "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  return "| scene | time s | spp | method | refresh | fovea deg | GPU ms | speed-up | steps/px | top level | refreshed | "
+         "SSIM | FLIP | FPSNR dB |\n"
+         "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 }
 
 std::string cell_table_row(const nlohmann::json& cell) {
   const bool fipr = cell["method"] == "fipr";
   std::ostringstream out;
-  out << "| " << cell["scene"].get<std::string>() << " | " << cell["spp"].get<int>() << " | "
-      << cell["method"].get<std::string>() << " | " << (fipr ? std::to_string(cell["refresh"].get<int>()) : "-")
+  out << "| " << cell["scene"].get<std::string>() << " | " << number(cell["time_s"], "%g") << " | "
+      << cell["spp"].get<int>() << " | " << cell["method"].get<std::string>() << " | "
+      << (fipr ? std::to_string(cell["refresh"].get<int>()) : "-")
       << " | " << (fipr ? format_number(cell["fovea_deg"].get<double>(), 6) : "-") << " | "
       << number(cell["median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
       << number(cell["steps_per_pixel"], "%.1f") << " | " << percent(cell["top_level_share"]) << " | "
@@ -98,18 +100,63 @@ std::string cell_table_row(const nlohmann::json& cell) {
 
 std::string sampling_table(const nlohmann::json& cells) {
   std::ostringstream out;
-  out << "| scene | spp | model | GPU ms | GT ms | speed-up | theoretical | effective | shaded | PSNR dB | SSIM | FLIP | "
-         "FPSNR dB |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  out << "| scene | time s | spp | model | GPU ms | GT ms | speed-up | theoretical | effective | shaded | PSNR dB | SSIM | "
+         "FLIP | FPSNR dB |\n|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const nlohmann::json& cell : cells) {
     if (!cell.contains("sampling")) continue;
     const nlohmann::json& sampling = cell["sampling"];
-    out << "| " << cell["scene"].get<std::string>() << " | " << cell["spp"].get<int>() << " | "
+    out << "| " << cell["scene"].get<std::string>() << " | " << number(cell["time_s"], "%g") << " | "
+        << cell["spp"].get<int>() << " | "
         << cell["method"].get<std::string>() << " | " << number(cell["median_gpu_ms"], "%.1f") << " | "
         << number(cell["gt_median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
         << number(sampling["theoretical_speedup"], "%.2fx") << " | " << number(sampling["effective_speedup"], "%.2fx")
         << " | " << percent(sampling["shaded_share"]) << " | " << number(cell["psnr_db"], "%.2f") << " | "
         << number(cell["ssim"], "%.5f") << " | " << number(cell["flip"], "%.5f") << " | "
         << number(cell["fpsnr_db"], "%.2f") << " |\n";
+  }
+  return out.str();
+}
+
+std::string sampling_ranking_table(const nlohmann::json& cells) {
+  struct Summary {
+    std::vector<double> fpsnr, psnr, ssim, speedup;
+  };
+  // (scene, spp) -> model -> its cells' values, in the cells' order.
+  std::map<std::pair<std::string, int>, std::map<std::string, Summary>> groups;
+  for (const nlohmann::json& cell : cells) {
+    if (!cell.contains("sampling") || !cell["fpsnr_db"].is_number() || !cell["psnr_db"].is_number()) continue;
+    Summary& summary = groups[{cell["scene"].get<std::string>(), cell["spp"].get<int>()}][cell["method"].get<std::string>()];
+    summary.fpsnr.push_back(cell["fpsnr_db"].get<double>());
+    summary.psnr.push_back(cell["psnr_db"].get<double>());
+    summary.ssim.push_back(cell["ssim"].get<double>());
+    summary.speedup.push_back(cell["speedup"].get<double>());
+  }
+  const auto mean = [](const std::vector<double>& values) {
+    double sum = 0.0;
+    for (double value : values) sum += value;
+    return sum / double(values.size());
+  };
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const size_t middle = values.size() / 2;
+    return values.size() % 2 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
+  };
+  std::ostringstream out;
+  out << "| scene | spp | rank | model | times | mean FPSNR dB | mean PSNR dB | mean SSIM | median speed-up |\n"
+         "|---|---:|---:|---|---:|---:|---:|---:|---:|\n";
+  for (const auto& [key, models] : groups) {
+    std::vector<std::pair<double, std::string>> order;
+    for (const auto& [model, summary] : models) order.emplace_back(-mean(summary.fpsnr), model);
+    std::sort(order.begin(), order.end());
+    int rank = 0;
+    for (const auto& [negative_fpsnr, model] : order) {
+      const Summary& summary = models.at(model);
+      char line[256];
+      std::snprintf(line, sizeof(line), "| %s | %d | %d | %s | %zu | %.2f | %.2f | %.4f | %.2fx |\n", key.first.c_str(),
+                    key.second, ++rank, model.c_str(), summary.fpsnr.size(), -negative_fpsnr, mean(summary.psnr),
+                    mean(summary.ssim), median(summary.speedup));
+      out << line;
+    }
   }
   return out.str();
 }

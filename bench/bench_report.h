@@ -26,6 +26,10 @@ std::string fovea_table(const nlohmann::json& cells, double fovea_deg);
 // The sampling models' cells (seed 002): GPU ms, measured speed-up over GT, the speed-up the model is
 // set for and the one its shaded samples allow, the share of pixels shaded, PSNR, SSIM, FLIP, FPSNR.
 std::string sampling_table(const nlohmann::json& cells);
+// The sampling models per scene and spp, over every scene time the cells have (bench --times: seed
+// 002's Figure 12 turns its patterns 0-180 degrees): mean FPSNR, PSNR and SSIM, median speed-up,
+// ranked by mean FPSNR.
+std::string sampling_ranking_table(const nlohmann::json& cells);
 
 // The cells on each scene's Pareto front, for FLIP and for 1 - SSIM.
 std::string pareto_table(const nlohmann::json& cells);

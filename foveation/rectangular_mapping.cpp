@@ -14,13 +14,21 @@ namespace {
 double g(double t, double phi) { return phi * t / (phi + t); }
 double g_inverse(double s, double phi) { return phi * s / (phi - s); }
 
-void check_range(const char* field, double value, double low, double high) {
+}  // namespace
+
+void check_setting_range(const char* field, double value, double low, double high) {
   if (!(value >= low && value <= high))
     throw SettingError(field, " " + format_number(value, 6) + ": expected " + format_number(low, 6) + " to " +
                                   format_number(high, 6));
 }
 
-}  // namespace
+void check_screen_size(int width_px, int height_px) {
+  if (width_px <= 0 || height_px <= 0)
+    throw SettingError("screen", " " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                                     ": expected a positive size");
+}
+
+int reduced_buffer_px(int screen_px, double sigma) { return std::max(1, int(std::lround(screen_px / sigma))); }
 
 double RectangularAxis::to_buffer(double screen_share) const {
   const double c = gaze_share, phi = focal_share;
@@ -67,17 +75,15 @@ double RectangularMapping::theoretical_speedup() const {
 RectangularMapping make_rectangular_mapping(int screen_width_px, int screen_height_px, double sigma,
                                             double focal_share_x, double focal_share_y, double gaze_x_px,
                                             double gaze_y_px) {
-  if (screen_width_px <= 0 || screen_height_px <= 0)
-    throw SettingError("screen", " " + std::to_string(screen_width_px) + "x" + std::to_string(screen_height_px) +
-                                     ": expected a positive size");
-  check_range("sigma", sigma, kRmfrMinSigma, kRmfrMaxSigma);
-  check_range("focal_share_x", focal_share_x, kRmfrMinFocalShare, kRmfrMaxFocalShare);
-  check_range("focal_share_y", focal_share_y, kRmfrMinFocalShare, kRmfrMaxFocalShare);
+  check_screen_size(screen_width_px, screen_height_px);
+  check_setting_range("sigma", sigma, kRmfrMinSigma, kRmfrMaxSigma);
+  check_setting_range("focal_share_x", focal_share_x, kRmfrMinFocalShare, kRmfrMaxFocalShare);
+  check_setting_range("focal_share_y", focal_share_y, kRmfrMinFocalShare, kRmfrMaxFocalShare);
   RectangularMapping mapping;
   mapping.screen_width_px = screen_width_px;
   mapping.screen_height_px = screen_height_px;
-  mapping.buffer_width_px = std::max(1, int(std::lround(screen_width_px / sigma)));
-  mapping.buffer_height_px = std::max(1, int(std::lround(screen_height_px / sigma)));
+  mapping.buffer_width_px = reduced_buffer_px(screen_width_px, sigma);
+  mapping.buffer_height_px = reduced_buffer_px(screen_height_px, sigma);
   mapping.x = rectangular_axis(gaze_x_px, screen_width_px, focal_share_x);
   mapping.y = rectangular_axis(gaze_y_px, screen_height_px, focal_share_y);
   return mapping;

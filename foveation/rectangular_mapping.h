@@ -53,6 +53,13 @@ struct RectangularMapping {
   double theoretical_speedup() const;
 };
 
+// Shared by the reduced-buffer models (RMFR here, KFR in sampling_map.h): SettingError naming
+// "screen" unless both sides are positive, or `field` unless low <= value <= high (NaN is outside);
+// the buffer's side round(screen_px / sigma), at least 1.
+void check_screen_size(int width_px, int height_px);
+void check_setting_range(const char* field, double value, double low, double high);
+int reduced_buffer_px(int screen_px, double sigma);
+
 // SettingError naming "sigma" (kRmfrMinSigma to kRmfrMaxSigma), "focal_share_x" / "focal_share_y"
 // (kRmfrMinFocalShare to kRmfrMaxFocalShare: f as a share of the screen's width / height) or the
 // screen size (positive).

@@ -15,12 +15,6 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-void check_range(const char* field, double value, double low, double high) {
-  if (!(value >= low && value <= high))
-    throw SettingError(field, " " + format_number(value, 6) + ": expected " + format_number(low, 6) + " to " +
-                                  format_number(high, 6));
-}
-
 template <class Visit>
 auto visit_map(const SamplingMap& map, Visit&& visit) {
   return std::visit(std::forward<Visit>(visit), map);
@@ -194,16 +188,14 @@ bool KernelLogPolarMapping::sample_shaded(int u, int v) const {
 
 KernelLogPolarMapping make_kernel_log_polar_mapping(int screen_width_px, int screen_height_px, double sigma,
                                                     double alpha, double gaze_x_px, double gaze_y_px) {
-  if (screen_width_px <= 0 || screen_height_px <= 0)
-    throw SettingError("screen", " " + std::to_string(screen_width_px) + "x" + std::to_string(screen_height_px) +
-                                     ": expected a positive size");
-  check_range("sigma", sigma, kRmfrMinSigma, kRmfrMaxSigma);
-  check_range("alpha", alpha, kKfrMinAlpha, kKfrMaxAlpha);
+  check_screen_size(screen_width_px, screen_height_px);
+  check_setting_range("sigma", sigma, kRmfrMinSigma, kRmfrMaxSigma);
+  check_setting_range("alpha", alpha, kKfrMinAlpha, kKfrMaxAlpha);
   KernelLogPolarMapping mapping;
   mapping.screen_width_px = screen_width_px;
   mapping.screen_height_px = screen_height_px;
-  mapping.buffer_width_px = std::max(1, int(std::lround(screen_width_px / sigma)));
-  mapping.buffer_height_px = std::max(1, int(std::lround(screen_height_px / sigma)));
+  mapping.buffer_width_px = reduced_buffer_px(screen_width_px, sigma);
+  mapping.buffer_height_px = reduced_buffer_px(screen_height_px, sigma);
   mapping.alpha = alpha;
   mapping.gaze_x_px = gaze_on_screen(gaze_x_px, screen_width_px);
   mapping.gaze_y_px = gaze_on_screen(gaze_y_px, screen_height_px);
@@ -349,22 +341,20 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
     case SamplingModel::hyperbolic:
     case SamplingModel::linear: break;
   }
-  if (display.width_px <= 0 || display.height_px <= 0)
-    throw SettingError("screen", " " + std::to_string(display.width_px) + "x" + std::to_string(display.height_px) +
-                                     ": expected a positive size");
+  check_screen_size(display.width_px, display.height_px);
   if (!(display.width_mm > 0 && display.height_mm > 0 && display.viewing_distance_mm > 0))
     throw SettingError("display", ": expected a physical size and viewing distance (the " +
                                       std::string(sampling_model_name(settings.model)) + " model's radii are eccentricities)");
-  check_range("sigma", settings.sigma, kRmfrMinSigma, kRmfrMaxSigma);
-  check_range("inner_radius_deg", settings.inner_radius_deg, 0.0, 90.0);
-  check_range("outer_radius_deg", settings.outer_radius_deg, settings.inner_radius_deg, 90.0);
+  check_setting_range("sigma", settings.sigma, kRmfrMinSigma, kRmfrMaxSigma);
+  check_setting_range("inner_radius_deg", settings.inner_radius_deg, 0.0, 90.0);
+  check_setting_range("outer_radius_deg", settings.outer_radius_deg, settings.inner_radius_deg, 90.0);
   const double gaze_x = gaze_on_screen(gaze_x_px, display.width_px);
   const double gaze_y = gaze_on_screen(gaze_y_px, display.height_px);
   const double target_density = 1.0 / (settings.sigma * settings.sigma);
   const std::string target_text = "1/sigma^2 = " + format_number(target_density, 4);
 
   if (settings.model == SamplingModel::linear) {
-    check_range("min_probability", settings.min_probability, 0.0, 1.0);
+    check_setting_range("min_probability", settings.min_probability, 0.0, 1.0);
     LinearFalloff linear{display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg,
                          settings.min_probability, settings.seed};
     if (settings.equalise) {
@@ -382,10 +372,10 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
     return linear;
   }
 
-  check_range("middle_pixel_size_px", settings.middle_pixel_size_px, 1.0, 64.0);
+  check_setting_range("middle_pixel_size_px", settings.middle_pixel_size_px, 1.0, 64.0);
   if (!settings.equalise)  // else solved below
-    check_range("outer_pixel_size_px", settings.outer_pixel_size_px, settings.middle_pixel_size_px, 256.0);
-  check_range("blend_band_deg", settings.blend_band_deg, 0.0, settings.inner_radius_deg);
+    check_setting_range("outer_pixel_size_px", settings.outer_pixel_size_px, settings.middle_pixel_size_px, 256.0);
+  check_setting_range("blend_band_deg", settings.blend_band_deg, 0.0, settings.inner_radius_deg);
   double outer_pixel_size_px = settings.outer_pixel_size_px;
   if (settings.equalise) {
     const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);

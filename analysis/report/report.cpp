@@ -134,6 +134,35 @@ std::string participants_csv(const AnalysisResult& result) {
   return csv;
 }
 
+// Seed 002's pilot grid: one row per map and cell.
+std::string rating_grid_csv(const RatingGrid& grid, const std::string& study) {
+  std::string csv = csv_line({"study", "scene", "level", "x_key", "x", "y_key", "y", "mean_score", "trials",
+                              "participants", "best"});
+  for (const GridMap& map : grid.maps) {
+    for (std::size_t i = 0; i < map.cells.size(); ++i) {
+      const GridCell& cell = map.cells[i];
+      const bool best = std::find(map.best.begin(), map.best.end(), i) != map.best.end();
+      csv += csv_line({study, map.scene, csv_number(map.level), grid.x_key, csv_number(cell.x), grid.y_key,
+                       csv_number(cell.y), csv_number(cell.mean_score), std::to_string(cell.trials),
+                       std::to_string(cell.participants), best ? "true" : "false"});
+    }
+  }
+  return csv;
+}
+
+// Seed 002's Table 2: one row per condition, the votes for the reference, one-sided.
+std::string preference_csv(const AnalysisResult& result) {
+  std::string csv = csv_line({"study", "scene", "variant", "condition", "reference_method", "test_method", "n",
+                              "reference_votes", "share", "ci_lower", "ci_upper", "p_value", "alternative", "stars"});
+  for (const PreferenceRow& row : result.preferences) {
+    csv += csv_line({row.study, row.group.scene, row.group.variant, row.condition, row.reference_method, row.test_method,
+                     std::to_string(row.n), std::to_string(row.reference_votes), csv_number(row.share),
+                     csv_number(row.interval.lower), csv_number(row.interval.upper), csv_number(row.p_value), "greater",
+                     row.stars});
+  }
+  return csv;
+}
+
 // ---- JSON ------------------------------------------------------------------------------------
 
 json interval_json(const ParameterInterval& interval) {
@@ -241,6 +270,56 @@ json thresholds_json(const AnalysisResult& result) {
                                   {"stars", row.stars},
                                   {"mean_rating", json_number(row.mean_rating)},
                                   {"sd_rating", json_number(row.sd_rating)}});
+  }
+
+  root["rating_grid"] = nullptr;
+  if (result.rating_grid) {
+    const RatingGrid& grid = *result.rating_grid;
+    json maps = json::array();
+    for (const GridMap& map : grid.maps) {
+      json cells = json::array();
+      for (const GridCell& cell : map.cells) {
+        cells.push_back({{"x", json_number(cell.x)},
+                         {"y", json_number(cell.y)},
+                         {"mean_score", json_number(cell.mean_score)},
+                         {"trials", cell.trials},
+                         {"participants", cell.participants}});
+      }
+      json best = json::array();
+      for (std::size_t index : map.best) {
+        best.push_back({{"x", json_number(map.cells[index].x)}, {"y", json_number(map.cells[index].y)}});
+      }
+      maps.push_back({{"scene", map.scene},
+                      {"level", json_number(map.level)},
+                      {"best", best},
+                      {"best_mean_score", map.best.empty() ? json(nullptr) : json_number(map.cells[map.best[0]].mean_score)},
+                      {"tie", map.best.size() > 1},
+                      {"cells", cells}});
+    }
+    root["rating_grid"] = {{"definition", "seed 002, 4.4.1: per cell, each participant's mean score (1-3) over the "
+                                          "cell's trials, then the mean over participants"},
+                           {"x_key", grid.x_key},
+                           {"y_key", grid.y_key},
+                           {"x_values", grid.x_values},
+                           {"y_values", grid.y_values},
+                           {"maps", maps}};
+  }
+
+  root["preference_table"] = json::array();
+  for (const PreferenceRow& row : result.preferences) {
+    root["preference_table"].push_back({{"scene", row.group.scene},
+                                        {"variant", row.group.variant},
+                                        {"condition", row.condition},
+                                        {"reference_method", row.reference_method},
+                                        {"test_method", row.test_method},
+                                        {"n", row.n},
+                                        {"reference_votes", row.reference_votes},
+                                        {"share", json_number(row.share)},
+                                        {"ci_lower", json_number(row.interval.lower)},
+                                        {"ci_upper", json_number(row.interval.upper)},
+                                        {"p_value", json_number(row.p_value)},
+                                        {"alternative", "greater"},
+                                        {"stars", row.stars}});
   }
 
   root["participants"] = json::array();
@@ -413,6 +492,39 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
   return plot;
 }
 
+// Seed 002, Figure 9: one heat map per block (and for every block pooled) of the mean score per pair
+// of the two grid parameters over every level, coloured on the score's scale 1..3, the best pair
+// outlined.
+std::vector<Plot> rating_grid_plots(const AnalysisResult& result, std::set<std::string>& taken) {
+  std::vector<Plot> plots;
+  if (!result.rating_grid) return plots;
+  const RatingGrid& grid = *result.rating_grid;
+  for (const GridMap& map : grid.maps) {
+    if (map.level) continue;  // per level: in the CSV and JSON only
+    HeatMap heat;
+    heat.title = map.scene + ": mean score (1-3) over every level";
+    heat.x_label = grid.x_key;
+    heat.y_label = grid.y_key;
+    heat.x_values = grid.x_values;
+    heat.y_values = grid.y_values;
+    for (const GridCell& cell : map.cells) heat.cells.push_back(cell.mean_score.value_or(std::nan("")));
+    heat.cell_format = "%.2f";
+    heat.colour_min = 1.0;
+    heat.colour_max = 3.0;
+    heat.marked_cells = map.best;
+    heat.marked_label = map.best.size() > 1 ? "outlined: highest mean (a tie)" : "outlined: highest mean";
+    Plot plot;
+    plot.file_name = unique_svg_name("rating_grid_" + safe_name(map.scene), taken);
+    plot.caption = "Pilot grid, " + map.scene + ": mean score (3 identical, 2 minimal difference, 1 significant "
+                   "difference) per pair of " + grid.x_key + " and " + grid.y_key +
+                   ", each participant's mean over every level, then the mean over participants; grey: no trial; "
+                   "outlined: the highest mean" + (map.best.size() > 1 ? " (a tie)" : "") + ".";
+    plot.svg = render_heat_map_svg(heat);
+    plots.push_back(std::move(plot));
+  }
+  return plots;
+}
+
 // Bins centred on the study's levels (edges midway between neighbouring levels); without levels, on
 // the distinct thresholds themselves.
 std::vector<double> level_bin_edges(std::vector<double> centres) {
@@ -556,6 +668,46 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
                        rows);
   }
 
+  if (result.rating_grid) {
+    const RatingGrid& grid = *result.rating_grid;
+    html += "<h2 id=\"rating-grid\">Pilot grid</h2>\n<p>Seed 002, 4.4.1: the mean score of each pair of " +
+            html_escape(grid.x_key) + " and " + html_escape(grid.y_key) +
+            " (each participant's mean over the pair's trials, then the mean over participants), over every level; "
+            "the pair with the highest mean per block. Every cell and level: rating_grid.csv.</p>\n";
+    std::vector<std::vector<std::string>> rows;
+    for (const GridMap& map : grid.maps) {
+      if (map.level) continue;
+      std::string pairs;
+      for (std::size_t index : map.best) {
+        pairs += (pairs.empty() ? "(" : "; (") + html_number(map.cells[index].x) + ", " + html_number(map.cells[index].y) + ")";
+      }
+      uint64_t trials = 0;
+      for (const GridCell& cell : map.cells) trials += cell.trials;
+      rows.push_back({map.scene, pairs.empty() ? "\xE2\x80\x93" : pairs,
+                      map.best.empty() ? "\xE2\x80\x93" : html_number(map.cells[map.best.front()].mean_score),
+                      map.best.size() > 1 ? "tie of " + std::to_string(map.best.size()) + " pairs" : "",
+                      std::to_string(trials)});
+    }
+    html += html_table({"scene", "best (" + grid.x_key + ", " + grid.y_key + ")", "mean score", "tie", "trials"}, rows);
+  }
+
+  if (!result.preferences.empty()) {
+    html += "<h2 id=\"preference\">Preference table</h2>\n<p>Seed 002, Table 2: the votes for the reference "
+            "stimulus. Test: exact binomial, one-sided (greater: the reference preferred), H0 p = 1/2, whatever "
+            "--alternative says, no correction; CI: 95 % Clopper-Pearson of the share.</p>\n";
+    std::vector<std::vector<std::string>> rows;
+    for (const PreferenceRow& row : result.preferences) {
+      rows.push_back({row.group.scene, row.group.variant, row.condition,
+                      row.reference_method + " v. " + row.test_method,
+                      std::to_string(row.reference_votes) + " / " + std::to_string(row.n),
+                      format_number(100.0 * row.share, 3) + " %", html_number(row.p_value), row.stars,
+                      html_interval(row.interval.lower, row.interval.upper)});
+    }
+    html += html_table({"scene", "variant", "condition", "reference v. test", "votes for the reference",
+                        "share", "p (one-sided)", "stars", "95 % CI"},
+                       rows);
+  }
+
   html += "<h2 id=\"plots\">Plots</h2>\n";
   if (plots.empty()) html += "<p>No plots (no data to plot).</p>\n";
   for (const Plot& plot : plots) {
@@ -680,11 +832,14 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
 
   write("conditions.csv", conditions_csv(result));
   write("participants.csv", participants_csv(result));
+  if (result.rating_grid) write("rating_grid.csv", rating_grid_csv(*result.rating_grid, result.study));
+  if (!result.preferences.empty()) write("preference.csv", preference_csv(result));
   write("thresholds.json", thresholds_json(result).dump(2, ' ', false, json::error_handler_t::replace) + "\n");
 
   std::set<std::string> taken = {"share_per_level.svg"};
   std::vector<Plot> plots;
   if (auto plot = share_per_level_plot(result)) plots.push_back(std::move(*plot));
+  for (Plot& plot : rating_grid_plots(result, taken)) plots.push_back(std::move(plot));
   for (const GroupFit& group : result.fits) {
     if (auto plot = psychometric_plot(result, group, taken)) plots.push_back(std::move(*plot));
   }
@@ -700,7 +855,8 @@ namespace {
 // A name write_analysis_report writes, or the temporary of one (".<stem>.tmp-<pid>.<ext>", left
 // inside by a run killed before this folder-level writing existed).
 bool is_report_file_name(const std::string& name) {
-  if (name == "thresholds.json" || name == "conditions.csv" || name == "participants.csv" || name == "report.html")
+  if (name == "thresholds.json" || name == "conditions.csv" || name == "participants.csv" || name == "report.html" ||
+      name == "rating_grid.csv" || name == "preference.csv")
     return true;
   const auto ends_with = [&](const std::string& end) {
     return name.size() > end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0;

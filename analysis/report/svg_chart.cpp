@@ -633,6 +633,16 @@ std::string render_heat_map_svg(const HeatMap& map) {
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < columns; ++c) values.add(cell(r, c));
   }
+  // A fixed colour scale replaces the data's extent on the side(s) it gives.
+  {
+    const bool fixed_lo = map.colour_min && usable(*map.colour_min);
+    const bool fixed_hi = map.colour_max && usable(*map.colour_max);
+    if (!(fixed_lo && fixed_hi && *map.colour_min > *map.colour_max) && !values.empty()) {
+      if (fixed_lo) values.lo = *map.colour_min;
+      if (fixed_hi) values.hi = *map.colour_max;
+      if (values.lo > values.hi) values.hi = values.lo;  // one bound fixed beyond every value
+    }
+  }
 
   Frame frame;
   frame.right = kWidth - 110.0;  // the colour bar and its labels
@@ -647,7 +657,7 @@ std::string render_heat_map_svg(const HeatMap& map) {
   const bool write_values = cell_width >= 30.0 && cell_height >= 14.0;
   const double font = std::min(11.0, cell_height * 0.6);
   const double span = values.empty() ? 0.0 : values.hi - values.lo;
-  auto position = [&](double value) { return span > 0.0 ? (value - values.lo) / span : 0.5; };
+  auto position = [&](double value) { return span > 0.0 ? std::clamp((value - values.lo) / span, 0.0, 1.0) : 0.5; };
 
   // Row 0 at the bottom, as on a y axis.
   for (std::size_t r = 0; r < rows; ++r) {
@@ -665,6 +675,19 @@ std::string render_heat_map_svg(const HeatMap& map) {
                xml_escape(format_cell(format, value)) + "</text>\n";
       }
     }
+  }
+  // Marked cells: a black outline with a white one inside, visible on every viridis colour.
+  for (std::size_t index : map.marked_cells) {
+    if (index >= rows * columns) continue;
+    const double x = frame.left + cell_width * static_cast<double>(index % columns);
+    const double y = frame.bottom - cell_height * static_cast<double>(index / columns + 1);
+    out += "<rect" + attr("x", x + 2) + attr("y", y + 2) + attr("width", std::max(cell_width - 4, 1.0)) +
+           attr("height", std::max(cell_height - 4, 1.0)) + " fill=\"none\" stroke=\"#000000\" stroke-width=\"3\"/>\n";
+    out += "<rect" + attr("x", x + 4.5) + attr("y", y + 4.5) + attr("width", std::max(cell_width - 9, 1.0)) +
+           attr("height", std::max(cell_height - 9, 1.0)) + " fill=\"none\" stroke=\"#ffffff\" stroke-width=\"1.5\"/>\n";
+  }
+  if (!map.marked_label.empty() && !map.marked_cells.empty()) {
+    out += text_at(kWidth - 8, kHeight - 14, map.marked_label, "end", " font-size=\"11\"");
   }
   // Row and column labels (every k-th where they would crowd).
   const std::size_t column_stride = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(50.0 / cell_width)));

@@ -12,6 +12,7 @@
 //   ever written as "nan" or "inf".
 // - Colours: Okabe-Ito for series (by index, with marker shapes circle, square, triangle, diamond),
 //   viridis for heat maps. The output is deterministic: the same input gives the same bytes.
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,6 +76,14 @@ struct HeatMap {
   // of f, e, g or a (with flags, width and precision of at most two digits each), "%%" and literal
   // text; anything else falls back to "%.2f".
   std::string cell_format = "%.2f";
+  // A fixed colour scale (e.g. a rating's 1..3) instead of the data's extent, on either end or both;
+  // values beyond it take the end colour. A bound that is not finite, or bounds in the wrong order,
+  // are ignored.
+  std::optional<double> colour_min, colour_max;
+  // Cells outlined in black and white (row-major indices, e.g. the highest mean); indices outside
+  // the grid are ignored. `marked_label` (e.g. "outlined: best") is written in the bottom right corner.
+  std::vector<std::size_t> marked_cells;
+  std::string marked_label;
 };
 
 std::string render_xy_chart_svg(const XyChart& chart);

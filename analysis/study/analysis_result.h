@@ -97,6 +97,52 @@ struct GroupFit {
   std::vector<std::string> not_fitted;  // "weibull: levels <= 0", ...
 };
 
+// Seed 002's pilot (4.3.1, 4.4.1): a rating study whose variants set two numeric parameters of the
+// test method on a full grid (rating_grid.h). One cell is one (x, y) pair.
+struct GridCell {
+  double x = 0.0;
+  double y = 0.0;
+  // The mean over participants of each participant's mean score (1-3) in the cell; none: no trial.
+  std::optional<double> mean_score;
+  uint64_t trials = 0;                // answered trials counted
+  int participants = 0;               // participants with at least one of them
+};
+
+// The grid of one block (or of every block pooled: scene "all"), over every level or at one level.
+struct GridMap {
+  std::string scene;
+  std::optional<double> level;        // none: every level pooled
+  std::vector<GridCell> cells;        // row-major: row r is y_values[r], column c is x_values[c]
+  std::vector<size_t> best;           // the cells with the highest mean; more than one: a tie
+};
+
+struct RatingGrid {
+  std::string x_key;                  // the two parameter keys the variants set, in alphabetical order
+  std::string y_key;
+  std::vector<double> x_values;       // ascending
+  std::vector<double> y_values;       // ascending
+  // Per block (by name, as the conditions), then "all" when there are several; each block's map over
+  // every level first, then one per level (ascending).
+  std::vector<GridMap> maps;
+};
+
+// Seed 002, Table 2: one condition of a 2afc "better" study as the votes for the reference
+// stimulus, tested one-sided (alternative greater: the reference preferred) against 1/2 whatever
+// --alternative says (preference_table.h).
+struct PreferenceRow {
+  std::string study;
+  GroupKey group;
+  std::string condition;
+  std::string reference_method;       // config names, e.g. "rmfr"
+  std::string test_method;            // e.g. "hyperbolic"; several: joined by "+"
+  uint64_t n = 0;                     // answered trials
+  uint64_t reference_votes = 0;       // the reference chosen as better
+  double share = 0.0;                 // reference_votes / n
+  double p_value = 1.0;               // exact binomial, H0 p = 1/2, alternative greater
+  std::string stars;                  // "***", "**", "*" or "n.s."
+  ProportionInterval interval;        // 95 % Clopper-Pearson interval of the share
+};
+
 struct LeftOut {
   std::string what;                   // a log path, or "participant P003", or a condition
   std::string reason;
@@ -120,6 +166,8 @@ struct AnalysisResult {
   std::vector<ParticipantRow> participants;
   std::vector<GroupThreshold> thresholds;
   std::vector<GroupFit> fits;
+  std::optional<RatingGrid> rating_grid;     // rating studies whose variants form a 2-parameter grid
+  std::vector<PreferenceRow> preferences;    // 2afc "better" studies: one row a condition row
   std::vector<LeftOut> left_out;
 };
 

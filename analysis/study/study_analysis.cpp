@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "analysis/statistics/multiple_comparisons.h"
+#include "analysis/study/preference_table.h"
+#include "analysis/study/rating_grid.h"
 #include "core/number_text.h"
 #include "core/prng.h"
 
@@ -461,6 +463,9 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
                                                       "no level axis for a threshold or a fit"});
   choose_guess_rate(data, options, included, result);
   if (data.rules().judges_against_reference) ComparisonAnalysis(data, options, result).run(included, pool_scenes);
+  // Seed 002: the pilot's grid of two test parameters (rating), and Table 2's layout (2afc "better").
+  result.rating_grid = rating_grid(data);
+  result.preferences = preference_table(preference_counts(result, std::string(describe(data.reference_method).name)));
   if (data.protocol == ProtocolKind::pair || data.protocol == ProtocolKind::ramp || data.protocol == ProtocolKind::slider)
     add_participant_thresholds(data, pool_scenes, result);
   if (included.empty())

@@ -36,6 +36,9 @@ void describe_study(const LogStudy& study, const std::string& path, StudyData& d
   data.level_parameter = config.levels.parameter;
   data.levels = config.levels.values;
   data.higher_is_better = config.levels.higher_is_better;
+  data.reference_method = config.stimulus.reference.method;
+  data.test_method = config.stimulus.test.method;
+  data.variants = config.stimulus.variants;
 }
 
 ParticipantData participant_of(ScannedSession& session) {

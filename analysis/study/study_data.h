@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "analysis/study/analysis_result.h"
+#include "study/config/study_config.h"
 #include "study/log/log_integrity.h"
 
 namespace fovlab::analysis {
@@ -58,6 +59,11 @@ struct StudyData {
   std::string level_parameter;
   std::vector<double> levels;              // ascending
   bool higher_is_better = true;
+  // The stimuli of the config the logs carry: the reference's and the test's method, and the
+  // variants' overrides of the test's parameters (the pilot grid of seed 002: rating_grid.h).
+  RenderMethod reference_method = RenderMethod::ground_truth;
+  RenderMethod test_method = RenderMethod::ground_truth;
+  std::vector<VariantConfig> variants;     // in config order; empty: one unnamed variant
   std::vector<std::string> inputs;         // every log path given (sorted)
   std::vector<ParticipantData> participants;  // in log-path order
   std::vector<LeftOut> left_out;

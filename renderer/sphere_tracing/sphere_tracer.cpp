@@ -1,6 +1,7 @@
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -174,6 +175,51 @@ struct SphereTracer::FrameBuffers {
     mid_flags = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     mid_colour = vk::Buffer(context, mid_pixels * 4 * sizeof(float), vk::MemoryUse::device_local);
     blurred = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
+  }
+
+  // Records how the shown colour leaves the frame, after the passes: sRGB8-encoded on the device
+  // (TraceOutputs::display) or copied for the host, and the counters copied; `more_copies(copy)`
+  // adds the method's own copies before the host may read them.
+  template <class MoreCopies>
+  void record_outputs(VkCommandBuffer cmd, vk::PassTimer& timer, Srgb8Encoder& encoder, const vk::Buffer& shown,
+                      bool on_device, MoreCopies&& more_copies) {
+    if (on_device) {
+      timer.begin(cmd, "srgb8_encode");
+      encoder.record(cmd, shown.handle(), display_srgb8.handle(), width, height);
+      timer.end(cmd);
+    }
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    const auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
+      VkBufferCopy region{0, 0, from.size_bytes()};
+      vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+    };
+    if (!on_device) copy(shown, colour_readback);
+    copy(counters, counters_readback);
+    more_copies(copy);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                       VK_ACCESS_HOST_READ_BIT);
+  }
+
+  // After the submit: the frame (on the device, or its linear colour read back) into `result`, and
+  // the counters' values.
+  std::array<uint32_t, counter_count> read_outputs(vk::Context& context, bool on_device, SphereTraceResult& result) const {
+    if (on_device) {
+      result.display = DeviceRgba8Frame{&context, display_srgb8.handle(), width, height};
+    } else {
+      colour_readback.invalidate();
+      const auto* rgba = static_cast<const float*>(colour_readback.mapped());
+      result.colour_linear = Image(width, height, 3);
+      const uint64_t pixels = uint64_t(width) * uint64_t(height);
+      for (uint64_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
+    }
+    counters_readback.invalidate();
+    std::array<uint32_t, counter_count> values;
+    std::memcpy(values.data(), counters_readback.mapped(), sizeof(uint32_t) * counter_count);
+    result.capped_rays = values[capped];
+    result.restarted_rays = values[restarted];
+    return values;
   }
 
   bool fits(int width_px, int height_px, int levels_count, bool with_filter, bool with_foveation) const {
@@ -535,25 +581,11 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   }
 
   const bool on_device = settings.outputs == TraceOutputs::display;
-  if (on_device) {
-    timer.begin(cmd, "srgb8_encode");
-    encoder_->record(cmd, shown->handle(), frame.display_srgb8.handle(), settings.width, settings.height);
-    timer.end(cmd);
-  }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-  auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
-    VkBufferCopy region{0, 0, from.size_bytes()};
-    vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
-  };
-  if (!on_device) copy(*shown, frame.colour_readback);
-  copy(frame.counters, frame.counters_readback);
-  if (settings.outputs == TraceOutputs::all) {
+  frame.record_outputs(cmd, timer, *encoder_, *shown, on_device, [&](const auto& copy) {
+    if (settings.outputs != TraceOutputs::all) return;
     if (foveated) copy(frame.mask, frame.mask_readback);
     for (const LevelBuffers& level : levels) copy(level.steps, level.steps_readback);
-  }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                     VK_ACCESS_HOST_READ_BIT);
+  });
   commands.submit_and_wait();
   frame.history_valid = foveated;  // (a GT or IPR frame has its own layout: changing method resets history)
   frame.history_index = fov.frame_index;
@@ -563,22 +595,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
 
-  if (on_device) {
-    result.display = DeviceRgba8Frame{&context_, frame.display_srgb8.handle(), settings.width, settings.height};
-  } else {
-    frame.colour_readback.invalidate();
-    const auto* rgba = static_cast<const float*>(frame.colour_readback.mapped());
-    result.colour_linear = Image(settings.width, settings.height, 3);
-    for (uint64_t p = 0; p < frame_pixels; ++p) {
-      for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
-    }
-  }
-
-  frame.counters_readback.invalidate();
-  uint32_t counter_values[counter_count];
-  std::memcpy(counter_values, frame.counters_readback.mapped(), sizeof(counter_values));
-  result.capped_rays = counter_values[capped];
-  result.restarted_rays = counter_values[restarted];
+  const std::array<uint32_t, counter_count> counter_values = frame.read_outputs(context_, on_device, result);
   if (foveated) {
     result.foveation.masked_pixels = counter_values[masked];
     result.foveation.refreshed_pixels = counter_values[refreshed];
@@ -675,42 +692,13 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   sampling.record_reconstruct(cmd, timer, frame.colour.handle());
 
   const bool on_device = settings.outputs == TraceOutputs::display;
-  if (on_device) {
-    timer.begin(cmd, "srgb8_encode");
-    encoder_->record(cmd, frame.colour.handle(), frame.display_srgb8.handle(), settings.width, settings.height);
-    timer.end(cmd);
-  }
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-  const auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
-    VkBufferCopy region{0, 0, from.size_bytes()};
-    vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
-  };
-  if (!on_device) copy(frame.colour, frame.colour_readback);
-  copy(frame.counters, frame.counters_readback);
-  sampling.record_readback(cmd);
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                     VK_ACCESS_HOST_READ_BIT);
+  frame.record_outputs(cmd, timer, *encoder_, frame.colour, on_device, [&](const auto&) { sampling.record_readback(cmd); });
   commands.submit_and_wait();
 
   SphereTraceResult result;
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
-  const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
-  if (on_device) {
-    result.display = DeviceRgba8Frame{&context_, frame.display_srgb8.handle(), settings.width, settings.height};
-  } else {
-    frame.colour_readback.invalidate();
-    const auto* rgba = static_cast<const float*>(frame.colour_readback.mapped());
-    result.colour_linear = Image(settings.width, settings.height, 3);
-    for (uint64_t p = 0; p < frame_pixels; ++p)
-      for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
-  }
-  frame.counters_readback.invalidate();
-  uint32_t counter_values[counter_count];
-  std::memcpy(counter_values, frame.counters_readback.mapped(), sizeof(counter_values));
-  result.capped_rays = counter_values[capped];
-  result.restarted_rays = counter_values[restarted];
+  const std::array<uint32_t, counter_count> counter_values = frame.read_outputs(context_, on_device, result);
   result.shaded_samples = counter_values[masked];
 
   PyramidLevelStats stats;

@@ -32,7 +32,7 @@ TEST(BenchCli, FiprSweepWritesEveryCellWithSpeedUpsAndParetoCharts) {
   const CommandResult result = run(kTiny + "--methods gt,ipr,fipr --refresh 1,2 --fovea-deg 5,7.5 --json " +
                                    json_path.string() + " --out-dir " + out_dir.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("| primitives | 1 | fipr | 2 | 7.5 |"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("| primitives | 0 | 1 | fipr | 2 | 7.5 |"), std::string::npos) << result.out;  // scene time 0
   EXPECT_NE(result.out.find("FIPR at a fovea of 7.5 degrees"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("| primitives | 1 | 2 |"), std::string::npos) << result.out;  // the 7.5-degree table
 
@@ -113,6 +113,33 @@ TEST(BenchCli, FiprSweepWritesEveryCellWithSpeedUpsAndParetoCharts) {
   EXPECT_TRUE(fs::exists(out_dir / "bench.json"));
 }
 
+// Seed 002's sampling models over several scene times (Figure 12's rotating patterns): a cell per
+// time and model with its sampling figures, the models ranked by mean FPSNR.
+TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
+  const fs::path json_path = scratch() / "models.json";
+  const CommandResult result = run("bench --scenes rotating-rod --spp 1 --width 64 --height 36 --repeats 1 --times 0,9 "
+                                   "--methods gt,rmfr,kfr --json " + json_path.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("Sampling models ranked by mean FPSNR over the scene times"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("| rotating-rod | 1 | 1 |"), std::string::npos) << result.out;  // rank 1
+  const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
+  EXPECT_EQ(json["times_s"], nlohmann::json::array({0.0, 9.0}));
+  ASSERT_EQ(json["cells"].size(), 6u);  // 2 times x (gt, rmfr, kfr)
+  std::set<std::pair<double, std::string>> seen;
+  for (const nlohmann::json& cell : json["cells"]) {
+    seen.emplace(cell["time_s"].get<double>(), cell["method"].get<std::string>());
+    if (cell["method"] == "gt") continue;
+    const nlohmann::json& sampling = cell["sampling"];
+    EXPECT_NEAR(sampling["theoretical_speedup"].get<double>(), 64.0 * 36 / (25.0 * 14), 1e-9);  // round(64/2.6) x round(36/2.6)
+    EXPECT_GT(sampling["shaded_samples"].get<double>(), 0.0);
+    EXPECT_NE(cell["command"].get<std::string>().find("--methods gt," + cell["method"].get<std::string>()), std::string::npos);
+    EXPECT_NE(cell["command"].get<std::string>().find("--time " + std::to_string(int(cell["time_s"].get<double>()))),
+              std::string::npos);
+  }
+  EXPECT_EQ(seen.size(), 6u);
+  EXPECT_NE(json["command"].get<std::string>().find("--times 0,9"), std::string::npos);
+}
+
 TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
   const fs::path json_path = scratch() / "never.json";
   const fs::path out_dir = scratch() / "never";
@@ -131,6 +158,11 @@ TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
       {fipr + "--gaze none", "--gaze"},
       {fipr + "--combine sum", "--combine"},
       {"bench --scenes primitives --spp 1 --width 8 --height 48 --repeats 1", "--width 8"},
+      {kTiny + "--methods gt,ipr --sigma 2", "--sigma"},  // a sampling flag without a sampling model
+      {kTiny + "--methods gt,rmfr --fx 0", "--fx"},
+      {kTiny + "--methods gt,linear --equalise --sigma 8", "equalise"},  // 1/64 below the fovea's own density
+      {kTiny + "--methods gt --time 1 --times 0,1", "--times"},
+      {kTiny + "--methods gt --times 0,0", "--times"},
   };
   for (const auto& [arguments, flag] : cases) {
     SCOPED_TRACE(arguments);

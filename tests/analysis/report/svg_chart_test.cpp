@@ -502,5 +502,33 @@ TEST(HeatMapSvg, BadFormatsAndShapesAreSafe) {
   EXPECT_EQ(render_heat_map_svg(equal), svg);
 }
 
+TEST(HeatMapSvg, AFixedColourScaleAndMarkedCells) {
+  HeatMap map;
+  map.x_values = {0.05, 0.3};
+  map.y_values = {0.3, 0.8};
+  map.cells = {2.0, 2.5, 1.5, 2.0};
+  const std::string plain = render_heat_map_svg(map);
+  map.colour_min = 1.0;
+  map.colour_max = 3.0;
+  map.marked_cells = {1, 99};  // 99 is outside the grid: ignored
+  map.marked_label = "outlined: best";
+  const std::string svg = render_heat_map_svg(map);
+  EXPECT_TRUE(well_formed_svg(svg));
+  // On the scale 1..3 the largest value (2.5) is not the yellow end nor the smallest (1.5) the dark end.
+  EXPECT_NE(plain.find("fill=\"#fde725\""), std::string::npos);
+  EXPECT_EQ(count(svg, "fill=\"#fde725\" stroke"), 0u);
+  EXPECT_EQ(count(svg, "fill=\"#440154\" stroke"), 0u);
+  // The two cells at 2.0 (the middle of 1..3) share viridis' middle colour.
+  EXPECT_EQ(count(svg, "fill=\"#21908d\" stroke"), 2u);
+  for (const char* tick : {">1</text>", ">3</text>"}) EXPECT_NE(svg.find(tick), std::string::npos) << tick;
+  EXPECT_EQ(count(svg, "fill=\"none\" stroke=\"#000000\" stroke-width=\"3\""), 1u);
+  EXPECT_NE(svg.find(">outlined: best</text>"), std::string::npos);
+  EXPECT_EQ(plain.find("stroke-width=\"3\""), std::string::npos);
+  // Bounds in the wrong order are ignored: the data's extent again.
+  map.colour_min = 3.0;
+  map.colour_max = 1.0;
+  EXPECT_NE(render_heat_map_svg(map).find("fill=\"#fde725\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fovlab::analysis
