@@ -277,9 +277,16 @@ void run_bench(const BenchOptions& options) {
         cell["sampling"] = stats_json(scene.name, model_settings, runs.frame, 0.0, context)["sampling"];
         cell["top_level_share"] = cell["sampling"]["shaded_share"];
         cell["refreshed_share"] = 0.0;
-        cell["command"] = cell_command(options, plan, scene.name, time_s, spp, name);
+        std::string image_stem = stem + "_" + name;
+        if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {
+          cell["focal_share_x"] = rmfr->x.focal_share;
+          cell["focal_share_y"] = rmfr->y.focal_share;
+          if (plan.focal_shares_x.size() * plan.focal_shares_y.size() > 1)
+            image_stem += "_fx" + format_number(rmfr->x.focal_share, 6) + "_fy" + format_number(rmfr->y.focal_share, 6);
+        }
+        cell["command"] = cell_command(options, plan, scene.name, time_s, spp, name, nullptr, &map);
         add_cell(cell);
-        if (!options.out_dir.empty()) write_frame_images(options.out_dir, stem + "_" + name, runs.frame, model_settings);
+        if (!options.out_dir.empty()) write_frame_images(options.out_dir, image_stem, runs.frame, model_settings);
       }
     }
   }
@@ -293,12 +300,14 @@ void run_bench(const BenchOptions& options) {
   const std::string fovea_7_5 = plan.fipr ? fovea_table(cells, kPaperFoveaDeg) : "";
   const std::string fronts = pareto_table(cells);
   const std::string models = plan.sampling_maps.empty() ? "" : sampling_table(cells);
+  const FocalSweep focal_sweep = rmfr_focal_sweep(cells, plan.focal_shares_x, plan.focal_shares_y);
   const std::string ranking = plan.sampling_maps.empty() ? "" : sampling_ranking_table(cells);
   if (plan.has_cells()) {
     if (plan.ipr) print("\nGT against IPR:\n" + gt_ipr_table);
     if (plan.fipr) print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
     if (!models.empty()) print("\nSampling models (seed 002) against GT:\n" + models);
     if (several_times && !ranking.empty()) print("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
+    if (!focal_sweep.table.empty()) print("\nRMFR's best f_x, f_y (Figure 6's sweep):\n" + focal_sweep.table);
     print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
   }
   print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
@@ -363,6 +372,8 @@ void run_bench(const BenchOptions& options) {
   if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
   if (several_times && !ranking.empty())
     markdown += "## Sampling models ranked by mean FPSNR over the scene times\n\n" + ranking + "\n";
+  if (!focal_sweep.table.empty()) markdown += "## RMFR's best f_x, f_y (Figure 6's sweep)\n\n" + focal_sweep.table + "\n";
+  for (const auto& [file_name, svg] : focal_sweep.heat_maps) write_text_atomically(options.out_dir / file_name, svg);
   markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
   write_text_atomically(options.out_dir / "table.md", markdown);
 }
@@ -397,7 +408,13 @@ void add_bench_command(CLI::App& app) {
   command->add_option("--fovea-deg", options->fovea_deg,
                       "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
       ->delimiter(',');
-  add_sampling_flags(*command, options->sampling);
+  add_sampling_flags(*command, options->sampling, false);
+  command->add_option("--fx", options->focal_shares_x,
+                      "Sampling: rmfr's f_x as shares of the width, comma-separated (with --fy: every pair, Figure 6's "
+                      "sweep; default 0.3)")
+      ->delimiter(',');
+  command->add_option("--fy", options->focal_shares_y, "Sampling: rmfr's f_y as shares of the height, comma-separated")
+      ->delimiter(',');
   command->callback([options, command] {
     options->fipr_flags_given = given_fipr_only_flags(*command);
     options->sampling_flags_given = given_sampling_only_flags(*command);

@@ -66,7 +66,10 @@ Methods parse_methods(const std::vector<std::string>& names) {
 std::string methods_text(const BenchPlan& plan, bool with_ipr, bool with_fipr) {
   std::string text = with_ipr ? "gt,ipr" : "gt";
   if (with_fipr) text += ",fipr";
-  for (const SamplingMap& map : plan.sampling_maps) text += std::string(",") + sampling_model_name(model_of(map));
+  std::vector<SamplingModel> models;  // RMFR's several maps (a focal sweep) are one method
+  for (const SamplingMap& map : plan.sampling_maps)
+    if (std::find(models.begin(), models.end(), model_of(map)) == models.end()) models.push_back(model_of(map));
+  for (SamplingModel model : models) text += std::string(",") + sampling_model_name(model);
   return text;
 }
 
@@ -97,6 +100,20 @@ std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
   return degrees;
 }
 
+
+std::vector<double> parse_focal_shares(const std::vector<std::string>& texts, const char* flag) {
+  const std::string text = join(texts);
+  const std::string expected = "shares of the screen from 0.001 to 1, comma-separated, none twice";
+  std::vector<double> shares;
+  for (const std::string& value : texts) {
+    const std::optional<double> share = parse_finite_number(value);
+    if (!share || *share < kRmfrMinFocalShare || *share > kRmfrMaxFocalShare) fail_flag(flag, expected, text);
+    shares.push_back(*share);
+  }
+  if (shares.empty()) fail_flag(flag, expected, text);
+  refuse_repeats(shares, flag, text);
+  return shares;
+}
 
 std::vector<float> parse_times(const std::vector<std::string>& texts) {
   const std::string text = join(texts);
@@ -173,7 +190,23 @@ BenchPlan plan_bench(const BenchOptions& options) {
   plan.gaze_y_px = base.gaze_y_px;
   plan.flip_pixels_per_degree = plan.display.pixels_per_degree_at_centre();
   plan.sampling = options.sampling;
-  for (SamplingModel model : methods.sampling_models) plan.sampling_maps.push_back(parse_sampling(model, options.sampling, base));
+  plan.focal_shares_x = parse_focal_shares(options.focal_shares_x, "--fx");
+  plan.focal_shares_y = parse_focal_shares(options.focal_shares_y, "--fy");
+  plan.sampling.focal_share_x = plan.focal_shares_x.front();
+  plan.sampling.focal_share_y = plan.focal_shares_y.front();
+  for (SamplingModel model : methods.sampling_models) {
+    if (model != SamplingModel::rectangular) {
+      plan.sampling_maps.push_back(parse_sampling(model, plan.sampling, base));
+      continue;
+    }
+    SamplingSettings pair = plan.sampling;
+    for (double focal_share_y : plan.focal_shares_y)
+      for (double focal_share_x : plan.focal_shares_x) {
+        pair.focal_share_x = focal_share_x;
+        pair.focal_share_y = focal_share_y;
+        plan.sampling_maps.push_back(parse_sampling(model, pair, base));
+      }
+  }
   if (!plan.fipr) return plan;
 
   plan.refreshes = parse_refreshes(options.refresh);
@@ -203,18 +236,25 @@ std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
   const std::string time_text = options.times.empty() ? time_flag(options.settings.time_s) : "--times " + times.str();
   std::string text = command_text(options, join(options.scenes), join(options.spps),
                                   methods_text(plan, plan.ipr, plan.fipr), time_text);
-  if (!plan.sampling_maps.empty()) text += " " + all_sampling_flags_text(plan.sampling);
+  if (!plan.sampling_maps.empty())
+    text += " " + all_sampling_flags_text(plan.sampling, "--fx " + join_numbers(plan.focal_shares_x) + " --fy " +
+                                                             join_numbers(plan.focal_shares_y));
   if (!plan.fipr) return text + " " + display_flags_text(options.foveation.display);
   return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
          foveation_flags_text(options.foveation);
 }
 
 std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, float time_s,
-                         int spp, const std::string& method, const FiprVariant* variant) {
+                         int spp, const std::string& method, const FiprVariant* variant, const SamplingMap* map) {
   const std::string time_text = time_flag(time_s);
   if (const std::optional<SamplingModel> model = parse_sampling_model(method)) {
+    SamplingSettings settings = plan.sampling;
+    if (const auto* rmfr = map ? std::get_if<RectangularMapping>(map) : nullptr) {
+      settings.focal_share_x = rmfr->x.focal_share;
+      settings.focal_share_y = rmfr->y.focal_share;
+    }
     return command_text(options, scene, std::to_string(spp), "gt," + method, time_text) + " " +
-           sampling_flags_text(*model, plan.sampling) + " " + display_flags_text(options.foveation.display);
+           sampling_flags_text(*model, settings) + " " + display_flags_text(options.foveation.display);
   }
   if (method != "fipr" || !variant) {
     return command_text(options, scene, std::to_string(spp), plan.ipr ? "gt,ipr" : "gt", time_text) +

@@ -39,6 +39,9 @@ struct BenchOptions {
   // FIPR-only flags the user gave (e.g. "--refresh"): refused unless fipr is among the methods.
   std::vector<std::string> fipr_flags_given;
   SamplingSettings sampling;  // seed 002's sampling models (rmfr, hyperbolic, linear, kfr in --methods)
+  // RMFR's f_x and f_y as shares of the screen, comma-separated: every pair is a cell (Figure 6's sweep).
+  std::vector<std::string> focal_shares_x{"0.3"};
+  std::vector<std::string> focal_shares_y{"0.3"};
   std::vector<std::string> sampling_flags_given;
 };
 
@@ -50,7 +53,9 @@ BenchPlan plan_bench(const BenchOptions& options);
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan);
 // The command that reproduces one cell: GT against IPR for one scene, scene time and spp (method
 // "gt" or "ipr"), one FIPR variant with its GT, or one sampling model ("rmfr", ...) with its GT.
+// `map`: the sampling model's map of the cell (its RMFR focal shares).
 std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, float time_s,
-                         int spp, const std::string& method, const FiprVariant* variant = nullptr);
+                         int spp, const std::string& method, const FiprVariant* variant = nullptr,
+                         const SamplingMap* map = nullptr);
 
 }  // namespace fovlab::app

@@ -20,11 +20,13 @@ constexpr FieldFlag kFieldFlags[] = {
     {"blend_band_deg", "--blend-band-deg"}, {"min_probability", "--min-probability"}};
 }  // namespace
 
-void add_sampling_flags(CLI::App& command, SamplingSettings& settings) {
+void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool focal_shares) {
   command.add_option("--sigma", settings.sigma,
                      "Sampling: screen over buffer size per axis (rmfr, kfr); --equalise's target density 1/sigma^2");
-  command.add_option("--fx", settings.focal_share_x, "Sampling: rmfr's f_x as a share of the width (0.001 to 1)");
-  command.add_option("--fy", settings.focal_share_y, "Sampling: rmfr's f_y as a share of the height (0.001 to 1)");
+  if (focal_shares) {
+    command.add_option("--fx", settings.focal_share_x, "Sampling: rmfr's f_x as a share of the width (0.001 to 1)");
+    command.add_option("--fy", settings.focal_share_y, "Sampling: rmfr's f_y as a share of the height (0.001 to 1)");
+  }
   command.add_option("--alpha", settings.alpha, "Sampling: kfr's kernel exponent");
   command.add_option("--inner-radius-deg", settings.inner_radius_deg,
                      "Sampling: hyperbolic and linear r1, an eccentricity (radius) in degrees");
@@ -79,9 +81,10 @@ std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) 
   return text;
 }
 
-std::string all_sampling_flags_text(const SamplingSettings& s) {
+std::string all_sampling_flags_text(const SamplingSettings& s, const std::string& focal_shares) {
   const auto number = [](double value) { return format_number(value, 6); };
-  return "--sigma " + number(s.sigma) + " --fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y) +
+  return "--sigma " + number(s.sigma) + " " +
+         (focal_shares.empty() ? "--fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y) : focal_shares) +
          " --alpha " + number(s.alpha) + " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " +
          number(s.outer_radius_deg) + " --middle-pixel-size " + number(s.middle_pixel_size_px) + " --outer-pixel-size " +
          number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg) + " --min-probability " +

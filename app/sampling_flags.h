@@ -13,7 +13,8 @@
 
 namespace fovlab::app {
 
-void add_sampling_flags(CLI::App& command, SamplingSettings& settings);
+// `focal_shares`: false leaves --fx and --fy to the command (bench takes lists of them).
+void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool focal_shares = true);
 std::vector<std::string> given_sampling_only_flags(const CLI::App& command);
 
 // The map of `model` for the frame the foveation settings describe (their display and gaze; no
@@ -22,8 +23,9 @@ SamplingMap parse_sampling(SamplingModel model, const SamplingSettings& settings
 
 // The flags that reproduce a model's settings, for reports ("--sigma 2.6 --fx 0.3 --fy 0.3").
 std::string sampling_flags_text(SamplingModel model, const SamplingSettings& settings);
-// Every model's flags, for a sweep over several.
-std::string all_sampling_flags_text(const SamplingSettings& settings);
+// Every model's flags, for a sweep over several; `focal_shares`: --fx and --fy as the sweep had
+// them ("--fx 0.05,0.3 --fy 0.3"; empty: the settings').
+std::string all_sampling_flags_text(const SamplingSettings& settings, const std::string& focal_shares = "");
 
 // One line on what the map really samples: "rmfr: 14.8 % of pixels shaded (theoretical speed-up
 // 6.76, effective 6.76), mean density 0.148".

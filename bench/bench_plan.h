@@ -28,8 +28,10 @@ struct BenchPlan {
   std::vector<double> fovea_degs;   // as given, in order
   std::vector<FiprVariant> variants;  // refresh-major: for each refresh, every fovea
   std::vector<float> times_s;         // scene times of each scene's cells (--times; else --time alone)
-  // Seed 002's sampling models in the order given, each with its map of the sweep's frame and gaze.
+  // Seed 002's sampling models in the order given, each with its map of the sweep's frame and gaze
+  // (RMFR: one map per (f_x, f_y) pair, f_y-major).
   std::vector<SamplingMap> sampling_maps;
+  std::vector<double> focal_shares_x, focal_shares_y;  // RMFR's, as given
   SamplingSettings sampling;  // the flags they were made with
 
   // Whether the sweep has cells beyond GT against IPR (FIPR variants or sampling models).

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <tuple>
 #include <vector>
 
+#include "analysis/report/svg_chart.h"
 #include "core/number_text.h"
 
 namespace fovlab::bench {
@@ -159,6 +162,68 @@ std::string sampling_ranking_table(const nlohmann::json& cells) {
     }
   }
   return out.str();
+}
+
+FocalSweep rmfr_focal_sweep(const nlohmann::json& cells, const std::vector<double>& focal_shares_x,
+                            const std::vector<double>& focal_shares_y) {
+  FocalSweep sweep;
+  if (focal_shares_x.size() * focal_shares_y.size() < 2) return sweep;
+  // (scene, time, spp) -> the grid's cells, row-major over (f_y, f_x) as the heat map takes them.
+  std::map<std::tuple<std::string, double, int>, std::vector<const nlohmann::json*>> groups;
+  for (const nlohmann::json& cell : cells) {
+    if (cell["method"] != "rmfr" || !cell.contains("focal_share_x")) continue;
+    auto& grid = groups[{cell["scene"].get<std::string>(), cell["time_s"].get<double>(), cell["spp"].get<int>()}];
+    grid.resize(focal_shares_x.size() * focal_shares_y.size(), nullptr);
+    const auto column = std::find(focal_shares_x.begin(), focal_shares_x.end(), cell["focal_share_x"].get<double>());
+    const auto row = std::find(focal_shares_y.begin(), focal_shares_y.end(), cell["focal_share_y"].get<double>());
+    if (column == focal_shares_x.end() || row == focal_shares_y.end()) continue;
+    grid[size_t(row - focal_shares_y.begin()) * focal_shares_x.size() + size_t(column - focal_shares_x.begin())] = &cell;
+  }
+  std::ostringstream table;
+  table << "| scene | time s | spp | metric | best f_x | best f_y | value | worst |\n|---|---:|---:|---|---:|---:|---:|---:|\n";
+  const struct {
+    const char* key;
+    const char* name;
+    const char* format;
+  } metrics[] = {{"fpsnr_db", "FPSNR dB", "%.2f"}, {"psnr_db", "PSNR dB", "%.2f"}, {"ssim", "SSIM", "%.4f"}};
+  for (const auto& [key, grid] : groups) {
+    const auto& [scene, time_s, spp] = key;
+    for (const auto& metric : metrics) {
+      analysis::HeatMap map;
+      map.x_label = "f_x (share of the width)";
+      map.y_label = "f_y (share of the height)";
+      map.x_values = focal_shares_x;
+      map.y_values = focal_shares_y;
+      map.cell_format = metric.format;
+      size_t best = 0;
+      double worst = std::numeric_limits<double>::infinity();
+      for (size_t i = 0; i < grid.size(); ++i) {
+        const nlohmann::json* cell = grid[i];
+        const double value = cell && (*cell)[metric.key].is_number() ? (*cell)[metric.key].get<double>()
+                                                                     : std::numeric_limits<double>::quiet_NaN();
+        map.cells.push_back(value);
+        if (std::isfinite(value) && (!std::isfinite(map.cells[best]) || value > map.cells[best])) best = i;
+        if (std::isfinite(value)) worst = std::min(worst, value);
+      }
+      if (!std::isfinite(map.cells[best])) continue;
+      map.marked_cells = {best};
+      map.marked_label = "outlined: best";
+      char time_text[32];
+      std::snprintf(time_text, sizeof(time_text), "%g", time_s);
+      map.title = "RMFR " + std::string(metric.name) + ", " + scene + " at " + time_text + " s, " + std::to_string(spp) +
+                  " spp";
+      const std::string metric_key = metric.key;
+      sweep.heat_maps.emplace_back(scene + "_t" + time_text + "_spp" + std::to_string(spp) + "_rmfr_" +
+                                       metric_key.substr(0, metric_key.find('_')) + ".svg",
+                                   analysis::render_heat_map_svg(map));
+      char line[256];
+      std::snprintf(line, sizeof(line), "| %s | %s | %d | %s | %g | %g | ", scene.c_str(), time_text, spp, metric.name,
+                    focal_shares_x[best % focal_shares_x.size()], focal_shares_y[best / focal_shares_x.size()]);
+      table << line << number(map.cells[best], metric.format) << " | " << number(worst, metric.format) << " |\n";
+    }
+  }
+  sweep.table = table.str();
+  return sweep;
 }
 
 std::string fovea_table(const nlohmann::json& cells, double fovea_deg) {

@@ -2,6 +2,8 @@
 // fovlab bench, step 4: its results as Markdown tables, made from the JSON it writes (so the tables
 // and the JSON cannot disagree).
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -30,6 +32,16 @@ std::string sampling_table(const nlohmann::json& cells);
 // 002's Figure 12 turns its patterns 0-180 degrees): mean FPSNR, PSNR and SSIM, median speed-up,
 // ranked by mean FPSNR.
 std::string sampling_ranking_table(const nlohmann::json& cells);
+
+// Seed 002's Figure 6: RMFR's cells over a grid of focal shares (bench --fx A,B,... --fy C,D,...),
+// per scene, scene time and spp: the best (f_x, f_y) by FPSNR, PSNR and SSIM (a Markdown table),
+// and a heat map (SVG) of each metric over the grid, the best cell outlined. Empty for one pair.
+struct FocalSweep {
+  std::string table;
+  std::vector<std::pair<std::string, std::string>> heat_maps;  // file name, SVG
+};
+FocalSweep rmfr_focal_sweep(const nlohmann::json& cells, const std::vector<double>& focal_shares_x,
+                            const std::vector<double>& focal_shares_y);
 
 // The cells on each scene's Pareto front, for FLIP and for 1 - SSIM.
 std::string pareto_table(const nlohmann::json& cells);

@@ -140,6 +140,28 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
   EXPECT_NE(json["command"].get<std::string>().find("--times 0,9"), std::string::npos);
 }
 
+// Figure 6: RMFR over a grid of focal shares, a cell a pair, heat maps and the best pair.
+TEST(BenchCli, RmfrFocalSweepWritesHeatMapsAndTheBestPair) {
+  const fs::path out_dir = scratch() / "focal";
+  fs::remove_all(out_dir);
+  const CommandResult result =
+      run(kTiny + "--methods gt,rmfr --fx 0.05,0.55 --fy 0.3 --out-dir " + out_dir.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("RMFR's best f_x, f_y"), std::string::npos) << result.out;
+  const nlohmann::json json = nlohmann::json::parse(read_all(out_dir / "bench.json"));
+  std::set<std::pair<double, double>> pairs;
+  for (const nlohmann::json& cell : json["cells"])
+    if (cell["method"] == "rmfr") {
+      pairs.emplace(cell["focal_share_x"].get<double>(), cell["focal_share_y"].get<double>());
+      EXPECT_NE(cell["command"].get<std::string>().find("--fx " + std::string(cell["focal_share_x"] == 0.05 ? "0.05" : "0.55")),
+                std::string::npos);
+    }
+  EXPECT_EQ(pairs, (std::set<std::pair<double, double>>{{0.05, 0.3}, {0.55, 0.3}}));
+  EXPECT_NE(json["command"].get<std::string>().find("--fx 0.05,0.55 --fy 0.3"), std::string::npos);
+  for (const char* metric : {"fpsnr", "psnr", "ssim"})
+    EXPECT_TRUE(fs::exists(out_dir / (std::string("primitives_t0_spp1_rmfr_") + metric + ".svg"))) << metric;
+}
+
 TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
   const fs::path json_path = scratch() / "never.json";
   const fs::path out_dir = scratch() / "never";
@@ -160,6 +182,7 @@ TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
       {"bench --scenes primitives --spp 1 --width 8 --height 48 --repeats 1", "--width 8"},
       {kTiny + "--methods gt,ipr --sigma 2", "--sigma"},  // a sampling flag without a sampling model
       {kTiny + "--methods gt,rmfr --fx 0", "--fx"},
+      {kTiny + "--methods gt,rmfr --fy 0.3,0.3", "--fy"},
       {kTiny + "--methods gt,linear --equalise --sigma 8", "equalise"},  // 1/64 below the fovea's own density
       {kTiny + "--methods gt --time 1 --times 0,1", "--times"},
       {kTiny + "--methods gt --times 0,0", "--times"},
