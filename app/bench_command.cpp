@@ -270,6 +270,7 @@ void run_bench(const BenchOptions& options) {
         SphereTraceSettings model_settings = gt_settings;
         model_settings.method = TraceMethod::sampling_model;
         model_settings.sampling = map;
+        model_settings.sampling_filter = plan.sampling.filter;
         MethodRuns runs;
         time_interleaved(tracer, {{model_settings, &runs}}, options.repeats);
         const FrameErrors errors = frame_errors(gt_image, display_image(runs.frame), plan);

@@ -55,7 +55,10 @@ void run_render(const RenderOptions& options) {
     throw InputError(options.sampling_flags_given.front() + ": only the sampling models use it; add --method rmfr, hyperbolic, linear or kfr");
   if (!model && !options.density_out.empty())
     throw InputError("--density-out: only the sampling models (--method rmfr, hyperbolic, linear or kfr) have a sampling density");
-  if (model) settings.sampling = parse_sampling(*model, options.sampling, settings.foveation);
+  if (model) {
+    settings.sampling = parse_sampling(*model, options.sampling, settings.foveation);
+    settings.sampling_filter = options.sampling.filter;
+  }
   validate_trace_flags(settings);
   if (options.frames < 1 || options.frames > 100000)
     throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");

@@ -38,6 +38,14 @@ void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool foca
                      "Sampling: hyperbolic fade at each layer's border, in degrees of eccentricity");
   command.add_option("--min-probability", settings.min_probability, "Sampling: linear p_min beyond r2");
   command.add_option("--sample-seed", settings.seed, "Sampling: seed of the linear model's per-pixel thresholds");
+  command
+      .add_option_function<std::string>(
+          "--resample",
+          [&settings](const std::string& name) {
+            settings.filter = name == "lanczos" ? ResampleFilter::lanczos2 : ResampleFilter::bilinear;
+          },
+          "Sampling: how pass 2 reads the samples (rmfr, kfr, hyperbolic): bilinear or lanczos")
+      ->check(CLI::IsMember({"bilinear", "lanczos"}));
   command.add_flag("--equalise", settings.equalise,
                    "Sampling: solve hyperbolic s3 / linear p_min so the mean density over the display is 1/sigma^2");
 }
@@ -78,6 +86,8 @@ std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) 
       break;
   }
   if (s.equalise && (model == SamplingModel::hyperbolic || model == SamplingModel::linear)) text += " --equalise";
+  if (s.filter != ResampleFilter::bilinear && model != SamplingModel::linear)
+    text += std::string(" --resample ") + resample_filter_name(s.filter);
   return text;
 }
 
@@ -88,7 +98,8 @@ std::string all_sampling_flags_text(const SamplingSettings& s, const std::string
          " --alpha " + number(s.alpha) + " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " +
          number(s.outer_radius_deg) + " --middle-pixel-size " + number(s.middle_pixel_size_px) + " --outer-pixel-size " +
          number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg) + " --min-probability " +
-         number(s.min_probability) + " --sample-seed " + std::to_string(s.seed) + (s.equalise ? " --equalise" : "");
+         number(s.min_probability) + " --sample-seed " + std::to_string(s.seed) + (s.equalise ? " --equalise" : "") +
+         " --resample " + resample_filter_name(s.filter);
 }
 
 std::string sampling_summary(const SamplingMap& map) {

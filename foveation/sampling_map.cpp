@@ -137,6 +137,10 @@ const char* sampling_model_name(SamplingModel model) {
   return "rmfr";
 }
 
+const char* resample_filter_name(ResampleFilter filter) {
+  return filter == ResampleFilter::lanczos2 ? "lanczos" : "bilinear";
+}
+
 std::optional<SamplingModel> parse_sampling_model(const std::string& name) {
   for (SamplingModel model : {SamplingModel::rectangular, SamplingModel::hyperbolic, SamplingModel::linear,
                               SamplingModel::kernel_log_polar})

@@ -104,6 +104,13 @@ struct LinearFalloff {
   bool sampled(int x, int y) const;
 };
 
+// How pass 2 reads the reduced buffers (RMFR, KFR, the hyperbolic layers) at a pixel's forward-mapped
+// position: bilinear (2x2 samples, the paper's), or Lanczos-2 (4x4 samples, sinc(x) sinc(x/2) per
+// axis, the weights of the shaded samples normalised), sharper but with ringing. The linear model
+// is filled by pull-push either way.
+enum class ResampleFilter : uint32_t { bilinear = 0, lanczos2 = 1 };
+const char* resample_filter_name(ResampleFilter filter);  // "bilinear", "lanczos"
+
 using SamplingMap = std::variant<RectangularMapping, HyperbolicLayers, LinearFalloff, KernelLogPolarMapping>;
 
 inline SamplingModel model_of(const SamplingMap& map) { return static_cast<SamplingModel>(map.index()); }
@@ -140,6 +147,8 @@ struct SamplingSettings {
   // Hyperbolic: s3, linear: p_min solved so that the mean density over this display and gaze is
   // 1 / sigma^2 (the other parameters as given). RMFR and KFR are at sigma^2 by construction.
   bool equalise = false;
+  // Not the map's: how pass 2 reads its samples (RMFR, KFR, hyperbolic).
+  ResampleFilter filter = ResampleFilter::bilinear;
 };
 
 // The map of one frame. `display` gives the pixel counts (always) and the physical size and

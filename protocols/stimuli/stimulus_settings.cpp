@@ -70,6 +70,12 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
         },
         spec.parameters);
     settings.sampling = sampling_map(spec, std::nan(""), std::nan(""));
+    std::visit(
+        [&](const auto& p) {
+          if constexpr (requires { p.resample; })
+            settings.sampling_filter = static_cast<ResampleFilter>(static_cast<uint32_t>(p.resample));
+        },
+        spec.parameters);
   } else {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + std::string(spec.method_name()));
   }

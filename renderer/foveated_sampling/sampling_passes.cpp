@@ -38,9 +38,11 @@ struct GpuSamplingParams {
   float min_probability;
   float viewing_distance_mm;
   uint32_t sample_capacity;
+  uint32_t resample_filter;  // ResampleFilter
+  uint32_t pad;
   GpuLayer layers[3];
 };
-static_assert(sizeof(GpuLayer) == 32 && sizeof(GpuSamplingParams) == 184, "must match sampling_map.glsl");
+static_assert(sizeof(GpuLayer) == 32 && sizeof(GpuSamplingParams) == 192, "must match sampling_map.glsl");
 
 // Must match PullPushParams in pull_push.comp.glsl.
 struct PullPushParams {
@@ -84,8 +86,9 @@ void SamplingPasses::allocate(uint32_t capacity, uint64_t colour_entries) {
   colour_entries_ = colour_entries;
 }
 
-void SamplingPasses::prepare(const SamplingMap& map) {
+void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
   GpuSamplingParams params{};
+  params.resample_filter = uint32_t(filter);
   model_ = model_of(map);
   params.model = uint32_t(model_);
   screen_width_ = uint32_t(screen_width_px(map));

@@ -37,8 +37,9 @@ class SamplingPasses {
   SamplingPasses(const SamplingPasses&) = delete;
   SamplingPasses& operator=(const SamplingPasses&) = delete;
 
-  // Sets the frame's map: its parameters for the shaders, and buffers large enough for its samples.
-  void prepare(const SamplingMap& map);
+  // Sets the frame's map and pass 2's filter: their parameters for the shaders, and buffers large
+  // enough for the map's samples.
+  void prepare(const SamplingMap& map, ResampleFilter filter = ResampleFilter::bilinear);
 
   // Records pass 1a: clears the sample colours (alpha 0: not shaded), lists the samples, counting them
   // in counters[counter_index], and writes the workgroup counts of a pass over the list (64 a group)

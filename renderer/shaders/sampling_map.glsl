@@ -8,6 +8,8 @@ const uint MODEL_HYPERBOLIC = 1u;
 const uint MODEL_LINEAR = 2u;
 const uint MODEL_KERNEL_LOG_POLAR = 3u;
 const float TWO_PI = 6.28318530718;
+const uint FILTER_BILINEAR = 0u;
+const uint FILTER_LANCZOS2 = 1u;
 
 struct SamplingLayer {
   vec2 origin_px;      // top left of the layer's grid on the screen
@@ -34,6 +36,8 @@ layout(std430, binding = 0) readonly buffer SamplingParams {
   float min_probability;    // linear: p_min
   float viewing_distance_mm;
   uint sample_capacity;     // entries of the sample buffer
+  uint resample_filter;     // pass 2: FILTER_BILINEAR or FILTER_LANCZOS2
+  uint pad0;
   SamplingLayer layers[3];  // hyperbolic: inner, middle, outer
 } sampling;
 

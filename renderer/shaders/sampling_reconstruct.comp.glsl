@@ -1,8 +1,9 @@
 #version 460
 // Pass 2 of the sampling models (seed 002): each screen pixel from the shaded samples.
-//   - RMFR: the forward map gives the pixel's place in the reduced buffer, read bilinearly;
+//   - RMFR: the forward map gives the pixel's place in the reduced buffer, read bilinearly (or with
+//     Lanczos-2, the parameters' resample_filter);
 //   - KFR: the same in the log-polar buffer (its angle wraps around);
-//   - hyperbolic: each layer with weight at the pixel is read bilinearly, the reads blended.
+//   - hyperbolic: each layer with weight at the pixel is read the same way, the reads blended.
 // (The linear model's pixels are filled by pull_push.comp.glsl instead.) A sample that was not
 // shaded has alpha 0 and is left out of the bilinear weights, so a pixel never reads a stale value.
 // foveation/sampling_map.cpp is the reference of the maps and weights.
@@ -19,26 +20,39 @@ layout(push_constant) uniform ReconstructParams {
   uint unused;
 } params;
 
-// Alpha-weighted bilinear read of a grid of `grid_size` samples stored row-major from `first`, at a
-// continuous position in grid pixels (sample centres at + 0.5). Columns clamp; rows clamp or wrap.
-// Returns the colour and the weight of the shaded taps (0: none was shaded).
-vec4 grid_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
+// The Lanczos-2 kernel sinc(x) sinc(x / 2) on |x| < 2.
+float lanczos2(float x) {
+  if (abs(x) < 1e-5) return 1.0;
+  if (abs(x) >= 2.0) return 0.0;
+  float pi_x = 3.14159265359 * x;
+  return 2.0 * sin(pi_x) * sin(0.5 * pi_x) / (pi_x * pi_x);
+}
+
+// Alpha-weighted read of a grid of `grid_size` samples stored row-major from `first`, at a
+// continuous position in grid pixels (sample centres at + 0.5), bilinear (2x2 taps) or Lanczos-2
+// (4x4) as the parameters say. Columns clamp; rows clamp or wrap. Returns the colour and the weight
+// of the shaded taps (0: none was shaded).
+vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
   vec2 p = grid_px - 0.5;
   vec2 base = floor(p);
   vec2 f = p - base;
   ivec2 size = ivec2(grid_size);
+  bool lanczos = sampling.resample_filter == FILTER_LANCZOS2;
+  int low = lanczos ? -1 : 0, high = lanczos ? 2 : 1;
   vec4 sum = vec4(0.0);
-  for (int dy = 0; dy <= 1; ++dy) {
-    for (int dx = 0; dx <= 1; ++dx) {
+  for (int dy = low; dy <= high; ++dy) {
+    for (int dx = low; dx <= high; ++dx) {
       ivec2 q = ivec2(base) + ivec2(dx, dy);
       q.x = clamp(q.x, 0, size.x - 1);
       q.y = wrap_rows ? ((q.y % size.y) + size.y) % size.y : clamp(q.y, 0, size.y - 1);
-      float w = (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
+      float w = lanczos ? lanczos2(float(dx) - f.x) * lanczos2(float(dy) - f.y)
+                        : (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
       vec4 c = sample_colours[first + uint(q.y) * grid_size.x + uint(q.x)];
       sum += w * c.a * vec4(c.rgb, 1.0);
     }
   }
-  return sum.a > 0.0 ? vec4(sum.rgb / sum.a, sum.a) : vec4(0.0);
+  // (Lanczos' negative lobes can leave a weight near 0 where most taps are missing: treat it as none.)
+  return sum.a > 1e-3 ? vec4(max(sum.rgb / sum.a, vec3(0.0)), sum.a) : vec4(0.0);
 }
 
 void main() {
@@ -51,9 +65,9 @@ void main() {
     vec2 share = centre / screen;
     vec2 buffer_share = vec2(rmfr_to_buffer(share.x, sampling.gaze_share.x, sampling.focal_share.x),
                              rmfr_to_buffer(share.y, sampling.gaze_share.y, sampling.focal_share.y));
-    colour = grid_bilinear(0u, sampling.buffer_size, buffer_share * vec2(sampling.buffer_size), false);
+    colour = grid_read(0u, sampling.buffer_size, buffer_share * vec2(sampling.buffer_size), false);
   } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
-    colour = grid_bilinear(0u, sampling.buffer_size, kfr_to_buffer_px(centre), true);
+    colour = grid_read(0u, sampling.buffer_size, kfr_to_buffer_px(centre), true);
   } else if (sampling.model == MODEL_HYPERBOLIC) {
     vec3 weights = hyperbolic_weights(centre);
     vec4 sum = vec4(0.0);
@@ -61,7 +75,7 @@ void main() {
       if (weights[i] <= 0.0) continue;
       SamplingLayer layer = sampling.layers[i];
       if (layer.grid_size.x == 0u || layer.grid_size.y == 0u) continue;
-      vec4 read = grid_bilinear(layer.first_sample, layer.grid_size, (centre - layer.origin_px) / layer.pixel_size_px,
+      vec4 read = grid_read(layer.first_sample, layer.grid_size, (centre - layer.origin_px) / layer.pixel_size_px,
                                 false);
       if (read.a > 0.0) sum += weights[i] * vec4(read.rgb, 1.0);
     }

@@ -661,7 +661,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   frame.history_valid = false;
   if (!sampling_) sampling_ = std::make_unique<SamplingPasses>(context_);
   SamplingPasses& sampling = *sampling_;
-  sampling.prepare(*settings.sampling);
+  sampling.prepare(*settings.sampling, settings.sampling_filter);
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();

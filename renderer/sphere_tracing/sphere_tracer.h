@@ -74,6 +74,7 @@ struct SphereTraceSettings {
   // TraceMethod::sampling_model: the frame's map, whose screen is width x height. Each sample is
   // traced with samples_per_pixel rays spread over its footprint, from the camera (no pyramid).
   std::optional<SamplingMap> sampling;
+  ResampleFilter sampling_filter = ResampleFilter::bilinear;  // how pass 2 reads the samples
   TraceOutputs outputs = TraceOutputs::all;
 };
 

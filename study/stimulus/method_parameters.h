@@ -27,6 +27,10 @@ enum class RenderMethod {
 // that of foveation/foveation_mask.h's MaskCombine (protocols/stimuli checks it).
 enum class FiprCombine : uint32_t { max, fovea_or_product, product, acuity };
 
+// How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
+// ResampleFilter (protocols/stimuli checks it).
+enum class SampleResampling : uint32_t { bilinear, lanczos };
+
 // The physical display of the foveated methods: the stimulus image's size and the eye's distance.
 // 0 means "not given": a study's schedule fills them from its [display].
 struct StimulusDisplay {
@@ -103,6 +107,7 @@ struct RectangularMappingParameters {
   double sigma;
   double focal_share_x;  // f_x / W
   double focal_share_y;  // f_y / H
+  SampleResampling resample;
 };
 
 // KFR: a buffer sigma times smaller per axis in (log radius)^alpha and angle around the gaze.
@@ -112,6 +117,7 @@ struct KernelLogPolarParameters {
   double hit_threshold;
   double sigma;
   double alpha;
+  SampleResampling resample;
 };
 
 // The hyperbolic model: layers of pixel size 1, 2 (middle_pixel_size_px) and s3 out to r1, r2 and
@@ -127,6 +133,7 @@ struct HyperbolicLayersParameters {
   double blend_band_deg;
   bool equalise;             // s3 solved per gaze so that the mean density is 1 / sigma^2
   double sigma;              // the target of equalise
+  SampleResampling resample;
   StimulusDisplay display;
 };
 

@@ -254,6 +254,15 @@ ParameterDescriptor sigma_parameter(std::string_view help) {
 }
 
 template <class Struct>
+void add_resample(std::vector<ParameterDescriptor>& list) {
+  ParameterDescriptor resample = parameter<&Struct::resample>(
+      "resample", "", ParameterType::choice, 0, 0, 1,
+      "how each pixel reads the samples around its place in the buffer: bilinear (2x2, the paper's) or lanczos (Lanczos-2, 4x4: sharper, with ringing)");
+  resample.choices = {"bilinear", "lanczos"};
+  list.push_back(resample);
+}
+
+template <class Struct>
 void add_radii(std::vector<ParameterDescriptor>& list) {
   list.push_back(parameter<&Struct::inner_radius_deg>("inner_radius_deg", "deg", ParameterType::real, 10.0, 0, 90,
                                                       "r1: radius (eccentricity) of the full-resolution zone"));
@@ -280,6 +289,7 @@ MethodDescriptor rectangular_mapping() {
                                                            kMaxFocalShare, "f_x as a share of the width"));
   method.parameters.push_back(parameter<&P::focal_share_y>("focal_share_y", "", ParameterType::real, 0.3, kMinFocalShare,
                                                            kMaxFocalShare, "f_y as a share of the height"));
+  add_resample<P>(method.parameters);
   return method;
 }
 
@@ -297,6 +307,7 @@ MethodDescriptor hyperbolic_layers() {
   list.push_back(parameter<&P::blend_band_deg>("blend_band_deg", "deg", ParameterType::real, 1.0, 0, 90,
                                                "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
   add_equalise<P>(list, "on: outer_pixel_size_px is solved per gaze sample so that the mean density is 1 / sigma^2");
+  add_resample<P>(list);
   add_display_parameters<P>(list);
   return method;
 }
@@ -324,6 +335,7 @@ MethodDescriptor kernel_log_polar() {
   method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis"));
   method.parameters.push_back(parameter<&P::alpha>("alpha", "", ParameterType::real, 4.0, kMinAlpha, kMaxAlpha,
                                                    "the kernel's exponent: u = w (ln r / L)^alpha"));
+  add_resample<P>(method.parameters);
   return method;
 }
 

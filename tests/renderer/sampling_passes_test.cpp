@@ -46,8 +46,9 @@ const SamplingModel kModels[] = {SamplingModel::rectangular, SamplingModel::hype
 class SamplingPassesTest : public VulkanTest {
  protected:
   // Runs pass 1a for the map; returns the listed samples.
-  std::vector<ListedSample> list_samples(SamplingPasses& passes, const SamplingMap& map) {
-    passes.prepare(map);
+  std::vector<ListedSample> list_samples(SamplingPasses& passes, const SamplingMap& map,
+                                        ResampleFilter filter = ResampleFilter::bilinear) {
+    passes.prepare(map, filter);
     vk::Buffer counters(context(), 8 * sizeof(uint32_t), vk::MemoryUse::device_local);
     vk::Buffer counters_readback(context(), 8 * sizeof(uint32_t), vk::MemoryUse::host_readback);
     vk::OneTimeCommands commands(context());
@@ -161,15 +162,17 @@ TEST_F(SamplingPassesTest, ListsTheReferenceSamplesAtTheReferencePositions) {
 }
 
 // Pass 2 follows the forward maps: fed each sample's own position as its colour, every pixel
-// comes back with about its own position, to within the samples' spacing there.
+// comes back with about its own position, to within the samples' spacing there (Lanczos-2 too: its
+// weights are normalised, so it reproduces a ramp as closely).
 TEST_F(SamplingPassesTest, ReconstructionReadsEachPixelFromItsOwnNeighbourhood) {
   SamplingPasses passes(context());
+  for (ResampleFilter filter : {ResampleFilter::bilinear, ResampleFilter::lanczos2})
   for (SamplingModel model : kModels) {
     for (const Gaze& gaze : kGazes) {
       const SamplingMap map = map_of(model, gaze.x, gaze.y);
-      const Image image = reconstruct_positions(passes, list_samples(passes, map), kWidth, kHeight);
-      const std::string where = std::string(sampling_model_name(model)) + " gaze " + std::to_string(gaze.x) + "," +
-                                std::to_string(gaze.y);
+      const Image image = reconstruct_positions(passes, list_samples(passes, map, filter), kWidth, kHeight);
+      const std::string where = std::string(sampling_model_name(model)) + " " + resample_filter_name(filter) +
+                                " gaze " + std::to_string(gaze.x) + "," + std::to_string(gaze.y);
       double worst_excess_px = -1e9;
       for (int y = 0; y < kHeight; ++y) {
         for (int x = 0; x < kWidth; ++x) {

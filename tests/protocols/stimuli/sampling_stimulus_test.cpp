@@ -57,6 +57,13 @@ TEST(SamplingStimulus, DescriptorsAgreeWithTheModels) {
   EXPECT_EQ(parameter_named(layers, "outer_pixel_size_px").default_value, defaults.outer_pixel_size_px);
   EXPECT_EQ(parameter_named(layers, "blend_band_deg").default_value, defaults.blend_band_deg);
   EXPECT_EQ(parameter_named(RenderMethod::linear_falloff, "min_probability").default_value, defaults.min_probability);
+  for (RenderMethod method : {rmfr, kfr, layers}) {
+    const ParameterDescriptor& resample = parameter_named(method, "resample");
+    ASSERT_EQ(resample.choices.size(), 2u);
+    EXPECT_EQ(resample.choices[0], resample_filter_name(ResampleFilter::bilinear));
+    EXPECT_EQ(resample.choices[1], resample_filter_name(ResampleFilter::lanczos2));
+  }
+  EXPECT_EQ(find_parameter(describe(RenderMethod::linear_falloff), "resample"), nullptr);  // pull-push
   EXPECT_TRUE(describe(layers).needs_display);
   EXPECT_TRUE(describe(RenderMethod::linear_falloff).needs_display);
   EXPECT_FALSE(describe(rmfr).needs_display);
@@ -77,12 +84,19 @@ TEST(SamplingStimulus, SpecBecomesTheMapOfEachGazeSample) {
     ASSERT_TRUE(settings.sampling.has_value());
     EXPECT_EQ(model_of(*settings.sampling), c.model);
     EXPECT_NO_THROW(validate(settings)) << spec.method_name();
+    EXPECT_EQ(settings.sampling_filter, ResampleFilter::bilinear);
     // Without a gaze the map is the centre's; with one it follows it.
     const SamplingMap centre = sampling_map(spec, std::nan(""), std::nan(""));
     const SamplingMap corner = sampling_map(spec, 5.0, 5.0);
     EXPECT_NE(density(centre, 5.5, 5.5), density(corner, 5.5, 5.5)) << spec.method_name();
     EXPECT_EQ(density(centre, 48, 27), density(sampling_map(spec, 48, 27), 48, 27)) << spec.method_name();
   }
+}
+
+TEST(SamplingStimulus, ResampleChoiceReachesTheRenderer) {
+  StimulusSpec spec = spec_of(RenderMethod::kernel_log_polar);
+  std::get<KernelLogPolarParameters>(spec.parameters).resample = SampleResampling::lanczos;
+  EXPECT_EQ(sphere_trace_settings(spec, 0).sampling_filter, ResampleFilter::lanczos2);
 }
 
 TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
