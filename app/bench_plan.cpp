@@ -162,6 +162,7 @@ BenchPlan plan_bench(const BenchOptions& options) {
     throw InputError(options.sampling_flags_given.front() +
                      ": only the sampling models use it; add rmfr, hyperbolic, linear or kfr to --methods");
   }
+  refuse_flags_unused_by(options.sampling_flags_given, methods.sampling_models);
   const int width = options.settings.width;
   const int height = options.settings.height;
   for (int spp : options.spps) {

@@ -56,6 +56,7 @@ void run_render(const RenderOptions& options) {
   if (!model && !options.density_out.empty())
     throw InputError("--density-out: only the sampling models (--method rmfr, hyperbolic, linear or kfr) have a sampling density");
   if (model) {
+    refuse_flags_unused_by(options.sampling_flags_given, {*model});
     settings.sampling = parse_sampling(*model, options.sampling, settings.foveation);
     settings.sampling_filter = options.sampling.filter;
   }

@@ -1,5 +1,6 @@
 #include "app/sampling_flags.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/input_error.h"
@@ -55,6 +56,32 @@ std::vector<std::string> given_sampling_only_flags(const CLI::App& command) {
   for (const CLI::Option* option : command.get_options())
     if (option->count() > 0 && option->get_description().rfind("Sampling:", 0) == 0) given.push_back(option->get_name());
   return given;
+}
+
+void refuse_flags_unused_by(const std::vector<std::string>& given, const std::vector<SamplingModel>& models) {
+  using M = SamplingModel;
+  const std::vector<M> all = {M::rectangular, M::hyperbolic, M::linear, M::kernel_log_polar};
+  const auto users_of = [&](const std::string& flag) -> std::vector<M> {
+    if (flag == "--fx" || flag == "--fy") return {M::rectangular};
+    if (flag == "--alpha") return {M::kernel_log_polar};
+    if (flag == "--inner-radius-deg" || flag == "--outer-radius-deg") return {M::hyperbolic, M::linear};
+    if (flag == "--middle-pixel-size" || flag == "--outer-pixel-size" || flag == "--blend-band-deg") return {M::hyperbolic};
+    if (flag == "--min-probability" || flag == "--sample-seed") return {M::linear};
+    if (flag == "--equalise") return {M::hyperbolic, M::linear};
+    if (flag == "--resample") return {M::rectangular, M::hyperbolic, M::kernel_log_polar};
+    return all;  // --sigma
+  };
+  const auto names = [](const std::vector<M>& list) {
+    std::string text;
+    for (M model : list) text += (text.empty() ? "" : ", ") + std::string(sampling_model_name(model));
+    return text;
+  };
+  for (const std::string& flag : given) {
+    const std::vector<M> users = users_of(flag);
+    const bool used = std::any_of(models.begin(), models.end(),
+                                  [&](M model) { return std::find(users.begin(), users.end(), model) != users.end(); });
+    if (!used) throw InputError(flag + ": " + names(models) + (models.size() > 1 ? " do" : " does") + " not use it; it is for " + names(users));
+  }
 }
 
 SamplingMap parse_sampling(SamplingModel model, const SamplingSettings& settings, const FoveationSettings& foveation) {

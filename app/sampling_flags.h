@@ -16,6 +16,9 @@ namespace fovlab::app {
 // `focal_shares`: false leaves --fx and --fy to the command (bench takes lists of them).
 void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool focal_shares = true);
 std::vector<std::string> given_sampling_only_flags(const CLI::App& command);
+// InputError for the first of the `given` sampling flags that none of `models` uses ("--alpha: rmfr
+// does not use it; it is kfr's"), as a config refuses a key its method does not have.
+void refuse_flags_unused_by(const std::vector<std::string>& given, const std::vector<SamplingModel>& models);
 
 // The map of `model` for the frame the foveation settings describe (their display and gaze; no
 // gaze: the centre). InputError naming the flag on bad values.

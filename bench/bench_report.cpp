@@ -101,16 +101,27 @@ std::string cell_table_row(const nlohmann::json& cell) {
   return out.str();
 }
 
+namespace {
+// "kfr", or RMFR with its focal shares ("rmfr 0.3/0.3"), so a focal sweep's cells stay apart.
+std::string model_label(const nlohmann::json& cell) {
+  std::string label = cell["method"].get<std::string>();
+  if (cell.contains("focal_share_x"))
+    label += " " + format_number(cell["focal_share_x"].get<double>(), 6) + "/" +
+             format_number(cell["focal_share_y"].get<double>(), 6);
+  return label;
+}
+}  // namespace
+
 std::string sampling_table(const nlohmann::json& cells) {
   std::ostringstream out;
-  out << "| scene | time s | spp | model | GPU ms | GT ms | speed-up | theoretical | effective | shaded | PSNR dB | SSIM | "
+  out << "| scene | time s | spp | model (rmfr: f_x/f_y) | GPU ms | GT ms | speed-up | theoretical | effective | shaded | PSNR dB | SSIM | "
          "FLIP | FPSNR dB |\n|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const nlohmann::json& cell : cells) {
     if (!cell.contains("sampling")) continue;
     const nlohmann::json& sampling = cell["sampling"];
     out << "| " << cell["scene"].get<std::string>() << " | " << number(cell["time_s"], "%g") << " | "
         << cell["spp"].get<int>() << " | "
-        << cell["method"].get<std::string>() << " | " << number(cell["median_gpu_ms"], "%.1f") << " | "
+        << model_label(cell) << " | " << number(cell["median_gpu_ms"], "%.1f") << " | "
         << number(cell["gt_median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
         << number(sampling["theoretical_speedup"], "%.2fx") << " | " << number(sampling["effective_speedup"], "%.2fx")
         << " | " << percent(sampling["shaded_share"]) << " | " << number(cell["psnr_db"], "%.2f") << " | "
@@ -128,7 +139,7 @@ std::string sampling_ranking_table(const nlohmann::json& cells) {
   std::map<std::pair<std::string, int>, std::map<std::string, Summary>> groups;
   for (const nlohmann::json& cell : cells) {
     if (!cell.contains("sampling") || !cell["fpsnr_db"].is_number() || !cell["psnr_db"].is_number()) continue;
-    Summary& summary = groups[{cell["scene"].get<std::string>(), cell["spp"].get<int>()}][cell["method"].get<std::string>()];
+    Summary& summary = groups[{cell["scene"].get<std::string>(), cell["spp"].get<int>()}][model_label(cell)];
     summary.fpsnr.push_back(cell["fpsnr_db"].get<double>());
     summary.psnr.push_back(cell["psnr_db"].get<double>());
     summary.ssim.push_back(cell["ssim"].get<double>());
@@ -145,7 +156,7 @@ std::string sampling_ranking_table(const nlohmann::json& cells) {
     return values.size() % 2 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
   };
   std::ostringstream out;
-  out << "| scene | spp | rank | model | times | mean FPSNR dB | mean PSNR dB | mean SSIM | median speed-up |\n"
+  out << "| scene | spp | rank | model (rmfr: f_x/f_y) | times | mean FPSNR dB | mean PSNR dB | mean SSIM | median speed-up |\n"
          "|---|---:|---:|---|---:|---:|---:|---:|---:|\n";
   for (const auto& [key, models] : groups) {
     std::vector<std::pair<double, std::string>> order;

@@ -10,8 +10,8 @@
 // is the form the authors' shaders use (../shared/notes/seeds-002-003-facts.md). The gaze share is
 // clamped to [0.01, 0.99] (at an edge g(0) = 0 would divide by zero), as the authors' code does; a
 // gaze that is not a number is taken at the centre. The map fixes 0, c and 1 and is strictly
-// increasing, so the buffer covers the whole screen. CPU reference of the GPU passes to come
-// (docs/foveation.md, "Rectangular mapping").
+// increasing, so the buffer covers the whole screen. CPU reference of the GPU passes
+// (renderer/foveated_sampling/; docs/foveation.md, "Sampling models").
 #include <utility>
 
 namespace fovlab {

@@ -359,6 +359,8 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
 
   if (settings.model == SamplingModel::linear) {
     check_setting_range("min_probability", settings.min_probability, 0.0, 1.0);
+    if (settings.inner_radius_deg == 0.0 && settings.min_probability == 0.0 && !settings.equalise)
+      throw SettingError("min_probability", " 0: expected more than 0 when inner_radius_deg is 0 (no pixel would be shaded)");
     LinearFalloff linear{display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg,
                          settings.min_probability, settings.seed};
     if (settings.equalise) {
@@ -368,9 +370,11 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
       const double per_p_min = areas.between_ramp + areas.outside_outer;
       const double p_min = per_p_min > 0 ? (target_density - fixed) / per_p_min : -1.0;
       if (!(p_min >= 0.0 && p_min <= 1.0))
-        throw InputError("equalise: the linear model cannot reach " + target_text + " on this display: with p_min 0 " +
-                         "its density within " + format_number(settings.outer_radius_deg, 4) + " deg alone is " +
-                         format_number(fixed, 4) + " (lower sigma or the radii)");
+        throw InputError("equalise: the linear model cannot reach " + target_text + " on this display: " +
+                         (p_min > 1.0 ? "even p_min 1 gives less (raise sigma)"
+                                      : "with p_min 0 its density within " + format_number(settings.outer_radius_deg, 4) +
+                                            " deg alone is " + format_number(fixed, 4) +
+                                            " (lower sigma, or the radii, or view the display from nearer)"));
       linear.min_probability = p_min;
     }
     return linear;
@@ -386,10 +390,19 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
     const double fixed = areas.inside_inner + areas.between / (settings.middle_pixel_size_px * settings.middle_pixel_size_px);
     const double left = target_density - fixed;
     const double size = left > 0 && areas.outside_outer > 0 ? std::sqrt(areas.outside_outer / left) : -1.0;
-    if (!(size >= settings.middle_pixel_size_px && size <= 256.0))
-      throw InputError("equalise: the hyperbolic model cannot reach " + target_text + " on this display: its inner and middle layers alone give " +
-                       format_number(fixed, 4) + (size > 0 ? " (the outer pixel would be " + format_number(size, 4) + " px)" : "") +
-                       " (lower sigma or the radii)");
+    if (!(size >= settings.middle_pixel_size_px && size <= 256.0)) {
+      std::string why;
+      if (areas.outside_outer <= 0)
+        why = "no part of it lies beyond outer_radius_deg, so the outer pixel size changes nothing (lower outer_radius_deg)";
+      else if (size > 256.0) why = "the outer pixel would be " + format_number(size, 4) + " px, more than 256 (lower sigma)";
+      else if (size > 0)
+        why = "the outer pixel would be " + format_number(size, 4) + " px, finer than the middle layer's " +
+              format_number(settings.middle_pixel_size_px, 4) + " (raise sigma or middle_pixel_size_px)";
+      else
+        why = "its inner and middle layers alone give " + format_number(fixed, 4) +
+              " (lower sigma, or the radii, or view the display from nearer)";
+      throw InputError("equalise: the hyperbolic model cannot reach " + target_text + " on this display: " + why);
+    }
     outer_pixel_size_px = size;
   }
   HyperbolicLayers layers;

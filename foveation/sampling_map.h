@@ -9,7 +9,7 @@
 //     out to eccentricities r1, r2 and the whole screen, blended at their borders;
 //   - linear (Weier et al.): each pixel shaded with a probability that is 1 up to r1 and falls
 //     linearly to p_min at r2, the holes filled by pull-push.
-// The CPU code here is the reference that the GPU passes (renderer/foveated_mapping/) are tested
+// The CPU code here is the reference that the GPU passes (renderer/foveated_sampling/) are tested
 // against. Equations, sources and the decisions where the paper is silent: docs/foveation.md,
 // "Sampling models".
 #include <array>

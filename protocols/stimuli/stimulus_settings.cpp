@@ -118,6 +118,16 @@ SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze
   } else {
     throw std::logic_error("sampling_map: not a sampling model: " + std::string(spec.method_name()));
   }
+  if (settings.equalise) {
+    // Solved once for the stimulus, with the gaze at the centre; the map then follows each gaze
+    // sample with that s3 or p_min. Every refresh samples alike (a re-solved s3 would re-pitch the
+    // outer layer, a re-solved p_min flip peripheral pixels), and no gaze can make it unsolvable
+    // mid-session: the centre's solution is checked before the first trial.
+    const SamplingMap centre = make_sampling_map(settings, display, std::nan(""), std::nan(""));
+    if (const auto* solved = std::get_if<HyperbolicLayers>(&centre)) settings.outer_pixel_size_px = solved->layers[2].pixel_size_px;
+    if (const auto* solved = std::get_if<LinearFalloff>(&centre)) settings.min_probability = solved->min_probability;
+    settings.equalise = false;
+  }
   return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);
 }
 

@@ -41,8 +41,9 @@ DisplayGeometry stimulus_display(const StimulusSpec& spec);
 
 // The sampling model of an rmfr, hyperbolic, linear or kfr spec for one gaze sample (NaN: the
 // centre): the map SphereTraceSettings::sampling takes. rmfr and kfr need only the frame's pixels;
-// hyperbolic and linear the spec's display. InputError when equalising cannot reach 1 / sigma^2
-// there; std::logic_error for other methods.
+// hyperbolic and linear the spec's display. With equalise on, s3 or p_min is solved with the gaze
+// at the centre and kept for every gaze (one stimulus samples alike); InputError when that cannot
+// reach 1 / sigma^2; std::logic_error for other methods.
 SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px);
 
 // The pre-rendered sequences a pt or fpt spec shows: its frames, and for fpt with

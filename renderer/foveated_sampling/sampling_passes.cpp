@@ -1,6 +1,7 @@
 #include "renderer/foveated_sampling/sampling_passes.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <cmath>
 #include <cstring>
 
@@ -43,6 +44,9 @@ struct GpuSamplingParams {
   GpuLayer layers[3];
 };
 static_assert(sizeof(GpuLayer) == 32 && sizeof(GpuSamplingParams) == 192, "must match sampling_map.glsl");
+static_assert(offsetof(GpuSamplingParams, model) == 48 && offsetof(GpuSamplingParams, sample_capacity) == 84 &&
+                  offsetof(GpuSamplingParams, resample_filter) == 88 && offsetof(GpuSamplingParams, layers) == 96,
+              "std430 offsets of sampling_map.glsl's SamplingParams");
 
 // Must match PullPushParams in pull_push.comp.glsl.
 struct PullPushParams {
@@ -74,16 +78,19 @@ SamplingPasses::SamplingPasses(vk::Context& context) : context_(context) {
 
 SamplingPasses::~SamplingPasses() = default;
 
+// The buffers only grow: the hyperbolic layers' sample count changes with nearly every gaze sample,
+// and a session's frames should not allocate.
 void SamplingPasses::allocate(uint32_t capacity, uint64_t colour_entries) {
-  if (capacity == capacity_ && colour_entries == colour_entries_ && list_.handle() != VK_NULL_HANDLE) return;
-  const VkDeviceSize entries = std::max<VkDeviceSize>(1, capacity);
+  capacity_ = capacity;
+  if (capacity <= allocated_capacity_ && colour_entries <= colour_entries_ && list_.handle() != VK_NULL_HANDLE) return;
+  allocated_capacity_ = std::max(capacity, allocated_capacity_);
+  colour_entries_ = std::max(colour_entries, colour_entries_);
+  const VkDeviceSize entries = std::max<VkDeviceSize>(1, allocated_capacity_);
   list_ = vk::Buffer(context_, entries * 4 * sizeof(uint32_t), vk::MemoryUse::device_local);
   list_readback_ = vk::Buffer(context_, entries * 4 * sizeof(uint32_t), vk::MemoryUse::host_readback);
   steps_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::device_local);
   steps_readback_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::host_readback);
-  colours_ = vk::Buffer(context_, std::max<uint64_t>(1, colour_entries) * 4 * sizeof(float), vk::MemoryUse::device_local);
-  capacity_ = capacity;
-  colour_entries_ = colour_entries;
+  colours_ = vk::Buffer(context_, std::max<uint64_t>(1, colour_entries_) * 4 * sizeof(float), vk::MemoryUse::device_local);
 }
 
 void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
@@ -225,9 +232,9 @@ void SamplingPasses::record_reconstruct(VkCommandBuffer cmd, vk::PassTimer& time
 }
 
 void SamplingPasses::record_readback(VkCommandBuffer cmd) {
-  VkBufferCopy list_region{0, 0, list_.size_bytes()};
+  VkBufferCopy list_region{0, 0, VkDeviceSize(std::max<uint32_t>(capacity_, 1)) * 4 * sizeof(uint32_t)};
   vkCmdCopyBuffer(cmd, list_.handle(), list_readback_.handle(), 1, &list_region);
-  VkBufferCopy steps_region{0, 0, steps_.size_bytes()};
+  VkBufferCopy steps_region{0, 0, VkDeviceSize(std::max<uint32_t>(capacity_, 1)) * sizeof(uint32_t)};
   vkCmdCopyBuffer(cmd, steps_.handle(), steps_readback_.handle(), 1, &steps_region);
 }
 

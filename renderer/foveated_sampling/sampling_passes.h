@@ -75,7 +75,8 @@ class SamplingPasses {
   SamplingModel model_ = SamplingModel::rectangular;
   uint32_t grid_width_ = 0, grid_height_ = 0;  // the positions pass's invocations
   uint32_t screen_width_ = 0, screen_height_ = 0;
-  uint32_t capacity_ = 0;
+  uint32_t capacity_ = 0;            // entries of this frame's sample buffer
+  uint32_t allocated_capacity_ = 0;  // entries the buffers hold (they only grow)
   std::vector<PullPushLevel> pyramid_;  // linear: the pull-push levels, finest first
   vk::Buffer params_buffer_;
   vk::Buffer list_;
@@ -84,7 +85,7 @@ class SamplingPasses {
   vk::Buffer dispatch_;
   vk::Buffer list_readback_;
   vk::Buffer steps_readback_;
-  uint64_t colour_entries_ = 0;
+  uint64_t colour_entries_ = 0;  // allocated
 };
 
 }  // namespace fovlab

@@ -1,5 +1,5 @@
 // The four sampling models of seed 002 in the shaders: their parameters (one storage buffer at
-// binding 0, filled by renderer/foveated_sampling/sampling_renderer.cpp from the CPU model) and their
+// binding 0, filled by renderer/foveated_sampling/sampling_passes.cpp from the CPU model) and their
 // maps. foveation/sampling_map.{h,cpp} and foveation/rectangular_mapping.cpp are the references;
 // the equations are in docs/foveation.md ("Sampling models"). Needs eccentricity.glsl.
 
@@ -76,7 +76,7 @@ vec2 kfr_to_buffer_px(vec2 point_px) {
   vec2 d = point_px - sampling.gaze_px;
   float radius = length(d);
   float log_share = clamp(log(max(radius, 1.0)) / sampling.log_max_radius, 0.0, 1.0);
-  float angle = atan(d.y, d.x);
+  float angle = radius > 0.0 ? atan(d.y, d.x) : 0.0;  // atan(0, 0) is undefined in GLSL
   if (angle < 0.0) angle += TWO_PI;
   if (angle >= TWO_PI) angle = 0.0;
   return vec2(float(sampling.buffer_size.x) * pow(log_share, sampling.alpha),

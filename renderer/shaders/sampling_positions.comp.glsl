@@ -6,9 +6,10 @@
 // (FLAG_SAMPLE_LIST) or the pre-rendered frame is read at. Entries not listed are not shaded:
 // KFR's that fall further off the screen than their bilinear reach, the hyperbolic layers' where the layer has no weight, the linear
 // model's pixels whose threshold is at or above their probability.
-// The footprint is the samples' spacing on the screen there (the geometric mean of the two axes'),
-// in pixels (at least 1): it widens the
-// ray's hit threshold and texture filter the way a coarser pyramid level does.
+// The footprint is the samples' spacing on the screen there, along the axis where they lie
+// furthest apart (as a mip level is chosen), in pixels, at least 1: it widens the ray's hit threshold
+// and texture filter the way a coarser pyramid level does, so a pattern finer than the samples is
+// filtered rather than aliased.
 // foveation/sampling_map.cpp is the CPU reference (shaded_samples counts the same entries).
 #extension GL_GOOGLE_include_directive : require
 #include "eccentricity.glsl"
@@ -63,11 +64,11 @@ void main() {
     vec2 per_pixel = vec2(rmfr_axis_density(screen_share.x, sampling.gaze_share.x, sampling.focal_share.x),
                           rmfr_axis_density(screen_share.y, sampling.gaze_share.y, sampling.focal_share.y)) *
                      vec2(sampling.buffer_size) / screen;
-    append(screen_share * screen, inversesqrt(per_pixel.x * per_pixel.y), entry);
+    append(screen_share * screen, 1.0 / min(per_pixel.x, per_pixel.y), entry);
   } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
     vec2 position = kfr_to_screen_px(buffer_centre);
     vec2 spacings = kfr_spacings_px(buffer_centre.x);
-    if (serves_screen(position, spacings.x + spacings.y)) append(position, sqrt(spacings.x * spacings.y), entry);
+    if (serves_screen(position, spacings.x + spacings.y)) append(position, max(spacings.x, spacings.y), entry);
   } else if (sampling.model == MODEL_HYPERBOLIC) {
     for (int i = 0; i < 3; ++i) {
       SamplingLayer layer = sampling.layers[i];

@@ -40,6 +40,7 @@ vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
   bool lanczos = sampling.resample_filter == FILTER_LANCZOS2;
   int low = lanczos ? -1 : 0, high = lanczos ? 2 : 1;
   vec4 sum = vec4(0.0);
+  vec3 lowest = vec3(3.0e38), highest = vec3(-3.0e38);  // of the shaded taps
   for (int dy = low; dy <= high; ++dy) {
     for (int dx = low; dx <= high; ++dx) {
       ivec2 q = ivec2(base) + ivec2(dx, dy);
@@ -49,10 +50,16 @@ vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
                         : (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
       vec4 c = sample_colours[first + uint(q.y) * grid_size.x + uint(q.x)];
       sum += w * c.a * vec4(c.rgb, 1.0);
+      if (c.a > 0.0) {
+        lowest = min(lowest, c.rgb);
+        highest = max(highest, c.rgb);
+      }
     }
   }
-  // (Lanczos' negative lobes can leave a weight near 0 where most taps are missing: treat it as none.)
-  return sum.a > 1e-3 ? vec4(max(sum.rgb / sum.a, vec3(0.0)), sum.a) : vec4(0.0);
+  // Bilinear weights are never negative; Lanczos' negative lobes can leave a weight near 0 where
+  // taps are missing (treated as none) and overshoot at edges (clamped to the taps' range).
+  if (!(sum.a > (lanczos ? 1e-3 : 0.0))) return vec4(0.0);
+  return vec4(lanczos ? clamp(sum.rgb / sum.a, lowest, highest) : sum.rgb / sum.a, sum.a);
 }
 
 void main() {

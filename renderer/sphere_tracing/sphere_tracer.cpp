@@ -254,9 +254,10 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
   }
   if (settings.outputs != TraceOutputs::display) bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
   if (settings.outputs == TraceOutputs::all) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
-  // Sampling models: the sample list, colours and steps, each with room for a sample a pixel and a
-  // quarter more (the hyperbolic layers' overlap; the linear model's pull-push levels).
-  if (settings.method == TraceMethod::sampling_model) bytes += frame_pixels * 5 / 4 * (4 * 4 + 4 * 4 + 4 * 2 + 4);
+  // Sampling models: the sample list and its read-back, colours, steps and their read-back, with
+  // room for 1.3 samples a pixel (the hyperbolic layers' overlap, up to about 1.26; the linear
+  // model's pull-push levels, 1.33 colours a pixel).
+  if (settings.method == TraceMethod::sampling_model) bytes += frame_pixels * 13 / 10 * (4 * 4 * 2 + 4 * 4 + 4 * 2) + frame_pixels * 4 * 4 / 3;
   return bytes;
 }
 
@@ -692,7 +693,9 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   sampling.record_reconstruct(cmd, timer, frame.colour.handle());
 
   const bool on_device = settings.outputs == TraceOutputs::display;
-  frame.record_outputs(cmd, timer, *encoder_, frame.colour, on_device, [&](const auto&) { sampling.record_readback(cmd); });
+  frame.record_outputs(cmd, timer, *encoder_, frame.colour, on_device, [&](const auto&) {
+    if (settings.outputs == TraceOutputs::all) sampling.record_readback(cmd);  // steps and the sample list
+  });
   commands.submit_and_wait();
 
   SphereTraceResult result;
@@ -705,11 +708,10 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   stats.width = settings.width;
   stats.height = settings.height;
   stats.traced_pixels = stats.shaded_pixels = result.shaded_samples;
-  const std::vector<uint32_t> entry_steps = sampling.entry_steps();
-  for (uint32_t steps : entry_steps) stats.steps += steps;
-  result.total_steps = stats.steps;
-  result.levels.push_back(stats);
   if (settings.outputs == TraceOutputs::all) {
+    const std::vector<uint32_t> entry_steps = sampling.entry_steps();
+    for (uint32_t steps : entry_steps) stats.steps += steps;
+    result.total_steps = stats.steps;
     // Each sample's steps and count go to the pixel that holds its position.
     result.steps_per_pixel = Image(settings.width, settings.height, 1);
     result.mask = Image(settings.width, settings.height, 1);
@@ -720,6 +722,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
       result.mask.at(x, y, 0) += 1.0f;
     }
   }
+  result.levels.push_back(stats);  // (steps counted with TraceOutputs::all: a session's frames read nothing back)
   return result;
 }
 

@@ -183,7 +183,10 @@ TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
       {kTiny + "--methods gt,ipr --sigma 2", "--sigma"},  // a sampling flag without a sampling model
       {kTiny + "--methods gt,rmfr --fx 0", "--fx"},
       {kTiny + "--methods gt,rmfr --fy 0.3,0.3", "--fy"},
+      {kTiny + "--methods gt,kfr --fx 0.2", "--fx"},  // RMFR's flag, no RMFR
+      {kTiny + "--methods gt,rmfr --equalise", "--equalise"},
       {kTiny + "--methods gt,linear --equalise --sigma 8", "equalise"},  // 1/64 below the fovea's own density
+      {kTiny + "--methods gt,linear --inner-radius-deg 0 --min-probability 0", "--min-probability"},  // nothing shaded
       {kTiny + "--methods gt --time 1 --times 0,1", "--times"},
       {kTiny + "--methods gt --times 0,0", "--times"},
   };

@@ -105,6 +105,18 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   linear.equalise = true;
   linear.sigma = 1.05;  // this small display is mostly within 20 degrees: only a small sigma is reachable
   EXPECT_NEAR(mean_density(sampling_map(spec, 48, 27)), 1.0 / (1.05 * 1.05), 1e-9);
+  // Solved at the centre and kept: a gaze in a corner samples with the same p_min (no flicker, and
+  // no gaze can make it unsolvable mid-session).
+  const double centre_p_min = std::get<LinearFalloff>(sampling_map(spec, 48, 27)).min_probability;
+  EXPECT_EQ(std::get<LinearFalloff>(sampling_map(spec, 0, 0)).min_probability, centre_p_min);
+  StimulusSpec layers_spec = spec_of(RenderMethod::hyperbolic_layers);
+  auto& layers = std::get<HyperbolicLayersParameters>(layers_spec.parameters);
+  layers.equalise = true;
+  layers.inner_radius_deg = 4;  // this small display lies within 20 degrees: smaller zones
+  layers.outer_radius_deg = 8;
+  layers.sigma = 2.2;
+  const double centre_s3 = std::get<HyperbolicLayers>(sampling_map(layers_spec, std::nan(""), std::nan(""))).layers[2].pixel_size_px;
+  EXPECT_EQ(std::get<HyperbolicLayers>(sampling_map(layers_spec, 96, 0)).layers[2].pixel_size_px, centre_s3);
   linear.sigma = 8.0;  // the full-resolution zone alone is denser than 1/64
   EXPECT_THROW(sampling_map(spec, 48, 27), InputError);
   StimulusSpec no_display = spec_of(RenderMethod::hyperbolic_layers);
