@@ -386,7 +386,11 @@ std::string parameter_keys(const MethodDescriptor& method) {
 std::optional<std::string> check_parameter_value(const ParameterDescriptor& parameter, double value) {
   if (parameter.type == ParameterType::choice) {
     std::vector<std::string> names;
-    for (std::string_view name : parameter.choices) names.push_back("\"" + std::string(name) + "\"");
+    for (std::string_view name : parameter.choices) {
+      std::string quoted(1, '"');  // (appended: GCC 12's -Wrestrict misfires on "\"" + std::string(name) + "\"" here)
+      quoted.append(name).push_back('"');
+      names.push_back(std::move(quoted));
+    }
     const double index = std::floor(value);
     if (std::isfinite(value) && index == value && index >= 0 && index < double(parameter.choices.size()))
       return std::nullopt;
@@ -395,9 +399,9 @@ std::optional<std::string> check_parameter_value(const ParameterDescriptor& para
   if (!parameter.allowed.empty()) {
     for (double allowed : parameter.allowed)
       if (value == allowed) return std::nullopt;
-    std::string values;
-    for (double allowed : parameter.allowed) values += " " + format_number(allowed, 17);
-    return "one of" + values;
+    std::string values = "one of";
+    for (double allowed : parameter.allowed) values.append(" ").append(format_number(allowed, 17));
+    return values;
   }
   if (!(value >= parameter.min_value && value <= parameter.max_value))
     return "a value in [" + format_number(parameter.min_value, 17) + ", " + format_number(parameter.max_value, 17) + "]";
