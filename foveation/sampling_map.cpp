@@ -25,10 +25,6 @@ double gaze_on_screen(double gaze_px, int screen_px) {
   return std::isnan(gaze_px) ? 0.5 * screen_px : std::clamp(gaze_px, 0.0, double(screen_px));
 }
 
-double eccentricity(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px, double x_px, double y_px) {
-  return eccentricity_deg(display, gaze_x_px, gaze_y_px, x_px, y_px);
-}
-
 // The point `distance_px` from (x, y) along the line from the gaze through it (towards the gaze for
 // a negative distance, stopping at the gaze): the nearest and farthest eccentricities within a
 // disc around a point lie on that line, to first order.
@@ -55,11 +51,11 @@ Box eccentricity_box(const DisplayGeometry& display, double gaze_x, double gaze_
     const double angle = kTwoPi * ray / kRays;
     const double cx = std::cos(angle), cy = std::sin(angle);
     double inside = 0.0, outside = far_px;
-    if (eccentricity(display, gaze_x, gaze_y, gaze_x + cx * far_px, gaze_y + cy * far_px) <= radius_deg) inside = far_px;
+    if (eccentricity_deg(display, gaze_x, gaze_y, gaze_x + cx * far_px, gaze_y + cy * far_px) <= radius_deg) inside = far_px;
     else
       for (int step = 0; step < 48; ++step) {
         const double middle = 0.5 * (inside + outside);
-        (eccentricity(display, gaze_x, gaze_y, gaze_x + cx * middle, gaze_y + cy * middle) <= radius_deg ? inside
+        (eccentricity_deg(display, gaze_x, gaze_y, gaze_x + cx * middle, gaze_y + cy * middle) <= radius_deg ? inside
                                                                                                          : outside) = middle;
       }
     box.min_x = std::min(box.min_x, gaze_x + cx * inside);
@@ -104,7 +100,7 @@ BandAreas band_areas(const DisplayGeometry& display, double gaze_x, double gaze_
   double count = 0;
   for (int y = stride / 2; y < display.height_px; y += stride)
     for (int x = stride / 2; x < display.width_px; x += stride) {
-      const double e = eccentricity(display, gaze_x, gaze_y, x + 0.5, y + 0.5);
+      const double e = eccentricity_deg(display, gaze_x, gaze_y, x + 0.5, y + 0.5);
       count += 1;
       if (e < r1_deg) areas.inside_inner += 1;
       else if (e < r2_deg) {
@@ -214,7 +210,7 @@ KernelLogPolarMapping make_kernel_log_polar_mapping(int screen_width_px, int scr
 // --- Hyperbolic -----------------------------------------------------------------------------------
 
 std::array<double, 3> HyperbolicLayers::weights(double x_px, double y_px) const {
-  const double e = eccentricity(display, gaze_x_px, gaze_y_px, x_px, y_px);
+  const double e = eccentricity_deg(display, gaze_x_px, gaze_y_px, x_px, y_px);
   const auto fade = [&](double radius_deg) {
     if (blend_band_deg <= 0) return e < radius_deg ? 1.0 : 0.0;
     return std::clamp((radius_deg - e) / blend_band_deg, 0.0, 1.0);
@@ -225,7 +221,7 @@ std::array<double, 3> HyperbolicLayers::weights(double x_px, double y_px) const 
 }
 
 double HyperbolicLayers::density(double x_px, double y_px) const {
-  const double e = eccentricity(display, gaze_x_px, gaze_y_px, x_px, y_px);
+  const double e = eccentricity_deg(display, gaze_x_px, gaze_y_px, x_px, y_px);
   const HyperbolicLayer& layer = e < inner_radius_deg ? layers[0] : e < middle_radius_deg ? layers[1] : layers[2];
   return 1.0 / (layer.pixel_size_px * layer.pixel_size_px);
 }
@@ -241,14 +237,14 @@ bool HyperbolicLayers::sample_needed(int layer, int column, int row) const {
   const double reach_px = 2.0 * grid.pixel_size_px;
   const auto [near_x, near_y] = along_gaze_line(gaze_x_px, gaze_y_px, x, y, -reach_px);
   const auto [far_x, far_y] = along_gaze_line(gaze_x_px, gaze_y_px, x, y, reach_px);
-  return eccentricity(display, gaze_x_px, gaze_y_px, near_x, near_y) <= grid.to_deg &&
-         eccentricity(display, gaze_x_px, gaze_y_px, far_x, far_y) >= grid.from_deg;
+  return eccentricity_deg(display, gaze_x_px, gaze_y_px, near_x, near_y) <= grid.to_deg &&
+         eccentricity_deg(display, gaze_x_px, gaze_y_px, far_x, far_y) >= grid.from_deg;
 }
 
 // --- Linear ---------------------------------------------------------------------------------------
 
 double LinearFalloff::probability(double x_px, double y_px) const {
-  const double e = eccentricity(display, gaze_x_px, gaze_y_px, x_px, y_px);
+  const double e = eccentricity_deg(display, gaze_x_px, gaze_y_px, x_px, y_px);
   if (e <= inner_radius_deg) return 1.0;
   if (e >= outer_radius_deg) return min_probability;
   return 1.0 - (1.0 - min_probability) * (e - inner_radius_deg) / (outer_radius_deg - inner_radius_deg);

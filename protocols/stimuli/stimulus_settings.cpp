@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "renderer/prerender/path_scene_source.h"
@@ -82,7 +83,7 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   return settings;
 }
 
-SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px) {
+SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px, const SamplingMap* centre) {
   SamplingSettings settings;
   DisplayGeometry display;
   display.width_px = spec.width_px;
@@ -123,9 +124,13 @@ SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze
     // sample with that s3 or p_min. Every refresh samples alike (a re-solved s3 would re-pitch the
     // outer layer, a re-solved p_min flip peripheral pixels), and no gaze can make it unsolvable
     // mid-session: the centre's solution is checked before the first trial.
-    const SamplingMap centre = make_sampling_map(settings, display, std::nan(""), std::nan(""));
-    if (const auto* solved = std::get_if<HyperbolicLayers>(&centre)) settings.outer_pixel_size_px = solved->layers[2].pixel_size_px;
-    if (const auto* solved = std::get_if<LinearFalloff>(&centre)) settings.min_probability = solved->min_probability;
+    const bool at_centre = std::isnan(gaze_x_px) || std::isnan(gaze_y_px);
+    if (!centre && at_centre) return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);  // the solution itself
+    std::optional<SamplingMap> solved_here;
+    if (!centre) solved_here = make_sampling_map(settings, display, std::nan(""), std::nan(""));
+    const SamplingMap& solved = centre ? *centre : *solved_here;
+    if (const auto* layers = std::get_if<HyperbolicLayers>(&solved)) settings.outer_pixel_size_px = layers->layers[2].pixel_size_px;
+    if (const auto* linear = std::get_if<LinearFalloff>(&solved)) settings.min_probability = linear->min_probability;
     settings.equalise = false;
   }
   return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);

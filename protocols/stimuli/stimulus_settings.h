@@ -44,7 +44,10 @@ DisplayGeometry stimulus_display(const StimulusSpec& spec);
 // hyperbolic and linear the spec's display. With equalise on, s3 or p_min is solved with the gaze
 // at the centre and kept for every gaze (one stimulus samples alike); InputError when that cannot
 // reach 1 / sigma^2; std::logic_error for other methods.
-SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px);
+// `centre`: this spec's map at the centre (sphere_trace_settings' settings.sampling), whose solved s3
+// or p_min is taken instead of solving again: a session builds one map per refresh, not three.
+SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px,
+                         const SamplingMap* centre = nullptr);
 
 // The pre-rendered sequences a pt or fpt spec shows: its frames, and for fpt with
 // periphery_bounces >= 0 other than max_bounces (seed 001 section 4.2's pilot variant) a second

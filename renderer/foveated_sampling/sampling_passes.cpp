@@ -59,10 +59,16 @@ struct PullPushParams {
 
 constexpr uint32_t kHyperbolicGridWidth = 256;  // the positions pass's row length over the layers' samples
 
-void set_display(GpuSamplingParams& params, const DisplayGeometry& display) {
+// The hyperbolic and linear models' zones: eccentricities r1 and r2 around the gaze on the display.
+void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
+               double inner_radius_deg, double outer_radius_deg) {
+  params.gaze_px[0] = float(gaze_x_px);
+  params.gaze_px[1] = float(gaze_y_px);
   params.pixel_pitch_mm[0] = float(display.pixel_pitch_x_mm());
   params.pixel_pitch_mm[1] = float(display.pixel_pitch_y_mm());
   params.viewing_distance_mm = float(display.viewing_distance_mm);
+  params.inner_radius_deg = float(inner_radius_deg);
+  params.outer_radius_deg = float(outer_radius_deg);
 }
 
 }  // namespace
@@ -124,11 +130,8 @@ void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
     params.log_max_radius = float(kfr->log_max_radius);
     capacity = grid_width_ * grid_height_;
   } else if (const auto* layers = std::get_if<HyperbolicLayers>(&map)) {
-    params.gaze_px[0] = float(layers->gaze_x_px);
-    params.gaze_px[1] = float(layers->gaze_y_px);
-    set_display(params, layers->display);
-    params.inner_radius_deg = float(layers->inner_radius_deg);
-    params.outer_radius_deg = float(layers->middle_radius_deg);
+    set_zones(params, layers->display, layers->gaze_x_px, layers->gaze_y_px, layers->inner_radius_deg,
+              layers->middle_radius_deg);
     params.blend_band_deg = float(layers->blend_band_deg);
     for (size_t i = 0; i < 3; ++i) {
       const HyperbolicLayer& layer = layers->layers[i];
@@ -146,11 +149,8 @@ void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
     grid_width_ = kHyperbolicGridWidth;
     grid_height_ = (capacity + kHyperbolicGridWidth - 1) / kHyperbolicGridWidth;
   } else if (const auto* linear = std::get_if<LinearFalloff>(&map)) {
-    params.gaze_px[0] = float(linear->gaze_x_px);
-    params.gaze_px[1] = float(linear->gaze_y_px);
-    set_display(params, linear->display);
-    params.inner_radius_deg = float(linear->inner_radius_deg);
-    params.outer_radius_deg = float(linear->outer_radius_deg);
+    set_zones(params, linear->display, linear->gaze_x_px, linear->gaze_y_px, linear->inner_radius_deg,
+              linear->outer_radius_deg);
     params.min_probability = float(linear->min_probability);
     params.seed = linear->seed;
     grid_width_ = screen_width_;
