@@ -15,6 +15,7 @@ namespace {
 #include "pull_push.spv.h"
 #include "sampling_positions.spv.h"
 #include "sampling_reconstruct.spv.h"
+#include "sampling_frame_read.spv.h"
 #include "srgb8_encode.spv.h"
 #include "upsample.spv.h"
 #include "zone_band.spv.h"
@@ -39,6 +40,7 @@ const std::span<const uint32_t> list_dispatch_spirv{list_dispatch_spirv_words};
 const std::span<const uint32_t> path_trace_spirv{path_trace_spirv_words};
 const std::span<const uint32_t> sampling_positions_spirv{sampling_positions_spirv_words};
 const std::span<const uint32_t> sampling_reconstruct_spirv{sampling_reconstruct_spirv_words};
+const std::span<const uint32_t> sampling_frame_read_spirv{sampling_frame_read_spirv_words};
 const std::span<const uint32_t> pull_push_spirv{pull_push_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};
 

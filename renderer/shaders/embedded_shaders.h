@@ -24,6 +24,7 @@ extern const std::span<const uint32_t> list_dispatch_spirv;
 extern const std::span<const uint32_t> path_trace_spirv;
 extern const std::span<const uint32_t> sampling_positions_spirv;
 extern const std::span<const uint32_t> sampling_reconstruct_spirv;
+extern const std::span<const uint32_t> sampling_frame_read_spirv;
 extern const std::span<const uint32_t> pull_push_spirv;
 extern const std::string_view sphere_trace_source;
 
