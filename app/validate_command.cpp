@@ -19,6 +19,7 @@ void validate(const std::string& config_path, const std::string& participant) {
   // A config whose prepared frames would not fit in this machine's memory cannot run here: said now,
   // not after minutes of rendering (the session refuses it the same way).
   check_prepared_frames_fit(specs, config_path);
+  check_sampling_maps(plan.stimuli, config_path);
   int checks = 0;
   for (const Trial& trial : plan.trials) checks += trial.attention_check ? 1 : 0;
   std::set<std::string> conditions;

@@ -149,6 +149,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.trials_total = static_cast<int>(plan.trials.size());
   outcome.log_path = session_log_path(options.results_dir, config.name, options.participant);
   check_prepared_frames_fit(planned_specs(plan), config.source_path);  // before the window, the lock, any render
+  check_sampling_maps(plan.stimuli, config.source_path);
 
   // Answers and gaze: parsed before anything is written.
   std::optional<ObserverModel> observer_model;

@@ -9,6 +9,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "core/memory_budget.h"
+#include "renderer/foveated_sampling/frame_sampler.h"
 #include "renderer/path_tracing/path_tracer.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/scene/scene_source.h"
@@ -43,6 +44,8 @@ PreparedFrame StimulusLibrary::render_live(const StimulusSpec& spec, const Stimu
     rendered.hash = frame_hash(rendered.image);
   } else if (spec.method() == RenderMethod::foveated_path_traced) {
     rendered.on_device = blend_foveated_path_traced(spec, image);
+  } else if (is_path_traced(spec.method())) {
+    rendered.on_device = sample_path_traced(spec, image);
   } else {
     rendered.on_device = render_sphere_traced(spec, image);
   }
@@ -126,6 +129,25 @@ DeviceRgba8Frame StimulusLibrary::blend_foveated_path_traced(const StimulusSpec&
   return blender().display_frame_on_device(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec));
 }
 
+DeviceRgba8Frame StimulusLibrary::sample_path_traced(const StimulusSpec& spec, const StimulusImage& image) {
+  // As fpt: the frame is uploaded when the animation frame changes, the map follows every gaze
+  // sample, and nothing carries from one image to the next.
+  const std::string key = spec.canonical() + "#" + std::to_string(image.frame);
+  if (key != sampler_frame_) {
+    sampler_frame_.clear();
+    sampler().set_frame(frame_cache_->frame(path_traced_frames(spec).sequences[0], image.frame));
+    sampler_centre_ = sampling_map(spec, std::nan(""), std::nan(""));  // equalise's solution, kept for every gaze
+    sampler_frame_ = key;
+  }
+  return sampler().display_frame_on_device(sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*sampler_centre_),
+                                           sampling_filter(spec));
+}
+
+FrameSampler& StimulusLibrary::sampler() {
+  if (!sampler_) sampler_ = std::make_unique<FrameSampler>(context_);
+  return *sampler_;
+}
+
 ZoneBlender& StimulusLibrary::blender() {
   if (!blender_) blender_ = std::make_unique<ZoneBlender>(context_);
   return *blender_;
@@ -166,7 +188,7 @@ void StimulusLibrary::check_frame_size(const StimulusSpec& spec) {
 }
 
 void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
-  if (spec.method() != RenderMethod::foveated_path_traced) return;  // pt frames are loaded (or rendered) by prepare's render loop
+  if (!describe(spec.method()).depends_on_gaze) return;  // pt frames are loaded (or rendered) by prepare's render loop
   // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
   // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
   // error naming its file now rather than mid-session.
@@ -216,8 +238,9 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
     if (is_path_traced(spec.method())) {
       const auto start = std::chrono::steady_clock::now();
       prepare_path_traced(spec);
+      if (is_sampling_model(spec.method())) sampling_map(spec, std::nan(""), std::nan(""));  // equalise solves now
       render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (spec.method() == RenderMethod::foveated_path_traced) continue;  // blended live
+      if (describe(spec.method()).depends_on_gaze) continue;  // blended or sampled live
     } else if (describe(spec.method()).depends_on_gaze) {
       // Rendered live; bad settings and scene errors come now all the same, not mid-session.
       const auto start = std::chrono::steady_clock::now();

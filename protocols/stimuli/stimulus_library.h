@@ -2,17 +2,19 @@
 // Renders the frames of a study's stimuli and keeps them ready for presentation. Stimuli whose
 // frames do not depend on gaze (gt, ipr, pt) are rendered once, before the first trial, so no trial
 // waits on a compile or a render it could have done earlier; each frame is kept as the sRGB RGBA8
-// a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr, fpt) are
+// a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr, fpt, the
+// sampling models) are
 // rendered live, one image per refresh, with that refresh's gaze, and left on the rendering device
 // (sRGB-encoded there by the one encoder, renderer/present/srgb8_encoder.h), so that a presenter on
 // that device shows them without a copy through the host; their hash is taken after the present
-// (hash()). Path-traced frames (pt, fpt) come
+// (hash()). Path-traced frames (pt, fpt, pt-rmfr, ...) come
 // from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
 // before the first trial.
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,7 @@ class Context;
 class SphereTracer;
 class FrameCache;
 class ZoneBlender;
+class FrameSampler;
 
 struct PreparedFrame {
   Rgba8Frame image;            // the bytes (prepared frames; a live frame once hash() read it back)
@@ -103,18 +106,23 @@ class StimulusLibrary {
   DeviceRgba8Frame render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image);
   Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt
   DeviceRgba8Frame blend_foveated_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // fpt
+  DeviceRgba8Frame sample_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt-rmfr, ...
   // fpt's settings, size and display, without rendering (InputError).
   void check_foveated_path_traced(const StimulusSpec& spec);
   // The device's limits on the frame size, which is the study config's display size: errors name
   // its fields ([display] width_px, height_px), not a command's flags.
   void check_frame_size(const StimulusSpec& spec);
-  // fpt: every frame in the cache before the first trial.
+  // fpt and the path-traced sampling models: every frame in the cache before the first trial.
   void prepare_path_traced(const StimulusSpec& spec);
   ZoneBlender& blender();
+  FrameSampler& sampler();
   vk::Context& context_;
   std::unique_ptr<FrameCache> frame_cache_;
   std::unique_ptr<ZoneBlender> blender_;
   std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
+  std::unique_ptr<FrameSampler> sampler_;
+  std::string sampler_frame_;  // spec and frame the sampler holds
+  std::optional<SamplingMap> sampler_centre_;  // that spec's map with the gaze at the centre
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
   std::map<std::string, LastImage> last_image_;                    // by scene
   std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id

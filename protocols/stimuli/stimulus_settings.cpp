@@ -5,6 +5,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "core/input_error.h"
+#include "core/number_text.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
 
@@ -63,7 +65,7 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
     foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);
     foveation.seed = fipr->mask_seed;
     foveation.frame_index = 0;
-  } else if (is_sampling_model(spec.method())) {
+  } else if (is_sampling_model(spec.method()) && !is_path_traced(spec.method())) {
     settings.method = TraceMethod::sampling_model;
     std::visit(
         [&](const auto& p) {
@@ -71,54 +73,73 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
         },
         spec.parameters);
     settings.sampling = sampling_map(spec, std::nan(""), std::nan(""));
-    std::visit(
-        [&](const auto& p) {
-          if constexpr (requires { p.resample; })
-            settings.sampling_filter = static_cast<ResampleFilter>(static_cast<uint32_t>(p.resample));
-        },
-        spec.parameters);
+    settings.sampling_filter = sampling_filter(spec);
   } else {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + std::string(spec.method_name()));
   }
   return settings;
 }
 
+namespace {
+
+// A sampling model's settings from its parameters, the same keys on the sphere tracer and on
+// pre-rendered frames. Returns whether the model needs the spec's display.
+template <class P>
+bool read_model(const P& p, SamplingSettings& settings) {
+  if constexpr (requires { p.focal_share_x; }) {
+    settings.model = SamplingModel::rectangular;
+    settings.sigma = p.sigma;
+    settings.focal_share_x = p.focal_share_x;
+    settings.focal_share_y = p.focal_share_y;
+    return false;
+  } else if constexpr (requires { p.alpha; }) {
+    settings.model = SamplingModel::kernel_log_polar;
+    settings.sigma = p.sigma;
+    settings.alpha = p.alpha;
+    return false;
+  } else if constexpr (requires { p.middle_pixel_size_px; }) {
+    settings.model = SamplingModel::hyperbolic;
+    settings.inner_radius_deg = p.inner_radius_deg;
+    settings.outer_radius_deg = p.outer_radius_deg;
+    settings.middle_pixel_size_px = p.middle_pixel_size_px;
+    settings.outer_pixel_size_px = p.outer_pixel_size_px;
+    settings.blend_band_deg = p.blend_band_deg;
+    settings.equalise = p.equalise;
+    settings.sigma = p.sigma;
+    return true;
+  } else {
+    static_assert(requires { p.min_probability; }, "not a sampling model's parameters");
+    settings.model = SamplingModel::linear;
+    settings.inner_radius_deg = p.inner_radius_deg;
+    settings.outer_radius_deg = p.outer_radius_deg;
+    settings.min_probability = p.min_probability;
+    settings.seed = p.sample_seed;
+    settings.equalise = p.equalise;
+    settings.sigma = p.sigma;
+    return true;
+  }
+}
+
+void require_sampling_model(const StimulusSpec& spec, const char* function) {
+  if (!is_sampling_model(spec.method()))
+    throw std::logic_error(std::string(function) + ": not a sampling model: " + std::string(spec.method_name()));
+}
+
+}  // namespace
+
 SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px, const SamplingMap* centre) {
+  require_sampling_model(spec, "sampling_map");
   SamplingSettings settings;
   DisplayGeometry display;
   display.width_px = spec.width_px;
   display.height_px = spec.height_px;
-  if (const auto* rmfr = std::get_if<RectangularMappingParameters>(&spec.parameters)) {
-    settings.model = SamplingModel::rectangular;
-    settings.sigma = rmfr->sigma;
-    settings.focal_share_x = rmfr->focal_share_x;
-    settings.focal_share_y = rmfr->focal_share_y;
-  } else if (const auto* kfr = std::get_if<KernelLogPolarParameters>(&spec.parameters)) {
-    settings.model = SamplingModel::kernel_log_polar;
-    settings.sigma = kfr->sigma;
-    settings.alpha = kfr->alpha;
-  } else if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&spec.parameters)) {
-    settings.model = SamplingModel::hyperbolic;
-    settings.inner_radius_deg = layers->inner_radius_deg;
-    settings.outer_radius_deg = layers->outer_radius_deg;
-    settings.middle_pixel_size_px = layers->middle_pixel_size_px;
-    settings.outer_pixel_size_px = layers->outer_pixel_size_px;
-    settings.blend_band_deg = layers->blend_band_deg;
-    settings.equalise = layers->equalise;
-    settings.sigma = layers->sigma;
-    display = stimulus_display(spec);
-  } else if (const auto* linear = std::get_if<LinearFalloffParameters>(&spec.parameters)) {
-    settings.model = SamplingModel::linear;
-    settings.inner_radius_deg = linear->inner_radius_deg;
-    settings.outer_radius_deg = linear->outer_radius_deg;
-    settings.min_probability = linear->min_probability;
-    settings.seed = linear->sample_seed;
-    settings.equalise = linear->equalise;
-    settings.sigma = linear->sigma;
-    display = stimulus_display(spec);
-  } else {
-    throw std::logic_error("sampling_map: not a sampling model: " + std::string(spec.method_name()));
-  }
+  const bool needs_display = std::visit(
+      [&](const auto& p) {
+        if constexpr (requires { p.sigma; }) return read_model(p, settings);
+        return false;
+      },
+      spec.parameters);
+  if (needs_display) display = stimulus_display(spec);
   if (settings.equalise) {
     // Solved once for the stimulus, with the gaze at the centre; the map then follows each gaze
     // sample with that s3 or p_min. Every refresh samples alike (a re-solved s3 would re-pitch the
@@ -134,6 +155,31 @@ SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze
     settings.equalise = false;
   }
   return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);
+}
+
+void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std::string& source) {
+  for (const PlannedStimulus& stimulus : stimuli) {
+    if (!is_sampling_model(stimulus.spec.method())) continue;
+    try {
+      sampling_map(stimulus.spec, std::nan(""), std::nan(""));
+    } catch (const InputError& error) {
+      std::string where = source + ": " + (stimulus.is_reference ? "stimulus.reference" : "stimulus.test");
+      if (!stimulus.variant.empty()) where += " variant " + stimulus.variant;
+      if (stimulus.level) where += " at level " + format_number(*stimulus.level, 6);
+      where.append(" (method \"").append(stimulus.spec.method_name()).append("\"): ");
+      throw InputError(where + error.what());
+    }
+  }
+}
+
+ResampleFilter sampling_filter(const StimulusSpec& spec) {
+  require_sampling_model(spec, "sampling_filter");
+  return std::visit(
+      [](const auto& p) {
+        if constexpr (requires { p.resample; }) return static_cast<ResampleFilter>(static_cast<uint32_t>(p.resample));
+        return ResampleFilter::bilinear;
+      },
+      spec.parameters);
 }
 
 DisplayGeometry stimulus_display(const StimulusSpec& spec) {
@@ -154,12 +200,17 @@ PathTracedFrames path_traced_frames(const StimulusSpec& spec) {
     frames.max_bounces = p.max_bounces;
     frames.seed = p.path_seed;
   };
-  if (const auto* pt = std::get_if<PathTracedParameters>(&spec.parameters)) {
-    set_paths(*pt);
+  if (!is_path_traced(spec.method()))
+    throw std::logic_error("path_traced_frames: not a path-traced method: " + std::string(spec.method_name()));
+  const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&spec.parameters);
+  if (!fpt) {  // pt and the sampling models: the frames alone
+    std::visit(
+        [&](const auto& p) {
+          if constexpr (requires { p.max_bounces; }) set_paths(p);
+        },
+        spec.parameters);
     return {{frames}};
   }
-  const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&spec.parameters);
-  if (!fpt) throw std::logic_error("path_traced_frames: not a path-traced method: " + std::string(spec.method_name()));
   set_paths(*fpt);
   PathTracedFrames result{{frames}};
   if (fpt->periphery_bounces >= 0 && fpt->periphery_bounces != frames.max_bounces) {

@@ -9,6 +9,7 @@
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "study/config/scene_catalog.h"
+#include "study/schedule/study_plan.h"
 #include "study/stimulus/stimulus_spec.h"
 
 namespace fovlab {
@@ -21,10 +22,10 @@ SceneCatalog renderer_scene_catalog(bool check_files = true);
 // path-traced sequences (pt, fpt).
 inline bool is_path_traced(RenderMethod method) { return describe(method).scene_kind == SceneKind::path_traced; }
 
-// Whether a method is one of seed 002's sampling models (rmfr, hyperbolic, linear, kfr).
+// Whether a method is one of seed 002's sampling models, on the sphere tracer (rmfr, hyperbolic,
+// linear, kfr) or on pre-rendered path-traced frames (pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr).
 inline bool is_sampling_model(RenderMethod method) {
-  return method == RenderMethod::rectangular_mapping || method == RenderMethod::hyperbolic_layers ||
-         method == RenderMethod::linear_falloff || method == RenderMethod::kernel_log_polar;
+  return method >= RenderMethod::rectangular_mapping && method <= RenderMethod::path_traced_kernel_log_polar;
 }
 
 // The sphere-tracer settings of a gt, ipr, fipr or sampling-model spec (frame time of the given
@@ -39,8 +40,8 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
 // InputError when missing.
 DisplayGeometry stimulus_display(const StimulusSpec& spec);
 
-// The sampling model of an rmfr, hyperbolic, linear or kfr spec for one gaze sample (NaN: the
-// centre): the map SphereTraceSettings::sampling takes. rmfr and kfr need only the frame's pixels;
+// The sampling model of a sampling-model spec (is_sampling_model) for one gaze sample (NaN: the
+// centre): the map SphereTraceSettings::sampling and FrameSampler take. rmfr and kfr need only the frame's pixels;
 // hyperbolic and linear the spec's display. With equalise on, s3 or p_min is solved with the gaze
 // at the centre and kept for every gaze (one stimulus samples alike); InputError when that cannot
 // reach 1 / sigma^2; std::logic_error for other methods.
@@ -48,8 +49,16 @@ DisplayGeometry stimulus_display(const StimulusSpec& spec);
 // or p_min is taken instead of solving again: a session builds one map per refresh, not three.
 SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px,
                          const SamplingMap* centre = nullptr);
+// Refuses (InputError, one line) planned stimuli whose sampling model cannot make its map (equalise
+// with no solution on this display), naming `source` (the config), the stimulus (stimulus.reference
+// or stimulus.test, with its level), its method and why: `validate` says it, and a session before
+// anything is written.
+void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std::string& source);
+// How a sampling-model spec's pass 2 reads its samples (bilinear for the linear model, which fills
+// by pull-push); std::logic_error for other methods.
+ResampleFilter sampling_filter(const StimulusSpec& spec);
 
-// The pre-rendered sequences a pt or fpt spec shows: its frames, and for fpt with
+// The pre-rendered sequences a path-traced spec (pt, fpt, pt-rmfr, ...) shows: its frames, and for fpt with
 // periphery_bounces >= 0 other than max_bounces (seed 001 section 4.2's pilot variant) a second
 // sequence with that many bounces, the source of the middle and outer zones.
 struct PathTracedFrames {

@@ -21,6 +21,10 @@ enum class RenderMethod {
   hyperbolic_layers,
   linear_falloff,
   kernel_log_polar,
+  path_traced_rectangular_mapping,  // the same four on pre-rendered path-traced frames
+  path_traced_hyperbolic_layers,
+  path_traced_linear_falloff,
+  path_traced_kernel_log_polar,
 };
 
 // How FIPR combines the acuity probability and the depth edges (docs/foveation.md); the order is
@@ -131,7 +135,7 @@ struct HyperbolicLayersParameters {
   double middle_pixel_size_px;
   double outer_pixel_size_px;
   double blend_band_deg;
-  bool equalise;             // s3 solved per gaze so that the mean density is 1 / sigma^2
+  bool equalise;             // s3 solved (gaze at the centre) so that the mean density is 1 / sigma^2
   double sigma;              // the target of equalise
   SampleResampling resample;
   StimulusDisplay display;
@@ -146,7 +150,57 @@ struct LinearFalloffParameters {
   double outer_radius_deg;
   double min_probability;
   uint32_t sample_seed;
-  bool equalise;             // p_min solved per gaze so that the mean density is 1 / sigma^2
+  bool equalise;             // p_min solved (gaze at the centre) so that the mean density is 1 / sigma^2
+  double sigma;
+  StimulusDisplay display;
+};
+
+// The four models emulated on pre-rendered path-traced frames (seed 002's demo does the same): the
+// path tracer's parameters make the frames, as for pt; each sample takes the frame's mean over its
+// footprint; the model's parameters are those of its sphere-traced form, under the same keys.
+struct PathTracedRectangularMappingParameters {
+  int samples_per_pixel;  // of the pre-rendered frames
+  int max_bounces;
+  uint32_t path_seed;
+  double sigma;
+  double focal_share_x;
+  double focal_share_y;
+  SampleResampling resample;
+};
+
+struct PathTracedKernelLogPolarParameters {
+  int samples_per_pixel;
+  int max_bounces;
+  uint32_t path_seed;
+  double sigma;
+  double alpha;
+  SampleResampling resample;
+};
+
+struct PathTracedHyperbolicLayersParameters {
+  int samples_per_pixel;
+  int max_bounces;
+  uint32_t path_seed;
+  double inner_radius_deg;
+  double outer_radius_deg;
+  double middle_pixel_size_px;
+  double outer_pixel_size_px;
+  double blend_band_deg;
+  bool equalise;
+  double sigma;
+  SampleResampling resample;
+  StimulusDisplay display;
+};
+
+struct PathTracedLinearFalloffParameters {
+  int samples_per_pixel;
+  int max_bounces;
+  uint32_t path_seed;
+  double inner_radius_deg;
+  double outer_radius_deg;
+  double min_probability;
+  uint32_t sample_seed;
+  bool equalise;
   double sigma;
   StimulusDisplay display;
 };
@@ -154,7 +208,9 @@ struct LinearFalloffParameters {
 using MethodParameters =
     std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters, PathTracedParameters,
                  FoveatedPathTracedParameters, RectangularMappingParameters, HyperbolicLayersParameters,
-                 LinearFalloffParameters, KernelLogPolarParameters>;
+                 LinearFalloffParameters, KernelLogPolarParameters, PathTracedRectangularMappingParameters,
+                 PathTracedHyperbolicLayersParameters, PathTracedLinearFalloffParameters,
+                 PathTracedKernelLogPolarParameters>;
 
 inline RenderMethod method_of(const MethodParameters& parameters) {
   return static_cast<RenderMethod>(parameters.index());
@@ -166,6 +222,8 @@ inline const StimulusDisplay* display_of(const MethodParameters& parameters) {
   if (const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&parameters)) return &fpt->display;
   if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) return &layers->display;
   if (const auto* linear = std::get_if<LinearFalloffParameters>(&parameters)) return &linear->display;
+  if (const auto* layers = std::get_if<PathTracedHyperbolicLayersParameters>(&parameters)) return &layers->display;
+  if (const auto* linear = std::get_if<PathTracedLinearFalloffParameters>(&parameters)) return &linear->display;
   return nullptr;
 }
 inline StimulusDisplay* display_of(MethodParameters& parameters) {

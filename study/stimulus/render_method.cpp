@@ -1,5 +1,6 @@
 #include "study/stimulus/render_method.h"
 
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -237,7 +238,8 @@ constexpr double kMinSigma = 1.0, kMaxSigma = 8.0;
 constexpr double kMinFocalShare = 1e-3, kMaxFocalShare = 1.0;
 constexpr double kMinAlpha = 0.25, kMaxAlpha = 8.0;
 
-// Seed 002's sampling models: the sphere tracer's parameters, then the model's.
+// Seed 002's sampling models: on the sphere tracer, its parameters then the model's; on
+// pre-rendered path-traced frames, the path tracer's then the model's (the same keys).
 template <class Struct>
 MethodDescriptor sampling_model(RenderMethod method, std::string_view name, std::string_view summary) {
   MethodDescriptor descriptor{method, name, summary, SceneKind::signed_distance};
@@ -245,6 +247,14 @@ MethodDescriptor sampling_model(RenderMethod method, std::string_view name, std:
   descriptor.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   descriptor.parameters = sphere_trace_parameters<Struct>();
   descriptor.parameters[0].help = "rays a sample, spread over the sample's footprint on the screen";
+  return descriptor;
+}
+
+template <class Struct>
+MethodDescriptor path_traced_sampling_model(RenderMethod method, std::string_view name, std::string_view summary) {
+  MethodDescriptor descriptor{method, name, summary, SceneKind::path_traced};
+  descriptor.depends_on_gaze = true;
+  descriptor.parameters = path_trace_parameters<Struct>();
   return descriptor;
 }
 
@@ -280,10 +290,8 @@ void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solve
   list.push_back(sigma_parameter<Struct>("with equalise on: the mean density sought is 1 / sigma^2"));
 }
 
-MethodDescriptor rectangular_mapping() {
-  using P = RectangularMappingParameters;
-  MethodDescriptor method = sampling_model<P>(RenderMethod::rectangular_mapping, "rmfr",
-                                              "rectangular mapping-based foveated rendering (seed 002 section 3)");
+template <class P>
+MethodDescriptor rectangular_mapping(MethodDescriptor method) {
   method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis: sigma^2 is the theoretical speed-up"));
   method.parameters.push_back(parameter<&P::focal_share_x>("focal_share_x", "", ParameterType::real, 0.3, kMinFocalShare,
                                                            kMaxFocalShare, "f_x as a share of the width"));
@@ -293,10 +301,8 @@ MethodDescriptor rectangular_mapping() {
   return method;
 }
 
-MethodDescriptor hyperbolic_layers() {
-  using P = HyperbolicLayersParameters;
-  MethodDescriptor method = sampling_model<P>(RenderMethod::hyperbolic_layers, "hyperbolic",
-                                              "three layers of falling resolution (Guenter et al.; seed 002 section 5.1)");
+template <class P>
+MethodDescriptor hyperbolic_layers(MethodDescriptor method) {
   method.needs_display = true;
   auto& list = method.parameters;
   add_radii<P>(list);
@@ -306,16 +312,14 @@ MethodDescriptor hyperbolic_layers() {
                                                     "s3: the outer layer's pixel size; at least middle_pixel_size_px"));
   list.push_back(parameter<&P::blend_band_deg>("blend_band_deg", "deg", ParameterType::real, 1.0, 0, 90,
                                                "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
-  add_equalise<P>(list, "on: outer_pixel_size_px is solved per gaze sample so that the mean density is 1 / sigma^2");
+  add_equalise<P>(list, "on: outer_pixel_size_px is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
   add_resample<P>(list);
   add_display_parameters<P>(list);
   return method;
 }
 
-MethodDescriptor linear_falloff() {
-  using P = LinearFalloffParameters;
-  MethodDescriptor method = sampling_model<P>(RenderMethod::linear_falloff, "linear",
-                                              "linear fall-off of the sampling probability (Weier et al.; seed 002 section 5.1)");
+template <class P>
+MethodDescriptor linear_falloff(MethodDescriptor method) {
   method.needs_display = true;
   auto& list = method.parameters;
   add_radii<P>(list);
@@ -323,15 +327,13 @@ MethodDescriptor linear_falloff() {
                                                 "p_min: the probability beyond outer_radius_deg"));
   list.push_back(parameter<&P::sample_seed>("sample_seed", "", ParameterType::integer, 0, 0, kSeedMax,
                                             "seed of the per-pixel thresholds"));
-  add_equalise<P>(list, "on: min_probability is solved per gaze sample so that the mean density is 1 / sigma^2");
+  add_equalise<P>(list, "on: min_probability is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
   add_display_parameters<P>(list);
   return method;
 }
 
-MethodDescriptor kernel_log_polar() {
-  using P = KernelLogPolarParameters;
-  MethodDescriptor method = sampling_model<P>(RenderMethod::kernel_log_polar, "kfr",
-                                              "kernel log-polar foveated rendering (Meng et al.; seed 002 section 5.1)");
+template <class P>
+MethodDescriptor kernel_log_polar(MethodDescriptor method) {
   method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis"));
   method.parameters.push_back(parameter<&P::alpha>("alpha", "", ParameterType::real, 4.0, kMinAlpha, kMaxAlpha,
                                                    "the kernel's exponent: u = w (ln r / L)^alpha"));
@@ -339,10 +341,45 @@ MethodDescriptor kernel_log_polar() {
   return method;
 }
 
+constexpr std::string_view kRmfrSummary = "rectangular mapping-based foveated rendering (seed 002 section 3)";
+constexpr std::string_view kHyperbolicSummary = "three layers of falling resolution (Guenter et al.; seed 002 section 5.1)";
+constexpr std::string_view kLinearSummary = "linear fall-off of the sampling probability (Weier et al.; seed 002 section 5.1)";
+constexpr std::string_view kKfrSummary = "kernel log-polar foveated rendering (Meng et al.; seed 002 section 5.1)";
+
+std::vector<MethodDescriptor> sampling_models() {
+  using R = RenderMethod;
+  return {
+      rectangular_mapping<RectangularMappingParameters>(
+          sampling_model<RectangularMappingParameters>(R::rectangular_mapping, "rmfr", kRmfrSummary)),
+      hyperbolic_layers<HyperbolicLayersParameters>(
+          sampling_model<HyperbolicLayersParameters>(R::hyperbolic_layers, "hyperbolic", kHyperbolicSummary)),
+      linear_falloff<LinearFalloffParameters>(
+          sampling_model<LinearFalloffParameters>(R::linear_falloff, "linear", kLinearSummary)),
+      kernel_log_polar<KernelLogPolarParameters>(
+          sampling_model<KernelLogPolarParameters>(R::kernel_log_polar, "kfr", kKfrSummary)),
+      rectangular_mapping<PathTracedRectangularMappingParameters>(
+          path_traced_sampling_model<PathTracedRectangularMappingParameters>(
+              R::path_traced_rectangular_mapping, "pt-rmfr", "rmfr on pre-rendered path-traced frames (emulated)")),
+      hyperbolic_layers<PathTracedHyperbolicLayersParameters>(
+          path_traced_sampling_model<PathTracedHyperbolicLayersParameters>(
+              R::path_traced_hyperbolic_layers, "pt-hyperbolic", "hyperbolic on pre-rendered path-traced frames (emulated)")),
+      linear_falloff<PathTracedLinearFalloffParameters>(path_traced_sampling_model<PathTracedLinearFalloffParameters>(
+          R::path_traced_linear_falloff, "pt-linear", "linear on pre-rendered path-traced frames (emulated)")),
+      kernel_log_polar<PathTracedKernelLogPolarParameters>(
+          path_traced_sampling_model<PathTracedKernelLogPolarParameters>(
+              R::path_traced_kernel_log_polar, "pt-kfr", "kfr on pre-rendered path-traced frames (emulated)")),
+  };
+}
+
 const std::vector<MethodDescriptor>& methods() {
-  static const std::vector<MethodDescriptor> all = {ground_truth(),        inverted_pyramid(),  foveated_pyramid(),
-                                                    path_traced(),         foveated_path_traced(), rectangular_mapping(),
-                                                    hyperbolic_layers(),   linear_falloff(),    kernel_log_polar()};
+  static const std::vector<MethodDescriptor> all = [] {
+    std::vector<MethodDescriptor> list = {ground_truth(), inverted_pyramid(), foveated_pyramid(), path_traced(),
+                                          foveated_path_traced()};
+    for (MethodDescriptor& model : sampling_models()) list.push_back(std::move(model));
+    for (size_t i = 0; i < list.size(); ++i)  // describe() indexes by RenderMethod
+      if (list[i].method != static_cast<RenderMethod>(i)) throw std::logic_error("methods(): out of RenderMethod's order");
+    return list;
+  }();
   return all;
 }
 
@@ -439,6 +476,10 @@ MethodParameters default_parameters(RenderMethod method) {
     case RenderMethod::hyperbolic_layers: parameters = HyperbolicLayersParameters{}; break;
     case RenderMethod::linear_falloff: parameters = LinearFalloffParameters{}; break;
     case RenderMethod::kernel_log_polar: parameters = KernelLogPolarParameters{}; break;
+    case RenderMethod::path_traced_rectangular_mapping: parameters = PathTracedRectangularMappingParameters{}; break;
+    case RenderMethod::path_traced_hyperbolic_layers: parameters = PathTracedHyperbolicLayersParameters{}; break;
+    case RenderMethod::path_traced_linear_falloff: parameters = PathTracedLinearFalloffParameters{}; break;
+    case RenderMethod::path_traced_kernel_log_polar: parameters = PathTracedKernelLogPolarParameters{}; break;
   }
   for (const ParameterDescriptor& parameter : describe(method).parameters)
     parameter.write(parameters, parameter.default_value);
@@ -466,16 +507,21 @@ std::optional<ParameterConflict> parameter_conflict(const MethodParameters& para
                                                     ") >= " + std::string(smaller) + " (" +
                                                     format_number(smaller_value, 6) + ")"};
   };
-  if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) {
-    if (auto conflict = at_least("outer_radius_deg", layers->outer_radius_deg, "inner_radius_deg", layers->inner_radius_deg))
+  const auto hyperbolic = [&](const auto& layers) {
+    if (auto conflict = at_least("outer_radius_deg", layers.outer_radius_deg, "inner_radius_deg", layers.inner_radius_deg))
       return conflict;
-    if (auto conflict = at_least("outer_pixel_size_px", layers->outer_pixel_size_px, "middle_pixel_size_px",
-                                 layers->middle_pixel_size_px))
+    if (auto conflict = at_least("outer_pixel_size_px", layers.outer_pixel_size_px, "middle_pixel_size_px",
+                                 layers.middle_pixel_size_px))
       return conflict;
-    return at_least("inner_radius_deg", layers->inner_radius_deg, "blend_band_deg", layers->blend_band_deg);
-  }
-  if (const auto* linear = std::get_if<LinearFalloffParameters>(&parameters))
-    return at_least("outer_radius_deg", linear->outer_radius_deg, "inner_radius_deg", linear->inner_radius_deg);
+    return at_least("inner_radius_deg", layers.inner_radius_deg, "blend_band_deg", layers.blend_band_deg);
+  };
+  const auto linear = [&](const auto& falloff) {
+    return at_least("outer_radius_deg", falloff.outer_radius_deg, "inner_radius_deg", falloff.inner_radius_deg);
+  };
+  if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) return hyperbolic(*layers);
+  if (const auto* layers = std::get_if<PathTracedHyperbolicLayersParameters>(&parameters)) return hyperbolic(*layers);
+  if (const auto* falloff = std::get_if<LinearFalloffParameters>(&parameters)) return linear(*falloff);
+  if (const auto* falloff = std::get_if<PathTracedLinearFalloffParameters>(&parameters)) return linear(*falloff);
   const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters);
   if (!fipr || fipr->outer_periphery_radius_deg >= fipr->fovea_radius_deg) return std::nullopt;
   return ParameterConflict{{"fovea_radius_deg", "outer_periphery_radius_deg"},
@@ -483,6 +529,18 @@ std::optional<ParameterConflict> parameter_conflict(const MethodParameters& para
                                ") >= fovea_radius_deg (" + format_number(fipr->fovea_radius_deg, 6) +
                                "): the outer periphery starts beyond the fovea"};
 }
+
+namespace {
+
+// The shortest text that reads back as `value` (2.6, not printf's 17-digit 2.6000000000000001), for
+// people reading the table; the canonical text keeps its 17 digits (logs compare it).
+std::string shortest_number(double value) {
+  char text[400];  // fixed notation of any double
+  const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::fixed);
+  return std::string(text, result.ptr);
+}
+
+}  // namespace
 
 std::string methods_markdown() {
   std::string text;
@@ -508,14 +566,14 @@ std::string methods_markdown() {
         for (double value : parameter.allowed) values.push_back(format_number(value, 17));
         allowed = join(values);
       } else {
-        allowed = (parameter.type == ParameterType::integer ? "integer " : "") + format_number(parameter.min_value, 17) +
-                  " to " + format_number(parameter.max_value, 17);
+        allowed = (parameter.type == ParameterType::integer ? "integer " : "") + shortest_number(parameter.min_value) +
+                  " to " + shortest_number(parameter.max_value);
       }
       // A default outside the range is "not given": the display's, filled in by the schedule.
       const std::string default_text =
           parameter.type == ParameterType::choice ? "`\"" + parameter_value_text(parameter, parameter.default_value) + "\"`"
           : parameter.default_value < parameter.min_value ? "from `[display]`"
-                                                          : parameter_value_text(parameter, parameter.default_value);
+                                                          : shortest_number(parameter.default_value);
       text += "| `" + std::string(parameter.key) + "` | " + std::string(parameter.unit) + " | " + default_text + " | " +
               allowed + " | " + std::string(parameter.help) +
               (parameter.legacy_key.empty() ? "" : " (was `" + std::string(parameter.legacy_key) + "`)") + " |\n";

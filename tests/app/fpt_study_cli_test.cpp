@@ -62,10 +62,12 @@ std::vector<fs::path> cache_frames(const fs::path& dir) {
   return frames;
 }
 
-// Run a participant, replay --verify its log, analyze the study: each exits 0.
-void run_replay_analyze(const std::string& name, const std::string& protocol, const std::string& values) {
+// Run a participant, replay --verify its log, analyze the study: each exits 0. `config`: the study
+// (fpt_config's by default), whose test method is `test_method`.
+void run_replay_analyze(const std::string& name, const std::string& protocol, const std::string& values,
+                        const std::string& config = "", const std::string& test_method = "fpt") {
   const fs::path dir = working_dir(name);
-  write_file(dir / "study.toml", fpt_config(name, protocol, values));
+  write_file(dir / "study.toml", config.empty() ? fpt_config(name, protocol, values) : config);
   const std::string run_args =
       "run study.toml --participant next --headless --observer simulated:threshold=15 --results results";
   const CommandResult session = run_in(dir, run_args);
@@ -78,7 +80,7 @@ void run_replay_analyze(const std::string& name, const std::string& protocol, co
   EXPECT_EQ(cache_frames(dir).size(), 2u);
   // fpt is blended per refresh from the gaze, so its frames are logged; the log names both methods.
   const std::string text = read_all(log);
-  EXPECT_NE(text.find("\"method\":\"fpt\""), std::string::npos);
+  EXPECT_NE(text.find("\"method\":\"" + test_method + "\""), std::string::npos);
   EXPECT_NE(text.find("\"method\":\"pt\""), std::string::npos);
   EXPECT_NE(text.find("session_end"), std::string::npos) << "the session finished";
 
@@ -113,6 +115,28 @@ TEST(FptStudyCli, RampRunsReplaysAndAnalyzes) {
 
 TEST(FptStudyCli, SliderRunsReplaysAndAnalyzes) {
   run_replay_analyze("tiny_fpt_slider", "kind = \"slider\"\nrepeats = 1\nstart_level = 10", "[5, 10, 20]");
+}
+
+// Seed 002's sampling models on the same pre-rendered frames, live per gaze sample: a pair study of
+// pt against pt-rmfr over sigma, and one against pt-hyperbolic with equalise over sigma, on a frame
+// no sigma divides (any size works).
+TEST(FptStudyCli, PathTracedSamplingModelsRunReplayAndAnalyze) {
+  const struct {
+    const char* name;
+    const char* method;
+    const char* extra;
+    const char* sigmas;
+  } cases[] = {{"tiny_pt_rmfr", "pt-rmfr", "resample = \"lanczos\"\n", "[1.4, 2.6]"},
+               {"tiny_pt_hyperbolic", "pt-hyperbolic", "equalise = \"on\"\n", "[1.8, 2]"}};
+  for (const auto& c : cases) {
+    std::string text = fpt_config(c.name, "kind = \"pair\"\nrepeats = 2", c.sigmas);
+    replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n",
+            std::string("method = \"") + c.method + "\"\nsamples_per_pixel = 2\nmax_bounces = 2\n" + c.extra);
+    replace(text, "parameter = \"foveal_aperture_deg\"", "parameter = \"sigma\"");
+    replace(text, "higher_is_better = true", "higher_is_better = false");
+    replace(text, "width_px = 32\nheight_px = 20", "width_px = 33\nheight_px = 19");
+    run_replay_analyze(c.name, "", "", text, c.method);
+  }
 }
 
 TEST(FptStudyCli, ReplayDetectsAChangedCacheFrame) {
@@ -154,6 +178,26 @@ TEST(FptStudyCli, PtReferenceWithASphereTracedTestIsRefused) {
   replace(reversed, "method = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
   write_file(dir / "reversed.toml", reversed);
   expect_one_line_error(run_in(dir, "run reversed.toml" + tail), "stimulus.test.method");
+  EXPECT_FALSE(fs::exists(dir / "results"));
+  EXPECT_FALSE(fs::exists(dir / "stimuli"));
+}
+
+// A sampling model whose equalise has no solution on the config's display is refused by validate and
+// before a session writes anything (or pre-renders), naming the config, the stimulus, its level and
+// what to change.
+TEST(FptStudyCli, EqualiseWithoutASolutionIsRefusedAtValidate) {
+  const fs::path dir = working_dir("equalise");
+  std::string text = fpt_config("tiny_equalise", "kind = \"pair\"\nrepeats = 2", "[1.8, 4]");
+  replace(text, "method = \"fpt\"", "method = \"pt-hyperbolic\"\nequalise = \"on\"");
+  replace(text, "parameter = \"foveal_aperture_deg\"", "parameter = \"sigma\"");
+  replace(text, "higher_is_better = true", "higher_is_better = false");
+  write_file(dir / "equalise.toml", text);
+  for (const std::string command : {"validate equalise.toml",
+                                    "run equalise.toml --participant P1 --headless --observer simulated --results results"}) {
+    const CommandResult result = run_in(dir, command);
+    expect_one_line_error(result, "equalise.toml: stimulus.test at level 4 (method \"pt-hyperbolic\"): equalise:");
+    EXPECT_NE(result.err.find("sigma"), std::string::npos) << result.err;
+  }
   EXPECT_FALSE(fs::exists(dir / "results"));
   EXPECT_FALSE(fs::exists(dir / "stimuli"));
 }

@@ -93,6 +93,67 @@ TEST(SamplingStimulus, SpecBecomesTheMapOfEachGazeSample) {
   }
 }
 
+// The models on pre-rendered path-traced frames take the path tracer's parameters, then exactly
+// the model parameters of their sphere-traced twins (same keys, ranges, defaults, choices), and the
+// same values make the same map for every gaze.
+TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
+  const struct {
+    RenderMethod sphere_traced, path_traced;
+  } twins[] = {{RenderMethod::rectangular_mapping, RenderMethod::path_traced_rectangular_mapping},
+               {RenderMethod::hyperbolic_layers, RenderMethod::path_traced_hyperbolic_layers},
+               {RenderMethod::linear_falloff, RenderMethod::path_traced_linear_falloff},
+               {RenderMethod::kernel_log_polar, RenderMethod::path_traced_kernel_log_polar}};
+  for (const auto& twin : twins) {
+    const MethodDescriptor& traced = describe(twin.sphere_traced);
+    const MethodDescriptor& path = describe(twin.path_traced);
+    EXPECT_EQ(path.name, "pt-" + std::string(traced.name));
+    EXPECT_EQ(path.scene_kind, SceneKind::path_traced);
+    EXPECT_TRUE(is_sampling_model(twin.path_traced) && is_path_traced(twin.path_traced));
+    EXPECT_TRUE(path.depends_on_gaze);
+    EXPECT_EQ(path.needs_display, traced.needs_display);
+    EXPECT_EQ(path.frame_side_multiple_px, 1);
+    // The path tracer's three, then the model's, in the twin's order.
+    ASSERT_EQ(path.parameters.size(), traced.parameters.size());
+    EXPECT_EQ(path.parameters[1].key, "max_bounces");
+    for (size_t i = 3; i < path.parameters.size(); ++i) {
+      const ParameterDescriptor& a = traced.parameters[i];
+      const ParameterDescriptor& b = path.parameters[i];
+      EXPECT_EQ(a.key, b.key);
+      EXPECT_EQ(a.unit, b.unit);
+      EXPECT_EQ(a.default_value, b.default_value) << a.key;
+      EXPECT_EQ(a.min_value, b.min_value) << a.key;
+      EXPECT_EQ(a.max_value, b.max_value) << a.key;
+      EXPECT_EQ(a.choices, b.choices) << a.key;
+    }
+    // Non-default values through the edges' doubles: the same map from both.
+    StimulusSpec traced_spec = spec_of(twin.sphere_traced), path_spec = spec_of(twin.path_traced);
+    for (size_t i = 3; i < traced.parameters.size(); ++i) {
+      const ParameterDescriptor& parameter = traced.parameters[i];
+      double value = parameter.default_value;
+      if (parameter.key == "sigma") value = 1.9;
+      if (parameter.key == "focal_share_y" || parameter.key == "min_probability") value = 0.2;
+      if (parameter.key == "alpha" || parameter.key == "outer_pixel_size_px") value = 5.0;
+      if (parameter.key == "resample") value = 1;
+      if (parameter.default_value < parameter.min_value) continue;  // the display, set by spec_of
+      parameter.write(traced_spec.parameters, value);
+      path.parameters[i].write(path_spec.parameters, value);
+    }
+    EXPECT_EQ(sampling_filter(traced_spec), sampling_filter(path_spec));
+    for (const double gaze : {std::nan(""), 3.0, 40.0}) {
+      const SamplingMap a = sampling_map(traced_spec, gaze, gaze), b = sampling_map(path_spec, gaze, gaze);
+      EXPECT_EQ(model_of(a), model_of(b));
+      EXPECT_EQ(shaded_samples(a), shaded_samples(b)) << path.name;
+      EXPECT_EQ(density(a, 10.5, 20.5), density(b, 10.5, 20.5)) << path.name;
+    }
+  }
+  // The path-traced models have no sphere-tracer settings; their frames are the pt sequence's.
+  const StimulusSpec spec = spec_of(RenderMethod::path_traced_kernel_log_polar);
+  EXPECT_THROW(sphere_trace_settings(spec, 0), std::logic_error);
+  const PathTracedFrames frames = path_traced_frames(spec);
+  ASSERT_EQ(frames.sequences.size(), 1u);
+  EXPECT_EQ(frames.sequences[0].samples_per_pixel, 128);
+}
+
 TEST(SamplingStimulus, ResampleChoiceReachesTheRenderer) {
   StimulusSpec spec = spec_of(RenderMethod::kernel_log_polar);
   std::get<KernelLogPolarParameters>(spec.parameters).resample = SampleResampling::lanczos;
