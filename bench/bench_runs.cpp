@@ -87,15 +87,29 @@ nlohmann::json FrameErrors::json() const {
           {"fpsnr_db", fpsnr_db ? nlohmann::json(*fpsnr_db) : nlohmann::json(nullptr)}};
 }
 
-FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& plan) {
+namespace {
+
+FrameErrors errors_of(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
+                      double gaze_y_px, double flip_pixels_per_degree) {
   FrameErrors errors;
   errors.ssim = analysis::ssim(gt, test).mean_ssim;
   const analysis::PsnrResult psnr = analysis::psnr(gt, test);
   if (!psnr.identical) errors.psnr_db = psnr.psnr_db;
-  errors.flip = analysis::flip(gt, test, plan.flip_pixels_per_degree).mean_flip;
-  const analysis::FpsnrResult fpsnr = analysis::fpsnr(gt, test, plan.display, plan.gaze_x_px, plan.gaze_y_px);
+  errors.flip = analysis::flip(gt, test, flip_pixels_per_degree).mean_flip;
+  const analysis::FpsnrResult fpsnr = analysis::fpsnr(gt, test, display, gaze_x_px, gaze_y_px);
   if (!fpsnr.identical) errors.fpsnr_db = fpsnr.fpsnr_db;
   return errors;
+}
+
+}  // namespace
+
+FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& plan) {
+  return errors_of(gt, test, plan.display, plan.gaze_x_px, plan.gaze_y_px, plan.flip_pixels_per_degree);
+}
+
+FrameErrors frame_errors(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
+                         double gaze_y_px) {
+  return errors_of(gt, test, display, gaze_x_px, gaze_y_px, display.pixels_per_degree_at_centre());
 }
 
 }  // namespace fovlab::bench

@@ -66,5 +66,8 @@ struct FrameErrors {
   nlohmann::json json() const;  // ssim, psnr_db, flip, fpsnr_db (null when identical)
 };
 FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& plan);
+// The same for any display and gaze (FLIP at the display's pixels per degree at its centre).
+FrameErrors frame_errors(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
+                         double gaze_y_px);
 
 }  // namespace fovlab::bench
