@@ -29,6 +29,7 @@ struct AnalyzeArguments {
   uint64_t seed = 1;
   double rating_cutoff = 2.0;
   bool include_broken = false;
+  std::string observers;  // "": refuse a mix of human and simulated sessions
   std::string lab_key_path;
   bool force = false;  // replace an earlier analysis at the output folder
 };
@@ -106,10 +107,11 @@ void print_preference_table(const std::vector<analysis::PreferenceRow>& rows) {
 void print_summary(const analysis::AnalysisResult& result) {
   int excluded = 0;
   for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
-  std::printf("study %s (%s%s): %zu participant(s), %d excluded; test: exact binomial, %s, H0 1/2, Holm, alpha %s\n",
+  const std::string observers = result.observers == "human" ? "" : " (" + result.observers + " observers)";
+  std::printf("study %s (%s%s): %zu participant(s)%s, %d excluded; test: exact binomial, %s, H0 1/2, Holm, alpha %s\n",
               result.study.c_str(), result.rules().name.data(),
               result.rules().question_name.empty() ? "" : (" " + std::string(result.rules().question_name)).c_str(),
-              result.participants.size(), excluded, analysis::alternative_name(result.alternative),
+              result.participants.size(), observers.c_str(), excluded, analysis::alternative_name(result.alternative),
               format_number(result.alpha, 6).c_str());
   for (const auto& threshold : result.thresholds) {
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
@@ -159,9 +161,15 @@ void analyze(const AnalyzeArguments& arguments) {
   if (!(arguments.rating_cutoff >= 1.0 && arguments.rating_cutoff <= 3.0))
     throw InputError("--rating-cutoff: expected a mean score in [1, 3]");
   options.rating_cutoff = arguments.rating_cutoff;
+  analysis::ObserverFilter observers = analysis::ObserverFilter::unmixed;
+  if (!arguments.observers.empty()) {
+    const auto parsed = analysis::parse_observer_filter(arguments.observers);
+    if (!parsed) throw InputError("--observers: expected human, simulated or all, got \"" + arguments.observers + "\"");
+    observers = *parsed;
+  }
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
-  const analysis::StudyData data =
-      analysis::load_study(arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
+  const analysis::StudyData data = analysis::load_study(
+      arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken, observers});
   const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;
   analysis::check_analysis_destination(out, arguments.force);  // before the fits (which take a while)
   const analysis::AnalysisResult result = analysis::analyse_study(data, options);
@@ -197,6 +205,9 @@ void add_analyze_command(CLI::App& app) {
   command->add_flag("--include-broken", arguments->include_broken,
                     "Analyse logs whose chain or seal is broken too (left out by default)");
   command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");
+  command->add_option("--observers", arguments->observers,
+                      "human, simulated or all: whose sessions to analyse (default: all of one kind; a study mixing "
+                      "real participants and simulated observers is refused)");
   command->callback([arguments] { analyze(*arguments); });
 }
 

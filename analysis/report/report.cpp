@@ -107,13 +107,13 @@ std::vector<std::string> latency_cells(const ParticipantRow& participant) {
 }
 
 std::string participants_csv(const AnalysisResult& result) {
-  std::string csv = csv_line({"participant", "excluded", "session_ended", "complete_trials", "attention_checks",
+  std::string csv = csv_line({"participant", "observer", "excluded", "session_ended", "complete_trials", "attention_checks",
                               "attention_errors", "scene", "variant", "threshold", "note", "log_status",
                               "latency_median_ms", "latency_p95_ms", "latency_refreshes", "dropped_frames",
                               "present_clock"});
   for (const ParticipantRow& participant : result.participants) {
     const std::vector<std::string> common = {
-        participant.participant,          participant.excluded ? "true" : "false",
+        participant.participant,          participant.observer, participant.excluded ? "true" : "false",
         participant.session_ended ? "true" : "false", std::to_string(participant.complete_trials),
         std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
     const std::vector<std::string> latency = latency_cells(participant);
@@ -183,6 +183,7 @@ json latency_json(const ParticipantRow& participant) {
 json thresholds_json(const AnalysisResult& result) {
   json root;
   root["study"] = result.study;
+  root["observers"] = result.observers;
   root["protocol"] = result.rules().name;
   root["question"] = result.rules().question_name;
   root["level_parameter"] = result.level_parameter;
@@ -332,6 +333,7 @@ json thresholds_json(const AnalysisResult& result) {
                             {"note", threshold.note}});
     }
     root["participants"].push_back({{"participant", participant.participant},
+                                    {"observer", participant.observer},
                                     {"log_path", participant.log_path},
                                     {"excluded", participant.excluded},
                                     {"session_ended", participant.session_ended},
@@ -643,6 +645,9 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   item("Levels", levels.empty() ? "none" : levels);
   item("Inputs", std::to_string(result.inputs.size()) + (result.inputs.size() == 1 ? " session log" : " session logs"));
   item("Participants", std::to_string(included) + " included, " + std::to_string(excluded) + " excluded");
+  item("Observers", result.observers == "human" ? "human (real participants)"
+                    : result.observers == "simulated" ? "simulated observers only: not real participants' data"
+                                                      : "human and simulated, pooled on request (--observers all)");
   item("Test", test_description(result));
   item("Guess rate of the fits",
        html_number(result.guess_rate) + (result.guess_rate_source.empty() ? "" : " (" + result.guess_rate_source + ")"));
@@ -776,7 +781,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   } else {
     std::vector<std::vector<std::string>> rows;
     for (const ParticipantRow& p : result.participants) {
-      const std::vector<std::string> common = {p.participant, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
+      const std::vector<std::string> common = {p.participant, p.observer, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
                                                p.log_note.empty() ? log_status_name(p.log_status) : p.log_note,
                                                std::to_string(p.complete_trials),
                                                std::to_string(p.attention_errors) + " / " +
@@ -797,7 +802,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
         rows.push_back(std::move(cells));
       }
     }
-    html += html_table({"participant", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
+    html += html_table({"participant", "observer", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
                         "gaze-to-present ms, median / p95 (clock)", "dropped frames", "scene", "variant", "threshold",
                         "note"},
                        rows);

@@ -61,6 +61,7 @@ struct ParticipantThreshold {
 struct ParticipantRow {
   std::string participant;
   std::string log_path;
+  std::string observer = "human";     // "human" or "simulated"
   int complete_trials = 0;
   int attention_checks = 0;
   int attention_errors = 0;
@@ -162,6 +163,7 @@ struct AnalysisResult {
   double guess_rate = 0.0;            // the fits' fixed guess rate
   std::string guess_rate_source;      // "2afc forced choice", "attention checks (12 of 240)", "--guess-rate"
   std::vector<std::string> inputs;    // the log paths read
+  std::string observers = "human";    // who answered: "human", "simulated", "human and simulated" (pooled on request)
   std::vector<ConditionRow> conditions;
   std::vector<ParticipantRow> participants;
   std::vector<GroupThreshold> thresholds;

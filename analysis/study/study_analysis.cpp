@@ -428,6 +428,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
   result.alpha = options.alpha;
   result.rating_cutoff = options.rating_cutoff;
   result.inputs = data.inputs;
+  result.observers = data.observers;
   result.left_out = data.left_out;
 
   std::vector<const ParticipantData*> included;
@@ -436,6 +437,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     ParticipantRow row;
     row.participant = participant.participant;
     row.log_path = participant.log_path;
+    row.observer = participant.observer;
     row.complete_trials = static_cast<int>(participant.trials.size());
     row.attention_checks = participant.attention_checks;
     row.attention_errors = participant.attention_errors;

@@ -58,6 +58,8 @@ ParticipantData participant_of(ScannedSession& session) {
   ParticipantData participant;
   participant.participant = session.header.value("participant", "");
   participant.log_path = session.path;
+  const auto observer = session.header.find("observer");
+  participant.observer = observer == session.header.end() || *observer == "human" ? "human" : "simulated";
   participant.excluded = session.excluded;
   participant.session_ended = session.ended;
   participant.attention_errors = session.attention_errors;
@@ -159,7 +161,65 @@ std::vector<ReadLog> read_logs(const std::vector<std::string>& paths, const Load
   return logs;
 }
 
+// Refuses logs of several studies, naming each with its count of logs (most first).
+void require_one_study(const std::vector<ReadLog>& logs, const std::vector<std::string>& paths) {
+  std::map<std::string, int> logs_per_study;
+  for (const ReadLog& read : logs)
+    if (read.study) ++logs_per_study[read.study->study];
+  if (logs_per_study.size() < 2) return;
+  std::vector<std::pair<int, std::string>> counts;
+  for (const auto& [study, count] : logs_per_study) counts.emplace_back(-count, study);
+  std::sort(counts.begin(), counts.end());
+  std::string studies, example;
+  for (const auto& [count, study] : counts) {
+    studies += (studies.empty() ? "" : ", ") + study + " " + std::to_string(-count);
+    if (example.empty()) example = study;
+  }
+  std::string inputs;
+  for (const std::string& path : paths) inputs += (inputs.empty() ? "" : " ") + path;
+  throw InputError(inputs + ": session logs of " + std::to_string(counts.size()) + " studies (" + studies +
+                   " logs): analyse one study at a time, e.g. its folder results/" + example);
+}
+
+// Keeps the sessions of the observers asked for, the others left out; by default refuses a mix.
+void filter_observers(StudyData& data, ObserverFilter filter) {
+  int human = 0, simulated = 0;
+  for (const ParticipantData& participant : data.participants) ++(participant.observer == "human" ? human : simulated);
+  if (filter == ObserverFilter::all) {
+    data.observers = human && simulated ? "human and simulated" : simulated ? "simulated" : "human";
+    return;
+  }
+  if (filter == ObserverFilter::unmixed) {
+    if (human && simulated)
+      throw InputError("study " + data.study + ": " + std::to_string(human) + " human and " + std::to_string(simulated) +
+                       " simulated session(s): analyse real participants with --observers human, the simulated "
+                       "ones with --observers simulated, or pool them knowingly with --observers all");
+    data.observers = simulated ? "simulated" : "human";
+    return;
+  }
+  const std::string kept = filter == ObserverFilter::human ? "human" : "simulated";
+  std::vector<ParticipantData> taken;
+  for (ParticipantData& participant : data.participants) {
+    if (participant.observer == kept) {
+      taken.push_back(std::move(participant));
+    } else {
+      data.left_out.push_back({participant.log_path, "answered by a " + participant.observer + " observer (--observers " + kept + ")"});
+    }
+  }
+  data.participants = std::move(taken);
+  data.observers = kept;
+  if (data.participants.empty())
+    throw InputError("study " + data.study + ": no session answered by a " + kept + " observer (--observers " + kept + ")");
+}
+
 }  // namespace
+
+std::optional<ObserverFilter> parse_observer_filter(const std::string& text) {
+  if (text == "human") return ObserverFilter::human;
+  if (text == "simulated") return ObserverFilter::simulated;
+  if (text == "all") return ObserverFilter::all;
+  return std::nullopt;
+}
 
 StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options) {
   std::set<std::string> unique_logs;
@@ -168,6 +228,7 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
   StudyData data;
   data.inputs.assign(unique_logs.begin(), unique_logs.end());
   std::vector<ReadLog> logs = read_logs(data.inputs, options);
+  require_one_study(logs, paths);
 
   // The study (and config) most readable logs belong to is analysed; ties: the one whose first log
   // comes first in path order.
@@ -195,11 +256,6 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
       data.left_out.insert(data.left_out.end(), read.notes.begin(), read.notes.end());
       continue;
     }
-    if (read.study->study != study->study) {
-      data.left_out.push_back({path, "study \"" + read.study->study + "\", not \"" + study->study +
-                                         "\" (logs of different studies)"});
-      continue;
-    }
     if (read.study->config_hash != study->config_hash) {
       data.left_out.push_back({path, "config " + read.study->config_hash + ", not " + study->config_hash +
                                          " (another version of the study's config)"});
@@ -215,6 +271,7 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
     data.participants.push_back(std::move(read.participant));
   }
   describe_study(*study, study_path, data);
+  filter_observers(data, options.observers);
   return data;
 }
 

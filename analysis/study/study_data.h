@@ -35,6 +35,7 @@ struct StudyTrial {
 struct ParticipantData {
   std::string participant;
   std::string log_path;
+  std::string observer = "human";          // "human", or "simulated" (the header's observer model)
   bool excluded = false;
   bool session_ended = false;
   int attention_checks = 0;
@@ -67,18 +68,29 @@ struct StudyData {
   std::vector<std::string> inputs;         // every log path given (sorted)
   std::vector<ParticipantData> participants;  // in log-path order
   std::vector<LeftOut> left_out;
+  // Who answered in the participants analysed: "human", "simulated", or "human and simulated" when
+  // pooled on request (--observers all).
+  std::string observers = "human";
 };
+
+// Which sessions an analysis takes by who answered. Simulated sessions never mix with real
+// participants unless asked: by default a study with both is refused, naming the counts.
+enum class ObserverFilter { unmixed, human, simulated, all };
+std::optional<ObserverFilter> parse_observer_filter(const std::string& text);  // "human", "simulated", "all"
 
 struct LoadOptions {
   const LabKey* lab_key = nullptr;  // verify keyed seals
   bool include_broken = false;      // analyse logs whose chain or seal is broken (else left out)
+  ObserverFilter observers = ObserverFilter::unmixed;
 };
 
-// `paths`: log files and/or folders (every events.jsonl under them). The study (and config) most
-// readable logs belong to is analysed (ties: the one whose first log comes first in sorted path
-// order); logs of another study or config, and broken logs (unless include_broken), are left out;
-// unsealed logs are analysed and listed. Throws InputError when no log at all can be read (naming
-// the first reason).
+// `paths`: log files and/or folders (every events.jsonl under them), all of one study: logs of
+// several studies are refused (InputError naming each study and its count of logs), as is a study
+// whose sessions mix human and simulated observers without `observers` saying which to take.
+// The config version most readable logs carry is analysed (ties: the one whose first log comes
+// first in sorted path order); logs of another version, sessions of the observers not taken, and
+// broken logs (unless include_broken) are left out; unsealed logs are analysed and listed. Throws
+// InputError when no log at all can be read (naming the first reason).
 StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options = {});
 
 }  // namespace fovlab::analysis

@@ -24,7 +24,7 @@ nlohmann::json optional_json(const std::optional<T>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json();
 }
 
-const char* const columns[] = {"study", "participant", "protocol", "trial", "block", "block_name", "scene",
+const char* const columns[] = {"study", "participant", "observer", "protocol", "trial", "block", "block_name", "scene",
                                "condition", "variant", "level", "attention_check", "reference_first",
                                "ramp_toward_reference", "answer", "answers", "rt_s", "saved_level",
                                "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status"};
@@ -52,6 +52,10 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
     if (integrity.status != LogStatus::sealed)
       std::fprintf(stderr, "fovlab: %s: %s\n", path.c_str(), integrity.describe().c_str());
     const nlohmann::json& header = record.header;
+    // "human", or "simulated" when a simulated observer answered (the header holds its model).
+    const auto observer_field = header.find("observer");
+    const std::string observer =
+        observer_field == header.end() || *observer_field == "human" ? "human" : "simulated";
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
     for (const BlockStartEvent& event : record.blocks) blocks[event.block] = {event.name, event.scene};
     for (const RecordedTrial& trial : record.trials) {
@@ -72,6 +76,7 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
       const std::vector<std::string> cells = {
           header.value("study", ""),
           header.value("participant", ""),
+          observer,
           header.value("protocol", ""),
           std::to_string(trial.index),
           std::to_string(block),

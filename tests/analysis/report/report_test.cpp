@@ -235,17 +235,17 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
   write_analysis_report(sample_result(), dir.path().string());
   const auto rows = parse_csv(read_text(dir.path() / "participants.csv"));
   ASSERT_EQ(rows.size(), 4u);
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "excluded", "session_ended", "complete_trials",
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "observer", "excluded", "session_ended", "complete_trials",
                                                "attention_checks", "attention_errors", "scene", "variant",
                                                "threshold", "note", "log_status", "latency_median_ms",
                                                "latency_p95_ms", "latency_refreshes", "dropped_frames",
                                                "present_clock"}));
-  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
                                                "56.5", "73.25", "720", "3", "after_queue_present"}));
-  EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "false", "true", "120", "6", "0", "city", "", "",
+  EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", "city", "", "",
                                                "every step answered correctly, censored", "sealed",
                                                "56.5", "73.25", "720", "3", "after_queue_present"}));
-  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
+  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "human", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
                                                "", "", "", "1", "not recorded"}));
 }
 

@@ -239,8 +239,9 @@ TEST(AnalyzeCli, EveryProtocolEndToEnd) {
       const auto rows = csv_rows(out / "participants.csv");
       ASSERT_FALSE(rows.empty());
       for (const auto& row : rows) {
-        ASSERT_GE(row.size(), 9u) << row.front();
-        EXPECT_FALSE(row[8].empty()) << "participants.csv: no threshold for " << row[0] << " " << row[6];
+        ASSERT_GE(row.size(), 10u) << row.front();
+        EXPECT_EQ(row[1], "simulated") << "participants.csv: the observer of " << row[0];
+        EXPECT_FALSE(row[9].empty()) << "participants.csv: no threshold for " << row[0] << " " << row[7];
       }
     }
     if (protocol == "2afc" || protocol == "pair" || protocol == "rating") {
@@ -347,9 +348,9 @@ TEST(AnalyzeCli, UnknownSchemaVersionIsLeftOutOthersAnalysed) {
   expect_left_out(out, copy.string(), reasons.find("schema_version") != std::string::npos ? "schema_version" : "chain");
 }
 
-// Logs of two studies in one folder: the study most logs belong to is analysed (here the second
-// in path order), the other study's log is listed.
-TEST(AnalyzeCli, LogsOfDifferentStudiesAnalyseTheMajority) {
+// Logs of several studies (a results folder of three studies, say) are refused, naming each study
+// with its count of logs, and nothing is written; each study's own folder is analysed.
+TEST(AnalyzeCli, LogsOfSeveralStudiesAreRefusedNamingEach) {
   const fs::path results = scratch("mixed") / "results";
   run_session(fixture("tiny_2afc"), "P001", results);
   run_session(fixture("rating"), "P001", results);
@@ -358,34 +359,92 @@ TEST(AnalyzeCli, LogsOfDifferentStudiesAnalyseTheMajority) {
   const auto before = snapshot(results);
   const fs::path out = scratch("mixed") / "out";
   const CommandResult result = analyze(results.string() + " --bootstrap 0 --out " + out.string());
-  ASSERT_EQ(result.exit_code, 0) << result.err;
+  expect_one_line_error(result, "session logs of 2 studies (tiny_rating 2, tiny_2afc 1 logs)");
+  EXPECT_NE(result.err.find(results.string()), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(out));
   expect_unchanged(before, results);
-  const json thresholds = load_json(out / "thresholds.json");
-  EXPECT_EQ(thresholds.value("study", ""), "tiny_rating");
-  EXPECT_EQ(thresholds.value("protocol", ""), "rating");
-  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
-  for (const json& participant : thresholds["participants"])
-    EXPECT_NE(participant.value("log_path", "").find("tiny_rating"), std::string::npos) << participant.dump();
-  expect_left_out(out, log_of(results, "tiny_2afc", "P001").string(), "different studies");
-  EXPECT_NE(result.out.find("different studies"), std::string::npos) << result.out;
-
-  // A tie (two logs each), the studies' logs interleaved in path order (2afc, rating, rating,
-  // 2afc): the study whose first log comes first is analysed, not the one that reached two first.
-  const fs::path tie = scratch("mixed") / "tie";
-  const std::pair<const char*, fs::path> copies[] = {{"1", log_of(results, "tiny_2afc", "P001")},
-                                                     {"2", log_of(results, "tiny_rating", "P001")},
-                                                     {"3", log_of(results, "tiny_rating", "P002")},
-                                                     {"4", log_of(results, "tiny_2afc", "P001")}};
-  for (const auto& [folder, log] : copies) {
-    fs::create_directories(tie / folder);
-    fs::copy_file(log, tie / folder / "events.jsonl");
+  // Each study's folder on its own.
+  for (const char* study : {"tiny_2afc", "tiny_rating"}) {
+    const fs::path study_out = scratch("mixed") / (std::string(study) + "-out");
+    const CommandResult one = analyze((results / study).string() + " --bootstrap 0 --out " + study_out.string());
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_EQ(load_json(study_out / "thresholds.json").value("study", ""), study);
   }
-  // (The second 2afc log is a copy of the first, so it is then left out as a duplicate: the study is
-  // chosen before duplicates are looked at.)
-  const fs::path tie_out = scratch("mixed") / "tie-out";
-  const CommandResult tied = analyze(tie.string() + " --bootstrap 0 --out " + tie_out.string());
-  ASSERT_EQ(tied.exit_code, 0) << tied.err;
-  EXPECT_EQ(load_json(tie_out / "thresholds.json").value("study", ""), "tiny_2afc") << tied.out;
+}
+
+// The session at `log` as if a person had answered it: the header's observer set to "human" and the
+// chain made whole again (what the header says is all the analysis goes by).
+void as_human_session(const fs::path& log) {
+  std::istringstream lines(read_all(log));
+  std::string line, text, chain;
+  int64_t seq = 0;
+  while (std::getline(lines, line)) {
+    json event = json::parse(line);
+    event.erase("chain");
+    if (event.value("event", "") == "session_header") event["observer"] = "human";
+    event["seq"] = seq++;
+    if (event.value("event", "") == "seal") event["last_chain"] = chain;
+    chain = fovlab::event_chain(chain, event);
+    event["chain"] = chain;
+    text += event.dump() + "\n";
+  }
+  std::ofstream(log, std::ios::binary | std::ios::trunc) << text;
+}
+
+// Simulated observers never mix with real participants unless asked: a study with both is refused
+// with the counts; --observers human or simulated takes one kind (the other listed as left out),
+// --observers all pools them and says so; the observer is a column of participants.csv and
+// trials.csv, and a field of thresholds.json.
+TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
+  const fs::path results = scratch("observers") / "results";
+  run_2afc_participants(results, 3);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  as_human_session(log_of(results, "tiny_2afc", "P002"));
+  const auto before = snapshot(results);
+  const fs::path study = results / "tiny_2afc";
+  const fs::path out = scratch("observers") / "out";
+  expect_one_line_error(analyze(study.string() + " --bootstrap 0 --out " + out.string()),
+                        "study tiny_2afc: 1 human and 2 simulated session(s)");
+  EXPECT_FALSE(fs::exists(out));
+  expect_one_line_error(analyze(study.string() + " --observers robots --out " + out.string()), "--observers");
+
+  const struct {
+    const char* filter;
+    std::vector<std::string> participants;
+    const char* observers;
+    const char* headline;
+  } cases[] = {{"human", {"P002"}, "human", "1 participant(s), "},
+               {"simulated", {"P001", "P003"}, "simulated", "2 participant(s) (simulated observers)"},
+               {"all", {"P001", "P002", "P003"}, "human and simulated", "3 participant(s) (human and simulated observers)"}};
+  for (const auto& c : cases) {
+    const fs::path filtered = scratch("observers") / (std::string("out-") + c.filter);
+    const CommandResult result =
+        analyze(study.string() + " --bootstrap 0 --observers " + c.filter + " --out " + filtered.string());
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.out.find(c.headline), std::string::npos) << result.out;
+    const json thresholds = load_json(filtered / "thresholds.json");
+    EXPECT_EQ(participants_of(thresholds), c.participants) << c.filter;
+    EXPECT_EQ(thresholds.value("observers", ""), c.observers);
+    for (const json& participant : thresholds["participants"])
+      EXPECT_EQ(participant.value("observer", ""), participant.value("participant", "") == "P002" ? "human" : "simulated");
+    const std::string csv = read_all(filtered / "participants.csv");
+    EXPECT_EQ(csv.rfind("participant,observer,", 0), 0u) << csv;
+    if (std::string(c.filter) == "human") {
+      EXPECT_NE(csv.find("P002,human,"), std::string::npos) << csv;
+      expect_left_out(filtered, log_of(results, "tiny_2afc", "P001").string(), "answered by a simulated observer");
+    }
+  }
+  expect_one_line_error(analyze(log_of(results, "tiny_2afc", "P001").string() + " --observers human --out " + out.string()),
+                        "no session answered by a human observer");
+  EXPECT_FALSE(fs::exists(out));
+  // trials.csv says who answered each row.
+  const fs::path trials = scratch("observers") / "trials.csv";
+  ASSERT_EQ(fovlab_command("export " + study.string() + " --out " + trials.string()).exit_code, 0);
+  const std::string csv = read_all(trials);
+  EXPECT_EQ(csv.rfind("study,participant,observer,protocol,", 0), 0u) << csv.substr(0, 200);
+  EXPECT_NE(csv.find("tiny_2afc,P002,human,"), std::string::npos);
+  EXPECT_NE(csv.find("tiny_2afc,P001,simulated,"), std::string::npos);
+  expect_unchanged(before, results);
 }
 
 // Two logs of one participant ID: the first in path order is used, the other listed.
@@ -483,7 +542,7 @@ TEST(AnalyzeCli, ExcludedParticipantIsListedAndNotCounted) {
   const auto rows = csv_rows(out / "participants.csv");
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0][0], "P001");
-  EXPECT_EQ(rows[0][1], "true");
+  EXPECT_EQ(rows[0][2], "true");
 
   // Only the excluded participant: still a report, saying no one is left.
   const fs::path out_alone = folder / "out-alone";
