@@ -32,12 +32,33 @@ float lanczos2(float x) {
 // continuous position in grid pixels (sample centres at + 0.5), bilinear (2x2 taps) or Lanczos-2
 // (4x4) as the parameters say. Columns clamp; rows clamp or wrap. Returns the colour and the weight
 // of the shaded taps (0: none was shaded).
-vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
+// Bilinear: four taps, straight-line code (the common case, and most of a frame's cost, so kept
+// apart from the Lanczos loop and its select of weights).
+vec4 grid_read_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
   vec2 p = grid_px - 0.5;
   vec2 base = floor(p);
   vec2 f = p - base;
   ivec2 size = ivec2(grid_size);
+  ivec2 q0 = ivec2(base);
+  int x0 = clamp(q0.x, 0, size.x - 1), x1 = clamp(q0.x + 1, 0, size.x - 1);
+  int y0 = wrap_rows ? ((q0.y % size.y) + size.y) % size.y : clamp(q0.y, 0, size.y - 1);
+  int y1 = wrap_rows ? (y0 + 1) % size.y : clamp(q0.y + 1, 0, size.y - 1);
+  uint row0 = first + uint(y0) * grid_size.x, row1 = first + uint(y1) * grid_size.x;
+  vec4 c00 = sample_colours[row0 + uint(x0)], c10 = sample_colours[row0 + uint(x1)];
+  vec4 c01 = sample_colours[row1 + uint(x0)], c11 = sample_colours[row1 + uint(x1)];
+  vec4 sum = ((1.0 - f.x) * (1.0 - f.y) * c00.a) * vec4(c00.rgb, 1.0) + (f.x * (1.0 - f.y) * c10.a) * vec4(c10.rgb, 1.0) +
+             ((1.0 - f.x) * f.y * c01.a) * vec4(c01.rgb, 1.0) + (f.x * f.y * c11.a) * vec4(c11.rgb, 1.0);
+  if (!(sum.a > 0.0)) return vec4(0.0);
+  return vec4(sum.rgb / sum.a, sum.a);
+}
+
+vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
   bool lanczos = sampling.resample_filter == FILTER_LANCZOS2;
+  if (!lanczos) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
+  vec2 p = grid_px - 0.5;
+  vec2 base = floor(p);
+  vec2 f = p - base;
+  ivec2 size = ivec2(grid_size);
   int low = lanczos ? -1 : 0, high = lanczos ? 2 : 1;
   vec4 sum = vec4(0.0);
   vec3 lowest = vec3(3.0e38), highest = vec3(-3.0e38);  // of the shaded taps
