@@ -207,7 +207,8 @@ void add_analyze_command(CLI::App& app) {
   command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");
   command->add_option("--observers", arguments->observers,
                       "human, simulated or all: whose sessions to analyse (default: all of one kind; a study mixing "
-                      "real participants and simulated observers is refused)");
+                      "real participants and simulated observers is refused)")
+      ->check(CLI::IsMember({"human", "simulated", "all"}));
   command->callback([arguments] { analyze(*arguments); });
 }
 

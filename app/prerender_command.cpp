@@ -108,9 +108,10 @@ void run_prerender(const PrerenderOptions& options) {
   const Shard shard = parse_shard(options.shard);
   const StudyConfig config = parse_study_config_file(options.config, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
+  check_sampling_maps(plan.stimuli, options.config);  // a config no session could run is refused before rendering
   const std::vector<FrameJob> all_jobs = frame_jobs(plan);
   if (all_jobs.empty())
-    throw InputError(options.config + ": no path-traced stimuli (method pt or fpt); nothing to pre-render");
+    throw InputError(options.config + ": no path-traced stimuli (method pt, fpt, pt-rmfr, pt-hyperbolic, pt-linear or pt-kfr); nothing to pre-render");
   std::vector<FrameJob> jobs;
   for (size_t i = size_t(shard.index); i < all_jobs.size(); i += size_t(shard.count)) jobs.push_back(all_jobs[i]);
 

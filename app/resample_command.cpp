@@ -1,10 +1,12 @@
 // fovlab resample --frame IMG --method rmfr|hyperbolic|linear|kfr [model flags] --gaze X,Y --out IMG
 //                 [--mask-out IMG] [--density-out IMG] [--repeats N]: an offline preview of seed 002's
 // sampling models on a pre-rendered frame, what a participant of pt-rmfr, pt-hyperbolic, pt-linear
-// or pt-kfr sees for one gaze sample (renderer/foveated_sampling/frame_sampler.h). Prints what the
+// or pt-kfr sees for one gaze sample (renderer/foveated_sampling/frame_sampler.h; an EXR frame, in
+// linear light as the pre-render cache holds them). Prints what the
 // map samples, the GPU time of its passes (median of --repeats) and the error against the frame
 // itself (SSIM, PSNR, FLIP, FPSNR at the gaze).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -55,11 +57,23 @@ void run_resample(ResampleOptions options) {
   if (!options.density_out.empty()) check_image_output_path(options.density_out, "--density-out");
   if (options.repeats < 1 || options.repeats > 1000)
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
-  const Image frame = read_image(options.frame);
+  Image frame = read_image(options.frame);
+  if (frame.channels < 3) {  // grey (and grey with alpha): the same value in each colour channel
+    Image rgb(frame.width, frame.height, 3);
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x)
+        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = frame.at(x, y, 0);
+    frame = std::move(rgb);
+  }
   FoveationSettings where;
   where.display = parse_display(options.display, frame.width, frame.height);
   std::tie(where.gaze_x_px, where.gaze_y_px) = parse_gaze(options.display.gaze, frame.width, frame.height);
-  const SamplingMap map = parse_sampling(*model, options.sampling, where);
+  // As a session: equalise solved with the gaze at the centre, that solution kept for the gaze.
+  FoveationSettings centre = where;
+  centre.gaze_x_px = centre.gaze_y_px = std::nan("");
+  SamplingSettings settings = options.sampling;
+  if (settings.equalise) settings = with_solved_equalise(settings, parse_sampling(*model, settings, centre));
+  const SamplingMap map = parse_sampling(*model, settings, where);
 
   vk::Context context(context_options(options.device));
   FrameSampler sampler(context);
@@ -74,18 +88,20 @@ void run_resample(ResampleOptions options) {
   std::sort(gpu_ms.begin(), gpu_ms.end());
 
   // EXR frames are linear light: written linear to EXR, sRGB-encoded to 8-bit files, and compared
-  // sRGB-encoded. Other frames are sampled as stored, written and compared as they are.
+  // sRGB-encoded. Other frames (PNG) are averaged as stored, in their encoded values, and written
+  // and compared as they are: a preview of those is approximate (a session's frames are linear).
+  // Equalise: as a session solves it, with the gaze at the centre.
   const bool linear = lower_extension(options.frame) == ".exr";
   if (linear) write_colour(options.out, result.colour_linear);
   else write_image(options.out, result.colour_linear);
   if (!options.mask_out.empty()) write_image(options.mask_out, samples_per_pixel_image(result.samples_per_pixel));
   if (!options.density_out.empty()) write_image(options.density_out, density_image(map));
   Image reference = frame;
-  if (reference.channels != 3) {  // the metrics compare the colour channels alike
+  if (reference.channels == 4) {  // the metrics compare the colour channels alike
     Image rgb(frame.width, frame.height, 3);
     for (int y = 0; y < frame.height; ++y)
       for (int x = 0; x < frame.width; ++x)
-        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = c < frame.channels ? frame.at(x, y, c) : 0.0f;
+        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = frame.at(x, y, c);
     reference = std::move(rgb);
   }
   const bench::FrameErrors errors =

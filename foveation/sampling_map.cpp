@@ -418,4 +418,12 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
   return layers;
 }
 
+SamplingSettings with_solved_equalise(SamplingSettings settings, const SamplingMap& solved) {
+  if (!settings.equalise) return settings;
+  if (const auto* layers = std::get_if<HyperbolicLayers>(&solved)) settings.outer_pixel_size_px = layers->layers[2].pixel_size_px;
+  if (const auto* linear = std::get_if<LinearFalloff>(&solved)) settings.min_probability = linear->min_probability;
+  settings.equalise = false;
+  return settings;
+}
+
 }  // namespace fovlab

@@ -157,4 +157,9 @@ struct SamplingSettings {
 SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeometry& display, double gaze_x_px,
                               double gaze_y_px);
 
+// `settings` with equalise's solution in `solved` (a map made from them with equalise on, e.g. with
+// the gaze at the centre) fixed: its s3 (hyperbolic) or p_min (linear) taken and equalise off, so
+// that the maps of other gazes sample alike. Settings without equalise come back unchanged.
+SamplingSettings with_solved_equalise(SamplingSettings settings, const SamplingMap& solved);
+
 }  // namespace fovlab

@@ -1,6 +1,7 @@
 #include "analysis/study/study_data.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <atomic>
 #include <thread>
 #include <cctype>
@@ -10,6 +11,7 @@
 #include "core/input_error.h"
 #include "study/config/study_config.h"
 #include "study/log/event_log.h"
+#include "study/log/log_events.h"
 #include "study/log/session_scan.h"
 
 namespace fovlab::analysis {
@@ -58,8 +60,7 @@ ParticipantData participant_of(ScannedSession& session) {
   ParticipantData participant;
   participant.participant = session.header.value("participant", "");
   participant.log_path = session.path;
-  const auto observer = session.header.find("observer");
-  participant.observer = observer == session.header.end() || *observer == "human" ? "human" : "simulated";
+  participant.observer = observer_kind(session.header);
   participant.excluded = session.excluded;
   participant.session_ended = session.ended;
   participant.attention_errors = session.attention_errors;
@@ -161,55 +162,57 @@ std::vector<ReadLog> read_logs(const std::vector<std::string>& paths, const Load
   return logs;
 }
 
-// Refuses logs of several studies, naming each with its count of logs (most first).
-void require_one_study(const std::vector<ReadLog>& logs, const std::vector<std::string>& paths) {
+// Refuses logs of several studies, naming each with its count of logs (most first) and the folder
+// of the first log of the one with most.
+void require_one_study(const std::vector<ReadLog>& logs) {
   std::map<std::string, int> logs_per_study;
-  for (const ReadLog& read : logs)
-    if (read.study) ++logs_per_study[read.study->study];
+  std::map<std::string, std::string> first_log;
+  for (const ReadLog& read : logs) {
+    if (!read.study) continue;
+    ++logs_per_study[read.study->study];
+    first_log.emplace(read.study->study, read.participant.log_path);
+  }
   if (logs_per_study.size() < 2) return;
   std::vector<std::pair<int, std::string>> counts;
   for (const auto& [study, count] : logs_per_study) counts.emplace_back(-count, study);
   std::sort(counts.begin(), counts.end());
-  std::string studies, example;
-  for (const auto& [count, study] : counts) {
-    studies += (studies.empty() ? "" : ", ") + study + " " + std::to_string(-count);
-    if (example.empty()) example = study;
-  }
-  std::string inputs;
-  for (const std::string& path : paths) inputs += (inputs.empty() ? "" : " ") + path;
-  throw InputError(inputs + ": session logs of " + std::to_string(counts.size()) + " studies (" + studies +
-                   " logs): analyse one study at a time, e.g. its folder results/" + example);
+  std::string studies;
+  for (const auto& [count, study] : counts) studies += (studies.empty() ? "" : ", ") + study + " " + std::to_string(-count);
+  // results/<study>/<participant>/events.jsonl: the study's folder is two up.
+  const std::filesystem::path folder = std::filesystem::path(first_log[counts.front().second]).parent_path().parent_path();
+  throw InputError("session logs of " + std::to_string(counts.size()) + " studies (" + studies +
+                   " logs): analyse one study at a time, e.g. " + folder.string());
 }
 
-// Keeps the sessions of the observers asked for, the others left out; by default refuses a mix.
-void filter_observers(StudyData& data, ObserverFilter filter) {
+// Keeps the readable logs answered by the observers asked for, the others left out (before the
+// config version and duplicate IDs are looked at, so neither is decided by a session not analysed);
+// by default a mix of human and simulated sessions is refused. Returns who answered those kept.
+std::string take_observers(std::vector<ReadLog>& logs, ObserverFilter filter, std::vector<LeftOut>& left_out) {
   int human = 0, simulated = 0;
-  for (const ParticipantData& participant : data.participants) ++(participant.observer == "human" ? human : simulated);
-  if (filter == ObserverFilter::all) {
-    data.observers = human && simulated ? "human and simulated" : simulated ? "simulated" : "human";
-    return;
+  std::string study;
+  for (const ReadLog& read : logs) {
+    if (!read.study) continue;
+    ++(read.participant.observer == "human" ? human : simulated);
+    study = read.study->study;
   }
+  if (filter == ObserverFilter::all) return human && simulated ? "human and simulated" : simulated ? "simulated" : "human";
   if (filter == ObserverFilter::unmixed) {
     if (human && simulated)
-      throw InputError("study " + data.study + ": " + std::to_string(human) + " human and " + std::to_string(simulated) +
+      throw InputError("study " + study + ": " + std::to_string(human) + " human and " + std::to_string(simulated) +
                        " simulated session(s): analyse real participants with --observers human, the simulated "
                        "ones with --observers simulated, or pool them knowingly with --observers all");
-    data.observers = simulated ? "simulated" : "human";
-    return;
+    return simulated ? "simulated" : "human";
   }
   const std::string kept = filter == ObserverFilter::human ? "human" : "simulated";
-  std::vector<ParticipantData> taken;
-  for (ParticipantData& participant : data.participants) {
-    if (participant.observer == kept) {
-      taken.push_back(std::move(participant));
-    } else {
-      data.left_out.push_back({participant.log_path, "answered by a " + participant.observer + " observer (--observers " + kept + ")"});
-    }
+  if ((filter == ObserverFilter::human ? human : simulated) == 0)
+    throw InputError("study " + study + ": no session answered by a " + kept + " observer (--observers " + kept + ")");
+  for (ReadLog& read : logs) {
+    if (!read.study || read.participant.observer == kept) continue;
+    left_out.push_back({read.participant.log_path, "answered by a " + read.participant.observer + " observer (--observers " + kept + ")"});
+    read.study.reset();
+    read.notes.clear();
   }
-  data.participants = std::move(taken);
-  data.observers = kept;
-  if (data.participants.empty())
-    throw InputError("study " + data.study + ": no session answered by a " + kept + " observer (--observers " + kept + ")");
+  return kept;
 }
 
 }  // namespace
@@ -228,7 +231,8 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
   StudyData data;
   data.inputs.assign(unique_logs.begin(), unique_logs.end());
   std::vector<ReadLog> logs = read_logs(data.inputs, options);
-  require_one_study(logs, paths);
+  require_one_study(logs);
+  data.observers = take_observers(logs, options.observers, data.left_out);
 
   // The study (and config) most readable logs belong to is analysed; ties: the one whose first log
   // comes first in path order.
@@ -271,7 +275,6 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
     data.participants.push_back(std::move(read.participant));
   }
   describe_study(*study, study_path, data);
-  filter_observers(data, options.observers);
   return data;
 }
 

@@ -52,10 +52,7 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
     if (integrity.status != LogStatus::sealed)
       std::fprintf(stderr, "fovlab: %s: %s\n", path.c_str(), integrity.describe().c_str());
     const nlohmann::json& header = record.header;
-    // "human", or "simulated" when a simulated observer answered (the header holds its model).
-    const auto observer_field = header.find("observer");
-    const std::string observer =
-        observer_field == header.end() || *observer_field == "human" ? "human" : "simulated";
+    const std::string observer = observer_kind(header);  // "human" or "simulated"
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
     for (const BlockStartEvent& event : record.blocks) blocks[event.block] = {event.name, event.scene};
     for (const RecordedTrial& trial : record.trials) {

@@ -132,12 +132,16 @@ DeviceRgba8Frame StimulusLibrary::blend_foveated_path_traced(const StimulusSpec&
 DeviceRgba8Frame StimulusLibrary::sample_path_traced(const StimulusSpec& spec, const StimulusImage& image) {
   // As fpt: the frame is uploaded when the animation frame changes, the map follows every gaze
   // sample, and nothing carries from one image to the next.
-  const std::string key = spec.canonical() + "#" + std::to_string(image.frame);
+  const std::string canonical = spec.canonical();
+  const std::string key = canonical + "#" + std::to_string(image.frame);
   if (key != sampler_frame_) {
     sampler_frame_.clear();
     sampler().set_frame(frame_cache_->frame(path_traced_frames(spec).sequences[0], image.frame));
-    sampler_centre_ = sampling_map(spec, std::nan(""), std::nan(""));  // equalise's solution, kept for every gaze
     sampler_frame_ = key;
+  }
+  if (canonical != sampler_centre_spec_) {  // equalise's solution, solved once a stimulus
+    sampler_centre_ = sampling_map(spec, std::nan(""), std::nan(""));
+    sampler_centre_spec_ = canonical;
   }
   return sampler().display_frame_on_device(sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*sampler_centre_),
                                            sampling_filter(spec));

@@ -122,7 +122,8 @@ class StimulusLibrary {
   std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
   std::unique_ptr<FrameSampler> sampler_;
   std::string sampler_frame_;  // spec and frame the sampler holds
-  std::optional<SamplingMap> sampler_centre_;  // that spec's map with the gaze at the centre
+  std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
+  std::string sampler_centre_spec_;            // ... with this canonical text
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
   std::map<std::string, LastImage> last_image_;                    // by scene
   std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id

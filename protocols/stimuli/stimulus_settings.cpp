@@ -149,10 +149,7 @@ SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze
     if (!centre && at_centre) return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);  // the solution itself
     std::optional<SamplingMap> solved_here;
     if (!centre) solved_here = make_sampling_map(settings, display, std::nan(""), std::nan(""));
-    const SamplingMap& solved = centre ? *centre : *solved_here;
-    if (const auto* layers = std::get_if<HyperbolicLayers>(&solved)) settings.outer_pixel_size_px = layers->layers[2].pixel_size_px;
-    if (const auto* linear = std::get_if<LinearFalloff>(&solved)) settings.min_probability = linear->min_probability;
-    settings.equalise = false;
+    settings = with_solved_equalise(settings, centre ? *centre : *solved_here);
   }
   return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);
 }

@@ -25,7 +25,12 @@ inline bool is_path_traced(RenderMethod method) { return describe(method).scene_
 // Whether a method is one of seed 002's sampling models, on the sphere tracer (rmfr, hyperbolic,
 // linear, kfr) or on pre-rendered path-traced frames (pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr).
 inline bool is_sampling_model(RenderMethod method) {
-  return method >= RenderMethod::rectangular_mapping && method <= RenderMethod::path_traced_kernel_log_polar;
+  using R = RenderMethod;
+  for (R model : {R::rectangular_mapping, R::hyperbolic_layers, R::linear_falloff, R::kernel_log_polar,
+                  R::path_traced_rectangular_mapping, R::path_traced_hyperbolic_layers, R::path_traced_linear_falloff,
+                  R::path_traced_kernel_log_polar})
+    if (method == model) return true;
+  return false;
 }
 
 // The sphere-tracer settings of a gt, ipr, fipr or sampling-model spec (frame time of the given
@@ -33,7 +38,8 @@ inline bool is_sampling_model(RenderMethod method) {
 // non-finite (no gaze: every pixel traced in full) and frame_index 0, for the caller
 // (StimulusLibrary) to set. Sampling models: the map of a gaze at the centre, for the caller to
 // replace with each gaze sample's (sampling_map).
-// Throws InputError when a FIPR spec lacks its display parameters; std::logic_error for pt, fpt.
+// Throws InputError when a FIPR spec lacks its display parameters; std::logic_error for the
+// path-traced methods (pt, fpt, pt-rmfr, ...).
 SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
 
 // The display a foveated spec's display parameters describe (fipr, fpt, hyperbolic, linear);

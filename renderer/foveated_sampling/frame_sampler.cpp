@@ -30,11 +30,12 @@ struct FrameReadParams {
 
 std::array<float, 3> footprint_mean(const Image& frame, const ListedSample& sample) {
   const float width = float(frame.width), height = float(frame.height);
-  const float footprint = std::max(sample.footprint_px, 1.0f);
-  float low_x = std::max(sample.x_px - 0.5f * footprint, 0.0f), high_x = std::min(sample.x_px + 0.5f * footprint, width);
-  float low_y = std::max(sample.y_px - 0.5f * footprint, 0.0f), high_y = std::min(sample.y_px + 0.5f * footprint, height);
+  const float footprint = sample.footprint_px >= 1.0f ? sample.footprint_px : 1.0f;  // NaN too
+  const float sample_x = std::isnan(sample.x_px) ? 0.5f : sample.x_px, sample_y = std::isnan(sample.y_px) ? 0.5f : sample.y_px;
+  float low_x = std::max(sample_x - 0.5f * footprint, 0.0f), high_x = std::min(sample_x + 0.5f * footprint, width);
+  float low_y = std::max(sample_y - 0.5f * footprint, 0.0f), high_y = std::min(sample_y + 0.5f * footprint, height);
   if (high_x <= low_x || high_y <= low_y) {
-    const float x = std::clamp(sample.x_px, 0.5f, width - 0.5f), y = std::clamp(sample.y_px, 0.5f, height - 0.5f);
+    const float x = std::clamp(sample_x, 0.5f, width - 0.5f), y = std::clamp(sample_y, 0.5f, height - 0.5f);
     low_x = x - 0.5f;
     high_x = x + 0.5f;
     low_y = y - 0.5f;
@@ -54,6 +55,7 @@ std::array<float, 3> footprint_mean(const Image& frame, const ListedSample& samp
       weight_sum += wx * wy;
     }
   }
+  if (!(weight_sum > 0.0)) return {0.0f, 0.0f, 0.0f};
   return {float(sum[0] / weight_sum), float(sum[1] / weight_sum), float(sum[2] / weight_sum)};
 }
 

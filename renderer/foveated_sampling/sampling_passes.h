@@ -3,7 +3,8 @@
 // sampling_map.h), around whatever shades the samples:
 //   1a. sampling_positions.comp.glsl lists this frame's samples (screen position, footprint, entry);
 //   1b. (the caller) shades each listed sample into its entry of sample_colours(): the sphere
-//       tracer traces them (SphereTracer, TraceMethod::sampling_model);
+//       tracer traces them (SphereTracer, TraceMethod::sampling_model), or FrameSampler reads a
+//       pre-rendered frame over their footprints (frame_sampler.h);
 //   2.  sampling_reconstruct.comp.glsl (RMFR, KFR, hyperbolic) or pull_push.comp.glsl (linear) makes
 //       every screen pixel from the shaded samples.
 // Buffers are kept between frames of the same layout (a session's frames do not allocate).

@@ -23,6 +23,11 @@ void main() {
   if (slot >= counters[params.counter_index]) return;
   vec2 position = vec2(uintBitsToFloat(sample_list[4u * slot]), uintBitsToFloat(sample_list[4u * slot + 1u]));
   float footprint = uintBitsToFloat(sample_list[4u * slot + 2u]);
+  // At least a pixel; a position that is not a number reads the first pixel (neither happens with
+  // the maps' positions, but nothing here may turn into a NaN colour).
+  if (!(footprint >= 1.0)) footprint = 1.0;
+  if (isnan(position.x)) position.x = 0.5;
+  if (isnan(position.y)) position.y = 0.5;
   uint entry = sample_list[4u * slot + 3u];
   vec2 size = vec2(params.frame_size);
   // The square, clipped to the screen; a sample just off the screen (KFR's, within reach of a
@@ -48,5 +53,5 @@ void main() {
       weight_sum += wx * wy;
     }
   }
-  sample_colours[entry] = vec4(sum.rgb / weight_sum, 1.0);
+  sample_colours[entry] = vec4(weight_sum > 0.0 ? sum.rgb / weight_sum : vec3(0.0), 1.0);
 }

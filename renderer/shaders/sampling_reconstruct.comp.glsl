@@ -28,12 +28,11 @@ float lanczos2(float x) {
   return 2.0 * sin(pi_x) * sin(0.5 * pi_x) / (pi_x * pi_x);
 }
 
-// Alpha-weighted read of a grid of `grid_size` samples stored row-major from `first`, at a
-// continuous position in grid pixels (sample centres at + 0.5), bilinear (2x2 taps) or Lanczos-2
-// (4x4) as the parameters say. Columns clamp; rows clamp or wrap. Returns the colour and the weight
-// of the shaded taps (0: none was shaded).
-// Bilinear: four taps, straight-line code (the common case, and most of a frame's cost, so kept
-// apart from the Lanczos loop and its select of weights).
+// Bilinear read (2x2 taps) of a grid of `grid_size` samples stored row-major from `first`, at a
+// continuous position in grid pixels (sample centres at + 0.5), each tap weighted by its alpha (0:
+// not shaded). Columns clamp; rows clamp or wrap. Returns the colour and the weight of the shaded
+// taps (0: none was shaded). Straight-line code: the common case and most of a frame's cost, kept
+// apart from the Lanczos loop.
 vec4 grid_read_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
   vec2 p = grid_px - 0.5;
   vec2 base = floor(p);
@@ -52,23 +51,22 @@ vec4 grid_read_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_row
   return vec4(sum.rgb / sum.a, sum.a);
 }
 
+// The same read with the parameters' filter: bilinear, or Lanczos-2 (4x4 taps, alpha-weighted the
+// same way).
 vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
-  bool lanczos = sampling.resample_filter == FILTER_LANCZOS2;
-  if (!lanczos) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
+  if (sampling.resample_filter != FILTER_LANCZOS2) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
   vec2 p = grid_px - 0.5;
   vec2 base = floor(p);
   vec2 f = p - base;
   ivec2 size = ivec2(grid_size);
-  int low = lanczos ? -1 : 0, high = lanczos ? 2 : 1;
   vec4 sum = vec4(0.0);
   vec3 lowest = vec3(3.0e38), highest = vec3(-3.0e38);  // of the shaded taps
-  for (int dy = low; dy <= high; ++dy) {
-    for (int dx = low; dx <= high; ++dx) {
+  for (int dy = -1; dy <= 2; ++dy) {
+    for (int dx = -1; dx <= 2; ++dx) {
       ivec2 q = ivec2(base) + ivec2(dx, dy);
       q.x = clamp(q.x, 0, size.x - 1);
       q.y = wrap_rows ? ((q.y % size.y) + size.y) % size.y : clamp(q.y, 0, size.y - 1);
-      float w = lanczos ? lanczos2(float(dx) - f.x) * lanczos2(float(dy) - f.y)
-                        : (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
+      float w = lanczos2(float(dx) - f.x) * lanczos2(float(dy) - f.y);
       vec4 c = sample_colours[first + uint(q.y) * grid_size.x + uint(q.x)];
       sum += w * c.a * vec4(c.rgb, 1.0);
       if (c.a > 0.0) {
@@ -77,10 +75,10 @@ vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
       }
     }
   }
-  // Bilinear weights are never negative; Lanczos' negative lobes can leave a weight near 0 where
-  // taps are missing (treated as none) and overshoot at edges (clamped to the taps' range).
-  if (!(sum.a > (lanczos ? 1e-3 : 0.0))) return vec4(0.0);
-  return vec4(lanczos ? clamp(sum.rgb / sum.a, lowest, highest) : sum.rgb / sum.a, sum.a);
+  // The negative lobes can leave a weight near 0 where taps are missing (treated as none) and
+  // overshoot at edges (clamped to the taps' range).
+  if (!(sum.a > 1e-3)) return vec4(0.0);
+  return vec4(clamp(sum.rgb / sum.a, lowest, highest), sum.a);
 }
 
 void main() {

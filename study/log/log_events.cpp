@@ -586,4 +586,13 @@ std::string check_log_field_types(const nlohmann::json& event) {
   return {};
 }
 
+std::string observer_kind(const nlohmann::json& header) {
+  const auto observer = header.find(log_keys::observer);
+  if (observer != header.end() && *observer == "human") return "human";
+  if (observer != header.end() && observer->is_object()) return "simulated";
+  throw InputError(std::string("session_header: ") + log_keys::observer +
+                   ": expected \"human\" or a simulated observer's model, got " +
+                   (observer == header.end() ? std::string("nothing") : observer->dump().substr(0, 40)));
+}
+
 }  // namespace fovlab

@@ -131,6 +131,11 @@ struct SessionHeaderEvent {
   bool operator==(const SessionHeaderEvent&) const = default;
 };
 
+// Who answered a session, from its header's `observer`: "human", or "simulated" when it holds a
+// simulated observer's model (an object). InputError for anything else, a missing field too: a
+// session whose answerer is unknown is never counted as a person's.
+std::string observer_kind(const nlohmann::json& header);
+
 struct SessionResumedEvent {
   static constexpr const char* kind = "session_resumed";
   EventStamp stamp;

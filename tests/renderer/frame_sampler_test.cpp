@@ -114,6 +114,11 @@ TEST(FootprintMean, IsTheAreaWeightedMean) {
   EXPECT_FLOAT_EQ(footprint_mean(frame, {-5.0f, 8.0f, 1.0f, 0})[0], 20.0f);     // off the frame: the nearest pixel
   EXPECT_FLOAT_EQ(footprint_mean(frame, {2.0f, 1.5f, 100.0f, 0})[0], 11.5f);    // the whole frame's mean
   EXPECT_FLOAT_EQ(footprint_mean(frame, {2.5f, 1.5f, 0.25f, 0})[0], 12.0f);     // footprints under a pixel: one pixel
+  // Not numbers (no map makes them): the first pixel, a one-pixel footprint; never a NaN colour.
+  const float nan = std::nanf("");
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {nan, nan, nan, 0})[0], 0.0f);
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.5f, 1.5f, nan, 0})[0], 12.0f);
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {1e30f, -1e30f, 1.0f, 0})[0], 3.0f);  // far off: the nearest pixel, (3, 0)
 }
 
 // The linear model with p_min 1 samples every pixel at its centre with a one-pixel footprint:

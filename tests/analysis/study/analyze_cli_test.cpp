@@ -372,16 +372,20 @@ TEST(AnalyzeCli, LogsOfSeveralStudiesAreRefusedNamingEach) {
   }
 }
 
-// The session at `log` as if a person had answered it: the header's observer set to "human" and the
-// chain made whole again (what the header says is all the analysis goes by).
-void as_human_session(const fs::path& log) {
+// The session at `log` as if a person had answered it: the header's observer set to "human" (and its
+// participant ID to `participant`, when given) and the chain made whole again (what the header says
+// is all the analysis goes by).
+void as_human_session(const fs::path& log, const std::string& participant = "") {
   std::istringstream lines(read_all(log));
   std::string line, text, chain;
   int64_t seq = 0;
   while (std::getline(lines, line)) {
     json event = json::parse(line);
     event.erase("chain");
-    if (event.value("event", "") == "session_header") event["observer"] = "human";
+    if (event.value("event", "") == "session_header") {
+      event["observer"] = "human";
+      if (!participant.empty()) event["participant"] = participant;
+    }
     event["seq"] = seq++;
     if (event.value("event", "") == "seal") event["last_chain"] = chain;
     chain = fovlab::event_chain(chain, event);
@@ -437,6 +441,19 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
   expect_one_line_error(analyze(log_of(results, "tiny_2afc", "P001").string() + " --observers human --out " + out.string()),
                         "no session answered by a human observer");
   EXPECT_FALSE(fs::exists(out));
+  // The observers are taken before duplicate IDs are looked at: a human session whose ID a simulated
+  // one (first in path order) also has is analysed with --observers human, not left out as a duplicate.
+  const fs::path twin = study / "P009";
+  fs::copy(study / "P003", twin, fs::copy_options::recursive);
+  as_human_session(twin / "events.jsonl", "P001");
+  const fs::path twin_out = scratch("observers") / "out-twin";
+  const CommandResult twin_result =
+      analyze(study.string() + " --bootstrap 0 --observers human --out " + twin_out.string());
+  ASSERT_EQ(twin_result.exit_code, 0) << twin_result.err;
+  const json twin_thresholds = load_json(twin_out / "thresholds.json");
+  EXPECT_EQ(participants_of(twin_thresholds), (std::vector<std::string>{"P002", "P001"}));
+  EXPECT_EQ(twin_thresholds["participants"][1].value("log_path", ""), (twin / "events.jsonl").string());
+  fs::remove_all(twin);
   // trials.csv says who answered each row.
   const fs::path trials = scratch("observers") / "trials.csv";
   ASSERT_EQ(fovlab_command("export " + study.string() + " --out " + trials.string()).exit_code, 0);

@@ -340,5 +340,15 @@ TEST(LogEvents, FieldTypeChecksRefuseWhatTheReadersRefuse) {
   EXPECT_EQ(check_log_field_types({{"rt_s", "fast"}}), "") << "rt_s is not a checked field (the fast scan skips it)";
 }
 
+// Who answered: "human", or "simulated" for a model; anything else (a missing field too) is refused,
+// never taken for a person.
+TEST(LogEvents, ObserverKindIsHumanOrSimulatedAndNothingElse) {
+  EXPECT_EQ(observer_kind({{"observer", "human"}}), "human");
+  EXPECT_EQ(observer_kind({{"observer", {{"threshold", 9.0}}}}), "simulated");
+  EXPECT_THROW(observer_kind(nlohmann::json::object()), InputError);
+  EXPECT_THROW(observer_kind({{"observer", "robot"}}), InputError);
+  EXPECT_THROW(observer_kind({{"observer", 42}}), InputError);
+}
+
 }  // namespace
 }  // namespace fovlab
