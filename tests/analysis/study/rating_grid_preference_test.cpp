@@ -364,7 +364,7 @@ scene = "primitives"
                            {"variant", variant}});
     log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "grid_log"},
                 {"participant", "P001"}, {"config_hash", "0123456789abcdef"}, {"config_toml", config},
-                {"protocol", "rating"}, {"stimuli", stimuli}, {"t", 0.0}});
+                {"protocol", "rating"}, {"stimuli", stimuli}, {"observer", "human"}, {"t", 0.0}});
     log.append({{"event", "block_start"}, {"block", 0}, {"name", "primitives"}, {"scene", "primitives"}, {"t", 0.1}});
     // hi_lo scores 3 at both levels; lo_lo 1 and 2; the others 2.
     const std::vector<std::vector<std::string>> answers = {{"1", "2"}, {"2", "2"}, {"3", "3"}, {"2", "2"}};
