@@ -58,11 +58,11 @@ void run_resample(ResampleOptions options) {
   if (options.repeats < 1 || options.repeats > 1000)
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
   Image frame = read_image(options.frame);
-  if (frame.channels < 3) {  // grey (and grey with alpha): the same value in each colour channel
+  if (frame.channels != 3) {  // colour only: grey repeated in each channel, alpha dropped (the metrics compare RGB)
     Image rgb(frame.width, frame.height, 3);
     for (int y = 0; y < frame.height; ++y)
       for (int x = 0; x < frame.width; ++x)
-        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = frame.at(x, y, 0);
+        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = frame.at(x, y, frame.channels < 3 ? 0 : c);
     frame = std::move(rgb);
   }
   FoveationSettings where;
@@ -96,18 +96,10 @@ void run_resample(ResampleOptions options) {
   else write_image(options.out, result.colour_linear);
   if (!options.mask_out.empty()) write_image(options.mask_out, samples_per_pixel_image(result.samples_per_pixel));
   if (!options.density_out.empty()) write_image(options.density_out, density_image(map));
-  Image reference = frame;
-  if (reference.channels == 4) {  // the metrics compare the colour channels alike
-    Image rgb(frame.width, frame.height, 3);
-    for (int y = 0; y < frame.height; ++y)
-      for (int x = 0; x < frame.width; ++x)
-        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = frame.at(x, y, c);
-    reference = std::move(rgb);
-  }
   const bench::FrameErrors errors =
-      linear ? bench::frame_errors(encode_srgb(reference), encode_srgb(result.colour_linear), where.display,
+      linear ? bench::frame_errors(encode_srgb(frame), encode_srgb(result.colour_linear), where.display,
                                    where.gaze_x_px, where.gaze_y_px)
-             : bench::frame_errors(reference, result.colour_linear, where.display, where.gaze_x_px, where.gaze_y_px);
+             : bench::frame_errors(frame, result.colour_linear, where.display, where.gaze_x_px, where.gaze_y_px);
   std::printf("%s %dx%d, gaze %.1f,%.1f px, %s; %llu samples read, %.2f ms GPU (median of %d)\n", options.frame.c_str(),
               frame.width, frame.height, where.gaze_x_px, where.gaze_y_px, sampling_summary(map).c_str(),
               static_cast<unsigned long long>(result.shaded_samples), gpu_ms[gpu_ms.size() / 2], options.repeats);
