@@ -1,6 +1,12 @@
 #include "app/cli_support.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <cstdlib>
 #include <map>
 #include <stdexcept>
@@ -12,6 +18,25 @@ namespace fovlab::app {
 
 vk::ContextOptions context_options(const std::string& device_selector) {
   return {device_selector, vk::validation_requested_by_default()};
+}
+
+std::function<void(double)> percent_progress(const std::string& what) {
+  struct State {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    int shown = -1;  // the last percent printed
+    bool terminal = isatty(STDERR_FILENO) == 1;
+  };
+  auto state = std::make_shared<State>();
+  return [state, what](double share) {
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - state->start).count();
+    const int percent = int(std::floor(std::clamp(share, 0.0, 1.0) * 100.0));
+    if (elapsed_s < 1.0 || percent == state->shown) return;
+    if (!state->terminal && percent < 100 && percent / 10 == std::max(state->shown, 0) / 10 && state->shown >= 0) return;
+    state->shown = percent;
+    const double eta_s = share > 0.0 ? elapsed_s * (1.0 - share) / share : 0.0;
+    std::fprintf(stderr, state->terminal ? "\r%s: %3d %%, ETA %.0f s   " : "%s: %d %%, ETA %.0f s\n", what.c_str(), percent, eta_s);
+    if (state->terminal && percent == 100) std::fprintf(stderr, "\n");
+  };
 }
 
 bool display_available() {

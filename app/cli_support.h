@@ -1,6 +1,8 @@
 #pragma once
 // What several subcommands share on the command line: the Vulkan context they open and the
 // tracing flags they accept.
+#include <filesystem>
+#include <functional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -19,6 +21,14 @@ void fail_on_validation_messages(const vk::Context& context);
 
 // Whether a window can be opened: DISPLAY (X11) or WAYLAND_DISPLAY is set.
 bool display_available();
+
+// Where the Voronoi sampling masks and their weights are cached (foveation/voronoi_reconstruction.h),
+// under the working directory as the pre-render cache is.
+inline const std::filesystem::path kVoronoiCacheFolder = "stimuli/cache/voronoi";
+
+// A progress report for work measured as a share done (0 to 1): silent for the first second, then on
+// a terminal one line rewritten in place ("what: 42 %, ETA 12 s"), otherwise a line every 10 %.
+std::function<void(double)> percent_progress(const std::string& what);
 
 // --time, --levels, --min-filter, --max-steps, --hit-threshold.
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings);

@@ -1,6 +1,7 @@
 // fovlab render: a frame of a scene with ground truth, the inverted pyramid or its foveated form
 // (FIPR; --frames N renders a sequence, so the periphery refresh reuses earlier frames), or one of
-// seed 002's sampling models (rmfr, hyperbolic, linear, kfr), which shade only their samples.
+// seed 002's sampling models (rmfr, hyperbolic, linear, kfr), which shade only their samples; with
+// --method volume or fvolume, seed 003's volume raycaster (app/render_volume.h).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "app/commands.h"
 #include "app/foveation_flags.h"
 #include "app/render_outputs.h"
+#include "app/render_volume.h"
 #include "app/sampling_flags.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
@@ -40,7 +42,37 @@ struct RenderOptions {
   std::vector<std::string> fipr_flags_given;
   int frames = 1;
   double frame_rate_hz = 60.0;
+  VolumeRenderOptions volume;  // --method volume, fvolume: the volume-only flags
 };
+
+// The volume raycaster: the flags both renderers share, then its own; the sphere tracer's are refused.
+void run_volume_render(const RenderOptions& options, const CLI::App& command) {
+  for (const char* flag : {"--spp", "--steps-out", "--density-out", "--levels", "--min-filter", "--max-steps", "--hit-threshold"})
+    if (command.get_option(flag)->count() > 0)
+      throw InputError(std::string(flag) + ": the sphere tracer's; --method " + options.method + " does not use it");
+  if (!options.fipr_flags_given.empty())
+    throw InputError(options.fipr_flags_given.front() + ": only FIPR uses it; --method " + options.method + " does not");
+  if (!options.sampling_flags_given.empty())
+    throw InputError(options.sampling_flags_given.front() + ": only the sampling models use it; --method " + options.method + " does not");
+  VolumeRenderOptions volume = options.volume;
+  volume.scene = options.scene;
+  volume.foveated = options.method == "fvolume";
+  volume.width_px = options.settings.width;
+  volume.height_px = options.settings.height;
+  volume.time_s = options.settings.time_s;
+  volume.frames = options.frames;
+  volume.frame_rate_hz = options.frame_rate_hz;
+  volume.display = options.foveation.display;
+  volume.device = options.device;
+  volume.out = options.out;
+  volume.mask_out = options.mask_out;
+  volume.stats_json = options.stats_json;
+  if (!volume.foveated) {
+    for (const char* flag : {"--sigma-deg", "--no-opacity-correction", "--no-smoothing"})
+      if (command.get_option(flag)->count() > 0) throw InputError(std::string(flag) + ": only fvolume uses it; add --method fvolume");
+  }
+  run_render_volume(volume);
+}
 
 void run_render(const RenderOptions& options) {
   SphereTraceSettings settings = options.settings;
@@ -124,11 +156,14 @@ void run_render(const RenderOptions& options) {
 void add_render_command(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* command = app.add_subcommand("render", "Render one frame of a scene to an image");
-  command->add_option("--scene", options->scene, "Built-in scene name or path to a .glsl scene file")->required();
+  command->add_option("--scene", options->scene,
+                      "Built-in scene name or path to a .glsl scene file (volume, fvolume: a volume scene, built-in or .toml)")
+      ->required();
   command->add_option("--method", options->method,
                       "gt (ground truth), ipr (inverted pyramid), fipr (foveated inverted pyramid), or a sampling model of seed 002: "
-      "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar)")
-      ->check(CLI::IsMember({"gt", "ipr", "fipr", "rmfr", "hyperbolic", "linear", "kfr"}));
+      "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar), "
+      "or seed 003's volume raycaster: volume (every pixel), fvolume (Voronoi foveated); these take a volume scene")
+      ->check(CLI::IsMember({"gt", "ipr", "fipr", "rmfr", "hyperbolic", "linear", "kfr", "volume", "fvolume"}));
   command->add_option("--width", options->settings.width, "Frame width in pixels")->required();
   command->add_option("--height", options->settings.height, "Frame height in pixels")->required();
   command->add_option("--spp", options->settings.samples_per_pixel, "Samples per pixel: 1, 4 or 16");
@@ -145,9 +180,16 @@ void add_render_command(CLI::App& app) {
   add_trace_options(*command, options->settings);
   add_foveation_flags(*command, options->foveation, FoveationPoint::single);
   add_sampling_flags(*command, options->sampling);
+  command->add_option("--step-voxels", options->volume.step_voxels, "volume, fvolume: the base step along a ray, in voxels (0.5)");
+  command->add_option("--sigma-deg", options->volume.sigma_deg,
+                      "fvolume: radius s of the sampling density's Gaussian, in degrees of visual angle (2.5)");
+  command->add_flag("--no-opacity-correction{false}", options->volume.correct_opacity,
+                    "fvolume: do not correct the opacity for the longer peripheral step (the authors' code)");
+  command->add_flag("--no-smoothing{false}", options->volume.smoothing, "fvolume: no temporal smoothing over --frames");
   command->callback([options, command] {
     options->fipr_flags_given = given_fipr_only_flags(*command);
     options->sampling_flags_given = given_sampling_only_flags(*command);
+    if (options->method == "volume" || options->method == "fvolume") return run_volume_render(*options, *command);
     run_render(*options);
   });
 }

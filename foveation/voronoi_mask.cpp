@@ -99,6 +99,14 @@ float inside(double value, int size) { return float(std::clamp(value, 1e-3, doub
 
 }  // namespace
 
+VoronoiMaskSettings voronoi_mask_settings(int width_px, int height_px, const DisplayGeometry& display, double sigma_deg) {
+  VoronoiMaskSettings settings;
+  settings.screen_width_px = width_px;
+  settings.screen_height_px = height_px;
+  settings.density_sigma_px = density_sigma_px(display, sigma_deg);
+  return settings;
+}
+
 double density_sigma_px(const DisplayGeometry& display, double sigma_deg) {
   return sigma_deg * display.pixels_per_degree_at_centre();
 }

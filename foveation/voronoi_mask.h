@@ -51,6 +51,12 @@ struct VoronoiMask {
   bool converged = false;           // the last neither split nor deleted
 };
 
+// The settings of a mask for a screen of width_px x height_px pixels on `display`, with the Gaussian
+// radius sigma_deg (degrees of visual angle, at the display's centre) and the other settings at their
+// defaults.
+VoronoiMaskSettings voronoi_mask_settings(int width_px, int height_px, const DisplayGeometry& display,
+                                          double sigma_deg = 2.5);
+
 // Phi at a mask pixel's centre, quantised to 8 bits (at least 1/255).
 double mask_density(const VoronoiMaskSettings& settings, int x_px, int y_px);
 

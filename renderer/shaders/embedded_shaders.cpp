@@ -13,6 +13,8 @@ namespace {
 #include "min_filter.spv.h"
 #include "path_trace.spv.h"
 #include "pull_push.spv.h"
+#include "volume_raycast.spv.h"
+#include "voronoi_reconstruct.spv.h"
 #include "sampling_positions.spv.h"
 #include "sampling_reconstruct.spv.h"
 #include "sampling_frame_read.spv.h"
@@ -42,6 +44,8 @@ const std::span<const uint32_t> sampling_positions_spirv{sampling_positions_spir
 const std::span<const uint32_t> sampling_reconstruct_spirv{sampling_reconstruct_spirv_words};
 const std::span<const uint32_t> sampling_frame_read_spirv{sampling_frame_read_spirv_words};
 const std::span<const uint32_t> pull_push_spirv{pull_push_spirv_words};
+const std::span<const uint32_t> volume_raycast_spirv{volume_raycast_spirv_words};
+const std::span<const uint32_t> voronoi_reconstruct_spirv{voronoi_reconstruct_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};
 
 }  // namespace fovlab::shaders

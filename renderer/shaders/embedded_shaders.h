@@ -26,6 +26,8 @@ extern const std::span<const uint32_t> sampling_positions_spirv;
 extern const std::span<const uint32_t> sampling_reconstruct_spirv;
 extern const std::span<const uint32_t> sampling_frame_read_spirv;
 extern const std::span<const uint32_t> pull_push_spirv;
+extern const std::span<const uint32_t> volume_raycast_spirv;
+extern const std::span<const uint32_t> voronoi_reconstruct_spirv;
 extern const std::string_view sphere_trace_source;
 
 }  // namespace fovlab::shaders

@@ -190,6 +190,7 @@ Context::Context(const ContextOptions& options)
     timestamp_valid_bits = queue_families(physical_device)[queue_family].timestampValidBits;
     if (timestamp_valid_bits > 0) timestamp_period_ns = static_cast<double>(properties.limits.timestampPeriod);
     max_storage_buffer_bytes = properties.limits.maxStorageBufferRange;
+    max_image_side_3d = properties.limits.maxImageDimension3D;
 
     std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
     if (surface) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);

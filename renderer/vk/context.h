@@ -70,6 +70,7 @@ class Context {
   double timestamp_period_ns = 0.0;  // 0 when the queue cannot write timestamps
   uint32_t timestamp_valid_bits = 0;
   VkDeviceSize max_storage_buffer_bytes = 0;  // maxStorageBufferRange: the largest buffer one binding sees
+  uint32_t max_image_side_3d = 0;             // maxImageDimension3D: the largest side of a 3-D image
   PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set = nullptr;
   VkSurfaceKHR surface = VK_NULL_HANDLE;  // made for ContextOptions::present_to; the queue presents to it
 

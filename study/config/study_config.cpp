@@ -12,8 +12,8 @@
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "study/config/input_keys.h"
-#include "study/config/toml_fields.h"
-#include "study/config/toml_guard.h"
+#include "core/toml_fields.h"
+#include "core/toml_guard.h"
 #include "study/stimulus/render_method.h"
 
 namespace fovlab {

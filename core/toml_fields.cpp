@@ -1,9 +1,9 @@
-#include "study/config/toml_fields.h"
+#include "core/toml_fields.h"
 
 #include <cmath>
 
 #include "core/input_error.h"
-#include "study/config/toml_guard.h"
+#include "core/toml_guard.h"
 
 namespace fovlab {
 namespace {

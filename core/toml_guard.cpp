@@ -1,4 +1,4 @@
-#include "study/config/toml_guard.h"
+#include "core/toml_guard.h"
 
 #include <cstdint>
 #include <vector>

@@ -1,5 +1,5 @@
 // The shield in front of toml++ 3.3.0's undefined behaviour on some non-ASCII code points
-// (study/config/toml_guard.h): text in strings survives exactly, elsewhere it is an error with
+// (core/toml_guard.h): text in strings survives exactly, elsewhere it is an error with
 // its line, and the inputs the fuzzer found parse to errors, not to undefined behaviour.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "study/config/study_config.h"
-#include "study/config/toml_guard.h"
+#include "core/toml_guard.h"
 
 namespace fovlab {
 namespace {

@@ -1,0 +1,46 @@
+#version 460
+// The foveated volume frame rebuilt from its sites (seed 003 section 4.3): every screen pixel takes
+// the Sibson-weighted sum of its natural neighbours' colours, read from the precomputed weights of
+// its mask pixel (foveation/voronoi_reconstruction.h; the mask is the screen shifted by whole
+// pixels with the gaze). Then the temporal smoothing (section 4.4): the output is the mean of this
+// frame and the stored ones (history_count of them), and this frame is stored in slot store_slot
+// when it is to be kept (renderer/volume/volume_raycaster.cpp decides when).
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+// Must match ReconstructParams in renderer/volume/volume_raycaster.cpp.
+layout(push_constant) uniform ReconstructParams {
+  uvec2 screen_size;
+  uvec2 mask_size;
+  ivec2 mask_offset;   // mask pixel = screen pixel + mask_offset
+  uint history_count;  // stored frames to average with, 0 to 8
+  uint store_slot;     // slot to store this frame in; 0xFFFFFFFF: none
+} params;
+
+layout(std430, binding = 0) readonly buffer NeighbourSites { uint neighbour_sites[]; };      // 8 a mask pixel
+layout(std430, binding = 1) readonly buffer NeighbourWeights { uint neighbour_weights[]; };  // 8 x 16 bits a mask pixel
+layout(std430, binding = 2) readonly buffer SiteColours { vec4 site_colours[]; };
+layout(std430, binding = 3) writeonly buffer Colour { vec4 colour[]; };                     // the frame shown
+layout(std430, binding = 4) buffer History { vec4 history[]; };                              // 8 frames
+
+void main() {
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  if (pixel.x >= params.screen_size.x || pixel.y >= params.screen_size.y) return;
+  uvec2 mask_pixel = uvec2(ivec2(pixel) + params.mask_offset);
+  uint base = (mask_pixel.y * params.mask_size.x + mask_pixel.x) * 8u;
+  vec3 sum = vec3(0.0);
+  float weight_sum = 0.0;
+  for (uint k = 0u; k < 8u; ++k) {
+    uint packed = neighbour_weights[(base + k) >> 1u];
+    float weight = float(((base + k) & 1u) == 0u ? (packed & 0xFFFFu) : (packed >> 16u));
+    if (weight == 0.0) continue;
+    sum += weight * site_colours[neighbour_sites[base + k]].rgb;
+    weight_sum += weight;
+  }
+  vec3 current = weight_sum > 0.0 ? sum / weight_sum : vec3(0.0);
+  uint frame_pixels = params.screen_size.x * params.screen_size.y;
+  uint index = pixel.y * params.screen_size.x + pixel.x;
+  vec3 total = current;
+  for (uint k = 0u; k < params.history_count; ++k) total += history[k * frame_pixels + index].rgb;
+  colour[index] = vec4(total / float(params.history_count + 1u), 1.0);
+  if (params.store_slot != 0xFFFFFFFFu) history[params.store_slot * frame_pixels + index] = vec4(current, 1.0);
+}
