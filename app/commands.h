@@ -22,6 +22,7 @@ void add_upsample_command(CLI::App& app);
 void add_blend_command(CLI::App& app);
 void add_resample_command(CLI::App& app);
 void add_voronoi_command(CLI::App& app);
+void add_bench_volume_command(CLI::App& app);
 void add_prerender_command(CLI::App& app);
 void add_binomial_command(CLI::App& app);
 

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   fovlab::app::add_blend_command(app);
   fovlab::app::add_resample_command(app);
   fovlab::app::add_voronoi_command(app);
+  fovlab::app::add_bench_volume_command(app);
   fovlab::app::add_prerender_command(app);
   fovlab::app::add_binomial_command(app);
   try {

@@ -18,8 +18,9 @@
 namespace fovlab::app {
 
 void run_render_volume(const VolumeRenderOptions& options) {
-  if (options.width_px < 1 || options.width_px > 4096 || options.height_px < 1 || options.height_px > 4096)
-    throw InputError("--width, --height: expected 1 to 4096 pixels for a volume frame");
+  if (options.width_px < 1 || options.width_px > kMaxVolumeFrameSidePx || options.height_px < 1 ||
+      options.height_px > kMaxVolumeFrameSidePx)
+    throw InputError("--width, --height: expected 1 to " + std::to_string(kMaxVolumeFrameSidePx) + " pixels for a volume frame");
   if (options.frames < 1 || options.frames > 100000) throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
   if (!(options.frame_rate_hz > 0.0 && std::isfinite(options.frame_rate_hz)))
     throw InputError("--frame-rate: expected a positive number of frames per second");

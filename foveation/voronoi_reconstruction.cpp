@@ -105,7 +105,9 @@ void fill_rows(const VoronoiMask& mask, int first_row, int end_row, std::vector<
 // The cache file: a header, the mask's sites, the weights, then the FNV-1a hash of all before it.
 constexpr char kMagic[16] = {'F', 'O', 'V', 'L', 'A', 'B', '-', 'V', 'O', 'R', 'O', 'N', 'O', 'I', '1', '\n'};
 
-std::string settings_key(const VoronoiMaskSettings& s) {
+}  // namespace
+
+std::string voronoi_settings_key(const VoronoiMaskSettings& s) {
   std::string text = "voronoi-reconstruction v1;";
   text += std::to_string(s.screen_width_px) + "x" + std::to_string(s.screen_height_px) + ";sigma=";
   char sigma[40];
@@ -118,6 +120,8 @@ std::string settings_key(const VoronoiMaskSettings& s) {
           ";seed=" + std::to_string(s.seed) + ";neighbours=" + std::to_string(kVoronoiNeighbours);
   return text;
 }
+
+namespace {
 
 template <class T>
 void put(std::string& out, const T& value) {
@@ -236,7 +240,7 @@ VoronoiReconstruction make_voronoi_reconstruction(const VoronoiMaskSettings& set
 VoronoiReconstruction cached_voronoi_reconstruction(const VoronoiMaskSettings& settings,
                                                     const std::filesystem::path& cache_folder,
                                                     const std::function<void(double)>& progress, bool* made) {
-  const std::string key = settings_key(settings);
+  const std::string key = voronoi_settings_key(settings);
   const std::filesystem::path file = cache_folder / ("voronoi-" + ContentHash().add(key).hex() + ".bin");
   {
     std::ifstream stream(file, std::ios::binary);

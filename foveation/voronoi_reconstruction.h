@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "foveation/voronoi_mask.h"
@@ -21,7 +22,7 @@ inline constexpr int kVoronoiNeighbours = 8;
 struct VoronoiReconstruction {
   VoronoiMaskSettings settings;
   VoronoiMask mask;
-  // Per mask pixel (row-major), kVoronoiNeighbours entries: a site's index and its weight in
+  // Per mask pixel (row-major), kVoronoiNeighbours entries, heaviest first: a site's index and its weight in
   // 1/65535 (unused entries: weight 0, index 0). The weights of a pixel sum to 65535 within the
   // rounding of each (the shader divides by their sum).
   std::vector<uint32_t> neighbour_sites;
@@ -40,6 +41,9 @@ std::vector<std::pair<uint32_t, double>> sibson_coordinates(const std::vector<Ma
 // now and then while the weights are computed (on all cores).
 VoronoiReconstruction make_voronoi_reconstruction(const VoronoiMaskSettings& settings,
                                                   const std::function<void(double)>& progress = {});
+
+// The text that identifies a mask's settings (the cache's key; equal text, equal mask and weights).
+std::string voronoi_settings_key(const VoronoiMaskSettings& settings);
 
 // The same through a cache in `cache_folder` (created if missing): a file named by the settings'
 // hash, written atomically; a file that is unreadable, damaged or of other settings is made anew.

@@ -9,6 +9,7 @@
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
+#include "renderer/volume/volume_scene.h"
 #include "renderer/vk/context.h"
 
 #ifndef FOVLAB_VERSION
@@ -41,11 +42,15 @@ ObserverModel observer_from_json(const nlohmann::json& json) {
 
 nlohmann::json scene_hashes(const StudyPlan& plan) {
   nlohmann::json hashes = nlohmann::json::object();
-  std::map<std::string, bool> scenes;  // name -> path-traced
-  for (const PlannedStimulus& stimulus : plan.stimuli)
-    scenes[stimulus.spec.scene] = is_path_traced(stimulus.spec.method());
-  for (const auto& [scene, path_traced] : scenes)
-    hashes[scene] = path_traced ? load_path_scene(scene).content_hash : ContentHash().add(load_scene(scene).text).hex();
+  std::map<std::string, SceneKind> scenes;
+  for (const PlannedStimulus& stimulus : plan.stimuli) scenes[stimulus.spec.scene] = describe(stimulus.spec.method()).scene_kind;
+  for (const auto& [scene, kind] : scenes) {
+    switch (kind) {
+      case SceneKind::path_traced: hashes[scene] = load_path_scene(scene).content_hash; break;
+      case SceneKind::volume: hashes[scene] = volume_scene_hash(load_volume_scene(scene)); break;
+      case SceneKind::signed_distance: hashes[scene] = ContentHash().add(load_scene(scene).text).hex(); break;
+    }
+  }
   return hashes;
 }
 

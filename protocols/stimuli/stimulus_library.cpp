@@ -15,6 +15,9 @@
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/buffer.h"
+#include "renderer/vk/context.h"
+#include "renderer/volume/volume_raycaster.h"
+#include "renderer/volume/volume_scene.h"
 #include "renderer/zone_blend/zone_blender.h"
 
 namespace fovlab {
@@ -25,7 +28,7 @@ std::string frame_hash(const Rgba8Frame& frame) {
 }
 
 StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root)
-    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)),
+    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)), cache_root_(cache_root),
       readback_(std::make_unique<vk::Buffer>()) {}
 StimulusLibrary::~StimulusLibrary() = default;
 
@@ -46,6 +49,8 @@ PreparedFrame StimulusLibrary::render_live(const StimulusSpec& spec, const Stimu
     rendered.on_device = blend_foveated_path_traced(spec, image);
   } else if (is_path_traced(spec.method())) {
     rendered.on_device = sample_path_traced(spec, image);
+  } else if (is_volume(spec.method())) {
+    rendered.on_device = render_volume(spec, image);
   } else {
     rendered.on_device = render_sphere_traced(spec, image);
   }
@@ -79,11 +84,7 @@ DeviceRgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec,
   const bool sequence = describe(spec.method()).depends_on_gaze;
   const std::string canonical = sequence ? spec.canonical() : std::string();
   if (sequence) {
-    if (image.image_index < 0 ||
-        (image.image_index > 0 && (last.canonical != canonical || last.image_index != image.image_index - 1)))
-      throw std::logic_error("StimulusLibrary::render: image " + std::to_string(image.image_index) + " of " +
-                             canonical + " does not directly follow image " +
-                             std::to_string(image.image_index - 1) + " of the same presentation");
+    check_sequence(last, canonical, image);
     settings.foveation.gaze_x_px = image.gaze.x_px;
     settings.foveation.gaze_y_px = image.gaze.y_px;
     settings.foveation.frame_index = static_cast<uint32_t>(image.image_index);
@@ -94,6 +95,53 @@ DeviceRgba8Frame StimulusLibrary::render_sphere_traced(const StimulusSpec& spec,
   last = LastImage{};
   const DeviceRgba8Frame frame = tracer.render(settings).display;
   if (sequence) last = LastImage{canonical, image.image_index};
+  return frame;
+}
+
+void StimulusLibrary::check_sequence(const LastImage& last, const std::string& canonical, const StimulusImage& image) {
+  if (image.image_index < 0 ||
+      (image.image_index > 0 && (last.canonical != canonical || last.image_index != image.image_index - 1)))
+    throw std::logic_error("StimulusLibrary::render: image " + std::to_string(image.image_index) + " of " + canonical +
+                           " does not directly follow image " + std::to_string(image.image_index - 1) +
+                           " of the same presentation");
+}
+
+VolumeRaycaster& StimulusLibrary::raycaster_for(const StimulusSpec& spec) {
+  const bool foveated = spec.method() == RenderMethod::foveated_volume_raycast;
+  const std::optional<VoronoiMaskSettings> mask = foveated ? std::optional(voronoi_mask_settings(spec)) : std::nullopt;
+  const std::string key = mask ? spec.scene + "#" + voronoi_settings_key(*mask) : spec.scene;
+  auto found = raycasters_.find(key);
+  if (found != raycasters_.end()) return *found->second;
+  auto volume = volumes_.find(spec.scene);
+  if (volume == volumes_.end()) {
+    VolumeScene scene = load_volume_scene(spec.scene);
+    VolumeGrid grid = load_scene_volume(scene, volume_limits(context_));
+    volume = volumes_.emplace(spec.scene, std::pair{std::move(scene), std::move(grid)}).first;
+  }
+  auto raycaster = std::make_unique<VolumeRaycaster>(context_, volume->second.first, volume->second.second);
+  if (mask) raycaster->set_reconstruction(cached_voronoi_reconstruction(*mask, cache_root_ / "voronoi"));
+  return *raycasters_.emplace(key, std::move(raycaster)).first->second;
+}
+
+DeviceRgba8Frame StimulusLibrary::render_volume(const StimulusSpec& spec, const StimulusImage& image) {
+  VolumeRaycaster& raycaster = raycaster_for(spec);
+  VolumeRenderSettings settings = volume_render_settings(spec, image.frame);
+  LastImage& last = last_image_["volume:" + spec.scene];
+  if (spec.method() == RenderMethod::volume_raycast) {
+    last = LastImage{};
+    settings.frame_index = static_cast<uint32_t>(image.frame);
+    return raycaster.display_full_on_device(settings);
+  }
+  // fvolume: images in order, each with its own gaze; the temporal smoothing's history starts
+  // afresh with each presentation, so a presentation's images depend on nothing rendered before it.
+  const std::string canonical = spec.canonical();
+  check_sequence(last, canonical, image);
+  last = LastImage{};
+  if (image.image_index == 0) raycaster.reset_history();
+  settings.frame_index = static_cast<uint32_t>(image.image_index);
+  const DeviceRgba8Frame frame =
+      raycaster.display_foveated_on_device(settings, image.gaze.x_px, image.gaze.y_px, temporal_smoothing(spec));
+  last = LastImage{canonical, image.image_index};
   return frame;
 }
 
@@ -179,6 +227,12 @@ void StimulusLibrary::check_foveated_path_traced(const StimulusSpec& spec) {
 }
 
 void StimulusLibrary::check_frame_size(const StimulusSpec& spec) {
+  if (is_volume(spec.method())) {
+    if (spec.width_px < 1 || spec.height_px < 1 || spec.width_px > kMaxVolumeFrameSidePx || spec.height_px > kMaxVolumeFrameSidePx)
+      throw InputError(config_frame_size(spec) + ": expected 1 to " + std::to_string(kMaxVolumeFrameSidePx) +
+                       " pixels a side for " + std::string(spec.method_name()));
+    return;
+  }
   if (!is_path_traced(spec.method())) {
     check_sphere_trace_frame_bytes(context_, spec.width_px, spec.height_px, kConfigFrameSize);
     return;
@@ -245,6 +299,12 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
       if (is_sampling_model(spec.method())) sampling_map(spec, std::nan(""), std::nan(""));  // equalise solves now
       render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (describe(spec.method()).depends_on_gaze) continue;  // blended or sampled live
+    } else if (is_volume(spec.method())) {
+      // The volume is loaded and fvolume's mask read or made now, not at the first trial.
+      const auto start = std::chrono::steady_clock::now();
+      raycaster_for(spec);
+      render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (describe(spec.method()).depends_on_gaze) continue;
     } else if (describe(spec.method()).depends_on_gaze) {
       // Rendered live; bad settings and scene errors come now all the same, not mid-session.
       const auto start = std::chrono::steady_clock::now();

@@ -9,6 +9,8 @@
 // that device shows them without a copy through the host; their hash is taken after the present
 // (hash()). Path-traced frames (pt, fpt, pt-rmfr, ...) come
 // from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
+// before the first trial. Volume stimuli (volume, fvolume) come from seed 003's raycaster; fvolume's
+// sampling mask and weights are read from (or made into) the Voronoi cache, cache_root/voronoi,
 // before the first trial.
 #include <cstdint>
 #include <filesystem>
@@ -22,6 +24,7 @@
 #include "protocols/gaze/gaze_sample.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/present/device_frame.h"
+#include "renderer/volume/volume_scene.h"
 
 namespace fovlab {
 
@@ -33,6 +36,7 @@ class SphereTracer;
 class FrameCache;
 class ZoneBlender;
 class FrameSampler;
+class VolumeRaycaster;
 
 struct PreparedFrame {
   Rgba8Frame image;            // the bytes (prepared frames; a live frame once hash() read it back)
@@ -107,6 +111,14 @@ class StimulusLibrary {
   Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt
   DeviceRgba8Frame blend_foveated_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // fpt
   DeviceRgba8Frame sample_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt-rmfr, ...
+  DeviceRgba8Frame render_volume(const StimulusSpec& spec, const StimulusImage& image);  // volume, fvolume
+  // The raycaster of a volume spec: one a scene for volume, one a scene and sampling mask for fvolume
+  // (its mask and weights read from the Voronoi cache or made), so that stimuli of several masks
+  // switch without reloading anything; the volume itself is loaded once a scene.
+  VolumeRaycaster& raycaster_for(const StimulusSpec& spec);
+  // Gaze-dependent methods render a presentation's images in order: std::logic_error unless image k
+  // directly follows image k - 1 of the same spec (`last` is what was rendered before).
+  static void check_sequence(const LastImage& last, const std::string& canonical, const StimulusImage& image);
   // fpt's settings, size and display, without rendering (InputError).
   void check_foveated_path_traced(const StimulusSpec& spec);
   // The device's limits on the frame size, which is the study config's display size: errors name
@@ -124,8 +136,11 @@ class StimulusLibrary {
   std::string sampler_frame_;  // spec and frame the sampler holds
   std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
   std::string sampler_centre_spec_;            // ... with this canonical text
+  std::filesystem::path cache_root_;
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
-  std::map<std::string, LastImage> last_image_;                    // by scene
+  std::map<std::string, std::unique_ptr<VolumeRaycaster>> raycasters_;  // by volume scene (and mask)
+  std::map<std::string, std::pair<VolumeScene, VolumeGrid>> volumes_;   // by volume scene
+  std::map<std::string, LastImage> last_image_;                    // by scene (sphere-traced and volume)
   std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id
   PreparedFrame live_;                                             // the last gaze-dependent image
   std::unique_ptr<vk::Buffer> readback_;                           // frames read back from the device

@@ -9,6 +9,7 @@
 #include "core/number_text.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
+#include "renderer/volume/volume_scene.h"
 
 namespace fovlab {
 namespace {
@@ -25,6 +26,8 @@ SceneCatalog renderer_scene_catalog(bool check_files) {
   catalog.signed_distance_names = builtin_scene_names();
   catalog.path_traced_names = {known_path_scenes()};
   catalog.path_traced_file_extension = ".obj";
+  catalog.volume_names = builtin_volume_names();
+  catalog.volume_file_extension = ".toml";
   catalog.check_files = check_files;
   return catalog;
 }
@@ -177,6 +180,38 @@ ResampleFilter sampling_filter(const StimulusSpec& spec) {
         return ResampleFilter::bilinear;
       },
       spec.parameters);
+}
+
+VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame) {
+  VolumeRenderSettings settings;
+  settings.width_px = spec.width_px;
+  settings.height_px = spec.height_px;
+  settings.time_s = spec.frame_time_s(frame);
+  if (const auto* full = std::get_if<VolumeRaycastParameters>(&spec.parameters)) {
+    settings.step_voxels = full->step_voxels;
+    settings.jitter_seed = full->jitter_seed;
+  } else if (const auto* foveated = std::get_if<FoveatedVolumeRaycastParameters>(&spec.parameters)) {
+    settings.step_voxels = foveated->step_voxels;
+    settings.jitter_seed = foveated->jitter_seed;
+    settings.correct_opacity = foveated->opacity_correction;
+  } else {
+    throw std::logic_error("volume_render_settings: not a volume method: " + std::string(spec.method_name()));
+  }
+  return settings;
+}
+
+VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec) {
+  const auto* foveated = std::get_if<FoveatedVolumeRaycastParameters>(&spec.parameters);
+  if (!foveated) throw std::logic_error("voronoi_mask_settings: not fvolume: " + std::string(spec.method_name()));
+  VoronoiMaskSettings settings = voronoi_mask_settings(spec.width_px, spec.height_px, stimulus_display(spec),
+                                                       foveated->density_sigma_deg);
+  settings.seed = foveated->mask_seed;
+  return settings;
+}
+
+bool temporal_smoothing(const StimulusSpec& spec) {
+  const auto* foveated = std::get_if<FoveatedVolumeRaycastParameters>(&spec.parameters);
+  return foveated && foveated->temporal_smoothing;
 }
 
 DisplayGeometry stimulus_display(const StimulusSpec& spec) {

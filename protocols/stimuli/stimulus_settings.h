@@ -5,9 +5,11 @@
 
 #include "foveation/display_geometry.h"
 #include "foveation/sampling_map.h"
+#include "foveation/voronoi_mask.h"
 #include "foveation/zone_layout.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/volume/volume_raycaster.h"
 #include "study/config/scene_catalog.h"
 #include "study/schedule/study_plan.h"
 #include "study/stimulus/stimulus_spec.h"
@@ -15,12 +17,25 @@
 namespace fovlab {
 
 // The scenes the renderer knows: built-in SDF scenes (stimuli/scenes), the built-in path-traced
-// courtyard and OBJ files. check_files: scene files must exist.
+// courtyard and OBJ files, built-in volume scenes (stimuli/volumes) and .toml volume scenes.
+// check_files: scene files must exist.
 SceneCatalog renderer_scene_catalog(bool check_files = true);
 
 // Whether a method's frames come from the sphere tracer (gt, ipr, fipr) or from pre-rendered
 // path-traced sequences (pt, fpt).
 inline bool is_path_traced(RenderMethod method) { return describe(method).scene_kind == SceneKind::path_traced; }
+
+// Whether a method is seed 003's volume raycaster (volume, fvolume).
+inline bool is_volume(RenderMethod method) { return describe(method).scene_kind == SceneKind::volume; }
+
+// The raycaster's settings of a volume or fvolume spec at an animation frame (the jitter's frame is
+// left 0, for the caller to set); std::logic_error for other methods.
+VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame);
+// The sampling mask of an fvolume spec: its frame size, display and density_sigma_deg, mask_seed.
+// InputError when the display parameters are missing; std::logic_error for other methods.
+VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec);
+// Whether an fvolume spec smooths over time (false for volume).
+bool temporal_smoothing(const StimulusSpec& spec);
 
 // Whether a method is one of seed 002's sampling models, on the sphere tracer (rmfr, hyperbolic,
 // linear, kfr) or on pre-rendered path-traced frames (pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr).

@@ -38,7 +38,8 @@ layout(std430, binding = 1) readonly buffer Voxels { uint voxels[]; };         /
 layout(std430, binding = 2) readonly buffer Transfer { vec4 transfer[]; };     // RGBA over 0..1
 layout(std430, binding = 3) readonly buffer Bricks { uint brick_visible[]; };  // 1: some sample in it may be seen
 layout(std430, binding = 4) readonly buffer Sites { vec2 sites[]; };           // mask positions (MODE_SITES)
-layout(std430, binding = 5) writeonly buffer Colours { vec4 colours[]; };      // per pixel or per site
+layout(std430, binding = 5) writeonly buffer Colours { vec4 colours[]; };      // per pixel (MODE_FULL)
+layout(std430, binding = 6) writeonly buffer SiteColours { uvec2 site_colours[]; };  // per site (MODE_SITES): RGB as half floats
 
 float voxel(ivec3 p) {
   ivec3 size = ivec3(params.volume_size.xyz);
@@ -151,5 +152,6 @@ void main() {
   if (any(lessThan(position, params.sites_window.xy)) || any(greaterThan(position, params.sites_window.zw))) return;
   uvec2 pixel = uvec2(clamp(floor(position), vec2(0.0), vec2(params.screen.xy) - 1.0));
   uint hash = pixel.x + lowbias32(pixel.y + lowbias32(uint(params.mask_offset.w) + lowbias32(uint(params.mask_offset.z))));
-  colours[site] = vec4(trace(position, hash), 1.0);
+  vec3 colour = trace(position, hash);
+  site_colours[site] = uvec2(packHalf2x16(colour.rg), packHalf2x16(vec2(colour.b, 1.0)));
 }

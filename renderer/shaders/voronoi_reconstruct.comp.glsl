@@ -16,11 +16,12 @@ layout(push_constant) uniform ReconstructParams {
   uint store_slot;     // slot to store this frame in; 0xFFFFFFFF: none
 } params;
 
-layout(std430, binding = 0) readonly buffer NeighbourSites { uint neighbour_sites[]; };      // 8 a mask pixel
-layout(std430, binding = 1) readonly buffer NeighbourWeights { uint neighbour_weights[]; };  // 8 x 16 bits a mask pixel
-layout(std430, binding = 2) readonly buffer SiteColours { vec4 site_colours[]; };
-layout(std430, binding = 3) writeonly buffer Colour { vec4 colour[]; };                     // the frame shown
-layout(std430, binding = 4) buffer History { vec4 history[]; };                              // 8 frames
+// 8 a mask pixel, heaviest first: the site's index in the low 20 bits, its weight in 1/4095 in the
+// high 12 (0: an unused entry). One load a neighbour, and the colour two more: the pass reads little.
+layout(std430, binding = 0) readonly buffer Neighbours { uint neighbours[]; };
+layout(std430, binding = 1) readonly buffer SiteColours { uvec2 site_colours[]; };  // RGB as half floats
+layout(std430, binding = 2) writeonly buffer Colour { vec4 colour[]; };             // the frame shown
+layout(std430, binding = 3) buffer History { vec4 history[]; };                      // 8 frames
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
@@ -30,10 +31,11 @@ void main() {
   vec3 sum = vec3(0.0);
   float weight_sum = 0.0;
   for (uint k = 0u; k < 8u; ++k) {
-    uint packed = neighbour_weights[(base + k) >> 1u];
-    float weight = float(((base + k) & 1u) == 0u ? (packed & 0xFFFFu) : (packed >> 16u));
-    if (weight == 0.0) continue;
-    sum += weight * site_colours[neighbour_sites[base + k]].rgb;
+    uint entry = neighbours[base + k];
+    float weight = float(entry >> 20u);
+    if (weight == 0.0) break;  // heaviest first: the rest are unused entries
+    uvec2 packed = site_colours[entry & 0xFFFFFu];
+    sum += weight * vec3(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y).x);
     weight_sum += weight;
   }
   vec3 current = weight_sum > 0.0 ? sum / weight_sum : vec3(0.0);

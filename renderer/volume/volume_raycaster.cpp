@@ -135,11 +135,22 @@ std::vector<uint32_t> visible_bricks(const VolumeGrid& grid, const std::vector<s
   return visible;
 }
 
+std::vector<uint32_t> pack_neighbours(const VoronoiReconstruction& reconstruction) {
+  std::vector<uint32_t> packed(reconstruction.neighbour_sites.size(), 0u);
+  for (size_t pixel = 0; pixel < packed.size(); pixel += kVoronoiNeighbours)
+    for (size_t k = 0; k < size_t(kVoronoiNeighbours); ++k) {
+      const uint32_t weight = (uint32_t(reconstruction.neighbour_weights[pixel + k]) * 4095u + 32767u) / 65535u;
+      if (weight == 0) break;  // heaviest first: nothing after it counts either
+      packed[pixel + k] = (reconstruction.neighbour_sites[pixel + k] & (kMaxMaskSites - 1)) | (weight << 20);
+    }
+  return packed;
+}
+
 VolumeRaycaster::VolumeRaycaster(vk::Context& context, const VolumeScene& scene, const VolumeGrid& grid)
     : context_(context),
       scene_(scene),
-      raycast_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::volume_raycast_spirv, 6, 0)),
-      reconstruct_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::voronoi_reconstruct_spirv, 5,
+      raycast_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::volume_raycast_spirv, 7, 0)),
+      reconstruct_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::voronoi_reconstruct_spirv, 4,
                                                                   sizeof(ReconstructParams))),
       encoder_(std::make_unique<Srgb8Encoder>(context)),
       params_(context, sizeof(VolumeRayParams), vk::MemoryUse::host_upload) {
@@ -196,7 +207,7 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
   if (!(settings.step_voxels >= 0.05 && settings.step_voxels <= 16.0))
     throw SettingError("step_voxels", " " + std::to_string(settings.step_voxels) + ": expected 0.05 to 16 voxels");
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite scene time");
-  const VolumeCameraPose pose = camera_pose(scene_.camera, settings.time_s);
+  const VolumeCameraPose pose = camera_pose(settings.camera.value_or(scene_.camera), settings.time_s);
   VolumeRayParams p{};
   const auto put3 = [](float* out, const std::array<double, 3>& v, double w) {
     out[0] = float(v[0]);
@@ -280,7 +291,7 @@ VolumeFrameResult VolumeRaycaster::run_full(const VolumeRenderSettings& settings
   vk::PassTimer timer(context_, 2);
   timer.reset(cmd);
   const VkBuffer buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(), bricks_.handle(), sites_.handle(),
-                              colour_.handle()};
+                              colour_.handle(), site_colours_.handle()};
   timer.begin(cmd, "volume_full");
   raycast_pipeline_->dispatch_2d(cmd, buffers, nullptr, uint32_t(width_), uint32_t(height_));
   timer.end(cmd);
@@ -300,10 +311,15 @@ void VolumeRaycaster::set_reconstruction(const VoronoiReconstruction& reconstruc
   if (reconstruction.mask.sites.empty() || reconstruction.neighbour_sites.size() !=
       size_t(reconstruction.mask.width_px) * size_t(reconstruction.mask.height_px) * kVoronoiNeighbours)
     throw std::invalid_argument("VolumeRaycaster::set_reconstruction: an empty or inconsistent mask");
+  if (reconstruction.mask.sites.size() >= kMaxMaskSites)
+    throw InputError("sampling mask of a " + std::to_string(reconstruction.settings.screen_width_px) + "x" +
+                     std::to_string(reconstruction.settings.screen_height_px) + " frame: " +
+                     std::to_string(reconstruction.mask.sites.size()) + " sites: expected fewer than " +
+                     std::to_string(kMaxMaskSites) + " (a smaller frame or a larger density_sigma_deg)");
   upload(context_, sites_, reconstruction.mask.sites.data(), reconstruction.mask.sites.size() * sizeof(MaskSite));
-  upload(context_, neighbour_sites_, reconstruction.neighbour_sites.data(), reconstruction.neighbour_sites.size() * sizeof(uint32_t));
-  upload(context_, neighbour_weights_, reconstruction.neighbour_weights.data(), reconstruction.neighbour_weights.size() * sizeof(uint16_t));
-  site_colours_ = vk::Buffer(context_, reconstruction.mask.sites.size() * kTexelBytes, vk::MemoryUse::device_local);
+  const std::vector<uint32_t> neighbours = pack_neighbours(reconstruction);
+  upload(context_, neighbours_, neighbours.data(), neighbours.size() * sizeof(uint32_t));
+  site_colours_ = vk::Buffer(context_, reconstruction.mask.sites.size() * 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
   reconstruction_ = reconstruction;
   history_state_ = History{};
 }
@@ -340,7 +356,7 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
                             vk::MemoryUse::device_local);
       history_state_ = History{};
     }
-    const VolumeCameraPose view = camera_pose(scene_.camera, settings.time_s);
+    const VolumeCameraPose view = camera_pose(settings.camera.value_or(scene_.camera), settings.time_s);
     if (!history_state_.view || !same_view(*history_state_.view, view)) history_state_ = History{view, 0, 0, std::nullopt};
     reconstruct.history_count = uint32_t(history_state_.count);
     const std::pair<int, int> offset{offset_x, offset_y};
@@ -357,15 +373,14 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   vk::PassTimer timer(context_, 3);
   timer.reset(cmd);
   const VkBuffer ray_buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(), bricks_.handle(), sites_.handle(),
-                                  site_colours_.handle()};
+                                  colour_.handle(), site_colours_.handle()};
   const uint32_t sites = uint32_t(reconstruction_->mask.sites.size());
   const uint32_t groups = (sites + 63) / 64;
   timer.begin(cmd, "volume_sites");
   raycast_pipeline_->dispatch_groups(cmd, ray_buffers, nullptr, std::min<uint32_t>(groups, 65535), (groups + 65534) / 65535);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
-  const VkBuffer reconstruct_buffers[] = {neighbour_sites_.handle(), neighbour_weights_.handle(), site_colours_.handle(),
-                                          colour_.handle(), history.handle()};
+  const VkBuffer reconstruct_buffers[] = {neighbours_.handle(), site_colours_.handle(), colour_.handle(), history.handle()};
   timer.begin(cmd, "voronoi_reconstruct");
   reconstruct_pipeline_->dispatch_2d(cmd, reconstruct_buffers, &reconstruct, uint32_t(width_), uint32_t(height_));
   timer.end(cmd);

@@ -33,6 +33,7 @@ class Srgb8Encoder;
 inline constexpr int kVolumeBrickSide = 8;          // voxels a brick side
 inline constexpr int kTransferTableEntries = 1024;  // the transfer function's table
 inline constexpr int kTemporalHistoryFrames = 8;    // seed 003's n
+inline constexpr int kMaxVolumeFrameSidePx = 4096;  // a frame's side (the sampling mask is twice it)
 
 // The limits of a volume on this device (volume_grid.h): its 3-D image side and largest buffer, and
 // the memory available.
@@ -46,6 +47,13 @@ struct VolumeCameraPose {
 };
 VolumeCameraPose camera_pose(const VolumeCamera& camera, double time_s);
 
+inline constexpr uint32_t kMaxMaskSites = 1u << 20;
+
+// The weights as the reconstruction pass reads them: per mask pixel, kVoronoiNeighbours words of
+// index | weight << 20, the weight rounded from 1/65535 to 1/4095 (a neighbour whose weight rounds
+// to 0 is dropped, as are those after it).
+std::vector<uint32_t> pack_neighbours(const VoronoiReconstruction& reconstruction);
+
 // Bricks whose samples may be seen: for each brick of kVolumeBrickSide^3 voxels (x fastest), 1 when
 // the transfer table has opacity above 0 anywhere in the range of the voxels its samples and their
 // trilinear reads touch (one voxel beyond each face), else 0. The CPU side of empty-space skipping.
@@ -54,6 +62,7 @@ std::vector<uint32_t> visible_bricks(const VolumeGrid& grid, const std::vector<s
 struct VolumeRenderSettings {
   int width_px = 0, height_px = 0;
   double time_s = 0.0;            // scene time (the camera's orbit)
+  std::optional<VolumeCamera> camera;  // instead of the scene's (benchmarks' random cameras)
   double step_voxels = 0.5;       // the base step, in voxels (of the smallest voxel side)
   bool correct_opacity = true;    // foveated: opacity corrected for the longer step
   bool foveated_step = true;      // foveated: the step grows away from the gaze
@@ -83,7 +92,9 @@ class VolumeRaycaster {
   VolumeFrameResult render_full(const VolumeRenderSettings& settings);
   DeviceRgba8Frame display_full_on_device(const VolumeRenderSettings& settings);
 
-  // The sampling mask and its weights for foveated frames of its screen's size.
+  // The sampling mask and its weights for foveated frames of its screen's size, packed for the
+  // device: a neighbour's site index on 20 bits and its weight on 12 (pack_neighbours). InputError
+  // for a mask of 2^20 sites or more (a frame of about 4,000 pixels a side).
   void set_reconstruction(const VoronoiReconstruction& reconstruction);
   // The foveated frame for a gaze (screen pixels; rounded, and clamped to the screen so that the
   // mask covers it; not a number: the centre). `smoothing`: the temporal smoothing, whose history
@@ -117,7 +128,7 @@ class VolumeRaycaster {
   vk::Buffer params_, voxels_, transfer_, bricks_;
   // Foveated frames.
   std::optional<VoronoiReconstruction> reconstruction_;
-  vk::Buffer sites_, neighbour_sites_, neighbour_weights_, site_colours_, history_;
+  vk::Buffer sites_, neighbours_, site_colours_, history_;
   // The frame.
   int width_ = 0, height_ = 0;
   vk::Buffer colour_, display_srgb8_, readback_;

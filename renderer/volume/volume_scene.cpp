@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/content_hash.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
 #include "core/toml_fields.h"
@@ -120,6 +121,18 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
   }
   fields.finish();
   return scene;
+}
+
+std::string volume_scene_hash(const VolumeScene& scene) {
+  ContentHash hash;
+  hash.add(scene.text);
+  if (!scene.generator) {
+    std::error_code error;
+    const uint64_t size = std::filesystem::file_size(scene.volume_file, error);
+    // The volume is read by load_scene_volume within the device's limits; here only hashed.
+    hash.add(error ? std::string("missing") : read_input_file(scene.volume_file, "a volume file", size + 1));
+  }
+  return hash.hex();
 }
 
 VolumeGrid load_scene_volume(const VolumeScene& scene, const VolumeLimits& limits) {

@@ -66,6 +66,10 @@ std::vector<std::string> builtin_volume_names();
 // its line and field, and what was expected.
 VolumeScene load_volume_scene(const std::string& name_or_file);
 
+// What a session log records of a scene (replay compares it): the hash of the scene file's text and,
+// for a file volume, of the volume file's bytes (and a .nhdr's detached data is not included).
+std::string volume_scene_hash(const VolumeScene& scene);
+
 // The scene's volume, generated or read (load_volume_file), within the limits.
 VolumeGrid load_scene_volume(const VolumeScene& scene, const VolumeLimits& limits);
 

@@ -12,6 +12,8 @@ struct SceneCatalog {
   std::vector<std::string> path_traced_names;      // built-in path-traced scenes
   std::string path_traced_file_extension;          // the only files a path-traced scene may be (".obj")
   bool check_files = true;                         // scene files must exist (false: taken as written)
+  std::vector<std::string> volume_names;           // built-in volume scenes
+  std::string volume_file_extension;               // the only files a volume scene may be (".toml")
 };
 
 }  // namespace fovlab

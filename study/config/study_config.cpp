@@ -369,29 +369,44 @@ std::string methods_of_kind(SceneKind kind, const char* conjunction) {
   return text;
 }
 
-// Sphere-traced methods take SDF scenes (built-in names or files), path-traced ones path-traced
-// scenes (built-in names or files with the catalog's extension); files are relative to the config.
-// Without a catalog the scene is taken as written.
+// Sphere-traced methods take SDF scenes (built-in names or files), path-traced and volume methods
+// their own kind (built-in names or files with the catalog's extension for that kind); files are
+// relative to the config. Without a catalog the scene is taken as written.
 std::string resolve_scene(const TomlFields& fields, const std::string& scene, const std::string& config_path,
                           const SceneCatalog* catalog, SceneKind kind) {
   if (!catalog) return scene;
-  const bool path_traced = kind == SceneKind::path_traced;
-  const std::vector<std::string>& names = path_traced ? catalog->path_traced_names : catalog->signed_distance_names;
+  const std::vector<std::string>& names = kind == SceneKind::path_traced ? catalog->path_traced_names
+                                          : kind == SceneKind::volume    ? catalog->volume_names
+                                                                         : catalog->signed_distance_names;
   std::string known;
   for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
   if (std::find(names.begin(), names.end(), scene) != names.end()) return scene;
-  const std::string& extension = catalog->path_traced_file_extension;
-  std::string tail = scene.size() >= extension.size() ? scene.substr(scene.size() - extension.size()) : std::string();
-  for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (path_traced && tail != extension)
-    fields.fail("scene", "expected a path-traced scene (" + known + " or a " + extension + " file) for " +
-                             methods_of_kind(SceneKind::path_traced, "and") + ", got \"" + scene + "\"");
+  if (kind != SceneKind::signed_distance) {
+    const std::string& extension = kind == SceneKind::path_traced ? catalog->path_traced_file_extension
+                                                                  : catalog->volume_file_extension;
+    std::string tail = scene.size() >= extension.size() ? scene.substr(scene.size() - extension.size()) : std::string();
+    for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (tail != extension)
+      fields.fail("scene", std::string("expected a ") + (kind == SceneKind::path_traced ? "path-traced" : "volume") +
+                               " scene (" + known + " or a " + extension + " file) for " + methods_of_kind(kind, "and") +
+                               ", got \"" + scene + "\"");
+  }
   std::filesystem::path path(scene);
   if (path.is_relative()) path = std::filesystem::path(config_path).parent_path() / path;
   std::error_code error;  // e.g. a name too long for the file system: not found, not a crash
   if (catalog->check_files && !std::filesystem::is_regular_file(path, error))
     fields.fail("scene", "no built-in scene or file \"" + scene + "\" (built-in: " + known + ")");
   return path.lexically_normal().string();
+}
+
+// "a sphere-traced method", "a path-traced method", "a volume method": for messages.
+std::string kind_of_method(SceneKind kind) {
+  switch (kind) {
+    case SceneKind::signed_distance: return "a sphere-traced method";
+    case SceneKind::path_traced: return "a path-traced method";
+    case SceneKind::volume: return "a volume method";
+  }
+  return "a method";
 }
 
 }  // namespace
@@ -470,10 +485,8 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
   const SceneKind scene_kind = describe(config.stimulus.reference.method).scene_kind;
   const MethodDescriptor& test = describe(config.stimulus.test.method);
   if (test.scene_kind != scene_kind) {
-    const bool path_traced = scene_kind == SceneKind::path_traced;
     fields.table("stimulus").table("test").fail(
-        "method", "expected " + std::string(path_traced ? "a path-traced method (" : "a sphere-traced method (") +
-                      methods_of_kind(scene_kind, "or") + ") like the reference's \"" +
+        "method", "expected " + kind_of_method(scene_kind) + " (" + methods_of_kind(scene_kind, "or") + ") like the reference's \"" +
                       std::string(describe(config.stimulus.reference.method).name) +
                       "\" (both render the same scene), got \"" + std::string(test.name) + "\"");
   }

@@ -25,6 +25,8 @@ enum class RenderMethod {
   path_traced_hyperbolic_layers,
   path_traced_linear_falloff,
   path_traced_kernel_log_polar,
+  volume_raycast,            // seed 003's volume raycaster: every pixel traced
+  foveated_volume_raycast,   // the same, rays at the Voronoi mask's sites around the gaze
 };
 
 // How FIPR combines the acuity probability and the depth edges (docs/foveation.md); the order is
@@ -205,12 +207,30 @@ struct PathTracedLinearFalloffParameters {
   StimulusDisplay display;
 };
 
+// Seed 003's volume raycaster (docs/volume-rendering.md) on a volume scene, every pixel traced.
+struct VolumeRaycastParameters {
+  double step_voxels;   // the base step along a ray
+  uint32_t jitter_seed;
+};
+
+// Its Voronoi-foveated form: rays at the sites of the sampling mask shifted to each gaze sample, the
+// frame rebuilt by natural-neighbour interpolation.
+struct FoveatedVolumeRaycastParameters {
+  double step_voxels;
+  uint32_t jitter_seed;
+  double density_sigma_deg;  // s: radius of the sampling density's Gaussian (an eccentricity)
+  bool opacity_correction;   // the longer peripheral step's opacity corrected
+  bool temporal_smoothing;   // the mean with up to 8 stored frames while the view stays
+  uint32_t mask_seed;        // the weighted LBG's initial sites
+  StimulusDisplay display;
+};
+
 using MethodParameters =
     std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters, PathTracedParameters,
                  FoveatedPathTracedParameters, RectangularMappingParameters, HyperbolicLayersParameters,
                  LinearFalloffParameters, KernelLogPolarParameters, PathTracedRectangularMappingParameters,
                  PathTracedHyperbolicLayersParameters, PathTracedLinearFalloffParameters,
-                 PathTracedKernelLogPolarParameters>;
+                 PathTracedKernelLogPolarParameters, VolumeRaycastParameters, FoveatedVolumeRaycastParameters>;
 
 inline RenderMethod method_of(const MethodParameters& parameters) {
   return static_cast<RenderMethod>(parameters.index());
@@ -224,6 +244,7 @@ inline const StimulusDisplay* display_of(const MethodParameters& parameters) {
   if (const auto* linear = std::get_if<LinearFalloffParameters>(&parameters)) return &linear->display;
   if (const auto* layers = std::get_if<PathTracedHyperbolicLayersParameters>(&parameters)) return &layers->display;
   if (const auto* linear = std::get_if<PathTracedLinearFalloffParameters>(&parameters)) return &linear->display;
+  if (const auto* volume = std::get_if<FoveatedVolumeRaycastParameters>(&parameters)) return &volume->display;
   return nullptr;
 }
 inline StimulusDisplay* display_of(MethodParameters& parameters) {

@@ -371,11 +371,57 @@ std::vector<MethodDescriptor> sampling_models() {
   };
 }
 
+// Seed 003's volume raycaster, full and Voronoi-foveated (docs/volume-rendering.md).
+template <class P>
+std::vector<ParameterDescriptor> volume_parameters() {
+  return {
+      parameter<&P::step_voxels>("step_voxels", "voxels", ParameterType::real, 0.5, 0.05, 16.0,
+                                 "the base step along a ray (the foveated step grows from it away from the gaze)"),
+      parameter<&P::jitter_seed>("jitter_seed", "", ParameterType::integer, 1, 0, kSeedMax,
+                                 "seed of each ray's jittered first sample"),
+  };
+}
+
+MethodDescriptor volume_raycast() {
+  MethodDescriptor method{RenderMethod::volume_raycast, "volume", "volume raycasting, every pixel traced (seed 003's reference)",
+                          SceneKind::volume};
+  method.parameters = volume_parameters<VolumeRaycastParameters>();
+  return method;
+}
+
+MethodDescriptor foveated_volume_raycast() {
+  using P = FoveatedVolumeRaycastParameters;
+  MethodDescriptor method{RenderMethod::foveated_volume_raycast, "fvolume",
+                          "Voronoi-based foveated volume raycasting (seed 003)", SceneKind::volume};
+  method.depends_on_gaze = true;
+  method.needs_display = true;
+  method.parameters = volume_parameters<P>();
+  auto& list = method.parameters;
+  list.push_back(parameter<&P::density_sigma_deg>("density_sigma_deg", "deg", ParameterType::real, 2.5, 0.1, 90.0,
+                                                  "s: radius (eccentricity) of the sampling density's Gaussian, at the display's centre"));
+  ParameterDescriptor correction = parameter<&P::opacity_correction>(
+      "opacity_correction", "", ParameterType::choice, 1, 0, 1,
+      "on: the opacity is corrected for the longer peripheral step; off: as the authors' code (too transparent)");
+  correction.choices = {"off", "on"};
+  list.push_back(correction);
+  ParameterDescriptor smoothing = parameter<&P::temporal_smoothing>(
+      "temporal_smoothing", "", ParameterType::choice, 1, 0, 1,
+      "on: each image is the mean with up to 8 stored ones while the view stays and the gaze moves (section 4.4)");
+  smoothing.choices = {"off", "on"};
+  list.push_back(smoothing);
+  list.push_back(parameter<&P::mask_seed>("mask_seed", "", ParameterType::integer, 1, 0, kSeedMax,
+                                          "seed of the sampling mask's initial sites"));
+  add_display_parameters<P>(list);
+  return method;
+}
+
 const std::vector<MethodDescriptor>& methods() {
   static const std::vector<MethodDescriptor> all = [] {
     std::vector<MethodDescriptor> list = {ground_truth(), inverted_pyramid(), foveated_pyramid(), path_traced(),
                                           foveated_path_traced()};
     for (MethodDescriptor& model : sampling_models()) list.push_back(std::move(model));
+    list.push_back(volume_raycast());
+    list.push_back(foveated_volume_raycast());
     for (size_t i = 0; i < list.size(); ++i)  // describe() indexes by RenderMethod
       if (list[i].method != static_cast<RenderMethod>(i)) throw std::logic_error("methods(): out of RenderMethod's order");
     return list;
@@ -480,6 +526,8 @@ MethodParameters default_parameters(RenderMethod method) {
     case RenderMethod::path_traced_hyperbolic_layers: parameters = PathTracedHyperbolicLayersParameters{}; break;
     case RenderMethod::path_traced_linear_falloff: parameters = PathTracedLinearFalloffParameters{}; break;
     case RenderMethod::path_traced_kernel_log_polar: parameters = PathTracedKernelLogPolarParameters{}; break;
+    case RenderMethod::volume_raycast: parameters = VolumeRaycastParameters{}; break;
+    case RenderMethod::foveated_volume_raycast: parameters = FoveatedVolumeRaycastParameters{}; break;
   }
   for (const ParameterDescriptor& parameter : describe(method).parameters)
     parameter.write(parameters, parameter.default_value);
@@ -548,7 +596,8 @@ std::string methods_markdown() {
     text += "### `method = \"" + std::string(method.name) + "\"`: " + std::string(method.summary) + "\n\n";
     text += std::string("Scenes: ") +
             (method.scene_kind == SceneKind::signed_distance ? "SDF (built-in names or .glsl files)"
-                                                             : "path-traced (courtyard or .obj files)") +
+             : method.scene_kind == SceneKind::path_traced   ? "path-traced (courtyard or .obj files)"
+                                                             : "volume scenes (built-in names or .toml files; docs/volume-rendering.md)") +
             ". Frames " + (method.depends_on_gaze ? "follow the gaze of each refresh" : "do not depend on the gaze");
     if (method.frame_side_multiple_px > 1)
       text += "; width_px and height_px must be multiples of " + std::to_string(method.frame_side_multiple_px);

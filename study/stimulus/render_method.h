@@ -19,8 +19,9 @@
 namespace fovlab {
 
 // The scenes a method renders: SDF scenes (GLSL) for the sphere tracers, path-traced scenes (the
-// built-in courtyard or OBJ files) for the path tracer and its emulation.
-enum class SceneKind { signed_distance, path_traced };
+// built-in courtyard or OBJ files) for the path tracer and its emulation, volume scenes (built-in or
+// .toml files naming a volume) for the volume raycaster.
+enum class SceneKind { signed_distance, path_traced, volume };
 
 enum class ParameterType { integer, real, choice };
 

@@ -32,7 +32,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     // Scene names are checked against a fixed catalog (the harness links no renderer); files are not
     // looked for.
-    static const fovlab::SceneCatalog scenes{{"primitives", "columns", "temple"}, {"courtyard"}, ".obj", false};
+    static const fovlab::SceneCatalog scenes{
+        {"primitives", "columns", "temple"}, {"courtyard"}, ".obj", false, {"marschner-lobb", "combustion", "shepp-logan"}, ".toml"};
     const fovlab::StudyConfig config = fovlab::parse_study_config_text(text, "fuzz.toml", scenes);
     expect(config.source_text == text, "source_text is the input");
     expect(!config.blocks.empty(), "at least one block");
