@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "app/commands.h"
 #include "core/input_error.h"
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fovlab: psychophysics experiments for foveated rendering, on Vulkan"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
+  app.set_version_flag("--version", "fovlab " FOVLAB_VERSION);
   fovlab::app::add_render_command(app);
   fovlab::app::add_compare_command(app);
   fovlab::app::add_bench_command(app);
@@ -33,11 +35,22 @@ int main(int argc, char** argv) {
   fovlab::app::add_bench_volume_command(app);
   fovlab::app::add_prerender_command(app);
   fovlab::app::add_binomial_command(app);
+  // A first word that is neither a flag nor a subcommand is named as such (CLI11 would say only that
+  // a subcommand is required).
+  if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; }).empty()) {
+    std::string known;
+    for (const CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+      known += (known.empty() ? "" : ", ") + command->get_name();
+    std::fprintf(stderr, "fovlab: unknown subcommand \"%s\": expected one of %s (fovlab --help)\n", argv[1], known.c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "fovlab: %s\n", e.what());

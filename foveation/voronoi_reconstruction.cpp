@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -94,6 +95,7 @@ void fill_rows(const VoronoiMask& mask, int first_row, int end_row, std::vector<
       for (size_t k = 0; k < weights.size(); ++k) {
         sites_out[base + k] = weights[k].first;
         weights_out[base + k] = uint16_t(std::lround(std::clamp(weights[k].second, 0.0, 1.0) * 65535.0));
+        if (weights_out[base + k] == 0) continue;  // stored as unused: no reach (deserialise counts alike)
         const MaskSite& site = mask.sites[weights[k].first];
         reach_px = std::max(reach_px, float(std::hypot(site.x_px - cx, site.y_px - cy)));
       }
@@ -108,7 +110,8 @@ constexpr char kMagic[16] = {'F', 'O', 'V', 'L', 'A', 'B', '-', 'V', 'O', 'R', '
 }  // namespace
 
 std::string voronoi_settings_key(const VoronoiMaskSettings& s) {
-  std::string text = "voronoi-reconstruction v1;";
+  // v2: bump whenever make_voronoi_mask or the weights change, so no cache of an older algorithm is read.
+  std::string text = "voronoi-reconstruction v2;";
   text += std::to_string(s.screen_width_px) + "x" + std::to_string(s.screen_height_px) + ";sigma=";
   char sigma[40];
   std::snprintf(sigma, sizeof sigma, "%.17g", s.density_sigma_px);
@@ -187,6 +190,19 @@ bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, con
   std::memcpy(r.neighbour_weights.data(), in.data() + offset, pixels * sizeof(uint16_t));
   for (uint32_t index : r.neighbour_sites)
     if (index >= site_count) return false;
+  for (const MaskSite& site : r.mask.sites)
+    if (!(site.x_px >= 0.0f && site.x_px <= float(width) && site.y_px >= 0.0f && site.y_px <= float(height))) return false;
+  // The reach decides which sites are traced: recomputed from the weights, never taken on trust.
+  float reach = 0.0f;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int k = 0; k < kVoronoiNeighbours; ++k) {
+        const size_t entry = (size_t(y) * size_t(width) + size_t(x)) * kVoronoiNeighbours + size_t(k);
+        if (r.neighbour_weights[entry] == 0) continue;
+        const MaskSite& site = r.mask.sites[r.neighbour_sites[entry]];
+        reach = std::max(reach, float(std::hypot(site.x_px - (x + 0.5), site.y_px - (y + 0.5))));
+      }
+  if (reach != r.neighbour_reach_px) return false;
   return site_count > 0;
 }
 
@@ -254,9 +270,12 @@ VoronoiReconstruction cached_voronoi_reconstruction(const VoronoiMaskSettings& s
     }
   }
   VoronoiReconstruction made_now = make_voronoi_reconstruction(settings, progress);
-  std::filesystem::create_directories(cache_folder);
-  const std::string bytes = serialise(made_now, key);
-  write_text_atomically(file, bytes);  // binary-safe: written as bytes
+  try {  // a cache that cannot be written (a read-only or full disk) costs the next run time, nothing else
+    std::filesystem::create_directories(cache_folder);
+    write_text_atomically(file, serialise(made_now, key));  // binary-safe: written as bytes
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "fovlab: warning: the sampling mask was not cached (%s)\n", error.what());
+  }
   if (made) *made = true;
   return made_now;
 }

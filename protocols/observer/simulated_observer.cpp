@@ -108,8 +108,9 @@ ObserverAnswer SimulatedObserver::answer_comparison(const Trial& trial) const {
       break;
     case ProtocolKind::rating:
       // Seen differences are "significant" (1) as often as they are plainly visible.
-      answer.answer = !detected ? answers::rating_3
-                                : (random.uniform() < model_.p_see(effective) ? answers::rating_1 : answers::rating_2);
+      // Through a std::string: GCC 12's Release build warns falsely (-Wrestrict) on assigning the view.
+      answer.answer = std::string(!detected ? answers::rating_3
+                                            : (random.uniform() < model_.p_see(effective) ? answers::rating_1 : answers::rating_2));
       break;
     default:
       answer.answer = answers::same;

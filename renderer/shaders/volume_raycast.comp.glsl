@@ -6,9 +6,9 @@
 // to back until the opacity reaches 0.99 (early ray termination); bricks whose value range the
 // transfer function makes fully transparent are stepped over (empty-space skipping); the first
 // sample is jittered by a hash of (seed, frame, pixel). The foveated step grows with the distance to
-// the gaze, step = base x (1 + 2 |s - c| / W), and the opacity is corrected for it,
-// alpha = 1 - (1 - alpha_ref)^(step / base) (switchable, to measure what the authors' uncorrected
-// code loses). renderer/volume/volume_raycaster.cpp fills the parameters and is its reference.
+// the gaze, step = base x (1 + 2 |s - c| / W), and the opacity is corrected for the step taken,
+// alpha = 1 - (1 - alpha_ref)^(step / reference), the reference being half a voxel (switchable for
+// the foveated step, to measure what the authors' uncorrected code loses). renderer/volume/volume_raycaster.cpp fills the parameters and is its reference.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -30,7 +30,7 @@ layout(std430, binding = 0) readonly buffer Params {
   uvec4 screen;         // x, y: W, H; z: mode; w: sites (MODE_SITES)
   ivec4 mask_offset;    // xy: screen position = mask position - mask_offset; z: jitter seed; w: frame
   vec4 gaze;            // xy: gaze (screen pixels) for the foveated step; z: 1 = foveated step; w: 1 = opacity corrected
-  vec4 background;      // rgb
+  vec4 background;      // rgb; w: the reference step (world), half the smallest voxel, that opacities are given for
   vec4 shading;         // ambient, diffuse, specular, shininess
   vec4 sites_window;    // xy: lowest, zw: highest screen position of a site that is traced
 } params;
@@ -92,7 +92,9 @@ vec3 trace(vec2 screen_px, uint pixel_hash) {
   float step_size = params.box_half.w;
   if (params.gaze.z > 0.5)
     step_size *= 1.0 + 2.0 * length(screen_px - params.gaze.xy) / float(params.screen.x);
-  float exponent = params.gaze.w > 0.5 ? step_size / params.box_half.w : 1.0;
+  // The transfer function's opacity is for the reference step; corrected for the step taken (the
+  // foveated step when gaze.w says so, else the base step, as the authors' code does).
+  float exponent = (params.gaze.w > 0.5 ? step_size : params.box_half.w) / params.background.w;
   vec3 to_voxels = params.voxel_scale.xyz;
   vec3 v0 = (entry + params.box_half.xyz) * to_voxels;  // the entry in voxel units
   vec3 dv = direction * to_voxels;                      // voxels per world unit along the ray

@@ -175,8 +175,11 @@ void store_values(const T* samples, uint64_t count, const std::optional<ValueRan
       range = {low, high};
     }
   }
-  out.resize(count);
   const double scale = 1.0 / (range.high - range.low);
+  if (!(std::isfinite(scale) && scale > 0.0))
+    throw InputError("value range " + std::to_string(range.low) + " to " + std::to_string(range.high) +
+                     ": expected a finite span above 0");
+  out.resize(count);
   for (uint64_t i = 0; i < count; ++i) {
     const double value = double(samples[i]);
     if (std::isnan(value)) {
@@ -224,6 +227,10 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
   }
   std::unique_ptr<Nrrd, decltype(nrrd_deleter)> nrrd(nrrdNew(), nrrd_deleter);
   if (nrrdLoad(nrrd.get(), path.c_str(), nullptr)) throw InputError(teem_error(path));
+  // The file may have changed between the two reads: what was checked must still hold.
+  if (nrrd->dim != 3 || nrrd->type != header->type || nrrd->axis[0].size != header->axis[0].size ||
+      nrrd->axis[1].size != header->axis[1].size || nrrd->axis[2].size != header->axis[2].size || !nrrd->data)
+    throw InputError(path.string() + ": changed while it was read: expected the same 3-D volume twice");
   VolumeGrid grid;
   for (int axis = 0; axis < 3; ++axis) {
     grid.size_voxels[size_t(axis)] = int(size[size_t(axis)]);
@@ -235,6 +242,11 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
     }
     grid.spacing[size_t(axis)] = spacing;
   }
+  const double widest = std::max({grid.spacing[0], grid.spacing[1], grid.spacing[2]});
+  const double narrowest = std::min({grid.spacing[0], grid.spacing[1], grid.spacing[2]});
+  if (!(widest <= 1000.0 * narrowest))
+    throw InputError(path.string() + ": spacings " + std::to_string(grid.spacing[0]) + " " + std::to_string(grid.spacing[1]) +
+                     " " + std::to_string(grid.spacing[2]) + ": expected the largest at most 1000 times the smallest");
   const uint64_t count = grid.voxel_count();
   const void* data = nrrd->data;
   switch (nrrd->type) {

@@ -128,8 +128,11 @@ std::vector<uint32_t> visible_bricks(const VolumeGrid& grid, const std::vector<s
               low = std::min(low, value);
               high = std::max(high, value);
             }
-        const auto first = size_t(std::floor(low / 65535.0 * last)), end = size_t(std::ceil(high / 65535.0 * last));
-        const bool seen = opaque_prefix[std::min(end, table.size() - 1) + 1] - opaque_prefix[first] > 0;
+        // One entry wider on each side than the exact range: the shader's float position may land an
+        // ulp beyond it.
+        const size_t first = size_t(std::max(0.0, std::floor(low / 65535.0 * last) - 1.0));
+        const size_t end = std::min(size_t(std::ceil(high / 65535.0 * last)) + 1, table.size() - 1);
+        const bool seen = opaque_prefix[end + 1] - opaque_prefix[first] > 0;
         visible[(size_t(bz) * size_t(bricks[1]) + size_t(by)) * size_t(bricks[0]) + size_t(bx)] = seen ? 1u : 0u;
       }
   return visible;
@@ -193,6 +196,13 @@ void VolumeRaycaster::ensure_frame_buffers(int width_px, int height_px) {
                                              ": expected 1 to 16384 pixels a side");
   if (width_px == width_ && height_px == height_) return;
   const VkDeviceSize pixels = VkDeviceSize(width_px) * VkDeviceSize(height_px);
+  // The largest buffers a frame binds: the temporal smoothing's history (8 frames of 16 bytes a
+  // pixel) and the weights (8 words a mask pixel, 4 mask pixels a pixel), 128 bytes a pixel each.
+  if (pixels * 128 > context_.max_storage_buffer_bytes)
+    throw InputError("volume frame of " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                     " pixels: expected at most " + std::to_string(context_.max_storage_buffer_bytes / 128) +
+                     " pixels on " + context_.description.name + " (its largest buffer binding holds " +
+                     std::to_string(context_.max_storage_buffer_bytes) + " bytes; 128 bytes a pixel)");
   colour_ = vk::Buffer(context_, pixels * kTexelBytes, vk::MemoryUse::device_local);
   readback_ = vk::Buffer(context_, pixels * kTexelBytes, vk::MemoryUse::host_readback);
   display_srgb8_ = vk::Buffer(context_, pixels * 4, vk::MemoryUse::device_local);
@@ -229,7 +239,10 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
     p.brick_count[a] = uint32_t(brick_count_[size_t(a)]);
   }
   // Every step and every skipped brick is an iteration: the most a ray through the box can take.
-  p.voxel_scale[3] = float(std::ceil(std::sqrt(diagonal) / step_world) + 3.0 * (brick_count_[0] + brick_count_[1] + brick_count_[2]) + 8.0);
+  // Capped (2^24), so no volume's shape can make a ray run for ever.
+  p.voxel_scale[3] = float(std::min(std::ceil(std::sqrt(diagonal) / step_world) + 3.0 * (brick_count_[0] + brick_count_[1] + brick_count_[2]) + 8.0,
+                                    16777216.0));
+  p.background[3] = float(0.5 * base_step_world_);  // the reference step of the transfer function's opacities
   p.volume_size[3] = kVolumeBrickSide;
   p.screen[0] = uint32_t(settings.width_px);
   p.screen[1] = uint32_t(settings.height_px);
@@ -311,6 +324,7 @@ void VolumeRaycaster::set_reconstruction(const VoronoiReconstruction& reconstruc
   if (reconstruction.mask.sites.empty() || reconstruction.neighbour_sites.size() !=
       size_t(reconstruction.mask.width_px) * size_t(reconstruction.mask.height_px) * kVoronoiNeighbours)
     throw std::invalid_argument("VolumeRaycaster::set_reconstruction: an empty or inconsistent mask");
+  ensure_frame_buffers(reconstruction.settings.screen_width_px, reconstruction.settings.screen_height_px);
   if (reconstruction.mask.sites.size() >= kMaxMaskSites)
     throw InputError("sampling mask of a " + std::to_string(reconstruction.settings.screen_width_px) + "x" +
                      std::to_string(reconstruction.settings.screen_height_px) + " frame: " +
@@ -321,6 +335,8 @@ void VolumeRaycaster::set_reconstruction(const VoronoiReconstruction& reconstruc
   upload(context_, neighbours_, neighbours.data(), neighbours.size() * sizeof(uint32_t));
   site_colours_ = vk::Buffer(context_, reconstruction.mask.sites.size() * 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
   reconstruction_ = reconstruction;
+  reconstruction_->neighbour_sites = {};  // on the device now: the host keeps the sites and reach only
+  reconstruction_->neighbour_weights = {};
   history_state_ = History{};
 }
 

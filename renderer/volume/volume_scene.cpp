@@ -108,14 +108,16 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
     fields.fail("transfer_point", "expected 2 to " + std::to_string(kMaxTransferPoints) + " [[transfer_point]] tables");
   for (const TomlFields& point_fields : points) {
     TransferPoint point;
-    point.value = number_in(point_fields, "value", 0.0, 0.0, 1.0, "expected 0 to 1 (the volume's axis)");
+    point.value = point_fields.number("value");  // required, as opacity is: a forgotten key is no silent 0
+    if (!(point.value >= 0.0 && point.value <= 1.0)) point_fields.fail("value", "expected 0 to 1 (the volume's axis)");
     if (!scene.transfer_function.empty() && !(point.value > scene.transfer_function.back().value))
       point_fields.fail("value", "expected values that increase from one [[transfer_point]] to the next");
     const std::vector<double> colour = point_fields.numbers("colour");
     if (colour.size() != 3 || std::any_of(colour.begin(), colour.end(), [](double c) { return !(c >= 0.0 && c <= 1.0); }))
       point_fields.fail("colour", "expected [red, green, blue], each 0 to 1 (linear)");
     point.colour = {colour[0], colour[1], colour[2]};
-    point.opacity = number_in(point_fields, "opacity", 0.0, 0.0, 1.0, "expected 0 to 1 (per half voxel)");
+    point.opacity = point_fields.number("opacity");
+    if (!(point.opacity >= 0.0 && point.opacity <= 1.0)) point_fields.fail("opacity", "expected 0 to 1 (per half voxel)");
     point_fields.finish();
     scene.transfer_function.push_back(point);
   }

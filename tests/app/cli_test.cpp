@@ -125,6 +125,15 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+TEST(Cli, VersionAndUnknownSubcommands) {
+  const CommandResult version = run("--version");
+  EXPECT_EQ(version.exit_code, 0) << version.err;
+  EXPECT_EQ(version.out.rfind("fovlab ", 0), 0u) << version.out;
+  expect_one_line_error(run("frobnicate"), "unknown subcommand \"frobnicate\": expected one of render, ");
+  const CommandResult none = run("");
+  EXPECT_EQ(none.exit_code, 2) << none.err;
+}
+
 TEST(Cli, SceneCompileErrorNamesFileAndLine) {
   const auto scene = scratch() / "broken.glsl";
   std::ofstream(scene) << "// a scene with a typo\nconst vec3 SCENE_BOUNDS_MIN = vec3(0.0)\nfloat x;\n";

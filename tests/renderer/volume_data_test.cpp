@@ -124,6 +124,13 @@ TEST(VolumeData, ReadsNrrdThroughTeem) {
             std::string::npos);
   const std::string big = dir.write("big.nrrd", nrrd_file("type: uchar\ndimension: 3\nsizes: 1000 1000 1000\nencoding: raw\n", "a"));
   EXPECT_NE(error_of([&] { load_volume_file(big, std::nullopt, kLimits); }).find("1000x1000x1000 voxels"), std::string::npos);
+  const std::string thin = dir.write("thin.nrrd", nrrd_file("type: uchar\ndimension: 3\nsizes: 2 1 1\nspacings: 1e-30 1 1\n"
+                                                          "encoding: raw\n", "ab"));
+  EXPECT_NE(error_of([&] { load_volume_file(thin, std::nullopt, kLimits); }).find("expected the largest at most 1000 times"),
+            std::string::npos)
+      << "a voxel 1e30 times thinner than wide would make the step vanish";
+  EXPECT_NE(error_of([&] { load_volume_file(path, ValueRange{-1e308, 1e308}, kLimits); }).find("expected a finite span"),
+            std::string::npos);
   const std::string garbage = dir.write("bad.nrrd", "not a nrrd at all");
   const std::string message = error_of([&] { load_volume_file(garbage, std::nullopt, kLimits); });
   EXPECT_NE(message.find("bad.nrrd: "), std::string::npos);
@@ -201,6 +208,11 @@ TEST(VolumeScenes, BadScenesGetOneLineNamingTheField) {
   EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\ncolor = 1\n" + points).find("color"), std::string::npos)
       << "a misspelt key is refused";
   EXPECT_NE(message("[volume\n").find("(not valid TOML)"), std::string::npos);
+  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\n"
+                    "[[transfer_point]]\nvalue = 1.0\ncolour = [1, 1, 1]\nopacity = 1\n")
+                .find("transfer_point[1].opacity"),
+            std::string::npos)
+      << "a forgotten opacity is refused, not read as 0";
   const std::string missing = message("[volume]\nfile = \"nowhere.nrrd\"\n" + points);
   EXPECT_EQ(missing, "") << "the file is read when the volume is loaded, not when the scene is";
 }
