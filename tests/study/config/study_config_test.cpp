@@ -927,7 +927,7 @@ TEST(ProtocolsConfig, UnknownMethod) {
   ConfigText base;
   base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"foveated\"");
   const std::string text = base.text();
-  expect_error(text, line_of(text, "method = \"foveated\""), "stimulus.test.method", "expected one of gt, ipr, fipr, pt, fpt, rmfr, hyperbolic, linear, kfr, pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr, got \"foveated\"");
+  expect_error(text, line_of(text, "method = \"foveated\""), "stimulus.test.method", "expected one of gt, ipr, fipr, pt, fpt, rmfr, hyperbolic, linear, kfr, pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr, volume, fvolume, got \"foveated\"");
 }
 
 TEST(ProtocolsConfig, ParameterNotOfTheMethod) {
