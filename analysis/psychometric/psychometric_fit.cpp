@@ -4,13 +4,17 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 #include "analysis/psychometric/binomial_sampler.h"
 #include "analysis/psychometric/nelder_mead.h"
 #include "analysis/psychometric/psychometric_detail.h"
+#include "core/number_text.h"
 #include "core/prng.h"
 
 namespace fovlab::analysis {
@@ -124,9 +128,9 @@ struct Optimum {
 
 // Nelder-Mead from `start`, then restarted from a fresh simplex around the best point while that
 // still gains (a simplex can collapse early on a ridge); converged if the last run converged.
-Optimum minimise_from(const Problem& problem, const std::vector<double>& counts, const Point& start) {
-  const auto objective = [&](const Point& z) { return -problem.log_likelihood_kernel(problem.model(z), counts); };
-  const detail::NelderMeadSettings s = problem.settings();
+template <typename Objective>
+detail::NelderMeadResult minimise_with_restarts(const Objective& objective, const Point& start,
+                                                const detail::NelderMeadSettings& s) {
   detail::NelderMeadResult best = detail::nelder_mead(objective, start, s);
   for (int restart = 0; restart < kMaxRestarts; ++restart) {
     const detail::NelderMeadResult again = detail::nelder_mead(objective, best.x, s);
@@ -135,6 +139,12 @@ Optimum minimise_from(const Problem& problem, const std::vector<double>& counts,
     else best.converged = again.converged && best.converged;
     if (!gained) break;
   }
+  return best;
+}
+
+Optimum minimise_from(const Problem& problem, const std::vector<double>& counts, const Point& start) {
+  const auto objective = [&](const Point& z) { return -problem.log_likelihood_kernel(problem.model(z), counts); };
+  const detail::NelderMeadResult best = minimise_with_restarts(objective, start, problem.settings());
   return {best.x, -best.f, best.converged};
 }
 
@@ -203,6 +213,85 @@ ParameterInterval interval(std::vector<double> values, double confidence) {
   return {percentile(values, (1.0 - confidence) / 2.0), percentile(values, (1.0 + confidence) / 2.0)};
 }
 
+// ---- Profile likelihood --------------------------------------------------------------------------
+// The profile log likelihood of coordinate `fixed` at `value`: the best kernel over the other
+// coordinates, from the given starts (their `fixed` coordinate is overwritten).
+Optimum profile_at(const Problem& problem, const std::vector<double>& counts, int fixed, double value,
+                   const std::vector<Point>& starts) {
+  const detail::NelderMeadSettings full = problem.settings();
+  detail::NelderMeadSettings reduced = full;
+  reduced.dimensions = problem.dimensions - 1;
+  int free_axes[detail::kMaxDimensions] = {};
+  for (int j = 0, r = 0; j < problem.dimensions; ++j)
+    if (j != fixed) free_axes[r++] = j;
+  const auto expand = [&](const Point& sub) {
+    Point z{};
+    z[fixed] = value;
+    for (int r = 0; r < reduced.dimensions; ++r) z[free_axes[r]] = sub[r];
+    return z;
+  };
+  for (int r = 0; r < reduced.dimensions; ++r) {
+    reduced.lower[r] = full.lower[free_axes[r]];
+    reduced.upper[r] = full.upper[free_axes[r]];
+    reduced.initial_step[r] = full.initial_step[free_axes[r]];
+  }
+  reduced.spread = [&](const Point& a, const Point& b) { return full.spread(expand(a), expand(b)); };
+  const auto objective = [&](const Point& sub) {
+    return -problem.log_likelihood_kernel(problem.model(expand(sub)), counts);
+  };
+  Optimum best;
+  bool have = false;
+  for (const Point& start : starts) {
+    Point sub{};
+    for (int r = 0; r < reduced.dimensions; ++r) sub[r] = start[free_axes[r]];
+    const detail::NelderMeadResult o = minimise_with_restarts(objective, sub, reduced);
+    const Optimum candidate{expand(o.x), -o.f, o.converged};
+    if (!have || better_optimum(candidate, best)) {
+      best = candidate;
+      have = true;
+    }
+  }
+  return best;
+}
+
+// One end of the profile-likelihood interval of coordinate `axis` (direction -1: below the
+// estimate, +1: above): the value where the profile kernel falls to `target`, found by stepping
+// outwards (doubling steps from `first_step`) until the profile is below it, then by bisection.
+// nullopt when the profile stays above the target up to the search box's face: the data do not
+// bound the parameter on that side.
+std::optional<double> profile_end(const Problem& problem, const std::vector<double>& counts, const Optimum& ml,
+                                  int axis, int direction, double target, double first_step) {
+  const detail::NelderMeadSettings s = problem.settings();
+  const double face = direction < 0 ? s.lower[axis] : s.upper[axis];
+  std::vector<Point> starts = starts_near(ml.z, problem.dimensions);
+  double inside = ml.z[axis];
+  double step = first_step;
+  std::optional<double> outside;
+  while (!outside) {
+    const double candidate = direction < 0 ? std::max(face, inside - step) : std::min(face, inside + step);
+    const Optimum o = profile_at(problem, counts, axis, candidate, starts);
+    if (o.kernel < target) {
+      outside = candidate;
+    } else {
+      if (candidate == face) return std::nullopt;
+      inside = candidate;
+      starts.front() = o.z;  // warm start: the profile's optimum moves smoothly with the value
+      step *= 2.0;
+    }
+  }
+  for (int i = 0; i < 40 && std::fabs(*outside - inside) > 1e-9; ++i) {
+    const double middle = 0.5 * (inside + *outside);
+    const Optimum o = profile_at(problem, counts, axis, middle, starts);
+    if (o.kernel < target) {
+      outside = middle;
+    } else {
+      inside = middle;
+      starts.front() = o.z;
+    }
+  }
+  return 0.5 * (inside + *outside);
+}
+
 void validate(const std::vector<LevelCounts>& data, const FitOptions& options) {
   if (data.empty()) throw std::invalid_argument("fit_psychometric: no data");
   if (options.shape != PsychometricShape::logistic && options.shape != PsychometricShape::weibull &&
@@ -260,6 +349,39 @@ void append_note(std::string& note, const std::string& text) {
   note += text;
 }
 
+// The three profile-likelihood intervals of the ML fit `ml` (z coordinates), in natural units.
+void add_profile_intervals(const Problem& problem, const Optimum& ml, double confidence, PsychometricFit& fit) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double target = ml.kernel - 0.5 * boost::math::quantile(boost::math::chi_squared(1.0), confidence);
+  const auto end = [&](int axis, int direction, double first_step) {
+    return profile_end(problem, problem.k, ml, axis, direction, target, first_step);
+  };
+  const bool weibull = problem.shape == PsychometricShape::weibull;
+  const auto threshold_at = [&](double z0) {
+    const double axis = problem.centre + problem.range * z0;
+    return weibull ? std::exp(axis) : axis;
+  };
+  const std::string percent = format_number(100.0 * confidence, 6) + " %";
+  const auto unbounded = [&](const char* parameter, const char* side) {
+    append_note(fit.note, "the " + percent + " profile-likelihood interval of the " + parameter + " is unbounded " +
+                              side + " (the data do not limit it)");
+  };
+  const std::optional<double> t_low = end(0, -1, 0.02), t_high = end(0, +1, 0.02);
+  fit.threshold_interval = {t_low ? threshold_at(*t_low) : (weibull ? 0.0 : -inf), t_high ? threshold_at(*t_high) : inf};
+  if (!t_low) unbounded("threshold", "below");
+  if (!t_high) unbounded("threshold", "above");
+  const std::optional<double> s_low = end(1, -1, 0.1), s_high = end(1, +1, 0.1);
+  fit.slope_interval = {s_low ? std::exp(*s_low) / problem.range : 0.0, s_high ? std::exp(*s_high) / problem.range : inf};
+  if (!s_high) unbounded("slope", "above");
+  if (problem.dimensions == 3) {
+    const std::optional<double> l_low = end(2, -1, 0.5), l_high = end(2, +1, 0.5);
+    fit.lapse_interval = {l_low ? problem.max_lapse * logistic(*l_low) : 0.0,
+                          l_high ? problem.max_lapse * logistic(*l_high) : problem.max_lapse};
+  } else {
+    fit.lapse_interval = {0.0, 0.0};
+  }
+}
+
 }  // namespace
 
 PsychometricFit fit_psychometric(const std::vector<LevelCounts>& data, const FitOptions& options) {
@@ -305,9 +427,11 @@ PsychometricFit fit_psychometric(const std::vector<LevelCounts>& data, const Fit
     append_note(fit.note, "threshold outside the tested levels: an extrapolation");
   if (!best.converged) append_note(fit.note, "the optimiser did not converge within its iteration budget");
 
+  add_profile_intervals(problem, best, options.confidence, fit);
+
   // Parametric bootstrap.
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  fit.threshold_interval = fit.slope_interval = fit.lapse_interval = {nan, nan};
+  fit.bootstrap_threshold_interval = fit.bootstrap_slope_interval = fit.bootstrap_lapse_interval = {nan, nan};
   fit.deviance_p_value = nan;
   if (options.bootstrap_samples > 0) {
     std::vector<double> p_report(levels);
@@ -332,9 +456,9 @@ PsychometricFit fit_psychometric(const std::vector<LevelCounts>& data, const Fit
     }
     fit.bootstrap_samples = static_cast<int>(thresholds.size());
     if (!thresholds.empty()) {
-      fit.threshold_interval = interval(thresholds, options.confidence);
-      fit.slope_interval = interval(slopes, options.confidence);
-      fit.lapse_interval = interval(lapses, options.confidence);
+      fit.bootstrap_threshold_interval = interval(thresholds, options.confidence);
+      fit.bootstrap_slope_interval = interval(slopes, options.confidence);
+      fit.bootstrap_lapse_interval = interval(lapses, options.confidence);
       const auto at_least = std::count_if(deviances.begin(), deviances.end(),
                                           [&](double d) { return d >= fit.deviance; });
       fit.deviance_p_value = static_cast<double>(at_least) / static_cast<double>(deviances.size());

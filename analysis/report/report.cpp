@@ -43,8 +43,8 @@ std::string html_number(double value) { return std::isfinite(value) ? format_num
 std::string html_number(const std::optional<double>& value) { return value ? html_number(*value) : "\xE2\x80\x93"; }
 
 std::string html_interval(double lower, double upper) {
-  if (!std::isfinite(lower) || !std::isfinite(upper)) return "\xE2\x80\x93";
-  return "[" + html_number(lower) + ", " + html_number(upper) + "]";
+  const std::string text = format_interval(lower, upper, kHtmlDigits);
+  return text.empty() ? "\xE2\x80\x93" : text;
 }
 
 // Anything outside [A-Za-z0-9_-] becomes '_' (a UTF-8 character: one '_' a byte).
@@ -165,6 +165,7 @@ std::string preference_csv(const AnalysisResult& result) {
 
 // ---- JSON ------------------------------------------------------------------------------------
 
+// null: not computed, or (profile intervals) an end the data do not bound; the fit's note says which.
 json interval_json(const ParameterInterval& interval) {
   return {{"lower", json_number(interval.lower)}, {"upper", json_number(interval.upper)}};
 }
@@ -205,6 +206,7 @@ json thresholds_json(const AnalysisResult& result) {
                                   {"variant", threshold.group.variant},
                                   {"definition", threshold.definition},
                                   {"level", json_number(threshold.level)},
+                                  {"supported", !threshold.unsupported},
                                   {"note", threshold.note},
                                   {"mean", json_number(threshold.mean)},
                                   {"sd", json_number(threshold.sd)},
@@ -235,9 +237,15 @@ json thresholds_json(const AnalysisResult& result) {
                               {"lapse", json_number(model.parameters.lapse)},
                               {"guess", json_number(model.guess)},
                               {"intervals",
-                               {{"threshold", interval_json(fit.threshold_interval)},
+                               {{"method", "profile likelihood"},
+                                {"threshold", interval_json(fit.threshold_interval)},
                                 {"slope", interval_json(fit.slope_interval)},
                                 {"lapse", interval_json(fit.lapse_interval)}}},
+                              {"bootstrap_intervals",
+                               {{"method", "parametric bootstrap, percentile"},
+                                {"threshold", interval_json(fit.bootstrap_threshold_interval)},
+                                {"slope", interval_json(fit.bootstrap_slope_interval)},
+                                {"lapse", interval_json(fit.bootstrap_lapse_interval)}}},
                               {"deviance", json_number(fit.deviance)},
                               {"dof", fit.degrees_of_freedom},
                               {"deviance_p_value", json_number(fit.deviance_p_value)},
@@ -476,11 +484,13 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
     }
   }
   if (!group.fits.empty()) {
+    // An unbounded end is drawn to the edge of the tested levels.
     const ParameterInterval& interval = group.fits.front().threshold_interval;
-    if (std::isfinite(interval.lower) && std::isfinite(interval.upper)) {
+    const double band_lower = std::max(interval.lower, lo);
+    const double band_upper = std::min(interval.upper, hi);
+    if (band_lower <= band_upper)  // false for NaN ends and for an interval beyond the tested levels
       chart.bands.push_back({std::string("threshold CI (") + shape_name(group.fits.front().model.shape) + ")",
-                             interval.lower, interval.upper});
-    }
+                             band_lower, band_upper});
   }
   if (chart.series.empty()) return std::nullopt;
   Plot plot;
@@ -489,7 +499,7 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
   plot.file_name = unique_svg_name(stem, taken);
   plot.caption = "Psychometric fits for " + group.group.label() +
                  ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curves, "
-                 "and the bootstrap confidence interval of the first fit's threshold (shaded).";
+                 "and the 95 % profile-likelihood interval of the first fit's threshold (shaded).";
   plot.svg = render_xy_chart_svg(chart);
   return plot;
 }
@@ -664,7 +674,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   } else {
     std::vector<std::vector<std::string>> rows;
     for (const GroupThreshold& t : result.thresholds) {
-      rows.push_back({t.group.scene, t.group.variant, html_number(t.level), html_number(t.mean), html_number(t.sd),
+      rows.push_back({t.group.scene, t.group.variant, t.unsupported ? "none (see note)" : html_number(t.level),
+                      html_number(t.mean), html_number(t.sd),
                       std::to_string(t.participants_with_threshold), std::to_string(t.participants_without_threshold),
                       t.definition, t.note});
     }

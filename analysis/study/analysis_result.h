@@ -45,7 +45,7 @@ struct ConditionRow {
   double proportion = 0.0;            // k / n
   double p_value = 0.0;               // exact binomial test of k/n against 1/2, --alternative
   double p_holm = 0.0;                // Holm-adjusted across the levels of the group
-  std::string stars;                  // of p_value
+  std::string stars;                  // of p_holm, the p the threshold uses
   ProportionInterval interval;        // Clopper-Pearson, 95 %
   std::optional<double> mean_rating;  // rating only: the mean score 1-3, and its SD
   std::optional<double> sd_rating;
@@ -84,6 +84,9 @@ struct GroupThreshold {
   std::string definition;             // one sentence, as in docs/analysis.md
   std::optional<double> level;        // none: no level satisfies the definition (see note)
   std::string note;
+  // The data cannot support a threshold whatever the answers (too few trials for any level to be
+  // distinguished, or a test that cannot distinguish): `level` is none and the note says why.
+  bool unsupported = false;
   // Pair, ramp, slider: across participants with a threshold.
   std::optional<double> mean;
   std::optional<double> sd;           // sample SD (n - 1); none with fewer than two

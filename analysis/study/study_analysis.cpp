@@ -29,11 +29,18 @@ std::vector<double> best_first(std::vector<double> levels, bool higher_is_better
   return levels;
 }
 
+void append_note(std::string& note, const std::string& text) {
+  if (!note.empty()) note += "; ";
+  note += text;
+}
+
+bool more_degraded_than(double a, double b, bool higher_is_better) { return higher_is_better ? a < b : a > b; }
+
 // The more degraded of two levels of a ramp step (none: the reference, better than every level).
 std::optional<double> more_degraded(std::optional<double> a, std::optional<double> b, bool higher_is_better) {
   if (!a) return b;
   if (!b) return a;
-  return higher_is_better ? std::min(*a, *b) : std::max(*a, *b);
+  return more_degraded_than(*a, *b, higher_is_better) ? a : b;
 }
 
 struct ConditionCounts {
@@ -80,6 +87,7 @@ class ComparisonAnalysis {
       add_rows(group, conditions);  // the threshold and the fits read the group's rows
       add_threshold(group);
       add_fits(group);
+      compare_threshold_with_fit(group);
     }
   }
 
@@ -139,7 +147,6 @@ class ComparisonAnalysis {
       row.k = counts.k;
       row.proportion = double(counts.k) / double(counts.n);
       row.p_value = binomial_test_p_value(counts.k, counts.n, 0.5, options_.alternative);
-      row.stars = significance_stars(row.p_value);
       row.interval = clopper_pearson_interval(counts.k, counts.n, 0.95);
       if (data_.protocol == ProtocolKind::rating) {
         const double n = double(counts.n);
@@ -157,7 +164,10 @@ class ComparisonAnalysis {
     std::vector<double> p_values;
     for (const ConditionRow& row : rows) p_values.push_back(row.p_value);
     const std::vector<double> adjusted = holm_adjusted(p_values);
-    for (size_t i = 0; i < rows.size(); ++i) rows[i].p_holm = adjusted[i];
+    for (size_t i = 0; i < rows.size(); ++i) {
+      rows[i].p_holm = adjusted[i];
+      rows[i].stars = significance_stars(rows[i].p_holm);  // the p the threshold uses
+    }
     result_.conditions.insert(result_.conditions.end(), rows.begin(), rows.end());
   }
 
@@ -204,13 +214,40 @@ class ComparisonAnalysis {
                              "distinguished when the test is " + judged +
                              " in less than half of its trials and the Holm-adjusted exact binomial p (H0: 1/2, " +
                              alternative_name(options_.alternative) + ") is below " + format_number(options_.alpha, 6);
-      threshold.level = walk_from_best(
-          group,
-          [&](const ConditionRow& row) { return !(row.proportion < 0.5 && row.p_holm < options_.alpha); },
-          threshold.note);
-      if (options_.alternative == Alternative::greater)
-        threshold.note += "; with --alternative greater the tests ask whether the test is favoured, so no level can count "
-                          "as distinguished";
+      // Can any outcome distinguish a level? Holm's smallest adjusted p is m times the smallest raw p,
+      // so with m levels the most extreme answers (none in favour) must reach p < alpha / m somewhere.
+      const std::vector<const ConditionRow*> rows = rows_of(group);
+      double smallest_possible_p = 1.0;
+      uint64_t most_trials = 0;
+      for (const ConditionRow* row : rows) {
+        smallest_possible_p = std::min(smallest_possible_p, binomial_test_p_value(0, row->n, 0.5, options_.alternative));
+        most_trials = std::max(most_trials, row->n);
+      }
+      const double smallest_possible_holm = std::min(1.0, double(rows.size()) * smallest_possible_p);
+      if (options_.alternative == Alternative::greater) {
+        threshold.note = "with --alternative greater the tests ask whether the test is favoured, so no level can count "
+                         "as distinguished: no threshold";
+        threshold.unsupported = true;
+      } else if (smallest_possible_holm >= options_.alpha) {
+        threshold.note = "too few trials: with " + std::to_string(rows.size()) + " levels and at most " +
+                         std::to_string(most_trials) + " trials a level, even answers all against the test give a "
+                         "Holm-adjusted p of at least " + format_number(smallest_possible_holm, 3) + " >= alpha " +
+                         format_number(options_.alpha, 3) + ", so no level could be distinguished: no threshold";
+        threshold.unsupported = true;
+      } else {
+        threshold.level = walk_from_best(
+            group, [&](const ConditionRow& row) { return !(row.proportion < 0.5 && row.p_holm < options_.alpha); },
+            threshold.note);
+        // Levels that pass only because Holm's correction lifted their p over alpha, at or above the threshold.
+        if (threshold.level)
+          for (const ConditionRow* row : rows)
+            if (row->proportion < 0.5 && row->p_value < options_.alpha && row->p_holm >= options_.alpha &&
+                !more_degraded_than(*row->level, *threshold.level, data_.higher_is_better))
+              append_note(threshold.note, "level " + format_number(*row->level, 6) + " passes only after Holm's correction (" +
+                                              std::to_string(row->k) + " of " + std::to_string(row->n) + " " + judged +
+                                              ", p " + format_number(row->p_value, 3) + ", Holm " +
+                                              format_number(row->p_holm, 3) + ")");
+      }
     }
     result_.thresholds.push_back(threshold);
   }
@@ -242,6 +279,24 @@ class ComparisonAnalysis {
       }
     }
     result_.fits.push_back(group_fit);
+  }
+
+  // The walk's threshold is the last level the tests could not tell from the reference, so it
+  // depends on the trials per level; the fit's threshold is where the answers cross half-way. When
+  // the first fit's interval excludes the walk's level, the note says so, with both figures.
+  void compare_threshold_with_fit(const GroupKey& group) {
+    if (result_.thresholds.empty() || result_.fits.empty() || data_.protocol == ProtocolKind::rating) return;
+    GroupThreshold& threshold = result_.thresholds.back();
+    const GroupFit& group_fit = result_.fits.back();
+    if (!(threshold.group == group) || !(group_fit.group == group) || !threshold.level || group_fit.fits.empty()) return;
+    const PsychometricFit& fit = group_fit.fits.front();
+    const ParameterInterval& interval = fit.threshold_interval;
+    if (!(*threshold.level < interval.lower || *threshold.level > interval.upper)) return;
+    append_note(threshold.note, "the " + std::string(shape_name(fit.model.shape)) + " fit's threshold is " +
+                                    format_number(fit.model.parameters.threshold, 4) + " " +
+                                    format_interval(interval.lower, interval.upper, 4) + ", which excludes " +
+                                    format_number(*threshold.level, 6) +
+                                    ": the tests could not tell the levels between apart with these trials");
   }
 
   const StudyData& data_;

@@ -11,6 +11,12 @@ slope, lapse) on (threshold or log threshold, log slope, lapse) with the lapse c
 bounds, then each of the best five polished with L-BFGS-B on the natural parameters with bounds
 (lapse in [0, max_lapse]); the best log likelihood wins.
 
+Profile-likelihood 95 % threshold interval: the thresholds t with
+    2 (log L(fit) - max over slope and lapse of log L(t, slope, lapse)) <= chi2.ppf(0.95, 1),
+the inner maximum by Nelder-Mead on (log slope, lapse) from 4 x 3 starts polished with L-BFGS-B
+(slope > 0, lapse in [0, max_lapse]), each end found by stepping outwards from the fit's threshold
+and then scipy.optimize.brentq on the crossing.
+
 Run with Debian 12's /usr/bin/python3 (SciPy 1.10.1, NumPy 1.24.2):
     /usr/bin/python3 tests/analysis/psychometric/make_scipy_reference.py > tests/analysis/psychometric/scipy_reference.json
 """
@@ -88,6 +94,62 @@ def fit(case):
             "log_likelihood": log_likelihood(case, t, s, lapse)}
 
 
+def profile(case, t):
+    """max over slope and lapse of log L with the threshold fixed at t (natural units)."""
+    weibull = case["shape"] == "weibull"
+    x = np.array(case["levels"], float)
+    axis = np.log(x) if weibull else x
+    span = axis.max() - axis.min()
+    max_lapse = case["max_lapse"]
+
+    def negative(v):
+        if abs(v[0]) > 50:
+            return 1e300
+        value = -log_likelihood(case, t, np.exp(v[0]), float(np.clip(v[1], 0.0, max_lapse)))
+        return value if np.isfinite(value) else 1e300
+
+    best = None
+    for s in (0.5, 2.0, 8.0, 32.0):
+        for lapse in (0.0, 0.3 * max_lapse, 0.8 * max_lapse):
+            r = optimize.minimize(negative, np.array([np.log(s / span), lapse]), method="Nelder-Mead",
+                                  options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 20000, "maxfev": 40000})
+            slope, lap = np.exp(r.x[0]), float(np.clip(r.x[1], 0.0, max_lapse))
+            q = optimize.minimize(lambda w: -log_likelihood(case, t, w[0], w[1]), np.array([slope, lap]),
+                                  method="L-BFGS-B", bounds=[(1e-12, None), (0.0, max_lapse)],
+                                  options={"ftol": 1e-15, "gtol": 1e-10, "maxiter": 10000})
+            for value in (-r.fun, -q.fun):
+                if best is None or value > best:
+                    best = value
+    return best
+
+
+def profile_interval(case, fitted, confidence=0.95):
+    weibull = case["shape"] == "weibull"
+    cut = stats.chi2.ppf(confidence, 1)
+    top = fitted["log_likelihood"]
+    t_hat = fitted["threshold"]
+    x = np.array(case["levels"], float)
+    span = (np.log(x.max()) - np.log(x.min())) if weibull else (x.max() - x.min())
+
+    def gap(axis_t):
+        t = np.exp(axis_t) if weibull else axis_t
+        return 2.0 * (top - profile(case, t)) - cut
+
+    centre = np.log(t_hat) if weibull else t_hat
+    ends = []
+    for direction in (-1.0, 1.0):
+        step = 0.02 * span
+        inside = centre
+        while True:
+            outside = inside + direction * step
+            if gap(outside) > 0:
+                break
+            inside, step = outside, 2.0 * step
+        root = optimize.brentq(gap, min(inside, outside), max(inside, outside), xtol=1e-12, rtol=1e-12)
+        ends.append(float(np.exp(root)) if weibull else float(root))
+    return {"confidence": confidence, "lower": ends[0], "upper": ends[1]}
+
+
 CASES = [
     {"name": "logistic_contrast_detection", "shape": "logistic", "rising": True, "guess": 0.0, "max_lapse": 0.1,
      "levels": [0.5, 1.0, 1.5, 2.0, 2.5, 3.0], "n": [30, 30, 30, 30, 30, 30], "k": [2, 5, 13, 22, 27, 28]},
@@ -111,6 +173,7 @@ def main():
     for case in CASES:
         entry = dict(case)
         entry["fit"] = fit(case)
+        entry["threshold_profile_interval"] = profile_interval(case, entry["fit"])
         out["cases"].append(entry)
     json.dump(out, sys.stdout, indent=2)
     sys.stdout.write("\n")

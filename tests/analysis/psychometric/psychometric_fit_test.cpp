@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -277,7 +278,7 @@ TEST(PsychometricFit, RecoversKnownModelsFromExpectedCounts) {
         EXPECT_NEAR(fit.log_likelihood, log_likelihood(data, fit.model), 1e-6 * std::fabs(fit.log_likelihood));
         EXPECT_LT(fit.deviance, 0.1);
         EXPECT_EQ(fit.degrees_of_freedom, 6);
-        EXPECT_TRUE(std::isnan(fit.threshold_interval.lower));
+        EXPECT_TRUE(std::isnan(fit.bootstrap_threshold_interval.lower));
         EXPECT_TRUE(std::isnan(fit.deviance_p_value));
         EXPECT_EQ(fit.note, "");
       }
@@ -317,7 +318,89 @@ TEST(PsychometricFit, MatchesIndependentScipyReference) {
     EXPECT_NEAR(fit.model.parameters.lapse, expected.at("lapse").get<double>(), 1e-4);
     EXPECT_NEAR(fit.deviance, 2.0 * (saturated_log_likelihood(data) - fit.log_likelihood), 1e-9);
     EXPECT_EQ(fit.degrees_of_freedom, 3);
+    // The profile-likelihood interval, computed by SciPy with its own inner fits and root finder.
+    const nlohmann::json& profile = c.at("threshold_profile_interval");
+    EXPECT_EQ(profile.at("confidence").get<double>(), options.confidence);
+    EXPECT_NEAR(fit.threshold_interval.lower, profile.at("lower").get<double>(), 1e-7 * threshold);
+    EXPECT_NEAR(fit.threshold_interval.upper, profile.at("upper").get<double>(), 1e-7 * threshold);
   }
+}
+
+// --- profile-likelihood intervals -----------------------------------------------------------------
+
+TEST(PsychometricProfile, ContainsTheEstimateWhereTheBootstrapDoesNot) {
+  // Issue 18's case: the answers step between two adjacent levels, so the slope is unbounded and the
+  // threshold is anywhere between them. Replicate fits put it elsewhere in the gap than the fit did,
+  // so the percentile interval may miss the estimate; the profile interval cannot.
+  const std::vector<LevelCounts> data = {{4, 10, 0}, {8, 10, 0}, {16, 10, 0}, {32, 10, 10}, {64, 10, 10}};
+  for (PsychometricShape shape : kShapes) {
+    SCOPED_TRACE(shape_name(shape));
+    FitOptions options;
+    options.shape = shape;
+    options.bootstrap_samples = 200;
+    const PsychometricFit fit = fit_psychometric(data, options);
+    const double estimate = fit.model.parameters.threshold;
+    EXPECT_LE(fit.threshold_interval.lower, estimate);
+    EXPECT_GE(fit.threshold_interval.upper, estimate);
+    // The data place the threshold between 16 and 32 (an unbounded slope makes the gap's ends
+    // themselves just reachable), and leave the slope unbounded above.
+    EXPECT_GE(fit.threshold_interval.lower, 15.9);
+    EXPECT_LE(fit.threshold_interval.upper, 32.1);
+    EXPECT_EQ(fit.slope_interval.upper, std::numeric_limits<double>::infinity());
+    EXPECT_NE(fit.note.find("profile-likelihood interval of the slope is unbounded above"), std::string::npos) << fit.note;
+  }
+}
+
+TEST(PsychometricProfile, EndsSitOnTheLikelihoodRatioCut) {
+  // At each end of the interval, the best fit with the threshold held there (an independent grid
+  // over slope and lapse, refined) is worse than the fit by chi2(0.95, 1) / 2 = 1.9207 in log L.
+  const std::vector<LevelCounts> data = {{0.5, 30, 2}, {1.0, 30, 4}, {1.5, 30, 9}, {2.0, 30, 12},
+                                         {2.5, 30, 21}, {3.0, 30, 17}, {3.5, 30, 28}};
+  FitOptions options;
+  options.max_lapse = 0.06;
+  options.bootstrap_samples = 0;
+  const PsychometricFit fit = fit_psychometric(data, options);
+  const auto profile = [&](double threshold) {
+    double best = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 400; ++i)
+      for (int j = 0; j <= 60; ++j) {
+        PsychometricModel m = fit.model;
+        m.parameters.threshold = threshold;
+        m.parameters.slope = std::exp(std::log(0.1) + (std::log(40.0) - std::log(0.1)) * i / 400.0);
+        m.parameters.lapse = 0.06 * j / 60.0;
+        best = std::max(best, log_likelihood(data, m));
+      }
+    return best;
+  };
+  const double cut = 0.5 * 3.841458820694124;
+  for (double end : {fit.threshold_interval.lower, fit.threshold_interval.upper}) {
+    EXPECT_NEAR(fit.log_likelihood - profile(end), cut, 2e-3);
+  }
+  EXPECT_LT(fit.threshold_interval.lower, fit.model.parameters.threshold);
+  EXPECT_GT(fit.threshold_interval.upper, fit.model.parameters.threshold);
+  EXPECT_LE(fit.lapse_interval.lower, fit.model.parameters.lapse);
+  EXPECT_GE(fit.lapse_interval.upper, fit.model.parameters.lapse);
+  EXPECT_LT(fit.slope_interval.lower, fit.model.parameters.slope);
+  EXPECT_GT(fit.slope_interval.upper, fit.model.parameters.slope);
+  // A narrower confidence gives a narrower interval inside the wider one.
+  options.confidence = 0.5;
+  const PsychometricFit narrow = fit_psychometric(data, options);
+  EXPECT_GT(narrow.threshold_interval.lower, fit.threshold_interval.lower);
+  EXPECT_LT(narrow.threshold_interval.upper, fit.threshold_interval.upper);
+}
+
+TEST(PsychometricProfile, UnboundedWhereTheDataSayNothing) {
+  // Every level at floor: the threshold lies beyond the most intense level; how far, nothing says.
+  std::vector<LevelCounts> data;
+  for (double level : {1.0, 2.0, 3.0, 4.0}) data.push_back({level, 20, 0});
+  FitOptions options;
+  options.bootstrap_samples = 0;
+  const PsychometricFit fit = fit_psychometric(data, options);
+  EXPECT_EQ(fit.threshold_interval.upper, std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isfinite(fit.threshold_interval.lower));
+  EXPECT_GT(fit.threshold_interval.lower, 3.0);
+  EXPECT_NE(fit.note.find("profile-likelihood interval of the threshold is unbounded above"), std::string::npos)
+      << fit.note;
 }
 
 TEST(PsychometricFit, LevelOrderDoesNotMatter) {
@@ -351,7 +434,7 @@ TEST(PsychometricFit, AllAtFloorOrCeiling) {
       // The fit reproduces the data: p_report near 0 (or 1 - lapse, with the lapse at 0) everywhere.
       for (double level : levels) EXPECT_NEAR(fit.model.p_report(level), ceiling ? 1.0 : 0.0, 1e-3);
       EXPECT_NEAR(fit.deviance, 0.0, 1e-3);
-      EXPECT_TRUE(std::isfinite(fit.threshold_interval.lower) && std::isfinite(fit.threshold_interval.upper));
+      EXPECT_TRUE(std::isfinite(fit.bootstrap_threshold_interval.lower) && std::isfinite(fit.bootstrap_threshold_interval.upper));
     }
   }
 }
@@ -462,32 +545,32 @@ TEST(PsychometricBootstrap, ReplaysFromTheSeed) {
   const PsychometricFit c = fit_psychometric(data, options);
   EXPECT_EQ(a.bootstrap_samples + a.bootstrap_failures, 200);
   EXPECT_GE(a.bootstrap_samples, 190);
-  for (const auto& [x, y] : {std::pair{a.threshold_interval, b.threshold_interval},
-                             std::pair{a.slope_interval, b.slope_interval}, std::pair{a.lapse_interval, b.lapse_interval}}) {
+  for (const auto& [x, y] : {std::pair{a.bootstrap_threshold_interval, b.bootstrap_threshold_interval},
+                             std::pair{a.bootstrap_slope_interval, b.bootstrap_slope_interval}, std::pair{a.bootstrap_lapse_interval, b.bootstrap_lapse_interval}}) {
     EXPECT_EQ(x.lower, y.lower);
     EXPECT_EQ(x.upper, y.upper);
   }
   EXPECT_EQ(a.deviance_p_value, b.deviance_p_value);
-  EXPECT_NE(a.threshold_interval.lower, c.threshold_interval.lower);
-  EXPECT_NE(a.threshold_interval.upper, c.threshold_interval.upper);
+  EXPECT_NE(a.bootstrap_threshold_interval.lower, c.bootstrap_threshold_interval.lower);
+  EXPECT_NE(a.bootstrap_threshold_interval.upper, c.bootstrap_threshold_interval.upper);
   // The ML estimates do not depend on the seed.
   EXPECT_EQ(a.model.parameters.threshold, c.model.parameters.threshold);
   // The intervals bracket the estimates and the truth.
-  EXPECT_LT(a.threshold_interval.lower, a.model.parameters.threshold);
-  EXPECT_GT(a.threshold_interval.upper, a.model.parameters.threshold);
-  EXPECT_LT(a.threshold_interval.lower, 2.0);
-  EXPECT_GT(a.threshold_interval.upper, 2.0);
-  EXPECT_LT(a.slope_interval.lower, a.slope_interval.upper);
-  EXPECT_GE(a.lapse_interval.lower, 0.0);
-  EXPECT_LE(a.lapse_interval.upper, 0.06);
+  EXPECT_LT(a.bootstrap_threshold_interval.lower, a.model.parameters.threshold);
+  EXPECT_GT(a.bootstrap_threshold_interval.upper, a.model.parameters.threshold);
+  EXPECT_LT(a.bootstrap_threshold_interval.lower, 2.0);
+  EXPECT_GT(a.bootstrap_threshold_interval.upper, 2.0);
+  EXPECT_LT(a.bootstrap_slope_interval.lower, a.bootstrap_slope_interval.upper);
+  EXPECT_GE(a.bootstrap_lapse_interval.lower, 0.0);
+  EXPECT_LE(a.bootstrap_lapse_interval.upper, 0.06);
   EXPECT_GT(a.deviance_p_value, 0.0);
   EXPECT_LE(a.deviance_p_value, 1.0);
   // Narrower confidence, narrower interval.
   options.seed = 7;
   options.confidence = 0.5;
   const PsychometricFit narrow = fit_psychometric(data, options);
-  EXPECT_GT(narrow.threshold_interval.lower, a.threshold_interval.lower);
-  EXPECT_LT(narrow.threshold_interval.upper, a.threshold_interval.upper);
+  EXPECT_GT(narrow.bootstrap_threshold_interval.lower, a.bootstrap_threshold_interval.lower);
+  EXPECT_LT(narrow.bootstrap_threshold_interval.upper, a.bootstrap_threshold_interval.upper);
 }
 
 // Type-7 percentile (linear interpolation between order statistics), as documented.
@@ -528,12 +611,12 @@ TEST(PsychometricBootstrap, ReplicatesFollowTheDocumentedRecipe) {
     lapses.push_back(r.model.parameters.lapse);
     deviances.push_back(r.deviance);
   }
-  EXPECT_NEAR(fit.threshold_interval.lower, percentile_of(thresholds, 0.1), 1e-4);
-  EXPECT_NEAR(fit.threshold_interval.upper, percentile_of(thresholds, 0.9), 1e-4);
-  EXPECT_NEAR(fit.slope_interval.lower, percentile_of(slopes, 0.1), 1e-3);
-  EXPECT_NEAR(fit.slope_interval.upper, percentile_of(slopes, 0.9), 1e-3);
-  EXPECT_NEAR(fit.lapse_interval.lower, percentile_of(lapses, 0.1), 1e-4);
-  EXPECT_NEAR(fit.lapse_interval.upper, percentile_of(lapses, 0.9), 1e-4);
+  EXPECT_NEAR(fit.bootstrap_threshold_interval.lower, percentile_of(thresholds, 0.1), 1e-4);
+  EXPECT_NEAR(fit.bootstrap_threshold_interval.upper, percentile_of(thresholds, 0.9), 1e-4);
+  EXPECT_NEAR(fit.bootstrap_slope_interval.lower, percentile_of(slopes, 0.1), 1e-3);
+  EXPECT_NEAR(fit.bootstrap_slope_interval.upper, percentile_of(slopes, 0.9), 1e-3);
+  EXPECT_NEAR(fit.bootstrap_lapse_interval.lower, percentile_of(lapses, 0.1), 1e-4);
+  EXPECT_NEAR(fit.bootstrap_lapse_interval.upper, percentile_of(lapses, 0.9), 1e-4);
   const auto at_least = std::count_if(deviances.begin(), deviances.end(), [&](double d) { return d >= fit.deviance; });
   EXPECT_NEAR(fit.deviance_p_value, static_cast<double>(at_least) / 60.0, 1.0 / 60.0 + 1e-12);
   EXPECT_GT(fit.deviance_p_value, 0.0);
@@ -561,9 +644,36 @@ TEST(PsychometricBootstrap, LargeCountsStayFast) {
   options.bootstrap_samples = 50;
   const PsychometricFit fit = fit_psychometric(data, options);
   EXPECT_EQ(fit.bootstrap_samples, 50);
-  EXPECT_LT(fit.threshold_interval.lower, 20.0);
-  EXPECT_GT(fit.threshold_interval.upper, 20.0);
-  EXPECT_LT(fit.threshold_interval.upper - fit.threshold_interval.lower, 0.1);
+  EXPECT_LT(fit.bootstrap_threshold_interval.lower, 20.0);
+  EXPECT_GT(fit.bootstrap_threshold_interval.upper, 20.0);
+  EXPECT_LT(fit.bootstrap_threshold_interval.upper - fit.bootstrap_threshold_interval.lower, 0.1);
+}
+
+TEST(PsychometricProfile, CoverageOfTheThresholdInterval) {
+  // The same 40 simulated experiments as the bootstrap's coverage test below, with the 95 %
+  // profile-likelihood interval. The likelihood-ratio statistic is close to chi-square here
+  // (280 trials), so the coverage should be near 95 %: 38 of 40 with these seeds. Requiring >= 34
+  // fails a method with true coverage 0.95 with probability 3 %, and one with 0.5 essentially never.
+  const PsychometricModel truth = make_model(PsychometricShape::logistic, true, 0.0, 2.0, 2.0, 0.02);
+  Pcg32 seeds(20240601);
+  int covered = 0;
+  double width_sum = 0.0;
+  for (int experiment = 0; experiment < 40; ++experiment) {
+    const std::vector<LevelCounts> data = simulate(truth, kBootstrapLevels, 40, seeds.next_u32());
+    (void)seeds.next_u32();  // the bootstrap seed of the test below
+    FitOptions options;
+    options.max_lapse = 0.06;
+    options.bootstrap_samples = 0;
+    const PsychometricFit fit = fit_psychometric(data, options);
+    EXPECT_LE(fit.threshold_interval.lower, fit.model.parameters.threshold);
+    EXPECT_GE(fit.threshold_interval.upper, fit.model.parameters.threshold);
+    if (fit.threshold_interval.lower <= 2.0 && 2.0 <= fit.threshold_interval.upper) ++covered;
+    width_sum += fit.threshold_interval.upper - fit.threshold_interval.lower;
+  }
+  EXPECT_GE(covered, 34);
+  // A normal 95 % interval from the ML threshold's spread (SD about 0.105) spans 0.41.
+  EXPECT_GT(width_sum / 40, 0.3);
+  EXPECT_LT(width_sum / 40, 0.6);
 }
 
 TEST(PsychometricBootstrap, CoverageOfTheThresholdInterval) {
@@ -586,8 +696,8 @@ TEST(PsychometricBootstrap, CoverageOfTheThresholdInterval) {
     options.bootstrap_samples = 100;
     options.seed = seeds.next_u32();
     const PsychometricFit fit = fit_psychometric(data, options);
-    if (fit.threshold_interval.lower <= 2.0 && 2.0 <= fit.threshold_interval.upper) ++covered;
-    width_sum += fit.threshold_interval.upper - fit.threshold_interval.lower;
+    if (fit.bootstrap_threshold_interval.lower <= 2.0 && 2.0 <= fit.bootstrap_threshold_interval.upper) ++covered;
+    width_sum += fit.bootstrap_threshold_interval.upper - fit.bootstrap_threshold_interval.lower;
   }
   EXPECT_GE(covered, 30);
   // Neither too wide nor too narrow: the ML threshold's standard deviation over such experiments

@@ -2,6 +2,9 @@
 // construction (docs/analysis.md, "Thresholds").
 #include <gtest/gtest.h>
 
+#include <map>
+#include <utility>
+
 #include "analysis/study/study_analysis.h"
 
 namespace fovlab::analysis {
@@ -100,6 +103,90 @@ TEST(StudyAnalysis, LowerIsBetterLevelsWalkTheOtherWay) {
   const AnalysisResult result = analyse_study(data, quick_options());
   ASSERT_TRUE(threshold_of(result, "s").level);
   EXPECT_DOUBLE_EQ(*threshold_of(result, "s").level, 2.0);
+}
+
+TEST(StudyAnalysis, TooFewTrialsForAnyLevelToBeDistinguishedGiveNoThreshold) {
+  // Issue 18: 2 participants x 2 repeats = 4 trials a level over 5 levels. Even 0 of 4 "same" has a
+  // two-sided p of 0.125, Holm-adjusted 0.625: no level can be distinguished, so "threshold 4"
+  // would only say that the study was too small. No threshold, and the note says why.
+  StudyData data = study("2afc", "same", {4, 8, 16, 32, 64});
+  ParticipantData participant;
+  participant.participant = "P001";
+  for (double level : {4.0, 8.0, 16.0, 32.0, 64.0}) add_comparisons(participant, "2afc-same", "s", level, 4, level < 20 ? 0 : 3);
+  data.participants.push_back(participant);
+  const AnalysisResult result = analyse_study(data, quick_options());
+  const GroupThreshold& threshold = threshold_of(result, "s");
+  EXPECT_FALSE(threshold.level);
+  EXPECT_TRUE(threshold.unsupported);
+  EXPECT_NE(threshold.note.find("too few trials"), std::string::npos) << threshold.note;
+  EXPECT_NE(threshold.note.find("0.625"), std::string::npos) << threshold.note;
+  // One more trial a level is still too few (5 x 2 x 0.5^5 = 0.3125); with 7 (5 x 0.0156 = 0.078)
+  // still; with 8 (5 x 0.0078 = 0.039) a level can be distinguished and the walk runs.
+  for (const auto& [trials, supported] : {std::pair{5, false}, std::pair{7, false}, std::pair{8, true}}) {
+    StudyData more = study("2afc", "same", {4, 8, 16, 32, 64});
+    ParticipantData p;
+    p.participant = "P001";
+    for (double level : {4.0, 8.0, 16.0, 32.0, 64.0}) add_comparisons(p, "2afc-same", "s", level, trials, level < 20 ? 0 : trials);
+    more.participants.push_back(p);
+    const GroupThreshold& t = threshold_of(analyse_study(more, quick_options()), "s");
+    SCOPED_TRACE(trials);
+    EXPECT_EQ(t.unsupported, !supported);
+    EXPECT_EQ(t.level.has_value(), supported);
+    if (supported) EXPECT_DOUBLE_EQ(*t.level, 32.0);
+  }
+}
+
+TEST(StudyAnalysis, StarsFollowTheHolmAdjustedPAndHolmOnlyPassesAreNamed) {
+  // 1 of 10 "same" at 8: raw p 0.021 (*), Holm 0.086 (no star): the threshold walk passes it, and
+  // the note says that only Holm's correction let it pass.
+  StudyData data = study("2afc", "same", {4, 8, 16, 32, 64});
+  ParticipantData participant;
+  participant.participant = "P001";
+  const std::map<double, int> same = {{4, 0}, {8, 1}, {16, 2}, {32, 3}, {64, 8}};
+  for (const auto& [level, k] : same) add_comparisons(participant, "2afc-same", "s", level, 10, k);
+  data.participants.push_back(participant);
+  const AnalysisResult result = analyse_study(data, quick_options());
+  for (const ConditionRow& row : result.conditions) {
+    SCOPED_TRACE(row.condition);
+    EXPECT_EQ(row.stars, significance_stars(row.p_holm));
+  }
+  ASSERT_EQ(result.conditions.size(), 5u);
+  EXPECT_EQ(result.conditions[1].stars, "");   // level 8: p 0.021 unadjusted, 0.086 adjusted
+  EXPECT_EQ(result.conditions[0].stars, "**");  // level 4: Holm 0.0098
+  const GroupThreshold& threshold = threshold_of(result, "s");
+  ASSERT_TRUE(threshold.level);
+  EXPECT_DOUBLE_EQ(*threshold.level, 8.0);
+  EXPECT_FALSE(threshold.unsupported);
+  EXPECT_NE(threshold.note.find("level 8 passes only after Holm's correction (1 of 10"), std::string::npos)
+      << threshold.note;
+}
+
+TEST(StudyAnalysis, AThresholdTheFitExcludesIsNamedWithTheFit) {
+  // The answers cross half-way near 40 while the tests, with 10 trials a level, only distinguish
+  // level 4: the walk says 8, the fit's interval lies far above it, and the note gives both.
+  StudyData data = study("2afc", "same", {4, 8, 16, 32, 64});
+  ParticipantData participant;
+  participant.participant = "P001";
+  const std::map<double, int> same = {{4, 0}, {8, 1}, {16, 2}, {32, 3}, {64, 8}};
+  for (const auto& [level, k] : same) add_comparisons(participant, "2afc-same", "s", level, 10, k);
+  data.participants.push_back(participant);
+  const AnalysisResult result = analyse_study(data, quick_options());
+  const GroupThreshold& threshold = threshold_of(result, "s");
+  ASSERT_FALSE(result.fits.empty());
+  ASSERT_FALSE(result.fits.front().fits.empty());
+  const PsychometricFit& fit = result.fits.front().fits.front();
+  EXPECT_GT(fit.threshold_interval.lower, 8.0);
+  EXPECT_NE(threshold.note.find("fit's threshold is"), std::string::npos) << threshold.note;
+  EXPECT_NE(threshold.note.find("which excludes 8"), std::string::npos) << threshold.note;
+  // Where the fit agrees (a clear step between 16 and 32 with 40 trials a level), no such note.
+  StudyData clear = study("2afc", "same", {4, 8, 16, 32, 64});
+  ParticipantData p;
+  p.participant = "P001";
+  const std::map<double, int> clear_same = {{4, 2}, {8, 4}, {16, 14}, {32, 30}, {64, 36}};
+  for (const auto& [level, k] : clear_same) add_comparisons(p, "2afc-same", "s", level, 40, k);
+  clear.participants.push_back(p);
+  const GroupThreshold& agreed = threshold_of(analyse_study(clear, quick_options()), "s");
+  EXPECT_EQ(agreed.note.find("fit's threshold is"), std::string::npos) << agreed.note;
 }
 
 TEST(StudyAnalysis, PreferenceCountsVotesForTheTestStimulus) {
