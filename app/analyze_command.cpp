@@ -117,8 +117,9 @@ void print_summary(const analysis::AnalysisResult& result) {
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
                 threshold.level ? format_number(*threshold.level, 6).c_str() : "none");
     if (threshold.mean)
-      std::printf(" (mean of %d participants, SD %s)", threshold.participants_with_threshold,
-                  threshold.sd ? format_number(*threshold.sd, 4).c_str() : "-");
+      std::printf(" %s(mean of %d participants, SD %s)",
+                  threshold.mean_lower ? (format_interval(*threshold.mean_lower, *threshold.mean_upper, 4) + " ").c_str() : "",
+                  threshold.participants_with_threshold, threshold.sd ? format_number(*threshold.sd, 4).c_str() : "-");
     else if (result.protocol == ProtocolKind::pair)
       std::printf(" (pooled over participants)");
     std::printf("\n");

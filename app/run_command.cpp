@@ -32,7 +32,8 @@ void run(RunOptions options) {
   if (session.headless && !session.present_device_selector.empty())
     throw InputError("--present-device " + session.present_device_selector +
                      ": a headless session presents nothing; drop it or run with a window");
-  if (session.participant == "next") session.participant = next_participant_id(session.results_dir, config.name);
+  const bool participant_was_next = session.participant == "next";
+  if (participant_was_next) session.participant = next_participant_id(session.results_dir, config.name);
   const vk::ContextOptions context = context_options(options.device);
   session.device_selector = context.device_selector;
   session.validation = context.validation;
@@ -41,6 +42,11 @@ void run(RunOptions options) {
               outcome.resumed ? "resumed" : "new session", session.headless ? " (headless, virtual clock)" : "",
               outcome.excluded ? ", participant excluded (attention checks)" : "", outcome.trials_completed,
               outcome.trials_total, outcome.stop_reason.empty() ? "" : (" (stopped: " + outcome.stop_reason + ")").c_str());
+  if (!outcome.finished && outcome.trials_completed < outcome.trials_total)
+    std::printf("paused after %d of %d trials: every answer so far is kept; to resume, run %s\n",
+                outcome.trials_completed, outcome.trials_total,
+                participant_was_next ? ("the same command with --participant " + session.participant).c_str()
+                                     : "the same command again");
   const int trials_run = std::max(1, outcome.trials_run);
   std::printf("timing: schedule %.2f ms, prepare %.2f s, trial loop %.3f s (%.2f ms a trial), %d events with "
               "%.3f ms write+fsync each, %.2f s in all\n",
@@ -73,11 +79,13 @@ void add_run_command(CLI::App& app) {
                       "simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N] instead of a person at the keys");
   command->add_flag("--headless", options->session.headless, "No window: a virtual clock (needs --observer)");
   command->add_option("--gaze", options->session.gaze,
-                      "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | pupil[:HOST[:PORT]] (default: mouse, or synthetic "
-                      "headless; age_ms: how old each synthetic sample is when read)");
+                      "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
+                      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: mouse, or synthetic headless; "
+                      "the trace format and the options: docs/gaze.md)");
   command->add_option("--results", options->session.results_dir, "Results folder (default: results)");
   command->add_option("--screenshots", options->session.screenshots_dir,
-                      "Windowed: save the instructions and the first stimulus as PNG here");
+                      "Save the first screen of each kind here as PNG (instructions, stimulus, question, break, "
+                      "rest, end), headless too");
   command->add_option("--device", options->device,
                       "Vulkan device that renders and, in a window, presents: index or part of its name");
   command->add_option("--present-device", options->session.present_device_selector,

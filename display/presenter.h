@@ -38,6 +38,8 @@ class Presenter {
   virtual std::optional<std::pair<double, double>> cursor_px() = 0;
   // The participant or operator asked to stop (window closed, Escape pressed 3 times within 1 s).
   virtual bool close_requested() = 0;
+  // Why close_requested() said so, as the log's session_paused event records it.
+  virtual std::string close_reason() const { return "the window was closed"; }
   virtual double refresh_hz() const = 0;
   virtual bool is_headless() const = 0;
   // What the times present() returns measure, as the log names it: "virtual" (the headless clock),

@@ -97,6 +97,11 @@ class WindowPresenter final : public Presenter {
   std::optional<std::pair<double, double>> cursor_px() override;
   // The window was closed, or Escape was pressed 3 times within 1 s.
   bool close_requested() override;
+  // A key press as GLFW's key callback delivers it (tests press keys through it).
+  void on_key(int key, const char* layout_name);
+  std::string close_reason() const override {
+    return escape_close_ ? "Escape was pressed 3 times within 1 s" : "the window was closed";
+  }
   // The primary monitor's refresh rate (glfwGetVideoMode), 60 when unknown.
   double refresh_hz() const override { return refresh_hz_; }
   bool is_headless() const override { return false; }
@@ -151,7 +156,7 @@ class WindowPresenter final : public Presenter {
   double present_again();
   void pump_events();
   void poll_gamepads();
-  void on_key(int key, const char* layout_name);
+
   static void key_callback(GLFWwindow* window, int key, int scancode, int action, int mods);
 
   WindowPresenterOptions options_;

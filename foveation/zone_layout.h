@@ -19,8 +19,6 @@ namespace fovlab {
 // P(w) = V(w) does not depend on the foveal angle (docs/foveated-path-tracing.md).
 inline constexpr double kMiddleOverFovealDeg = 52.5;
 
-// A frame's width and height must be multiples of this: the outer zone is 1/4 of it per axis.
-inline constexpr int kZoneSideMultiplePx = 4;
 double default_middle_deg(double foveal_deg);
 
 struct ZoneBounds {

@@ -210,6 +210,8 @@ json thresholds_json(const AnalysisResult& result) {
                                   {"note", threshold.note},
                                   {"mean", json_number(threshold.mean)},
                                   {"sd", json_number(threshold.sd)},
+                                  {"mean_interval", {{"lower", json_number(threshold.mean_lower)},
+                                                     {"upper", json_number(threshold.mean_upper)}}},
                                   {"participants_with_threshold", threshold.participants_with_threshold},
                                   {"participants_without_threshold", threshold.participants_without_threshold}});
   }
@@ -675,11 +677,14 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     std::vector<std::vector<std::string>> rows;
     for (const GroupThreshold& t : result.thresholds) {
       rows.push_back({t.group.scene, t.group.variant, t.unsupported ? "none (see note)" : html_number(t.level),
-                      html_number(t.mean), html_number(t.sd),
+                      html_number(t.mean),
+                      t.mean_lower ? html_interval(*t.mean_lower, *t.mean_upper) : std::string("\xE2\x80\x93"),
+                      html_number(t.sd),
                       std::to_string(t.participants_with_threshold), std::to_string(t.participants_without_threshold),
                       t.definition, t.note});
     }
-    html += html_table({"scene", "variant", "threshold", "mean", "SD", "participants with", "participants without",
+    html += html_table({"scene", "variant", "threshold", "mean", "95 % CI of the mean", "SD", "participants with",
+                        "participants without",
                         "definition", "note"},
                        rows);
   }

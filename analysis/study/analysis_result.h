@@ -90,6 +90,8 @@ struct GroupThreshold {
   // Pair, ramp, slider: across participants with a threshold.
   std::optional<double> mean;
   std::optional<double> sd;           // sample SD (n - 1); none with fewer than two
+  std::optional<double> mean_lower;   // 95 % Student-t interval of the mean (n - 1 degrees of freedom),
+  std::optional<double> mean_upper;   // none with fewer than two
   int participants_with_threshold = 0;
   int participants_without_threshold = 0;
 };

@@ -7,6 +7,7 @@ list(APPEND analysis_sources
 list(APPEND analysis_tests
   ${CMAKE_SOURCE_DIR}/tests/analysis/study/study_analysis_test.cpp)
 list(APPEND analysis_tests
-  ${CMAKE_SOURCE_DIR}/tests/analysis/study/pilot_recovery_test.cpp)
+  ${CMAKE_SOURCE_DIR}/tests/analysis/study/pilot_recovery_test.cpp
+  ${CMAKE_SOURCE_DIR}/tests/analysis/study/protocol_recovery_test.cpp)
 list(APPEND analysis_tests ${CMAKE_SOURCE_DIR}/tests/analysis/study/analyze_cli_test.cpp)
 list(APPEND analysis_tests ${CMAKE_SOURCE_DIR}/tests/analysis/study/rating_grid_preference_test.cpp)

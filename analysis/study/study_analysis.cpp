@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include <boost/math/distributions/students_t.hpp>
+
 #include "analysis/statistics/multiple_comparisons.h"
 #include "analysis/study/preference_table.h"
 #include "analysis/study/rating_grid.h"
@@ -54,6 +56,7 @@ struct ConditionCounts {
 
 struct Summary {
   std::optional<double> mean, sd;
+  std::optional<double> mean_lower, mean_upper;  // 95 % Student-t interval of the mean
   int count = 0;
 };
 
@@ -69,6 +72,10 @@ Summary summarise(const std::vector<double>& values) {
     double squares = 0.0;
     for (double value : values) squares += (value - mean) * (value - mean);
     summary.sd = std::sqrt(squares / double(values.size() - 1));
+    const double t = boost::math::quantile(boost::math::students_t(double(values.size() - 1)), 0.975);
+    const double half_width = t * *summary.sd / std::sqrt(double(values.size()));
+    summary.mean_lower = mean - half_width;
+    summary.mean_upper = mean + half_width;
   }
   return summary;
 }
@@ -461,6 +468,8 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
     threshold.definition = definition;
     threshold.mean = summary.mean;
     threshold.sd = summary.sd;
+    threshold.mean_lower = summary.mean_lower;
+    threshold.mean_upper = summary.mean_upper;
     threshold.level = summary.mean;
     threshold.participants_with_threshold = summary.count;
     threshold.participants_without_threshold = without[group];

@@ -17,8 +17,8 @@ namespace fovlab {
 namespace {
 
 [[noreturn]] void bad_spec(const std::string& text) {
-  throw InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil:HOST:PORT, got \"" + text +
-                   "\"");
+  throw InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
+                   "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"" + text + "\"");
 }
 
 template <typename T>
@@ -50,10 +50,46 @@ void parse_synthetic_options(const std::string& text, std::string_view options, 
   }
 }
 
+// The options after "pupil...,": surface=NAME (letters, digits, '_', '-', ' ', '.'; at most 64) and
+// min_confidence=C in [0, 1], each at most once.
+void parse_pupil_options(const std::string& text, std::string_view options, GazeSpec& spec) {
+  bool surface_given = false, confidence_given = false;
+  while (true) {
+    const size_t comma = options.find(',');
+    const std::string_view option = options.substr(0, comma);
+    if (option.substr(0, 8) == "surface=" && !surface_given) {
+      const std::string_view name = option.substr(8);
+      const bool plain = !name.empty() && name.size() <= 64 &&
+                         name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-. ") ==
+                             std::string_view::npos;
+      if (!plain)
+        throw InputError("--gaze: surface: expected a Surface Tracker name of 1 to 64 letters, digits, '_', '-', '.' or "
+                         "spaces, got \"" + std::string(name) + "\"");
+      spec.surface = std::string(name);
+      surface_given = true;
+    } else if (option.substr(0, 15) == "min_confidence=" && !confidence_given) {
+      const std::string_view value = option.substr(15);
+      if (!parse_whole(value, spec.min_confidence) || !(spec.min_confidence >= 0.0 && spec.min_confidence <= 1.0))
+        throw InputError("--gaze: min_confidence: expected a number in [0, 1], got \"" + std::string(value) + "\"");
+      confidence_given = true;
+    } else {
+      bad_spec(text);
+    }
+    if (comma == std::string_view::npos) break;
+    options.remove_prefix(comma + 1);
+  }
+}
+
 }  // namespace
 
 GazeSpec parse_gaze_spec(const std::string& text) {
-  const std::string_view view(text);
+  std::string_view view(text);
+  if (view.substr(0, 5) == "pupil" && view.find(',') != std::string_view::npos) {  // pupil options
+    GazeSpec spec = parse_gaze_spec(std::string(view.substr(0, view.find(','))));
+    if (spec.kind != GazeSpec::Kind::pupil) bad_spec(text);
+    parse_pupil_options(text, view.substr(view.find(',') + 1), spec);
+    return spec;
+  }
   const auto after = [&](std::string_view prefix) -> std::optional<std::string_view> {
     if (view.substr(0, prefix.size()) != prefix) return std::nullopt;
     return view.substr(prefix.size());
@@ -104,6 +140,8 @@ std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px,
       PupilGazeOptions options;
       options.host = spec.host;
       options.port = spec.port;
+      options.surface = spec.surface;
+      options.min_confidence = spec.min_confidence;
       if (session_clock) options.session_clock = std::move(session_clock);
       return std::make_unique<PupilGazeSource>(options, width_px, height_px);
     }

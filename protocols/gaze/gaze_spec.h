@@ -8,6 +8,9 @@
 //                       latency); with a seed: synthetic:seed=N,age_ms=A (options in any order)
 //   pupil               Pupil Core on 127.0.0.1:50020
 //   pupil:HOST:PORT     Pupil Core's Pupil Remote at HOST:PORT (pupil:HOST alone means port 50020)
+//   pupil...,surface=NAME,min_confidence=C
+//                       the Surface Tracker surface that covers the screen (default "screen") and the
+//                       lowest confidence a sample may have (default 0.6, in [0, 1]); docs/gaze.md
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -23,6 +26,8 @@ struct GazeSpec {
   std::string trace_path;         // trace
   std::string host = "127.0.0.1";  // pupil
   int port = 50020;                // pupil
+  std::string surface = "screen";  // pupil: the Surface Tracker surface covering the screen
+  double min_confidence = 0.6;     // pupil: samples below it are invalid ("low_confidence")
   uint64_t seed = 0;               // synthetic, when seed_given
   bool seed_given = false;         // synthetic: false = derive_seed(session seed, "gaze")
   double age_ms = 0.0;             // synthetic: how old each sample is when read
@@ -32,7 +37,8 @@ struct GazeSpec {
 // onto it at start-up. Empty: a monotonic clock of the process (fine for sources that need none).
 using SessionClock = std::function<double()>;
 
-// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil:HOST:PORT, got \"...\"");
+// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil[:HOST[:PORT]][,surface=NAME]
+// [,min_confidence=C], got \"...\"");
 // InputError("--gaze: age_ms: expected milliseconds 0..10000, got \"...\"") for a bad age.
 GazeSpec parse_gaze_spec(const std::string& text);
 

@@ -1,5 +1,7 @@
 #include "protocols/gaze/pupil_gaze_source.h"
 
+#include "core/number_text.h"
+
 #include <algorithm>
 #include <atomic>
 #include <charconv>
@@ -186,6 +188,9 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
     : impl_(std::make_unique<Impl>()) {
   Impl& impl = *impl_;
   impl.name = "pupil:" + options.host + ":" + std::to_string(options.port);
+  if (options.surface != PupilGazeOptions{}.surface) impl.name += ",surface=" + options.surface;
+  if (options.min_confidence != PupilGazeOptions{}.min_confidence)
+    impl.name += ",min_confidence=" + format_number(options.min_confidence, 6);
   const auto fail = [&](const std::string& what) { throw InputError(impl.name + ": " + what); };
   if (options.host.empty()) fail("the host is empty");
   if (options.port < 1 || options.port > 65535) fail("port: expected 1..65535");

@@ -24,11 +24,25 @@ double response_time(Pcg32& random, double mean_s) {
 
 }  // namespace
 
+namespace {
+// The logit of p_see: positive on the degraded side of the threshold.
+double see_logit(const ObserverModel& model, double level) {
+  const double z = model.slope * (level - model.threshold);
+  return model.higher_is_better ? -z : z;
+}
+}  // namespace
+
 double ObserverModel::p_see(std::optional<double> level) const {
   if (!level) return 0.0;
   const double z = slope * (*level - threshold);
   const double rising = 1.0 / (1.0 + std::exp(-z));
   return higher_is_better ? 1.0 - rising : rising;
+}
+
+double ObserverModel::visible_degradation(std::optional<double> level) const {
+  if (!level) return 0.0;
+  const double a = see_logit(*this, *level);
+  return a > 0.0 ? a + std::log1p(std::exp(-a)) : std::log1p(std::exp(a));  // softplus, without overflow
 }
 
 double ObserverModel::p_detect(std::optional<double> level) const {
@@ -120,16 +134,20 @@ ObserverAnswer SimulatedObserver::answer_comparison(const Trial& trial) const {
 }
 
 ObserverAnswer SimulatedObserver::answer_ramp_step(const Trial& trial, int step) const {
-  // Whether a degradation is seen at each step is drawn once per step from the trial's streams.
-  const auto seen = [&](int index) {
-    Pcg32 random = stream(model_.seed, trial.index, 1000 + index);
-    return random.uniform() < model_.p_detect(level_of(trial.sequence.at(static_cast<size_t>(index))));
-  };
-  const bool before = seen(step - 1);
-  const bool now = seen(step);
+  const double before = model_.visible_degradation(level_of(trial.sequence.at(static_cast<size_t>(step - 1))));
+  const double now = model_.visible_degradation(level_of(trial.sequence.at(static_cast<size_t>(step))));
+  const double p_seen = -std::expm1(-std::fabs(now - before));
   Pcg32 random = stream(model_.seed, trial.index, step);
+  const double u = random.uniform();
+  const double p_true = (1.0 - model_.guess - model_.lapse) * p_seen;
   ObserverAnswer answer;
-  answer.answer = before == now ? answers::same : (before ? answers::increased : answers::decreased);
+  if (u < p_true) {
+    answer.answer = now < before ? answers::increased : answers::decreased;
+  } else if (u < p_true + model_.guess) {
+    answer.answer = random.uniform() < 0.5 ? answers::increased : answers::decreased;
+  } else {
+    answer.answer = answers::same;
+  }
   answer.response_time_s = response_time(random, model_.mean_response_s);
   return answer;
 }

@@ -6,6 +6,15 @@
 //                 better (then p_see falls as x grows); identical stimuli: p_see = 0
 //   p_detect(x) = guess + (1 - guess - lapse) * p_see(x)
 //
+// Ramps compare neighbouring stimuli, both possibly degraded, so the observer needs a magnitude, not
+// only "seen or not": the visible degradation v(x) = softplus(a), a = the logit of p_see(x) (0 for
+// the reference, about slope * |x - threshold| far on the degraded side, near 0 on the other), and
+// a difference d between two stimuli is seen with probability 1 - exp(-d). Against the reference
+// that is 1 - exp(-softplus(a)) = p_see(x) exactly, so the ramp observer and the comparison observer
+// are one model; two clearly degraded neighbours 5 levels apart with slope 0.32 differ by 1.6 and
+// are told apart 80 % of the time. A seen step is answered in its true direction; a guess (a false
+// alarm) in either direction with equal chance; otherwise "same".
+//
 // guess is the false-alarm rate (a difference "seen" where there is none), lapse the rate of missing
 // a difference that is plainly visible. Every answer of trial i, step s comes from its own PCG32
 // stream derive_seed(seed, i, s), so a resumed or replayed session gets the same answers.
@@ -29,6 +38,7 @@ struct ObserverModel {
 
   double p_see(std::optional<double> level) const;     // nullopt: identical stimuli
   double p_detect(std::optional<double> level) const;
+  double visible_degradation(std::optional<double> level) const;  // v(x) above; 0 for nullopt
 };
 
 // "simulated" or "simulated:threshold=7.5,slope=1,guess=0.02,lapse=0.02,rt=0.8,seed=3". Defaults:

@@ -6,7 +6,7 @@ std::optional<Answer> KeyResponses::await(const AnswerRequest& request, Presente
   presenter.poll_input();  // presses before the question appeared do not count
   const double period_s = 1.0 / presenter.refresh_hz();
   for (;;) {
-    if (presenter.close_requested()) throw SessionAborted{"the window was closed"};
+    if (presenter.close_requested()) throw SessionAborted{presenter.close_reason()};
     for (const InputEvent& input : presenter.poll_input())
       for (const auto& [answer, keys] : question_.answers)
         for (const std::string& key : keys)
@@ -17,7 +17,7 @@ std::optional<Answer> KeyResponses::await(const AnswerRequest& request, Presente
 }
 
 std::optional<Answer> ObserverResponses::await(const AnswerRequest& request, Presenter& presenter, double timeout_s) {
-  if (presenter.close_requested()) throw SessionAborted{"the window was closed"};
+  if (presenter.close_requested()) throw SessionAborted{presenter.close_reason()};
   ObserverAnswer decided;
   if (!request.trial) {
     decided.response_time_s = observer_.instructions_time_s();

@@ -21,7 +21,7 @@ struct SessionOptions {
   std::string device_selector;    // --device: renders (and, in a window, presents unless present_device_selector)
   std::string present_device_selector;  // --present-device: a window on another device (frames copied through the host)
   bool validation = false;
-  std::string screenshots_dir;    // windowed: save the instructions and the first stimulus here
+  std::string screenshots_dir;    // the first screen of each kind as <kind>.png (session_run.h), headless too
   std::string lab_key_path;       // --lab-key: key the log's seals (a file outside results_dir)
 };
 

@@ -29,9 +29,12 @@ void SessionRun::log(nlohmann::json event) {
   if (trial_end) ++trials_completed_;
 }
 
-void SessionRun::show_text(const std::string& text) {
-  if (!presenter_.is_headless())
-    presenter_.present(render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text));
+void SessionRun::show_text(const std::string& text, const std::string& screen_kind) {
+  const bool capture = wants_screenshot(screen_kind);
+  if (presenter_.is_headless() && !capture) return;  // nothing to show: the text is not even drawn
+  const Rgba8Frame frame = render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text);
+  if (!presenter_.is_headless()) presenter_.present(frame);
+  if (capture) save_screenshot(screen_kind, frame);
 }
 
 void SessionRun::show_black(double duration_s) {
@@ -41,12 +44,17 @@ void SessionRun::show_black(double duration_s) {
   presenter_.wait_until(until);
 }
 
-void SessionRun::screenshot(const std::string& name) {
-  if (options_.screenshots_dir.empty() || presenter_.is_headless()) return;
-  auto* window = dynamic_cast<WindowPresenter*>(&presenter_);
-  if (!window) return;
+bool SessionRun::wants_screenshot(const std::string& kind) const {
+  return !options_.screenshots_dir.empty() && !screenshots_taken_.count(kind);
+}
+
+void SessionRun::save_screenshot(const std::string& kind, const Rgba8Frame& frame) {
+  if (!wants_screenshot(kind)) return;
+  screenshots_taken_.insert(kind);
   fs::create_directories(options_.screenshots_dir);
-  write_frame_image(fs::path(options_.screenshots_dir) / (name + ".png"), window->screenshot());
+  // A window saves what its swapchain held (letterbox included); headless, the frame itself.
+  const auto* window = dynamic_cast<WindowPresenter*>(&presenter_);
+  write_frame_image(fs::path(options_.screenshots_dir) / (kind + ".png"), window ? window->screenshot() : frame);
 }
 
 void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id) {
@@ -82,6 +90,7 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       event.present_s.push_back(shown_at);
       event.frame.push_back(frame);
       event.hash.push_back(library_.hash(shown));  // a live frame's: read back now, after its present
+      if (frame == 0 && refresh == refreshes - 1 && wants_screenshot("stimulus")) save_screenshot("stimulus", shown.image);
       event.gaze.push_back({sample.x_px, sample.y_px});
       // The sample's own time (already on the session clock: the source was asked at t()) and its
       // age when the frame made with it was presented (null: the tracker had no sample).
@@ -95,10 +104,6 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         ages.push_back(std::nullopt);
       }
     }
-    if (frame == 0 && !screenshot_taken_) {
-      screenshot("stimulus");
-      screenshot_taken_ = true;
-    }
   }
   event.stamp.t = t();
   event.dropped_frames = dropped;
@@ -109,19 +114,18 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   dropped_frames_ += dropped;
 }
 
-std::string SessionRun::question_screen() const {
-  const QuestionConfig& question = plan_.config.protocol.question;
+std::string question_screen_text(const QuestionConfig& question) {
   std::string keys;
   for (const auto& [answer, answer_keys] : question.answers) {
     std::string key = answer_keys.front();
     if (key.size() == 1) key[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(key[0])));
-    keys += (keys.empty() ? "" : "    ") + key + ": " + answer;
+    keys += (keys.empty() ? "" : "\n") + key + ": " + answer;
   }
   return question.text + "\n\n" + keys;
 }
 
 Answer SessionRun::ask(const Trial& trial, int step, int ladder_index) {
-  show_text(question_screen());
+  show_text(question_screen_text(plan_.config.protocol.question), "question");
   AnswerRequest request{&trial, step, ladder_index, presenter_.now_s()};
   const std::optional<Answer> answer =
       responses_.await(request, presenter_, plan_.config.timing.response_timeout_s);
@@ -189,8 +193,8 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
   // A crash after the trial that reached max_errors (before session_end): the session is over.
   if (checks_on && attention_errors >= config.attention.max_errors) return exclude(excluded_logged_, first);
   {
-    show_text(resumed ? "The session resumes where it stopped.\n\n" + config.instructions : config.instructions);
-    screenshot("instructions");
+    show_text(resumed ? "The session resumes where it stopped.\n\n" + config.instructions : config.instructions,
+              "instructions");
     AnswerRequest request{nullptr, 0, 0, presenter_.now_s()};
     responses_.await(request, presenter_, 0.0);
     log(to_json(InstructionsEvent{{}, time_base_s_ + request.onset_s}));
@@ -201,7 +205,8 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     if (trial.index == block.first_trial || static_cast<int>(index) == first) {
       if (trial.index == block.first_trial && trial.block > 0 && config.timing.rest_between_blocks_s > 0) {
         const double start = t();
-        show_text("Rest. The next block starts in " + std::to_string(int(config.timing.rest_between_blocks_s)) + " s.");
+        show_text("Rest. The next block starts in " + std::to_string(int(config.timing.rest_between_blocks_s)) + " s.",
+                  "rest");
         presenter_.wait_until(presenter_.now_s() + config.timing.rest_between_blocks_s);
         log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
       }
@@ -232,7 +237,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       log(to_json(AttentionCheckEvent{{}, trial.index, correct, attention_errors}));
       if (!correct && attention_errors < config.attention.max_errors && config.attention.break_s > 0) {
         const double break_start = t();
-        show_text("Please take a break of at least " + std::to_string(int(config.attention.break_s)) + " s.");
+        show_text("Please take a break of at least " + std::to_string(int(config.attention.break_s)) + " s.", "break");
         presenter_.wait_until(presenter_.now_s() + config.attention.break_s);
         log(to_json(BreakEvent{{}, BreakEvent::attention_check, trial.index, break_start, t() - break_start}));
       }
@@ -241,7 +246,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     if (checks_on && attention_errors >= config.attention.max_errors) return exclude(false, trial.index + 1);
     show_black(config.timing.inter_trial_s);
   }
-  show_text("Thank you. The session is complete.");
+  show_text("Thank you. The session is complete.", "end");
   log(to_json(SessionEndEvent{{}, SessionEndEvent::completed, static_cast<int>(plan_.trials.size())}));
   return true;
 }

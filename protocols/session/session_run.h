@@ -3,6 +3,7 @@
 // index (block rests, stimuli, questions, attention checks and breaks), then the end; every step is
 // logged as it happens. run_session (session.h) sets it up: plan, presenter, gaze, answers, log.
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,11 @@
 #include "protocols/stimuli/stimulus_library.h"
 
 namespace fovlab {
+
+// The question screen's text: the question, a blank line, then the first key of each answer one
+// a line ("S: same", "D: different"): the text screen wraps words and joins runs of spaces, so
+// keys on one line ran together (issue 18).
+std::string question_screen_text(const QuestionConfig& question);
 
 class SessionRun {
  public:
@@ -42,14 +48,16 @@ class SessionRun {
   int dropped_frames() const { return dropped_frames_; }
 
  private:
-  void show_text(const std::string& text);
+  void show_text(const std::string& text, const std::string& screen_kind);
   void show_black(double duration_s);
-  void screenshot(const std::string& name);
+  // With --screenshots, the first screen of each kind ("instructions", "stimulus", "question",
+  // "break", "rest", "end") is saved as <kind>.png: the swapchain's image in a window, the frame
+  // itself when headless. `frame`: what is on screen (a headless run shows nothing).
+  bool wants_screenshot(const std::string& kind) const;
+  void save_screenshot(const std::string& kind, const Rgba8Frame& frame);
   // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh; a
   // gaze-dependent stimulus renders one image a refresh, the presentation's images in order.
   void present_stimulus(const Trial& trial, int step, int stimulus_id);
-  // The question with the first key of each answer, e.g. "... \n\nS: same    D: different".
-  std::string question_screen() const;
   // Shows the question and waits for an answer; logs it. A timeout logs an answer of "" (missed).
   Answer ask(const Trial& trial, int step, int ladder_index);
   std::string run_comparison(const Trial& trial);  // returns the answer
@@ -65,7 +73,7 @@ class SessionRun {
   EventLogWriter& log_;
   double time_base_s_;
   std::optional<GazeSample> last_valid_gaze_;
-  bool screenshot_taken_ = false;
+  std::set<std::string> screenshots_taken_;
   bool excluded_logged_ = false;
   int events_written_ = 0;
   int trials_completed_ = 0;

@@ -219,11 +219,6 @@ std::string config_frame_size(const StimulusSpec& spec) {
 void StimulusLibrary::check_foveated_path_traced(const StimulusSpec& spec) {
   stimulus_display(spec);
   check_zone_bounds(zone_bounds(spec));
-  // The config parser refuses these sizes already; a spec made otherwise is refused here all the same.
-  if (spec.width_px % kZoneSideMultiplePx != 0 || spec.height_px % kZoneSideMultiplePx != 0)
-    throw InputError("stimulus " + spec.canonical() + ": " + config_frame_size(spec) + ": fpt needs multiples of " +
-                     std::to_string(kZoneSideMultiplePx) + " (its outer zone is 1/" +
-                     std::to_string(kZoneSideMultiplePx) + " per axis)");
 }
 
 void StimulusLibrary::check_frame_size(const StimulusSpec& spec) {

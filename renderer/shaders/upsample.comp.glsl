@@ -10,6 +10,10 @@
 // along one line (a row for x, a column for y) through CELLS_PER_INVOCATION consecutive cells,
 // sliding its seven taps by one pixel a cell, so each input pixel is read about once; neighbouring
 // invocations take neighbouring lines.
+//
+// The target may be cropped: target_size along the axis may be less than factor times the source
+// (a frame whose sides are not multiples of the factor has zone buffers rounded up); outputs past
+// it are not written, and the others are exactly those of the uncropped image.
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Source { vec4 source[]; };
@@ -18,7 +22,7 @@ layout(std430, binding = 2) readonly buffer Weights { float weights[]; };  // fa
 
 layout(push_constant) uniform UpsampleParams {
   uvec2 source_size;
-  uvec2 target_size;  // source_size scaled by factor along `axis`
+  uvec2 target_size;  // source_size scaled by factor along `axis`, or less (cropped at the far edge)
   uint factor;
   uint axis;          // 0: x, 1: y
   uint target_offset; // texels before the target image in its buffer (a zone of ZoneBlender's buffer)
@@ -36,6 +40,7 @@ void main() {
   uint source_stride = params.axis == 0u ? 1u : params.source_size.x;
   uint source_line = params.axis == 0u ? line * params.source_size.x : line;
   uint target_stride = params.axis == 0u ? 1u : params.target_size.x;
+  uint target_extent = params.axis == 0u ? params.target_size.x : params.target_size.y;
   uint target_line = params.target_offset + (params.axis == 0u ? line * params.target_size.x : line);
   int last = int(cells) - 1;
 
@@ -48,6 +53,7 @@ void main() {
       taps[6] = source[source_line + uint(clamp(int(cell) + 3, 0, last)) * source_stride];
     }
     for (uint phase = 0u; phase < params.factor; ++phase) {
+      if (cell * params.factor + phase >= target_extent) break;
       vec4 sum = vec4(0.0);
       for (int j = 0; j < 7; ++j) sum += weights[phase * 7u + uint(j)] * taps[j];
       target[target_line + (cell * params.factor + phase) * target_stride] = sum;

@@ -92,7 +92,12 @@ const vk::Buffer& Upsampler::weights(UpsampleFilter filter, uint32_t factor) {
 
 void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, uint32_t width,
                        uint32_t height, uint32_t factor, UpsampleFilter filter, vk::PassTimer* timer,
-                       uint32_t target_offset_texels) {
+                       uint32_t target_offset_texels, uint32_t target_width, uint32_t target_height) {
+  if (target_width == 0) target_width = width * factor;
+  if (target_height == 0) target_height = height * factor;
+  if (target_width > width * factor || target_height > height * factor || target_width + factor <= width * factor ||
+      target_height + factor <= height * factor)
+    throw std::logic_error("Upsampler::record: a target side must lie in ((side - 1) * factor, side * factor]");
   const VkBuffer weight_table = weights(filter, factor).handle();
   constexpr uint32_t kGroupWidth = 64;           // local_size_x of upsample.comp.glsl
   constexpr uint32_t kCellsPerInvocation = 8;    // CELLS_PER_INVOCATION there
@@ -100,7 +105,7 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
     return std::pair{(lines + kGroupWidth - 1) / kGroupWidth, (cells + kCellsPerInvocation - 1) / kCellsPerInvocation};
   };
   // Along x: one invocation a row and run of cells.
-  const UpsampleParams along_x{{width, height}, {width * factor, height}, factor, 0, 0};
+  const UpsampleParams along_x{{width, height}, {target_width, height}, factor, 0, 0};
   const VkBuffer x_buffers[] = {source, scratch, weight_table};
   if (timer) timer->begin(commands, "upsample_x");
   const auto [x_groups, x_runs] = groups(height, width);
@@ -108,11 +113,10 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
   if (timer) timer->end(commands);
   vk::compute_to_compute_barrier(commands);
   // Along y: one invocation a column and run of cells.
-  const UpsampleParams along_y{{width * factor, height}, {width * factor, height * factor}, factor, 1,
-                               target_offset_texels};
+  const UpsampleParams along_y{{target_width, height}, {target_width, target_height}, factor, 1, target_offset_texels};
   const VkBuffer y_buffers[] = {scratch, target, weight_table};
   if (timer) timer->begin(commands, "upsample_y");
-  const auto [y_groups, y_runs] = groups(width * factor, height);
+  const auto [y_groups, y_runs] = groups(target_width, height);
   pipeline_->dispatch_groups(commands, y_buffers, &along_y, y_groups, y_runs);
   if (timer) timer->end(commands);
 }

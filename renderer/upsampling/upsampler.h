@@ -36,12 +36,16 @@ class Upsampler {
   UpsampleResult upsample(const Image& image, int factor, UpsampleFilter filter);
 
   // Records the two passes on device buffers of RGBA float texels: `source` (width x height) to
-  // `target` (both times factor) through `scratch` (width * factor x height). The output starts
-  // `target_offset_texels` texels into `target`. Timed as "upsample_x" and "upsample_y" when
-  // `timer` is given. The caller orders the source's writes before and the target's reads after.
+  // `target` (target_width x target_height; 0: the source's side times factor) through `scratch`
+  // (target_width x height). A target side may be less than the source's times factor, down to
+  // (side - 1) * factor + 1: the image is then cropped at its right or bottom edge, every kept pixel
+  // as in the uncropped image (a zone buffer rounded up for a frame whose sides are not multiples of
+  // the factor). The output starts `target_offset_texels` texels into `target`. Timed as
+  // "upsample_x" and "upsample_y" when `timer` is given. The caller orders the source's writes
+  // before and the target's reads after.
   void record(VkCommandBuffer commands, VkBuffer source, VkBuffer scratch, VkBuffer target, uint32_t width,
               uint32_t height, uint32_t factor, UpsampleFilter filter, vk::PassTimer* timer,
-              uint32_t target_offset_texels = 0);
+              uint32_t target_offset_texels = 0, uint32_t target_width = 0, uint32_t target_height = 0);
 
  private:
   // upsample_cell_weights(filter, factor) in a host-visible buffer, made once for the upsampler.

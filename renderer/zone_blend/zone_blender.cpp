@@ -156,23 +156,30 @@ ZoneBlender::ZoneBlender(vk::Context& context)
 ZoneBlender::~ZoneBlender() = default;
 
 double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
-  if (frame.channels < 1 || frame.channels > 4 || frame.width < 4 || frame.height < 4 || frame.width % 4 != 0 ||
-      frame.height % 4 != 0 || frame.width > kMaxFrameSide || frame.height > kMaxFrameSide)
+  if (frame.channels < 1 || frame.channels > 4 || frame.width < 1 || frame.height < 1 || frame.width > kMaxFrameSide ||
+      frame.height > kMaxFrameSide)
     throw InputError("zone buffers of a " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " frame: expected a width and height that are multiples of 4 (the outer zone is 1/4 per axis), "
-                     "at most " + std::to_string(kMaxFrameSide) + ", and 1 to 4 channels");
+                     " frame: expected a width and height from 1 to " + std::to_string(kMaxFrameSide) +
+                     " and 1 to 4 channels");
   const Image& periphery_source = periphery ? *periphery : frame;
   if (periphery_source.width != frame.width || periphery_source.height != frame.height ||
       periphery_source.channels != frame.channels)
     throw InputError("periphery frame: expected the size and channels of the foveal frame");
   check_zone_frame_size(context_, frame.width, frame.height);  // the three zones share one buffer
+  // The middle and outer zones are ceil(side / 2) and ceil(side / 4) per axis (decimate_nearest),
+  // upsampled and cropped back to the frame's size: any size works, not only multiples of 4.
+  const auto zone_side = [](int side, int factor) { return VkDeviceSize((side + factor - 1) / factor); };
   const VkDeviceSize frame_bytes = VkDeviceSize(frame.pixel_count()) * kTexelBytes;
   if (frame.width != width_ || frame.height != height_) {  // buffers kept from one animation frame to the next
     zones_ = vk::Buffer(context_, 3 * frame_bytes, vk::MemoryUse::device_local);
     foveal_staging_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::host_upload);
-    half_staging_ = vk::Buffer(context_, frame_bytes / 4, vk::MemoryUse::host_upload);
-    quarter_staging_ = vk::Buffer(context_, frame_bytes / 16, vk::MemoryUse::host_upload);
-    upsample_scratch_ = vk::Buffer(context_, frame_bytes / 2, vk::MemoryUse::device_local);  // the x pass of factor 2
+    half_staging_ = vk::Buffer(context_, zone_side(frame.width, 2) * zone_side(frame.height, 2) * kTexelBytes,
+                               vk::MemoryUse::host_upload);
+    quarter_staging_ = vk::Buffer(context_, zone_side(frame.width, 4) * zone_side(frame.height, 4) * kTexelBytes,
+                                  vk::MemoryUse::host_upload);
+    // The x pass of factor 2 (the frame's width x half its height, rounded up): the larger of the two.
+    upsample_scratch_ = vk::Buffer(context_, VkDeviceSize(frame.width) * zone_side(frame.height, 2) * kTexelBytes,
+                                   vk::MemoryUse::device_local);
     blended_linear_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
     zones_srgb8_ = vk::Buffer(context_, 3 * VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
     band_list_ = vk::Buffer(context_, (1 + VkDeviceSize(frame.pixel_count())) * 4, vk::MemoryUse::device_local);
@@ -197,11 +204,11 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   copy_whole(cmd, foveal_staging_, zones_);  // the foveal zone: the frame itself, first
   const auto w = uint32_t(frame.width), h = uint32_t(frame.height);
   const auto zone_texels = uint32_t(frame.pixel_count());
-  upsampler_->record(cmd, half_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), w / 2, h / 2, 2,
-                     UpsampleFilter::lanczos3, &timer, zone_texels);
+  upsampler_->record(cmd, half_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), (w + 1) / 2,
+                     (h + 1) / 2, 2, UpsampleFilter::lanczos3, &timer, zone_texels, w, h);
   vk::compute_to_compute_barrier(cmd);  // the scratch buffer is reused
-  upsampler_->record(cmd, quarter_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), w / 4, h / 4, 4,
-                     UpsampleFilter::lanczos3, &timer, 2 * zone_texels);
+  upsampler_->record(cmd, quarter_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), (w + 3) / 4,
+                     (h + 3) / 4, 4, UpsampleFilter::lanczos3, &timer, 2 * zone_texels, w, h);
   if (channels_ >= 3) {  // the zones as a session shows them (display_frame copies most pixels from there)
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,

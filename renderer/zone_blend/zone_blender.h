@@ -49,8 +49,9 @@ class ZoneBlender {
 
   // Makes the three zone buffers of a frame (1 to 4 channels). `periphery` (same size), when
   // given, is the source of the middle and outer buffers instead of the frame: seed 001's pilot
-  // variant (section 4.2) whose periphery is path traced with fewer bounces. Width and height:
-  // multiples of 4, at most 16384 (InputError otherwise). A colour frame's zones
+  // variant (section 4.2) whose periphery is path traced with fewer bounces. Width and height: any
+  // from 1 to 16384 (InputError otherwise); the middle and outer buffers are rounded up to
+  // ceil(side / 2) and ceil(side / 4) and cropped back after upsampling. A colour frame's zones
   // are also encoded to sRGB8 for display_frame. Returns the GPU ms of those passes (upsampling,
   // encoding).
   double set_frame(const Image& frame, const Image* periphery = nullptr);

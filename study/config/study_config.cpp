@@ -157,20 +157,14 @@ std::vector<MethodParameters> stimulus_parameters(const StimulusConfig& stimulus
   return all;
 }
 
-// The renderers' rules on the frame size (the method descriptors' frame_side_multiple_px and
-// max_samples_per_frame), which is the display's: checked here, so that they name the config's
+// The renderers' rule on the frame size (the method descriptors' max_samples_per_frame), which is
+// the display's: checked here, so that they name the config's
 // fields (and fovlab validate finds them). What depends on the device (one storage buffer) is
 // checked when a session prepares its stimuli (StimulusLibrary::prepare).
 void check_frame_size_rules(const TomlFields& display_fields, const DisplayConfig& display,
                             const StimulusConfig& stimulus, const LevelsConfig& levels) {
   for (const MethodParameters& parameters : stimulus_parameters(stimulus, levels)) {
     const MethodDescriptor& method = describe(method_of(parameters));
-    const int multiple = method.frame_side_multiple_px;
-    for (const auto& [key, side_px] : {std::pair<const char*, int>{"width_px", display.width_px}, {"height_px", display.height_px}})
-      if (side_px % multiple != 0)
-        display_fields.fail(key, "expected a multiple of " + std::to_string(multiple) + " for " +
-                                     std::string(method.name) + " stimuli (the outer zone is 1/" +
-                                     std::to_string(multiple) + " of the frame per axis), got " + std::to_string(side_px));
     const ParameterDescriptor* samples_per_pixel = find_parameter(method, "samples_per_pixel");
     if (method.max_samples_per_frame > 0 && samples_per_pixel) {
       const double spp = samples_per_pixel->read(parameters);

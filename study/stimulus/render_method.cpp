@@ -73,8 +73,6 @@ constexpr double kSeedMax = double(std::numeric_limits<uint32_t>::max());
 // The sphere tracer's samples of one frame live in one buffer indexed by 32-bit words
 // (renderer/sphere_tracing/sphere_tracer.h kMaxSphereTraceSamplesPerFrame; protocols/stimuli checks).
 constexpr uint64_t kSphereTraceSamplesPerFrame = uint64_t{1} << 28;
-// The emulated path tracer's outer zone is 1/4 of the frame per axis (foveation/zone_layout.h).
-constexpr int kZoneFrameSideMultiplePx = 4;
 
 // The parameters GT, IPR and FIPR share, then IPR's and FIPR's pyramid.
 template <class Struct>
@@ -210,7 +208,6 @@ MethodDescriptor foveated_path_traced() {
                           "the emulated foveated path tracer (seed 001 section 3.2)", SceneKind::path_traced};
   method.depends_on_gaze = true;
   method.needs_display = true;
-  method.frame_side_multiple_px = kZoneFrameSideMultiplePx;
   method.parameters = path_trace_parameters<P>();
   auto& list = method.parameters;
   list.push_back(with_legacy_key(
@@ -599,8 +596,6 @@ std::string methods_markdown() {
              : method.scene_kind == SceneKind::path_traced   ? "path-traced (courtyard or .obj files)"
                                                              : "volume scenes (built-in names or .toml files; docs/volume-rendering.md)") +
             ". Frames " + (method.depends_on_gaze ? "follow the gaze of each refresh" : "do not depend on the gaze");
-    if (method.frame_side_multiple_px > 1)
-      text += "; width_px and height_px must be multiples of " + std::to_string(method.frame_side_multiple_px);
     if (method.max_samples_per_frame > 0)
       text += "; width_px x height_px x samples_per_pixel at most " + std::to_string(method.max_samples_per_frame);
     text += ".\n\n| key | unit | default | allowed | what |\n|---|---|---|---|---|\n";

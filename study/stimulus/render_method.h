@@ -51,7 +51,6 @@ struct MethodDescriptor {
   SceneKind scene_kind = SceneKind::signed_distance;
   bool depends_on_gaze = false;     // frames follow the gaze sample (cannot be prepared ahead)
   bool needs_display = false;       // reads display_width_mm, display_height_mm, viewing_distance_mm
-  int frame_side_multiple_px = 1;   // width and height must be multiples of this
   // Samples a frame may hold at most (width x height x samples_per_pixel); 0: no such limit.
   uint64_t max_samples_per_frame = 0;
   std::vector<ParameterDescriptor> parameters;

@@ -298,6 +298,18 @@ TEST(WindowPresenter, CloseRequestAndInput) {
   EXPECT_EQ(presenter.validation_message_count(), 0u);
 }
 
+TEST(WindowPresenter, ThreeEscapesCloseAndSaySo) {
+  // Issue 18: a session stopped with Escape was logged as "the window was closed".
+  REQUIRE_DISPLAY();
+  WindowPresenter presenter(small_window());
+  presenter.present(black_frame(320, 180));
+  EXPECT_EQ(presenter.close_reason(), "the window was closed");  // what a close would say
+  for (int i = 0; i < 3; ++i) presenter.on_key(GLFW_KEY_ESCAPE, nullptr);
+  EXPECT_TRUE(presenter.close_requested());
+  EXPECT_EQ(presenter.close_reason(), "Escape was pressed 3 times within 1 s");
+  EXPECT_EQ(presenter.validation_message_count(), 0u);
+}
+
 TEST(WindowInput, KeyNames) {
   EXPECT_EQ(glfw_key_name(GLFW_KEY_A, nullptr), "a");
   EXPECT_EQ(glfw_key_name(GLFW_KEY_Z, "y"), "y");  // the layout's label wins (German keyboard)

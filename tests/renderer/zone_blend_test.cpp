@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/colour.h"
@@ -91,6 +92,42 @@ TEST_F(VulkanTest, ZoneBuffersAreTheDecimatedFrameUpsampled) {
   const Image outer = upsample_reference(decimate_nearest(frame, 4), 4, UpsampleFilter::lanczos3);
   EXPECT_LT(largest_difference(blender.zone_buffer(Zone::middle), middle), 1e-4 * 3.0);
   EXPECT_LT(largest_difference(blender.zone_buffer(Zone::outer), outer), 1e-4 * 3.0);
+}
+
+// A crop of the top-left width x height pixels.
+Image crop(const Image& image, int width, int height) {
+  Image out(width, height, image.channels);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < image.channels; ++c) out.at(x, y, c) = image.at(x, y, c);
+  return out;
+}
+
+// Issue 18: a 1366x768 panel or a 480x270 frame could not run fpt (sides had to be multiples of
+// 4). The middle and outer zones are now ceil(side / 2) and ceil(side / 4), upsampled and cropped
+// back: every kept pixel is the uncropped reference's, the right and bottom edges included, and a
+// session's display frame of such a size blends as at any other.
+TEST_F(VulkanTest, ZoneBuffersOfSidesThatAreNotMultiplesOfFour) {
+  ZoneBlender blender(context());
+  for (const auto& [width, height] : {std::pair{61, 35}, std::pair{66, 38}, std::pair{1, 1}, std::pair{3, 7},
+                                      std::pair{5, 2}}) {
+    SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height));
+    const Image frame = noisy_frame(width, height, 29);
+    blender.set_frame(frame);
+    EXPECT_EQ(blender.width(), width);
+    EXPECT_EQ(largest_difference(blender.zone_buffer(Zone::foveal), frame), 0.0);
+    const Image middle = crop(upsample_reference(decimate_nearest(frame, 2), 2, UpsampleFilter::lanczos3), width, height);
+    const Image outer = crop(upsample_reference(decimate_nearest(frame, 4), 4, UpsampleFilter::lanczos3), width, height);
+    EXPECT_LT(largest_difference(blender.zone_buffer(Zone::middle), middle), 1e-4 * 3.0);
+    EXPECT_LT(largest_difference(blender.zone_buffer(Zone::outer), outer), 1e-4 * 3.0);
+    const DisplayGeometry display = display_from_size(width, height, 5.0 * width, 5.0 * height, 250.0);
+    const Image gpu = blender.blend(display, 0.3 * width, 0.6 * height, {10.0, 40.0, 2.0}).image;
+    const Image reference = blend_zones_reference(display, 0.3 * width, 0.6 * height, {10.0, 40.0, 2.0}, frame,
+                                                  blender.zone_buffer(Zone::middle), blender.zone_buffer(Zone::outer));
+    EXPECT_LT(largest_difference(gpu, reference), 1e-4 * 3.0);
+    EXPECT_EQ(blender.display_frame(display, 0.3 * width, 0.6 * height, {10.0, 40.0, 2.0}).size(),
+              size_t(width) * size_t(height) * 4);
+  }
 }
 
 // The GPU blend against the double reference for gazes at the centre, a corner, off the screen and far
@@ -244,7 +281,8 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
 
 TEST_F(VulkanTest, ZoneBlenderRefusesFramesItCannotZone) {
   ZoneBlender blender(context());
-  EXPECT_THROW(blender.set_frame(noisy_frame(30, 48, 1)), InputError);  // 30 is not a multiple of 4
+  EXPECT_THROW(blender.set_frame(Image(0, 48, 3)), InputError);
+  EXPECT_THROW(blender.set_frame(noisy_frame(20000, 1, 1)), InputError);  // over 16384 a side
   Image periphery = noisy_frame(32, 48, 2);
   EXPECT_THROW(blender.set_frame(noisy_frame(64, 48, 1), &periphery), InputError);
   blender.set_frame(noisy_frame(64, 48, 1));

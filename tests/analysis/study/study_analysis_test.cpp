@@ -132,7 +132,9 @@ TEST(StudyAnalysis, TooFewTrialsForAnyLevelToBeDistinguishedGiveNoThreshold) {
     SCOPED_TRACE(trials);
     EXPECT_EQ(t.unsupported, !supported);
     EXPECT_EQ(t.level.has_value(), supported);
-    if (supported) EXPECT_DOUBLE_EQ(*t.level, 32.0);
+    if (supported) {
+      EXPECT_DOUBLE_EQ(*t.level, 32.0);
+    }
   }
 }
 

@@ -43,18 +43,39 @@ TEST(GazeSpecParse, AcceptsEveryForm) {
   EXPECT_EQ(spec.port, 50020);
 }
 
+TEST(GazeSpecParse, PupilSurfaceAndConfidenceAreSettable) {
+  // Issue 18: both were only in a header file.
+  GazeSpec spec = parse_gaze_spec("pupil");
+  EXPECT_EQ(spec.surface, "screen");
+  EXPECT_EQ(spec.min_confidence, 0.6);
+  spec = parse_gaze_spec("pupil:10.0.0.2:50021,surface=lab monitor,min_confidence=0.8");
+  EXPECT_EQ(spec.kind, GazeSpec::Kind::pupil);
+  EXPECT_EQ(spec.host, "10.0.0.2");
+  EXPECT_EQ(spec.port, 50021);
+  EXPECT_EQ(spec.surface, "lab monitor");
+  EXPECT_EQ(spec.min_confidence, 0.8);
+  spec = parse_gaze_spec("pupil,min_confidence=0");
+  EXPECT_EQ(spec.host, "127.0.0.1");
+  EXPECT_EQ(spec.surface, "screen");
+  EXPECT_EQ(spec.min_confidence, 0.0);
+}
+
 TEST(GazeSpecParse, RejectsEverythingElse) {
   try {
     parse_gaze_spec("eyelink");
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
     EXPECT_EQ(std::string(error.what()),
-              "--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil:HOST:PORT, got \"eyelink\"");
+              "--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
+              "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"eyelink\"");
   }
   for (const char* text : {"", "Mouse", "mouse:", "trace:", "trace", "synthetic:", "synthetic:seed=",
                            "synthetic:seed=-1", "synthetic:seed=1x", "synthetic:seed=18446744073709551616",
                            "synthetic:42", "pupil:", "pupil::50020", "pupil:host:", "pupil:host:0",
-                           "pupil:host:65536", "pupil:host:port", "pupil:a:b:1", "pupils"}) {
+                           "pupil:host:65536", "pupil:host:port", "pupil:a:b:1", "pupils", "pupil,",
+                           "pupil,surface=", "pupil,surface=a/b", "pupil,min_confidence=1.5",
+                           "pupil,min_confidence=-0.1", "pupil,min_confidence=x", "pupil,colour=red",
+                           "pupil,surface=a,surface=b", "synthetic,surface=a", "pupils,surface=a"}) {
     EXPECT_THROW(parse_gaze_spec(text), InputError) << '"' << text << '"';
   }
 }

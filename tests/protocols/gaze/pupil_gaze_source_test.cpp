@@ -184,6 +184,12 @@ TEST(GazePupil, MadeFromASpec) {
   const std::unique_ptr<GazeSource> source = make_gaze_source(spec, width, height, 1);
   EXPECT_EQ(source->describe(), "pupil:127.0.0.1:" + std::to_string(fake.remote_port()));
   EXPECT_EQ(fake.requests_answered(), 1);
+  // The surface and the confidence floor from the spec reach the source, and the log's description.
+  FakePupilPublisher other;
+  const GazeSpec set = parse_gaze_spec("pupil:127.0.0.1:" + std::to_string(other.remote_port()) +
+                                       ",surface=monitor,min_confidence=0.8");
+  EXPECT_EQ(make_gaze_source(set, width, height, 1)->describe(),
+            "pupil:127.0.0.1:" + std::to_string(other.remote_port()) + ",surface=monitor,min_confidence=0.8");
 }
 
 TEST(GazePupil, DecodesPayloadsDirectly) {

@@ -291,9 +291,37 @@ TEST(ProtocolsObserver, RampStepAnswers) {
     EXPECT_GE(observer.answer_ramp_step(up, step).response_time_s, 0.3);
     EXPECT_EQ(observer.answer_ramp_step(up, step).response_time_s, observer.answer_ramp_step(up, step).response_time_s);
   }
-  // The degradation disappears between 8 and 16 (quality increased) and appears between 16 and 8.
-  EXPECT_EQ(up_answers, (std::vector<std::string>{"same", "increased", "same", "same"}));
-  EXPECT_EQ(down_answers, (std::vector<std::string>{"same", "same", "decreased", "same"}));
+  // Below the threshold every step changes how much degradation is visible (4 -> 8 -> 16: quality
+  // increased); above it nothing is visible (16 -> 32 -> reference: same). Issue 18: the observer
+  // used to answer "same" between two degraded stimuli, so a ramp's threshold came out at its
+  // most degraded level whatever the truth.
+  EXPECT_EQ(up_answers, (std::vector<std::string>{"increased", "increased", "same", "same"}));
+  EXPECT_EQ(down_answers, (std::vector<std::string>{"same", "same", "decreased", "decreased"}));
+}
+
+TEST(ProtocolsObserver, RampAndComparisonAreOneModel) {
+  // Against the reference, a ramp step is seen exactly as often as a comparison trial's difference:
+  // 1 - exp(-v(x)) = p_see(x); v is 0 for the reference, grows on the degraded side, and is
+  // monotone in the level, for both directions of the level axis.
+  for (bool higher_is_better : {true, false}) {
+    const ObserverModel model = model_with(9, 12.0, 0.5, 0.02, 0.02, higher_is_better);
+    EXPECT_EQ(model.visible_degradation(std::nullopt), 0.0);
+    double previous = -1.0;
+    for (double level = -40.0; level <= 60.0; level += 0.5) {
+      SCOPED_TRACE(level);
+      const double v = model.visible_degradation(level);
+      EXPECT_NEAR(-std::expm1(-v), model.p_see(level), 1e-12);
+      EXPECT_TRUE(std::isfinite(v));
+      if (previous >= 0.0) {
+        if (higher_is_better) EXPECT_LE(v, previous);
+        else EXPECT_GE(v, previous);
+      }
+      previous = v;
+    }
+  }
+  // Far on the degraded side v grows by slope per level unit: neighbours 5 apart differ by 2.5.
+  const ObserverModel model = model_with(9, 12.0, 0.5, 0.0, 0.0, true);
+  EXPECT_NEAR(model.visible_degradation(-10.0) - model.visible_degradation(-5.0), 2.5, 1e-3);
 }
 
 TEST(ProtocolsObserver, SliderActions) {

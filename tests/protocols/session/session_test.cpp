@@ -3,11 +3,20 @@
 // of an uninterrupted run, tampering is detected, and bad input writes nothing.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
+#include "core/image_io.h"
+#include "display/frame_io.h"
+#include "display/text_screen.h"
 #include "protocols/session/replay.h"
+#include "protocols/session/session_run.h"
 #include "protocols/session/session.h"
 #include "protocols/session/trials_export.h"
 #include "study/log/log_events.h"
@@ -81,6 +90,60 @@ TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
       }
     }
   }
+}
+
+TEST(Session, QuestionScreenPutsEachKeyOnALineOfItsOwn) {
+  // Issue 18: "S: same    D: different" reached the screen as "S: same D: different" (the text
+  // screen joins runs of spaces). Each answer's first key now has a line of its own, and the
+  // screen's layout keeps them apart.
+  for (const char* name : {"tiny_2afc", "pair", "ramp", "rating"}) {
+    SCOPED_TRACE(name);
+    const StudyConfig config = parse_study_config_file(study_fixture(name).string(), renderer_scene_catalog());
+    const QuestionConfig& question = config.protocol.question;
+    const std::string text = question_screen_text(question);
+    EXPECT_EQ(text.rfind(question.text + "\n\n", 0), 0u) << text;
+    std::vector<std::string> expected;
+    for (const auto& [answer, keys] : question.answers) {
+      std::string key = keys.front();
+      if (key.size() == 1) key[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(key[0])));
+      expected.push_back(key + ": " + answer);
+    }
+    const std::vector<std::string> lines = wrap_text(text, 4000, 24, find_font_path());
+    ASSERT_GE(lines.size(), expected.size());
+    const std::vector<std::string> last(lines.end() - static_cast<long>(expected.size()), lines.end());
+    EXPECT_EQ(last, expected);
+  }
+}
+
+TEST(Session, HeadlessScreenshotsSaveEveryKindOfScreen) {
+  // Issue 18: --screenshots was ignored with --headless and saved only two screens. Now the first
+  // screen of each kind is saved; headless, the frame itself (what a window would have shown).
+  const fs::path results = fresh_folder("screenshots");
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  SessionOptions options = simulated(results);
+  options.screenshots_dir = (results / "shots").string();
+  const SessionOutcome outcome = run_session(config, options);
+  ASSERT_TRUE(outcome.finished);
+  std::map<std::string, std::string> hashes;
+  for (const char* kind : {"instructions", "stimulus", "question", "end"}) {
+    SCOPED_TRACE(kind);
+    const fs::path path = results / "shots" / (std::string(kind) + ".png");
+    ASSERT_TRUE(fs::is_regular_file(path));
+    const Rgba8Frame frame = image_to_frame(read_image(path));
+    EXPECT_EQ(frame.width, config.display.width_px);
+    EXPECT_EQ(frame.height, config.display.height_px);
+    hashes[kind] = frame_hash(frame);
+  }
+  // Four different screens, and the stimulus is the first frame the log says was presented.
+  EXPECT_EQ(std::set<std::string>({hashes["instructions"], hashes["stimulus"], hashes["question"], hashes["end"]}).size(), 4u);
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  ASSERT_FALSE(record.trials.empty());
+  ASSERT_FALSE(record.trials.front().stimuli.empty());
+  const nlohmann::json first = to_json(record.trials.front().stimuli.front());
+  size_t last_of_frame0 = 0;
+  for (size_t i = 0; i < first["frame"].size(); ++i)
+    if (first["frame"][i] == 0) last_of_frame0 = i;
+  EXPECT_EQ(hashes["stimulus"], first["hash"][last_of_frame0].get<std::string>());
 }
 
 TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {

@@ -255,7 +255,6 @@ TEST(FiprStimulus, DescriptorsAgreeWithTheRenderer) {
     EXPECT_EQ(combine.choices[i], mask_combine_name(static_cast<MaskCombine>(i)));
   for (RenderMethod method : {RenderMethod::ground_truth, RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid})
     EXPECT_EQ(describe(method).max_samples_per_frame, kMaxSphereTraceSamplesPerFrame);
-  EXPECT_EQ(describe(RenderMethod::foveated_path_traced).frame_side_multiple_px, kZoneSideMultiplePx);
   // The defaults the renderer's own settings start from are the descriptors' (the CLI's render
   // command and the benchmarks construct those settings directly).
   const SphereTraceSettings trace;

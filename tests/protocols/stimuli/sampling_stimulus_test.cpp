@@ -111,7 +111,6 @@ TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
     EXPECT_TRUE(is_sampling_model(twin.path_traced) && is_path_traced(twin.path_traced));
     EXPECT_TRUE(path.depends_on_gaze);
     EXPECT_EQ(path.needs_display, traced.needs_display);
-    EXPECT_EQ(path.frame_side_multiple_px, 1);
     // The path tracer's three, then the model's, in the twin's order.
     ASSERT_EQ(path.parameters.size(), traced.parameters.size());
     EXPECT_EQ(path.parameters[1].key, "max_bounces");
