@@ -108,11 +108,14 @@ void print_summary(const analysis::AnalysisResult& result) {
   int excluded = 0;
   for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
   const std::string observers = result.observers == "human" ? "" : " (" + result.observers + " observers)";
-  std::printf("study %s (%s%s): %zu participant(s)%s, %d excluded; test: exact binomial, %s, H0 1/2, Holm, alpha %s\n",
-              result.study.c_str(), result.rules().name.data(),
+  // Ramps and sliders have no binomial tests: their thresholds are per participant.
+  const bool per_condition = result.protocol != ProtocolKind::ramp && result.protocol != ProtocolKind::slider;
+  const std::string test = per_condition ? "; test: exact binomial, " + std::string(analysis::alternative_name(result.alternative)) +
+                                               ", H0 1/2, Holm, alpha " + format_number(result.alpha, 6)
+                                         : "; thresholds per participant, then their mean";
+  std::printf("study %s (%s%s): %zu participant(s)%s, %d excluded%s\n", result.study.c_str(), result.rules().name.data(),
               result.rules().question_name.empty() ? "" : (" " + std::string(result.rules().question_name)).c_str(),
-              result.participants.size(), observers.c_str(), excluded, analysis::alternative_name(result.alternative),
-              format_number(result.alpha, 6).c_str());
+              result.participants.size(), observers.c_str(), excluded, test.c_str());
   for (const auto& threshold : result.thresholds) {
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
                 threshold.level ? format_number(*threshold.level, 6).c_str() : "none");

@@ -167,9 +167,13 @@ void run_bench(const BenchOptions& options) {
   const int width = options.settings.width;
   const int height = options.settings.height;
   std::printf("fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
-              "%.1f px\n%s",
+              "%.1f px\n%s\n%s",
               context.description.name.c_str(), width, height, options.repeats, plan.flip_pixels_per_degree,
-              plan.gaze_x_px, plan.gaze_y_px, plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
+              plan.gaze_x_px, plan.gaze_y_px,
+              display_line(plan.display, has_display(options.foveation.display) ? ""
+                                                                                 : "FIPR's default, a 24-inch display at 600 mm")
+                  .c_str(),
+              plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
   std::fflush(stdout);
 
   nlohmann::json rows = nlohmann::json::array();
@@ -190,6 +194,7 @@ void run_bench(const BenchOptions& options) {
     cells.push_back(std::move(cell));
   };
 
+  const auto progress = step_progress("bench", int(scenes.size() * plan.times_s.size() * options.spps.size()));
   for (const SceneSource& scene : scenes) {
     // One tracer serves every method: a FIPR sequence starts at frame 0 (no history needed), and GT
     // and IPR frames run only between sequences.
@@ -289,6 +294,8 @@ void run_bench(const BenchOptions& options) {
         add_cell(cell);
         if (!options.out_dir.empty()) write_frame_images(options.out_dir, image_stem, runs.frame, model_settings);
       }
+      progress(scene.name + (several_times ? ", t " + format_number(time_s, 6) : std::string()) + ", " +
+               std::to_string(spp) + " spp");
     }
   }
   fail_on_validation_messages(context);

@@ -55,7 +55,7 @@ Image zones_over_frame(const Image& zones, const Image& frame_display) {
 }
 
 void run_blend(BlendOptions options) {
-  default_to_seed001_display(options.display);
+  const std::string assumed_display = default_to_seed001_display(options.display);
   check_image_output_path(options.out, "--out");
   if (!options.zones_out.empty()) check_image_output_path(options.zones_out, "--zones-out");
   if (options.repeats < 0 || options.repeats > 1000)
@@ -92,6 +92,7 @@ void run_blend(BlendOptions options) {
               "GPU -> %s\n",
               options.frame.c_str(), frame.width, frame.height, gaze_x, gaze_y, bounds.foveal_deg, bounds.middle_deg,
               bounds.band_deg, zone_buffers_ms, result.gpu_ms, options.out.c_str());
+  std::printf("%s\n", display_line(display, assumed_display).c_str());
   if (options.repeats > 0) print_blend_timing(timing);
 }
 

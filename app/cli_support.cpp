@@ -20,6 +20,15 @@ vk::ContextOptions context_options(const std::string& device_selector) {
   return {device_selector, vk::validation_requested_by_default()};
 }
 
+std::string duration_text(double seconds) {
+  const long total = std::lround(std::max(0.0, seconds));
+  char text[32];
+  if (total >= 3600) std::snprintf(text, sizeof text, "%ldh%02ldm", total / 3600, (total / 60) % 60);
+  else if (total >= 60) std::snprintf(text, sizeof text, "%ldm%02lds", total / 60, total % 60);
+  else std::snprintf(text, sizeof text, "%lds", total);
+  return text;
+}
+
 std::function<void(double)> percent_progress(const std::string& what) {
   struct State {
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
@@ -34,8 +43,24 @@ std::function<void(double)> percent_progress(const std::string& what) {
     if (!state->terminal && percent < 100 && percent / 10 == std::max(state->shown, 0) / 10 && state->shown >= 0) return;
     state->shown = percent;
     const double eta_s = share > 0.0 ? elapsed_s * (1.0 - share) / share : 0.0;
-    std::fprintf(stderr, state->terminal ? "\r%s: %3d %%, ETA %.0f s   " : "%s: %d %%, ETA %.0f s\n", what.c_str(), percent, eta_s);
+    std::fprintf(stderr, state->terminal ? "\r%s: %3d %%, ETA %s   " : "%s: %d %%, ETA %s\n", what.c_str(), percent,
+                 duration_text(eta_s).c_str());
     if (state->terminal && percent == 100) std::fprintf(stderr, "\n");
+  };
+}
+
+std::function<void(const std::string&)> step_progress(const std::string& what, int total) {
+  struct State {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    int done = 0;
+  };
+  auto state = std::make_shared<State>();
+  return [state, what, total](const std::string& step) {
+    ++state->done;
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - state->start).count();
+    const double eta_s = elapsed_s / state->done * std::max(0, total - state->done);
+    std::fprintf(stderr, "%s: %d/%d (%s) after %s, ETA %s\n", what.c_str(), state->done, total, step.c_str(),
+                 duration_text(elapsed_s).c_str(), duration_text(eta_s).c_str());
   };
 }
 

@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "foveation/voronoi_reconstruction.h"
+#include "renderer/prerender/frame_cache.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/context.h"
 
@@ -24,11 +26,19 @@ bool display_available();
 
 // Where the Voronoi sampling masks and their weights are cached (foveation/voronoi_reconstruction.h),
 // under the working directory as the pre-render cache is.
-inline const std::filesystem::path kVoronoiCacheFolder = "stimuli/cache/voronoi";
+inline const std::filesystem::path kVoronoiCacheFolder = voronoi_cache_folder(kDefaultCacheRoot);
+
+// Seconds as "42s", "3m07s" or "2h05m".
+std::string duration_text(double seconds);
 
 // A progress report for work measured as a share done (0 to 1): silent for the first second, then on
 // a terminal one line rewritten in place ("what: 42 %, ETA 12 s"), otherwise a line every 10 %.
 std::function<void(double)> percent_progress(const std::string& what);
+
+// A progress report for work in `total` steps of similar cost: each call (after a step, naming it)
+// prints one line to stderr, "what: 3/12 (temple, 16 spp) after 41 s, ETA 2 min", so that lines
+// interleave cleanly with a table printed on stdout.
+std::function<void(const std::string&)> step_progress(const std::string& what, int total);
 
 // --time, --levels, --min-filter, --max-steps, --hit-threshold.
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings);

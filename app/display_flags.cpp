@@ -1,5 +1,7 @@
 #include "app/display_flags.h"
 
+#include <cstdio>
+
 #include <charconv>
 #include <cmath>
 
@@ -52,9 +54,27 @@ void add_display_flags(CLI::App& command, DisplayFlags& flags, bool required) {
   command.add_option("--gaze", flags.gaze, "Gaze point X,Y in pixels (default: the centre, W/2,H/2)");
 }
 
-void default_to_seed001_display(DisplayFlags& flags) {
-  if (flags.diagonal_in.empty() && flags.size_mm.empty()) flags.diagonal_in = "27";
-  if (flags.distance_mm.empty()) flags.distance_mm = "500";
+std::string default_to_seed001_display(DisplayFlags& flags) {
+  std::string assumed;
+  if (flags.diagonal_in.empty() && flags.size_mm.empty()) {
+    flags.diagonal_in = "27";
+    assumed = "seed 001's 27-inch monitor";
+  }
+  if (flags.distance_mm.empty()) {
+    flags.distance_mm = "500";
+    assumed += std::string(assumed.empty() ? "" : " ") + "at 500 mm";
+  }
+  return assumed;
+}
+
+std::string display_line(const DisplayGeometry& display, const std::string& assumed) {
+  char text[160];
+  std::snprintf(text, sizeof text, "display %dx%d px, %.1fx%.1f mm at %g mm, %.1f px/deg at the centre", display.width_px,
+                display.height_px, display.width_mm, display.height_mm, display.viewing_distance_mm,
+                display.pixels_per_degree_at_centre());
+  std::string line = text;
+  if (!assumed.empty()) line += " (assumed: " + assumed + "; set --diagonal-in or --size-mm, and --distance-mm)";
+  return line;
 }
 
 bool has_display(const DisplayFlags& flags) {

@@ -21,8 +21,15 @@ struct DisplayFlags {
 };
 
 // Fills in what `flags` leaves out with seed 001's set-up (sections 4.1, 4.3), the default of the
-// emulated foveated path tracer's commands (blend, bench-fpt): a 27-inch 16:9 monitor at 500 mm.
-void default_to_seed001_display(DisplayFlags& flags);
+// commands that need a display and are not FIPR's (blend, resample, voronoi, bench-fpt, render and
+// bench-volume): a 27-inch 16:9 monitor at 500 mm. Returns what was assumed ("" when nothing was),
+// for display_line.
+std::string default_to_seed001_display(DisplayFlags& flags);
+
+// One line for a command's output saying which display its figures assume, e.g. "display 1280x720
+// px, 597.7x336.2 mm at 500 mm, 46.1 px/deg at the centre (assumed: seed 001's 27-inch monitor at
+// 500 mm; set --diagonal-in or --size-mm, and --distance-mm)"; `assumed` "": the flags gave it.
+std::string display_line(const DisplayGeometry& display, const std::string& assumed);
 
 // `required`: the command needs a display (exactly one size flag and the distance); otherwise they
 // may all be left out (has_display false).

@@ -34,6 +34,7 @@ struct PrerenderOptions {
   std::string config;
   std::string shard = "0/1";
   std::string device;
+  std::string cache = kDefaultCacheRoot.string();
 };
 
 struct Shard {
@@ -78,15 +79,6 @@ std::vector<FrameJob> frame_jobs(const StudyPlan& plan) {
   return jobs;
 }
 
-std::string duration_text(double seconds) {
-  const long total = std::lround(std::max(0.0, seconds));
-  char text[32];
-  if (total >= 3600) std::snprintf(text, sizeof text, "%ldh%02ldm", total / 3600, (total / 60) % 60);
-  else if (total >= 60) std::snprintf(text, sizeof text, "%ldm%02lds", total / 60, total % 60);
-  else std::snprintf(text, sizeof text, "%lds", total);
-  return text;
-}
-
 void print_progress(bool terminal, int done, int total, double seconds_per_frame, const std::string& file) {
   const double eta_s = seconds_per_frame * (total - done);
   if (!terminal) {
@@ -116,7 +108,7 @@ void run_prerender(const PrerenderOptions& options) {
   for (size_t i = size_t(shard.index); i < all_jobs.size(); i += size_t(shard.count)) jobs.push_back(all_jobs[i]);
 
   vk::Context context(context_options(options.device));
-  FrameCache cache(context, kDefaultCacheRoot);
+  FrameCache cache(context, options.cache);
   std::vector<const FrameJob*> missing;
   for (const FrameJob& job : jobs)
     if (!cache.has_frame(job.sequence, job.frame)) missing.push_back(&job);
@@ -158,6 +150,7 @@ void add_prerender_command(CLI::App& app) {
   command->add_option("config", options->config, "Study config (TOML) with pt or fpt stimuli")->required();
   command->add_option("--shard", options->shard, "I/N: render frames I, I + N, I + 2N, ... of the list (default 0/1)");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
+  command->add_option("--cache", options->cache, "Pre-render cache folder (default stimuli/cache under the working directory)");
   command->callback([options] { run_prerender(*options); });
 }
 

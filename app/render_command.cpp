@@ -150,6 +150,10 @@ void run_render(const RenderOptions& options) {
   if (model) std::printf(", %s; %llu samples traced", sampling_summary(*settings.sampling).c_str(),
                          static_cast<unsigned long long>(result.shaded_samples));
   std::printf(" -> %s\n", options.out.c_str());
+  if (foveated || model)
+    std::printf("%s\n", display_line(settings.foveation.display,
+                                      has_display(options.foveation.display) ? "" : "FIPR's default, a 24-inch display at 600 mm")
+                             .c_str());
 }
 }  // namespace
 

@@ -34,7 +34,7 @@ void run_render_volume(const VolumeRenderOptions& options) {
   }
   if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");
   DisplayFlags display_flags = options.display;
-  default_to_seed001_display(display_flags);
+  const std::string assumed_display = default_to_seed001_display(display_flags);
   const DisplayGeometry display = parse_display(display_flags, options.width_px, options.height_px);
   const auto [gaze_x, gaze_y] = parse_gaze(display_flags.gaze, options.width_px, options.height_px);
 
@@ -98,6 +98,7 @@ void run_render_volume(const VolumeRenderOptions& options) {
     std::printf(" (reconstruction %.2f ms), %llu rays: %.2f %% of the pixels", result.reconstruct_gpu_ms,
                 static_cast<unsigned long long>(result.rays), 100.0 * result.traced_share);
   std::printf(" -> %s\n", options.out.c_str());
+  if (options.foveated) std::printf("%s\n", display_line(display, assumed_display).c_str());
 }
 
 }  // namespace fovlab::app

@@ -56,6 +56,8 @@ void add_replay_command(CLI::App& app) {
   command->add_option("--min-ssim", options->replay.min_ssim, "SSIM a frame must reach with --reference-frames")
       ->check(CLI::Range(0.0, 1.0));
   command->add_option("--device", options->device, "Vulkan device: index or part of its name");
+  command->add_option("--cache", options->replay.cache_dir,
+                      "The pre-render cache the session used (default stimuli/cache under the working directory)");
   command->add_option("--lab-key", options->replay.lab_key_path, "The lab key the session ran with: verify its seals' MACs");
   command->callback([options] { replay(*options); });
 }

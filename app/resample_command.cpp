@@ -51,7 +51,7 @@ void run_resample(ResampleOptions options) {
   const std::optional<SamplingModel> model = parse_sampling_model(options.method);
   if (!model) throw std::logic_error("resample: --method is checked by CLI11");
   refuse_flags_unused_by(options.sampling_flags_given, {*model});
-  default_to_seed001_display(options.display);
+  const std::string assumed_display = default_to_seed001_display(options.display);
   check_image_output_path(options.out, "--out");
   if (!options.mask_out.empty()) check_image_output_path(options.mask_out, "--mask-out");
   if (!options.density_out.empty()) check_image_output_path(options.density_out, "--density-out");
@@ -105,6 +105,7 @@ void run_resample(ResampleOptions options) {
               static_cast<unsigned long long>(result.shaded_samples), gpu_ms[gpu_ms.size() / 2], options.repeats);
   std::printf("against the frame: SSIM %.4f, PSNR %s, FLIP %.4f, FPSNR %s -> %s\n", errors.ssim,
               optional_db(errors.psnr_db).c_str(), errors.flip, optional_db(errors.fpsnr_db).c_str(), options.out.c_str());
+  std::printf("%s\n", display_line(where.display, assumed_display).c_str());
 }
 
 }  // namespace

@@ -37,6 +37,8 @@ void run(RunOptions options) {
   const vk::ContextOptions context = context_options(options.device);
   session.device_selector = context.device_selector;
   session.validation = context.validation;
+  session.prepare_progress = percent_progress("preparing stimuli");
+  if (session.headless) session.trial_progress = percent_progress("trials");
   const SessionOutcome outcome = run_session(config, session);
   std::printf("%s: %s%s%s, %d of %d trials complete%s\n", outcome.log_path.c_str(),
               outcome.resumed ? "resumed" : "new session", session.headless ? " (headless, virtual clock)" : "",
@@ -82,7 +84,13 @@ void add_run_command(CLI::App& app) {
                       "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
                       "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: mouse, or synthetic headless; "
                       "the trace format and the options: docs/gaze.md)");
-  command->add_option("--results", options->session.results_dir, "Results folder (default: results)");
+  CLI::Option* results = command->add_option(
+      "--results", options->session.results_dir,
+      "Results folder (default: results, and results/simulated for a simulated observer, so that pilots never share a "
+      "folder with real participants)");
+  command->add_option("--cache", options->session.cache_dir,
+                      "Pre-render cache of path-traced frames and Voronoi masks (default stimuli/cache under the "
+                      "working directory)");
   command->add_option("--screenshots", options->session.screenshots_dir,
                       "Save the first screen of each kind here as PNG (instructions, stimulus, question, break, "
                       "rest, end), headless too");
@@ -94,7 +102,10 @@ void add_run_command(CLI::App& app) {
   command->add_option("--lab-key", options->session.lab_key_path,
                       "Key file (16-4096 bytes, kept outside the results folder): seals the log with an HMAC, so "
                       "a changed log cannot be re-sealed without the key");
-  command->callback([options] { run(*options); });
+  command->callback([options, results] {
+    if (results->count() == 0 && !options->session.observer.empty()) options->session.results_dir = "results/simulated";
+    run(*options);
+  });
 }
 
 }  // namespace fovlab::app

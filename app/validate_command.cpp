@@ -1,9 +1,14 @@
 // fovlab validate: checks a study config and prints the schedule it makes (trials, blocks, time).
+#include <chrono>
 #include <cstdio>
+#include <map>
 #include <set>
+#include <string>
 #include <vector>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
+#include "renderer/vk/context.h"
 #include "study/config/study_config.h"
 #include "study/schedule/study_plan.h"
 #include "protocols/stimuli/stimulus_library.h"
@@ -12,7 +17,81 @@
 namespace fovlab::app {
 namespace {
 
-void validate(const std::string& config_path, const std::string& participant) {
+// Seconds of one call, wall clock.
+template <typename Work>
+double timed_s(Work&& work) {
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The render time a session spends before its first trial, from a quick timed sample: for each
+// (method, scene) of the stimuli rendered ahead, the first stimulus's first, middle and last
+// frames (after one untimed frame that compiles the scene), their mean times the group's frames;
+// for the stimuli rendered live with the gaze, one frame against the refresh period. Path-traced
+// frames come from the pre-render cache and are not timed here (prerender has its own ETA).
+void estimate_render_time(const StudyPlan& plan, const std::string& device) {
+  vk::Context context(context_options(device));
+  StimulusLibrary library(context);
+  struct Group {
+    const PlannedStimulus* first = nullptr;
+    int stimuli = 0;
+    long frames = 0;
+  };
+  std::map<std::pair<std::string, std::string>, Group> ahead, live;
+  int path_traced = 0;
+  for (const PlannedStimulus& stimulus : plan.stimuli) {
+    const StimulusSpec& spec = stimulus.spec;
+    if (is_path_traced(spec.method())) {
+      ++path_traced;
+      continue;
+    }
+    Group& group = (describe(spec.method()).depends_on_gaze ? live : ahead)[{std::string(describe(spec.method()).name), spec.scene}];
+    if (!group.first) group.first = &stimulus;
+    ++group.stimuli;
+    group.frames += spec.frame_count;
+  }
+  int next_id = 0;
+  double ahead_s = 0.0;
+  for (const auto& [key, group] : ahead) {
+    const StimulusSpec& spec = group.first->spec;
+    StimulusSpec one = spec;
+    one.frame_count = 1;
+    library.prepare({{next_id++, one}});  // compiles the scene: not timed
+    double sum_s = 0.0;
+    const int samples[] = {0, spec.frame_count / 2, spec.frame_count - 1};
+    for (int frame : samples) {
+      one.camera_start_s = spec.frame_time_s(frame);  // that frame's camera, as frame 0 of a copy
+      sum_s += timed_s([&] { library.prepare({{next_id++, one}}); });
+    }
+    const double frame_s = sum_s / 3.0;
+    ahead_s += frame_s * double(group.frames);
+    std::printf("  %-8s %-24s %3d stimuli x %ld frames in all, %.1f ms a frame\n", key.first.c_str(), key.second.c_str(),
+                group.stimuli, group.frames, 1e3 * frame_s);
+  }
+  const double refresh_ms = 1e3 / plan.config.display.refresh_hz;
+  for (const auto& [key, group] : live) {
+    const StimulusSpec& spec = group.first->spec;
+    const int id = next_id++;
+    library.prepare({{id, spec}});
+    GazeSample centre;
+    centre.x_px = 0.5 * spec.width_px;
+    centre.y_px = 0.5 * spec.height_px;
+    library.frame(id, spec, StimulusImage{0, 0, centre});  // the first frame builds what the rest reuse
+    const double frame_s = timed_s([&] { library.frame(id, spec, StimulusImage{0, 1, centre}); });
+    std::printf("  %-8s %-24s %3d stimuli rendered live: %.1f ms a frame against a refresh of %.1f ms%s\n",
+                key.first.c_str(), key.second.c_str(), group.stimuli, 1e3 * frame_s, refresh_ms,
+                1e3 * frame_s > refresh_ms ? " (frames will be dropped on this device)" : "");
+  }
+  std::printf("render time before the first trial: about %s on %s (timed sample above)%s\n",
+              duration_text(ahead_s).c_str(), context.description.name.c_str(),
+              path_traced ? (", plus the path-traced frames missing from stimuli/cache (" + std::to_string(path_traced) +
+                             " stimuli; fovlab prerender renders them with an ETA)").c_str()
+                          : "");
+}
+
+void validate(const std::string& config_path, const std::string& participant, bool time_render,
+              const std::string& device) {
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, participant);
   const std::vector<StimulusSpec> specs = planned_specs(plan);
@@ -41,7 +120,8 @@ void validate(const std::string& config_path, const std::string& participant) {
               "%zu rendered live with the gaze)\n",
               plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
               double(prepared_frames_bytes(specs)) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
-  std::printf("expected duration %.1f min (1.5 s an answer)\n", minutes);
+  std::printf("expected duration %.1f min of trials (1.5 s an answer)\n", minutes);
+  if (time_render) estimate_render_time(plan, device);
 }
 
 }  // namespace
@@ -52,7 +132,14 @@ void add_validate_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("validate", "Check a study config and print its schedule summary");
   command->add_option("config", *config_path, "Study config (TOML)")->required();
   command->add_option("--participant", *participant, "Participant whose schedule to summarise (default P01)");
-  command->callback([config_path, participant] { validate(*config_path, *participant); });
+  auto no_timing = std::make_shared<bool>(false);
+  auto device = std::make_shared<std::string>();
+  command->add_flag("--no-render-timing", *no_timing,
+                    "Skip the quick timed sample that estimates the render time before the first trial");
+  command->add_option("--device", *device, "Vulkan device of the timed sample: index or part of its name");
+  command->callback([config_path, participant, no_timing, device] {
+    validate(*config_path, *participant, !*no_timing, *device);
+  });
 }
 
 }  // namespace fovlab::app

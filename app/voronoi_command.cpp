@@ -11,6 +11,7 @@
 #include "app/display_flags.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "foveation/voronoi_mask.h"
 
 namespace fovlab::app {
@@ -43,7 +44,7 @@ void run_voronoi(VoronoiOptions options) {
   if (!options.cells_out.empty()) check_image_output_path(options.cells_out, "--out-cells");
   if (!options.display.gaze.empty())
     throw InputError("--gaze: the mask is made once, centred; a session shifts it to each gaze sample");
-  default_to_seed001_display(options.display);
+  const std::string assumed_display = default_to_seed001_display(options.display);
   const DisplayGeometry display = parse_display(options.display, options.width_px, options.height_px);
   VoronoiMaskSettings settings;
   settings.screen_width_px = options.width_px;
@@ -70,9 +71,10 @@ void run_voronoi(VoronoiOptions options) {
   std::printf("mask %dx%d for a %dx%d screen, s %.2f px (%s): %zu sites after %d iterations (%s), %.2f s; "
               "%d rays on the screen with the gaze at the centre: %.2f %% of its pixels\n",
               mask.width_px, mask.height_px, options.width_px, options.height_px, settings.density_sigma_px,
-              options.sigma_px > 0.0 ? "--sigma-px" : (std::to_string(options.sigma_deg) + " deg").c_str(),
+              options.sigma_px > 0.0 ? "--sigma-px" : (format_number(options.sigma_deg, 6) + " deg").c_str(),
               mask.sites.size(), mask.iterations, mask.converged ? "converged" : "stopped at the limit", seconds,
               on_screen, 100.0 * on_screen / (double(options.width_px) * options.height_px));
+  std::printf("%s\n", display_line(display, assumed_display).c_str());
 
   if (!options.sites_out.empty()) {
     Image sites(mask.width_px, mask.height_px, 1);

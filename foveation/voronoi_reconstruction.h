@@ -45,6 +45,9 @@ VoronoiReconstruction make_voronoi_reconstruction(const VoronoiMaskSettings& set
 // The text that identifies a mask's settings (the cache's key; equal text, equal mask and weights).
 std::string voronoi_settings_key(const VoronoiMaskSettings& settings);
 
+// The Voronoi cache's folder inside a pre-render cache folder (stimuli/cache by default).
+inline std::filesystem::path voronoi_cache_folder(const std::filesystem::path& cache_root) { return cache_root / "voronoi"; }
+
 // The same through a cache in `cache_folder` (created if missing): a file named by the settings'
 // hash, written atomically; a file that is unreadable, damaged or of other settings is made anew.
 // `made`, when given, says whether it was computed (true) or read (false).

@@ -28,6 +28,7 @@ using json = nlohmann::ordered_json;  // keys in the documented order
 constexpr int kCsvDigits = 10;   // significant digits of numbers in the CSV files
 constexpr int kHtmlDigits = 4;   // ... and in the HTML tables (people read them)
 constexpr int kCurveSamples = 200;
+constexpr size_t kGroupsInOnePlot = 4;  // more groups: one share plot each
 
 // ---- text helpers ----------------------------------------------------------------------------
 
@@ -223,7 +224,7 @@ json thresholds_json(const AnalysisResult& result) {
     for (const LevelCounts& counts : group.data) {
       data.push_back({{"level", json_number(counts.level)},
                       {"n", counts.n},
-                      {"k", counts.k},
+                      {"k_difference", counts.k},
                       {"proportion", counts.n > 0 ? json_number(static_cast<double>(counts.k) /
                                                                 static_cast<double>(counts.n))
                                                   : json(nullptr)}});
@@ -364,6 +365,27 @@ json thresholds_json(const AnalysisResult& result) {
 
 // ---- plots -----------------------------------------------------------------------------------
 
+// Levels spaced evenly on a log scale (4, 8, 16, ..., or 1, 2, 5, 10, ...): all positive, at least
+// three, spanning a factor of 4 or more, with gaps more even in log than in linear terms. Their
+// plots get a log axis, where such levels are evenly spread instead of crowded at one end.
+bool log_spaced(std::vector<double> levels) {
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  if (levels.size() < 3 || !(levels.front() > 0.0) || levels.back() < 4.0 * levels.front()) return false;
+  const auto spread = [](const std::vector<double>& gaps) {  // coefficient of variation
+    double mean = 0.0, squares = 0.0;
+    for (double gap : gaps) mean += gap / double(gaps.size());
+    for (double gap : gaps) squares += (gap - mean) * (gap - mean) / double(gaps.size());
+    return std::sqrt(squares) / mean;
+  };
+  std::vector<double> linear, logarithmic;
+  for (size_t i = 1; i < levels.size(); ++i) {
+    linear.push_back(levels[i] - levels[i - 1]);
+    logarithmic.push_back(std::log(levels[i] / levels[i - 1]));
+  }
+  return spread(logarithmic) < spread(linear);
+}
+
 struct Plot {
   std::string file_name;
   std::string caption;
@@ -372,12 +394,14 @@ struct Plot {
 
 // Share of answers for the test stimulus per level (seed 000, Fig. 9), one series per group; rating
 // studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
-std::optional<Plot> share_per_level_plot(const AnalysisResult& result) {
+// `only`: the plot of that group alone (one of the small multiples drawn for many groups).
+std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std::optional<GroupKey>& only = std::nullopt) {
   const bool rating = is_rating(result);
   std::map<GroupKey, XySeries> by_group;
   std::vector<GroupKey> order;  // first appearance, so the legend follows the table
   for (const ConditionRow& row : result.conditions) {
     if (!row.level || !std::isfinite(*row.level) || row.n == 0) continue;
+    if (only && !(row.group == *only)) continue;
     double y = row.proportion;
     double lower = row.interval.lower;
     double upper = row.interval.upper;
@@ -398,12 +422,16 @@ std::optional<Plot> share_per_level_plot(const AnalysisResult& result) {
   }
   if (order.empty()) return std::nullopt;
   XyChart chart;
-  chart.title = result.study + (rating ? ": mean rating per level" : ": share for the test stimulus per level");
+  // One meaning per title: the share of trials in favour of the test, named as the protocol counts it.
+  const std::string favour(result.rules().judged_words);
+  chart.title = result.study + (only ? ", " + only->label() : std::string()) +
+                (rating ? ": mean rating per level" : ": share of trials the test was " + favour + ", per level");
   chart.x_label = level_axis_label(result);
-  chart.y_label = rating ? "mean rating (1-3), bars: ±1 SD" : "share k/n, bars: 95 % Clopper-Pearson";
+  chart.y_label = rating ? "mean rating (1-3), bars: ±1 SD" : "share " + favour + " (k/n), bars: 95 % Clopper-Pearson";
   chart.y_min = rating ? 1.0 : 0.0;
   chart.y_max = rating ? 3.0 : 1.0;
   chart.horizontal_lines = {rating ? result.rating_cutoff : 0.5};
+  chart.x_log = log_spaced(result.levels);
   // With several groups, each is shifted a little along x (about 6 px apart, at most 30 % of the
   // smallest gap between levels) so points and bars at one level do not hide each other.
   double offset_step = 0.0;
@@ -419,10 +447,17 @@ std::optional<Plot> share_per_level_plot(const AnalysisResult& result) {
                              0.3 * gap / static_cast<double>(order.size() - 1));
     }
   }
+  if (chart.x_log) {  // the same shift as a share of the log range: a factor, not a difference
+    offset_step = 0.0;
+    if (order.size() > 1 && !result.levels.empty()) {
+      const auto [lowest, highest] = std::minmax_element(result.levels.begin(), result.levels.end());
+      offset_step = 0.017 * std::log10(*highest / *lowest);
+    }
+  }
   for (std::size_t g = 0; g < order.size(); ++g) {
     XySeries series = by_group[order[g]];
     const double offset = offset_step * (static_cast<double>(g) - static_cast<double>(order.size() - 1) / 2);
-    for (double& x : series.x) x += offset;
+    for (double& x : series.x) x = chart.x_log ? x * std::pow(10.0, offset) : x + offset;
     series.label = order[g].label();
     series.style = XySeries::Style::points;
     chart.series.push_back(std::move(series));
@@ -430,8 +465,9 @@ std::optional<Plot> share_per_level_plot(const AnalysisResult& result) {
   Plot plot;
   plot.file_name = "share_per_level.svg";
   plot.caption = rating ? "Mean rating per level and group (bars: ±1 SD); dashed: the cutoff 2 (minimal difference)."
-                        : "Share of answers in favour of the test stimulus per level and group (bars: 95 % "
-                          "Clopper-Pearson intervals); dashed: 1/2, the null hypothesis of the test.";
+                        : "Share of trials where the test was " + std::string(result.rules().judged_words) +
+                              ", per level and group (bars: 95 % Clopper-Pearson intervals); dashed: 1/2, the null "
+                              "hypothesis of the test.";
   if (offset_step > 0.0) plot.caption += " Groups are shifted slightly along x to keep them apart.";
   plot.svg = render_xy_chart_svg(chart);
   return plot;
@@ -463,11 +499,13 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
     }
   }
   XyChart chart;
-  chart.title = group.group.label() + ": P(difference reported)";
+  // The complement of the share plot's quantity: what the psychometric function models.
+  chart.title = group.group.label() + ": P(difference reported) = 1 - share " + std::string(result.rules().judged_words);
   chart.x_label = level_axis_label(result);
   chart.y_label = "P(difference reported)";
   chart.y_min = 0.0;
   chart.y_max = 1.0;
+  chart.x_log = log_spaced(result.levels) && lo > 0.0;
   if (!data.x.empty()) chart.series.push_back(data);
   if (lo < hi) {
     for (const PsychometricFit& fit : group.fits) {
@@ -478,7 +516,8 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
           fit.model.shape == PsychometricShape::cumulative_normal ? "normal" : shape_name(fit.model.shape);
       curve.label = shape + ", threshold " + format_number(fit.model.parameters.threshold, kHtmlDigits);
       for (int i = 0; i < kCurveSamples; ++i) {
-        const double level = lo + (hi - lo) * i / (kCurveSamples - 1);
+        const double t = double(i) / (kCurveSamples - 1);
+        const double level = chart.x_log ? lo * std::pow(hi / lo, t) : lo + (hi - lo) * t;
         curve.x.push_back(level);
         curve.y.push_back(fit.model.p_report(level));
       }
@@ -605,9 +644,10 @@ std::string html_row(const std::vector<std::string>& cells, bool header = false)
 }
 
 std::string html_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
-  std::string table = "<table>\n<thead>" + html_row(header, true) + "</thead>\n<tbody>\n";
+  // In a box that scrolls sideways, so a wide table never runs off the page.
+  std::string table = "<div class=\"table\"><table>\n<thead>" + html_row(header, true) + "</thead>\n<tbody>\n";
   for (const auto& row : rows) table += html_row(row);
-  return table + "</tbody>\n</table>\n";
+  return table + "</tbody>\n</table></div>\n";
 }
 
 // The SVG document as an inline element: HTML needs no namespace declaration, and without it the
@@ -622,8 +662,9 @@ std::string inline_svg(const std::string& svg) {
 
 constexpr const char* kStyle = R"(body{font-family:sans-serif;margin:2em auto;max-width:1100px;padding:0 1em;color:#222}
 h1{font-size:1.6em}h2{font-size:1.25em;margin-top:2em;border-bottom:1px solid #ccc}
-table{border-collapse:collapse;margin:0.5em 0;font-size:0.9em}
-th,td{border:1px solid #ccc;padding:0.25em 0.5em;text-align:left;vertical-align:top}
+div.table{overflow-x:auto;max-width:100%}
+table{border-collapse:collapse;margin:0.5em 0;font-size:0.85em}
+th,td{border:1px solid #ccc;padding:0.25em 0.4em;text-align:left;vertical-align:top;max-width:24em}
 th{background:#f0f0f0}tbody tr:nth-child(even){background:#fafafa}
 dl{display:grid;grid-template-columns:max-content auto;gap:0.2em 1em}dt{font-weight:bold}dd{margin:0}
 figure{margin:1em 0}figcaption{font-size:0.9em;color:#555;max-width:720px}
@@ -660,9 +701,13 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   item("Observers", result.observers == "human" ? "human (real participants)"
                     : result.observers == "simulated" ? "simulated observers only: not real participants' data"
                                                       : "human and simulated, pooled on request (--observers all)");
-  item("Test", test_description(result));
-  item("Guess rate of the fits",
-       html_number(result.guess_rate) + (result.guess_rate_source.empty() ? "" : " (" + result.guess_rate_source + ")"));
+  // Ramps and sliders have no per-condition tests or fits: their thresholds are per participant.
+  const bool per_condition = result.protocol != ProtocolKind::ramp && result.protocol != ProtocolKind::slider;
+  if (per_condition) {
+    item("Test", test_description(result));
+    item("Guess rate of the fits",
+         html_number(result.guess_rate) + (result.guess_rate_source.empty() ? "" : " (" + result.guess_rate_source + ")"));
+  }
   html += "</dl>\n";
   if (!result.inputs.empty()) {
     html += "<details><summary>Session logs read</summary>\n<ul>\n";
@@ -736,7 +781,12 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
             html_escape(plot.file_name) + ")</figcaption>\n</figure>\n";
   }
 
-  html += "<h2 id=\"fits\">Psychometric fits</h2>\n";
+  if (!per_condition) {
+    html += "<p>The " + std::string(result.rules().name) +
+            " protocol has no per-condition tests or psychometric fits: its threshold is defined per participant "
+            "(Thresholds above; per ramp or per saved level in Participants below).</p>\n";
+  }
+  if (per_condition) html += "<h2 id=\"fits\">Psychometric fits</h2>\n";
   std::vector<std::vector<std::string>> fit_rows;
   std::vector<std::string> not_fitted;
   for (const GroupFit& group : result.fits) {
@@ -756,7 +806,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     for (const std::string& reason : group.not_fitted) not_fitted.push_back(group.group.label() + ": " + reason);
   }
   if (fit_rows.empty()) {
-    html += "<p>No fits.</p>\n";
+    if (per_condition) html += "<p>No fits.</p>\n";
   } else {
     html += html_table({"scene", "variant", "shape", "direction", "threshold", "threshold CI", "slope", "slope CI",
                         "lapse", "lapse CI", "guess", "deviance", "dof", "p (deviance)", "log L", "converged",
@@ -769,10 +819,12 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     html += "</ul>\n";
   }
 
-  html += "<h2 id=\"conditions\">Conditions</h2>\n<p>Test: " + html_escape(test_description(result)) +
-          "; k counts the answers in favour of the test stimulus; CI: 95 % Clopper-Pearson.</p>\n";
+  if (per_condition)
+    html += "<h2 id=\"conditions\">Conditions</h2>\n<p>Test: " + html_escape(test_description(result)) +
+            "; k counts the trials where the test was " + std::string(result.rules().judged_words) +
+            "; CI: 95 % Clopper-Pearson.</p>\n";
   if (result.conditions.empty()) {
-    html += "<p>No conditions.</p>\n";
+    if (per_condition) html += "<p>No conditions.</p>\n";
   } else {
     const bool ratings = std::any_of(result.conditions.begin(), result.conditions.end(),
                                      [](const ConditionRow& row) { return row.mean_rating.has_value(); });
@@ -859,7 +911,21 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
 
   std::set<std::string> taken = {"share_per_level.svg"};
   std::vector<Plot> plots;
-  if (auto plot = share_per_level_plot(result)) plots.push_back(std::move(*plot));
+  // Up to four groups share one plot; more get one plot each (small multiples), which stay readable.
+  std::vector<GroupKey> groups;
+  for (const ConditionRow& row : result.conditions)
+    if (row.level && std::find(groups.begin(), groups.end(), row.group) == groups.end()) groups.push_back(row.group);
+  if (groups.size() <= kGroupsInOnePlot) {
+    if (auto plot = share_per_level_plot(result)) plots.push_back(std::move(*plot));
+  } else {
+    for (const GroupKey& group : groups)
+      if (auto plot = share_per_level_plot(result, group)) {
+        std::string stem = "share_per_level_" + safe_name(group.scene);
+        if (!group.variant.empty()) stem += "_" + safe_name(group.variant);
+        plot->file_name = unique_svg_name(stem, taken);
+        plots.push_back(std::move(*plot));
+      }
+  }
   for (Plot& plot : rating_grid_plots(result, taken)) plots.push_back(std::move(plot));
   for (const GroupFit& group : result.fits) {
     if (auto plot = psychometric_plot(result, group, taken)) plots.push_back(std::move(*plot));

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <utility>
@@ -94,6 +95,7 @@ struct Axis {
   double hi = 1.0;
   double step = 0.2;
   std::vector<double> ticks;
+  bool log = false;  // positions and ticks are log10 of the values; labels are the values
 };
 
 // The finite extent of some values (lo > hi while there is none).
@@ -226,7 +228,9 @@ std::string draw_axes(const Frame& frame, const std::string& x_label, const std:
            attr("y2", frame.py(tick)) + "/>\n";
   }
   out += "</g>\n";
-  for (double tick : frame.x.ticks) out += text_at(frame.px(tick), frame.bottom + 18, tick_label(tick, frame.x.step), "middle");
+  for (double tick : frame.x.ticks)
+    out += text_at(frame.px(tick), frame.bottom + 18,
+                   frame.x.log ? format_number(std::pow(10.0, tick), 4) : tick_label(tick, frame.x.step), "middle");
   for (double tick : frame.y.ticks) out += text_at(frame.left - 8, frame.py(tick) + 4, tick_label(tick, frame.y.step), "end");
   if (!x_label.empty()) out += text_at((frame.left + frame.right) / 2, kHeight - 14, x_label, "middle", " font-size=\"13\"");
   if (!y_label.empty()) {
@@ -419,7 +423,42 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
-std::string render_xy_chart_svg(const XyChart& chart) {
+// The chart on a log10 x axis: every x (points, band ends, fixed bounds) replaced by its log10;
+// x <= 0 becomes NaN (left out).
+XyChart to_log_x(XyChart chart) {
+  const auto log_x = [](double x) { return x > 0.0 ? std::log10(x) : std::numeric_limits<double>::quiet_NaN(); };
+  for (XySeries& series : chart.series)
+    for (double& x : series.x) x = log_x(x);
+  for (XBand& band : chart.bands) {
+    band.x_lower = log_x(band.x_lower);
+    band.x_upper = log_x(band.x_upper);
+  }
+  if (chart.x_min) chart.x_min = log_x(*chart.x_min);
+  if (chart.x_max) chart.x_max = log_x(*chart.x_max);
+  chart.x_log = false;
+  return chart;
+}
+
+// Ticks of a log10 axis over [lo, hi] (log10 units): 1, 2, 5 x 10^k inside, or only 10^k when
+// those are more than 10, or every integer multiple when fewer than 3.
+std::vector<double> log_ticks(double lo, double hi) {
+  const auto ticks_of = [&](std::initializer_list<double> mantissas) {
+    std::vector<double> ticks;
+    for (int k = int(std::floor(lo)) - 1; k <= int(std::ceil(hi)) + 1 && ticks.size() < 60; ++k)
+      for (double m : mantissas) {
+        const double t = k + std::log10(m);
+        if (t >= lo - 1e-9 && t <= hi + 1e-9) ticks.push_back(t);
+      }
+    return ticks;
+  };
+  std::vector<double> ticks = ticks_of({1, 2, 5});
+  if (ticks.size() > 10) ticks = ticks_of({1});
+  if (ticks.size() < 3) ticks = ticks_of({1, 2, 3, 4, 5, 6, 7, 8, 9});
+  return ticks;
+}
+
+std::string render_xy_chart_svg(const XyChart& requested) {
+  const XyChart chart = requested.x_log ? to_log_x(requested) : requested;
   // Data extents: every finite point, error bar end, band edge and reference line; bars reach 0.
   Extent x_extent;
   Extent y_extent;
@@ -470,6 +509,10 @@ std::string render_xy_chart_svg(const XyChart& chart) {
   if (!legend.empty()) frame.right = kWidth - kLegendWidth;
   frame.x = make_axis(x_extent, chart.x_min, chart.x_max, false);
   frame.y = make_axis(y_extent, chart.y_min, chart.y_max, false);
+  if (requested.x_log) {
+    frame.x.log = true;
+    frame.x.ticks = log_ticks(frame.x.lo, frame.x.hi);
+  }
 
   std::string out = svg_open(chart.title);
   out += draw_axes(frame, chart.x_label, chart.y_label);

@@ -47,6 +47,10 @@ struct XyChart {
   // out to ticks. Points outside a fixed range are not drawn; lines, bars, bands and error
   // bars are clamped to the plot area.
   std::optional<double> x_min, x_max, y_min, y_max;
+  // A logarithmic x axis (for log-spaced levels such as 4, 8, ..., 128): positions by log10(x),
+  // ticks at 1, 2 and 5 times the powers of ten in range (only the powers when there are many),
+  // labelled with their values. Points and band ends at x <= 0 are left out.
+  bool x_log = false;
   std::vector<XySeries> series;       // drawn in order, coloured by index
   std::vector<XBand> bands;          // drawn first, under everything else
   std::vector<double> horizontal_lines;  // e.g. 0.5 or a score cutoff, dashed

@@ -119,7 +119,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   outcome.comparison = by_ssim ? "ssim" : "hash";
   if (!options.frames_out.empty()) fs::create_directories(options.frames_out);
 
-  StimulusLibrary library(context);
+  StimulusLibrary library(context, options.cache_dir);
   // Frames of gaze-independent stimuli are rendered once, by (stimulus, frame). Every image of a
   // gaze-dependent stimulus (fipr) is rendered again, in the order of its presentation, with its
   // logged gaze and its position in the stimulus event's arrays as the presentation's image index

@@ -22,6 +22,7 @@ struct ReplayOptions {
   bool validation = false;
   int max_differences = 20;       // the list stops after this many
   std::string lab_key_path;       // --lab-key: verify the seals' MACs of a keyed log
+  std::string cache_dir = "stimuli/cache";  // the pre-render cache (path-traced frames, Voronoi masks)
 };
 
 struct ReplayOutcome {

@@ -260,10 +260,10 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (outcome.frame_path == "via_host")
     std::fprintf(stderr, "fovlab: rendering on '%s', presenting on '%s': frames are copied through the host\n",
                  context.description.name.c_str(), window->device_name().c_str());
-  StimulusLibrary library(context);
+  StimulusLibrary library(context, options.cache_dir);
   std::vector<std::pair<int, StimulusSpec>> all;
   for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
-  outcome.prepare_s = library.prepare(all);  // scene errors surface here, before any event is written
+  outcome.prepare_s = library.prepare(all, options.prepare_progress);  // scene errors surface here, before any event is written
   test_pause_point("prepared");
   std::unique_ptr<ResponseSource> responses;
   if (observer_model) responses = std::make_unique<ObserverResponses>(*observer_model, plan);

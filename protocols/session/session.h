@@ -17,6 +17,12 @@ struct SessionOptions {
   std::string results_dir = "results";
   std::string observer;           // "" for a human at the keys, else "simulated[:k=v,...]"
   std::string gaze;               // "" for the default: mouse in a window, synthetic headless
+  std::string cache_dir = "stimuli/cache";  // the pre-render cache (path-traced frames, Voronoi masks)
+  // Hears the share of the stimuli prepared (0 to 1) while they render before the first trial.
+  std::function<void(double)> prepare_progress;
+  // Hears the share of the schedule's trials done after each trial (a headless pilot runs for
+  // minutes with nothing on screen).
+  std::function<void(double)> trial_progress;
   bool headless = false;
   std::string device_selector;    // --device: renders (and, in a window, presents unless present_device_selector)
   std::string present_device_selector;  // --present-device: a window on another device (frames copied through the host)

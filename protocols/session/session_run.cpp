@@ -243,6 +243,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       }
     }
     log(to_json(TrialEndEvent{{}, trial.index}));
+    if (options_.trial_progress) options_.trial_progress(double(index + 1) / double(plan_.trials.size()));
     if (checks_on && attention_errors >= config.attention.max_errors) return exclude(false, trial.index + 1);
     show_black(config.timing.inter_trial_s);
   }

@@ -119,7 +119,7 @@ VolumeRaycaster& StimulusLibrary::raycaster_for(const StimulusSpec& spec) {
     volume = volumes_.emplace(spec.scene, std::pair{std::move(scene), std::move(grid)}).first;
   }
   auto raycaster = std::make_unique<VolumeRaycaster>(context_, volume->second.first, volume->second.second);
-  if (mask) raycaster->set_reconstruction(cached_voronoi_reconstruction(*mask, cache_root_ / "voronoi"));
+  if (mask) raycaster->set_reconstruction(cached_voronoi_reconstruction(*mask, voronoi_cache_folder(cache_root_)));
   return *raycasters_.emplace(key, std::move(raycaster)).first->second;
 }
 
@@ -240,13 +240,16 @@ void StimulusLibrary::check_frame_size(const StimulusSpec& spec) {
   }
 }
 
-void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec) {
+void StimulusLibrary::prepare_path_traced(const StimulusSpec& spec, const std::function<void()>& frame_done) {
   if (!describe(spec.method()).depends_on_gaze) return;  // pt frames are loaded (or rendered) by prepare's render loop
   // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
   // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
   // error naming its file now rather than mid-session.
   for (const PathTraceSequence& sequence : path_traced_frames(spec).sequences)
-    for (int frame = 0; frame < sequence.frame_count; ++frame) frame_cache_->frame(sequence, frame);
+    for (int frame = 0; frame < sequence.frame_count; ++frame) {
+      frame_cache_->frame(sequence, frame);
+      frame_done();
+    }
 }
 
 uint64_t prepared_frames_bytes(const std::vector<StimulusSpec>& stimuli) {
@@ -275,7 +278,8 @@ void check_prepared_frames_fit(const std::vector<StimulusSpec>& stimuli, const s
                     "levels, variants or blocks");
 }
 
-double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli) {
+double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli,
+                                const std::function<void(double)>& progress) {
   const double before = render_seconds_;
   // What can be refused without rendering is refused before anything is rendered.
   std::vector<StimulusSpec> held;
@@ -287,31 +291,58 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
     check_frame_size(spec);
     if (spec.method() == RenderMethod::foveated_path_traced) check_foveated_path_traced(spec);
   }
+  // Progress in frames: a stimulus rendered ahead (or a gaze-dependent path-traced one, whose frames
+  // are loaded or rendered into the cache) counts its frames, any other one frame.
+  double total = 0.0, done = 0.0;
+  const auto units = [](const StimulusSpec& spec) {
+    const bool frames = !describe(spec.method()).depends_on_gaze || is_path_traced(spec.method());
+    return frames ? std::max(1.0, double(spec.frame_count)) : 1.0;
+  };
+  for (const auto& [id, spec] : stimuli) total += units(spec);
+  const auto advance = [&](double amount) {
+    done += amount;
+    if (progress) progress(std::min(1.0, done / total));
+  };
   for (const auto& [id, spec] : stimuli) {
+    const double before_stimulus = done;
     if (is_path_traced(spec.method())) {
       const auto start = std::chrono::steady_clock::now();
-      prepare_path_traced(spec);
+      prepare_path_traced(spec, [&] { advance(std::max(0.0, std::min(1.0, before_stimulus + units(spec) - done))); });
       if (is_sampling_model(spec.method())) sampling_map(spec, std::nan(""), std::nan(""));  // equalise solves now
       render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (describe(spec.method()).depends_on_gaze) continue;  // blended or sampled live
+      if (describe(spec.method()).depends_on_gaze) {  // blended or sampled live
+        advance(std::max(0.0, before_stimulus + units(spec) - done));
+        continue;
+      }
     } else if (is_volume(spec.method())) {
       // The volume is loaded and fvolume's mask read or made now, not at the first trial.
       const auto start = std::chrono::steady_clock::now();
       raycaster_for(spec);
       render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (describe(spec.method()).depends_on_gaze) continue;
+      if (describe(spec.method()).depends_on_gaze) {
+        advance(units(spec));
+        continue;
+      }
     } else if (describe(spec.method()).depends_on_gaze) {
       // Rendered live; bad settings and scene errors come now all the same, not mid-session.
       const auto start = std::chrono::steady_clock::now();
       validate(sphere_trace_settings(spec, 0));
       tracer_for(spec.scene);
       render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      advance(units(spec));
       continue;
     }
-    if (prepared_.count(id)) continue;
+    if (prepared_.count(id)) {
+      advance(units(spec));
+      continue;
+    }
     std::vector<PreparedFrame> frames;
-    for (int frame = 0; frame < spec.frame_count; ++frame) frames.push_back(render(spec, StimulusImage{frame, 0, {}}));
+    for (int frame = 0; frame < spec.frame_count; ++frame) {
+      frames.push_back(render(spec, StimulusImage{frame, 0, {}}));
+      advance(1.0);
+    }
     prepared_.emplace(id, std::move(frames));
+    advance(std::max(0.0, before_stimulus + units(spec) - done));  // a stimulus of no frames still counts its one unit
   }
   return render_seconds_ - before;
 }

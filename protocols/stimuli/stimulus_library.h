@@ -14,6 +14,7 @@
 // before the first trial.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -78,7 +79,9 @@ class StimulusLibrary {
   // and checks the settings, so their errors too come before the first trial. Stimuli whose frames
   // would not fit in memory are refused before anything is rendered (check_prepared_frames_fit).
   // Returns the seconds spent.
-  double prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli);
+  // `progress` (optional) hears the share done, 0 to 1, after every frame rendered or loaded.
+  double prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli,
+                 const std::function<void(double)>& progress = {});
   // The image to show; prepared stimuli answer from memory (by frame), others render now and leave
   // it on the device (PreparedFrame::on_device), without its hash.
   const PreparedFrame& frame(int id, const StimulusSpec& spec, const StimulusImage& image);
@@ -125,7 +128,7 @@ class StimulusLibrary {
   // its fields ([display] width_px, height_px), not a command's flags.
   void check_frame_size(const StimulusSpec& spec);
   // fpt and the path-traced sampling models: every frame in the cache before the first trial.
-  void prepare_path_traced(const StimulusSpec& spec);
+  void prepare_path_traced(const StimulusSpec& spec, const std::function<void()>& frame_done);
   ZoneBlender& blender();
   FrameSampler& sampler();
   vk::Context& context_;

@@ -295,7 +295,7 @@ TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
   EXPECT_EQ(fit["bootstrap_samples"], 998);
   EXPECT_EQ(fit["bootstrap_failures"], 2);
   ASSERT_EQ(fit["data"].size(), 3u);
-  EXPECT_EQ(fit["data"][1], json({{"level", 10.0}, {"n", 12}, {"k", 4}, {"proportion", 4.0 / 12.0}}));
+  EXPECT_EQ(fit["data"][1], json({{"level", 10.0}, {"n", 12}, {"k_difference", 4}, {"proportion", 4.0 / 12.0}}));
   ASSERT_EQ(root["not_fitted"].size(), 1u);
   EXPECT_EQ(root["not_fitted"][0]["reason"], "weibull: did not converge");
 
@@ -319,6 +319,27 @@ TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
 
   EXPECT_EQ(root["left_out"],
             json::array({{{"what", "results/demo/P003/events.jsonl"}, {"reason", "no complete trials (session log torn)"}}}));
+}
+
+TEST(AnalysisReport, RampAndSliderReportsHaveNoBinomialSections) {
+  // Issue 18: slider and ramp reports printed the binomial test's text and empty fits and conditions
+  // sections. Their thresholds are per participant: those sections are left out and the page says why.
+  for (ProtocolKind kind : {ProtocolKind::ramp, ProtocolKind::slider}) {
+    SCOPED_TRACE(int(kind));
+    AnalysisResult result = sample_result();
+    result.protocol = kind;
+    result.conditions.clear();
+    result.fits.clear();
+    TempDir dir("per-participant");
+    write_analysis_report(result, dir.path().string());
+    const std::string html = read_text(dir.path() / "report.html");
+    EXPECT_EQ(html.find("exact binomial"), std::string::npos);
+    EXPECT_EQ(html.find("id=\"fits\""), std::string::npos);
+    EXPECT_EQ(html.find("id=\"conditions\""), std::string::npos);
+    EXPECT_EQ(html.find("Guess rate"), std::string::npos);
+    EXPECT_NE(html.find("protocol has no per-condition tests or psychometric fits"), std::string::npos);
+    EXPECT_NE(html.find("id=\"thresholds\""), std::string::npos);
+  }
 }
 
 TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {

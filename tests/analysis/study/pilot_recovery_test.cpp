@@ -1,6 +1,6 @@
 // The pilot without people (experiments/pilot_simulated.toml): ten simulated participants whose
 // psychometric function has a known threshold (14 steps). `fovlab analyze` must recover it: the
-// logistic fit's 95 % bootstrap interval holds the truth, and the report files are written.
+// logistic fit's 95 % profile-likelihood interval holds the truth, and the report files are written.
 #include <gtest/gtest.h>
 
 #include <filesystem>
