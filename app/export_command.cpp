@@ -21,26 +21,36 @@ struct ExportArguments {
   std::string lab_key_path;
 };
 
+// trials.csv, and steps.csv beside it when the logs hold ramp steps or slider actions.
 void export_trials(const ExportArguments& arguments) {
   namespace fs = std::filesystem;
   const std::string& input = arguments.input;
   std::string out = arguments.out;
   const std::vector<std::string> logs = find_session_logs(input);
   if (out.empty()) out = (fs::is_directory(input) ? fs::path(input) : fs::path(input).parent_path()) / "trials.csv";
-  if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
+  const fs::path steps_out = fs::path(out).parent_path() / (fs::path(out).stem().string() == "trials"
+                                                                ? std::string("steps.csv")
+                                                                : fs::path(out).stem().string() + "_steps.csv");
+  for (const fs::path& path : {fs::path(out), steps_out})
+    if (fs::exists(path) && !arguments.force) throw InputError("--out: " + path.string() + " exists (pass --force to replace it)");
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
-  const std::string csv = export_trials_csv(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
-  write_text_atomically(out, csv);
-  std::printf("%s: %zu log(s)\n", out.c_str(), logs.size());
+  const ExportedCsv csv = export_session_csvs(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
+  const bool has_steps = csv.steps.find('\n') + 1 < csv.steps.size();  // more than the header
+  write_text_atomically(out, csv.trials);
+  if (has_steps) write_text_atomically(steps_out, csv.steps);
+  std::printf("%s%s: %zu log(s)\n", out.c_str(), has_steps ? (" and " + steps_out.string()).c_str() : "", logs.size());
 }
 
 }  // namespace
 
 void add_export_command(CLI::App& app) {
   auto arguments = std::make_shared<ExportArguments>();
-  CLI::App* command = app.add_subcommand("export", "Write trials.csv (one row a trial) from session logs");
+  CLI::App* command =
+      app.add_subcommand("export", "Write trials.csv (one row a trial) and steps.csv (ramp steps, slider actions) from session logs");
   command->add_option("logs", arguments->input, "A session log, or a results folder (every events.jsonl under it)")->required();
-  command->add_option("--out", arguments->out, "CSV file (default: trials.csv beside the log or in the folder)");
+  command->add_option("--out", arguments->out,
+                      "CSV file (default: trials.csv beside the log or in the folder); ramp steps and slider actions "
+                      "go to steps.csv beside it (NAME_steps.csv for another name)");
   command->add_flag("--force", arguments->force, "Replace an existing CSV");
   command->add_flag("--include-broken", arguments->include_broken,
                     "Export logs whose chain or seal is broken too (their rows say log_status broken)");

@@ -1,12 +1,16 @@
 #include "protocols/session/trials_export.h"
 
 #include <cstdio>
+#include <map>
 #include <sstream>
+#include <tuple>
 
 #include "core/csv.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
+#include "study/config/study_config.h"
 #include "study/log/session_record.h"
+#include "study/schedule/study_plan.h"
 
 namespace fovlab {
 namespace {
@@ -27,7 +31,33 @@ nlohmann::json optional_json(const std::optional<T>& value) {
 const char* const columns[] = {"study", "participant", "observer", "protocol", "trial", "block", "block_name", "scene",
                                "condition", "variant", "level", "attention_check", "reference_first",
                                "ramp_toward_reference", "answer", "answers", "rt_s", "saved_level",
-                               "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status"};
+                               "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status",
+                               // Issue 18: what PsychoPy users look for in a trials file.
+                               "key", "correct", "repeat", "level_parameter", "session_started_utc",
+                               "fovlab_version", "config_hash", "refresh_hz"};
+
+const char* const step_columns[] = {"study", "participant", "observer", "protocol", "trial", "step", "level",
+                                    "previous_level", "answer", "key", "rt_s", "correct", "log_status"};
+
+// The level of stimulus `id` in the header's stimuli (null for the reference or an unknown id).
+nlohmann::json stimulus_level(const nlohmann::json& header, int id) {
+  const auto stimuli = header.find("stimuli");
+  if (stimuli == header.end() || !stimuli->is_array() || id < 0 || size_t(id) >= stimuli->size()) return nullptr;
+  const nlohmann::json& stimulus = (*stimuli)[size_t(id)];
+  if (!stimulus.is_object() || stimulus.value("is_reference", false)) return nullptr;
+  const auto level = stimulus.find("level");
+  return level != stimulus.end() && level->is_number() ? *level : nlohmann::json();
+}
+
+// The config's level parameter from the config text the header carries ("" when it has none or
+// the text cannot be read).
+std::string level_parameter(const nlohmann::json& header, const std::string& path) {
+  try {
+    return parse_logged_study_config(header.value("config_toml", ""), path + " (config_toml)", nullptr).levels.parameter;
+  } catch (const std::exception&) {
+    return "";
+  }
+}
 
 }  // namespace
 
@@ -35,9 +65,10 @@ const char* const columns[] = {"study", "participant", "observer", "protocol", "
 namespace {
 
 // The export; `current` names the log being read, for the caller's message.
-std::string export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options, std::string& current) {
-  std::ostringstream csv;
+ExportedCsv export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options, std::string& current) {
+  std::ostringstream csv, steps;
   csv << csv_line(std::vector<std::string>(std::begin(columns), std::end(columns)));
+  steps << csv_line(std::vector<std::string>(std::begin(step_columns), std::end(step_columns)));
   for (const std::string& path : log_paths) {
     current = path;
     const EventLogFile log = read_event_log(path);
@@ -53,15 +84,26 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
       std::fprintf(stderr, "fovlab: %s: %s\n", path.c_str(), integrity.describe().c_str());
     const nlohmann::json& header = record.header;
     const std::string observer = observer_kind(header);  // "human" or "simulated"
+    const std::string protocol = header.value("protocol", "");
+    const std::string parameter = level_parameter(header, path);
+    nlohmann::json refresh_hz;
+    if (const auto display = header.find("display"); display != header.end() && display->is_object()) {
+      const auto measured = display->find("measured_refresh_hz");
+      refresh_hz = measured != display->end() && measured->is_number() ? *measured : display->value("refresh_hz", nlohmann::json());
+    }
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
     for (const BlockStartEvent& event : record.blocks) blocks[event.block] = {event.name, event.scene};
+    // The repeat index: how many earlier trials of the log showed the same condition.
+    std::map<std::tuple<int, std::string, std::string, bool>, int> repeats;
     for (const RecordedTrial& trial : record.trials) {
       const TrialStartEvent& start = trial.start;
-      std::string answers, answer;
+      const int repeat = repeats[{start.block, start.condition, start.variant, start.attention_check}]++;
+      std::string answers, answer, key;
       for (const ResponseEvent& response : trial.responses) {
         if (!answers.empty()) answers += ';';
         answers += response.answer;
         answer = response.answer;
+        key = response.key;
       }
       nlohmann::json rt, saved_level, onset, dropped = 0;
       if (trial.responses.size() == 1) rt = optional_json(trial.responses.front().rt_s);
@@ -70,11 +112,12 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
       for (const StimulusEvent& shown : trial.stimuli) dropped = dropped.get<int>() + shown.dropped_frames;
       const int block = start.block;
       const auto block_info = blocks.count(block) ? blocks[block] : std::pair<std::string, std::string>();
+      const std::string attention_correct = trial.attention_check ? number_cell(optional_json(trial.attention_check->correct)) : "";
       const std::vector<std::string> cells = {
           header.value("study", ""),
           header.value("participant", ""),
           observer,
-          header.value("protocol", ""),
+          protocol,
           std::to_string(trial.index),
           std::to_string(block),
           block_info.first,
@@ -89,27 +132,68 @@ std::string export_checked(const std::vector<std::string>& log_paths, const Expo
           answers,
           number_cell(rt),
           number_cell(saved_level),
-          trial.attention_check ? number_cell(optional_json(trial.attention_check->correct)) : "",
+          attention_correct,
           number_cell(onset),
           number_cell(optional_json(trial.end.stamp.t)),
           number_cell(dropped),
           record.excluded ? "true" : "false",
-          log_status_name(integrity.status)};
+          log_status_name(integrity.status),
+          key,
+          attention_correct,  // defined for attention checks; a ramp's steps have theirs in steps.csv
+          std::to_string(repeat),
+          parameter,
+          header.value("started_utc", ""),
+          header.value("fovlab_version", ""),
+          header.value("config_hash", ""),
+          number_cell(refresh_hz)};
       csv << csv_line(cells);
+
+      // Ramp steps and slider actions, one row an answer. A ramp's step s shows sequence[s] after
+      // sequence[s - 1]; a slider's action is taken with the ladder at its current index (moved by
+      // "up" and "down" from the trial's start).
+      if (!start.ramp_toward_reference && !start.slider_start) continue;
+      int ladder = start.slider_start.value_or(0);
+      Trial ladder_trial;  // the session's own rule for moving along the ladder
+      ladder_trial.sequence = start.sequence;
+      for (const ResponseEvent& response : trial.responses) {
+        nlohmann::json level, previous, correct;
+        if (start.ramp_toward_reference) {
+          const auto at = [&](int index) {
+            return index >= 0 && size_t(index) < start.sequence.size() ? stimulus_level(header, start.sequence[size_t(index)])
+                                                                      : nlohmann::json();
+          };
+          level = at(response.step);
+          previous = at(response.step - 1);
+          if (!response.answer.empty())
+            correct = response.answer == (*start.ramp_toward_reference ? "increased" : "decreased");
+        } else {
+          if (ladder >= 0 && size_t(ladder) < start.sequence.size()) level = stimulus_level(header, start.sequence[size_t(ladder)]);
+          ladder = next_ladder_index(ladder_trial, response.answer, ladder);
+        }
+        steps << csv_line(std::vector<std::string>{header.value("study", ""), header.value("participant", ""), observer,
+                                                   protocol, std::to_string(trial.index), std::to_string(response.step),
+                                                   number_cell(level), number_cell(previous), response.answer, response.key,
+                                                   number_cell(optional_json(response.rt_s)), number_cell(correct),
+                                                   log_status_name(integrity.status)});
+      }
     }
   }
-  return csv.str();
+  return {csv.str(), steps.str()};
 }
 
 }  // namespace
 
-std::string export_trials_csv(const std::vector<std::string>& log_paths, const ExportOptions& options) {
+ExportedCsv export_session_csvs(const std::vector<std::string>& log_paths, const ExportOptions& options) {
   std::string current;
   try {
     return export_checked(log_paths, options, current);
   } catch (const nlohmann::json::exception& error) {
     throw InputError(current + ": an event has a field of the wrong type (" + error.what() + ")");
   }
+}
+
+std::string export_trials_csv(const std::vector<std::string>& log_paths, const ExportOptions& options) {
+  return export_session_csvs(log_paths, options).trials;
 }
 
 }  // namespace fovlab

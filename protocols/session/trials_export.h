@@ -13,10 +13,17 @@ struct ExportOptions {
   bool include_broken = false;      // export broken logs too (their rows say log_status "broken")
 };
 
-// The CSV text for these logs (complete trials only; a torn last line is ignored). Every log's chain
-// and seals are checked: a broken log is an InputError unless include_broken; an unsealed one is
-// exported and reported on stderr; the column log_status says which each row came from.
+struct ExportedCsv {
+  std::string trials;  // trials.csv: one row a complete trial
+  std::string steps;   // steps.csv: one row an answer of a ramp step or slider action (long format)
+};
+
+// The CSV texts for these logs (complete trials only; a torn last line is ignored). Every log's
+// chain and seals are checked: a broken log is an InputError unless include_broken; an unsealed one
+// is exported and reported on stderr; the column log_status says which each row came from.
 // Throws InputError for a log that cannot be read.
+ExportedCsv export_session_csvs(const std::vector<std::string>& log_paths, const ExportOptions& options = {});
+// trials.csv alone.
 std::string export_trials_csv(const std::vector<std::string>& log_paths, const ExportOptions& options = {});
 
 }  // namespace fovlab
