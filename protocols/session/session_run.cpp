@@ -37,6 +37,33 @@ void SessionRun::show_text(const std::string& text, const std::string& screen_ki
   if (capture) save_screenshot(screen_kind, frame);
 }
 
+void SessionRun::show_fixation(double duration_s) {
+  if (duration_s <= 0) return;
+  const double until = presenter_.now_s() + duration_s;
+  const bool capture = wants_screenshot("fixation");
+  if (!presenter_.is_headless() || capture) {
+    const Rgba8Frame cross = fixation_cross_frame(plan_.config.display.width_px, plan_.config.display.height_px);
+    if (!presenter_.is_headless()) presenter_.present(cross);
+    if (capture) save_screenshot("fixation", cross);
+  }
+  presenter_.wait_until(until);
+}
+
+void SessionRun::wait_for_key() {
+  AnswerRequest request{nullptr, 0, 0, presenter_.now_s()};
+  responses_.await(request, presenter_, 0.0);
+}
+
+void SessionRun::take_break(const std::string& text, double duration_s, const std::string& screen_kind) {
+  const double end = presenter_.now_s() + duration_s;
+  for (int left = static_cast<int>(std::ceil(duration_s - 1e-9)); left > 0; --left) {
+    show_text(text + "\n\n" + std::to_string(left) + " s", screen_kind);
+    presenter_.wait_until(end - (left - 1));
+  }
+  show_text(text + "\n\nPress any key to continue.", screen_kind + "_end");
+  wait_for_key();
+}
+
 void SessionRun::show_black(double duration_s) {
   if (duration_s <= 0) return;
   const double until = presenter_.now_s() + duration_s;
@@ -188,6 +215,11 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
   const auto exclude = [&](bool excluded_logged, int completed_trials) {
     if (!excluded_logged) log(to_json(ExcludedEvent{{}, attention_errors, config.attention.max_errors}));
     log(to_json(SessionEndEvent{{}, SessionEndEvent::excluded, completed_trials}));
+    show_text(config.attention.excluded_message, "excluded");
+    try {
+      wait_for_key();
+    } catch (const SessionAborted&) {  // the session has ended: closing the window now only closes it
+    }
     return false;
   };
   // A crash after the trial that reached max_errors (before session_end): the session is over.
@@ -195,9 +227,9 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
   {
     show_text(resumed ? "The session resumes where it stopped.\n\n" + config.instructions : config.instructions,
               "instructions");
-    AnswerRequest request{nullptr, 0, 0, presenter_.now_s()};
-    responses_.await(request, presenter_, 0.0);
-    log(to_json(InstructionsEvent{{}, time_base_s_ + request.onset_s}));
+    const double onset_s = presenter_.now_s();
+    wait_for_key();
+    log(to_json(InstructionsEvent{{}, time_base_s_ + onset_s}));
   }
   for (size_t index = static_cast<size_t>(first); index < plan_.trials.size(); ++index) {
     const Trial& trial = plan_.trials[index];
@@ -205,9 +237,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     if (trial.index == block.first_trial || static_cast<int>(index) == first) {
       if (trial.index == block.first_trial && trial.block > 0 && config.timing.rest_between_blocks_s > 0) {
         const double start = t();
-        show_text("Rest. The next block starts in " + std::to_string(int(config.timing.rest_between_blocks_s)) + " s.",
-                  "rest");
-        presenter_.wait_until(presenter_.now_s() + config.timing.rest_between_blocks_s);
+        take_break("Rest before the next block.", config.timing.rest_between_blocks_s, "rest");
         log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
       }
       log(to_json(BlockStartEvent{{}, trial.block, block.name, block.scene}));
@@ -226,6 +256,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     else start.reference_first = trial.reference_first;
     log(to_json(start));
 
+    show_fixation(config.timing.fixation_s);
     std::string answer;
     if (config.protocol.kind == ProtocolKind::ramp) run_ramp(trial);
     else if (config.protocol.kind == ProtocolKind::slider) run_slider(trial);
@@ -237,8 +268,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       log(to_json(AttentionCheckEvent{{}, trial.index, correct, attention_errors}));
       if (!correct && attention_errors < config.attention.max_errors && config.attention.break_s > 0) {
         const double break_start = t();
-        show_text("Please take a break of at least " + std::to_string(int(config.attention.break_s)) + " s.", "break");
-        presenter_.wait_until(presenter_.now_s() + config.attention.break_s);
+        take_break("Please take a short break.", config.attention.break_s, "break");
         log(to_json(BreakEvent{{}, BreakEvent::attention_check, trial.index, break_start, t() - break_start}));
       }
     }

@@ -50,6 +50,13 @@ class SessionRun {
  private:
   void show_text(const std::string& text, const std::string& screen_kind);
   void show_black(double duration_s);
+  // The fixation cross for `duration_s` (nothing when 0).
+  void show_fixation(double duration_s);
+  // A break of at least `duration_s`: the text with the seconds left, updated each second, then
+  // "Press any key to continue." until a key (the simulated observer presses one at once).
+  void take_break(const std::string& text, double duration_s, const std::string& screen_kind);
+  // A screen held until any key: instructions, the end of an excluded participant's session.
+  void wait_for_key();
   // With --screenshots, the first screen of each kind ("instructions", "stimulus", "question",
   // "break", "rest", "end") is saved as <kind>.png: the swapchain's image in a window, the frame
   // itself when headless. `frame`: what is on screen (a headless run shows nothing).

@@ -337,6 +337,8 @@ void read_timing(const TomlFields& fields, TimingConfig& timing) {
   check_range(fields, "rest_between_blocks_s", timing.rest_between_blocks_s, 0.0, 7200.0);
   timing.response_timeout_s = fields.number("response_timeout_s", timing.response_timeout_s);
   check_range(fields, "response_timeout_s", timing.response_timeout_s, 0.0, 3600.0);
+  timing.fixation_s = fields.number("fixation_s", timing.fixation_s);
+  check_range(fields, "fixation_s", timing.fixation_s, 0.0, 60.0);
   fields.finish();
 }
 
@@ -349,6 +351,7 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   attention.break_s = fields.number("break_s", attention.break_s);
   check_range(fields, "break_s", attention.break_s, 0.0, 3600.0);
   attention.max_errors = bounded_integer(fields, "max_errors", attention.max_errors, 1, 1000);
+  attention.excluded_message = fields.string("excluded_message", attention.excluded_message);
   fields.finish();
 }
 

@@ -68,6 +68,7 @@ struct TimingConfig {
   double inter_trial_s = 0.5;      // black screen after a response
   double rest_between_blocks_s = 0.0;  // minimum rest between blocks (600 s in seed 000)
   double response_timeout_s = 0.0;     // 0: wait for an answer as long as it takes
+  double fixation_s = 0.0;             // a fixation cross before each trial's first stimulus; 0: none
 };
 
 struct QuestionConfig {
@@ -80,6 +81,8 @@ struct AttentionConfig {
   double share = 0.0;      // share of all trials of a block that are attention checks, in [0, 0.9]
   double break_s = 30.0;   // forced break after a wrong answer
   int max_errors = 3;      // at this many wrong answers the session ends, participant excluded
+  // Shown to an excluded participant (until a key), so the session does not just stop.
+  std::string excluded_message = "The session has ended. Thank you for taking part.";
 };
 
 struct SliderConfig {

@@ -146,6 +146,44 @@ TEST(Session, HeadlessScreenshotsSaveEveryKindOfScreen) {
   EXPECT_EQ(hashes["stimulus"], first["hash"][last_of_frame0].get<std::string>());
 }
 
+TEST(Session, FixationCountdownBreaksAndTheExcludedParticipantsMessage) {
+  // Issue 18: a fixation cross before each trial (timing.fixation_s), breaks that count down and
+  // then wait for a key, and a message for an excluded participant (attention.excluded_message).
+  std::string text = read_file(study_fixture("tiny_2afc"));
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"inter_trial_s = 0.1", "inter_trial_s = 0.1\nfixation_s = 0.25"},
+                                 {"max_errors = 100", "max_errors = 2\nexcluded_message = \"Thanks: the session ends here.\""}}) {
+    ASSERT_NE(text.find(from), std::string::npos) << from;
+    text.replace(text.find(from), from.size(), to);
+  }
+  const StudyConfig config = parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  EXPECT_EQ(config.timing.fixation_s, 0.25);
+  EXPECT_EQ(config.attention.excluded_message, "Thanks: the session ends here.");
+  const fs::path results = fresh_folder("screens");
+  SessionOptions options = simulated(results);
+  options.observer = "simulated:guess=0.6,seed=3";  // wrong at two attention checks early on
+  options.screenshots_dir = (results / "shots").string();
+  const SessionOutcome outcome = run_session(config, options);
+  ASSERT_TRUE(outcome.excluded);
+  for (const char* kind : {"fixation", "break", "break_end", "excluded"})
+    EXPECT_TRUE(fs::is_regular_file(results / "shots" / (std::string(kind) + ".png"))) << kind;
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  // Each trial's first stimulus starts at least the fixation's 0.25 s after the trial started.
+  ASSERT_FALSE(record.trials.empty());
+  for (const RecordedTrial& trial : record.trials) {
+    ASSERT_FALSE(trial.stimuli.empty());
+    EXPECT_GE(trial.stimuli.front().onset_s - trial.start.stamp.t.value_or(0.0), 0.25 - 1e-9) << trial.index;
+  }
+  // The break lasts its 2 s, then waits for the key (the simulated observer's 2 s).
+  ASSERT_FALSE(record.trials.empty());
+  bool found = false;
+  for (const RecordedTrial& trial : record.trials)
+    for (const BreakEvent& taken : trial.breaks) {
+      found = true;
+      EXPECT_GE(taken.duration_s, config.attention.break_s + 1.0);
+    }
+  EXPECT_TRUE(found) << "no attention-check break";
+}
+
 TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
   const fs::path results = fresh_folder("resume");
   const StudyConfig config = parse_study_config_file(study_fixture("pair").string(), renderer_scene_catalog());
