@@ -287,8 +287,10 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
   if (trial_order != "random" && trial_order != "fixed") fields.fail("trial_order", "expected \"random\" or \"fixed\"");
   protocol.randomise_trials = trial_order == "random";
   const std::string block_order = fields.string("block_order", "fixed");
-  if (block_order != "random" && block_order != "fixed") fields.fail("block_order", "expected \"random\" or \"fixed\"");
-  protocol.randomise_blocks = block_order == "random";
+  if (block_order == "fixed") protocol.block_order = ProtocolConfig::BlockOrder::fixed;
+  else if (block_order == "random") protocol.block_order = ProtocolConfig::BlockOrder::random;
+  else if (block_order == "latin_square") protocol.block_order = ProtocolConfig::BlockOrder::latin_square;
+  else fields.fail("block_order", "expected \"fixed\", \"random\" or \"latin_square\"");
   protocol.question.text = fields.string("question_text", std::string(rules.default_question));
 
   const toml::table* keys_table = fields.optional_table("keys");

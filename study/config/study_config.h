@@ -96,7 +96,10 @@ struct ProtocolConfig {
   int repeats = 1;                 // presentations of each condition per block (per direction for ramp)
   bool counterbalance = true;      // reference first in half of the presentations
   bool randomise_trials = true;    // shuffle trials within a block
-  bool randomise_blocks = false;   // shuffle block order per participant
+  // Block order per participant: as listed; shuffled (seeded by the participant); or counterbalanced
+  // by a balanced Latin square (Williams design) whose row is chosen by the participant's number.
+  enum class BlockOrder { fixed, random, latin_square };
+  BlockOrder block_order = BlockOrder::fixed;
   QuestionConfig question;
   SliderConfig slider;
 };

@@ -190,6 +190,32 @@ std::vector<StimulusSpec> planned_specs(const StudyPlan& plan) {
   return specs;
 }
 
+std::vector<std::vector<int>> balanced_latin_square(int n) {
+  if (n < 1) return {};
+  // Williams (1949): first row 0, 1, n-1, 2, n-2, ...; row r adds r to every entry (mod n). With
+  // an even n each block follows every other block once; an odd n also needs the rows reversed.
+  std::vector<int> first;
+  for (int j = 0, low = 1, high = n - 1; j < n; ++j) first.push_back(j == 0 ? 0 : (j % 2 == 1 ? low++ : high--));
+  std::vector<std::vector<int>> rows;
+  for (int r = 0; r < n; ++r) {
+    std::vector<int> row;
+    for (int value : first) row.push_back((value + r) % n);
+    rows.push_back(row);
+  }
+  if (n % 2 == 1)
+    for (int r = 0; r < n; ++r) rows.emplace_back(rows[size_t(r)].rbegin(), rows[size_t(r)].rend());
+  return rows;
+}
+
+std::optional<int> participant_number(const std::string& participant) {
+  size_t digits = 0;
+  while (digits < participant.size() && digits < 9 &&
+         std::isdigit(static_cast<unsigned char>(participant[participant.size() - 1 - digits])))
+    ++digits;
+  if (digits == 0) return std::nullopt;
+  return std::stoi(participant.substr(participant.size() - digits));
+}
+
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant) {
   check_participant_id(participant);
   StudyPlan plan;
@@ -199,9 +225,16 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
 
   std::vector<int> block_order(config.blocks.size());
   for (size_t i = 0; i < block_order.size(); ++i) block_order[i] = static_cast<int>(i);
-  if (config.protocol.randomise_blocks) {
+  if (config.protocol.block_order == ProtocolConfig::BlockOrder::random) {
     Pcg32 random(derive_seed(plan.session_seed, "blocks"));
     random.shuffle(block_order);
+  } else if (config.protocol.block_order == ProtocolConfig::BlockOrder::latin_square) {
+    const std::vector<std::vector<int>> square = balanced_latin_square(static_cast<int>(block_order.size()));
+    const std::optional<int> number = participant_number(participant);
+    if (!number)
+      throw InputError("participant \"" + participant + "\": block_order = \"latin_square\" picks each participant's row "
+                       "by the number the ID ends with (P001, P002, ...); expected an ID ending in a number");
+    block_order = square[static_cast<size_t>((*number + int(square.size()) - 1) % int(square.size()))];
   }
   PlanBuilder builder(config, plan);
   for (int position = 0; position < static_cast<int>(block_order.size()); ++position) {

@@ -71,6 +71,14 @@ int next_ladder_index(const Trial& trial, const std::string& answer, int ladder_
 
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant);
 
+// A balanced Latin square of n blocks (Williams design): n rows for an even n, 2n for an odd one;
+// each row an order of 0..n-1, each block in each position equally often and, over the rows, each
+// block right after every other one equally often. block_order = "latin_square" gives participant
+// number k row (k - 1) mod rows.
+std::vector<std::vector<int>> balanced_latin_square(int n);
+// The number an ID ends with ("P007": 7), at most 9 digits; none without a trailing digit.
+std::optional<int> participant_number(const std::string& participant);
+
 // The specs of the plan's stimuli, in id order (for StimulusLibrary and its memory check).
 std::vector<StimulusSpec> planned_specs(const StudyPlan& plan);
 

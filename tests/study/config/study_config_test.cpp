@@ -192,7 +192,7 @@ TEST(ProtocolsConfig, ParsesTheBaseTwoAfcSameConfigFieldByField) {
   EXPECT_EQ(config.protocol.repeats, 2);
   EXPECT_TRUE(config.protocol.counterbalance);   // default for two-interval protocols
   EXPECT_TRUE(config.protocol.randomise_trials); // trial_order defaults to random
-  EXPECT_FALSE(config.protocol.randomise_blocks);// block_order defaults to fixed
+  EXPECT_EQ(config.protocol.block_order, ProtocolConfig::BlockOrder::fixed);  // block_order defaults to fixed
   EXPECT_EQ(config.protocol.question.text, "Was the quality the same in both sequences?");
   EXPECT_EQ(answer_names(config), (std::vector<std::string>{"same", "different"}));
   EXPECT_EQ(keys_of(config, "same"), (std::vector<std::string>{"s", "space", "pad_a"}));
@@ -401,7 +401,7 @@ TEST(ProtocolsConfig, Pair) {
   EXPECT_EQ(config.protocol.repeats, 4);
   EXPECT_TRUE(config.protocol.counterbalance);
   EXPECT_FALSE(config.protocol.randomise_trials);
-  EXPECT_TRUE(config.protocol.randomise_blocks);
+  EXPECT_EQ(config.protocol.block_order, ProtocolConfig::BlockOrder::random);
   EXPECT_EQ(config.protocol.question.text, "Better?");
   EXPECT_EQ(answer_names(config), (std::vector<std::string>{"first", "second", "same"}));
   EXPECT_EQ(keys_of(config, "same"), (std::vector<std::string>{"s", "space", "pad_a"}));

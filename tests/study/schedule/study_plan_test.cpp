@@ -3,6 +3,7 @@
 // stimulus deduplication and participant IDs.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <set>
@@ -476,6 +477,57 @@ TEST(ProtocolsSchedule, RandomBlockOrderIsAPermutationPerParticipant) {
     EXPECT_EQ(order, order_again);
   }
   EXPECT_GE(orders.size(), 4u);  // of 6 possible orders, 30 participants see most of them
+}
+
+TEST(ProtocolsSchedule, BalancedLatinSquareCounterbalancesPositionsAndCarryover) {
+  // Issue 18: counterbalancing across participants. Every row a permutation; over the rows each
+  // block in each position equally often, and each ordered pair of different blocks adjacent
+  // equally often (Williams 1949): n rows for an even n, 2n for an odd n.
+  for (int n = 1; n <= 8; ++n) {
+    SCOPED_TRACE(n);
+    const std::vector<std::vector<int>> rows = balanced_latin_square(n);
+    ASSERT_EQ(rows.size(), size_t(n % 2 == 0 ? n : 2 * n));
+    std::map<std::pair<int, int>, int> at_position, followed_by;
+    for (const std::vector<int>& row : rows) {
+      std::vector<int> sorted = row;
+      std::sort(sorted.begin(), sorted.end());
+      for (int i = 0; i < n; ++i) ASSERT_EQ(sorted[size_t(i)], i);
+      for (int i = 0; i < n; ++i) ++at_position[{i, row[size_t(i)]}];
+      for (int i = 1; i < n; ++i) ++followed_by[{row[size_t(i - 1)], row[size_t(i)]}];
+    }
+    const int times = int(rows.size()) / n;
+    for (const auto& [key, count] : at_position) EXPECT_EQ(count, times);
+    EXPECT_EQ(at_position.size(), size_t(n * n));
+    if (n > 1) {
+      EXPECT_EQ(followed_by.size(), size_t(n * (n - 1)));
+      for (const auto& [pair, count] : followed_by) EXPECT_EQ(count, int(rows.size()) * (n - 1) / (n * (n - 1))) << pair.first << "," << pair.second;
+    }
+  }
+}
+
+TEST(ProtocolsSchedule, LatinSquareBlockOrderFollowsTheParticipantNumber) {
+  Sections s;
+  s.blocks = kThreeBlocks;  // primitives, columns, temple: an odd count, 6 rows
+  s.protocol = "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 2\nblock_order = \"latin_square\"\n";
+  const StudyConfig config = make_config(s);
+  const std::vector<std::vector<int>> rows = balanced_latin_square(3);
+  for (int p = 1; p <= 12; ++p) {
+    char id[8];
+    std::snprintf(id, sizeof id, "P%03d", p);
+    const StudyPlan plan = make_study_plan(config, id);
+    check_structure(plan);
+    std::vector<std::string> order;
+    for (const PlannedBlock& block : plan.blocks) order.push_back(block.name);
+    std::vector<std::string> expected;
+    for (int index : rows[size_t((p - 1) % 6)]) expected.push_back(config.blocks[size_t(index)].name);
+    EXPECT_EQ(order, expected) << id;
+  }
+  EXPECT_EQ(participant_number("P007"), 7);
+  EXPECT_EQ(participant_number("lab2-s12"), 12);
+  EXPECT_EQ(participant_number("alice"), std::nullopt);
+  EXPECT_THROW(make_study_plan(config, "alice"), InputError);
+  s.protocol = "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 2\nblock_order = \"shuffled\"\n";
+  EXPECT_THROW(make_config(s), InputError);
 }
 
 TEST(ProtocolsSchedule, BlockTrialsDoNotDependOnBlockPosition) {
