@@ -2,6 +2,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
 
 #include "analysis/statistics/percentile.h"
 #include "app/cli_support.h"
@@ -18,6 +23,7 @@ struct RunOptions {
   std::string config_path;
   SessionOptions session;
   std::string device;
+  std::vector<std::string> fields;  // --field NAME=VALUE
 };
 
 void run(RunOptions options) {
@@ -37,6 +43,21 @@ void run(RunOptions options) {
   const vk::ContextOptions context = context_options(options.device);
   session.device_selector = context.device_selector;
   session.validation = context.validation;
+  for (const std::string& field : options.fields) {
+    const size_t equals = field.find('=');
+    if (equals == std::string::npos || equals == 0)
+      throw InputError("--field " + field + ": expected NAME=VALUE (a [participant] field of the config)");
+    session.participant_fields[field.substr(0, equals)] = field.substr(equals + 1);
+  }
+  // A human at a terminal is asked for the fields the command line left out.
+  if (session.observer.empty() && isatty(STDIN_FILENO) == 1)
+    session.ask_participant_field = [](const std::string& name) {
+      std::fprintf(stderr, "%s: ", name.c_str());
+      std::fflush(stderr);
+      std::string value;
+      if (!std::getline(std::cin, value)) throw InputError("--field " + name + ": no answer on the terminal");
+      return value;
+    };
   session.prepare_progress = percent_progress("preparing stimuli");
   if (session.headless) session.trial_progress = percent_progress("trials");
   const SessionOutcome outcome = run_session(config, session);
@@ -88,6 +109,9 @@ void add_run_command(CLI::App& app) {
       "--results", options->session.results_dir,
       "Results folder (default: results, and results/simulated for a simulated observer, so that pilots never share a "
       "folder with real participants)");
+  command->add_option("--field", options->fields,
+                      "NAME=VALUE: a [participant] field of the config (age, handedness, ...); repeat for each. A "
+                      "human at a terminal is asked for the others");
   command->add_option("--cache", options->session.cache_dir,
                       "Pre-render cache of path-traced frames and Voronoi masks (default stimuli/cache under the "
                       "working directory)");

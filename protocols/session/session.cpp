@@ -126,6 +126,19 @@ SessionOutcome seal_finished_session(const EventLogFile& log, const SessionRecor
   return outcome;
 }
 
+// A participant field's value: at most 200 bytes of text without control characters.
+void check_participant_field_value(const std::string& name, const std::string& value) {
+  const bool control = std::any_of(value.begin(), value.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+  if (value.size() > 200 || control)
+    throw InputError("--field " + name + ": expected at most 200 characters of text without control characters");
+}
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : separator) + item;
+  return text;
+}
+
 }  // namespace
 
 std::string session_log_path(const std::string& results_dir, const std::string& study, const std::string& participant) {
@@ -161,6 +174,13 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     throw InputError("--headless: a headless session has no keyboard (add --observer simulated)");
 
   const std::optional<LabKey> lab_key = read_optional_lab_key(options.lab_key_path, options.results_dir);
+  for (const auto& [name, value] : options.participant_fields) {
+    if (std::find(config.participant_fields.begin(), config.participant_fields.end(), name) == config.participant_fields.end())
+      throw InputError("--field " + name + ": not a participant field of " + config.source_path + " (expected " +
+                       (config.participant_fields.empty() ? std::string("none: the config has no [participant] fields")
+                                                          : "one of " + join(config.participant_fields, ", ")) + ")");
+    check_participant_field_value(name, value);
+  }
 
   // The participant's folder is locked before anything in it is read, cut or renamed, and stays
   // locked until this run exits: a second run of the participant changes nothing and exits 2.
@@ -212,6 +232,25 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     // Ended, but killed before its seal: every check above passed, so the seal is all it lacks.
     if (record->ended) return seal_finished_session(*existing, *record, lab_key ? &*lab_key : nullptr, outcome);
     outcome.resumed = true;
+  }
+
+  // The [participant] fields of a new session: given, asked, or (a simulated observer) left empty.
+  // A resumed session keeps its header's and asks nothing.
+  std::map<std::string, std::string> participant_fields;
+  if (!record) {
+    participant_fields = options.participant_fields;
+    for (const std::string& name : config.participant_fields) {
+      if (participant_fields.count(name)) continue;
+      if (options.ask_participant_field) {
+        participant_fields[name] = options.ask_participant_field(name);
+        check_participant_field_value(name, participant_fields[name]);
+      } else if (observer_model) {
+        participant_fields[name] = "";
+      } else {
+        throw InputError(config.source_path + ": [participant] fields: give " + name + " with --field " + name +
+                         "=VALUE (or run on a terminal to be asked)");
+      }
+    }
   }
 
   // Everything that can fail on the user's input comes before the first write: gaze source (a
@@ -281,7 +320,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
                                presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
                                window ? window->device_name() : "", outcome.frame_path, gaze->describe(),
-                               presenter->refresh_hz(), utc_now()};
+                               presenter->refresh_hz(), utc_now(), participant_fields};
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
   }

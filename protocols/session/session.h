@@ -4,6 +4,7 @@
 // writes every event to the log the moment it happens (docs/log-schema.md). Running it again for a
 // participant whose log exists resumes after the last complete trial.
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +19,11 @@ struct SessionOptions {
   std::string observer;           // "" for a human at the keys, else "simulated[:k=v,...]"
   std::string gaze;               // "" for the default: mouse in a window, synthetic headless
   std::string cache_dir = "stimuli/cache";  // the pre-render cache (path-traced frames, Voronoi masks)
+  // The config's [participant] fields given on the command line (name -> value), and how to ask
+  // for the others when a new session starts (empty: not asked; a human's missing field is then an
+  // InputError, a simulated observer's is left empty). A resumed session keeps its header's.
+  std::map<std::string, std::string> participant_fields;
+  std::function<std::string(const std::string& name)> ask_participant_field;
   // Hears the share of the stimuli prepared (0 to 1) while they render before the first trial.
   std::function<void(double)> prepare_progress;
   // Hears the share of the schedule's trials done after each trial (a headless pilot runs for

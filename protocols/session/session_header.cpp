@@ -83,6 +83,7 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.gaze = inputs.gaze;
   header.observer = inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human");
   header.started_utc = inputs.started_utc;
+  for (const auto& [name, value] : inputs.participant_fields) header.participant_fields[name] = value;
   nlohmann::json stimuli = nlohmann::json::array();
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     nlohmann::json entry = to_json(stimulus.spec);

@@ -1,6 +1,7 @@
 #pragma once
 // The first line of every session log: everything a replay needs to rebuild the session without
 // any other file (the whole config text, seeds, observer model, device, display, gaze source).
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -25,6 +26,7 @@ struct SessionHeaderInputs {
   std::string gaze;                         // GazeSource::describe()
   double refresh_hz = 0.0;                  // measured by the presenter
   std::string started_utc;
+  std::map<std::string, std::string> participant_fields;  // the config's [participant] fields
 };
 
 // The header event; lab_key_id is left null (run_session sets it for a keyed log).

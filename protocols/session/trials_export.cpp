@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <map>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -66,17 +67,37 @@ namespace {
 
 // The export; `current` names the log being read, for the caller's message.
 ExportedCsv export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options, std::string& current) {
-  std::ostringstream csv, steps;
-  csv << csv_line(std::vector<std::string>(std::begin(columns), std::end(columns)));
-  steps << csv_line(std::vector<std::string>(std::begin(step_columns), std::end(step_columns)));
+  // The config's [participant] fields, one column each ("field_age"), over every log.
+  std::set<std::string> field_names;
+  std::vector<SessionRecord> records;
   for (const std::string& path : log_paths) {
+    current = path;
+    records.push_back(read_session_record(read_event_log(path), options.lab_key));
+    if (const auto fields = records.back().header.find("participant_fields");
+        fields != records.back().header.end() && fields->is_object())
+      for (const auto& [name, value] : fields->items()) field_names.insert(name);
+  }
+  std::ostringstream csv, steps;
+  std::vector<std::string> header_row(std::begin(columns), std::end(columns));
+  for (const std::string& name : field_names) header_row.push_back("field_" + name);
+  csv << csv_line(header_row);
+  steps << csv_line(std::vector<std::string>(std::begin(step_columns), std::end(step_columns)));
+  for (size_t log_index = 0; log_index < log_paths.size(); ++log_index) {
+    const std::string& path = log_paths[log_index];
     current = path;
     const EventLogFile log = read_event_log(path);
     if (log.torn_tail)
       std::fprintf(stderr, "fovlab: %s: the last line is cut off (%zu bytes); not exported\n", path.c_str(),
                    log.torn_tail->size());
-    const SessionRecord record = read_session_record(log, options.lab_key);
+    const SessionRecord& record = records[log_index];
     const LogIntegrity& integrity = record.integrity;
+    std::vector<std::string> field_cells;
+    for (const std::string& name : field_names) {
+      const auto fields = record.header.find("participant_fields");
+      const bool has = fields != record.header.end() && fields->is_object() && fields->contains(name) &&
+                       (*fields)[name].is_string();
+      field_cells.push_back(has ? (*fields)[name].get<std::string>() : "");
+    }
     if (integrity.status == LogStatus::broken && !options.include_broken)
       throw InputError(path + ":" + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
                        "); not exported (pass --include-broken to export it anyway, marked broken)");
@@ -146,7 +167,9 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
           header.value("fovlab_version", ""),
           header.value("config_hash", ""),
           number_cell(refresh_hz)};
-      csv << csv_line(cells);
+      std::vector<std::string> row = cells;
+      row.insert(row.end(), field_cells.begin(), field_cells.end());
+      csv << csv_line(row);
 
       // Ramp steps and slider actions, one row an answer. A ramp's step s shows sequence[s] after
       // sequence[s - 1]; a slider's action is taken with the ladder at its current index (moved by

@@ -480,6 +480,19 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     read_timing(TomlFields(*timing, path, "timing"), config.timing);
   if (const toml::table* attention = fields.optional_table("attention"))
     read_attention(TomlFields(*attention, path, "attention"), config.protocol, config.attention);
+  if (const toml::table* participant = fields.optional_table("participant")) {
+    const TomlFields participant_fields(*participant, path, "participant");
+    config.participant_fields = participant_fields.strings("fields");
+    std::set<std::string> seen;
+    for (const std::string& name : config.participant_fields) {
+      const bool plain = !name.empty() && name.size() <= 32 &&
+                         name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
+      if (!plain) participant_fields.fail("fields", "expected names of 1-32 lower-case letters, digits or '_', got \"" + name + "\"");
+      if (!seen.insert(name).second) participant_fields.fail("fields", "duplicate field \"" + name + "\"");
+    }
+    if (config.participant_fields.size() > 32) participant_fields.fail("fields", "expected at most 32 fields");
+    participant_fields.finish();
+  }
 
   const SceneKind scene_kind = describe(config.stimulus.reference.method).scene_kind;
   const MethodDescriptor& test = describe(config.stimulus.test.method);

@@ -115,6 +115,10 @@ struct StudyConfig {
   std::vector<BlockConfig> blocks;
   TimingConfig timing;
   AttentionConfig attention;
+  // [participant] fields: what each participant is asked before the session (age, handedness, ...):
+  // given with fovlab run --field NAME=VALUE or asked on the terminal, kept in the log's header and
+  // exported. Names: 1-32 of a-z, 0-9, '_', unique, at most 32 of them.
+  std::vector<std::string> participant_fields;
 
   std::string source_path;      // where it was read from (messages)
   std::string source_text;      // the file's bytes (logged in the header, so a replay needs nothing else)

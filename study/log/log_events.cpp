@@ -200,6 +200,7 @@ nlohmann::json to_json(const SessionHeaderEvent& event) {
   json[k::gaze] = event.gaze;
   json[k::observer] = event.observer;
   json[k::started_utc] = event.started_utc;
+  json[k::participant_fields] = event.participant_fields;
   return json;
 }
 
@@ -361,6 +362,7 @@ SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck c
   in.read(k::gaze, event.gaze);
   in.read(k::observer, event.observer);
   in.read(k::started_utc, event.started_utc);
+  in.read(k::participant_fields, event.participant_fields);
   return event;
 }
 

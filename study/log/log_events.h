@@ -56,6 +56,7 @@ inline constexpr const char* presenter = "presenter";
 inline constexpr const char* gaze = "gaze";  // also a stimulus event's per-refresh positions
 inline constexpr const char* observer = "observer";
 inline constexpr const char* started_utc = "started_utc";
+inline constexpr const char* participant_fields = "participant_fields";
 // session_resumed
 inline constexpr const char* next_trial = "next_trial";
 inline constexpr const char* discarded_trial = "discarded_trial";
@@ -128,6 +129,7 @@ struct SessionHeaderEvent {
   std::string presenter, gaze;
   nlohmann::json observer = "human";  // "human" or the simulated observer's model
   std::string started_utc;
+  nlohmann::json participant_fields = nlohmann::json::object();  // the config's [participant] fields: name -> text
   bool operator==(const SessionHeaderEvent&) const = default;
 };
 

@@ -115,6 +115,55 @@ TEST(Session, QuestionScreenPutsEachKeyOnALineOfItsOwn) {
   }
 }
 
+TEST(Session, ParticipantFieldsAreAskedKeptInTheHeaderAndExported) {
+  // Issue 18: [participant] fields, given on the command line or asked, in the header and trials.csv.
+  const StudyConfig config = fixture_with("tiny_2afc", "[[block]]", "[participant]\nfields = [\"age\", \"handedness\"]\n\n[[block]]");
+  ASSERT_EQ(config.participant_fields, (std::vector<std::string>{"age", "handedness"}));
+  const fs::path results = fresh_folder("fields");
+  SessionOptions options = simulated(results);
+  options.participant_fields = {{"age", "31"}};
+  std::vector<std::string> asked;
+  options.ask_participant_field = [&](const std::string& name) {
+    asked.push_back(name);
+    return std::string("left");
+  };
+  const SessionOutcome outcome = run_session(config, options);
+  ASSERT_TRUE(outcome.finished);
+  EXPECT_EQ(asked, std::vector<std::string>{"handedness"});  // only what the command line left out
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  EXPECT_EQ(record.header["participant_fields"], nlohmann::json({{"age", "31"}, {"handedness", "left"}}));
+  const std::string csv = export_trials_csv({outcome.log_path});
+  const std::string first_line = csv.substr(0, csv.find('\n'));
+  EXPECT_NE(first_line.find(",field_age,field_handedness"), std::string::npos) << first_line;
+  const std::string second_line = csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+  EXPECT_EQ(second_line.substr(second_line.size() - 8), ",31,left") << second_line;
+
+  // A field the config does not have, and a value with a control character: refused, nothing written.
+  SessionOptions unknown = simulated(results, "P2");
+  unknown.participant_fields = {{"colour", "red"}};
+  EXPECT_THROW(run_session(config, unknown), InputError);
+  SessionOptions control = simulated(results, "P3");
+  control.participant_fields = {{"age", "3\n1"}};
+  EXPECT_THROW(run_session(config, control), InputError);
+  EXPECT_FALSE(fs::exists(results / "tiny_2afc" / "P2" / "events.jsonl"));
+  EXPECT_FALSE(fs::exists(results / "tiny_2afc" / "P3" / "events.jsonl"));
+  // A human's missing field with nobody to ask is refused before anything is written.
+  SessionOptions human = simulated(results, "P4");
+  human.observer.clear();
+  human.headless = false;
+  EXPECT_THROW(
+      {
+        try {
+          run_session(config, human);
+        } catch (const InputError& error) {
+          EXPECT_NE(std::string(error.what()).find("--field age=VALUE"), std::string::npos) << error.what();
+          throw;
+        }
+      },
+      InputError);
+  EXPECT_FALSE(fs::exists(results / "tiny_2afc" / "P4" / "events.jsonl"));
+}
+
 TEST(Session, HeadlessScreenshotsSaveEveryKindOfScreen) {
   // Issue 18: --screenshots was ignored with --headless and saved only two screens. Now the first
   // screen of each kind is saved; headless, the frame itself (what a window would have shown).
