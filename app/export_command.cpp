@@ -31,13 +31,20 @@ void export_trials(const ExportArguments& arguments) {
   const fs::path steps_out = fs::path(out).parent_path() / (fs::path(out).stem().string() == "trials"
                                                                 ? std::string("steps.csv")
                                                                 : fs::path(out).stem().string() + "_steps.csv");
-  for (const fs::path& path : {fs::path(out), steps_out})
-    if (fs::exists(path) && !arguments.force) throw InputError("--out: " + path.string() + " exists (pass --force to replace it)");
+  if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
   const ExportedCsv csv = export_session_csvs(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
   const bool has_steps = csv.steps.find('\n') + 1 < csv.steps.size();  // more than the header
+  if (has_steps && fs::exists(steps_out) && !arguments.force)
+    throw InputError("--out: " + steps_out.string() + " exists (pass --force to replace it)");
   write_text_atomically(out, csv.trials);
-  if (has_steps) write_text_atomically(steps_out, csv.steps);
+  if (has_steps) {
+    write_text_atomically(steps_out, csv.steps);
+  } else if (fs::exists(steps_out)) {  // an earlier export's: it no longer goes with this trials.csv
+    if (arguments.force) fs::remove(steps_out);
+    std::fprintf(stderr, "fovlab: %s: from an earlier export, %s (these logs have no ramp steps or slider actions)\n",
+                 steps_out.string().c_str(), arguments.force ? "removed" : "left as it was");
+  }
   std::printf("%s%s: %zu log(s)\n", out.c_str(), has_steps ? (" and " + steps_out.string()).c_str() : "", logs.size());
 }
 

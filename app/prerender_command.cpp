@@ -52,32 +52,6 @@ Shard parse_shard(const std::string& text) {
   return {int(*index), int(*count)};
 }
 
-struct FrameJob {
-  PathTraceSequence sequence;
-  int frame = 0;
-};
-
-// Every frame of every sequence the stimuli need, each once, sequences in the order the plan
-// first names them, frames in order: the list shards split.
-std::vector<FrameJob> frame_jobs(const StudyPlan& plan) {
-  std::vector<PathTraceSequence> sequences;
-  for (const PlannedStimulus& stimulus : plan.stimuli) {
-    if (!is_path_traced(stimulus.spec.method())) continue;
-    for (const PathTraceSequence& sequence : path_traced_frames(stimulus.spec).sequences) {
-      bool known = false;
-      for (PathTraceSequence& other : sequences)
-        if (other.description() == sequence.description()) {
-          other.frame_count = std::max(other.frame_count, sequence.frame_count);
-          known = true;
-        }
-      if (!known) sequences.push_back(sequence);
-    }
-  }
-  std::vector<FrameJob> jobs;
-  for (const PathTraceSequence& sequence : sequences)
-    for (int frame = 0; frame < sequence.frame_count; ++frame) jobs.push_back({sequence, frame});
-  return jobs;
-}
 
 void print_progress(bool terminal, int done, int total, double seconds_per_frame, const std::string& file) {
   const double eta_s = seconds_per_frame * (total - done);
@@ -101,19 +75,19 @@ void run_prerender(const PrerenderOptions& options) {
   const StudyConfig config = parse_study_config_file(options.config, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
   check_sampling_maps(plan.stimuli, options.config);  // a config no session could run is refused before rendering
-  const std::vector<FrameJob> all_jobs = frame_jobs(plan);
+  const std::vector<PathTraceFrameJob> all_jobs = path_traced_frame_jobs(planned_specs(plan));
   if (all_jobs.empty())
     throw InputError(options.config + ": no path-traced stimuli (method pt, fpt, pt-rmfr, pt-hyperbolic, pt-linear or pt-kfr); nothing to pre-render");
-  std::vector<FrameJob> jobs;
+  std::vector<PathTraceFrameJob> jobs;
   for (size_t i = size_t(shard.index); i < all_jobs.size(); i += size_t(shard.count)) jobs.push_back(all_jobs[i]);
 
   vk::Context context(context_options(options.device));
   FrameCache cache(context, options.cache);
-  std::vector<const FrameJob*> missing;
-  for (const FrameJob& job : jobs)
+  std::vector<const PathTraceFrameJob*> missing;
+  for (const PathTraceFrameJob& job : jobs)
     if (!cache.has_frame(job.sequence, job.frame)) missing.push_back(&job);
   std::set<std::string> scenes;
-  for (const FrameJob& job : all_jobs)
+  for (const PathTraceFrameJob& job : all_jobs)
     if (scenes.insert(job.sequence.scene).second && !cache.scene_note(job.sequence.scene).empty())
       std::printf("%s: %s\n", job.sequence.scene.c_str(), cache.scene_note(job.sequence.scene).c_str());
   std::printf("%s: %zu frames in all, shard %d/%d holds %zu: %zu cached, %zu to render (cache %s)\n",

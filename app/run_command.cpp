@@ -47,7 +47,8 @@ void run(RunOptions options) {
     const size_t equals = field.find('=');
     if (equals == std::string::npos || equals == 0)
       throw InputError("--field " + field + ": expected NAME=VALUE (a [participant] field of the config)");
-    session.participant_fields[field.substr(0, equals)] = field.substr(equals + 1);
+    if (!session.participant_fields.emplace(field.substr(0, equals), field.substr(equals + 1)).second)
+      throw InputError("--field " + field.substr(0, equals) + ": given twice; expected each field once");
   }
   // A human at a terminal is asked for the fields the command line left out.
   if (session.observer.empty() && isatty(STDIN_FILENO) == 1)
@@ -116,8 +117,8 @@ void add_run_command(CLI::App& app) {
                       "Pre-render cache of path-traced frames and Voronoi masks (default stimuli/cache under the "
                       "working directory)");
   command->add_option("--screenshots", options->session.screenshots_dir,
-                      "Save the first screen of each kind here as PNG (instructions, stimulus, question, break, "
-                      "rest, end), headless too");
+                      "Save the first screen of each kind here as PNG, headless too: instructions, fixation, "
+                      "stimulus, question, break and break_end, rest and rest_end, end, excluded");
   command->add_option("--device", options->device,
                       "Vulkan device that renders and, in a window, presents: index or part of its name");
   command->add_option("--present-device", options->session.present_device_selector,

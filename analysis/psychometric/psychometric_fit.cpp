@@ -246,7 +246,9 @@ Optimum profile_at(const Problem& problem, const std::vector<double>& counts, in
     for (int r = 0; r < reduced.dimensions; ++r) sub[r] = start[free_axes[r]];
     const detail::NelderMeadResult o = minimise_with_restarts(objective, sub, reduced);
     const Optimum candidate{expand(o.x), -o.f, o.converged};
-    if (!have || better_optimum(candidate, best)) {
+    // The profile is a maximum: the highest likelihood found wins, converged or not (preferring a
+    // converged lower one would end the interval too early).
+    if (!have || candidate.kernel > best.kernel) {
       best = candidate;
       have = true;
     }

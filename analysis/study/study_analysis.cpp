@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -289,8 +290,10 @@ class ComparisonAnalysis {
   }
 
   // The walk's threshold is the last level the tests could not tell from the reference, so it
-  // depends on the trials per level; the fit's threshold is where the answers cross half-way. When
-  // the first fit's interval excludes the walk's level, the note says so, with both figures.
+  // depends on the trials per level; the fit's threshold is where the answers cross half-way, which
+  // the walk places between its level and the next more degraded one (the first distinguished).
+  // When the first fit's interval lies wholly outside that bracket, the note says so, both figures
+  // given. (A grid step wider than the interval alone does not trigger it.)
   void compare_threshold_with_fit(const GroupKey& group) {
     if (result_.thresholds.empty() || result_.fits.empty() || data_.protocol == ProtocolKind::rating) return;
     GroupThreshold& threshold = result_.thresholds.back();
@@ -298,12 +301,22 @@ class ComparisonAnalysis {
     if (!(threshold.group == group) || !(group_fit.group == group) || !threshold.level || group_fit.fits.empty()) return;
     const PsychometricFit& fit = group_fit.fits.front();
     const ParameterInterval& interval = fit.threshold_interval;
-    if (!(*threshold.level < interval.lower || *threshold.level > interval.upper)) return;
-    append_note(threshold.note, "the " + std::string(shape_name(fit.model.shape)) + " fit's threshold is " +
-                                    format_number(fit.model.parameters.threshold, 4) + " " +
-                                    format_interval(interval.lower, interval.upper, 4) + ", which excludes " +
-                                    format_number(*threshold.level, 6) +
-                                    ": the tests could not tell the levels between apart with these trials");
+    const double walk = *threshold.level;
+    const bool higher_is_better = data_.higher_is_better;
+    double degraded_end = higher_is_better ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    for (const ConditionRow* row : rows_of(group))
+      if (more_degraded_than(*row->level, walk, higher_is_better) && !more_degraded_than(*row->level, degraded_end, higher_is_better))
+        degraded_end = *row->level;  // the next more degraded level tested
+    const double low = std::min(walk, degraded_end), high = std::max(walk, degraded_end);
+    if (!(interval.upper < low || interval.lower > high)) return;
+    const bool beyond_the_walk = higher_is_better ? interval.upper < low : interval.lower > high;
+    append_note(threshold.note,
+                "the " + std::string(shape_name(fit.model.shape)) + " fit's threshold is " +
+                    format_number(fit.model.parameters.threshold, 4) + " " + format_interval(interval.lower, interval.upper, 4) +
+                    ", outside the walk's bracket (" + format_number(walk, 6) + " to the next more degraded level): " +
+                    (beyond_the_walk ? "more degraded than the walk says (levels the tests passed were seen more than half the time)"
+                                     : "less degraded than the walk says: the tests could not tell the levels between apart "
+                                       "with these trials"));
   }
 
   const StudyData& data_;
@@ -381,7 +394,7 @@ std::optional<double> pair_threshold(const StudyData& data, const std::vector<co
 enum class RampOutcome { wrong_step, all_right, unanswered_step };
 
 RampOutcome ramp_trial_threshold(const StudyData& data, const StudyTrial& trial, std::optional<double>& threshold) {
-  const std::string_view correct = trial.ramp_toward_reference ? answers::increased : answers::decreased;
+  const std::string_view correct = answers::ramp_correct_answer(trial.ramp_toward_reference);
   const size_t steps = trial.sequence_levels.empty() ? 0 : trial.sequence_levels.size() - 1;
   std::vector<bool> answered(steps + 1, false);
   threshold.reset();

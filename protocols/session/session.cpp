@@ -237,7 +237,15 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // The [participant] fields of a new session: given, asked, or (a simulated observer) left empty.
   // A resumed session keeps its header's and asks nothing.
   std::map<std::string, std::string> participant_fields;
-  if (!record) {
+  if (record) {
+    for (const auto& [name, value] : options.participant_fields) {
+      const nlohmann::json& logged = record->header.value("participant_fields", nlohmann::json::object());
+      if (!logged.contains(name) || logged[name] != value)
+        throw InputError("--field " + name + "=" + value + ": the session was started with " + name + " = " +
+                         (logged.contains(name) ? logged[name].dump() : std::string("none")) +
+                         " (" + outcome.log_path + "); resume it without --field or with the same value");
+    }
+  } else {
     participant_fields = options.participant_fields;
     for (const std::string& name : config.participant_fields) {
       if (participant_fields.count(name)) continue;
@@ -261,6 +269,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   std::unique_ptr<Presenter> presenter;
   if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
+    if (!options.screenshots_dir.empty()) find_font_path();  // headless screenshots draw the text screens
   } else {
     WindowPresenterOptions window;
     window.width_px = config.display.width_px;

@@ -60,7 +60,7 @@ void SessionRun::take_break(const std::string& text, double duration_s, const st
     show_text(text + "\n\n" + std::to_string(left) + " s", screen_kind);
     presenter_.wait_until(end - (left - 1));
   }
-  show_text(text + "\n\nPress any key to continue.", screen_kind + "_end");
+  show_text(text + "\n\nPress an answer key to continue.", screen_kind + "_end");
   wait_for_key();
 }
 
@@ -268,7 +268,15 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       log(to_json(AttentionCheckEvent{{}, trial.index, correct, attention_errors}));
       if (!correct && attention_errors < config.attention.max_errors && config.attention.break_s > 0) {
         const double break_start = t();
-        take_break("Please take a short break.", config.attention.break_s, "break");
+        try {
+          take_break("Please take a short break.", config.attention.break_s, "break");
+        } catch (const SessionAborted&) {
+          // Stopped at "press to continue": the trial and its wrong answer are complete all the same,
+          // so a resumed session cannot ask the check again and forget the error.
+          log(to_json(BreakEvent{{}, BreakEvent::attention_check, trial.index, break_start, t() - break_start}));
+          log(to_json(TrialEndEvent{{}, trial.index}));
+          throw;
+        }
         log(to_json(BreakEvent{{}, BreakEvent::attention_check, trial.index, break_start, t() - break_start}));
       }
     }

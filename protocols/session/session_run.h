@@ -53,12 +53,13 @@ class SessionRun {
   // The fixation cross for `duration_s` (nothing when 0).
   void show_fixation(double duration_s);
   // A break of at least `duration_s`: the text with the seconds left, updated each second, then
-  // "Press any key to continue." until a key (the simulated observer presses one at once).
+  // "Press an answer key to continue." until one (the simulated observer after its usual 2 s).
   void take_break(const std::string& text, double duration_s, const std::string& screen_kind);
-  // A screen held until any key: instructions, the end of an excluded participant's session.
+  // A screen held until an answer key (as the instructions are): the end of a break, the end of an
+  // excluded participant's session.
   void wait_for_key();
-  // With --screenshots, the first screen of each kind ("instructions", "stimulus", "question",
-  // "break", "rest", "end") is saved as <kind>.png: the swapchain's image in a window, the frame
+  // With --screenshots, the first screen of each kind ("instructions", "fixation", "stimulus",
+  // "question", "break", "break_end", "rest", "rest_end", "end", "excluded") is saved as <kind>.png: the swapchain's image in a window, the frame
   // itself when headless. `frame`: what is on screen (a headless run shows nothing).
   bool wants_screenshot(const std::string& kind) const;
   void save_screenshot(const std::string& kind, const Rgba8Frame& frame);

@@ -10,6 +10,7 @@
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "study/config/study_config.h"
+#include "study/protocol/protocol_rules.h"
 #include "study/log/session_record.h"
 #include "study/schedule/study_plan.h"
 
@@ -68,11 +69,15 @@ namespace {
 // The export; `current` names the log being read, for the caller's message.
 ExportedCsv export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options, std::string& current) {
   // The config's [participant] fields, one column each ("field_age"), over every log.
+  // Every log is read once, first, so the field columns are known before the first row.
   std::set<std::string> field_names;
   std::vector<SessionRecord> records;
+  std::vector<size_t> torn_bytes;  // of each log's cut-off last line (0: none)
   for (const std::string& path : log_paths) {
     current = path;
-    records.push_back(read_session_record(read_event_log(path), options.lab_key));
+    const EventLogFile log = read_event_log(path);
+    torn_bytes.push_back(log.torn_tail ? log.torn_tail->size() : 0);
+    records.push_back(read_session_record(log, options.lab_key));
     if (const auto fields = records.back().header.find("participant_fields");
         fields != records.back().header.end() && fields->is_object())
       for (const auto& [name, value] : fields->items()) field_names.insert(name);
@@ -85,10 +90,9 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
   for (size_t log_index = 0; log_index < log_paths.size(); ++log_index) {
     const std::string& path = log_paths[log_index];
     current = path;
-    const EventLogFile log = read_event_log(path);
-    if (log.torn_tail)
+    if (torn_bytes[log_index] > 0)
       std::fprintf(stderr, "fovlab: %s: the last line is cut off (%zu bytes); not exported\n", path.c_str(),
-                   log.torn_tail->size());
+                   torn_bytes[log_index]);
     const SessionRecord& record = records[log_index];
     const LogIntegrity& integrity = record.integrity;
     std::vector<std::string> field_cells;
@@ -188,7 +192,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
           level = at(response.step);
           previous = at(response.step - 1);
           if (!response.answer.empty())
-            correct = response.answer == (*start.ramp_toward_reference ? "increased" : "decreased");
+            correct = response.answer == answers::ramp_correct_answer(*start.ramp_toward_reference);
         } else {
           if (ladder >= 0 && size_t(ladder) < start.sequence.size()) level = stimulus_level(header, start.sequence[size_t(ladder)]);
           ladder = next_ladder_index(ladder_trial, response.answer, ladder);

@@ -1,5 +1,6 @@
 #include "protocols/stimuli/stimulus_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -217,6 +218,26 @@ bool temporal_smoothing(const StimulusSpec& spec) {
 DisplayGeometry stimulus_display(const StimulusSpec& spec) {
   const DisplaySize size = stimulus_display_size(spec);
   return display_from_size(spec.width_px, spec.height_px, size.width_mm, size.height_mm, size.viewing_distance_mm);
+}
+
+std::vector<PathTraceFrameJob> path_traced_frame_jobs(const std::vector<StimulusSpec>& stimuli) {
+  std::vector<PathTraceSequence> sequences;
+  for (const StimulusSpec& spec : stimuli) {
+    if (!is_path_traced(spec.method())) continue;
+    for (const PathTraceSequence& sequence : path_traced_frames(spec).sequences) {
+      bool known = false;
+      for (PathTraceSequence& other : sequences)
+        if (other.description() == sequence.description()) {
+          other.frame_count = std::max(other.frame_count, sequence.frame_count);
+          known = true;
+        }
+      if (!known) sequences.push_back(sequence);
+    }
+  }
+  std::vector<PathTraceFrameJob> jobs;
+  for (const PathTraceSequence& sequence : sequences)
+    for (int frame = 0; frame < sequence.frame_count; ++frame) jobs.push_back({sequence, frame});
+  return jobs;
 }
 
 PathTracedFrames path_traced_frames(const StimulusSpec& spec) {

@@ -87,6 +87,15 @@ struct PathTracedFrames {
 };
 PathTracedFrames path_traced_frames(const StimulusSpec& spec);
 
+// Every frame of every path-traced sequence the stimuli need, each once: sequences in the order the
+// stimuli first name them (a sequence named twice keeps the larger frame count), frames in order.
+// The list fovlab prerender renders and --shard splits; validate counts what the cache lacks.
+struct PathTraceFrameJob {
+  PathTraceSequence sequence;
+  int frame = 0;
+};
+std::vector<PathTraceFrameJob> path_traced_frame_jobs(const std::vector<StimulusSpec>& stimuli);
+
 // The zones of an fpt spec: foveal aperture, middle = foveal + middle_minus_foveal, band width.
 ZoneBounds zone_bounds(const StimulusSpec& spec);
 

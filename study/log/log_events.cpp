@@ -200,7 +200,9 @@ nlohmann::json to_json(const SessionHeaderEvent& event) {
   json[k::gaze] = event.gaze;
   json[k::observer] = event.observer;
   json[k::started_utc] = event.started_utc;
-  json[k::participant_fields] = event.participant_fields;
+  // Only when there are some: a header without fields keeps the bytes earlier builds wrote.
+  if (event.participant_fields.is_object() && !event.participant_fields.empty())
+    json[k::participant_fields] = event.participant_fields;
   return json;
 }
 

@@ -29,6 +29,8 @@ inline constexpr std::string_view save = "save";            // slider: keep the 
 inline constexpr std::string_view rating_1 = "1";
 inline constexpr std::string_view rating_2 = "2";
 inline constexpr std::string_view rating_3 = "3";           // rating: identical to the reference
+// A ramp step's right answer: the ramp's direction (toward the reference: the quality increased).
+inline std::string_view ramp_correct_answer(bool toward_reference) { return toward_reference ? increased : decreased; }
 }  // namespace answers
 
 struct ProtocolAnswer {

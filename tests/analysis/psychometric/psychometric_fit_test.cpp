@@ -649,46 +649,21 @@ TEST(PsychometricBootstrap, LargeCountsStayFast) {
   EXPECT_LT(fit.bootstrap_threshold_interval.upper - fit.bootstrap_threshold_interval.lower, 0.1);
 }
 
-TEST(PsychometricProfile, CoverageOfTheThresholdInterval) {
-  // The same 40 simulated experiments as the bootstrap's coverage test below, with the 95 %
-  // profile-likelihood interval. The likelihood-ratio statistic is close to chi-square here
-  // (280 trials), so the coverage should be near 95 %: 38 of 40 with these seeds. Requiring >= 34
-  // fails a method with true coverage 0.95 with probability 3 %, and one with 0.5 essentially never.
+TEST(PsychometricIntervals, CoverageOfTheThresholdIntervals) {
+  // 40 simulated experiments (7 levels x 40 trials, seeds from a Pcg32), each with a 95 % profile-
+  // likelihood interval and a 95 % percentile interval from 100 bootstrap replicates. The number of
+  // intervals containing the true threshold is Binomial(40, c) for the true coverage c of the method.
+  // - Profile: the likelihood-ratio statistic is close to chi-square here (280 trials), so c should
+  //   be near 0.95 (38 of 40 with these seeds). >= 34 fails a method with c = 0.95 with probability
+  //   3 %, one with c = 0.5 essentially never. It always holds the estimate.
+  // - Percentile: under-covers a little at these sample sizes (cf. Wichmann & Hill 2001b): c was
+  //   about 0.91 over 160 such experiments with other seeds (37 of 40 with these). >= 30 fails a
+  //   correct method with probability 0.6 % at c = 0.88, and passes one with c = 0.5 with 0.1 %.
+  // The run is deterministic; the bounds only guard against changed seeds or details.
   const PsychometricModel truth = make_model(PsychometricShape::logistic, true, 0.0, 2.0, 2.0, 0.02);
   Pcg32 seeds(20240601);
-  int covered = 0;
-  double width_sum = 0.0;
-  for (int experiment = 0; experiment < 40; ++experiment) {
-    const std::vector<LevelCounts> data = simulate(truth, kBootstrapLevels, 40, seeds.next_u32());
-    (void)seeds.next_u32();  // the bootstrap seed of the test below
-    FitOptions options;
-    options.max_lapse = 0.06;
-    options.bootstrap_samples = 0;
-    const PsychometricFit fit = fit_psychometric(data, options);
-    EXPECT_LE(fit.threshold_interval.lower, fit.model.parameters.threshold);
-    EXPECT_GE(fit.threshold_interval.upper, fit.model.parameters.threshold);
-    if (fit.threshold_interval.lower <= 2.0 && 2.0 <= fit.threshold_interval.upper) ++covered;
-    width_sum += fit.threshold_interval.upper - fit.threshold_interval.lower;
-  }
-  EXPECT_GE(covered, 34);
-  // A normal 95 % interval from the ML threshold's spread (SD about 0.105) spans 0.41.
-  EXPECT_GT(width_sum / 40, 0.3);
-  EXPECT_LT(width_sum / 40, 0.6);
-}
-
-TEST(PsychometricBootstrap, CoverageOfTheThresholdInterval) {
-  // 40 simulated experiments (7 levels x 40 trials, seeds from a Pcg32), each with a 95 %
-  // percentile interval from 100 replicates. The number of intervals containing the true threshold
-  // is Binomial(40, c) for the true coverage c of the method. Percentile bootstrap intervals
-  // under-cover a little at these sample sizes (cf. Wichmann & Hill 2001b): c was about 0.91 over 160
-  // such experiments with other seeds. Requiring >= 30 of 40 fails a correct method with
-  // probability 0.6 % at c = 0.88 (3 % at c = 0.85), and passes a broken one with c = 0.5 with
-  // probability 0.1 %. The run is deterministic (37 of 40 with these seeds); the bound only
-  // guards against changed seeds or details.
-  const PsychometricModel truth = make_model(PsychometricShape::logistic, true, 0.0, 2.0, 2.0, 0.02);
-  Pcg32 seeds(20240601);
-  int covered = 0;
-  double width_sum = 0.0;
+  int profile_covered = 0, bootstrap_covered = 0;
+  double profile_width = 0.0, bootstrap_width = 0.0;
   for (int experiment = 0; experiment < 40; ++experiment) {
     const std::vector<LevelCounts> data = simulate(truth, kBootstrapLevels, 40, seeds.next_u32());
     FitOptions options;
@@ -696,15 +671,24 @@ TEST(PsychometricBootstrap, CoverageOfTheThresholdInterval) {
     options.bootstrap_samples = 100;
     options.seed = seeds.next_u32();
     const PsychometricFit fit = fit_psychometric(data, options);
-    if (fit.bootstrap_threshold_interval.lower <= 2.0 && 2.0 <= fit.bootstrap_threshold_interval.upper) ++covered;
-    width_sum += fit.bootstrap_threshold_interval.upper - fit.bootstrap_threshold_interval.lower;
+    const ParameterInterval& profile = fit.threshold_interval;
+    const ParameterInterval& bootstrap = fit.bootstrap_threshold_interval;
+    EXPECT_LE(profile.lower, fit.model.parameters.threshold);
+    EXPECT_GE(profile.upper, fit.model.parameters.threshold);
+    profile_covered += profile.lower <= 2.0 && 2.0 <= profile.upper;
+    bootstrap_covered += bootstrap.lower <= 2.0 && 2.0 <= bootstrap.upper;
+    profile_width += profile.upper - profile.lower;
+    bootstrap_width += bootstrap.upper - bootstrap.lower;
   }
-  EXPECT_GE(covered, 30);
+  EXPECT_GE(profile_covered, 34);
+  EXPECT_GE(bootstrap_covered, 30);
   // Neither too wide nor too narrow: the ML threshold's standard deviation over such experiments
-  // is about 0.105, so a normal 95 % interval would span 3.92 * 0.105 = 0.41; the percentile
-  // intervals average 0.35 (their under-coverage above). An interval half or twice as wide fails.
-  EXPECT_GT(width_sum / 40, 0.25);
-  EXPECT_LT(width_sum / 40, 0.6);
+  // is about 0.105, so a normal 95 % interval would span 0.41; the profile intervals average 0.39,
+  // the percentile intervals 0.35 (their under-coverage above). Half or twice as wide fails.
+  EXPECT_GT(profile_width / 40, 0.3);
+  EXPECT_LT(profile_width / 40, 0.6);
+  EXPECT_GT(bootstrap_width / 40, 0.25);
+  EXPECT_LT(bootstrap_width / 40, 0.6);
 }
 
 }  // namespace
