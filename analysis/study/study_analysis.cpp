@@ -313,7 +313,8 @@ class ComparisonAnalysis {
     append_note(threshold.note,
                 "the " + std::string(shape_name(fit.model.shape)) + " fit's threshold is " +
                     format_number(fit.model.parameters.threshold, 4) + " " + format_interval(interval.lower, interval.upper, 4) +
-                    ", outside the walk's bracket (" + format_number(walk, 6) + " to the next more degraded level): " +
+                    ", outside the walk's bracket (" + format_number(walk, 6) +
+                    (std::isinf(degraded_end) ? " or more degraded" : " to the next more degraded level") + "): " +
                     (beyond_the_walk ? "more degraded than the walk says (levels the tests passed were seen more than half the time)"
                                      : "less degraded than the walk says: the tests could not tell the levels between apart "
                                        "with these trials"));
