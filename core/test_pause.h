@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <cstdlib>
+#include <optional>
 #include <string_view>
 
 namespace fovlab {
@@ -13,6 +14,17 @@ namespace fovlab {
 inline void test_pause_point(std::string_view point) {
   const char* pause_at = std::getenv("FOVLAB_TEST_PAUSE_AT");
   if (pause_at && point == pause_at) ::raise(SIGSTOP);
+}
+
+// Test-only: FOVLAB_TEST_CLOSE_AT_S=T makes a headless presenter report its window closed once its
+// virtual clock reaches T seconds, so a test can stop a session at an exact moment of its timeline
+// (the session sees it at its next wait for an answer or a key). Unset or not a number: never.
+inline std::optional<double> test_close_at_s() {
+  const char* text = std::getenv("FOVLAB_TEST_CLOSE_AT_S");
+  if (!text || !*text) return std::nullopt;
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  return *end == '\0' ? std::optional<double>(value) : std::nullopt;
 }
 
 }  // namespace fovlab

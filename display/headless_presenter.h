@@ -4,7 +4,9 @@
 // simulated observer). Sessions run as fast as their stimuli can be fetched, and their times are
 // reproducible.
 #include <cmath>
+#include <optional>
 
+#include "core/test_pause.h"
 #include "display/presenter.h"
 
 namespace fovlab {
@@ -22,7 +24,8 @@ class HeadlessPresenter final : public Presenter {
     if (time_s > now_s_) now_s_ += std::ceil((time_s - now_s_) * refresh_hz_ - 1e-9) / refresh_hz_;
   }
   std::optional<std::pair<double, double>> cursor_px() override { return std::nullopt; }
-  bool close_requested() override { return false; }
+  // Never, unless a test set FOVLAB_TEST_CLOSE_AT_S (core/test_pause.h).
+  bool close_requested() override { return close_at_s_ && now_s_ >= *close_at_s_; }
   double refresh_hz() const override { return refresh_hz_; }
   bool is_headless() const override { return true; }
   std::string present_clock() const override { return "virtual"; }
@@ -34,6 +37,7 @@ class HeadlessPresenter final : public Presenter {
   }
   double refresh_hz_;
   double now_s_;
+  std::optional<double> close_at_s_ = test_close_at_s();
 };
 
 }  // namespace fovlab

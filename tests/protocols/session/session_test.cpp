@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -231,6 +232,48 @@ TEST(Session, FixationCountdownBreaksAndTheExcludedParticipantsMessage) {
       EXPECT_GE(taken.duration_s, config.attention.break_s + 1.0);
     }
   EXPECT_TRUE(found) << "no attention-check break";
+}
+
+TEST(Session, StoppedAtABreaksKeyTheFailedCheckStaysCounted) {
+  // Review of issue 18's breaks: the wait for a key after a wrong attention check's break can be
+  // where a participant closes the window. The trial must be complete by then, or a resumed
+  // session would ask the check again and forget the error. The session is stopped at that exact
+  // moment through FOVLAB_TEST_CLOSE_AT_S (core/test_pause.h) on the headless clock.
+  const StudyConfig config = fixture_with("tiny_2afc", "max_errors = 100", "max_errors = 5");
+  const std::string observer = "simulated:guess=0.6,seed=3";  // wrong at an attention check early on
+  const fs::path uninterrupted = fresh_folder("break-stop-reference");
+  SessionOptions options = simulated(uninterrupted);
+  options.observer = observer;
+  const SessionOutcome reference = run_session(config, options);
+  ASSERT_TRUE(reference.finished);
+  const SessionRecord full = read_session_record(read_event_log(reference.log_path));
+  const RecordedTrial* failed = nullptr;
+  for (const RecordedTrial& trial : full.trials)
+    if (!failed && trial.attention_check && trial.attention_check->correct == false && !trial.breaks.empty()) failed = &trial;
+  ASSERT_NE(failed, nullptr) << "no failed attention check with a break";
+  const BreakEvent& taken = failed->breaks.front();
+  // Halfway through the countdown: the session's next wait is the break's "press a key".
+  const double close_at_s = taken.start_s + 0.5 * config.attention.break_s;
+
+  const fs::path stopped = fresh_folder("break-stop");
+  options = simulated(stopped);
+  options.observer = observer;
+  ::setenv("FOVLAB_TEST_CLOSE_AT_S", std::to_string(close_at_s).c_str(), 1);
+  const SessionOutcome paused = run_session(config, options);
+  ::unsetenv("FOVLAB_TEST_CLOSE_AT_S");
+  EXPECT_FALSE(paused.finished);
+  const SessionRecord at_pause = read_session_record(read_event_log(paused.log_path));
+  ASSERT_FALSE(at_pause.trials.empty());
+  const RecordedTrial& last = at_pause.trials.back();
+  EXPECT_EQ(last.index, failed->index) << "the failed check's trial is the last complete one";
+  ASSERT_TRUE(last.attention_check.has_value());
+  EXPECT_EQ(last.attention_check->correct, std::optional<bool>(false));
+  EXPECT_EQ(last.breaks.size(), 1u);
+
+  // Resumed: the same trials and answers as the uninterrupted session, the check not asked again.
+  const SessionOutcome resumed = run_session(config, options);
+  ASSERT_TRUE(resumed.finished);
+  EXPECT_EQ(trial_summary(resumed.log_path), trial_summary(reference.log_path));
 }
 
 TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
