@@ -162,4 +162,23 @@ Rgba8Frame fixation_cross_frame(int width_px, int height_px, const TextScreenSty
   return frame;
 }
 
+Rgba8Frame validation_target_frame(int width_px, int height_px, double x_px, double y_px, double radius_px,
+                                   const TextScreenStyle& style) {
+  Rgba8Frame frame = black_frame(width_px, height_px);
+  const double dot_px = std::max(1.0, 0.25 * radius_px);
+  const int x0 = std::max(0, static_cast<int>(std::floor(x_px - radius_px)));
+  const int x1 = std::min(width_px, static_cast<int>(std::ceil(x_px + radius_px)) + 1);
+  const int y0 = std::max(0, static_cast<int>(std::floor(y_px - radius_px)));
+  const int y1 = std::min(height_px, static_cast<int>(std::ceil(y_px + radius_px)) + 1);
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      const double distance = std::hypot(x + 0.5 - x_px, y + 0.5 - y_px);
+      if (distance > radius_px || distance <= dot_px) continue;
+      uint8_t* p = frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(width_px) + static_cast<size_t>(x)) * 4;
+      p[0] = p[1] = p[2] = style.grey;
+    }
+  }
+  return frame;
+}
+
 }  // namespace fovlab

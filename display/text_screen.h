@@ -40,4 +40,11 @@ Rgba8Frame black_frame(int width_px, int height_px);
 // stroke height/360, at least 1 px), in the style's grey.
 Rgba8Frame fixation_cross_frame(int width_px, int height_px, const TextScreenStyle& style = {});
 
+// Black with an eye-tracker validation target centred on (x_px, y_px) (pixel coordinates, origin
+// top left): a disk of radius_px in the style's grey with a black dot of a quarter of the radius
+// (at least 1 px) at its centre, where the participant is asked to look. A pixel is lit when its
+// centre lies in the disk.
+Rgba8Frame validation_target_frame(int width_px, int height_px, double x_px, double y_px, double radius_px,
+                                   const TextScreenStyle& style = {});
+
 }  // namespace fovlab

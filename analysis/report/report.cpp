@@ -43,6 +43,17 @@ json json_number(const std::optional<double>& value) { return value ? json_numbe
 std::string html_number(double value) { return std::isfinite(value) ? format_number(value, kHtmlDigits) : "\xE2\x80\x93"; }
 std::string html_number(const std::optional<double>& value) { return value ? html_number(*value) : "\xE2\x80\x93"; }
 
+// "2 / 3, 0.42 (0.61) deg, 0.05 deg": passed / attempts, then over the passed ones the mean accuracy
+// (its worst) and the mean precision; "none" when the study validated nothing.
+std::string validation_text(const ValidationSummary& validation) {
+  if (validation.attempts == 0) return "none";
+  std::string text = std::to_string(validation.passed) + " / " + std::to_string(validation.attempts);
+  if (validation.passed > 0)
+    text += ", " + html_number(validation.mean_accuracy_deg) + " (" + html_number(validation.worst_accuracy_deg) +
+            ") deg, " + html_number(validation.mean_precision_deg) + " deg";
+  return text;
+}
+
 std::string html_interval(double lower, double upper) {
   const std::string text = format_interval(lower, upper, kHtmlDigits);
   return text.empty() ? "\xE2\x80\x93" : text;
@@ -107,17 +118,29 @@ std::vector<std::string> latency_cells(const ParticipantRow& participant) {
           participant.present_clock};
 }
 
+// The eye-tracker validation columns: attempts, passed, and over the passed ones the mean and worst
+// accuracy and the mean precision (all empty when the study validated nothing).
+std::vector<std::string> validation_cells(const ParticipantRow& participant) {
+  const ValidationSummary& validation = participant.validation;
+  if (validation.attempts == 0) return {"", "", "", "", ""};
+  return {std::to_string(validation.attempts), std::to_string(validation.passed), csv_number(validation.mean_accuracy_deg),
+          csv_number(validation.worst_accuracy_deg), csv_number(validation.mean_precision_deg)};
+}
+
 std::string participants_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"participant", "observer", "excluded", "session_ended", "complete_trials", "attention_checks",
                               "attention_errors", "scene", "variant", "threshold", "note", "log_status",
                               "latency_median_ms", "latency_p95_ms", "latency_refreshes", "dropped_frames",
-                              "present_clock"});
+                              "present_clock", "practice_trials", "validation_attempts", "validations_passed",
+                              "validation_accuracy_deg", "validation_worst_accuracy_deg", "validation_precision_deg"});
   for (const ParticipantRow& participant : result.participants) {
     const std::vector<std::string> common = {
         participant.participant,          participant.observer, participant.excluded ? "true" : "false",
         participant.session_ended ? "true" : "false", std::to_string(participant.complete_trials),
         std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
-    const std::vector<std::string> latency = latency_cells(participant);
+    std::vector<std::string> latency = latency_cells(participant);
+    latency.push_back(std::to_string(participant.practice_trials));
+    for (std::string& cell : validation_cells(participant)) latency.push_back(std::move(cell));
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {"", "", "", "", log_status_name(participant.log_status)});
@@ -173,6 +196,17 @@ json interval_json(const ParameterInterval& interval) {
 
 // A participant's latency in thresholds.json: null numbers and "recorded": false for logs older
 // than schema 3.
+// A participant's eye-tracker validations in thresholds.json: null when the study validated nothing.
+json validation_json(const ParticipantRow& participant) {
+  const ValidationSummary& validation = participant.validation;
+  if (validation.attempts == 0) return nullptr;
+  return {{"attempts", validation.attempts},
+          {"passed", validation.passed},
+          {"mean_accuracy_deg", json_number(validation.mean_accuracy_deg)},
+          {"worst_accuracy_deg", json_number(validation.worst_accuracy_deg)},
+          {"mean_precision_deg", json_number(validation.mean_precision_deg)}};
+}
+
 json latency_json(const ParticipantRow& participant) {
   return {{"recorded", participant.latency_recorded},
           {"median_ms", json_number(participant.latency.median_ms)},
@@ -353,6 +387,8 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"attention_checks", participant.attention_checks},
                                     {"attention_errors", participant.attention_errors},
                                     {"latency", latency_json(participant)},
+                                    {"validation", validation_json(participant)},
+                                    {"practice_trials", participant.practice_trials},
                                     {"thresholds", thresholds}});
   }
 
@@ -858,7 +894,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
                                                                         html_number(p.latency.p95_ms) + " (" +
                                                                         p.present_clock + ")"
                                                                   : "not recorded",
-                                               std::to_string(p.dropped_frames)};
+                                               std::to_string(p.dropped_frames),
+                                               validation_text(p.validation)};
       if (p.thresholds.empty()) {
         auto cells = common;
         cells.insert(cells.end(), {"", "", "", ""});
@@ -871,7 +908,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
       }
     }
     html += html_table({"participant", "observer", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
-                        "gaze-to-present ms, median / p95 (clock)", "dropped frames", "scene", "variant", "threshold",
+                        "gaze-to-present ms, median / p95 (clock)", "dropped frames",
+                        "tracker validation: passed / attempts, accuracy mean (worst), precision", "scene", "variant", "threshold",
                         "note"},
                        rows);
   }

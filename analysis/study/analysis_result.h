@@ -52,6 +52,15 @@ struct ConditionRow {
 };
 
 // One participant's threshold for one group (pair, ramp, slider), with how it was reached.
+// A participant's eye-tracker validations (the log's tracker_validation events): the attempts that
+// passed and failed, and over those that passed the mean and worst accuracy and the mean precision
+// (docs/gaze.md). `attempts` 0: the study validated nothing.
+struct ValidationSummary {
+  int attempts = 0;
+  int passed = 0;
+  std::optional<double> mean_accuracy_deg, worst_accuracy_deg, mean_precision_deg;
+};
+
 struct ParticipantThreshold {
   GroupKey group;
   std::optional<double> level;        // none: the definition found no level (see note)
@@ -75,6 +84,8 @@ struct ParticipantRow {
   LatencySummary latency;
   int64_t dropped_frames = 0;
   std::string present_clock;
+  ValidationSummary validation;
+  int practice_trials = 0;            // complete practice trials (never analysed)
   std::vector<ParticipantThreshold> thresholds;
 };
 

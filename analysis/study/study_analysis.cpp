@@ -527,6 +527,8 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.latency = participant.latency;
     row.dropped_frames = participant.dropped_frames;
     row.present_clock = participant.present_clock;
+    row.validation = participant.validation;
+    row.practice_trials = participant.practice_trials;
     result.participants.push_back(row);
     if (participant.excluded) {
       result.left_out.push_back({"participant " + participant.participant,

@@ -75,7 +75,21 @@ ParticipantData participant_of(ScannedSession& session) {
   participant.latency = summarise_latency(gaze_age_s);
   for (const std::string& clock : session.present_clocks)
     participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
+  for (const TrackerValidationEvent& attempt : session.validations) {
+    ValidationSummary& validation = participant.validation;
+    ++validation.attempts;
+    if (!attempt.passed || !attempt.accuracy_deg || !attempt.precision_deg) continue;
+    const double count = ++validation.passed;
+    validation.mean_accuracy_deg = validation.mean_accuracy_deg.value_or(0.0) + (*attempt.accuracy_deg - validation.mean_accuracy_deg.value_or(0.0)) / count;
+    validation.mean_precision_deg = validation.mean_precision_deg.value_or(0.0) + (*attempt.precision_deg - validation.mean_precision_deg.value_or(0.0)) / count;
+    validation.worst_accuracy_deg = std::max(validation.worst_accuracy_deg.value_or(0.0), *attempt.accuracy_deg);
+  }
   for (ScannedTrial& scanned : session.trials) {
+    // Practice trials teach the task; no analysis counts them.
+    if (scanned.practice) {
+      ++participant.practice_trials;
+      continue;
+    }
     StudyTrial trial;
     trial.index = scanned.index;
     trial.scene = session.block_names[scanned.block];

@@ -59,6 +59,20 @@ GazeSample SyntheticGazeSource::sample(double query_s) {
   GazeSample sample;
   sample.time_s = query_s;
   sample.acquired_s = time_s;
+  const auto add_jitter = [&] {
+    if (params_.jitter_sigma_fraction <= 0.0) return;
+    // A pure function of (seed, t): its own generator keyed by the bits of t.
+    Pcg32 jitter(derive_seed(derive_seed(params_.seed, "jitter"), std::bit_cast<uint64_t>(time_s)));
+    const double sigma = params_.jitter_sigma_fraction * width_px_;
+    sample.x_px += sigma * jitter.normal();
+    sample.y_px += sigma * jitter.normal();
+  };
+  if (target_px_) {
+    sample.x_px = target_px_->first;
+    sample.y_px = target_px_->second;
+    add_jitter();
+    return sample;
+  }
   // Last fixation that started at or before time_s (the first one before t = 0).
   const auto later = std::upper_bound(fixations_.begin(), fixations_.end(), time_s,
                                       [](double t, const Fixation& f) { return t < f.start_s; });
@@ -66,13 +80,7 @@ GazeSample SyntheticGazeSource::sample(double query_s) {
   if (time_s < current.end_s) {
     sample.x_px = current.x_px;
     sample.y_px = current.y_px;
-    if (params_.jitter_sigma_fraction > 0.0) {
-      // A pure function of (seed, t): its own generator keyed by the bits of t.
-      Pcg32 jitter(derive_seed(derive_seed(params_.seed, "jitter"), std::bit_cast<uint64_t>(time_s)));
-      const double sigma = params_.jitter_sigma_fraction * width_px_;
-      sample.x_px += sigma * jitter.normal();
-      sample.y_px += sigma * jitter.normal();
-    }
+    add_jitter();
   } else {
     // In the saccade from `current` to the next target (which exists: it starts after time_s).
     const Fixation& target = *later;

@@ -13,6 +13,10 @@
 // lazily in order and cached, so any order of queries (backwards too, or in another run) gives the
 // same answer for the same t. Samples are always valid; time_s is the queried t.
 //
+// While a fixation target is set (set_fixation_target: an eye-tracker validation) the simulated
+// participant looks at it exactly, with the fixational jitter when there is one; the fixation
+// pattern above resumes, unchanged, when the target is cleared.
+//
 // sample_age_ms imitates a tracker's latency: the sample returned at t is the one taken at
 // t - sample_age_ms (its position and its acquired_s), as a real tracker's latest sample is that old
 // when the session reads it. 0 (the default): acquired_s = t, positions as without the option.
@@ -42,6 +46,7 @@ class SyntheticGazeSource final : public GazeSource {
   // std::invalid_argument for a non-finite time, std::out_of_range beyond max_time_s.
   GazeSample sample(double time_s) override;
   std::string describe() const override;  // "synthetic:seed=<seed>", then ",age_ms=<ms>" when not 0
+  void set_fixation_target(std::optional<std::pair<double, double>> target_px) override { target_px_ = target_px; }
 
   static constexpr double max_time_s = 1e6;  // the fixation cache grows with t
 
@@ -61,6 +66,7 @@ class SyntheticGazeSource final : public GazeSource {
   int height_px_;
   Pcg32 rng_;                        // the sequence stream, advanced only by generate_next()
   std::vector<Fixation> fixations_;  // generated so far, in order; never changed once generated
+  std::optional<std::pair<double, double>> target_px_;
 };
 
 }  // namespace fovlab

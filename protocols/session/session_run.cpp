@@ -1,18 +1,42 @@
 #include "protocols/session/session_run.h"
 
+#include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
+#include "core/number_text.h"
+#include "core/prng.h"
 #include "display/frame_io.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
+#include "protocols/gaze/tracker_validation.h"
 #include "study/log/log_events.h"
 
 namespace fovlab {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string degrees_text(const std::optional<double>& degrees) {
+  return degrees ? format_number(*degrees, 3) + " deg" : std::string("no gaze on a target");
+}
+
+// The fixation target a gaze source is told about, cleared however its scope ends.
+class FixationTargetScope {
+ public:
+  FixationTargetScope(GazeSource& gaze, double x_px, double y_px) : gaze_(gaze) {
+    gaze_.set_fixation_target(std::pair{x_px, y_px});
+  }
+  ~FixationTargetScope() { gaze_.set_fixation_target(std::nullopt); }
+  FixationTargetScope(const FixationTargetScope&) = delete;
+  FixationTargetScope& operator=(const FixationTargetScope&) = delete;
+
+ private:
+  GazeSource& gaze_;
+};
 
 }  // namespace
 
@@ -141,6 +165,71 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   dropped_frames_ += dropped;
 }
 
+void SessionRun::validate_tracker(const char* reason) {
+  const ValidationConfig& validation = plan_.config.validation;
+  if (!validation.enabled) return;
+  const DisplayConfig& display = plan_.config.display;
+  const DisplayGeometry geometry = display_geometry(display);
+  const std::vector<std::pair<double, double>> targets = validation_targets_px(display, validation);
+  const double radius_px = validation_target_radius_px(display, validation);
+  const double period_s = 1.0 / presenter_.refresh_hz();
+  // Each target is held for the refreshes that fit in target_s, and measured from the first
+  // refresh at or after settle_s (0.2 s at 60 Hz: refreshes 12 to the last).
+  const int refreshes = static_cast<int>(std::floor(validation.target_s * presenter_.refresh_hz() + 1e-9));
+  const int first_measured = static_cast<int>(std::ceil(validation.settle_s * presenter_.refresh_hz() - 1e-9));
+  std::string message = "Eye-tracker check: look at the dark dot in the middle of each disk until the disk moves.";
+  for (int attempt = 1; attempt <= validation.max_attempts; ++attempt) {
+    show_text(message + "\n\nPress an answer key to start.", attempt == 1 ? "validation" : "validation_retry");
+    wait_for_key();
+    TrackerValidationEvent event;
+    event.reason = reason;
+    event.attempt = attempt;
+    event.start_s = t();
+    // The centre (index 4 of 9, 2 of 5) first; the rest in an order the participant cannot learn,
+    // seeded by the session and this attempt's start (the log lists the targets as shown).
+    std::vector<size_t> order;
+    const size_t centre = targets.size() / 2;
+    for (size_t i = 0; i < targets.size(); ++i)
+      if (i != centre) order.push_back(i);
+    Pcg32 random(derive_seed(derive_seed(plan_.session_seed, "validation"), std::bit_cast<uint64_t>(event.start_s)));
+    random.shuffle(order);
+    order.insert(order.begin(), centre);
+    for (const size_t index : order) {
+      const auto [x_px, y_px] = targets[index];
+      const FixationTargetScope looking(gaze_, x_px, y_px);
+      const bool capture = wants_screenshot("validation_target");
+      if (!presenter_.is_headless() || capture) {
+        const Rgba8Frame frame = validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
+        if (!presenter_.is_headless()) presenter_.present(frame);
+        if (capture) save_screenshot("validation_target", frame);
+      }
+      const double shown_s = presenter_.now_s();
+      std::vector<GazeSample> samples;
+      for (int refresh = 1; refresh <= refreshes; ++refresh) {
+        presenter_.wait_until(shown_s + refresh * period_s);
+        if (presenter_.close_requested()) throw SessionAborted{presenter_.close_reason()};
+        if (refresh < first_measured) continue;
+        samples.push_back(sanitize_gaze(gaze_.sample(t()), display.width_px, display.height_px, nullptr));
+      }
+      event.targets.push_back(measure_validation_target(geometry, x_px, y_px, samples));
+    }
+    summarise_validation(event, validation);
+    log(to_json(event));
+    const std::string result = "accuracy " + degrees_text(event.accuracy_deg) + " (at most " +
+                               format_number(validation.max_accuracy_deg, 3) + "), precision " +
+                               degrees_text(event.precision_deg) + " (at most " +
+                               format_number(validation.max_precision_deg, 3) + ")";
+    std::fprintf(stderr, "fovlab: eye-tracker validation (%s, attempt %d of %d): %s: %s\n", reason, attempt,
+                 validation.max_attempts, result.c_str(), event.passed ? "passed" : "not passed");
+    if (event.passed) return;
+    message = "The eye-tracker check did not pass (attempt " + std::to_string(attempt) + " of " +
+              std::to_string(validation.max_attempts) + "): " + result +
+              ".\n\nSit still, and look at the dot in the middle of each disk.";
+  }
+  throw SessionAborted{"the eye-tracker validation did not pass in " + std::to_string(validation.max_attempts) +
+                       " attempts: recalibrate the tracker"};
+}
+
 std::string question_screen_text(const QuestionConfig& question) {
   std::string keys;
   for (const auto& [answer, answer_keys] : question.answers) {
@@ -231,17 +320,23 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     wait_for_key();
     log(to_json(InstructionsEvent{{}, time_base_s_ + onset_s}));
   }
+  // The eye-tracker validation due before the next trial: at the start of every run, after breaks.
+  const char* validation_due = resumed ? TrackerValidationEvent::resumed : TrackerValidationEvent::start;
   for (size_t index = static_cast<size_t>(first); index < plan_.trials.size(); ++index) {
     const Trial& trial = plan_.trials[index];
     const PlannedBlock& block = plan_.blocks.at(static_cast<size_t>(trial.block));
-    if (trial.index == block.first_trial || static_cast<int>(index) == first) {
-      if (trial.index == block.first_trial && trial.block > 0 && config.timing.rest_between_blocks_s > 0) {
-        const double start = t();
-        take_break("Rest before the next block.", config.timing.rest_between_blocks_s, "rest");
-        log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
-      }
-      log(to_json(BlockStartEvent{{}, trial.block, block.name, block.scene}));
+    const bool block_starts = trial.index == block.first_trial || static_cast<int>(index) == first;
+    if (trial.index == block.first_trial && trial.block > 0 && config.timing.rest_between_blocks_s > 0) {
+      const double start = t();
+      take_break("Rest before the next block.", config.timing.rest_between_blocks_s, "rest");
+      log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
+      if (config.validation.after_breaks && !validation_due) validation_due = TrackerValidationEvent::rest;
     }
+    if (validation_due) {
+      validate_tracker(validation_due);
+      validation_due = nullptr;
+    }
+    if (block_starts) log(to_json(BlockStartEvent{{}, trial.block, block.name, block.scene}));
     TrialStartEvent start;
     start.trial = trial.index;
     start.block = trial.block;
@@ -278,6 +373,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
           throw;
         }
         log(to_json(BreakEvent{{}, BreakEvent::attention_check, trial.index, break_start, t() - break_start}));
+        if (config.validation.after_breaks) validation_due = TrackerValidationEvent::after_break;
       }
     }
     log(to_json(TrialEndEvent{{}, trial.index}));

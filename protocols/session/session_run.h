@@ -66,6 +66,11 @@ class SessionRun {
   // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh; a
   // gaze-dependent stimulus renders one image a refresh, the presentation's images in order.
   void present_stimulus(const Trial& trial, int step, int stimulus_id);
+  // The eye-tracker validation of [validation] (nothing without one): the targets one at a time,
+  // the centre first, the others in a seeded order; attempts until one passes, each logged (a
+  // tracker_validation event) and printed on stderr for the operator. After max_attempts failures
+  // it throws SessionAborted: the session pauses, and resuming it validates again first.
+  void validate_tracker(const char* reason);
   // Shows the question and waits for an answer; logs it. A timeout logs an answer of "" (missed).
   Answer ask(const Trial& trial, int step, int ladder_index);
   std::string run_comparison(const Trial& trial);  // returns the answer

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -357,6 +358,37 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   fields.finish();
 }
 
+void read_validation(const TomlFields& fields, const DisplayConfig& display, ValidationConfig& validation) {
+  validation.enabled = true;
+  validation.targets = bounded_integer(fields, "targets", validation.targets, 5, 9);
+  if (validation.targets != 5 && validation.targets != 9) fields.fail("targets", "expected 5 or 9");
+  validation.target_offset_deg = fields.number("target_offset_deg", validation.target_offset_deg);
+  check_range(fields, "target_offset_deg", validation.target_offset_deg, 0.5, 40.0);
+  validation.target_radius_deg = fields.number("target_radius_deg", validation.target_radius_deg);
+  check_range(fields, "target_radius_deg", validation.target_radius_deg, 0.05, 2.0);
+  validation.target_s = fields.number("target_s", validation.target_s);
+  check_range(fields, "target_s", validation.target_s, 0.2, 10.0);
+  validation.settle_s = fields.number("settle_s", validation.settle_s);
+  check_range(fields, "settle_s", validation.settle_s, 0.0, validation.target_s - 0.1);
+  validation.max_accuracy_deg = fields.number("max_accuracy_deg", validation.max_accuracy_deg);
+  check_range(fields, "max_accuracy_deg", validation.max_accuracy_deg, 0.01, 10.0);
+  validation.max_precision_deg = fields.number("max_precision_deg", validation.max_precision_deg);
+  check_range(fields, "max_precision_deg", validation.max_precision_deg, 0.001, 10.0);
+  validation.max_attempts = bounded_integer(fields, "max_attempts", validation.max_attempts, 1, 20);
+  validation.after_breaks = fields.boolean("after_breaks", validation.after_breaks);
+  // Every target, disk included, on the screen.
+  const double radius_px = validation_target_radius_px(display, validation);
+  for (const auto& [x_px, y_px] : validation_targets_px(display, validation)) {
+    if (x_px - radius_px < 0 || x_px + radius_px > display.width_px || y_px - radius_px < 0 ||
+        y_px + radius_px > display.height_px)
+      fields.fail("target_offset_deg", "expected targets on the screen: at " + format_number(validation.target_offset_deg, 6) +
+                                           " deg the outer ones fall off this display (" + std::to_string(display.width_px) +
+                                           "x" + std::to_string(display.height_px) + " px at " +
+                                           format_number(display.viewing_distance_mm, 6) + " mm)");
+  }
+  fields.finish();
+}
+
 // The methods that render a kind of scene: "pt and fpt", for messages.
 std::string methods_of_kind(SceneKind kind, const char* conjunction) {
   std::vector<std::string> names;
@@ -426,6 +458,28 @@ std::vector<std::string> protocol_answers(ProtocolKind kind, TwoAfcQuestion ques
 
 std::string identical_answer(const ProtocolConfig& protocol) { return std::string(protocol.rules().identical); }
 
+namespace {
+double degrees_to_px(const DisplayConfig& display, double degrees, double pitch_mm) {
+  return display.viewing_distance_mm * std::tan(degrees * std::numbers::pi / 180.0) / pitch_mm;
+}
+}  // namespace
+
+std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig& display, const ValidationConfig& validation) {
+  const double centre_x = 0.5 * display.width_px, centre_y = 0.5 * display.height_px;
+  const double dx = degrees_to_px(display, validation.target_offset_deg, display.width_mm / display.width_px);
+  const double dy = degrees_to_px(display, validation.target_offset_deg, display.height_mm / display.height_px);
+  std::vector<std::pair<double, double>> targets;
+  for (int row = -1; row <= 1; ++row)
+    for (int column = -1; column <= 1; ++column)
+      if (validation.targets == 9 || (row == 0) == (column == 0))  // 5: centre and corners
+        targets.emplace_back(centre_x + column * dx, centre_y + row * dy);
+  return targets;
+}
+
+double validation_target_radius_px(const DisplayConfig& display, const ValidationConfig& validation) {
+  return std::max(2.0, degrees_to_px(display, validation.target_radius_deg, display.width_mm / display.width_px));
+}
+
 int StimulusConfig::frame_count() const {
   return std::max(1, static_cast<int>(std::lround(duration_s * frames_per_second)));
 }
@@ -480,6 +534,8 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     read_timing(TomlFields(*timing, path, "timing"), config.timing);
   if (const toml::table* attention = fields.optional_table("attention"))
     read_attention(TomlFields(*attention, path, "attention"), config.protocol, config.attention);
+  if (const toml::table* validation = fields.optional_table("validation"))
+    read_validation(TomlFields(*validation, path, "validation"), config.display, config.validation);
   if (const toml::table* participant = fields.optional_table("participant")) {
     const TomlFields participant_fields(*participant, path, "participant");
     config.participant_fields = participant_fields.strings("fields");

@@ -85,6 +85,29 @@ struct AttentionConfig {
   std::string excluded_message = "The session has ended. Thank you for taking part.";
 };
 
+// [validation]: an eye-tracker check before the first trial of every run (and after breaks): targets
+// shown one at a time, the gaze measured on each (protocols/gaze/tracker_validation.h), repeated
+// until the mean accuracy and precision are within the limits; every attempt is logged.
+struct ValidationConfig {
+  bool enabled = false;             // the config has a [validation] table
+  int targets = 9;                  // 5 (centre and the grid's corners) or 9 (a 3 x 3 grid)
+  double target_offset_deg = 8.0;   // the outer targets' horizontal and vertical offset from the centre
+  double target_radius_deg = 0.3;   // the drawn disk's radius
+  double target_s = 1.5;            // each target shown this long
+  double settle_s = 0.5;            // the first part of each target not measured (the saccade to it)
+  double max_accuracy_deg = 1.0;    // passes when the targets' mean accuracy is at most this
+  double max_precision_deg = 0.5;   // ... and their mean RMS sample-to-sample precision at most this
+  int max_attempts = 3;             // failed this many times in a row: the session pauses (recalibrate, resume)
+  bool after_breaks = true;         // also after every rest between blocks and attention-check break
+};
+
+// The validation targets' centres in display pixels (origin top left), in reading order: the 3 x 3
+// grid at ±target_offset_deg from the centre along each axis (x = centre + D tan(offset) / pitch),
+// or its centre and 4 corners.
+std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig& display, const ValidationConfig& validation);
+// The target disk's radius in pixels (D tan(radius) / horizontal pitch, at least 2).
+double validation_target_radius_px(const DisplayConfig& display, const ValidationConfig& validation);
+
 struct SliderConfig {
   double start_level = 0.0;  // one of the level values
 };
@@ -115,6 +138,7 @@ struct StudyConfig {
   std::vector<BlockConfig> blocks;
   TimingConfig timing;
   AttentionConfig attention;
+  ValidationConfig validation;
   // [participant] fields: what each participant is asked before the session (age, handedness, ...):
   // given with fovlab run --field NAME=VALUE or asked on the terminal, kept in the log's header and
   // exported. Names: 1-32 of a-z, 0-9, '_', unique, at most 32 of them.

@@ -108,6 +108,35 @@ class FieldReader {
     out.clear();
     for (const nlohmann::json& item : *value) out.push_back({item[0].get<double>(), item[1].get<double>()});
   }
+  void read(const char* key, std::vector<ValidationTarget>& out) const {
+    const nlohmann::json* value = find(key);
+    if (!value) return;
+    const auto number_or_null = [](const nlohmann::json& item, const char* name) {
+      return !item.contains(name) || item[name].is_number() || item[name].is_null();
+    };
+    const auto entry = [&](const nlohmann::json& item) {
+      return item.is_object() && item.contains(k::x_px) && item[k::x_px].is_number() && item.contains(k::y_px) &&
+             item[k::y_px].is_number() && (!item.contains(k::samples) || is_small_int(item[k::samples])) &&
+             (!item.contains(k::valid_samples) || is_small_int(item[k::valid_samples])) &&
+             number_or_null(item, k::accuracy_deg) && number_or_null(item, k::precision_deg);
+    };
+    if (!value->is_array() || !std::all_of(value->begin(), value->end(), entry)) {
+      wrong(key, "an array of {x_px, y_px, samples, valid_samples, accuracy_deg, precision_deg} objects", *value);
+      return;
+    }
+    out.clear();
+    for (const nlohmann::json& item : *value) {
+      const FieldReader target(item, key, FieldCheck::lenient);
+      ValidationTarget result;
+      target.read(k::x_px, result.x_px);
+      target.read(k::y_px, result.y_px);
+      target.read(k::samples, result.samples);
+      target.read(k::valid_samples, result.valid_samples);
+      target.read(k::accuracy_deg, result.accuracy_deg);
+      target.read(k::precision_deg, result.precision_deg);
+      out.push_back(result);
+    }
+  }
   void read(const char* key, std::vector<InvalidGaze>& out) const {
     const nlohmann::json* value = find(key);
     if (!value) return;
@@ -216,6 +245,25 @@ nlohmann::json to_json(const SessionResumedEvent& event) {
   return json;
 }
 
+nlohmann::json to_json(const TrackerValidationEvent& event) {
+  nlohmann::json json = start(TrackerValidationEvent::kind, event.stamp);
+  json[k::reason] = event.reason;
+  json[k::attempt] = event.attempt;
+  json[k::start_s] = event.start_s;
+  nlohmann::json targets = nlohmann::json::array();
+  for (const ValidationTarget& target : event.targets)
+    targets.push_back({{k::x_px, target.x_px}, {k::y_px, target.y_px}, {k::samples, target.samples},
+                       {k::valid_samples, target.valid_samples}, {k::accuracy_deg, or_null(target.accuracy_deg)},
+                       {k::precision_deg, or_null(target.precision_deg)}});
+  json[k::targets] = std::move(targets);
+  json[k::accuracy_deg] = or_null(event.accuracy_deg);
+  json[k::precision_deg] = or_null(event.precision_deg);
+  json[k::max_accuracy_deg] = event.max_accuracy_deg;
+  json[k::max_precision_deg] = event.max_precision_deg;
+  json[k::passed] = event.passed;
+  return json;
+}
+
 nlohmann::json to_json(const InstructionsEvent& event) {
   nlohmann::json json = start(InstructionsEvent::kind, event.stamp);
   json[k::shown_s] = event.shown_s;
@@ -252,6 +300,7 @@ nlohmann::json to_json(const TrialStartEvent& event) {
   if (event.reference_first) json[k::reference_first] = *event.reference_first;
   if (event.ramp_toward_reference) json[k::ramp_toward_reference] = *event.ramp_toward_reference;
   if (event.slider_start) json[k::slider_start] = *event.slider_start;
+  if (event.practice) json[k::practice] = true;
   return json;
 }
 
@@ -398,6 +447,22 @@ BlockStartEvent parse_block_start(const nlohmann::json& json, FieldCheck check) 
   return event;
 }
 
+TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, FieldCheck check) {
+  const FieldReader in(json, TrackerValidationEvent::kind, check);
+  TrackerValidationEvent event;
+  in.stamp(event.stamp);
+  in.read(k::reason, event.reason);
+  in.read(k::attempt, event.attempt);
+  in.read(k::start_s, event.start_s);
+  in.read(k::targets, event.targets);
+  in.read(k::accuracy_deg, event.accuracy_deg);
+  in.read(k::precision_deg, event.precision_deg);
+  in.read(k::max_accuracy_deg, event.max_accuracy_deg);
+  in.read(k::max_precision_deg, event.max_precision_deg);
+  in.read(k::passed, event.passed);
+  return event;
+}
+
 BreakEvent parse_break(const nlohmann::json& json, FieldCheck check) {
   const FieldReader in(json, BreakEvent::kind, check);
   BreakEvent event;
@@ -424,6 +489,7 @@ TrialStartEvent parse_trial_start(const nlohmann::json& json, FieldCheck check) 
   in.read(k::reference_first, event.reference_first);
   in.read(k::ramp_toward_reference, event.ramp_toward_reference);
   in.read(k::slider_start, event.slider_start);
+  in.read(k::practice, event.practice);
   return event;
 }
 
@@ -553,6 +619,7 @@ LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check) {
   if (kind == AttentionCheckEvent::kind) return parse_attention_check(json, check);
   if (kind == TrialEndEvent::kind) return parse_trial_end(json, check);
   if (kind == ExcludedEvent::kind) return parse_excluded(json, check);
+  if (kind == TrackerValidationEvent::kind) return parse_tracker_validation(json, check);
   if (kind == SessionPausedEvent::kind) return parse_session_paused(json, check);
   if (kind == SessionEndEvent::kind) return parse_session_end(json, check);
   if (kind == SealEvent::kind) return parse_seal(json, check);
@@ -576,7 +643,7 @@ std::string check_log_field_types(const nlohmann::json& event) {
       ok = value.is_string();
     else if (key == k::level) ok = value.is_number() || value.is_null();
     else if (key == k::attention_check || key == k::reference_first || key == k::ramp_toward_reference ||
-             key == k::correct)
+             key == k::correct || key == k::practice)
       ok = value.is_boolean();
     else if (key == k::sequence) ok = value.is_array() && std::all_of(value.begin(), value.end(), is_small_int);
     else if (key == k::dropped_frames) ok = is_small_int(value);

@@ -102,6 +102,20 @@ inline constexpr const char* max_errors = "max_errors";
 inline constexpr const char* completed_trials = "completed_trials";
 inline constexpr const char* trials_complete = "trials_complete";
 inline constexpr const char* last_chain = "last_chain";
+// trial_start of a practice trial (written only when true)
+inline constexpr const char* practice = "practice";
+// tracker_validation
+inline constexpr const char* attempt = "attempt";
+inline constexpr const char* targets = "targets";
+inline constexpr const char* x_px = "x_px";
+inline constexpr const char* y_px = "y_px";
+inline constexpr const char* samples = "samples";
+inline constexpr const char* valid_samples = "valid_samples";
+inline constexpr const char* accuracy_deg = "accuracy_deg";
+inline constexpr const char* precision_deg = "precision_deg";
+inline constexpr const char* max_accuracy_deg = "max_accuracy_deg";
+inline constexpr const char* max_precision_deg = "max_precision_deg";
+inline constexpr const char* passed = "passed";
 }  // namespace log_keys
 
 enum class FieldCheck { strict, lenient };
@@ -186,6 +200,7 @@ struct TrialStartEvent {
   std::optional<bool> reference_first;        // 2afc, pair, rating
   std::optional<bool> ramp_toward_reference;  // ramp
   std::optional<int> slider_start;            // slider
+  bool practice = false;  // a practice trial: shown and logged, never analysed (written only when true)
   bool operator==(const TrialStartEvent&) const = default;
 };
 
@@ -253,6 +268,35 @@ struct ExcludedEvent {
   bool operator==(const ExcludedEvent&) const = default;
 };
 
+// One target of an eye-tracker validation (protocols/gaze/tracker_validation.h).
+struct ValidationTarget {
+  double x_px = 0.0, y_px = 0.0;   // the target's centre
+  int samples = 0;                 // gaze samples read while it was measured (after settle_s)
+  int valid_samples = 0;           // of those, valid ones
+  std::optional<double> accuracy_deg;   // mean gaze to target; null: fewer than half the samples valid
+  std::optional<double> precision_deg;  // RMS sample-to-sample; null as above
+  bool operator==(const ValidationTarget&) const = default;
+};
+
+// One attempt at validating the eye tracker: before the first trial of a run, after breaks.
+struct TrackerValidationEvent {
+  static constexpr const char* kind = "tracker_validation";
+  static constexpr const char* start = "start";      // before the first trial of a new session
+  static constexpr const char* resumed = "resumed";  // before the first trial of a resumed one
+  static constexpr const char* rest = "rest";        // after a rest between blocks
+  static constexpr const char* after_break = "break";  // after an attention-check break
+  EventStamp stamp;
+  std::string reason;
+  int attempt = 1;                 // 1, 2, ... until one passes or max_attempts
+  double start_s = 0.0;
+  std::vector<ValidationTarget> targets;  // in the order shown
+  std::optional<double> accuracy_deg;     // the targets' means; null when a target had too little gaze
+  std::optional<double> precision_deg;
+  double max_accuracy_deg = 0.0, max_precision_deg = 0.0;  // the config's limits
+  bool passed = false;
+  bool operator==(const TrackerValidationEvent&) const = default;
+};
+
 struct SessionPausedEvent {
   static constexpr const char* kind = "session_paused";
   EventStamp stamp;
@@ -290,6 +334,7 @@ nlohmann::json to_json(const SliderSavedEvent& event);
 nlohmann::json to_json(const AttentionCheckEvent& event);
 nlohmann::json to_json(const TrialEndEvent& event);
 nlohmann::json to_json(const ExcludedEvent& event);
+nlohmann::json to_json(const TrackerValidationEvent& event);
 nlohmann::json to_json(const SessionPausedEvent& event);
 nlohmann::json to_json(const SessionEndEvent& event);
 nlohmann::json to_json(const SealEvent& event);
@@ -306,6 +351,7 @@ SliderSavedEvent parse_slider_saved(const nlohmann::json& json, FieldCheck check
 AttentionCheckEvent parse_attention_check(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 TrialEndEvent parse_trial_end(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 ExcludedEvent parse_excluded(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
+TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 SessionPausedEvent parse_session_paused(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 SealEvent parse_seal(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
@@ -313,7 +359,8 @@ SealEvent parse_seal(const nlohmann::json& json, FieldCheck check = FieldCheck::
 // Any event of a log.
 using LogEvent = std::variant<SessionHeaderEvent, SessionResumedEvent, InstructionsEvent, BlockStartEvent, BreakEvent,
                               TrialStartEvent, StimulusEvent, ResponseEvent, SliderSavedEvent, AttentionCheckEvent,
-                              TrialEndEvent, ExcludedEvent, SessionPausedEvent, SessionEndEvent, SealEvent>;
+                              TrialEndEvent, ExcludedEvent, TrackerValidationEvent, SessionPausedEvent, SessionEndEvent,
+                              SealEvent>;
 nlohmann::json to_json(const LogEvent& event);
 // By its "event"; an unknown or missing kind is an InputError.
 LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
@@ -324,7 +371,7 @@ std::string event_kind(const nlohmann::json& event);
 // The type checks both readers make on every event (the fast scan's decoder enforces the same):
 // a trial, block or step is a 32-bit integer; event, condition, variant, answer, name and scene are
 // strings; a level a number or null; attention_check, reference_first, ramp_toward_reference and
-// correct booleans; a sequence an array of 32-bit integers; dropped_frames a 32-bit integer,
+// correct and practice booleans; a sequence an array of 32-bit integers; dropped_frames a 32-bit integer,
 // present_clock a string, gaze_acquired_s and gaze_age_s arrays of numbers or nulls. Returns the
 // first violation as "an event has a field of the wrong type (KEY: VALUE)", or "" when none.
 std::string check_log_field_types(const nlohmann::json& event);

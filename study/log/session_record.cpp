@@ -112,6 +112,7 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
       }
       if (kind == SessionResumedEvent::kind) trials.resume();
       if (kind == BlockStartEvent::kind) record.blocks.push_back(parse_block_start(event, FieldCheck::lenient));
+      if (kind == TrackerValidationEvent::kind) record.validations.push_back(parse_tracker_validation(event, FieldCheck::lenient));
       continue;
     }
     RecordedTrial* open = trials.open_for(trial_index);

@@ -32,7 +32,7 @@ struct EventFields {
   std::optional<int> step;
   std::string_view condition, variant, answer, name, scene;
   std::optional<double> level;
-  std::optional<bool> attention_check, reference_first, ramp_toward_reference, correct;
+  std::optional<bool> attention_check, reference_first, ramp_toward_reference, correct, practice;
   std::vector<int> sequence;
   std::optional<int> dropped_frames;
   std::string_view present_clock;
@@ -89,6 +89,7 @@ EventFields decode(simdjson::ondemand::document& document) {
     else if (key == log_keys::reference_first) fields.reference_first = value.get_bool();
     else if (key == log_keys::ramp_toward_reference) fields.ramp_toward_reference = value.get_bool();
     else if (key == log_keys::correct) fields.correct = value.get_bool();
+    else if (key == log_keys::practice) fields.practice = value.get_bool();
     else if (key == log_keys::sequence) {
       for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
     }
@@ -287,11 +288,17 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       trial.attention_check = fields.attention_check.value_or(false);
       trial.reference_first = fields.reference_first.value_or(true);
       trial.ramp_toward_reference = fields.ramp_toward_reference.value_or(true);
+      trial.practice = fields.practice.value_or(false);
       trial.sequence = std::move(fields.sequence);
       trials.start(std::move(trial));
       continue;
     }
     if (!is_trial_event(kind, fields.trial.has_value())) {
+      if (kind == TrackerValidationEvent::kind) {  // rare: read whole
+        const nlohmann::json event = parse_whole_event(line);
+        if (event.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
+        session.validations.push_back(parse_tracker_validation(event, FieldCheck::lenient));
+      }
       if (kind == ExcludedEvent::kind) session.excluded = true;
       if (kind == SessionEndEvent::kind) session.ended = true;
       if (kind == SessionResumedEvent::kind) trials.resume();

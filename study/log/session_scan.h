@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
 
 namespace fovlab {
@@ -28,6 +29,7 @@ struct ScannedTrial {
   bool attention_check = false;
   bool reference_first = true;
   bool ramp_toward_reference = true;
+  bool practice = false;                  // a practice trial (never analysed)
   std::vector<int> sequence;              // stimulus ids in presentation order
   std::vector<std::string> answers;       // response events, in order
   std::vector<int> answer_steps;          // their `step`
@@ -51,6 +53,7 @@ struct ScannedSession {
   bool ended = false;
   int incomplete_trial = -1;              // a trial started but not finished at the end of the log
   size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
+  std::vector<TrackerValidationEvent> validations;  // every eye-tracker validation attempt, in log order
   std::vector<std::string> present_clocks; // the stimulus events' present_clock values, first seen first
   int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
   LogIntegrity integrity;                 // sealed, unsealed or broken (log_integrity.h)

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "analysis/report/report.h"
+#include "analysis/study/study_analysis.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "core/image_io.h"
@@ -420,6 +422,134 @@ TEST(Session, BadInputWritesNothingAndKeepsExistingLogs) {
   mouse.gaze = "mouse";
   EXPECT_THROW(run_session(config, mouse), InputError);
   EXPECT_FALSE(fs::exists(results / config.name / "P3"));
+}
+
+}  // namespace
+}  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_folder;
+using test::read_file;
+using test::simulated;
+using test::study_fixture;
+
+// tiny_2afc with an eye-tracker validation and a rest between its two blocks.
+StudyConfig validated_config(const std::string& validation) {
+  std::string text = read_file(study_fixture("tiny_2afc"));
+  const std::string from = "inter_trial_s = 0.1";
+  text.replace(text.find(from), from.size(), from + "\nrest_between_blocks_s = 1");
+  text += "\n[validation]\n" + validation;
+  return parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+}
+
+// The session's log events of one kind, in order.
+std::vector<nlohmann::json> events_of(const std::string& log_path, const std::string& kind) {
+  std::vector<nlohmann::json> found;
+  for (const nlohmann::json& event : read_event_log(log_path).events)
+    if (event_kind(event) == kind) found.push_back(event);
+  return found;
+}
+
+TEST(SessionValidation, ASimulatedParticipantPassesAtTheStartAndAfterTheRest) {
+  // Issue 18: targets before the first trial and after breaks, accuracy and precision in degrees
+  // from the gaze source, logged. The synthetic source looks at each target exactly.
+  const StudyConfig config = validated_config("targets = 5\ntarget_s = 0.5\nsettle_s = 0.2\n");
+  const fs::path results = fresh_folder("validation-pass");
+  SessionOptions options = simulated(results);
+  options.screenshots_dir = (results / "shots").string();
+  const SessionOutcome outcome = run_session(config, options);
+  ASSERT_TRUE(outcome.finished);
+  const std::vector<nlohmann::json> validations = events_of(outcome.log_path, TrackerValidationEvent::kind);
+  ASSERT_EQ(validations.size(), 2u);
+  const TrackerValidationEvent start = parse_tracker_validation(validations[0]);
+  EXPECT_EQ(start.reason, "start");
+  EXPECT_EQ(parse_tracker_validation(validations[1]).reason, "rest");
+  EXPECT_TRUE(start.passed);
+  EXPECT_EQ(start.attempt, 1);
+  ASSERT_EQ(start.targets.size(), 5u);
+  // The centre first; each target's refreshes from 0.2 s to 0.5 s measured at 60 Hz (12 to 30).
+  EXPECT_DOUBLE_EQ(start.targets[0].x_px, 32.0);
+  EXPECT_DOUBLE_EQ(start.targets[0].y_px, 18.0);
+  for (const ValidationTarget& target : start.targets) {
+    EXPECT_EQ(target.samples, 19);
+    EXPECT_EQ(target.valid_samples, 19);
+    // The target's centre rounded to the logged 0.01 px: accuracy below a hundredth of a degree.
+    EXPECT_LT(target.accuracy_deg.value_or(1.0), 0.01);
+    EXPECT_EQ(target.precision_deg.value_or(1.0), 0.0);
+  }
+  // Validation comes before the block it precedes, after the instructions and the rest.
+  const auto events = read_event_log(outcome.log_path).events;
+  std::vector<std::string> order;
+  for (const nlohmann::json& event : events) {
+    const std::string kind = event_kind(event);
+    if (kind == "instructions" || kind == "block_start" || kind == TrackerValidationEvent::kind ||
+        (kind == "break" && event["reason"] == "rest"))
+      order.push_back(kind);
+  }
+  EXPECT_EQ(order, (std::vector<std::string>{"instructions", "tracker_validation", "block_start", "break",
+                                             "tracker_validation", "block_start"}));
+  for (const char* kind : {"validation", "validation_target"})
+    EXPECT_TRUE(fs::is_regular_file(results / "shots" / (std::string(kind) + ".png"))) << kind;
+
+  // The analysis reports them per participant, in participants.csv too.
+  const analysis::StudyData data = analysis::load_study({(results / config.name).string()});
+  analysis::AnalysisOptions analysis_options;
+  analysis_options.bootstrap_samples = 0;
+  const analysis::AnalysisResult result = analysis::analyse_study(data, analysis_options);
+  ASSERT_EQ(result.participants.size(), 1u);
+  const analysis::ValidationSummary& summary = result.participants[0].validation;
+  EXPECT_EQ(summary.attempts, 2);
+  EXPECT_EQ(summary.passed, 2);
+  EXPECT_LT(summary.worst_accuracy_deg.value_or(1.0), 0.01);
+  EXPECT_EQ(summary.mean_precision_deg, 0.0);
+  analysis::write_analysis_report(result, (results / "analysis").string());
+  const std::string csv = read_file(results / "analysis" / "participants.csv");
+  EXPECT_NE(csv.find("validation_attempts,validations_passed,validation_accuracy_deg"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",2,2,0.00"), std::string::npos) << csv;
+}
+
+TEST(SessionValidation, FailingEveryAttemptPausesTheSessionAndResumingValidatesFirst) {
+  // A trace source runs it the same way: gaze held at the screen's centre misses the outer
+  // targets by 8 degrees, so each attempt fails; after max_attempts the session pauses, with no
+  // trial run. Resumed with a source that passes, it validates again, then runs every trial.
+  const StudyConfig config = validated_config("targets = 9\ntarget_s = 0.4\nsettle_s = 0.1\nmax_attempts = 2\n");
+  const fs::path results = fresh_folder("validation-fail");
+  const fs::path trace = results / "centre.csv";
+  fs::create_directories(results);
+  std::ofstream(trace) << "time_s,x_px,y_px\n0,32,18\n";
+  SessionOptions options = simulated(results);
+  options.gaze = "trace:" + trace.string();
+  const SessionOutcome paused = run_session(config, options);
+  EXPECT_FALSE(paused.finished);
+  EXPECT_EQ(paused.trials_completed, 0);
+  EXPECT_NE(paused.stop_reason.find("eye-tracker validation did not pass in 2 attempts"), std::string::npos)
+      << paused.stop_reason;
+  std::vector<nlohmann::json> validations = events_of(paused.log_path, TrackerValidationEvent::kind);
+  ASSERT_EQ(validations.size(), 2u);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const TrackerValidationEvent failed = parse_tracker_validation(validations[size_t(attempt)]);
+    EXPECT_EQ(failed.attempt, attempt + 1);
+    EXPECT_FALSE(failed.passed);
+    ASSERT_EQ(failed.targets.size(), 9u);
+    EXPECT_NEAR(failed.targets[0].accuracy_deg.value_or(-1.0), 0.0, 1e-9);  // the centre, first
+    EXPECT_GT(failed.accuracy_deg.value_or(0.0), 7.0);
+    EXPECT_EQ(failed.max_accuracy_deg, 1.0);
+  }
+  ASSERT_EQ(events_of(paused.log_path, "session_paused").size(), 1u);
+
+  options.gaze = "synthetic";
+  const SessionOutcome resumed = run_session(config, options);
+  EXPECT_TRUE(resumed.resumed);
+  ASSERT_TRUE(resumed.finished);
+  EXPECT_EQ(resumed.trials_completed, resumed.trials_total);
+  validations = events_of(resumed.log_path, TrackerValidationEvent::kind);
+  ASSERT_EQ(validations.size(), 4u);
+  EXPECT_EQ(validations[2]["reason"], "resumed");
+  EXPECT_EQ(validations[2]["passed"], true);
+  EXPECT_EQ(validations[3]["reason"], "rest");
 }
 
 }  // namespace

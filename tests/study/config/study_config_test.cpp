@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <regex>
 #include <string>
 #include <tuple>
@@ -1077,6 +1078,65 @@ TEST(ProtocolsConfig, TheFirstErrorIsReported) {
   base.protocol = replace_once(base.protocol, "repeats = 2", "repeats = 3");
   const std::string message = error_of(base.text());
   EXPECT_NE(message.find("display.width_px"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+// [validation]: defaults, the target layout, and its bad input.
+TEST(StudyConfigValidation, ReadsTheTableAndPlacesTargetsAtTheGivenAngle) {
+  ConfigText config;
+  EXPECT_FALSE(parse(config.text()).validation.enabled);
+  config.attention += "\n[validation]\ntargets = 5\ntarget_offset_deg = 4\nmax_accuracy_deg = 0.8\nafter_breaks = false\n";
+  const StudyConfig parsed = parse(config.text());
+  const ValidationConfig& validation = parsed.validation;
+  EXPECT_TRUE(validation.enabled);
+  EXPECT_EQ(validation.targets, 5);
+  EXPECT_DOUBLE_EQ(validation.max_accuracy_deg, 0.8);
+  EXPECT_DOUBLE_EQ(validation.max_precision_deg, 0.5);
+  EXPECT_FALSE(validation.after_breaks);
+  const auto targets = validation_targets_px(parsed.display, validation);
+  ASSERT_EQ(targets.size(), 5u);
+  // Centre and corners, in reading order; each corner 4 deg from the centre along each axis.
+  const double centre_x = 160.0, centre_y = 90.0;
+  EXPECT_DOUBLE_EQ(targets[2].first, centre_x);
+  EXPECT_DOUBLE_EQ(targets[2].second, centre_y);
+  const double pitch_mm = parsed.display.width_mm / 320.0;
+  for (const auto& [x_px, y_px] : targets) {
+    if (x_px == centre_x) continue;
+    EXPECT_NEAR(std::atan(std::abs(x_px - centre_x) * pitch_mm / 500.0) * 180.0 / std::numbers::pi, 4.0, 1e-12);
+    EXPECT_NEAR(std::atan(std::abs(y_px - centre_y) * pitch_mm / 500.0) * 180.0 / std::numbers::pi, 4.0, 1e-12);
+  }
+  EXPECT_LT(targets[0].first, centre_x);
+  EXPECT_LT(targets[0].second, centre_y);
+  EXPECT_GT(targets[4].first, centre_x);
+  EXPECT_GT(targets[4].second, centre_y);
+  ValidationConfig nine = validation;
+  nine.targets = 9;
+  EXPECT_EQ(validation_targets_px(parsed.display, nine).size(), 9u);
+}
+
+TEST(StudyConfigValidation, BadValuesNameTheirKey) {
+  ConfigText config;
+  const auto with = [&](const std::string& table) {
+    ConfigText changed = config;
+    changed.attention += "\n[validation]\n" + table;
+    return changed.text();
+  };
+  std::string text = with("targets = 7\n");
+  expect_error(text, line_of(text, "targets = 7"), "validation.targets", "expected 5 or 9");
+  // 320 x 180 px, 27 in at 500 mm: 18.6 deg from the centre to the top edge.
+  text = with("target_offset_deg = 20\n");
+  expect_error(text, line_of(text, "target_offset_deg"), "validation.target_offset_deg", "fall off this display");
+  text = with("target_s = 1\nsettle_s = 1\n");
+  expect_error(text, line_of(text, "settle_s"), "validation.settle_s", "");
+  text = with("max_attempts = 0\n");
+  expect_error(text, line_of(text, "max_attempts"), "validation.max_attempts", "");
+  text = with("targets_deg = 3\n");
+  expect_error(text, line_of(text, "targets_deg"), "validation.targets_deg", "");
 }
 
 }  // namespace
