@@ -2,7 +2,10 @@
 // CSV as RFC 4180 writes it, so pandas.read_csv and R's read.csv take it as is: cells separated by
 // commas, a line ending in "\n", and a cell holding a comma, a double quote, CR or LF enclosed in
 // double quotes with its quotes doubled (park, "north" -> "park, ""north""").
+//
+// And read back (read_csv_rows), as a spreadsheet or pandas writes it.
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fovlab {
@@ -23,5 +26,17 @@ inline std::string csv_line(const std::vector<std::string>& cells) {
   }
   return line + "\n";
 }
+
+// One record of a CSV text: its cells and the line it starts on (1-based).
+struct CsvRow {
+  int line = 0;
+  std::vector<std::string> cells;
+};
+
+// The records of an RFC 4180 text: cells separated by commas; a cell in double quotes may hold
+// commas, line breaks and doubled quotes. Lines end in LF or CRLF; a UTF-8 byte-order mark at the
+// start and blank lines are skipped; spaces are kept as written. Throws InputError
+// "name:LINE: ..." for a quote that is never closed or text after a closing quote.
+std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name);
 
 }  // namespace fovlab

@@ -130,12 +130,16 @@ class ComparisonAnalysis {
     if (counts_.empty() && !included.empty())
       result_.left_out.push_back({"study " + data_.study,
                                   "no answered comparison trial of an included participant: no condition to test"});
-    // Levels of the config no included trial tested.
+    // Levels of the config no included trial tested (a conditions file's variant: of its own levels).
     for (const auto& [group, conditions] : counts_) {
       std::set<double> tested;
       for (const auto& [name, counts] : conditions)
         if (counts.level) tested.insert(*counts.level);
-      for (double level : data_.levels)
+      const auto variant = std::find_if(data_.variants.begin(), data_.variants.end(),
+                                        [&](const VariantConfig& v) { return v.name == group.variant; });
+      const std::vector<double>& planned =
+          variant != data_.variants.end() && !variant->levels.empty() ? variant->levels : data_.levels;
+      for (double level : planned)
         if (!tested.count(level))
           result_.left_out.push_back({"condition " + data_.level_parameter + "=" + format_number(level, 6) + " in " +
                                           group.label(),

@@ -26,11 +26,11 @@ std::optional<double> optional_number(const nlohmann::json& object, const char* 
 // Which study (and config version) a log belongs to, from its header; the config text it carries
 // is parsed once, for the study chosen (every log of it carries the same text: config_hash).
 struct LogStudy {
-  std::string study, config_hash, config_toml;
+  std::string study, config_hash, config_toml, conditions_csv;
 };
 
 void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
-  const StudyConfig config = parse_logged_study_config(study.config_toml, path + " (config_toml)", nullptr);
+  const StudyConfig config = parse_logged_study_config(study.config_toml, path + " (config_toml)", nullptr, study.conditions_csv);
   data.study = study.study;
   data.config_hash = study.config_hash;
   data.protocol = config.protocol.kind;
@@ -136,7 +136,7 @@ ReadLog read_log(const std::string& path, const LoadOptions& options) {
       throw InputError("line " + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
                        "); left out (--include-broken analyses it anyway)");
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
-                          session.header.value("config_toml", "")};
+                          session.header.value("config_toml", ""), session.header.value("conditions_csv", "")};
     // The study names the default output folder (results/<study>/analysis): the scan refused a
     // header whose study is not one folder name ("../../x", "/tmp/x"; check_session_header).
     read.participant = participant_of(session);

@@ -91,7 +91,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   }
   if (!record.header.contains(log_keys::config_path)) header.config_path = "config.toml";
   const SceneCatalog scenes = renderer_scene_catalog();
-  const StudyConfig config = parse_logged_study_config(header.config_toml, header.config_path, &scenes);
+  const StudyConfig config = parse_logged_study_config(header.config_toml, header.config_path, &scenes, header.conditions_csv);
   // The header's own claims about its config: the name and hash must be those of the text it holds.
   if (header.study != config.name)
     differences.add("header", "study \"" + header.study + "\" but its config_toml names study \"" + config.name + "\"");
@@ -176,7 +176,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     const Trial& trial = plan.trials[static_cast<size_t>(recorded.index)];
     const TrialStartEvent& start = recorded.start;
     if (start.sequence != trial.sequence || start.condition != trial.condition ||
-        start.attention_check != trial.attention_check)
+        start.attention_check != trial.attention_check || start.practice != trial.practice)
       differences.add(where, "trial_start differs from the schedule rebuilt from the header (sequence " +
                                  nlohmann::json(start.sequence).dump() + ", schedule " +
                                  nlohmann::json(trial.sequence).dump() + ")");

@@ -69,6 +69,7 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.config_path = config.source_path;
   header.config_hash = config.hash;
   header.config_toml = config.source_text;
+  header.conditions_csv = config.conditions_csv;
   header.protocol = protocol_name(config.protocol.kind);
   header.trial_count = static_cast<int64_t>(plan.trials.size());
   header.scene_hashes = scene_hashes(plan);

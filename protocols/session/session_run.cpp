@@ -326,7 +326,13 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     const Trial& trial = plan_.trials[index];
     const PlannedBlock& block = plan_.blocks.at(static_cast<size_t>(trial.block));
     const bool block_starts = trial.index == block.first_trial || static_cast<int>(index) == first;
-    if (trial.index == block.first_trial && trial.block > 0 && config.timing.rest_between_blocks_s > 0) {
+    // No rest after the practice block: a screen that says the study begins instead.
+    const bool after_practice = trial.block > 0 && plan_.blocks.at(static_cast<size_t>(trial.block - 1)).practice;
+    if (trial.index == block.first_trial && after_practice) {
+      show_text("The practice is over: the study begins now.\n\nPress an answer key to begin.", "practice_end");
+      wait_for_key();
+    }
+    if (trial.index == block.first_trial && trial.block > 0 && !after_practice && config.timing.rest_between_blocks_s > 0) {
       const double start = t();
       take_break("Rest before the next block.", config.timing.rest_between_blocks_s, "rest");
       log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
@@ -337,6 +343,11 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       validation_due = nullptr;
     }
     if (block_starts) log(to_json(BlockStartEvent{{}, trial.block, block.name, block.scene}));
+    if (block.practice && trial.index == block.first_trial) {
+      show_text("Practice: " + std::to_string(block.trial_count) + " trials to learn the task. These answers are not "
+                "part of the results.\n\nPress an answer key to begin.", "practice");
+      wait_for_key();
+    }
     TrialStartEvent start;
     start.trial = trial.index;
     start.block = trial.block;
@@ -346,6 +357,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     start.attention_check = trial.attention_check;
     start.sequence = trial.sequence;
     start.reference = trial.reference;
+    start.practice = trial.practice;
     if (config.protocol.kind == ProtocolKind::ramp) start.ramp_toward_reference = trial.ramp_toward_reference;
     else if (config.protocol.kind == ProtocolKind::slider) start.slider_start = trial.slider_start;
     else start.reference_first = trial.reference_first;

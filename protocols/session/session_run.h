@@ -59,8 +59,9 @@ class SessionRun {
   // excluded participant's session.
   void wait_for_key();
   // With --screenshots, the first screen of each kind ("instructions", "fixation", "stimulus",
-  // "question", "break", "break_end", "rest", "rest_end", "end", "excluded") is saved as <kind>.png: the swapchain's image in a window, the frame
-  // itself when headless. `frame`: what is on screen (a headless run shows nothing).
+  // "question", "break", "break_end", "rest", "rest_end", "end", "excluded", "validation",
+  // "validation_retry", "validation_target", "practice", "practice_end") is saved as <kind>.png:
+  // the swapchain's image in a window, the frame itself when headless. `frame`: what is on screen (a headless run shows nothing).
   bool wants_screenshot(const std::string& kind) const;
   void save_screenshot(const std::string& kind, const Rgba8Frame& frame);
   // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh; a

@@ -36,10 +36,12 @@ const char* const columns[] = {"study", "participant", "observer", "protocol", "
                                "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status",
                                // Issue 18: what PsychoPy users look for in a trials file.
                                "key", "correct", "repeat", "level_parameter", "session_started_utc",
-                               "fovlab_version", "config_hash", "refresh_hz"};
+                               "fovlab_version", "config_hash", "refresh_hz",
+                               // [practice] trials: exported, never analysed.
+                               "practice"};
 
 const char* const step_columns[] = {"study", "participant", "observer", "protocol", "trial", "step", "level",
-                                    "previous_level", "answer", "key", "rt_s", "correct", "log_status"};
+                                    "previous_level", "answer", "key", "rt_s", "correct", "log_status", "practice"};
 
 // The level of stimulus `id` in the header's stimuli (null for the reference or an unknown id).
 nlohmann::json stimulus_level(const nlohmann::json& header, int id) {
@@ -55,7 +57,8 @@ nlohmann::json stimulus_level(const nlohmann::json& header, int id) {
 // the text cannot be read).
 std::string level_parameter(const nlohmann::json& header, const std::string& path) {
   try {
-    return parse_logged_study_config(header.value("config_toml", ""), path + " (config_toml)", nullptr).levels.parameter;
+    return parse_logged_study_config(header.value("config_toml", ""), path + " (config_toml)", nullptr,
+                                     header.value("conditions_csv", "")).levels.parameter;
   } catch (const std::exception&) {
     return "";
   }
@@ -170,7 +173,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
           header.value("started_utc", ""),
           header.value("fovlab_version", ""),
           header.value("config_hash", ""),
-          number_cell(refresh_hz)};
+          number_cell(refresh_hz),
+          number_cell(start.practice)};
       std::vector<std::string> row = cells;
       row.insert(row.end(), field_cells.begin(), field_cells.end());
       csv << csv_line(row);
@@ -201,7 +205,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
                                                    protocol, std::to_string(trial.index), std::to_string(response.step),
                                                    number_cell(level), number_cell(previous), response.answer, response.key,
                                                    number_cell(optional_json(response.rt_s)), number_cell(correct),
-                                                   log_status_name(integrity.status)});
+                                                   log_status_name(integrity.status), number_cell(start.practice)});
       }
     }
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -9,6 +10,7 @@
 #include <sstream>
 
 #include "core/content_hash.h"
+#include "core/csv.h"
 #include "core/input_file.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
@@ -47,6 +49,7 @@ int bounded_integer(const TomlFields& fields, const std::string& key, std::optio
 struct Reading {
   const SceneCatalog* scenes = nullptr;  // nullptr: scene names taken as written
   bool legacy_keys = false;
+  const std::string* logged_conditions_csv = nullptr;  // a logged config: the header's conditions_csv
 };
 
 // Reads every key of the table but `skip` as a parameter of the method: by its key (or a legacy
@@ -146,15 +149,16 @@ std::vector<MethodParameters> stimulus_parameters(const StimulusConfig& stimulus
   std::vector<MethodParameters> all;
   all.push_back(parameters_with(stimulus.reference.method, {&stimulus.reference.parameters}));
   const ParameterLayer none;
-  std::vector<const ParameterLayer*> variants;
-  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant.parameters);
-  if (variants.empty()) variants.push_back(&none);
-  std::vector<ParameterLayer> level_parameters;
-  for (double value : levels.values) level_parameters.push_back({{levels.parameter, value}});
-  if (level_parameters.empty()) level_parameters.emplace_back();
-  for (const ParameterLayer* variant : variants)
+  std::vector<const VariantConfig*> variants;
+  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
+  if (variants.empty()) variants.push_back(nullptr);
+  for (const VariantConfig* variant : variants) {
+    std::vector<ParameterLayer> level_parameters;
+    for (double value : variant_levels(levels, variant)) level_parameters.push_back({{levels.parameter, value}});
+    if (level_parameters.empty()) level_parameters.emplace_back();
     for (const ParameterLayer& level : level_parameters)
-      all.push_back(parameters_with(stimulus.test.method, {&stimulus.test.parameters, variant, &level}));
+      all.push_back(parameters_with(stimulus.test.method, {&stimulus.test.parameters, variant ? &variant->parameters : &none, &level}));
+  }
   return all;
 }
 
@@ -242,7 +246,8 @@ void read_stimulus(const TomlFields& fields, const DisplayConfig& display, const
   fields.finish();
 }
 
-void read_levels(const TomlFields& fields, const MethodConfig& test, const Reading& reading, LevelsConfig& levels) {
+void read_levels(const TomlFields& fields, const MethodConfig& test, const Reading& reading, bool from_conditions,
+                 LevelsConfig& levels) {
   const MethodDescriptor& method = describe(test.method);
   const std::string name = fields.string("parameter");
   const ParameterDescriptor* parameter = find_parameter(method, name, reading.legacy_keys);
@@ -254,6 +259,13 @@ void read_levels(const TomlFields& fields, const MethodConfig& test, const Readi
                                  "\" (expected one of: " + numeric + ")");
   }
   levels.parameter = parameter->key;
+  if (from_conditions) {
+    if (fields.has("values"))
+      fields.fail("values", "the [conditions] file gives the levels (its \"" + levels.parameter + "\" column); expected no values");
+    levels.higher_is_better = fields.boolean("higher_is_better", true);
+    fields.finish();
+    return;
+  }
   levels.values = fields.numbers("values");
   for (size_t i = 0; i < levels.values.size(); ++i) {
     if (const std::optional<std::string> expected = check_parameter_value(*parameter, levels.values[i]))
@@ -264,10 +276,16 @@ void read_levels(const TomlFields& fields, const MethodConfig& test, const Readi
   fields.finish();
 }
 
-void read_protocol(const TomlFields& fields, const LevelsConfig& levels, ProtocolConfig& protocol) {
+void read_protocol(const TomlFields& fields, const LevelsConfig& levels, const StimulusConfig& stimulus,
+                   ProtocolConfig& protocol) {
   protocol.kind = read_kind(fields);
-  if ((protocol.kind == ProtocolKind::ramp || protocol.kind == ProtocolKind::slider) && levels.values.size() < 2)
+  const bool ladder = protocol.kind == ProtocolKind::ramp || protocol.kind == ProtocolKind::slider;
+  if (ladder && levels.values.size() < 2)
     fields.fail("kind", std::string(protocol_name(protocol.kind)) + " needs a [levels] table with at least two values");
+  for (const VariantConfig& variant : stimulus.variants)
+    if (ladder && variant_levels(levels, &variant).size() < 2)
+      fields.fail("kind", std::string(protocol_name(protocol.kind)) + " needs at least two levels in every variant (\"" +
+                              variant.name + "\" has fewer in the conditions file)");
   if (protocol.kind == ProtocolKind::two_afc) {
     const std::string question = fields.string("question");
     const std::optional<TwoAfcQuestion> found = find_two_afc_question(question);
@@ -327,6 +345,12 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, Protoco
     protocol.slider.start_level = fields.number("start_level", levels.values.empty() ? 0.0 : levels.values.front());
     if (std::find(levels.values.begin(), levels.values.end(), protocol.slider.start_level) == levels.values.end())
       fields.fail("start_level", "expected one of [levels] values");
+    for (const VariantConfig& variant : stimulus.variants) {
+      const std::vector<double>& own = variant_levels(levels, &variant);
+      if (std::find(own.begin(), own.end(), protocol.slider.start_level) == own.end())
+        fields.fail("start_level", "expected a level of every variant (\"" + variant.name + "\" has no " +
+                                       format_number(protocol.slider.start_level, 6) + " in the conditions file)");
+    }
   }
   fields.finish();
 }
@@ -440,6 +464,150 @@ std::string kind_of_method(SceneKind kind) {
   return "a method";
 }
 
+// A CSV cell's number: the whole cell, finite ("1e3", "-0.5"; not "", " 2", "0x10" or "nan").
+std::optional<double> parse_number(const std::string& cell) {
+  double value = 0.0;
+  const char* end = cell.data() + cell.size();
+  const auto [stop, error] = std::from_chars(cell.data(), end, value);
+  if (error != std::errc() || stop != end || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+// [conditions] file: the conditions as a CSV file's rows (PsychoPy's conditions files). The header
+// names the columns: `variant` (the condition's variant), the [levels] parameter (its level), and
+// parameters of the test method (overrides, as a variant's table holds them; an empty cell leaves
+// the parameter as the test method has it). A variant's rows differ in level only. The result is
+// the variants (with their own levels) and the levels (every level of any row, ascending).
+void read_conditions(const TomlFields& fields, const Reading& reading, StudyConfig& config) {
+  const std::string file = fields.string("file");
+  fields.finish();
+  std::filesystem::path path(file);
+  if (path.is_relative()) path = std::filesystem::path(config.source_path).parent_path() / path;
+  const std::string name = path.lexically_normal().string();
+  if (reading.logged_conditions_csv) {
+    if (reading.logged_conditions_csv->empty())
+      fields.fail("file", "the log's header holds no conditions_csv (expected the conditions file's text beside the config's)");
+    config.conditions_csv = *reading.logged_conditions_csv;
+  } else {
+    config.conditions_csv = read_input_file(name, "a conditions file (.csv)", kMaxConditionsBytes);
+  }
+  config.conditions_path = file;
+  const std::vector<CsvRow> rows = read_csv_rows(config.conditions_csv, name);
+  const auto fail = [&](int line, const std::string& what) {
+    throw InputError(name + ":" + std::to_string(line) + ": " + what);
+  };
+  if (rows.size() < 2) fail(rows.empty() ? 1 : rows.front().line, "expected a header row and at least one condition");
+  if (rows.size() - 1 > kMaxConditionsRows) fail(rows[kMaxConditionsRows + 1].line, "expected at most " + std::to_string(kMaxConditionsRows) + " conditions");
+  const MethodDescriptor& test = describe(config.stimulus.test.method);
+  const std::string& level_key = config.levels.parameter;
+  const std::vector<std::string>& header = rows.front().cells;
+  int variant_column = -1, level_column = -1;
+  std::vector<const ParameterDescriptor*> parameters(header.size(), nullptr);
+  std::set<std::string> seen;
+  for (size_t column = 0; column < header.size(); ++column) {
+    const std::string& key = header[column];
+    if (!seen.insert(key).second) fail(1, "column \"" + key + "\" appears twice");
+    if (key == "variant") variant_column = int(column);
+    else if (!level_key.empty() && key == level_key) level_column = int(column);
+    else if (!(parameters[column] = find_parameter(test, key, reading.legacy_keys)))
+      fail(1, "column \"" + key + "\": expected variant" + (level_key.empty() ? "" : ", " + level_key + " (the level)") +
+                  " or a parameter of the test method \"" + std::string(test.name) + "\" (" + parameter_keys(test) + ")");
+  }
+  if (!level_key.empty() && level_column < 0)
+    fail(1, "expected a column \"" + level_key + "\" ([levels] parameter) holding each condition's level");
+  const bool overrides = std::any_of(parameters.begin(), parameters.end(), [](const ParameterDescriptor* p) { return p; });
+  if (variant_column < 0 && (overrides || level_column < 0))
+    fail(1, "expected a column \"variant\" naming each condition's variant (without one, only the level column)");
+
+  // Rows, grouped by variant in order of first appearance.
+  std::map<std::string, size_t> variant_index;
+  std::vector<int> first_line;
+  for (size_t r = 1; r < rows.size(); ++r) {
+    const CsvRow& row = rows[r];
+    if (row.cells.size() != header.size())
+      fail(row.line, "expected " + std::to_string(header.size()) + " cells as the header has, got " + std::to_string(row.cells.size()));
+    const std::string variant_name = variant_column >= 0 ? row.cells[size_t(variant_column)] : std::string();
+    if (variant_column >= 0 && !is_safe_name(variant_name))
+      fail(row.line, "variant \"" + variant_name + "\": expected 1-64 letters, digits, '_', '-' or '.'");
+    ParameterLayer layer;
+    std::optional<double> level;
+    for (size_t column = 0; column < header.size(); ++column) {
+      const std::string& cell = row.cells[column];
+      const ParameterDescriptor* parameter = int(column) == level_column ? find_parameter(test, level_key) : parameters[column];
+      if (!parameter) continue;
+      const std::string where = "column \"" + header[column] + "\": ";
+      if (cell.empty()) {
+        if (int(column) == level_column) fail(row.line, where + "expected the condition's level, got an empty cell");
+        continue;
+      }
+      double value = 0.0;
+      if (parameter->type == ParameterType::choice) {
+        const std::optional<double> index = parse_choice(*parameter, cell);
+        if (!index) fail(row.line, where + "expected " + *check_parameter_value(*parameter, -1) + ", got \"" + cell + "\"");
+        value = *index;
+      } else {
+        const std::optional<double> number = parse_number(cell);
+        if (!number) fail(row.line, where + "expected a number, got \"" + cell + "\"");
+        value = *number;
+      }
+      if (const std::optional<std::string> expected = check_parameter_value(*parameter, value))
+        fail(row.line, where + "expected " + *expected + ", got " + parameter_value_text(*parameter, value));
+      if (int(column) == level_column) level = value;
+      else layer[std::string(parameter->key)] = value;
+    }
+    ParameterLayer level_layer;
+    if (level) level_layer[level_key] = *level;
+    if (const auto conflict = parameter_conflict(parameters_with(test.method, {&config.stimulus.test.parameters, &layer, &level_layer})))
+      fail(row.line, conflict->expected);
+    const auto [found, added] = variant_index.emplace(variant_name, config.stimulus.variants.size());
+    if (added) {
+      config.stimulus.variants.push_back(VariantConfig{variant_name, layer, {}});
+      first_line.push_back(row.line);
+    }
+    VariantConfig& variant = config.stimulus.variants[found->second];
+    if (variant.parameters != layer)
+      fail(row.line, "variant \"" + variant_name + "\" sets other parameters than on line " +
+                         std::to_string(first_line[found->second]) + " (a variant's rows differ in level only; name another variant)");
+    if (!level) {
+      if (!added) fail(row.line, "variant \"" + variant_name + "\" is a condition already (line " + std::to_string(first_line[found->second]) + ")");
+      continue;
+    }
+    if (std::find(variant.levels.begin(), variant.levels.end(), *level) != variant.levels.end())
+      fail(row.line, "the condition " + (variant_name.empty() ? "" : variant_name + " at ") + level_key + " = " +
+                         format_number(*level, 6) + " appears twice");
+    variant.levels.push_back(*level);
+  }
+  std::set<double> all_levels;
+  for (VariantConfig& variant : config.stimulus.variants) {
+    std::sort(variant.levels.begin(), variant.levels.end());
+    all_levels.insert(variant.levels.begin(), variant.levels.end());
+  }
+  config.levels.values.assign(all_levels.begin(), all_levels.end());
+  // Only the level column: a list of levels, not variants.
+  if (variant_column < 0) config.stimulus.variants.clear();
+}
+
+void read_practice(const TomlFields& fields, StudyConfig& config, const Reading& reading, SceneKind scene_kind) {
+  PracticeConfig& practice = config.practice;
+  practice.trials = bounded_integer(fields, "trials", std::nullopt, 0, 1000);
+  const bool comparison = config.protocol.kind != ProtocolKind::ramp && config.protocol.kind != ProtocolKind::slider;
+  if (fields.has("levels")) {
+    if (!comparison)
+      fields.fail("levels", std::string("a ") + protocol_name(config.protocol.kind) +
+                                " practice trial shows the whole ladder of levels; expected no practice.levels");
+    practice.levels = fields.numbers("levels");
+    for (double level : practice.levels)
+      if (std::find(config.levels.values.begin(), config.levels.values.end(), level) == config.levels.values.end())
+        fields.fail("levels", "expected levels of [levels] values, got " + format_number(level, 6));
+  } else if (comparison && !config.levels.values.empty()) {
+    // The level least like the reference: the easiest difference to see.
+    practice.levels = {config.levels.higher_is_better ? config.levels.values.front() : config.levels.values.back()};
+  }
+  if (fields.has("scene"))
+    practice.scene = resolve_scene(fields, fields.string("scene"), config.source_path, reading.scenes, scene_kind);
+  fields.finish();
+}
+
 }  // namespace
 
 bool is_valid_study_name(const std::string& name) {
@@ -521,15 +689,24 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
 
   read_display(fields.table("display"), config.display);
   read_stimulus(fields.table("stimulus"), config.display, reading, config.stimulus);
+  const toml::table* conditions = fields.optional_table("conditions");
   std::optional<TomlFields> levels_fields;
   if (const toml::table* levels = fields.optional_table("levels")) {
     levels_fields.emplace(*levels, path, "levels");
-    read_levels(*levels_fields, config.stimulus.test, reading, config.levels);
+    read_levels(*levels_fields, config.stimulus.test, reading, conditions != nullptr, config.levels);
   }
   check_parameter_rules(fields.table("stimulus"), config.stimulus, levels_fields ? &*levels_fields : nullptr,
                         config.levels);
+  if (conditions) {
+    const TomlFields conditions_fields(*conditions, path, "conditions");
+    if (!config.stimulus.variants.empty())
+      conditions_fields.fail("file", "the conditions file gives the variants; expected no [[stimulus.variant]] tables");
+    read_conditions(conditions_fields, reading, config);
+    const std::string separator = std::string(1, '\0') + "conditions_csv " + std::to_string(config.conditions_csv.size()) + '\0';
+    config.hash = ContentHash().add(text).add(separator).add(config.conditions_csv).hex();
+  }
   check_frame_size_rules(fields.table("display"), config.display, config.stimulus, config.levels);
-  read_protocol(fields.table("protocol"), config.levels, config.protocol);
+  read_protocol(fields.table("protocol"), config.levels, config.stimulus, config.protocol);
   if (const toml::table* timing = fields.optional_table("timing"))
     read_timing(TomlFields(*timing, path, "timing"), config.timing);
   if (const toml::table* attention = fields.optional_table("attention"))
@@ -558,6 +735,10 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
                       std::string(describe(config.stimulus.reference.method).name) +
                       "\" (both render the same scene), got \"" + std::string(test.name) + "\"");
   }
+  if (const toml::table* practice = fields.optional_table("practice")) {
+    const TomlFields practice_fields(*practice, path, "practice");
+    read_practice(practice_fields, config, reading, scene_kind);
+  }
   std::set<std::string> block_names;
   for (const TomlFields& block_fields : fields.tables("block")) {
     BlockConfig block;
@@ -565,6 +746,8 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     block.name = block_fields.string("name", std::filesystem::path(block.scene).stem().string());
     if (!is_safe_name(block.name)) block_fields.fail("name", "expected letters, digits, '_', '-' or '.'");
     if (!block_names.insert(block.name).second) block_fields.fail("name", "duplicate block \"" + block.name + "\"");
+    if (config.practice.trials > 0 && block.name == "practice")
+      block_fields.fail("name", "\"practice\" names the [practice] trials' block; expected another name");
     block_fields.finish();
     config.blocks.push_back(std::move(block));
   }
@@ -582,8 +765,13 @@ StudyConfig parse_study_config_file(const std::string& path, const SceneCatalog&
   return parse_study_config_text(read_input_file(path, "a study config (.toml)", kMaxStudyConfigBytes), path, scenes);
 }
 
-StudyConfig parse_logged_study_config(const std::string& text, const std::string& path, const SceneCatalog* scenes) {
-  return parse_config(text, path, Reading{scenes, true});
+StudyConfig parse_logged_study_config(const std::string& text, const std::string& path, const SceneCatalog* scenes,
+                                      const std::string& conditions_csv) {
+  return parse_config(text, path, Reading{scenes, true, &conditions_csv});
+}
+
+const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant) {
+  return variant && !variant->levels.empty() ? variant->levels : levels.values;
 }
 
 }  // namespace fovlab

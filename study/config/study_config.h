@@ -38,6 +38,9 @@ struct MethodConfig {
 struct VariantConfig {
   std::string name;
   ParameterLayer parameters;  // overrides of the test method's parameters
+  // From a conditions file: this variant's levels, ascending (a design need not be variants x
+  // levels). Empty: every [levels] value.
+  std::vector<double> levels;
 };
 
 struct StimulusConfig {
@@ -57,6 +60,10 @@ struct LevelsConfig {
   std::vector<double> values;   // ascending
   bool higher_is_better = true; // which end of the values looks more like the reference
 };
+
+// The levels a variant is tested at: its own (a conditions file's rows), else every [levels] value.
+// `variant` null: the one unnamed variant of a config without variants.
+const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant);
 
 struct BlockConfig {
   std::string name;
@@ -108,6 +115,15 @@ std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig
 // The target disk's radius in pixels (D tan(radius) / horizontal pitch, at least 2).
 double validation_target_radius_px(const DisplayConfig& display, const ValidationConfig& validation);
 
+// [practice]: trials before the first block that teach the task. They run as the study's trials do
+// (in a block of their own, named "practice") and are logged with "practice": true; no analysis
+// counts them.
+struct PracticeConfig {
+  int trials = 0;              // 0: no practice
+  std::vector<double> levels;  // 2afc, pair, rating: the levels practised (default: the one least like the reference)
+  std::string scene;           // "": the scene of the participant's first block
+};
+
 struct SliderConfig {
   double start_level = 0.0;  // one of the level values
 };
@@ -139,15 +155,25 @@ struct StudyConfig {
   TimingConfig timing;
   AttentionConfig attention;
   ValidationConfig validation;
+  PracticeConfig practice;
   // [participant] fields: what each participant is asked before the session (age, handedness, ...):
   // given with fovlab run --field NAME=VALUE or asked on the terminal, kept in the log's header and
   // exported. Names: 1-32 of a-z, 0-9, '_', unique, at most 32 of them.
   std::vector<std::string> participant_fields;
 
+  // [conditions] file: a CSV file of conditions (docs/config.md) instead of variants x levels; its
+  // bytes are logged in the header beside the config's.
+  std::string conditions_path;
+  std::string conditions_csv;
+
   std::string source_path;      // where it was read from (messages)
   std::string source_text;      // the file's bytes (logged in the header, so a replay needs nothing else)
-  std::string hash;             // content hash of source_text (hex)
+  std::string hash;             // content hash of source_text, then conditions_csv when there is one (hex)
 };
+
+// A conditions file: at most this many bytes and rows.
+constexpr uint64_t kMaxConditionsBytes = uint64_t(1) << 20;  // 1 MiB
+constexpr size_t kMaxConditionsRows = 10000;
 
 // Limits on the text of a config, far above any real one's (a few KiB, nested 4 levels deep), so
 // that no input can exhaust memory or toml++'s stack: the bytes of the file (or of the text, when
@@ -166,8 +192,10 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 // A config that a session log carries (replay, analyze): also takes the parameter keys and numeric
 // choices of configs written before the typed model (log schema 2 and earlier; docs/config.md).
 // Without a catalog (readers of logs on another machine) scene names are taken as written.
+// `conditions_csv`: the header's conditions_csv (a config with a [conditions] file is read from the
+// log alone, never from the file on this machine).
 StudyConfig parse_logged_study_config(const std::string& text, const std::string& path_for_messages,
-                                      const SceneCatalog* scenes);
+                                      const SceneCatalog* scenes, const std::string& conditions_csv = {});
 
 // A study name (study.name, and the study a session log's header names): 1-64 letters, digits,
 // '_', '-' or '.', not starting with '.' or '-', so it is one folder name (results/<study>), never

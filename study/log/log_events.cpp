@@ -232,6 +232,7 @@ nlohmann::json to_json(const SessionHeaderEvent& event) {
   // Only when there are some: a header without fields keeps the bytes earlier builds wrote.
   if (event.participant_fields.is_object() && !event.participant_fields.empty())
     json[k::participant_fields] = event.participant_fields;
+  if (!event.conditions_csv.empty()) json[k::conditions_csv] = event.conditions_csv;
   return json;
 }
 
@@ -414,6 +415,7 @@ SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck c
   in.read(k::observer, event.observer);
   in.read(k::started_utc, event.started_utc);
   in.read(k::participant_fields, event.participant_fields);
+  in.read(k::conditions_csv, event.conditions_csv);
   return event;
 }
 

@@ -57,6 +57,7 @@ inline constexpr const char* gaze = "gaze";  // also a stimulus event's per-refr
 inline constexpr const char* observer = "observer";
 inline constexpr const char* started_utc = "started_utc";
 inline constexpr const char* participant_fields = "participant_fields";
+inline constexpr const char* conditions_csv = "conditions_csv";
 // session_resumed
 inline constexpr const char* next_trial = "next_trial";
 inline constexpr const char* discarded_trial = "discarded_trial";
@@ -144,6 +145,7 @@ struct SessionHeaderEvent {
   nlohmann::json observer = "human";  // "human" or the simulated observer's model
   std::string started_utc;
   nlohmann::json participant_fields = nlohmann::json::object();  // the config's [participant] fields: name -> text
+  std::string conditions_csv;  // the config's [conditions] file, its bytes ("": none; then not written)
   bool operator==(const SessionHeaderEvent&) const = default;
 };
 

@@ -74,10 +74,6 @@ class PlanBuilder {
     std::vector<const VariantConfig*> variants;
     for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
     if (variants.empty()) variants.push_back(nullptr);
-    std::vector<std::optional<double>> levels;
-    for (double value : config_.levels.values) levels.emplace_back(value);
-    if (levels.empty()) levels.emplace_back(std::nullopt);
-
     std::vector<Trial> trials;
     const auto base_trial = [&](const VariantConfig* variant) {
       Trial trial;
@@ -87,6 +83,9 @@ class PlanBuilder {
       return trial;
     };
     for (const VariantConfig* variant : variants) {
+      std::vector<std::optional<double>> levels;
+      for (double value : variant_levels(config_.levels, variant)) levels.emplace_back(value);
+      if (levels.empty()) levels.emplace_back(std::nullopt);
       if (protocol.kind == ProtocolKind::ramp || protocol.kind == ProtocolKind::slider) {
         // The ladder from the level least like the reference to the one most like it.
         std::vector<int> ladder;
@@ -97,8 +96,8 @@ class PlanBuilder {
             Trial trial = base_trial(variant);
             trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + std::string(protocol_name(ProtocolKind::slider));
             trial.sequence = ladder;
-            const auto start = std::find(config_.levels.values.begin(), config_.levels.values.end(),
-                                         protocol.slider.start_level) - config_.levels.values.begin();
+            const std::vector<double>& values = variant_levels(config_.levels, variant);
+            const auto start = std::find(values.begin(), values.end(), protocol.slider.start_level) - values.begin();
             trial.slider_start = config_.levels.higher_is_better ? int(start) : int(ladder.size()) - 1 - int(start);
             trials.push_back(std::move(trial));
             continue;
@@ -236,17 +235,47 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
                        "by the number the ID ends with (P001, P002, ...); expected an ID ending in a number");
     block_order = square[static_cast<size_t>((*number + int(square.size()) - 1) % int(square.size()))];
   }
+  const auto add_block = [&plan](const std::string& name, const std::string& scene, std::vector<Trial> trials, bool practice) {
+    PlannedBlock planned{name, scene, static_cast<int>(plan.trials.size()), static_cast<int>(trials.size()), practice};
+    for (Trial& trial : trials) {
+      trial.index = static_cast<int>(plan.trials.size());
+      trial.practice = practice;
+      plan.trials.push_back(std::move(trial));
+    }
+    plan.blocks.push_back(std::move(planned));
+  };
+  if (config.practice.trials > 0 && !config.blocks.empty()) {
+    // The practice block: the study's conditions at the practice levels (the whole ladder for ramp
+    // and slider), no attention checks, repeated and shuffled, then cut to the number asked for.
+    StudyConfig practice = config;
+    if (!config.practice.levels.empty()) {
+      practice.levels.values = config.practice.levels;
+      // A conditions file's variant keeps its own levels: those practised, else its easiest.
+      for (VariantConfig& variant : practice.stimulus.variants) {
+        if (variant.levels.empty()) continue;
+        std::vector<double> kept;
+        for (double level : variant.levels)
+          if (std::find(config.practice.levels.begin(), config.practice.levels.end(), level) != config.practice.levels.end())
+            kept.push_back(level);
+        if (kept.empty()) kept = {config.levels.higher_is_better ? variant.levels.front() : variant.levels.back()};
+        variant.levels = kept;
+      }
+    }
+    practice.attention.share = 0.0;
+    practice.protocol.repeats = config.practice.trials;
+    practice.protocol.randomise_trials = true;
+    BlockConfig block{"practice", config.practice.scene};
+    if (block.scene.empty()) block.scene = config.blocks[static_cast<size_t>(block_order.front())].scene;
+    Pcg32 random(derive_seed(plan.session_seed, "practice"));
+    std::vector<Trial> trials = PlanBuilder(practice, plan).block_trials(0, block, random);
+    trials.resize(static_cast<size_t>(config.practice.trials));
+    add_block(block.name, block.scene, std::move(trials), true);
+  }
   PlanBuilder builder(config, plan);
   for (int position = 0; position < static_cast<int>(block_order.size()); ++position) {
     const BlockConfig& block = config.blocks[static_cast<size_t>(block_order[static_cast<size_t>(position)])];
     Pcg32 random(derive_seed(plan.session_seed, "trials:" + block.name));
-    std::vector<Trial> trials = builder.block_trials(position, block, random);
-    PlannedBlock planned{block.name, block.scene, static_cast<int>(plan.trials.size()), static_cast<int>(trials.size())};
-    for (Trial& trial : trials) {
-      trial.index = static_cast<int>(plan.trials.size());
-      plan.trials.push_back(std::move(trial));
-    }
-    plan.blocks.push_back(std::move(planned));
+    add_block(block.name, block.scene, builder.block_trials(static_cast<int>(plan.blocks.size()), block, random), false);
   }
   return plan;
 }
@@ -265,7 +294,15 @@ double StudyPlan::expected_duration_s(double response_s) const {
     }
     total += steps * stimulus_s + (steps - 1.0) * timing.black_interval_s + answers * response_s + timing.inter_trial_s;
   }
-  if (!blocks.empty()) total += double(blocks.size() - 1) * timing.rest_between_blocks_s;
+  // Rests come between the study's blocks (not after the practice block); an eye-tracker
+  // validation (each target, plus a key press) at the start and after each rest.
+  const auto study_blocks = std::count_if(blocks.begin(), blocks.end(), [](const PlannedBlock& block) { return !block.practice; });
+  const double rests = study_blocks > 0 ? double(study_blocks - 1) : 0.0;
+  total += rests * timing.rest_between_blocks_s;
+  if (config.validation.enabled) {
+    const double validation_s = config.validation.targets * config.validation.target_s + response_s;
+    total += (1.0 + (config.validation.after_breaks && timing.rest_between_blocks_s > 0 ? rests : 0.0)) * validation_s;
+  }
   return total;
 }
 

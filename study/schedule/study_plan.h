@@ -31,6 +31,7 @@ struct Trial {
   std::vector<int> sequence;         // stimulus ids in presentation order (slider: the level ladder)
   int reference = -1;                // the block's reference stimulus id
   int slider_start = 0;              // slider: index into sequence where adjustment starts
+  bool practice = false;             // a [practice] trial (never analysed)
 };
 
 struct PlannedBlock {
@@ -38,6 +39,7 @@ struct PlannedBlock {
   std::string scene;
   int first_trial = 0;
   int trial_count = 0;
+  bool practice = false;             // the [practice] trials' block: first, named "practice"
 };
 
 struct StudyPlan {
@@ -45,11 +47,12 @@ struct StudyPlan {
   std::string participant;
   uint64_t session_seed = 0;
   std::vector<PlannedStimulus> stimuli;  // distinct stimuli; a stimulus id is an index here
-  std::vector<PlannedBlock> blocks;      // in session order
+  std::vector<PlannedBlock> blocks;      // in session order (the practice block first when there is one)
   std::vector<Trial> trials;             // in session order
 
   // Estimated session length: stimuli, black intervals, inter-trial and block rests, plus
-  // `response_s` per answer (slider: half the ladder's steps, each one viewing and one answer).
+  // `response_s` per answer (slider: half the ladder's steps, each one viewing and one answer),
+  // and the eye-tracker validations that pass at the first attempt.
   double expected_duration_s(double response_s = 1.5) const;
 };
 

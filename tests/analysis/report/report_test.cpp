@@ -149,6 +149,12 @@ AnalysisResult sample_result() {
   p1.latency.p95_ms = 73.25;
   p1.dropped_frames = 3;
   p1.present_clock = "after_queue_present";
+  p1.practice_trials = 4;
+  p1.validation.attempts = 3;  // one failed, two passed
+  p1.validation.passed = 2;
+  p1.validation.mean_accuracy_deg = 0.5;
+  p1.validation.worst_accuracy_deg = 0.75;
+  p1.validation.mean_precision_deg = 0.125;
   ParticipantRow p2;
   p2.participant = "P002";
   p2.log_path = "results/demo/P002/events.jsonl";
@@ -239,14 +245,19 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
                                                "attention_checks", "attention_errors", "scene", "variant",
                                                "threshold", "note", "log_status", "latency_median_ms",
                                                "latency_p95_ms", "latency_refreshes", "dropped_frames",
-                                               "present_clock"}));
+                                               "present_clock", "practice_trials", "validation_attempts",
+                                               "validations_passed", "validation_accuracy_deg",
+                                               "validation_worst_accuracy_deg", "validation_precision_deg"}));
   EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
-                                               "56.5", "73.25", "720", "3", "after_queue_present"}));
+                                               "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
+                                               "0.5", "0.75", "0.125"}));
   EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", "city", "", "",
                                                "every step answered correctly, censored", "sealed",
-                                               "56.5", "73.25", "720", "3", "after_queue_present"}));
+                                               "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
+                                               "0.5", "0.75", "0.125"}));
+  // A study that validates nothing leaves the validation cells empty.
   EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "human", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
-                                               "", "", "", "1", "not recorded"}));
+                                               "", "", "", "1", "not recorded", "0", "", "", "", "", ""}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {

@@ -554,3 +554,166 @@ TEST(SessionValidation, FailingEveryAttemptPausesTheSessionAndResumingValidatesF
 
 }  // namespace
 }  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_folder;
+using test::read_file;
+using test::simulated;
+using test::study_fixture;
+
+StudyConfig with_practice(const std::string& fixture, const std::string& practice) {
+  std::string text = read_file(study_fixture(fixture));
+  const std::string from = "inter_trial_s = 0.1";
+  text.replace(text.find(from), from.size(), from + "\nrest_between_blocks_s = 1");
+  text += "\n[practice]\n" + practice;
+  return parse_study_config_text(text, study_fixture(fixture).string(), renderer_scene_catalog());
+}
+
+TEST(SessionPractice, PracticeTrialsRunFirstAreLoggedAndExportedButNeverAnalysed) {
+  // Issue 18: practice trials (not analysed). 2afc practises the easiest level by default; a ramp
+  // practises its whole ladder.
+  for (const char* fixture : {"tiny_2afc", "ramp"}) {
+    SCOPED_TRACE(fixture);
+    const StudyConfig config = with_practice(fixture, "trials = 3\n");
+    const StudyConfig without = parse_study_config_file(study_fixture(fixture).string(), renderer_scene_catalog());
+    const StudyPlan plan = make_study_plan(config, "P1");
+    const StudyPlan plain = make_study_plan(without, "P1");
+    ASSERT_EQ(plan.blocks.size(), plain.blocks.size() + 1);
+    EXPECT_TRUE(plan.blocks[0].practice);
+    EXPECT_EQ(plan.blocks[0].name, "practice");
+    EXPECT_EQ(plan.blocks[0].scene, plan.blocks[1].scene);  // the participant's first block's scene
+    ASSERT_EQ(plan.trials.size(), plain.trials.size() + 3);
+    for (int i = 0; i < 3; ++i) {
+      const Trial& trial = plan.trials[size_t(i)];
+      EXPECT_TRUE(trial.practice);
+      EXPECT_FALSE(trial.attention_check);
+      if (std::string(fixture) == "tiny_2afc") EXPECT_EQ(trial.level, 2.0);  // least like the reference
+      else EXPECT_EQ(trial.sequence.size(), 5u);                             // four levels and the reference
+    }
+    // The study's own trials follow, as without practice (conditions and order).
+    for (size_t i = 0; i < plain.trials.size(); ++i) {
+      EXPECT_FALSE(plan.trials[i + 3].practice);
+      EXPECT_EQ(plan.trials[i + 3].condition, plain.trials[i].condition);
+    }
+
+    const fs::path results = fresh_folder(std::string("practice-") + fixture);
+    SessionOptions options = simulated(results);
+    options.screenshots_dir = (results / "shots").string();
+    const SessionOutcome outcome = run_session(config, options);
+    ASSERT_TRUE(outcome.finished);
+    EXPECT_EQ(outcome.trials_completed, int(plan.trials.size()));
+    for (const char* kind : {"practice", "practice_end"})
+      EXPECT_TRUE(fs::is_regular_file(results / "shots" / (std::string(kind) + ".png"))) << kind;
+    const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+    for (const RecordedTrial& trial : record.trials) EXPECT_EQ(trial.start.practice, trial.index < 3) << trial.index;
+    // No rest after the practice block; one between the study's two blocks.
+    int rests = 0;
+    for (const nlohmann::json& event : read_event_log(outcome.log_path).events)
+      if (event_kind(event) == "break" && event["reason"] == "rest") ++rests;
+    EXPECT_EQ(rests, 1);
+    const ReplayOutcome replayed = replay(outcome.log_path);
+    EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+
+    // Exported with practice = true; the analysis counts them apart and analyses the rest.
+    const std::string csv = export_trials_csv({outcome.log_path});
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), outcome.trials_total + 1);
+    const analysis::StudyData data = analysis::load_study({outcome.log_path});
+    ASSERT_EQ(data.participants.size(), 1u);
+    EXPECT_EQ(data.participants[0].practice_trials, 3);
+    EXPECT_EQ(data.participants[0].trials.size(), plain.trials.size());
+    for (const analysis::StudyTrial& trial : data.participants[0].trials) EXPECT_GE(trial.index, 3);
+  }
+}
+
+TEST(SessionPractice, BadPracticeTablesNameTheirKey) {
+  const auto error_of = [](const std::string& fixture, const std::string& practice) -> std::string {
+    try {
+      with_practice(fixture, practice);
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(error_of("tiny_2afc", "trials = 2\nlevels = [3]\n").find("practice.levels: expected levels of [levels] values, got 3"),
+            std::string::npos);
+  EXPECT_NE(error_of("ramp", "trials = 2\nlevels = [2]\n").find("practice.levels: a ramp practice trial shows the whole ladder"),
+            std::string::npos);
+  EXPECT_NE(error_of("tiny_2afc", "trials = -1\n").find("practice.trials"), std::string::npos);
+  EXPECT_NE(error_of("tiny_2afc", "trials = 2\nscene = \"nowhere\"\n").find("practice.scene: no built-in scene or file"),
+            std::string::npos);
+  EXPECT_EQ(error_of("tiny_2afc", "trials = 2\n"), "no error");
+  std::string text = read_file(study_fixture("tiny_2afc"));
+  text.replace(text.find("name = \"sphere\""), 15, "name = \"practice\"");
+  text += "\n[practice]\ntrials = 1\n";
+  try {
+    parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+    ADD_FAILURE() << "a block named practice was accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("\"practice\" names the [practice] trials' block"), std::string::npos)
+        << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_folder;
+using test::read_file;
+using test::simulated;
+using test::study_fixture;
+
+TEST(SessionConditions, AConditionsFileRunsReplaysFromTheLogAloneAndAnalysesItsOwnDesign) {
+  // Issue 18: conditions from a CSV file (PsychoPy's conditions files). Two variants at levels of
+  // their own (not variants x levels): the schedule, the log, replay (with the file gone: the
+  // header carries it) and the analysis all follow the file's design.
+  const fs::path folder = fresh_folder("conditions");
+  fs::create_directories(folder);
+  std::string text = read_file(study_fixture("tiny_2afc"));
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    ASSERT_NE(text.find(from), std::string::npos) << from;
+    text.replace(text.find(from), from.size(), to);
+  };
+  replace("values = [2, 4, 8, 16]\n", "\n[conditions]\nfile = \"conditions.csv\"\n");
+  replace("\"../scenes/sphere.glsl\"", "\"" + (study_fixture("tiny_2afc").parent_path() / "../scenes/sphere.glsl").lexically_normal().string() + "\"");
+  std::ofstream(folder / "study.toml", std::ios::binary) << text;
+  std::ofstream(folder / "conditions.csv", std::ios::binary) << "variant,max_steps,min_filter_size\n"
+                                                                 "coarse,2,1\ncoarse,4,1\nfine,8,5\nfine,16,5\n";
+  const StudyConfig config = parse_study_config_file((folder / "study.toml").string(), renderer_scene_catalog());
+  const SessionOutcome outcome = run_session(config, simulated(folder / "results"));
+  ASSERT_TRUE(outcome.finished);
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  EXPECT_EQ(record.header.value("conditions_csv", ""), read_file(folder / "conditions.csv"));
+  std::set<std::string> conditions;
+  for (const RecordedTrial& trial : record.trials)
+    if (!trial.start.attention_check) conditions.insert(trial.start.condition);
+  EXPECT_EQ(conditions, (std::set<std::string>{"coarse/level=2", "coarse/level=4", "fine/level=16", "fine/level=8"}));
+
+  fs::remove(folder / "conditions.csv");
+  const ReplayOutcome replayed = replay(outcome.log_path);
+  EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+  EXPECT_EQ(replayed.trials, outcome.trials_total);
+
+  const analysis::StudyData data = analysis::load_study({outcome.log_path});
+  analysis::AnalysisOptions analysis_options;
+  analysis_options.bootstrap_samples = 0;
+  const analysis::AnalysisResult result = analysis::analyse_study(data, analysis_options);
+  for (const analysis::LeftOut& left : result.left_out)
+    EXPECT_EQ(left.reason.find("no trial of an included participant"), std::string::npos) << left.what << ": " << left.reason;
+  std::vector<std::string> rows;
+  for (const analysis::ConditionRow& row : result.conditions)
+    if (row.level) rows.push_back(row.group.scene + "|" + row.group.variant + "|" + row.condition);
+  // The two blocks and their pool ("all"), each with the file's four conditions and no other.
+  EXPECT_EQ(rows.size(), 3u * 4u) << ::testing::PrintToString(rows);
+  const std::string csv = export_trials_csv({outcome.log_path});
+  EXPECT_NE(csv.find("fine/level=16"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -1141,3 +1141,114 @@ TEST(StudyConfigValidation, BadValuesNameTheirKey) {
 
 }  // namespace
 }  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+// [conditions] file: a conditions CSV beside the config in a temporary folder.
+struct ConditionsStudy {
+  testing::TempDir dir;
+  std::string config_path;
+  ConditionsStudy(const std::string& csv, const std::string& levels = "[levels]\nparameter = \"max_steps\"\n",
+                  const std::string& protocol = "") {
+    ConfigText config;
+    config.stimulus = R"([stimulus]
+duration_s = 0.5
+frames_per_second = 10
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "ipr"
+)";
+    config.levels = levels + "\n[conditions]\nfile = \"conditions.csv\"\n";
+    if (!protocol.empty()) config.protocol = protocol;
+    config.attention = "";
+    std::ofstream(dir.file("conditions.csv"), std::ios::binary) << csv;
+    config_path = dir.file("unit.toml");
+    std::ofstream(config_path, std::ios::binary) << config.text();
+  }
+  StudyConfig parse() const { return parse_study_config_file(config_path, renderer_scene_catalog()); }
+  std::string error() const {
+    try {
+      parse();
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "no error";
+  }
+};
+
+TEST(StudyConfigConditions, RowsBecomeVariantsWithTheirOwnLevels) {
+  const ConditionsStudy study(
+      "variant,max_steps,hit_threshold,min_filter_size\n"
+      "coarse,4,0.5,5\n"
+      "coarse,2,0.5,5\n"
+      "fine,16,,1\n"
+      "fine,64,,1\n"
+      "fine,4,,1\n");
+  const StudyConfig config = study.parse();
+  ASSERT_EQ(config.stimulus.variants.size(), 2u);
+  const VariantConfig& coarse = config.stimulus.variants[0];
+  EXPECT_EQ(coarse.name, "coarse");
+  EXPECT_EQ(coarse.levels, (std::vector<double>{2, 4}));
+  EXPECT_EQ(coarse.parameters, (ParameterLayer{{"hit_threshold", 0.5}, {"min_filter_size", 5}}));
+  const VariantConfig& fine = config.stimulus.variants[1];
+  EXPECT_EQ(fine.levels, (std::vector<double>{4, 16, 64}));
+  EXPECT_EQ(fine.parameters, (ParameterLayer{{"min_filter_size", 1}}));  // an empty cell keeps the method's
+  EXPECT_EQ(config.levels.values, (std::vector<double>{2, 4, 16, 64}));
+  EXPECT_EQ(variant_levels(config.levels, &coarse), coarse.levels);
+  EXPECT_EQ(config.conditions_path, "conditions.csv");
+  // The schedule: each variant at its own levels only (2 repeats each in the fixture's protocol).
+  const StudyPlan plan = make_study_plan(config, "P1");
+  std::map<std::string, int> trials;
+  for (const Trial& trial : plan.trials)
+    if (!trial.attention_check && trial.block == 0) ++trials[trial.condition];
+  EXPECT_EQ(trials, (std::map<std::string, int>{{"coarse/level=2", 2}, {"coarse/level=4", 2}, {"fine/level=16", 2},
+                                                {"fine/level=4", 2}, {"fine/level=64", 2}}));
+  // The hash covers the conditions: the same config with another file is another config.
+  const ConditionsStudy other("variant,max_steps\ncoarse,4\ncoarse,2\n");
+  EXPECT_NE(other.parse().hash, config.hash);
+  // And a log carries them: the logged config parses from the header's text alone.
+  const StudyConfig logged = parse_logged_study_config(config.source_text, "x.toml (config_toml)", nullptr, config.conditions_csv);
+  EXPECT_EQ(logged.hash, config.hash);
+  EXPECT_EQ(logged.stimulus.variants.size(), 2u);
+  EXPECT_THROW(parse_logged_study_config(config.source_text, "x.toml (config_toml)", nullptr), InputError);
+}
+
+TEST(StudyConfigConditions, BadFilesNameTheFileLineAndColumn) {
+  const auto error = [](const std::string& csv, const std::string& levels = "[levels]\nparameter = \"max_steps\"\n") {
+    const ConditionsStudy study(csv, levels);
+    const std::string message = study.error();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    const std::string file = (std::filesystem::path(study.config_path).parent_path() / "conditions.csv").string();
+    return message.rfind(file + ":", 0) == 0 ? message.substr(file.size() + 1) : message;
+  };
+  EXPECT_EQ(error("variant,max_steps,warp\na,4,1\n").rfind("1: column \"warp\": expected variant, max_steps (the level) or a parameter of the test method \"ipr\"", 0), 0u);
+  EXPECT_EQ(error("variant,hit_threshold\na,0.5\n"), "1: expected a column \"max_steps\" ([levels] parameter) holding each condition's level");
+  EXPECT_EQ(error("max_steps,hit_threshold\n4,0.5\n").rfind("1: expected a column \"variant\"", 0), 0u);
+  EXPECT_EQ(error("variant,max_steps\na,4,5\n"), "2: expected 2 cells as the header has, got 3");
+  EXPECT_EQ(error("variant,max_steps\na,four\n"), "2: column \"max_steps\": expected a number, got \"four\"");
+  EXPECT_EQ(error("variant,max_steps\na,0\n"), "2: column \"max_steps\": expected a value in [1, 4096], got 0");
+  EXPECT_EQ(error("variant,max_steps\na,\n"), "2: column \"max_steps\": expected the condition's level, got an empty cell");
+  EXPECT_EQ(error("variant,max_steps\na,4\nb,4\na,4\n"), "4: the condition a at max_steps = 4 appears twice");
+  EXPECT_EQ(error("variant,max_steps,hit_threshold\na,4,0.5\na,8,0.25\n").rfind("3: variant \"a\" sets other parameters than on line 2", 0), 0u);
+  EXPECT_EQ(error("variant,max_steps\n../x,4\n").rfind("2: variant \"../x\": expected", 0), 0u);
+  EXPECT_EQ(error("variant,max_steps\n").rfind("1: expected a header row and at least one condition", 0), 0u);
+  EXPECT_EQ(error("variant,variant\na,b\n"), "1: column \"variant\" appears twice");
+  // The config's side: values and conditions both, or no file.
+  const ConditionsStudy both("variant,max_steps\na,4\n", "[levels]\nparameter = \"max_steps\"\nvalues = [4]\n");
+  EXPECT_NE(both.error().find("levels.values: the [conditions] file gives the levels"), std::string::npos) << both.error();
+  ConditionsStudy missing("variant,max_steps\na,4\n");
+  std::filesystem::remove(std::filesystem::path(missing.config_path).parent_path() / "conditions.csv");
+  EXPECT_NE(missing.error().find("conditions.csv"), std::string::npos) << missing.error();
+  // Ramp and slider: every variant needs a ladder.
+  const ConditionsStudy ramp("variant,max_steps\na,4\na,8\nb,4\n", "[levels]\nparameter = \"max_steps\"\n",
+                             "[protocol]\nkind = \"ramp\"\n");
+  EXPECT_NE(ramp.error().find("protocol.kind: ramp needs at least two levels in every variant (\"b\""), std::string::npos)
+      << ramp.error();
+}
+
+}  // namespace
+}  // namespace fovlab

@@ -57,6 +57,9 @@ TEST(LogEvents, EveryEventRoundTrips) {
   header.lab_key_id.reset();
   header.observer = "human";
   expect_round_trip(header, parse_session_header);
+  EXPECT_FALSE(to_json(header).contains("conditions_csv"));  // written only with a conditions file
+  header.conditions_csv = "variant,max_steps\nblur,4\n";
+  expect_round_trip(header, parse_session_header);
 
   expect_round_trip(SessionResumedEvent{stamp(3.5, 40), 7, 6, "events.jsonl.torn-1", "mouse", "2026-01-02T00:00:00Z"},
                     parse_session_resumed);
@@ -77,6 +80,11 @@ TEST(LogEvents, EveryEventRoundTrips) {
   start.ramp_toward_reference.reset();
   start.slider_start = 2;
   expect_round_trip(start, parse_trial_start);
+  start.practice = true;  // written only when true
+  expect_round_trip(start, parse_trial_start);
+  EXPECT_EQ(to_json(start)["practice"], true);
+  start.practice = false;
+  EXPECT_FALSE(to_json(start).contains("practice"));
 
   StimulusEvent stimulus;
   stimulus.stamp = stamp(5.0, 6);
