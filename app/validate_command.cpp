@@ -110,11 +110,13 @@ void validate(const std::string& config_path, const std::string& participant, bo
   // not after minutes of rendering (the session refuses it the same way).
   check_prepared_frames_fit(specs, config_path);
   check_sampling_maps(plan.stimuli, config_path);
-  int checks = 0;
-  for (const Trial& trial : plan.trials) checks += trial.attention_check ? 1 : 0;
+  int checks = 0, practice = 0;
   std::set<std::string> conditions;
-  for (const Trial& trial : plan.trials)
-    if (!trial.attention_check) conditions.insert(trial.condition);
+  for (const Trial& trial : plan.trials) {
+    checks += trial.attention_check ? 1 : 0;
+    practice += trial.practice ? 1 : 0;
+    if (!trial.attention_check && !trial.practice) conditions.insert(trial.condition);
+  }
   const double minutes = plan.expected_duration_s() / 60.0;
   std::printf("%s: valid\n", config_path.c_str());
   std::printf("study %s, protocol %s, seed %llu; participant \"%s\" (session seed %llu)\n", config.name.c_str(),
@@ -127,11 +129,12 @@ void validate(const std::string& config_path, const std::string& participant, bo
     std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
   size_t prepared = 0;  // gaze-dependent stimuli (FIPR) render live and are not held in memory
   for (const PlannedStimulus& stimulus : plan.stimuli) prepared += describe(stimulus.spec.method()).depends_on_gaze ? 0 : 1;
-  std::printf("trials %zu (%d attention checks), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: %.0f MiB; "
-              "%zu rendered live with the gaze)\n",
-              plan.trials.size(), checks, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
+  std::printf("trials %zu (%d attention checks, %d practice), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: "
+              "%.0f MiB; %zu rendered live with the gaze)\n",
+              plan.trials.size(), checks, practice, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
               double(prepared_frames_bytes(specs)) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
-  std::printf("expected duration %.1f min of trials (1.5 s an answer)\n", minutes);
+  std::printf("expected duration %.1f min of trials (1.5 s an answer%s)\n", minutes,
+              config.validation.enabled ? ", eye-tracker validations passing at once" : "");
   if (time_render) estimate_render_time(plan, device, cache_dir);
 }
 

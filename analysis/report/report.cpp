@@ -43,13 +43,13 @@ json json_number(const std::optional<double>& value) { return value ? json_numbe
 std::string html_number(double value) { return std::isfinite(value) ? format_number(value, kHtmlDigits) : "\xE2\x80\x93"; }
 std::string html_number(const std::optional<double>& value) { return value ? html_number(*value) : "\xE2\x80\x93"; }
 
-// "2 / 3, 0.42 (0.61) deg, 0.05 deg": passed / attempts, then over the passed ones the mean accuracy
+// "2 / 3; 0.42 (0.61) deg, 0.05 deg": passed / attempts, then over the passed ones the mean accuracy
 // (its worst) and the mean precision; "none" when the study validated nothing.
 std::string validation_text(const ValidationSummary& validation) {
   if (validation.attempts == 0) return "none";
   std::string text = std::to_string(validation.passed) + " / " + std::to_string(validation.attempts);
   if (validation.passed > 0)
-    text += ", " + html_number(validation.mean_accuracy_deg) + " (" + html_number(validation.worst_accuracy_deg) +
+    text += "; " + html_number(validation.mean_accuracy_deg) + " (" + html_number(validation.worst_accuracy_deg) +
             ") deg, " + html_number(validation.mean_precision_deg) + " deg";
   return text;
 }
@@ -887,7 +887,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     for (const ParticipantRow& p : result.participants) {
       const std::vector<std::string> common = {p.participant, p.observer, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
                                                p.log_note.empty() ? log_status_name(p.log_status) : p.log_note,
-                                               std::to_string(p.complete_trials),
+                                               std::to_string(p.complete_trials) +
+                                                   (p.practice_trials ? " (+" + std::to_string(p.practice_trials) + " practice)" : ""),
                                                std::to_string(p.attention_errors) + " / " +
                                                    std::to_string(p.attention_checks),
                                                p.latency_recorded ? html_number(p.latency.median_ms) + " / " +
@@ -909,7 +910,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     }
     html += html_table({"participant", "observer", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
                         "gaze-to-present ms, median / p95 (clock)", "dropped frames",
-                        "tracker validation: passed / attempts, accuracy mean (worst), precision", "scene", "variant", "threshold",
+                        "eye-tracker checks passed / tried; accuracy (worst), precision", "scene", "variant", "threshold",
                         "note"},
                        rows);
   }

@@ -40,7 +40,7 @@ fs::path write_config(const std::string& name, const std::string& from, const st
 TEST(StudyCli, ValidatePrintsTheSchedule) {
   const CommandResult result = run("validate " + fixture("tiny_2afc"));
   EXPECT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("trials 40 (8 attention checks), conditions 4, stimuli 10 x 2 frames"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("trials 40 (8 attention checks, 0 practice), conditions 4, stimuli 10 x 2 frames"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("block sphere"), std::string::npos) << result.out;
 }
 

@@ -377,6 +377,10 @@ TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {
   EXPECT_NE(html.find("<td>[8, 13]</td>"), std::string::npos);
   EXPECT_NE(html.find("weibull: did not converge"), std::string::npos);
   EXPECT_NE(html.find("no complete trials (session log torn)"), std::string::npos);
+  // Issue 18: practice trials and the eye-tracker validation per participant.
+  EXPECT_NE(html.find("<td>120 (+4 practice)</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>2 / 3; 0.5 (0.75) deg, 0.125 deg</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>none</td>"), std::string::npos);  // P002: no validation
   // Three plots, inline.
   EXPECT_EQ(count(html, "<svg "), 3u);
   EXPECT_EQ(count(html, "</svg>"), 3u);
