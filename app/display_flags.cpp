@@ -32,13 +32,6 @@ std::pair<double, double> parse_size_mm(const std::string& text) {
   throw InputError(flag + ": expected " + expected + ", got \"" + got + "\"");
 }
 
-std::optional<double> parse_finite_number(std::string_view text) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
-
 std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text, std::string_view separators) {
   const size_t at = text.find_first_of(separators);
   if (at == std::string_view::npos || text.find_first_of(separators, at + 1) != std::string_view::npos) return std::nullopt;

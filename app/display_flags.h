@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/number_text.h"
 #include "foveation/display_geometry.h"
 
 namespace fovlab::app {
@@ -44,8 +45,6 @@ std::pair<double, double> parse_gaze(const std::string& text, int width_px, int 
 
 // Helpers for other flags given as text.
 [[noreturn]] void fail_flag(const std::string& flag, const std::string& expected, const std::string& got);
-// The whole of `text` as a finite number (std::from_chars: no "+", no spaces, no locale).
-std::optional<double> parse_finite_number(std::string_view text);
 // "AxB" split at its one separator (any of `separators`); nullopt without exactly one.
 std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text, std::string_view separators);
 

@@ -1,5 +1,7 @@
 #include "core/csv.h"
 
+#include <algorithm>
+
 #include "core/input_error.h"
 
 namespace fovlab {
@@ -18,7 +20,8 @@ std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name
   const auto end_row = [&] {
     row.cells.push_back(std::move(cell));
     cell.clear();
-    const bool blank = row.cells.size() == 1 && row.cells.front().empty();
+    // A line of empty cells (",,," as spreadsheets leave below a table) is blank too.
+    const bool blank = std::all_of(row.cells.begin(), row.cells.end(), [](const std::string& c) { return c.empty(); });
     if (!blank) rows.push_back(std::move(row));
     row = CsvRow{};
   };
@@ -45,7 +48,7 @@ std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name
         if (text[i] == '\n') ++line;
         cell += text[i];
       }
-      if (i < text.size() && text[i] != ',' && text[i] != '\n' && !(text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n'))
+      if (i < text.size() && text[i] != ',' && text[i] != '\n' && text[i] != '\r')
         fail("text after a quoted cell's closing quote");
       continue;  // the comma or line end is the loop's
     }
@@ -55,9 +58,9 @@ std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name
       ++i;
       continue;
     }
-    if (c == '\n' || (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n')) {
+    if (c == '\n' || c == '\r') {  // LF, CRLF, or a lone CR (old Mac spreadsheets)
       end_row();
-      i += c == '\r' ? 2 : 1;
+      i += c == '\r' && i + 1 < text.size() && text[i + 1] == '\n' ? 2 : 1;
       ++line;
       row.line = line;
       continue;
@@ -65,7 +68,7 @@ std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name
     cell += c;
     ++i;
   }
-  if (!cell.empty() || !row.cells.empty()) end_row();
+  end_row();  // the last line, when it has no line end (blank: nothing)
   return rows;
 }
 

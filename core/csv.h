@@ -34,8 +34,9 @@ struct CsvRow {
 };
 
 // The records of an RFC 4180 text: cells separated by commas; a cell in double quotes may hold
-// commas, line breaks and doubled quotes. Lines end in LF or CRLF; a UTF-8 byte-order mark at the
-// start and blank lines are skipped; spaces are kept as written. Throws InputError
+// commas, line breaks and doubled quotes. Lines end in LF, CRLF or a lone CR; a UTF-8 byte-order
+// mark at the start and blank lines (also lines of empty cells only) are skipped; spaces are kept
+// as written. Throws InputError
 // "name:LINE: ..." for a quote that is never closed or text after a closing quote.
 std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name);
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace fovlab {
 
@@ -34,5 +35,27 @@ class FileError : public InputError {
   FileError(const std::string& path, const std::string& operation, int error_number)
       : InputError(path + ": " + operation + " failed (" + std::strerror(error_number) + ")") {}
 };
+
+// Text from the user's input as a message quotes it: in double quotes, at most 48 bytes, control
+// characters, quotes and backslashes as \xNN, so the message stays one readable line whatever the
+// input held (a cell with a line break, a 1 MiB line).
+inline std::string quoted_input(std::string_view text) {
+  constexpr size_t kShown = 48;
+  std::string out = "\"";
+  for (const char c : text.substr(0, kShown)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7F || c == '"' || c == '\\') {
+      static constexpr char hex[] = "0123456789abcdef";
+      out += "\\x";
+      out += hex[byte >> 4];
+      out += hex[byte & 0xF];
+    } else {
+      out += c;
+    }
+  }
+  out += "\"";
+  if (text.size() > kShown) out += " (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
 
 }  // namespace fovlab

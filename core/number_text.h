@@ -1,9 +1,12 @@
 #pragma once
 // A double as printf's "%.<significant_digits>g" writes it: 6 digits for names people read
 // (the same as "%g"), 17 to round-trip exactly.
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <string_view>
 
 namespace fovlab {
 
@@ -20,6 +23,15 @@ inline std::string format_interval(double lower, double upper, int significant_d
   const std::string low = std::isinf(lower) ? "(\xE2\x88\x92\xE2\x88\x9E" : "[" + format_number(lower, significant_digits);
   const std::string high = std::isinf(upper) ? "\xE2\x88\x9E)" : format_number(upper, significant_digits) + "]";
   return low + ", " + high;
+}
+
+// The whole of `text` as a finite number (std::from_chars: no "+", no spaces, no locale, no "nan"),
+// as flags and CSV cells are read.
+inline std::optional<double> parse_finite_number(std::string_view text) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
 }
 
 }  // namespace fovlab

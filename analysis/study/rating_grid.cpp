@@ -111,6 +111,12 @@ std::optional<RatingGrid> rating_grid(const StudyData& data) {
 
   // First each participant's mean score per map and cell, then the mean of those over participants
   // (seed 002, 4.4.1: per participant averaged over sigma, then over participants).
+  // A conditions file may test the cells at levels of their own: a map over all levels would then
+  // compare cells averaged over different levels, so it is made only when every cell has the same.
+  const auto levels_of = [&](const VariantConfig& variant) { return variant.levels.empty() ? data.levels : variant.levels; };
+  const bool same_levels = std::all_of(data.variants.begin(), data.variants.end(), [&](const VariantConfig& variant) {
+    return levels_of(variant) == levels_of(data.variants.front());
+  });
   std::map<MapKey, std::vector<CellTotals>> totals;
   for (const ParticipantData& participant : data.participants) {
     if (participant.excluded) continue;
@@ -122,10 +128,11 @@ std::optional<RatingGrid> rating_grid(const StudyData& data) {
       const auto cell = cell_of_variant.find(trial.variant);
       if (cell == cell_of_variant.end()) continue;
       const double score = std::stod(answer);
-      std::vector<MapKey> keys = {{trial.scene, std::nullopt}};
+      std::vector<MapKey> keys;
+      if (same_levels || !trial.level) keys.push_back({trial.scene, std::nullopt});
       if (trial.level) keys.push_back({trial.scene, trial.level});
       if (pool_scenes) {
-        keys.push_back({pooled, std::nullopt});
+        if (same_levels || !trial.level) keys.push_back({pooled, std::nullopt});
         if (trial.level) keys.push_back({pooled, trial.level});
       }
       for (const MapKey& key : keys) {

@@ -67,6 +67,7 @@ ParticipantData participant_of(ScannedSession& session) {
   // Latency: every age of the complete trials, summarised here so the ages are not kept.
   std::vector<double> gaze_age_s;
   for (ScannedTrial& scanned : session.trials) {
+    if (scanned.practice) continue;  // practice trials are in no figure
     participant.dropped_frames += scanned.dropped_frames;
     if (scanned.stimuli_with_latency > 0) participant.latency_recorded = true;
     gaze_age_s.insert(gaze_age_s.end(), scanned.gaze_age_s.begin(), scanned.gaze_age_s.end());

@@ -44,26 +44,6 @@ std::string format_number(double value) {
   return std::string(buffer, result.ptr);
 }
 
-// A field or line as a message quotes it: at most 48 bytes, control characters as \xNN, so the
-// message stays one readable line.
-std::string quoted(std::string_view text) {
-  constexpr size_t kShown = 48;
-  std::string out = "\"";
-  for (const char c : text.substr(0, kShown)) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20 || byte == 0x7F || c == '"' || c == '\\') {
-      static constexpr char hex[] = "0123456789abcdef";
-      out += "\\x";
-      out += hex[byte >> 4];
-      out += hex[byte & 0xF];
-    } else {
-      out += c;
-    }
-  }
-  out += "\"";
-  if (text.size() > kShown) out += " (" + std::to_string(text.size()) + " bytes)";
-  return out;
-}
 
 class LineError {
  public:
@@ -105,7 +85,7 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
         column_count = 4;
       } else {
         error.fail("expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got " +
-                   quoted(trim(line)));
+                   quoted_input(trim(line)));
       }
       continue;
     }
@@ -118,10 +98,10 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
 
     GazeSample sample;
     if (!parse_number(fields[0], sample.time_s)) {
-      error.fail("time_s: expected a number, got " + quoted(fields[0]));
+      error.fail("time_s: expected a number, got " + quoted_input(fields[0]));
     }
     if (!std::isfinite(sample.time_s)) {
-      error.fail("time_s: expected a finite number, got " + quoted(fields[0]));
+      error.fail("time_s: expected a finite number, got " + quoted_input(fields[0]));
     }
     if (!samples.empty() && sample.time_s < samples.back().time_s) {
       error.fail("time_s: " + format_number(sample.time_s) + " is earlier than the previous sample (" +
@@ -140,7 +120,7 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
       }
       double value = 0.0;
       if (!parse_number(field, value)) {
-        error.fail(std::string(axis_names[axis]) + ": expected a number, an empty field or nan, got " + quoted(field));
+        error.fail(std::string(axis_names[axis]) + ": expected a number, an empty field or nan, got " + quoted_input(field));
       }
       if (std::isfinite(value)) {
         position[axis] = value;
@@ -154,7 +134,7 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
       if (fields[3] == "0") {
         blink = true;
       } else if (fields[3] != "1") {
-        error.fail("valid: expected 0 or 1, got " + quoted(fields[3]));
+        error.fail("valid: expected 0 or 1, got " + quoted_input(fields[3]));
       }
     }
 

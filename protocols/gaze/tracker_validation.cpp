@@ -1,6 +1,8 @@
 #include "protocols/gaze/tracker_validation.h"
 
+#include <array>
 #include <cmath>
+#include <optional>
 
 namespace fovlab {
 
@@ -14,29 +16,35 @@ ValidationTarget measure_validation_target(const DisplayGeometry& display, doubl
   ValidationTarget target;
   target.x_px = target_x_px;
   target.y_px = target_y_px;
-  target.samples = static_cast<int>(samples.size());
   double sum_x = 0.0, sum_y = 0.0, sum_squares = 0.0;
   int pairs = 0;
-  const GazeSample* previous = nullptr;
+  std::optional<std::array<double, 2>> previous;  // the last sample, when it was valid
+  std::optional<double> previous_acquired_s;
   for (const GazeSample& sample : samples) {
-    if (!sample.valid) {
-      previous = nullptr;
+    if (sample.acquired_s && previous_acquired_s && *sample.acquired_s == *previous_acquired_s) continue;  // read again
+    previous_acquired_s = sample.acquired_s;
+    ++target.samples;
+    const double x_px = round_gaze_px(sample.x_px), y_px = round_gaze_px(sample.y_px);
+    if (!sample.valid || !std::isfinite(x_px) || !std::isfinite(y_px)) {
+      target.gaze.push_back(std::nullopt);
+      previous.reset();
       continue;
     }
+    target.gaze.push_back(std::array<double, 2>{x_px, y_px});
     ++target.valid_samples;
-    sum_x += sample.x_px;
-    sum_y += sample.y_px;
+    sum_x += x_px;
+    sum_y += y_px;
     if (previous) {
-      const double step_deg = eccentricity_deg(display, previous->x_px, previous->y_px, sample.x_px, sample.y_px);
+      const double step_deg = eccentricity_deg(display, (*previous)[0], (*previous)[1], x_px, y_px);
       sum_squares += step_deg * step_deg;
       ++pairs;
     }
-    previous = &sample;
+    previous = std::array<double, 2>{x_px, y_px};
   }
-  if (target.valid_samples < 2 || 2 * target.valid_samples < target.samples) return target;
+  if (target.valid_samples < 2 || 2 * target.valid_samples < target.samples || pairs == 0) return target;
   target.accuracy_deg = eccentricity_deg(display, target_x_px, target_y_px, sum_x / target.valid_samples,
                                          sum_y / target.valid_samples);
-  target.precision_deg = pairs > 0 ? std::sqrt(sum_squares / pairs) : 0.0;
+  target.precision_deg = std::sqrt(sum_squares / pairs);
   return target;
 }
 
@@ -60,7 +68,8 @@ void summarise_validation(TrackerValidationEvent& attempt, const ValidationConfi
   const double count = static_cast<double>(attempt.targets.size());
   attempt.accuracy_deg = accuracy / count;
   attempt.precision_deg = precision / count;
-  attempt.passed = *attempt.accuracy_deg <= validation.max_accuracy_deg && *attempt.precision_deg <= validation.max_precision_deg;
+  attempt.passed = !attempt.stopped && *attempt.accuracy_deg <= validation.max_accuracy_deg &&
+                   *attempt.precision_deg <= validation.max_precision_deg;
 }
 
 }  // namespace fovlab

@@ -20,8 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// "0.420 deg" (three decimals: a tracker's precision is a few hundredths of a degree).
 std::string degrees_text(const std::optional<double>& degrees) {
-  return degrees ? format_number(*degrees, 3) + " deg" : std::string("no gaze on a target");
+  if (!degrees) return "no gaze on a target";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f deg", *degrees);
+  return text;
 }
 
 // The fixation target a gaze source is told about, cleared however its scope ends.
@@ -194,24 +198,31 @@ void SessionRun::validate_tracker(const char* reason) {
     Pcg32 random(derive_seed(derive_seed(plan_.session_seed, "validation"), std::bit_cast<uint64_t>(event.start_s)));
     random.shuffle(order);
     order.insert(order.begin(), centre);
-    for (const size_t index : order) {
-      const auto [x_px, y_px] = targets[index];
-      const FixationTargetScope looking(gaze_, x_px, y_px);
-      const bool capture = wants_screenshot("validation_target");
-      if (!presenter_.is_headless() || capture) {
-        const Rgba8Frame frame = validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
-        if (!presenter_.is_headless()) presenter_.present(frame);
-        if (capture) save_screenshot("validation_target", frame);
+    try {
+      for (const size_t index : order) {
+        const auto [x_px, y_px] = targets[index];
+        const FixationTargetScope looking(gaze_, x_px, y_px);
+        const bool capture = wants_screenshot("validation_target");
+        if (!presenter_.is_headless() || capture) {
+          const Rgba8Frame frame = validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
+          if (!presenter_.is_headless()) presenter_.present(frame);
+          if (capture) save_screenshot("validation_target", frame);
+        }
+        const double shown_s = presenter_.now_s();
+        std::vector<GazeSample> samples;
+        for (int refresh = 1; refresh <= refreshes; ++refresh) {
+          presenter_.wait_until(shown_s + refresh * period_s);
+          if (presenter_.close_requested()) throw SessionAborted{presenter_.close_reason()};
+          if (refresh >= first_measured) samples.push_back(gaze_.sample(t()));
+        }
+        event.targets.push_back(measure_validation_target(geometry, x_px, y_px, samples));
       }
-      const double shown_s = presenter_.now_s();
-      std::vector<GazeSample> samples;
-      for (int refresh = 1; refresh <= refreshes; ++refresh) {
-        presenter_.wait_until(shown_s + refresh * period_s);
-        if (presenter_.close_requested()) throw SessionAborted{presenter_.close_reason()};
-        if (refresh < first_measured) continue;
-        samples.push_back(sanitize_gaze(gaze_.sample(t()), display.width_px, display.height_px, nullptr));
-      }
-      event.targets.push_back(measure_validation_target(geometry, x_px, y_px, samples));
+    } catch (const SessionAborted&) {
+      // Stopped mid-attempt: what was measured is logged all the same, marked stopped.
+      event.stopped = true;
+      summarise_validation(event, validation);
+      log(to_json(event));
+      throw;
     }
     summarise_validation(event, validation);
     log(to_json(event));

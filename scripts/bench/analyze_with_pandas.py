@@ -57,7 +57,7 @@ T_IMPORTED = time.perf_counter()
 # Columns of the events this analysis uses; everything else of a log (stimulus events with their
 # per-refresh gaze and hashes, the header's stimuli, ...) is dropped right after reading.
 EVENT_COLUMNS = ["event", "trial", "block", "name", "scene", "condition", "variant", "level", "attention_check",
-                 "answer"]
+                 "answer", "practice"]
 KEPT_EVENTS = ["block_start", "trial_start", "response", "trial_end", "session_resumed", "excluded", "session_end"]
 SHAPES = ["logistic", "weibull", "cumulative_normal"]
 
@@ -98,6 +98,8 @@ def read_log(path):
 
 def study_of(header):
     config = tomllib.loads(header["config_toml"])
+    if "conditions" in config:
+        sys.exit("analyze_with_pandas.py: a study with a [conditions] file is not supported by this cross-check")
     protocol = config.get("protocol", {})
     levels = config.get("levels", {})
     return {
@@ -174,12 +176,14 @@ def assemble_trials(events):
     attempt = (is_start | kind.eq("session_resumed")).cumsum()
     events = events.assign(attempt=attempt)
     starts = events.loc[is_start, ["participant", "attempt", "trial", "block", "condition", "variant", "level",
-                                   "attention_check"]]
+                                   "attention_check", "practice"]]
     ends = events.loc[kind.eq("trial_end"), ["attempt", "trial"]]
     starts = starts.merge(ends, on=["attempt", "trial"], how="inner")  # complete attempts only
     answers = events.loc[kind.eq("response")].groupby("attempt")["answer"].last()
     trials = starts.join(answers, on="attempt")
     trials = trials.drop_duplicates(["participant", "trial"], keep="last")
+    # Practice trials ("practice": true on their trial_start) are never analysed.
+    trials = trials.loc[~trials["practice"].fillna(False).astype(bool)].drop(columns="practice")
 
     blocks = events.loc[kind.eq("block_start"), ["participant", "block", "name", "scene"]].copy()
     blocks["scene"] = blocks["name"].where(blocks["name"].fillna("") != "", blocks["scene"])

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -96,10 +95,10 @@ MethodConfig read_method(const TomlFields& fields, const Reading& reading) {
 
 // Rules between parameters (parameter_conflict: FIPR's outer periphery at or beyond its fovea) must
 // hold for every stimulus the config makes: the reference, and the test under every variant and
-// level. The error names the field that set one of the parameters involved, the last layer first:
+// level (with a conditions file, read_conditions checks the test on each row). The error names the field that set one of the parameters involved, the last layer first:
 // the level values, the variant, the method's table (the table itself when only defaults clash).
 void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConfig& stimulus,
-                           const TomlFields* levels_fields, const LevelsConfig& levels) {
+                           const TomlFields* levels_fields, const LevelsConfig& levels, bool conditions_file) {
   const auto fail_in = [](const TomlFields& fields, const std::map<std::string, double>& given,
                           const ParameterConflict& conflict) {
     for (std::string_view key : conflict.keys)
@@ -115,6 +114,7 @@ void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConf
       fields.fail("", conflict->expected);
     }
   }
+  if (conditions_file) return;  // each row of the conditions file is checked as it is read
   const MethodConfig& test = stimulus.test;
   const TomlFields test_fields = stimulus_fields.table("test");
   const std::vector<TomlFields> variant_fields =
@@ -400,6 +400,12 @@ void read_validation(const TomlFields& fields, const DisplayConfig& display, Val
   check_range(fields, "max_precision_deg", validation.max_precision_deg, 0.001, 10.0);
   validation.max_attempts = bounded_integer(fields, "max_attempts", validation.max_attempts, 1, 20);
   validation.after_breaks = fields.boolean("after_breaks", validation.after_breaks);
+  // At least three refreshes measured a target (two successive samples give a precision).
+  const int refreshes = static_cast<int>(std::floor(validation.target_s * display.refresh_hz + 1e-9));
+  const int first = std::max(1, static_cast<int>(std::ceil(validation.settle_s * display.refresh_hz - 1e-9)));
+  if (refreshes - first + 1 < 3)
+    fields.fail("settle_s", "expected target_s - settle_s to hold at least 3 refreshes at " +
+                                format_number(display.refresh_hz, 6) + " Hz (each target is measured on them)");
   // Every target, disk included, on the screen.
   const double radius_px = validation_target_radius_px(display, validation);
   for (const auto& [x_px, y_px] : validation_targets_px(display, validation)) {
@@ -464,15 +470,6 @@ std::string kind_of_method(SceneKind kind) {
   return "a method";
 }
 
-// A CSV cell's number: the whole cell, finite ("1e3", "-0.5"; not "", " 2", "0x10" or "nan").
-std::optional<double> parse_number(const std::string& cell) {
-  double value = 0.0;
-  const char* end = cell.data() + cell.size();
-  const auto [stop, error] = std::from_chars(cell.data(), end, value);
-  if (error != std::errc() || stop != end || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
-
 // [conditions] file: the conditions as a CSV file's rows (PsychoPy's conditions files). The header
 // names the columns: `variant` (the condition's variant), the [levels] parameter (its level), and
 // parameters of the test method (overrides, as a variant's table holds them; an empty cell leaves
@@ -483,10 +480,14 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
   fields.finish();
   std::filesystem::path path(file);
   if (path.is_relative()) path = std::filesystem::path(config.source_path).parent_path() / path;
-  const std::string name = path.lexically_normal().string();
+  // A logged config's file is the header's conditions_csv, named so in messages.
+  const std::string name = reading.logged_conditions_csv ? config.source_path + ": conditions_csv" : path.lexically_normal().string();
   if (reading.logged_conditions_csv) {
     if (reading.logged_conditions_csv->empty())
       fields.fail("file", "the log's header holds no conditions_csv (expected the conditions file's text beside the config's)");
+    if (reading.logged_conditions_csv->size() > kMaxConditionsBytes)
+      throw InputError(name + ": " + std::to_string(reading.logged_conditions_csv->size()) +
+                       " bytes: expected a conditions file of at most " + byte_size_text(kMaxConditionsBytes));
     config.conditions_csv = *reading.logged_conditions_csv;
   } else {
     config.conditions_csv = read_input_file(name, "a conditions file (.csv)", kMaxConditionsBytes);
@@ -501,23 +502,25 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
   const MethodDescriptor& test = describe(config.stimulus.test.method);
   const std::string& level_key = config.levels.parameter;
   const std::vector<std::string>& header = rows.front().cells;
+  const int header_line = rows.front().line;
   int variant_column = -1, level_column = -1;
   std::vector<const ParameterDescriptor*> parameters(header.size(), nullptr);
   std::set<std::string> seen;
   for (size_t column = 0; column < header.size(); ++column) {
     const std::string& key = header[column];
-    if (!seen.insert(key).second) fail(1, "column \"" + key + "\" appears twice");
+    if (key.empty()) fail(header_line, "column " + std::to_string(column + 1) + ": expected a column name, got an empty cell");
+    if (!seen.insert(key).second) fail(header_line, "column " + quoted_input(key) + " appears twice");
     if (key == "variant") variant_column = int(column);
     else if (!level_key.empty() && key == level_key) level_column = int(column);
     else if (!(parameters[column] = find_parameter(test, key, reading.legacy_keys)))
-      fail(1, "column \"" + key + "\": expected variant" + (level_key.empty() ? "" : ", " + level_key + " (the level)") +
+      fail(header_line, "column " + quoted_input(key) + ": expected variant" + (level_key.empty() ? "" : ", " + level_key + " (the level)") +
                   " or a parameter of the test method \"" + std::string(test.name) + "\" (" + parameter_keys(test) + ")");
   }
   if (!level_key.empty() && level_column < 0)
-    fail(1, "expected a column \"" + level_key + "\" ([levels] parameter) holding each condition's level");
+    fail(header_line, "expected a column \"" + level_key + "\" ([levels] parameter) holding each condition's level");
   const bool overrides = std::any_of(parameters.begin(), parameters.end(), [](const ParameterDescriptor* p) { return p; });
   if (variant_column < 0 && (overrides || level_column < 0))
-    fail(1, "expected a column \"variant\" naming each condition's variant (without one, only the level column)");
+    fail(header_line, "expected a column \"variant\" naming each condition's variant (without one, only the level column)");
 
   // Rows, grouped by variant in order of first appearance.
   std::map<std::string, size_t> variant_index;
@@ -528,14 +531,14 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
       fail(row.line, "expected " + std::to_string(header.size()) + " cells as the header has, got " + std::to_string(row.cells.size()));
     const std::string variant_name = variant_column >= 0 ? row.cells[size_t(variant_column)] : std::string();
     if (variant_column >= 0 && !is_safe_name(variant_name))
-      fail(row.line, "variant \"" + variant_name + "\": expected 1-64 letters, digits, '_', '-' or '.'");
+      fail(row.line, "variant " + quoted_input(variant_name) + ": expected 1-64 letters, digits, '_', '-' or '.'");
     ParameterLayer layer;
     std::optional<double> level;
     for (size_t column = 0; column < header.size(); ++column) {
       const std::string& cell = row.cells[column];
       const ParameterDescriptor* parameter = int(column) == level_column ? find_parameter(test, level_key) : parameters[column];
       if (!parameter) continue;
-      const std::string where = "column \"" + header[column] + "\": ";
+      const std::string where = "column " + quoted_input(header[column]) + ": ";
       if (cell.empty()) {
         if (int(column) == level_column) fail(row.line, where + "expected the condition's level, got an empty cell");
         continue;
@@ -543,11 +546,11 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
       double value = 0.0;
       if (parameter->type == ParameterType::choice) {
         const std::optional<double> index = parse_choice(*parameter, cell);
-        if (!index) fail(row.line, where + "expected " + *check_parameter_value(*parameter, -1) + ", got \"" + cell + "\"");
+        if (!index) fail(row.line, where + "expected " + *check_parameter_value(*parameter, -1) + ", got " + quoted_input(cell));
         value = *index;
       } else {
-        const std::optional<double> number = parse_number(cell);
-        if (!number) fail(row.line, where + "expected a number, got \"" + cell + "\"");
+        const std::optional<double> number = parse_finite_number(cell);
+        if (!number) fail(row.line, where + "expected a number, got " + quoted_input(cell));
         value = *number;
       }
       if (const std::optional<std::string> expected = check_parameter_value(*parameter, value))
@@ -696,7 +699,7 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     read_levels(*levels_fields, config.stimulus.test, reading, conditions != nullptr, config.levels);
   }
   check_parameter_rules(fields.table("stimulus"), config.stimulus, levels_fields ? &*levels_fields : nullptr,
-                        config.levels);
+                        config.levels, conditions != nullptr);
   if (conditions) {
     const TomlFields conditions_fields(*conditions, path, "conditions");
     if (!config.stimulus.variants.empty())

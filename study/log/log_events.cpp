@@ -118,10 +118,15 @@ class FieldReader {
       return item.is_object() && item.contains(k::x_px) && item[k::x_px].is_number() && item.contains(k::y_px) &&
              item[k::y_px].is_number() && (!item.contains(k::samples) || is_small_int(item[k::samples])) &&
              (!item.contains(k::valid_samples) || is_small_int(item[k::valid_samples])) &&
-             number_or_null(item, k::accuracy_deg) && number_or_null(item, k::precision_deg);
+             number_or_null(item, k::accuracy_deg) && number_or_null(item, k::precision_deg) &&
+             (!item.contains(k::gaze) || (item[k::gaze].is_array() &&
+                                          std::all_of(item[k::gaze].begin(), item[k::gaze].end(), [](const nlohmann::json& p) {
+                                            return p.is_null() || (p.is_array() && p.size() == 2 && p[0].is_number() &&
+                                                                   p[1].is_number());
+                                          })));
     };
     if (!value->is_array() || !std::all_of(value->begin(), value->end(), entry)) {
-      wrong(key, "an array of {x_px, y_px, samples, valid_samples, accuracy_deg, precision_deg} objects", *value);
+      wrong(key, "an array of {x_px, y_px, samples, valid_samples, accuracy_deg, precision_deg, gaze} objects", *value);
       return;
     }
     out.clear();
@@ -134,6 +139,13 @@ class FieldReader {
       target.read(k::valid_samples, result.valid_samples);
       target.read(k::accuracy_deg, result.accuracy_deg);
       target.read(k::precision_deg, result.precision_deg);
+      if (const auto gaze = item.find(k::gaze); gaze != item.end() && gaze->is_array())
+        for (const nlohmann::json& position : *gaze) {
+          if (position.is_array() && position.size() == 2 && position[0].is_number() && position[1].is_number())
+            result.gaze.push_back(std::array<double, 2>{position[0].get<double>(), position[1].get<double>()});
+          else
+            result.gaze.push_back(std::nullopt);
+        }
       out.push_back(result);
     }
   }
@@ -252,16 +264,20 @@ nlohmann::json to_json(const TrackerValidationEvent& event) {
   json[k::attempt] = event.attempt;
   json[k::start_s] = event.start_s;
   nlohmann::json targets = nlohmann::json::array();
-  for (const ValidationTarget& target : event.targets)
+  for (const ValidationTarget& target : event.targets) {
+    nlohmann::json gaze = nlohmann::json::array();
+    for (const auto& position : target.gaze) gaze.push_back(position ? nlohmann::json(*position) : nlohmann::json());
     targets.push_back({{k::x_px, target.x_px}, {k::y_px, target.y_px}, {k::samples, target.samples},
                        {k::valid_samples, target.valid_samples}, {k::accuracy_deg, or_null(target.accuracy_deg)},
-                       {k::precision_deg, or_null(target.precision_deg)}});
+                       {k::precision_deg, or_null(target.precision_deg)}, {k::gaze, std::move(gaze)}});
+  }
   json[k::targets] = std::move(targets);
   json[k::accuracy_deg] = or_null(event.accuracy_deg);
   json[k::precision_deg] = or_null(event.precision_deg);
   json[k::max_accuracy_deg] = event.max_accuracy_deg;
   json[k::max_precision_deg] = event.max_precision_deg;
   json[k::passed] = event.passed;
+  if (event.stopped) json[k::stopped] = true;
   return json;
 }
 
@@ -462,6 +478,7 @@ TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, Fiel
   in.read(k::max_accuracy_deg, event.max_accuracy_deg);
   in.read(k::max_precision_deg, event.max_precision_deg);
   in.read(k::passed, event.passed);
+  in.read(k::stopped, event.stopped);
   return event;
 }
 

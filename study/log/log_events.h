@@ -117,6 +117,7 @@ inline constexpr const char* precision_deg = "precision_deg";
 inline constexpr const char* max_accuracy_deg = "max_accuracy_deg";
 inline constexpr const char* max_precision_deg = "max_precision_deg";
 inline constexpr const char* passed = "passed";
+inline constexpr const char* stopped = "stopped";
 }  // namespace log_keys
 
 enum class FieldCheck { strict, lenient };
@@ -273,8 +274,11 @@ struct ExcludedEvent {
 // One target of an eye-tracker validation (protocols/gaze/tracker_validation.h).
 struct ValidationTarget {
   double x_px = 0.0, y_px = 0.0;   // the target's centre
-  int samples = 0;                 // gaze samples read while it was measured (after settle_s)
+  int samples = 0;                 // distinct gaze samples while it was measured (after settle_s)
   int valid_samples = 0;           // of those, valid ones
+  // Those samples' positions as measured (rounded to 0.01 px), null for an invalid one: the figures
+  // below can be computed again from the log.
+  std::vector<std::optional<std::array<double, 2>>> gaze;
   std::optional<double> accuracy_deg;   // mean gaze to target; null: fewer than half the samples valid
   std::optional<double> precision_deg;  // RMS sample-to-sample; null as above
   bool operator==(const ValidationTarget&) const = default;
@@ -296,6 +300,7 @@ struct TrackerValidationEvent {
   std::optional<double> precision_deg;
   double max_accuracy_deg = 0.0, max_precision_deg = 0.0;  // the config's limits
   bool passed = false;
+  bool stopped = false;  // the session stopped during the attempt (its targets so far; written only when true)
   bool operator==(const TrackerValidationEvent&) const = default;
 };
 

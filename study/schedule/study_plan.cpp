@@ -262,7 +262,16 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
       }
     }
     practice.attention.share = 0.0;
-    practice.protocol.repeats = config.practice.trials;
+    // Enough repeats of the practice conditions for `trials`, no more.
+    int per_repeat = 0;
+    std::vector<const VariantConfig*> variants;
+    for (const VariantConfig& variant : practice.stimulus.variants) variants.push_back(&variant);
+    if (variants.empty()) variants.push_back(nullptr);
+    for (const VariantConfig* variant : variants)
+      per_repeat += config.protocol.kind == ProtocolKind::ramp     ? 2
+                    : config.protocol.kind == ProtocolKind::slider ? 1
+                    : std::max<int>(1, static_cast<int>(variant_levels(practice.levels, variant).size()));
+    practice.protocol.repeats = (config.practice.trials + per_repeat - 1) / per_repeat;
     practice.protocol.randomise_trials = true;
     BlockConfig block{"practice", config.practice.scene};
     if (block.scene.empty()) block.scene = config.blocks[static_cast<size_t>(block_order.front())].scene;

@@ -29,8 +29,10 @@ TEST(CsvReader, ReadsQuotedCellsLineEndsAndBlankLines) {
   EXPECT_EQ(cells_of("a\n\n\nb\n"), (Rows{{"a"}, {"b"}}));
   EXPECT_EQ(cells_of("\"park, \"\"north\"\"\",x\n"), (Rows{{"park, \"north\"", "x"}}));
   EXPECT_EQ(cells_of("\"two\nlines\",y\nz,\n"), (Rows{{"two\nlines", "y"}, {"z", ""}}));
-  EXPECT_EQ(cells_of(",\"\",\n"), (Rows{{"", "", ""}}));
+  EXPECT_EQ(cells_of("x,\"\",\n"), (Rows{{"x", "", ""}}));
   EXPECT_EQ(cells_of(" a , b \n"), (Rows{{" a ", " b "}}));  // spaces are kept
+  EXPECT_EQ(cells_of("a,b\r1,2\r"), (Rows{{"a", "b"}, {"1", "2"}}));  // lone CRs (old Mac spreadsheets)
+  EXPECT_EQ(cells_of("a,b\n1,\"2\"\r\n,,\n,\n"), (Rows{{"a", "b"}, {"1", "2"}}));  // rows of empty cells are blank
   // The line a record starts on, for messages (the quoted line break counts).
   const std::vector<CsvRow> rows = read_csv_rows("h\n\"x\ny\"\n\nz\n", "c.csv");
   ASSERT_EQ(rows.size(), 3u);

@@ -519,7 +519,11 @@ TEST(SessionValidation, FailingEveryAttemptPausesTheSessionAndResumingValidatesF
   const fs::path results = fresh_folder("validation-fail");
   const fs::path trace = results / "centre.csv";
   fs::create_directories(results);
-  std::ofstream(trace) << "time_s,x_px,y_px\n0,32,18\n";
+  {
+    std::ofstream out(trace);  // a 120 Hz tracker, the gaze at the centre for a minute
+    out << "time_s,x_px,y_px\n";
+    for (int i = 0; i < 120 * 60; ++i) out << i / 120.0 << ",32,18\n";
+  }
   SessionOptions options = simulated(results);
   options.gaze = "trace:" + trace.string();
   const SessionOutcome paused = run_session(config, options);
@@ -625,6 +629,56 @@ TEST(SessionPractice, PracticeTrialsRunFirstAreLoggedAndExportedButNeverAnalysed
     EXPECT_EQ(data.participants[0].practice_trials, 3);
     EXPECT_EQ(data.participants[0].trials.size(), plain.trials.size());
     for (const analysis::StudyTrial& trial : data.participants[0].trials) EXPECT_GE(trial.index, 3);
+  }
+}
+
+TEST(SessionPractice, ACrashInOrRightAfterThePracticeOrAValidationResumesToTheSameTrials) {
+  // Review of issue 18: practice, validation after a rest and after an attention-check break, and a
+  // crash anywhere among them. Each cut log resumes (validating again) to the trials of the
+  // uninterrupted session.
+  std::string text = read_file(study_fixture("tiny_2afc"));
+  const std::string from = "inter_trial_s = 0.1";
+  text.replace(text.find(from), from.size(), from + "\nrest_between_blocks_s = 1");
+  text += "\n[practice]\ntrials = 3\n\n[validation]\ntargets = 5\ntarget_s = 0.3\nsettle_s = 0.1\n";
+  const StudyConfig config = parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  const fs::path results = fresh_folder("practice-resume");
+  SessionOptions options = simulated(results / "whole");
+  options.observer = "simulated:guess=0.6,seed=3";  // wrong at some attention checks: breaks
+  const SessionOutcome whole_run = run_session(config, options);
+  ASSERT_TRUE(whole_run.finished);
+  const std::vector<std::string> expected = test::trial_summary(whole_run.log_path);
+  const std::string whole = read_file(whole_run.log_path);
+  std::vector<std::string> reasons;
+  std::vector<size_t> cuts;  // after the 2nd and 3rd (last) practice trial, and after each validation
+  size_t at = 0;
+  for (const nlohmann::json& event : read_event_log(whole_run.log_path).events) {
+    at = whole.find('\n', at) + 1;
+    const std::string kind = event_kind(event);
+    if (kind == TrackerValidationEvent::kind) {
+      reasons.push_back(event["reason"]);
+      cuts.push_back(at);
+    }
+    if (kind == "trial_end" && (event["trial"] == 1 || event["trial"] == 2)) cuts.push_back(at);
+  }
+  EXPECT_EQ(reasons.front(), "start");
+  EXPECT_NE(std::find(reasons.begin(), reasons.end(), "rest"), reasons.end());
+  EXPECT_NE(std::find(reasons.begin(), reasons.end(), "break"), reasons.end()) << "no validation after a break";
+  for (size_t cut : cuts) {
+    SCOPED_TRACE("cut at byte " + std::to_string(cut));
+    const fs::path folder = results / ("cut" + std::to_string(cut));
+    const std::string log_path = session_log_path(folder.string(), config.name, "P1");
+    fs::create_directories(fs::path(log_path).parent_path());
+    std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
+    SessionOptions resume = options;
+    resume.results_dir = folder.string();
+    const SessionOutcome resumed = run_session(config, resume);
+    EXPECT_TRUE(resumed.resumed);
+    EXPECT_TRUE(resumed.finished);
+    EXPECT_EQ(test::trial_summary(resumed.log_path), expected);
+    EXPECT_EQ(replay(resumed.log_path).difference_count, 0);
+    const SessionRecord record = read_session_record(read_event_log(resumed.log_path));
+    ASSERT_FALSE(record.validations.empty());
+    EXPECT_EQ(record.validations.back().passed, true);
   }
 }
 

@@ -1252,3 +1252,28 @@ TEST(StudyConfigConditions, BadFilesNameTheFileLineAndColumn) {
 
 }  // namespace
 }  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+TEST(ShippedExperiments, EveryConfigInExperimentsParses) {
+  // The configs the README and docs point users to must stay valid as the config grows.
+  int parsed = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(FOVLAB_SOURCE_DIR) / "experiments")) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(parse_study_config_file(entry.path().string(), renderer_scene_catalog()));
+    ++parsed;
+  }
+  EXPECT_GE(parsed, 19);
+  // The lab template uses what a lab expects of a study (issue 18).
+  const StudyConfig lab = parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/lab_study.toml",
+                                                  renderer_scene_catalog());
+  EXPECT_TRUE(lab.validation.enabled);
+  EXPECT_EQ(lab.practice.trials, 4);
+  EXPECT_EQ(lab.stimulus.variants.size(), 2u);
+  EXPECT_EQ(lab.participant_fields, (std::vector<std::string>{"age", "handedness"}));
+}
+
+}  // namespace
+}  // namespace fovlab
