@@ -33,6 +33,13 @@ void check_range(const TomlFields& fields, const std::string& key, double value,
   }
 }
 
+// An optional number field (`fallback` when absent) in [low, high].
+double bounded_number(const TomlFields& fields, const std::string& key, double fallback, double low, double high) {
+  const double value = fields.number(key, fallback);
+  check_range(fields, key, value, low, high);
+  return value;
+}
+
 // An integer field (required when `fallback` is empty) in [low, high]; the range is checked on the
 // 64-bit value, before it is narrowed.
 int bounded_integer(const TomlFields& fields, const std::string& key, std::optional<int64_t> fallback, int low, int high) {
@@ -356,16 +363,11 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, const S
 }
 
 void read_timing(const TomlFields& fields, TimingConfig& timing) {
-  timing.black_interval_s = fields.number("black_interval_s", timing.black_interval_s);
-  check_range(fields, "black_interval_s", timing.black_interval_s, 0.0, 600.0);
-  timing.inter_trial_s = fields.number("inter_trial_s", timing.inter_trial_s);
-  check_range(fields, "inter_trial_s", timing.inter_trial_s, 0.0, 600.0);
-  timing.rest_between_blocks_s = fields.number("rest_between_blocks_s", timing.rest_between_blocks_s);
-  check_range(fields, "rest_between_blocks_s", timing.rest_between_blocks_s, 0.0, 7200.0);
-  timing.response_timeout_s = fields.number("response_timeout_s", timing.response_timeout_s);
-  check_range(fields, "response_timeout_s", timing.response_timeout_s, 0.0, 3600.0);
-  timing.fixation_s = fields.number("fixation_s", timing.fixation_s);
-  check_range(fields, "fixation_s", timing.fixation_s, 0.0, 60.0);
+  timing.black_interval_s = bounded_number(fields, "black_interval_s", timing.black_interval_s, 0.0, 600.0);
+  timing.inter_trial_s = bounded_number(fields, "inter_trial_s", timing.inter_trial_s, 0.0, 600.0);
+  timing.rest_between_blocks_s = bounded_number(fields, "rest_between_blocks_s", timing.rest_between_blocks_s, 0.0, 7200.0);
+  timing.response_timeout_s = bounded_number(fields, "response_timeout_s", timing.response_timeout_s, 0.0, 3600.0);
+  timing.fixation_s = bounded_number(fields, "fixation_s", timing.fixation_s, 0.0, 60.0);
   fields.finish();
 }
 
@@ -375,8 +377,7 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   if (attention.share > 0 && identical_answer(protocol).empty())
     fields.fail("share", "attention checks need an answer that means \"identical\" (2afc with question = \"same\", "
                          "pair or rating)");
-  attention.break_s = fields.number("break_s", attention.break_s);
-  check_range(fields, "break_s", attention.break_s, 0.0, 3600.0);
+  attention.break_s = bounded_number(fields, "break_s", attention.break_s, 0.0, 3600.0);
   attention.max_errors = bounded_integer(fields, "max_errors", attention.max_errors, 1, 1000);
   attention.excluded_message = fields.string("excluded_message", attention.excluded_message);
   fields.finish();
@@ -386,18 +387,12 @@ void read_validation(const TomlFields& fields, const DisplayConfig& display, Val
   validation.enabled = true;
   validation.targets = bounded_integer(fields, "targets", validation.targets, 5, 9);
   if (validation.targets != 5 && validation.targets != 9) fields.fail("targets", "expected 5 or 9");
-  validation.target_offset_deg = fields.number("target_offset_deg", validation.target_offset_deg);
-  check_range(fields, "target_offset_deg", validation.target_offset_deg, 0.5, 40.0);
-  validation.target_radius_deg = fields.number("target_radius_deg", validation.target_radius_deg);
-  check_range(fields, "target_radius_deg", validation.target_radius_deg, 0.05, 2.0);
-  validation.target_s = fields.number("target_s", validation.target_s);
-  check_range(fields, "target_s", validation.target_s, 0.2, 10.0);
-  validation.settle_s = fields.number("settle_s", validation.settle_s);
-  check_range(fields, "settle_s", validation.settle_s, 0.0, validation.target_s - 0.1);
-  validation.max_accuracy_deg = fields.number("max_accuracy_deg", validation.max_accuracy_deg);
-  check_range(fields, "max_accuracy_deg", validation.max_accuracy_deg, 0.01, 10.0);
-  validation.max_precision_deg = fields.number("max_precision_deg", validation.max_precision_deg);
-  check_range(fields, "max_precision_deg", validation.max_precision_deg, 0.001, 10.0);
+  validation.target_offset_deg = bounded_number(fields, "target_offset_deg", validation.target_offset_deg, 0.5, 40.0);
+  validation.target_radius_deg = bounded_number(fields, "target_radius_deg", validation.target_radius_deg, 0.05, 2.0);
+  validation.target_s = bounded_number(fields, "target_s", validation.target_s, 0.2, 10.0);
+  validation.settle_s = bounded_number(fields, "settle_s", validation.settle_s, 0.0, validation.target_s - 0.1);
+  validation.max_accuracy_deg = bounded_number(fields, "max_accuracy_deg", validation.max_accuracy_deg, 0.01, 10.0);
+  validation.max_precision_deg = bounded_number(fields, "max_precision_deg", validation.max_precision_deg, 0.001, 10.0);
   validation.max_attempts = bounded_integer(fields, "max_attempts", validation.max_attempts, 1, 20);
   validation.after_breaks = fields.boolean("after_breaks", validation.after_breaks);
   // At least three refreshes measured a target (two successive samples give a precision).

@@ -424,18 +424,6 @@ TEST(Session, BadInputWritesNothingAndKeepsExistingLogs) {
   EXPECT_FALSE(fs::exists(results / config.name / "P3"));
 }
 
-}  // namespace
-}  // namespace fovlab
-
-namespace fovlab {
-namespace {
-
-namespace fs = std::filesystem;
-using test::fresh_folder;
-using test::read_file;
-using test::simulated;
-using test::study_fixture;
-
 // tiny_2afc with an eye-tracker validation and a rest between its two blocks.
 StudyConfig validated_config(const std::string& validation) {
   std::string text = read_file(study_fixture("tiny_2afc"));
@@ -555,18 +543,6 @@ TEST(SessionValidation, FailingEveryAttemptPausesTheSessionAndResumingValidatesF
   EXPECT_EQ(validations[2]["passed"], true);
   EXPECT_EQ(validations[3]["reason"], "rest");
 }
-
-}  // namespace
-}  // namespace fovlab
-
-namespace fovlab {
-namespace {
-
-namespace fs = std::filesystem;
-using test::fresh_folder;
-using test::read_file;
-using test::simulated;
-using test::study_fixture;
 
 StudyConfig with_practice(const std::string& fixture, const std::string& practice) {
   std::string text = read_file(study_fixture(fixture));
@@ -710,18 +686,6 @@ TEST(SessionPractice, BadPracticeTablesNameTheirKey) {
         << error.what();
   }
 }
-
-}  // namespace
-}  // namespace fovlab
-
-namespace fovlab {
-namespace {
-
-namespace fs = std::filesystem;
-using test::fresh_folder;
-using test::read_file;
-using test::simulated;
-using test::study_fixture;
 
 TEST(SessionConditions, AConditionsFileRunsReplaysFromTheLogAloneAndAnalysesItsOwnDesign) {
   // Issue 18: conditions from a CSV file (PsychoPy's conditions files). Two variants at levels of
