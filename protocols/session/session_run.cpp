@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 // "0.420 deg" (three decimals: a tracker's precision is a few hundredths of a degree).
 std::string degrees_text(const std::optional<double>& degrees) {
-  if (!degrees) return "no gaze on a target";
+  if (!degrees) return "none (a target had too few valid samples)";
   char text[32];
   std::snprintf(text, sizeof text, "%.3f deg", *degrees);
   return text;

@@ -149,3 +149,48 @@ TEST(WindowedSession, PresentingOnAnotherDeviceCopiesThroughTheHostAndSaysSo) {
 
 }  // namespace
 }  // namespace fovlab
+
+namespace fovlab {
+namespace {
+
+TEST(WindowedSession, TheMouseRunsTheEyeTrackerValidationInAWindow) {
+  // Issue 18: the validation runs the same way with the mouse as with a tracker. Nobody moves the
+  // pointer under Xvfb, so the gaze stays put (or off the window) and the one attempt allowed fails:
+  // the session pauses before any trial, with every target's samples logged, and the target screen
+  // is what the window showed.
+  REQUIRE_DISPLAY();
+  const fs::path fixture = test::study_fixture("tiny_2afc");
+  const std::string text = test::read_file(fixture) +
+                           "\n[validation]\ntargets = 5\ntarget_s = 0.3\nsettle_s = 0.1\nmax_attempts = 1\n";
+  const StudyConfig config = parse_study_config_text(text, fixture.string(), renderer_scene_catalog());
+  const fs::path results = test::fresh_folder("windowed-validation");
+  SessionOptions options;
+  options.participant = "W3";
+  options.results_dir = results.string();
+  options.observer = "simulated:rt=0.05";
+  options.gaze = "mouse";
+  options.validation = true;
+  options.screenshots_dir = (results / "shots").string();
+  const SessionOutcome outcome = run_session(config, options);
+  EXPECT_FALSE(outcome.finished);
+  EXPECT_EQ(outcome.trials_completed, 0);
+  EXPECT_NE(outcome.stop_reason.find("eye-tracker validation did not pass in 1 attempts"), std::string::npos)
+      << outcome.stop_reason;
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  ASSERT_EQ(record.validations.size(), 1u);
+  const TrackerValidationEvent& attempt = record.validations.front();
+  EXPECT_FALSE(attempt.passed);
+  ASSERT_EQ(attempt.targets.size(), 5u);
+  for (const ValidationTarget& target : attempt.targets) {
+    EXPECT_GT(target.samples, 0);  // the cursor was read on the refreshes measured
+    EXPECT_EQ(target.gaze.size(), size_t(target.samples));
+  }
+  const Rgba8Frame shown = image_to_frame(read_image(results / "shots/validation_target.png"));
+  int lit = 0;
+  for (size_t i = 0; i < shown.rgba.size(); i += 4) lit += shown.rgba[i] > 100 ? 1 : 0;
+  EXPECT_GT(lit, 0);  // the centre target's disk
+  EXPECT_LT(lit, shown.width * shown.height / 20);
+}
+
+}  // namespace
+}  // namespace fovlab
