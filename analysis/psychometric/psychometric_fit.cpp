@@ -346,11 +346,6 @@ Problem make_problem(const std::vector<LevelCounts>& data, const FitOptions& opt
   return p;
 }
 
-void append_note(std::string& note, const std::string& text) {
-  if (!note.empty()) note += "; ";
-  note += text;
-}
-
 // The three profile-likelihood intervals of the ML fit `ml` (z coordinates), in natural units.
 void add_profile_intervals(const Problem& problem, const Optimum& ml, double confidence, PsychometricFit& fit) {
   const double inf = std::numeric_limits<double>::infinity();
@@ -469,6 +464,11 @@ PsychometricFit fit_psychometric(const std::vector<LevelCounts>& data, const Fit
       append_note(fit.note, std::to_string(fit.bootstrap_failures) + " bootstrap fits did not converge");
   }
   return fit;
+}
+
+void append_note(std::string& note, const std::string& text) {
+  if (!note.empty()) note += "; ";
+  note += text;
 }
 
 }  // namespace fovlab::analysis

@@ -60,4 +60,8 @@ struct PsychometricFit {
 // level <= 0, or options out of range. Needs at least two distinct levels.
 PsychometricFit fit_psychometric(const std::vector<LevelCounts>& data, const FitOptions& options);
 
+// Adds `text` to a note, after "; " when it has some already: the one format of the analysis's
+// notes (fits, thresholds).
+void append_note(std::string& note, const std::string& text);
+
 }  // namespace fovlab::analysis

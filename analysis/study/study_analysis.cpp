@@ -32,11 +32,6 @@ std::vector<double> best_first(std::vector<double> levels, bool higher_is_better
   return levels;
 }
 
-void append_note(std::string& note, const std::string& text) {
-  if (!note.empty()) note += "; ";
-  note += text;
-}
-
 bool more_degraded_than(double a, double b, bool higher_is_better) { return higher_is_better ? a < b : a > b; }
 
 // The more degraded of two levels of a ramp step (none: the reference, better than every level).
