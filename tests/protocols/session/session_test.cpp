@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/report/report.h"
@@ -278,6 +279,18 @@ TEST(Session, StoppedAtABreaksKeyTheFailedCheckStaysCounted) {
   EXPECT_EQ(trial_summary(resumed.log_path), trial_summary(reference.log_path));
 }
 
+// The log `whole` cut after `cut` bytes (a crash) in a folder of its own, then the session run
+// again with `options` (resuming it) there; returns the resumed run and its log path.
+std::pair<SessionOutcome, std::string> resume_after_cut(const StudyConfig& config, SessionOptions options,
+                                                        const fs::path& results, const std::string& whole, size_t cut) {
+  const fs::path folder = results / ("cut" + std::to_string(cut));
+  const std::string log_path = session_log_path(folder.string(), config.name, options.participant);
+  fs::create_directories(fs::path(log_path).parent_path());
+  std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
+  options.results_dir = folder.string();
+  return {run_session(config, options), log_path};
+}
+
 TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
   const fs::path results = fresh_folder("resume");
   const StudyConfig config = parse_study_config_file(study_fixture("pair").string(), renderer_scene_catalog());
@@ -295,11 +308,7 @@ TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
                                     line_ends[line_ends.size() - 3], line_ends[line_ends.size() / 3] + 11};
   for (size_t cut : cuts) {
     SCOPED_TRACE("cut at byte " + std::to_string(cut));
-    const fs::path folder = results / ("cut" + std::to_string(cut));
-    const std::string log_path = session_log_path(folder.string(), config.name, "P1");
-    fs::create_directories(fs::path(log_path).parent_path());
-    std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
-    const SessionOutcome resumed = run_session(config, simulated(folder));
+    const auto [resumed, log_path] = resume_after_cut(config, simulated(results), results, whole, cut);
     EXPECT_TRUE(resumed.resumed);
     EXPECT_TRUE(resumed.finished);
     EXPECT_EQ(trial_summary(resumed.log_path), expected);
@@ -641,13 +650,7 @@ TEST(SessionPractice, ACrashInOrRightAfterThePracticeOrAValidationResumesToTheSa
   EXPECT_NE(std::find(reasons.begin(), reasons.end(), "break"), reasons.end()) << "no validation after a break";
   for (size_t cut : cuts) {
     SCOPED_TRACE("cut at byte " + std::to_string(cut));
-    const fs::path folder = results / ("cut" + std::to_string(cut));
-    const std::string log_path = session_log_path(folder.string(), config.name, "P1");
-    fs::create_directories(fs::path(log_path).parent_path());
-    std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
-    SessionOptions resume = options;
-    resume.results_dir = folder.string();
-    const SessionOutcome resumed = run_session(config, resume);
+    const SessionOutcome resumed = resume_after_cut(config, options, results, whole, cut).first;
     EXPECT_TRUE(resumed.resumed);
     EXPECT_TRUE(resumed.finished);
     EXPECT_EQ(test::trial_summary(resumed.log_path), expected);
