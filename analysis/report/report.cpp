@@ -138,20 +138,21 @@ std::string participants_csv(const AnalysisResult& result) {
         participant.participant,          participant.observer, participant.excluded ? "true" : "false",
         participant.session_ended ? "true" : "false", std::to_string(participant.complete_trials),
         std::to_string(participant.attention_checks), std::to_string(participant.attention_errors)};
-    std::vector<std::string> latency = latency_cells(participant);
-    latency.push_back(std::to_string(participant.practice_trials));
-    for (std::string& cell : validation_cells(participant)) latency.push_back(std::move(cell));
+    // After the threshold's: latency and frames, practice trials, eye-tracker validation.
+    std::vector<std::string> tail = latency_cells(participant);
+    tail.push_back(std::to_string(participant.practice_trials));
+    for (std::string& cell : validation_cells(participant)) tail.push_back(std::move(cell));
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {"", "", "", "", log_status_name(participant.log_status)});
-      cells.insert(cells.end(), latency.begin(), latency.end());
+      cells.insert(cells.end(), tail.begin(), tail.end());
       csv += csv_line(cells);
     }
     for (const ParticipantThreshold& threshold : participant.thresholds) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {threshold.group.scene, threshold.group.variant,
                                  csv_number(threshold.level), threshold.note, log_status_name(participant.log_status)});
-      cells.insert(cells.end(), latency.begin(), latency.end());
+      cells.insert(cells.end(), tail.begin(), tail.end());
       csv += csv_line(cells);
     }
   }

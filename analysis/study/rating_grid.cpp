@@ -113,9 +113,8 @@ std::optional<RatingGrid> rating_grid(const StudyData& data) {
   // (seed 002, 4.4.1: per participant averaged over sigma, then over participants).
   // A conditions file may test the cells at levels of their own: a map over all levels would then
   // compare cells averaged over different levels, so it is made only when every cell has the same.
-  const auto levels_of = [&](const VariantConfig& variant) { return variant.levels.empty() ? data.levels : variant.levels; };
   const bool same_levels = std::all_of(data.variants.begin(), data.variants.end(), [&](const VariantConfig& variant) {
-    return levels_of(variant) == levels_of(data.variants.front());
+    return data.levels_of(variant.name) == data.levels_of(data.variants.front().name);
   });
   std::map<MapKey, std::vector<CellTotals>> totals;
   for (const ParticipantData& participant : data.participants) {

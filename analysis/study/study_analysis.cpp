@@ -130,11 +130,7 @@ class ComparisonAnalysis {
       std::set<double> tested;
       for (const auto& [name, counts] : conditions)
         if (counts.level) tested.insert(*counts.level);
-      const auto variant = std::find_if(data_.variants.begin(), data_.variants.end(),
-                                        [&](const VariantConfig& v) { return v.name == group.variant; });
-      const std::vector<double>& planned =
-          variant != data_.variants.end() && !variant->levels.empty() ? variant->levels : data_.levels;
-      for (double level : planned)
+      for (double level : data_.levels_of(group.variant))
         if (!tested.count(level))
           result_.left_out.push_back({"condition " + data_.level_parameter + "=" + format_number(level, 6) + " in " +
                                           group.label(),

@@ -239,6 +239,11 @@ std::optional<ObserverFilter> parse_observer_filter(const std::string& text) {
   return std::nullopt;
 }
 
+const std::vector<double>& StudyData::levels_of(const std::string& variant) const {
+  const auto found = std::find_if(variants.begin(), variants.end(), [&](const VariantConfig& v) { return v.name == variant; });
+  return found != variants.end() && !found->levels.empty() ? found->levels : levels;
+}
+
 StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options) {
   std::set<std::string> unique_logs;
   for (const std::string& path : paths)

@@ -67,6 +67,9 @@ struct StudyData {
   RenderMethod reference_method = RenderMethod::ground_truth;
   RenderMethod test_method = RenderMethod::ground_truth;
   std::vector<VariantConfig> variants;     // in config order; empty: one unnamed variant
+  // The levels the variant named `variant` is tested at (study_config.h variant_levels): its own
+  // (a conditions file's), else `levels`.
+  const std::vector<double>& levels_of(const std::string& variant) const;
   std::vector<std::string> inputs;         // every log path given (sorted)
   std::vector<ParticipantData> participants;  // in log-path order
   std::vector<LeftOut> left_out;

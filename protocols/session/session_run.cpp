@@ -57,23 +57,22 @@ void SessionRun::log(nlohmann::json event) {
   if (trial_end) ++trials_completed_;
 }
 
-void SessionRun::show_text(const std::string& text, const std::string& screen_kind) {
+void SessionRun::show_screen(const std::string& screen_kind, const std::function<Rgba8Frame()>& draw) {
   const bool capture = wants_screenshot(screen_kind);
-  if (presenter_.is_headless() && !capture) return;  // nothing to show: the text is not even drawn
-  const Rgba8Frame frame = render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text);
+  if (presenter_.is_headless() && !capture) return;  // nothing to show: not even drawn
+  const Rgba8Frame frame = draw();
   if (!presenter_.is_headless()) presenter_.present(frame);
   if (capture) save_screenshot(screen_kind, frame);
+}
+
+void SessionRun::show_text(const std::string& text, const std::string& screen_kind) {
+  show_screen(screen_kind, [&] { return render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text); });
 }
 
 void SessionRun::show_fixation(double duration_s) {
   if (duration_s <= 0) return;
   const double until = presenter_.now_s() + duration_s;
-  const bool capture = wants_screenshot("fixation");
-  if (!presenter_.is_headless() || capture) {
-    const Rgba8Frame cross = fixation_cross_frame(plan_.config.display.width_px, plan_.config.display.height_px);
-    if (!presenter_.is_headless()) presenter_.present(cross);
-    if (capture) save_screenshot("fixation", cross);
-  }
+  show_screen("fixation", [&] { return fixation_cross_frame(plan_.config.display.width_px, plan_.config.display.height_px); });
   presenter_.wait_until(until);
 }
 
@@ -202,12 +201,9 @@ void SessionRun::validate_tracker(const char* reason) {
       for (const size_t index : order) {
         const auto [x_px, y_px] = targets[index];
         const FixationTargetScope looking(gaze_, x_px, y_px);
-        const bool capture = wants_screenshot("validation_target");
-        if (!presenter_.is_headless() || capture) {
-          const Rgba8Frame frame = validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
-          if (!presenter_.is_headless()) presenter_.present(frame);
-          if (capture) save_screenshot("validation_target", frame);
-        }
+        show_screen("validation_target", [&] {
+          return validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
+        });
         const double shown_s = presenter_.now_s();
         std::vector<GazeSample> samples;
         for (int refresh = 1; refresh <= refreshes; ++refresh) {

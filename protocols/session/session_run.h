@@ -2,6 +2,7 @@
 // The state machine of one run of a session: instructions, then the plan's trials from a given
 // index (block rests, stimuli, questions, attention checks and breaks), then the end; every step is
 // logged as it happens. run_session (session.h) sets it up: plan, presenter, gaze, answers, log.
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -48,6 +49,9 @@ class SessionRun {
   int dropped_frames() const { return dropped_frames_; }
 
  private:
+  // A screen drawn by `draw` (only when it is shown or saved: a headless run without screenshots
+  // draws nothing), presented in a window and saved as <screen_kind>.png when asked.
+  void show_screen(const std::string& screen_kind, const std::function<Rgba8Frame()>& draw);
   void show_text(const std::string& text, const std::string& screen_kind);
   void show_black(double duration_s);
   // The fixation cross for `duration_s` (nothing when 0).

@@ -517,6 +517,7 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
   if (variant_column < 0 && (overrides || level_column < 0))
     fail(header_line, "expected a column \"variant\" naming each condition's variant (without one, only the level column)");
 
+  const ParameterDescriptor* level_parameter = level_column >= 0 ? find_parameter(test, level_key) : nullptr;
   // Rows, grouped by variant in order of first appearance.
   std::map<std::string, size_t> variant_index;
   std::vector<int> first_line;
@@ -531,7 +532,7 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
     std::optional<double> level;
     for (size_t column = 0; column < header.size(); ++column) {
       const std::string& cell = row.cells[column];
-      const ParameterDescriptor* parameter = int(column) == level_column ? find_parameter(test, level_key) : parameters[column];
+      const ParameterDescriptor* parameter = int(column) == level_column ? level_parameter : parameters[column];
       if (!parameter) continue;
       const std::string where = "column " + quoted_input(header[column]) + ": ";
       if (cell.empty()) {
