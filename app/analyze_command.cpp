@@ -131,7 +131,7 @@ void print_summary(const analysis::AnalysisResult& result) {
   for (const auto& group : result.fits)
     for (const auto& fit : group.fits)
       std::printf("  fit %-10s %-18s threshold %s %s\n", group.group.label().c_str(),
-                  analysis::shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
+                  shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
                   format_interval(fit.threshold_interval.lower, fit.threshold_interval.upper, 5).c_str());
   if (result.rating_grid) print_rating_grid(*result.rating_grid);
   if (!result.preferences.empty()) print_preference_table(result.preferences);

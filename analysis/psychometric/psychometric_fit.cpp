@@ -13,7 +13,7 @@
 
 #include "analysis/psychometric/binomial_sampler.h"
 #include "analysis/psychometric/nelder_mead.h"
-#include "analysis/psychometric/psychometric_detail.h"
+#include "study/psychometric/psychometric_detail.h"
 #include "core/number_text.h"
 #include "core/prng.h"
 
@@ -80,7 +80,7 @@ struct Problem {
   double log_likelihood_kernel(const PsychometricModel& m, const std::vector<double>& counts) const {
     double sum = 0.0;
     for (size_t i = 0; i < levels.size(); ++i) {
-      const detail::ReportProbabilities p = detail::report_probabilities(m, levels[i]);
+      const fovlab::detail::ReportProbabilities p = fovlab::detail::report_probabilities(m, levels[i]);
       const double report = std::clamp(p.report, kClamp, 1.0 - kClamp);
       const double not_report = std::clamp(p.not_report, kClamp, 1.0 - kClamp);
       if (counts[i] > 0.0) sum += counts[i] * std::log(report);

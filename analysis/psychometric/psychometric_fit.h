@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/psychometric/psychometric_function.h"
+#include "study/psychometric/psychometric_function.h"
 
 namespace fovlab::analysis {
 

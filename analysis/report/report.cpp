@@ -127,6 +127,54 @@ std::vector<std::string> validation_cells(const ParticipantRow& participant) {
           csv_number(validation.worst_accuracy_deg), csv_number(validation.mean_precision_deg)};
 }
 
+// adaptive_tracks.csv: one row a participant's adaptive track (staircase or QUEST+), with its
+// threshold by the procedure's rule and its levels and answers (';'-separated, in trial order).
+std::string adaptive_tracks_csv(const AnalysisResult& result) {
+  std::string csv = csv_line({"participant", "observer", "excluded", "block", "procedure", "kind", "variant", "track",
+                              "start_level", "trials", "reversals", "stopped", "threshold", "threshold_lower",
+                              "threshold_upper", "slope", "lapse", "note", "levels", "seen"});
+  for (const ParticipantRow& participant : result.participants)
+    for (const AdaptiveTrackResult& track : participant.tracks) {
+      std::string levels, seen;
+      for (size_t i = 0; i < track.levels.size(); ++i) {
+        levels.append(i ? ";" : "").append(csv_number(track.levels[i]));
+        seen.append(i ? ";" : "").append(track.seen[i] ? "1" : "0");
+      }
+      const bool staircase = track.kind == "staircase";
+      csv += csv_line({participant.participant, participant.observer, participant.excluded ? "true" : "false", track.block,
+                       track.procedure, track.kind, track.variant, std::to_string(track.track), csv_number(track.start_level),
+                       std::to_string(track.levels.size()), staircase ? std::to_string(track.reversal_trials.size()) : "",
+                       track.stopped ? "true" : "false", csv_number(track.threshold), csv_number(track.threshold_lower),
+                       csv_number(track.threshold_upper), csv_number(track.slope), csv_number(track.lapse), track.note,
+                       levels, seen});
+    }
+  return csv;
+}
+
+json adaptive_tracks_json(const ParticipantRow& participant) {
+  json tracks = json::array();
+  for (const AdaptiveTrackResult& track : participant.tracks) {
+    json levels = json::array();
+    for (double level : track.levels) levels.push_back(json_number(level));
+    json entry = {{"track", track.track},       {"block", track.block},   {"procedure", track.procedure},
+                  {"kind", track.kind},         {"variant", track.variant}, {"levels", levels},
+                  {"seen", track.seen},         {"stopped", track.stopped}, {"threshold", json_number(track.threshold)},
+                  {"note", track.note}};
+    if (track.kind == "staircase") {
+      entry["start_level"] = json_number(track.start_level);
+      entry["reversal_trials"] = track.reversal_trials;
+      entry["reversals_averaged"] = track.reversals_averaged;
+    } else {
+      entry["threshold_lower"] = json_number(track.threshold_lower);
+      entry["threshold_upper"] = json_number(track.threshold_upper);
+      entry["slope"] = json_number(track.slope);
+      entry["lapse"] = json_number(track.lapse);
+    }
+    tracks.push_back(std::move(entry));
+  }
+  return tracks;
+}
+
 std::string participants_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"participant", "observer", "excluded", "session_ended", "complete_trials", "attention_checks",
                               "attention_errors", "scene", "variant", "threshold", "note", "log_status",
@@ -391,6 +439,7 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"validation", validation_json(participant)},
                                     {"practice_trials", participant.practice_trials},
                                     {"thresholds", thresholds}});
+    if (!participant.tracks.empty()) root["participants"].back()["adaptive_tracks"] = adaptive_tracks_json(participant);
   }
 
   root["left_out"] = json::array();
@@ -669,6 +718,54 @@ std::vector<Plot> threshold_histograms(const AnalysisResult& result, std::set<st
   return plots;
 }
 
+// A participant's adaptive tracks: each one's level trial by trial (a line), the trials whose answer
+// saw the difference and those that did not, a staircase's reversals, and each threshold (dashed).
+// At most kTrackPlots participants are drawn; adaptive_tracks.csv holds every track.
+constexpr size_t kTrackPlots = 24;
+
+std::vector<Plot> adaptive_track_plots(const AnalysisResult& result, std::set<std::string>& taken) {
+  std::vector<Plot> plots;
+  for (const ParticipantRow& participant : result.participants) {
+    if (participant.tracks.empty() || plots.size() >= kTrackPlots) continue;
+    XyChart chart;
+    chart.title = participant.participant + ": adaptive tracks";
+    chart.x_label = "trial of the track";
+    chart.y_label = level_axis_label(result);
+    XySeries seen{"seen", XySeries::Style::points, {}, {}, {}, {}, {}};
+    XySeries not_seen{"not seen", XySeries::Style::points, {}, {}, {}, {}, {}};
+    XySeries reversals{"reversal", XySeries::Style::points, {}, {}, {}, {}, {}};
+    for (const AdaptiveTrackResult& track : participant.tracks) {
+      XySeries line;
+      line.style = XySeries::Style::line;
+      line.label = (track.variant.empty() ? "" : track.variant + ", ") +
+                   (track.start_level ? "start " + format_number(*track.start_level, kHtmlDigits) : track.procedure);
+      for (size_t i = 0; i < track.levels.size(); ++i) {
+        line.x.push_back(double(i + 1));
+        line.y.push_back(track.levels[i]);
+        XySeries& answer = track.seen[i] ? seen : not_seen;
+        answer.x.push_back(double(i + 1));
+        answer.y.push_back(track.levels[i]);
+      }
+      for (int trial : track.reversal_trials) {
+        reversals.x.push_back(double(trial + 1));
+        reversals.y.push_back(track.levels.at(static_cast<size_t>(trial)));
+      }
+      if (track.threshold) chart.horizontal_lines.push_back(*track.threshold);
+      chart.series.push_back(std::move(line));
+    }
+    for (XySeries* answers : {&seen, &not_seen, &reversals})
+      if (!answers->x.empty()) chart.series.push_back(std::move(*answers));
+    Plot plot;
+    plot.file_name = unique_svg_name("adaptive_tracks_" + safe_name(participant.participant), taken);
+    plot.caption = participant.participant + "'s adaptive tracks: the level of each trial, its answer, a staircase's "
+                   "reversals, and each threshold (dashed: a staircase's mean of its last reversals, QUEST+'s "
+                   "posterior mean).";
+    plot.svg = render_xy_chart_svg(chart);
+    plots.push_back(std::move(plot));
+  }
+  return plots;
+}
+
 // ---- HTML ------------------------------------------------------------------------------------
 
 std::string html_escape(const std::string& text) { return xml_escape(text); }
@@ -916,6 +1013,26 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
                        rows);
   }
 
+  const auto with_tracks = std::count_if(result.participants.begin(), result.participants.end(),
+                                         [](const ParticipantRow& p) { return !p.tracks.empty(); });
+  if (with_tracks > 0) {
+    html += "<h2 id=\"adaptive\">Adaptive tracks</h2>\n<p>Each adaptive track's threshold by its procedure's rule "
+            "(docs/analysis.md): a staircase's mean level of its last reversals; QUEST+'s posterior mean, with its 95 % "
+            "credible interval. The tracks are plotted above and listed in adaptive_tracks.csv.</p>\n";
+    std::vector<std::vector<std::string>> rows;
+    for (const ParticipantRow& p : result.participants)
+      for (const AdaptiveTrackResult& track : p.tracks)
+        rows.push_back({p.participant, track.block, track.procedure, track.variant,
+                        track.start_level ? html_number(*track.start_level) : "", std::to_string(track.levels.size()),
+                        track.kind == "staircase" ? std::to_string(track.reversal_trials.size()) : "",
+                        track.stopped ? "yes" : "no", html_number(track.threshold),
+                        track.threshold_lower ? html_interval(*track.threshold_lower, *track.threshold_upper) : "",
+                        track.note});
+    html += html_table({"participant", "block", "procedure", "variant", "start", "trials", "reversals", "stopped",
+                        "threshold", "95 % credible interval", "note"},
+                       rows);
+  }
+
   html += "<h2 id=\"left-out\">Left out</h2>\n";
   if (result.left_out.empty()) {
     html += "<p>nothing</p>\n";
@@ -945,6 +1062,9 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
 
   write("conditions.csv", conditions_csv(result));
   write("participants.csv", participants_csv(result));
+  const bool adaptive = std::any_of(result.participants.begin(), result.participants.end(),
+                                    [](const ParticipantRow& participant) { return !participant.tracks.empty(); });
+  if (adaptive) write("adaptive_tracks.csv", adaptive_tracks_csv(result));
   if (result.rating_grid) write("rating_grid.csv", rating_grid_csv(*result.rating_grid, result.study));
   if (!result.preferences.empty()) write("preference.csv", preference_csv(result));
   write("thresholds.json", thresholds_json(result).dump(2, ' ', false, json::error_handler_t::replace) + "\n");
@@ -971,6 +1091,7 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
     if (auto plot = psychometric_plot(result, group, taken)) plots.push_back(std::move(*plot));
   }
   for (Plot& plot : threshold_histograms(result, taken)) plots.push_back(std::move(plot));
+  for (Plot& plot : adaptive_track_plots(result, taken)) plots.push_back(std::move(plot));
   for (const Plot& plot : plots) write(plot.file_name, plot.svg);
 
   write("report.html", report_html(result, plots));
@@ -983,7 +1104,7 @@ namespace {
 // inside by a run killed before this folder-level writing existed).
 bool is_report_file_name(const std::string& name) {
   if (name == "thresholds.json" || name == "conditions.csv" || name == "participants.csv" || name == "report.html" ||
-      name == "rating_grid.csv" || name == "preference.csv")
+      name == "rating_grid.csv" || name == "preference.csv" || name == "adaptive_tracks.csv")
     return true;
   const auto ends_with = [&](const std::string& end) {
     return name.size() > end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0;

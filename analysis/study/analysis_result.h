@@ -67,6 +67,25 @@ struct ParticipantThreshold {
   std::string note;                   // e.g. "every step answered correctly: censored at 30"
 };
 
+// One adaptive track of a participant (docs/analysis.md): its levels and answers trial by trial,
+// and its threshold by the procedure's own rule: a staircase's mean level of its last
+// `reversals_averaged` reversals; QUEST+'s posterior mean with its 95 % credible interval.
+struct AdaptiveTrackResult {
+  int track = 0;                      // in the participant's schedule (the log's trial_start "track")
+  std::string block, procedure, variant;
+  std::string kind;                   // "staircase" or "quest_plus"
+  std::optional<double> start_level;  // a staircase's start
+  std::vector<double> levels;         // each complete trial's level, in order
+  std::vector<bool> seen;             // ... and whether its answer saw the difference
+  std::vector<int> reversal_trials;   // a staircase: positions in `levels` of the trials that turned it
+  bool stopped = false;               // a stopping rule was met
+  int reversals_averaged = 0;         // a staircase's
+  std::optional<double> threshold;    // none: a staircase with fewer reversals than it averages (see note)
+  std::optional<double> threshold_lower, threshold_upper;  // QUEST+: the 95 % credible interval
+  std::optional<double> slope, lapse;                      // QUEST+: posterior means
+  std::string note;
+};
+
 struct ParticipantRow {
   std::string participant;
   std::string log_path;
@@ -87,6 +106,7 @@ struct ParticipantRow {
   ValidationSummary validation;
   int practice_trials = 0;            // complete practice trials (never analysed)
   std::vector<ParticipantThreshold> thresholds;
+  std::vector<AdaptiveTrackResult> tracks;  // adaptive blocks: each track's levels, answers and threshold
 };
 
 // A study-level threshold for one group, with its definition (and seed section).

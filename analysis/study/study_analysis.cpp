@@ -12,6 +12,7 @@
 #include "analysis/statistics/multiple_comparisons.h"
 #include "analysis/study/preference_table.h"
 #include "analysis/study/rating_grid.h"
+#include "analysis/study/adaptive_tracks.h"
 #include "core/number_text.h"
 #include "core/prng.h"
 
@@ -524,6 +525,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.present_clock = participant.present_clock;
     row.validation = participant.validation;
     row.practice_trials = participant.practice_trials;
+    row.tracks = adaptive_tracks(data, participant);
     result.participants.push_back(row);
     if (participant.excluded) {
       result.left_out.push_back({"participant " + participant.participant,

@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "analysis/psychometric/psychometric_function.h"
+#include "study/psychometric/psychometric_function.h"
 #include "analysis/study/analysis_result.h"
 #include "analysis/study/study_data.h"
 

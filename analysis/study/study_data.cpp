@@ -41,6 +41,7 @@ void describe_study(const LogStudy& study, const std::string& path, StudyData& d
   data.reference_method = config.stimulus.reference.method;
   data.test_method = config.stimulus.test.method;
   data.variants = config.stimulus.variants;
+  data.config = config;
 }
 
 ParticipantData participant_of(ScannedSession& session) {
@@ -108,6 +109,7 @@ ParticipantData participant_of(ScannedSession& session) {
     trial.answers = std::move(scanned.answers);
     trial.answer_steps = std::move(scanned.answer_steps);
     trial.saved_level = scanned.saved_level;
+    trial.track = scanned.track;
     if (trial.attention_check) ++participant.attention_checks;
     participant.trials.push_back(std::move(trial));
   }

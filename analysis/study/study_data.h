@@ -30,6 +30,7 @@ struct StudyTrial {
   std::vector<std::string> answers;       // in order ("" after a timeout)
   std::vector<int> answer_steps;          // the `step` of each answer
   std::optional<double> saved_level;      // slider
+  std::optional<int> track;               // an adaptive trial: its track in the participant's schedule
 };
 
 struct ParticipantData {
@@ -67,6 +68,7 @@ struct StudyData {
   RenderMethod reference_method = RenderMethod::ground_truth;
   RenderMethod test_method = RenderMethod::ground_truth;
   std::vector<VariantConfig> variants;     // in config order; empty: one unnamed variant
+  StudyConfig config;                      // the whole config the logs carry (adaptive blocks: each schedule is rebuilt)
   // The levels the variant named `variant` is tested at (study_config.h variant_levels): its own
   // (a conditions file's), else `levels`.
   const std::vector<double>& levels_of(const std::string& variant) const;

@@ -13,6 +13,7 @@
 #include "display/frame_io.h"
 #include "protocols/observer/simulated_observer.h"
 #include "study/schedule/study_plan.h"
+#include "protocols/session/schedule_check.h"
 #include "protocols/session/session_header.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
@@ -49,9 +50,8 @@ class Differences {
 std::string line_of(const EventStamp& stamp) { return "seq " + std::to_string(stamp.seq.value_or(-1)); }
 
 // The answers a simulated observer gives must come out the same again.
-void check_observer_answers(const SimulatedObserver& observer, const StudyPlan& plan, const RecordedTrial& recorded,
-                            Differences& differences) {
-  const Trial& trial = plan.trials.at(static_cast<size_t>(recorded.index));
+void check_observer_answers(const SimulatedObserver& observer, const StudyPlan& plan, const Trial& trial,
+                            const RecordedTrial& recorded, Differences& differences) {
   const ProtocolKind kind = plan.config.protocol.kind;
   const std::string where = "trial " + std::to_string(recorded.index);
   int ladder_index = trial.slider_start;
@@ -161,32 +161,31 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     }
     return found->second;
   };
-  if (record.ended && record.end_reason == "completed" && record.trials.size() != plan.trials.size())
+  // Every trial against the schedule, each adaptive one at the level its track derives from the
+  // answers logged before it.
+  const ScheduleCheck schedule = check_log_against_schedule(record, plan);
+  for (const std::string& difference : schedule.differences) {
+    const size_t colon = difference.find(": ");
+    differences.add(difference.substr(0, colon), difference.substr(colon + 2));
+  }
+  if (record.ended && record.end_reason == "completed" && !schedule.schedule_done)
     differences.add("session_end", "the session says it completed, but the log holds " +
                                        std::to_string(record.trials.size()) + " of " +
-                                       std::to_string(plan.trials.size()) + " trials");
+                                       std::to_string(plan.trials.size()) + " trials and the schedule runs more");
   outcome.session_ended = record.ended;
-  for (const RecordedTrial& recorded : record.trials) {
+  for (size_t position = 0; position < record.trials.size(); ++position) {
+    const RecordedTrial& recorded = record.trials[position];
     ++outcome.trials;
     const std::string where = "trial " + std::to_string(recorded.index);
-    if (recorded.index < 0 || recorded.index >= static_cast<int>(plan.trials.size())) {
-      differences.add(where, "not a trial of the schedule (it has " + std::to_string(plan.trials.size()) + ")");
-      continue;
-    }
-    const Trial& trial = plan.trials[static_cast<size_t>(recorded.index)];
-    const TrialStartEvent& start = recorded.start;
-    if (start.sequence != trial.sequence || start.condition != trial.condition ||
-        start.attention_check != trial.attention_check || start.practice != trial.practice)
-      differences.add(where, "trial_start differs from the schedule rebuilt from the header (sequence " +
-                                 nlohmann::json(start.sequence).dump() + ", schedule " +
-                                 nlohmann::json(trial.sequence).dump() + ")");
+    if (!schedule.presented[position]) continue;  // a difference already
+    const Trial& trial = *schedule.presented[position];
     const auto allowed = protocol_answers(config.protocol.kind, config.protocol.two_afc_question);
     for (const ResponseEvent& response : recorded.responses) {
       const std::string& answer = response.answer;
       if (!answer.empty() && std::find(allowed.begin(), allowed.end(), answer) == allowed.end())
         differences.add(where + " (" + line_of(response.stamp) + ")", "answer \"" + answer + "\" is not an answer of this protocol");
     }
-    if (observer) check_observer_answers(*observer, plan, recorded, differences);
+    if (observer) check_observer_answers(*observer, plan, trial, recorded, differences);
     if (recorded.attention_check && !recorded.responses.empty()) {
       const bool correct = recorded.responses.front().answer == identical_answer(config.protocol);
       if (recorded.attention_check->correct != correct)

@@ -23,6 +23,7 @@
 #include "study/log/log_integrity.h"
 #include "study/log/participant_lock.h"
 #include "study/log/session_record.h"
+#include "protocols/session/schedule_check.h"
 #include "display/headless_presenter.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
@@ -79,18 +80,14 @@ std::string set_torn_tail_aside(const EventLogFile& log) {
   return aside;
 }
 
-// A resumed log must be one this plan made: every complete trial's index within the plan and its
-// condition the plan's (a forged log cannot make a session "131 of 89 trials complete").
-void check_trials_against_plan(const SessionRecord& record, const StudyPlan& plan, const std::string& log_path) {
-  for (const RecordedTrial& trial : record.trials) {
-    const std::string where = log_path + ": trial " + std::to_string(trial.index);
-    if (trial.index < 0 || static_cast<size_t>(trial.index) >= plan.trials.size())
-      throw InputError(where + ": not in this study's plan (" + std::to_string(plan.trials.size()) +
-                       " trials); the log was not written by this config; not resuming");
-    if (trial.start.condition != plan.trials[static_cast<size_t>(trial.index)].condition)
-      throw InputError(where + ": condition \"" + trial.start.condition + "\" is not the plan's \"" +
-                       plan.trials[static_cast<size_t>(trial.index)].condition + "\"; not resuming");
-  }
+// A resumed log must be one this plan made: every complete trial within the plan and as the plan
+// (with its adaptive tracks' answers so far) presents it, none missing (a forged log cannot make a
+// session "131 of 89 trials complete"). Returns the tracks' progress to continue from.
+ScheduleCheck check_trials_against_plan(const SessionRecord& record, const StudyPlan& plan, const std::string& log_path) {
+  ScheduleCheck check = check_log_against_schedule(record, plan);
+  if (!check.differences.empty())
+    throw InputError(log_path + ": " + check.differences.front() + "; the log was not written by this config; not resuming");
+  return check;
 }
 
 // Whether `directory` can be made and written, without making it: its nearest existing ancestor
@@ -190,6 +187,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
 
   // An existing log: the same study and config, intact, not finished -> resume.
   std::optional<SessionRecord> record;
+  std::optional<ScheduleCheck> schedule;  // a resumed log against the plan, its adaptive tracks' progress
   std::optional<EventLogFile> existing;
   if (fs::is_symlink(outcome.log_path))
     throw InputError(outcome.log_path + ": the session log is a symbolic link (expected the log itself); not resuming");
@@ -228,7 +226,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan))
       throw InputError(outcome.log_path + ":1: a scene file changed since this participant started (scene_hashes); "
                                           "restore it to resume, or use another participant ID");
-    check_trials_against_plan(*record, plan, outcome.log_path);
+    schedule = check_trials_against_plan(*record, plan, outcome.log_path);
     // Ended, but killed before its seal: every check above passed, so the seal is all it lacks.
     if (record->ended) return seal_finished_session(*existing, *record, lab_key ? &*lab_key : nullptr, outcome);
     outcome.resumed = true;
@@ -340,7 +338,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     run.log(to_json(*header));
   } else {
     SessionResumedEvent resumed;
-    resumed.next_trial = record->next_trial;
+    resumed.next_trial = schedule->next_trial;
     resumed.started_utc = utc_now();
     resumed.gaze = gaze->describe();
     if (record->incomplete_trial >= 0) resumed.discarded_trial = record->incomplete_trial;
@@ -350,7 +348,9 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (record) run.set_excluded_logged(record->excluded);
   const auto loop_start = std::chrono::steady_clock::now();
   try {
-    const bool kept = run.run_trials(record ? record->next_trial : 0, record ? record->attention_errors : 0, record.has_value());
+    if (!schedule) schedule = ScheduleCheck{AdaptiveProgress(plan), {}, {}, 0, false};
+    const bool kept = run.run_trials(schedule->next_trial, record ? record->attention_errors : 0, record.has_value(),
+                                     record ? static_cast<int>(record->trials.size()) : 0, schedule->progress);
     outcome.finished = true;
     outcome.excluded = !kept;
   } catch (const SessionAborted& aborted) {

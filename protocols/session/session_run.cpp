@@ -305,7 +305,7 @@ void SessionRun::run_slider(const Trial& trial) {
   }
 }
 
-bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
+bool SessionRun::run_trials(int first, int attention_errors, bool resumed, int complete_before, AdaptiveProgress& adaptive) {
   const StudyConfig& config = plan_.config;
   const bool checks_on = config.attention.share > 0;
   const auto exclude = [&](bool excluded_logged, int completed_trials) {
@@ -319,7 +319,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     return false;
   };
   // A crash after the trial that reached max_errors (before session_end): the session is over.
-  if (checks_on && attention_errors >= config.attention.max_errors) return exclude(excluded_logged_, first);
+  if (checks_on && attention_errors >= config.attention.max_errors) return exclude(excluded_logged_, complete_before);
   {
     show_text(resumed ? "The session resumes where it stopped.\n\n" + config.instructions : config.instructions,
               "instructions");
@@ -330,7 +330,10 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
   // The eye-tracker validation due before the next trial: at the start of every run, after breaks.
   const char* validation_due = resumed ? TrackerValidationEvent::resumed : TrackerValidationEvent::start;
   for (size_t index = static_cast<size_t>(first); index < plan_.trials.size(); ++index) {
-    const Trial& trial = plan_.trials[index];
+    const Trial& planned = plan_.trials[index];
+    const std::optional<Trial> presented = adaptive.presented(planned);
+    if (!presented) continue;  // its adaptive track has stopped
+    const Trial& trial = *presented;
     const PlannedBlock& block = plan_.blocks.at(static_cast<size_t>(trial.block));
     const bool block_starts = trial.index == block.first_trial || static_cast<int>(index) == first;
     // No rest after the practice block: a screen that says the study begins instead.
@@ -365,6 +368,7 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
     start.sequence = trial.sequence;
     start.reference = trial.reference;
     start.practice = trial.practice;
+    if (trial.track >= 0) start.track = trial.track;
     if (config.protocol.kind == ProtocolKind::ramp) start.ramp_toward_reference = trial.ramp_toward_reference;
     else if (config.protocol.kind == ProtocolKind::slider) start.slider_start = trial.slider_start;
     else start.reference_first = trial.reference_first;
@@ -396,12 +400,14 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed) {
       }
     }
     log(to_json(TrialEndEvent{{}, trial.index}));
+    adaptive.record(planned, answer);
     if (options_.trial_progress) options_.trial_progress(double(index + 1) / double(plan_.trials.size()));
-    if (checks_on && attention_errors >= config.attention.max_errors) return exclude(false, trial.index + 1);
+    if (checks_on && attention_errors >= config.attention.max_errors)
+      return exclude(false, complete_before + trials_completed_);
     show_black(config.timing.inter_trial_s);
   }
   show_text("Thank you. The session is complete.", "end");
-  log(to_json(SessionEndEvent{{}, SessionEndEvent::completed, static_cast<int>(plan_.trials.size())}));
+  log(to_json(SessionEndEvent{{}, SessionEndEvent::completed, complete_before + trials_completed_}));
   return true;
 }
 

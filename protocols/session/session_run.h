@@ -13,6 +13,7 @@
 #include "protocols/gaze/gaze_source.h"
 #include "study/log/event_log.h"
 #include "display/presenter.h"
+#include "study/schedule/adaptive_progress.h"
 #include "study/schedule/study_plan.h"
 #include "protocols/session/response_source.h"
 #include "protocols/session/session.h"
@@ -35,10 +36,12 @@ class SessionRun {
   double t() { return time_base_s_ + presenter_.now_s(); }
   // Appends an event, with "t" unless it has one.
   void log(nlohmann::json event);
-  // Runs trials from `first` to the end; returns false when the participant was excluded (also
-  // when a resumed log already holds max_errors wrong attention checks). Throws SessionAborted
-  // when the participant closes the window.
-  bool run_trials(int first, int attention_errors, bool resumed);
+  // Runs trials from `first` to the end (`complete_before` of them already in the log; `adaptive`:
+  // the adaptive tracks' progress, each answer folded in as it is logged, a stopped track's trials
+  // skipped); returns false when the participant was excluded (also when a resumed log already
+  // holds max_errors wrong attention checks). Throws SessionAborted when the participant closes
+  // the window.
+  bool run_trials(int first, int attention_errors, bool resumed, int complete_before, AdaptiveProgress& adaptive);
   // The log being resumed already has its "excluded" event (a crash before session_end).
   void set_excluded_logged(bool logged) { excluded_logged_ = logged; }
   int events_written() const { return events_written_; }

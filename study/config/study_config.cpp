@@ -607,6 +607,101 @@ void read_practice(const TomlFields& fields, StudyConfig& config, const Reading&
   fields.finish();
 }
 
+// [procedure.NAME]: read here; checked against each variant's levels when a block names it.
+ProcedureConfig read_procedure(const TomlFields& fields, const std::string& name) {
+  ProcedureConfig procedure;
+  procedure.name = name;
+  if (!is_safe_name(name)) fields.fail("", "expected a procedure name of letters, digits, '_', '-' or '.'");
+  StaircaseRule& rule = procedure.staircase;
+  const std::string kind = fields.string("kind");
+  if (kind == "staircase") {
+    rule.kind = StaircaseRule::Kind::transformed;
+    rule.down = bounded_integer(fields, "down", 2, 1, 10);
+    rule.step_sizes.clear();
+    for (double step : fields.has("step_sizes") ? fields.numbers("step_sizes") : std::vector<double>{1.0}) {
+      if (!(step >= 1 && step <= 1000 && step == std::floor(step)))
+        fields.fail("step_sizes", "expected whole numbers of grid steps, 1 or more, got " + format_number(step, 6));
+      rule.step_sizes.push_back(static_cast<int>(step));
+    }
+  } else if (kind == "weighted") {
+    rule.kind = StaircaseRule::Kind::weighted;
+    rule.harder_steps = bounded_integer(fields, "harder_steps", 1, 1, 1000);
+    rule.easier_steps = bounded_integer(fields, "easier_steps", 3, 1, 1000);
+  } else if (kind == "quest_plus") {
+    procedure.kind = ProcedureConfig::Kind::quest_plus;
+    QuestPlusRule& quest = procedure.quest;
+    const std::string shape = fields.string("shape", "logistic");
+    if (shape == "logistic") quest.shape = PsychometricShape::logistic;
+    else if (shape == "weibull") quest.shape = PsychometricShape::weibull;
+    else if (shape == "cumulative_normal") quest.shape = PsychometricShape::cumulative_normal;
+    else fields.fail("shape", "expected \"logistic\", \"weibull\" or \"cumulative_normal\", got \"" + shape + "\"");
+    for (const auto& [key, grid] : {std::pair{"thresholds", &quest.thresholds}, std::pair{"slopes", &quest.slopes},
+                                    std::pair{"lapses", &quest.lapses}})
+      if (fields.has(key)) *grid = fields.numbers(key);
+    // Not given: -1, the protocol's (quest_plus_rule).
+    quest.guess = fields.has("guess_rate") ? bounded_number(fields, "guess_rate", 0.0, 0.0, 0.99) : -1.0;
+    quest.prior_mean = fields.number("prior_mean", 0.0);
+    quest.prior_sd = bounded_number(fields, "prior_sd", 0.0, 0.0, 1e300);
+    if (fields.has("prior_mean") && !fields.has("prior_sd"))
+      fields.fail("prior_mean", "expected prior_sd too (a normal prior over thresholds; without both the prior is uniform)");
+    quest.max_trials = bounded_integer(fields, "max_trials", std::nullopt, 1, 10000);
+    quest.stop_entropy_bits = bounded_number(fields, "stop_entropy_bits", 0.0, 0.0, 1000.0);
+    quest.stop_interval_width = bounded_number(fields, "stop_interval_width", 0.0, 0.0, 1e300);
+    return procedure;
+  } else {
+    fields.fail("kind", "expected \"staircase\" (Levitt's transformed up-down), \"weighted\" (Kaernbach's weighted "
+                        "up-down) or \"quest_plus\" (Watson's QUEST+), got \"" + kind + "\"");
+  }
+  rule.max_trials = bounded_integer(fields, "max_trials", std::nullopt, 1, 10000);
+  rule.max_reversals = bounded_integer(fields, "max_reversals", 0, 0, 10000);
+  rule.reversals_averaged = bounded_integer(fields, "reversals_averaged", 6, 1, 10000);
+  if (fields.has("starts")) procedure.starts = fields.numbers("starts");
+  if (procedure.starts.size() > 16) fields.fail("starts", "expected at most 16 interleaved staircases");
+  return procedure;
+}
+
+// A rule's error "KEY: expected ..." as a config error of the procedure's table.
+[[noreturn]] void fail_with_rule_error(const TomlFields& fields, const std::string& error, const std::string& suffix) {
+  const size_t colon = error.find(": ");
+  fields.fail(error.substr(0, colon), error.substr(colon + 2) + suffix);
+}
+
+// A block's procedure against the study: a protocol whose answers are right or wrong, and a rule
+// that works on every variant's level grid (a staircase from every start).
+void check_procedure(const TomlFields& fields, const StudyConfig& config, const ProcedureConfig& procedure) {
+  const ProtocolKind kind = config.protocol.kind;
+  if (kind != ProtocolKind::two_afc && kind != ProtocolKind::pair)
+    fields.fail("", std::string("an adaptive procedure needs answers that see the difference or not (2afc, pair); the "
+                                "protocol is ") + protocol_name(kind));
+  std::vector<const VariantConfig*> variants;
+  for (const VariantConfig& variant : config.stimulus.variants) variants.push_back(&variant);
+  if (variants.empty()) variants.push_back(nullptr);
+  for (const VariantConfig* variant : variants) {
+    const std::vector<double> grid = adaptive_grid(config.levels, variant);
+    const std::string of_variant = variant ? " (variant \"" + variant->name + "\")" : "";
+    if (procedure.kind == ProcedureConfig::Kind::quest_plus) {
+      const QuestPlusRule rule = quest_plus_rule(procedure, config.protocol, config.levels, grid);
+      if (const std::optional<std::string> error = quest_plus_rule_error(rule, grid))
+        fail_with_rule_error(fields, *error, of_variant);
+      continue;
+    }
+    std::vector<int> start_indices;
+    for (double start : procedure.starts) {
+      const auto found = std::find(grid.begin(), grid.end(), start);
+      if (found == grid.end())
+        fields.fail("starts", "expected levels of the grid" + of_variant + ", got " + format_number(start, 6));
+      start_indices.push_back(static_cast<int>(found - grid.begin()));
+    }
+    if (start_indices.empty()) start_indices.push_back(0);
+    for (int start : start_indices) {
+      StaircaseRule rule = procedure.staircase;
+      rule.start_index = start;
+      if (const std::optional<std::string> error = staircase_rule_error(rule, static_cast<int>(grid.size())))
+        fail_with_rule_error(fields, *error, of_variant);
+    }
+  }
+}
+
 }  // namespace
 
 bool is_valid_study_name(const std::string& name) {
@@ -738,10 +833,28 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     const TomlFields practice_fields(*practice, path, "practice");
     read_practice(practice_fields, config, reading, scene_kind);
   }
+  if (const toml::table* procedures = fields.optional_table("procedure")) {
+    const TomlFields procedure_fields(*procedures, path, "procedure");
+    for (auto&& [key, value] : *procedures) {
+      const std::string name(key.str());
+      const TomlFields one = procedure_fields.table(name);
+      config.procedures.push_back(read_procedure(one, name));
+      one.finish();
+    }
+  }
   std::set<std::string> block_names;
   for (const TomlFields& block_fields : fields.tables("block")) {
     BlockConfig block;
     block.scene = resolve_scene(block_fields, block_fields.string("scene"), path, reading.scenes, scene_kind);
+    if (block_fields.has("procedure")) {
+      const std::string name = block_fields.string("procedure");
+      const auto found = std::find_if(config.procedures.begin(), config.procedures.end(),
+                                      [&](const ProcedureConfig& procedure) { return procedure.name == name; });
+      if (found == config.procedures.end())
+        block_fields.fail("procedure", "expected the name of a [procedure.NAME] table, got \"" + name + "\"");
+      block.procedure = static_cast<int>(found - config.procedures.begin());
+      check_procedure(fields.table("procedure").table(name), config, *found);
+    }
     block.name = block_fields.string("name", std::filesystem::path(block.scene).stem().string());
     if (!is_safe_name(block.name)) block_fields.fail("name", "expected letters, digits, '_', '-' or '.'");
     if (!block_names.insert(block.name).second) block_fields.fail("name", "duplicate block \"" + block.name + "\"");
@@ -771,6 +884,26 @@ StudyConfig parse_logged_study_config(const std::string& text, const std::string
 
 const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant) {
   return variant && !variant->levels.empty() ? variant->levels : levels.values;
+}
+
+std::vector<double> adaptive_grid(const LevelsConfig& levels, const VariantConfig* variant) {
+  const std::vector<double>& grid = variant_levels(levels, variant);
+  if (levels.higher_is_better) return grid;
+  return {grid.rbegin(), grid.rend()};
+}
+
+QuestPlusRule quest_plus_rule(const ProcedureConfig& procedure, const ProtocolConfig& protocol, const LevelsConfig& levels,
+                              const std::vector<double>& grid) {
+  QuestPlusRule rule = procedure.quest;
+  // Higher levels more like the reference: the difference is seen less as the level grows.
+  rule.rising = !levels.higher_is_better;
+  if (rule.guess < 0)
+    rule.guess = protocol.kind == ProtocolKind::two_afc && protocol.two_afc_question == TwoAfcQuestion::better ? 0.5 : 0.05;
+  if (grid.size() < 2) return rule;
+  if (rule.thresholds.empty()) rule.thresholds = default_quest_thresholds(grid, rule.shape);
+  if (rule.slopes.empty()) rule.slopes = default_quest_slopes(grid, rule.shape);
+  if (rule.lapses.empty()) rule.lapses = default_quest_lapses();
+  return rule;
 }
 
 }  // namespace fovlab

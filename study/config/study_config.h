@@ -9,6 +9,8 @@
 
 #include "study/config/scene_catalog.h"
 #include "study/protocol/protocol_rules.h"
+#include "study/schedule/quest_plus.h"
+#include "study/schedule/staircase.h"
 #include "study/stimulus/render_method.h"
 
 namespace fovlab {
@@ -65,9 +67,38 @@ struct LevelsConfig {
 // `variant` null: the one unnamed variant of a config without variants.
 const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant);
 
+// [procedure.NAME]: an adaptive procedure a block may name (docs/config.md). Each variant of the
+// block gets its tracks, their trials interleaved: a staircase per start level, or one QUEST+. The
+// schedule plans each track to its max_trials, and a track that stops sooner (max_reversals, the
+// QUEST+ entropy or interval rules) skips the rest.
+struct ProcedureConfig {
+  enum class Kind { staircase, quest_plus };
+  std::string name;
+  Kind kind = Kind::staircase;
+  StaircaseRule staircase;     // start_index unused: each staircase starts at one of `starts`
+  std::vector<double> starts;  // level values, one staircase each; default: each variant's easiest level
+  // QUEST+: the grids as given (empty: the defaults for each variant's levels, quest_plus.h); rising
+  // and guess come from [levels] and the protocol (quest_plus_rule).
+  QuestPlusRule quest;
+  int max_trials() const { return kind == Kind::staircase ? staircase.max_trials : quest.max_trials; }
+};
+
+// The levels an adaptive track of `variant` works on, easiest (least like the reference) first:
+// grid index 0 is the easiest difference to see (study/schedule/staircase.h).
+std::vector<double> adaptive_grid(const LevelsConfig& levels, const VariantConfig* variant);
+
+struct ProtocolConfig;
+// A QUEST+ procedure's rule on `grid`: its grids (or the defaults for the grid), p_see rising where
+// higher levels look less like the reference, and the guess rate: the procedure's guess_rate, else
+// 1/2 for 2afc "better" (forced choice) and 0.05 for answers that may report a difference where
+// none is (2afc "same", pair).
+QuestPlusRule quest_plus_rule(const ProcedureConfig& procedure, const ProtocolConfig& protocol, const LevelsConfig& levels,
+                              const std::vector<double>& grid);
+
 struct BlockConfig {
   std::string name;
   std::string scene;
+  int procedure = -1;  // index into StudyConfig::procedures; -1: constant stimuli
 };
 
 struct TimingConfig {
@@ -152,6 +183,7 @@ struct StudyConfig {
   ProtocolConfig protocol;
   LevelsConfig levels;
   std::vector<BlockConfig> blocks;
+  std::vector<ProcedureConfig> procedures;  // [procedure.NAME] tables, in name order
   TimingConfig timing;
   AttentionConfig attention;
   ValidationConfig validation;

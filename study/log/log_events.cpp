@@ -318,6 +318,7 @@ nlohmann::json to_json(const TrialStartEvent& event) {
   if (event.ramp_toward_reference) json[k::ramp_toward_reference] = *event.ramp_toward_reference;
   if (event.slider_start) json[k::slider_start] = *event.slider_start;
   if (event.practice) json[k::practice] = true;
+  if (event.track) json[k::track] = *event.track;
   return json;
 }
 
@@ -509,6 +510,7 @@ TrialStartEvent parse_trial_start(const nlohmann::json& json, FieldCheck check) 
   in.read(k::ramp_toward_reference, event.ramp_toward_reference);
   in.read(k::slider_start, event.slider_start);
   in.read(k::practice, event.practice);
+  in.read(k::track, event.track);
   return event;
 }
 
@@ -656,7 +658,7 @@ std::string event_kind(const nlohmann::json& event) {
 std::string check_log_field_types(const nlohmann::json& event) {
   for (const auto& [key, value] : event.items()) {
     bool ok = true;
-    if (key == k::trial || key == k::block || key == k::step) ok = is_small_int(value);
+    if (key == k::trial || key == k::block || key == k::step || key == k::track) ok = is_small_int(value);
     else if (key == k::event || key == k::condition || key == k::variant || key == k::answer || key == k::name ||
              key == k::scene)
       ok = value.is_string();

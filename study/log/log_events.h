@@ -105,6 +105,8 @@ inline constexpr const char* trials_complete = "trials_complete";
 inline constexpr const char* last_chain = "last_chain";
 // trial_start of a practice trial (written only when true)
 inline constexpr const char* practice = "practice";
+// trial_start of an adaptive trial: its track (staircase or QUEST+) in the schedule (written only for those)
+inline constexpr const char* track = "track";
 // tracker_validation
 inline constexpr const char* attempt = "attempt";
 inline constexpr const char* targets = "targets";
@@ -204,6 +206,7 @@ struct TrialStartEvent {
   std::optional<bool> ramp_toward_reference;  // ramp
   std::optional<int> slider_start;            // slider
   bool practice = false;  // a practice trial: shown and logged, never analysed (written only when true)
+  std::optional<int> track;  // an adaptive trial: its track (StudyPlan::tracks)
   bool operator==(const TrialStartEvent&) const = default;
 };
 
@@ -376,7 +379,7 @@ LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check = FieldChe
 std::string event_kind(const nlohmann::json& event);
 
 // The type checks both readers make on every event (the fast scan's decoder enforces the same):
-// a trial, block or step is a 32-bit integer; event, condition, variant, answer, name and scene are
+// a trial, block, step or track is a 32-bit integer; event, condition, variant, answer, name and scene are
 // strings; a level a number or null; attention_check, reference_first, ramp_toward_reference and
 // correct and practice booleans; a sequence an array of 32-bit integers; dropped_frames a 32-bit integer,
 // present_clock a string, gaze_acquired_s and gaze_age_s arrays of numbers or nulls. Returns the

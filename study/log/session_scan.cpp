@@ -30,6 +30,7 @@ struct EventFields {
   std::optional<int> trial;
   std::optional<int> block;
   std::optional<int> step;
+  std::optional<int> track;
   std::string_view condition, variant, answer, name, scene;
   std::optional<double> level;
   std::optional<bool> attention_check, reference_first, ramp_toward_reference, correct, practice;
@@ -78,6 +79,7 @@ EventFields decode(simdjson::ondemand::document& document) {
     else if (key == log_keys::trial) fields.trial = small_int(value);
     else if (key == log_keys::block) fields.block = small_int(value);
     else if (key == log_keys::step) fields.step = small_int(value);
+    else if (key == log_keys::track) fields.track = small_int(value);
     else if (key == log_keys::condition) fields.condition = value.get_string();
     else if (key == log_keys::variant) fields.variant = value.get_string();
     else if (key == log_keys::answer) fields.answer = value.get_string();
@@ -289,6 +291,7 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       trial.reference_first = fields.reference_first.value_or(true);
       trial.ramp_toward_reference = fields.ramp_toward_reference.value_or(true);
       trial.practice = fields.practice.value_or(false);
+      trial.track = fields.track;
       trial.sequence = std::move(fields.sequence);
       trials.start(std::move(trial));
       continue;

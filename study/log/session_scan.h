@@ -30,6 +30,7 @@ struct ScannedTrial {
   bool reference_first = true;
   bool ramp_toward_reference = true;
   bool practice = false;                  // a practice trial (never analysed)
+  std::optional<int> track;               // an adaptive trial: its track in the schedule
   std::vector<int> sequence;              // stimulus ids in presentation order
   std::vector<std::string> answers;       // response events, in order
   std::vector<int> answer_steps;          // their `step`

@@ -24,6 +24,13 @@ std::optional<std::string> staircase_rule_error(const StaircaseRule& rule, int g
   if (rule.max_trials == 0 && rule.max_reversals == 0)
     return "max_trials: expected a stopping rule (max_trials or max_reversals above 0)";
   if (rule.reversals_averaged < 1) return "reversals_averaged: expected 1 or more";
+  // A reversal needs a trial before it and one that turns: at most max_trials - 1 of them.
+  if (rule.max_trials > 0 && rule.max_reversals >= rule.max_trials)
+    return "max_reversals: expected fewer than max_trials (" + std::to_string(rule.max_trials) +
+           "): a staircase makes at most max_trials - 1 reversals, so the stop could never be met";
+  if (rule.max_trials > 0 && rule.reversals_averaged >= rule.max_trials)
+    return "reversals_averaged: expected fewer than max_trials (" + std::to_string(rule.max_trials) +
+           "): a staircase makes at most max_trials - 1 reversals, so it could never have a threshold";
   if (rule.max_reversals > 0 && rule.reversals_averaged > rule.max_reversals)
     return "reversals_averaged: expected at most max_reversals (" + std::to_string(rule.max_reversals) + ")";
   return std::nullopt;

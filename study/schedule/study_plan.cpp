@@ -9,14 +9,14 @@
 #include "core/prng.h"
 
 namespace fovlab {
-namespace {
-
 std::string condition_name(const std::string& variant, std::optional<double> level) {
   std::string name = variant;
   // append, not a chain of +: GCC 12's -O2 warns falsely (-Wrestrict) on the temporaries.
   if (level) name.append(name.empty() ? "" : "/").append("level=").append(format_number(*level, 6));
   return name.empty() ? "test" : name;
 }
+
+namespace {
 
 class PlanBuilder {
  public:
@@ -69,6 +69,7 @@ class PlanBuilder {
   }
 
   std::vector<Trial> block_trials(int block_index, const BlockConfig& block, Pcg32& random) {
+    if (block.procedure >= 0) return adaptive_block_trials(block_index, block, random);
     const StimulusConfig& stimulus = config_.stimulus;
     const ProtocolConfig& protocol = config_.protocol;
     const int reference = add_stimulus(block.scene, stimulus.reference, nullptr, std::nullopt, true);
@@ -127,7 +128,69 @@ class PlanBuilder {
         }
       }
     }
-    // Attention checks: identical stimuli, `share` of all the block's trials.
+    add_attention_checks(block_index, reference, trials);
+    if (protocol.randomise_trials) random.shuffle(trials);
+    return trials;
+  }
+
+  // An adaptive block: per variant, one staircase per start or one QUEST+, each track planned to its
+  // max_trials, their trials interleaved (round robin, then shuffled with the attention checks when
+  // trials are randomised). Every grid level is a stimulus of the plan.
+  std::vector<Trial> adaptive_block_trials(int block_index, const BlockConfig& block, Pcg32& random) {
+    const StimulusConfig& stimulus = config_.stimulus;
+    const ProcedureConfig& procedure = config_.procedures.at(static_cast<size_t>(block.procedure));
+    const int reference = add_stimulus(block.scene, stimulus.reference, nullptr, std::nullopt, true);
+    std::vector<const VariantConfig*> variants;
+    for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
+    if (variants.empty()) variants.push_back(nullptr);
+    std::vector<int> block_tracks;
+    for (const VariantConfig* variant : variants) {
+      AdaptiveTrack track;
+      track.block = block_index;
+      track.procedure = block.procedure;
+      track.kind = procedure.kind;
+      track.variant = variant ? variant->name : "";
+      track.grid = adaptive_grid(config_.levels, variant);
+      for (double level : track.grid) track.grid_stimuli.push_back(add_stimulus(block.scene, stimulus.test, variant, level, false));
+      std::vector<int> starts = {0};
+      if (procedure.kind == ProcedureConfig::Kind::quest_plus) {
+        track.quest = quest_plus_rule(procedure, config_.protocol, config_.levels, track.grid);
+      } else {
+        track.staircase = procedure.staircase;
+        if (!procedure.starts.empty()) starts.clear();
+        for (double start : procedure.starts)
+          starts.push_back(static_cast<int>(std::find(track.grid.begin(), track.grid.end(), start) - track.grid.begin()));
+      }
+      for (int start : starts) {
+        track.staircase.start_index = start;
+        block_tracks.push_back(static_cast<int>(plan_.tracks.size()));
+        plan_.tracks.push_back(track);
+      }
+    }
+    std::vector<Trial> trials;
+    for (int round = 0; round < procedure.max_trials(); ++round)
+      for (int track : block_tracks) {
+        Trial trial;
+        trial.block = block_index;
+        trial.reference = reference;
+        trial.track = track;
+        trial.variant = plan_.tracks[static_cast<size_t>(track)].variant;
+        trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + procedure.name;
+        trials.push_back(std::move(trial));
+      }
+    add_attention_checks(block_index, reference, trials);
+    if (config_.protocol.randomise_trials) random.shuffle(trials);
+    // The reference's interval alternates along each track's own trials (or is drawn).
+    std::vector<int> seen(plan_.tracks.size(), 0);
+    for (Trial& trial : trials)
+      if (trial.track >= 0)
+        trial.reference_first = config_.protocol.counterbalance ? seen[static_cast<size_t>(trial.track)]++ % 2 == 0
+                                                                : random.below(2) == 0;
+    return trials;
+  }
+
+  // Attention checks: identical stimuli, `share` of all the block's trials.
+  void add_attention_checks(int block_index, int reference, std::vector<Trial>& trials) {
     const double share = config_.attention.share;
     const int checks = share > 0 ? static_cast<int>(std::lround(share / (1.0 - share) * double(trials.size()))) : 0;
     for (int check = 0; check < checks; ++check) {
@@ -139,8 +202,6 @@ class PlanBuilder {
       trial.sequence = {reference, reference};
       trials.push_back(std::move(trial));
     }
-    if (protocol.randomise_trials) random.shuffle(trials);
-    return trials;
   }
 
  private:
@@ -295,7 +356,9 @@ double StudyPlan::expected_duration_s(double response_s) const {
   const TimingConfig& timing = config.timing;
   double total = 0.0;
   for (const Trial& trial : trials) {
-    double steps = double(trial.sequence.size());
+    // An adaptive trial's two intervals are chosen as it runs (every one counted: an upper bound
+    // when a track stops early).
+    double steps = trial.track >= 0 ? 2.0 : double(trial.sequence.size());
     double answers = 1.0;
     if (config.protocol.kind == ProtocolKind::ramp) answers = steps - 1.0;
     if (config.protocol.kind == ProtocolKind::slider) {

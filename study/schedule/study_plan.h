@@ -32,6 +32,10 @@ struct Trial {
   int reference = -1;                // the block's reference stimulus id
   int slider_start = 0;              // slider: index into sequence where adjustment starts
   bool practice = false;             // a [practice] trial (never analysed)
+  // An adaptive trial: its track (index into StudyPlan::tracks). The schedule leaves its level,
+  // test stimulus and condition open (sequence empty); AdaptiveProgress::presented fills them in
+  // from the answers before it (study/schedule/adaptive_progress.h).
+  int track = -1;
 };
 
 struct PlannedBlock {
@@ -42,6 +46,20 @@ struct PlannedBlock {
   bool practice = false;             // the [practice] trials' block: first, named "practice"
 };
 
+// One track of an adaptive block: a staircase of a variant from one of its procedure's starts, or
+// the variant's QUEST+.
+struct AdaptiveTrack {
+  int block = 0;                      // index into StudyPlan::blocks
+  int procedure = 0;                  // index into StudyConfig::procedures
+  ProcedureConfig::Kind kind = ProcedureConfig::Kind::staircase;
+  std::string variant;
+  StaircaseRule staircase;            // a staircase: start_index is this track's start on the grid
+  QuestPlusRule quest;                // QUEST+ (quest_plus_rule: the grids for this variant's levels)
+  std::vector<double> grid;           // level values, easiest first (adaptive_grid)
+  std::vector<int> grid_stimuli;      // the test stimulus id of each grid level
+  int max_trials() const { return kind == ProcedureConfig::Kind::staircase ? staircase.max_trials : quest.max_trials; }
+};
+
 struct StudyPlan {
   StudyConfig config;
   std::string participant;
@@ -49,6 +67,7 @@ struct StudyPlan {
   std::vector<PlannedStimulus> stimuli;  // distinct stimuli; a stimulus id is an index here
   std::vector<PlannedBlock> blocks;      // in session order (the practice block first when there is one)
   std::vector<Trial> trials;             // in session order
+  std::vector<AdaptiveTrack> tracks;     // the adaptive blocks' tracks (staircases, QUEST+)
 
   // Estimated session length: stimuli, black intervals, inter-trial and block rests, plus
   // `response_s` per answer (slider: half the ladder's steps, each one viewing and one answer),
@@ -67,6 +86,9 @@ void check_new_participant_id(const std::string& participant);
 bool is_reserved_participant_id(const std::string& participant);
 
 uint64_t session_seed(uint64_t study_seed, const std::string& participant);
+
+// A comparison condition's name: "level=32", "blur/level=7.5", the variant alone, or "test".
+std::string condition_name(const std::string& variant, std::optional<double> level);
 
 // Slider: where the ladder stands after `answer` ("up" toward the reference, "down" away; other
 // answers and the ends of the ladder leave it where it is).

@@ -3,7 +3,7 @@
 // parametric bootstrap (replay, coverage).
 #include "analysis/psychometric/binomial_sampler.h"
 #include "analysis/psychometric/psychometric_fit.h"
-#include "analysis/psychometric/psychometric_function.h"
+#include "study/psychometric/psychometric_function.h"
 
 #include <gtest/gtest.h>
 

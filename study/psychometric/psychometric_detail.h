@@ -2,9 +2,9 @@
 // Internals of the psychometric fits shared by psychometric_function.cpp and psychometric_fit.cpp
 // (and their tests): probabilities together with their complements, each computed without
 // cancellation, so that log(1 - p) stays accurate where p is close to 1.
-#include "analysis/psychometric/psychometric_function.h"
+#include "study/psychometric/psychometric_function.h"
 
-namespace fovlab::analysis::detail {
+namespace fovlab::detail {
 
 struct SeeProbabilities {
   double see = 0.0;      // p_see(level)
@@ -19,4 +19,4 @@ struct ReportProbabilities {
 SeeProbabilities see_probabilities(const PsychometricModel& model, double level);
 ReportProbabilities report_probabilities(const PsychometricModel& model, double level);
 
-}  // namespace fovlab::analysis::detail
+}  // namespace fovlab::detail

@@ -1,10 +1,10 @@
-#include "analysis/psychometric/psychometric_function.h"
+#include "study/psychometric/psychometric_function.h"
 
 #include <cmath>
 
-#include "analysis/psychometric/psychometric_detail.h"
+#include "study/psychometric/psychometric_detail.h"
 
-namespace fovlab::analysis {
+namespace fovlab {
 
 const char* shape_name(PsychometricShape shape) {
   switch (shape) {
@@ -81,4 +81,4 @@ double PsychometricModel::p_report(double level) const {
   return detail::report_probabilities(*this, level).report;
 }
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab

@@ -15,7 +15,7 @@
 // where s = +1 when rising and -1 when falling. Definitions in docs/analysis.md.
 #include <string>
 
-namespace fovlab::analysis {
+namespace fovlab {
 
 enum class PsychometricShape { logistic, weibull, cumulative_normal };
 
@@ -37,4 +37,4 @@ struct PsychometricModel {
   double p_report(double level) const;  // guess + (1 - guess - lapse) * p_see
 };
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab

@@ -1,0 +1,124 @@
+// Tests of study/schedule/quest_plus.h: every choice, expected entropy and posterior summary against
+// a brute-force NumPy implementation (make_quest_plus_reference.py), replay from answers, and the
+// rule's bad values.
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "study/schedule/quest_plus.h"
+
+namespace fovlab {
+namespace {
+
+std::vector<double> numbers(const nlohmann::json& array) { return array.get<std::vector<double>>(); }
+
+QuestPlusRule rule_of(const nlohmann::json& c) {
+  QuestPlusRule rule;
+  const std::string shape = c["shape"];
+  rule.shape = shape == "logistic" ? PsychometricShape::logistic
+               : shape == "weibull" ? PsychometricShape::weibull
+                                    : PsychometricShape::cumulative_normal;
+  rule.rising = c["rising"];
+  rule.guess = c["guess"];
+  rule.thresholds = numbers(c["thresholds"]);
+  rule.slopes = numbers(c["slopes"]);
+  rule.lapses = numbers(c["lapses"]);
+  rule.prior_mean = c["prior_mean"];
+  rule.prior_sd = c["prior_sd"];
+  rule.max_trials = c["trials"];
+  return rule;
+}
+
+void expect_close(double actual, double expected, const std::string& what) {
+  EXPECT_LE(std::abs(actual - expected), 1e-9 * std::max(1.0, std::abs(expected))) << what << ": " << actual << " vs " << expected;
+}
+
+TEST(QuestPlus, EveryChoiceAndPosteriorMatchesABruteForceNumpyReference) {
+  std::ifstream in(std::string(FOVLAB_SOURCE_DIR) + "/tests/study/schedule/quest_plus_reference.json");
+  ASSERT_TRUE(in) << "missing fixture";
+  const nlohmann::json reference = nlohmann::json::parse(in);
+  ASSERT_EQ(reference["cases"].size(), 3u);
+  for (const nlohmann::json& c : reference["cases"]) {
+    SCOPED_TRACE(c["name"].get<std::string>());
+    const QuestPlusRule rule = rule_of(c);
+    const std::vector<double> levels = numbers(c["levels"]);
+    ASSERT_FALSE(quest_plus_rule_error(rule, levels));
+    const QuestPlus quest(rule, levels);
+    QuestPlusState state = quest.start();
+    std::vector<bool> answers;
+    int step_number = 0;
+    for (const nlohmann::json& step : c["steps"]) {
+      const std::string at = "step " + std::to_string(step_number++);
+      const std::vector<double> expected = numbers(step["expected_entropies"]);
+      const std::vector<double> entropies = quest.expected_entropies(state.posterior);
+      ASSERT_EQ(entropies.size(), expected.size());
+      for (size_t x = 0; x < expected.size(); ++x) expect_close(entropies[x], expected[x], at + " E[H] of level " + std::to_string(x));
+      ASSERT_EQ(state.index, step["index"].get<int>()) << at;
+      ASSERT_FALSE(state.finished) << at;
+      const bool seen = step["seen"];
+      answers.push_back(seen);
+      state = quest.next(state, seen);
+      const QuestPlusEstimate estimate = quest.estimate(state.posterior);
+      expect_close(estimate.threshold_mean, step["threshold_mean"], at + " threshold mean");
+      expect_close(estimate.threshold_lower, step["threshold_lower"], at + " interval lower");
+      expect_close(estimate.threshold_upper, step["threshold_upper"], at + " interval upper");
+      expect_close(estimate.entropy_bits, step["entropy_bits"], at + " entropy");
+    }
+    EXPECT_TRUE(state.finished);  // max_trials
+    // The same state again from the answers alone (resume and replay).
+    const QuestPlusState again = quest.replay(answers);
+    EXPECT_EQ(again.posterior, state.posterior);
+    EXPECT_EQ(again.trials, state.trials);
+  }
+}
+
+TEST(QuestPlus, StopsByEntropyOrIntervalWidth) {
+  QuestPlusRule rule;
+  rule.rising = true;
+  rule.guess = 0.5;
+  const std::vector<double> levels = {1, 2, 3, 4, 5, 6, 7, 8};
+  rule.thresholds = default_quest_thresholds(levels, rule.shape);
+  rule.slopes = default_quest_slopes(levels, rule.shape);
+  rule.lapses = default_quest_lapses();
+  rule.max_trials = 500;
+  rule.stop_interval_width = 1.0;
+  ASSERT_FALSE(quest_plus_rule_error(rule, levels));
+  const QuestPlus quest(rule, levels);
+  QuestPlusState state = quest.start();
+  // An observer who sees everything from level 5 up.
+  while (!state.finished) state = quest.next(state, levels[size_t(state.index)] >= 5);
+  const QuestPlusEstimate estimate = quest.estimate(state.posterior);
+  EXPECT_LE(estimate.threshold_upper - estimate.threshold_lower, 1.0);
+  EXPECT_LT(state.trials, 500);
+  EXPECT_GT(estimate.threshold_mean, 4.0);
+  EXPECT_LT(estimate.threshold_mean, 5.0);
+}
+
+TEST(QuestPlus, BadRulesAreNamedByTheirKey) {
+  const std::vector<double> levels = {1, 2, 3, 4};
+  QuestPlusRule good;
+  good.thresholds = {1, 2, 3, 4};
+  good.slopes = {1, 2};
+  good.lapses = {0, 0.02};
+  ASSERT_FALSE(quest_plus_rule_error(good, levels));
+  const auto error = [&](auto change) {
+    QuestPlusRule rule = good;
+    change(rule);
+    return quest_plus_rule_error(rule, levels).value_or("no error");
+  };
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {2, 1}; }).rfind("thresholds:", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.slopes = {0, 1}; }).rfind("slopes:", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.lapses = {0, 0.6}; r.guess = 0.5; }).rfind("lapses:", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.prior_sd = 0.01; r.prior_mean = 100; }).rfind("prior_mean: expected a prior with mass", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_entropy_bits = 4; }).rfind("stop_entropy_bits:", 0), 0u);  // log2(16) = 4
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_interval_width = 3; }).rfind("stop_interval_width:", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.shape = PsychometricShape::weibull; r.thresholds = {0, 1}; }).rfind("thresholds:", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = std::vector<double>(2001, 0); for (size_t i = 0; i < 2001; ++i) r.thresholds[i] = double(i); r.slopes = {1, 2, 3, 4, 5}; }).rfind("thresholds: expected at most 20000", 0), 0u);
+}
+
+}  // namespace
+}  // namespace fovlab
