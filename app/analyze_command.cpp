@@ -133,6 +133,20 @@ void print_summary(const analysis::AnalysisResult& result) {
       std::printf("  fit %-10s %-18s threshold %s %s\n", group.group.label().c_str(),
                   shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
                   format_interval(fit.threshold_interval.lower, fit.threshold_interval.upper, 5).c_str());
+  // Adaptive tracks: at most 20 lines (adaptive_tracks.csv holds every one).
+  size_t tracks_printed = 0, tracks = 0;
+  for (const auto& participant : result.participants)
+    for (const auto& track : participant.tracks) {
+      if (tracks++ == 0) std::printf("adaptive tracks (threshold by each procedure's rule; adaptive_tracks.csv):\n");
+      if (tracks_printed >= 20) continue;
+      ++tracks_printed;
+      std::printf("  %-10s %-12s %-12s %-10s %s%s, %zu trials%s\n", participant.participant.c_str(), track.block.c_str(),
+                  track.procedure.c_str(), track.variant.empty() ? "-" : track.variant.c_str(),
+                  track.threshold ? format_number(*track.threshold, 5).c_str() : "none",
+                  track.threshold_lower ? (" " + format_interval(*track.threshold_lower, *track.threshold_upper, 4)).c_str() : "",
+                  track.levels.size(), track.note.empty() ? "" : ("; " + track.note).c_str());
+    }
+  if (tracks > tracks_printed) std::printf("  ... and %zu more\n", tracks - tracks_printed);
   if (result.rating_grid) print_rating_grid(*result.rating_grid);
   if (!result.preferences.empty()) print_preference_table(result.preferences);
   std::vector<const analysis::ParticipantRow*> unsealed;

@@ -25,6 +25,7 @@ void add_voronoi_command(CLI::App& app);
 void add_bench_volume_command(CLI::App& app);
 void add_prerender_command(CLI::App& app);
 void add_binomial_command(CLI::App& app);
+void add_simulate_command(CLI::App& app);  // and bench-quest
 
 // Thrown by a command that finished but must report failure with this exit code (replay --verify
 // found differences: 1).

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   fovlab::app::add_bench_volume_command(app);
   fovlab::app::add_prerender_command(app);
   fovlab::app::add_binomial_command(app);
+  fovlab::app::add_simulate_command(app);
   // A first word that is neither a flag nor a subcommand is named as such (CLI11 would say only that
   // a subcommand is required).
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; }).empty()) {

@@ -62,13 +62,14 @@ void run(RunOptions options) {
   session.prepare_progress = percent_progress("preparing stimuli");
   if (session.headless) session.trial_progress = percent_progress("trials");
   const SessionOutcome outcome = run_session(config, session);
-  std::printf("%s: %s%s%s, %d of %d trials complete%s\n", outcome.log_path.c_str(),
+  const char* at_most = outcome.trials_total_is_upper_bound ? "at most " : "";
+  std::printf("%s: %s%s%s, %d of %s%d trials complete%s\n", outcome.log_path.c_str(),
               outcome.resumed ? "resumed" : "new session", session.headless ? " (headless, virtual clock)" : "",
-              outcome.excluded ? ", participant excluded (attention checks)" : "", outcome.trials_completed,
+              outcome.excluded ? ", participant excluded (attention checks)" : "", outcome.trials_completed, at_most,
               outcome.trials_total, outcome.stop_reason.empty() ? "" : (" (stopped: " + outcome.stop_reason + ")").c_str());
   if (!outcome.finished && outcome.trials_completed < outcome.trials_total)
-    std::printf("paused after %d of %d trials: every answer so far is kept; to resume, run %s\n",
-                outcome.trials_completed, outcome.trials_total,
+    std::printf("paused after %d of %s%d trials: every answer so far is kept; to resume, run %s\n",
+                outcome.trials_completed, at_most, outcome.trials_total,
                 participant_was_next ? ("the same command with --participant " + session.participant).c_str()
                                      : "the same command again");
   const int trials_run = std::max(1, outcome.trials_run);

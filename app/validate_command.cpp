@@ -134,9 +134,9 @@ void validate(const std::string& config_path, const std::string& participant, bo
               plan.trials.size(), checks, practice, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
               double(prepared_frames_bytes(specs)) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
   if (!plan.tracks.empty())
-    std::printf("adaptive: %zu tracks (staircases, QUEST+), each planned to its max_trials (one that stops sooner skips "
+    std::printf("adaptive: %zu track%s (staircases, QUEST+), each planned to its max_trials (one that stops sooner skips "
                 "the rest: the trials and duration are upper bounds)\n",
-                plan.tracks.size());
+                plan.tracks.size(), plan.tracks.size() == 1 ? "" : "s");
   std::printf("expected duration %.1f min of trials (1.5 s an answer%s)\n", minutes,
               config.validation.enabled ? ", eye-tracker validations passing at once" : "");
   if (time_render) estimate_render_time(plan, device, cache_dir);

@@ -1043,7 +1043,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     }
     html += "</ul>\n";
   }
-  html += "<p>The same numbers as data: conditions.csv, participants.csv, thresholds.json.</p>\n";
+  html += std::string("<p>The same numbers as data: conditions.csv, participants.csv, ") +
+          (with_tracks > 0 ? "adaptive_tracks.csv, " : "") + "thresholds.json.</p>\n";
   html += "</body>\n</html>\n";
   return html;
 }

@@ -127,7 +127,12 @@ class ComparisonAnalysis {
       result_.left_out.push_back({"study " + data_.study,
                                   "no answered comparison trial of an included participant: no condition to test"});
     // Levels of the config no included trial tested (a conditions file's variant: of its own levels).
+    // An adaptive block chooses its levels, so a level none of its tracks reached is no gap in the
+    // data: not listed when the study has adaptive blocks.
+    const bool adaptive = std::any_of(data_.config.blocks.begin(), data_.config.blocks.end(),
+                                      [](const BlockConfig& block) { return block.procedure >= 0; });
     for (const auto& [group, conditions] : counts_) {
+      if (adaptive) break;
       std::set<double> tested;
       for (const auto& [name, counts] : conditions)
         if (counts.level) tested.insert(*counts.level);

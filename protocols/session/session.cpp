@@ -157,6 +157,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   SessionOutcome outcome;
   outcome.plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   outcome.trials_total = static_cast<int>(plan.trials.size());
+  outcome.trials_total_is_upper_bound = !plan.tracks.empty();
   outcome.log_path = session_log_path(options.results_dir, config.name, options.participant);
   check_prepared_frames_fit(planned_specs(plan), config.source_path);  // before the window, the lock, any render
   check_sampling_maps(plan.stimuli, config.source_path);

@@ -41,6 +41,7 @@ struct SessionOutcome {
   std::string log_path;
   int trials_completed = 0;       // complete trials in the log, this run and earlier ones
   int trials_total = 0;
+  bool trials_total_is_upper_bound = false;  // adaptive tracks: one that stops early skips the rest of its trials
   int trials_run = 0;             // complete trials added by this run
   bool resumed = false;
   bool excluded = false;

@@ -28,6 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::read_file;
+using test::resume_after_cut;
 using test::simulated;
 using test::study_fixture;
 using test::trial_summary;
@@ -215,11 +216,7 @@ TEST(AdaptiveSession, ACrashAnywhereResumesToTheSameStaircases) {
                                     line_ends[line_ends.size() - 3]};
   for (size_t cut : cuts) {
     SCOPED_TRACE("cut at byte " + std::to_string(cut));
-    const fs::path folder = results / ("cut" + std::to_string(cut));
-    const std::string log_path = session_log_path(folder.string(), config.name, "P1");
-    fs::create_directories(fs::path(log_path).parent_path());
-    std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
-    const SessionOutcome resumed = run_session(config, simulated(folder));
+    const auto [resumed, log_path] = resume_after_cut(config, simulated(results), results, whole, cut);
     EXPECT_TRUE(resumed.resumed);
     EXPECT_TRUE(resumed.finished);
     EXPECT_EQ(trial_summary(log_path), expected);
@@ -325,12 +322,8 @@ TEST(AdaptiveSession, QuestPlusChoosesEachLevelFromTheAnswersBeforeItAndAnalyses
 
   // A cut log resumes to the same trials.
   const std::string whole = read_file(outcome.log_path);
-  const size_t cut = whole.find("\"trial_end\"", whole.size() / 2);
-  const fs::path folder = results / "cut";
-  const std::string log_path = session_log_path(folder.string(), config.name, "P1");
-  fs::create_directories(fs::path(log_path).parent_path());
-  std::ofstream(log_path, std::ios::binary) << whole.substr(0, whole.find('\n', cut) + 1);
-  const SessionOutcome resumed = run_session(config, simulated(folder));
+  const size_t cut = whole.find('\n', whole.find("\"trial_end\"", whole.size() / 2)) + 1;
+  const auto [resumed, log_path] = resume_after_cut(config, simulated(results), results, whole, cut);
   EXPECT_TRUE(resumed.resumed);
   EXPECT_EQ(trial_summary(log_path), trial_summary(outcome.log_path));
 }

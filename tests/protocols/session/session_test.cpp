@@ -34,6 +34,7 @@ using test::fixture_with;
 using test::fresh_folder;
 using test::simulated;
 using test::read_file;
+using test::resume_after_cut;
 using test::study_fixture;
 using test::trial_summary;
 
@@ -277,18 +278,6 @@ TEST(Session, StoppedAtABreaksKeyTheFailedCheckStaysCounted) {
   const SessionOutcome resumed = run_session(config, options);
   ASSERT_TRUE(resumed.finished);
   EXPECT_EQ(trial_summary(resumed.log_path), trial_summary(reference.log_path));
-}
-
-// The log `whole` cut after `cut` bytes (a crash) in a folder of its own, then the session run
-// again with `options` (resuming it) there; returns the resumed run and its log path.
-std::pair<SessionOutcome, std::string> resume_after_cut(const StudyConfig& config, SessionOptions options,
-                                                        const fs::path& results, const std::string& whole, size_t cut) {
-  const fs::path folder = results / ("cut" + std::to_string(cut));
-  const std::string log_path = session_log_path(folder.string(), config.name, options.participant);
-  fs::create_directories(fs::path(log_path).parent_path());
-  std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
-  options.results_dir = folder.string();
-  return {run_session(config, options), log_path};
 }
 
 TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "protocols/stimuli/stimulus_settings.h"
@@ -64,6 +65,19 @@ inline std::vector<std::string> trial_summary(const std::string& log_path) {
     lines.push_back(line);
   }
   return lines;
+}
+
+// The log `whole` cut after `cut` bytes (a crash) in a folder of its own, then the session run
+// again with `options` (resuming it) there; returns the resumed run and its log path.
+inline std::pair<SessionOutcome, std::string> resume_after_cut(const StudyConfig& config, SessionOptions options,
+                                                               const std::filesystem::path& results,
+                                                               const std::string& whole, size_t cut) {
+  const std::filesystem::path folder = results / ("cut" + std::to_string(cut));
+  const std::string log_path = session_log_path(folder.string(), config.name, options.participant);
+  std::filesystem::create_directories(std::filesystem::path(log_path).parent_path());
+  std::ofstream(log_path, std::ios::binary) << whole.substr(0, cut);
+  options.results_dir = folder.string();
+  return {run_session(config, options), log_path};
 }
 
 }  // namespace fovlab::test

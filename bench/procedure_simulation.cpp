@@ -1,0 +1,229 @@
+#include "bench/procedure_simulation.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <tuple>
+#include <thread>
+
+#include "analysis/psychometric/psychometric_fit.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
+#include "protocols/observer/simulated_observer.h"
+#include "study/schedule/adaptive_progress.h"
+#include "study/schedule/study_plan.h"
+
+namespace fovlab::bench {
+namespace {
+
+// One procedure (per block and variant) of one simulated participant.
+struct Outcome {
+  std::optional<double> estimate;
+  int trials = 0;
+};
+
+struct Key {
+  int block_order = 0;  // the block's index in the config
+  std::string procedure, variant;
+  int max_trials = 0;
+  bool operator<(const Key& other) const {
+    return std::tie(block_order, procedure, variant, max_trials) <
+           std::tie(other.block_order, other.procedure, other.variant, other.max_trials);
+  }
+};
+
+struct ParticipantRun {
+  std::map<Key, Outcome> outcomes;
+  ObserverModel model;
+};
+
+int config_block_index(const StudyConfig& config, const std::string& name) {
+  for (size_t i = 0; i < config.blocks.size(); ++i)
+    if (config.blocks[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+// The level where the observer's p_report (p_detect) equals `target`, by bisection over the levels'
+// range (p_detect is monotone in the level); NaN when the range does not reach it.
+double level_where_p_detect_is(const ObserverModel& model, double target, double low, double high) {
+  const auto f = [&](double x) { return model.p_detect(x) - target; };
+  double a = low, b = high, fa = f(a), fb = f(b);
+  if (fa * fb > 0) return std::nan("");
+  for (int i = 0; i < 200; ++i) {
+    const double m = 0.5 * (a + b), fm = f(m);
+    if ((fm <= 0) == (fa <= 0)) a = m, fa = fm;
+    else b = m;
+  }
+  return 0.5 * (a + b);
+}
+
+// One participant's session, answered by the observer, every adaptive procedure's max_trials set
+// to `max_trials` (0: as configured).
+ParticipantRun run_participant(const StudyConfig& base, const std::string& participant, const std::string& observer_spec,
+                               int max_trials) {
+  StudyConfig config = base;
+  if (max_trials > 0)
+    for (ProcedureConfig& procedure : config.procedures) {
+      procedure.staircase.max_trials = max_trials;
+      procedure.quest.max_trials = max_trials;
+    }
+  const StudyPlan plan = make_study_plan(config, participant);
+  ParticipantRun run;
+  run.model = parse_observer_spec(observer_spec, plan);
+  const SimulatedObserver observer(run.model, plan);
+  AdaptiveProgress progress(plan);
+  std::map<Key, std::map<double, analysis::LevelCounts>> counts;  // constant stimuli, by level
+  std::vector<int> track_trials(plan.tracks.size(), 0);
+  for (const Trial& planned : plan.trials) {
+    if (planned.practice) continue;
+    const std::optional<Trial> trial = progress.presented(planned);
+    if (!trial) continue;
+    const std::string answer = observer.answer_comparison(*trial).answer;
+    progress.record(planned, answer);
+    if (trial->attention_check || !trial->level) continue;
+    if (planned.track >= 0) {
+      ++track_trials[static_cast<size_t>(planned.track)];
+      continue;
+    }
+    const PlannedBlock& block = plan.blocks.at(static_cast<size_t>(trial->block));
+    analysis::LevelCounts& level = counts[Key{config_block_index(config, block.name), "constant", trial->variant, 0}][*trial->level];
+    level.level = *trial->level;
+    ++level.n;
+    level.k += difference_seen(config.protocol, answer, trial->reference_first) ? 1 : 0;
+  }
+  for (size_t i = 0; i < plan.tracks.size(); ++i) {
+    const AdaptiveTrack& track = plan.tracks[i];
+    const int index = static_cast<int>(i);
+    Outcome outcome;
+    outcome.trials = track_trials[i];
+    if (const QuestPlus* quest = progress.quest(index))
+      outcome.estimate = quest->estimate(progress.quest_state(index).posterior).threshold_mean;
+    else
+      outcome.estimate = staircase_threshold(track.staircase, progress.staircase(index), track.grid);
+    const ProcedureConfig& procedure = config.procedures.at(static_cast<size_t>(track.procedure));
+    // Interleaved staircases of one variant are reported apart, by their start.
+    std::string name = procedure.name;
+    if (procedure.starts.size() > 1)
+      name.append(" from ").append(format_number(track.grid.at(size_t(track.staircase.start_index)), 6));
+    run.outcomes[Key{config_block_index(config, plan.blocks.at(size_t(track.block)).name), name, track.variant,
+                     track.max_trials()}] = outcome;
+  }
+  for (const auto& [key, by_level] : counts) {
+    std::vector<analysis::LevelCounts> data;
+    Outcome outcome;
+    for (const auto& [level, count] : by_level) {
+      data.push_back(count);
+      outcome.trials += static_cast<int>(count.n);
+    }
+    if (data.size() >= 2) {
+      analysis::FitOptions options;
+      options.rising = !config.levels.higher_is_better;
+      options.guess = run.model.guess;
+      options.bootstrap_samples = 0;
+      const analysis::PsychometricFit fit = analysis::fit_psychometric(data, options);
+      if (fit.converged && std::isfinite(fit.model.parameters.threshold)) outcome.estimate = fit.model.parameters.threshold;
+    }
+    run.outcomes[key] = outcome;
+  }
+  return run;
+}
+
+}  // namespace
+
+SimulationResult simulate_study(const StudyConfig& config, const SimulationOptions& options) {
+  if (options.participants < 1 || options.participants > 1000000)
+    throw InputError("--participants: expected 1 to 1000000 simulated participants, got " + std::to_string(options.participants));
+  if (options.observer.find("seed=") != std::string::npos)
+    throw InputError("--observer: expected no seed= (each simulated participant's answers are seeded by its ID)");
+  for (int trials : options.max_trials)
+    if (trials < 1 || trials > 10000) throw InputError("--max-trials: expected values from 1 to 10000, got " + std::to_string(trials));
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<int> sweeps = options.max_trials;
+  if (sweeps.empty()) sweeps = {0};
+  // Participant p of sweep s: run index p * sweeps + s. Constant stimuli are kept from the first sweep.
+  const size_t runs = size_t(options.participants) * sweeps.size();
+  std::vector<ParticipantRun> results(runs);
+  std::vector<std::string> errors(runs);
+  const int threads = options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t run = next++; run < runs; run = next++) {
+      char id[24];
+      std::snprintf(id, sizeof id, "S%06zu", run / sweeps.size() + 1);
+      try {
+        results[run] = run_participant(config, id, options.observer, sweeps[run % sweeps.size()]);
+      } catch (const std::exception& error) {
+        errors[run] = error.what();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool) thread.join();
+  for (const std::string& error : errors)
+    if (!error.empty()) throw InputError(error);
+
+  SimulationResult result;
+  result.threads = threads;
+  const ObserverModel& model = results.front().model;
+  result.observer_threshold = model.threshold;
+  result.observer_slope = model.slope;
+  result.observer_guess = model.guess;
+  result.observer_lapse = model.lapse;
+  const auto [low, high] = std::minmax_element(config.levels.values.begin(), config.levels.values.end());
+  std::map<Key, std::vector<Outcome>> by_key;
+  for (size_t run = 0; run < runs; ++run)
+    for (const auto& [key, outcome] : results[run].outcomes)
+      if (key.procedure != "constant" || run % sweeps.size() == 0) by_key[key].push_back(outcome);
+  for (const auto& [key, outcomes] : by_key) {
+    ProcedureSummary summary;
+    summary.block = config.blocks.at(static_cast<size_t>(key.block_order)).name;
+    summary.procedure = key.procedure;
+    summary.variant = key.variant;
+    summary.max_trials = key.max_trials;
+    const std::string base_name = key.procedure.substr(0, key.procedure.find(" from "));
+    const auto procedure = std::find_if(config.procedures.begin(), config.procedures.end(),
+                                        [&](const ProcedureConfig& p) { return p.name == base_name; });
+    summary.kind = procedure == config.procedures.end() ? "constant"
+                   : procedure->kind == ProcedureConfig::Kind::quest_plus ? "quest_plus"
+                                                                          : "staircase";
+    summary.truth = model.threshold;
+    if (summary.kind == "staircase") {
+      const StaircaseRule& rule = procedure->staircase;
+      const double target = rule.kind == StaircaseRule::Kind::transformed
+                                ? std::pow(0.5, 1.0 / rule.down)
+                                : double(rule.easier_steps) / double(rule.harder_steps + rule.easier_steps);
+      summary.truth = level_where_p_detect_is(model, target, *low, *high);
+    }
+    summary.participants = static_cast<int>(outcomes.size());
+    double sum = 0.0, trials = 0.0;
+    std::vector<double> estimates;
+    for (const Outcome& outcome : outcomes) {
+      trials += outcome.trials;
+      if (outcome.estimate && std::isfinite(*outcome.estimate)) estimates.push_back(*outcome.estimate);
+    }
+    summary.estimates = static_cast<int>(estimates.size());
+    summary.mean_trials = trials / double(outcomes.size());
+    for (double value : estimates) sum += value;
+    if (!estimates.empty()) {
+      summary.mean_estimate = sum / double(estimates.size());
+      summary.bias = summary.mean_estimate - summary.truth;
+      double squares = 0.0, errors_squared = 0.0;
+      for (double value : estimates) {
+        squares += (value - summary.mean_estimate) * (value - summary.mean_estimate);
+        errors_squared += (value - summary.truth) * (value - summary.truth);
+      }
+      summary.sd = estimates.size() > 1 ? std::sqrt(squares / double(estimates.size() - 1)) : std::nan("");
+      summary.rmse = std::sqrt(errors_squared / double(estimates.size()));
+    }
+    result.summaries.push_back(std::move(summary));
+  }
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace fovlab::bench
