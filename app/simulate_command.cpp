@@ -78,6 +78,7 @@ void bench_quest(int levels, int thresholds, int slopes, int lapses, int repeats
   rule.slopes = {};
   for (int i = 0; i < slopes; ++i) rule.slopes.push_back(0.1 * std::pow(1.25, i));
   for (int i = 0; i < lapses; ++i) rule.lapses.push_back(0.01 * i);
+  if (const std::optional<std::string> error = quest_plus_rule_error(rule, grid)) throw InputError("bench-quest: " + *error);
   const auto table_start = std::chrono::steady_clock::now();
   const QuestPlus quest(rule, grid);
   const double table_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - table_start).count();

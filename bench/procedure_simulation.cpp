@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <tuple>
 #include <thread>
@@ -145,8 +146,10 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
   if (sweeps.empty()) sweeps = {0};
   // Participant p of sweep s: run index p * sweeps + s. Constant stimuli are kept from the first sweep.
   const size_t runs = size_t(options.participants) * sweeps.size();
+  if (options.threads < 0 || options.threads > 256)
+    throw InputError("--threads: expected 0 (every core) to 256, got " + std::to_string(options.threads));
   std::vector<ParticipantRun> results(runs);
-  std::vector<std::string> errors(runs);
+  std::vector<std::exception_ptr> errors(runs);
   const int threads = options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
   std::atomic<size_t> next{0};
   const auto work = [&] {
@@ -155,8 +158,8 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
       std::snprintf(id, sizeof id, "S%06zu", run / sweeps.size() + 1);
       try {
         results[run] = run_participant(config, id, options.observer, sweeps[run % sweeps.size()]);
-      } catch (const std::exception& error) {
-        errors[run] = error.what();
+      } catch (...) {
+        errors[run] = std::current_exception();
       }
     }
   };
@@ -164,8 +167,8 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
   for (int t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
   for (std::thread& thread : pool) thread.join();
-  for (const std::string& error : errors)
-    if (!error.empty()) throw InputError(error);
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);  // the first participant's error, as it was thrown
 
   SimulationResult result;
   result.threads = threads;

@@ -29,23 +29,29 @@ std::vector<AdaptiveTrackResult> adaptive_tracks(const StudyData& data, const Pa
     }
     results.push_back(std::move(result));
   }
-  // The trials of each track in session order (a trial of another schedule's track is left out).
+  // The trials of each track in session order. The track and the interval order are the schedule's
+  // (replay checks that the log agrees); a trial the schedule does not make adaptive is left out.
+  std::vector<bool> levels_differ(results.size(), false);
   for (const StudyTrial& trial : participant.trials) {
-    if (!trial.track || *trial.track < 0 || static_cast<size_t>(*trial.track) >= results.size()) continue;
-    const int track = *trial.track;
+    if (!trial.track || trial.index < 0 || static_cast<size_t>(trial.index) >= plan.trials.size()) continue;
+    const Trial& planned = plan.trials[static_cast<size_t>(trial.index)];
+    if (planned.track < 0 || planned.track != *trial.track) continue;
+    const int track = planned.track;
     AdaptiveTrackResult& result = results[static_cast<size_t>(track)];
     const double derived = plan.tracks[static_cast<size_t>(track)].grid.at(static_cast<size_t>(progress.index(track)));
-    if ((!trial.level || *trial.level != derived) && result.note.empty())
-      result.note = "trial " + std::to_string(trial.index) + " is logged at level " +
-                    (trial.level ? format_number(*trial.level, 6) : std::string("none")) + ", the procedure gives " +
-                    format_number(derived, 6) + " (check the log with fovlab replay)";
+    // The levels reported are those shown (logged); one the procedure would not have chosen leaves
+    // the track without a threshold.
+    if (!trial.level || *trial.level != derived) {
+      if (!levels_differ[static_cast<size_t>(track)])
+        result.note = "trial " + std::to_string(trial.index) + " is logged at level " +
+                      (trial.level ? format_number(*trial.level, 6) : std::string("none")) + ", the procedure gives " +
+                      format_number(derived, 6) + ": no threshold (check the log with fovlab replay)";
+      levels_differ[static_cast<size_t>(track)] = true;
+    }
     const std::string answer = trial.answers.empty() ? std::string() : trial.answers.front();
-    result.levels.push_back(derived);
-    result.seen.push_back(difference_seen(data.config.protocol, answer, trial.reference_first));
+    result.levels.push_back(trial.level.value_or(derived));
+    result.seen.push_back(difference_seen(data.config.protocol, answer, planned.reference_first));
     const size_t reversals_before = progress.staircase(track).reversal_indices.size();
-    Trial planned;
-    planned.track = track;
-    planned.reference_first = trial.reference_first;
     progress.record(planned, answer);
     if (progress.staircase(track).reversal_indices.size() > reversals_before)
       result.reversal_trials.push_back(static_cast<int>(result.levels.size()) - 1);
@@ -54,6 +60,7 @@ std::vector<AdaptiveTrackResult> adaptive_tracks(const StudyData& data, const Pa
     AdaptiveTrackResult& result = results[i];
     const int track = static_cast<int>(i);
     result.stopped = progress.finished(track);
+    if (levels_differ[i]) continue;
     if (const QuestPlus* quest = progress.quest(track)) {
       const QuestPlusEstimate estimate = quest->estimate(progress.quest_state(track).posterior);
       result.threshold = estimate.threshold_mean;

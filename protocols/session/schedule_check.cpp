@@ -37,6 +37,13 @@ ScheduleCheck check_log_against_schedule(const SessionRecord& record, const Stud
     const TrialStartEvent& start = recorded.start;
     // (The level is compared for adaptive trials: logs of schema 1 and 2 wrote no level.)
     const bool level_differs = planned.track >= 0 && start.level != presented->level;
+    const std::optional<int> track = planned.track >= 0 ? std::optional<int>(planned.track) : std::nullopt;
+    // An adaptive trial's answer is read by its interval order (analysis/study/adaptive_tracks).
+    if (planned.track >= 0 && start.reference_first != std::optional<bool>(planned.reference_first))
+      check.differences.push_back(where + ": trial_start's reference_first is not the schedule's");
+    if (start.track != track)
+      check.differences.push_back(where + ": trial_start's track (" + (start.track ? std::to_string(*start.track) : "none") +
+                                  ") is not the schedule's (" + (track ? std::to_string(*track) : "none") + ")");
     if (start.condition != presented->condition || start.sequence != presented->sequence || level_differs ||
         start.attention_check != presented->attention_check ||
         start.practice != presented->practice)

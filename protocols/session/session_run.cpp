@@ -329,13 +329,15 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed, int c
   }
   // The eye-tracker validation due before the next trial: at the start of every run, after breaks.
   const char* validation_due = resumed ? TrackerValidationEvent::resumed : TrackerValidationEvent::start;
+  bool first_of_run = true;  // the run's first trial presented (the one at `first` may be skipped)
   for (size_t index = static_cast<size_t>(first); index < plan_.trials.size(); ++index) {
     const Trial& planned = plan_.trials[index];
     const std::optional<Trial> presented = adaptive.presented(planned);
     if (!presented) continue;  // its adaptive track has stopped
     const Trial& trial = *presented;
     const PlannedBlock& block = plan_.blocks.at(static_cast<size_t>(trial.block));
-    const bool block_starts = trial.index == block.first_trial || static_cast<int>(index) == first;
+    const bool block_starts = trial.index == block.first_trial || first_of_run;
+    first_of_run = false;
     // No rest after the practice block: a screen that says the study begins instead.
     const bool after_practice = trial.block > 0 && plan_.blocks.at(static_cast<size_t>(trial.block - 1)).practice;
     if (trial.index == block.first_trial && after_practice) {

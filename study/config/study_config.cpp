@@ -642,8 +642,10 @@ ProcedureConfig read_procedure(const TomlFields& fields, const std::string& name
     quest.guess = fields.has("guess_rate") ? bounded_number(fields, "guess_rate", 0.0, 0.0, 0.99) : -1.0;
     quest.prior_mean = fields.number("prior_mean", 0.0);
     quest.prior_sd = bounded_number(fields, "prior_sd", 0.0, 0.0, 1e300);
-    if (fields.has("prior_mean") && !fields.has("prior_sd"))
-      fields.fail("prior_mean", "expected prior_sd too (a normal prior over thresholds; without both the prior is uniform)");
+    if (fields.has("prior_mean") != fields.has("prior_sd"))
+      fields.fail(fields.has("prior_mean") ? "prior_mean" : "prior_sd",
+                  std::string("expected ") + (fields.has("prior_mean") ? "prior_sd" : "prior_mean") +
+                      " too (a normal prior over thresholds; without both the prior is uniform)");
     quest.max_trials = bounded_integer(fields, "max_trials", std::nullopt, 1, 10000);
     quest.stop_entropy_bits = bounded_number(fields, "stop_entropy_bits", 0.0, 0.0, 1000.0);
     quest.stop_interval_width = bounded_number(fields, "stop_interval_width", 0.0, 0.0, 1e300);
@@ -661,9 +663,36 @@ ProcedureConfig read_procedure(const TomlFields& fields, const std::string& name
 }
 
 // A rule's error "KEY: expected ..." as a config error of the procedure's table.
+// ("levels: ..." is about [levels], not a key of the procedure's table.)
 [[noreturn]] void fail_with_rule_error(const TomlFields& fields, const std::string& error, const std::string& suffix) {
   const size_t colon = error.find(": ");
-  fields.fail(error.substr(0, colon), error.substr(colon + 2) + suffix);
+  const std::string key = error.substr(0, colon);
+  if (key == "levels") fields.fail("", "[levels] values: " + error.substr(colon + 2) + suffix);
+  fields.fail(key, error.substr(colon + 2) + suffix);
+}
+
+// The QUEST+ tables a session would hold: one per (procedure, variant) that a block uses, at most
+// kQuestPlusMaxTableEntries entries in all.
+void check_quest_plus_tables(const TomlFields& fields, const StudyConfig& config) {
+  std::set<int> used;
+  for (const BlockConfig& block : config.blocks)
+    if (block.procedure >= 0 && config.procedures[size_t(block.procedure)].kind == ProcedureConfig::Kind::quest_plus)
+      used.insert(block.procedure);
+  std::vector<const VariantConfig*> variants;
+  for (const VariantConfig& variant : config.stimulus.variants) variants.push_back(&variant);
+  if (variants.empty()) variants.push_back(nullptr);
+  size_t entries = 0;
+  for (int index : used)
+    for (const VariantConfig* variant : variants) {
+      const std::vector<double> grid = adaptive_grid(config.levels, variant);
+      const QuestPlusRule rule = quest_plus_rule(config.procedures[size_t(index)], config.protocol, config.levels, grid);
+      entries += grid.size() * rule.thresholds.size() * rule.slopes.size() * rule.lapses.size();
+    }
+  if (entries > kQuestPlusMaxTableEntries)
+    fields.table("procedure").table(config.procedures[size_t(*used.rbegin())].name)
+        .fail("thresholds", "the QUEST+ tables of every variant and procedure would hold " + std::to_string(entries) +
+                                " entries (levels x grid points); expected at most " +
+                                std::to_string(kQuestPlusMaxTableEntries) + ": fewer levels, grid points or variants");
 }
 
 // A block's procedure against the study: a protocol whose answers are right or wrong, and a rule
@@ -863,6 +892,7 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     block_fields.finish();
     config.blocks.push_back(std::move(block));
   }
+  check_quest_plus_tables(fields, config);
   fields.finish();
   return config;
 }

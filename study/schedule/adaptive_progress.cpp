@@ -6,7 +6,11 @@ AdaptiveProgress::AdaptiveProgress(const StudyPlan& plan) : plan_(&plan) {
   for (const AdaptiveTrack& track : plan.tracks) {
     staircases_.push_back(start_staircase(track.staircase));
     if (track.kind == ProcedureConfig::Kind::quest_plus) {
-      auto quest = std::make_shared<const QuestPlus>(track.quest, track.grid);
+      // Tracks of the same rule and levels (a procedure's variant in several blocks) share a table.
+      std::shared_ptr<const QuestPlus> quest;
+      for (size_t i = 0; i < quests_.size() && !quest; ++i)
+        if (quests_[i] && plan.tracks[i].quest == track.quest && plan.tracks[i].grid == track.grid) quest = quests_[i];
+      if (!quest) quest = std::make_shared<const QuestPlus>(track.quest, track.grid);
       quest_states_.push_back(quest->start());
       quests_.push_back(std::move(quest));
     } else {

@@ -66,6 +66,8 @@ std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, cons
   if (levels.size() < 2) return "levels: expected at least two levels for QUEST+";
   if (levels.size() > kQuestPlusMaxLevels)
     return "levels: expected at most " + std::to_string(kQuestPlusMaxLevels) + " levels for QUEST+, got " + std::to_string(levels.size());
+  if (rule.shape == PsychometricShape::weibull && *std::min_element(levels.begin(), levels.end()) <= 0)
+    return "shape: a Weibull function needs levels above 0";
   const auto grid_error = [](const char* key, const std::vector<double>& values) -> std::optional<std::string> {
     if (values.empty() || !ascending(values)) return std::string(key) + ": expected one or more values, ascending";
     return std::nullopt;
@@ -78,10 +80,8 @@ std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, cons
     return "thresholds: expected at most " + std::to_string(kQuestPlusMaxParameters) +
            " (thresholds x slopes x lapses) grid points, got " + std::to_string(parameters);
   if (rule.slopes.front() <= 0) return "slopes: expected values above 0";
-  if (rule.shape == PsychometricShape::weibull) {
-    if (rule.thresholds.front() <= 0) return "thresholds: expected values above 0 (a Weibull function)";
-    if (*std::min_element(levels.begin(), levels.end()) <= 0) return "shape: a Weibull function needs levels above 0";
-  }
+  if (rule.shape == PsychometricShape::weibull && rule.thresholds.front() <= 0)
+    return "thresholds: expected values above 0 (a Weibull function)";
   if (!(rule.guess >= 0 && rule.guess < 1)) return "guess_rate: expected a value in [0, 1)";
   if (rule.lapses.front() < 0 || rule.guess + rule.lapses.back() >= 1)
     return "lapses: expected values of at least 0 with guess_rate + lapse below 1 (room for p_see)";

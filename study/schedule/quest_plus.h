@@ -36,12 +36,16 @@ struct QuestPlusRule {
   int max_trials = 40;
   double stop_entropy_bits = 0.0;   // stops once the posterior's entropy is at most this (0: never)
   double stop_interval_width = 0.0; // stops once the threshold's 95 % credible interval is at most this wide (0: never)
+  bool operator==(const QuestPlusRule&) const = default;
 };
 
 // Limits on the grids (the largest QUEST+ docs/config.md allows; `fovlab bench-quest` times a
 // choice at these sizes).
 constexpr size_t kQuestPlusMaxLevels = 100;
 constexpr size_t kQuestPlusMaxParameters = 20000;  // thresholds x slopes x lapses
+// A session's QUEST+ tables in all (levels x grid points, summed over the distinct (rule, levels)
+// of its tracks: 3 doubles an entry, 96 MB at this limit).
+constexpr size_t kQuestPlusMaxTableEntries = 4000000;
 
 // Default grids for a level grid (any order): 41 thresholds evenly over the levels' range (Weibull:
 // log-spaced, levels > 0), 8 slopes log-spaced over transitions (10 % to 90 % of p_see) from the

@@ -196,6 +196,15 @@ TEST(AdaptiveSession, LevelsFollowTheAnswersAStoppedStaircaseSkipsTheRestAndRepl
   const ScheduleCheck check = check_log_against_schedule(forged, plan);
   ASSERT_EQ(check.differences.size(), 1u);
   EXPECT_NE(check.differences[0].find("differs from the schedule"), std::string::npos) << check.differences[0];
+  // A trial logged under another track than the schedule's (the analysis attributes answers by it).
+  SessionRecord retracked = record;
+  for (RecordedTrial& trial : retracked.trials)
+    if (trial.start.track) {
+      trial.start.track = *trial.start.track == 0 ? 1 : 0;
+      break;
+    }
+  ASSERT_EQ(check_log_against_schedule(retracked, plan).differences.size(), 1u);
+  EXPECT_NE(check_log_against_schedule(retracked, plan).differences[0].find("track"), std::string::npos);
   // A trial missing before a later one that the schedule runs.
   SessionRecord gap = record;
   gap.trials.erase(gap.trials.begin() + 3);
