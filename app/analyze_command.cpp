@@ -140,8 +140,10 @@ void print_summary(const analysis::AnalysisResult& result) {
       if (tracks++ == 0) std::printf("adaptive tracks (threshold by each procedure's rule; adaptive_tracks.csv):\n");
       if (tracks_printed >= 20) continue;
       ++tracks_printed;
-      std::printf("  %-10s %-12s %-12s %-10s %s%s, %zu trials%s\n", participant.participant.c_str(), track.block.c_str(),
-                  track.procedure.c_str(), track.variant.empty() ? "-" : track.variant.c_str(),
+      const std::string procedure =
+          track.procedure + (track.start_level ? " from " + format_number(*track.start_level, 4) : std::string());
+      std::printf("  %-10s %-12s %-16s %-10s %s%s, %zu trials%s\n", participant.participant.c_str(), track.block.c_str(),
+                  procedure.c_str(), track.variant.empty() ? "-" : track.variant.c_str(),
                   track.threshold ? format_number(*track.threshold, 5).c_str() : "none",
                   track.threshold_lower ? (" " + format_interval(*track.threshold_lower, *track.threshold_upper, 4)).c_str() : "",
                   track.levels.size(), track.note.empty() ? "" : ("; " + track.note).c_str());
