@@ -196,11 +196,7 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
                                                                           : "staircase";
     summary.truth = model.threshold;
     if (summary.kind == "staircase") {
-      const StaircaseRule& rule = procedure->staircase;
-      const double target = rule.kind == StaircaseRule::Kind::transformed
-                                ? std::pow(0.5, 1.0 / rule.down)
-                                : double(rule.easier_steps) / double(rule.harder_steps + rule.easier_steps);
-      summary.truth = level_where_p_detect_is(model, target, *low, *high);
+      summary.truth = level_where_p_detect_is(model, staircase_target_probability(procedure->staircase), *low, *high);
     }
     summary.participants = static_cast<int>(outcomes.size());
     double sum = 0.0, trials = 0.0;

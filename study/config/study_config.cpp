@@ -126,9 +126,7 @@ void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConf
   const TomlFields test_fields = stimulus_fields.table("test");
   const std::vector<TomlFields> variant_fields =
       stimulus.variants.empty() ? std::vector<TomlFields>{} : stimulus_fields.tables("variant");
-  std::vector<const VariantConfig*> variants;
-  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
-  if (variants.empty()) variants.push_back(nullptr);
+  const std::vector<const VariantConfig*> variants = tested_variants(stimulus);
   std::vector<std::optional<double>> level_values(levels.values.begin(), levels.values.end());
   if (level_values.empty()) level_values.emplace_back(std::nullopt);
   const std::map<std::string, double> none;
@@ -156,9 +154,7 @@ std::vector<MethodParameters> stimulus_parameters(const StimulusConfig& stimulus
   std::vector<MethodParameters> all;
   all.push_back(parameters_with(stimulus.reference.method, {&stimulus.reference.parameters}));
   const ParameterLayer none;
-  std::vector<const VariantConfig*> variants;
-  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
-  if (variants.empty()) variants.push_back(nullptr);
+  const std::vector<const VariantConfig*> variants = tested_variants(stimulus);
   for (const VariantConfig* variant : variants) {
     std::vector<ParameterLayer> level_parameters;
     for (double value : variant_levels(levels, variant)) level_parameters.push_back({{levels.parameter, value}});
@@ -678,9 +674,7 @@ void check_quest_plus_tables(const TomlFields& fields, const StudyConfig& config
   for (const BlockConfig& block : config.blocks)
     if (block.procedure >= 0 && config.procedures[size_t(block.procedure)].kind == ProcedureConfig::Kind::quest_plus)
       used.insert(block.procedure);
-  std::vector<const VariantConfig*> variants;
-  for (const VariantConfig& variant : config.stimulus.variants) variants.push_back(&variant);
-  if (variants.empty()) variants.push_back(nullptr);
+  const std::vector<const VariantConfig*> variants = tested_variants(config.stimulus);
   size_t entries = 0;
   for (int index : used)
     for (const VariantConfig* variant : variants) {
@@ -702,9 +696,7 @@ void check_procedure(const TomlFields& fields, const StudyConfig& config, const 
   if (kind != ProtocolKind::two_afc && kind != ProtocolKind::pair)
     fields.fail("", std::string("an adaptive procedure needs answers that see the difference or not (2afc, pair); the "
                                 "protocol is ") + protocol_name(kind));
-  std::vector<const VariantConfig*> variants;
-  for (const VariantConfig& variant : config.stimulus.variants) variants.push_back(&variant);
-  if (variants.empty()) variants.push_back(nullptr);
+  const std::vector<const VariantConfig*> variants = tested_variants(config.stimulus);
   for (const VariantConfig* variant : variants) {
     const std::vector<double> grid = adaptive_grid(config.levels, variant);
     const std::string of_variant = variant ? " (variant \"" + variant->name + "\")" : "";
@@ -914,6 +906,13 @@ StudyConfig parse_logged_study_config(const std::string& text, const std::string
 
 const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant) {
   return variant && !variant->levels.empty() ? variant->levels : levels.values;
+}
+
+std::vector<const VariantConfig*> tested_variants(const StimulusConfig& stimulus) {
+  std::vector<const VariantConfig*> variants;
+  for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
+  if (variants.empty()) variants.push_back(nullptr);
+  return variants;
 }
 
 std::vector<double> adaptive_grid(const LevelsConfig& levels, const VariantConfig* variant) {

@@ -66,6 +66,8 @@ struct LevelsConfig {
 // The levels a variant is tested at: its own (a conditions file's rows), else every [levels] value.
 // `variant` null: the one unnamed variant of a config without variants.
 const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant);
+// The variants each block tests: the config's, in order, or one unnamed variant (null) when it has none.
+std::vector<const VariantConfig*> tested_variants(const StimulusConfig& stimulus);
 
 // [procedure.NAME]: an adaptive procedure a block may name (docs/config.md). Each variant of the
 // block gets its tracks, their trials interleaved: a staircase per start level, or one QUEST+. The

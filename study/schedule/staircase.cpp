@@ -1,6 +1,7 @@
 #include "study/schedule/staircase.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace fovlab {
 
@@ -34,6 +35,12 @@ std::optional<std::string> staircase_rule_error(const StaircaseRule& rule, int g
   if (rule.max_reversals > 0 && rule.reversals_averaged > rule.max_reversals)
     return "reversals_averaged: expected at most max_reversals (" + std::to_string(rule.max_reversals) + ")";
   return std::nullopt;
+}
+
+double staircase_target_probability(const StaircaseRule& rule) {
+  return rule.kind == StaircaseRule::Kind::transformed
+             ? std::pow(0.5, 1.0 / rule.down)
+             : double(rule.easier_steps) / double(rule.harder_steps + rule.easier_steps);
 }
 
 StaircaseState start_staircase(const StaircaseRule& rule) {

@@ -49,6 +49,9 @@ struct StaircaseState {
 // threshold that averages more reversals than the staircase may make.
 std::optional<std::string> staircase_rule_error(const StaircaseRule& rule, int grid_size);
 
+// The p(correct) the rule converges to: 0.5^(1/down), or easier / (harder + easier).
+double staircase_target_probability(const StaircaseRule& rule);
+
 StaircaseState start_staircase(const StaircaseRule& rule);
 // The state after one more answer. The rule must be valid for the grid (staircase_rule_error).
 StaircaseState next_staircase_state(const StaircaseRule& rule, StaircaseState state, bool correct, int grid_size);

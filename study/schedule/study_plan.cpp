@@ -73,9 +73,7 @@ class PlanBuilder {
     const StimulusConfig& stimulus = config_.stimulus;
     const ProtocolConfig& protocol = config_.protocol;
     const int reference = add_stimulus(block.scene, stimulus.reference, nullptr, std::nullopt, true);
-    std::vector<const VariantConfig*> variants;
-    for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
-    if (variants.empty()) variants.push_back(nullptr);
+    const std::vector<const VariantConfig*> variants = tested_variants(stimulus);
     std::vector<Trial> trials;
     const auto base_trial = [&](const VariantConfig* variant) {
       Trial trial;
@@ -140,9 +138,7 @@ class PlanBuilder {
     const StimulusConfig& stimulus = config_.stimulus;
     const ProcedureConfig& procedure = config_.procedures.at(static_cast<size_t>(block.procedure));
     const int reference = add_stimulus(block.scene, stimulus.reference, nullptr, std::nullopt, true);
-    std::vector<const VariantConfig*> variants;
-    for (const VariantConfig& variant : stimulus.variants) variants.push_back(&variant);
-    if (variants.empty()) variants.push_back(nullptr);
+    const std::vector<const VariantConfig*> variants = tested_variants(stimulus);
     std::vector<int> block_tracks;
     for (const VariantConfig* variant : variants) {
       AdaptiveTrack track;
@@ -326,9 +322,7 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
     practice.attention.share = 0.0;
     // Enough repeats of the practice conditions for `trials`, no more.
     int per_repeat = 0;
-    std::vector<const VariantConfig*> variants;
-    for (const VariantConfig& variant : practice.stimulus.variants) variants.push_back(&variant);
-    if (variants.empty()) variants.push_back(nullptr);
+    const std::vector<const VariantConfig*> variants = tested_variants(practice.stimulus);
     for (const VariantConfig* variant : variants)
       per_repeat += config.protocol.kind == ProtocolKind::ramp     ? 2
                     : config.protocol.kind == ProtocolKind::slider ? 1

@@ -1,6 +1,7 @@
 // Tests of study/schedule/quest_plus.h: every choice, expected entropy and posterior summary against
 // a brute-force NumPy implementation (make_quest_plus_reference.py), replay from answers, and the
 // rule's bad values.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -74,6 +75,44 @@ TEST(QuestPlus, EveryChoiceAndPosteriorMatchesABruteForceNumpyReference) {
     EXPECT_EQ(again.posterior, state.posterior);
     EXPECT_EQ(again.trials, state.trials);
   }
+}
+
+TEST(QuestPlus, ReproducesWatsonsFirstExample) {
+  // Watson (2017), example 1, "Estimation of contrast threshold {1, 1, 2}": contrasts and thresholds
+  // -40..0 dB, a Weibull in dB with slope 3.5, guess 0.5, lapse 0.02, and the published answers;
+  // the contrasts chosen are the paper's (as the questplus and PsychoPy packages' tests list them),
+  // and the posterior's mode is -20 dB. Watson's Weibull in dB, 1 - exp(-10^(slope (c - t) / 20)),
+  // is ours on the linear contrast x = 10^(c / 20) with the threshold (p_see = 1/2) at
+  // 10^(t / 20) (ln 2)^(1 / slope).
+  const double slope = 3.5;
+  QuestPlusRule rule;
+  rule.shape = PsychometricShape::weibull;
+  rule.rising = true;
+  rule.guess = 0.5;
+  rule.slopes = {slope};
+  rule.lapses = {0.02};
+  std::vector<double> levels, thresholds_db;
+  for (int db = -40; db <= 0; ++db) {
+    levels.push_back(std::pow(10.0, db / 20.0));
+    thresholds_db.push_back(db);
+    rule.thresholds.push_back(std::pow(10.0, db / 20.0) * std::pow(std::log(2.0), 1.0 / slope));
+  }
+  rule.max_trials = 32;
+  ASSERT_FALSE(quest_plus_rule_error(rule, levels));
+  const std::vector<int> expected_db = {-18, -22, -25, -28, -30, -22, -13, -15, -16, -18, -19, -20, -21, -22, -23, -19,
+                                        -20, -20, -18, -18, -19, -17, -17, -18, -18, -18, -19, -19, -19, -19, -19, -19};
+  const std::string correct = "11110011111111011011011111111111";  // the paper's answers, 1: correct
+  const QuestPlus quest(rule, levels);
+  QuestPlusState state = quest.start();
+  for (size_t trial = 0; trial < expected_db.size(); ++trial) {
+    ASSERT_EQ(state.index - 40, expected_db[trial]) << "trial " << trial;
+    state = quest.next(state, correct[trial] == '1');
+  }
+  const auto mode = std::max_element(state.posterior.begin(), state.posterior.end()) - state.posterior.begin();
+  EXPECT_EQ(thresholds_db[size_t(mode)], -20.0);
+  double mean_db = 0.0;
+  for (size_t t = 0; t < thresholds_db.size(); ++t) mean_db += state.posterior[t] * thresholds_db[t];
+  EXPECT_NEAR(mean_db, -20.39360311638961, 1e-9);  // the questplus package's posterior mean
 }
 
 TEST(QuestPlus, StopsByEntropyOrIntervalWidth) {
