@@ -461,7 +461,9 @@ TEST(ProtocolsSchedule, RandomBlockOrderIsAPermutationPerParticipant) {
   const StudyConfig config = make_config(s);
   std::set<std::vector<std::string>> orders;
   for (int p = 0; p < 30; ++p) {
-    const std::string participant = "p" + std::to_string(p);
+    // append, not +: GCC 12's -O2 warns falsely (-Wrestrict) on "p" + std::to_string(p).
+    std::string participant = "p";
+    participant.append(std::to_string(p));
     const StudyPlan plan = make_study_plan(config, participant);
     check_structure(plan);
     std::vector<std::string> order;
