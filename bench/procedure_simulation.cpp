@@ -41,12 +41,6 @@ struct ParticipantRun {
   ObserverModel model;
 };
 
-int config_block_index(const StudyConfig& config, const std::string& name) {
-  for (size_t i = 0; i < config.blocks.size(); ++i)
-    if (config.blocks[i].name == name) return static_cast<int>(i);
-  return -1;
-}
-
 // The level where the observer's p_report (p_detect) equals `target`, by bisection over the levels'
 // range (p_detect is monotone in the level); NaN when the range does not reach it.
 double level_where_p_detect_is(const ObserverModel& model, double target, double low, double high) {
@@ -76,6 +70,11 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
   run.model = parse_observer_spec(observer_spec, plan);
   const SimulatedObserver observer(run.model, plan);
   AdaptiveProgress progress(plan);
+  // Each planned block's index in the config (summaries are in config order), looked up once.
+  std::vector<int> config_block(plan.blocks.size(), -1);
+  for (size_t b = 0; b < plan.blocks.size(); ++b)
+    for (size_t i = 0; i < config.blocks.size(); ++i)
+      if (config.blocks[i].name == plan.blocks[b].name) config_block[b] = static_cast<int>(i);
   std::map<Key, std::map<double, analysis::LevelCounts>> counts;  // constant stimuli, by level
   std::vector<int> track_trials(plan.tracks.size(), 0);
   for (const Trial& planned : plan.trials) {
@@ -89,8 +88,8 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
       ++track_trials[static_cast<size_t>(planned.track)];
       continue;
     }
-    const PlannedBlock& block = plan.blocks.at(static_cast<size_t>(trial->block));
-    analysis::LevelCounts& level = counts[Key{config_block_index(config, block.name), "constant", trial->variant, 0}][*trial->level];
+    analysis::LevelCounts& level =
+        counts[Key{config_block[static_cast<size_t>(trial->block)], "constant", trial->variant, 0}][*trial->level];
     level.level = *trial->level;
     ++level.n;
     level.k += difference_seen(config.protocol, answer, trial->reference_first) ? 1 : 0;
@@ -109,7 +108,7 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
     std::string name = procedure.name;
     if (procedure.starts.size() > 1)
       name.append(" from ").append(format_number(track.grid.at(size_t(track.staircase.start_index)), 6));
-    run.outcomes[Key{config_block_index(config, plan.blocks.at(size_t(track.block)).name), name, track.variant,
+    run.outcomes[Key{config_block[static_cast<size_t>(track.block)], name, track.variant,
                      track.max_trials()}] = outcome;
   }
   for (const auto& [key, by_level] : counts) {

@@ -12,7 +12,7 @@ std::string level_text(std::optional<double> level) { return level ? format_numb
 }  // namespace
 
 ScheduleCheck check_log_against_schedule(const SessionRecord& record, const StudyPlan& plan) {
-  ScheduleCheck check{AdaptiveProgress(plan), {}, {}, 0, false};
+  ScheduleCheck check(plan);
   const int trial_count = static_cast<int>(plan.trials.size());
   int next = 0;  // the next schedule index to account for
   for (const RecordedTrial& recorded : record.trials) {

@@ -13,6 +13,7 @@
 namespace fovlab {
 
 struct ScheduleCheck {
+  explicit ScheduleCheck(const StudyPlan& plan) : progress(plan) {}  // nothing checked yet
   AdaptiveProgress progress;              // every complete trial's answer folded in
   std::vector<std::string> differences;   // "trial N: what differs", in index order
   // Each of record.trials as the schedule presents it (its level and sequence chosen); none for a

@@ -349,7 +349,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (record) run.set_excluded_logged(record->excluded);
   const auto loop_start = std::chrono::steady_clock::now();
   try {
-    if (!schedule) schedule = ScheduleCheck{AdaptiveProgress(plan), {}, {}, 0, false};
+    if (!schedule) schedule.emplace(plan);
     const bool kept = run.run_trials(schedule->next_trial, record ? record->attention_errors : 0, record.has_value(),
                                      record ? static_cast<int>(record->trials.size()) : 0, schedule->progress);
     outcome.finished = true;

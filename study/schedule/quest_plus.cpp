@@ -191,11 +191,14 @@ QuestPlusState QuestPlus::next(QuestPlusState state, bool seen) const {
     for (double& w : posterior) w /= total;
     state.posterior = std::move(posterior);
   }
-  const QuestPlusEstimate estimate = this->estimate(state.posterior);
-  state.finished = state.trials >= rule_.max_trials ||
-                   (rule_.stop_entropy_bits > 0 && estimate.entropy_bits <= rule_.stop_entropy_bits) ||
-                   (rule_.stop_interval_width > 0 &&
-                    estimate.threshold_upper - estimate.threshold_lower <= rule_.stop_interval_width);
+  state.finished = state.trials >= rule_.max_trials;
+  if (!state.finished && (rule_.stop_entropy_bits > 0 || rule_.stop_interval_width > 0)) {
+    // The estimate only for a stopping rule that needs it (a pass over the posterior each answer).
+    const QuestPlusEstimate estimate = this->estimate(state.posterior);
+    state.finished = (rule_.stop_entropy_bits > 0 && estimate.entropy_bits <= rule_.stop_entropy_bits) ||
+                     (rule_.stop_interval_width > 0 &&
+                      estimate.threshold_upper - estimate.threshold_lower <= rule_.stop_interval_width);
+  }
   if (!state.finished) state.index = choose(state.posterior);
   return state;
 }
