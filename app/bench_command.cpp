@@ -327,6 +327,8 @@ void run_bench(const BenchOptions& options) {
                            {"repeats", options.repeats},
                            {"pyramid_levels", options.settings.pyramid_levels},
                            {"min_filter_size", options.settings.min_filter_size},
+                           {"coarse_test", coarse_test_name(options.settings.coarse_test)},
+                           {"full_resolution_depth", options.settings.full_resolution_depth},
                            {"max_steps", options.settings.max_steps},
                            {"hit_threshold", options.settings.hit_threshold},
                            {"time_s", options.settings.time_s},

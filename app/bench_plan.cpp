@@ -142,7 +142,8 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
   std::ostringstream out;
   out << "fovlab bench --scenes " << scenes << " --spp " << spps << " --width " << s.width << " --height " << s.height
       << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
-      << " --min-filter " << s.min_filter_size << " --max-steps " << s.max_steps << " --hit-threshold "
+      << " --min-filter " << s.min_filter_size << " --coarse-test " << coarse_test_name(s.coarse_test)
+      << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
       << s.hit_threshold << " --methods " << methods;
   return out.str();
 }

@@ -81,6 +81,16 @@ void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
   command.add_option("--time", settings.time_s, "Scene time in seconds (camera path, moving lights)");
   command.add_option("--levels", settings.pyramid_levels, "IPR pyramid levels, 2 to 5 (3: 1/16, 1/4, full)");
   command.add_option("--min-filter", settings.min_filter_size, "IPR min-filter size: 1, 3 or 5");
+  static const std::map<std::string, CoarseTest> coarse_tests = {{coarse_test_name(CoarseTest::centre_ray), CoarseTest::centre_ray},
+                                                                  {coarse_test_name(CoarseTest::cone), CoarseTest::cone}};
+  command
+      .add_option("--coarse-test", settings.coarse_test,
+                  "IPR/FIPR depth levels: ray (the paper's centre ray) or cone (the pixel's whole cone: never steps over "
+                  "thin geometry)")
+      ->transform(CLI::CheckedTransformer(coarse_tests))
+      ->default_str(coarse_test_name(settings.coarse_test));
+  command.add_flag("--full-depth", settings.full_resolution_depth,
+                   "IPR: a full-resolution depth level (one ray a pixel) before the shaded samples, which start from it");
   command.add_option("--max-steps", settings.max_steps, "Step cap of one ray at one level");
   command.add_option("--hit-threshold", settings.hit_threshold,
                      "Hit when distance < t x pixel angle x this (pixel-footprint epsilon)");

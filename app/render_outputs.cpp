@@ -73,6 +73,8 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
   } else if (settings.method != TraceMethod::ground_truth) {
     stats["pyramid_levels"] = settings.pyramid_levels;
     stats["min_filter_size"] = settings.min_filter_size;
+    stats["coarse_test"] = coarse_test_name(settings.coarse_test);
+    if (settings.method == TraceMethod::inverted_pyramid) stats["full_resolution_depth"] = settings.full_resolution_depth;
   }
   if (settings.method == TraceMethod::foveated_pyramid) {
     const FoveationSettings& f = settings.foveation;

@@ -15,9 +15,11 @@
 namespace fovlab {
 namespace {
 
-void set_pyramid(SphereTraceSettings& settings, int pyramid_levels, int min_filter_size) {
-  settings.pyramid_levels = pyramid_levels;
-  settings.min_filter_size = min_filter_size;
+template <class Pyramid>
+void set_pyramid(SphereTraceSettings& settings, const Pyramid& pyramid) {
+  settings.pyramid_levels = pyramid.pyramid_levels;
+  settings.min_filter_size = pyramid.min_filter_size;
+  settings.coarse_test = static_cast<CoarseTest>(static_cast<uint32_t>(pyramid.coarse_test));
 }
 
 }  // namespace
@@ -49,11 +51,12 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   } else if (const auto* ipr = std::get_if<InvertedPyramidParameters>(&spec.parameters)) {
     settings.method = TraceMethod::inverted_pyramid;
     set_trace(*ipr);
-    set_pyramid(settings, ipr->pyramid_levels, ipr->min_filter_size);
+    set_pyramid(settings, *ipr);
+    settings.full_resolution_depth = ipr->full_resolution_depth;
   } else if (const auto* fipr = std::get_if<FoveatedPyramidParameters>(&spec.parameters)) {
     settings.method = TraceMethod::foveated_pyramid;
     set_trace(*fipr);
-    set_pyramid(settings, fipr->pyramid_levels, fipr->min_filter_size);
+    set_pyramid(settings, *fipr);
     FoveationSettings& foveation = settings.foveation;
     foveation.display = stimulus_display(spec);
     foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();

@@ -7,6 +7,7 @@ namespace {
 #include "depth_edges.spv.h"
 #include "fipr_reconstruct.spv.h"
 #include "list_dispatch.spv.h"
+#include "fipr_mid_list.spv.h"
 #include "foveation_mask.spv.h"
 #include "frame_compose.spv.h"
 #include "masked_blur.spv.h"
@@ -39,6 +40,7 @@ const std::span<const uint32_t> srgb8_encode_spirv{srgb8_encode_spirv_words};
 const std::span<const uint32_t> frame_compose_spirv{frame_compose_spirv_words};
 const std::span<const uint32_t> buffer_copy_spirv{buffer_copy_spirv_words};
 const std::span<const uint32_t> list_dispatch_spirv{list_dispatch_spirv_words};
+const std::span<const uint32_t> fipr_mid_list_spirv{fipr_mid_list_spirv_words};
 const std::span<const uint32_t> path_trace_spirv{path_trace_spirv_words};
 const std::span<const uint32_t> sampling_positions_spirv{sampling_positions_spirv_words};
 const std::span<const uint32_t> sampling_reconstruct_spirv{sampling_reconstruct_spirv_words};

@@ -21,6 +21,7 @@ extern const std::span<const uint32_t> srgb8_encode_spirv;
 extern const std::span<const uint32_t> frame_compose_spirv;
 extern const std::span<const uint32_t> buffer_copy_spirv;
 extern const std::span<const uint32_t> list_dispatch_spirv;
+extern const std::span<const uint32_t> fipr_mid_list_spirv;
 extern const std::span<const uint32_t> path_trace_spirv;
 extern const std::span<const uint32_t> sampling_positions_spirv;
 extern const std::span<const uint32_t> sampling_reconstruct_spirv;

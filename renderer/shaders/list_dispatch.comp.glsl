@@ -3,7 +3,8 @@
 // for vkCmdDispatchIndirect: list i's length is counters[counter_index[i]], its counts go to
 // group_counts[3 i .. 3 i + 2]. Spread over x and y, since only 65535 workgroups a dimension are
 // guaranteed; the list's shader numbers a workgroup y * groups_x + x. FIPR's top level has two
-// lists (the masked pixels and the unmasked ones due for a refresh), the zone blend's band pass one.
+// lists (the masked pixels and the unmasked ones due for a refresh), its mid level one (the pixels it
+// traces), the zone blend's band pass one.
 layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Counters { uint counters[]; };

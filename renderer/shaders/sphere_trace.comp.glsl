@@ -7,9 +7,10 @@
 //   - the top level traces samples_per_pixel rays per pixel, shades them and writes colour and steps.
 // A level with a start buffer begins each ray at the (min-filtered) depth of its parent pixel.
 // FIPR (seed 000 section 3.2.4) adds two variants, both steered by the foveation mask:
-//   - the mid level (FLAG_FOVEATED_MID) traces a pixel only when the top level needs its depth
-//     (a masked pixel within its 3x3 neighbourhood) or its unmasked children are due for a refresh,
-//     and shades it (one sample) in the second case; other pixels pass their start depth on;
+//   - the mid level (FLAG_FOVEATED_MID) traces the pixels fipr_mid_list.comp.glsl listed: those
+//     whose depth the top level needs (a masked pixel within the min filter's radius) or whose
+//     unmasked children are due for a refresh, and shades them (one sample) in the second case; that
+//     pass has already passed the other pixels' start depth on;
 //   - the top level runs twice: over the list of masked pixels (FLAG_MASKED_LIST, an indirect
 //     dispatch of 64 list entries a workgroup), tracing and shading them as IPR does; then, when
 //     the periphery is traced (periphery_steps > 0), over the list of unmasked pixels due for a
@@ -17,6 +18,13 @@
 //     shaded. Pixels not listed keep the value they have (the colour buffer persists between
 //     frames: the reduced periphery refresh). With periphery_steps 0, fipr_reconstruct.comp.glsl
 //     fills the unmasked pixels from the mid level instead.
+// Two switches of the pyramid (docs/scenes.md "Inverted pyramid"):
+//   - FLAG_CONE: a depth level marches the cone of its whole pixel (corners and the top level's hit
+//     band included) and stops where geometry may enter it, so no ray of a finer level, which lies
+//     inside that cone, can meet a surface in front of the depth passed on (the conservative pyramid);
+//     without it a depth level traces the ray through its pixel's centre (the paper's);
+//   - FLAG_START_SAME_SIZE: the start buffer has this level's size (the full-resolution depth level
+//     below the shaded samples), so each pixel starts from its own entry rather than its parent's.
 // The sampling models of seed 002 (FLAG_SAMPLE_LIST) trace and shade one list of screen positions
 // (sampling_positions.comp.glsl) with spp samples each, spread and filtered over the samples'
 // spacing (their footprint) as a pyramid level's scale does.
@@ -35,18 +43,25 @@ layout(std430, binding = 4) buffer TraceCounters {
   uint mid_shaded_pixels;
   uint refreshed_pixels;    // unmasked pixels given a new colour this frame
   uint refresh_list_pixels; // written by the mask pass when the periphery is traced
+  uint mid_list_pixels;     // written by the mid list pass (fipr_mid_list.comp.glsl)
 };
-layout(std430, binding = 5) readonly buffer FoveationMask { uint mask_values[]; };  // top: a pixel list; mid: flags
+layout(std430, binding = 5) readonly buffer FoveationMask { uint mask_values[]; };  // FIPR: a pixel list
 
 const uint FLAG_SHADE = 1u;          // top level: shade and write colour
 const uint FLAG_HAS_START = 2u;      // start rays at start_depth of the parent pixel
 const uint FLAG_FOVEATED_MID = 4u;   // FIPR mid level
 const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level: the periphery's refresh list in mask_values
+const uint FLAG_CONE = 16u;          // depth levels (and FIPR's mid level) march their pixel's cone
+const uint FLAG_START_SAME_SIZE = 128u;  // the start buffer is this level's own size (pixel -> pixel)
 const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
 const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in mask_values, four words each
                                      // (x, y and footprint in pixels as float bits, then the sample's entry);
                                      // colour (alpha 1: shaded) and steps go to that entry
-const uint MID_FLAG_DUE = 256u;      // FIPR mid flags (foveation_mask.comp.glsl): the children are due for a refresh
+// An entry of the mid level's list (fipr_mid_list.comp.glsl, the same there): the pixel's index,
+// its unmasked children (0-4) and whether they are due for a refresh.
+const uint MID_ENTRY_INDEX_MASK = 0x0FFFFFFFu;
+const uint MID_ENTRY_UNMASKED_SHIFT = 28u;
+const uint MID_ENTRY_REFRESH = 0x80000000u;
 
 layout(push_constant) uniform TraceParams {
   uvec2 level_size;          // pixels of this level
@@ -62,7 +77,6 @@ layout(push_constant) uniform TraceParams {
   uint periphery_steps;      // FIPR: 0: the mid level shades the pixels its unmasked children take
                              // (fipr_reconstruct); else those are traced from the mid depth with this
                              // step budget and shaded (1 sample)
-  int min_filter_radius;     // FIPR mid level: the top level starts from the min over this radius
 } params;
 
 struct Ray { vec3 origin; vec3 direction; };
@@ -100,17 +114,19 @@ Ray fovlab_camera_ray(vec2 frame_point_px, out float pixel_angle_rad) {
   return ray;
 }
 
-// Parametric interval [t_enter, t_exit] of the ray inside the scene bounds; empty when t_exit < t_enter.
-vec2 fovlab_bounds_interval(Ray ray) {
+// Parametric interval [t_enter, t_exit] of the ray inside a box; empty when t_exit < t_enter.
+vec2 fovlab_box_interval(Ray ray, vec3 box_min, vec3 box_max) {
   vec3 inverse_direction = 1.0 / ray.direction;
-  vec3 t0 = (SCENE_BOUNDS_MIN - ray.origin) * inverse_direction;
-  vec3 t1 = (SCENE_BOUNDS_MAX - ray.origin) * inverse_direction;
+  vec3 t0 = (box_min - ray.origin) * inverse_direction;
+  vec3 t1 = (box_max - ray.origin) * inverse_direction;
   vec3 t_small = min(t0, t1);
   vec3 t_large = max(t0, t1);
   float t_enter = max(max(t_small.x, t_small.y), max(t_small.z, 0.0));
   float t_exit = min(min(t_large.x, t_large.y), t_large.z);
   return vec2(t_enter, t_exit);
 }
+
+vec2 fovlab_bounds_interval(Ray ray) { return fovlab_box_interval(ray, SCENE_BOUNDS_MIN, SCENE_BOUNDS_MAX); }
 
 const uint OUTCOME_HIT = 0u;
 const uint OUTCOME_MISS = 1u;
@@ -181,6 +197,75 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
   return result;
 }
 
+// The conservative pyramid's march (FLAG_CONE): the cone around the ray whose radius at distance t
+// is cone_per_unit_t * t (the level pixel's corners) holds no point within band_per_unit_t * t of a
+// surface (the finest level's hit band) up to the distance returned. Every ray of a finer level, and
+// every sample of the top level, lies inside the cone of its coarse pixel, so starting it there never
+// skips a surface it would hit from the camera (where GT hits, the same rule says IPR can).
+//   At a step from t with distance d, the cone's points up to t + s lie within sqrt(s^2 + (c (t + s))^2)
+// of the ray's point at t (the chord between two rays through the eye is at most their angle times
+// t), and the band there is at most b (t + d); so with clearance = d - b (t + d) the step s solves
+// s^2 + c^2 (t + s)^2 = clearance^2. The march stops once clearance < CONE_STOP * c * t: beyond that
+// the steps shrink geometrically near a surface the cone grazes, and stopping early only hands the
+// finer level a few more steps. The scene bounds are widened by the cone's largest radius plus band,
+// so that entering and leaving them is decided for the whole cone, not just its axis.
+const float CONE_STOP = 1.5;
+TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, float band_per_unit_t, uint step_cap) {
+  TraceResult result;
+  result.steps = 0u;
+  result.distance = 0.0;
+  result.material_id = 0.0;
+  // Beyond t_far the cone and its band lie outside the sphere around the eye that holds the bounds.
+  vec3 far_corner = max(abs(SCENE_BOUNDS_MIN - ray.origin), abs(SCENE_BOUNDS_MAX - ray.origin));
+  float t_far = length(far_corner) / (1.0 - band_per_unit_t);
+  float margin = (cone_per_unit_t + band_per_unit_t) * t_far;
+  vec2 interval = fovlab_box_interval(ray, SCENE_BOUNDS_MIN - margin, SCENE_BOUNDS_MAX + margin);
+  float t = max(t_start, interval.x);
+  bool check_start = t > interval.x;
+  float c2 = cone_per_unit_t * cone_per_unit_t;
+  while (result.steps < step_cap) {
+    if (t > interval.y) {
+      result.t = interval.y;
+      result.outcome = OUTCOME_MISS;
+      return result;
+    }
+    vec2 sample_ = scene_map(ray.origin + t * ray.direction);
+    result.steps += 1u;
+    if (check_start) {
+      check_start = false;
+      if (sample_.x < 0.0) {
+        t = interval.x;
+        atomicAdd(restarted_rays, 1u);
+        continue;
+      }
+    }
+    float clearance = sample_.x - band_per_unit_t * (t + sample_.x);
+    if (clearance < CONE_STOP * cone_per_unit_t * t) {
+      result.t = t;
+      result.outcome = OUTCOME_HIT;
+      result.distance = sample_.x;
+      result.material_id = sample_.y;
+      return result;
+    }
+    t += (sqrt(clearance * clearance * (1.0 + c2) - c2 * t * t) - c2 * t) / (1.0 + c2);
+  }
+  result.t = t;
+  result.outcome = OUTCOME_CAPPED;
+  atomicAdd(capped_rays, 1u);
+  return result;
+}
+
+// A depth level's ray: the paper's centre ray with the level's hit threshold, or (FLAG_CONE) the
+// level pixel's cone. The cone reaches from the centre to a corner, scale / sqrt(2) pixels, plus
+// the top level's hit band; pixel_angle_rad is the centre pixel's, the largest of the frame.
+const float HALF_DIAGONAL = 0.70711;
+TraceResult fovlab_depth_trace(Ray ray, float t_start, float pixel_angle_rad, float scale) {
+  if ((params.flags & FLAG_CONE) != 0u)
+    return fovlab_cone_trace(ray, t_start, pixel_angle_rad * scale * HALF_DIAGONAL,
+                             pixel_angle_rad * params.hit_threshold, params.max_steps);
+  return fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true);
+}
+
 // Forward differences from the hit point, whose distance the trace already has: three evaluations.
 vec3 fovlab_normal(vec3 p, float distance_at_p, float epsilon) {
   return normalize(vec3(scene_map(p + vec3(epsilon, 0.0, 0.0)).x, scene_map(p + vec3(0.0, epsilon, 0.0)).x,
@@ -222,31 +307,24 @@ float fovlab_depth_to_pass_on(TraceResult result) {
   return result.outcome == OUTCOME_MISS ? MISS_DEPTH : result.t;
 }
 
-void fovlab_foveated_mid(uvec2 pixel, uint index, float t_start, vec2 centre_px, float scale) {
-  bool need_depth = false;
-  int radius = params.min_filter_radius;
-  for (int dy = -radius; dy <= radius; ++dy) {
-    for (int dx = -radius; dx <= radius; ++dx) {
-      uvec2 neighbour = uvec2(clamp(ivec2(pixel) + ivec2(dx, dy), ivec2(0), ivec2(params.level_size) - 1));
-      need_depth = need_depth || (mask_values[neighbour.y * params.level_size.x + neighbour.x] & 15u) != 0u;
-    }
-  }
-  uint flags_here = mask_values[index];
-  uint unmasked_children = ((flags_here >> 4) & 15u) - (flags_here & 15u);
-  bool refresh_children = unmasked_children > 0u && (flags_here & MID_FLAG_DUE) != 0u;
+// One listed pixel of FIPR's mid level (`entry`: MID_ENTRY_*).
+void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, float scale) {
+  uint unmasked_children = (entry >> MID_ENTRY_UNMASKED_SHIFT) & 7u;
+  bool refresh_children = (entry & MID_ENTRY_REFRESH) != 0u;
   bool need_shade = refresh_children && params.periphery_steps == 0u;
-  if (!need_depth && !refresh_children) {
-    level_depth[index] = t_start;  // conservative: in front of every surface the parent saw
-    level_steps[index] = 0u;
-    return;
-  }
   float pixel_angle_rad;
   Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
   float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
-  TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, false, params.max_steps, true);
+  TraceResult result = fovlab_depth_trace(ray, t_start, pixel_angle_rad, scale);
   level_depth[index] = fovlab_depth_to_pass_on(result);
   atomicAdd(mid_traced_pixels, 1u);
   if (need_shade) {
+    if ((params.flags & FLAG_CONE) != 0u) {
+      // The cone stopped short of the surface: the shaded ray goes on from there with the level's test.
+      uint cone_steps = result.steps;
+      result = fovlab_trace(ray, result.t, epsilon_per_unit_t, false, params.max_steps, true);
+      result.steps += cone_steps;
+    }
     fovlab_refine_hit(ray, result, params.max_steps);
     // Alpha stamps the frame (+1; 0: never shaded), so the reconstruction can tell stale taps.
     level_colour[index] = vec4(fovlab_shade(ray, result, epsilon_per_unit_t), float(params.frame_index + 1u));
@@ -284,9 +362,14 @@ void main() {
     fovlab_shade_samples(entry.w, 0.0, uintBitsToFloat(entry.xy), uintBitsToFloat(entry.z));
     return;
   }
-  if ((params.flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP)) != 0u) {
-    if (list_slot >= ((params.flags & FLAG_MASKED_LIST) != 0u ? masked_pixels : refresh_list_pixels)) return;
-    index = mask_values[list_slot];
+  uint mid_entry = 0u;
+  if ((params.flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP | FLAG_FOVEATED_MID)) != 0u) {
+    uint list_length = (params.flags & FLAG_MASKED_LIST) != 0u   ? masked_pixels
+                       : (params.flags & FLAG_FOVEATED_TOP) != 0u ? refresh_list_pixels
+                                                                  : mid_list_pixels;
+    if (list_slot >= list_length) return;
+    mid_entry = mask_values[list_slot];
+    index = mid_entry & MID_ENTRY_INDEX_MASK;  // (the pixel lists hold bare indices, under 2^28)
     pixel = uvec2(index % params.level_size.x, index / params.level_size.x);
   } else {
     if (any(greaterThanEqual(pixel, params.level_size))) return;
@@ -307,20 +390,20 @@ void main() {
 
   float t_start = 0.0;
   if ((params.flags & FLAG_HAS_START) != 0u) {
-    uvec2 parent = min(pixel / 2u, params.start_size - 1u);
+    uvec2 parent = min((params.flags & FLAG_START_SAME_SIZE) != 0u ? pixel : pixel / 2u, params.start_size - 1u);
     t_start = start_depth[parent.y * params.start_size.x + parent.x];
   }
 
   float scale = float(params.level_scale);
   vec2 centre_px = (vec2(pixel) + 0.5) * scale;
   if ((params.flags & FLAG_FOVEATED_MID) != 0u) {
-    fovlab_foveated_mid(pixel, index, t_start, centre_px, scale);
+    fovlab_foveated_mid(mid_entry, index, t_start, centre_px, scale);
     return;
   }
   if ((params.flags & FLAG_SHADE) == 0u) {
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
-    TraceResult result = fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true);
+    TraceResult result = fovlab_depth_trace(ray, t_start, pixel_angle_rad, scale);
     level_depth[index] = fovlab_depth_to_pass_on(result);
     level_steps[index] = result.steps;
     return;

@@ -25,15 +25,19 @@ constexpr uint32_t kFlagShade = 1;
 constexpr uint32_t kFlagHasStart = 2;
 constexpr uint32_t kFlagFoveatedMid = 4;
 constexpr uint32_t kFlagFoveatedTop = 8;
+constexpr uint32_t kFlagCone = 16;
 constexpr uint32_t kFlagMaskedList = 32;
 constexpr uint32_t kFlagSampleList = 64;
+constexpr uint32_t kFlagStartSameSize = 128;
 constexpr uint32_t kMaskFlagTraceAll = 1;
 constexpr uint32_t kMaskFlagAllDue = 2;
 constexpr uint32_t kMaskFlagListRefresh = 4;
 constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (its eccentricities are ~90 degrees)
 
 // Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
-enum Counter : uint32_t { capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, counter_count };
+enum Counter : uint32_t {
+  capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, mid_listed, counter_count
+};
 constexpr int kMaxFrameSide = 16384;
 
 // Must match TraceParams in sphere_trace.comp.glsl (std430 push constant layout).
@@ -49,7 +53,14 @@ struct TraceParams {
   uint32_t flags;
   uint32_t frame_index;
   uint32_t periphery_steps;
+};
+
+// Must match MidListParams in fipr_mid_list.comp.glsl.
+struct MidListParams {
+  uint32_t mid_size[2];
+  uint32_t start_size[2];
   int32_t min_filter_radius;
+  uint32_t list_counter;
 };
 
 // Must match EdgeParams in depth_edges.comp.glsl.
@@ -105,6 +116,23 @@ struct LevelBuffers {
 
 uint32_t ceil_div(int value, int divisor) { return static_cast<uint32_t>((value + divisor - 1) / divisor); }
 
+// The levels a frame traces, bottom first: the pyramid's (scales ..., 4, 2, 1), and with a
+// full-resolution depth level one more of scale 1 below the top. GT and the sampling models: one.
+struct LevelLayout {
+  int pyramid_levels = 1;
+  bool full_resolution_depth = false;
+
+  int count() const { return pyramid_levels + (full_resolution_depth ? 1 : 0); }
+  int scale(int index) const { return 1 << std::max(0, pyramid_levels - 1 - index); }
+  bool operator==(const LevelLayout&) const = default;
+};
+
+LevelLayout level_layout(const SphereTraceSettings& settings) {
+  if (settings.method == TraceMethod::ground_truth || settings.method == TraceMethod::sampling_model) return {};
+  return {settings.pyramid_levels,
+          settings.method == TraceMethod::inverted_pyramid && settings.full_resolution_depth};
+}
+
 }  // namespace
 
 // Every buffer of one frame layout; kept between renders of the same layout, so repeated frames
@@ -112,7 +140,8 @@ uint32_t ceil_div(int value, int divisor) { return static_cast<uint32_t>((value 
 struct SphereTracer::FrameBuffers {
   int width = 0;
   int height = 0;
-  int level_count = 0;
+  LevelLayout layout;
+  int level_count = 0;  // layout.count()
   bool filtered = false;
   bool foveated = false;
   // FIPR: `colour` and `mid_colour` hold the frame `history_index` of a sequence rendered with
@@ -134,17 +163,19 @@ struct SphereTracer::FrameBuffers {
   vk::Buffer masked_list;     // full-resolution pixel indices of the masked pixels (the first counters[masked])
   vk::Buffer refresh_list;    // and of the unmasked pixels due for a refresh, when the periphery is traced
   vk::Buffer list_dispatch;   // workgroup counts of the top level's passes over the two lists
+  vk::Buffer mid_list;        // mid level: the pixels traced (fipr_mid_list.comp.glsl's entries)
+  vk::Buffer mid_list_dispatch;  // workgroup counts of the mid level's pass over its list
   vk::Buffer mid_flags;       // mid level: masked children | children << 4
   vk::Buffer mid_colour;      // mid level: shaded colour of pixels due for a refresh
   vk::Buffer blurred;         // full resolution: pass 5's output
 
-  FrameBuffers(const vk::Context& context, int width_px, int height_px, int levels_count, bool with_filter,
+  FrameBuffers(const vk::Context& context, int width_px, int height_px, LevelLayout level_layout, bool with_filter,
                bool with_foveation)
-      : width(width_px), height(height_px), level_count(levels_count), filtered(with_filter),
-        foveated(with_foveation), levels(static_cast<size_t>(levels_count)) {
+      : width(width_px), height(height_px), layout(level_layout), level_count(level_layout.count()),
+        filtered(with_filter), foveated(with_foveation), levels(static_cast<size_t>(level_count)) {
     for (int i = 0; i < level_count; ++i) {
       LevelBuffers& level = levels[static_cast<size_t>(i)];
-      level.stats.scale = 1 << (level_count - 1 - i);
+      level.stats.scale = layout.scale(i);
       level.stats.width = static_cast<int>(ceil_div(width, level.stats.scale));
       level.stats.height = static_cast<int>(ceil_div(height, level.stats.scale));
       const VkDeviceSize pixels = VkDeviceSize(level.stats.width) * VkDeviceSize(level.stats.height);
@@ -172,6 +203,8 @@ struct SphereTracer::FrameBuffers {
     masked_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     refresh_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     list_dispatch = vk::Buffer(context, 6 * sizeof(uint32_t), vk::MemoryUse::device_local);
+    mid_list = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
+    mid_list_dispatch = vk::Buffer(context, 3 * sizeof(uint32_t), vk::MemoryUse::device_local);
     mid_flags = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     mid_colour = vk::Buffer(context, mid_pixels * 4 * sizeof(float), vk::MemoryUse::device_local);
     blurred = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
@@ -222,8 +255,8 @@ struct SphereTracer::FrameBuffers {
     return values;
   }
 
-  bool fits(int width_px, int height_px, int levels_count, bool with_filter, bool with_foveation) const {
-    return width == width_px && height == height_px && level_count == levels_count && filtered == with_filter &&
+  bool fits(int width_px, int height_px, LevelLayout level_layout, bool with_filter, bool with_foveation) const {
+    return width == width_px && height == height_px && layout == level_layout && filtered == with_filter &&
            foveated == with_foveation;
   }
 };
@@ -231,14 +264,14 @@ struct SphereTracer::FrameBuffers {
 // FrameBuffers' allocations (keep the two in step) plus the result's images.
 uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
-  const bool single_level = settings.method == TraceMethod::ground_truth || settings.method == TraceMethod::sampling_model;
-  const int level_count = single_level ? 1 : settings.pyramid_levels;
+  const LevelLayout layout = level_layout(settings);
+  const int level_count = layout.count();
   const bool filtered = settings.min_filter_size / 2 > 0;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
   uint64_t bytes = 0;
   std::vector<uint64_t> level_pixels;
   for (int i = 0; i < level_count; ++i) {
-    const int scale = 1 << (level_count - 1 - i);
+    const int scale = layout.scale(i);
     const uint64_t pixels = uint64_t(ceil_div(settings.width, scale)) * uint64_t(ceil_div(settings.height, scale));
     level_pixels.push_back(pixels);
     bytes += pixels * 2 * sizeof(uint32_t);                                   // steps, and read back
@@ -249,7 +282,7 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
   if (foveated && level_count >= 3) {
     bytes += level_pixels[0] * sizeof(uint32_t);                                     // edges
     bytes += frame_pixels * sizeof(uint32_t) * 4;                                    // mask, its readback, two lists
-    bytes += level_pixels[size_t(level_count - 2)] * (sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, colour
+    bytes += level_pixels[size_t(level_count - 2)] * (2 * sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, list, colour
     bytes += frame_pixels * 4 * sizeof(float);                                       // blurred
   }
   if (settings.outputs != TraceOutputs::display) bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
@@ -269,6 +302,14 @@ const char* method_name(TraceMethod method) {
     case TraceMethod::sampling_model: return "sampling";
   }
   return "gt";
+}
+
+const char* coarse_test_name(CoarseTest test) { return test == CoarseTest::cone ? "cone" : "ray"; }
+
+std::optional<CoarseTest> parse_coarse_test(const std::string& name) {
+  for (CoarseTest test : {CoarseTest::centre_ray, CoarseTest::cone})
+    if (name == coarse_test_name(test)) return test;
+  return std::nullopt;
 }
 
 std::optional<TraceMethod> parse_trace_method(const std::string& name) {
@@ -360,6 +401,7 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
   mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 6, sizeof(MaskParams));
   list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, 3 * sizeof(uint32_t));
+  mid_list_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_mid_list_spirv, 6, sizeof(MidListParams));
   reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
                                                                 sizeof(ReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
@@ -375,7 +417,8 @@ std::string history_key_of(const SphereTraceSettings& s) {
   const FoveationSettings& f = s.foveation;
   std::ostringstream key;
   key.precision(17);
-  key << s.samples_per_pixel << ' ' << s.pyramid_levels << ' ' << s.min_filter_size << ' ' << s.max_steps << ' '
+  key << s.samples_per_pixel << ' ' << s.pyramid_levels << ' ' << s.min_filter_size << ' '
+      << coarse_test_name(s.coarse_test) << ' ' << s.max_steps << ' '
       << s.hit_threshold << ' ' << f.display.width_mm << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm
       << ' ' << f.acuity.fovea_radius_deg << ' ' << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine)
       << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed;
@@ -425,22 +468,26 @@ void check_sphere_trace_frame_bytes(const vk::Context& context, int width, int h
   }
 }
 
-void SphereTracer::prepare_frame(int width, int height, int level_count, bool filtered, bool foveated) {
-  if (frame_ && frame_->fits(width, height, level_count, filtered, foveated)) return;
+void SphereTracer::prepare_frame(const SphereTraceSettings& settings) {
+  const LevelLayout layout = level_layout(settings);
+  const bool filtered = layout.count() > 1 && settings.min_filter_size / 2 > 0;
+  const bool foveated = settings.method == TraceMethod::foveated_pyramid;
+  if (frame_ && frame_->fits(settings.width, settings.height, layout, filtered, foveated)) return;
   frame_.reset();  // free the old layout before allocating the new one
-  frame_ = std::make_unique<FrameBuffers>(context_, width, height, level_count, filtered, foveated);
+  frame_ = std::make_unique<FrameBuffers>(context_, settings.width, settings.height, layout, filtered, foveated);
 }
 
 SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   validate(settings);
   check_sphere_trace_frame_bytes(context_, settings.width, settings.height, "--width x --height");
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
-  const int level_count = settings.method == TraceMethod::ground_truth ? 1 : settings.pyramid_levels;
+  const LevelLayout layout = level_layout(settings);
+  const int level_count = layout.count();
   const int filter_radius = settings.min_filter_size / 2;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
 
   if (settings.method == TraceMethod::sampling_model) return render_sampled(settings);
-  prepare_frame(settings.width, settings.height, level_count, filter_radius > 0, foveated);
+  prepare_frame(settings);
   FrameBuffers& frame = *frame_;
   std::vector<LevelBuffers>& levels = frame.levels;
   const FoveationSettings& fov = settings.foveation;
@@ -453,7 +500,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 7));
+  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 9));
   timer.reset(cmd);
   vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   if (foveated && all_due) vkCmdFillBuffer(cmd, frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
@@ -507,12 +554,13 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     params.max_steps = static_cast<uint32_t>(settings.max_steps);
     params.level_scale = static_cast<uint32_t>(level.stats.scale);
     params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
-                   (foveated_top ? kFlagFoveatedTop : 0u);
+                   (foveated_top ? kFlagFoveatedTop : 0u) |
+                   (settings.coarse_test == CoarseTest::cone ? kFlagCone : 0u) |
+                   (start && start_stats.scale == level.stats.scale ? kFlagStartSameSize : 0u);
     params.frame_index = fov.frame_index;
     params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
-    params.min_filter_radius = filter_radius;
     const VkBuffer colour_target = top ? frame.colour.handle() : foveated_mid ? frame.mid_colour.handle() : frame.unused.handle();
-    const VkBuffer mask_input = foveated_top ? frame.mask.handle() : foveated_mid ? frame.mid_flags.handle() : frame.unused.handle();
+    const VkBuffer mask_input = foveated_top ? frame.mask.handle() : foveated_mid ? frame.mid_list.handle() : frame.unused.handle();
     const VkBuffer buffers[] = {start ? start->handle() : frame.unused.handle(),
                                 top ? frame.unused.handle() : level.depth.handle(), level.steps.handle(),
                                 colour_target, frame.counters.handle(), mask_input};
@@ -550,9 +598,30 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       vk::compute_to_compute_barrier(cmd);
       break;
     }
-    timer.begin(cmd, "trace_level" + std::to_string(i));
-    trace_pipeline_->dispatch_2d(cmd, buffers, &params, params.level_size[0], params.level_size[1]);
-    timer.end(cmd);
+    if (foveated_mid) {
+      // The pixels to trace, listed (the others take their start depth there), then traced densely.
+      const MidListParams list_params{{params.level_size[0], params.level_size[1]},
+                                      {params.start_size[0], params.start_size[1]}, filter_radius, mid_listed};
+      const VkBuffer list_buffers[] = {frame.mid_flags.handle(), start->handle(), level.depth.handle(),
+                                       level.steps.handle(), frame.counters.handle(), frame.mid_list.handle()};
+      timer.begin(cmd, "mid_list");
+      mid_list_pipeline_->dispatch_2d(cmd, list_buffers, &list_params, params.level_size[0], params.level_size[1]);
+      timer.end(cmd);
+      vk::compute_to_compute_barrier(cmd);
+      const VkBuffer dispatch_buffers[] = {frame.counters.handle(), frame.mid_list_dispatch.handle()};
+      const uint32_t lists[] = {mid_listed, 0, 1};  // list_dispatch.comp.glsl's ListParams
+      list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists, 1, 1);
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+      timer.begin(cmd, "trace_level" + std::to_string(i));
+      trace_pipeline_->dispatch_indirect(cmd, buffers, &params, frame.mid_list_dispatch.handle(), 0);
+      timer.end(cmd);
+    } else {
+      timer.begin(cmd, "trace_level" + std::to_string(i));
+      trace_pipeline_->dispatch_2d(cmd, buffers, &params, params.level_size[0], params.level_size[1]);
+      timer.end(cmd);
+    }
     vk::compute_to_compute_barrier(cmd);
     if (top) break;
     if (foveated && i == 0) edges_and_mask();
@@ -657,7 +726,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
 // The sampling models: list the samples, trace and shade them, make every pixel from them.
 SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settings) {
-  prepare_frame(settings.width, settings.height, 1, false, false);
+  prepare_frame(settings);
   FrameBuffers& frame = *frame_;
   frame.history_valid = false;
   if (!sampling_) sampling_ = std::make_unique<SamplingPasses>(context_);

@@ -60,6 +60,16 @@ enum class TraceOutputs {
             // what a session shows, for a presenter on the same device or a read-back when needed
 };
 
+// How a pyramid level below the top decides where its rays stop (docs/scenes.md "Inverted pyramid").
+enum class CoarseTest {
+  centre_ray,  // the paper's: the ray through the level pixel's centre hits within the level's threshold;
+               // thin geometry between two centre rays can be stepped over and lost to the finer levels
+  cone,        // conservative: the level pixel's whole cone (corners and the top level's hit band) stops
+               // where geometry may enter it, so no finer ray starts behind a surface it would hit
+};
+const char* coarse_test_name(CoarseTest test);  // "ray" or "cone"
+std::optional<CoarseTest> parse_coarse_test(const std::string& name);
+
 struct SphereTraceSettings {
   TraceMethod method = TraceMethod::ground_truth;
   int width = 640;
@@ -68,6 +78,10 @@ struct SphereTraceSettings {
   float time_s = 0.0f;
   int pyramid_levels = 3;      // IPR: 2..5 levels, each with 1/4 the pixels of the one above
   int min_filter_size = 3;     // IPR: 1, 3 or 5
+  CoarseTest coarse_test = CoarseTest::centre_ray;  // IPR and FIPR: the depth levels' stopping rule
+  bool full_resolution_depth = false;  // IPR: one depth ray per pixel (a level of the frame's size, started
+                                       // from the level below and min-filtered like it) before the shaded
+                                       // samples, which then start from it instead of from the half-size level
   int max_steps = 256;         // step cap of one ray at one level
   float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
   FoveationSettings foveation;  // FIPR only
@@ -148,7 +162,7 @@ class SphereTracer {
 
  private:
   struct FrameBuffers;
-  void prepare_frame(int width, int height, int level_count, bool filtered, bool foveated);
+  void prepare_frame(const SphereTraceSettings& settings);  // the buffers of its frame layout, kept if they fit
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   vk::Context& context_;
   bool shader_from_cache_ = false;
@@ -157,6 +171,7 @@ class SphereTracer {
   std::unique_ptr<vk::ComputePipeline> edges_pipeline_;
   std::unique_ptr<vk::ComputePipeline> mask_pipeline_;
   std::unique_ptr<vk::ComputePipeline> list_dispatch_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> mid_list_pipeline_;
   std::unique_ptr<vk::ComputePipeline> reconstruct_pipeline_;
   std::unique_ptr<vk::ComputePipeline> blur_pipeline_;
   std::unique_ptr<Srgb8Encoder> encoder_;

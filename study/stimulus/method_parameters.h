@@ -33,6 +33,10 @@ enum class RenderMethod {
 // that of foveation/foveation_mask.h's MaskCombine (protocols/stimuli checks it).
 enum class FiprCombine : uint32_t { max, fovea_or_product, product, acuity };
 
+// How IPR's and FIPR's depth levels stop their rays; the order is that of renderer/sphere_tracing's
+// CoarseTest (protocols/stimuli checks it).
+enum class PyramidCoarseTest : uint32_t { centre_ray, cone };
+
 // How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
 // ResampleFilter (protocols/stimuli checks it).
 enum class SampleResampling : uint32_t { bilinear, lanczos };
@@ -59,6 +63,8 @@ struct InvertedPyramidParameters {
   double hit_threshold;
   int pyramid_levels;
   int min_filter_size;
+  PyramidCoarseTest coarse_test;
+  bool full_resolution_depth;
 };
 
 // FIPR's outer periphery at this radius is none (eccentricities are below 180 degrees); the
@@ -72,6 +78,7 @@ struct FoveatedPyramidParameters {
   double hit_threshold;
   int pyramid_levels;
   int min_filter_size;
+  PyramidCoarseTest coarse_test;
   double fovea_radius_deg;            // eccentricity up to which every pixel is traced
   double outer_periphery_radius_deg;  // eccentricity beyond which none is (180: no outer periphery)
   int periphery_refresh;

@@ -64,6 +64,11 @@ ParameterDescriptor with_allowed(ParameterDescriptor descriptor, std::vector<dou
   return descriptor;
 }
 
+ParameterDescriptor omitted_at_default(ParameterDescriptor descriptor) {
+  descriptor.omitted_at_default = true;
+  return descriptor;
+}
+
 ParameterDescriptor with_legacy_key(ParameterDescriptor descriptor, std::string_view legacy_key) {
   descriptor.legacy_key = legacy_key;
   return descriptor;
@@ -95,6 +100,12 @@ void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int mi
   parameters.push_back(with_allowed(parameter<&Struct::min_filter_size>("min_filter_size", "px", ParameterType::integer,
                                                                         3, 1, 5, "side of the depth min filter"),
                                     {1, 3, 5}));
+  ParameterDescriptor coarse_test = parameter<&Struct::coarse_test>(
+      "coarse_test", "", ParameterType::choice, 0, 0, 1,
+      "how the depth levels stop: ray (the paper's centre ray; may step over geometry thinner than a coarse pixel) or "
+      "cone (the coarse pixel's whole cone: never starts a finer ray behind a surface it would hit)");
+  coarse_test.choices = {"ray", "cone"};
+  parameters.push_back(omitted_at_default(coarse_test));
 }
 
 template <class Struct>
@@ -141,6 +152,11 @@ MethodDescriptor inverted_pyramid() {
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   method.parameters = sphere_trace_parameters<InvertedPyramidParameters>();
   add_pyramid_parameters<InvertedPyramidParameters>(method.parameters, 2);
+  ParameterDescriptor full_depth = parameter<&InvertedPyramidParameters::full_resolution_depth>(
+      "full_resolution_depth", "", ParameterType::choice, 0, 0, 1,
+      "on: one depth ray a pixel at full resolution before the shaded samples, which start from it");
+  full_depth.choices = {"off", "on"};
+  method.parameters.push_back(omitted_at_default(full_depth));
   return method;
 }
 

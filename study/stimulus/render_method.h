@@ -40,6 +40,9 @@ struct ParameterDescriptor {
   // The key this parameter had in configs written before the typed model (log schema 2 and
   // earlier); read only from configs that a session log carries (parse_logged_study_config).
   std::string_view legacy_key;
+  // Added after session logs had been written: at its default it is left out of a stimulus's
+  // canonical text and JSON, so the stimuli of older logs keep theirs (and their frame caches).
+  bool omitted_at_default = false;
   double (*read)(const MethodParameters&) = nullptr;
   void (*write)(MethodParameters&, double) = nullptr;
 };

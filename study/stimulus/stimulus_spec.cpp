@@ -27,6 +27,10 @@ const std::vector<const ParameterDescriptor*>& sorted_parameters(RenderMethod me
   return by_method.at(static_cast<size_t>(method));
 }
 
+bool left_out(const ParameterDescriptor& parameter, const MethodParameters& parameters) {
+  return parameter.omitted_at_default && parameter.read(parameters) == parameter.default_value;
+}
+
 }  // namespace
 
 std::string StimulusSpec::canonical() const {
@@ -34,6 +38,7 @@ std::string StimulusSpec::canonical() const {
   text.reserve(256);
   text += method_name();
   for (const ParameterDescriptor* parameter : sorted_parameters(method())) {
+    if (left_out(*parameter, parameters)) continue;
     text += ';';
     text += parameter->key;
     text += '=';
@@ -48,6 +53,7 @@ std::string StimulusSpec::canonical() const {
 nlohmann::json to_json(const StimulusSpec& spec) {
   nlohmann::json parameters = nlohmann::json::object();
   for (const ParameterDescriptor* parameter : sorted_parameters(spec.method())) {
+    if (left_out(*parameter, spec.parameters)) continue;
     const double value = parameter->read(spec.parameters);
     if (parameter->type == ParameterType::choice)
       parameters[std::string(parameter->key)] = parameter_value_text(*parameter, value);

@@ -125,7 +125,7 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   std::set<std::string> names;
   for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
   EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels",
-                                          "min_filter_size", "fovea_radius_deg", "outer_periphery_radius_deg",
+                                          "min_filter_size", "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg",
                                           "periphery_refresh", "periphery_steps", "blur", "combine", "edge_threshold",
                                           "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
@@ -151,10 +151,12 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   EXPECT_EQ(parameter_named(parameters, "mask_seed").max_value, 4294967295.0);
   for (const char* display : {"display_width_mm", "display_height_mm", "viewing_distance_mm"})
     EXPECT_EQ(parameter_named(parameters, display).default_value, 0) << display << ": 0 means from [display]";
-  // IPR's parameters are FIPR's first five.
+  EXPECT_EQ(parameter_named(parameters, "coarse_test").choices, (std::vector<std::string_view>{"ray", "cone"}));
+  EXPECT_TRUE(parameter_named(parameters, "coarse_test").omitted_at_default);
+  // IPR's parameters are FIPR's first six, and the full-resolution depth level (IPR's alone).
   for (const ParameterDescriptor& parameter : describe(RenderMethod::inverted_pyramid).parameters)
-    EXPECT_EQ(names.count(std::string(parameter.key)), 1u);
-  EXPECT_EQ(describe(RenderMethod::inverted_pyramid).parameters.size(), 5u);
+    EXPECT_EQ(names.count(std::string(parameter.key)), parameter.key == "full_resolution_depth" ? 0u : 1u);
+  EXPECT_EQ(describe(RenderMethod::inverted_pyramid).parameters.size(), 7u);
 }
 
 // One default per setting: a FIPR spec at its descriptor's defaults gives the renderer's own
@@ -213,8 +215,10 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(f.combine, MaskCombine::max);
   EXPECT_FLOAT_EQ(f.edge_threshold, 0.4f);
   EXPECT_EQ(f.seed, 0u);
+  EXPECT_EQ(settings.coarse_test, CoarseTest::centre_ray);
   EXPECT_NO_THROW(validate(settings));
 
+  fipr.coarse_test = PyramidCoarseTest::cone;
   fipr.fovea_radius_deg = 12.5;
   fipr.outer_periphery_radius_deg = 40;
   fipr.periphery_refresh = 4;
@@ -232,6 +236,7 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(settings.foveation.combine, MaskCombine::product);
   EXPECT_FLOAT_EQ(settings.foveation.edge_threshold, 0.1f);
   EXPECT_EQ(settings.foveation.seed, 4294967295u);
+  EXPECT_EQ(settings.coarse_test, CoarseTest::cone);
   EXPECT_NO_THROW(validate(settings));
 }
 

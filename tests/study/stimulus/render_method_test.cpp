@@ -63,6 +63,26 @@ TEST(RenderMethod, ChoicesTravelByNameInTheCanonicalTextAndJson) {
   EXPECT_EQ(spec.method_name(), "fipr");
 }
 
+// Parameters added after logs were written (the pyramid's coarse_test and full_resolution_depth)
+// leave the canonical text of older stimuli as it was at their defaults, and enter it otherwise.
+TEST(RenderMethod, ParametersAddedLaterKeepTheCanonicalTextOfOlderStimuli) {
+  StimulusSpec spec;
+  spec.scene = "primitives";
+  spec.width_px = 64;
+  spec.height_px = 36;
+  spec.parameters = default_parameters(RenderMethod::inverted_pyramid);
+  EXPECT_EQ(spec.canonical(),
+            "scene=primitives;method=ipr;hit_threshold=0.25;max_steps=256;min_filter_size=3;pyramid_levels=3;"
+            "samples_per_pixel=1;size=64x36;frames=1@1;camera_start_s=0");
+  EXPECT_FALSE(to_json(spec)["parameters"].contains("coarse_test"));
+  auto& ipr = std::get<InvertedPyramidParameters>(spec.parameters);
+  ipr.coarse_test = PyramidCoarseTest::cone;
+  ipr.full_resolution_depth = true;
+  EXPECT_NE(spec.canonical().find(";coarse_test=cone;full_resolution_depth=on;"), std::string::npos) << spec.canonical();
+  EXPECT_EQ(to_json(spec)["parameters"]["coarse_test"], "cone");
+  EXPECT_EQ(to_json(spec)["parameters"]["full_resolution_depth"], "on");
+}
+
 TEST(RenderMethod, ValuesOutsideTheDescriptorAreRefusedWithWhatWasExpected) {
   const MethodDescriptor& fpt = describe(RenderMethod::foveated_path_traced);
   const ParameterDescriptor& bounces = *find_parameter(fpt, "periphery_bounces");
