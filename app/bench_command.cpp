@@ -1,7 +1,9 @@
 // fovlab bench: ground truth against the inverted pyramid (IPR), its foveated form (FIPR) and seed
 // 002's sampling models (rmfr, hyperbolic, linear, kfr), scene by scene and spp by spp (and, for
 // FIPR, periphery refresh by fovea): median GPU milliseconds,
-// speed-up, steps per pixel, and SSIM, PSNR, FLIP and FPSNR against GT; where the time goes; the
+// speed-up, GT's and IPR's time over the one-step floor (every sample one step from where GT's own
+// trace stopped, then shaded: SphereTraceSettings::one_step_floor), steps per pixel, and SSIM, PSNR,
+// FLIP and FPSNR against GT; where the time goes; the
 // trade-off between speed and error as charts with their Pareto fronts.
 //
 // The steps live in their own files: flags checked into a plan (bench_plan), frames timed and
@@ -134,6 +136,9 @@ uint64_t bench_memory_bytes(const BenchOptions& options, const BenchPlan& plan) 
   std::vector<SphereTraceSettings> methods;
   settings.method = TraceMethod::ground_truth;
   methods.push_back(settings);
+  settings.one_step_floor = true;
+  methods.push_back(settings);
+  settings.one_step_floor = false;
   settings.method = TraceMethod::inverted_pyramid;
   if (plan.ipr) methods.push_back(settings);
   if (plan.fipr && !plan.variants.empty()) {
@@ -208,16 +213,22 @@ void run_bench(const BenchOptions& options) {
       gt_settings.method = TraceMethod::ground_truth;
       SphereTraceSettings ipr_settings = gt_settings;
       ipr_settings.method = TraceMethod::inverted_pyramid;
+      SphereTraceSettings floor_settings = gt_settings;
+      floor_settings.one_step_floor = true;
 
       MethodRuns gt;
       MethodRuns ipr;
-      std::vector<std::pair<SphereTraceSettings, MethodRuns*>> methods{{gt_settings, &gt}};
+      MethodRuns floor_runs;
+      std::vector<std::pair<SphereTraceSettings, MethodRuns*>> methods{{gt_settings, &gt}, {floor_settings, &floor_runs}};
       if (plan.ipr) methods.emplace_back(ipr_settings, &ipr);
       time_interleaved(tracer, methods, options.repeats);
       const Image gt_image = display_image(gt.frame);
       const double gt_ms = gt.median_gpu_ms();
 
-      nlohmann::json row = {{"scene", scene.name}, {"spp", spp}, {"time_s", time_s}, {"gt", gt.json(gt_settings)}};
+      nlohmann::json row = {{"scene", scene.name}, {"spp", spp}, {"time_s", time_s}, {"gt", gt.json(gt_settings)},
+                            {"floor", floor_runs.json(floor_settings)}};
+      row["floor"]["ssim_against_gt"] = frame_errors(gt_image, display_image(floor_runs.frame), plan).ssim;
+      row["gt_over_floor"] = gt_ms / floor_runs.median_gpu_ms();
       nlohmann::json cell = gt_cell(scene.name, spp, row["gt"]);
       cell["command"] = cell_command(options, plan, scene.name, time_s, spp, "gt");
       add_cell(cell);
@@ -225,6 +236,7 @@ void run_bench(const BenchOptions& options) {
         const FrameErrors errors = frame_errors(gt_image, display_image(ipr.frame), plan);
         row["ipr"] = ipr.json(ipr_settings);
         row["speedup"] = gt_ms / ipr.median_gpu_ms();
+        row["ipr_over_floor"] = ipr.median_gpu_ms() / floor_runs.median_gpu_ms();
         row.update(errors.json());
         cell = measured_cell("ipr", scene.name, spp, row["ipr"], gt_ms, errors);
         cell["top_level_share"] = 1.0;

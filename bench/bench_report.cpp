@@ -37,23 +37,29 @@ std::string cell_settings_label(const nlohmann::json& cell) {
 }  // namespace
 
 std::string gt_ipr_table_header() {
-  return "| scene | spp | GT ms | IPR ms | speed-up | GT steps/px | IPR steps/px | SSIM | PSNR dB | FLIP | FPSNR dB | "
-         "capped GT/IPR |\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  return "| scene | spp | GT ms | IPR ms | speed-up | floor ms | GT/floor | IPR/floor | GT steps/px | IPR steps/px | "
+         "SSIM | PSNR dB | FLIP | FPSNR dB | capped GT/IPR |\n"
+         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 }
 
 std::string gt_ipr_table_row(const nlohmann::json& row) {
   const nlohmann::json& gt = row["gt"];
   std::ostringstream out;
+  const double floor_ms = row["floor"]["median_gpu_ms"].get<double>();
+  const auto over_floor = [&](const nlohmann::json& runs) {
+    return number(runs["median_gpu_ms"].get<double>() / floor_ms, "%.2fx");
+  };
   out << "| " << row["scene"].get<std::string>() << " | " << row["spp"].get<int>() << " | "
       << number(gt["median_gpu_ms"], "%.1f") << " | ";
   if (!row.contains("ipr")) {
-    out << "- | - | " << number(gt["steps_per_pixel"], "%.1f") << " | - | - | - | - | - | "
-        << gt["capped_rays"].get<unsigned long long>() << "/- |\n";
+    out << "- | - | " << number(floor_ms, "%.1f") << " | " << over_floor(gt) << " | - | "
+        << number(gt["steps_per_pixel"], "%.1f") << " | - | - | - | - | - | " << gt["capped_rays"].get<unsigned long long>()
+        << "/- |\n";
     return out.str();
   }
   const nlohmann::json& ipr = row["ipr"];
   out << number(ipr["median_gpu_ms"], "%.1f") << " | " << number(row["speedup"], "%.2fx") << " | "
+      << number(floor_ms, "%.1f") << " | " << over_floor(gt) << " | " << over_floor(ipr) << " | "
       << number(gt["steps_per_pixel"], "%.1f") << " | " << number(ipr["steps_per_pixel"], "%.1f") << " | "
       << number(row["ssim"], "%.5f") << " | " << number(row["psnr_db"], "%.2f") << " | " << number(row["flip"], "%.5f")
       << " | " << number(row["fpsnr_db"], "%.2f") << " | " << gt["capped_rays"].get<unsigned long long>() << "/"
@@ -65,7 +71,7 @@ std::string pass_table(const nlohmann::json& rows) {
   std::ostringstream out;
   out << "| scene | spp | method | pass | median GPU ms | share |\n|---|---:|---|---|---:|---:|\n";
   for (const nlohmann::json& row : rows) {
-    for (const char* method : {"gt", "ipr"}) {
+    for (const char* method : {"gt", "ipr", "floor"}) {
       if (!row.contains(method)) continue;
       const nlohmann::json& runs = row[method];
       const double total = runs["median_gpu_ms"].get<double>();

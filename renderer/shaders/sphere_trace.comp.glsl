@@ -53,6 +53,8 @@ const uint FLAG_FOVEATED_MID = 4u;   // FIPR mid level
 const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level: the periphery's refresh list in mask_values
 const uint FLAG_CONE = 16u;          // depth levels (and FIPR's mid level) march their pixel's cone
 const uint FLAG_START_SAME_SIZE = 128u;  // the start buffer is this level's own size (pixel -> pixel)
+const uint FLAG_SAMPLE_DEPTH_OUT = 512u;  // GT before its one-step floor: each sample's stop to level_depth
+const uint FLAG_SAMPLE_DEPTH_IN = 1024u;  // the one-step floor: each sample starts at its entry of start_depth
 const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
 const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in mask_values, four words each
                                      // (x, y and footprint in pixels as float bits, then the sample's entry);
@@ -96,21 +98,30 @@ vec2 fovlab_sample_offset(uint sample_index, uint sample_count) {
   return vec2(0.0);
 }
 
+// The frame's camera: eye, basis and field of view, the same for every ray of the frame. main()
+// makes it once per invocation (scene_camera may cost trigonometry), not once per ray or sample.
+struct Camera { vec3 eye; vec3 forward; vec3 right; vec3 up; float tan_half_fov; };
+Camera fovlab_camera;
+
+void fovlab_set_camera() {
+  vec3 target;
+  float vertical_fov_deg;
+  scene_camera(params.time_s, fovlab_camera.eye, target, vertical_fov_deg);
+  fovlab_camera.forward = normalize(target - fovlab_camera.eye);
+  fovlab_camera.right = normalize(cross(fovlab_camera.forward, vec3(0.0, 1.0, 0.0)));
+  fovlab_camera.up = cross(fovlab_camera.right, fovlab_camera.forward);
+  fovlab_camera.tan_half_fov = tan(radians(vertical_fov_deg) * 0.5);
+}
+
 // Camera ray through a point of the full-resolution frame, in pixels (y down). Also returns the
 // angle one full-resolution pixel subtends at the image centre, in radians.
 Ray fovlab_camera_ray(vec2 frame_point_px, out float pixel_angle_rad) {
-  vec3 eye, target;
-  float vertical_fov_deg;
-  scene_camera(params.time_s, eye, target, vertical_fov_deg);
-  vec3 forward = normalize(target - eye);
-  vec3 right = normalize(cross(forward, vec3(0.0, 1.0, 0.0)));
-  vec3 up = cross(right, forward);
-  float tan_half_fov = tan(radians(vertical_fov_deg) * 0.5);
   vec2 ndc = (frame_point_px - 0.5 * params.frame_size) / (0.5 * params.frame_size.y);
-  pixel_angle_rad = 2.0 * tan_half_fov / params.frame_size.y;
+  pixel_angle_rad = 2.0 * fovlab_camera.tan_half_fov / params.frame_size.y;
   Ray ray;
-  ray.origin = eye;
-  ray.direction = normalize(forward + tan_half_fov * (ndc.x * right - ndc.y * up));
+  ray.origin = fovlab_camera.eye;
+  ray.direction =
+      normalize(fovlab_camera.forward + fovlab_camera.tan_half_fov * (ndc.x * fovlab_camera.right - ndc.y * fovlab_camera.up));
   return ray;
 }
 
@@ -335,15 +346,25 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
 }
 
 // Shades a pixel's (or a sample's) spp rays around centre_px, spread over `scale` pixels.
+// The one-step floor (`fovlab bench`): GT records where each sample stopped (FLAG_SAMPLE_DEPTH_OUT,
+// before the refining step, so the distance there is not negative), then each sample starts there
+// with a step cap of 1 (FLAG_SAMPLE_DEPTH_IN): one evaluation, which is its hit test, and shading.
 void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale) {
   vec3 colour_sum = vec3(0.0);
   uint steps = 0u;
+  bool record_depth = (params.flags & FLAG_SAMPLE_DEPTH_OUT) != 0u;
   for (uint s = 0u; s < params.samples_per_pixel; ++s) {
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(centre_px + fovlab_sample_offset(s, params.samples_per_pixel) * scale,
                                 pixel_angle_rad);
     float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
-    TraceResult result = fovlab_trace(ray, t_start, epsilon_per_unit_t, true, params.max_steps, true);
+    uint sample_entry = index * params.samples_per_pixel + s;
+    float t_sample = (params.flags & FLAG_SAMPLE_DEPTH_IN) != 0u ? start_depth[sample_entry] : t_start;
+    TraceResult result = fovlab_trace(ray, t_sample, epsilon_per_unit_t, !record_depth, params.max_steps, true);
+    if (record_depth) {
+      level_depth[sample_entry] = fovlab_depth_to_pass_on(result);
+      fovlab_refine_hit(ray, result, params.max_steps);
+    }
     steps += result.steps;
     colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);
   }
@@ -352,6 +373,7 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
 }
 
 void main() {
+  fovlab_set_camera();
   uvec2 pixel = gl_GlobalInvocationID.xy;
   uint index;
   uint list_slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;

@@ -29,6 +29,8 @@ constexpr uint32_t kFlagCone = 16;
 constexpr uint32_t kFlagMaskedList = 32;
 constexpr uint32_t kFlagSampleList = 64;
 constexpr uint32_t kFlagStartSameSize = 128;
+constexpr uint32_t kFlagSampleDepthOut = 512;
+constexpr uint32_t kFlagSampleDepthIn = 1024;
 constexpr uint32_t kMaskFlagTraceAll = 1;
 constexpr uint32_t kMaskFlagAllDue = 2;
 constexpr uint32_t kMaskFlagListRefresh = 4;
@@ -156,6 +158,7 @@ struct SphereTracer::FrameBuffers {
   vk::Buffer counters;
   vk::Buffer counters_readback;
   vk::Buffer unused;  // bound where a pass has no such buffer
+  vk::Buffer sample_depth;  // GT's one-step floor: where each sample's trace stopped (made when first needed)
   // FIPR only.
   vk::Buffer edges;           // low level: 0 or 1
   vk::Buffer mask;            // full resolution: 0 or 1
@@ -285,6 +288,7 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
     bytes += level_pixels[size_t(level_count - 2)] * (2 * sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, list, colour
     bytes += frame_pixels * 4 * sizeof(float);                                       // blurred
   }
+  if (settings.one_step_floor) bytes += frame_pixels * uint64_t(settings.samples_per_pixel) * sizeof(float);  // sample_depth
   if (settings.outputs != TraceOutputs::display) bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
   if (settings.outputs == TraceOutputs::all) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
   // Sampling models: the sample list and its read-back, colours, steps and their read-back, with
@@ -381,6 +385,8 @@ void validate(const SphereTraceSettings& settings) {
     throw SettingError("hit_threshold", ": expected a value in (0, 8]");
   }
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite number of seconds");
+  if (settings.one_step_floor && settings.method != TraceMethod::ground_truth)
+    throw SettingError("one_step_floor", ": expected the GT method (the floor is measured on GT's frame)");
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
   if (settings.method == TraceMethod::sampling_model) {
     if (!settings.sampling) throw SettingError("sampling", ": expected a sampling model's map");
@@ -500,13 +506,25 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
   vk::OneTimeCommands commands(context_);
   VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 9));
+  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 10));
   timer.reset(cmd);
   vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   if (foveated && all_due) vkCmdFillBuffer(cmd, frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
   if (foveated) vkCmdFillBuffer(cmd, levels.back().steps.handle(), 0, VK_WHOLE_SIZE, 0);  // pixels not traced: 0
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+
+  // The workgroup counts of indirect dispatches over one or two lists an earlier pass filled:
+  // `lists` is list_dispatch.comp.glsl's ListParams (two counter indices and the number of lists).
+  const auto record_list_dispatch = [&](const char* pass, std::array<uint32_t, 3> lists, const vk::Buffer& counts) {
+    const VkBuffer dispatch_buffers[] = {frame.counters.handle(), counts.handle()};
+    timer.begin(cmd, pass);
+    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists.data(), 1, 1);
+    timer.end(cmd);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+  };
 
   // FIPR passes 2 and 3, once the low level's depth exists.
   const auto edges_and_mask = [&] {
@@ -524,14 +542,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     mask_pipeline_->dispatch_2d(cmd, mask_buffers, &params, params.mid_size[0], params.mid_size[1]);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
-    const VkBuffer dispatch_buffers[] = {frame.counters.handle(), frame.list_dispatch.handle()};
-    timer.begin(cmd, "list_dispatch");
-    const uint32_t lists[] = {masked, refresh_listed, 2};  // list_dispatch.comp.glsl's ListParams
-    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists, 1, 1);
-    timer.end(cmd);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+    record_list_dispatch("list_dispatch", {masked, refresh_listed, 2}, frame.list_dispatch);
   };
 
   const vk::Buffer* start = nullptr;  // start depth for the current level (the filtered level below)
@@ -608,14 +619,26 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       mid_list_pipeline_->dispatch_2d(cmd, list_buffers, &list_params, params.level_size[0], params.level_size[1]);
       timer.end(cmd);
       vk::compute_to_compute_barrier(cmd);
-      const VkBuffer dispatch_buffers[] = {frame.counters.handle(), frame.mid_list_dispatch.handle()};
-      const uint32_t lists[] = {mid_listed, 0, 1};  // list_dispatch.comp.glsl's ListParams
-      list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists, 1, 1);
-      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                         VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+      record_list_dispatch("mid_list_dispatch", {mid_listed, 0, 1}, frame.mid_list_dispatch);
       timer.begin(cmd, "trace_level" + std::to_string(i));
       trace_pipeline_->dispatch_indirect(cmd, buffers, &params, frame.mid_list_dispatch.handle(), 0);
+      timer.end(cmd);
+    } else if (settings.one_step_floor) {
+      // GT's trace, untimed, recording where each sample stopped; then the timed floor from there.
+      const VkDeviceSize sample_bytes = VkDeviceSize(frame_pixels) * VkDeviceSize(settings.samples_per_pixel) * sizeof(float);
+      if (frame.sample_depth.size_bytes() != sample_bytes)
+        frame.sample_depth = vk::Buffer(context_, sample_bytes, vk::MemoryUse::device_local);
+      TraceParams record = params;
+      record.flags |= kFlagSampleDepthOut;
+      const VkBuffer record_buffers[] = {buffers[0], frame.sample_depth.handle(), buffers[2], buffers[3], buffers[4], buffers[5]};
+      trace_pipeline_->dispatch_2d(cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
+      vk::compute_to_compute_barrier(cmd);
+      TraceParams floor_params = params;
+      floor_params.flags |= kFlagSampleDepthIn;
+      floor_params.max_steps = 1;
+      const VkBuffer floor_buffers[] = {frame.sample_depth.handle(), buffers[1], buffers[2], buffers[3], buffers[4], buffers[5]};
+      timer.begin(cmd, "one_step_floor");
+      trace_pipeline_->dispatch_2d(cmd, floor_buffers, &floor_params, params.level_size[0], params.level_size[1]);
       timer.end(cmd);
     } else {
       timer.begin(cmd, "trace_level" + std::to_string(i));

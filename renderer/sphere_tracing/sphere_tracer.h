@@ -84,6 +84,10 @@ struct SphereTraceSettings {
                                        // samples, which then start from it instead of from the half-size level
   int max_steps = 256;         // step cap of one ray at one level
   float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
+  // GT only, `fovlab bench`'s floor: an untimed GT pass records where each sample's trace stopped,
+  // then every sample starts there and takes one step and its shading, the least a sphere tracer
+  // can spend on this frame. The result's passes (and gpu_ms) are that second pass alone.
+  bool one_step_floor = false;
   FoveationSettings foveation;  // FIPR only
   // TraceMethod::sampling_model: the frame's map, whose screen is width x height. Each sample is
   // traced with samples_per_pixel rays spread over its footprint, from the camera (no pyramid).

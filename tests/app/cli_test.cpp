@@ -91,7 +91,12 @@ TEST(Cli, BenchPrintsATableAndWritesJson) {
   const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
   ASSERT_EQ(json["rows"].size(), 1u);
   EXPECT_GT(json["rows"][0]["speedup"].get<double>(), 0.0);
+  // The one-step floor: every sample one step from where GT stopped, then shaded; IPR's time over it.
+  EXPECT_GT(json["rows"][0]["floor"]["median_gpu_ms"].get<double>(), 0.0);
+  EXPECT_LE(json["rows"][0]["floor"]["steps_per_sample"].get<double>(), 1.0);
+  EXPECT_GT(json["rows"][0]["ipr_over_floor"].get<double>(), 0.0);
   EXPECT_NE(json["command"].get<std::string>().find("fovlab bench --scenes primitives"), std::string::npos);
+  EXPECT_NE(json["command"].get<std::string>().find("--coarse-test ray"), std::string::npos);
 }
 
 TEST(Cli, DevicesListsLavapipeOrAGpu) {
@@ -107,6 +112,7 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   expect_one_line_error(run(render + " --width 0 --height 32"), "--width 0");
   expect_one_line_error(run(render + " --width 99999 --height 32"), "--width 99999");
   expect_one_line_error(run(render + kSmall + "--spp 3"), "--spp 3");
+  expect_one_line_error(run(render + kSmall + "--method ipr --coarse-test wide"), "--coarse-test");
   // The renderer names its settings' fields; render words them as its flags.
   expect_one_line_error(run(render + kSmall + "--levels 6"), "--levels 6: expected 2 to 5 pyramid levels");
   // A method's parameter flags take what a study config takes (its descriptor's range and values).
