@@ -130,6 +130,8 @@ void write_frame_images(const std::filesystem::path& out_dir, const std::string&
 // frame with the display images the errors compare.
 uint64_t bench_memory_bytes(const BenchOptions& options, const BenchPlan& plan) {
   SphereTraceSettings settings = options.settings;
+  if (!options.spps.empty())  // the floor keeps a depth a sample
+    settings.samples_per_pixel = *std::max_element(options.spps.begin(), options.spps.end());
   uint64_t layout_bytes = 0;
   uint64_t results_bytes = 0;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);

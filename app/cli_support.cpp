@@ -85,8 +85,8 @@ void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
                                                                   {coarse_test_name(CoarseTest::cone), CoarseTest::cone}};
   command
       .add_option("--coarse-test", settings.coarse_test,
-                  "IPR/FIPR depth levels: ray (the paper's centre ray) or cone (the pixel's whole cone: never steps over "
-                  "thin geometry)")
+                  "IPR/FIPR depth levels: ray (the paper's centre ray) or cone (the pixel's whole cone: no finer ray starts "
+                  "behind a surface it would hit)")
       ->transform(CLI::CheckedTransformer(coarse_tests))
       ->default_str(coarse_test_name(settings.coarse_test));
   command.add_flag("--full-depth", settings.full_resolution_depth,

@@ -5,7 +5,7 @@
 // are due for a refresh (the mid level shades them, or the top level traces them from its depth).
 // Those pixels are appended to a list that the trace pass (sphere_trace.comp.glsl,
 // FLAG_FOVEATED_MID) runs over densely, 64 entries a workgroup, instead of paying a SIMD lane for
-// every pixel of the level; each entry carries what the trace needs (MID_ENTRY_* below, the same
+// every pixel of the level; each entry carries what the trace needs (fovlab_mid_entry_* below, the same
 // there). The other pixels pass their parent's (filtered) depth on here, with no steps. The list's
 // order is that of the atomics; no pixel's result depends on it.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -27,9 +27,9 @@ layout(push_constant) uniform MidListParams {
 
 const uint MID_FLAG_DUE = 256u;
 // A list entry: the mid pixel's index, its unmasked children (0-4) and whether they are due.
-const uint MID_ENTRY_INDEX_MASK = 0x0FFFFFFFu;
-const uint MID_ENTRY_UNMASKED_SHIFT = 28u;
-const uint MID_ENTRY_REFRESH = 0x80000000u;
+const uint fovlab_mid_entry_index_mask = 0x0FFFFFFFu;
+const uint fovlab_mid_entry_unmasked_shift = 28u;
+const uint fovlab_mid_entry_refresh = 0x80000000u;
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
@@ -48,7 +48,7 @@ void main() {
   bool refresh_children = unmasked_children > 0u && (flags_here & MID_FLAG_DUE) != 0u;
   if (need_depth || refresh_children) {
     uint slot = atomicAdd(counters[params.list_counter], 1u);
-    mid_list[slot] = index | (unmasked_children << MID_ENTRY_UNMASKED_SHIFT) | (refresh_children ? MID_ENTRY_REFRESH : 0u);
+    mid_list[slot] = index | (unmasked_children << fovlab_mid_entry_unmasked_shift) | (refresh_children ? fovlab_mid_entry_refresh : 0u);
     return;
   }
   uvec2 parent = min(pixel / 2u, params.start_size - 1u);

@@ -61,9 +61,9 @@ const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in m
                                      // colour (alpha 1: shaded) and steps go to that entry
 // An entry of the mid level's list (fipr_mid_list.comp.glsl, the same there): the pixel's index,
 // its unmasked children (0-4) and whether they are due for a refresh.
-const uint MID_ENTRY_INDEX_MASK = 0x0FFFFFFFu;
-const uint MID_ENTRY_UNMASKED_SHIFT = 28u;
-const uint MID_ENTRY_REFRESH = 0x80000000u;
+const uint fovlab_mid_entry_index_mask = 0x0FFFFFFFu;
+const uint fovlab_mid_entry_unmasked_shift = 28u;
+const uint fovlab_mid_entry_refresh = 0x80000000u;
 
 layout(push_constant) uniform TraceParams {
   uvec2 level_size;          // pixels of this level
@@ -100,8 +100,8 @@ vec2 fovlab_sample_offset(uint sample_index, uint sample_count) {
 
 // The frame's camera: eye, basis and field of view, the same for every ray of the frame. main()
 // makes it once per invocation (scene_camera may cost trigonometry), not once per ray or sample.
-struct Camera { vec3 eye; vec3 forward; vec3 right; vec3 up; float tan_half_fov; };
-Camera fovlab_camera;
+struct fovlab_camera_basis { vec3 eye; vec3 forward; vec3 right; vec3 up; float tan_half_fov; };
+fovlab_camera_basis fovlab_camera;
 
 void fovlab_set_camera() {
   vec3 target;
@@ -113,7 +113,7 @@ void fovlab_set_camera() {
   fovlab_camera.tan_half_fov = tan(radians(vertical_fov_deg) * 0.5);
 }
 
-// Camera ray through a point of the full-resolution frame, in pixels (y down). Also returns the
+// fovlab_camera_basis ray through a point of the full-resolution frame, in pixels (y down). Also returns the
 // angle one full-resolution pixel subtends at the image centre, in radians.
 Ray fovlab_camera_ray(vec2 frame_point_px, out float pixel_angle_rad) {
   vec2 ndc = (frame_point_px - 0.5 * params.frame_size) / (0.5 * params.frame_size.y);
@@ -216,19 +216,20 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
 //   At a step from t with distance d, the cone's points up to t + s lie within sqrt(s^2 + (c (t + s))^2)
 // of the ray's point at t (the chord between two rays through the eye is at most their angle times
 // t), and the band there is at most b (t + d); so with clearance = d - b (t + d) the step s solves
-// s^2 + c^2 (t + s)^2 = clearance^2. The march stops once clearance < CONE_STOP * c * t: beyond that
+// s^2 + c^2 (t + s)^2 = clearance^2. The march stops once clearance < fovlab_cone_stop * c * t: beyond that
 // the steps shrink geometrically near a surface the cone grazes, and stopping early only hands the
 // finer level a few more steps. The scene bounds are widened by the cone's largest radius plus band,
 // so that entering and leaving them is decided for the whole cone, not just its axis.
-const float CONE_STOP = 1.5;
+const float fovlab_cone_stop = 1.5;
 TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, float band_per_unit_t, uint step_cap) {
   TraceResult result;
   result.steps = 0u;
   result.distance = 0.0;
   result.material_id = 0.0;
-  // Beyond t_far the cone and its band lie outside the sphere around the eye that holds the bounds.
+  // Beyond t_far (the farthest corner of the bounds from the eye) the cone lies outside the bounds,
+  // where no march evaluates the scene; before it the widened box holds every point of the cone.
   vec3 far_corner = max(abs(SCENE_BOUNDS_MIN - ray.origin), abs(SCENE_BOUNDS_MAX - ray.origin));
-  float t_far = length(far_corner) / (1.0 - band_per_unit_t);
+  float t_far = length(far_corner);
   float margin = (cone_per_unit_t + band_per_unit_t) * t_far;
   vec2 interval = fovlab_box_interval(ray, SCENE_BOUNDS_MIN - margin, SCENE_BOUNDS_MAX + margin);
   float t = max(t_start, interval.x);
@@ -251,7 +252,7 @@ TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, flo
       }
     }
     float clearance = sample_.x - band_per_unit_t * (t + sample_.x);
-    if (clearance < CONE_STOP * cone_per_unit_t * t) {
+    if (clearance < fovlab_cone_stop * cone_per_unit_t * t) {
       result.t = t;
       result.outcome = OUTCOME_HIT;
       result.distance = sample_.x;
@@ -269,10 +270,10 @@ TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, flo
 // A depth level's ray: the paper's centre ray with the level's hit threshold, or (FLAG_CONE) the
 // level pixel's cone. The cone reaches from the centre to a corner, scale / sqrt(2) pixels, plus
 // the top level's hit band; pixel_angle_rad is the centre pixel's, the largest of the frame.
-const float HALF_DIAGONAL = 0.70711;
+const float fovlab_half_diagonal = 0.70711;
 TraceResult fovlab_depth_trace(Ray ray, float t_start, float pixel_angle_rad, float scale) {
   if ((params.flags & FLAG_CONE) != 0u)
-    return fovlab_cone_trace(ray, t_start, pixel_angle_rad * scale * HALF_DIAGONAL,
+    return fovlab_cone_trace(ray, t_start, pixel_angle_rad * scale * fovlab_half_diagonal,
                              pixel_angle_rad * params.hit_threshold, params.max_steps);
   return fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true);
 }
@@ -318,10 +319,10 @@ float fovlab_depth_to_pass_on(TraceResult result) {
   return result.outcome == OUTCOME_MISS ? MISS_DEPTH : result.t;
 }
 
-// One listed pixel of FIPR's mid level (`entry`: MID_ENTRY_*).
+// One listed pixel of FIPR's mid level (`entry`: fovlab_mid_entry_*).
 void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, float scale) {
-  uint unmasked_children = (entry >> MID_ENTRY_UNMASKED_SHIFT) & 7u;
-  bool refresh_children = (entry & MID_ENTRY_REFRESH) != 0u;
+  uint unmasked_children = (entry >> fovlab_mid_entry_unmasked_shift) & 7u;
+  bool refresh_children = (entry & fovlab_mid_entry_refresh) != 0u;
   bool need_shade = refresh_children && params.periphery_steps == 0u;
   float pixel_angle_rad;
   Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
@@ -330,10 +331,11 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
   level_depth[index] = fovlab_depth_to_pass_on(result);
   atomicAdd(mid_traced_pixels, 1u);
   if (need_shade) {
-    if ((params.flags & FLAG_CONE) != 0u) {
-      // The cone stopped short of the surface: the shaded ray goes on from there with the level's test.
+    if ((params.flags & FLAG_CONE) != 0u && result.steps < params.max_steps) {
+      // The cone stopped short of the surface: the shaded ray goes on from there with the level's
+      // test, within what is left of the step cap (a capped cone was counted once already).
       uint cone_steps = result.steps;
-      result = fovlab_trace(ray, result.t, epsilon_per_unit_t, false, params.max_steps, true);
+      result = fovlab_trace(ray, result.t, epsilon_per_unit_t, false, params.max_steps - cone_steps, true);
       result.steps += cone_steps;
     }
     fovlab_refine_hit(ray, result, params.max_steps);
@@ -391,7 +393,7 @@ void main() {
                                                                   : mid_list_pixels;
     if (list_slot >= list_length) return;
     mid_entry = mask_values[list_slot];
-    index = mid_entry & MID_ENTRY_INDEX_MASK;  // (the pixel lists hold bare indices, under 2^28)
+    index = mid_entry & fovlab_mid_entry_index_mask;  // (the pixel lists hold bare indices, under 2^28)
     pixel = uvec2(index % params.level_size.x, index / params.level_size.x);
   } else {
     if (any(greaterThanEqual(pixel, params.level_size))) return;

@@ -310,12 +310,6 @@ const char* method_name(TraceMethod method) {
 
 const char* coarse_test_name(CoarseTest test) { return test == CoarseTest::cone ? "cone" : "ray"; }
 
-std::optional<CoarseTest> parse_coarse_test(const std::string& name) {
-  for (CoarseTest test : {CoarseTest::centre_ray, CoarseTest::cone})
-    if (name == coarse_test_name(test)) return test;
-  return std::nullopt;
-}
-
 std::optional<TraceMethod> parse_trace_method(const std::string& name) {
   for (TraceMethod method : {TraceMethod::ground_truth, TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid})
     if (name == method_name(method)) return method;
@@ -633,6 +627,9 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       const VkBuffer record_buffers[] = {buffers[0], frame.sample_depth.handle(), buffers[2], buffers[3], buffers[4], buffers[5]};
       trace_pipeline_->dispatch_2d(cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
       vk::compute_to_compute_barrier(cmd);
+      vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);  // the floor's own capped and restarted rays
+      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
       TraceParams floor_params = params;
       floor_params.flags |= kFlagSampleDepthIn;
       floor_params.max_steps = 1;

@@ -67,8 +67,7 @@ enum class CoarseTest {
   cone,        // conservative: the level pixel's whole cone (corners and the top level's hit band) stops
                // where geometry may enter it, so no finer ray starts behind a surface it would hit
 };
-const char* coarse_test_name(CoarseTest test);  // "ray" or "cone"
-std::optional<CoarseTest> parse_coarse_test(const std::string& name);
+const char* coarse_test_name(CoarseTest test);  // "ray" or "cone" (the CLI's and the config's words)
 
 struct SphereTraceSettings {
   TraceMethod method = TraceMethod::ground_truth;

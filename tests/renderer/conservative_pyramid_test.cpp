@@ -129,12 +129,5 @@ TEST_F(VulkanTest, FoveatedPyramidWithTheConeKeepsTheWires) {
   EXPECT_GT(ssim(gt, foveated_cone), ssim(gt, foveated_ray));
 }
 
-TEST(CoarseTestNames, ReadBackAndRejectOthers) {
-  for (const CoarseTest test : {CoarseTest::centre_ray, CoarseTest::cone})
-    EXPECT_EQ(parse_coarse_test(coarse_test_name(test)), test);
-  EXPECT_FALSE(parse_coarse_test("Cone").has_value());
-  EXPECT_FALSE(parse_coarse_test("").has_value());
-}
-
 }  // namespace
 }  // namespace fovlab
