@@ -143,7 +143,6 @@ struct SphereTracer::FrameBuffers {
   int width = 0;
   int height = 0;
   LevelLayout layout;
-  int level_count = 0;  // layout.count()
   bool filtered = false;
   bool foveated = false;
   // FIPR: `colour` and `mid_colour` hold the frame `history_index` of a sequence rendered with
@@ -174,8 +173,9 @@ struct SphereTracer::FrameBuffers {
 
   FrameBuffers(const vk::Context& context, int width_px, int height_px, LevelLayout level_layout, bool with_filter,
                bool with_foveation)
-      : width(width_px), height(height_px), layout(level_layout), level_count(level_layout.count()),
-        filtered(with_filter), foveated(with_foveation), levels(static_cast<size_t>(level_count)) {
+      : width(width_px), height(height_px), layout(level_layout), filtered(with_filter), foveated(with_foveation),
+        levels(static_cast<size_t>(level_layout.count())) {
+    const int level_count = layout.count();
     for (int i = 0; i < level_count; ++i) {
       LevelBuffers& level = levels[static_cast<size_t>(i)];
       level.stats.scale = layout.scale(i);
