@@ -7,13 +7,16 @@
 // trade-off between speed and error as charts with their Pareto fronts.
 //
 // The steps live in their own files: flags checked into a plan (bench_plan), frames timed and
-// measured (bench_runs), Pareto fronts and charts (bench_pareto), Markdown tables (bench_report).
-// This file registers the flags and runs the sweep.
+// measured (bench_runs), Pareto fronts and charts (bench_pareto), Markdown tables (bench_report),
+// the tables, charts and files of a finished sweep (bench_outputs, shared with bench-merge), a sweep
+// in parts (bench_parts). This file registers the flags and runs the sweep, or with --cells I/N one
+// part of it.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -21,7 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_pareto.h"
+#include "app/bench_outputs.h"
 #include "app/bench_plan.h"
 #include "bench/bench_report.h"
 #include "bench/bench_runs.h"
@@ -41,12 +44,6 @@ namespace fovlab::app {
 using namespace fovlab::bench;  // the benchmark library this command prints
 
 namespace {
-
-// The fovea of seed 000's Table 1 and of its speed-ups "at 7.5 degrees" (section 5.2).
-constexpr double kPaperFoveaDeg = 7.5;
-const char* const kPaperNote =
-    "Seed 000 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups 1.1x-16x "
-    "(section 5.2).";
 
 nlohmann::json display_json(const BenchPlan& plan) {
   return {{"width_mm", plan.display.width_mm},
@@ -75,46 +72,6 @@ nlohmann::json measured_cell(const std::string& method, const std::string& scene
   cell["speedup"] = gt_median_gpu_ms / runs["median_gpu_ms"].get<double>();
   cell.update(errors.json());
   return cell;
-}
-
-// Marks each scene's cells on the Pareto fronts of speed-up against FLIP and against 1 - SSIM
-// ("pareto_flip", "pareto_one_minus_ssim").
-void mark_pareto_fronts(nlohmann::json& cells, const std::vector<std::string>& scenes) {
-  for (const std::string& scene : scenes) {
-    for (const char* error : {"flip", "ssim"}) {
-      std::vector<TradeOff> points;
-      std::vector<nlohmann::json*> of_scene;
-      for (nlohmann::json& cell : cells) {
-        if (cell["scene"] != scene) continue;
-        const double value = std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
-        points.push_back({cell["speedup"].get<double>(), value});
-        of_scene.push_back(&cell);
-      }
-      const std::vector<bool> front = pareto_front(points);
-      for (size_t i = 0; i < of_scene.size(); ++i) {
-        (*of_scene[i])[std::string(error) == "ssim" ? "pareto_one_minus_ssim" : "pareto_flip"] = bool(front[i]);
-      }
-    }
-  }
-}
-
-std::vector<ChartCell> chart_cells(const nlohmann::json& cells, const std::string& scene, bool flip) {
-  std::vector<ChartCell> chart;
-  for (const nlohmann::json& cell : cells) {
-    if (cell["scene"] != scene) continue;
-    ChartCell point;
-    point.method = cell["method"].get<std::string>();
-    point.spp = cell["spp"].get<int>();
-    if (point.method == "fipr") {
-      point.refresh = cell["refresh"].get<int>();
-      point.fovea_deg = cell["fovea_deg"].get<double>();
-    }
-    point.trade_off = {cell["speedup"].get<double>(),
-                       flip ? cell["flip"].get<double>() : 1.0 - cell["ssim"].get<double>()};
-    point.on_front = cell[flip ? "pareto_flip" : "pareto_one_minus_ssim"].get<bool>();
-    chart.push_back(point);
-  }
-  return chart;
 }
 
 void write_frame_images(const std::filesystem::path& out_dir, const std::string& stem, const SphereTraceResult& frame,
@@ -170,7 +127,9 @@ void run_bench(const BenchOptions& options) {
     check_output_path(options.out_dir / "table.md", "--out-dir");
   }
 
-  vk::Context context(context_options(options.device));
+  vk::ContextOptions context_settings = context_options(options.device);
+  context_settings.require_gpu = options.require_gpu;
+  vk::Context context(context_settings);
   const int width = options.settings.width;
   const int height = options.settings.height;
   std::printf("fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
@@ -185,8 +144,6 @@ void run_bench(const BenchOptions& options) {
 
   nlohmann::json rows = nlohmann::json::array();
   nlohmann::json cells = nlohmann::json::array();
-  std::string gt_ipr_table = gt_ipr_table_header();
-  std::string cell_table = cell_table_header();
   const auto print = [&](const std::string& line) {
     std::printf("%s", line.c_str());
     std::fflush(stdout);
@@ -196,18 +153,30 @@ void run_bench(const BenchOptions& options) {
   float current_time_s = plan.times_s.front();
   const auto add_cell = [&](nlohmann::json cell) {
     cell["time_s"] = current_time_s;
-    cell_table += cell_table_row(cell);
     if (plan.has_cells()) print(cell_table_row(cell));
     cells.push_back(std::move(cell));
   };
 
-  const auto progress = step_progress("bench", int(scenes.size() * plan.times_s.size() * options.spps.size()));
-  for (const SceneSource& scene : scenes) {
+  // The sweep's units, (scene, time, spp) in this order; with --cells only the part's.
+  const int units_per_scene = int(plan.times_s.size() * options.spps.size());
+  const int units = int(scenes.size()) * units_per_scene;
+  const std::optional<SweepPart>& part = plan.part;
+  const auto held = [&](int unit) { return !part || part->holds(unit); };
+  const auto progress = step_progress("bench", part ? part->units_held(units) : units);
+  for (size_t scene_index = 0; scene_index < scenes.size(); ++scene_index) {
+    const SceneSource& scene = scenes[scene_index];
+    const int first_unit = int(scene_index) * units_per_scene;
+    bool scene_held = false;
+    for (int unit = first_unit; unit < first_unit + units_per_scene; ++unit) scene_held |= held(unit);
+    if (!scene_held) continue;
     // One tracer serves every method: a FIPR sequence starts at frame 0 (no history needed), and GT
     // and IPR frames run only between sequences.
     SphereTracer tracer(context, scene);
-    for (float time_s : plan.times_s)
-    for (int spp : options.spps) {
+    for (size_t time_index = 0; time_index < plan.times_s.size(); ++time_index)
+    for (size_t spp_index = 0; spp_index < options.spps.size(); ++spp_index) {
+      if (!held(first_unit + int(time_index * options.spps.size() + spp_index))) continue;
+      const float time_s = plan.times_s[time_index];
+      const int spp = options.spps[spp_index];
       current_time_s = time_s;
       SphereTraceSettings gt_settings = options.settings;
       gt_settings.samples_per_pixel = spp;
@@ -246,9 +215,8 @@ void run_bench(const BenchOptions& options) {
         cell["command"] = cell_command(options, plan, scene.name, time_s, spp, "ipr");
         add_cell(cell);
       }
-      rows.push_back(row);
-      gt_ipr_table += gt_ipr_table_row(row);
       if (!plan.has_cells()) print(gt_ipr_table_row(row));
+      rows.push_back(row);
       const std::string stem =
           scene.name + (several_times ? "_t" + format_number(time_s, 6) : std::string()) + "_spp" + std::to_string(spp);
       if (!options.out_dir.empty()) {
@@ -314,26 +282,6 @@ void run_bench(const BenchOptions& options) {
   }
   fail_on_validation_messages(context);
 
-  std::vector<std::string> scene_names;
-  for (const SceneSource& scene : scenes) scene_names.push_back(scene.name);
-  mark_pareto_fronts(cells, scene_names);
-
-  const std::string passes = pass_table(rows);
-  const std::string fovea_7_5 = plan.fipr ? fovea_table(cells, kPaperFoveaDeg) : "";
-  const std::string fronts = pareto_table(cells);
-  const std::string models = plan.sampling_maps.empty() ? "" : sampling_table(cells);
-  const FocalSweep focal_sweep = rmfr_focal_sweep(cells, plan.focal_shares_x, plan.focal_shares_y);
-  const std::string ranking = plan.sampling_maps.empty() ? "" : sampling_ranking_table(cells);
-  if (plan.has_cells()) {
-    if (plan.ipr) print("\nGT against IPR:\n" + gt_ipr_table);
-    if (plan.fipr) print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
-    if (!models.empty()) print("\nSampling models (seed 002) against GT:\n" + models);
-    if (several_times && !ranking.empty()) print("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
-    if (!focal_sweep.table.empty()) print("\nRMFR's best f_x, f_y (Figure 6's sweep):\n" + focal_sweep.table);
-    print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
-  }
-  print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
-
   nlohmann::json report = {{"device", context.description.name},
                            {"timestamps", context.timestamp_period_ns > 0},
                            {"width", width},
@@ -359,6 +307,8 @@ void run_bench(const BenchOptions& options) {
                              {"gaze_px", {plan.gaze_x_px, plan.gaze_y_px}}}},
                            {"rows", rows},
                            {"cells", cells}};
+  if (!plan.sampling_maps.empty())
+    report["sampling_focal_shares"] = {{"x", plan.focal_shares_x}, {"y", plan.focal_shares_y}};
   if (plan.fipr) {
     report["fipr"] = {
         {"refresh", plan.refreshes},
@@ -371,78 +321,72 @@ void run_bench(const BenchOptions& options) {
         {"speedup", "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
                     "GPU ms"}};
   }
-  const std::string json_text = report.dump(2) + "\n";
-  if (!options.json.empty()) write_text_atomically(options.json, json_text);
-  if (options.out_dir.empty()) return;
-
-  write_text_atomically(options.out_dir / "bench.json", json_text);
-  for (const std::string& scene : scene_names) {
-    const std::string size = std::to_string(width) + "x" + std::to_string(height);
-    write_text_atomically(options.out_dir / (scene + "_pareto_flip.svg"),
-                          pareto_chart_svg(scene + ", " + size + ": speed-up against FLIP",
-                                           "FLIP against GT (mean, " + format_number(plan.flip_pixels_per_degree, 3) +
-                                               " px/deg)",
-                                           chart_cells(cells, scene, true)));
-    write_text_atomically(options.out_dir / (scene + "_pareto_ssim.svg"),
-                          pareto_chart_svg(scene + ", " + size + ": speed-up against 1 - SSIM", "1 - SSIM against GT",
-                                           chart_cells(cells, scene, false)));
+  if (part) {  // a part's Pareto fronts and tables are the whole sweep's, made by bench-merge
+    report["part"] = part_json(*part, units);
+    write_text_atomically(options.json, report.dump(2) + "\n");
+    print("\npart " + std::to_string(part->index) + "/" + std::to_string(part->count) + ": " +
+          std::to_string(part->units_held(units)) + " of " + std::to_string(units) +
+          " (scene, time, spp) units, written to " + options.json.string() +
+          "; fovlab bench-merge joins the parts\n");
+    return;
   }
-  std::string markdown = "# fovlab bench\n\nCommand: `" + sweep_command(options, plan) + "`\n\nDevice: " +
-                         context.description.name + "; " + std::to_string(width) + "x" + std::to_string(height) +
-                         "; median of " + std::to_string(options.repeats) + " runs.\n\n";
-  if (plan.ipr || !plan.has_cells()) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
-  if (plan.has_cells()) markdown += "## Every cell\n\n" + cell_table + "\n";
-  if (plan.fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";
-  if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
-  if (several_times && !ranking.empty())
-    markdown += "## Sampling models ranked by mean FPSNR over the scene times\n\n" + ranking + "\n";
-  if (!focal_sweep.table.empty()) markdown += "## RMFR's best f_x, f_y (Figure 6's sweep)\n\n" + focal_sweep.table + "\n";
-  for (const auto& [file_name, svg] : focal_sweep.heat_maps) write_text_atomically(options.out_dir / file_name, svg);
-  markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
-  write_text_atomically(options.out_dir / "table.md", markdown);
+  finish_sweep(report, true, options.json, options.out_dir);
 }
 
 }  // namespace
+
+void add_bench_flags(CLI::App& command, BenchOptions& options) {
+  command.add_option("--scenes", options.scenes, "Scenes, comma-separated (names or .glsl paths)")->delimiter(',');
+  command.add_option("--spp", options.spps, "Samples per pixel, comma-separated (1, 4, 16)")->delimiter(',');
+  command.add_option("--width", options.settings.width, "Frame width in pixels");
+  command.add_option("--height", options.settings.height, "Frame height in pixels");
+  command.add_option("--repeats", options.repeats, "Timed runs per method and cell (median reported)");
+  command.add_option("--json", options.json, "Write the full results as JSON");
+  command.add_option("--out-dir", options.out_dir,
+                     "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here");
+  command.add_option("--device", options.device, "Vulkan device: index or part of its name (fovlab devices)");
+  command.add_flag("--require-gpu", options.require_gpu,
+                   "Refuse to run on a CPU Vulkan device (lavapipe): exit 2 on a node without a GPU");
+  command.add_option("--cells", options.cells,
+                     "I/N: measure only part I of N of the sweep's (scene, time, spp) units, into --json; fovlab "
+                     "bench-merge joins the parts into the sweep's report");
+  command.add_option("--methods", options.methods,
+                     "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
+      ->delimiter(',');
+  add_trace_options(command, options.settings);
+  command.add_option("--times", options.times,
+                     "Scene times in seconds, comma-separated, instead of --time: every scene is measured at each "
+                     "(the rotating patterns turn 10 degrees a second)")
+      ->delimiter(',');
+  // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
+  add_foveation_flags(command, options.foveation, FoveationPoint::swept);
+  command.add_option("--refresh", options.refresh, "FIPR: periphery refresh periods, comma-separated (1, 2, 4)")
+      ->delimiter(',');
+  command.add_option("--fovea-deg", options.fovea_deg,
+                     "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
+      ->delimiter(',');
+  add_sampling_flags(command, options.sampling, false);
+  command.add_option("--fx", options.focal_shares_x,
+                     "Sampling: rmfr's f_x as shares of the width, comma-separated (with --fy: every pair, Figure 6's "
+                     "sweep; default 0.3)")
+      ->delimiter(',');
+  command.add_option("--fy", options.focal_shares_y, "Sampling: rmfr's f_y as shares of the height, comma-separated")
+      ->delimiter(',');
+}
+
+void note_given_bench_flags(CLI::App& command, BenchOptions& options) {
+  options.fipr_flags_given = given_fipr_only_flags(command);
+  options.sampling_flags_given = given_sampling_only_flags(command);
+  options.time_given = command.count("--time") > 0;
+}
 
 void add_bench_command(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* command =
       app.add_subcommand("bench", "Benchmark GT against IPR, FIPR and the sampling models: time, steps, SSIM, PSNR, FLIP, FPSNR, Pareto fronts");
-  command->add_option("--scenes", options->scenes, "Scenes, comma-separated (names or .glsl paths)")->delimiter(',');
-  command->add_option("--spp", options->spps, "Samples per pixel, comma-separated (1, 4, 16)")->delimiter(',');
-  command->add_option("--width", options->settings.width, "Frame width in pixels");
-  command->add_option("--height", options->settings.height, "Frame height in pixels");
-  command->add_option("--repeats", options->repeats, "Timed runs per method and cell (median reported)");
-  command->add_option("--json", options->json, "Write the full results as JSON");
-  command->add_option("--out-dir", options->out_dir,
-                      "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here");
-  command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
-  command->add_option("--methods", options->methods,
-                      "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
-      ->delimiter(',');
-  add_trace_options(*command, options->settings);
-  command->add_option("--times", options->times,
-                      "Scene times in seconds, comma-separated, instead of --time: every scene is measured at each "
-                      "(the rotating patterns turn 10 degrees a second)")
-      ->delimiter(',');
-  // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
-  add_foveation_flags(*command, options->foveation, FoveationPoint::swept);
-  command->add_option("--refresh", options->refresh, "FIPR: periphery refresh periods, comma-separated (1, 2, 4)")
-      ->delimiter(',');
-  command->add_option("--fovea-deg", options->fovea_deg,
-                      "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
-      ->delimiter(',');
-  add_sampling_flags(*command, options->sampling, false);
-  command->add_option("--fx", options->focal_shares_x,
-                      "Sampling: rmfr's f_x as shares of the width, comma-separated (with --fy: every pair, Figure 6's "
-                      "sweep; default 0.3)")
-      ->delimiter(',');
-  command->add_option("--fy", options->focal_shares_y, "Sampling: rmfr's f_y as shares of the height, comma-separated")
-      ->delimiter(',');
+  add_bench_flags(*command, *options);
   command->callback([options, command] {
-    options->fipr_flags_given = given_fipr_only_flags(*command);
-    options->sampling_flags_given = given_sampling_only_flags(*command);
-    options->time_given = command->count("--time") > 0;
+    note_given_bench_flags(*command, *options);
     run_bench(*options);
   });
 }

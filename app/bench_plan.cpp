@@ -152,6 +152,16 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
 
 
 BenchPlan plan_bench(const BenchOptions& options) {
+  std::optional<SweepPart> part;
+  if (!options.cells.empty()) {
+    const PartOfN given = parse_part_of_n(options.cells, "--cells", "e.g. 1/4: units 1, 5, 9, ... of the sweep");
+    part = SweepPart{given.index, given.count};
+    if (options.json.empty())
+      throw InputError("--cells " + options.cells + ": needs --json PART.json (fovlab bench-merge joins the parts)");
+    if (!options.out_dir.empty())
+      throw InputError("--out-dir: not with --cells (a part's tables and charts are not the sweep's); give --out-dir "
+                       "to fovlab bench-merge");
+  }
   if (options.repeats < 1 || options.repeats > 1000) {
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
   }
@@ -180,6 +190,7 @@ BenchPlan plan_bench(const BenchOptions& options) {
   }
 
   BenchPlan plan;
+  plan.part = part;
   plan.ipr = methods.ipr;
   plan.fipr = methods.fipr;
   if (!options.times.empty() && options.time_given) {

@@ -4,6 +4,8 @@
 // of its cells. Everything here runs before Vulkan is opened: bad input is one InputError naming
 // the flag, and nothing is written.
 #include <filesystem>
+
+#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@ namespace fovlab::app {
 
 using bench::BenchPlan;
 using bench::FiprVariant;
+using bench::SweepPart;
 
 // The flags of `fovlab bench` as given (lists still as text where they are parsed by us).
 struct BenchOptions {
@@ -27,6 +30,7 @@ struct BenchOptions {
   std::filesystem::path json;
   std::filesystem::path out_dir;
   std::string device;
+  bool require_gpu = false;
   std::vector<std::string> methods{"gt", "ipr"};
   // --times: scene times in seconds, comma-separated (e.g. the rotating patterns' angles); empty:
   // --time alone. time_given: --time was on the command line too (refused with --times).
@@ -43,7 +47,14 @@ struct BenchOptions {
   std::vector<std::string> focal_shares_x{"0.3"};
   std::vector<std::string> focal_shares_y{"0.3"};
   std::vector<std::string> sampling_flags_given;
+  // --cells I/N: measure only part I of N of the sweep's units (bench/bench_parts.h); empty: all.
+  std::string cells;
 };
+
+// Registers bench's flags on `command` (fovlab bench, and fovlab slurm bench's check of the flags it
+// passes on to its tasks); after parsing, note_given_bench_flags records which were given.
+void add_bench_flags(CLI::App& command, BenchOptions& options);
+void note_given_bench_flags(CLI::App& command, BenchOptions& options);
 
 // Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)
 // and returns the plan. Throws InputError naming the flag.

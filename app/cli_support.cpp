@@ -11,13 +11,25 @@
 #include <map>
 #include <stdexcept>
 
+#include "app/display_flags.h"
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "study/stimulus/render_method.h"
 
 namespace fovlab::app {
 
 vk::ContextOptions context_options(const std::string& device_selector) {
   return {device_selector, vk::validation_requested_by_default()};
+}
+
+PartOfN parse_part_of_n(const std::string& text, const std::string& flag, const std::string& example) {
+  const auto parts = split_pair(text, "/");
+  const auto index = parts ? parse_finite_number(parts->first) : std::nullopt;
+  const auto count = parts ? parse_finite_number(parts->second) : std::nullopt;
+  if (!index || !count || *count < 1 || *count > 100000 || *index < 0 || *index >= *count ||
+      *index != double(int(*index)) || *count != double(int(*count)))
+    fail_flag(flag, "I/N with whole numbers 0 <= I < N (" + example + ")", text);
+  return {int(*index), int(*count)};
 }
 
 std::string duration_text(double seconds) {

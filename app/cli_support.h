@@ -40,6 +40,14 @@ std::function<void(double)> percent_progress(const std::string& what);
 // interleave cleanly with a table printed on stdout.
 std::function<void(const std::string&)> step_progress(const std::string& what, int total);
 
+// "I/N" with whole numbers 0 <= I < N <= 100000: one of N parts of a job (prerender --shard, bench
+// --cells). Bad text is fail_flag naming `flag`; `example` says what I/N means there.
+struct PartOfN {
+  int index = 0;
+  int count = 1;
+};
+PartOfN parse_part_of_n(const std::string& text, const std::string& flag, const std::string& example);
+
 // --time, --levels, --min-filter, --max-steps, --hit-threshold.
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings);
 

@@ -8,6 +8,7 @@ namespace fovlab::app {
 void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_bench_merge_command(CLI::App& app);
 void add_bench_fpt_command(CLI::App& app);
 void add_bench_present_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
@@ -24,6 +25,7 @@ void add_resample_command(CLI::App& app);
 void add_voronoi_command(CLI::App& app);
 void add_bench_volume_command(CLI::App& app);
 void add_prerender_command(CLI::App& app);
+void add_slurm_command(CLI::App& app);  // slurm prerender, slurm bench
 void add_binomial_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);  // and bench-quest
 

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   fovlab::app::add_render_command(app);
   fovlab::app::add_compare_command(app);
   fovlab::app::add_bench_command(app);
+  fovlab::app::add_bench_merge_command(app);
   fovlab::app::add_bench_fpt_command(app);
   fovlab::app::add_bench_present_command(app);
   fovlab::app::add_devices_command(app);
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   fovlab::app::add_voronoi_command(app);
   fovlab::app::add_bench_volume_command(app);
   fovlab::app::add_prerender_command(app);
+  fovlab::app::add_slurm_command(app);
   fovlab::app::add_binomial_command(app);
   fovlab::app::add_simulate_command(app);
   // A first word that is neither a flag nor a subcommand is named as such (CLI11 would say only that

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/number_text.h"
+#include "bench/bench_parts.h"
 #include "foveation/display_geometry.h"
 #include "foveation/sampling_map.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -41,6 +42,7 @@ struct BenchPlan {
   double gaze_x_px = 0.0;
   double gaze_y_px = 0.0;
   double flip_pixels_per_degree = 0.0;
+  std::optional<SweepPart> part;  // --cells I/N; none: the whole sweep
 };
 
 }  // namespace fovlab::bench

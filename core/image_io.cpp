@@ -68,6 +68,9 @@ void write_image(const std::filesystem::path& path, const Image& image) {
                        "); expected a .png, .exr or other OpenImageIO extension");
     }
     OIIO::ImageSpec spec(image.width, image.height, image.channels, file_type);
+    // No write time in the file (OpenEXR's capDate would be the clock's): the same pixels give the
+    // same bytes, so a frame cache's hashes hold across machines and runs.
+    if (floating_point) spec.attribute("DateTime", "");
     if (!output->open(temporary.string(), spec) ||
         !output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !output->close()) {
       throw InputError(path.string() + ": cannot write image: " + output->geterror());

@@ -16,7 +16,8 @@ std::string lower_extension(const std::filesystem::path& path);
 Image read_image(const std::filesystem::path& path);
 
 // Writes by extension: .png/.jpg/... as 8 bits per channel (values clamped to [0, 1] and rounded),
-// .exr as 32-bit float. Throws InputError naming the path when it cannot be written.
+// .exr as 32-bit float, with no write time in it (the same pixels give the same bytes). Throws
+// InputError naming the path when it cannot be written.
 void write_image(const std::filesystem::path& path, const Image& image);
 
 // Throws InputError if `path` could not be created (missing folder, not writable, is a folder).

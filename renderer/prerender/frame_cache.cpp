@@ -1,10 +1,12 @@
 #include "renderer/prerender/frame_cache.h"
 
 #include <cstdio>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
+#include "core/digest.h"
 #include "core/file_bytes.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
@@ -17,6 +19,32 @@ namespace {
 constexpr const char* kCacheFormat = "fovlab-frame-cache-1";
 
 std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+
+std::string frame_stem(int frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06d", frame);
+  return name;
+}
+
+// A manifest entry: sha256sum's line for the file, so `sha256sum -c frame_*.sha256` checks a folder.
+std::string hash_line(std::string_view bytes, const std::filesystem::path& file) {
+  return sha256_hex(bytes) + "  " + file.filename().string() + "\n";
+}
+
+}  // namespace
+
+const char* frame_status_text(FrameStatus status) {
+  switch (status) {
+    case FrameStatus::missing: return "missing";
+    case FrameStatus::unreadable: return "not a whole EXR of the sequence's size";
+    case FrameStatus::unhashed: return "no .sha256 beside it";
+    case FrameStatus::altered: return "its bytes differ from its .sha256";
+    case FrameStatus::whole: return "whole";
+  }
+  return "?";
+}
+
+namespace {
 
 }  // namespace
 
@@ -38,7 +66,8 @@ std::string PathTraceSequence::description() const {
          ";camera_start_s=" + format_number(camera_start_s, 17);
 }
 
-FrameCache::FrameCache(vk::Context& context, std::filesystem::path root) : context_(context), root_(std::move(root)) {}
+FrameCache::FrameCache(vk::Context& context, std::filesystem::path root) : context_(&context), root_(std::move(root)) {}
+FrameCache::FrameCache(std::filesystem::path root) : context_(nullptr), root_(std::move(root)) {}
 FrameCache::~FrameCache() = default;
 
 FrameCache::SceneEntry& FrameCache::scene_entry(const std::string& scene) {
@@ -84,29 +113,51 @@ std::filesystem::path FrameCache::folder(const PathTraceSequence& sequence) {
 }
 
 std::filesystem::path FrameCache::frame_file(const PathTraceSequence& sequence, int frame) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%06d.exr", frame);
-  return folder(sequence) / name;
+  return folder(sequence) / (frame_stem(frame) + ".exr");
+}
+
+std::filesystem::path FrameCache::hash_file(const PathTraceSequence& sequence, int frame) {
+  return folder(sequence) / (frame_stem(frame) + ".sha256");
+}
+
+FrameStatus FrameCache::frame_status(const PathTraceSequence& sequence, int frame) {
+  const std::filesystem::path file = frame_file(sequence, frame);
+  std::error_code error;
+  if (!std::filesystem::exists(file, error)) return FrameStatus::missing;
+  try {
+    const Image image = read_image(file);  // decoded in full: a damaged file with a good header is not done
+    if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
+      return FrameStatus::unreadable;
+  } catch (const InputError&) {
+    return FrameStatus::unreadable;
+  }
+  const std::filesystem::path hash = hash_file(sequence, frame);
+  if (!std::filesystem::exists(hash, error)) return FrameStatus::unhashed;
+  const std::optional<std::string> bytes = read_file_bytes(file);
+  if (!bytes) return FrameStatus::unreadable;
+  return read_file_bytes(hash) == hash_line(*bytes, file) ? FrameStatus::whole : FrameStatus::altered;
 }
 
 bool FrameCache::has_frame(const PathTraceSequence& sequence, int frame) {
+  const FrameStatus status = frame_status(sequence, frame);
+  return status == FrameStatus::whole || status == FrameStatus::unhashed;
+}
+
+void FrameCache::record_hash(const PathTraceSequence& sequence, int frame) {
   const std::filesystem::path file = frame_file(sequence, frame);
-  std::error_code error;
-  if (!std::filesystem::exists(file, error)) return false;
-  try {
-    const Image image = read_image(file);  // decoded in full: a damaged file with a good header is not done
-    return image.width == sequence.width_px && image.height == sequence.height_px && image.channels >= 3;
-  } catch (const InputError&) {
-    return false;
-  }
+  const std::optional<std::string> bytes = read_file_bytes(file);
+  if (!bytes) throw InputError(file.string() + ": cannot be read back to hash it");
+  write_text_atomically(hash_file(sequence, frame), hash_line(*bytes, file));
 }
 
 PathTraceResult FrameCache::render_frame(const PathTraceSequence& sequence, int frame) {
   const std::filesystem::path file = frame_file(sequence, frame);
   SceneEntry& entry = scene_entry(sequence.scene);
-  if (!entry.tracer) entry.tracer = std::make_unique<PathTracer>(context_, entry.loaded.scene);
+  if (!context_) throw std::logic_error("FrameCache: rendering " + file.string() + " without a Vulkan context");
+  if (!entry.tracer) entry.tracer = std::make_unique<PathTracer>(*context_, entry.loaded.scene);
   PathTraceResult result = entry.tracer->render(sequence.settings(frame));
   write_image(file, result.image);  // atomic: a temporary file renamed over the target
+  record_hash(sequence, frame);     // the bytes as they landed on disk
   return result;
 }
 
@@ -114,6 +165,14 @@ Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
   const std::filesystem::path file = frame_file(sequence, frame);
   std::error_code error;
   if (!std::filesystem::exists(file, error)) return render_frame(sequence, frame).image;
+  const std::filesystem::path hash = hash_file(sequence, frame);
+  if (std::filesystem::exists(hash, error)) {
+    const std::optional<std::string> bytes = read_file_bytes(file);
+    if (!bytes || read_file_bytes(hash) != hash_line(*bytes, file))
+      throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +
+                       " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
+                       "files to render it again)");
+  }
   Image image = read_image(file);  // InputError naming the file when it cannot be decoded
   if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
     throw InputError(file.string() + ": " + size_text(image.width, image.height) + " with " +

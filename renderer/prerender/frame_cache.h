@@ -5,7 +5,12 @@
 // content and every setting that changes a pixel; it holds cache.json (what the folder was made
 // for, checked on every use) and one linear-light EXR a frame, frame_000000.exr and on. Frames are
 // written atomically (a temporary name, then a rename), so a killed pre-render leaves only whole
-// frames and resumes with what is missing. docs/foveated-path-tracing.md ("Pre-render cache").
+// frames and resumes with what is missing. Beside each frame, frame_000000.sha256 is its manifest
+// entry: the SHA-256 of the bytes the renderer wrote, in sha256sum's format, so a frame changed or
+// damaged after it was rendered is told apart from the one that was (a session refuses it, a
+// pre-render renders it again, `prerender --verify` lists it). EXR files carry no write time, so
+// the same frame rendered on two machines is the same bytes. docs/foveated-path-tracing.md
+// ("Pre-render cache"), docs/scale-out.md.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -45,10 +50,23 @@ struct PathTraceSequence {
 // The default cache root, relative to the working directory.
 inline const std::filesystem::path kDefaultCacheRoot = "stimuli/cache";
 
+// What the cache holds for one frame.
+enum class FrameStatus {
+  missing,     // no file
+  unreadable,  // not an EXR of the sequence's size that decodes in full
+  unhashed,    // a whole frame without its .sha256 (rendered before hashes were kept, or a kill
+               // between the frame's rename and its hash's)
+  altered,     // its bytes differ from its .sha256 (or the .sha256 is not one)
+  whole,       // decodes, and its bytes match its .sha256
+};
+const char* frame_status_text(FrameStatus status);
+
 class FrameCache {
  public:
   // The context renders missing frames (frame()); the root is created on first use.
   FrameCache(vk::Context& context, std::filesystem::path root);
+  // A cache that is only read and checked (prerender --verify): rendering a frame is a logic error.
+  explicit FrameCache(std::filesystem::path root);
   ~FrameCache();
   FrameCache(const FrameCache&) = delete;
   FrameCache& operator=(const FrameCache&) = delete;
@@ -58,12 +76,18 @@ class FrameCache {
   // the file otherwise: a cache from other parameters is never used).
   std::filesystem::path folder(const PathTraceSequence& sequence);
   std::filesystem::path frame_file(const PathTraceSequence& sequence, int frame);
-  // The frame is on disk as an EXR of the sequence's size that decodes in full.
+  // The frame's manifest entry, frame_NNNNNN.sha256.
+  std::filesystem::path hash_file(const PathTraceSequence& sequence, int frame);
+  FrameStatus frame_status(const PathTraceSequence& sequence, int frame);
+  // The frame can be shown as it is: whole, or unhashed.
   bool has_frame(const PathTraceSequence& sequence, int frame);
-  // Renders the frame and stores it (replacing what was there). Returns the render's statistics.
+  // Writes the .sha256 of a frame already on disk (an unhashed one).
+  void record_hash(const PathTraceSequence& sequence, int frame);
+  // Renders the frame and stores it, then its .sha256 (replacing what was there). Returns the
+  // render's statistics.
   PathTraceResult render_frame(const PathTraceSequence& sequence, int frame);
   // The frame from the cache, rendered and stored first when missing. InputError naming the file
-  // when it is there but unreadable or of another size.
+  // when it is there but unreadable, of another size, or differs from its .sha256.
   Image frame(const PathTraceSequence& sequence, int frame);
   // The OBJ loader's note for a scene (dropped triangles...), empty for built-ins; after folder().
   const std::string& scene_note(const std::string& scene);
@@ -74,7 +98,7 @@ class FrameCache {
     std::unique_ptr<PathTracer> tracer;  // made on the first render
   };
   SceneEntry& scene_entry(const std::string& scene);
-  vk::Context& context_;
+  vk::Context* context_;  // null: read and check only
   std::filesystem::path root_;
   std::map<std::string, SceneEntry> scenes_;
   std::map<std::string, std::filesystem::path> folders_;  // by description, once checked

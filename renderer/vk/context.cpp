@@ -181,6 +181,10 @@ Context::Context(const ContextOptions& options)
 
     std::vector<VkPhysicalDevice> devices = physical_devices(instance);
     description = choose_device(devices, options.device_selector, options.device_flag, present_to, surface);
+    if (options.require_gpu && description.type == "CPU")
+      throw InputError("--require-gpu: the Vulkan device chosen, '" + description.name +
+                       "', renders on the CPU; expected a GPU (run on a GPU node, or leave out --require-gpu to "
+                       "render on the CPU)");
     physical_device = devices[description.index];
     queue_family = static_cast<uint32_t>(compute_queue_family(physical_device, surface));
     vkGetPhysicalDeviceMemoryProperties(physical_device, &memory_properties);

@@ -47,6 +47,9 @@ struct ContextOptions {
   bool validation = false;
   std::optional<SurfaceRequest> present_to;  // none: compute only
   std::string device_flag = "--device";      // names device_selector in errors
+  // Refuse a CPU renderer (lavapipe) with InputError naming --require-gpu: a cluster task meant for
+  // a GPU node does not quietly render a hundred times slower on a node without one.
+  bool require_gpu = false;
 };
 
 // Validation on by default in Debug builds; FOVLAB_VALIDATION=0/1 overrides either way.

@@ -1,0 +1,80 @@
+// fovlab bench-merge PART.json... [--json OUT] [--out-dir DIR]: joins the parts of a sweep run as
+// fovlab bench --cells I/N (on a cluster: fovlab slurm bench) into the report one run of the whole
+// sweep writes: the same JSON, tables, charts and Pareto fronts (bench/bench_parts.h,
+// app/bench_outputs.h). A file that is not a part, a part missing or given twice, or parts of another
+// sweep or device is one line naming the file, exit code 2, and nothing written.
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/bench_outputs.h"
+#include "app/commands.h"
+#include "bench/bench_parts.h"
+#include "core/file_bytes.h"
+#include "core/image_io.h"
+#include "core/input_error.h"
+
+namespace fovlab::app {
+
+namespace {
+
+struct BenchMergeOptions {
+  std::vector<std::string> parts;
+  std::filesystem::path json;
+  std::filesystem::path out_dir;
+};
+
+// A part's JSON is a few hundred bytes a cell; anything far larger is not one.
+constexpr std::uintmax_t kMaxPartBytes = 512ull << 20;
+
+bench::PartReport read_part(const std::string& path) {
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) throw InputError(path + ": cannot be read (" + error.message() + "); expected a part's JSON (bench --cells I/N --json)");
+  if (size > kMaxPartBytes)
+    throw InputError(path + ": " + std::to_string(size >> 20) + " MiB; expected a part's JSON (bench --cells I/N --json), "
+                     "at most " + std::to_string(kMaxPartBytes >> 20) + " MiB");
+  const std::optional<std::string> text = read_file_bytes(path);
+  if (!text) throw InputError(path + ": cannot be read; expected a part's JSON (bench --cells I/N --json)");
+  try {
+    return {path, nlohmann::json::parse(*text)};
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path + ": not JSON (at byte " + std::to_string(e.byte) +
+                     "); expected a part's JSON (bench --cells I/N --json)");
+  }
+}
+
+void run_bench_merge(const BenchMergeOptions& options) {
+  std::vector<bench::PartReport> parts;
+  for (const std::string& path : options.parts) parts.push_back(read_part(path));
+  nlohmann::json report = bench::merge_bench_parts(parts);
+  if (!options.json.empty()) check_output_path(options.json, "--json");
+  if (!options.out_dir.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(options.out_dir, error);
+    check_output_path(options.out_dir / "table.md", "--out-dir");
+  }
+  std::printf("fovlab bench-merge: %zu parts, %zu (scene, time, spp) units, %zu cells, measured on %s\n", parts.size(),
+              report["rows"].size(), report["cells"].size(), report["device"].get<std::string>().c_str());
+  finish_sweep(report, false, options.json, options.out_dir);
+}
+
+}  // namespace
+
+void add_bench_merge_command(CLI::App& app) {
+  auto options = std::make_shared<BenchMergeOptions>();
+  CLI::App* command = app.add_subcommand(
+      "bench-merge", "Join the parts of a sweep run with bench --cells I/N into one report (JSON, tables, charts)");
+  command->add_option("parts", options->parts, "Every part's JSON (bench --cells I/N --json), in any order")->required();
+  command->add_option("--json", options->json, "Write the sweep's JSON, as one run of bench --json writes it");
+  command->add_option("--out-dir", options->out_dir, "Write bench.json, table.md and the Pareto charts (SVG) here");
+  command->callback([options] { run_bench_merge(*options); });
+}
+
+}  // namespace fovlab::app

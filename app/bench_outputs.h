@@ -1,0 +1,18 @@
+#pragma once
+// fovlab bench's last step, shared with bench-merge: from a sweep's report alone (its "rows" and
+// "cells" and the sweep's settings), the Pareto fronts, the tables printed, and the files: --json,
+// and --out-dir's bench.json, table.md and charts. So a sweep run in parts and merged ends exactly as
+// one run does.
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+namespace fovlab::app {
+
+// Marks the Pareto fronts of every cell in `report` (per scene), prints the summary tables (with the
+// per-row table first unless `rows_printed`: bench printed each row as it was measured), and writes
+// `json` and `out_dir`'s files when they are not empty.
+void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesystem::path& json,
+                  const std::filesystem::path& out_dir);
+
+}  // namespace fovlab::app

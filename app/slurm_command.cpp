@@ -1,0 +1,343 @@
+// fovlab slurm prerender CONFIG --tasks N [...] and fovlab slurm bench --tasks N [...] [bench flags]:
+// write, and with --submit submit through sbatch, a Slurm job array whose task I runs
+// `fovlab prerender CONFIG --shard I/N` (or `fovlab bench ... --cells I/N --json parts/part-I.json`),
+// and a merge job that runs once every task has succeeded (`prerender --verify`; `bench-merge`). The
+// scripts are plain bash in one folder, to read and edit: array.sbatch, merge.sbatch, submit.sh
+// (docs/scale-out.md).
+//
+// Faults: a task whose fovlab is killed by a signal (pre-emption, the OOM killer, a node fault)
+// requeues itself, up to --max-requeue times, and resumes from the cache (frames are written
+// atomically, each with its .sha256); a task that fails on bad input (exit 2) or otherwise stays
+// failed, and the merge job is then cancelled (afterok, --kill-on-invalid-dep). Tasks refuse a CPU
+// Vulkan device (--require-gpu) unless --allow-lavapipe.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "app/bench_plan.h"
+#include "app/cli_support.h"
+#include "app/commands.h"
+#include "app/prerender_jobs.h"
+#include "core/atomic_file.h"
+#include "core/file_bytes.h"
+#include "core/input_error.h"
+
+namespace fovlab::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The flags both kinds of job take.
+struct SlurmOptions {
+  int tasks = 0;
+  std::string partition;
+  std::string account;
+  std::string gpus_per_task;
+  std::string time_limit;
+  std::string mem;
+  int cpus_per_task = 1;
+  int max_requeue = 3;
+  bool allow_lavapipe = false;
+  bool submit = false;
+  std::string out;     // the scripts' folder; default slurm/<name>
+  std::string fovlab;  // the binary the tasks run; default this one
+};
+
+// Single-quoted for bash: the text stays one word, whatever it holds.
+std::string shell_word(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+void check_pattern(const std::string& flag, const std::string& value, const char* pattern, const std::string& expected) {
+  if (!value.empty() && !std::regex_match(value, std::regex(pattern))) fail_flag(flag, expected, value);
+}
+
+void check_slurm_flags(const SlurmOptions& options, int work_items, const std::string& what) {
+  if (options.tasks < 1 || options.tasks > work_items)
+    throw InputError("--tasks " + std::to_string(options.tasks) + ": expected 1 to " + std::to_string(work_items) +
+                     " (the " + what + ": a task more would have nothing to do)");
+  check_pattern("--partition", options.partition, "[A-Za-z0-9_.,-]+", "a partition name (letters, digits, _ . , -)");
+  check_pattern("--account", options.account, "[A-Za-z0-9_.-]+", "an account name (letters, digits, _ . -)");
+  check_pattern("--gpus-per-task", options.gpus_per_task, "([A-Za-z0-9_.-]+:)?[1-9][0-9]*",
+                "a count of GPUs, optionally with a type (1, a100:2)");
+  check_pattern("--time-limit", options.time_limit, "([0-9]+-)?[0-9]+(:[0-9]+){0,2}",
+                "Slurm's time limit: minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM or D-HH:MM:SS");
+  check_pattern("--mem", options.mem, "[1-9][0-9]*[KMGT]?", "memory per node with an optional unit (16G, 4000M)");
+  if (options.cpus_per_task < 1 || options.cpus_per_task > 4096)
+    throw InputError("--cpus-per-task " + std::to_string(options.cpus_per_task) + ": expected 1 to 4096");
+  if (options.max_requeue < 0 || options.max_requeue > 100)
+    throw InputError("--max-requeue " + std::to_string(options.max_requeue) + ": expected 0 to 100");
+}
+
+// The binary the tasks run: --fovlab, or this one.
+std::string fovlab_binary(const SlurmOptions& options) {
+  if (!options.fovlab.empty()) {
+    std::error_code error;
+    if (!fs::is_regular_file(options.fovlab, error))
+      fail_flag("--fovlab", "the fovlab binary the tasks run (a file)", options.fovlab);
+    return fs::absolute(options.fovlab).lexically_normal().string();
+  }
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (error) throw InputError("--fovlab: this binary's path is unknown (/proc/self/exe); expected --fovlab PATH");
+  return self.string();
+}
+
+std::string absolute_text(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
+// What differs between the two kinds of job.
+struct Job {
+  std::string kind;           // "prerender" or "bench"
+  std::string what;           // one line: what task I does
+  std::string task_command;   // bash, "${task}" is the task's index
+  std::string merge_command;  // bash
+  std::string merge_what;     // one line: what the merge job does
+};
+
+std::string sbatch_lines(const SlurmOptions& options, bool gpus) {
+  std::string lines;
+  const auto line = [&](const std::string& flag, const std::string& value) {
+    if (!value.empty()) lines += "#SBATCH --" + flag + "=" + value + "\n";
+  };
+  line("partition", options.partition);
+  line("account", options.account);
+  line("time", options.time_limit);
+  line("mem", options.mem);
+  if (gpus) line("gpus-per-task", options.gpus_per_task);
+  return lines;
+}
+
+void write_job(const SlurmOptions& options, const std::string& invocation, const Job& job, const fs::path& out) {
+  const std::string tasks = std::to_string(options.tasks);
+  const std::string requeues = std::to_string(options.max_requeue);
+  const std::string logs = (out / "logs").string();
+  std::string array = "#!/bin/bash\n"
+                      "# fovlab slurm " + job.kind + ": task I of " + tasks + " (I = SLURM_ARRAY_TASK_ID) " + job.what + "\n"
+                      "# Written by: " + invocation + "\n"
+                      "# Edit freely; submit.sh submits it, then merge.sbatch after every task has succeeded.\n"
+                      "#SBATCH --job-name=fovlab-" + job.kind + "\n"
+                      "#SBATCH --array=0-" + std::to_string(options.tasks - 1) + "\n"
+                      "#SBATCH --chdir=" + fs::current_path().string() + "\n"
+                      "#SBATCH --output=" + logs + "/task-%A_%a.log\n"
+                      "#SBATCH --open-mode=append\n"
+                      "#SBATCH --requeue\n"
+                      "#SBATCH --cpus-per-task=" + std::to_string(options.cpus_per_task) + "\n" +
+                      sbatch_lines(options, true) +
+                      "set -u\n"
+                      "task=${SLURM_ARRAY_TASK_ID}\n"
+                      "restarts=${SLURM_RESTART_COUNT:-0}\n"
+                      "echo \"fovlab slurm: task ${task} of " + tasks + ", attempt $((restarts + 1)), job ${SLURM_JOB_ID} on "
+                      "$(hostname) at $(date -u +%Y-%m-%dT%H:%M:%SZ)\"\n" +
+                      job.task_command + "\n"
+                      "status=$?\n"
+                      "echo \"fovlab slurm: task ${task} exit ${status}\"\n"
+                      "# Killed by a signal (exit 128 + its number: pre-emption, the OOM killer, a node fault): requeue\n"
+                      "# this task, at most " + requeues + " times; it resumes from what is already done. Bad input (exit 2)\n"
+                      "# and other failures (1) stay failed, and the merge job is then cancelled.\n"
+                      "if [ \"${status}\" -gt 128 ] && [ \"${restarts}\" -lt " + requeues + " ]; then\n"
+                      "  echo \"fovlab slurm: task ${task} killed; requeued\"\n"
+                      "  scontrol requeue \"${SLURM_JOB_ID}\"\n"
+                      "fi\n"
+                      "exit \"${status}\"\n";
+  std::string merge = "#!/bin/bash\n"
+                      "# fovlab slurm " + job.kind + ": " + job.merge_what + "\n"
+                      "# Written by: " + invocation + "\n"
+                      "#SBATCH --job-name=fovlab-" + job.kind + "-merge\n"
+                      "#SBATCH --chdir=" + fs::current_path().string() + "\n"
+                      "#SBATCH --output=" + logs + "/merge-%j.log\n"
+                      "#SBATCH --cpus-per-task=1\n" +
+                      sbatch_lines(options, false) +
+                      "set -u\n" + job.merge_command + "\n";
+  std::string submit = "#!/bin/bash\n"
+                       "# Submits array.sbatch (" + tasks + " tasks), then merge.sbatch to run once every task has succeeded\n"
+                       "# (afterok; cancelled if a task fails for good). Job IDs are appended to submitted.txt.\n"
+                       "set -euo pipefail\n"
+                       "cd \"$(dirname \"$0\")\"\n"
+                       "mkdir -p logs\n"
+                       "array=$(sbatch --parsable array.sbatch)\n"
+                       "array=${array%%;*}\n"
+                       "merge=$(sbatch --parsable --dependency=afterok:${array} --kill-on-invalid-dep=yes merge.sbatch)\n"
+                       "merge=${merge%%;*}\n"
+                       "echo \"array ${array} merge ${merge}\" >> submitted.txt\n"
+                       "echo \"submitted: array job ${array} (" + tasks + " tasks), merge job ${merge} after it; logs in $(pwd)/logs\"\n";
+  std::error_code error;
+  fs::create_directories(out / "logs", error);
+  if (error) throw InputError("--out " + out.string() + ": cannot create the folder (" + error.message() + ")");
+  write_text_atomically(out / "array.sbatch", array);
+  write_text_atomically(out / "merge.sbatch", merge);
+  write_text_atomically(out / "submit.sh", submit);
+  for (const char* name : {"array.sbatch", "merge.sbatch", "submit.sh"})
+    fs::permissions(out / name, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                    fs::perm_options::add, error);
+  std::printf("wrote %s/array.sbatch (%d tasks), merge.sbatch and submit.sh\n", out.c_str(), options.tasks);
+  std::fflush(stdout);
+}
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::string folders = path;
+  for (size_t start = 0; start <= folders.size();) {
+    const size_t end = std::min(folders.find(':', start), folders.size());
+    const fs::path candidate = fs::path(folders.substr(start, end - start)) / program;
+    if (access(candidate.c_str(), X_OK) == 0) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+void submit(const fs::path& out) {
+  if (!on_path("sbatch"))
+    throw InputError("--submit: sbatch is not on PATH; expected Slurm's client (Debian: slurm-client), or run " +
+                     (out / "submit.sh").string() + " where it is");
+  const int status = std::system(("bash " + shell_word((out / "submit.sh").string())).c_str());
+  if (status != 0) {
+    std::fprintf(stderr, "fovlab: %s failed (exit %d); nothing more was submitted\n", (out / "submit.sh").c_str(),
+                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    throw CommandExit{1};
+  }
+}
+
+// This process's command line as given (/proc/self/cmdline), for the scripts' header.
+std::string invocation_text() {
+  const std::optional<std::string> bytes = read_file_bytes("/proc/self/cmdline");
+  std::string text = "fovlab";
+  if (!bytes) return text + " slurm";
+  size_t start = bytes->find('\0');  // past argv[0]
+  while (start != std::string::npos && start + 1 < bytes->size()) {
+    const size_t end = bytes->find('\0', start + 1);
+    const std::string word = bytes->substr(start + 1, end == std::string::npos ? std::string::npos : end - start - 1);
+    const bool plain = std::regex_match(word, std::regex("[A-Za-z0-9_./,:=+-]+"));
+    text += " " + (plain ? word : shell_word(word));
+    start = end;
+  }
+  return text;
+}
+
+void add_slurm_flags(CLI::App& command, SlurmOptions& options) {
+  command.add_option("--tasks", options.tasks, "N: tasks in the job array (each does 1/N of the work)")->required();
+  command.add_option("--partition", options.partition, "Slurm partition (#SBATCH --partition)");
+  command.add_option("--account", options.account, "Slurm account (#SBATCH --account)");
+  command.add_option("--gpus-per-task", options.gpus_per_task, "GPUs per task, optionally typed: 1, a100:1");
+  command.add_option("--cpus-per-task", options.cpus_per_task, "CPUs per task (default 1)");
+  command.add_option("--time-limit", options.time_limit, "Each job's time limit (#SBATCH --time: 30, 2:00:00, 1-12)");
+  command.add_option("--mem", options.mem, "Memory per node (#SBATCH --mem: 16G)");
+  command.add_option("--max-requeue", options.max_requeue,
+                     "Times a task killed by a signal requeues itself and resumes (default 3)");
+  command.add_flag("--allow-lavapipe", options.allow_lavapipe,
+                   "Let tasks render on a CPU Vulkan device (lavapipe) where a node has no GPU; default: refuse");
+  command.add_option("--out", options.out, "Folder for the scripts and logs (default slurm/<config or bench>)");
+  command.add_option("--fovlab", options.fovlab, "The fovlab binary the tasks run (default this one)");
+  command.add_flag("--submit", options.submit, "Submit with sbatch (submit.sh) once written");
+}
+
+struct PrerenderJobOptions {
+  SlurmOptions slurm;
+  std::string config;
+  std::string cache = kDefaultCacheRoot.string();
+  std::string device;
+};
+
+void run_slurm_prerender(const PrerenderJobOptions& options) {
+  const size_t frames = prerender_frame_jobs(options.config).size();
+  check_slurm_flags(options.slurm, int(std::min<size_t>(frames, 100000)), std::to_string(frames) + " frames of " + options.config);
+  const fs::path out = absolute_text(options.slurm.out.empty()
+                                         ? "slurm/" + fs::path(options.config).stem().string() + "-prerender"
+                                         : options.slurm.out);
+  std::string common = shell_word(fovlab_binary(options.slurm)) + " prerender " + shell_word(absolute_text(options.config)) +
+                       " --cache " + shell_word(absolute_text(options.cache));
+  if (!options.device.empty()) common += " --device " + shell_word(options.device);
+  Job job;
+  job.kind = "prerender";
+  job.what = "renders frames I, I + N, ... of " + options.config + " into the cache; a rerun renders only what is missing.";
+  job.task_command = common + " --shard \"${task}/" + std::to_string(options.slurm.tasks) + "\"" +
+                     (options.slurm.allow_lavapipe ? "" : " --require-gpu");
+  job.merge_what = "checks that every frame is in the cache and matches its .sha256 (exit 1 lists those that do not).";
+  job.merge_command = common + " --verify";
+  write_job(options.slurm, invocation_text(), job, out);
+  if (options.slurm.submit) submit(out);
+}
+
+// fovlab slurm bench's own flags are SlurmOptions; every other word is a bench flag, checked here as
+// fovlab bench would check it, then passed on to the tasks as given.
+void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& bench_words) {
+  BenchOptions bench;
+  {
+    CLI::App check("fovlab bench", "bench");
+    add_bench_flags(check, bench);
+    std::vector<std::string> reversed(bench_words.rbegin(), bench_words.rend());  // CLI11 takes them reversed
+    try {
+      check.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+      throw InputError(std::string("bench flags: ") + e.what());
+    }
+    note_given_bench_flags(check, bench);
+    for (const char* flag : {"--json", "--out-dir", "--cells"})
+      if (check.count(flag) > 0)
+        throw InputError(std::string(flag) + ": set by fovlab slurm bench (each task writes parts/part-I.json; the "
+                         "merge job writes bench.json and report/); leave it out");
+  }
+  const fs::path out = absolute_text(slurm.out.empty() ? "slurm/bench" : slurm.out);
+  bench.json = out / "parts" / "part-0.json";
+  bench.cells = "0/" + std::to_string(std::max(slurm.tasks, 1));
+  const BenchPlan plan = plan_bench(bench);  // every bench flag checked before anything is written
+  const size_t units = bench.scenes.size() * plan.times_s.size() * bench.spps.size();
+  check_slurm_flags(slurm, int(std::min<size_t>(units, 100000)),
+                    std::to_string(units) + " (scene, time, spp) units of the sweep");
+
+  std::string flags;
+  for (const std::string& word : bench_words) flags += " " + shell_word(word);
+  const std::string binary = shell_word(fovlab_binary(slurm));
+  const std::string tasks = std::to_string(slurm.tasks);
+  Job job;
+  job.kind = "bench";
+  job.what = "measures units I, I + N, ... of the sweep's (scene, time, spp) units into parts/part-I.json.";
+  job.task_command = "mkdir -p " + shell_word((out / "parts").string()) + "\n" + binary + " bench" + flags +
+                     " --cells \"${task}/" + tasks + "\" --json " + shell_word((out / "parts").string()) +
+                     "/part-\"${task}\".json" + (slurm.allow_lavapipe || bench.require_gpu ? "" : " --require-gpu");
+  job.merge_what = "joins every task's part into the sweep's report (bench.json; report/ with table.md and charts).";
+  job.merge_command = binary + " bench-merge " + shell_word((out / "parts").string()) + "/part-{0.." +
+                      std::to_string(slurm.tasks - 1) + "}.json --json " + shell_word((out / "bench.json").string()) +
+                      " --out-dir " + shell_word((out / "report").string());
+  write_job(slurm, invocation_text(), job, out);
+  if (slurm.submit) submit(out);
+}
+
+}  // namespace
+
+void add_slurm_command(CLI::App& app) {
+  CLI::App* slurm = app.add_subcommand(
+      "slurm", "Run a pre-render or a benchmark sweep on a Slurm cluster: a job array and a merge job (docs/scale-out.md)");
+  slurm->require_subcommand(1);
+
+  auto prerender = std::make_shared<PrerenderJobOptions>();
+  CLI::App* prerender_command = slurm->add_subcommand(
+      "prerender", "Write (and --submit) a job array whose task I runs fovlab prerender CONFIG --shard I/N, then --verify");
+  prerender_command->add_option("config", prerender->config, "Study config (TOML) with pt or fpt stimuli")->required();
+  prerender_command->add_option("--cache", prerender->cache,
+                                "Pre-render cache folder, on a file system every node shares (default stimuli/cache)");
+  prerender_command->add_option("--device", prerender->device, "Vulkan device of each task: index or part of its name");
+  add_slurm_flags(*prerender_command, prerender->slurm);
+  prerender_command->callback([prerender] { run_slurm_prerender(*prerender); });
+
+  auto bench = std::make_shared<SlurmOptions>();
+  CLI::App* bench_command = slurm->add_subcommand(
+      "bench", "Write (and --submit) a job array whose task I runs fovlab bench [flags] --cells I/N, then bench-merge");
+  add_slurm_flags(*bench_command, *bench);
+  bench_command->allow_extras();  // bench's own flags, passed on
+  bench_command->callback([bench, bench_command] { run_slurm_bench(*bench, bench_command->remaining()); });
+}
+
+}  // namespace fovlab::app
