@@ -53,8 +53,9 @@ struct SlurmOptions {
   std::string fovlab;  // the binary the tasks run; default this one
 };
 
-// Single-quoted for bash: the text stays one word, whatever it holds.
+// One word for bash: as it is when it holds only safe characters, single-quoted otherwise.
 std::string shell_word(const std::string& text) {
+  if (std::regex_match(text, std::regex("[A-Za-z0-9_./,:=+@%-]+"))) return text;
   std::string quoted = "'";
   for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
@@ -219,8 +220,7 @@ std::string invocation_text() {
   while (start != std::string::npos && start + 1 < bytes->size()) {
     const size_t end = bytes->find('\0', start + 1);
     const std::string word = bytes->substr(start + 1, end == std::string::npos ? std::string::npos : end - start - 1);
-    const bool plain = std::regex_match(word, std::regex("[A-Za-z0-9_./,:=+-]+"));
-    text += " " + (plain ? word : shell_word(word));
+    text += " " + shell_word(word);
     start = end;
   }
   return text;
