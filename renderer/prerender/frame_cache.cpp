@@ -165,6 +165,11 @@ Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
   const std::filesystem::path file = frame_file(sequence, frame);
   std::error_code error;
   if (!std::filesystem::exists(file, error)) return render_frame(sequence, frame).image;
+  Image image = read_image(file);  // InputError naming the file when it cannot be decoded
+  if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
+    throw InputError(file.string() + ": " + size_text(image.width, image.height) + " with " +
+                     std::to_string(image.channels) + " channels; expected a " +
+                     size_text(sequence.width_px, sequence.height_px) + " RGB frame of the pre-render cache");
   const std::filesystem::path hash = hash_file(sequence, frame);
   if (std::filesystem::exists(hash, error)) {
     const std::optional<std::string> bytes = read_file_bytes(file);
@@ -173,11 +178,6 @@ Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
                        " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
                        "files to render it again)");
   }
-  Image image = read_image(file);  // InputError naming the file when it cannot be decoded
-  if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
-    throw InputError(file.string() + ": " + size_text(image.width, image.height) + " with " +
-                     std::to_string(image.channels) + " channels; expected a " +
-                     size_text(sequence.width_px, sequence.height_px) + " RGB frame of the pre-render cache");
   return image;
 }
 

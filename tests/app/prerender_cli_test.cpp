@@ -1,7 +1,8 @@
 // fovlab prerender: every path-traced frame of a study rendered into stimuli/cache under the working
 // directory, what is there kept (a second run renders nothing, a deleted frame alone is rendered
 // again, a run killed with SIGKILL resumes with nothing lost), shards that together cover every frame
-// once, the periphery_bounces pilot's second sequence, and bad input as one line with exit code 2. Tiny studies (32x20, 2 samples, 2 bounces,
+// once and byte for byte as one run, each frame's .sha256 and --verify, --require-gpu, the
+// periphery_bounces pilot's second sequence, and bad input as one line with exit code 2. Tiny studies (32x20, 2 samples, 2 bounces,
 // 3 frames) modelled on experiments/fpt_pair.toml.
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/digest.h"
 #include "core/image_io.h"
 #include "core/prng.h"
 #include "tests/app/cli_test_support.h"
@@ -83,10 +85,12 @@ std::vector<std::string> rendered_files(const std::string& out) {
   return files;
 }
 
-// A frame's pixels (the EXR's bytes also hold its write time, capDate).
+// A frame's pixels.
 std::vector<float> pixels(const fs::path& frame) { return fovlab::read_image(frame).pixels; }
 
-const std::set<std::string> kThreeFrames = {"cache.json", "frame_000000.exr", "frame_000001.exr", "frame_000002.exr"};
+const std::set<std::string> kThreeFrames = {"cache.json",          "frame_000000.exr", "frame_000000.sha256",
+                                            "frame_000001.exr",    "frame_000001.sha256",
+                                            "frame_000002.exr",    "frame_000002.sha256"};
 
 TEST(PrerenderCli, RendersEveryFrameThenNothingOnASecondRun) {
   const fs::path dir = working_dir("all");
@@ -129,7 +133,8 @@ TEST(PrerenderCli, ShardsTogetherRenderEveryFrameExactlyOnce) {
   EXPECT_NE(shard0.out.find("3 frames in all, shard 0/2 holds 2: 0 cached, 2 to render"), std::string::npos) << shard0.out;
   auto contents = cache_contents(dir);
   ASSERT_EQ(contents.size(), 1u);
-  EXPECT_EQ(contents.begin()->second, (std::set<std::string>{"cache.json", "frame_000000.exr", "frame_000002.exr"}));
+  EXPECT_EQ(contents.begin()->second, (std::set<std::string>{"cache.json", "frame_000000.exr", "frame_000000.sha256",
+                                                             "frame_000002.exr", "frame_000002.sha256"}));
 
   const CommandResult shard1 = run_in(dir, "prerender study.toml --shard 1/2");
   ASSERT_EQ(shard1.exit_code, 0) << shard1.out << shard1.err;
@@ -170,8 +175,8 @@ TEST(PrerenderCli, ShardsMatchAWholeRunBitForBit) {
   ASSERT_EQ(contents.size(), 1u);
   const std::string key = contents.begin()->first;
   EXPECT_EQ(read_all(cache_root(sharded) / key / "cache.json"), read_all(cache_root(whole) / key / "cache.json"));
-  for (const char* name : {"frame_000000.exr", "frame_000001.exr", "frame_000002.exr"})
-    EXPECT_TRUE(pixels(cache_root(sharded) / key / name) == pixels(cache_root(whole) / key / name)) << name;
+  for (const std::string& name : contents.begin()->second)  // byte for byte: frames, hashes, cache.json
+    EXPECT_TRUE(read_all(cache_root(sharded) / key / name) == read_all(cache_root(whole) / key / name)) << name;
 }
 
 TEST(PrerenderCli, ADeletedFrameIsRenderedAgainAndNothingElse) {
@@ -235,7 +240,7 @@ size_t frame_files(const fs::path& dir) {
   if (!fs::is_directory(cache_root(dir), ignored)) return 0;
   for (const auto& folder : fs::directory_iterator(cache_root(dir)))
     for (const auto& file : fs::directory_iterator(folder.path()))
-      frames += file.path().filename().string().rfind("frame_", 0) == 0;
+      frames += file.path().extension() == ".exr" && file.path().filename().string().rfind("frame_", 0) == 0;
   return frames;
 }
 
@@ -321,9 +326,7 @@ TEST(PrerenderCli, KilledRunsResumeWithNothingLost) {
       continue;
     }
     ASSERT_TRUE(contents.begin()->second.count(name)) << name;
-    if (name != "cache.json") {
-      EXPECT_TRUE(pixels(file.path()) == pixels(cache_root(whole) / key / name)) << name;
-    }
+    EXPECT_TRUE(read_all(file.path()) == read_all(cache_root(whole) / key / name)) << name;
   }
   EXPECT_EQ(frame_files(killed), kFrames);
   for (const auto& [name, time] : done_at_first_kill)  // what was done before the kill is kept, not redone
@@ -354,6 +357,68 @@ TEST(PrerenderCli, PeripheryBouncesAddASecondSequence) {
   }
   EXPECT_TRUE(one_bounce && two_bounces) << *descriptions.begin() << *descriptions.rbegin();
   EXPECT_NE(run_in(dir, "prerender study.toml").out.find("6 cached, 0 to render"), std::string::npos);
+}
+
+// Every frame's .sha256 is what --verify (the merge job of fovlab slurm prerender) checks: a frame
+// missing, altered after it was rendered, or without its hash is listed, one line each, with exit
+// code 1; a second prerender hashes the unhashed frame (whole: it was renamed into place), renders
+// the altered and missing ones again, and --verify then passes.
+TEST(PrerenderCli, VerifyListsFramesThatAreNotWholeAndARerunRepairsThem) {
+  const fs::path dir = working_dir("verify");
+  write_file(dir / "study.toml", pair_config("tiny_fpt_verify"));
+  ASSERT_EQ(run_in(dir, "prerender study.toml").exit_code, 0);
+  const auto contents = cache_contents(dir);
+  ASSERT_EQ(contents.size(), 1u);
+  const fs::path folder = cache_root(dir) / contents.begin()->first;
+  for (int frame = 0; frame < 3; ++frame) {
+    const std::string name = "frame_00000" + std::to_string(frame);
+    EXPECT_EQ(read_all(folder / (name + ".sha256")), fovlab::sha256_hex(read_all(folder / (name + ".exr"))) + "  " + name + ".exr\n");
+  }
+  const CommandResult clean = run_in(dir, "prerender study.toml --verify");
+  EXPECT_EQ(clean.exit_code, 0) << clean.out << clean.err;
+  EXPECT_NE(clean.out.find("3 frames in all, shard 0/1 holds 3 in 1 sequences: 3 whole and matching their .sha256, 0 not"),
+            std::string::npos)
+      << clean.out;
+  const std::string frame1 = read_all(folder / "frame_000001.exr");
+
+  fovlab::Image other(32, 20, 3);  // a whole EXR of the right size, but not the rendered one
+  fovlab::write_image(folder / "frame_000000.exr", other);
+  fs::remove(folder / "frame_000001.sha256");
+  fs::remove(folder / "frame_000002.exr");
+  const CommandResult broken = run_in(dir, "prerender study.toml --verify");
+  EXPECT_EQ(broken.exit_code, 1) << broken.err;
+  const std::string prefix = "stimuli/cache/" + contents.begin()->first + "/";
+  for (const std::string& line : std::vector<std::string>{prefix + "frame_000000.exr: its bytes differ from its .sha256\n",
+                                 prefix + "frame_000001.exr: no .sha256 beside it\n",
+                                 prefix + "frame_000002.exr: missing\n", std::string("0 whole and matching their .sha256, 3 not")})
+    EXPECT_NE(broken.out.find(line), std::string::npos) << line << "\n" << broken.out;
+  EXPECT_FALSE(fs::exists(folder / "frame_000002.exr")) << "--verify renders nothing";
+
+  const CommandResult repaired = run_in(dir, "prerender study.toml");
+  ASSERT_EQ(repaired.exit_code, 0) << repaired.out << repaired.err;
+  EXPECT_NE(repaired.out.find("1 frames had no .sha256 beside them (rendered before hashes were kept): hashed"),
+            std::string::npos)
+      << repaired.out;
+  EXPECT_NE(repaired.out.find("1 frames differ from their .sha256: rendered again"), std::string::npos) << repaired.out;
+  EXPECT_EQ(rendered_files(repaired.out).size(), 2u) << repaired.out;
+  EXPECT_EQ(read_all(folder / "frame_000001.exr"), frame1) << "the unhashed frame is kept, not rendered again";
+  EXPECT_EQ(run_in(dir, "prerender study.toml --verify").exit_code, 0);
+  EXPECT_EQ(cache_contents(dir), contents);
+
+  // --verify of one shard checks that shard's frames only.
+  fs::remove(folder / "frame_000001.exr");
+  EXPECT_EQ(run_in(dir, "prerender study.toml --verify --shard 0/2").exit_code, 0);
+  EXPECT_EQ(run_in(dir, "prerender study.toml --verify --shard 1/2").exit_code, 1);
+}
+
+// --require-gpu (what fovlab slurm's tasks run with unless --allow-lavapipe) refuses a CPU device.
+TEST(PrerenderCli, RequireGpuRefusesLavapipe) {
+  const fs::path dir = working_dir("require-gpu");
+  write_file(dir / "study.toml", pair_config("tiny_fpt_require_gpu"));
+  const CommandResult refused = run_in(dir, "prerender study.toml --device llvmpipe --require-gpu");
+  expect_one_line_error(refused, "--require-gpu");
+  EXPECT_NE(refused.err.find("renders on the CPU"), std::string::npos) << refused.err;
+  EXPECT_EQ(frame_files(dir), 0u);
 }
 
 TEST(PrerenderCli, BadShardIsOneLineNamingTheFlag) {

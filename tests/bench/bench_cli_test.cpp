@@ -1,6 +1,7 @@
 // fovlab bench end to end with FIPR: a tiny sweep writes every cell (JSON, Markdown, images, Pareto
-// charts) with speed-ups that are the ratio of the medians; bad flags exit 2 with one line naming
-// the flag and write nothing. Speed is reported, never asserted.
+// charts) with speed-ups that are the ratio of the medians; the same sweep in parts (--cells I/N)
+// merged by bench-merge gives the same report; bad flags exit 2 with one line naming the flag and
+// write nothing. Speed is reported, never asserted.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -160,6 +161,88 @@ TEST(BenchCli, RmfrFocalSweepWritesHeatMapsAndTheBestPair) {
   EXPECT_NE(json["command"].get<std::string>().find("--fx 0.05,0.55 --fy 0.3"), std::string::npos);
   for (const char* metric : {"fpsnr", "psnr", "ssim"})
     EXPECT_TRUE(fs::exists(out_dir / (std::string("primitives_t0_spp1_rmfr_") + metric + ".svg"))) << metric;
+}
+
+// Whether `key` holds a time or something made of times (speed-ups, Pareto marks): what two runs of
+// the same sweep may differ in.
+bool timed(const std::string& key) {
+  for (const char* part : {"ms", "speedup", "over_floor", "pareto"})
+    if (key.find(part) != std::string::npos) return true;
+  return false;
+}
+
+// `a` and `b` equal but for timed keys; the first difference's path in `where`.
+bool equal_but_times(const nlohmann::json& a, const nlohmann::json& b, std::string& where, const std::string& path = "") {
+  if (a.is_object() && b.is_object()) {
+    for (const auto& [key, value] : a.items()) {
+      if (timed(key)) continue;
+      if (!b.contains(key) || !equal_but_times(value, b[key], where, path + "." + key)) {
+        if (where.empty()) where = path + "." + key;
+        return false;
+      }
+    }
+    for (const auto& [key, value] : b.items())
+      if (!a.contains(key)) return where = path + "." + key, false;
+    return true;
+  }
+  if (a.is_array() && b.is_array()) {
+    if (a.size() != b.size()) return where = path + " (length)", false;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (!equal_but_times(a[i], b[i], where, path + "[" + std::to_string(i) + "]")) return false;
+    return true;
+  }
+  if (a != b) where = path;
+  return a == b;
+}
+
+// A sweep in three parts (one of them empty: 2 units) merged by bench-merge is the report of one run
+// of the whole sweep: the same JSON but for times, the same tables and charts; a part missing is one
+// line naming it, and nothing is written.
+TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
+  const fs::path dir = scratch() / "parts";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string sweep = "bench --scenes primitives --spp 1,4 --width 64 --height 48 --repeats 1 --methods gt,ipr,fipr "
+                            "--refresh 1 --fovea-deg 7.5";
+  const CommandResult whole = run(sweep + " --json " + (dir / "whole.json").string() + " --out-dir " + (dir / "whole").string());
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  std::string parts;
+  for (int index = 0; index < 3; ++index) {
+    const fs::path part = dir / ("part-" + std::to_string(index) + ".json");
+    const CommandResult result = run(sweep + " --cells " + std::to_string(index) + "/3 --json " + part.string());
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.out.find("part " + std::to_string(index) + "/3: " + (index < 2 ? "1" : "0") + " of 2 (scene, time, spp) units"),
+              std::string::npos)
+        << result.out;
+    parts = " " + part.string() + parts;  // given in reverse order
+  }
+  const CommandResult merged = run("bench-merge" + parts + " --json " + (dir / "merged.json").string() + " --out-dir " +
+                                   (dir / "merged").string());
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_NE(merged.out.find("fovlab bench-merge: 3 parts, 2 (scene, time, spp) units, 6 cells"), std::string::npos) << merged.out;
+  EXPECT_NE(merged.out.find("FIPR at a fovea of 7.5 degrees"), std::string::npos) << merged.out;
+  const nlohmann::json one = nlohmann::json::parse(read_all(dir / "whole.json"));
+  const nlohmann::json joined = nlohmann::json::parse(read_all(dir / "merged.json"));
+  std::string where;
+  EXPECT_TRUE(equal_but_times(one, joined, where)) << "first difference at " << where;
+  EXPECT_EQ(joined["cells"].size(), 6u);
+  for (const char* file : {"bench.json", "table.md", "primitives_pareto_flip.svg", "primitives_pareto_ssim.svg"})
+    EXPECT_TRUE(fs::is_regular_file(dir / "merged" / file)) << file;
+  EXPECT_EQ(read_all(dir / "merged" / "bench.json"), read_all(dir / "merged.json"));
+
+  // A part missing: one line naming it, nothing written.
+  const CommandResult missing = run("bench-merge " + (dir / "part-0.json").string() + " " + (dir / "part-2.json").string() +
+                                    " --json " + (dir / "never.json").string());
+  expect_one_line_error(missing, "part 1/3 missing");
+  EXPECT_FALSE(fs::exists(dir / "never.json"));
+  expect_one_line_error(run("bench-merge " + (dir / "whole.json").string()), "not a part of a sweep");
+  expect_one_line_error(run("bench-merge " + (dir / "nothing.json").string()), "nothing.json");
+  // --cells needs --json, and leaves --out-dir to bench-merge.
+  expect_one_line_error(run(kTiny + "--cells 0/2"), "--cells 0/2: needs --json");
+  expect_one_line_error(run(kTiny + "--cells 0/2 --json " + (dir / "x.json").string() + " --out-dir " + (dir / "x").string()),
+                        "--out-dir");
+  expect_one_line_error(run(kTiny + "--cells 2/2 --json " + (dir / "x.json").string()), "--cells");
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
 }
 
 TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {

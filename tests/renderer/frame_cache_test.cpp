@@ -1,7 +1,8 @@
 // The pre-render cache of path-traced frames (renderer/prerender/frame_cache.h): one folder per
 // sequence, keyed by every setting that changes a pixel (and nothing else), frames rendered on
 // demand and stored as EXR, unreadable or wrong-size frames refused with an InputError naming the
-// file, a cache.json made for other parameters refused, and the same sequence giving the same bits.
+// file, a cache.json made for other parameters refused, each frame's .sha256 telling an altered
+// frame apart, and the same sequence giving the same bytes.
 // Tiny frames (32x20, 2 samples, 2 bounces) so that every render takes a moment on lavapipe.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/digest.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
 #include "renderer/path_tracing/path_tracer.h"
@@ -179,16 +181,33 @@ TEST_F(FrameCacheTest, FrameRendersAMissingFrameStoresItAndReadsItBack) {
   EXPECT_EQ(stored.pixels, rendered.pixels);
   EXPECT_EQ(cache.frame(sequence, 1).pixels, rendered.pixels);
 
-  // What frame() returns comes from the disk once there: a file replaced by another image of the
-  // right size is what the next frame() returns (the cache never re-renders a present frame).
+  // Beside it, its manifest entry: the SHA-256 of its bytes in sha256sum's format.
+  const fs::path hash = cache.hash_file(sequence, 1);
+  EXPECT_EQ(hash.filename(), "frame_000001.sha256");
+  EXPECT_EQ(read_text(hash), sha256_hex(read_text(file)) + "  frame_000001.exr\n");
+  EXPECT_EQ(cache.frame_status(sequence, 1), FrameStatus::whole);
+
+  // A file replaced by another image of the right size no longer matches its .sha256: not a cached
+  // frame, and frame() refuses it naming both files (a session never shows an altered stimulus).
   Image marker(32, 20, 3);
   for (size_t i = 0; i < marker.pixels.size(); ++i) marker.pixels[i] = 0.25f + 0.001f * float(i);
   write_image(file, marker);
   FrameCache reopened(context(), root_);
+  EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::altered);
+  EXPECT_FALSE(reopened.has_frame(sequence, 1));
+  const std::string refused = input_error_of([&] { reopened.frame(sequence, 1); });
+  EXPECT_NE(refused.find(file.string()), std::string::npos) << refused;
+  EXPECT_NE(refused.find("frame_000001.sha256"), std::string::npos) << refused;
+  // Without its .sha256 (a cache from before hashes were kept) the frame on disk is what frame()
+  // returns: the cache never re-renders a present frame.
+  fs::remove(hash);
+  EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::unhashed);
   EXPECT_TRUE(reopened.has_frame(sequence, 1));
   const Image read_back = reopened.frame(sequence, 1);
   ASSERT_EQ(read_back.channels, 3);
   EXPECT_EQ(read_back.pixels, marker.pixels);
+  reopened.record_hash(sequence, 1);
+  EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::whole);
 
   // Frame 0 is a different camera time: a different image, and the direct render of its settings.
   const Image frame0 = cache.frame(sequence, 0);
@@ -212,7 +231,8 @@ TEST_F(FrameCacheTest, RenderFrameReplacesTheFileAndReportsTheRender) {
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(cache.folder(sequence))) names.push_back(entry.path().filename());
   std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"cache.json", "frame_000000.exr"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"cache.json", "frame_000000.exr", "frame_000000.sha256"}));
+  EXPECT_EQ(cache.frame_status(sequence, 0), FrameStatus::whole);
 }
 
 TEST_F(FrameCacheTest, MissingCorruptOrWrongSizeFramesAreNotCachedAndFrameNamesTheFile) {
@@ -354,6 +374,9 @@ TEST_F(FrameCacheTest, SameSequenceRenderedTwiceGivesIdenticalBits) {
   EXPECT_EQ(first, second);
   EXPECT_EQ(read_image(cache.frame_file(sequence, 0)).pixels, first);
   EXPECT_EQ(read_image(FrameCache(context(), root_ / "a").frame_file(sequence, 0)).pixels, first);
+  // Byte for byte, hash included: an EXR holds no write time, so two machines' caches compare equal.
+  for (const char* name : {"frame_000000.exr", "frame_000000.sha256"})
+    EXPECT_EQ(read_text(cache.folder(sequence) / name), read_text(FrameCache(root_ / "a").folder(sequence) / name)) << name;
   // render_frame again into the same cache: the same bits on disk.
   cache.render_frame(sequence, 0);
   EXPECT_EQ(read_image(cache.frame_file(sequence, 0)).pixels, first);
