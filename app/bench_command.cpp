@@ -114,12 +114,7 @@ uint64_t bench_memory_bytes(const BenchOptions& options, const BenchPlan& plan) 
 
 void run_bench(const BenchOptions& options) {
   const BenchPlan plan = plan_bench(options);
-  check_memory_fits(bench_memory_bytes(options, plan),
-                    "--width x --height = " + std::to_string(options.settings.width) + "x" +
-                        std::to_string(options.settings.height),
-                    "lower --width and --height");
-  std::vector<SceneSource> scenes;
-  for (const std::string& name : options.scenes) scenes.push_back(load_scene(name));
+  const std::vector<SceneSource> scenes = load_bench_scenes(options, plan);
   if (!options.json.empty()) check_output_path(options.json, "--json");
   if (!options.out_dir.empty()) {
     std::error_code error;
@@ -334,6 +329,16 @@ void run_bench(const BenchOptions& options) {
 }
 
 }  // namespace
+
+std::vector<SceneSource> load_bench_scenes(const BenchOptions& options, const BenchPlan& plan) {
+  check_memory_fits(bench_memory_bytes(options, plan),
+                    "--width x --height = " + std::to_string(options.settings.width) + "x" +
+                        std::to_string(options.settings.height),
+                    "lower --width and --height");
+  std::vector<SceneSource> scenes;
+  for (const std::string& name : options.scenes) scenes.push_back(load_scene(name));
+  return scenes;
+}
 
 void add_bench_flags(CLI::App& command, BenchOptions& options) {
   command.add_option("--scenes", options.scenes, "Scenes, comma-separated (names or .glsl paths)")->delimiter(',');

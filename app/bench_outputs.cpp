@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/bench_pareto.h"
@@ -113,40 +114,44 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
   }
   print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
 
+  // Every file made in memory first, then written: nothing is written if making one fails.
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
   const std::string json_text = report.dump(2) + "\n";
-  if (!json.empty()) write_text_atomically(json, json_text);
-  if (out_dir.empty()) return;
-
-  const int width = report["width"].get<int>();
-  const int height = report["height"].get<int>();
-  const double flip_pixels_per_degree = report["metrics"]["flip_pixels_per_degree"].get<double>();
-  const std::string command = report["command"].get<std::string>();
-  write_text_atomically(out_dir / "bench.json", json_text);
-  for (const std::string& scene : scene_names) {
-    const std::string size = std::to_string(width) + "x" + std::to_string(height);
-    write_text_atomically(out_dir / (scene + "_pareto_flip.svg"),
-                          pareto_chart_svg(scene + ", " + size + ": speed-up against FLIP",
-                                           "FLIP against GT (mean, " + format_number(flip_pixels_per_degree, 3) +
-                                               " px/deg)",
-                                           chart_cells(cells, scene, true)));
-    write_text_atomically(out_dir / (scene + "_pareto_ssim.svg"),
-                          pareto_chart_svg(scene + ", " + size + ": speed-up against 1 - SSIM", "1 - SSIM against GT",
-                                           chart_cells(cells, scene, false)));
+  if (!json.empty()) files.emplace_back(json, json_text);
+  if (!out_dir.empty()) {
+    const int width = report["width"].get<int>();
+    const int height = report["height"].get<int>();
+    const double flip_pixels_per_degree = report["metrics"]["flip_pixels_per_degree"].get<double>();
+    const std::string command = report["command"].get<std::string>();
+    files.emplace_back(out_dir / "bench.json", json_text);
+    for (const std::string& scene : scene_names) {
+      const std::string size = std::to_string(width) + "x" + std::to_string(height);
+      files.emplace_back(out_dir / (scene + "_pareto_flip.svg"),
+                         pareto_chart_svg(scene + ", " + size + ": speed-up against FLIP",
+                                          "FLIP against GT (mean, " + format_number(flip_pixels_per_degree, 3) +
+                                              " px/deg)",
+                                          chart_cells(cells, scene, true)));
+      files.emplace_back(out_dir / (scene + "_pareto_ssim.svg"),
+                         pareto_chart_svg(scene + ", " + size + ": speed-up against 1 - SSIM", "1 - SSIM against GT",
+                                          chart_cells(cells, scene, false)));
+    }
+    std::string markdown = "# fovlab bench\n\nCommand: `" + command + "`\n\nDevice: " +
+                           report["device"].get<std::string>() + "; " + std::to_string(width) + "x" +
+                           std::to_string(height) + "; median of " + std::to_string(report["repeats"].get<int>()) +
+                           " runs.\n\n";
+    if (ipr || !has_cells) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
+    if (has_cells) markdown += "## Every cell\n\n" + cell_table + "\n";
+    if (fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";
+    if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
+    if (several_times && !ranking.empty())
+      markdown += "## Sampling models ranked by mean FPSNR over the scene times\n\n" + ranking + "\n";
+    if (!focal_sweep.table.empty())
+      markdown += "## RMFR's best f_x, f_y (Figure 6's sweep)\n\n" + focal_sweep.table + "\n";
+    for (const auto& [file_name, svg] : focal_sweep.heat_maps) files.emplace_back(out_dir / file_name, svg);
+    markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
+    files.emplace_back(out_dir / "table.md", markdown);
   }
-  std::string markdown = "# fovlab bench\n\nCommand: `" + command + "`\n\nDevice: " +
-                         report["device"].get<std::string>() + "; " + std::to_string(width) + "x" +
-                         std::to_string(height) + "; median of " + std::to_string(report["repeats"].get<int>()) +
-                         " runs.\n\n";
-  if (ipr || !has_cells) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
-  if (has_cells) markdown += "## Every cell\n\n" + cell_table + "\n";
-  if (fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";
-  if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
-  if (several_times && !ranking.empty())
-    markdown += "## Sampling models ranked by mean FPSNR over the scene times\n\n" + ranking + "\n";
-  if (!focal_sweep.table.empty()) markdown += "## RMFR's best f_x, f_y (Figure 6's sweep)\n\n" + focal_sweep.table + "\n";
-  for (const auto& [file_name, svg] : focal_sweep.heat_maps) write_text_atomically(out_dir / file_name, svg);
-  markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
-  write_text_atomically(out_dir / "table.md", markdown);
+  for (const auto& [path, text] : files) write_text_atomically(path, text);
 }
 
 }  // namespace fovlab::app

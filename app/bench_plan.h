@@ -4,15 +4,16 @@
 // of its cells. Everything here runs before Vulkan is opened: bad input is one InputError naming
 // the flag, and nothing is written.
 #include <filesystem>
-
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "app/foveation_flags.h"
 #include "app/sampling_flags.h"
 #include "bench/bench_plan.h"
 #include "foveation/display_geometry.h"
+#include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab::app {
@@ -59,6 +60,10 @@ void note_given_bench_flags(CLI::App& command, BenchOptions& options);
 // Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)
 // and returns the plan. Throws InputError naming the flag.
 BenchPlan plan_bench(const BenchOptions& options);
+
+// What bench checks after the plan and before opening Vulkan: the sweep fits in memory, and every
+// scene loads (InputError naming it otherwise). Returns the scenes.
+std::vector<SceneSource> load_bench_scenes(const BenchOptions& options, const BenchPlan& plan);
 
 // The command that reproduces the whole sweep, every setting spelled out.
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan);

@@ -5,11 +5,13 @@
 // scripts are plain bash in one folder, to read and edit: array.sbatch, merge.sbatch, submit.sh
 // (docs/scale-out.md).
 //
-// Faults: a task whose fovlab is killed by a signal (pre-emption, the OOM killer, a node fault)
-// requeues itself, up to --max-requeue times, and resumes from the cache (frames are written
-// atomically, each with its .sha256); a task that fails on bad input (exit 2) or otherwise stays
-// failed, and the merge job is then cancelled (afterok, --kill-on-invalid-dep). Tasks refuse a CPU
-// Vulkan device (--require-gpu) unless --allow-lavapipe.
+// Faults: the array asks for --requeue, so Slurm requeues a task it pre-empts (PreemptMode=REQUEUE)
+// or loses with its node; a task whose fovlab alone dies of a signal (the OOM killer, a kill of the
+// process) requeues itself with scontrol, up to --max-requeue times. Either way the task resumes from
+// the cache (frames are written atomically, each with its .sha256). A task that fails on bad input
+// (exit 2) or otherwise, or runs out of its time limit, stays failed, and the merge job is then
+// cancelled (afterok, --kill-on-invalid-dep). Tasks refuse a CPU Vulkan device (--require-gpu)
+// unless --allow-lavapipe.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,6 +23,7 @@
 #include <optional>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/bench_plan.h"
@@ -82,6 +85,23 @@ void check_slurm_flags(const SlurmOptions& options, int work_items, const std::s
     throw InputError("--max-requeue " + std::to_string(options.max_requeue) + ": expected 0 to 100");
 }
 
+// A word that goes into a script: no control character (a newline would end a comment or an #SBATCH
+// line and start a command).
+void check_script_word(const std::string& what, const std::string& word) {
+  for (unsigned char c : word)
+    if (c < 0x20 || c == 0x7f)
+      throw InputError(what + ": holds a control character (code " + std::to_string(int(c)) +
+                       "); expected text that fits on one line of a script");
+}
+
+// A path written into an #SBATCH line, where sbatch takes no quoting and --output expands %.
+void check_sbatch_path(const std::string& what, const std::string& path) {
+  check_script_word(what, path);
+  if (path.find_first_of(" \t%\"'\\") != std::string::npos)
+    throw InputError(what + " " + path + ": holds a space, quote, backslash or %, which an #SBATCH line cannot; "
+                     "expected a path without them (run from another folder, or give --out)");
+}
+
 // The binary the tasks run: --fovlab, or this one.
 std::string fovlab_binary(const SlurmOptions& options) {
   if (!options.fovlab.empty()) {
@@ -121,6 +141,9 @@ std::string sbatch_lines(const SlurmOptions& options, bool gpus) {
 }
 
 void write_job(const SlurmOptions& options, const std::string& invocation, const Job& job, const fs::path& out) {
+  check_sbatch_path("the working directory", fs::current_path().string());
+  check_sbatch_path("--out", out.string());
+  check_script_word("the command line", invocation);
   const std::string tasks = std::to_string(options.tasks);
   const std::string requeues = std::to_string(options.max_requeue);
   const std::string logs = (out / "logs").string();
@@ -144,9 +167,10 @@ void write_job(const SlurmOptions& options, const std::string& invocation, const
                       job.task_command + "\n"
                       "status=$?\n"
                       "echo \"fovlab slurm: task ${task} exit ${status}\"\n"
-                      "# Killed by a signal (exit 128 + its number: pre-emption, the OOM killer, a node fault): requeue\n"
-                      "# this task, at most " + requeues + " times; it resumes from what is already done. Bad input (exit 2)\n"
-                      "# and other failures (1) stay failed, and the merge job is then cancelled.\n"
+                      "# fovlab killed by a signal (exit 128 + its number: the OOM killer, a kill of the process): requeue\n"
+                      "# this task, at most " + requeues + " times; it resumes from what is already done. Pre-emption and\n"
+                      "# node failures are requeued by Slurm itself (--requeue above). Bad input (exit 2) and other\n"
+                      "# failures (1) stay failed, and the merge job is then cancelled.\n"
                       "if [ \"${status}\" -gt 128 ] && [ \"${restarts}\" -lt " + requeues + " ]; then\n"
                       "  echo \"fovlab slurm: task ${task} killed; requeued\"\n"
                       "  scontrol requeue \"${SLURM_JOB_ID}\"\n"
@@ -251,6 +275,9 @@ struct PrerenderJobOptions {
 };
 
 void run_slurm_prerender(const PrerenderJobOptions& options) {
+  for (const auto& [what, word] : {std::pair<std::string, std::string>{"CONFIG", options.config}, {"--cache", options.cache},
+                                   {"--device", options.device}, {"--fovlab", options.slurm.fovlab}})
+    check_script_word(what, word);
   const size_t frames = prerender_frame_jobs(options.config).size();
   check_slurm_flags(options.slurm, int(std::min<size_t>(frames, 100000)), std::to_string(frames) + " frames of " + options.config);
   const fs::path out = absolute_text(options.slurm.out.empty()
@@ -273,6 +300,8 @@ void run_slurm_prerender(const PrerenderJobOptions& options) {
 // fovlab slurm bench's own flags are SlurmOptions; every other word is a bench flag, checked here as
 // fovlab bench would check it, then passed on to the tasks as given.
 void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& bench_words) {
+  for (const std::string& word : bench_words) check_script_word("bench flag " + word.substr(0, 40), word);
+  check_script_word("--fovlab", slurm.fovlab);
   BenchOptions bench;
   {
     CLI::App check("fovlab bench", "bench");
@@ -291,8 +320,9 @@ void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& 
   }
   const fs::path out = absolute_text(slurm.out.empty() ? "slurm/bench" : slurm.out);
   bench.json = out / "parts" / "part-0.json";
-  bench.cells = "0/" + std::to_string(std::max(slurm.tasks, 1));
-  const BenchPlan plan = plan_bench(bench);  // every bench flag checked before anything is written
+  bench.cells = "0/1";  // a part's plan is the sweep's
+  const BenchPlan plan = plan_bench(bench);  // every bench flag checked before anything is written,
+  load_bench_scenes(bench, plan);            // the scenes and the memory too
   const size_t units = bench.scenes.size() * plan.times_s.size() * bench.spps.size();
   check_slurm_flags(slurm, int(std::min<size_t>(units, 100000)),
                     std::to_string(units) + " (scene, time, spp) units of the sweep");

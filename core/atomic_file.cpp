@@ -23,6 +23,13 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& target) {
   std::string name = ".";
   name += target.stem().string();
   name += ".tmp-";
+  // The host too: tasks on several machines may write the same file of a shared folder at once
+  // (fovlab slurm's tasks and a sequence's cache.json), and their process IDs may be equal.
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) == 0 && host[0] != '\0') {
+    name += host;
+    name += "-";
+  }
   name += std::to_string(::getpid());
   name += target.extension().string();
   return target.parent_path() / name;

@@ -8,7 +8,8 @@
 
 namespace fovlab {
 
-// Temporary sibling of `target` that keeps its extension (image writers choose the format by it).
+// Temporary sibling of `target` that keeps its extension (image writers choose the format by it):
+// ".<stem>.tmp-<host>-<pid><extension>", apart for every process of every machine.
 std::filesystem::path temporary_sibling(const std::filesystem::path& target);
 
 // Calls `write_to(temporary_path)`, then renames the temporary file onto `target`. On any exception

@@ -44,10 +44,6 @@ const char* frame_status_text(FrameStatus status) {
   return "?";
 }
 
-namespace {
-
-}  // namespace
-
 PathTraceSettings PathTraceSequence::settings(int frame) const {
   PathTraceSettings settings;
   settings.width_px = width_px;
@@ -103,7 +99,7 @@ std::filesystem::path FrameCache::folder(const PathTraceSequence& sequence) {
                        (has_sequence ? found["sequence"].get<std::string>() : std::string("not a cache description")) +
                        "); expected " + description + " (delete the folder to render it again)");
     }
-  } else {
+  } else if (context_) {  // a read-only cache (no context) creates nothing: its frames are missing
     std::filesystem::create_directories(folder, error);
     if (error) throw InputError(folder.string() + ": cannot create the cache folder (" + error.message() + ")");
     write_text_atomically(manifest, expected.dump(2) + "\n");

@@ -9,7 +9,7 @@
 // entry: the SHA-256 of the bytes the renderer wrote, in sha256sum's format, so a frame changed or
 // damaged after it was rendered is told apart from the one that was (a session refuses it, a
 // pre-render renders it again, `prerender --verify` lists it). EXR files carry no write time, so
-// the same frame rendered on two machines is the same bytes. docs/foveated-path-tracing.md
+// the same frame rendered twice by the same device and driver is the same bytes. docs/foveated-path-tracing.md
 // ("Pre-render cache"), docs/scale-out.md.
 #include <cstdint>
 #include <filesystem>
@@ -65,7 +65,8 @@ class FrameCache {
  public:
   // The context renders missing frames (frame()); the root is created on first use.
   FrameCache(vk::Context& context, std::filesystem::path root);
-  // A cache that is only read and checked (prerender --verify): rendering a frame is a logic error.
+  // A cache that is only read and checked (prerender --verify): it creates no folder or cache.json
+  // (a sequence without one has every frame missing), and rendering a frame is a logic error.
   explicit FrameCache(std::filesystem::path root);
   ~FrameCache();
   FrameCache(const FrameCache&) = delete;

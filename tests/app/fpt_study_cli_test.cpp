@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/digest.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {
@@ -140,8 +141,9 @@ TEST(FptStudyCli, PathTracedSamplingModelsRunReplayAndAnalyze) {
 }
 
 TEST(FptStudyCli, ReplayDetectsAChangedCacheFrame) {
-  // The replay renders from the cache again: a cache frame changed after the session (same size, a
-  // valid EXR) makes the frames differ from the logged hashes.
+  // The replay renders from the cache again. A cache frame changed after the session (same size, a
+  // valid EXR) no longer matches its .sha256: refused naming both files (exit 2). Changed together
+  // with its .sha256, it makes the frames differ from the logged hashes (exit 1).
   const std::string name = "tiny_fpt_changed";
   const fs::path dir = working_dir(name);
   write_file(dir / "study.toml", fpt_config(name, "kind = \"pair\"\nrepeats = 2"));
@@ -151,12 +153,24 @@ TEST(FptStudyCli, ReplayDetectsAChangedCacheFrame) {
   const auto frames = cache_frames(dir);
   ASSERT_EQ(frames.size(), 2u);
   // Swap the two frames: both valid, each of the right size, but not what was shown.
-  const std::string frame0 = read_all(frames[0]);
-  const std::string frame1 = read_all(frames[1]);
-  ASSERT_TRUE(frame0 != frame1);
-  write_file(frames[0], frame1);
-  write_file(frames[1], frame0);
-  const CommandResult replay = run_in(dir, "replay --verify " + (dir / "results" / name / "P1/events.jsonl").string());
+  const auto swap_files = [](const fs::path& a, const fs::path& b) {
+    const std::string bytes_a = read_all(a);
+    const std::string bytes_b = read_all(b);
+    ASSERT_TRUE(bytes_a != bytes_b);
+    write_file(a, bytes_b);
+    write_file(b, bytes_a);
+  };
+  swap_files(frames[0], frames[1]);
+  const std::string log = (dir / "results" / name / "P1/events.jsonl").string();
+  const CommandResult refused = run_in(dir, "replay --verify " + log);
+  expect_one_line_error(refused, "stimuli/cache/");
+  EXPECT_NE(refused.err.find(".exr: its bytes differ from frame_00000"), std::string::npos) << refused.err;
+  // The hashes written again for the swapped frames (a forger's move): each frame matches its
+  // .sha256, and the replay finds the frames are not the ones the log says were shown.
+  for (const fs::path& frame : frames)
+    write_file(fs::path(frame).replace_extension(".sha256"),
+               fovlab::sha256_hex(read_all(frame)) + "  " + frame.filename().string() + "\n");
+  const CommandResult replay = run_in(dir, "replay --verify " + log);
   EXPECT_EQ(replay.exit_code, 1) << replay.out << replay.err;
 }
 

@@ -37,7 +37,13 @@ using fovlab::cli_test::run;
 using fovlab::cli_test::write_file;
 
 fs::path working_dir(const std::string& name) {
-  return fovlab::cli_test::fresh_folder(fovlab::cli_test::scratch("fovlab-slurm-cli"), name);
+  const fs::path dir = fovlab::cli_test::scratch("fovlab-slurm-cli") / name;
+  // A cluster an earlier run left behind (killed by ctest's timeout) is stopped before its folder goes.
+  if (fs::exists(dir / "slurm-daemons" / "run"))
+    std::system(("'" + std::string(FOVLAB_SOURCE_DIR) + "/scripts/local-slurm' stop '" + (dir / "slurm-daemons").string() +
+                 "' 2>/dev/null")
+                    .c_str());
+  return fovlab::cli_test::fresh_folder(dir.parent_path(), name);
 }
 
 // A pair study of pt against fpt on the courtyard, 32x20: `frames` frames at 20 a second,
@@ -177,8 +183,8 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
   ASSERT_TRUE(frame1) << "task 1 rendered nothing in 180 s: " << read_all(slurm.dir() / "log" / "slurmd.log");
   const auto frame1_time = fs::last_write_time(*frame1);
   const std::optional<pid_t> task1 = process_with({"prerender", (dir / "study.toml").string(), "--shard", "1/4"});
-  if (!task1) GTEST_SKIP() << "task 1 finished its second frame before it could be killed (frames render too fast here)";
-  ASSERT_EQ(kill(*task1, SIGKILL), 0);
+  if (!task1 || kill(*task1, SIGKILL) != 0)
+    GTEST_SKIP() << "task 1 finished its second frame before it could be killed (frames render too fast here)";
 
   ASSERT_TRUE(slurm.wait_until_idle(dir, std::chrono::seconds(300))) << shell_in(dir, "squeue", slurm.conf()).out;
   for (int task = 0; task < 4; ++task)
@@ -191,7 +197,11 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
   EXPECT_NE(task1_log.find("exit 137"), std::string::npos) << task1_log;
   EXPECT_NE(task1_log.find("killed; requeued"), std::string::npos) << task1_log;
   EXPECT_NE(task1_log.find("attempt 2,"), std::string::npos) << task1_log;
-  EXPECT_NE(task1_log.find("shard 1/4 holds 2: 1 cached, 1 to render"), std::string::npos) << task1_log;
+  // Frame 1 kept; frame 5 rendered again, or (a kill that landed after frame 5 was on disk, or
+  // between its rename and its hash's) kept or hashed.
+  EXPECT_TRUE(task1_log.find("shard 1/4 holds 2: 1 cached, 1 to render") != std::string::npos ||
+              task1_log.find("shard 1/4 holds 2: 2 cached, 0 to render") != std::string::npos)
+      << task1_log;
   EXPECT_EQ(fs::last_write_time(*frame1), frame1_time) << "frame 1 was rendered again";
   const std::string merge_log = read_all(folder / "logs" / ("merge-" + merge + ".log"));
   EXPECT_NE(merge_log.find("8 frames in all, shard 0/1 holds 8 in 1 sequences: 8 whole and matching their .sha256, 0 not"),

@@ -164,7 +164,7 @@ TEST(BenchCli, RmfrFocalSweepWritesHeatMapsAndTheBestPair) {
 }
 
 // Whether `key` holds a time or something made of times (speed-ups, Pareto marks): what two runs of
-// the same sweep may differ in.
+// the same sweep may differ in (the marks are checked byte for byte on a cut of one run below).
 bool timed(const std::string& key) {
   for (const char* part : {"ms", "speedup", "over_floor", "pareto"})
     if (key.find(part) != std::string::npos) return true;
@@ -229,6 +229,33 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   for (const char* file : {"bench.json", "table.md", "primitives_pareto_flip.svg", "primitives_pareto_ssim.svg"})
     EXPECT_TRUE(fs::is_regular_file(dir / "merged" / file)) << file;
   EXPECT_EQ(read_all(dir / "merged" / "bench.json"), read_all(dir / "merged.json"));
+
+  // The whole run's own report cut into two parts (its times, so nothing differs but the cut):
+  // merged, the JSON, tables and charts are the whole run's byte for byte, Pareto marks included.
+  const nlohmann::json cells_per_unit = one["cells"].size() / one["rows"].size();
+  std::string cut_parts;
+  for (int index = 0; index < 2; ++index) {
+    nlohmann::json part = one;
+    part["rows"] = nlohmann::json::array();
+    part["cells"] = nlohmann::json::array();
+    for (size_t unit = size_t(index); unit < one["rows"].size(); unit += 2) {
+      part["rows"].push_back(one["rows"][unit]);
+      for (size_t cell = unit * cells_per_unit.get<size_t>(); cell < (unit + 1) * cells_per_unit.get<size_t>(); ++cell) {
+        nlohmann::json value = one["cells"][cell];
+        value.erase("pareto_flip");  // made again by the merge
+        value.erase("pareto_one_minus_ssim");
+        part["cells"].push_back(value);
+      }
+    }
+    part["part"] = {{"index", index}, {"count", 2}, {"units", one["rows"].size()}};
+    const fs::path path = dir / ("cut-" + std::to_string(index) + ".json");
+    fovlab::cli_test::write_file(path, part.dump(2));
+    cut_parts += " " + path.string();
+  }
+  const CommandResult cut = run("bench-merge" + cut_parts + " --out-dir " + (dir / "cut").string());
+  ASSERT_EQ(cut.exit_code, 0) << cut.err;
+  for (const char* file : {"bench.json", "table.md", "primitives_pareto_flip.svg", "primitives_pareto_ssim.svg"})
+    EXPECT_TRUE(read_all(dir / "cut" / file) == read_all(dir / "whole" / file)) << file << " differs from one run's";
 
   // A part missing: one line naming it, nothing written.
   const CommandResult missing = run("bench-merge " + (dir / "part-0.json").string() + " " + (dir / "part-2.json").string() +

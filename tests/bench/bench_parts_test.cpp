@@ -17,18 +17,29 @@ namespace {
 // A sweep of `units` units (scene "s<unit / 2>", spp 1 or 4), two cells each (gt and ipr): the report
 // one run would write, with the unit's number in each row and cell.
 nlohmann::json whole_sweep(int units) {
-  nlohmann::json report = {{"device", "test device"}, {"width", 64}, {"command", "fovlab bench ..."}};
+  nlohmann::json report = {{"device", "test device"}, {"width", 64},           {"height", 36},
+                           {"repeats", 1},            {"times_s", {0.0}},     {"command", "fovlab bench ..."},
+                           {"metrics", {{"flip_pixels_per_degree", 1.3}}}};
+  const nlohmann::json runs = {{"median_gpu_ms", 2.0}, {"steps_per_pixel", 9.5}, {"capped_rays", 0},
+                               {"median_pass_gpu_ms", {{"trace_level0", 2.0}}}};
   report["rows"] = nlohmann::json::array();
   report["cells"] = nlohmann::json::array();
   for (int unit = 0; unit < units; ++unit) {
     const nlohmann::json key = {{"scene", "s" + std::to_string(unit / 2)}, {"spp", unit % 2 ? 4 : 1}, {"time_s", 0.0}};
     nlohmann::json row = key;
     row["unit"] = unit;
+    row["gt"] = runs;
+    row["ipr"] = runs;
+    row["floor"] = runs;
+    row.update({{"speedup", 1.0}, {"ssim", 0.99}, {"flip", 0.01}, {"psnr_db", 40.0}, {"fpsnr_db", nullptr}});
     report["rows"].push_back(row);
     for (const char* method : {"gt", "ipr"}) {
       nlohmann::json cell = key;
       cell["method"] = method;
       cell["unit"] = unit;
+      cell.update(runs);
+      cell.update({{"gt_median_gpu_ms", 2.0}, {"speedup", 1.0}, {"top_level_share", 1.0}, {"refreshed_share", 0.0},
+                   {"ssim", 0.99}, {"flip", 0.01}, {"psnr_db", nullptr}, {"fpsnr_db", 40.0}});
       report["cells"].push_back(cell);
     }
   }
@@ -101,11 +112,14 @@ TEST(BenchParts, MissingRepeatedOrForeignPartsAreRefusedNamingThem) {
   EXPECT_NE(error_of({p0, p1, other_device}).find("part-2.json: \"device\" differs from part-0.json's"), std::string::npos)
       << error_of({p0, p1, other_device});
   PartReport extra_key = p1;
-  extra_key.report["height"] = 36;
+  extra_key.report["height"] = 48;
   EXPECT_NE(error_of({p0, extra_key, p2}).find("\"height\""), std::string::npos);
   PartReport missing_key = p1;
   missing_key.report.erase("width");
-  EXPECT_NE(error_of({p0, missing_key, p2}).find("part-1.json: no \"width\""), std::string::npos);
+  EXPECT_NE(error_of({p0, missing_key, p2}).find("part-1.json: width is missing or not a number"), std::string::npos);
+  PartReport new_key = p1;
+  new_key.report["extra"] = 1;
+  EXPECT_NE(error_of({p0, new_key, p2}).find("part-1.json: \"extra\" differs from part-0.json's"), std::string::npos);
   // Rows and cells that are not the part's units.
   PartReport short_rows = p0;
   short_rows.report["rows"].erase(0);
@@ -123,6 +137,25 @@ TEST(BenchParts, MissingRepeatedOrForeignPartsAreRefusedNamingThem) {
   PartReport bad_index = p0;
   bad_index.report["part"]["index"] = 3;
   EXPECT_NE(error_of({bad_index}).find("expected 0 <= index < count"), std::string::npos);
+  PartReport no_units = p0;
+  no_units.report["part"].erase("units");
+  EXPECT_NE(error_of({no_units}).find("\"part\".units is not a whole number"), std::string::npos);
+  PartReport huge = p0;
+  huge.report["part"]["count"] = 2000000000;
+  EXPECT_NE(error_of({huge}).find("count <= 100000"), std::string::npos);
+  // A unit's fields the tables read: missing or of the wrong kind, named.
+  PartReport no_ssim = p1;
+  no_ssim.report["cells"][1].erase("ssim");
+  EXPECT_NE(error_of({p0, no_ssim, p2}).find("part-1.json: cells[1].ssim is missing or not a number"), std::string::npos)
+      << error_of({p0, no_ssim, p2});
+  PartReport text_ms = p1;
+  text_ms.report["rows"][0]["gt"]["median_gpu_ms"] = "fast";
+  EXPECT_NE(error_of({p0, text_ms, p2}).find("part-1.json: rows[0].gt.median_gpu_ms is missing or not a number"),
+            std::string::npos)
+      << error_of({p0, text_ms, p2});
+  PartReport no_device = p1;
+  no_device.report.erase("device");
+  EXPECT_NE(error_of({p0, no_device, p2}).find("part-1.json: device is missing or not text"), std::string::npos);
   PartReport text_index = p0;
   text_index.report["part"]["index"] = "0";
   EXPECT_NE(error_of({text_index}).find("\"part\".index is not a whole number"), std::string::npos);
