@@ -132,7 +132,8 @@ void run_prerender(const PrerenderOptions& options) {
   std::printf("%s: %zu frames in all, shard %d/%d holds %zu: %zu cached, %zu to render (cache %s)\n",
               options.config.c_str(), all_jobs.size(), shard.index, shard.count, jobs.size(),
               jobs.size() - missing.size(), missing.size(), options.cache.c_str());
-  if (hashed > 0) std::printf("%zu frames had no .sha256 beside them (rendered before hashes were kept): hashed\n", hashed);
+  if (hashed > 0) std::printf("%zu frames had no .sha256 beside them (rendered before hashes were kept, or a kill between a frame and "
+                "its hash): hashed\n", hashed);
   if (altered > 0) std::printf("%zu frames differ from their .sha256: rendered again\n", altered);
   std::fflush(stdout);
 

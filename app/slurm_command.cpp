@@ -51,6 +51,7 @@ struct SlurmOptions {
   int cpus_per_task = 1;
   int max_requeue = 3;
   bool allow_lavapipe = false;
+  bool share_nodes = false;  // bench: let tasks share a node (their times then disturb each other)
   bool submit = false;
   std::string out;     // the scripts' folder; default slurm/<name>
   std::string fovlab;  // the binary the tasks run; default this one
@@ -125,6 +126,7 @@ struct Job {
   std::string task_command;   // bash, "${task}" is the task's index
   std::string merge_command;  // bash
   std::string merge_what;     // one line: what the merge job does
+  bool exclusive = false;     // each task a node of its own (#SBATCH --exclusive)
 };
 
 std::string sbatch_lines(const SlurmOptions& options, bool gpus) {
@@ -158,7 +160,7 @@ void write_job(const SlurmOptions& options, const std::string& invocation, const
                       "#SBATCH --open-mode=append\n"
                       "#SBATCH --requeue\n"
                       "#SBATCH --cpus-per-task=" + std::to_string(options.cpus_per_task) + "\n" +
-                      sbatch_lines(options, true) +
+                      (job.exclusive ? "#SBATCH --exclusive\n" : "") + sbatch_lines(options, true) +
                       "set -u\n"
                       "task=${SLURM_ARRAY_TASK_ID}\n"
                       "restarts=${SLURM_RESTART_COUNT:-0}\n"
@@ -338,6 +340,8 @@ void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& 
                      " --cells \"${task}/" + tasks + "\" --json " + shell_word((out / "parts").string()) +
                      "/part-\"${task}\".json" + (slurm.allow_lavapipe || bench.require_gpu ? "" : " --require-gpu");
   job.merge_what = "joins every task's part into the sweep's report (bench.json; report/ with table.md and charts).";
+  // Timings are what a sweep measures: two tasks on one node would slow each other.
+  job.exclusive = !slurm.share_nodes;
   job.merge_command = binary + " bench-merge " + shell_word((out / "parts").string()) + "/part-{0.." +
                       std::to_string(slurm.tasks - 1) + "}.json --json " + shell_word((out / "bench.json").string()) +
                       " --out-dir " + shell_word((out / "report").string());
@@ -366,6 +370,9 @@ void add_slurm_command(CLI::App& app) {
   CLI::App* bench_command = slurm->add_subcommand(
       "bench", "Write (and --submit) a job array whose task I runs fovlab bench [flags] --cells I/N, then bench-merge");
   add_slurm_flags(*bench_command, *bench);
+  bench_command->add_flag("--share-nodes", bench->share_nodes,
+                          "Let tasks share a node (default: each its own, #SBATCH --exclusive, so their times do not "
+                          "disturb each other)");
   bench_command->allow_extras();  // bench's own flags, passed on
   bench_command->callback([bench, bench_command] { run_slurm_bench(*bench, bench_command->remaining()); });
 }

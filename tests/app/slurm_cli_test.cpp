@@ -294,6 +294,8 @@ TEST(SlurmCli, WritesReadableScriptsAndRefusesBadFlags) {
             std::string::npos)
       << bench_array;
   EXPECT_NE(read_all(dir / "slurm" / "bench" / "merge.sbatch").find("/part-{0..1}.json --json"), std::string::npos);
+  EXPECT_NE(bench_array.find("#SBATCH --exclusive\n"), std::string::npos) << "a sweep's tasks do not share a node";
+  EXPECT_EQ(array.find("--exclusive"), std::string::npos) << "a pre-render's may";
 
   const std::string fovlab = std::string(FOVLAB_BINARY) + " ";
   const auto refused = [&](const std::string& arguments, const std::string& names) {
