@@ -264,7 +264,7 @@ void add_slurm_flags(CLI::App& command, SlurmOptions& options) {
                      "Times a task killed by a signal requeues itself and resumes (default 3)");
   command.add_flag("--allow-lavapipe", options.allow_lavapipe,
                    "Let tasks render on a CPU Vulkan device (lavapipe) where a node has no GPU; default: refuse");
-  command.add_option("--out", options.out, "Folder for the scripts and logs (default slurm/<config or bench>)");
+  command.add_option("--out", options.out, "Folder for the scripts and logs (default slurm/<config name>-prerender, or slurm/bench)");
   command.add_option("--fovlab", options.fovlab, "The fovlab binary the tasks run (default this one)");
   command.add_flag("--submit", options.submit, "Submit with sbatch (submit.sh) once written");
 }
@@ -374,6 +374,8 @@ void add_slurm_command(CLI::App& app) {
                           "Let tasks share a node (default: each its own, #SBATCH --exclusive, so their times do not "
                           "disturb each other)");
   bench_command->allow_extras();  // bench's own flags, passed on
+  bench_command->footer("Every other flag is one of fovlab bench's (fovlab bench --help): checked as bench checks it, "
+                        "then passed on to the tasks as given.");
   bench_command->callback([bench, bench_command] { run_slurm_bench(*bench, bench_command->remaining()); });
 }
 
