@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,9 +15,9 @@
 #include "app/bench_outputs.h"
 #include "app/commands.h"
 #include "bench/bench_parts.h"
-#include "core/file_bytes.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "core/input_file.h"
 
 namespace fovlab::app {
 
@@ -31,22 +30,15 @@ struct BenchMergeOptions {
 };
 
 // A part's JSON is a few hundred bytes a cell; anything far larger is not one.
-constexpr std::uintmax_t kMaxPartBytes = 512ull << 20;
+constexpr std::uint64_t kMaxPartBytes = 512 * kMebibyte;
+const char* const kPartExpected = "a part's JSON (bench --cells I/N --json)";
 
 bench::PartReport read_part(const std::string& path) {
-  std::error_code error;
-  const std::uintmax_t size = std::filesystem::file_size(path, error);
-  if (error) throw InputError(path + ": cannot be read (" + error.message() + "); expected a part's JSON (bench --cells I/N --json)");
-  if (size > kMaxPartBytes)
-    throw InputError(path + ": " + std::to_string(size >> 20) + " MiB; expected a part's JSON (bench --cells I/N --json), "
-                     "at most " + std::to_string(kMaxPartBytes >> 20) + " MiB");
-  const std::optional<std::string> text = read_file_bytes(path);
-  if (!text) throw InputError(path + ": cannot be read; expected a part's JSON (bench --cells I/N --json)");
+  const std::string text = read_input_file(path, kPartExpected, kMaxPartBytes);
   try {
-    return {path, nlohmann::json::parse(*text)};
+    return {path, nlohmann::json::parse(text)};
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path + ": not JSON (at byte " + std::to_string(e.byte) +
-                     "); expected a part's JSON (bench --cells I/N --json)");
+    throw InputError(path + ": not JSON (at byte " + std::to_string(e.byte) + "): expected " + kPartExpected);
   }
 }
 

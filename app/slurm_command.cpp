@@ -103,21 +103,21 @@ void check_sbatch_path(const std::string& what, const std::string& path) {
                      "expected a path without them (run from another folder, or give --out)");
 }
 
+std::string absolute_text(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
 // The binary the tasks run: --fovlab, or this one.
 std::string fovlab_binary(const SlurmOptions& options) {
   if (!options.fovlab.empty()) {
     std::error_code error;
     if (!fs::is_regular_file(options.fovlab, error))
       fail_flag("--fovlab", "the fovlab binary the tasks run (a file)", options.fovlab);
-    return fs::absolute(options.fovlab).lexically_normal().string();
+    return absolute_text(options.fovlab);
   }
   std::error_code error;
   const fs::path self = fs::read_symlink("/proc/self/exe", error);
   if (error) throw InputError("--fovlab: this binary's path is unknown (/proc/self/exe); expected --fovlab PATH");
   return self.string();
 }
-
-std::string absolute_text(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
 
 // What differs between the two kinds of job.
 struct Job {
@@ -143,7 +143,8 @@ std::string sbatch_lines(const SlurmOptions& options, bool gpus) {
 }
 
 void write_job(const SlurmOptions& options, const std::string& invocation, const Job& job, const fs::path& out) {
-  check_sbatch_path("the working directory", fs::current_path().string());
+  const std::string working_dir = fs::current_path().string();
+  check_sbatch_path("the working directory", working_dir);
   check_sbatch_path("--out", out.string());
   check_script_word("the command line", invocation);
   const std::string tasks = std::to_string(options.tasks);
@@ -155,7 +156,7 @@ void write_job(const SlurmOptions& options, const std::string& invocation, const
                       "# Edit freely; submit.sh submits it, then merge.sbatch after every task has succeeded.\n"
                       "#SBATCH --job-name=fovlab-" + job.kind + "\n"
                       "#SBATCH --array=0-" + std::to_string(options.tasks - 1) + "\n"
-                      "#SBATCH --chdir=" + fs::current_path().string() + "\n"
+                      "#SBATCH --chdir=" + working_dir + "\n"
                       "#SBATCH --output=" + logs + "/task-%A_%a.log\n"
                       "#SBATCH --open-mode=append\n"
                       "#SBATCH --requeue\n"
@@ -182,7 +183,7 @@ void write_job(const SlurmOptions& options, const std::string& invocation, const
                       "# fovlab slurm " + job.kind + ": " + job.merge_what + "\n"
                       "# Written by: " + invocation + "\n"
                       "#SBATCH --job-name=fovlab-" + job.kind + "-merge\n"
-                      "#SBATCH --chdir=" + fs::current_path().string() + "\n"
+                      "#SBATCH --chdir=" + working_dir + "\n"
                       "#SBATCH --output=" + logs + "/merge-%j.log\n"
                       "#SBATCH --cpus-per-task=1\n" +
                       sbatch_lines(options, false) +

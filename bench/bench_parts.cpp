@@ -57,7 +57,7 @@ void require_unit(const PartReport& part, const nlohmann::json& row, size_t row_
   require(part, row, at, {"scene"}, Kind::text);
   require(part, row, at, {"spp", "time_s"}, Kind::number);
   require_runs(part, row.value("gt", nlohmann::json()), at + ".gt");
-  require(part, row, at + ".floor", {"floor"}, Kind::object);
+  require(part, row, at, {"floor"}, Kind::object);
   require(part, row["floor"], at + ".floor", {"median_gpu_ms"}, Kind::number);
   if (row.contains("ipr")) {
     require_runs(part, row["ipr"], at + ".ipr");

@@ -1,6 +1,7 @@
 #include "renderer/prerender/frame_cache.h"
 
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,18 @@ std::string frame_stem(int frame) {
 // A manifest entry: sha256sum's line for the file, so `sha256sum -c frame_*.sha256` checks a folder.
 std::string hash_line(std::string_view bytes, const std::filesystem::path& file) {
   return sha256_hex(bytes) + "  " + file.filename().string() + "\n";
+}
+
+bool is_frame_of(const Image& image, const PathTraceSequence& sequence) {
+  return image.width == sequence.width_px && image.height == sequence.height_px && image.channels >= 3;
+}
+
+// Whether the frame's bytes match its .sha256; none when it has no .sha256.
+std::optional<bool> matches_its_hash(const std::filesystem::path& file, const std::filesystem::path& hash) {
+  std::error_code error;
+  if (!std::filesystem::exists(hash, error)) return std::nullopt;
+  const std::optional<std::string> bytes = read_file_bytes(file);
+  return bytes && read_file_bytes(hash) == hash_line(*bytes, file);
 }
 
 }  // namespace
@@ -121,17 +134,14 @@ FrameStatus FrameCache::frame_status(const PathTraceSequence& sequence, int fram
   std::error_code error;
   if (!std::filesystem::exists(file, error)) return FrameStatus::missing;
   try {
-    const Image image = read_image(file);  // decoded in full: a damaged file with a good header is not done
-    if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
-      return FrameStatus::unreadable;
+    // Decoded in full: a damaged file with a good header is not done.
+    if (!is_frame_of(read_image(file), sequence)) return FrameStatus::unreadable;
   } catch (const InputError&) {
     return FrameStatus::unreadable;
   }
-  const std::filesystem::path hash = hash_file(sequence, frame);
-  if (!std::filesystem::exists(hash, error)) return FrameStatus::unhashed;
-  const std::optional<std::string> bytes = read_file_bytes(file);
-  if (!bytes) return FrameStatus::unreadable;
-  return read_file_bytes(hash) == hash_line(*bytes, file) ? FrameStatus::whole : FrameStatus::altered;
+  const std::optional<bool> matches = matches_its_hash(file, hash_file(sequence, frame));
+  if (!matches) return FrameStatus::unhashed;
+  return *matches ? FrameStatus::whole : FrameStatus::altered;
 }
 
 bool FrameCache::has_frame(const PathTraceSequence& sequence, int frame) {
@@ -162,18 +172,15 @@ Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
   std::error_code error;
   if (!std::filesystem::exists(file, error)) return render_frame(sequence, frame).image;
   Image image = read_image(file);  // InputError naming the file when it cannot be decoded
-  if (image.width != sequence.width_px || image.height != sequence.height_px || image.channels < 3)
+  if (!is_frame_of(image, sequence))
     throw InputError(file.string() + ": " + size_text(image.width, image.height) + " with " +
                      std::to_string(image.channels) + " channels; expected a " +
                      size_text(sequence.width_px, sequence.height_px) + " RGB frame of the pre-render cache");
   const std::filesystem::path hash = hash_file(sequence, frame);
-  if (std::filesystem::exists(hash, error)) {
-    const std::optional<std::string> bytes = read_file_bytes(file);
-    if (!bytes || read_file_bytes(hash) != hash_line(*bytes, file))
-      throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +
-                       " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
-                       "files to render it again)");
-  }
+  if (matches_its_hash(file, hash) == false)
+    throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +
+                     " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
+                     "files to render it again)");
   return image;
 }
 
