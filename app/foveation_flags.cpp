@@ -18,6 +18,12 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
                      "FIPR: eccentricity beyond which nothing is traced at the top level (default: none)");
   command.add_option("--periphery-steps", flags.periphery_steps,
                      "FIPR: step budget of pixels outside the mask, traced from the mid depth; 0: mid level's colour");
+  command
+      .add_option("--periphery-reconstruction", flags.periphery_reconstruction,
+                  "FIPR: how --periphery-steps 0 fills pixels from the mid level: bilinear (each mid colour textured "
+                  "over a pixel's footprint), catmull-rom (so, and Catmull-Rom), mid-footprint-bilinear (over its own "
+                  "footprint, bilinear: every FIPR frame before log schema 5)")
+      ->check(CLI::IsMember({"bilinear", "catmull-rom", "mid-footprint-bilinear"}));
   command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")->check(CLI::IsMember({"on", "off"}));
   command.add_option("--combine", flags.combine, "FIPR: acuity and edges combined by max, fovea-or-product, product, acuity")
       ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
@@ -54,6 +60,8 @@ FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int
   }
   settings.periphery_refresh = flags.refresh;
   settings.periphery_steps = flags.periphery_steps;
+  settings.reconstruction =
+      parse_periphery_reconstruction(flags.periphery_reconstruction).value_or(PeripheryReconstruction::bilinear);
   settings.blur = flags.blur == "on";
   settings.combine = parse_mask_combine(flags.combine).value_or(MaskCombine::max);
   settings.edge_threshold = flags.edge_threshold;
@@ -85,6 +93,7 @@ std::string foveation_flags_text(const FoveationFlags& flags) {
   };
   add("--outer-periphery-deg", flags.outer_periphery_deg);
   add("--periphery-steps", std::to_string(flags.periphery_steps));
+  add("--periphery-reconstruction", flags.periphery_reconstruction);
   add("--blur", flags.blur);
   add("--combine", flags.combine);
   add("--edge-threshold", format_number(flags.edge_threshold, 6));

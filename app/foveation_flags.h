@@ -1,7 +1,7 @@
 #pragma once
 // The FIPR flags of `render` and `bench`: display and gaze (app/display_flags.h), fovea, outer
-// periphery, periphery refresh, blur, how edges and acuity combine, edge threshold, seed. Without
-// display flags FIPR assumes a 24-inch display at 600 mm (docs/foveation.md).
+// periphery, periphery refresh and reconstruction, blur, how edges and acuity combine, edge
+// threshold, seed. Without display flags FIPR assumes a 24-inch display at 600 mm (docs/foveation.md).
 #include <string>
 #include <vector>
 
@@ -21,6 +21,7 @@ struct FoveationFlags {
   std::string outer_periphery_deg;  // empty: none
   int refresh = 1;
   int periphery_steps = FoveationSettings{}.periphery_steps;
+  std::string periphery_reconstruction = periphery_reconstruction_name(FoveationSettings{}.reconstruction);
   std::string blur = "off";
   std::string combine = "max";
   float edge_threshold = FoveationSettings{}.edge_threshold;

@@ -89,6 +89,7 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
         {"edge_threshold", f.edge_threshold},
         {"periphery_refresh", f.periphery_refresh},
         {"periphery_steps", f.periphery_steps},
+        {"periphery_reconstruction", periphery_reconstruction_name(f.reconstruction)},
         {"blur", f.blur},
         {"seed", f.seed},
         {"frame_index", f.frame_index},

@@ -27,10 +27,12 @@ std::optional<double> optional_number(const nlohmann::json& object, const char* 
 // is parsed once, for the study chosen (every log of it carries the same text: config_hash).
 struct LogStudy {
   std::string study, config_hash, config_toml, conditions_csv;
+  int log_schema_version = 0;
 };
 
 void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
-  const StudyConfig config = parse_logged_study_config(study.config_toml, path + " (config_toml)", nullptr, study.conditions_csv);
+  const StudyConfig config =
+      parse_logged_study_config(study.config_toml, path + " (config_toml)", study.log_schema_version, nullptr, study.conditions_csv);
   data.study = study.study;
   data.config_hash = study.config_hash;
   data.protocol = config.protocol.kind;
@@ -139,7 +141,8 @@ ReadLog read_log(const std::string& path, const LoadOptions& options) {
       throw InputError("line " + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
                        "); left out (--include-broken analyses it anyway)");
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
-                          session.header.value("config_toml", ""), session.header.value("conditions_csv", "")};
+                          session.header.value("config_toml", ""), session.header.value("conditions_csv", ""),
+                          integrity.schema_version};
     // The study names the default output folder (results/<study>/analysis): the scan refused a
     // header whose study is not one folder name ("../../x", "/tmp/x"; check_session_header).
     read.participant = participant_of(session);

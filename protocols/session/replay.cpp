@@ -91,7 +91,8 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   }
   if (!record.header.contains(log_keys::config_path)) header.config_path = "config.toml";
   const SceneCatalog scenes = renderer_scene_catalog();
-  const StudyConfig config = parse_logged_study_config(header.config_toml, header.config_path, &scenes, header.conditions_csv);
+  const StudyConfig config = parse_logged_study_config(header.config_toml, header.config_path, header.schema_version,
+                                                       &scenes, header.conditions_csv);
   // The header's own claims about its config: the name and hash must be those of the text it holds.
   if (header.study != config.name)
     differences.add("header", "study \"" + header.study + "\" but its config_toml names study \"" + config.name + "\"");

@@ -57,7 +57,9 @@ nlohmann::json stimulus_level(const nlohmann::json& header, int id) {
 // the text cannot be read).
 std::string level_parameter(const nlohmann::json& header, const std::string& path) {
   try {
-    return parse_logged_study_config(header.value("config_toml", ""), path + " (config_toml)", nullptr,
+    const nlohmann::json schema = header.value("schema_version", nlohmann::json());
+    return parse_logged_study_config(header.value("config_toml", ""), path + " (config_toml)",
+                                     schema.is_number_integer() ? schema.get<int>() : 0, nullptr,
                                      header.value("conditions_csv", "")).levels.parameter;
   } catch (const std::exception&) {
     return "";

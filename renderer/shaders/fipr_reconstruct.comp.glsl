@@ -1,11 +1,12 @@
 #version 460
 // FIPR pass 4, reconstruction of the pixels outside the mask (seed 000 section 3.2.4) when they take
 // the mid level's colour (periphery_steps 0): a pixel that is due for a refresh gets the mid level's
-// colour, bilinearly interpolated; mid pixels never shaded in this sequence (alpha 0: all their
-// children were traced at the top level) are left out and the weights renormalised; the pixel's own
-// parent was just shaded, so one tap always counts. A pixel that is not due keeps the colour it has
-// (the colour buffer persists between frames). Masked pixels are the top level's, left alone. The
-// refresh phases are those of fovlab_refresh_due in sphere_trace.comp.glsl.
+// colour, interpolated by Catmull-Rom over the 4x4 mid pixels around it (catmull_rom 1, when all 16
+// are fresh) or bilinearly; in the bilinear form, mid pixels not shaded within the refresh period
+// (alpha 0: all their children were traced at the top level) are left out and the weights
+// renormalised; the pixel's own parent was just shaded, so one tap always counts. A pixel that is
+// not due keeps the colour it has (the colour buffer persists between frames). Masked pixels are the
+// top level's, left alone. The refresh phases are those of fovlab_refresh_due in sphere_trace.comp.glsl.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Mask { uint mask[]; };
@@ -18,7 +19,16 @@ layout(push_constant) uniform ReconstructParams {
   uvec2 mid_size;
   uint refresh_period;
   uint frame_index;
+  uint catmull_rom;
 } params;
+
+bool fresh(vec4 value, float newest) { return value.a > 0.0 && newest - value.a < float(params.refresh_period); }
+
+// Catmull-Rom's weights of the taps at -1, 0, 1, 2 for a position f in [0, 1) between taps 0 and 1.
+vec4 catmull_rom_weights(float f) {
+  return vec4(((-0.5 * f + 1.0) * f - 0.5) * f, (1.5 * f - 2.5) * f * f + 1.0, ((-1.5 * f + 2.0) * f + 0.5) * f,
+              (0.5 * f - 0.5) * f * f);
+}
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
@@ -32,14 +42,31 @@ void main() {
   ivec2 base = ivec2(floor(position));
   vec2 f = position - vec2(base);
   ivec2 last = ivec2(params.mid_size) - 1;
+  if (params.catmull_rom != 0u) {
+    vec4 wx = catmull_rom_weights(f.x);
+    vec4 wy = catmull_rom_weights(f.y);
+    vec3 cubic = vec3(0.0);
+    bool all_fresh = true;
+    for (int j = 0; j < 4; ++j) {
+      for (int i = 0; i < 4; ++i) {
+        ivec2 tap = clamp(base + ivec2(i - 1, j - 1), ivec2(0), last);
+        vec4 value = mid_colour[tap.y * int(params.mid_size.x) + tap.x];
+        all_fresh = all_fresh && fresh(value, newest);
+        cubic += wx[i] * wy[j] * value.rgb;
+      }
+    }
+    if (all_fresh) {
+      colour[index] = vec4(max(cubic, vec3(0.0)), 1.0);  // (its negative lobes may undershoot black)
+      return;
+    }
+  }
   vec3 sum = vec3(0.0);
   float weight_sum = 0.0;
   for (int j = 0; j <= 1; ++j) {
     for (int i = 0; i <= 1; ++i) {
       ivec2 tap = clamp(base + ivec2(i, j), ivec2(0), last);
       vec4 value = mid_colour[tap.y * int(params.mid_size.x) + tap.x];
-      bool fresh = value.a > 0.0 && newest - value.a < float(params.refresh_period);
-      float weight = fresh ? (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y) : 0.0;
+      float weight = fresh(value, newest) ? (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y) : 0.0;
       sum += weight * value.rgb;
       weight_sum += weight;
     }

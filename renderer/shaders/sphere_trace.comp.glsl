@@ -71,7 +71,7 @@ layout(push_constant) uniform TraceParams {
   vec2 frame_size;           // pixels of the full-resolution frame
   float time_s;              // scene time
   float hit_threshold;       // a ray hits when distance < t * pixel_angle_rad * level_scale * hit_threshold
-  uint samples_per_pixel;    // 1, 4 or 16 (top level only)
+  uint samples_per_pixel;    // 1, 4 or 16 (top level; FIPR's mid level: 4 for a one-pixel texture footprint)
   uint max_steps;            // step cap of one ray at this level
   uint level_scale;          // full-resolution pixels per level pixel along each axis (1, 2, 4, ...)
   uint flags;

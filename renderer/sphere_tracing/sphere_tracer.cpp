@@ -95,6 +95,7 @@ struct ReconstructParams {
   uint32_t mid_size[2];
   uint32_t refresh_period;
   uint32_t frame_index;
+  uint32_t catmull_rom;  // PeripheryReconstruction::catmull_rom
 };
 
 // Must match BlurParams in masked_blur.comp.glsl.
@@ -309,6 +310,21 @@ const char* method_name(TraceMethod method) {
 }
 
 const char* coarse_test_name(CoarseTest test) { return test == CoarseTest::cone ? "cone" : "ray"; }
+const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction) {
+  switch (reconstruction) {
+    case PeripheryReconstruction::mid_footprint_bilinear: return "mid-footprint-bilinear";
+    case PeripheryReconstruction::bilinear: return "bilinear";
+    case PeripheryReconstruction::catmull_rom: return "catmull-rom";
+  }
+  return "?";
+}
+
+std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std::string& name) {
+  for (PeripheryReconstruction reconstruction : {PeripheryReconstruction::mid_footprint_bilinear,
+                                                 PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom})
+    if (name == periphery_reconstruction_name(reconstruction)) return reconstruction;
+  return std::nullopt;
+}
 
 std::optional<TraceMethod> parse_trace_method(const std::string& name) {
   for (TraceMethod method : {TraceMethod::ground_truth, TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid})
@@ -421,7 +437,8 @@ std::string history_key_of(const SphereTraceSettings& s) {
       << coarse_test_name(s.coarse_test) << ' ' << s.max_steps << ' '
       << s.hit_threshold << ' ' << f.display.width_mm << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm
       << ' ' << f.acuity.fovea_radius_deg << ' ' << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine)
-      << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed;
+      << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
+      << periphery_reconstruction_name(f.reconstruction);
   return key.str();
 }
 
@@ -556,6 +573,10 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     params.time_s = settings.time_s;
     params.hit_threshold = settings.hit_threshold;
     params.samples_per_pixel = top ? static_cast<uint32_t>(settings.samples_per_pixel) : 1u;
+    // The shader textures a shaded ray over level scale / sqrt(samples) pixels; a mid colour stands
+    // for the frame's pixel at its position, so it takes one pixel's footprint (but as first built).
+    if (foveated_mid && fov.periphery_steps == 0 && fov.reconstruction != PeripheryReconstruction::mid_footprint_bilinear)
+      params.samples_per_pixel = static_cast<uint32_t>(level.stats.scale * level.stats.scale);
     params.max_steps = static_cast<uint32_t>(settings.max_steps);
     params.level_scale = static_cast<uint32_t>(level.stats.scale);
     params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
@@ -592,7 +613,8 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
         const PyramidLevelStats& mid = levels[size_t(mid_index)].stats;
         ReconstructParams reconstruct{{params.level_size[0], params.level_size[1]},
                                       {uint32_t(mid.width), uint32_t(mid.height)},
-                                      static_cast<uint32_t>(fov.periphery_refresh), params.frame_index};
+                                      static_cast<uint32_t>(fov.periphery_refresh), params.frame_index,
+                                      fov.reconstruction == PeripheryReconstruction::catmull_rom ? 1u : 0u};
         const VkBuffer reconstruct_buffers[] = {frame.mask.handle(), frame.mid_flags.handle(), frame.mid_colour.handle(),
                                                 frame.colour.handle()};
         timer.begin(cmd, "reconstruct");

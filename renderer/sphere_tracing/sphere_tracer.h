@@ -35,6 +35,20 @@ enum class TraceMethod { ground_truth, inverted_pyramid, foveated_pyramid, sampl
 const char* method_name(TraceMethod method);  // "gt", "ipr", "fipr" or "sampling"
 std::optional<TraceMethod> parse_trace_method(const std::string& name);
 
+// How FIPR fills a pixel outside the mask from the mid level (periphery_steps 0; docs/foveation.md).
+// The mid colours are interpolated at the frame's pixels, so each stands for the frame's pixel at its
+// position; a texture filtered over the mid pixel's own 2-pixel footprint is blurred twice.
+enum class PeripheryReconstruction {
+  mid_footprint_bilinear,  // as built first (every log before schema 5): textured over the mid pixel's
+                           // footprint, interpolated bilinearly
+  bilinear,                // textured over one frame pixel's footprint, interpolated bilinearly
+  catmull_rom,             // textured so, interpolated by Catmull-Rom over 4x4 mid pixels (bilinear
+                           // where a tap is stale): sharper on filtered textures, and on aliased detail
+};
+// "mid-footprint-bilinear", "bilinear", "catmull-rom": the CLI's and the config's words.
+const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction);
+std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std::string& name);
+
 // FIPR's inputs beyond IPR's (docs/foveation.md). The display's pixel counts must equal the frame's.
 struct FoveationSettings {
   DisplayGeometry display;
@@ -44,9 +58,10 @@ struct FoveationSettings {
   MaskCombine combine = MaskCombine::max;
   float edge_threshold = 0.4f;  // Sobel magnitude of the low-level depth relative to the depth
   int periphery_refresh = 1;    // unmasked pixels get a new colour every 1st, 2nd or 4th frame
-  int periphery_steps = 0;      // unmasked pixels: 0: the mid level's colour, bilinearly interpolated
-                                // (seed 000's reading); N > 0: traced (1 sample) from the mid depth with
+  int periphery_steps = 0;      // unmasked pixels: 0: the mid level's colour, interpolated as
+                                // `reconstruction` says (seed 000's reading); N > 0: traced (1 sample) from the mid depth with
                                 // a budget of min(N, max_steps) steps and shaded at full resolution
+  PeripheryReconstruction reconstruction = PeripheryReconstruction::bilinear;  // periphery_steps 0
   bool blur = false;            // pass 5: masked Gaussian blur
   uint32_t seed = 0;            // of the per-pixel thresholds
   uint32_t frame_index = 0;     // frame of a sequence; 0 starts one (every pixel refreshed)

@@ -55,6 +55,7 @@ int bounded_integer(const TomlFields& fields, const std::string& key, std::optio
 struct Reading {
   const SceneCatalog* scenes = nullptr;  // nullptr: scene names taken as written
   bool legacy_keys = false;
+  int log_schema_version = 0;  // of the log that carries the config (0: none); its parameters' defaults
   const std::string* logged_conditions_csv = nullptr;  // a logged config: the header's conditions_csv
 };
 
@@ -97,6 +98,10 @@ MethodConfig read_method(const TomlFields& fields, const Reading& reading) {
   if (!method) fields.fail("method", "expected one of " + known_methods() + ", got \"" + name + "\"");
   config.method = *method;
   config.parameters = read_parameters(fields, config.method, {"method"}, reading);
+  // A default that changed since the log was written is the one it was written with.
+  for (const ParameterDescriptor& parameter : describe(config.method).parameters)
+    if (reading.log_schema_version > 0 && reading.log_schema_version < parameter.default_since_log_schema)
+      config.parameters.emplace(std::string(parameter.key), default_in_log_schema(parameter, reading.log_schema_version));
   return config;
 }
 
@@ -899,9 +904,9 @@ StudyConfig parse_study_config_file(const std::string& path, const SceneCatalog&
   return parse_study_config_text(read_input_file(path, "a study config (.toml)", kMaxStudyConfigBytes), path, scenes);
 }
 
-StudyConfig parse_logged_study_config(const std::string& text, const std::string& path, const SceneCatalog* scenes,
-                                      const std::string& conditions_csv) {
-  return parse_config(text, path, Reading{scenes, true, &conditions_csv});
+StudyConfig parse_logged_study_config(const std::string& text, const std::string& path, int log_schema_version,
+                                      const SceneCatalog* scenes, const std::string& conditions_csv) {
+  return parse_config(text, path, Reading{scenes, true, log_schema_version, &conditions_csv});
 }
 
 const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant) {

@@ -227,9 +227,12 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 // choices of configs written before the typed model (log schema 2 and earlier; docs/config.md).
 // Without a catalog (readers of logs on another machine) scene names are taken as written.
 // `conditions_csv`: the header's conditions_csv (a config with a [conditions] file is read from the
-// log alone, never from the file on this machine).
+// log alone, never from the file on this machine). `log_schema_version`: the header's; a parameter
+// the config leaves out takes the default of that schema (render_method.h default_in_log_schema), so
+// the log's stimuli are those it recorded.
 StudyConfig parse_logged_study_config(const std::string& text, const std::string& path_for_messages,
-                                      const SceneCatalog* scenes, const std::string& conditions_csv = {});
+                                      int log_schema_version, const SceneCatalog* scenes,
+                                      const std::string& conditions_csv = {});
 
 // A study name (study.name, and the study a session log's header names): 1-64 letters, digits,
 // '_', '-' or '.', not starting with '.' or '-', so it is one folder name (results/<study>), never

@@ -20,7 +20,10 @@ namespace fovlab {
 // 4: every displayed frame sRGB8-encoded on the GPU by one encoder (the hashes of gt, ipr and fipr
 // frames in schema 1-3 logs came from a CPU encoder, which may round a channel the other way);
 // the header's display names the presenting device and the frames' path to it.
-inline constexpr int log_schema_version = 4;      // what this build writes
+// 5: FIPR's periphery_reconstruction is new, default bilinear; a config that a schema 1-4 log carries
+// reads a missing one as mid-footprint-bilinear, what those logs showed (render_method.h
+// default_in_log_schema).
+inline constexpr int log_schema_version = 5;      // what this build writes
 inline constexpr int oldest_log_schema_version = 1; // the oldest it reads (resume needs the current one)
 
 struct LabKey;

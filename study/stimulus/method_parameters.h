@@ -37,6 +37,10 @@ enum class FiprCombine : uint32_t { max, fovea_or_product, product, acuity };
 // CoarseTest (protocols/stimuli checks it).
 enum class PyramidCoarseTest : uint32_t { centre_ray, cone };
 
+// How FIPR fills the pixels outside its mask from the mid level; the order is that of
+// renderer/sphere_tracing's PeripheryReconstruction (protocols/stimuli maps them by name).
+enum class FiprPeripheryReconstruction : uint32_t { mid_footprint_bilinear, bilinear, catmull_rom };
+
 // How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
 // ResampleFilter (protocols/stimuli checks it).
 enum class SampleResampling : uint32_t { bilinear, lanczos };
@@ -83,6 +87,7 @@ struct FoveatedPyramidParameters {
   double outer_periphery_radius_deg;  // eccentricity beyond which none is (180: no outer periphery)
   int periphery_refresh;
   int periphery_steps;
+  FiprPeripheryReconstruction periphery_reconstruction;
   bool blur;
   FiprCombine combine;
   double edge_threshold;

@@ -69,6 +69,14 @@ ParameterDescriptor omitted_at_default(ParameterDescriptor descriptor) {
   return descriptor;
 }
 
+// Since log schema `since_log_schema`, configs that leave this parameter out mean its default; in
+// logs of earlier schemas they meant `earlier_default`.
+ParameterDescriptor with_changed_default(ParameterDescriptor descriptor, int since_log_schema, double earlier_default) {
+  descriptor.default_since_log_schema = since_log_schema;
+  descriptor.earlier_default = earlier_default;
+  return descriptor;
+}
+
 ParameterDescriptor with_legacy_key(ParameterDescriptor descriptor, std::string_view legacy_key) {
   descriptor.legacy_key = legacy_key;
   return descriptor;
@@ -184,6 +192,15 @@ MethodDescriptor foveated_pyramid() {
                               {1, 2, 4}));
   list.push_back(parameter<&P::periphery_steps>("periphery_steps", "steps", ParameterType::integer, 0, 0, 4096,
                                                 "how a pixel the mask leaves out gets its new colour: 0 the mid level's colour, interpolated (the paper's reading); N traced at full resolution from the mid level's depth with at most N steps (and max_steps)"));
+  // Added in log schema 5, defaulting to bilinear; every earlier log's FIPR was mid-footprint-bilinear.
+  ParameterDescriptor reconstruction = parameter<&P::periphery_reconstruction>(
+      "periphery_reconstruction", "", ParameterType::choice, 1, 0, 2,
+      "with periphery_steps 0, how the mid level's colours fill the pixels: bilinear (each mid colour textured over "
+      "one pixel's footprint, interpolated bilinearly), catmull-rom (so, interpolated by Catmull-Rom: sharper), or "
+      "mid-footprint-bilinear (textured over its own 2-pixel footprint, bilinear: every FIPR stimulus of logs before "
+      "schema 5); docs/foveation.md");
+  reconstruction.choices = {"mid-footprint-bilinear", "bilinear", "catmull-rom"};
+  list.push_back(omitted_at_default(with_changed_default(reconstruction, 5, 0)));
   ParameterDescriptor blur = parameter<&P::blur>("blur", "", ParameterType::choice, 0, 0, 1, "pass 5, the masked Gaussian blur of the transition zones");
   blur.choices = {"off", "on"};
   list.push_back(blur);
@@ -523,6 +540,11 @@ std::optional<double> parameter_value(const MethodParameters& parameters, std::s
   return parameter->read(parameters);
 }
 
+double default_in_log_schema(const ParameterDescriptor& parameter, int log_schema_version) {
+  return log_schema_version > 0 && log_schema_version < parameter.default_since_log_schema ? parameter.earlier_default
+                                                                                            : parameter.default_value;
+}
+
 MethodParameters default_parameters(RenderMethod method) {
   MethodParameters parameters;
   switch (method) {
@@ -630,10 +652,16 @@ std::string methods_markdown() {
                   " to " + shortest_number(parameter.max_value);
       }
       // A default outside the range is "not given": the display's, filled in by the schedule.
-      const std::string default_text =
-          parameter.type == ParameterType::choice ? "`\"" + parameter_value_text(parameter, parameter.default_value) + "\"`"
-          : parameter.default_value < parameter.min_value ? "from `[display]`"
-                                                          : shortest_number(parameter.default_value);
+      const auto value_text = [&](double value) {
+        return parameter.type == ParameterType::choice ? "`\"" + parameter_value_text(parameter, value) + "\"`"
+                                                       : shortest_number(value);
+      };
+      std::string default_text = parameter.type != ParameterType::choice && parameter.default_value < parameter.min_value
+                                     ? "from `[display]`"
+                                     : value_text(parameter.default_value);
+      if (parameter.default_since_log_schema > 0)
+        default_text += " (" + value_text(parameter.earlier_default) + " in logs before schema " +
+                        std::to_string(parameter.default_since_log_schema) + ")";
       text += "| `" + std::string(parameter.key) + "` | " + std::string(parameter.unit) + " | " + default_text + " | " +
               allowed + " | " + std::string(parameter.help) +
               (parameter.legacy_key.empty() ? "" : " (was `" + std::string(parameter.legacy_key) + "`)") + " |\n";

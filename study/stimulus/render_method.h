@@ -43,9 +43,19 @@ struct ParameterDescriptor {
   // Added after session logs had been written: at its default it is left out of a stimulus's
   // canonical text and JSON, so the stimuli of older logs keep theirs (and their frame caches).
   bool omitted_at_default = false;
+  // A default changed in log schema `default_since_log_schema` (0: never changed): a config that a log
+  // of an earlier schema carries reads a missing key as `earlier_default` (parse_logged_study_config),
+  // so its stimuli render as they were recorded. With omitted_at_default, the value left out of the
+  // canonical text is that earlier one, which the stimuli of those logs had.
+  int default_since_log_schema = 0;
+  double earlier_default = 0.0;
   double (*read)(const MethodParameters&) = nullptr;
   void (*write)(MethodParameters&, double) = nullptr;
 };
+
+// The value a stimulus whose config did not give this parameter had in logs of `log_schema_version`
+// (0: a config read now, not from a log).
+double default_in_log_schema(const ParameterDescriptor& parameter, int log_schema_version);
 
 struct MethodDescriptor {
   RenderMethod method = RenderMethod::ground_truth;

@@ -28,7 +28,8 @@ const std::vector<const ParameterDescriptor*>& sorted_parameters(RenderMethod me
 }
 
 bool left_out(const ParameterDescriptor& parameter, const MethodParameters& parameters) {
-  return parameter.omitted_at_default && parameter.read(parameters) == parameter.default_value;
+  const double omitted = parameter.default_since_log_schema > 0 ? parameter.earlier_default : parameter.default_value;
+  return parameter.omitted_at_default && parameter.read(parameters) == omitted;
 }
 
 }  // namespace

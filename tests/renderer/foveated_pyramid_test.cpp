@@ -1,5 +1,6 @@
 // FIPR (seed 000 section 3.2) at small sizes: the GPU mask against the CPU reference, the fallbacks
-// for missing or far gaze, the periphery refresh, the blur, the statistics and the bad settings.
+// for missing or far gaze, the periphery refresh and reconstruction, the blur, the statistics and the
+// bad settings.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,9 +8,11 @@
 #include <limits>
 #include <numeric>
 
+#include "core/colour.h"
 #include "core/input_error.h"
 #include "foveation/display_geometry.h"
 #include "foveation/foveation_mask.h"
+#include "metrics/image_metrics.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 
@@ -253,6 +256,50 @@ TEST_F(VulkanTest, PeripheryRefreshKeepsPixelsThatAreNotDue) {
 }
 
 // The blur changes only pixels filled from the mid level, and only next to top-level pixels.
+// The periphery's reconstruction from the mid level: textured over a frame pixel's footprint (bilinear,
+// the default since log schema 5, and catmull-rom), the mid colours fill the pixels the mask leaves
+// out closer to GT than those textured over the mid pixel's own footprint (every log before), on
+// the checkered floor of `primitives` (a texture box-filtered over the footprint it is given); the
+// pixels the mask traces are the same in all three. 320x180 at 4 spp on the bench's display
+// (measured: SSIM 0.948 mid-footprint-bilinear, 0.969 catmull-rom).
+TEST_F(VulkanTest, PeripheryTexturedAtThePixelsFootprintIsCloserToGroundTruth) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  SphereTraceSettings settings = fipr_frame(320, 180);
+  settings.samples_per_pixel = 4;
+  settings.foveation.display = display_from_size(320, 180, 238.0, 134.0, 100.0);
+  settings.foveation.acuity.fovea_radius_deg = 7.5;
+  SphereTraceSettings gt_settings = settings;
+  gt_settings.method = TraceMethod::ground_truth;
+  const SphereTraceResult gt = tracer.render(gt_settings);
+  const auto ssim = [&](const SphereTraceResult& test) {
+    return analysis::ssim(encode_srgb(gt.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
+  };
+  settings.foveation.reconstruction = PeripheryReconstruction::mid_footprint_bilinear;
+  const SphereTraceResult first_built = tracer.render(settings);
+  for (const PeripheryReconstruction reconstruction : {PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom}) {
+    SCOPED_TRACE(periphery_reconstruction_name(reconstruction));
+    settings.foveation.reconstruction = reconstruction;
+    const SphereTraceResult result = tracer.render(settings);
+    ASSERT_EQ(result.mask.pixels, first_built.mask.pixels);
+    uint64_t unmasked_changed = 0, masked = 0;
+    for (int y = 0; y < settings.height; ++y) {
+      for (int x = 0; x < settings.width; ++x) {
+        if (result.mask.at(x, y, 0) != 0.0f) {
+          ++masked;
+          for (int c = 0; c < 3; ++c) ASSERT_EQ(result.colour_linear.at(x, y, c), first_built.colour_linear.at(x, y, c));
+        } else {
+          unmasked_changed += colour_differs(result.colour_linear, first_built.colour_linear, x, y);
+        }
+      }
+    }
+    EXPECT_GT(masked, 0u);
+    EXPECT_GT(unmasked_changed, uint64_t(settings.width * settings.height) / 4) << "the floor is a quarter of the frame";
+    EXPECT_GT(ssim(result), ssim(first_built) + 0.01);
+    ASSERT_TRUE(all_finite(result.colour_linear));
+    for (float value : result.colour_linear.pixels) ASSERT_GE(value, 0.0f) << "Catmull-Rom's negative lobes are clamped";
+  }
+}
+
 TEST_F(VulkanTest, MaskedBlurTouchesOnlyTransitionPixels) {
   SphereTracer tracer(context(), load_scene("temple"));
   SphereTraceSettings settings = fipr_frame();

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "protocols/stimuli/stimulus_settings.h"
+#include "study/log/event_log.h"
 #include "study/log/session_record.h"
 #include "study/schedule/study_plan.h"
 #include "protocols/session/replay.h"
@@ -201,6 +202,45 @@ TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
   for (const std::string& difference : tampered.differences)
     hash_named |= difference.find("frame hash") != std::string::npos && difference.find("image") != std::string::npos;
   EXPECT_TRUE(hash_named) << "a changed gaze changes the FIPR images";
+}
+
+// Log schema 5 brought FIPR's periphery_reconstruction (default bilinear); a config that a schema 1-4
+// log carries is read with what those sessions showed, mid-footprint-bilinear (docs/log-schema.md,
+// "Versions"). Relabelled schema 4 (the chain then breaks, which replay also says), a session of
+// today's default replays other FIPR images; one that showed mid-footprint-bilinear replays to its
+// hashes, as every schema 4 FIPR session does.
+TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
+  const auto frame_hash_differences = [](const ReplayOutcome& replayed) {
+    int count = 0;
+    for (const std::string& difference : replayed.differences) count += difference.find("frame hash") != std::string::npos;
+    return count;
+  };
+  const auto relabelled_schema_4 = [](const std::string& log_path) {
+    std::string text = read_file(log_path);
+    const std::string today = "\"schema_version\":" + std::to_string(log_schema_version);
+    const size_t at = text.find(today);
+    EXPECT_NE(at, std::string::npos);
+    text.replace(at, today.size(), "\"schema_version\":4");
+    const fs::path path = fs::path(log_path).parent_path() / "schema4.jsonl";
+    std::ofstream(path, std::ios::binary) << text;
+    return path.string();
+  };
+  for (const bool first_built : {false, true}) {
+    SCOPED_TRACE(first_built ? "mid-footprint-bilinear" : "bilinear (default)");
+    std::string text = kFiprStudy;
+    if (first_built)
+      text.replace(text.find("mask_seed = 11\n"), 15, "mask_seed = 11\nperiphery_reconstruction = \"mid-footprint-bilinear\"\n");
+    const fs::path results = fresh_folder(first_built ? "fipr-schema-first" : "fipr-schema-default");
+    const SessionOutcome outcome = run_session(fipr_config(text), simulated(results, still_trace(results)));
+    ASSERT_TRUE(outcome.finished);
+    EXPECT_EQ(replay(outcome.log_path).difference_count, 0);
+    const ReplayOutcome relabelled = replay(relabelled_schema_4(outcome.log_path));
+    EXPECT_GT(relabelled.difference_count, 0) << "the chain no longer holds";
+    if (first_built)
+      EXPECT_EQ(frame_hash_differences(relabelled), 0) << "schema 4's default is what this session showed";
+    else
+      EXPECT_GT(frame_hash_differences(relabelled), 0) << "schema 4's default is not today's";
+  }
 }
 
 TEST(FiprSession, EveryPresentationStartsAfreshSoTheSameGazeGivesTheSameImages) {

@@ -126,7 +126,8 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
   EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels",
                                           "min_filter_size", "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg",
-                                          "periphery_refresh", "periphery_steps", "blur", "combine", "edge_threshold",
+                                          "periphery_refresh", "periphery_steps", "periphery_reconstruction", "blur",
+                                          "combine", "edge_threshold",
                                           "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
   EXPECT_EQ(levels.default_value, 3);
@@ -142,6 +143,18 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   EXPECT_EQ(parameter_named(parameters, "periphery_refresh").allowed, (std::vector<double>{1, 2, 4}));
   EXPECT_EQ(parameter_named(parameters, "periphery_steps").default_value, FoveationSettings{}.periphery_steps);
   EXPECT_EQ(parameter_named(parameters, "periphery_steps").min_value, 0);  // 0: the mid level's colour
+  const auto& reconstruction = parameter_named(parameters, "periphery_reconstruction");
+  EXPECT_EQ(reconstruction.choices,
+            (std::vector<std::string_view>{"mid-footprint-bilinear", "bilinear", "catmull-rom"}));
+  EXPECT_EQ(reconstruction.default_value, 1);  // bilinear, the renderer's default too
+  EXPECT_EQ(FoveationSettings{}.reconstruction, PeripheryReconstruction::bilinear);
+  EXPECT_EQ(reconstruction.default_since_log_schema, 5);
+  EXPECT_EQ(reconstruction.earlier_default, 0);  // mid-footprint-bilinear in logs of schema 1-4
+  // The config's words are the renderer's, in the same order.
+  for (size_t i = 0; i < reconstruction.choices.size(); ++i)
+    EXPECT_EQ(parse_periphery_reconstruction(std::string(reconstruction.choices[i])),
+              static_cast<PeripheryReconstruction>(i));
+  EXPECT_TRUE(reconstruction.omitted_at_default);
   EXPECT_EQ(parameter_named(parameters, "blur").choices, (std::vector<std::string_view>{"off", "on"}));
   EXPECT_EQ(parameter_named(parameters, "combine").choices,
             (std::vector<std::string_view>{"max", "fovea-or-product", "product", "acuity"}));

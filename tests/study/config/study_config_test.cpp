@@ -21,6 +21,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "study/config/study_config.h"
+#include "study/log/event_log.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab {
@@ -1211,10 +1212,12 @@ TEST(StudyConfigConditions, RowsBecomeVariantsWithTheirOwnLevels) {
   const ConditionsStudy other("variant,max_steps\ncoarse,4\ncoarse,2\n");
   EXPECT_NE(other.parse().hash, config.hash);
   // And a log carries them: the logged config parses from the header's text alone.
-  const StudyConfig logged = parse_logged_study_config(config.source_text, "x.toml (config_toml)", nullptr, config.conditions_csv);
+  const StudyConfig logged = parse_logged_study_config(config.source_text, "x.toml (config_toml)", log_schema_version, nullptr,
+                                                         config.conditions_csv);
   EXPECT_EQ(logged.hash, config.hash);
   EXPECT_EQ(logged.stimulus.variants.size(), 2u);
-  EXPECT_THROW(parse_logged_study_config(config.source_text, "x.toml (config_toml)", nullptr), InputError);
+  EXPECT_THROW(parse_logged_study_config(config.source_text, "x.toml (config_toml)", log_schema_version, nullptr),
+               InputError);
 }
 
 TEST(StudyConfigConditions, BadFilesNameTheFileLineAndColumn) {

@@ -5,6 +5,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -130,7 +132,7 @@ scene = "primitives"
 )";
 
 TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
-  const StudyConfig config = parse_logged_study_config(kLegacyConfig, "events.jsonl (config_toml)", &kScenes);
+  const StudyConfig config = parse_logged_study_config(kLegacyConfig, "events.jsonl (config_toml)", 2, &kScenes);
   EXPECT_EQ(config.levels.parameter, "fovea_radius_deg");
   const auto test = std::get<FoveatedPyramidParameters>(
       parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters, &config.stimulus.variants[0].parameters}));
@@ -138,7 +140,7 @@ TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
   EXPECT_EQ(test.combine, FiprCombine::product);
   EXPECT_TRUE(test.blur);
   // Without a catalog (a log read on another machine) the scene is taken as written.
-  EXPECT_EQ(parse_logged_study_config(kLegacyConfig, "events.jsonl", nullptr).blocks[0].scene, "primitives");
+  EXPECT_EQ(parse_logged_study_config(kLegacyConfig, "events.jsonl", 2, nullptr).blocks[0].scene, "primitives");
   // A config file of today must use today's keys: the old one is named as unknown.
   try {
     parse_study_config_text(kLegacyConfig, "old.toml", kScenes);
@@ -160,6 +162,56 @@ TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
               0u)
         << error.what();
   }
+}
+
+// FIPR's periphery_reconstruction came with log schema 5, defaulting to bilinear: a config read now,
+// or carried by a schema 5 log, means bilinear when it leaves the key out; one carried by a schema
+// 1-4 log means mid-footprint-bilinear, what that log's frames showed. The canonical text leaves out
+// mid-footprint-bilinear, so the stimuli of older logs keep theirs.
+TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
+  std::string config_text = kLegacyConfig;
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"outer_periphery_deg = 40\ncombine = 2\n", ""}, {"blur = 1", "blur = \"on\""}, {"\"fovea_deg\"", "\"fovea_radius_deg\""}})
+    config_text.replace(config_text.find(from), from.size(), to);
+  const auto test_of = [](const StudyConfig& config, const ParameterLayer* variant) {
+    const ParameterLayer none;
+    return std::get<FoveatedPyramidParameters>(
+        parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters, variant ? variant : &none}));
+  };
+  const StudyConfig now = parse_study_config_text(config_text, "x.toml", kScenes);
+  EXPECT_EQ(test_of(now, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::bilinear);
+  const StudyConfig schema5 = parse_logged_study_config(config_text, "events.jsonl", 5, nullptr);
+  EXPECT_EQ(test_of(schema5, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::bilinear);
+  for (const int schema : {1, 2, 3, 4}) {
+    const StudyConfig old = parse_logged_study_config(config_text, "events.jsonl", schema, nullptr);
+    EXPECT_EQ(test_of(old, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::mid_footprint_bilinear)
+        << schema;
+    // A variant that names it is still obeyed (a config of schema 5 read from a schema 4 log
+    // cannot name it, but the layering must not hide what a config says).
+    const ParameterLayer variant{{"periphery_reconstruction", 2.0}};
+    EXPECT_EQ(test_of(old, &variant).periphery_reconstruction, FiprPeripheryReconstruction::catmull_rom) << schema;
+    // The reference's method (gt) has no such parameter and gains none.
+    EXPECT_TRUE(old.stimulus.reference.parameters.empty());
+  }
+  // Named in the config, it is what the config says, whatever the schema.
+  config_text.replace(config_text.find("method = \"fipr\"\n"), 16,
+                      "method = \"fipr\"\nperiphery_reconstruction = \"catmull-rom\"\n");
+  EXPECT_EQ(test_of(parse_study_config_text(config_text, "x.toml", kScenes), nullptr).periphery_reconstruction,
+            FiprPeripheryReconstruction::catmull_rom);
+  EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", 4, nullptr), nullptr).periphery_reconstruction,
+            FiprPeripheryReconstruction::catmull_rom);
+
+  StimulusSpec spec;
+  spec.scene = "primitives";
+  spec.width_px = 64;
+  spec.height_px = 36;
+  spec.parameters = default_parameters(RenderMethod::foveated_pyramid);
+  EXPECT_NE(spec.canonical().find(";periphery_reconstruction=bilinear;"), std::string::npos) << spec.canonical();
+  EXPECT_EQ(to_json(spec)["parameters"]["periphery_reconstruction"], "bilinear");
+  std::get<FoveatedPyramidParameters>(spec.parameters).periphery_reconstruction =
+      FiprPeripheryReconstruction::mid_footprint_bilinear;
+  EXPECT_EQ(spec.canonical().find("periphery_reconstruction"), std::string::npos) << spec.canonical();
+  EXPECT_FALSE(to_json(spec)["parameters"].contains("periphery_reconstruction"));
 }
 
 TEST(RenderMethod, DocsConfigCarriesTheTableTheDescriptorsMake) {
