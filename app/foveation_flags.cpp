@@ -18,12 +18,15 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
                      "FIPR: eccentricity beyond which nothing is traced at the top level (default: none)");
   command.add_option("--periphery-steps", flags.periphery_steps,
                      "FIPR: step budget of pixels outside the mask, traced from the mid depth; 0: mid level's colour");
+  std::vector<std::string> reconstructions;
+  for (PeripheryReconstruction reconstruction : kPeripheryReconstructions)
+    reconstructions.emplace_back(periphery_reconstruction_name(reconstruction));
   command
       .add_option("--periphery-reconstruction", flags.periphery_reconstruction,
                   "FIPR: how --periphery-steps 0 fills pixels from the mid level: bilinear (each mid colour textured "
                   "over a pixel's footprint), catmull-rom (so, and Catmull-Rom), mid-footprint-bilinear (over its own "
                   "footprint, bilinear: every FIPR frame before log schema 5)")
-      ->check(CLI::IsMember({"bilinear", "catmull-rom", "mid-footprint-bilinear"}));
+      ->check(CLI::IsMember(reconstructions));
   command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")->check(CLI::IsMember({"on", "off"}));
   command.add_option("--combine", flags.combine, "FIPR: acuity and edges combined by max, fovea-or-product, product, acuity")
       ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
@@ -61,7 +64,7 @@ FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int
   settings.periphery_refresh = flags.refresh;
   settings.periphery_steps = flags.periphery_steps;
   settings.reconstruction =
-      parse_periphery_reconstruction(flags.periphery_reconstruction).value_or(PeripheryReconstruction::bilinear);
+      parse_periphery_reconstruction(flags.periphery_reconstruction).value_or(FoveationSettings{}.reconstruction);
   settings.blur = flags.blur == "on";
   settings.combine = parse_mask_combine(flags.combine).value_or(MaskCombine::max);
   settings.edge_threshold = flags.edge_threshold;

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <algorithm>
 #include <map>
+#include <set>
+#include <string>
 
 #include "metrics/image_metrics.h"
 #include "core/image_io.h"
@@ -46,6 +48,28 @@ class Differences {
   ReplayOutcome& outcome_;
   int limit_;
 };
+
+// Where two JSON values differ, as "key.key: A, the log records B" (keys in order, objects only;
+// numbers compare by value); "" when equal.
+std::string first_difference(const nlohmann::json& made, const nlohmann::json& recorded, const std::string& path = "") {
+  if (made == recorded) return "";
+  if (made.is_object() && recorded.is_object()) {
+    std::set<std::string> keys;
+    for (const auto& [key, value] : made.items()) keys.insert(key);
+    for (const auto& [key, value] : recorded.items()) keys.insert(key);
+    for (const std::string& key : keys) {
+      const std::string where = path.empty() ? key : path + "." + key;
+      const std::string made_text = made.contains(key) ? made[key].dump() : "none";
+      const std::string recorded_text = recorded.contains(key) ? recorded[key].dump() : "none";
+      if (!made.contains(key) || !recorded.contains(key))
+        return where + ": " + made_text + " by this build's reading of config_toml, the log records " + recorded_text;
+      if (std::string difference = first_difference(made[key], recorded[key], where); !difference.empty())
+        return difference;
+    }
+  }
+  return (path.empty() ? "" : path + ": ") + made.dump() + " by this build's reading of config_toml, the log records " +
+         recorded.dump();
+}
 
 std::string line_of(const EventStamp& stamp) { return "seq " + std::to_string(stamp.seq.value_or(-1)); }
 
@@ -100,6 +124,20 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     differences.add("header", "config_hash " + header.config_hash + " is not the hash of its config_toml (" +
                                   config.hash + ")");
   const StudyPlan plan = make_study_plan(config, header.participant);
+  // The stimuli this build makes of config_toml must be those the session recorded: a parameter read
+  // otherwise (a default that changed, read without the log's schema) renders other frames. Schema
+  // 3 and later record them as stimuli_json does (schema 1-2: older keys and numeric choices).
+  if (header.schema_version >= 3) {
+    const nlohmann::json made = stimuli_json(plan);
+    const nlohmann::json& recorded = header.stimuli;
+    if (!recorded.is_array() || recorded.size() != made.size())
+      differences.add("header", "stimuli: the log records " + std::to_string(recorded.is_array() ? recorded.size() : 0) +
+                                    ", its config_toml makes " + std::to_string(made.size()));
+    else
+      for (size_t id = 0; id < made.size(); ++id)
+        if (const std::string difference = first_difference(made[id], recorded[id]); !difference.empty())
+          differences.add("header", "stimulus " + std::to_string(id) + ": " + difference);
+  }
   if (header.session_seed != plan.session_seed)
     differences.add("header", "session_seed differs from the one derived from the study seed and participant");
   const nlohmann::json& recorded_scenes = header.scene_hashes;

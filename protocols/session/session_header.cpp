@@ -85,6 +85,11 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.observer = inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human");
   header.started_utc = inputs.started_utc;
   for (const auto& [name, value] : inputs.participant_fields) header.participant_fields[name] = value;
+  header.stimuli = stimuli_json(plan);
+  return header;
+}
+
+nlohmann::json stimuli_json(const StudyPlan& plan) {
   nlohmann::json stimuli = nlohmann::json::array();
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     nlohmann::json entry = to_json(stimulus.spec);
@@ -93,8 +98,7 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
     entry["level"] = stimulus.level ? nlohmann::json(*stimulus.level) : nlohmann::json();
     stimuli.push_back(entry);
   }
-  header.stimuli = stimuli;
-  return header;
+  return stimuli;
 }
 
 }  // namespace fovlab

@@ -38,4 +38,8 @@ ObserverModel observer_from_json(const nlohmann::json& json);  // throws InputEr
 // The content hash of every scene file the plan uses, by scene name or path.
 nlohmann::json scene_hashes(const StudyPlan& plan);
 
+// The header's `stimuli`: every stimulus of the plan by id, its StimulusSpec's JSON with
+// is_reference, variant and level.
+nlohmann::json stimuli_json(const StudyPlan& plan);
+
 }  // namespace fovlab

@@ -320,8 +320,7 @@ const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction
 }
 
 std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std::string& name) {
-  for (PeripheryReconstruction reconstruction : {PeripheryReconstruction::mid_footprint_bilinear,
-                                                 PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom})
+  for (PeripheryReconstruction reconstruction : kPeripheryReconstructions)
     if (name == periphery_reconstruction_name(reconstruction)) return reconstruction;
   return std::nullopt;
 }

@@ -45,6 +45,8 @@ enum class PeripheryReconstruction {
   catmull_rom,             // textured so, interpolated by Catmull-Rom over 4x4 mid pixels (bilinear
                            // where a tap is stale): sharper on filtered textures, and on aliased detail
 };
+inline constexpr PeripheryReconstruction kPeripheryReconstructions[] = {
+    PeripheryReconstruction::mid_footprint_bilinear, PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom};
 // "mid-footprint-bilinear", "bilinear", "catmull-rom": the CLI's and the config's words.
 const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction);
 std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std::string& name);

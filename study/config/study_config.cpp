@@ -100,7 +100,7 @@ MethodConfig read_method(const TomlFields& fields, const Reading& reading) {
   config.parameters = read_parameters(fields, config.method, {"method"}, reading);
   // A default that changed since the log was written is the one it was written with.
   for (const ParameterDescriptor& parameter : describe(config.method).parameters)
-    if (reading.log_schema_version > 0 && reading.log_schema_version < parameter.default_since_log_schema)
+    if (default_changed_since(parameter, reading.log_schema_version))
       config.parameters.emplace(std::string(parameter.key), default_in_log_schema(parameter, reading.log_schema_version));
   return config;
 }

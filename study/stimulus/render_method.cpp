@@ -540,9 +540,12 @@ std::optional<double> parameter_value(const MethodParameters& parameters, std::s
   return parameter->read(parameters);
 }
 
+bool default_changed_since(const ParameterDescriptor& parameter, int log_schema_version) {
+  return log_schema_version > 0 && log_schema_version < parameter.default_since_log_schema;
+}
+
 double default_in_log_schema(const ParameterDescriptor& parameter, int log_schema_version) {
-  return log_schema_version > 0 && log_schema_version < parameter.default_since_log_schema ? parameter.earlier_default
-                                                                                            : parameter.default_value;
+  return default_changed_since(parameter, log_schema_version) ? parameter.earlier_default : parameter.default_value;
 }
 
 MethodParameters default_parameters(RenderMethod method) {

@@ -46,15 +46,18 @@ struct ParameterDescriptor {
   // A default changed in log schema `default_since_log_schema` (0: never changed): a config that a log
   // of an earlier schema carries reads a missing key as `earlier_default` (parse_logged_study_config),
   // so its stimuli render as they were recorded. With omitted_at_default, the value left out of the
-  // canonical text is that earlier one, which the stimuli of those logs had.
+  // canonical text is that earlier one, which the stimuli of those logs had. (One change a
+  // parameter: a second would need the earlier defaults by schema.)
   int default_since_log_schema = 0;
   double earlier_default = 0.0;
   double (*read)(const MethodParameters&) = nullptr;
   void (*write)(MethodParameters&, double) = nullptr;
 };
 
-// The value a stimulus whose config did not give this parameter had in logs of `log_schema_version`
-// (0: a config read now, not from a log).
+// Whether the parameter's default changed after logs of `log_schema_version` were written (0: a
+// config read now, not from a log: never), and the value a stimulus whose config did not give it
+// had in those logs.
+bool default_changed_since(const ParameterDescriptor& parameter, int log_schema_version);
 double default_in_log_schema(const ParameterDescriptor& parameter, int log_schema_version);
 
 struct MethodDescriptor {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <vector>
 
 #include "core/colour.h"
 #include "core/input_error.h"
@@ -255,7 +256,6 @@ TEST_F(VulkanTest, PeripheryRefreshKeepsPixelsThatAreNotDue) {
   check_periphery_refresh(context(), 256);  // traced from the mid depth, from the refresh list
 }
 
-// The blur changes only pixels filled from the mid level, and only next to top-level pixels.
 // The periphery's reconstruction from the mid level: textured over a frame pixel's footprint (bilinear,
 // the default since log schema 5, and catmull-rom), the mid colours fill the pixels the mask leaves
 // out closer to GT than those textured over the mid pixel's own footprint (every log before), on
@@ -276,10 +276,13 @@ TEST_F(VulkanTest, PeripheryTexturedAtThePixelsFootprintIsCloserToGroundTruth) {
   };
   settings.foveation.reconstruction = PeripheryReconstruction::mid_footprint_bilinear;
   const SphereTraceResult first_built = tracer.render(settings);
+  std::vector<float> bilinear_colours;
   for (const PeripheryReconstruction reconstruction : {PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom}) {
     SCOPED_TRACE(periphery_reconstruction_name(reconstruction));
     settings.foveation.reconstruction = reconstruction;
     const SphereTraceResult result = tracer.render(settings);
+    if (reconstruction == PeripheryReconstruction::bilinear) bilinear_colours = result.colour_linear.pixels;
+    else EXPECT_NE(result.colour_linear.pixels, bilinear_colours) << "Catmull-Rom is another interpolation";
     ASSERT_EQ(result.mask.pixels, first_built.mask.pixels);
     uint64_t unmasked_changed = 0, masked = 0;
     for (int y = 0; y < settings.height; ++y) {
@@ -300,6 +303,7 @@ TEST_F(VulkanTest, PeripheryTexturedAtThePixelsFootprintIsCloserToGroundTruth) {
   }
 }
 
+// The blur changes only pixels filled from the mid level, and only next to top-level pixels.
 TEST_F(VulkanTest, MaskedBlurTouchesOnlyTransitionPixels) {
   SphereTracer tracer(context(), load_scene("temple"));
   SphereTraceSettings settings = fipr_frame();

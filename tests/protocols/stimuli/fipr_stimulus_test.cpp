@@ -11,6 +11,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
@@ -194,6 +195,16 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   EXPECT_EQ(f.periphery_steps, r.periphery_steps);
   EXPECT_EQ(f.blur, r.blur);
   EXPECT_EQ(f.seed, r.seed);
+  EXPECT_EQ(f.reconstruction, r.reconstruction);
+  // Each of the config's choices reaches the renderer as the same-named reconstruction.
+  auto& fipr = std::get<FoveatedPyramidParameters>(spec.parameters);
+  for (const FiprPeripheryReconstruction choice :
+       {FiprPeripheryReconstruction::mid_footprint_bilinear, FiprPeripheryReconstruction::bilinear,
+        FiprPeripheryReconstruction::catmull_rom}) {
+    fipr.periphery_reconstruction = choice;
+    const std::string name = to_json(spec)["parameters"].value("periphery_reconstruction", "mid-footprint-bilinear");
+    EXPECT_EQ(periphery_reconstruction_name(sphere_trace_settings(spec, 0).foveation.reconstruction), name);
+  }
 }
 
 TEST(FiprStimulus, SettingsForTheRenderer) {
