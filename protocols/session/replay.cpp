@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <algorithm>
 #include <map>
-#include <set>
 #include <string>
 
 #include "metrics/image_metrics.h"
@@ -49,26 +48,23 @@ class Differences {
   int limit_;
 };
 
-// Where two JSON values differ, as "key.key: A, the log records B" (keys in order, objects only;
-// numbers compare by value); "" when equal.
+// Where the stimulus JSON this build makes differs from the one the log recorded, as "key.key: A by
+// this build's reading of config_toml, the log records B" (numbers compare by value); "" when they
+// agree. A key the log lacks is not a difference: a parameter added later without
+// omitted_at_default (the sampling models' resample) is missing from older logs at its default.
 std::string first_difference(const nlohmann::json& made, const nlohmann::json& recorded, const std::string& path = "") {
   if (made == recorded) return "";
-  if (made.is_object() && recorded.is_object()) {
-    std::set<std::string> keys;
-    for (const auto& [key, value] : made.items()) keys.insert(key);
-    for (const auto& [key, value] : recorded.items()) keys.insert(key);
-    for (const std::string& key : keys) {
-      const std::string where = path.empty() ? key : path + "." + key;
-      const std::string made_text = made.contains(key) ? made[key].dump() : "none";
-      const std::string recorded_text = recorded.contains(key) ? recorded[key].dump() : "none";
-      if (!made.contains(key) || !recorded.contains(key))
-        return where + ": " + made_text + " by this build's reading of config_toml, the log records " + recorded_text;
-      if (std::string difference = first_difference(made[key], recorded[key], where); !difference.empty())
-        return difference;
-    }
+  const auto describe = [&](const std::string& where, const nlohmann::json* made_value, const nlohmann::json& logged) {
+    return (where.empty() ? "" : where + ": ") + (made_value ? made_value->dump() : std::string("none")) +
+           " by this build's reading of config_toml, the log records " + logged.dump();
+  };
+  if (!made.is_object() || !recorded.is_object()) return describe(path, &made, recorded);
+  for (const auto& [key, logged] : recorded.items()) {
+    const std::string where = path.empty() ? key : path + "." + key;
+    if (!made.contains(key)) return describe(where, nullptr, logged);
+    if (std::string difference = first_difference(made[key], logged, where); !difference.empty()) return difference;
   }
-  return (path.empty() ? "" : path + ": ") + made.dump() + " by this build's reading of config_toml, the log records " +
-         recorded.dump();
+  return "";
 }
 
 std::string line_of(const EventStamp& stamp) { return "seq " + std::to_string(stamp.seq.value_or(-1)); }
