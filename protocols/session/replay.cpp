@@ -54,7 +54,7 @@ class Differences {
 // omitted_at_default (the sampling models' resample) is missing from older logs at its default.
 std::string first_difference(const nlohmann::json& made, const nlohmann::json& recorded, const std::string& path = "") {
   if (made == recorded) return "";
-  const auto describe = [&](const std::string& where, const nlohmann::json* made_value, const nlohmann::json& logged) {
+  const auto describe = [](const std::string& where, const nlohmann::json* made_value, const nlohmann::json& logged) {
     return (where.empty() ? "" : where + ": ") + (made_value ? made_value->dump() : std::string("none")) +
            " by this build's reading of config_toml, the log records " + logged.dump();
   };

@@ -67,13 +67,8 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
                                                : fipr->outer_periphery_radius_deg;
     foveation.periphery_refresh = fipr->periphery_refresh;
     foveation.periphery_steps = fipr->periphery_steps;
-    switch (fipr->periphery_reconstruction) {
-      case FiprPeripheryReconstruction::mid_footprint_bilinear:
-        foveation.reconstruction = PeripheryReconstruction::mid_footprint_bilinear;
-        break;
-      case FiprPeripheryReconstruction::bilinear: foveation.reconstruction = PeripheryReconstruction::bilinear; break;
-      case FiprPeripheryReconstruction::catmull_rom: foveation.reconstruction = PeripheryReconstruction::catmull_rom; break;
-    }
+    foveation.reconstruction =
+        static_cast<PeripheryReconstruction>(static_cast<uint32_t>(fipr->periphery_reconstruction));
     foveation.blur = fipr->blur;
     foveation.combine = static_cast<MaskCombine>(static_cast<uint32_t>(fipr->combine));
     foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);

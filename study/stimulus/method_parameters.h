@@ -38,7 +38,7 @@ enum class FiprCombine : uint32_t { max, fovea_or_product, product, acuity };
 enum class PyramidCoarseTest : uint32_t { centre_ray, cone };
 
 // How FIPR fills the pixels outside its mask from the mid level; the order is that of
-// renderer/sphere_tracing's PeripheryReconstruction (protocols/stimuli maps them one by one).
+// renderer/sphere_tracing's PeripheryReconstruction (protocols/stimuli casts; a test checks each).
 enum class FiprPeripheryReconstruction : uint32_t { mid_footprint_bilinear, bilinear, catmull_rom };
 
 // How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
