@@ -27,6 +27,14 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
                   "over a pixel's footprint), catmull-rom (so, and Catmull-Rom), mid-footprint-bilinear (over its own "
                   "footprint, bilinear: every FIPR frame before log schema 5)")
       ->check(CLI::IsMember(reconstructions));
+  std::vector<std::string> near_misses;
+  for (NearMisses value : kNearMisses) near_misses.emplace_back(near_misses_name(value));
+  command
+      .add_option("--near-misses", flags.near_misses,
+                  "FIPR: where a low or mid ray passed a surface within its pixel's cone: promote (the periphery's "
+                  "pixels there traced in full, from in front of it), ignore (the paper's: every FIPR frame before "
+                  "log schema 6)")
+      ->check(CLI::IsMember(near_misses));
   command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")->check(CLI::IsMember({"on", "off"}));
   command.add_option("--combine", flags.combine, "FIPR: acuity and edges combined by max, fovea-or-product, product, acuity")
       ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
@@ -65,6 +73,7 @@ FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int
   settings.periphery_steps = flags.periphery_steps;
   settings.reconstruction =
       parse_periphery_reconstruction(flags.periphery_reconstruction).value_or(FoveationSettings{}.reconstruction);
+  settings.near_misses = parse_near_misses(flags.near_misses).value_or(FoveationSettings{}.near_misses);
   settings.blur = flags.blur == "on";
   settings.combine = parse_mask_combine(flags.combine).value_or(MaskCombine::max);
   settings.edge_threshold = flags.edge_threshold;
@@ -97,6 +106,7 @@ std::string foveation_flags_text(const FoveationFlags& flags) {
   add("--outer-periphery-deg", flags.outer_periphery_deg);
   add("--periphery-steps", std::to_string(flags.periphery_steps));
   add("--periphery-reconstruction", flags.periphery_reconstruction);
+  add("--near-misses", flags.near_misses);
   add("--blur", flags.blur);
   add("--combine", flags.combine);
   add("--edge-threshold", format_number(flags.edge_threshold, 6));

@@ -22,6 +22,7 @@ struct FoveationFlags {
   int refresh = 1;
   int periphery_steps = FoveationSettings{}.periphery_steps;
   std::string periphery_reconstruction = periphery_reconstruction_name(FoveationSettings{}.reconstruction);
+  std::string near_misses = near_misses_name(FoveationSettings{}.near_misses);
   std::string blur = "off";
   std::string combine = "max";
   float edge_threshold = FoveationSettings{}.edge_threshold;

@@ -90,6 +90,7 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
         {"periphery_refresh", f.periphery_refresh},
         {"periphery_steps", f.periphery_steps},
         {"periphery_reconstruction", periphery_reconstruction_name(f.reconstruction)},
+        {"near_misses", near_misses_name(f.near_misses)},
         {"blur", f.blur},
         {"seed", f.seed},
         {"frame_index", f.frame_index},

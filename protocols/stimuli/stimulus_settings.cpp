@@ -69,6 +69,7 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
     foveation.periphery_steps = fipr->periphery_steps;
     foveation.reconstruction =
         static_cast<PeripheryReconstruction>(static_cast<uint32_t>(fipr->periphery_reconstruction));
+    foveation.near_misses = static_cast<NearMisses>(static_cast<uint32_t>(fipr->near_misses));
     foveation.blur = fipr->blur;
     foveation.combine = static_cast<MaskCombine>(static_cast<uint32_t>(fipr->combine));
     foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);

@@ -46,6 +46,15 @@ layout(std430, binding = 4) buffer TraceCounters {
   uint mid_list_pixels;     // written by the mid list pass (fipr_mid_list.comp.glsl)
 };
 layout(std430, binding = 5) readonly buffer FoveationMask { uint mask_values[]; };  // FIPR: a pixel list
+// FIPR with FLAG_NEAR_MISS (fovlab_near_miss_depth): each depth level writes where its ray passed a
+// surface (near_depth; NO_NEAR_MISS where none), read by the level above (parent_near_depth); the mid
+// level adds the unmasked children of such a pixel to the full-resolution mask and the masked pixels'
+// list, and the top level starts those from the mid level's near depth.
+layout(std430, binding = 6) buffer PromotedMask { uint promoted_mask[]; };
+layout(std430, binding = 7) writeonly buffer PromotedList { uint promoted_list[]; };
+layout(std430, binding = 8) readonly buffer ParentNearDepth { float parent_near_depth[]; };
+layout(std430, binding = 9) writeonly buffer NearDepth { float near_depth[]; };
+const float NO_NEAR_MISS = -1.0;
 
 const uint FLAG_SHADE = 1u;          // top level: shade and write colour
 const uint FLAG_HAS_START = 2u;      // start rays at start_depth of the parent pixel
@@ -55,6 +64,8 @@ const uint FLAG_CONE = 16u;          // depth levels (and FIPR's mid level) marc
 const uint FLAG_START_SAME_SIZE = 128u;  // the start buffer is this level's own size (pixel -> pixel)
 const uint FLAG_SAMPLE_DEPTH_OUT = 512u;  // GT before its one-step floor: each sample's stop to level_depth
 const uint FLAG_SAMPLE_DEPTH_IN = 1024u;  // the one-step floor: each sample starts at its entry of start_depth
+const uint FLAG_NEAR_MISS = 256u;     // FIPR: where a depth level's ray passed a surface within its cone
+                                     // (near_depth); the mid level promotes the children of such a pixel
 const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
 const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in mask_values, four words each
                                      // (x, y and footprint in pixels as float bits, then the sample's entry);
@@ -64,6 +75,9 @@ const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in m
 const uint fovlab_mid_entry_index_mask = 0x0FFFFFFFu;
 const uint fovlab_mid_entry_unmasked_shift = 28u;
 const uint fovlab_mid_entry_refresh = 0x80000000u;
+// An entry of the masked pixels' list that the mid level promoted (it starts from the mid level's
+// near depth; the mask pass's entries start from the filtered depth, as IPR's pixels).
+const uint fovlab_promoted_entry = 0x80000000u;
 
 layout(push_constant) uniform TraceParams {
   uvec2 level_size;          // pixels of this level
@@ -143,7 +157,17 @@ const uint OUTCOME_HIT = 0u;
 const uint OUTCOME_MISS = 1u;
 const uint OUTCOME_CAPPED = 2u;
 
-struct TraceResult { float t; uint steps; uint outcome; float distance; float material_id; };
+// passed_surface: the march came within its near-miss cone of a surface and left it again (FLAG_NEAR_MISS;
+// fovlab_trace); t_clear is then where the cone was last clear before it.
+struct TraceResult {
+  float t;
+  uint steps;
+  uint outcome;
+  float distance;
+  float material_id;
+  bool passed_surface;
+  float t_clear;
+};
 
 // One step more onto the surface of a hit, within the step cap.
 void fovlab_refine_hit(Ray ray, inout TraceResult result, uint step_cap) {
@@ -160,15 +184,26 @@ void fovlab_refine_hit(Ray ray, inout TraceResult result, uint step_cap) {
 // enters the bounds. That first evaluation doubles as the first step of the march.
 // step_cap: params.max_steps, or FIPR's budget for peripheral pixels; count_capped: whether a ray
 // stopped by it counts in capped_rays (not FIPR's peripheral rays: stopping early is their purpose).
+// near_per_unit_t > 0 (FIPR's depth levels, FLAG_NEAR_MISS): the radius per unit t of a cone around
+// the ray, the coarse pixel's; a step whose distance is below it has a surface within the cone, and a
+// later step clear of it again means the ray passed that surface without hitting it (a wire between
+// two centre rays, a silhouette it grazed). The first such surface is recorded: passed_surface, and
+// t_clear, the last step before it whose cone was clear. 0: no watch (passed_surface stays false).
+// The march ends (OUTCOME_MISS) beyond t_limit (fovlab_unlimited: where the ray leaves the bounds).
+const float fovlab_unlimited = 3.0e38;
 TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool refine_hit, uint step_cap,
-                         bool count_capped) {
+                         bool count_capped, float near_per_unit_t, float t_limit) {
   TraceResult result;
   result.steps = 0u;
   result.distance = 0.0;
   result.material_id = 0.0;
+  result.passed_surface = false;
   vec2 interval = fovlab_bounds_interval(ray);
+  interval.y = min(interval.y, t_limit);
   float t = max(t_start, interval.x);
+  result.t_clear = t;
   bool check_start = t > interval.x;
+  bool near_surface = false;
   while (result.steps < step_cap) {
     if (t > interval.y) {
       result.t = interval.y;
@@ -181,8 +216,18 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
       check_start = false;
       if (sample_.x < 0.0) {
         t = interval.x;
+        result.t_clear = t;
         atomicAdd(restarted_rays, 1u);
         continue;
+      }
+    }
+    if (near_per_unit_t > 0.0 && !result.passed_surface) {
+      if (sample_.x < near_per_unit_t * t) {
+        near_surface = true;
+      } else if (near_surface) {
+        result.passed_surface = true;
+      } else {
+        result.t_clear = t;
       }
     }
     if (sample_.x < epsilon_per_unit_t * t) {
@@ -226,6 +271,8 @@ TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, flo
   result.steps = 0u;
   result.distance = 0.0;
   result.material_id = 0.0;
+  result.passed_surface = false;  // (the cone stops at a surface it would pass)
+  result.t_clear = t_start;
   // Beyond t_far (the farthest corner of the bounds from the eye) the cone lies outside the bounds,
   // where no march evaluates the scene; before it the widened box holds every point of the cone.
   vec3 far_corner = max(abs(SCENE_BOUNDS_MIN - ray.origin), abs(SCENE_BOUNDS_MAX - ray.origin));
@@ -269,13 +316,21 @@ TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, flo
 
 // A depth level's ray: the paper's centre ray with the level's hit threshold, or (FLAG_CONE) the
 // level pixel's cone. The cone reaches from the centre to a corner, scale / sqrt(2) pixels, plus
-// the top level's hit band; pixel_angle_rad is the centre pixel's, the largest of the frame.
+// the top level's hit band; pixel_angle_rad is the centre pixel's, the largest of the frame. The
+// same cone is the centre ray's near-miss cone (FLAG_NEAR_MISS).
 const float fovlab_half_diagonal = 0.70711;
+float fovlab_pixel_cone_per_unit_t(float pixel_angle_rad, float scale) {
+  return pixel_angle_rad * (scale * fovlab_half_diagonal + params.hit_threshold);
+}
+float fovlab_near_per_unit_t(float pixel_angle_rad, float scale) {
+  return (params.flags & FLAG_NEAR_MISS) != 0u ? fovlab_pixel_cone_per_unit_t(pixel_angle_rad, scale) : 0.0;
+}
 TraceResult fovlab_depth_trace(Ray ray, float t_start, float pixel_angle_rad, float scale) {
   if ((params.flags & FLAG_CONE) != 0u)
     return fovlab_cone_trace(ray, t_start, pixel_angle_rad * scale * fovlab_half_diagonal,
                              pixel_angle_rad * params.hit_threshold, params.max_steps);
-  return fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true);
+  return fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true,
+                      fovlab_near_per_unit_t(pixel_angle_rad, scale), fovlab_unlimited);
 }
 
 // Forward differences from the hit point, whose distance the trace already has: three evaluations.
@@ -319,6 +374,59 @@ float fovlab_depth_to_pass_on(TraceResult result) {
   return result.outcome == OUTCOME_MISS ? MISS_DEPTH : result.t;
 }
 
+// FLAG_NEAR_MISS: where this depth level's ray passed a surface within its pixel's cone, the depth
+// before it (TraceResult.t_clear), else NO_NEAR_MISS. The level's own ray (`traced`, from the
+// filtered depth t_start, exactly IPR's) shows a surface it passed; where the parent's ray passed one
+// before t_start, this ray started behind it, so a probe from the parent's near depth looks again
+// (its steps are added to `steps`): a surface it passes, or one it hits clearly in front of where
+// `traced` stopped, is this pixel's near miss. Near depths go up their own chain: the depth chain,
+// and with it every pixel of the mask pass, stays IPR's.
+float fovlab_parent_near_depth(uvec2 pixel) {
+  if ((params.flags & FLAG_HAS_START) == 0u) return NO_NEAR_MISS;
+  uvec2 parent = min(pixel / 2u, params.start_size - 1u);
+  return parent_near_depth[parent.y * params.start_size.x + parent.x];
+}
+float fovlab_near_miss_depth(Ray ray, float t_start, TraceResult traced, uvec2 pixel, float pixel_angle_rad, float scale,
+                             inout uint steps) {
+  float parent_near = fovlab_parent_near_depth(pixel);
+  if (parent_near >= 0.0 && parent_near < t_start) {
+    // It ends where `traced` started: beyond, that ray's own watch holds.
+    float cone_per_unit_t = fovlab_pixel_cone_per_unit_t(pixel_angle_rad, scale);
+    TraceResult probe = fovlab_trace(ray, parent_near, pixel_angle_rad * scale * params.hit_threshold, false,
+                                     params.max_steps, false, cone_per_unit_t, t_start);
+    steps += probe.steps;
+    bool hit_in_front = probe.outcome == OUTCOME_HIT && probe.t < traced.t * (1.0 - cone_per_unit_t);
+    if (probe.passed_surface || hit_in_front) return probe.t_clear;
+  }
+  return traced.passed_surface ? traced.t_clear : NO_NEAR_MISS;
+}
+
+// FLAG_NEAR_MISS: the unmasked children of a mid pixel whose ray passed a surface (a wire between its
+// rays, a silhouette it grazed) join the mask and the masked pixels' list, so the top level traces
+// and shades them in full instead of the periphery taking the colour behind that surface. The
+// list's dispatch is counted after this pass. Returns how many children it promoted.
+uint fovlab_promote_children(uint index) {
+  if ((params.flags & FLAG_NEAR_MISS) == 0u) return 0u;
+  uvec2 mid_pixel = uvec2(index % params.level_size.x, index / params.level_size.x);
+  uvec2 frame_size = uvec2(params.frame_size);
+  uint children[4];
+  uint count = 0u;
+  for (uint j = 0u; j < 2u; ++j) {
+    for (uint i = 0u; i < 2u; ++i) {
+      uvec2 child = mid_pixel * 2u + uvec2(i, j);
+      if (any(greaterThanEqual(child, frame_size))) continue;
+      uint child_index = child.y * frame_size.x + child.x;
+      if (promoted_mask[child_index] != 0u) continue;
+      promoted_mask[child_index] = 1u;
+      children[count++] = child_index;
+    }
+  }
+  if (count == 0u) return 0u;
+  uint first = atomicAdd(masked_pixels, count);
+  for (uint i = 0u; i < count; ++i) promoted_list[first + i] = children[i] | fovlab_promoted_entry;
+  return count;
+}
+
 // One listed pixel of FIPR's mid level (`entry`: fovlab_mid_entry_*).
 void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, float scale) {
   uint unmasked_children = (entry >> fovlab_mid_entry_unmasked_shift) & 7u;
@@ -330,21 +438,37 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
   TraceResult result = fovlab_depth_trace(ray, t_start, pixel_angle_rad, scale);
   level_depth[index] = fovlab_depth_to_pass_on(result);
   atomicAdd(mid_traced_pixels, 1u);
+  uint promoted = 0u;
+  uint probe_steps = 0u;
   if (need_shade) {
+    // Its near depth, where the ray passed a surface (FLAG_NEAR_MISS): its children are promoted.
+    float near = NO_NEAR_MISS;
+    if ((params.flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS) {
+      near = fovlab_near_miss_depth(ray, t_start, result, uvec2(index % params.level_size.x, index / params.level_size.x),
+                                    pixel_angle_rad, scale, probe_steps);
+    }
     if ((params.flags & FLAG_CONE) != 0u && result.steps < params.max_steps) {
       // The cone stopped short of the surface: the shaded ray goes on from there with the level's
-      // test, within what is left of the step cap (a capped cone was counted once already).
+      // test, within what is left of the step cap (a capped cone was counted once already). If it
+      // passes the surface the cone stopped at, the cone's depth is the near depth.
       uint cone_steps = result.steps;
-      result = fovlab_trace(ray, result.t, epsilon_per_unit_t, false, params.max_steps - cone_steps, true);
+      float cone_t = result.t;
+      result = fovlab_trace(ray, result.t, epsilon_per_unit_t, false, params.max_steps - cone_steps, true,
+                            fovlab_near_per_unit_t(pixel_angle_rad, scale), fovlab_unlimited);
       result.steps += cone_steps;
+      if (result.passed_surface) near = cone_t;
+    }
+    if (near >= 0.0) {
+      promoted = fovlab_promote_children(index);
+      near_depth[index] = near;  // where the top level starts them
     }
     fovlab_refine_hit(ray, result, params.max_steps);
     // Alpha stamps the frame (+1; 0: never shaded), so the reconstruction can tell stale taps.
     level_colour[index] = vec4(fovlab_shade(ray, result, epsilon_per_unit_t), float(params.frame_index + 1u));
     atomicAdd(mid_shaded_pixels, 1u);
   }
-  if (refresh_children) atomicAdd(refreshed_pixels, unmasked_children);
-  level_steps[index] = result.steps;
+  if (refresh_children) atomicAdd(refreshed_pixels, unmasked_children - promoted);
+  level_steps[index] = result.steps + probe_steps;
 }
 
 // Shades a pixel's (or a sample's) spp rays around centre_px, spread over `scale` pixels.
@@ -362,7 +486,8 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
     float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
     uint sample_entry = index * params.samples_per_pixel + s;
     float t_sample = (params.flags & FLAG_SAMPLE_DEPTH_IN) != 0u ? start_depth[sample_entry] : t_start;
-    TraceResult result = fovlab_trace(ray, t_sample, epsilon_per_unit_t, !record_depth, params.max_steps, true);
+    TraceResult result =
+        fovlab_trace(ray, t_sample, epsilon_per_unit_t, !record_depth, params.max_steps, true, 0.0, fovlab_unlimited);
     if (record_depth) {
       level_depth[sample_entry] = fovlab_depth_to_pass_on(result);
       fovlab_refine_hit(ray, result, params.max_steps);
@@ -406,7 +531,7 @@ void main() {
     Ray ray = fovlab_camera_ray(vec2(pixel) + 0.5, pixel_angle_rad);
     float epsilon_per_unit_t = pixel_angle_rad * params.hit_threshold;
     TraceResult result = fovlab_trace(ray, start_depth[parent.y * params.start_size.x + parent.x], epsilon_per_unit_t,
-                                      true, params.periphery_steps, false);
+                                      true, params.periphery_steps, false, 0.0, fovlab_unlimited);
     level_colour[index] = vec4(fovlab_shade(ray, result, epsilon_per_unit_t), 1.0);
     level_steps[index] = result.steps;
     return;
@@ -416,6 +541,9 @@ void main() {
   if ((params.flags & FLAG_HAS_START) != 0u) {
     uvec2 parent = min((params.flags & FLAG_START_SAME_SIZE) != 0u ? pixel : pixel / 2u, params.start_size - 1u);
     t_start = start_depth[parent.y * params.start_size.x + parent.x];
+    // A pixel the mid level promoted starts in front of the surface its parent's ray passed.
+    if ((params.flags & FLAG_MASKED_LIST) != 0u && (mid_entry & fovlab_promoted_entry) != 0u)
+      t_start = min(t_start, fovlab_parent_near_depth(pixel));
   }
 
   float scale = float(params.level_scale);
@@ -429,7 +557,10 @@ void main() {
     Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
     TraceResult result = fovlab_depth_trace(ray, t_start, pixel_angle_rad, scale);
     level_depth[index] = fovlab_depth_to_pass_on(result);
-    level_steps[index] = result.steps;
+    uint steps = result.steps;
+    if ((params.flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS)
+      near_depth[index] = fovlab_near_miss_depth(ray, t_start, result, pixel, pixel_angle_rad, scale, steps);
+    level_steps[index] = steps;
     return;
   }
 

@@ -29,6 +29,7 @@ constexpr uint32_t kFlagCone = 16;
 constexpr uint32_t kFlagMaskedList = 32;
 constexpr uint32_t kFlagSampleList = 64;
 constexpr uint32_t kFlagStartSameSize = 128;
+constexpr uint32_t kFlagNearMiss = 256;
 constexpr uint32_t kFlagSampleDepthOut = 512;
 constexpr uint32_t kFlagSampleDepthIn = 1024;
 constexpr uint32_t kMaskFlagTraceAll = 1;
@@ -113,6 +114,7 @@ struct LevelBuffers {
   PyramidLevelStats stats;    // size and scale; steps are counted per render
   vk::Buffer depth;           // distance each ray reached (not for the top level)
   vk::Buffer start_for_next;  // min-filtered depth (not for the top level, nor without a filter)
+  vk::Buffer near_depth;      // FIPR's depth levels: where the ray passed a surface within its cone, or -1
   vk::Buffer steps;
   vk::Buffer steps_readback;
 };
@@ -188,6 +190,7 @@ struct SphereTracer::FrameBuffers {
       if (i + 1 < level_count) {
         level.depth = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
         if (filtered) level.start_for_next = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
+        if (foveated) level.near_depth = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
       }
     }
     const VkDeviceSize colour_bytes = VkDeviceSize(width) * VkDeviceSize(height) * 4 * sizeof(float);
@@ -325,6 +328,16 @@ std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std:
   return std::nullopt;
 }
 
+const char* near_misses_name(NearMisses near_misses) {
+  return near_misses == NearMisses::promote ? "promote" : "ignore";
+}
+
+std::optional<NearMisses> parse_near_misses(const std::string& name) {
+  for (NearMisses near_misses : kNearMisses)
+    if (name == near_misses_name(near_misses)) return near_misses;
+  return std::nullopt;
+}
+
 std::optional<TraceMethod> parse_trace_method(const std::string& name) {
   for (TraceMethod method : {TraceMethod::ground_truth, TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid})
     if (name == method_name(method)) return method;
@@ -410,7 +423,7 @@ void validate(const SphereTraceSettings& settings) {
 SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
   CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source});
   shader_from_cache_ = trace.from_cache;
-  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 6, sizeof(TraceParams));
+  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 10, sizeof(TraceParams));
   min_filter_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2,
                                                                sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
@@ -437,7 +450,7 @@ std::string history_key_of(const SphereTraceSettings& s) {
       << s.hit_threshold << ' ' << f.display.width_mm << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm
       << ' ' << f.acuity.fovea_radius_deg << ' ' << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine)
       << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
-      << periphery_reconstruction_name(f.reconstruction);
+      << periphery_reconstruction_name(f.reconstruction) << ' ' << near_misses_name(f.near_misses);
   return key.str();
 }
 
@@ -552,9 +565,11 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     mask_pipeline_->dispatch_2d(cmd, mask_buffers, &params, params.mid_size[0], params.mid_size[1]);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
-    record_list_dispatch("list_dispatch", {masked, refresh_listed, 2}, frame.list_dispatch);
   };
 
+  // FIPR's depth levels track where their rays pass a surface (near depths), for the mid level's
+  // promotion, which only a periphery from the mid level has, and the start of what it promoted.
+  const bool near_misses = foveated && fov.near_misses == NearMisses::promote && fov.periphery_steps == 0;
   const vk::Buffer* start = nullptr;  // start depth for the current level (the filtered level below)
   PyramidLevelStats start_stats;
   for (int i = 0; i < level_count; ++i) {
@@ -581,29 +596,45 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
                    (foveated_top ? kFlagFoveatedTop : 0u) |
                    (settings.coarse_test == CoarseTest::cone ? kFlagCone : 0u) |
-                   (start && start_stats.scale == level.stats.scale ? kFlagStartSameSize : 0u);
+                   (start && start_stats.scale == level.stats.scale ? kFlagStartSameSize : 0u) |
+                   (near_misses ? kFlagNearMiss : 0u);
     params.frame_index = fov.frame_index;
     params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
     const VkBuffer colour_target = top ? frame.colour.handle() : foveated_mid ? frame.mid_colour.handle() : frame.unused.handle();
     const VkBuffer mask_input = foveated_top ? frame.mask.handle() : foveated_mid ? frame.mid_list.handle() : frame.unused.handle();
-    const VkBuffer buffers[] = {start ? start->handle() : frame.unused.handle(),
-                                top ? frame.unused.handle() : level.depth.handle(), level.steps.handle(),
-                                colour_target, frame.counters.handle(), mask_input};
+    // Near misses: a depth level reads the near depths of the level below and writes its own; the mid
+    // level adds the children it promotes to the mask and its list; the top level starts those from
+    // the mid level's near depths.
+    const bool promotes = foveated_mid && near_misses;
+    const VkBuffer unused = frame.unused.handle();
+    const std::array<VkBuffer, 10> buffers = {start ? start->handle() : unused,
+                                              top ? unused : level.depth.handle(),
+                                              level.steps.handle(),
+                                              colour_target,
+                                              frame.counters.handle(),
+                                              mask_input,
+                                              promotes ? frame.mask.handle() : unused,
+                                              promotes ? frame.masked_list.handle() : unused,
+                                              near_misses && i > 0 ? levels[size_t(i - 1)].near_depth.handle() : unused,
+                                              near_misses && !top ? level.near_depth.handle() : unused};
+    const auto with_binding = [&](size_t binding, VkBuffer buffer) {
+      std::array<VkBuffer, 10> changed = buffers;
+      changed[binding] = buffer;
+      return changed;
+    };
     if (foveated_top) {
       // Masked pixels first, densely from their list; then the rest of the frame (reconstruction).
       // The two passes write disjoint pixels (mask 1, mask 0), so neither waits for the other.
       TraceParams list_params = params;
       list_params.flags = (params.flags & ~kFlagFoveatedTop) | kFlagMaskedList;
-      const VkBuffer list_buffers[] = {buffers[0], buffers[1], buffers[2], buffers[3], buffers[4],
-                                       frame.masked_list.handle()};
+      const auto list_buffers = with_binding(5, frame.masked_list.handle());
       timer.begin(cmd, "trace_level" + std::to_string(i));
       trace_pipeline_->dispatch_indirect(cmd, list_buffers, &list_params, frame.list_dispatch.handle(), 0);
       timer.end(cmd);
       if (fov.periphery_steps > 0) {
         TraceParams periphery_params = params;
         periphery_params.samples_per_pixel = 1;  // one ray per peripheral pixel (also its texture footprint)
-        const VkBuffer refresh_buffers[] = {buffers[0], buffers[1], buffers[2], buffers[3], buffers[4],
-                                            frame.refresh_list.handle()};
+        const auto refresh_buffers = with_binding(5, frame.refresh_list.handle());
         timer.begin(cmd, "periphery_trace");
         trace_pipeline_->dispatch_indirect(cmd, refresh_buffers, &periphery_params, frame.list_dispatch.handle(),
                                            3 * sizeof(uint32_t));
@@ -638,6 +669,9 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       timer.begin(cmd, "trace_level" + std::to_string(i));
       trace_pipeline_->dispatch_indirect(cmd, buffers, &params, frame.mid_list_dispatch.handle(), 0);
       timer.end(cmd);
+      // The top level's lists are complete now: the mask pass's, and the children this level promoted.
+      vk::compute_to_compute_barrier(cmd);
+      record_list_dispatch("list_dispatch", {masked, refresh_listed, 2}, frame.list_dispatch);
     } else if (settings.one_step_floor) {
       // GT's trace, untimed, recording where each sample stopped; then the timed floor from there.
       const VkDeviceSize sample_bytes = VkDeviceSize(frame_pixels) * VkDeviceSize(settings.samples_per_pixel) * sizeof(float);
@@ -645,7 +679,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
         frame.sample_depth = vk::Buffer(context_, sample_bytes, vk::MemoryUse::device_local);
       TraceParams record = params;
       record.flags |= kFlagSampleDepthOut;
-      const VkBuffer record_buffers[] = {buffers[0], frame.sample_depth.handle(), buffers[2], buffers[3], buffers[4], buffers[5]};
+      const auto record_buffers = with_binding(1, frame.sample_depth.handle());
       trace_pipeline_->dispatch_2d(cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
       vk::compute_to_compute_barrier(cmd);
       vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);  // the floor's own capped and restarted rays
@@ -654,7 +688,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       TraceParams floor_params = params;
       floor_params.flags |= kFlagSampleDepthIn;
       floor_params.max_steps = 1;
-      const VkBuffer floor_buffers[] = {frame.sample_depth.handle(), buffers[1], buffers[2], buffers[3], buffers[4], buffers[5]};
+      const auto floor_buffers = with_binding(0, frame.sample_depth.handle());
       timer.begin(cmd, "one_step_floor");
       trace_pipeline_->dispatch_2d(cmd, floor_buffers, &floor_params, params.level_size[0], params.level_size[1]);
       timer.end(cmd);
@@ -794,8 +828,9 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   params.max_steps = static_cast<uint32_t>(settings.max_steps);
   params.level_scale = 1;
   params.flags = kFlagShade | kFlagSampleList;
-  const VkBuffer trace_buffers[] = {frame.unused.handle(), frame.unused.handle(), sampling.sample_steps(),
-                                    sampling.sample_colours(), frame.counters.handle(), sampling.sample_list()};
+  const VkBuffer unused = frame.unused.handle();
+  const VkBuffer trace_buffers[] = {unused, unused, sampling.sample_steps(), sampling.sample_colours(), frame.counters.handle(),
+                                    sampling.sample_list(), unused, unused, unused, unused};
   timer.begin(cmd, "trace_samples");
   trace_pipeline_->dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
   timer.end(cmd);

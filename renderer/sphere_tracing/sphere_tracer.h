@@ -51,6 +51,18 @@ inline constexpr PeripheryReconstruction kPeripheryReconstructions[] = {
 const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction);
 std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std::string& name);
 
+// What FIPR does where a coarse ray (low or mid level, the paper's centre-ray test) passed a surface
+// within its pixel's cone without hitting it: a wire between two rays, a silhouette it grazed.
+enum class NearMisses {
+  ignore,   // the paper's (every log before schema 6): the periphery takes the colour behind it
+  promote,  // the mid level's unmasked children of such a pixel are traced and shaded in full at the
+            // top level, from in front of it; nothing else changes (docs/foveation.md, "Near misses")
+};
+inline constexpr NearMisses kNearMisses[] = {NearMisses::ignore, NearMisses::promote};
+// "ignore", "promote": the CLI's and the config's words.
+const char* near_misses_name(NearMisses near_misses);
+std::optional<NearMisses> parse_near_misses(const std::string& name);
+
 // FIPR's inputs beyond IPR's (docs/foveation.md). The display's pixel counts must equal the frame's.
 struct FoveationSettings {
   DisplayGeometry display;
@@ -64,6 +76,7 @@ struct FoveationSettings {
                                 // `reconstruction` says (seed 000's reading); N > 0: traced (1 sample) from the mid depth with
                                 // a budget of min(N, max_steps) steps and shaded at full resolution
   PeripheryReconstruction reconstruction = PeripheryReconstruction::bilinear;  // periphery_steps 0
+  NearMisses near_misses = NearMisses::promote;
   bool blur = false;            // pass 5: masked Gaussian blur
   uint32_t seed = 0;            // of the per-pixel thresholds
   uint32_t frame_index = 0;     // frame of a sequence; 0 starts one (every pixel refreshed)

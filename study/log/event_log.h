@@ -23,7 +23,9 @@ namespace fovlab {
 // 5: FIPR's periphery_reconstruction is new, default bilinear; a config that a schema 1-4 log carries
 // reads a missing one as mid-footprint-bilinear, what those logs showed (render_method.h
 // default_in_log_schema).
-inline constexpr int log_schema_version = 5;      // what this build writes
+// 6: FIPR's near_misses is new, default promote; a config that a schema 1-5 log carries reads a
+// missing one as ignore, what those logs showed.
+inline constexpr int log_schema_version = 6;      // what this build writes
 inline constexpr int oldest_log_schema_version = 1; // the oldest it reads (resume needs the current one)
 
 struct LabKey;

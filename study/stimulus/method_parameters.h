@@ -41,6 +41,10 @@ enum class PyramidCoarseTest : uint32_t { centre_ray, cone };
 // renderer/sphere_tracing's PeripheryReconstruction (protocols/stimuli casts; a test checks each).
 enum class FiprPeripheryReconstruction : uint32_t { mid_footprint_bilinear, bilinear, catmull_rom };
 
+// What FIPR does where a coarse ray passed a surface within its pixel's cone; the order is that of
+// renderer/sphere_tracing's NearMisses (protocols/stimuli maps them by the same order).
+enum class FiprNearMisses : uint32_t { ignore, promote };
+
 // How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
 // ResampleFilter (protocols/stimuli checks it).
 enum class SampleResampling : uint32_t { bilinear, lanczos };
@@ -88,6 +92,7 @@ struct FoveatedPyramidParameters {
   int periphery_refresh;
   int periphery_steps;
   FiprPeripheryReconstruction periphery_reconstruction;
+  FiprNearMisses near_misses;
   bool blur;
   FiprCombine combine;
   double edge_threshold;

@@ -201,6 +201,15 @@ MethodDescriptor foveated_pyramid() {
       "schema 5); docs/foveation.md");
   reconstruction.choices = {"mid-footprint-bilinear", "bilinear", "catmull-rom"};
   list.push_back(omitted_at_default(with_changed_default(reconstruction, 5, 0)));
+  // Added in log schema 6, defaulting to promote; every earlier log's FIPR ignored near misses.
+  ParameterDescriptor near_misses = parameter<&P::near_misses>(
+      "near_misses", "", ParameterType::choice, 1, 0, 1,
+      "where a low- or mid-level ray passed a surface within its pixel's cone without hitting it (a wire between "
+      "two rays, a grazed silhouette): promote (with periphery_steps 0, the periphery's pixels under such a mid pixel "
+      "are traced in full at the top level, from in front of it) or ignore (the paper's: every FIPR stimulus of logs "
+      "before schema 6); docs/foveation.md");
+  near_misses.choices = {"ignore", "promote"};
+  list.push_back(omitted_at_default(with_changed_default(near_misses, 6, 0)));
   ParameterDescriptor blur = parameter<&P::blur>("blur", "", ParameterType::choice, 0, 0, 1, "pass 5, the masked Gaussian blur of the transition zones");
   blur.choices = {"off", "on"};
   list.push_back(blur);

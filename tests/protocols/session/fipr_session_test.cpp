@@ -204,64 +204,85 @@ TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
   EXPECT_TRUE(hash_named) << "a changed gaze changes the FIPR images";
 }
 
-// Log schema 5 brought FIPR's periphery_reconstruction (default bilinear); a config that a schema 1-4
-// log carries is read with what those sessions showed, mid-footprint-bilinear (docs/log-schema.md,
-// "Versions"). Relabelled schema 4 (the chain then breaks, which replay also says), a session of
-// today's default replays other FIPR images, and replay names the stimulus parameter it reads
-// otherwise than the header recorded; one that showed mid-footprint-bilinear replays to its hashes,
-// as every schema 4 FIPR session does.
+// Log schemas 5 and 6 brought FIPR's periphery_reconstruction (default bilinear) and near_misses
+// (default promote); a config that an earlier log carries is read with what those sessions showed,
+// mid-footprint-bilinear before 5 and ignore before 6 (docs/log-schema.md, "Versions"). Relabelled
+// an earlier schema (the chain then breaks, which replay also says), a session of today's defaults
+// replays other FIPR images, and replay names the stimulus parameter it reads otherwise than the
+// header recorded; one that showed that schema's defaults replays to its hashes, as every session
+// of that schema does.
 TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
   const auto frame_hash_differences = [](const ReplayOutcome& replayed) {
     int count = 0;
     for (const std::string& difference : replayed.differences) count += difference.find("frame hash") != std::string::npos;
     return count;
   };
-  const auto relabelled_schema_4 = [](const std::string& log_path) {
+  const auto relabelled = [](const std::string& log_path, int schema) {
     std::string text = read_file(log_path);
     const std::string today = "\"schema_version\":" + std::to_string(log_schema_version);
     const size_t at = text.find(today);
     EXPECT_NE(at, std::string::npos);
-    text.replace(at, today.size(), "\"schema_version\":4");
-    const fs::path path = fs::path(log_path).parent_path() / "schema4.jsonl";
+    text.replace(at, today.size(), "\"schema_version\":" + std::to_string(schema));
+    const fs::path path = fs::path(log_path).parent_path() / ("schema" + std::to_string(schema) + ".jsonl");
     std::ofstream(path, std::ios::binary) << text;
     return path.string();
   };
-  for (const bool first_built : {false, true}) {
-    SCOPED_TRACE(first_built ? "mid-footprint-bilinear" : "bilinear (default)");
+  struct Case {
+    const char* name;
+    std::string config_lines;  // added to the test stimulus
+    int relabelled_schema;
+    // What replay reads otherwise than the header recorded: it names a stimulus's first difference,
+    // in key order.
+    std::set<std::string> parameters_named;
+  };
+  const std::vector<Case> cases = {
+      {"today's defaults as schema 4", "", 4, {"near_misses"}},
+      {"today's reconstruction as schema 4", "near_misses = \"ignore\"\n", 4, {"periphery_reconstruction"}},
+      {"today's defaults as schema 5", "", 5, {"near_misses"}},
+      {"schema 4's defaults", "periphery_reconstruction = \"mid-footprint-bilinear\"\nnear_misses = \"ignore\"\n", 4, {}},
+      {"schema 5's defaults", "near_misses = \"ignore\"\n", 5, {}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
     std::string text = kFiprStudy;
-    if (first_built)
-      text.replace(text.find("mask_seed = 11\n"), 15, "mask_seed = 11\nperiphery_reconstruction = \"mid-footprint-bilinear\"\n");
-    const fs::path results = fresh_folder(first_built ? "fipr-schema-first" : "fipr-schema-default");
+    text.replace(text.find("mask_seed = 11\n"), 15, "mask_seed = 11\n" + c.config_lines);
+    const fs::path results = fresh_folder("fipr-schema-" + std::to_string(&c - cases.data()));
     const SessionOutcome outcome = run_session(fipr_config(text), simulated(results, still_trace(results)));
     ASSERT_TRUE(outcome.finished);
     EXPECT_EQ(replay(outcome.log_path).difference_count, 0);
-    const ReplayOutcome relabelled = replay(relabelled_schema_4(outcome.log_path));
-    EXPECT_GT(relabelled.difference_count, 0) << "the chain no longer holds";
+    const ReplayOutcome earlier = replay(relabelled(outcome.log_path, c.relabelled_schema));
+    EXPECT_GT(earlier.difference_count, 0) << "the chain no longer holds";
     // Replay also compares the stimuli it makes of config_toml with those the header recorded.
-    bool stimuli_named = false;
-    for (const std::string& difference : relabelled.differences)
-      stimuli_named |= difference.find("header: stimulus") == 0 &&
-                       difference.find("parameters.periphery_reconstruction: none by this build's reading") != std::string::npos;
-    if (first_built) {
-      EXPECT_EQ(frame_hash_differences(relabelled), 0) << "schema 4's default is what this session showed";
-      EXPECT_FALSE(stimuli_named);
+    std::set<std::string> named;
+    for (const std::string& difference : earlier.differences) {
+      if (difference.find("header: stimulus") != 0) continue;
+      for (const char* parameter : {"periphery_reconstruction", "near_misses"}) {
+        if (difference.find("parameters." + std::string(parameter) + ": none by this build's reading") != std::string::npos)
+          named.insert(parameter);
+      }
+    }
+    EXPECT_EQ(named, c.parameters_named) << (earlier.differences.empty() ? "" : earlier.differences.front());
+    if (c.parameters_named.empty()) {
+      EXPECT_EQ(frame_hash_differences(earlier), 0) << "the schema's defaults are what this session showed";
     } else {
-      EXPECT_GT(frame_hash_differences(relabelled), 0) << "schema 4's default is not today's";
-      EXPECT_TRUE(stimuli_named) << (relabelled.differences.empty() ? "" : relabelled.differences.front());
-      // A header that lacks a parameter (as older headers lack one added since, at its default) is
-      // not a difference of the stimuli; the frames then decide.
-      std::string lacking_text = read_file(outcome.log_path);
-      const std::string recorded = "\"periphery_reconstruction\":\"bilinear\",";
-      ASSERT_NE(lacking_text.find(recorded), std::string::npos) << "the header records today's default";
-      for (size_t at; (at = lacking_text.find(recorded)) != std::string::npos;) lacking_text.erase(at, recorded.size());
-      const fs::path lacking = results / "lacking.jsonl";
-      std::ofstream(lacking, std::ios::binary) << lacking_text;
-      const ReplayOutcome replayed = replay(lacking.string());
-      for (const std::string& difference : replayed.differences)
-        EXPECT_EQ(difference.find("header: stimulus"), std::string::npos) << difference;
-      EXPECT_EQ(frame_hash_differences(replayed), 0);
+      EXPECT_GT(frame_hash_differences(earlier), 0) << "the schema's defaults are not today's";
     }
   }
+  // A header that lacks a parameter (as older headers lack one added since, at its default) is not a
+  // difference of the stimuli; the frames then decide.
+  const fs::path results = fresh_folder("fipr-schema-lacking");
+  const SessionOutcome outcome = run_session(fipr_config(), simulated(results, still_trace(results)));
+  ASSERT_TRUE(outcome.finished);
+  std::string lacking_text = read_file(outcome.log_path);
+  const std::string recorded = "\"periphery_reconstruction\":\"bilinear\",";
+  ASSERT_NE(lacking_text.find(recorded), std::string::npos) << "the header records today's default";
+  for (size_t at; (at = lacking_text.find(recorded)) != std::string::npos;) lacking_text.erase(at, recorded.size());
+  const fs::path lacking = results / "lacking.jsonl";
+  std::ofstream(lacking, std::ios::binary) << lacking_text;
+  const ReplayOutcome replayed = replay(lacking.string());
+  for (const std::string& difference : replayed.differences)
+    EXPECT_EQ(difference.find("header: stimulus"), std::string::npos) << difference;
+  EXPECT_EQ(frame_hash_differences(replayed), 0);
 }
 
 TEST(FiprSession, EveryPresentationStartsAfreshSoTheSameGazeGivesTheSameImages) {

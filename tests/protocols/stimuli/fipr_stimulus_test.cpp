@@ -127,7 +127,7 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
   EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels",
                                           "min_filter_size", "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg",
-                                          "periphery_refresh", "periphery_steps", "periphery_reconstruction", "blur",
+                                          "periphery_refresh", "periphery_steps", "periphery_reconstruction", "near_misses", "blur",
                                           "combine", "edge_threshold",
                                           "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
@@ -156,6 +156,15 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
     EXPECT_EQ(parse_periphery_reconstruction(std::string(reconstruction.choices[i])),
               static_cast<PeripheryReconstruction>(i));
   EXPECT_TRUE(reconstruction.omitted_at_default);
+  const auto& near_misses = parameter_named(parameters, "near_misses");
+  EXPECT_EQ(near_misses.choices, (std::vector<std::string_view>{"ignore", "promote"}));
+  EXPECT_EQ(near_misses.default_value, 1);  // promote, the renderer's default too
+  EXPECT_EQ(FoveationSettings{}.near_misses, NearMisses::promote);
+  EXPECT_EQ(near_misses.default_since_log_schema, 6);
+  EXPECT_EQ(near_misses.earlier_default, 0);  // ignore in logs of schema 1-5
+  for (size_t i = 0; i < near_misses.choices.size(); ++i)
+    EXPECT_EQ(parse_near_misses(std::string(near_misses.choices[i])), static_cast<NearMisses>(i));
+  EXPECT_TRUE(near_misses.omitted_at_default);
   EXPECT_EQ(parameter_named(parameters, "blur").choices, (std::vector<std::string_view>{"off", "on"}));
   EXPECT_EQ(parameter_named(parameters, "combine").choices,
             (std::vector<std::string_view>{"max", "fovea-or-product", "product", "acuity"}));
@@ -204,6 +213,12 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
     fipr.periphery_reconstruction = choice;
     const std::string name = to_json(spec)["parameters"].value("periphery_reconstruction", "mid-footprint-bilinear");
     EXPECT_EQ(periphery_reconstruction_name(sphere_trace_settings(spec, 0).foveation.reconstruction), name);
+  }
+  EXPECT_EQ(f.near_misses, r.near_misses);
+  for (const FiprNearMisses choice : {FiprNearMisses::ignore, FiprNearMisses::promote}) {
+    fipr.near_misses = choice;
+    const std::string name = to_json(spec)["parameters"].value("near_misses", "ignore");
+    EXPECT_EQ(near_misses_name(sphere_trace_settings(spec, 0).foveation.near_misses), name);
   }
 }
 

@@ -182,6 +182,15 @@ TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
   EXPECT_EQ(test_of(now, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::bilinear);
   const StudyConfig schema5 = parse_logged_study_config(config_text, "events.jsonl", 5, nullptr);
   EXPECT_EQ(test_of(schema5, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::bilinear);
+  // near_misses changed in schema 6 (two parameters' defaults, each from its own schema).
+  EXPECT_EQ(test_of(now, nullptr).near_misses, FiprNearMisses::promote);
+  EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", 6, nullptr), nullptr).near_misses,
+            FiprNearMisses::promote);
+  for (const int schema : {1, 2, 3, 4, 5}) {
+    EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", schema, nullptr), nullptr).near_misses,
+              FiprNearMisses::ignore)
+        << schema;
+  }
   for (const int schema : {1, 2, 3, 4}) {
     const StudyConfig old = parse_logged_study_config(config_text, "events.jsonl", schema, nullptr);
     EXPECT_EQ(test_of(old, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::mid_footprint_bilinear)
@@ -212,6 +221,10 @@ TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
       FiprPeripheryReconstruction::mid_footprint_bilinear;
   EXPECT_EQ(spec.canonical().find("periphery_reconstruction"), std::string::npos) << spec.canonical();
   EXPECT_FALSE(to_json(spec)["parameters"].contains("periphery_reconstruction"));
+  EXPECT_NE(spec.canonical().find(";near_misses=promote;"), std::string::npos) << spec.canonical();
+  std::get<FoveatedPyramidParameters>(spec.parameters).near_misses = FiprNearMisses::ignore;
+  EXPECT_EQ(spec.canonical().find("near_misses"), std::string::npos) << spec.canonical();
+  EXPECT_FALSE(to_json(spec)["parameters"].contains("near_misses"));
 }
 
 TEST(RenderMethod, DocsConfigCarriesTheTableTheDescriptorsMake) {
