@@ -9,6 +9,7 @@
 #include "analysis/report/report.h"
 #include "analysis/study/study_analysis.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "study/log/log_integrity.h"
@@ -192,6 +193,7 @@ void analyze(const AnalyzeArguments& arguments) {
   const analysis::StudyData data = analysis::load_study(
       arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken, observers});
   const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;
+  check_output_target(out, arguments.out.empty() ? "" : "--out", {OutputKind::folder});
   analysis::check_analysis_destination(out, arguments.force);  // before the fits (which take a while)
   const analysis::AnalysisResult result = analysis::analyse_study(data, options);
   const std::vector<std::string> written = analysis::write_analysis_folder(result, out, arguments.force);
@@ -207,7 +209,9 @@ void add_analyze_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("analyze", "Thresholds, tests, fits, tables and plots from a study's session logs");
   command->add_option("logs", arguments->inputs, "Session logs and/or results folders (every events.jsonl under them)")
       ->required();
-  command->add_option("--out", arguments->out, "Output folder (default: results/<study>/analysis)");
+  add_output_option(*command, "--out", arguments->out, "Output folder (default: results/<study>/analysis)",
+                    {{OutputKind::folder},
+                     "an earlier analysis there is replaced only with --force; a folder holding anything else never"});
   command->add_flag("--force", arguments->force, "Replace an earlier analysis in the output folder");
   command->add_option("--alternative", arguments->alternative, "two-sided (default), greater or less: the binomial tests' alternative");
   command->add_option("--alpha", arguments->alpha, "Significance level of the threshold criteria (default 0.05)");

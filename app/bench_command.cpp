@@ -30,6 +30,7 @@
 #include "bench/bench_runs.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "app/render_outputs.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
@@ -115,12 +116,7 @@ uint64_t bench_memory_bytes(const BenchOptions& options, const BenchPlan& plan) 
 void run_bench(const BenchOptions& options) {
   const BenchPlan plan = plan_bench(options);
   const std::vector<SceneSource> scenes = load_bench_scenes(options, plan);
-  if (!options.json.empty()) check_output_path(options.json, "--json");
-  if (!options.out_dir.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(options.out_dir, error);
-    check_output_path(options.out_dir / "table.md", "--out-dir");
-  }
+  if (!options.out_dir.empty()) create_output_folder(options.out_dir, "--out-dir");
 
   vk::ContextOptions context_settings = context_options(options.device);
   context_settings.require_gpu = options.require_gpu;
@@ -346,9 +342,9 @@ void add_bench_flags(CLI::App& command, BenchOptions& options) {
   command.add_option("--width", options.settings.width, "Frame width in pixels");
   command.add_option("--height", options.settings.height, "Frame height in pixels");
   command.add_option("--repeats", options.repeats, "Timed runs per method and cell (median reported)");
-  command.add_option("--json", options.json, "Write the full results as JSON");
-  command.add_option("--out-dir", options.out_dir,
-                     "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here");
+  add_output_option(command, "--json", options.json, "Write the full results as JSON", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(command, "--out-dir", options.out_dir,
+                    "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here", {{OutputKind::folder}, kWritesIntoAFolder});
   command.add_option("--device", options.device, "Vulkan device: index or part of its name (fovlab devices)");
   command.add_flag("--require-gpu", options.require_gpu,
                    "Refuse to run on a CPU Vulkan device (lavapipe): exit 2 on a node without a GPU");

@@ -20,6 +20,7 @@
 #include "app/commands.h"
 #include "app/display_flags.h"
 #include "app/foveation_flags.h"  // display_flags_text
+#include "app/output_options.h"
 #include "bench/fpt_timing.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
@@ -199,7 +200,7 @@ void add_bench_fpt_command(CLI::App& app) {
   command->add_option("--path-height", options->path_height, "Path-traced frame height (144)");
   command->add_option("--path-samples", options->path_samples, "Samples per pixel (128)");
   command->add_option("--path-bounces", options->path_bounces, "Bounces (32)");
-  command->add_option("--json", options->json, "Write every figure as JSON");
+  add_output_option(*command, "--json", options->json, "Write every figure as JSON", {{OutputKind::file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->callback([options] { run_bench_fpt(*options); });
 }

@@ -14,6 +14,7 @@
 
 #include "app/bench_outputs.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "bench/bench_parts.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
@@ -46,12 +47,7 @@ void run_bench_merge(const BenchMergeOptions& options) {
   std::vector<bench::PartReport> parts;
   for (const std::string& path : options.parts) parts.push_back(read_part(path));
   nlohmann::json report = bench::merge_bench_parts(parts);
-  if (!options.json.empty()) check_output_path(options.json, "--json");
-  if (!options.out_dir.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(options.out_dir, error);
-    check_output_path(options.out_dir / "table.md", "--out-dir");
-  }
+  if (!options.out_dir.empty()) create_output_folder(options.out_dir, "--out-dir");
   std::printf("fovlab bench-merge: %zu parts, %zu (scene, time, spp) units, %zu cells, measured on %s\n", parts.size(),
               report["rows"].size(), report["cells"].size(), report["device"].get<std::string>().c_str());
   finish_sweep(report, false, options.json, options.out_dir);
@@ -64,8 +60,8 @@ void add_bench_merge_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "bench-merge", "Join the parts of a sweep run with bench --cells I/N into one report (JSON, tables, charts)");
   command->add_option("parts", options->parts, "Every part's JSON (bench --cells I/N --json), in any order")->required();
-  command->add_option("--json", options->json, "Write the sweep's JSON, as one run of bench --json writes it");
-  command->add_option("--out-dir", options->out_dir, "Write bench.json, table.md and the Pareto charts (SVG) here");
+  add_output_option(*command, "--json", options->json, "Write the sweep's JSON, as one run of bench --json writes it", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--out-dir", options->out_dir, "Write bench.json, table.md and the Pareto charts (SVG) here", {{OutputKind::folder}, kWritesIntoAFolder});
   command->callback([options] { run_bench_merge(*options); });
 }
 

@@ -27,6 +27,7 @@
 #include "analysis/statistics/percentile.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
 #include "protocols/gaze/gaze_sample.h"
@@ -273,7 +274,7 @@ void add_bench_present_command(CLI::App& app) {
   command->add_option("--presenter", options->presenter,
                       "window, headless or both (both; the window needs a display: xvfb-run -a -s -noreset without one)");
   command->add_option("--scene", options->scene, "Sphere-traced scene of the FIPR stimulus (primitives)");
-  command->add_option("--json", options->json, "Write every figure as JSON");
+  add_output_option(*command, "--json", options->json, "Write every figure as JSON", {{OutputKind::file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device for rendering: index or part of its name");
   command->callback([options] { run_bench_present(*options); });
 }

@@ -15,6 +15,7 @@
 #include "app/commands.h"
 #include "app/display_flags.h"
 #include "app/foveation_flags.h"  // display_flags_text
+#include "app/output_options.h"
 #include "bench/volume_bench.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
@@ -54,8 +55,6 @@ void run_bench_volume(BenchVolumeOptions options) {
   if (options.frames < 1 || options.frames > 1000) throw InputError("--frames: expected 1 to 1000");
   if (!(options.sigma_deg > 0.0 && options.sigma_deg <= 90.0)) throw InputError("--sigma-deg: expected a radius in degrees in (0, 90]");
   if (!options.display.gaze.empty()) throw InputError("--gaze: the benchmark draws its own gazes (--gazes, --seed)");
-  if (!options.json.empty()) check_output_path(options.json, "--json");
-  if (!options.svg.empty()) check_output_path(options.svg, "--svg");
   default_to_seed001_display(options.display);
   bench::VolumeBenchPlan plan;
   std::stringstream names(options.scenes);
@@ -106,8 +105,8 @@ void add_bench_volume_command(CLI::App& app) {
   command->add_option("--sigma-deg", options->sigma_deg, "Radius s of the sampling density's Gaussian, degrees (2.5)");
   command->add_flag("--no-opacity-correction", options->uncorrected, "The authors' uncorrected peripheral opacity");
   add_display_flags(*command, options->display, false);
-  command->add_option("--json", options->json, "Every figure as JSON");
-  command->add_option("--svg", options->svg, "The speed-ups' box plot (SVG)");
+  add_output_option(*command, "--json", options->json, "Every figure as JSON", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--svg", options->svg, "The speed-ups' box plot (SVG)", {{OutputKind::file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->callback([options] { run_bench_volume(*options); });
 }

@@ -15,6 +15,7 @@
 #include "app/commands.h"
 #include "app/display_flags.h"
 #include "bench/fpt_timing.h"
+#include "app/output_options.h"
 #include "app/render_outputs.h"
 #include "core/colour.h"
 #include "core/image_io.h"
@@ -56,8 +57,6 @@ Image zones_over_frame(const Image& zones, const Image& frame_display) {
 
 void run_blend(BlendOptions options) {
   const std::string assumed_display = default_to_seed001_display(options.display);
-  check_image_output_path(options.out, "--out");
-  if (!options.zones_out.empty()) check_image_output_path(options.zones_out, "--zones-out");
   if (options.repeats < 0 || options.repeats > 1000)
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 0 to 1000");
   const Image frame = read_image(options.frame);
@@ -110,8 +109,8 @@ void add_blend_command(CLI::App& app) {
   command->add_option("--foveal-deg", options->foveal_deg, "Foveal zone, full aperture in degrees")->required();
   command->add_option("--middle-deg", options->middle_deg, "Middle zone, full aperture (default foveal + 52.5)");
   command->add_option("--band-deg", options->band_deg, "Width of the linear band at each boundary (default 1)");
-  command->add_option("--out", options->out, "Blended image (.png: sRGB, .exr: linear)")->required();
-  command->add_option("--zones-out", options->zones_out, "Picture of the zones over the frame");
+  add_output_option(*command, "--out", options->out, "Blended image (.png: sRGB, .exr: linear)", {{OutputKind::image_file}, kReplacesAFile})->required();
+  add_output_option(*command, "--zones-out", options->zones_out, "Picture of the zones over the frame", {{OutputKind::image_file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->add_option("--repeats", options->repeats, "Also time the blend against a plain copy, N times");
   command->callback([options] { run_blend(*options); });

@@ -5,6 +5,10 @@
 
 namespace fovlab::app {
 
+// Every subcommand below, in the order --help lists them (app/commands.cpp): the whole command line,
+// which main() parses and the tests read (tests/app/output_guard_cli_test.cpp).
+void add_commands(CLI::App& app);
+
 void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
 #include "study/log/event_log.h"
@@ -12,6 +13,10 @@
 
 namespace fovlab::app {
 namespace {
+
+// Export writes trials.csv and steps.csv beside the log it reads by default: the only files of a
+// participant's folder that a command other than the session writes.
+const OutputTarget kExportTarget{OutputKind::file, {"trials.csv", "steps.csv"}};
 
 struct ExportArguments {
   std::string input;
@@ -31,6 +36,9 @@ void export_trials(const ExportArguments& arguments) {
   const fs::path steps_out = fs::path(out).parent_path() / (fs::path(out).stem().string() == "trials"
                                                                 ? std::string("steps.csv")
                                                                 : fs::path(out).stem().string() + "_steps.csv");
+  const std::string flag = arguments.out.empty() ? "" : "--out";
+  check_output_target(out, flag, kExportTarget);
+  check_output_target(steps_out, flag, kExportTarget);
   if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
   const ExportedCsv csv = export_session_csvs(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
@@ -55,10 +63,11 @@ void add_export_command(CLI::App& app) {
   CLI::App* command =
       app.add_subcommand("export", "Write trials.csv (one row a trial) and steps.csv (ramp steps, slider actions) from session logs");
   command->add_option("logs", arguments->input, "A session log, or a results folder (every events.jsonl under it)")->required();
-  command->add_option("--out", arguments->out,
-                      "CSV file (default: trials.csv beside the log or in the folder); ramp steps and slider actions "
-                      "go to steps.csv beside it (NAME_steps.csv for another name)");
-  command->add_flag("--force", arguments->force, "Replace an existing CSV");
+  add_output_option(*command, "--out", arguments->out,
+                    "CSV file (default: trials.csv beside the log or in the folder); ramp steps and slider actions "
+                    "go to steps.csv beside it (NAME_steps.csv for another name)",
+                    {kExportTarget, "an existing file is replaced only with --force"});
+  command->add_flag("--force", arguments->force, "Replace an existing CSV (never a session's file)");
   command->add_flag("--include-broken", arguments->include_broken,
                     "Export logs whose chain or seal is broken too (their rows say log_status broken)");
   command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");

@@ -15,29 +15,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   app.set_version_flag("--version", "fovlab " FOVLAB_VERSION);
-  fovlab::app::add_render_command(app);
-  fovlab::app::add_compare_command(app);
-  fovlab::app::add_bench_command(app);
-  fovlab::app::add_bench_merge_command(app);
-  fovlab::app::add_bench_fpt_command(app);
-  fovlab::app::add_bench_present_command(app);
-  fovlab::app::add_devices_command(app);
-  fovlab::app::add_methods_command(app);
-  fovlab::app::add_run_command(app);
-  fovlab::app::add_validate_command(app);
-  fovlab::app::add_replay_command(app);
-  fovlab::app::add_export_command(app);
-  fovlab::app::add_analyze_command(app);
-  fovlab::app::add_rays_command(app);
-  fovlab::app::add_upsample_command(app);
-  fovlab::app::add_blend_command(app);
-  fovlab::app::add_resample_command(app);
-  fovlab::app::add_voronoi_command(app);
-  fovlab::app::add_bench_volume_command(app);
-  fovlab::app::add_prerender_command(app);
-  fovlab::app::add_slurm_command(app);
-  fovlab::app::add_binomial_command(app);
-  fovlab::app::add_simulate_command(app);
+  fovlab::app::add_commands(app);
   // A first word that is neither a flag nor a subcommand is named as such (CLI11 would say only that
   // a subcommand is required).
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; }).empty()) {

@@ -20,6 +20,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
+#include "app/output_options.h"
 #include "app/prerender_jobs.h"
 #include "core/input_error.h"
 #include "study/config/study_config.h"
@@ -102,6 +103,7 @@ void verify_frames(const PrerenderOptions& options, const Shard& shard, const st
 }
 
 void run_prerender(const PrerenderOptions& options) {
+  check_output_target(options.cache, "--cache", {OutputKind::folder});  // the default's too
   const Shard shard = parse_shard(options.shard);
   const std::vector<PathTraceFrameJob> all_jobs = prerender_frame_jobs(options.config);
   std::vector<PathTraceFrameJob> jobs;
@@ -166,7 +168,8 @@ void add_prerender_command(CLI::App& app) {
   command->add_option("config", options->config, "Study config (TOML) with pt or fpt stimuli")->required();
   command->add_option("--shard", options->shard, "I/N: render frames I, I + N, I + 2N, ... of the list (default 0/1)");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
-  command->add_option("--cache", options->cache, "Pre-render cache folder (default stimuli/cache under the working directory)");
+  add_output_option(*command, "--cache", options->cache, "Pre-render cache folder (default stimuli/cache under the working directory)",
+                    {{OutputKind::folder}, kCacheFolder});
   command->add_flag("--verify", options->verify,
                     "Render nothing: check that every frame (of the shard) is there and matches its .sha256; list "
                     "those that do not and exit 1");

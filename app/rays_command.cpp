@@ -19,6 +19,7 @@
 #include "analysis/report/svg_chart.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
+#include "app/output_options.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
@@ -132,8 +133,6 @@ void run_rays(const RaysOptions& options) {
   const std::vector<double> foveal = parse_angles("--foveal-deg", options.foveal_deg);
   const std::vector<double> middle = parse_angles("--middle-deg", options.middle_deg);
   const auto [gaze_x, gaze_y] = parse_gaze(options.display.gaze, width_px, height_px);
-  if (!options.json.empty()) check_output_path(options.json, "--json");
-  if (!options.svg.empty()) check_output_path(options.svg, "--svg");
 
   const std::vector<analysis::RayCell> cells = analysis::count_ray_grid(display, gaze_x, gaze_y, foveal, middle);
   print_table(display, gaze_x, gaze_y, foveal, middle, cells);
@@ -168,8 +167,8 @@ void add_rays_command(CLI::App& app) {
       ->required();
   command->add_option("--middle-deg", options->middle_deg, "Middle zone angles, full aperture in degrees, e.g. 50,60")
       ->required();
-  command->add_option("--json", options->json, "Also write the cells as JSON to this file");
-  command->add_option("--svg", options->svg, "Also draw the speed-ups as a heat map (SVG) to this file");
+  add_output_option(*command, "--json", options->json, "Also write the cells as JSON to this file", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--svg", options->svg, "Also draw the speed-ups as a heat map (SVG) to this file", {{OutputKind::file}, kReplacesAFile});
   command->callback([options] { run_rays(*options); });
 }
 

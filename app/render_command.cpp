@@ -12,6 +12,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/foveation_flags.h"
+#include "app/output_options.h"
 #include "app/render_outputs.h"
 #include "app/render_volume.h"
 #include "app/sampling_flags.h"
@@ -102,15 +103,8 @@ void run_render(const RenderOptions& options) {
                     "--width x --height = " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
                         " (--method " + method_name(settings.method) + ")",
                     "lower --width and --height");
-  check_image_output_path(options.out, "--out");
-  if (!options.steps_out.empty()) check_image_output_path(options.steps_out, "--steps-out");
-  if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");
-  if (!options.mask_out.empty()) {
-    if (!foveated && !model)
-      throw InputError("--mask-out: only FIPR and the sampling models have a foveation mask (--method fipr, rmfr, hyperbolic, linear, kfr)");
-    check_image_output_path(options.mask_out, "--mask-out");
-  }
-  if (!options.density_out.empty()) check_image_output_path(options.density_out, "--density-out");
+  if (!options.mask_out.empty() && !foveated && !model)
+    throw InputError("--mask-out: only FIPR and the sampling models have a foveation mask (--method fipr, rmfr, hyperbolic, linear, kfr)");
 
   const SceneSource scene = load_scene(options.scene);
   vk::Context context(context_options(options.device));
@@ -171,16 +165,17 @@ void add_render_command(CLI::App& app) {
   command->add_option("--width", options->settings.width, "Frame width in pixels")->required();
   command->add_option("--height", options->settings.height, "Frame height in pixels")->required();
   command->add_option("--spp", options->settings.samples_per_pixel, "Samples per pixel: 1, 4 or 16");
-  command->add_option("--out", options->out, "Image to write (.png: sRGB, .exr: linear)")->required();
-  command->add_option("--steps-out", options->steps_out, "Step-count heat map to write (blue 1 step, red cap)");
-  command->add_option("--stats-json", options->stats_json, "Statistics of the frame as JSON");
+  add_output_option(*command, "--out", options->out, "Image to write (.png: sRGB, .exr: linear)", {{OutputKind::image_file}, kReplacesAFile})->required();
+  add_output_option(*command, "--steps-out", options->steps_out, "Step-count heat map to write (blue 1 step, red cap)", {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--stats-json", options->stats_json, "Statistics of the frame as JSON", {{OutputKind::file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->add_option("--frames", options->frames, "Frames to render in sequence (the last is written)");
   command->add_option("--frame-rate", options->frame_rate_hz, "Frames per second of scene time in a sequence");
-  command->add_option("--mask-out", options->mask_out,
-                      "Foveation mask image to write (FIPR: white where traced in full; sampling models: samples per pixel, white 1 or more)");
-  command->add_option("--density-out", options->density_out,
-                      "Sampling models: image of the sampling density (samples per pixel; white 1 or more, log scale below)");
+  add_output_option(*command, "--mask-out", options->mask_out,
+                    "Foveation mask image to write (FIPR: white where traced in full; sampling models: samples per pixel, white 1 or more)",
+                    {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--density-out", options->density_out,
+                    "Sampling models: image of the sampling density (samples per pixel; white 1 or more, log scale below)", {{OutputKind::image_file}, kReplacesAFile});
   add_trace_options(*command, options->settings);
   add_foveation_flags(*command, options->foveation, FoveationPoint::single);
   add_sampling_flags(*command, options->sampling);

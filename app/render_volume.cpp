@@ -27,12 +27,8 @@ void run_render_volume(const VolumeRenderOptions& options) {
   if (!(options.step_voxels >= 0.05 && options.step_voxels <= 16.0)) throw InputError("--step-voxels: expected 0.05 to 16 voxels");
   if (!(options.sigma_deg > 0.0 && options.sigma_deg <= 90.0)) throw InputError("--sigma-deg: expected a radius in degrees in (0, 90]");
   if (!std::isfinite(options.time_s)) throw InputError("--time: expected a finite scene time in seconds");
-  check_image_output_path(options.out, "--out");
-  if (!options.mask_out.empty()) {
-    if (!options.foveated) throw InputError("--mask-out: only fvolume has a sampling mask; add --method fvolume");
-    check_image_output_path(options.mask_out, "--mask-out");
-  }
-  if (!options.stats_json.empty()) check_output_path(options.stats_json, "--stats-json");
+  if (!options.mask_out.empty() && !options.foveated)
+    throw InputError("--mask-out: only fvolume has a sampling mask; add --method fvolume");
   DisplayFlags display_flags = options.display;
   const std::string assumed_display = default_to_seed001_display(display_flags);
   const DisplayGeometry display = parse_display(display_flags, options.width_px, options.height_px);

@@ -14,6 +14,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/display_flags.h"
+#include "app/output_options.h"
 #include "app/render_outputs.h"
 #include "app/sampling_flags.h"
 #include "bench/bench_runs.h"
@@ -52,9 +53,6 @@ void run_resample(ResampleOptions options) {
   if (!model) throw std::logic_error("resample: --method is checked by CLI11");
   refuse_flags_unused_by(options.sampling_flags_given, {*model});
   const std::string assumed_display = default_to_seed001_display(options.display);
-  check_image_output_path(options.out, "--out");
-  if (!options.mask_out.empty()) check_image_output_path(options.mask_out, "--mask-out");
-  if (!options.density_out.empty()) check_image_output_path(options.density_out, "--density-out");
   if (options.repeats < 1 || options.repeats > 1000)
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
   Image frame = read_image(options.frame);
@@ -122,10 +120,11 @@ void add_resample_command(CLI::App& app) {
   add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (seed 001's frames)
   command->get_option("--gaze")->description("Gaze point X,Y in pixels, or each in percent of the frame (default: the centre)");
   add_sampling_flags(*command, options->sampling);
-  command->add_option("--out", options->out, "Resampled image (.png: sRGB, .exr: linear)")->required();
-  command->add_option("--mask-out", options->mask_out, "Samples per pixel (white 1 or more)");
-  command->add_option("--density-out", options->density_out,
-                      "The model's sampling density (samples per pixel; white 1 or more, log scale below)");
+  add_output_option(*command, "--out", options->out, "Resampled image (.png: sRGB, .exr: linear)", {{OutputKind::image_file}, kReplacesAFile})->required();
+  add_output_option(*command, "--mask-out", options->mask_out, "Samples per pixel (white 1 or more)", {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--density-out", options->density_out,
+                    "The model's sampling density (samples per pixel; white 1 or more, log scale below)",
+                    {{OutputKind::image_file}, kReplacesAFile});
   command->add_option("--repeats", options->repeats, "Run the passes N times; the median GPU time is printed");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->callback([options, command] {

@@ -11,6 +11,7 @@
 #include "analysis/statistics/percentile.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "core/input_error.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "study/config/study_config.h"
@@ -107,19 +108,22 @@ void add_run_command(CLI::App& app) {
                       "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
                       "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: mouse, or synthetic headless; "
                       "the trace format and the options: docs/gaze.md)");
-  CLI::Option* results = command->add_option(
-      "--results", options->session.results_dir,
+  CLI::Option* results = add_output_option(
+      *command, "--results", options->session.results_dir,
       "Results folder (default: results, and results/simulated for a simulated observer, so that pilots never share a "
-      "folder with real participants)");
+      "folder with real participants)",
+      {{OutputKind::folder}, "made when missing; a session writes only its own participant's folder in it"});
   command->add_option("--field", options->fields,
                       "NAME=VALUE: a [participant] field of the config (age, handedness, ...); repeat for each. A "
                       "human at a terminal is asked for the others");
-  command->add_option("--cache", options->session.cache_dir,
-                      "Pre-render cache of path-traced frames and Voronoi masks (default stimuli/cache under the "
-                      "working directory)");
-  command->add_option("--screenshots", options->session.screenshots_dir,
-                      "Save the first screen of each kind here as PNG, headless too: instructions, fixation, "
-                      "stimulus, question, break and break_end, rest and rest_end, end, excluded");
+  add_output_option(*command, "--cache", options->session.cache_dir,
+                    "Pre-render cache of path-traced frames and Voronoi masks (default stimuli/cache under the "
+                    "working directory)",
+                    {{OutputKind::folder}, kCacheFolder});
+  add_output_option(*command, "--screenshots", options->session.screenshots_dir,
+                    "Save the first screen of each kind here as PNG, headless too: instructions, fixation, "
+                    "stimulus, question, break and break_end, rest and rest_end, end, excluded",
+                    {{OutputKind::folder}, kWritesIntoAFolder});
   command->add_option("--device", options->device,
                       "Vulkan device that renders and, in a window, presents: index or part of its name");
   command->add_option("--present-device", options->session.present_device_selector,

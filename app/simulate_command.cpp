@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "bench/procedure_simulation.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
@@ -115,7 +116,7 @@ void add_simulate_command(CLI::App& app) {
                       "Each adaptive procedure's max_trials, comma-separated: one simulation per value")
       ->delimiter(',');
   command->add_option("--threads", options->threads, "Threads (default: every core)");
-  command->add_option("--json", *json_path, "Also write the table as JSON");
+  add_output_option(*command, "--json", *json_path, "Also write the table as JSON", {{OutputKind::file}, kReplacesAFile});
   command->callback([config_path, options, json_path] { simulate(*config_path, *options, *json_path); });
 
   auto levels = std::make_shared<int>(int(kQuestPlusMaxLevels));

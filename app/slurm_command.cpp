@@ -29,6 +29,7 @@
 #include "app/bench_plan.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "app/prerender_jobs.h"
 #include "core/atomic_file.h"
 #include "core/file_bytes.h"
@@ -200,9 +201,8 @@ void write_job(const SlurmOptions& options, const std::string& invocation, const
                        "merge=${merge%%;*}\n"
                        "echo \"array ${array} merge ${merge}\" >> submitted.txt\n"
                        "echo \"submitted: array job ${array} (" + tasks + " tasks), merge job ${merge} after it; logs in $(pwd)/logs\"\n";
+  create_output_folder(out / "logs", "--out");
   std::error_code error;
-  fs::create_directories(out / "logs", error);
-  if (error) throw InputError("--out " + out.string() + ": cannot create the folder (" + error.message() + ")");
   write_text_atomically(out / "array.sbatch", array);
   write_text_atomically(out / "merge.sbatch", merge);
   write_text_atomically(out / "submit.sh", submit);
@@ -265,7 +265,8 @@ void add_slurm_flags(CLI::App& command, SlurmOptions& options) {
                      "Times a task killed by a signal requeues itself and resumes (default 3)");
   command.add_flag("--allow-lavapipe", options.allow_lavapipe,
                    "Let tasks render on a CPU Vulkan device (lavapipe) where a node has no GPU; default: refuse");
-  command.add_option("--out", options.out, "Folder for the scripts and logs (default slurm/<config name>-prerender, or slurm/bench)");
+  add_output_option(command, "--out", options.out,
+                    "Folder for the scripts and logs (default slurm/<config name>-prerender, or slurm/bench)", {{OutputKind::folder}, kWritesIntoAFolder});
   command.add_option("--fovlab", options.fovlab, "The fovlab binary the tasks run (default this one)");
   command.add_flag("--submit", options.submit, "Submit with sbatch (submit.sh) once written");
 }
@@ -361,8 +362,8 @@ void add_slurm_command(CLI::App& app) {
   CLI::App* prerender_command = slurm->add_subcommand(
       "prerender", "Write (and --submit) a job array whose task I runs fovlab prerender CONFIG --shard I/N, then --verify");
   prerender_command->add_option("config", prerender->config, "Study config (TOML) with pt or fpt stimuli")->required();
-  prerender_command->add_option("--cache", prerender->cache,
-                                "Pre-render cache folder, on a file system every node shares (default stimuli/cache)");
+  add_output_option(*prerender_command, "--cache", prerender->cache,
+                    "Pre-render cache folder, on a file system every node shares (default stimuli/cache)", {{OutputKind::folder}, kCacheFolder});
   prerender_command->add_option("--device", prerender->device, "Vulkan device of each task: index or part of its name");
   add_slurm_flags(*prerender_command, prerender->slurm);
   prerender_command->callback([prerender] { run_slurm_prerender(*prerender); });

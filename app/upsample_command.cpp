@@ -12,6 +12,7 @@
 
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "bench/fpt_timing.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
@@ -42,7 +43,6 @@ void run_upsample(const UpsampleOptions& options) {
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
   if (options.against_oiio && filter != UpsampleFilter::lanczos3)
     throw InputError("--against-oiio: compares Lanczos-3 only; leave --filter at lanczos3");
-  check_image_output_path(options.out, "--out");
   const Image image = read_image(options.in);
   if (image.channels < 1 || image.channels > 4)
     throw InputError(options.in.string() + ": " + std::to_string(image.channels) + " channels; expected 1 to 4");
@@ -73,7 +73,7 @@ void add_upsample_command(CLI::App& app) {
   command->add_option("--factor", options->factor, "Factor per axis: 2 or 4")->required();
   command->add_option("--filter", options->filter, "lanczos3 (default), bilinear or nearest")
       ->check(CLI::IsMember({"lanczos3", "bilinear", "nearest"}));
-  command->add_option("--out", options->out, "Image to write")->required();
+  add_output_option(*command, "--out", options->out, "Image to write", {{OutputKind::image_file}, kReplacesAFile})->required();
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->add_option("--repeats", options->repeats, "Timed runs (the median is printed)");
   command->add_flag("--against-oiio", options->against_oiio,

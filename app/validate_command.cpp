@@ -9,6 +9,7 @@
 
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/output_options.h"
 #include "renderer/vk/context.h"
 #include "study/config/study_config.h"
 #include "study/schedule/study_plan.h"
@@ -103,6 +104,7 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
 
 void validate(const std::string& config_path, const std::string& participant, bool time_render,
               const std::string& device, const std::string& cache_dir) {
+  check_output_target(cache_dir, "--cache", {OutputKind::folder});  // the default's too: the timed sample may fill it
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, participant);
   const std::vector<StimulusSpec> specs = planned_specs(plan);
@@ -156,7 +158,8 @@ void add_validate_command(CLI::App& app) {
                     "Skip the quick timed sample that estimates the render time before the first trial");
   command->add_option("--device", *device, "Vulkan device of the timed sample: index or part of its name");
   auto cache = std::make_shared<std::string>(kDefaultCacheRoot.string());
-  command->add_option("--cache", *cache, "Pre-render cache whose path-traced frames count as done (default stimuli/cache)");
+  add_output_option(*command, "--cache", *cache, "Pre-render cache whose path-traced frames count as done (default stimuli/cache)",
+                    {{OutputKind::folder}, kCacheFolder});
   command->callback([config_path, participant, no_timing, device, cache] {
     validate(*config_path, *participant, !*no_timing, *device, *cache);
   });

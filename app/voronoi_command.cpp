@@ -9,6 +9,7 @@
 
 #include "app/commands.h"
 #include "app/display_flags.h"
+#include "app/output_options.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
@@ -40,8 +41,6 @@ float cell_channel(uint32_t cell, int channel) {
 void run_voronoi(VoronoiOptions options) {
   if (options.width_px < 1 || options.width_px > 4096 || options.height_px < 1 || options.height_px > 4096)
     throw InputError("--width, --height: expected 1 to 4096 pixels (the mask is twice the screen per axis)");
-  if (!options.sites_out.empty()) check_image_output_path(options.sites_out, "--out-sites");
-  if (!options.cells_out.empty()) check_image_output_path(options.cells_out, "--out-cells");
   if (!options.display.gaze.empty())
     throw InputError("--gaze: the mask is made once, centred; a session shifts it to each gaze sample");
   const std::string assumed_display = default_to_seed001_display(options.display);
@@ -107,8 +106,8 @@ void add_voronoi_command(CLI::App& app) {
   command->add_option("--sigma-deg", options->sigma_deg, "Phi's Gaussian radius in degrees of visual angle (default 2.5)");
   command->add_option("--sigma-px", options->sigma_px, "Phi's Gaussian radius in pixels, instead of --sigma-deg");
   command->add_option("--seed", options->seed, "Seed of the initial sites (default 1)");
-  command->add_option("--out-sites", options->sites_out, "The sites as black dots on white (PNG)");
-  command->add_option("--out-cells", options->cells_out, "The Voronoi cells in colours, the sites in black (PNG)");
+  add_output_option(*command, "--out-sites", options->sites_out, "The sites as black dots on white (PNG)", {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--out-cells", options->cells_out, "The Voronoi cells in colours, the sites in black (PNG)", {{OutputKind::image_file}, kReplacesAFile});
   command->callback([options] { run_voronoi(*options); });
 }
 

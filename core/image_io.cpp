@@ -34,30 +34,6 @@ Image read_image(const std::filesystem::path& path) {
   return image;
 }
 
-void check_output_path(const std::filesystem::path& path, const char* flag_name) {
-  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw InputError(std::string(flag_name) + " " + path.string() + ": is a folder; expected a file path");
-  }
-  if (!std::filesystem::is_directory(folder, error)) {
-    throw InputError(std::string(flag_name) + " " + path.string() + ": folder " + folder.string() +
-                     " does not exist");
-  }
-  if (::access(folder.c_str(), W_OK) != 0) {
-    throw InputError(std::string(flag_name) + " " + path.string() + ": folder " + folder.string() +
-                     " is not writable");
-  }
-}
-
-void check_image_output_path(const std::filesystem::path& path, const char* flag_name) {
-  check_output_path(path, flag_name);
-  if (!OIIO::ImageOutput::create(path.string())) {
-    throw InputError(std::string(flag_name) + " " + path.string() +
-                     ": unknown image format; expected a .png, .exr or other OpenImageIO extension");
-  }
-}
-
 void write_image(const std::filesystem::path& path, const Image& image) {
   const bool floating_point = lower_extension(path) == ".exr";
   const OIIO::TypeDesc file_type = floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;

@@ -20,11 +20,4 @@ Image read_image(const std::filesystem::path& path);
 // InputError naming the path when it cannot be written.
 void write_image(const std::filesystem::path& path, const Image& image);
 
-// Throws InputError if `path` could not be created (missing folder, not writable, is a folder).
-// Called before long work so a bad --out fails at once rather than after the render.
-void check_output_path(const std::filesystem::path& path, const char* flag_name);
-
-// check_output_path, and the extension names a format OpenImageIO can write.
-void check_image_output_path(const std::filesystem::path& path, const char* flag_name);
-
 }  // namespace fovlab

@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace fovlab {
@@ -14,6 +15,17 @@ namespace fovlab {
 inline void test_pause_point(std::string_view point) {
   const char* pause_at = std::getenv("FOVLAB_TEST_PAUSE_AT");
   if (pause_at && point == pause_at) ::raise(SIGSTOP);
+}
+
+// The same at a counted point: FOVLAB_TEST_PAUSE_AT=trial_end:3 stops a run once its third trial is
+// on disk (a session that stays live, its log open, while a test acts on its folder).
+inline void test_pause_point(std::string_view point, long count) {
+  const char* pause_at = std::getenv("FOVLAB_TEST_PAUSE_AT");
+  if (!pause_at) return;
+  const std::string_view wanted(pause_at);
+  if (wanted.size() > point.size() && wanted.starts_with(point) && wanted[point.size()] == ':' &&
+      wanted.substr(point.size() + 1) == std::to_string(count))
+    ::raise(SIGSTOP);
 }
 
 // Test-only: FOVLAB_TEST_CLOSE_AT_S=T makes a headless presenter report its window closed once its

@@ -14,6 +14,8 @@
 
 #include "core/atomic_file.h"
 #include "core/input_error.h"
+#include "core/output_guard.h"
+#include "core/session_files.h"
 #include "core/test_pause.h"
 #include "protocols/gaze/gaze_source.h"
 #include "protocols/gaze/gaze_spec.h"
@@ -52,7 +54,7 @@ std::string utc_now() {
 std::string set_torn_tail_aside(const EventLogFile& log) {
   std::string aside;
   for (int n = 1;; ++n) {
-    aside = log.path + ".torn-" + std::to_string(n);
+    aside = set_aside_path(log.path, SetAside::torn, n).string();
     if (!fs::exists(fs::symlink_status(aside))) break;
   }
   {
@@ -90,18 +92,34 @@ ScheduleCheck check_trials_against_plan(const SessionRecord& record, const Study
   return check;
 }
 
-// Whether `directory` can be made and written, without making it: its nearest existing ancestor
-// must be a writable folder.
-void check_creatable_directory(const fs::path& directory) {
-  fs::path existing = fs::absolute(directory);
-  std::error_code error;
-  while (!fs::exists(existing, error) && existing.has_parent_path() && existing != existing.parent_path())
-    existing = existing.parent_path();
-  if (!fs::is_directory(existing, error))
-    throw InputError(directory.string() + ": cannot create the results folder (" + existing.string() +
-                     " is not a folder)");
-  if (::access(existing.c_str(), W_OK) != 0)
-    throw InputError(directory.string() + ": the results folder is not writable (" + existing.string() + ")");
+// A session that found its log replaced under it copied its events to events.jsonl.recovered-N
+// (study/log/event_log.h): that copy becomes the log again, and whatever another program left at
+// the log's name is kept beside it as events.jsonl.replaced-N. The caller holds the lock.
+void restore_recovered_log(const std::string& log_path) {
+  const fs::path log(log_path);
+  std::vector<fs::path> copies;
+  for (int number = 1; number < 1000; ++number) {
+    const fs::path copy = set_aside_path(log, SetAside::recovered, number);
+    if (fs::exists(fs::symlink_status(copy))) copies.push_back(copy);
+  }
+  if (copies.empty()) return;
+  if (copies.size() > 1)
+    throw InputError(log_path + ": " + std::to_string(copies.size()) + " recovered copies of the log are beside it (" +
+                     copies.front().filename().string() + ", " + copies[1].filename().string() +
+                     "...); keep the one to resume from and move the others away");
+  std::string kept;
+  if (fs::exists(fs::symlink_status(log))) {
+    fs::path aside;
+    for (int number = 1; fs::exists(fs::symlink_status(aside = set_aside_path(log, SetAside::replaced, number))); ++number) {
+    }
+    if (::rename(log.c_str(), aside.c_str()) != 0) throw FileError(log_path, "setting the replacement aside", errno);
+    kept = "; what was at its name is kept as " + aside.string();
+  }
+  if (::rename(copies.front().c_str(), log.c_str()) != 0)
+    throw FileError(copies.front().string(), "renaming the recovered copy to the log", errno);
+  fsync_directory(log.parent_path());
+  std::fprintf(stderr, "fovlab: %s: resumed from %s, the events a session kept when its log was replaced%s\n",
+               log_path.c_str(), copies.front().filename().string().c_str(), kept.c_str());
 }
 
 // A session that ended but was killed before its seal was written: the seal is all that is
@@ -139,7 +157,7 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 }  // namespace
 
 std::string session_log_path(const std::string& results_dir, const std::string& study, const std::string& participant) {
-  return (fs::path(results_dir) / study / participant / "events.jsonl").string();
+  return (fs::path(results_dir) / study / participant / kSessionLogName).string();
 }
 
 std::string next_participant_id(const std::string& results_dir, const std::string& study) {
@@ -182,9 +200,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
 
   // The participant's folder is locked before anything in it is read, cut or renamed, and stays
   // locked until this run exits: a second run of the participant changes nothing and exits 2.
-  check_creatable_directory(fs::path(outcome.log_path).parent_path());
+  check_output_target(options.results_dir, "--results", {OutputKind::folder});
+  check_output_target(options.cache_dir, "--cache", {OutputKind::folder});
+  if (!options.screenshots_dir.empty()) check_output_target(options.screenshots_dir, "--screenshots", {OutputKind::folder});
   const ParticipantLock lock(options.results_dir, config.name, options.participant);
   test_pause_point("locked");
+  restore_recovered_log(outcome.log_path);
 
   // An existing log: the same study and config, intact, not finished -> resume.
   std::optional<SessionRecord> record;

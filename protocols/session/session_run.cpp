@@ -9,6 +9,7 @@
 
 #include "core/number_text.h"
 #include "core/prng.h"
+#include "core/test_pause.h"
 #include "display/frame_io.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
@@ -54,7 +55,9 @@ void SessionRun::log(nlohmann::json event) {
   const bool trial_end = event_kind(event) == TrialEndEvent::kind;
   log_.append(std::move(event));
   ++events_written_;
-  if (trial_end) ++trials_completed_;
+  if (!trial_end) return;
+  ++trials_completed_;
+  test_pause_point("trial_end", trials_completed_);
 }
 
 void SessionRun::show_screen(const std::string& screen_kind, const std::function<Rgba8Frame()>& draw) {

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
 
 #include "study/log/log_events.h"
 #include "core/atomic_file.h"
@@ -18,6 +19,7 @@
 #include "core/digest.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
+#include "core/session_files.h"
 #include "study/log/log_integrity.h"
 
 namespace fovlab {
@@ -33,7 +35,8 @@ std::string event_chain(const std::string& previous_chain, const nlohmann::json&
 
 EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key)
     : path_(path), chain_(std::move(previous_chain)), next_seq_(next_seq), lab_key_(lab_key) {
-  fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  // Read and write: a log replaced under the writer is copied out of this descriptor (check_still_named).
+  fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd_ < 0) throw FileError(path, "opening the session log for writing", errno);
   // One writer a log; the participant's lock (participant_lock.h) already ensures it, this flock
   // also keeps out a fovlab older than that lock.
@@ -50,6 +53,8 @@ EventLogWriter::EventLogWriter(const std::string& path, std::string previous_cha
     throw FileError(path, "reading the session log's size", reason);
   }
   size_ = status.st_size;
+  device_ = status.st_dev;
+  inode_ = status.st_ino;
   if (size_ == 0) fsync_directory(std::filesystem::path(path).parent_path());
 }
 
@@ -87,7 +92,77 @@ void EventLogWriter::append(nlohmann::json event) {
   size_ += static_cast<off_t>(line.size());
   chain_ = chain;
   ++next_seq_;
+  check_still_named();
   seconds_writing_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+namespace {
+
+// Copies the first `size` bytes of the open file `fd` into a new file `copy` (never an existing
+// one), fsync'd with its folder entry. Returns 0, or the errno of what failed (the partial copy
+// removed).
+int copy_open_file(int fd, off_t size, const std::string& copy) {
+  const int out = ::open(copy.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (out < 0) return errno;
+  std::vector<char> buffer(1 << 16);
+  int reason = 0;
+  for (off_t done = 0; done < size && !reason;) {
+    const ssize_t got = ::pread(fd, buffer.data(), std::min<off_t>(off_t(buffer.size()), size - done), done);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) {
+      reason = got < 0 ? errno : EIO;
+      break;
+    }
+    for (ssize_t put = 0; put < got && !reason;) {
+      const ssize_t wrote = ::write(out, buffer.data() + put, size_t(got - put));
+      if (wrote < 0 && errno == EINTR) continue;
+      if (wrote < 0) reason = errno;
+      else put += wrote;
+    }
+    done += got;
+  }
+  if (!reason && ::fsync(out) != 0) reason = errno;
+  ::close(out);
+  if (reason) {
+    ::unlink(copy.c_str());
+    return reason;
+  }
+  fsync_directory(std::filesystem::path(copy).parent_path());
+  return 0;
+}
+
+}  // namespace
+
+void EventLogWriter::check_still_named() {
+  struct stat named {};
+  const bool same = ::stat(path_.c_str(), &named) == 0 && named.st_dev == device_ && named.st_ino == inode_;
+  if (same) return;
+  const std::string now_there = std::filesystem::exists(std::filesystem::symlink_status(path_))
+                                    ? "another program put another file at its name"
+                                    : "its name no longer exists (removed or moved)";
+  const std::string what = path_ + ": the session log was replaced while this session wrote it (" + now_there +
+                           "); the session stops after " + std::to_string(next_seq_) + " events";
+  // Every event is still in the file this writer holds open: copied out beside the log, the next
+  // run resumes from it.
+  int reason = ENOENT;
+  for (int number = 1; number < 1000; ++number) {
+    const std::string copy = set_aside_path(path_, SetAside::recovered, number).string();
+    reason = copy_open_file(fd_, size_, copy);
+    if (reason == EEXIST) continue;
+    if (reason == 0)
+      throw LogReplacedError(what + ". Every event it wrote is kept in " + copy +
+                                 "; run the same command again to resume from it (whatever is then at the log's name is "
+                                 "kept beside it as " +
+                                 std::string(kSessionLogName) + ".replaced-N)",
+                             copy);
+    break;
+  }
+  struct stat held {};
+  const bool still_linked = ::fstat(fd_, &held) == 0 && held.st_nlink > 0;
+  throw LogReplacedError(what + ", and copying its events out beside it failed (" + std::strerror(reason) + "): " +
+                             (still_linked ? "the file it wrote is still on disk under another name"
+                                           : "the events it wrote are lost when this process ends"),
+                         "");
 }
 
 int json_nesting_depth(std::string_view line) {

@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/input_error.h"
+
 namespace fovlab {
 
 // 4: every displayed frame sRGB8-encoded on the GPU by one encoder (the hashes of gt, ipr and fipr
@@ -44,18 +46,36 @@ class EventLogWriter {
   // Adds "seq", "chain" and, with a lab key, "mac"; writes the line and fsyncs. A `seal` event also
   // gets "last_chain". On failure (a full disk...) the file is cut back to what it was, so no
   // partial line is left, and FileError says which operation failed and why.
+  // After each fsync the log's name must still lead to the file this writer holds open: when another
+  // program replaced or removed it (a rename onto it, an editor's save), every event this writer's
+  // file holds is copied from the open descriptor to events.jsonl.recovered-N beside it (fsync'd),
+  // and LogReplacedError says where; the session stops there. The next run of the participant
+  // resumes from that copy (protocols/session/session.cpp).
   void append(nlohmann::json event);
   const std::string& path() const { return path_; }
   double seconds_writing() const { return seconds_writing_; }  // time in write + fsync so far
 
  private:
+  // Throws LogReplacedError (after the copy) when the log's name no longer leads to fd_'s file.
+  void check_still_named();
+
   std::string path_;
   int fd_ = -1;
+  dev_t device_ = 0;  // of the file opened: the name must keep leading to it
+  ino_t inode_ = 0;
   off_t size_ = 0;  // bytes on disk, all complete lines
   std::string chain_;
   int64_t next_seq_ = 0;
   const LabKey* lab_key_ = nullptr;
   double seconds_writing_ = 0.0;
+};
+
+// The session log's name led to another file (or none) while a session wrote it; the events it
+// wrote are in `recovered_copy` ("" when even the copy failed: the message says why).
+class LogReplacedError : public InputError {
+ public:
+  LogReplacedError(const std::string& message, std::string copy) : InputError(message), recovered_copy(std::move(copy)) {}
+  std::string recovered_copy;
 };
 
 // The chain value of an event (given the previous chain) in a log of this schema version, as the

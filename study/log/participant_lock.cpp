@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/input_error.h"
+#include "core/session_files.h"
 
 namespace fovlab {
 
@@ -52,7 +53,7 @@ std::string read_holder(int fd) {
 }  // namespace
 
 ParticipantLock::ParticipantLock(const fs::path& results_dir, const std::string& study, const std::string& participant)
-    : folder_(results_dir / study / participant), lock_path_(folder_ / "session.lock") {
+    : folder_(results_dir / study / participant), lock_path_(folder_ / kSessionLockName) {
   try {
     acquire(results_dir, study);
   } catch (...) {
@@ -117,7 +118,7 @@ void ParticipantLock::release() {
   // participant may be in the study folder by now).
   if (!created_.empty() && created_.back() == folder_) {
     std::error_code error;
-    const fs::path log = folder_ / "events.jsonl";
+    const fs::path log = folder_ / kSessionLogName;
     const bool no_log = !fs::exists(fs::symlink_status(log, error)) || fs::file_size(log, error) == 0;
     if (no_log) {
       if (fd_ >= 0) {

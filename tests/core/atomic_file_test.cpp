@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/image_io.h"
+#include "core/output_guard.h"
 #include "core/input_error.h"
 #include "tests/support/temp_dir.h"
 
@@ -147,9 +148,9 @@ TEST(ImageIo, PngRoundTripAndErrorsNameThePath) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("missing.png"), std::string::npos);
   }
-  EXPECT_THROW(check_output_path(folder / "no-such-folder" / "x.png", "--out"), InputError);
-  EXPECT_THROW(check_output_path(folder, "--out"), InputError);
-  EXPECT_NO_THROW(check_output_path(folder / "x.png", "--out"));
+  EXPECT_THROW(check_output_target(folder / "no-such-folder" / "x.png", "--out", {OutputKind::image_file}), InputError);
+  EXPECT_THROW(check_output_target(folder, "--out", {OutputKind::image_file}), InputError);
+  EXPECT_NO_THROW(check_output_target(folder / "x.png", "--out", {OutputKind::image_file}));
 }
 
 TEST(ContentHash, IsStableAndSeparatesParts) {
