@@ -41,14 +41,15 @@ std::string file_type_text(fs::file_type type) {
 std::string session_refusal(const fs::path& path, const OutputTarget& target) {
   const std::string name = path.filename().string();
   if (is_session_file_name(name)) return what_session_file(name);
-  if (target.kind == OutputKind::folder && is_participant_folder(path))
-    return "a participant's folder (it holds a session log or lock)";
+  if (target.kind == OutputKind::folder)
+    if (const std::string_view mark = participant_folder_mark(path); !mark.empty())
+      return "a participant's folder (it holds " + std::string(mark) + ")";
   for (fs::path folder = path.parent_path();; folder = folder.parent_path()) {
-    if (is_participant_folder(folder)) {
+    if (const std::string_view mark = participant_folder_mark(folder); !mark.empty()) {
       const auto& owned = target.owned_names_in_participant_folder;
       const bool owned_here = target.kind != OutputKind::folder && folder == path.parent_path() &&
                               std::find(owned.begin(), owned.end(), name) != owned.end();
-      if (!owned_here) return "inside the participant's folder " + folder.string() + " (it holds a session log or lock)";
+      if (!owned_here) return "inside the participant's folder " + folder.string() + " (it holds " + std::string(mark) + ")";
     }
     if (!folder.has_parent_path() || folder == folder.parent_path()) break;
   }

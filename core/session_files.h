@@ -27,13 +27,16 @@ inline std::string_view set_aside_kind_name(SetAside kind) {
   }
   return "?";
 }
-inline std::filesystem::path set_aside_path(const std::filesystem::path& log, SetAside kind, int number) {
+// "events.jsonl.<kind>-": how every such file's name starts.
+inline std::string set_aside_name_prefix(const std::filesystem::path& log, SetAside kind) {
   std::string name = log.filename().string();
   name += '.';
   name += set_aside_kind_name(kind);
   name += '-';
-  name += std::to_string(number);
-  return log.parent_path() / name;
+  return name;
+}
+inline std::filesystem::path set_aside_path(const std::filesystem::path& log, SetAside kind, int number) {
+  return log.parent_path() / (set_aside_name_prefix(log, kind) + std::to_string(number));
 }
 
 // Whether a file of this name belongs to a session wherever it is: the log, the lock, or anything
@@ -44,11 +47,13 @@ inline bool is_session_file_name(std::string_view name) {
 }
 
 // A participant's folder: one that holds a session log or a session lock (a run takes the lock
-// before it writes the first event). Symbolic links are looked at, not followed.
-inline bool is_participant_folder(const std::filesystem::path& folder) {
+// before it writes the first event). Returns the name of the file that makes it one, "" for any
+// other folder. Symbolic links are looked at, not followed.
+inline std::string_view participant_folder_mark(const std::filesystem::path& folder) {
   std::error_code error;
-  return std::filesystem::exists(std::filesystem::symlink_status(folder / kSessionLogName, error)) ||
-         std::filesystem::exists(std::filesystem::symlink_status(folder / kSessionLockName, error));
+  for (const std::string_view name : {kSessionLogName, kSessionLockName})
+    if (std::filesystem::exists(std::filesystem::symlink_status(folder / name, error))) return name;
+  return "";
 }
 
 }  // namespace fovlab

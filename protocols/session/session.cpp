@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -97,12 +98,12 @@ ScheduleCheck check_trials_against_plan(const SessionRecord& record, const Study
 // the log's name is kept beside it as events.jsonl.replaced-N. The caller holds the lock.
 void restore_recovered_log(const std::string& log_path) {
   const fs::path log(log_path);
+  const std::string prefix = set_aside_name_prefix(log, SetAside::recovered);
   std::vector<fs::path> copies;
-  for (int number = 1; number < 1000; ++number) {
-    const fs::path copy = set_aside_path(log, SetAside::recovered, number);
-    if (fs::exists(fs::symlink_status(copy))) copies.push_back(copy);
-  }
+  for (const fs::directory_entry& entry : fs::directory_iterator(log.parent_path()))
+    if (entry.path().filename().string().starts_with(prefix)) copies.push_back(entry.path());
   if (copies.empty()) return;
+  std::sort(copies.begin(), copies.end());
   if (copies.size() > 1)
     throw InputError(log_path + ": " + std::to_string(copies.size()) + " recovered copies of the log are beside it (" +
                      copies.front().filename().string() + ", " + copies[1].filename().string() +
