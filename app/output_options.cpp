@@ -18,7 +18,7 @@ CLI::Option* add(CLI::App& command, const std::string& name, Path& path, const s
   // CLI11 puts the option's name before the message ("--json: ...").
   CLI::Validator guard([target](std::string& text) { return output_target_refusal(text, "", target); }, "",
                        validator_name(target.kind));
-  return command.add_option(name, path, help + " (" + output.on_existing + ")")
+  return command.add_option(name, path, help + "; " + output.on_existing)
       ->type_name(target.kind == OutputKind::folder ? "FOLDER" : "FILE")
       ->check(guard);
 }
