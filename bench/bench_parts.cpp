@@ -63,7 +63,7 @@ void require_time(const PartReport& part, const nlohmann::json& object, const st
   const double ms = object[key].get<double>();
   if (!(std::isfinite(ms) && ms >= 0.0 && ms <= kMaxFrameGpuMs))
     throw InputError(part.path + ": " + where + "." + key + " is " + object[key].dump() +
-                     "; expected a GPU time in milliseconds from 0 to " + exact_number_text(kMaxFrameGpuMs) +
+                     "; expected a GPU time in milliseconds from 0 to " + std::to_string(int64_t(kMaxFrameGpuMs)) +
                      " (a day)");
 }
 

@@ -16,17 +16,17 @@ inline std::string format_number(double value, int significant_digits) {
   return text;
 }
 
-// The shortest text that reads back as exactly `value` (std::to_chars): a number a user gave, at the
-// precision it was given ("0.1", not "0.10000000000000001"; "1e+308", not 309 digits). For messages
-// that echo a value, and for commands that must reproduce it.
+// The fewest digits that read back as exactly `value`, in %g's notation (std::to_chars, general): a
+// number a user gave, at the precision it was given ("0.1", not "0.10000000000000001"; "0.0001";
+// "1e+308", not 309 digits). For messages that echo a value, and for commands that must reproduce it.
 inline std::string exact_number_text(double value) {
-  char text[32];  // the longest shortest form of a double is 24 characters
-  const auto result = std::to_chars(text, text + sizeof text, value);
+  char text[32];  // the longest such form of a double is 24 characters
+  const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general);
   return std::string(text, result.ptr);
 }
 inline std::string exact_number_text(float value) {
   char text[32];
-  const auto result = std::to_chars(text, text + sizeof text, value);
+  const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general);
   return std::string(text, result.ptr);
 }
 
