@@ -64,14 +64,19 @@ Methods parse_methods(const std::vector<std::string>& names) {
   return methods;
 }
 
+// The sampling models of a plan, in order, each once (RMFR's several maps, a focal sweep, are one).
+std::vector<SamplingModel> sampling_models(const BenchPlan& plan) {
+  std::vector<SamplingModel> models;
+  for (const SamplingMap& map : plan.sampling_maps)
+    if (std::find(models.begin(), models.end(), model_of(map)) == models.end()) models.push_back(model_of(map));
+  return models;
+}
+
 // "gt,ipr,fipr,rmfr,...": the methods of a plan, as --methods takes them.
 std::string methods_text(const BenchPlan& plan, bool with_ipr, bool with_fipr) {
   std::string text = with_ipr ? "gt,ipr" : "gt";
   if (with_fipr) text += ",fipr";
-  std::vector<SamplingModel> models;  // RMFR's several maps (a focal sweep) are one method
-  for (const SamplingMap& map : plan.sampling_maps)
-    if (std::find(models.begin(), models.end(), model_of(map)) == models.end()) models.push_back(model_of(map));
-  for (SamplingModel model : models) text += std::string(",") + sampling_model_name(model);
+  for (SamplingModel model : sampling_models(plan)) text += std::string(",") + sampling_model_name(model);
   return text;
 }
 
@@ -254,8 +259,9 @@ std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
   std::string text = command_text(options, join(options.scenes), join(options.spps),
                                   methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!plan.sampling_maps.empty())
-    text += " " + all_sampling_flags_text(plan.sampling, "--fx " + join_numbers(plan.focal_shares_x) + " --fy " +
-                                                             join_numbers(plan.focal_shares_y));
+    text += " " + all_sampling_flags_text(plan.sampling, sampling_models(plan),
+                                          "--fx " + join_numbers(plan.focal_shares_x) + " --fy " +
+                                              join_numbers(plan.focal_shares_y));
   if (!plan.fipr) return text + " " + display_flags_text(options.foveation.display);
   return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
          foveation_flags_text(options.foveation);
@@ -316,6 +322,10 @@ bench::SweepLayout sweep_layout(const BenchOptions& options, const BenchPlan& pl
   if (plan.ipr) layout.unit_cells.push_back({"ipr"});
   for (const FiprVariant& variant : plan.variants)
     layout.unit_cells.push_back({"fipr", variant.refresh, variant.fovea_deg, std::nullopt, std::nullopt});
+  if (!plan.sampling_maps.empty()) {
+    layout.focal_shares_x = plan.focal_shares_x;
+    layout.focal_shares_y = plan.focal_shares_y;
+  }
   for (const SamplingMap& map : plan.sampling_maps) {
     bench::PlannedCell cell{sampling_model_name(model_of(map))};
     if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {

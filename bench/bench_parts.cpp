@@ -1,5 +1,6 @@
 #include "bench/bench_parts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
@@ -218,6 +219,25 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
     if (first.report[key] != nlohmann::json(value))
       throw InputError(first.path + ": " + key + " is " + first.report[key].dump() + "; expected " +
                        std::to_string(value) + planned);
+  // What the tables and charts group the cells by: the scene times, whether FIPR was swept, RMFR's pairs.
+  nlohmann::json times_s = nlohmann::json::array();
+  for (float time_s : layout.times_s) times_s.push_back(double(time_s));
+  if (first.report["times_s"] != times_s)
+    throw InputError(first.path + ": times_s is " + first.report["times_s"].dump().substr(0, 80) + "; expected " +
+                     times_s.dump() + planned);
+  const bool fipr = std::any_of(layout.unit_cells.begin(), layout.unit_cells.end(),
+                                [](const PlannedCell& cell) { return cell.method == "fipr"; });
+  if (first.report.contains("fipr") != fipr)
+    throw InputError(first.path + ": " + (fipr ? "no \"fipr\" object" : "a \"fipr\" object") + "; expected " +
+                     (fipr ? "one: the sweep has FIPR cells" : "none: the sweep has no FIPR cell") + planned);
+  const nlohmann::json focal_shares = {{"x", layout.focal_shares_x}, {"y", layout.focal_shares_y}};
+  if (layout.focal_shares_x.empty() ? first.report.contains("sampling_focal_shares")
+                                    : first.report.value("sampling_focal_shares", nlohmann::json()) != focal_shares)
+    throw InputError(first.path + ": sampling_focal_shares is " +
+                     (first.report.contains("sampling_focal_shares") ? first.report["sampling_focal_shares"].dump().substr(0, 80)
+                                                                      : std::string("missing")) +
+                     "; expected " + (layout.focal_shares_x.empty() ? "none: the sweep has no sampling model" : focal_shares.dump()) +
+                     planned);
   std::string cell_methods;
   for (const PlannedCell& cell : layout.unit_cells) cell_methods += (cell_methods.empty() ? "" : ", ") + cell.method;
   const size_t cells_per_unit = layout.unit_cells.size();

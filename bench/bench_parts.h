@@ -45,6 +45,9 @@ struct SweepLayout {
   std::vector<float> times_s;
   std::vector<int> spps;
   std::vector<PlannedCell> unit_cells;
+  // RMFR's --fx and --fy lists (the report's "sampling_focal_shares"), empty without a sampling model.
+  std::vector<double> focal_shares_x;
+  std::vector<double> focal_shares_y;
   int width = 0;
   int height = 0;
   int repeats = 0;

@@ -140,6 +140,19 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
   }
   EXPECT_EQ(seen.size(), 6u);
   EXPECT_NE(json["command"].get<std::string>().find("--times 0,9"), std::string::npos);
+
+  // The sweep's command runs as written (it holds only the flags its models use: bench refuses the
+  // others) and measures the same cells; bench-merge plans each part's cells from it.
+  const std::string command = json["command"].get<std::string>();
+  EXPECT_EQ(command.find("--inner-radius-deg"), std::string::npos) << command;  // hyperbolic's and linear's
+  const fs::path again_path = scratch() / "models-again.json";
+  const CommandResult again = run(command.substr(std::string("fovlab ").size()) + " --json " + again_path.string());
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const nlohmann::json again_json = nlohmann::json::parse(read_all(again_path));
+  EXPECT_EQ(again_json["command"], json["command"]);
+  ASSERT_EQ(again_json["cells"].size(), json["cells"].size());
+  for (size_t i = 0; i < json["cells"].size(); ++i)
+    for (const char* key : {"method", "time_s", "spp", "scene"}) EXPECT_EQ(again_json["cells"][i][key], json["cells"][i][key]) << i;
 }
 
 // Figure 6: RMFR over a grid of focal shares, a cell a pair, heat maps and the best pair.

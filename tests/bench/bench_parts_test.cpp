@@ -36,6 +36,10 @@ nlohmann::json whole_sweep(const SweepLayout& layout) {
                            {"metrics", {{"flip_pixels_per_degree", 1.3}}}};
   const nlohmann::json runs = {{"median_gpu_ms", 2.0}, {"steps_per_pixel", 9.5}, {"capped_rays", 0},
                                {"median_pass_gpu_ms", {{"trace_level0", 2.0}}}};
+  for (const PlannedCell& planned : layout.unit_cells)
+    if (planned.method == "fipr") report["fipr"] = {{"refresh", {*planned.refresh}}, {"fovea_deg", {*planned.fovea_deg}}};
+  if (!layout.focal_shares_x.empty())
+    report["sampling_focal_shares"] = {{"x", layout.focal_shares_x}, {"y", layout.focal_shares_y}};
   report["rows"] = nlohmann::json::array();
   report["cells"] = nlohmann::json::array();
   for (int unit = 0; unit < layout.units(); ++unit) {
@@ -232,8 +236,24 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
   SweepLayout variants = layout;
   variants.unit_cells = {{"gt"}, {"fipr", 2, 7.5, std::nullopt, std::nullopt},
                          {"rmfr", std::nullopt, std::nullopt, 0.3, 0.55}};
+  variants.focal_shares_x = {0.3};
+  variants.focal_shares_y = {0.55};
   const nlohmann::json variant_whole = whole_sweep(variants);
   EXPECT_EQ(error_of({part_of(variant_whole, 0, 1)}, variants), "");
+  // What the tables group cells by is the plan's too: scene times, FIPR, RMFR's pairs.
+  PartReport other_times = part_of(variant_whole, 0, 1);
+  other_times.report["times_s"] = {0.0, 9.0};
+  EXPECT_NE(error_of({other_times}, variants).find("part-0.json: times_s is [0.0,9.0]; expected [0.0]"), std::string::npos)
+      << error_of({other_times}, variants);
+  PartReport no_fipr = part_of(variant_whole, 0, 1);
+  no_fipr.report.erase("fipr");
+  EXPECT_NE(error_of({no_fipr}, variants).find("part-0.json: no \"fipr\" object; expected one"), std::string::npos)
+      << error_of({no_fipr}, variants);
+  PartReport text_shares = part_of(variant_whole, 0, 1);
+  text_shares.report["sampling_focal_shares"] = "0.3";
+  EXPECT_NE(error_of({text_shares}, variants).find("part-0.json: sampling_focal_shares is \"0.3\"; expected {\"x\":[0.3],"),
+            std::string::npos)
+      << error_of({text_shares}, variants);
   PartReport other_fovea = part_of(variant_whole, 0, 1);
   other_fovea.report["cells"][4]["fovea_deg"] = 5.0;
   EXPECT_NE(error_of({other_fovea}, variants).find("part-0.json: cells[4].fovea_deg is 5.0; expected 7.5 (cell 2 of "
