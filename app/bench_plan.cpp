@@ -153,7 +153,7 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
       << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
       << " --min-filter " << s.min_filter_size << " --coarse-test " << coarse_test_name(s.coarse_test)
       << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
-      << s.hit_threshold << " --methods " << methods;
+      << exact_number_text(s.hit_threshold) << " --methods " << methods;
   return out.str();
 }
 
