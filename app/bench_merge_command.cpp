@@ -1,8 +1,10 @@
 // fovlab bench-merge PART.json... [--json OUT] [--out-dir DIR]: joins the parts of a sweep run as
 // fovlab bench --cells I/N (on a cluster: fovlab slurm bench) into the report one run of the whole
 // sweep writes: the same JSON, tables, charts and Pareto fronts (bench/bench_parts.h,
-// app/bench_outputs.h). A file that is not a part, a part missing or given twice, or parts of another
-// sweep or device is one line naming the file, exit code 2, and nothing written.
+// app/bench_outputs.h). A file that is not a part, a part missing or given twice, parts of another
+// sweep or device, or a part whose rows and cells are not those its index holds in the sweep its
+// flags plan (a relabelled index, a method or variant not planned, a time out of range) is one line
+// naming the file and the field, exit code 2, and nothing written.
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/bench_outputs.h"
+#include "app/bench_plan.h"
 #include "app/commands.h"
 #include "app/output_options.h"
 #include "bench/bench_parts.h"
@@ -43,10 +46,20 @@ bench::PartReport read_part(const std::string& path) {
   }
 }
 
+// The sweep a part's flags (its "command") plan, rebuilt as fovlab bench plans it.
+bench::SweepLayout part_layout(const bench::PartReport& part) {
+  try {
+    const BenchOptions options = parse_sweep_command(part.report["command"].get<std::string>());
+    return sweep_layout(options, plan_bench(options));
+  } catch (const InputError& error) {
+    throw InputError(part.path + ": \"command\": " + error.what() + "; expected the command of the sweep, as bench writes it");
+  }
+}
+
 void run_bench_merge(const BenchMergeOptions& options) {
   std::vector<bench::PartReport> parts;
   for (const std::string& path : options.parts) parts.push_back(read_part(path));
-  nlohmann::json report = bench::merge_bench_parts(parts);
+  nlohmann::json report = bench::merge_bench_parts(parts, part_layout);
   if (!options.out_dir.empty()) create_output_folder(options.out_dir, "--out-dir");
   std::printf("fovlab bench-merge: %zu parts, %zu (scene, time, spp) units, %zu cells, measured on %s\n", parts.size(),
               report["rows"].size(), report["cells"].size(), report["device"].get<std::string>().c_str());

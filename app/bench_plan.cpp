@@ -10,6 +10,7 @@
 #include "app/display_flags.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
+#include "renderer/scene/scene_source.h"
 
 namespace fovlab::app {
 
@@ -24,9 +25,10 @@ std::string join(const std::vector<T>& values) {
   return out.str();
 }
 
+// As given: a merge rebuilds the sweep's cells from its command (exact_number_text reads back the same).
 std::string join_numbers(const std::vector<double>& values) {
   std::string text;
-  for (size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + format_number(values[i], 6);
+  for (size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + exact_number_text(values[i]);
   return text;
 }
 
@@ -62,14 +64,19 @@ Methods parse_methods(const std::vector<std::string>& names) {
   return methods;
 }
 
+// The sampling models of a plan, in order, each once (RMFR's several maps, a focal sweep, are one).
+std::vector<SamplingModel> sampling_models(const BenchPlan& plan) {
+  std::vector<SamplingModel> models;
+  for (const SamplingMap& map : plan.sampling_maps)
+    if (std::find(models.begin(), models.end(), model_of(map)) == models.end()) models.push_back(model_of(map));
+  return models;
+}
+
 // "gt,ipr,fipr,rmfr,...": the methods of a plan, as --methods takes them.
 std::string methods_text(const BenchPlan& plan, bool with_ipr, bool with_fipr) {
   std::string text = with_ipr ? "gt,ipr" : "gt";
   if (with_fipr) text += ",fipr";
-  std::vector<SamplingModel> models;  // RMFR's several maps (a focal sweep) are one method
-  for (const SamplingMap& map : plan.sampling_maps)
-    if (std::find(models.begin(), models.end(), model_of(map)) == models.end()) models.push_back(model_of(map));
-  for (SamplingModel model : models) text += std::string(",") + sampling_model_name(model);
+  for (SamplingModel model : sampling_models(plan)) text += std::string(",") + sampling_model_name(model);
   return text;
 }
 
@@ -129,10 +136,12 @@ std::vector<float> parse_times(const std::vector<std::string>& texts) {
   return times;
 }
 
-std::string time_flag(float time_s) {
-  std::ostringstream out;
-  out << "--time " << time_s;
-  return out.str();
+std::string time_flag(float time_s) { return "--time " + exact_number_text(time_s); }
+
+// A word of a command as a shell (and CLI11's split_up) reads it back: quoted when it holds a space.
+std::string command_word(const std::string& word) {
+  if (word.find_first_of(" \t") == std::string::npos) return word;
+  return word.find('\'') == std::string::npos ? "'" + word + "'" : "\"" + word + "\"";
 }
 
 // `time_text`: "--time T" or "--times A,B,...".
@@ -140,11 +149,11 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
                          const std::string& methods, const std::string& time_text) {
   const SphereTraceSettings& s = options.settings;
   std::ostringstream out;
-  out << "fovlab bench --scenes " << scenes << " --spp " << spps << " --width " << s.width << " --height " << s.height
+  out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps << " --width " << s.width << " --height " << s.height
       << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
       << " --min-filter " << s.min_filter_size << " --coarse-test " << coarse_test_name(s.coarse_test)
       << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
-      << s.hit_threshold << " --methods " << methods;
+      << exact_number_text(s.hit_threshold) << " --methods " << methods;
   return out.str();
 }
 
@@ -244,14 +253,15 @@ BenchPlan plan_bench(const BenchOptions& options) {
 }
 
 std::string sweep_command(const BenchOptions& options, const BenchPlan& plan) {
-  std::ostringstream times;
-  for (size_t i = 0; i < plan.times_s.size(); ++i) times << (i ? "," : "") << plan.times_s[i];
-  const std::string time_text = options.times.empty() ? time_flag(options.settings.time_s) : "--times " + times.str();
+  std::string times;
+  for (size_t i = 0; i < plan.times_s.size(); ++i) times += (i ? "," : "") + exact_number_text(plan.times_s[i]);
+  const std::string time_text = options.times.empty() ? time_flag(options.settings.time_s) : "--times " + times;
   std::string text = command_text(options, join(options.scenes), join(options.spps),
                                   methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!plan.sampling_maps.empty())
-    text += " " + all_sampling_flags_text(plan.sampling, "--fx " + join_numbers(plan.focal_shares_x) + " --fy " +
-                                                             join_numbers(plan.focal_shares_y));
+    text += " " + all_sampling_flags_text(plan.sampling, sampling_models(plan),
+                                          "--fx " + join_numbers(plan.focal_shares_x) + " --fy " +
+                                              join_numbers(plan.focal_shares_y));
   if (!plan.fipr) return text + " " + display_flags_text(options.foveation.display);
   return text + " --refresh " + join(plan.refreshes) + " --fovea-deg " + join_numbers(plan.fovea_degs) + " " +
          foveation_flags_text(options.foveation);
@@ -274,8 +284,57 @@ std::string cell_command(const BenchOptions& options, const BenchPlan& plan, con
            " " + display_flags_text(options.foveation.display);
   }
   return command_text(options, scene, std::to_string(spp), "gt,fipr", time_text) + " --refresh " +
-         std::to_string(variant->refresh) + " --fovea-deg " + variant->fovea_text() + " " +
+         std::to_string(variant->refresh) + " --fovea-deg " + exact_number_text(variant->fovea_deg) + " " +
          foveation_flags_text(options.foveation);
+}
+
+BenchOptions parse_bench_flags(const std::vector<std::string>& words, const std::string& what) {
+  BenchOptions options;
+  CLI::App command("fovlab bench", "bench");
+  add_bench_flags(command, options);
+  std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes them reversed
+  try {
+    command.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    throw InputError(what + ": " + e.what());
+  }
+  note_given_bench_flags(command, options);
+  return options;
+}
+
+BenchOptions parse_sweep_command(const std::string& command) {
+  const std::string start = "fovlab bench ";
+  if (command.compare(0, start.size(), start) != 0)
+    throw InputError("expected \"fovlab bench\" and the sweep's flags, got " + quoted_input(command));
+  return parse_bench_flags(CLI::detail::split_up(command.substr(start.size())), "the sweep's flags");
+}
+
+bench::SweepLayout sweep_layout(const BenchOptions& options, const BenchPlan& plan) {
+  bench::SweepLayout layout;
+  for (const std::string& scene : options.scenes) layout.scenes.push_back(scene_name(scene));
+  layout.times_s = plan.times_s;
+  layout.spps = options.spps;
+  layout.width = options.settings.width;
+  layout.height = options.settings.height;
+  layout.repeats = options.repeats;
+  // As run_bench measures a unit: GT, IPR, every FIPR variant, every sampling model's map.
+  layout.unit_cells.push_back({"gt"});
+  if (plan.ipr) layout.unit_cells.push_back({"ipr"});
+  for (const FiprVariant& variant : plan.variants)
+    layout.unit_cells.push_back({"fipr", variant.refresh, variant.fovea_deg, std::nullopt, std::nullopt});
+  if (!plan.sampling_maps.empty()) {
+    layout.focal_shares_x = plan.focal_shares_x;
+    layout.focal_shares_y = plan.focal_shares_y;
+  }
+  for (const SamplingMap& map : plan.sampling_maps) {
+    bench::PlannedCell cell{sampling_model_name(model_of(map))};
+    if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {
+      cell.focal_share_x = rmfr->x.focal_share;
+      cell.focal_share_y = rmfr->y.focal_share;
+    }
+    layout.unit_cells.push_back(cell);
+  }
+  return layout;
 }
 
 }  // namespace fovlab::app

@@ -57,6 +57,19 @@ struct BenchOptions {
 void add_bench_flags(CLI::App& command, BenchOptions& options);
 void note_given_bench_flags(CLI::App& command, BenchOptions& options);
 
+// bench's flags as words (as a shell splits them; fovlab slurm bench passes them on so), parsed
+// and noted as fovlab bench parses them, not yet checked (plan_bench checks them). InputError
+// "`what`: CLI11's reason" when they do not parse.
+BenchOptions parse_bench_flags(const std::vector<std::string>& words, const std::string& what);
+
+// The flags of a sweep's command as sweep_command writes it ("fovlab bench --scenes ... "), parsed.
+// InputError when the text is not such a command.
+BenchOptions parse_sweep_command(const std::string& command);
+
+// The units and cells of the sweep `options` and `plan` describe, in the order fovlab bench runs
+// and writes them (bench/bench_parts.h): what each part of the sweep must hold.
+bench::SweepLayout sweep_layout(const BenchOptions& options, const BenchPlan& plan);
+
 // Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)
 // and returns the plan. Throws InputError naming the flag.
 BenchPlan plan_bench(const BenchOptions& options);

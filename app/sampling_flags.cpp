@@ -58,30 +58,39 @@ std::vector<std::string> given_sampling_only_flags(const CLI::App& command) {
   return given;
 }
 
+namespace {
+using M = SamplingModel;
+
+// The models that use a sampling flag: what refuse_flags_unused_by allows, and what a sweep's
+// command writes.
+std::vector<M> users_of(const std::string& flag) {
+  if (flag == "--fx" || flag == "--fy") return {M::rectangular};
+  if (flag == "--alpha") return {M::kernel_log_polar};
+  if (flag == "--inner-radius-deg" || flag == "--outer-radius-deg") return {M::hyperbolic, M::linear};
+  if (flag == "--middle-pixel-size" || flag == "--outer-pixel-size" || flag == "--blend-band-deg") return {M::hyperbolic};
+  if (flag == "--min-probability" || flag == "--sample-seed") return {M::linear};
+  if (flag == "--equalise") return {M::hyperbolic, M::linear};
+  if (flag == "--resample") return {M::rectangular, M::hyperbolic, M::kernel_log_polar};
+  return {M::rectangular, M::hyperbolic, M::linear, M::kernel_log_polar};  // --sigma
+}
+
+bool used_by_any(const std::string& flag, const std::vector<M>& models) {
+  const std::vector<M> users = users_of(flag);
+  return std::any_of(models.begin(), models.end(),
+                     [&](M model) { return std::find(users.begin(), users.end(), model) != users.end(); });
+}
+}  // namespace
+
 void refuse_flags_unused_by(const std::vector<std::string>& given, const std::vector<SamplingModel>& models) {
-  using M = SamplingModel;
-  const std::vector<M> all = {M::rectangular, M::hyperbolic, M::linear, M::kernel_log_polar};
-  const auto users_of = [&](const std::string& flag) -> std::vector<M> {
-    if (flag == "--fx" || flag == "--fy") return {M::rectangular};
-    if (flag == "--alpha") return {M::kernel_log_polar};
-    if (flag == "--inner-radius-deg" || flag == "--outer-radius-deg") return {M::hyperbolic, M::linear};
-    if (flag == "--middle-pixel-size" || flag == "--outer-pixel-size" || flag == "--blend-band-deg") return {M::hyperbolic};
-    if (flag == "--min-probability" || flag == "--sample-seed") return {M::linear};
-    if (flag == "--equalise") return {M::hyperbolic, M::linear};
-    if (flag == "--resample") return {M::rectangular, M::hyperbolic, M::kernel_log_polar};
-    return all;  // --sigma
-  };
   const auto names = [](const std::vector<M>& list) {
     std::string text;
     for (M model : list) text += (text.empty() ? "" : ", ") + std::string(sampling_model_name(model));
     return text;
   };
-  for (const std::string& flag : given) {
-    const std::vector<M> users = users_of(flag);
-    const bool used = std::any_of(models.begin(), models.end(),
-                                  [&](M model) { return std::find(users.begin(), users.end(), model) != users.end(); });
-    if (!used) throw InputError(flag + ": " + names(models) + (models.size() > 1 ? " do" : " does") + " not use it; it is for " + names(users));
-  }
+  for (const std::string& flag : given)
+    if (!used_by_any(flag, models))
+      throw InputError(flag + ": " + names(models) + (models.size() > 1 ? " do" : " does") + " not use it; it is for " +
+                       names(users_of(flag)));
 }
 
 SamplingMap parse_sampling(SamplingModel model, const SamplingSettings& settings, const FoveationSettings& foveation) {
@@ -97,7 +106,7 @@ SamplingMap parse_sampling(SamplingModel model, const SamplingSettings& settings
 }
 
 std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) {
-  const auto number = [](double value) { return format_number(value, 6); };
+  const auto number = [](double value) { return exact_number_text(value); };  // reproduces the settings
   std::string text = "--sigma " + number(s.sigma);
   switch (model) {
     case SamplingModel::rectangular: text += " --fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y); break;
@@ -118,15 +127,24 @@ std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) 
   return text;
 }
 
-std::string all_sampling_flags_text(const SamplingSettings& s, const std::string& focal_shares) {
-  const auto number = [](double value) { return format_number(value, 6); };
-  return "--sigma " + number(s.sigma) + " " +
-         (focal_shares.empty() ? "--fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y) : focal_shares) +
-         " --alpha " + number(s.alpha) + " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " +
-         number(s.outer_radius_deg) + " --middle-pixel-size " + number(s.middle_pixel_size_px) + " --outer-pixel-size " +
-         number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg) + " --min-probability " +
-         number(s.min_probability) + " --sample-seed " + std::to_string(s.seed) + (s.equalise ? " --equalise" : "") +
-         " --resample " + resample_filter_name(s.filter);
+std::string all_sampling_flags_text(const SamplingSettings& s, const std::vector<SamplingModel>& models,
+                                    const std::string& focal_shares) {
+  const auto number = [](double value) { return exact_number_text(value); };  // reproduces the settings
+  const auto used = [&](const char* flag) { return used_by_any(flag, models); };  // a flag no model uses is refused
+  std::string text = "--sigma " + number(s.sigma);
+  if (used("--fx"))
+    text += " " + (focal_shares.empty() ? "--fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y) : focal_shares);
+  if (used("--alpha")) text += " --alpha " + number(s.alpha);
+  if (used("--inner-radius-deg"))
+    text += " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " + number(s.outer_radius_deg);
+  if (used("--middle-pixel-size"))
+    text += " --middle-pixel-size " + number(s.middle_pixel_size_px) + " --outer-pixel-size " +
+            number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg);
+  if (used("--min-probability"))
+    text += " --min-probability " + number(s.min_probability) + " --sample-seed " + std::to_string(s.seed);
+  if (s.equalise && used("--equalise")) text += " --equalise";
+  if (used("--resample")) text += std::string(" --resample ") + resample_filter_name(s.filter);
+  return text;
 }
 
 std::string sampling_summary(const SamplingMap& map) {

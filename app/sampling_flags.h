@@ -24,11 +24,14 @@ void refuse_flags_unused_by(const std::vector<std::string>& given, const std::ve
 // gaze: the centre). InputError naming the flag on bad values.
 SamplingMap parse_sampling(SamplingModel model, const SamplingSettings& settings, const FoveationSettings& foveation);
 
-// The flags that reproduce a model's settings, for reports ("--sigma 2.6 --fx 0.3 --fy 0.3").
+// The flags that reproduce a model's settings, for reports ("--sigma 2.6 --fx 0.3 --fy 0.3"), numbers
+// as given.
 std::string sampling_flags_text(SamplingModel model, const SamplingSettings& settings);
-// Every model's flags, for a sweep over several; `focal_shares`: --fx and --fy as the sweep had
-// them ("--fx 0.05,0.3 --fy 0.3"; empty: the settings').
-std::string all_sampling_flags_text(const SamplingSettings& settings, const std::string& focal_shares = "");
+// The flags of every one of `models`, each once, for a sweep over several (a flag none of them uses
+// is left out: bench refuses it); `focal_shares`: --fx and --fy as the sweep had them ("--fx
+// 0.05,0.3 --fy 0.3"; empty: the settings'). Numbers as given, so the command reproduces the sweep.
+std::string all_sampling_flags_text(const SamplingSettings& settings, const std::vector<SamplingModel>& models,
+                                    const std::string& focal_shares = "");
 
 // One line on what the map really samples: "rmfr: 14.8 % of pixels shaded (theoretical speed-up
 // 6.76, effective 6.76), mean density 0.148".

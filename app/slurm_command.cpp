@@ -306,22 +306,12 @@ void run_slurm_prerender(const PrerenderJobOptions& options) {
 void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& bench_words) {
   for (const std::string& word : bench_words) check_script_word("bench flag " + word.substr(0, 40), word);
   check_script_word("--fovlab", slurm.fovlab);
-  BenchOptions bench;
-  {
-    CLI::App check("fovlab bench", "bench");
-    add_bench_flags(check, bench);
-    std::vector<std::string> reversed(bench_words.rbegin(), bench_words.rend());  // CLI11 takes them reversed
-    try {
-      check.parse(reversed);
-    } catch (const CLI::ParseError& e) {
-      throw InputError(std::string("bench flags: ") + e.what());
-    }
-    note_given_bench_flags(check, bench);
-    for (const char* flag : {"--json", "--out-dir", "--cells"})
-      if (check.count(flag) > 0)
-        throw InputError(std::string(flag) + ": set by fovlab slurm bench (each task writes parts/part-I.json; the "
-                         "merge job writes bench.json and report/); leave it out");
-  }
+  BenchOptions bench = parse_bench_flags(bench_words, "bench flags");
+  for (const auto& [flag, given] : {std::pair{"--json", !bench.json.empty()}, std::pair{"--out-dir", !bench.out_dir.empty()},
+                                    std::pair{"--cells", !bench.cells.empty()}})
+    if (given)
+      throw InputError(std::string(flag) + ": set by fovlab slurm bench (each task writes parts/part-I.json; the "
+                       "merge job writes bench.json and report/); leave it out");
   const fs::path out = absolute_text(slurm.out.empty() ? "slurm/bench" : slurm.out);
   bench.json = out / "parts" / "part-0.json";
   bench.cells = "0/1";  // a part's plan is the sweep's

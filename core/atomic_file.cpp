@@ -9,7 +9,6 @@
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
-#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -36,12 +35,17 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& target) {
 }
 
 namespace {
-void sync_file(const std::filesystem::path& path) {
-  int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd >= 0) {
-    ::fsync(fd);
+// fsync of a file just written; a failure (a full disk or a write error that surfaces only now, as on
+// NFS) is a FileError naming `named` (the file the user asked for) and the system's reason.
+void sync_file(const std::filesystem::path& path, const std::filesystem::path& named) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw FileError(named.string(), "opening the written file to fsync it", errno);
+  if (::fsync(fd) != 0) {
+    const int error = errno;
     ::close(fd);
+    throw FileError(named.string(), "fsync", error);
   }
+  ::close(fd);
 }
 }  // namespace
 
@@ -58,8 +62,9 @@ void write_atomically(const std::filesystem::path& target,
   const std::filesystem::path temporary = temporary_sibling(target);
   try {
     write_to(temporary);
-    sync_file(temporary);
-    std::filesystem::rename(temporary, target);
+    sync_file(temporary, target);
+    if (::rename(temporary.c_str(), target.c_str()) != 0)
+      throw FileError(target.string(), "renaming " + temporary.filename().string() + " into place", errno);
     fsync_directory(target.parent_path());  // the rename itself survives a power cut
   } catch (...) {
     std::error_code ignored;
@@ -70,10 +75,21 @@ void write_atomically(const std::filesystem::path& target,
 
 void write_text_atomically(const std::filesystem::path& target, std::string_view text) {
   write_atomically(target, [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) throw InputError(target.string() + ": cannot write file");
+    // write(2) itself, not a stream: each failure keeps the system's reason (a full disk says so).
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) throw FileError(target.string(), "creating " + temporary.filename().string(), errno);
+    size_t written = 0;
+    while (written < text.size()) {
+      const ssize_t count = ::write(fd, text.data() + written, text.size() - written);
+      if (count < 0 && errno == EINTR) continue;
+      if (count <= 0) {
+        const int error = count < 0 ? errno : EIO;
+        ::close(fd);
+        throw FileError(target.string(), "writing", error);
+      }
+      written += static_cast<size_t>(count);
+    }
+    if (::close(fd) != 0) throw FileError(target.string(), "writing", errno);
   });
 }
 
@@ -122,11 +138,12 @@ long temporary_pid(const std::string& name, const std::string& prefix, const std
 
 bool process_runs(long pid) { return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM; }
 
-// fsync of every file and folder under `folder`, and of `folder`.
-void sync_tree(const fs::path& folder) {
+// fsync of every file and folder under `folder`, and of `folder`; a failure names the file as it
+// will be under `target`.
+void sync_tree(const fs::path& folder, const fs::path& target) {
   for (const auto& entry : fs::recursive_directory_iterator(folder)) {
     if (entry.is_symlink()) continue;
-    if (entry.is_regular_file()) sync_file(entry.path());
+    if (entry.is_regular_file()) sync_file(entry.path(), target / entry.path().lexically_relative(folder));
     else if (entry.is_directory()) fsync_directory(entry.path());
   }
   fsync_directory(folder);
@@ -148,7 +165,7 @@ void move_into_place(const fs::path& temporary, const fs::path& target, bool rep
     fs::rename(temporary, target, error);
     if (error == std::errc::directory_not_empty || error == std::errc::file_exists)
       throw InputError(target.string() + ": already exists; not replaced");
-    if (error) throw fs::filesystem_error("cannot rename the new folder into place", temporary, target, error);
+    if (error) throw FileError(target.string(), "renaming the new folder " + temporary.filename().string() + " into place", error.value());
     fsync_directory(parent);
     return;
   }
@@ -160,16 +177,16 @@ void move_into_place(const fs::path& temporary, const fs::path& target, bool rep
     return;
   }
   if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP)
-    throw fs::filesystem_error("cannot swap the new folder into place", temporary, target,
-                               std::error_code(errno, std::generic_category()));
+    throw FileError(target.string(), "swapping the new folder " + temporary.filename().string() + " into place", errno);
   // No swap on this file system: the old folder aside (complete), the new one in (complete).
   const fs::path aside = folder_temporary(target, "old");
-  fs::rename(target, aside);
+  fs::rename(target, aside, error);
+  if (error) throw FileError(target.string(), "renaming the old folder aside to " + aside.filename().string(), error.value());
   fs::rename(temporary, target, error);
   if (error) {
     std::error_code ignored;
     fs::rename(aside, target, ignored);
-    throw fs::filesystem_error("cannot rename the new folder into place", temporary, target, error);
+    throw FileError(target.string(), "renaming the new folder " + temporary.filename().string() + " into place", error.value());
   }
   fsync_directory(parent);
   remove_quietly(aside);
@@ -207,17 +224,20 @@ void remove_stale_folder_temporaries(const fs::path& target_given) {
 void write_folder_atomically(const fs::path& target_given, bool replace,
                              const std::function<void(const fs::path& temporary)>& write_into) {
   const fs::path target = folder_path(target_given);
-  if (!target.parent_path().empty()) fs::create_directories(target.parent_path());
+  std::error_code error;
+  if (!target.parent_path().empty() && !fs::create_directories(target.parent_path(), error) && error)
+    throw FileError(target.parent_path().string(), "creating the folder", error.value());
   remove_stale_folder_temporaries(target);
   if (fs::exists(target)) {
     if (!fs::is_directory(target)) throw InputError(target.string() + ": exists and is not a folder");
     if (!replace && !fs::is_empty(target)) throw InputError(target.string() + ": already exists; not replaced");
   }
   const fs::path temporary = folder_temporary(target, "tmp");
-  fs::create_directory(temporary);
+  if (!fs::create_directory(temporary, error) && error)
+    throw FileError(target.string(), "creating the temporary folder " + temporary.filename().string(), error.value());
   try {
     write_into(temporary);
-    sync_tree(temporary);
+    sync_tree(temporary, target);
     move_into_place(temporary, target, replace);
   } catch (...) {
     remove_quietly(temporary);

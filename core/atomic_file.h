@@ -12,15 +12,17 @@ namespace fovlab {
 // ".<stem>.tmp-<host>-<pid><extension>", apart for every process of every machine.
 std::filesystem::path temporary_sibling(const std::filesystem::path& target);
 
-// Calls `write_to(temporary_path)`, then renames the temporary file onto `target`. On any exception
-// the temporary file is removed and the exception propagates.
+// Calls `write_to(temporary_path)`, fsyncs the file, then renames it onto `target`. On any exception
+// the temporary file is removed and the exception propagates. A failed fsync or rename is a
+// FileError naming `target`, the operation and the system's reason ("No space left on device").
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write_to);
 
 // fsync of a folder, so the names created or renamed in it survive a power cut (best effort).
 void fsync_directory(const std::filesystem::path& directory);
 
-// Convenience for text files (JSON, CSV, Markdown).
+// Convenience for text files (JSON, CSV, Markdown): written with write(2), so a failure is a
+// FileError with the system's reason ("PATH: writing failed (No space left on device)").
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
 
 // Whole-folder writes, for a set of files that belong together (fovlab analyze's outputs): the
@@ -37,7 +39,8 @@ void write_text_atomically(const std::filesystem::path& target, std::string_view
 //
 // Every call first removes the temporaries that killed calls left beside `target` (names of the
 // patterns above whose process no longer runs). On an exception from `write_into` the temporary
-// folder is removed and the exception propagates; `target` is untouched.
+// folder is removed and the exception propagates; `target` is untouched. A folder the system does not
+// let it make, a file it cannot fsync or a rename it refuses is a FileError with the system's reason.
 void write_folder_atomically(const std::filesystem::path& target, bool replace,
                              const std::function<void(const std::filesystem::path& temporary)>& write_into);
 

@@ -1,6 +1,6 @@
 #pragma once
 // A double as printf's "%.<significant_digits>g" writes it: 6 digits for names people read
-// (the same as "%g"), 17 to round-trip exactly.
+// (the same as "%g"), 17 to round-trip exactly (exact_number_text: the shortest that does).
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +14,20 @@ inline std::string format_number(double value, int significant_digits) {
   char text[48];
   std::snprintf(text, sizeof text, "%.*g", significant_digits, value);
   return text;
+}
+
+// The fewest digits that read back as exactly `value`, in %g's notation (std::to_chars, general): a
+// number a user gave, at the precision it was given ("0.1", not "0.10000000000000001"; "0.0001";
+// "1e+308", not 309 digits). For messages that echo a value, and for commands that must reproduce it.
+inline std::string exact_number_text(double value) {
+  char text[32];  // the longest such form of a double is 24 characters
+  const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general);
+  return std::string(text, result.ptr);
+}
+inline std::string exact_number_text(float value) {
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general);
+  return std::string(text, result.ptr);
 }
 
 // An interval as "[lower, upper]", an unbounded end as "(-∞" or "∞)" (UTF-8); "" when either end is

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 
 namespace fovlab {
 
@@ -19,7 +20,7 @@ double inside_weight(double eccentricity_deg, double boundary_deg, double band_d
 
 void check_angle(double value, const char* name) {
   if (!std::isfinite(value) || value < 0.0)
-    throw InputError(std::string(name) + ": expected a finite angle >= 0 degrees, got " + std::to_string(value));
+    throw InputError(std::string(name) + ": expected a finite angle >= 0 degrees, got " + exact_number_text(value));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/number_text.h"
 #include "metrics/image_checks.h"
 
 // LDR-FLIP (Andersson et al. 2020). Paper sections cited below refer to "FLIP: A Difference
@@ -335,7 +336,7 @@ FlipResult flip(const Image& reference, const Image& test, double pixels_per_deg
   }
   if (reference.pixel_count() == 0) throw std::invalid_argument("FLIP: empty images");
   if (!std::isfinite(pixels_per_degree) || pixels_per_degree <= 0.0) {
-    throw std::invalid_argument("FLIP: pixels_per_degree " + std::to_string(pixels_per_degree) +
+    throw std::invalid_argument("FLIP: pixels_per_degree " + exact_number_text(pixels_per_degree) +
                                 " must be positive and finite");
   }
   const int width = reference.width;

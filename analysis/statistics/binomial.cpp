@@ -9,6 +9,7 @@
 #include <boost/math/distributions/binomial.hpp>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 
 namespace fovlab::analysis {
 namespace {
@@ -163,7 +164,7 @@ Alternative parse_alternative(const std::string& text) {
 double binomial_test_p_value(uint64_t k, uint64_t n, double p0, Alternative alternative) {
   check_counts(k, n, "binomial_test_p_value");
   if (!(p0 >= 0.0 && p0 <= 1.0)) {
-    throw std::invalid_argument("binomial_test_p_value: p0 = " + std::to_string(p0) +
+    throw std::invalid_argument("binomial_test_p_value: p0 = " + exact_number_text(p0) +
                                 " is outside [0, 1]");
   }
   if (alternative != Alternative::two_sided && alternative != Alternative::greater &&
@@ -186,7 +187,7 @@ ProportionInterval clopper_pearson_interval(uint64_t k, uint64_t n, double confi
   check_counts(k, n, "clopper_pearson_interval");
   if (!(confidence > 0.0 && confidence < 1.0)) {
     throw std::invalid_argument("clopper_pearson_interval: confidence = " +
-                                std::to_string(confidence) + " is outside (0, 1)");
+                                exact_number_text(confidence) + " is outside (0, 1)");
   }
   // Each bound leaves (1 - confidence) / 2 in its tail (Clopper & Pearson 1934).
   const double tail = (1.0 - confidence) / 2.0;

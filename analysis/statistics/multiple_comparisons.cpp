@@ -8,13 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "core/number_text.h"
+
 namespace fovlab::analysis {
 
 std::vector<double> holm_adjusted(const std::vector<double>& p_values) {
   for (std::size_t i = 0; i < p_values.size(); ++i) {
     if (!(p_values[i] >= 0.0 && p_values[i] <= 1.0)) {
       throw std::invalid_argument("holm_adjusted: p-value " + std::to_string(i) + " (" +
-                                  std::to_string(p_values[i]) + ") is not in [0, 1]");
+                                  exact_number_text(p_values[i]) + ") is not in [0, 1]");
     }
   }
   const std::size_t m = p_values.size();

@@ -30,12 +30,6 @@ double steady_seconds(std::chrono::steady_clock::time_point time) {
   return std::chrono::duration<double>(time.time_since_epoch()).count();
 }
 
-std::string format_number(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
 bool is_key(const msgpack::object& key, std::string_view name) {
   if (key.type == msgpack::type::STR) return std::string_view(key.via.str.ptr, key.via.str.size) == name;
   if (key.type == msgpack::type::BIN) return std::string_view(key.via.bin.ptr, key.via.bin.size) == name;
@@ -196,13 +190,13 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
   if (options.port < 1 || options.port > 65535) fail("port: expected 1..65535");
   if (options.surface.empty()) fail("surface: expected a surface name, got an empty one");
   if (!(options.min_confidence >= 0.0 && options.min_confidence <= 1.0)) {
-    fail("min_confidence: expected 0..1, got " + format_number(options.min_confidence));
+    fail("min_confidence: expected 0..1, got " + exact_number_text(options.min_confidence));
   }
   if (!(options.staleness_s > 0.0) || !std::isfinite(options.staleness_s)) {
-    fail("staleness_s: expected a positive number of seconds, got " + format_number(options.staleness_s));
+    fail("staleness_s: expected a positive number of seconds, got " + exact_number_text(options.staleness_s));
   }
   if (!(options.timeout_s > 0.0 && options.timeout_s <= 3600.0)) {
-    fail("timeout_s: expected 0 < seconds <= 3600, got " + format_number(options.timeout_s));
+    fail("timeout_s: expected 0 < seconds <= 3600, got " + exact_number_text(options.timeout_s));
   }
   if (width_px <= 0 || height_px <= 0) {
     fail("screen size must be positive, got " + std::to_string(width_px) + "x" + std::to_string(height_px));
@@ -213,7 +207,7 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
   impl.topic = "surfaces." + impl.options.surface;
 
   const int timeout_ms = std::max(1, static_cast<int>(std::lround(impl.options.timeout_s * 1000.0)));
-  const std::string no_answer = "no answer from Pupil Remote within " + format_number(impl.options.timeout_s) +
+  const std::string no_answer = "no answer from Pupil Remote within " + exact_number_text(impl.options.timeout_s) +
                                 " s (is Pupil Capture running with the Network API plugin?)";
   const auto session_now = [&impl] {
     return impl.options.session_clock ? impl.options.session_clock()

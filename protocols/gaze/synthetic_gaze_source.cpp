@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 
 namespace fovlab {
 
@@ -23,17 +24,17 @@ SyntheticGazeSource::SyntheticGazeSource(const SyntheticGazeParams& params, int 
   require(width_px > 0 && height_px > 0, "screen size must be positive, got " + std::to_string(width_px) + "x" +
                                              std::to_string(height_px));
   require(std::isfinite(params.fixation_min_s) && params.fixation_min_s > 0.0,
-          "fixation_min_s must be > 0, got " + std::to_string(params.fixation_min_s));
+          "fixation_min_s must be > 0, got " + exact_number_text(params.fixation_min_s));
   require(std::isfinite(params.fixation_max_s) && params.fixation_max_s >= params.fixation_min_s,
-          "fixation_max_s must be >= fixation_min_s, got " + std::to_string(params.fixation_max_s));
+          "fixation_max_s must be >= fixation_min_s, got " + exact_number_text(params.fixation_max_s));
   require(std::isfinite(params.saccade_s) && params.saccade_s >= 0.0,
-          "saccade_s must be >= 0, got " + std::to_string(params.saccade_s));
+          "saccade_s must be >= 0, got " + exact_number_text(params.saccade_s));
   require(std::isfinite(params.target_fraction) && params.target_fraction > 0.0 && params.target_fraction <= 1.0,
-          "target_fraction must be in (0, 1], got " + std::to_string(params.target_fraction));
+          "target_fraction must be in (0, 1], got " + exact_number_text(params.target_fraction));
   require(std::isfinite(params.jitter_sigma_fraction) && params.jitter_sigma_fraction >= 0.0,
-          "jitter_sigma_fraction must be >= 0, got " + std::to_string(params.jitter_sigma_fraction));
+          "jitter_sigma_fraction must be >= 0, got " + exact_number_text(params.jitter_sigma_fraction));
   require(std::isfinite(params.sample_age_ms) && params.sample_age_ms >= 0.0 && params.sample_age_ms <= 10000.0,
-          "age_ms must be in [0, 10000], got " + std::to_string(params.sample_age_ms));
+          "age_ms must be in [0, 10000], got " + exact_number_text(params.sample_age_ms));
   generate_next();
 }
 
@@ -93,11 +94,7 @@ GazeSample SyntheticGazeSource::sample(double query_s) {
 
 std::string SyntheticGazeSource::describe() const {
   std::string text = "synthetic:seed=" + std::to_string(params_.seed);
-  if (params_.sample_age_ms > 0.0) {
-    char buffer[64];  // shortest text that reads back as the same double
-    const auto written = std::to_chars(buffer, buffer + sizeof buffer, params_.sample_age_ms);
-    text += ",age_ms=" + std::string(buffer, written.ptr);
-  }
+  if (params_.sample_age_ms > 0.0) text += ",age_ms=" + exact_number_text(params_.sample_age_ms);  // reads back the same
   return text;
 }
 

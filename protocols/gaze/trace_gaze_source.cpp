@@ -7,6 +7,7 @@
 
 #include "core/input_error.h"
 #include "core/input_file.h"
+#include "core/number_text.h"
 
 namespace fovlab {
 
@@ -36,12 +37,6 @@ bool parse_number(std::string_view field, double& value) {
   if (field.empty()) return false;
   const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
   return error == std::errc() && end == field.data() + field.size();
-}
-
-std::string format_number(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
 }
 
 
@@ -103,9 +98,13 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
     if (!std::isfinite(sample.time_s)) {
       error.fail("time_s: expected a finite number, got " + quoted_input(fields[0]));
     }
+    if (std::abs(sample.time_s) > kMaxGazeTraceTimeS) {
+      error.fail("time_s: expected seconds on the session clock from " + exact_number_text(-kMaxGazeTraceTimeS) +
+                 " to " + exact_number_text(kMaxGazeTraceTimeS) + " (11.6 days), got " + quoted_input(fields[0]));
+    }
     if (!samples.empty() && sample.time_s < samples.back().time_s) {
-      error.fail("time_s: " + format_number(sample.time_s) + " is earlier than the previous sample (" +
-                 format_number(samples.back().time_s) + ")");
+      error.fail("time_s: " + exact_number_text(sample.time_s) + " is earlier than the previous sample (" +
+                 exact_number_text(samples.back().time_s) + ")");
     }
 
     static constexpr const char* axis_names[2] = {"x_px", "y_px"};

@@ -2,7 +2,8 @@
 // Recorded gaze replayed from a CSV file.
 //
 // Format: a header line `time_s,x_px,y_px` or `time_s,x_px,y_px,valid`, then one sample a line.
-// - time_s: session seconds, finite, non-decreasing (equal times are allowed; the later line wins).
+// - time_s: session seconds, finite, non-decreasing (equal times are allowed; the later line wins),
+//   at most kMaxGazeTraceTimeS from 0 either way.
 // - x_px, y_px: screen pixels (origin top-left, y down). An empty field means the tracker had no
 //   position (invalid, "no_data"); `nan`/`inf` mean invalid, "not_finite". The position is not
 //   checked against the screen here (the source does not know the screen): sanitize_gaze does it.
@@ -27,6 +28,10 @@
 namespace fovlab {
 
 constexpr uint64_t kMaxGazeTraceBytes = uint64_t(256) << 20;  // 256 MiB
+// The furthest a sample's time may be from the session's start, in seconds (11.6 days; a trace is
+// at most hours): a sample's age when shown (session time - time_s, in ms in the log and the
+// latency report) then stays finite and exact to well under a microsecond. 1e308 made it -inf.
+constexpr double kMaxGazeTraceTimeS = 1e6;
 constexpr size_t kMaxGazeTraceLineBytes = 1024;
 
 // Parses the CSV text of a gaze trace. `name` (normally the path) starts every error message:

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 
 namespace fovlab {
 
@@ -15,7 +16,7 @@ namespace {
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 std::string text(const glm::vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+  return "(" + exact_number_text(v.x) + ", " + exact_number_text(v.y) + ", " + exact_number_text(v.z) + ")";
 }
 
 // Uniform Catmull-Rom segment between p1 and p2 at u in [0, 1].
@@ -28,7 +29,7 @@ glm::vec3 catmull_rom(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3&
 void validate_camera(const CameraPath& camera) {
   if (camera.keyframes.empty()) throw InputError("scene camera: expected at least one keyframe");
   if (!(camera.vertical_fov_deg > 0.0f && camera.vertical_fov_deg < 180.0f))
-    throw InputError("scene camera: vertical field of view " + std::to_string(camera.vertical_fov_deg) +
+    throw InputError("scene camera: vertical field of view " + exact_number_text(camera.vertical_fov_deg) +
                      " deg: expected more than 0 and less than 180");
   if (!finite(camera.up) || glm::length(camera.up) == 0.0f)
     throw InputError("scene camera: up " + text(camera.up) + ": expected a finite non-zero vector");
@@ -39,7 +40,7 @@ void validate_camera(const CameraPath& camera) {
       throw InputError(where + "expected a finite time, eye and target");
     if (key.eye == key.target) throw InputError(where + "eye equals target: expected distinct points");
     if (k > 0 && !(key.time_s > camera.keyframes[k - 1].time_s))
-      throw InputError(where + "time " + std::to_string(key.time_s) + " s: expected more than the previous keyframe's");
+      throw InputError(where + "time " + exact_number_text(key.time_s) + " s: expected more than the previous keyframe's");
   }
 }
 
@@ -95,7 +96,7 @@ void validate(const PathScene& scene) {
       throw InputError(where + "colour " + text(material.colour) + ": expected an albedo or tint of at most 1");
     if (material.kind == MaterialKind::glass &&
         !(std::isfinite(material.index_of_refraction) && material.index_of_refraction >= 1.0f))
-      throw InputError(where + "index of refraction " + std::to_string(material.index_of_refraction) +
+      throw InputError(where + "index of refraction " + exact_number_text(material.index_of_refraction) +
                        ": expected a finite value of at least 1");
   }
   if (!finite(scene.sky_radiance) || scene.sky_radiance.x < 0.0f || scene.sky_radiance.y < 0.0f ||

@@ -10,6 +10,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "renderer/path_tracing/bvh.h"
 #include "renderer/path_tracing/gpu_scene.h"
 #include "renderer/shaders/embedded_shaders.h"
@@ -91,7 +92,7 @@ void validate(const PathTraceSettings& settings) {
   check_range("path tracing samples per pixel", settings.samples_per_pixel, 1, kMaxSamplesPerPixel);
   check_range("path tracing max bounces", settings.max_bounces, 0, kMaxBounces);
   if (!std::isfinite(settings.time_s))
-    throw InputError("path tracing time " + std::to_string(settings.time_s) + " s: expected a finite number");
+    throw InputError("path tracing time " + exact_number_text(settings.time_s) + " s: expected a finite number");
 }
 
 PathTracer::PathTracer(vk::Context& context, const PathScene& scene) : context_(context) {
@@ -131,7 +132,7 @@ PathTraceResult PathTracer::render(const PathTraceSettings& settings) {
   const glm::vec3 forward = glm::normalize(pose.target - pose.eye);
   const glm::vec3 side = glm::cross(forward, glm::normalize(camera_.up));
   if (!(glm::length(side) > 1e-6f))
-    throw InputError("scene camera at " + std::to_string(settings.time_s) +
+    throw InputError("scene camera at " + exact_number_text(settings.time_s) +
                      " s: view direction parallel to the up vector: expected them apart");
   const float tan_half = std::tan(glm::radians(camera_.vertical_fov_deg) * 0.5f);
   const float aspect = float(width) / float(height);

@@ -23,9 +23,18 @@ std::vector<std::string> builtin_scene_names() {
   return names;
 }
 
+namespace {
+bool is_scene_path(const std::string& name_or_file) {
+  return name_or_file.find('/') != std::string::npos || std::filesystem::path(name_or_file).extension() == ".glsl";
+}
+}  // namespace
+
+std::string scene_name(const std::string& name_or_file) {
+  return is_scene_path(name_or_file) ? std::filesystem::path(name_or_file).stem().string() : name_or_file;
+}
+
 SceneSource load_scene(const std::string& name_or_file) {
-  const bool is_path = name_or_file.find('/') != std::string::npos ||
-                       std::filesystem::path(name_or_file).extension() == ".glsl";
+  const bool is_path = is_scene_path(name_or_file);
   SceneSource scene;
   if (is_path) {
     scene.path = name_or_file;
@@ -38,7 +47,7 @@ SceneSource load_scene(const std::string& name_or_file) {
                        " or a path to a .glsl file");
     }
   }
-  scene.name = scene.path.stem().string();
+  scene.name = scene_name(name_or_file);
   scene.text = read_input_file(scene.path, "a GLSL scene file (docs/scenes.md)", kMaxSceneBytes);
   if (scene.text.compare(0, 3, "\xEF\xBB\xBF") == 0) scene.text.erase(0, 3);  // a byte-order mark
   return scene;

@@ -23,6 +23,10 @@ std::vector<std::string> builtin_scene_names();
 // built-in scenes are about 10 KiB.
 constexpr uint64_t kMaxSceneBytes = uint64_t(4) << 20;  // 4 MiB
 
+// The name a scene goes by (SceneSource::name), without reading it: a built-in name as given, a
+// path's file stem ("my/scene.glsl": "scene").
+std::string scene_name(const std::string& name_or_file);
+
 // `name_or_file` is a built-in name ("columns") or a path ("my/scene.glsl"). Throws InputError
 // naming the scene and what was expected when it cannot be found or read. A UTF-8 byte-order mark
 // at the start of the file is left out of `text` (GLSL has no place for one).

@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <numbers>
 #include <set>
-#include <sstream>
 
 #include "core/content_hash.h"
 #include "core/csv.h"
@@ -26,11 +25,17 @@ namespace {
 bool is_safe_name(const std::string& name) { return is_valid_study_name(name); }
 
 void check_range(const TomlFields& fields, const std::string& key, double value, double low, double high) {
-  if (!(value >= low && value <= high)) {
-    std::ostringstream text;
-    text << "expected a value in [" << low << ", " << high << "], got " << value;
-    fields.fail(key, text.str());
-  }
+  if (!(value >= low && value <= high))  // the value as given: 0.9000001 is not "0.9"
+    fields.fail(key, "expected a value in [" + exact_number_text(low) + ", " + exact_number_text(high) + "], got " +
+                         exact_number_text(value));
+}
+
+// A parameter's value as a message quotes it: a choice by its name, a number as it was given (the
+// canonical text's 17 digits, 0.10000000000000001, are for logs, not people).
+std::string value_in_message(const ParameterDescriptor& parameter, double value) {
+  const bool named = parameter.type == ParameterType::choice && value >= 0 && value < double(parameter.choices.size()) &&
+                     value == std::floor(value);
+  return named ? parameter_value_text(parameter, value) : exact_number_text(value);
 }
 
 // An optional number field (`fallback` when absent) in [low, high].
@@ -76,7 +81,7 @@ std::map<std::string, double> read_parameters(const TomlFields& fields, RenderMe
     if (parameter->type == ParameterType::choice && !(reading.legacy_keys && node.is_number())) {
       if (!node.is_string())
         fields.fail(name, "expected " + *check_parameter_value(*parameter, -1) + " (a name), got " +
-                              (node.is_number() ? format_number(fields.number(name), 17) : "another type"));
+                              (node.is_number() ? exact_number_text(fields.number(name)) : "another type"));
       const std::string choice = fields.string(name);
       const std::optional<double> index = parse_choice(*parameter, choice);
       if (!index) fields.fail(name, "expected " + *check_parameter_value(*parameter, -1) + ", got \"" + choice + "\"");
@@ -85,7 +90,7 @@ std::map<std::string, double> read_parameters(const TomlFields& fields, RenderMe
       value = fields.number(name);
     }
     if (const std::optional<std::string> expected = check_parameter_value(*parameter, value))
-      fields.fail(name, "expected " + *expected + ", got " + parameter_value_text(*parameter, value));
+      fields.fail(name, "expected " + *expected + ", got " + value_in_message(*parameter, value));
     values[std::string(parameter->key)] = value;
   }
   return values;
@@ -277,7 +282,7 @@ void read_levels(const TomlFields& fields, const MethodConfig& test, const Readi
   levels.values = fields.numbers("values");
   for (size_t i = 0; i < levels.values.size(); ++i) {
     if (const std::optional<std::string> expected = check_parameter_value(*parameter, levels.values[i]))
-      fields.fail("values", "expected " + *expected + ", got " + format_number(levels.values[i], 17));
+      fields.fail("values", "expected " + *expected + ", got " + exact_number_text(levels.values[i]));
     if (i > 0 && !(levels.values[i] > levels.values[i - 1])) fields.fail("values", "expected strictly ascending values");
   }
   levels.higher_is_better = fields.boolean("higher_is_better", true);
@@ -473,6 +478,8 @@ std::string kind_of_method(SceneKind kind) {
 // the variants (with their own levels) and the levels (every level of any row, ascending).
 void read_conditions(const TomlFields& fields, const Reading& reading, StudyConfig& config) {
   const std::string file = fields.string("file");
+  if (file.empty())  // else the config's folder, or a file named "", would be read in its place
+    fields.fail("file", "expected the path of a conditions file (.csv, relative to the config's folder), got \"\"");
   fields.finish();
   std::filesystem::path path(file);
   if (path.is_relative()) path = std::filesystem::path(config.source_path).parent_path() / path;
@@ -551,7 +558,7 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
         value = *number;
       }
       if (const std::optional<std::string> expected = check_parameter_value(*parameter, value))
-        fail(row.line, where + "expected " + *expected + ", got " + parameter_value_text(*parameter, value));
+        fail(row.line, where + "expected " + *expected + ", got " + cell);  // as the file has it
       if (int(column) == level_column) level = value;
       else layer[std::string(parameter->key)] = value;
     }

@@ -79,6 +79,14 @@ std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, cons
   if (parameters > kQuestPlusMaxParameters)
     return "thresholds: expected at most " + std::to_string(kQuestPlusMaxParameters) +
            " (thresholds x slopes x lapses) grid points, got " + std::to_string(parameters);
+  const auto [lowest, highest] = std::minmax_element(levels.begin(), levels.end());
+  const double reach = kQuestPlusThresholdReach * (*highest - *lowest);
+  if (rule.thresholds.front() < *lowest - reach || rule.thresholds.back() > *highest + reach)
+    return "thresholds: expected values from " + format_number(*lowest - reach, 6) + " to " +
+           format_number(*highest + reach, 6) + " (the levels' range, " + exact_number_text(*lowest) + " to " +
+           exact_number_text(*highest) + ", widened by " + format_number(kQuestPlusThresholdReach, 6) +
+           " times its span on each side), got " +
+           exact_number_text(rule.thresholds.front() < *lowest - reach ? rule.thresholds.front() : rule.thresholds.back());
   if (rule.slopes.front() <= 0) return "slopes: expected values above 0";
   if (rule.shape == PsychometricShape::weibull && rule.thresholds.front() <= 0)
     return "thresholds: expected values above 0 (a Weibull function)";

@@ -46,6 +46,10 @@ constexpr size_t kQuestPlusMaxParameters = 20000;  // thresholds x slopes x laps
 // A session's QUEST+ tables in all (levels x grid points, summed over the distinct (rule, levels)
 // of its tracks: 3 doubles an entry, 96 MB at this limit).
 constexpr size_t kQuestPlusMaxTableEntries = 4000000;
+// How far the threshold grid may reach past the levels, in spans of the levels (highest - lowest) on
+// each side: no trial tells thresholds apart that far from every level (p_see is flat there), and
+// the grid's span and its differences from the levels stay finite (a grid of +-1e308 overflowed).
+constexpr double kQuestPlusThresholdReach = 10.0;
 
 // Default grids for a level grid (any order): 41 thresholds evenly over the levels' range (Weibull:
 // log-spaced, levels > 0), 8 slopes log-spaced over transitions (10 % to 90 % of p_see) from the
@@ -55,9 +59,9 @@ std::vector<double> default_quest_slopes(const std::vector<double>& levels, Psyc
 std::vector<double> default_quest_lapses();
 
 // What is wrong with a rule on a level grid, as "KEY: expected ..." (a config error), or nullopt:
-// empty or unsorted grids, grids past the limits, a guess and lapse that leave no room for
-// p_see, Weibull thresholds <= 0, a prior with no mass on the threshold grid, stopping rules that
-// can never be met.
+// empty or unsorted grids, grids past the limits, thresholds past kQuestPlusThresholdReach, a guess
+// and lapse that leave no room for p_see, Weibull thresholds <= 0, a prior with no mass on the
+// threshold grid, stopping rules that can never be met.
 std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, const std::vector<double>& levels);
 
 struct QuestPlusState {

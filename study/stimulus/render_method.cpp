@@ -522,11 +522,11 @@ std::optional<std::string> check_parameter_value(const ParameterDescriptor& para
     for (double allowed : parameter.allowed)
       if (value == allowed) return std::nullopt;
     std::string values = "one of";
-    for (double allowed : parameter.allowed) values.append(" ").append(format_number(allowed, 17));
+    for (double allowed : parameter.allowed) values.append(" ").append(exact_number_text(allowed));
     return values;
   }
   if (!(value >= parameter.min_value && value <= parameter.max_value))
-    return "a value in [" + format_number(parameter.min_value, 17) + ", " + format_number(parameter.max_value, 17) + "]";
+    return "a value in [" + exact_number_text(parameter.min_value) + ", " + exact_number_text(parameter.max_value) + "]";
   if (parameter.type == ParameterType::integer && std::floor(value) != value) return "a whole number";
   return std::nullopt;
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <string>
 #include <utility>
@@ -139,6 +140,19 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
   }
   EXPECT_EQ(seen.size(), 6u);
   EXPECT_NE(json["command"].get<std::string>().find("--times 0,9"), std::string::npos);
+
+  // The sweep's command runs as written (it holds only the flags its models use: bench refuses the
+  // others) and measures the same cells; bench-merge plans each part's cells from it.
+  const std::string command = json["command"].get<std::string>();
+  EXPECT_EQ(command.find("--inner-radius-deg"), std::string::npos) << command;  // hyperbolic's and linear's
+  const fs::path again_path = scratch() / "models-again.json";
+  const CommandResult again = run(command.substr(std::string("fovlab ").size()) + " --json " + again_path.string());
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const nlohmann::json again_json = nlohmann::json::parse(read_all(again_path));
+  EXPECT_EQ(again_json["command"], json["command"]);
+  ASSERT_EQ(again_json["cells"].size(), json["cells"].size());
+  for (size_t i = 0; i < json["cells"].size(); ++i)
+    for (const char* key : {"method", "time_s", "spp", "scene"}) EXPECT_EQ(again_json["cells"][i][key], json["cells"][i][key]) << i;
 }
 
 // Figure 6: RMFR over a grid of focal shares, a cell a pair, heat maps and the best pair.
@@ -202,8 +216,10 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   const fs::path dir = scratch() / "parts";
   fs::remove_all(dir);
   fs::create_directories(dir);
+  // A scene time of more digits than 6: each part's command must give it back exactly for the merge
+  // to rebuild the part's cells.
   const std::string sweep = "bench --scenes primitives --spp 1,4 --width 64 --height 48 --repeats 1 --methods gt,ipr,fipr "
-                            "--refresh 1 --fovea-deg 7.5";
+                            "--refresh 1 --fovea-deg 7.5 --time 0.123456789";
   const CommandResult whole = run(sweep + " --json " + (dir / "whole.json").string() + " --out-dir " + (dir / "whole").string());
   ASSERT_EQ(whole.exit_code, 0) << whole.err;
   std::string parts;
@@ -263,6 +279,41 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   expect_one_line_error(missing, "part 1/3 missing");
   EXPECT_FALSE(fs::exists(dir / "never.json"));
   expect_one_line_error(run("bench-merge " + (dir / "whole.json").string()), "not a part of a sweep");
+
+  // Each part against the sweep its command plans: a part relabelled (part 0 holds unit 0, 1 spp, and
+  // part 1 unit 1, 4 spp: their indices swapped), a method no flag planned, a negative time, and a
+  // command that is not a sweep's. One line naming the file and the field, nothing written.
+  const auto edited = [&](const std::string& name, const std::function<void(nlohmann::json&)>& edit, int index) {
+    nlohmann::json part = nlohmann::json::parse(read_all(dir / ("part-" + std::to_string(index) + ".json")));
+    edit(part);
+    return fovlab::cli_test::write_file(dir / (name + "-" + std::to_string(index) + ".json"), part.dump(2)).string();
+  };
+  const std::string part_2 = (dir / "part-2.json").string();
+  const auto merge = [&](const std::string& a, const std::string& b, const std::string& c) {
+    return run("bench-merge " + a + " " + b + " " + c + " --json " + (dir / "never.json").string());
+  };
+  const std::string relabelled_0 = edited("relabelled", [](nlohmann::json& p) { p["part"]["index"] = 1; }, 0);
+  const std::string relabelled_1 = edited("relabelled", [](nlohmann::json& p) { p["part"]["index"] = 0; }, 1);
+  expect_one_line_error(merge(relabelled_0, relabelled_1, part_2),
+                        "relabelled-1.json: rows[0].spp is 4; expected 1 (unit 0 of the sweep");
+  const std::string part_1 = (dir / "part-1.json").string();
+  expect_one_line_error(merge(edited("xyz", [](nlohmann::json& p) { p["cells"][1]["method"] = "xyz"; }, 0), part_1, part_2),
+                        "xyz-0.json: cells[1].method is \"xyz\"; expected \"ipr\" (cell 2 of every unit's 3: gt, ipr, fipr");
+  expect_one_line_error(merge(edited("slow", [](nlohmann::json& p) { p["cells"][2]["median_gpu_ms"] = -1.5; }, 0), part_1,
+                              part_2),
+                        "slow-0.json: cells[2].median_gpu_ms is -1.5; expected a GPU time in milliseconds from 0 to");
+  const auto other_command = [](nlohmann::json& p) { p["command"] = "rm -rf /"; };
+  expect_one_line_error(merge(edited("other", other_command, 0), edited("other", other_command, 1),
+                              edited("other", other_command, 2)),
+                        "other-0.json: \"command\": expected \"fovlab bench\" and the sweep's flags, got \"rm -rf /\"");
+  const auto more_spps = [](nlohmann::json& p) {
+    std::string command = p["command"];
+    command.replace(command.find("--spp 1,4"), 9, "--spp 1,4,16");
+    p["command"] = command;
+  };
+  expect_one_line_error(merge(edited("spp", more_spps, 0), edited("spp", more_spps, 1), edited("spp", more_spps, 2)),
+                        "spp-0.json: \"part\".units is 2; expected 3, the sweep's 1 scenes x 1 times x 3 spp");
+  EXPECT_FALSE(fs::exists(dir / "never.json"));
   expect_one_line_error(run("bench-merge " + (dir / "nothing.json").string()), "nothing.json");
   // --cells needs --json, and leaves --out-dir to bench-merge.
   expect_one_line_error(run(kTiny + "--cells 0/2"), "--cells 0/2: needs --json");

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -17,10 +18,14 @@
 #include "core/image_io.h"
 #include "core/output_guard.h"
 #include "core/input_error.h"
+#include "tests/support/small_disk.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
+
+using testing::names_in;
+using testing::pid_of_a_finished_process;
 
 std::filesystem::path fresh_folder(const std::string& name) { return testing::fresh_scratch_folder("fovlab-test-" + name); }
 
@@ -54,17 +59,58 @@ TEST(AtomicFile, FailedWriteKeepsTheOldFile) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), {}), 1);
 }
 
-// --- whole folders --------------------------------------------------------------------------------
-
-using testing::names_in;
-using testing::pid_of_a_finished_process;
-
 void write_set(const std::filesystem::path& target, bool replace, const std::string& text) {
   write_folder_atomically(target, replace, [&](const std::filesystem::path& temporary) {
     write_text_atomically(temporary / "a.txt", text);
     write_text_atomically(temporary / "b.txt", text);
   });
 }
+
+// What a failed write says: the file, the operation and the system's reason, as an InputError (exit
+// code 2), never a bare "cannot write file" or an internal error.
+std::string write_error(const std::function<void()>& write) {
+  try {
+    write();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(AtomicFile, AFullDiskSaysSoAndKeepsTheOldFile) {
+  const auto folder = fresh_folder("atomic-full-disk");
+  testing::SmallDisk disk(folder / "disk");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (" << disk.reason() << "); needs root";
+  const auto target = folder / "disk" / "stats.json";
+  write_text_atomically(target, "old");
+  disk.fill(folder / "disk" / "filler");
+  const std::string big(256 * 1024, 'x');  // more than the whole disk: the write itself fails
+  EXPECT_EQ(write_error([&] { write_text_atomically(target, big); }),
+            target.string() + ": writing failed (No space left on device)");
+  EXPECT_EQ(read_all(target), "old");
+  EXPECT_EQ(names_in(folder / "disk"), (std::vector<std::string>{"filler", "stats.json"}));  // no temporary left
+
+  // A folder of files (fovlab analyze's): the file that did not fit, and why; the old folder kept.
+  const auto set = folder / "disk" / "set";
+  std::filesystem::remove(folder / "disk" / "filler");
+  write_set(set, false, "old set");
+  disk.fill(folder / "disk" / "filler");
+  const std::string message = write_error([&] { write_set(set, true, big); });
+  EXPECT_NE(message.find("a.txt: writing failed (No space left on device)"), std::string::npos) << message;
+  EXPECT_EQ(read_all(set / "a.txt"), "old set");
+}
+
+TEST(AtomicFile, ARenameTheSystemRefusesSaysWhy) {
+  const auto folder = fresh_folder("atomic-rename");
+  const auto target = folder / "taken";
+  std::filesystem::create_directories(target / "inside");  // a folder with entries: rename(2) refuses
+  const std::string message = write_error([&] { write_text_atomically(target, "text"); });
+  EXPECT_EQ(message.rfind(target.string() + ": renaming .taken.tmp-", 0), 0u) << message;
+  EXPECT_NE(message.find(" into place failed (Is a directory)"), std::string::npos) << message;
+  EXPECT_EQ(names_in(folder), std::vector<std::string>{"taken"});  // the temporary removed
+}
+
+// --- whole folders --------------------------------------------------------------------------------
 
 TEST(AtomicFolder, WritesTheSetAndReplacesOnlyWhenAsked) {
   const auto folder = fresh_folder("atomic-folder");

@@ -144,6 +144,22 @@ TEST(GazeTrace, MalformedLinesNameFileLineAndField) {
   EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1,2\n"), "");  // and a good one passes
 }
 
+// A sample's time is seconds on the session clock within 1e6 either way, so every age computed from
+// it (session time - time_s, in ms) stays finite: 1e308 made the latency -inf, -1e308 inf.
+TEST(GazeTrace, TimesFarFromTheSessionAreRefusedAsWritten) {
+  const TempDir dir;
+  const auto error_for = [&](const std::string& text) { return error_of(dir.write("gaze.csv", text)); };
+  const std::string p = (dir.path() / "gaze.csv").string();
+  const std::string expected = "time_s: expected seconds on the session clock from -1e+06 to 1e+06 (11.6 days), got ";
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0,1,2\n1e308,1,2\n"), p + ":3: " + expected + "\"1e308\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n-1e308,1,2\n"), p + ":2: " + expected + "\"-1e308\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n1000000.5,1,2\n"), p + ":2: " + expected + "\"1000000.5\"");
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n-1000000,1,2\n0,1,2\n1000000,1,2\n"), "");  // the ends are in
+  // The order message quotes the times as given, not at 6 digits.
+  EXPECT_EQ(error_for("time_s,x_px,y_px\n0.1234567,1,2\n0.1234566,1,2\n"),
+            p + ":3: time_s: 0.1234566 is earlier than the previous sample (0.1234567)");
+}
+
 TEST(GazeTrace, MissingFileIsAnInputError) {
   const TempDir dir;
   const std::string path = (dir.path() / "absent.csv").string();

@@ -14,11 +14,13 @@
 #include "study/log/log_integrity.h"
 #include "protocols/session/session.h"
 #include "tests/protocols/session/session_test_support.h"
+#include "tests/support/small_disk.h"
 
 namespace fovlab {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::SmallDisk;
 
 // `fovlab run` of the pair fixture for participant D1; returns the exit code, output in `output`.
 int run_pair(const fs::path& results, const fs::path& output) {
@@ -35,29 +37,6 @@ int run_pair(const fs::path& results, const fs::path& output) {
   waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
-
-class SmallDisk {
- public:
-  explicit SmallDisk(const fs::path& at) : at_(at) {
-    fs::create_directories(at);
-    mounted_ = ::mount("tmpfs", at.c_str(), "tmpfs", 0, "size=64k") == 0;
-    if (!mounted_) reason_ = std::strerror(errno);
-  }
-  ~SmallDisk() {
-    if (mounted_) ::umount2(at_.c_str(), MNT_DETACH);
-  }
-  bool mounted() const { return mounted_; }
-  const std::string& reason() const { return reason_; }
-  bool resize(uintmax_t bytes) {
-    const std::string options = "size=" + std::to_string(bytes);
-    return ::mount("tmpfs", at_.c_str(), "tmpfs", MS_REMOUNT, options.c_str()) == 0;
-  }
-
- private:
-  fs::path at_;
-  bool mounted_ = false;
-  std::string reason_;
-};
 
 bool only_complete_lines(const std::string& text) { return text.empty() || text.back() == '\n'; }
 
@@ -87,11 +66,7 @@ TEST(DiskFull, ASessionStopsCleanlyWithTheReasonAndResumesOnceThereIsSpace) {
   // 2. A torn last line, then a disk with no room for setting it aside: refused, nothing left.
   ASSERT_TRUE(disk.resize((whole_bytes / 2 / page + 3) * page));
   std::ofstream(log_path, std::ios::binary | std::ios::app) << "{\"event\":\"stim";
-  {
-    std::ofstream filler(root / "disk" / "filler", std::ios::binary);
-    const std::string block(page, 'x');
-    while (filler.write(block.data(), static_cast<std::streamsize>(block.size()))) filler.flush();
-  }
+  disk.fill(root / "disk" / "filler");
   const std::string torn_log = test::read_file(log_path);
   EXPECT_EQ(run_pair(results, root / "torn.txt"), 2);
   const std::string torn_message = test::read_file(root / "torn.txt");

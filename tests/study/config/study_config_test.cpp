@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <regex>
@@ -765,6 +766,47 @@ TEST(ProtocolsConfig, OutOfRange) {
   expect_error(text, line_of(text, "refresh_hz = inf"), "display.refresh_hz", "finite");
 }
 
+// A number out of its range is quoted as it was given: not rounded to 6 digits (0.9000001 is not
+// "0.9", which is in range), not at 17 (0.00001 is not 1.0000000000000001e-05), and the range's
+// ends as people write them.
+TEST(ProtocolsConfig, OutOfRangeNumbersAreQuotedAtThePrecisionGiven) {
+  ConfigText base;
+  base.attention = replace_once(base.attention, "share = 0.2", "share = 0.9000001");
+  std::string text = base.text();
+  expect_error(text, line_of(text, "share = 0.9000001"), "attention.share", "expected a value in [0, 0.9], got 0.9000001");
+
+  base = ConfigText{};
+  base.levels = replace_once(base.levels, "parameter = \"max_steps\"\nvalues = [4, 8, 16, 32, 64]",
+                             "parameter = \"hit_threshold\"\nvalues = [0.00001, 0.3]");
+  text = base.text();
+  expect_error(text, line_of(text, "values = [0.00001, 0.3]"), "levels.values",
+               "expected a value in [0.0001, 8], got 1e-05");
+
+  base = ConfigText{};
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"\n",
+                               "[stimulus.test]\nmethod = \"gt\"\nhit_threshold = 8.000000000000002\n");
+  text = base.text();
+  expect_error(text, line_of(text, "hit_threshold = 8.000000000000002"), "stimulus.test.hit_threshold",
+               "expected a value in [0.0001, 8], got 8.000000000000002");
+}
+
+// QUEST+'s threshold grid is in the levels' units: a grid of +-1e308 (whose span overflows) or one
+// far past every level is refused naming the key and the range it may take.
+TEST(ProtocolsConfig, AQuestPlusThresholdGridFarPastTheLevelsIsRefused) {
+  ConfigText base;
+  base.blocks = "[[block]]\nscene = \"primitives\"\nprocedure = \"q\"\n\n[procedure.q]\nkind = \"quest_plus\"\n"
+                "max_trials = 20\nthresholds = [-1e308, 1e308]\n";
+  std::string text = base.text();
+  expect_error(text, line_of(text, "thresholds = [-1e308, 1e308]"), "procedure.q.thresholds",
+               "expected values from -596 to 664 (the levels' range, 4 to 64, widened by 10 times its span on each "
+               "side), got -1e+308");
+  base.blocks = replace_once(base.blocks, "thresholds = [-1e308, 1e308]", "thresholds = [4, 664.5]");
+  text = base.text();
+  expect_error(text, line_of(text, "thresholds = [4, 664.5]"), "procedure.q.thresholds", "got 664.5");
+  base.blocks = replace_once(base.blocks, "thresholds = [4, 664.5]", "thresholds = [-596, 664]");
+  EXPECT_NO_THROW(parse(base.text()));
+}
+
 TEST(ProtocolsConfig, HugeIntegersAreOutOfRangeNotWrapped) {
   // 2^32 + 320 is far outside [8, 16384]; it must not be read as 320 (an int cast before the range
   // check would wrap it into range).
@@ -1243,6 +1285,18 @@ TEST(StudyConfigConditions, BadFilesNameTheFileLineAndColumn) {
   // The config's side: values and conditions both, or no file.
   const ConditionsStudy both("variant,max_steps\na,4\n", "[levels]\nparameter = \"max_steps\"\nvalues = [4]\n");
   EXPECT_NE(both.error().find("levels.values: the [conditions] file gives the levels"), std::string::npos) << both.error();
+  // An empty path names the key: it is not the config's folder, nor a file called "".
+  ConditionsStudy empty_path("variant,max_steps\na,4\n");
+  std::string config_text;
+  {
+    std::ifstream in(empty_path.config_path, std::ios::binary);
+    config_text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  config_text = replace_once(config_text, "file = \"conditions.csv\"", "file = \"\"");
+  std::ofstream(empty_path.config_path, std::ios::binary) << config_text;
+  EXPECT_EQ(empty_path.error(), empty_path.config_path + ":" + std::to_string(line_of(config_text, "file = \"\"")) +
+                                    ": conditions.file: expected the path of a conditions file (.csv, relative to the "
+                                    "config's folder), got \"\"");
   ConditionsStudy missing("variant,max_steps\na,4\n");
   std::filesystem::remove(std::filesystem::path(missing.config_path).parent_path() / "conditions.csv");
   EXPECT_NE(missing.error().find("conditions.csv"), std::string::npos) << missing.error();

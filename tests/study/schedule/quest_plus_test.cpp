@@ -156,6 +156,13 @@ TEST(QuestPlus, BadRulesAreNamedByTheirKey) {
   EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_entropy_bits = 4; }).rfind("stop_entropy_bits:", 0), 0u);  // log2(16) = 4
   EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_interval_width = 3; }).rfind("stop_interval_width:", 0), 0u);
   EXPECT_EQ(error([](QuestPlusRule& r) { r.shape = PsychometricShape::weibull; r.thresholds = {0, 1}; }).rfind("thresholds:", 0), 0u);
+  // Thresholds within the levels' range widened by 10 spans (1 to 4: -29 to 34), quoted as given.
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {-1e308, 1e308}; }),
+            "thresholds: expected values from -29 to 34 (the levels' range, 1 to 4, widened by 10 times its span on "
+            "each side), got -1e+308");
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {1, 34.000001}; }).rfind("thresholds: expected values from -29 to 34", 0), 0u);
+  EXPECT_NE(error([](QuestPlusRule& r) { r.thresholds = {1, 34.000001}; }).find("got 34.000001"), std::string::npos);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {-29, 34}; }), "no error");
   EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = std::vector<double>(2001, 0); for (size_t i = 0; i < 2001; ++i) r.thresholds[i] = double(i); r.slopes = {1, 2, 3, 4, 5}; }).rfind("thresholds: expected at most 20000", 0), 0u);
 }
 
