@@ -27,7 +27,7 @@ PartOfN parse_part_of_n(const std::string& text, const std::string& flag, const 
   const auto index = parts ? parse_finite_number(parts->first) : std::nullopt;
   const auto count = parts ? parse_finite_number(parts->second) : std::nullopt;
   if (!index || !count || *count < 1 || *count > 100000 || *index < 0 || *index >= *count ||
-      *index != double(int(*index)) || *count != double(int(*count)))
+      *index != std::floor(*index) || *count != std::floor(*count))
     fail_flag(flag, "I/N with whole numbers 0 <= I < N (" + example + ")", text);
   return {int(*index), int(*count)};
 }
@@ -117,30 +117,37 @@ void check_flags_against_descriptor(const SphereTraceSettings& settings) {
   if (!method) return;
   const MethodDescriptor& descriptor = describe(*method);
   const FoveationSettings& fov = settings.foveation;
+  // Each value also as the flag gave it: the shortest text that reads back as the field's own type
+  // (--hit-threshold 0.00001, not the float's 9.9999997473787516e-06).
   struct Flag {
     const char* flag;
     const char* key;
     double value;
+    std::string text;
   };
-  std::vector<Flag> flags = {{"--spp", "samples_per_pixel", double(settings.samples_per_pixel)},
-                             {"--max-steps", "max_steps", double(settings.max_steps)},
-                             {"--hit-threshold", "hit_threshold", double(settings.hit_threshold)},
-                             {"--levels", "pyramid_levels", double(settings.pyramid_levels)},
-                             {"--min-filter", "min_filter_size", double(settings.min_filter_size)}};
+  const auto flag = [](const char* name, const char* key, auto value) {
+    return Flag{name, key, double(value), exact_number_text(value)};
+  };
+  std::vector<Flag> flags = {flag("--spp", "samples_per_pixel", double(settings.samples_per_pixel)),
+                             flag("--max-steps", "max_steps", double(settings.max_steps)),
+                             flag("--hit-threshold", "hit_threshold", settings.hit_threshold),
+                             flag("--levels", "pyramid_levels", double(settings.pyramid_levels)),
+                             flag("--min-filter", "min_filter_size", double(settings.min_filter_size))};
   if (settings.method == TraceMethod::foveated_pyramid) {
-    flags.push_back({"--fovea-deg", "fovea_radius_deg", fov.acuity.fovea_radius_deg});
+    flags.push_back(flag("--fovea-deg", "fovea_radius_deg", fov.acuity.fovea_radius_deg));
     if (std::isfinite(fov.acuity.outer_periphery_radius_deg))
-      flags.push_back({"--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_radius_deg});
-    flags.push_back({"--refresh", "periphery_refresh", double(fov.periphery_refresh)});
-    flags.push_back({"--periphery-steps", "periphery_steps", double(fov.periphery_steps)});
-    flags.push_back({"--edge-threshold", "edge_threshold", double(fov.edge_threshold)});
+      flags.push_back(flag("--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_radius_deg));
+    flags.push_back(flag("--refresh", "periphery_refresh", double(fov.periphery_refresh)));
+    flags.push_back(flag("--periphery-steps", "periphery_steps", double(fov.periphery_steps)));
+    flags.push_back(flag("--edge-threshold", "edge_threshold", fov.edge_threshold));
   }
-  for (const Flag& flag : flags) {
-    const ParameterDescriptor* parameter = find_parameter(descriptor, flag.key);
+  for (const Flag& given : flags) {
+    const ParameterDescriptor* parameter = find_parameter(descriptor, given.key);
     if (!parameter) continue;  // not a parameter of this method (e.g. --levels of gt)
-    if (const std::optional<std::string> expected = check_parameter_value(*parameter, flag.value))
-      throw InputError(std::string(flag.flag) + " " + parameter_value_text(*parameter, flag.value) + ": expected " +
-                       *expected);
+    if (const std::optional<std::string> expected = check_parameter_value(*parameter, given.value))
+      throw InputError(std::string(given.flag) + " " +
+                       (parameter->type == ParameterType::choice ? parameter_value_text(*parameter, given.value) : given.text) +
+                       ": expected " + *expected);
   }
 }
 

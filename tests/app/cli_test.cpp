@@ -118,6 +118,8 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   // A method's parameter flags take what a study config takes (its descriptor's range and values).
   expect_one_line_error(run(render + kSmall + "--method fipr --levels 2"), "--levels 2: expected a value in [3, 5]");
   expect_one_line_error(run(render + kSmall + "--max-steps 5000"), "--max-steps 5000: expected a value in [1, 4096]");
+  // A float flag quoted as given, not as the float's 17 digits (9.9999997473787516e-06).
+  expect_one_line_error(run(render + kSmall + "--hit-threshold 0.00001"), "--hit-threshold 1e-05: expected a value in");
   expect_one_line_error(run(render + kSmall + "--method fipr --fovea-deg 200"),
                         "--fovea-deg 200: expected a value in [0, 180]");
   expect_one_line_error(run(render + kSmall + "--method ipr --min-filter 2"), "--min-filter 2: expected one of 1 3 5");
