@@ -198,15 +198,15 @@ TEST_F(FrameCacheTest, FrameRendersAMissingFrameStoresItAndReadsItBack) {
   const std::string refused = input_error_of([&] { reopened.frame(sequence, 1); });
   EXPECT_NE(refused.find(file.string()), std::string::npos) << refused;
   EXPECT_NE(refused.find("frame_000001.sha256"), std::string::npos) << refused;
-  // Without its .sha256 (a cache from before hashes were kept) the frame on disk is what frame()
-  // returns: the cache never re-renders a present frame.
+  // The replaced frame with its .sha256 deleted: nothing says it is the frame rendered, so it is not
+  // a cached frame, and frame() renders it again (and its hash) instead of showing it.
   fs::remove(hash);
   EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::unhashed);
-  EXPECT_TRUE(reopened.has_frame(sequence, 1));
+  EXPECT_FALSE(reopened.has_frame(sequence, 1));
   const Image read_back = reopened.frame(sequence, 1);
-  ASSERT_EQ(read_back.channels, 3);
-  EXPECT_EQ(read_back.pixels, marker.pixels);
-  reopened.record_hash(sequence, 1);
+  EXPECT_EQ(read_back.pixels, rendered.pixels) << "rendered again, not the replaced file";
+  EXPECT_EQ(read_image(file).pixels, rendered.pixels) << "the replaced file is replaced in the cache";
+  EXPECT_EQ(read_text(hash), sha256_hex(read_text(file)) + "  frame_000001.exr\n");
   EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::whole);
 
   // Frame 0 is a different camera time: a different image, and the direct render of its settings.
