@@ -347,7 +347,7 @@ NrrdDataFiles nrrd_data_files(const std::filesystem::path& header_path, const Nr
   if (names.empty() || names.size() > kMaxNrrdDataFiles)
     throw InputError(header_path.string() + ": " + std::to_string(names.size()) + " data files: expected 1 to " +
                      std::to_string(kMaxNrrdDataFiles));
-  const std::filesystem::path folder = header_path.parent_path().empty() ? "." : header_path.parent_path();
+  const std::filesystem::path folder = header_path.parent_path();  // empty: the working directory
   for (const std::string& name : names) {
     if (name == "-")
       throw InputError(header_path.string() + ": data file \"-\" (standard input): expected a data file, a regular file "

@@ -386,6 +386,36 @@ TEST_F(FrameCacheTest, SameSequenceRenderedTwiceGivesIdenticalBits) {
   EXPECT_NE(cache.frame(reseeded, 0).pixels, first);
 }
 
+// Bytes this process has read so far (rchar of /proc/self/io: every read(2), whatever the file).
+uint64_t bytes_read_so_far() {
+  std::ifstream io("/proc/self/io");
+  std::string key;
+  uint64_t value = 0;
+  while (io >> key >> value)
+    if (key == "rchar:") return value;
+  return 0;
+}
+
+// A .sha256 is one sha256sum line: a 30 GiB one (sparse: no disk) was read for 4.4 GB before it was
+// refused. Now it is refused from its size, and the frame is not whole.
+TEST_F(FrameCacheTest, AHashFileIsReadNoFurtherThanOneLine) {
+  const PathTraceSequence sequence = small_sequence();
+  {
+    FrameCache cache(context(), root_);
+    cache.frame(sequence, 0);
+    ASSERT_EQ(cache.frame_status(sequence, 0), FrameStatus::whole);
+    fs::resize_file(cache.hash_file(sequence, 0), uint64_t(30) << 30);
+  }
+  FrameCache reader(root_);  // read and check only
+  const uint64_t before = bytes_read_so_far();
+  EXPECT_EQ(reader.frame_status(sequence, 0), FrameStatus::altered);
+  const uint64_t read = bytes_read_so_far() - before;
+  EXPECT_LT(read, uint64_t(1) << 20) << "read " << read << " bytes to check a 32x20 frame";
+  FrameCache cache(context(), root_);
+  const std::string message = input_error_of([&] { cache.frame(sequence, 0); });
+  EXPECT_NE(message.find("frame_000000.sha256: not a regular file of at most 4096 bytes"), std::string::npos) << message;
+}
+
 TEST_F(FrameCacheTest, BadSequenceSettingsAreInputErrors) {
   FrameCache cache(context(), root_);
   PathTraceSequence sequence = small_sequence();
