@@ -116,16 +116,13 @@ void run_prerender(const PrerenderOptions& options) {
   FrameCache cache(context, options.cache);
   std::vector<const PathTraceFrameJob*> missing;
   size_t altered = 0;
-  size_t hashed = 0;
+  size_t unhashed = 0;
   for (const PathTraceFrameJob& job : jobs) {
     const FrameStatus status = cache.frame_status(job.sequence, job.frame);
-    if (status == FrameStatus::unhashed) {  // whole (written by rename): its hash was not yet kept
-      cache.record_hash(job.sequence, job.frame);
-      ++hashed;
-    } else if (status != FrameStatus::whole) {
-      altered += status == FrameStatus::altered;
-      missing.push_back(&job);
-    }
+    if (status == FrameStatus::whole) continue;
+    altered += status == FrameStatus::altered;
+    unhashed += status == FrameStatus::unhashed;  // nothing says it is the frame rendered: rendered again
+    missing.push_back(&job);
   }
   std::set<std::string> scenes;
   for (const PathTraceFrameJob& job : all_jobs)
@@ -134,8 +131,8 @@ void run_prerender(const PrerenderOptions& options) {
   std::printf("%s: %zu frames in all, shard %d/%d holds %zu: %zu cached, %zu to render (cache %s)\n",
               options.config.c_str(), all_jobs.size(), shard.index, shard.count, jobs.size(),
               jobs.size() - missing.size(), missing.size(), options.cache.c_str());
-  if (hashed > 0) std::printf("%zu frames had no .sha256 beside them (rendered before hashes were kept, or a kill between a frame and "
-                "its hash): hashed\n", hashed);
+  if (unhashed > 0) std::printf("%zu frames had no .sha256 beside them (left so by an older fovlab, or replaced and their hash "
+                                "deleted): rendered again\n", unhashed);
   if (altered > 0) std::printf("%zu frames differ from their .sha256: rendered again\n", altered);
   std::fflush(stdout);
 

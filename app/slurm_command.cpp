@@ -32,8 +32,8 @@
 #include "app/output_options.h"
 #include "app/prerender_jobs.h"
 #include "core/atomic_file.h"
-#include "core/file_bytes.h"
 #include "core/input_error.h"
+#include "core/input_file.h"
 
 namespace fovlab::app {
 
@@ -240,7 +240,7 @@ void submit(const fs::path& out) {
 
 // This process's command line as given (/proc/self/cmdline), for the scripts' header.
 std::string invocation_text() {
-  const std::optional<std::string> bytes = read_file_bytes("/proc/self/cmdline");
+  const std::optional<std::string> bytes = read_file_if_regular("/proc/self/cmdline", uint64_t(1) << 20);
   std::string text = "fovlab";
   if (!bytes) return text + " slurm";
   size_t start = bytes->find('\0');  // past argv[0]

@@ -12,6 +12,7 @@
 #include "app/output_options.h"
 #include "renderer/vk/context.h"
 #include "study/config/study_config.h"
+#include "study/schedule/log_estimate.h"
 #include "study/schedule/study_plan.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "protocols/stimuli/stimulus_settings.h"
@@ -112,6 +113,7 @@ void validate(const std::string& config_path, const std::string& participant, bo
   // not after minutes of rendering (the session refuses it the same way).
   check_prepared_frames_fit(specs, config_path);
   check_sampling_maps(plan.stimuli, config_path);
+  check_log_fits_readers(plan, config_path);  // what validate accepts, the log readers can read back
   int checks = 0, practice = 0;
   std::set<std::string> conditions;
   for (const Trial& trial : plan.trials) {

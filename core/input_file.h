@@ -5,6 +5,9 @@
 //   cannot hang the command);
 // - at most `max_bytes`: a larger file is refused from its size at once, and a file that grows while
 //   it is read is refused after max_bytes + 1 bytes, so no more than that is ever read.
+// Readers of caches use read_file_if_regular (the same guard; a file that fails it is not used), and
+// readers that hand the file to a C library open it as an OpenInputFile and pass its descriptor on, so
+// the library never opens a path itself.
 // Errors are one-line InputErrors that start with the path and end with what was expected, e.g.
 //   "dir: not a regular file (a directory): expected a study config (.toml)"
 //   "big.toml: larger than 16 MiB (17825792 bytes): expected a study config (.toml) of at most 16 MiB"
@@ -18,6 +21,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/input_error.h"
@@ -62,34 +66,73 @@ inline std::uint64_t check_input_file(int fd, const std::string& name, const std
   return status.st_size > 0 ? std::uint64_t(status.st_size) : 0;
 }
 
-inline std::string read_input_file(const std::filesystem::path& path, const std::string& expected,
-                                   std::uint64_t max_bytes) {
-  const std::string name = path.string();
-  const auto fail = [&](const std::string& what) -> void { throw InputError(name + ": " + what + ": expected " + expected); };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) fail(std::string("cannot open (") + std::strerror(errno) + ")");
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  const std::uint64_t size = check_input_file(fd, name, expected, max_bytes);
+// An input file open for reading, checked by check_input_file; closes its descriptor when it goes.
+// For readers that hand the open file on (a FILE* for a C library) instead of reading it whole.
+class OpenInputFile {
+ public:
+  OpenInputFile(const std::filesystem::path& path, const std::string& expected, std::uint64_t max_bytes)
+      : name_(path.string()) {
+    fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // a FIFO without a writer must not block
+    if (fd_ < 0) throw InputError(name_ + ": cannot open (" + std::strerror(errno) + "): expected " + expected);
+    try {
+      size_bytes_ = check_input_file(fd_, name_, expected, max_bytes);
+    } catch (...) {
+      ::close(fd_);
+      throw;
+    }
+  }
+  ~OpenInputFile() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  OpenInputFile(const OpenInputFile&) = delete;
+  OpenInputFile& operator=(const OpenInputFile&) = delete;
 
+  int fd() const { return fd_; }
+  // Its size when it was checked.
+  std::uint64_t size_bytes() const { return size_bytes_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  std::string name_;
+  int fd_ = -1;
+  std::uint64_t size_bytes_ = 0;
+};
+
+// The rest of an open input file, never more than max_bytes + 1 bytes read (one byte past the cap is
+// enough to know it is exceeded: a file that grew after its check).
+inline std::string read_open_input_file(const OpenInputFile& file, const std::string& expected, std::uint64_t max_bytes) {
   std::string bytes;
-  bytes.reserve(static_cast<size_t>(size));
+  bytes.reserve(static_cast<size_t>(std::min(file.size_bytes(), max_bytes)));
   char buffer[1 << 16];
   for (;;) {
-    // Never more than max_bytes + 1 in all: one byte past the cap is enough to know it is exceeded.
     const std::uint64_t room = max_bytes + 1 - bytes.size();
-    const ssize_t count = ::read(fd, buffer, static_cast<size_t>(std::min<std::uint64_t>(sizeof buffer, room)));
+    const ssize_t count = ::read(file.fd(), buffer, static_cast<size_t>(std::min<std::uint64_t>(sizeof buffer, room)));
     if (count < 0) {
       if (errno == EINTR) continue;
-      fail(std::string("cannot read (") + std::strerror(errno) + ")");
+      throw InputError(file.name() + ": cannot read (" + std::strerror(errno) + "): expected " + expected);
     }
     if (count == 0) break;
     bytes.append(buffer, static_cast<size_t>(count));
-    if (bytes.size() > max_bytes) throw_too_large(name, expected, max_bytes, "it grew while it was read");
+    if (bytes.size() > max_bytes) throw_too_large(file.name(), expected, max_bytes, "it grew while it was read");
   }
   return bytes;
+}
+
+inline std::string read_input_file(const std::filesystem::path& path, const std::string& expected,
+                                   std::uint64_t max_bytes) {
+  const OpenInputFile file(path, expected, max_bytes);
+  return read_open_input_file(file, expected, max_bytes);
+}
+
+// A file whose absence or oddity is no error (a cache, which is made again rather than trusted to be
+// a file): its bytes when it is a regular file of at most `max_bytes` that reads in full, else none.
+// The same guard as read_input_file: a FIFO or device is never read, a larger file never past its cap.
+inline std::optional<std::string> read_file_if_regular(const std::filesystem::path& path, std::uint64_t max_bytes) {
+  try {
+    return read_input_file(path, "a regular file", max_bytes);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
 }
 
 }  // namespace fovlab

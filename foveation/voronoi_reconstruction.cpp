@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -19,6 +19,7 @@
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
+#include "core/input_file.h"
 
 namespace fovlab {
 namespace {
@@ -139,21 +140,13 @@ bool get(const std::string& in, size_t& offset, T& value) {
   return true;
 }
 
-std::string serialise(const VoronoiReconstruction& r, const std::string& key) {
-  std::string out(kMagic, sizeof kMagic);
-  put(out, uint32_t(key.size()));
-  out += key;
-  put(out, int32_t(r.mask.width_px));
-  put(out, int32_t(r.mask.height_px));
-  put(out, int32_t(r.mask.iterations));
-  put(out, uint8_t(r.mask.converged));
-  put(out, r.neighbour_reach_px);
-  put(out, uint32_t(r.mask.sites.size()));
-  out.append(reinterpret_cast<const char*>(r.mask.sites.data()), r.mask.sites.size() * sizeof(MaskSite));
-  out.append(reinterpret_cast<const char*>(r.neighbour_sites.data()), r.neighbour_sites.size() * sizeof(uint32_t));
-  out.append(reinterpret_cast<const char*>(r.neighbour_weights.data()), r.neighbour_weights.size() * sizeof(uint16_t));
-  put(out, ContentHash().add(out).value());
-  return out;
+// The most a cache file of these settings can hold: the header, a site per mask pixel at most (a
+// site that owns no pixel is deleted), every pixel's neighbours and the hash. A larger file is not
+// read at all.
+uint64_t max_cache_file_bytes(const VoronoiMaskSettings& settings, const std::string& key) {
+  const uint64_t pixels = 4 * uint64_t(std::max(settings.screen_width_px, 0)) * uint64_t(std::max(settings.screen_height_px, 0));
+  const uint64_t header = sizeof kMagic + 4 + key.size() + 3 * 4 + 1 + 4 + 4;
+  return header + pixels * sizeof(MaskSite) + pixels * kVoronoiNeighbours * (sizeof(uint32_t) + sizeof(uint16_t)) + 8;
 }
 
 bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, const std::string& key, VoronoiReconstruction& r) {
@@ -193,6 +186,32 @@ bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, con
   for (const MaskSite& site : r.mask.sites)
     if (!(site.x_px >= 0.0f && site.x_px <= float(width) && site.y_px >= 0.0f && site.y_px <= float(height))) return false;
   // The reach decides which sites are traced: recomputed from the weights, never taken on trust.
+  if (voronoi_neighbour_reach_px(r) != r.neighbour_reach_px) return false;
+  return site_count > 0;
+}
+
+}  // namespace
+
+std::string voronoi_cache_bytes(const VoronoiReconstruction& r) {
+  const std::string key = voronoi_settings_key(r.settings);
+  std::string out(kMagic, sizeof kMagic);
+  put(out, uint32_t(key.size()));
+  out += key;
+  put(out, int32_t(r.mask.width_px));
+  put(out, int32_t(r.mask.height_px));
+  put(out, int32_t(r.mask.iterations));
+  put(out, uint8_t(r.mask.converged));
+  put(out, r.neighbour_reach_px);
+  put(out, uint32_t(r.mask.sites.size()));
+  out.append(reinterpret_cast<const char*>(r.mask.sites.data()), r.mask.sites.size() * sizeof(MaskSite));
+  out.append(reinterpret_cast<const char*>(r.neighbour_sites.data()), r.neighbour_sites.size() * sizeof(uint32_t));
+  out.append(reinterpret_cast<const char*>(r.neighbour_weights.data()), r.neighbour_weights.size() * sizeof(uint16_t));
+  put(out, ContentHash().add(out).value());
+  return out;
+}
+
+float voronoi_neighbour_reach_px(const VoronoiReconstruction& r) {
+  const int width = r.mask.width_px, height = r.mask.height_px;
   float reach = 0.0f;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
@@ -202,11 +221,12 @@ bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, con
         const MaskSite& site = r.mask.sites[r.neighbour_sites[entry]];
         reach = std::max(reach, float(std::hypot(site.x_px - (x + 0.5), site.y_px - (y + 0.5))));
       }
-  if (reach != r.neighbour_reach_px) return false;
-  return site_count > 0;
+  return reach;
 }
 
-}  // namespace
+std::filesystem::path voronoi_cache_file(const VoronoiMaskSettings& settings, const std::filesystem::path& cache_folder) {
+  return cache_folder / ("voronoi-" + ContentHash().add(voronoi_settings_key(settings)).hex() + ".bin");
+}
 
 std::vector<std::pair<uint32_t, double>> sibson_coordinates(const std::vector<MaskSite>& sites, double x_px, double y_px) {
   if (sites.empty()) return {};
@@ -257,22 +277,20 @@ VoronoiReconstruction cached_voronoi_reconstruction(const VoronoiMaskSettings& s
                                                     const std::filesystem::path& cache_folder,
                                                     const std::function<void(double)>& progress, bool* made) {
   const std::string key = voronoi_settings_key(settings);
-  const std::filesystem::path file = cache_folder / ("voronoi-" + ContentHash().add(key).hex() + ".bin");
-  {
-    std::ifstream stream(file, std::ios::binary);
-    if (stream) {
-      const std::string bytes((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
-      VoronoiReconstruction cached;
-      if (deserialise(bytes, settings, key, cached)) {
-        if (made) *made = false;
-        return cached;
-      }
+  const std::filesystem::path file = voronoi_cache_file(settings, cache_folder);
+  // Through the input guard: a FIFO, a device or a link to one is never opened for reading (it would
+  // block, or feed bytes without end), and a file larger than these settings' masks can be is not read.
+  if (const std::optional<std::string> bytes = read_file_if_regular(file, max_cache_file_bytes(settings, key))) {
+    VoronoiReconstruction cached;
+    if (deserialise(*bytes, settings, key, cached)) {
+      if (made) *made = false;
+      return cached;
     }
   }
   VoronoiReconstruction made_now = make_voronoi_reconstruction(settings, progress);
   try {  // a cache that cannot be written (a read-only or full disk) costs the next run time, nothing else
     std::filesystem::create_directories(cache_folder);
-    write_text_atomically(file, serialise(made_now, key));  // binary-safe: written as bytes
+    write_text_atomically(file, voronoi_cache_bytes(made_now));  // binary-safe: written as bytes
   } catch (const std::exception& error) {
     std::fprintf(stderr, "fovlab: warning: the sampling mask was not cached (%s)\n", error.what());
   }

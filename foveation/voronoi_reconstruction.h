@@ -48,9 +48,26 @@ std::string voronoi_settings_key(const VoronoiMaskSettings& settings);
 // The Voronoi cache's folder inside a pre-render cache folder (stimuli/cache by default).
 inline std::filesystem::path voronoi_cache_folder(const std::filesystem::path& cache_root) { return cache_root / "voronoi"; }
 
-// The same through a cache in `cache_folder` (created if missing): a file named by the settings'
-// hash, written atomically; a file that is unreadable, damaged or of other settings is made anew.
-// `made`, when given, says whether it was computed (true) or read (false).
+// The cache's file for these settings in `cache_folder`: voronoi-<hash of voronoi_settings_key>.bin.
+std::filesystem::path voronoi_cache_file(const VoronoiMaskSettings& settings, const std::filesystem::path& cache_folder);
+
+// A cache file's bytes: a header (magic, the settings' key, the mask's size, iterations, whether it
+// converged, the reach, the site count), the sites, each pixel's neighbours and weights, then the
+// FNV-1a hash of all before it. The hash tells a damaged file from a whole one; it is no seal: whoever
+// can write the cache can write a file that passes every check of its own bytes (sessions and replay
+// therefore never read the cache, StimulusLibrary makes their masks anew).
+std::string voronoi_cache_bytes(const VoronoiReconstruction& reconstruction);
+
+// The reach of a reconstruction's weights (VoronoiReconstruction::neighbour_reach_px), from its sites
+// and weights: what a cache file's reach is checked against.
+float voronoi_neighbour_reach_px(const VoronoiReconstruction& reconstruction);
+
+// The same through a cache in `cache_folder` (created if missing): voronoi_cache_file, written
+// atomically; a file that is not a regular file of at most the size these settings' masks can take
+// (a FIFO, a device, a 30 GiB file: never read), unreadable, damaged, of other settings, or whose
+// sites or reach do not check out is made anew (and replaced). For commands that render or measure
+// (render, bench-volume), not for sessions. `made`, when given, says whether it was computed (true)
+// or read (false).
 VoronoiReconstruction cached_voronoi_reconstruction(const VoronoiMaskSettings& settings,
                                                     const std::filesystem::path& cache_folder,
                                                     const std::function<void(double)>& progress = {},

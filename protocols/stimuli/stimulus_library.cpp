@@ -28,7 +28,7 @@ std::string frame_hash(const Rgba8Frame& frame) {
 }
 
 StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root)
-    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)), cache_root_(cache_root),
+    : context_(context), frame_cache_(std::make_unique<FrameCache>(context, cache_root)),
       readback_(std::make_unique<vk::Buffer>()) {}
 StimulusLibrary::~StimulusLibrary() = default;
 
@@ -119,7 +119,11 @@ VolumeRaycaster& StimulusLibrary::raycaster_for(const StimulusSpec& spec) {
     volume = volumes_.emplace(spec.scene, std::pair{std::move(scene), std::move(grid)}).first;
   }
   auto raycaster = std::make_unique<VolumeRaycaster>(context_, volume->second.first, volume->second.second);
-  if (mask) raycaster->set_reconstruction(cached_voronoi_reconstruction(*mask, voronoi_cache_folder(cache_root_)));
+  // Made anew, never read from the Voronoi cache: a cache file passes every check of its own bytes
+  // once its hash and reach are recomputed after an edit, and a participant must see the mask the
+  // algorithm makes (so replay, which makes it too, compares frames with the algorithm's). It takes
+  // a fraction of a second at the study configs' sizes (docs/volume-rendering.md, "Cache").
+  if (mask) raycaster->set_reconstruction(make_voronoi_reconstruction(*mask));
   return *raycasters_.emplace(key, std::move(raycaster)).first->second;
 }
 

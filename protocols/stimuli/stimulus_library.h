@@ -10,8 +10,8 @@
 // (hash()). Path-traced frames (pt, fpt, pt-rmfr, ...) come
 // from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
 // before the first trial. Volume stimuli (volume, fvolume) come from seed 003's raycaster; fvolume's
-// sampling mask and weights are read from (or made into) the Voronoi cache, cache_root/voronoi,
-// before the first trial.
+// sampling mask and weights are made before the first trial, never read from the Voronoi cache
+// (foveation/voronoi_reconstruction.h: a cache file can be forged past its own checks).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -116,7 +116,7 @@ class StimulusLibrary {
   DeviceRgba8Frame sample_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt-rmfr, ...
   DeviceRgba8Frame render_volume(const StimulusSpec& spec, const StimulusImage& image);  // volume, fvolume
   // The raycaster of a volume spec: one a scene for volume, one a scene and sampling mask for fvolume
-  // (its mask and weights read from the Voronoi cache or made), so that stimuli of several masks
+  // (its mask and weights made anew), so that stimuli of several masks
   // switch without reloading anything; the volume itself is loaded once a scene.
   VolumeRaycaster& raycaster_for(const StimulusSpec& spec);
   // Gaze-dependent methods render a presentation's images in order: std::logic_error unless image k
@@ -139,7 +139,6 @@ class StimulusLibrary {
   std::string sampler_frame_;  // spec and frame the sampler holds
   std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
   std::string sampler_centre_spec_;            // ... with this canonical text
-  std::filesystem::path cache_root_;
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
   std::map<std::string, std::unique_ptr<VolumeRaycaster>> raycasters_;  // by volume scene (and mask)
   std::map<std::string, std::pair<VolumeScene, VolumeGrid>> volumes_;   // by volume scene

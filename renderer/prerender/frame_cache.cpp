@@ -8,9 +8,9 @@
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/digest.h"
-#include "core/file_bytes.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "core/input_file.h"
 #include "core/number_text.h"
 
 namespace fovlab {
@@ -18,6 +18,7 @@ namespace fovlab {
 namespace {
 
 constexpr const char* kCacheFormat = "fovlab-frame-cache-1";
+constexpr uint64_t kMaxManifestBytes = 64 * 1024;  // cache.json: three short fields
 
 std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
@@ -36,12 +37,31 @@ bool is_frame_of(const Image& image, const PathTraceSequence& sequence) {
   return image.width == sequence.width_px && image.height == sequence.height_px && image.channels >= 3;
 }
 
-// Whether the frame's bytes match its .sha256; none when it has no .sha256.
-std::optional<bool> matches_its_hash(const std::filesystem::path& file, const std::filesystem::path& hash) {
+// A .sha256 is one sha256sum line: 64 hex digits, two spaces and the frame's name.
+constexpr uint64_t kMaxHashFileBytes = 4096;
+constexpr const char* kFrameExpected = "a frame of the pre-render cache (an EXR fovlab prerender wrote; delete it to render it again)";
+
+// The most a frame's file may hold: its pixels as 32-bit floats, RGBA, twice over (OpenEXR's
+// compression never doubles them), and 1 MiB for its header and offset tables.
+uint64_t max_frame_file_bytes(const PathTraceSequence& sequence) {
+  return 2 * uint64_t(sequence.width_px) * uint64_t(sequence.height_px) * 4 * sizeof(float) + (uint64_t(1) << 20);
+}
+
+enum class HashVerdict { missing, not_a_hash_file, differs, matches };
+
+// The frame's bytes against its .sha256. No path that is there is "missing" (a FIFO, a device, a link
+// to one, or a file larger than one line is not a hash file), and no more than its cap is read.
+HashVerdict check_hash(std::string_view frame_bytes, const std::filesystem::path& file, const std::filesystem::path& hash) {
   std::error_code error;
-  if (!std::filesystem::exists(hash, error)) return std::nullopt;
-  const std::optional<std::string> bytes = read_file_bytes(file);
-  return bytes && read_file_bytes(hash) == hash_line(*bytes, file);
+  if (!std::filesystem::exists(std::filesystem::symlink_status(hash, error))) return HashVerdict::missing;
+  const std::optional<std::string> line = read_file_if_regular(hash, kMaxHashFileBytes);
+  if (!line) return HashVerdict::not_a_hash_file;
+  return *line == hash_line(frame_bytes, file) ? HashVerdict::matches : HashVerdict::differs;
+}
+
+bool is_there(const std::filesystem::path& path) {
+  std::error_code error;
+  return std::filesystem::exists(std::filesystem::symlink_status(path, error));
 }
 
 }  // namespace
@@ -102,7 +122,8 @@ std::filesystem::path FrameCache::folder(const PathTraceSequence& sequence) {
   if (std::filesystem::exists(manifest, error)) {
     nlohmann::json found;
     try {
-      found = nlohmann::json::parse(read_file_bytes(manifest).value_or(""));
+      found = nlohmann::json::parse(read_input_file(
+          manifest, "the pre-render cache's description (cache.json; delete the folder to render it again)", kMaxManifestBytes));
     } catch (const nlohmann::json::exception&) {
       throw InputError(manifest.string() + ": not JSON; expected the pre-render cache's description (delete the folder)");
     }
@@ -131,29 +152,28 @@ std::filesystem::path FrameCache::hash_file(const PathTraceSequence& sequence, i
 
 FrameStatus FrameCache::frame_status(const PathTraceSequence& sequence, int frame) {
   const std::filesystem::path file = frame_file(sequence, frame);
-  std::error_code error;
-  if (!std::filesystem::exists(file, error)) return FrameStatus::missing;
+  if (!is_there(file)) return FrameStatus::missing;
+  // Read once through the input guard (a FIFO, a device or a link to one is not a frame, and no more
+  // than a frame's size is read), then decoded in full from those bytes: a damaged file with a good
+  // header is not done, and the bytes hashed are the bytes decoded.
+  const std::optional<std::string> bytes = read_file_if_regular(file, max_frame_file_bytes(sequence));
+  if (!bytes) return FrameStatus::unreadable;
   try {
-    // Decoded in full: a damaged file with a good header is not done.
-    if (!is_frame_of(read_image(file), sequence)) return FrameStatus::unreadable;
+    if (!is_frame_of(decode_image(*bytes, file.string()), sequence)) return FrameStatus::unreadable;
   } catch (const InputError&) {
     return FrameStatus::unreadable;
   }
-  const std::optional<bool> matches = matches_its_hash(file, hash_file(sequence, frame));
-  if (!matches) return FrameStatus::unhashed;
-  return *matches ? FrameStatus::whole : FrameStatus::altered;
+  switch (check_hash(*bytes, file, hash_file(sequence, frame))) {
+    case HashVerdict::missing: return FrameStatus::unhashed;
+    case HashVerdict::matches: return FrameStatus::whole;
+    case HashVerdict::not_a_hash_file:
+    case HashVerdict::differs: return FrameStatus::altered;
+  }
+  return FrameStatus::altered;
 }
 
 bool FrameCache::has_frame(const PathTraceSequence& sequence, int frame) {
-  const FrameStatus status = frame_status(sequence, frame);
-  return status == FrameStatus::whole || status == FrameStatus::unhashed;
-}
-
-void FrameCache::record_hash(const PathTraceSequence& sequence, int frame) {
-  const std::filesystem::path file = frame_file(sequence, frame);
-  const std::optional<std::string> bytes = read_file_bytes(file);
-  if (!bytes) throw InputError(file.string() + ": cannot be read back to hash it");
-  write_text_atomically(hash_file(sequence, frame), hash_line(*bytes, file));
+  return frame_status(sequence, frame) == FrameStatus::whole;
 }
 
 PathTraceResult FrameCache::render_frame(const PathTraceSequence& sequence, int frame) {
@@ -162,26 +182,41 @@ PathTraceResult FrameCache::render_frame(const PathTraceSequence& sequence, int 
   if (!context_) throw std::logic_error("FrameCache: rendering " + file.string() + " without a Vulkan context");
   if (!entry.tracer) entry.tracer = std::make_unique<PathTracer>(*context_, entry.loaded.scene);
   PathTraceResult result = entry.tracer->render(sequence.settings(frame));
-  write_image(file, result.image);  // atomic: a temporary file renamed over the target
-  record_hash(sequence, frame);     // the bytes as they landed on disk
+  // The frame is written to a temporary name, its .sha256 (of those bytes) put in place, then the
+  // frame renamed over the target: a frame on disk always has its hash beside it, so a kill at any
+  // moment leaves no frame without one (at worst a hash without its frame: the frame is missing).
+  write_atomically(file, [&](const std::filesystem::path& temporary) {
+    write_image_to_temporary(temporary, result.image, file);
+    const std::string bytes = read_input_file(temporary, kFrameExpected, max_frame_file_bytes(sequence));
+    write_text_atomically(hash_file(sequence, frame), hash_line(bytes, file));
+  });
   return result;
 }
 
 Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
   const std::filesystem::path file = frame_file(sequence, frame);
-  std::error_code error;
-  if (!std::filesystem::exists(file, error)) return render_frame(sequence, frame).image;
-  Image image = read_image(file);  // InputError naming the file when it cannot be decoded
+  const std::filesystem::path hash = hash_file(sequence, frame);
+  // A frame without its .sha256 is rendered again, never shown: nothing says it is the one rendered
+  // (a frame replaced and its hash deleted, or one an older fovlab left without its hash).
+  if (!is_there(file) || !is_there(hash)) return render_frame(sequence, frame).image;
+  const std::string bytes = read_input_file(file, kFrameExpected, max_frame_file_bytes(sequence));
+  Image image = decode_image(bytes, file.string());  // InputError naming the file when it cannot be decoded
   if (!is_frame_of(image, sequence))
     throw InputError(file.string() + ": " + size_text(image.width, image.height) + " with " +
                      std::to_string(image.channels) + " channels; expected a " +
                      size_text(sequence.width_px, sequence.height_px) + " RGB frame of the pre-render cache");
-  const std::filesystem::path hash = hash_file(sequence, frame);
-  if (matches_its_hash(file, hash) == false)
-    throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +
-                     " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
-                     "files to render it again)");
-  return image;
+  switch (check_hash(bytes, file, hash)) {
+    case HashVerdict::matches: return image;
+    case HashVerdict::missing: return render_frame(sequence, frame).image;  // removed since the check above
+    case HashVerdict::not_a_hash_file:
+      throw InputError(hash.string() + ": not a regular file of at most " + byte_size_text(kMaxHashFileBytes) +
+                       ": expected the sha256sum line of " + file.filename().string() +
+                       " (delete both files to render the frame again)");
+    case HashVerdict::differs: break;
+  }
+  throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +
+                   " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
+                   "files to render it again)");
 }
 
 }  // namespace fovlab

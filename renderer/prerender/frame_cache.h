@@ -6,9 +6,13 @@
 // for, checked on every use) and one linear-light EXR a frame, frame_000000.exr and on. Frames are
 // written atomically (a temporary name, then a rename), so a killed pre-render leaves only whole
 // frames and resumes with what is missing. Beside each frame, frame_000000.sha256 is its manifest
-// entry: the SHA-256 of the bytes the renderer wrote, in sha256sum's format, so a frame changed or
+// entry: the SHA-256 of the bytes the renderer wrote, in sha256sum's format, put in place before the
+// frame is renamed into place (so a kill never leaves a frame without one). A frame changed or
 // damaged after it was rendered is told apart from the one that was (a session refuses it, a
-// pre-render renders it again, `prerender --verify` lists it). EXR files carry no write time, so
+// pre-render renders it again, `prerender --verify` lists it); a frame without its .sha256 is
+// rendered again, never shown. Every file of the cache is read through the input guard
+// (core/input_file.h): a FIFO, a device or a link to one is never opened for reading, and no file is
+// read past its cap (a frame's size; 4 KiB for a .sha256). EXR files carry no write time, so
 // the same frame rendered twice by the same device and driver is the same bytes. docs/foveated-path-tracing.md
 // ("Pre-render cache"), docs/scale-out.md.
 #include <cstdint>
@@ -54,9 +58,10 @@ inline const std::filesystem::path kDefaultCacheRoot = "stimuli/cache";
 enum class FrameStatus {
   missing,     // no file
   unreadable,  // not an EXR of the sequence's size that decodes in full
-  unhashed,    // a whole frame without its .sha256 (rendered before hashes were kept, or a kill
-               // between the frame's rename and its hash's)
-  altered,     // its bytes differ from its .sha256 (or the .sha256 is not one)
+  unhashed,    // a frame without its .sha256 (left so by an older fovlab, or a frame replaced and
+               // its hash deleted): rendered again, never used
+  altered,     // its bytes differ from its .sha256 (or the .sha256 is not one: not a regular file
+               // of at most 4 KiB)
   whole,       // decodes, and its bytes match its .sha256
 };
 const char* frame_status_text(FrameStatus status);
@@ -80,15 +85,14 @@ class FrameCache {
   // The frame's manifest entry, frame_NNNNNN.sha256.
   std::filesystem::path hash_file(const PathTraceSequence& sequence, int frame);
   FrameStatus frame_status(const PathTraceSequence& sequence, int frame);
-  // The frame can be shown as it is: whole, or unhashed.
+  // The frame can be shown as it is: whole (decodes, and matches its .sha256).
   bool has_frame(const PathTraceSequence& sequence, int frame);
-  // Writes the .sha256 of a frame already on disk (an unhashed one).
-  void record_hash(const PathTraceSequence& sequence, int frame);
   // Renders the frame and stores it, then its .sha256 (replacing what was there). Returns the
   // render's statistics.
   PathTraceResult render_frame(const PathTraceSequence& sequence, int frame);
-  // The frame from the cache, rendered and stored first when missing. InputError naming the file
-  // when it is there but unreadable, of another size, or differs from its .sha256.
+  // The frame from the cache, rendered and stored first when it or its .sha256 is missing.
+  // InputError naming the file when it is there but not a regular file, unreadable, of another size,
+  // or differs from its .sha256 (or the .sha256 is not a regular file of one line).
   Image frame(const PathTraceSequence& sequence, int frame);
   // The OBJ loader's note for a scene (dropped triangles...), empty for built-ins; after folder().
   const std::string& scene_note(const std::string& scene);

@@ -6,8 +6,8 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <mutex>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/input_error.h"
+#include "core/input_file.h"
 
 namespace fovlab {
 
@@ -106,13 +107,15 @@ std::vector<uint32_t> compile_glsl(const SceneSource& scene, const SceneConsumer
   return spirv;
 }
 
+// A cached module is at most 64 MiB (a scene's is some hundred KiB); a file that is not a regular file
+// of at most that (a FIFO, a device, a link to one) is not read: the scene is compiled again.
+constexpr uint64_t kMaxCachedSpirvBytes = uint64_t(64) << 20;
+
 std::vector<uint32_t> read_cached_spirv(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return {};
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 20 || bytes.size() % 4 != 0) return {};
-  std::vector<uint32_t> words(bytes.size() / 4);
-  std::memcpy(words.data(), bytes.data(), bytes.size());
+  const std::optional<std::string> bytes = read_file_if_regular(file, kMaxCachedSpirvBytes);
+  if (!bytes || bytes->size() < 20 || bytes->size() % 4 != 0) return {};
+  std::vector<uint32_t> words(bytes->size() / 4);
+  std::memcpy(words.data(), bytes->data(), bytes->size());
   if (words[0] != kSpirvMagic) return {};  // torn or foreign file: compile again
   return words;
 }

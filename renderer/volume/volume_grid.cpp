@@ -1,10 +1,18 @@
 #include "renderer/volume/volume_grid.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 #include <teem/nrrd.h>
 
@@ -203,33 +211,269 @@ std::string teem_error(const std::filesystem::path& path) {
   return path.string() + ": " + text + ": expected a 3-D scalar NRRD volume";
 }
 
+// NRRD through libteem, without letting teem open a path: the header file and every data file it
+// names are opened here through the input guard (core/input_file.h: regular files only, a FIFO opened
+// without blocking, devices and "-" refused), and teem reads the header from memory and the data
+// through /proc/self/fd of the descriptors checked, so what was checked is what is read.
+constexpr uint64_t kMaxNrrdHeaderBytes = uint64_t(1) << 20;
+constexpr size_t kMaxNrrdDataFiles = 65536;
+constexpr const char* kNrrdExpected = "a NRRD volume (.nrrd or .nhdr)";
+
+// The header of an open NRRD file: its lines up to the blank line that ends it (or the end of the
+// file), and where the data starts in the file. At most kMaxNrrdHeaderBytes are read.
+struct NrrdHeader {
+  std::vector<std::string> lines;  // without line ends; the magic first
+  uint64_t data_offset = 0;        // bytes of the header and its blank line (attached data starts there)
+};
+
+NrrdHeader read_nrrd_header(const OpenInputFile& file) {
+  std::string text;
+  char buffer[1 << 16];
+  size_t end = std::string::npos;  // the blank line's last byte
+  bool at_eof = false;
+  while (end == std::string::npos && !at_eof) {
+    const ssize_t count = ::pread(file.fd(), buffer, sizeof buffer, off_t(text.size()));
+    if (count < 0) {
+      if (errno == EINTR) continue;
+      throw FileError(file.name(), "read", errno);
+    }
+    if (count == 0) at_eof = true;
+    const size_t searched_from = text.size() > 2 ? text.size() - 2 : 0;
+    text.append(buffer, size_t(count));
+    for (const char* blank : {"\n\n", "\n\r\n"}) {
+      const size_t at = text.find(blank, searched_from);
+      if (at != std::string::npos && (end == std::string::npos || at + std::strlen(blank) - 1 < end)) end = at + std::strlen(blank) - 1;
+    }
+    if (end == std::string::npos && text.size() > kMaxNrrdHeaderBytes)
+      throw InputError(file.name() + ": no blank line in its first " + byte_size_text(kMaxNrrdHeaderBytes) + ": expected " +
+                       kNrrdExpected + " whose header is at most " + byte_size_text(kMaxNrrdHeaderBytes));
+  }
+  NrrdHeader header;
+  header.data_offset = end == std::string::npos ? text.size() : end + 1;
+  text.resize(size_t(header.data_offset));
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t stop = text.find('\n', start);
+    if (stop == std::string::npos) stop = text.size();
+    std::string line = text.substr(start, stop - start);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) break;  // the blank line
+    header.lines.push_back(std::move(line));
+    start = stop + 1;
+  }
+  return header;
+}
+
+// What a header's "data file" field names (teem's three forms: one file; a printf-style template with
+// min, max, step and an optional sub-dimension; or LIST with an optional sub-dimension, the names on
+// the lines after it), resolved against the header's folder.
+struct NrrdDataFiles {
+  size_t field_line = 0;           // index in NrrdHeader::lines; 0: no data file field (attached data)
+  bool single = true;              // the one-file form
+  bool list = false;               // the LIST form
+  std::string subdimension;        // as written after the template's numbers or LIST, "" for none
+  std::vector<std::filesystem::path> paths;
+};
+
+std::string trimmed(std::string_view text) {
+  const size_t first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return "";
+  const size_t last = text.find_last_not_of(" \t");
+  return std::string(text.substr(first, last - first + 1));
+}
+
+// The template's names: one conversion %d with an optional 0 flag and width, as NRRD writers make it
+// ("slice%03d.raw"). Anything else a printf would read (%s, two conversions) is refused, not formatted.
+std::vector<std::string> template_names(const std::filesystem::path& header_path, const std::string& value) {
+  const auto fail = [&](const std::string& what) -> void {
+    throw InputError(header_path.string() + ": data file \"" + value + "\": " + what);
+  };
+  std::istringstream words(value);
+  std::string pattern;
+  long long min = 0, max = 0, step = 0;
+  words >> pattern;
+  if (!(words >> min >> max >> step)) fail("expected a name with %d, then its first number, last number and step");
+  const size_t percent = pattern.find('%');
+  size_t digits_end = percent + 1;
+  while (digits_end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[digits_end]))) ++digits_end;
+  if (digits_end >= pattern.size() || pattern[digits_end] != 'd' || pattern.find('%', digits_end) != std::string::npos ||
+      digits_end - percent - 1 > 2)
+    fail("expected one %d conversion (with an optional 0 and width) in the name");
+  if (min < INT32_MIN || min > INT32_MAX || max < INT32_MIN || max > INT32_MAX || step == 0 || (max - min) / step < 0 ||
+      (max - min) / step >= (long long)kMaxNrrdDataFiles)
+    fail("expected a step that reaches the last number from the first in at most " + std::to_string(kMaxNrrdDataFiles) + " files");
+  // The conversion alone, checked above to be %d with at most two flag or width digits, is safe to
+  // give snprintf.
+  const std::string conversion = pattern.substr(percent, digits_end - percent) + "lld";
+  std::vector<std::string> names;
+  for (long long number = min; step > 0 ? number <= max : number >= max; number += step) {
+    char digits[32];
+    std::snprintf(digits, sizeof digits, conversion.c_str(), number);
+    names.push_back(pattern.substr(0, percent) + digits + pattern.substr(digits_end + 1));
+  }
+  return names;
+}
+
+NrrdDataFiles nrrd_data_files(const std::filesystem::path& header_path, const NrrdHeader& header) {
+  NrrdDataFiles files;
+  std::vector<std::string> names;
+  for (size_t i = 1; i < header.lines.size(); ++i) {
+    const std::string& line = header.lines[i];
+    if (line.empty() || line[0] == '#') continue;
+    const size_t colon = line.find(": ");  // a field as teem tells one ("key:=value" is a key/value pair)
+    if (colon == std::string::npos) continue;
+    if (airEnumVal(nrrdField, line.substr(0, colon).c_str()) != nrrdField_data_file) continue;
+    files.field_line = i;
+    const std::string value = trimmed(std::string_view(line).substr(colon + 2));
+    if (value.find('%') != std::string::npos) {  // the template form
+      files.single = false;
+      names = template_names(header_path, value);
+      std::istringstream words(value);
+      std::string skipped;
+      for (int word = 0; word < 4; ++word) words >> skipped;
+      std::getline(words, files.subdimension);
+      files.subdimension = trimmed(files.subdimension);
+    } else if (value.rfind(NRRD_LIST_FLAG, 0) == 0) {  // LIST: the rest of the header names the files
+      files.single = false;
+      files.list = true;
+      files.subdimension = trimmed(std::string_view(value).substr(std::strlen(NRRD_LIST_FLAG)));
+      for (size_t j = i + 1; j < header.lines.size(); ++j) names.push_back(header.lines[j]);
+    } else {
+      names.push_back(value);
+    }
+    break;
+  }
+  if (files.field_line == 0) return files;
+  if (names.empty() || names.size() > kMaxNrrdDataFiles)
+    throw InputError(header_path.string() + ": " + std::to_string(names.size()) + " data files: expected 1 to " +
+                     std::to_string(kMaxNrrdDataFiles));
+  const std::filesystem::path folder = header_path.parent_path();  // empty: the working directory
+  for (const std::string& name : names) {
+    if (name == "-")
+      throw InputError(header_path.string() + ": data file \"-\" (standard input): expected a data file, a regular file "
+                       "beside the header or at a path");
+    const std::filesystem::path path(name);
+    files.paths.push_back(path.is_absolute() ? path : folder / path);
+  }
+  return files;
+}
+
+// The bytes a data file may hold, from the header's sizes and encoding: its share of the values,
+// encoded, plus 1 MiB of lines or bytes skipped before them. A larger file is refused before teem
+// reads it (a text encoding could otherwise be read without end).
+uint64_t max_data_file_bytes(const Nrrd& nrrd, const NrrdIoState& io, size_t file_count) {
+  const uint64_t values = uint64_t(nrrdElementNumber(&nrrd)) / file_count;
+  const uint64_t bytes = values * uint64_t(nrrdElementSize(&nrrd));
+  uint64_t encoded = bytes;                                               // raw
+  if (io.encoding == nrrdEncodingAscii) encoded = 64 * values;            // a number and its separator
+  else if (io.encoding == nrrdEncodingHex) encoded = 3 * bytes;           // two digits a byte, and line breaks
+  else if (io.encoding != nrrdEncodingRaw) encoded = 2 * bytes;           // compressed (gzip, bzip2, zrl)
+  return encoded + (uint64_t(1) << 20);
+}
+
+std::string encoding_text(const Nrrd& nrrd, const NrrdIoState& io, size_t file_count) {
+  return std::to_string(uint64_t(nrrdElementNumber(&nrrd)) / file_count) + " values of " +
+         std::string(airEnumStr(nrrdType, nrrd.type)) + " (" + std::string(io.encoding ? io.encoding->name : "?") + ")";
+}
+
+struct TeemDeleters {
+  void operator()(Nrrd* nrrd) const { nrrdNuke(nrrd); }
+  void operator()(NrrdIoState* io) const { nrrdIoStateNix(io); }
+  void operator()(FILE* file) const { std::fclose(file); }
+};
+using NrrdPointer = std::unique_ptr<Nrrd, TeemDeleters>;
+using NrrdIoPointer = std::unique_ptr<NrrdIoState, TeemDeleters>;
+using FilePointer = std::unique_ptr<FILE, TeemDeleters>;
+
+// One read by teem of the header text (detached data, through /proc/self/fd) or of the header file's
+// descriptor from its start (attached data).
+void teem_read(Nrrd* nrrd, NrrdIoState* io, const std::string& header_text, const OpenInputFile& header_file, bool attached,
+               const std::filesystem::path& path) {
+  FilePointer file;
+  if (attached) {
+    const int copy = ::dup(header_file.fd());
+    if (copy < 0) throw FileError(path.string(), "dup", errno);
+    file.reset(::fdopen(copy, "rb"));
+    if (!file) {
+      ::close(copy);
+      throw FileError(path.string(), "fdopen", errno);
+    }
+    std::rewind(file.get());
+  } else {
+    file.reset(::fmemopen(const_cast<char*>(header_text.data()), header_text.size(), "rb"));
+    if (!file) throw FileError(path.string(), "fmemopen", errno);
+  }
+  if (nrrdRead(nrrd, file.get(), io)) throw InputError(teem_error(path));
+}
+
 VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<ValueRange>& range, const VolumeLimits& limits) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    throw InputError(path.string() + ": no such file: expected a NRRD volume (.nrrd or .nhdr)");
-  const auto nrrd_deleter = [](Nrrd* nrrd) { nrrdNuke(nrrd); };
-  const auto io_deleter = [](NrrdIoState* io) { nrrdIoStateNix(io); };
-  // The header first, without the data: the sides are checked before a voxel is allocated.
-  std::unique_ptr<Nrrd, decltype(nrrd_deleter)> header(nrrdNew(), nrrd_deleter);
-  std::unique_ptr<NrrdIoState, decltype(io_deleter)> io(nrrdIoStateNew(), io_deleter);
+  if (!std::filesystem::exists(path, error))
+    throw InputError(path.string() + ": no such file: expected " + kNrrdExpected);
+  // Any file NRRD can be: a header with its data attached holds at most the largest volume, as doubles
+  // written as text (the exact cap, from the header, is checked before teem reads the data).
+  const uint64_t largest_data = 64 * (limits.max_bytes / 2) + (uint64_t(1) << 20);
+  const OpenInputFile header_file(path, kNrrdExpected, kMaxNrrdHeaderBytes + largest_data);
+  const NrrdHeader header = read_nrrd_header(header_file);
+  const NrrdDataFiles named = nrrd_data_files(path, header);
+  const bool attached = named.field_line == 0;
+
+  // The data files, open and checked; teem gets the header with the field naming them rewritten to
+  // their descriptors (the field last, so that a LIST's names end the header).
+  std::vector<std::unique_ptr<OpenInputFile>> data_files;
+  const std::string data_expected = "the data file of NRRD volume " + path.string();
+  for (const std::filesystem::path& file : named.paths)
+    data_files.push_back(std::make_unique<OpenInputFile>(file, data_expected, largest_data));
+  std::string header_text;
+  for (size_t i = 0; i < header.lines.size(); ++i) {
+    if (!attached && i == named.field_line) continue;
+    if (named.list && i > named.field_line) break;  // a LIST's names: written again below
+    header_text += header.lines[i] + "\n";
+  }
+  if (!attached) {
+    const auto descriptor = [](const OpenInputFile& file) { return "/proc/self/fd/" + std::to_string(file.fd()); };
+    if (named.single) {
+      header_text += "data file: " + descriptor(*data_files.front()) + "\n";
+    } else {
+      header_text += std::string("data file: ") + NRRD_LIST_FLAG + (named.subdimension.empty() ? "" : " " + named.subdimension) + "\n";
+      for (const auto& file : data_files) header_text += descriptor(*file) + "\n";
+    }
+  }
+
+  // The header first, without the data: the sides and the data files' sizes are checked before a
+  // voxel is allocated or a byte of data read.
+  NrrdPointer nrrd_header(nrrdNew());
+  NrrdIoPointer io(nrrdIoStateNew());
   io->skipData = AIR_TRUE;
-  if (nrrdLoad(header.get(), path.c_str(), io.get())) throw InputError(teem_error(path));
-  if (header->dim != 3)
-    throw InputError(path.string() + ": " + std::to_string(header->dim) + " axes: expected a 3-D scalar volume (3 axes)");
-  const std::array<int64_t, 3> size{int64_t(header->axis[0].size), int64_t(header->axis[1].size), int64_t(header->axis[2].size)};
+  teem_read(nrrd_header.get(), io.get(), header_text, header_file, attached, path);
+  if (nrrd_header->dim != 3)
+    throw InputError(path.string() + ": " + std::to_string(nrrd_header->dim) + " axes: expected a 3-D scalar volume (3 axes)");
+  const std::array<int64_t, 3> size{int64_t(nrrd_header->axis[0].size), int64_t(nrrd_header->axis[1].size),
+                                    int64_t(nrrd_header->axis[2].size)};
   check_volume_size(size, limits, path.string());
-  switch (header->type) {
+  switch (nrrd_header->type) {
     case nrrdTypeChar: case nrrdTypeUChar: case nrrdTypeShort: case nrrdTypeUShort: case nrrdTypeInt:
     case nrrdTypeUInt: case nrrdTypeFloat: case nrrdTypeDouble: break;
     default:
-      throw InputError(path.string() + ": type " + std::string(airEnumStr(nrrdType, header->type)) +
+      throw InputError(path.string() + ": type " + std::string(airEnumStr(nrrdType, nrrd_header->type)) +
                        ": expected (un)signed 8-, 16- or 32-bit integers, float or double");
   }
-  std::unique_ptr<Nrrd, decltype(nrrd_deleter)> nrrd(nrrdNew(), nrrd_deleter);
-  if (nrrdLoad(nrrd.get(), path.c_str(), nullptr)) throw InputError(teem_error(path));
-  // The file may have changed between the two reads: what was checked must still hold.
-  if (nrrd->dim != 3 || nrrd->type != header->type || nrrd->axis[0].size != header->axis[0].size ||
-      nrrd->axis[1].size != header->axis[1].size || nrrd->axis[2].size != header->axis[2].size || !nrrd->data)
+  const size_t file_count = attached ? 1 : data_files.size();
+  const uint64_t cap = max_data_file_bytes(*nrrd_header, *io, file_count);
+  const auto check_size = [&](const std::string& name, uint64_t bytes) {
+    if (bytes > cap)
+      throw InputError(name + ": " + std::to_string(bytes) + " bytes of data: expected at most " + std::to_string(cap) + " for " +
+                       encoding_text(*nrrd_header, *io, file_count) + " and 1 MiB skipped (NRRD volume " + path.string() + ")");
+  };
+  if (attached) check_size(path.string(), header_file.size_bytes() - std::min(header_file.size_bytes(), header.data_offset));
+  for (const auto& file : data_files) check_size(file->name(), file->size_bytes());
+
+  NrrdPointer nrrd(nrrdNew());
+  NrrdIoPointer read_io(nrrdIoStateNew());
+  teem_read(nrrd.get(), read_io.get(), header_text, header_file, attached, path);
+  // A data file may have grown since its check: what was checked must still hold.
+  if (nrrd->dim != 3 || nrrd->type != nrrd_header->type || nrrd->axis[0].size != nrrd_header->axis[0].size ||
+      nrrd->axis[1].size != nrrd_header->axis[1].size || nrrd->axis[2].size != nrrd_header->axis[2].size || !nrrd->data)
     throw InputError(path.string() + ": changed while it was read: expected the same 3-D volume twice");
   VolumeGrid grid;
   for (int axis = 0; axis < 3; ++axis) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "core/input_error.h"
 #include "core/number_text.h"
@@ -40,12 +42,13 @@ class PlanBuilder {
     spec.frame_count = config_.stimulus.frame_count();
     spec.frames_per_second = config_.stimulus.frames_per_second;
     spec.camera_start_s = config_.stimulus.camera_start_s;
-    for (size_t id = 0; id < plan_.stimuli.size(); ++id)
-      if (plan_.stimuli[id].spec == spec && plan_.stimuli[id].is_reference == is_reference &&
-          plan_.stimuli[id].level == level && plan_.stimuli[id].variant == stimulus.variant)
-        return static_cast<int>(id);
-    plan_.stimuli.push_back(std::move(stimulus));
-    return static_cast<int>(plan_.stimuli.size() - 1);
+    // Found by its key in an index, not by comparing it with every stimulus so far: a plan of
+    // thousands of variants took minutes to make that way (each comparison wrote two canonical texts).
+    for (size_t id = stimulus_ids_.size(); id < plan_.stimuli.size(); ++id)  // stimuli another builder added
+      stimulus_ids_.emplace(stimulus_key(plan_.stimuli[id]), int(id));
+    const auto [found, added] = stimulus_ids_.emplace(stimulus_key(stimulus), int(plan_.stimuli.size()));
+    if (added) plan_.stimuli.push_back(std::move(stimulus));
+    return found->second;
   }
 
   // FIPR's display parameters the config did not set come from [display]: the physical size of the
@@ -201,8 +204,18 @@ class PlanBuilder {
   }
 
  private:
+  // What makes two planned stimuli one: the spec (its canonical text), reference or test, level and
+  // variant.
+  static std::string stimulus_key(const PlannedStimulus& stimulus) {
+    std::string key = stimulus.spec.canonical();
+    key.append(1, '\0').append(stimulus.is_reference ? "reference" : "test").append(1, '\0');
+    key.append(stimulus.level ? format_number(*stimulus.level, 17) : std::string("none")).append(1, '\0');
+    return key.append(stimulus.variant);
+  }
+
   const StudyConfig& config_;
   StudyPlan& plan_;
+  std::map<std::string, int> stimulus_ids_;  // by stimulus_key: the index of plan_.stimuli
 };
 
 }  // namespace

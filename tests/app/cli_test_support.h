@@ -62,9 +62,11 @@ inline std::filesystem::path fresh_folder(const std::filesystem::path& parent, c
 }
 
 // `run` with `dir` as the working directory (the pre-render cache is stimuli/cache under it) and no
-// display, so sessions are headless.
-inline CommandResult run_in(const std::filesystem::path& dir, const std::string& arguments) {
-  return run(arguments, "cd " + dir.string() + " && env -u DISPLAY -u WAYLAND_DISPLAY");
+// display, so sessions are headless. `timeout_s` > 0: killed after that long (exit code 124), so a
+// command that would hang (a FIFO read without a writer) fails its test instead of hanging it.
+inline CommandResult run_in(const std::filesystem::path& dir, const std::string& arguments, int timeout_s = 0) {
+  const std::string timeout = timeout_s > 0 ? " timeout -k 5 " + std::to_string(timeout_s) : "";
+  return run(arguments, "cd " + dir.string() + " && env -u DISPLAY -u WAYLAND_DISPLAY" + timeout);
 }
 
 inline std::filesystem::path write_file(const std::filesystem::path& path, const std::string& text) {

@@ -5,6 +5,7 @@
 // test, an fpt study on a sphere-traced scene, an unreadable frame in the pre-render cache.
 // 32x20 (or 36x20) frames, 2 samples, 2 bounces, 2 frames a stimulus, modelled on experiments/fpt_*.toml.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "core/digest.h"
+#include "core/image_io.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {
@@ -333,6 +335,100 @@ TEST(FptStudyCli, UnreadableCacheFrameIsRefusedNamingItAndWritesNoResults) {
       run_in(dir, "run study.toml --participant next --headless --observer simulated:threshold=15 --results results");
   ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
   EXPECT_TRUE(fs::is_regular_file(dir / "results" / name / "P001" / "events.jsonl"));
+}
+
+// A hash is no seal: frames swapped before the session, each with its .sha256 written again, pass
+// every check of the cache, and the session shows them and logs their hashes, so a replay from the
+// same cache matches. A replay from an empty cache (--cache) renders every frame anew and finds the
+// frames differ from the logged ones (exit 1).
+TEST(FptStudyCli, AForgedCacheIsFoundByAReplayFromAnEmptyCache) {
+  const std::string name = "tiny_fpt_forged";
+  const fs::path dir = working_dir("forged");
+  write_file(dir / "study.toml", fpt_config(name, "kind = \"pair\"\nrepeats = 2"));
+  ASSERT_EQ(run_in(dir, "prerender study.toml").exit_code, 0);
+  const auto frames = cache_frames(dir);
+  ASSERT_EQ(frames.size(), 2u);
+  const std::string first = read_all(frames[0]), second = read_all(frames[1]);
+  ASSERT_TRUE(first != second);
+  write_file(frames[0], second);
+  write_file(frames[1], first);
+  for (const fs::path& frame : frames)
+    write_file(fs::path(frame).replace_extension(".sha256"),
+               fovlab::sha256_hex(read_all(frame)) + "  " + frame.filename().string() + "\n");
+  ASSERT_EQ(run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results").exit_code, 0);
+  const std::string log = (dir / "results" / name / "P1/events.jsonl").string();
+  EXPECT_EQ(run_in(dir, "replay --verify " + log).exit_code, 0) << "the same forged cache: nothing differs";
+  const CommandResult fresh = run_in(dir, "replay --verify --cache stimuli/cache/fresh " + log);
+  EXPECT_EQ(fresh.exit_code, 1) << fresh.out << fresh.err;
+  EXPECT_EQ(cache_frames(dir).size(), 4u) << "the empty cache's frames rendered anew";
+}
+
+// A frame replaced and its .sha256 deleted: nothing says it is the frame rendered, so the session
+// renders it again (and its hash) instead of showing it (it was shown), and the replay matches.
+TEST(FptStudyCli, AFrameReplacedWithItsHashDeletedIsRenderedAgainNotShown) {
+  const std::string name = "tiny_fpt_unhashed";
+  const fs::path dir = working_dir("unhashed");
+  write_file(dir / "study.toml", fpt_config(name, "kind = \"pair\"\nrepeats = 2"));
+  ASSERT_EQ(run_in(dir, "prerender study.toml").exit_code, 0);
+  const auto frames = cache_frames(dir);
+  ASSERT_EQ(frames.size(), 2u);
+  const std::string rendered = read_all(frames[0]);
+  fovlab::Image other(32, 20, 3);
+  for (float& value : other.pixels) value = 0.5f;
+  fovlab::write_image(frames[0], other);
+  const fs::path hash = fs::path(frames[0]).replace_extension(".sha256");
+  fs::remove(hash);
+
+  const CommandResult session =
+      run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results");
+  ASSERT_EQ(session.exit_code, 0) << session.out << session.err;
+  EXPECT_TRUE(read_all(frames[0]) == rendered) << "the replaced frame was used, not rendered again";
+  EXPECT_EQ(read_all(hash), fovlab::sha256_hex(rendered) + "  " + frames[0].filename().string() + "\n");
+  const CommandResult replay = run_in(dir, "replay --verify " + (dir / "results" / name / "P1/events.jsonl").string());
+  EXPECT_EQ(replay.exit_code, 0) << replay.out << replay.err;
+}
+
+// A FIFO as a frame's .exr or .sha256, or an .exr linked to /dev/zero, hung the session; each is
+// refused at once naming the file (exit 2, nothing written), --verify lists it, and a prerender
+// renders the frame again. Every command runs under a timeout, so a regression fails, not hangs.
+TEST(FptStudyCli, CacheFilesThatAreFifosOrDeviceLinksAreRefusedWithoutHanging) {
+  const std::string name = "tiny_fpt_fifo";
+  const fs::path dir = working_dir("fifo");
+  write_file(dir / "study.toml", fpt_config(name, "kind = \"pair\"\nrepeats = 2"));
+  ASSERT_EQ(run_in(dir, "prerender study.toml").exit_code, 0);
+  const auto frames = cache_frames(dir);
+  ASSERT_EQ(frames.size(), 2u);
+  const std::string run_args = "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results";
+  const auto expect_refused = [&](const fs::path& file, const std::string& what) {
+    SCOPED_TRACE(file.string() + " " + what);
+    expect_one_line_error(run_in(dir, run_args, 300), file.filename().string() + ": not a regular file" + what);
+    EXPECT_FALSE(fs::exists(dir / "results" / name / "P1" / "events.jsonl"));
+    const CommandResult verify = run_in(dir, "prerender study.toml --verify", 300);
+    EXPECT_EQ(verify.exit_code, 1) << verify.out << verify.err;
+    EXPECT_NE(verify.out.find("1 not"), std::string::npos) << verify.out;
+  };
+  const auto fifo_at = [](const fs::path& path) {
+    fs::remove(path);
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+  };
+
+  fifo_at(frames[0]);
+  expect_refused(frames[0], " (a FIFO or pipe)");
+  ASSERT_EQ(run_in(dir, "prerender study.toml", 300).exit_code, 0);
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(frames[0]))) << "rendered again in the FIFO's place";
+
+  const fs::path hash = fs::path(frames[1]).replace_extension(".sha256");
+  fifo_at(hash);
+  expect_refused(hash, " of at most 4096 bytes");
+  ASSERT_EQ(run_in(dir, "prerender study.toml", 300).exit_code, 0);
+
+  fs::remove(frames[0]);
+  fs::create_symlink("/dev/zero", frames[0]);
+  expect_refused(frames[0], " (a character device)");
+  ASSERT_EQ(run_in(dir, "prerender study.toml", 300).exit_code, 0);
+  EXPECT_EQ(run_in(dir, "prerender study.toml --verify", 300).exit_code, 0);
+  const CommandResult session = run_in(dir, run_args, 300);
+  EXPECT_EQ(session.exit_code, 0) << session.out << session.err;
 }
 
 // fpt frames that the pt reference does not show (here: the periphery_bounces sequence) are only

@@ -361,8 +361,8 @@ TEST(PrerenderCli, PeripheryBouncesAddASecondSequence) {
 
 // Every frame's .sha256 is what --verify (the merge job of fovlab slurm prerender) checks: a frame
 // missing, altered after it was rendered, or without its hash is listed, one line each, with exit
-// code 1; a second prerender hashes the unhashed frame (whole: it was renamed into place), renders
-// the altered and missing ones again, and --verify then passes.
+// code 1; a second prerender renders the unhashed frame again (nothing says it is the one rendered),
+// and the altered and missing ones, and --verify then passes.
 TEST(PrerenderCli, VerifyListsFramesThatAreNotWholeAndARerunRepairsThem) {
   const fs::path dir = working_dir("verify");
   write_file(dir / "study.toml", pair_config("tiny_fpt_verify"));
@@ -396,12 +396,14 @@ TEST(PrerenderCli, VerifyListsFramesThatAreNotWholeAndARerunRepairsThem) {
 
   const CommandResult repaired = run_in(dir, "prerender study.toml");
   ASSERT_EQ(repaired.exit_code, 0) << repaired.out << repaired.err;
-  EXPECT_NE(repaired.out.find("1 frames had no .sha256 beside them (rendered before hashes were kept, or a kill between a frame and its hash): hashed"),
+  EXPECT_NE(repaired.out.find("1 frames had no .sha256 beside them (left so by an older fovlab, or replaced and their hash "
+                              "deleted): rendered again"),
             std::string::npos)
       << repaired.out;
   EXPECT_NE(repaired.out.find("1 frames differ from their .sha256: rendered again"), std::string::npos) << repaired.out;
-  EXPECT_EQ(rendered_files(repaired.out).size(), 2u) << repaired.out;
-  EXPECT_EQ(read_all(folder / "frame_000001.exr"), frame1) << "the unhashed frame is kept, not rendered again";
+  EXPECT_EQ(rendered_files(repaired.out).size(), 3u) << "the unhashed frame is rendered again, not hashed as it is\n"
+                                                     << repaired.out;
+  EXPECT_EQ(read_all(folder / "frame_000001.exr"), frame1) << "the same frame, rendered again";
   EXPECT_EQ(run_in(dir, "prerender study.toml --verify").exit_code, 0);
   EXPECT_EQ(cache_contents(dir), contents);
 

@@ -3,10 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "protocols/stimuli/stimulus_settings.h"
+#include "study/config/study_config.h"
+#include "study/schedule/log_estimate.h"
+#include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {
@@ -123,6 +129,82 @@ TEST(StudyCli, ValidateRefusesWhatCannotBeAConfigInOneLine) {
   for (int part = 1; part < 40000; ++part) key += ".a";
   const fs::path deep = fovlab::cli_test::write_file(scratch() / "deep.toml", "# deep\n" + key + " = 1\n");
   expect_one_line_error(run("validate " + deep.string()), deep.string() + ":2: dotted key nested deeper than");
+}
+
+// A study config of `kind` with a small display, 0.5 s stimuli at 60 Hz, three levels, and attention
+// checks: the sessions of every protocol, quick.
+std::string protocol_config(const std::string& kind) {
+  return "[study]\nname = \"log_" + kind + "\"\nseed = 5\n\n"
+         "[display]\nwidth_px = 16\nheight_px = 12\nrefresh_hz = 60\ndiagonal_in = 27\nviewing_distance_mm = 500\n\n"
+         "[stimulus]\nduration_s = 0.5\nframes_per_second = 10\n\n"
+         "[stimulus.reference]\nmethod = \"gt\"\n\n[stimulus.test]\nmethod = \"ipr\"\n\n"
+         "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16]\n\n"
+         "[protocol]\nkind = \"" + kind + "\"\n" + (kind == "2afc" ? "question = \"same\"\n" : "") + "repeats = 2\n\n" +
+         (kind == "ramp" || kind == "slider" ? "" : "[attention]\nshare = 0.3\nbreak_s = 1\nmax_errors = 3\n\n") +
+         "[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n[[block]]\nscene = \"primitives\"\n";
+}
+
+// The log size validate checks against the readers' cap is an upper bound: real logs of every
+// protocol (keyed, so every event carries its MAC) stay below it, and it is not so loose that it
+// refuses studies far from the cap.
+TEST(StudyCli, LogsOfEveryProtocolStayWithinTheEstimate) {
+  const fs::path dir = fovlab::cli_test::fresh_folder(scratch(), "log-estimate");
+  const fs::path key = fovlab::cli_test::write_file(dir / "lab.key", "0123456789abcdef0123456789abcdef");
+  for (const std::string kind : {"2afc", "pair", "rating", "ramp", "slider"}) {
+    SCOPED_TRACE(kind);
+    const fs::path config_path = fovlab::cli_test::write_file(dir / (kind + ".toml"), protocol_config(kind));
+    const CommandResult session =
+        fovlab::cli_test::run_in(dir, "run " + kind + ".toml --participant P1 --headless --observer simulated --results results "
+                                      "--lab-key " + key.string());
+    ASSERT_EQ(session.exit_code, 0) << session.out << session.err;
+    const uint64_t logged = fs::file_size(dir / "results" / ("log_" + kind) / "P1" / "events.jsonl");
+    const fovlab::StudyConfig config = fovlab::parse_study_config_file(config_path.string(), fovlab::renderer_scene_catalog());
+    const fovlab::LogSizeEstimate estimate = fovlab::estimate_log_size(fovlab::make_study_plan(config, "P1"));
+    EXPECT_GE(estimate.bytes, logged);
+    EXPECT_LE(estimate.bytes, 4 * logged) << "logged " << logged;
+  }
+}
+
+// What validate accepts, the log readers can read back: a study whose log would pass their 1 GiB cap
+// (max_log_bytes) is refused in one line naming the trials, the estimate and the cap (it was
+// accepted, and its log became unreadable past about 560,000 trials).
+TEST(StudyCli, ValidateRefusesAStudyWhoseLogWouldPassTheReadersCap) {
+  const fs::path dir = fovlab::cli_test::fresh_folder(scratch(), "log-cap");
+  std::string text = protocol_config("2afc");
+  const std::string repeats = "repeats = 2\n", duration = "duration_s = 0.5\n";
+  text.replace(text.find(repeats), repeats.size(), "repeats = 1000\n");
+  text.replace(text.find(duration), duration.size(), "duration_s = 4.0\n");  // 240 refreshes a presentation
+  for (int block = 2; block <= 6; ++block) text += "[[block]]\nname = \"b" + std::to_string(block) + "\"\nscene = \"primitives\"\n";
+  const fs::path config = fovlab::cli_test::write_file(dir / "huge.toml", text);
+  const CommandResult refused = run("validate " + config.string() + " --no-render-timing");
+  expect_one_line_error(refused, config.string() + ": 25716 trials: a session's log would take up to ");
+  EXPECT_NE(refused.err.find("bytes (estimated from the plan, up to "), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("more than the 1073741824 bytes (1024 MiB) the log readers take"), std::string::npos) << refused.err;
+  text.replace(text.find("repeats = 1000\n"), std::string("repeats = 1000\n").size(), "repeats = 100\n");
+  fovlab::cli_test::write_file(config, text);
+  const CommandResult accepted = run("validate " + config.string() + " --no-render-timing");
+  EXPECT_EQ(accepted.exit_code, 0) << accepted.err;
+}
+
+// A [conditions] file of 5,000 variants (each its own parameters, one level): validate took 418 s
+// (each planned stimulus was compared with every one before it); it takes seconds. Only the result
+// is checked here; the time is measured by scripts/validate-many-variants.
+TEST(StudyCli, ValidateOfFiveThousandVariants) {
+  const fs::path dir = fovlab::cli_test::fresh_folder(scratch(), "many-variants");
+  std::string text = protocol_config("2afc");
+  const std::string levels = "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16]\n";
+  text.replace(text.find(levels), levels.size(), "[levels]\nparameter = \"max_steps\"\n\n[conditions]\nfile = \"conditions.csv\"\n");
+  std::string csv = "variant,max_steps,hit_threshold\n";
+  for (int variant = 0; variant < 5000; ++variant) {
+    char row[64];
+    std::snprintf(row, sizeof row, "v%d,16,%.4f\n", variant, 0.1 + variant * 0.0001);
+    csv += row;
+  }
+  fovlab::cli_test::write_file(dir / "conditions.csv", csv);
+  const fs::path config = fovlab::cli_test::write_file(dir / "study.toml", text);
+  const CommandResult result = run("validate " + config.string() + " --no-render-timing");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("conditions 5000, stimuli 5001 x 5 frames"), std::string::npos) << result.out;
 }
 
 }  // namespace

@@ -1,13 +1,17 @@
 // Volume studies end to end (seed 003): a tiny 2AFC study of the full raycast (volume) against the
 // Voronoi-foveated one (fvolume) over the sampling density's radius runs headless with the simulated
 // observer, with attention checks, replays --verify (fvolume's images depend on each refresh's gaze
-// and on the temporal smoothing's history) and analyzes; bad input is one line with exit code 2: an
+// and on the temporal smoothing's history), also with a forged Voronoi cache beside it, and analyzes; bad input is one line with exit code 2: an
 // SDF scene for a volume method, a volume reference with a sphere-traced test.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
+#include "foveation/voronoi_reconstruction.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "study/config/study_config.h"
+#include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
 
 namespace {
@@ -51,9 +55,35 @@ TEST(VolumeStudyCli, FoveatedVolumeStudyRunsReplaysAndAnalyzes) {
   EXPECT_NE(text.find("\"method\":\"fvolume\""), std::string::npos);
   EXPECT_NE(text.find("\"method\":\"volume\""), std::string::npos);
   EXPECT_NE(text.find("session_end"), std::string::npos) << "the session finished";
-  int masks = 0;
-  for (const auto& entry : fs::directory_iterator(dir / "stimuli" / "cache" / "voronoi")) masks += entry.path().extension() == ".bin";
-  EXPECT_EQ(masks, 2) << "one sampling mask a level, cached";
+  EXPECT_FALSE(fs::exists(dir / "stimuli" / "cache" / "voronoi")) << "a session makes its masks, and caches none";
+
+  // A forged Voronoi cache for each level: the weights of every pixel given to its heaviest
+  // neighbour (another reconstruction), the reach and the file's hash recomputed, so the file passes
+  // every check of its own bytes. Neither a session nor a replay reads the cache: the replay makes
+  // the masks as the session did, and matches (it read the forged file, and did not, before).
+  const fovlab::StudyConfig config =
+      fovlab::parse_study_config_file((dir / "study.toml").string(), fovlab::renderer_scene_catalog());
+  int forged = 0;
+  for (const fovlab::PlannedStimulus& stimulus : fovlab::make_study_plan(config, "P001").stimuli) {
+    if (stimulus.spec.method() != fovlab::RenderMethod::foveated_volume_raycast) continue;
+    const fovlab::VoronoiMaskSettings settings = fovlab::voronoi_mask_settings(stimulus.spec);
+    fovlab::VoronoiReconstruction made = fovlab::make_voronoi_reconstruction(settings);
+    for (size_t pixel = 0; pixel < made.neighbour_weights.size(); pixel += fovlab::kVoronoiNeighbours) {
+      made.neighbour_weights[pixel] = 65535;
+      for (int k = 1; k < fovlab::kVoronoiNeighbours; ++k) made.neighbour_weights[pixel + size_t(k)] = 0;
+    }
+    made.neighbour_reach_px = fovlab::voronoi_neighbour_reach_px(made);
+    const fs::path file = fovlab::voronoi_cache_file(settings, fovlab::voronoi_cache_folder(dir / "stimuli" / "cache"));
+    fs::create_directories(file.parent_path());
+    write_file(file, fovlab::voronoi_cache_bytes(made));
+    bool made_anew = true;
+    const fovlab::VoronoiReconstruction cached =
+        fovlab::cached_voronoi_reconstruction(settings, file.parent_path(), {}, &made_anew);
+    ASSERT_FALSE(made_anew) << "the forgery passes the cache's own checks";
+    ASSERT_EQ(cached.neighbour_weights, made.neighbour_weights);
+    ++forged;
+  }
+  ASSERT_EQ(forged, 2);
 
   const CommandResult replay = run_in(dir, "replay --verify " + log.string());
   EXPECT_EQ(replay.exit_code, 0) << replay.out << replay.err;

@@ -198,15 +198,15 @@ TEST_F(FrameCacheTest, FrameRendersAMissingFrameStoresItAndReadsItBack) {
   const std::string refused = input_error_of([&] { reopened.frame(sequence, 1); });
   EXPECT_NE(refused.find(file.string()), std::string::npos) << refused;
   EXPECT_NE(refused.find("frame_000001.sha256"), std::string::npos) << refused;
-  // Without its .sha256 (a cache from before hashes were kept) the frame on disk is what frame()
-  // returns: the cache never re-renders a present frame.
+  // The replaced frame with its .sha256 deleted: nothing says it is the frame rendered, so it is not
+  // a cached frame, and frame() renders it again (and its hash) instead of showing it.
   fs::remove(hash);
   EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::unhashed);
-  EXPECT_TRUE(reopened.has_frame(sequence, 1));
+  EXPECT_FALSE(reopened.has_frame(sequence, 1));
   const Image read_back = reopened.frame(sequence, 1);
-  ASSERT_EQ(read_back.channels, 3);
-  EXPECT_EQ(read_back.pixels, marker.pixels);
-  reopened.record_hash(sequence, 1);
+  EXPECT_EQ(read_back.pixels, rendered.pixels) << "rendered again, not the replaced file";
+  EXPECT_EQ(read_image(file).pixels, rendered.pixels) << "the replaced file is replaced in the cache";
+  EXPECT_EQ(read_text(hash), sha256_hex(read_text(file)) + "  frame_000001.exr\n");
   EXPECT_EQ(reopened.frame_status(sequence, 1), FrameStatus::whole);
 
   // Frame 0 is a different camera time: a different image, and the direct render of its settings.
@@ -384,6 +384,36 @@ TEST_F(FrameCacheTest, SameSequenceRenderedTwiceGivesIdenticalBits) {
   PathTraceSequence reseeded = sequence;
   reseeded.seed = 8;
   EXPECT_NE(cache.frame(reseeded, 0).pixels, first);
+}
+
+// Bytes this process has read so far (rchar of /proc/self/io: every read(2), whatever the file).
+uint64_t bytes_read_so_far() {
+  std::ifstream io("/proc/self/io");
+  std::string key;
+  uint64_t value = 0;
+  while (io >> key >> value)
+    if (key == "rchar:") return value;
+  return 0;
+}
+
+// A .sha256 is one sha256sum line: a 30 GiB one (sparse: no disk) was read for 4.4 GB before it was
+// refused. Now it is refused from its size, and the frame is not whole.
+TEST_F(FrameCacheTest, AHashFileIsReadNoFurtherThanOneLine) {
+  const PathTraceSequence sequence = small_sequence();
+  {
+    FrameCache cache(context(), root_);
+    cache.frame(sequence, 0);
+    ASSERT_EQ(cache.frame_status(sequence, 0), FrameStatus::whole);
+    fs::resize_file(cache.hash_file(sequence, 0), uint64_t(30) << 30);
+  }
+  FrameCache reader(root_);  // read and check only
+  const uint64_t before = bytes_read_so_far();
+  EXPECT_EQ(reader.frame_status(sequence, 0), FrameStatus::altered);
+  const uint64_t read = bytes_read_so_far() - before;
+  EXPECT_LT(read, uint64_t(1) << 20) << "read " << read << " bytes to check a 32x20 frame";
+  FrameCache cache(context(), root_);
+  const std::string message = input_error_of([&] { cache.frame(sequence, 0); });
+  EXPECT_NE(message.find("frame_000000.sha256: not a regular file of at most 4096 bytes"), std::string::npos) << message;
 }
 
 TEST_F(FrameCacheTest, BadSequenceSettingsAreInputErrors) {

@@ -137,6 +137,42 @@ TEST(VolumeData, ReadsNrrdThroughTeem) {
   EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
 }
 
+// A header with its data in other files (teem's three forms: one file, a %d template, a LIST) reads
+// the same voxels as the attached file, through the descriptors fovlab opened (teem opens no path).
+// A data file larger than the header's sizes and encoding allow is refused before it is read.
+TEST(VolumeData, ReadsNrrdDataFilesInEveryFormAndRefusesOversizedOnes) {
+  testing::TempDir dir;
+  std::string voxels(2 * 3 * 4, '\0');
+  for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = char(10 * i);
+  const std::string fields = "type: uchar\ndimension: 3\nsizes: 2 3 4\nspacings: 1 1 2\nencoding: raw\n";
+  const VolumeGrid attached = load_volume_file(dir.write("a.nrrd", nrrd_file(fields, voxels)), std::nullopt, kLimits);
+  ASSERT_EQ(attached.values.size(), 24u);
+
+  dir.write("all.raw", voxels);
+  const std::string single = dir.write("single.nhdr", "NRRD0004\n" + fields + "data file: all.raw\n");
+  EXPECT_EQ(load_volume_file(single, std::nullopt, kLimits).values, attached.values);
+  EXPECT_EQ(load_volume_file(single, std::nullopt, kLimits).spacing, attached.spacing);
+
+  for (int slice = 0; slice < 4; ++slice) dir.write("slice0" + std::to_string(slice + 1) + ".raw", voxels.substr(size_t(6 * slice), 6));
+  const std::string pattern = dir.write("pattern.nhdr", "NRRD0004\ndata file: slice%02d.raw 1 4 1 2\n" + fields);
+  EXPECT_EQ(load_volume_file(pattern, std::nullopt, kLimits).values, attached.values) << "the field before the sizes, too";
+  const std::string list = dir.write("list.nhdr", "NRRD0004\n" + fields + "data file: LIST 2\nslice01.raw\nslice02.raw\n"
+                                                  "slice03.raw\nslice04.raw\n");
+  EXPECT_EQ(load_volume_file(list, std::nullopt, kLimits).values, attached.values);
+
+  const std::string printf_like = dir.write("printf.nhdr", "NRRD0004\n" + fields + "data file: slice%s%d.raw 1 4 1 2\n");
+  EXPECT_NE(error_of([&] { load_volume_file(printf_like, std::nullopt, kLimits); }).find("expected one %d conversion"),
+            std::string::npos)
+      << "a template is formatted by fovlab, never handed to a printf as the file gives it";
+
+  dir.write("big.raw", voxels + std::string(size_t(2) << 20, 'x'));
+  const std::string big = dir.write("big.nhdr", "NRRD0004\n" + fields + "data file: big.raw\n");
+  const std::string message = error_of([&] { load_volume_file(big, std::nullopt, kLimits); });
+  EXPECT_NE(message.find("big.raw: 2097176 bytes of data: expected at most 1048600 for 24 values of unsigned char (raw)"),
+            std::string::npos)
+      << message;
+}
+
 const char* kScene = R"(
 [volume]
 generator = "shepp-logan"
