@@ -21,6 +21,7 @@
 
 #include "study/log/event_log.h"
 #include "tests/app/cli_test_support.h"
+#include "tests/support/forged_log.h"
 #include "tests/support/temp_dir.h"
 
 namespace {
@@ -466,13 +467,16 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
   expect_unchanged(before, results);
 }
 
-// Two logs of one participant ID: the first in path order is used, the other listed.
+// Two sessions of one participant ID (each its own header: here another observer): the first log
+// in path order is used, the other listed.
 TEST(AnalyzeCli, DuplicateParticipantIdUsesTheFirstLog) {
   const fs::path results = scratch("duplicate") / "results";
   run_2afc_participants(results, 2);
+  const fs::path elsewhere = scratch("duplicate") / "elsewhere";
+  run_session(fixture("tiny_2afc"), "P001", elsewhere, "simulated:guess=0.3,seed=2");
   ASSERT_FALSE(testing::Test::HasFatalFailure());
   const fs::path copy = results / "tiny_2afc" / "P009";
-  fs::copy(results / "tiny_2afc" / "P001", copy, fs::copy_options::recursive);
+  fs::copy(elsewhere / "tiny_2afc" / "P001", copy, fs::copy_options::recursive);
   const auto before = snapshot(results);
   const fs::path out = scratch("duplicate") / "out";
   const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
@@ -482,11 +486,134 @@ TEST(AnalyzeCli, DuplicateParticipantIdUsesTheFirstLog) {
   EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
   EXPECT_EQ(thresholds["participants"][0].value("log_path", ""), log_of(results, "tiny_2afc", "P001").string());
   expect_left_out(out, (copy / "events.jsonl").string(), "duplicate");
-  // The copy's trials are not counted twice: every condition holds the two participants' trials.
+  // The other session's trials are not counted: every condition holds the two participants' trials.
   const fs::path out_two = scratch("duplicate") / "out-two";
   fs::remove_all(copy);
   ASSERT_EQ(analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out_two.string()).exit_code, 0);
   EXPECT_EQ(load_json(out_two / "thresholds.json")["conditions"], thresholds["conditions"]);
+}
+
+// Issue 37: a participant's folder copied under another name is one session (the same header), not
+// two: export wrote its rows twice and analyze called it a duplicate participant. Now both count it
+// once and name the copy; a copy taken mid-session (its lines the first of the other's) too.
+TEST(AnalyzeCli, ACopiedParticipantFolderIsOneSessionCountedOnce) {
+  const fs::path results = scratch("copied") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path study = results / "tiny_2afc";
+  const fs::path original = log_of(results, "tiny_2afc", "P001");
+  const fs::path out_once = scratch("copied") / "once";
+  const fs::path csv_once = scratch("copied") / "once.csv";
+  ASSERT_EQ(analyze(study.string() + " --bootstrap 0 --out " + out_once.string()).exit_code, 0);
+  ASSERT_EQ(fovlab_command("export " + study.string() + " --out " + csv_once.string()).exit_code, 0);
+
+  fs::copy(study / "P001", study / "P001b", fs::copy_options::recursive);
+  const std::vector<std::string> lines = fovlab::testing::lines_of(read_all(original));
+  std::string first_half;
+  for (size_t i = 0; i < lines.size() / 2; ++i) first_half += lines[i] + "\n";
+  fs::create_directories(study / "P001c");
+  std::ofstream(study / "P001c" / "events.jsonl", std::ios::binary) << first_half;
+  const auto before = snapshot(results);
+
+  const fs::path out = scratch("copied") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_EQ(thresholds["conditions"], load_json(out_once / "thresholds.json")["conditions"]);
+  expect_left_out(out, (study / "P001b" / "events.jsonl").string(), "a copy of " + original.string() + " (the same session)");
+  expect_left_out(out, (study / "P001c" / "events.jsonl").string(),
+                  "a copy of " + original.string() + " (the same session: its " + std::to_string(lines.size() / 2) +
+                      " lines are the first of " + std::to_string(lines.size()) + ")");
+
+  const fs::path csv = scratch("copied") / "trials.csv";
+  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + csv.string());
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_EQ(read_all(csv), read_all(csv_once));
+  EXPECT_NE(exported.err.find((study / "P001b" / "events.jsonl").string() + ": a copy of " + original.string() +
+                              " (the same session), left out"),
+            std::string::npos)
+      << exported.err;
+  EXPECT_NE(exported.err.find((study / "P001c" / "events.jsonl").string() + ": a copy of " + original.string()),
+            std::string::npos)
+      << exported.err;
+  expect_unchanged(before, results);
+}
+
+// Issue 37: two logs of one session that part after a common start (a copy run on, or edited and
+// re-chained): neither can be trusted alone, so both are broken at the line where they part, in
+// export (refused) and analyze (left out) alike.
+TEST(AnalyzeCli, TwoLogsOfOneSessionThatPartAreBothBroken) {
+  const fs::path results = scratch("parted") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path study = results / "tiny_2afc";
+  const fs::path original = log_of(results, "tiny_2afc", "P001");
+  std::vector<std::string> lines = fovlab::testing::lines_of(read_all(original));
+  // The last answer of the copy changed, its chain rebuilt.
+  size_t changed = lines.size();
+  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
+  }
+  std::string& line = lines[changed];
+  const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
+  line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
+  const fs::path copy = study / "P001b" / "events.jsonl";
+  fs::create_directories(copy.parent_path());
+  std::ofstream(copy, std::ios::binary) << fovlab::testing::rechained(lines);
+  const int parting = static_cast<int>(changed) + 1;
+  const auto parted = [&](const fs::path& other) {
+    return "the same session as " + other.string() + " (the same header), but the two logs part at line " +
+           std::to_string(parting) + ": neither can be trusted alone";
+  };
+
+  const fs::path out = scratch("parted") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P002"}));
+  expect_left_out(out, original.string(), "line " + std::to_string(parting) + ": the log is broken (" + parted(copy));
+  expect_left_out(out, copy.string(), "line " + std::to_string(parting) + ": the log is broken (" + parted(original));
+
+  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + (scratch("parted") / "t.csv").string());
+  expect_one_line_error(exported, original.string() + ":" + std::to_string(parting) + ": the log is broken (" + parted(copy) + ")");
+}
+
+// Issue 37: a keyed log read without --lab-key is sealed as far as its chain goes, but its MACs were
+// not checked; export and analyze said only "sealed". They still read it, and now say so.
+TEST(AnalyzeCli, AKeyedLogReadWithoutTheKeySaysItsMacsWereNotChecked) {
+  const fs::path results = scratch("keyed") / "results";
+  const fs::path key = fovlab::cli_test::write_file(scratch("keyed") / "lab.key", "0123456789abcdef0123456789abcdef");
+  for (const char* participant : {"P001", "P002"}) {
+    const CommandResult run = fovlab_command("run " + fixture("tiny_2afc") + " --participant " + participant +
+                                             " --headless --results " + results.string() +
+                                             " --observer simulated --lab-key " + key.string());
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  const fs::path study = results / "tiny_2afc";
+  const std::string note = "MACs not checked (no key given)";
+
+  const fs::path out = scratch("keyed") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_NE(analysed.out.find(log_of(results, "tiny_2afc", "P001").string() + ": sealed (keyed; " + note + ")"),
+            std::string::npos)
+      << analysed.out;
+  EXPECT_NE(read_all(out / "report.html").find(note), std::string::npos);
+  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + (scratch("keyed") / "t.csv").string());
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_NE(exported.err.find(log_of(results, "tiny_2afc", "P002").string() + ": sealed (keyed; " + note + ")"),
+            std::string::npos)
+      << exported.err;
+
+  // With the key, every MAC is checked and nothing is said.
+  const fs::path keyed_out = scratch("keyed") / "keyed-out";
+  const CommandResult checked = analyze(study.string() + " --bootstrap 0 --lab-key " + key.string() + " --out " + keyed_out.string());
+  ASSERT_EQ(checked.exit_code, 0) << checked.err;
+  EXPECT_EQ(checked.out.find(note), std::string::npos) << checked.out;
+  const CommandResult keyed_export = fovlab_command("export " + study.string() + " --force --lab-key " + key.string() +
+                                                    " --out " + (scratch("keyed") / "t.csv").string());
+  ASSERT_EQ(keyed_export.exit_code, 0) << keyed_export.err;
+  EXPECT_EQ(keyed_export.err.find(note), std::string::npos) << keyed_export.err;
 }
 
 // An answer edited in a log breaks its hash chain: the log is left out, the others analysed.
