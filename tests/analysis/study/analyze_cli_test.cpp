@@ -19,7 +19,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "study/config/study_config.h"
 #include "study/log/event_log.h"
+#include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/support/forged_log.h"
 #include "tests/support/temp_dir.h"
@@ -378,24 +380,12 @@ TEST(AnalyzeCli, LogsOfSeveralStudiesAreRefusedNamingEach) {
 // The session at `log` as if a person had answered it: the header's observer set to "human" (and its
 // participant ID to `participant`, when given) and the chain made whole again (what the header says
 // is all the analysis goes by).
-void as_human_session(const fs::path& log, const std::string& participant = "") {
-  std::istringstream lines(read_all(log));
-  std::string line, text, chain;
-  int64_t seq = 0;
-  while (std::getline(lines, line)) {
-    json event = json::parse(line);
-    event.erase("chain");
-    if (event.value("event", "") == "session_header") {
-      event["observer"] = "human";
-      if (!participant.empty()) event["participant"] = participant;
-    }
-    event["seq"] = seq++;
-    if (event.value("event", "") == "seal") event["last_chain"] = chain;
-    chain = fovlab::event_chain(chain, event);
-    event["chain"] = chain;
-    text += event.dump() + "\n";
-  }
-  std::ofstream(log, std::ios::binary | std::ios::trunc) << text;
+void as_human_session(const fs::path& log) {
+  std::vector<std::string> lines = fovlab::testing::lines_of(read_all(log));
+  json header = json::parse(lines.front());
+  header["observer"] = "human";
+  lines.front() = header.dump();
+  std::ofstream(log, std::ios::binary | std::ios::trunc) << fovlab::testing::rechained(lines);
 }
 
 // Simulated observers never mix with real participants unless asked: a study with both is refused
@@ -446,9 +436,12 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
   EXPECT_FALSE(fs::exists(out));
   // The observers are taken before duplicate IDs are looked at: a human session whose ID a simulated
   // one (first in path order) also has is analysed with --observers human, not left out as a duplicate.
+  const fs::path elsewhere = scratch("observers") / "elsewhere";
+  run_session(fixture("tiny_2afc"), "P001", elsewhere);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
   const fs::path twin = study / "P009";
-  fs::copy(study / "P003", twin, fs::copy_options::recursive);
-  as_human_session(twin / "events.jsonl", "P001");
+  fs::copy(elsewhere / "tiny_2afc" / "P001", twin, fs::copy_options::recursive);
+  as_human_session(twin / "events.jsonl");
   const fs::path twin_out = scratch("observers") / "out-twin";
   const CommandResult twin_result =
       analyze(study.string() + " --bootstrap 0 --observers human --out " + twin_out.string());
@@ -834,6 +827,37 @@ void write_log_with_header(const fs::path& log, const fs::path& to, const json& 
   std::ofstream(to, std::ios::binary) << bytes;
 }
 
+// An older build's log of `participant` (a name this build no longer starts): the session of `log`
+// made that participant's as a session of it would have been, its session_seed and every trial_start
+// as the schedule of the config it carries makes them for that participant, re-chained.
+void write_log_of_participant(const fs::path& log, const fs::path& to, const std::string& participant) {
+  const fovlab::EventLogFile file = fovlab::read_event_log(log.string());
+  const json& header = file.events.front();
+  const fovlab::StudyConfig config = fovlab::parse_logged_study_config(
+      header["config_toml"].get<std::string>(), log.string(), header["schema_version"].get<int>(), nullptr);
+  const fovlab::StudyPlan plan = fovlab::make_study_plan(config, participant);
+  std::vector<std::string> lines;
+  for (json event : file.events) {
+    if (event.value("event", "") == "session_header") {
+      event["participant"] = participant;
+      event["session_seed"] = plan.session_seed;
+    }
+    if (event.value("event", "") == "trial_start") {
+      const fovlab::Trial& trial = plan.trials.at(event["trial"].get<size_t>());
+      event["condition"] = trial.condition;
+      event["variant"] = trial.variant;
+      if (trial.level) event["level"] = *trial.level;
+      else event.erase("level");
+      event["attention_check"] = trial.attention_check;
+      event["sequence"] = trial.sequence;
+      event["reference_first"] = trial.reference_first;
+    }
+    lines.push_back(event.dump());
+  }
+  fs::create_directories(to.parent_path());
+  std::ofstream(to, std::ios::binary) << fovlab::testing::rechained(lines);
+}
+
 // A run leaves exactly the report files at --out, and nothing beside it; the temporaries a killed
 // run left beside it (a dead process's) are removed, a running process's are not touched.
 TEST(AnalyzeCli, OutputIsCompleteAndKilledRunsLeaveNothingBehind) {
@@ -958,7 +982,7 @@ TEST(AnalyzeCli, ParticipantCalledAnalysisCannotShareTheReportFolder) {
   ASSERT_FALSE(testing::Test::HasFatalFailure());
   // An older build's log of participant "analysis", in the default report folder.
   const fs::path shared = results / "tiny_2afc" / "analysis";
-  write_log_with_header(log_of(results, "tiny_2afc", "P001"), shared / "events.jsonl", {{"participant", "analysis"}});
+  write_log_of_participant(log_of(results, "tiny_2afc", "P001"), shared / "events.jsonl", "analysis");
   const auto before = snapshot(results);
   for (const char* force : {"", " --force"}) {
     SCOPED_TRACE(force);
