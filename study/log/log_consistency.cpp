@@ -29,12 +29,12 @@ std::optional<LogInconsistency> check(const nlohmann::json& header, const Log& l
   } catch (const InputError& failure) {
     return LogInconsistency{1, std::string("header: its config_toml makes no schedule (") + failure.what() + ")"};
   }
-  const ScheduleCheck schedule = check_log_against_schedule(log, *plan);
+  const ScheduleCheck schedule = check_log_against_schedule(log, *plan, /*keep_presented=*/false);
   if (!schedule.differences.empty())
     return LogInconsistency{schedule.difference_lines.front(), schedule.differences.front()};
   if (ended_completed && !schedule.schedule_done)
     return LogInconsistency{end_line, "session_end: the session says it completed, but the log holds " +
-                                          std::to_string(schedule.presented.size()) + " of " +
+                                          std::to_string(schedule.trials_checked) + " of " +
                                           std::to_string(plan->trials.size()) + " trials and the schedule runs more"};
   return std::nullopt;
 }

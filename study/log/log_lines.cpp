@@ -144,10 +144,14 @@ void LogLines::check_value(simdjson::ondemand::value value, int depth, nlohmann:
 
 namespace {
 
-// `text` without its member `"name":"<digits hex characters>"` (and the comma joining it), or false
-// when there is none of that shape.
-bool cut_member(std::string_view text, std::string_view name, size_t digits, std::string& out) {
-  const std::string member = "\"" + std::string(name) + "\":\"";
+// The start of a member whose value is a string: "\"chain\":\"".
+std::string member_start(const char* name) { return "\"" + std::string(name) + "\":\""; }
+const std::string chain_member = member_start(log_keys::chain);
+const std::string mac_member = member_start(log_keys::mac);
+
+// `text` without its member `member` + `<digits hex characters>"` (and the comma joining it), or
+// false when there is none of that shape.
+bool cut_member(std::string_view text, const std::string& member, size_t digits, std::string& out) {
   const size_t at = text.find(member);
   if (at == std::string_view::npos || at + member.size() + digits + 1 > text.size()) return false;
   size_t begin = at, end = at + member.size() + digits + 1;  // the hex digits and the closing quote
@@ -168,8 +172,7 @@ void EventChain::line(LogLines& lines, std::optional<int64_t> seq, std::optional
     // Fast: the line's own text with its chain (and mac) cut out, as the writer hashed it.
     std::string expected;
     const std::string_view text = lines.text();
-    if (cut_member(text, log_keys::chain, digits, scratch_) &&
-        (!has_mac || cut_member(scratch_, log_keys::mac, 64, scratch_mac_)))
+    if (cut_member(text, chain_member, digits, scratch_) && (!has_mac || cut_member(scratch_, mac_member, 64, scratch_mac_)))
       expected = chain_of_text(chain_, has_mac ? scratch_mac_ : scratch_, schema_version);
     if (expected != *recorded_chain) {
       // A line not in the writer's canonical form: its canonical text.

@@ -36,29 +36,37 @@ LoggedStart logged_start(const ScannedTrial& trial) {
           trial.track, trial.reference_first, trial.answers.empty() ? nullptr : &trial.answers.front()};
 }
 
-ScheduleCheck check_starts(const std::vector<LoggedStart>& logged, const StudyPlan& plan) {
+ScheduleCheck check_starts(const std::vector<LoggedStart>& logged, const StudyPlan& plan, bool keep_presented) {
   ScheduleCheck check(plan);
+  check.trials_checked = static_cast<int>(logged.size());
   const auto differs = [&](const LoggedStart& trial, const std::string& what) {
     check.differences.push_back(what);
     check.difference_lines.push_back(trial.line);
   };
+  // Whether the schedule runs a planned trial now (a trial of constant stimuli always; an adaptive
+  // one unless its track has stopped), without copying it.
+  const auto runs = [&](const Trial& planned) { return planned.track < 0 || check.progress.presented(planned).has_value(); };
   const int trial_count = static_cast<int>(plan.trials.size());
   int next = 0;  // the next schedule index to account for
   for (const LoggedStart& start : logged) {
     const std::string where = "trial " + std::to_string(start.index);
-    check.presented.emplace_back();
+    if (keep_presented) check.presented.emplace_back();
     if (start.index < 0 || start.index >= trial_count) {
       differs(start, where + ": not in this study's plan (" + std::to_string(trial_count) + " trials)");
       continue;
     }
     // The trials before this one that the log does not hold must have been skipped.
     for (; next < start.index; ++next)
-      if (check.progress.presented(plan.trials[static_cast<size_t>(next)]))
+      if (runs(plan.trials[static_cast<size_t>(next)]))
         differs(start, "trial " + std::to_string(next) + ": missing from the log before trial " +
                            std::to_string(start.index) + " (the schedule runs it)");
     next = start.index + 1;
     const Trial& planned = plan.trials[static_cast<size_t>(start.index)];
-    const std::optional<Trial>& presented = check.presented.back() = check.progress.presented(planned);
+    // A trial of constant stimuli is presented as planned (no copy); an adaptive one at its track's level.
+    std::optional<Trial> adaptive;
+    if (planned.track >= 0) adaptive = check.progress.presented(planned);
+    const Trial* presented = planned.track < 0 ? &planned : adaptive ? &*adaptive : nullptr;
+    if (keep_presented && presented) check.presented.back() = *presented;
     if (!presented) {
       differs(start, where + ": its track had stopped before it (the schedule skips it)");
       continue;
@@ -83,26 +91,27 @@ ScheduleCheck check_starts(const std::vector<LoggedStart>& logged, const StudyPl
   check.next_trial = next;
   check.schedule_done = true;
   for (int index = next; index < trial_count; ++index)
-    if (check.progress.presented(plan.trials[static_cast<size_t>(index)])) check.schedule_done = false;
+    if (runs(plan.trials[static_cast<size_t>(index)])) check.schedule_done = false;
   return check;
 }
 
 template <typename LoggedTrial>
-ScheduleCheck check_trials(const std::vector<LoggedTrial>& trials, const StudyPlan& plan) {
+ScheduleCheck check_trials(const std::vector<LoggedTrial>& trials, const StudyPlan& plan, bool keep_presented) {
   std::vector<LoggedStart> logged;
   logged.reserve(trials.size());
   for (const LoggedTrial& trial : trials) logged.push_back(logged_start(trial));
-  return check_starts(logged, plan);
+  return check_starts(logged, plan, keep_presented);
 }
 
 }  // namespace
 
-ScheduleCheck check_log_against_schedule(const SessionRecord& record, const StudyPlan& plan) {
-  return check_trials(record.trials, plan);
+ScheduleCheck check_log_against_schedule(const SessionRecord& record, const StudyPlan& plan, bool keep_presented) {
+  return check_trials(record.trials, plan, keep_presented);
 }
 
-ScheduleCheck check_log_against_schedule(const std::vector<ScannedTrial>& trials, const StudyPlan& plan) {
-  return check_trials(trials, plan);
+ScheduleCheck check_log_against_schedule(const std::vector<ScannedTrial>& trials, const StudyPlan& plan,
+                                         bool keep_presented) {
+  return check_trials(trials, plan, keep_presented);
 }
 
 }  // namespace fovlab

@@ -59,6 +59,42 @@ int small_int(simdjson::ondemand::value value) {
   return static_cast<int>(number);
 }
 
+// The keys the scan keeps.
+enum class Key {
+  other, event, seq, chain, mac, trial, block, step, track, condition, variant, answer, name, scene, level,
+  attention_check, reference_first, ramp_toward_reference, correct, practice, sequence, dropped_frames,
+  present_clock, gaze_acquired_s, gaze_age_s
+};
+
+// Which kept key `key` is, by its first letter and then the few keys that start with it (a line has
+// about ten keys, most of them not kept: each is compared with two or three names, not twenty-four).
+Key key_of(std::string_view key) {
+  namespace k = log_keys;
+  const auto is = [&](const char* name) { return key == name; };
+  if (key.empty()) return Key::other;
+  switch (key.front()) {
+    case 'a': return is(k::answer) ? Key::answer : is(k::attention_check) ? Key::attention_check : Key::other;
+    case 'b': return is(k::block) ? Key::block : Key::other;
+    case 'c': return is(k::chain) ? Key::chain : is(k::condition) ? Key::condition : is(k::correct) ? Key::correct : Key::other;
+    case 'd': return is(k::dropped_frames) ? Key::dropped_frames : Key::other;
+    case 'e': return is(k::event) ? Key::event : Key::other;
+    case 'g': return is(k::gaze_acquired_s) ? Key::gaze_acquired_s : is(k::gaze_age_s) ? Key::gaze_age_s : Key::other;
+    case 'l': return is(k::level) ? Key::level : Key::other;
+    case 'm': return is(k::mac) ? Key::mac : Key::other;
+    case 'n': return is(k::name) ? Key::name : Key::other;
+    case 'p': return is(k::practice) ? Key::practice : is(k::present_clock) ? Key::present_clock : Key::other;
+    case 'r':
+      return is(k::reference_first)         ? Key::reference_first
+             : is(k::ramp_toward_reference) ? Key::ramp_toward_reference
+                                            : Key::other;
+    case 's':
+      return is(k::seq) ? Key::seq : is(k::step) ? Key::step : is(k::scene) ? Key::scene : is(k::sequence) ? Key::sequence : Key::other;
+    case 't': return is(k::trial) ? Key::trial : is(k::track) ? Key::track : Key::other;
+    case 'v': return is(k::variant) ? Key::variant : Key::other;
+    default: return Key::other;
+  }
+}
+
 // The fields the scan keeps, read with the types check_log_field_types requires (a wrong one throws
 // simdjson's INCORRECT_TYPE or NUMBER_OUT_OF_RANGE); every other value checked by `lines`, so the
 // line is refused exactly when the full reader refuses it.
@@ -67,43 +103,49 @@ EventFields decode(LogLines& lines) {
   for (auto field : lines.object()) {
     const std::string_view key = field.unescaped_key();
     simdjson::ondemand::value value = field.value();
-    if (key == log_keys::event) fields.kind = value.get_string();
-    else if (key == log_keys::seq) {
-      int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
-      if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
-      else lines.check_value(value, 2);
-    } else if (key == log_keys::chain || key == log_keys::mac) {
-      std::string_view text;  // not a string: left out (the chain, or the MAC, then does not hold)
-      if (value.get_string().get(text) == simdjson::SUCCESS) (key == log_keys::chain ? fields.chain : fields.mac) = text;
-      else lines.check_value(value, 2);
-    }
-    else if (key == log_keys::trial) fields.trial = small_int(value);
-    else if (key == log_keys::block) fields.block = small_int(value);
-    else if (key == log_keys::step) fields.step = small_int(value);
-    else if (key == log_keys::track) fields.track = small_int(value);
-    else if (key == log_keys::condition) fields.condition = value.get_string();
-    else if (key == log_keys::variant) fields.variant = value.get_string();
-    else if (key == log_keys::answer) fields.answer = value.get_string();
-    else if (key == log_keys::name) fields.name = value.get_string();
-    else if (key == log_keys::scene) fields.scene = value.get_string();
-    else if (key == log_keys::level) {
-      if (!value.is_null()) fields.level = value.get_double();
-    } else if (key == log_keys::attention_check) fields.attention_check = value.get_bool();
-    else if (key == log_keys::reference_first) fields.reference_first = value.get_bool();
-    else if (key == log_keys::ramp_toward_reference) fields.ramp_toward_reference = value.get_bool();
-    else if (key == log_keys::correct) fields.correct = value.get_bool();
-    else if (key == log_keys::practice) fields.practice = value.get_bool();
-    else if (key == log_keys::sequence) {
-      for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
-    }
-    else if (key == log_keys::dropped_frames) fields.dropped_frames = small_int(value);
-    else if (key == log_keys::present_clock) fields.present_clock = value.get_string();
-    else if (key == log_keys::gaze_acquired_s) number_or_null_array(value, nullptr);
-    else if (key == log_keys::gaze_age_s) {
-      fields.has_gaze_age = true;
-      number_or_null_array(value, &fields.gaze_age_s);
-    } else {
-      lines.check_value(value, 2);
+    switch (key_of(key)) {
+      case Key::other: lines.check_value(value, 2); break;
+      case Key::event: fields.kind = value.get_string(); break;
+      case Key::seq: {
+        int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
+        if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
+        else lines.check_value(value, 2);
+        break;
+      }
+      case Key::chain:
+      case Key::mac: {
+        std::string_view text;  // not a string: left out (the chain, or the MAC, then does not hold)
+        if (value.get_string().get(text) == simdjson::SUCCESS) (key == log_keys::chain ? fields.chain : fields.mac) = text;
+        else lines.check_value(value, 2);
+        break;
+      }
+      case Key::trial: fields.trial = small_int(value); break;
+      case Key::block: fields.block = small_int(value); break;
+      case Key::step: fields.step = small_int(value); break;
+      case Key::track: fields.track = small_int(value); break;
+      case Key::condition: fields.condition = value.get_string(); break;
+      case Key::variant: fields.variant = value.get_string(); break;
+      case Key::answer: fields.answer = value.get_string(); break;
+      case Key::name: fields.name = value.get_string(); break;
+      case Key::scene: fields.scene = value.get_string(); break;
+      case Key::level:
+        if (!value.is_null()) fields.level = value.get_double();
+        break;
+      case Key::attention_check: fields.attention_check = value.get_bool(); break;
+      case Key::reference_first: fields.reference_first = value.get_bool(); break;
+      case Key::ramp_toward_reference: fields.ramp_toward_reference = value.get_bool(); break;
+      case Key::correct: fields.correct = value.get_bool(); break;
+      case Key::practice: fields.practice = value.get_bool(); break;
+      case Key::sequence:
+        for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
+        break;
+      case Key::dropped_frames: fields.dropped_frames = small_int(value); break;
+      case Key::present_clock: fields.present_clock = value.get_string(); break;
+      case Key::gaze_acquired_s: number_or_null_array(value, nullptr); break;
+      case Key::gaze_age_s:
+        fields.has_gaze_age = true;
+        number_or_null_array(value, &fields.gaze_age_s);
+        break;
     }
   }
   lines.expect_end();
