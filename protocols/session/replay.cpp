@@ -15,7 +15,7 @@
 #include "display/frame_io.h"
 #include "protocols/observer/simulated_observer.h"
 #include "study/schedule/study_plan.h"
-#include "protocols/session/schedule_check.h"
+#include "study/log/schedule_check.h"
 #include "protocols/session/session_header.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
