@@ -160,6 +160,15 @@ void print_summary(const analysis::AnalysisResult& result) {
     for (const auto* participant : unsealed)
       std::printf("  %s: %s\n", participant->log_path.c_str(), participant->log_note.c_str());
   }
+  // Keyed logs read without --lab-key: sealed, but what only the key proves is unproven.
+  std::vector<const analysis::ParticipantRow*> unchecked;
+  for (const auto& participant : result.participants)
+    if (participant.log_status == LogStatus::sealed && !participant.log_note.empty()) unchecked.push_back(&participant);
+  if (!unchecked.empty()) {
+    std::printf("analysed, sealed, keyed, %s (%zu):\n", macs_not_checked_note, unchecked.size());
+    for (const auto* participant : unchecked)
+      std::printf("  %s: %s\n", participant->log_path.c_str(), participant->log_note.c_str());
+  }
   if (!result.left_out.empty()) {
     std::printf("left out (%zu):\n", result.left_out.size());
     for (const auto& item : result.left_out) std::printf("  %s: %s\n", item.what.c_str(), item.reason.c_str());

@@ -11,7 +11,9 @@
 #include "core/input_error.h"
 #include "study/config/study_config.h"
 #include "study/log/event_log.h"
+#include "study/log/log_consistency.h"
 #include "study/log/log_events.h"
+#include "study/log/session_copies.h"
 #include "study/log/session_scan.h"
 
 namespace fovlab::analysis {
@@ -101,7 +103,7 @@ ParticipantData participant_of(ScannedSession& session) {
     trial.variant = std::move(scanned.variant);
     trial.level = scanned.level;
     trial.attention_check = scanned.attention_check;
-    trial.reference_first = scanned.reference_first;
+    trial.reference_first = scanned.reference_first.value_or(true);
     trial.ramp_toward_reference = scanned.ramp_toward_reference;
     if (!trial.attention_check)
       for (int id : scanned.sequence) {
@@ -122,6 +124,8 @@ ParticipantData participant_of(ScannedSession& session) {
 struct ReadLog {
   std::optional<LogStudy> study;           // none: the log could not be read (reason in notes)
   ParticipantData participant;
+  LogIntegrity integrity;                  // with the checks against its own header (log_consistency.h)
+  SessionLogIdentity identity;             // which session it is a log of (session_copies.h)
   std::vector<LeftOut> notes;
 };
 
@@ -132,22 +136,24 @@ LeftOut left_out(const std::string& path, std::string reason) {
   return {path, reason};
 }
 
-ReadLog read_log(const std::string& path, const LoadOptions& options) {
+ReadLog read_log(const std::string& path, const LoadOptions& options, LoggedConfigs& configs) {
   ReadLog read;
   try {
     ScannedSession session = scan_session_log(path, options.lab_key);
-    const LogIntegrity& integrity = session.integrity;
-    if (integrity.status == LogStatus::broken && !options.include_broken)
-      throw InputError("line " + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
-                       "); left out (--include-broken analyses it anyway)");
+    LogIntegrity& integrity = session.integrity;
+    // What only replay checked before: the header against its own config, the trials against the
+    // schedule it makes (each distinct config read once, for every thread).
+    if (integrity.status != LogStatus::broken)
+      mark_inconsistent(integrity, check_log_against_header(session.header, session, path, configs));
+    read.integrity = integrity;
+    read.identity = {path, session.header_chain, session.header.value("participant", ""), session.line_count,
+                     session.first_chain_error_line};
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
                           session.header.value("config_toml", ""), session.header.value("conditions_csv", ""),
                           integrity.schema_version};
     // The study names the default output folder (results/<study>/analysis): the scan refused a
     // header whose study is not one folder name ("../../x", "/tmp/x"; check_session_header).
     read.participant = participant_of(session);
-    read.participant.log_status = integrity.status;
-    if (integrity.status != LogStatus::sealed) read.participant.log_note = integrity.describe();
     if (session.torn_tail_bytes)
       read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +
                                       " bytes, a write a crash interrupted): not read"});
@@ -170,9 +176,10 @@ ReadLog read_log(const std::string& path, const LoadOptions& options) {
 // Every log, read by as many threads as the machine has cores (each log by one thread).
 std::vector<ReadLog> read_logs(const std::vector<std::string>& paths, const LoadOptions& options) {
   std::vector<ReadLog> logs(paths.size());
+  LoggedConfigs configs;
   std::atomic<size_t> next{0};
   const auto work = [&] {
-    for (size_t i = next++; i < paths.size(); i = next++) logs[i] = read_log(paths[i], options);
+    for (size_t i = next++; i < paths.size(); i = next++) logs[i] = read_log(paths[i], options, configs);
   };
   const size_t thread_count = std::min<size_t>(paths.size(), std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::thread> threads;
@@ -180,6 +187,40 @@ std::vector<ReadLog> read_logs(const std::vector<std::string>& paths, const Load
   work();
   for (std::thread& thread : threads) thread.join();
   return logs;
+}
+
+// One session counted once: a copy of another log of its session is left out, two logs of one
+// session that part are broken (session_copies.h); then broken logs are left out unless asked for.
+// What is kept carries its verdict in words.
+void take_sessions_once(std::vector<ReadLog>& logs, const LoadOptions& options) {
+  std::vector<SessionLogIdentity> identities;
+  std::vector<size_t> read_index;
+  for (size_t i = 0; i < logs.size(); ++i)
+    if (logs[i].study) {
+      identities.push_back(logs[i].identity);
+      read_index.push_back(i);
+    }
+  for (const SessionCopy& found : find_session_copies(identities)) {
+    ReadLog& read = logs[read_index[found.log]];
+    if (found.kind == SessionCopy::Kind::diverged) {
+      mark_inconsistent(read.integrity, LogInconsistency{found.line, found.reason});
+      continue;
+    }
+    read.notes = {{read.identity.path, found.reason}};
+    read.study.reset();
+  }
+  for (ReadLog& read : logs) {
+    if (!read.study) continue;
+    const LogIntegrity& integrity = read.integrity;
+    if (integrity.status == LogStatus::broken && !options.include_broken) {
+      read.notes = {{read.identity.path, "line " + std::to_string(integrity.line) + ": the log is broken (" +
+                                             integrity.reason + "); left out (--include-broken analyses it anyway)"}};
+      read.study.reset();
+      continue;
+    }
+    read.participant.log_status = integrity.status;
+    if (integrity.status != LogStatus::sealed || integrity.macs_not_checked()) read.participant.log_note = integrity.describe();
+  }
 }
 
 // Refuses logs of several studies, naming each with its count of logs (most first) and the folder
@@ -256,6 +297,7 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
   StudyData data;
   data.inputs.assign(unique_logs.begin(), unique_logs.end());
   std::vector<ReadLog> logs = read_logs(data.inputs, options);
+  take_sessions_once(logs, options);
   require_one_study(logs);
   data.observers = take_observers(logs, options.observers, data.left_out);
 

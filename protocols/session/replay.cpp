@@ -9,12 +9,13 @@
 #include "metrics/image_metrics.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "study/log/log_consistency.h"
 #include "study/log/log_integrity.h"
 #include "study/log/session_record.h"
 #include "display/frame_io.h"
 #include "protocols/observer/simulated_observer.h"
 #include "study/schedule/study_plan.h"
-#include "protocols/session/schedule_check.h"
+#include "study/log/schedule_check.h"
 #include "protocols/session/session_header.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
@@ -111,14 +112,23 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   }
   if (!record.header.contains(log_keys::config_path)) header.config_path = "config.toml";
   const SceneCatalog scenes = renderer_scene_catalog();
-  const StudyConfig config = parse_logged_study_config(header.config_toml, header.config_path, header.schema_version,
-                                                       &scenes, header.conditions_csv);
-  // The header's own claims about its config: the name and hash must be those of the text it holds.
-  if (header.study != config.name)
-    differences.add("header", "study \"" + header.study + "\" but its config_toml names study \"" + config.name + "\"");
-  if (header.config_hash != config.hash)
-    differences.add("header", "config_hash " + header.config_hash + " is not the hash of its config_toml (" +
-                                  config.hash + ")");
+  // The text is the log's: a fault in it is named by the log's path (its scene files are still
+  // found beside the config it was run with, config_path).
+  const StudyConfig config = [&] {
+    try {
+      return parse_logged_study_config(header.config_toml, header.config_path, header.schema_version, &scenes,
+                                       header.conditions_csv);
+    } catch (const InputError& error) {
+      std::string message = error.what();
+      const std::string logged = options.log_path + ":1: config_toml (of " + header.config_path + ")";
+      if (message.rfind(header.config_path, 0) == 0) message.replace(0, header.config_path.size(), logged);
+      else message = logged + ": " + message;
+      throw InputError(message);
+    }
+  }();
+  // The header's own claims about its config: the name, hash and seed must be those of the text it
+  // holds (the same checks as export and analyze, log_consistency.h).
+  for (const std::string& difference : header_differences(record.header, config)) differences.add("header", difference);
   const StudyPlan plan = make_study_plan(config, header.participant);
   // The stimuli this build makes of config_toml must be those the session recorded: a parameter read
   // otherwise (a default that changed, read without the log's schema) renders other frames. Schema
@@ -134,8 +144,6 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
         if (const std::string difference = first_difference(made[id], recorded[id]); !difference.empty())
           differences.add("header", "stimulus " + std::to_string(id) + ": " + difference);
   }
-  if (header.session_seed != plan.session_seed)
-    differences.add("header", "session_seed differs from the one derived from the study seed and participant");
   const nlohmann::json& recorded_scenes = header.scene_hashes;
   const nlohmann::json current_scenes = scene_hashes(plan);
   if (recorded_scenes != current_scenes)

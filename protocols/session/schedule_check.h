@@ -1,32 +1,4 @@
 #pragma once
-// A log's complete trials against the schedule rebuilt from its header, in index order: shared by
-// the session that resumes a log and by replay. Adaptive trials are compared with the level each
-// track derives from the answers logged before them (study/schedule/adaptive_progress.h).
-#include <optional>
-#include <string>
-#include <vector>
-
-#include "study/log/session_record.h"
-#include "study/schedule/adaptive_progress.h"
-#include "study/schedule/study_plan.h"
-
-namespace fovlab {
-
-struct ScheduleCheck {
-  explicit ScheduleCheck(const StudyPlan& plan) : progress(plan) {}  // nothing checked yet
-  AdaptiveProgress progress;              // every complete trial's answer folded in
-  std::vector<std::string> differences;   // "trial N: what differs", in index order
-  // Each of record.trials as the schedule presents it (its level and sequence chosen); none for a
-  // trial outside the schedule or one its track skips.
-  std::vector<std::optional<Trial>> presented;
-  int next_trial = 0;                     // after the last complete trial
-  // Every trial from next_trial on is skipped (its track has stopped): nothing is left to run.
-  bool schedule_done = false;
-};
-
-// What differs: a trial outside the schedule, a trial missing before a later complete one (neither
-// run nor skipped by its track), a trial of a track that had stopped, and a trial_start
-// whose condition, level, sequence, attention check or practice flag is not the schedule's.
-ScheduleCheck check_log_against_schedule(const SessionRecord& record, const StudyPlan& plan);
-
-}  // namespace fovlab
+// Moved to study/log/schedule_check.h (export and analyze run it too, on either reader's trials).
+// This name stays only for protocols/session/session.cpp, until it includes that header itself.
+#include "study/log/schedule_check.h"

@@ -11,6 +11,8 @@
 #include "core/number_text.h"
 #include "study/config/study_config.h"
 #include "study/protocol/protocol_rules.h"
+#include "study/log/log_consistency.h"
+#include "study/log/session_copies.h"
 #include "study/log/session_record.h"
 #include "study/schedule/study_plan.h"
 
@@ -53,17 +55,12 @@ nlohmann::json stimulus_level(const nlohmann::json& header, int id) {
   return level != stimulus.end() && level->is_number() ? *level : nlohmann::json();
 }
 
-// The config's level parameter from the config text the header carries ("" when it has none or
+// The config's level parameter, from the config text the header carries ("" when it has none or
 // the text cannot be read).
-std::string level_parameter(const nlohmann::json& header, const std::string& path) {
-  try {
-    const nlohmann::json schema = header.value("schema_version", nlohmann::json());
-    return parse_logged_study_config(header.value("config_toml", ""), path + " (config_toml)",
-                                     schema.is_number_integer() ? schema.get<int>() : 0, nullptr,
-                                     header.value("conditions_csv", "")).levels.parameter;
-  } catch (const std::exception&) {
-    return "";
-  }
+std::string level_parameter(const nlohmann::json& header, const std::string& path, LoggedConfigs& configs) {
+  std::string error;
+  const std::shared_ptr<const StudyConfig> config = configs.config_of(header, path, error);
+  return config ? config->levels.parameter : std::string();
 }
 
 }  // namespace
@@ -78,13 +75,36 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
   std::set<std::string> field_names;
   std::vector<SessionRecord> records;
   std::vector<size_t> torn_bytes;  // of each log's cut-off last line (0: none)
+  std::vector<SessionLogIdentity> identities;
   for (const std::string& path : log_paths) {
     current = path;
     const EventLogFile log = read_event_log(path);
     torn_bytes.push_back(log.torn_tail ? log.torn_tail->size() : 0);
     records.push_back(read_session_record(log, options.lab_key));
-    if (const auto fields = records.back().header.find("participant_fields");
-        fields != records.back().header.end() && fields->is_object())
+    identities.push_back({path, log.header_chain, records.back().header.value("participant", ""),
+                          static_cast<int>(log.events.size()), log.first_chain_error_line});
+  }
+  // One session counted once: a copy of another log of its session is left out; two logs of one
+  // session that part are both broken (session_copies.h).
+  std::vector<bool> copy(log_paths.size(), false);
+  for (const SessionCopy& found : find_session_copies(identities)) {
+    if (found.kind == SessionCopy::Kind::copy) {
+      copy[found.log] = true;
+      std::fprintf(stderr, "fovlab: %s: %s, left out\n", log_paths[found.log].c_str(), found.reason.c_str());
+    } else {
+      mark_inconsistent(records[found.log].integrity, LogInconsistency{found.line, found.reason});
+    }
+  }
+  // What only replay checked before: the header against its own config, the trials against the
+  // schedule it makes (log_consistency.h); each distinct config read once.
+  LoggedConfigs configs;
+  for (size_t log_index = 0; log_index < log_paths.size(); ++log_index) {
+    if (copy[log_index]) continue;
+    current = log_paths[log_index];
+    SessionRecord& record = records[log_index];
+    if (record.integrity.status != LogStatus::broken)
+      mark_inconsistent(record.integrity, check_log_against_header(record.header, record, current, configs));
+    if (const auto fields = record.header.find("participant_fields"); fields != record.header.end() && fields->is_object())
       for (const auto& [name, value] : fields->items()) field_names.insert(name);
   }
   std::ostringstream csv, steps;
@@ -93,6 +113,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
   csv << csv_line(header_row);
   steps << csv_line(std::vector<std::string>(std::begin(step_columns), std::end(step_columns)));
   for (size_t log_index = 0; log_index < log_paths.size(); ++log_index) {
+    if (copy[log_index]) continue;
     const std::string& path = log_paths[log_index];
     current = path;
     if (torn_bytes[log_index] > 0)
@@ -110,12 +131,12 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
     if (integrity.status == LogStatus::broken && !options.include_broken)
       throw InputError(path + ":" + std::to_string(integrity.line) + ": the log is broken (" + integrity.reason +
                        "); not exported (pass --include-broken to export it anyway, marked broken)");
-    if (integrity.status != LogStatus::sealed)
+    if (integrity.status != LogStatus::sealed || integrity.macs_not_checked())
       std::fprintf(stderr, "fovlab: %s: %s\n", path.c_str(), integrity.describe().c_str());
     const nlohmann::json& header = record.header;
     const std::string observer = observer_kind(header);  // "human" or "simulated"
     const std::string protocol = header.value("protocol", "");
-    const std::string parameter = level_parameter(header, path);
+    const std::string parameter = level_parameter(header, path, configs);
     nlohmann::json refresh_hz;
     if (const auto display = header.find("display"); display != header.end() && display->is_object()) {
       const auto measured = display->find("measured_refresh_hz");

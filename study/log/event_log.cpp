@@ -21,6 +21,7 @@
 #include "core/input_file.h"
 #include "core/session_files.h"
 #include "study/log/log_integrity.h"
+#include "study/log/log_lines.h"
 
 namespace fovlab {
 
@@ -165,71 +166,35 @@ void EventLogWriter::check_still_named() {
                          "");
 }
 
-int json_nesting_depth(std::string_view line) {
-  int depth = 0, deepest = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return deepest;
-}
-
 size_t byte_order_mark_length(std::string_view bytes) { return bytes.starts_with("\xEF\xBB\xBF") ? 3 : 0; }
 
 EventLogFile parse_event_log(const std::string& bytes, const std::string& path) {
   EventLogFile log;
   log.path = path;
-  const size_t last_newline = bytes.rfind('\n');
-  log.intact_bytes = last_newline == std::string::npos ? 0 : last_newline + 1;
+  LogLines lines(bytes.data(), bytes.size(), bytes.size(), path);
+  log.intact_bytes = lines.intact_bytes();
   if (log.intact_bytes < bytes.size()) log.torn_tail = bytes.substr(log.intact_bytes);
-  size_t begin = byte_order_mark_length(bytes);
-  int line_number = 0;
-  std::string chain;
-  while (begin < log.intact_bytes) {
-    const size_t end = bytes.find('\n', begin);
-    ++line_number;
-    const std::string line = bytes.substr(begin, end - begin);
-    begin = end + 1;
-    if (json_nesting_depth(line) > max_event_nesting)
-      throw InputError(path + ":" + std::to_string(line_number) + ": not a session event (nested deeper than " +
-                       std::to_string(max_event_nesting) + " levels)");
-    nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-    if (event.is_discarded() || !event.is_object())
-      throw InputError(path + ":" + std::to_string(line_number) + ": not a JSON event (expected one JSON object a line)");
-    if (line_number == 1) {
+  EventChain chain;
+  while (lines.next()) {
+    nlohmann::json event = lines.whole_event();
+    if (lines.number() == 1) {
       const auto schema = event.find(log_keys::schema_version);
       log.schema_version = schema != event.end() && schema->is_number_integer() ? schema->get<int>() : 0;
     }
-    if (!log.first_chain_error_line) {
-      const auto seq = event.find(log_keys::seq);
-      const auto recorded = event.find(log_keys::chain);
-      bool consistent = seq != event.end() && seq->is_number_integer() &&
-                        seq->get<int64_t>() == static_cast<int64_t>(log.events.size()) && recorded != event.end() &&
-                        recorded->is_string();
-      if (consistent) {
-        nlohmann::json without_chain = event;
-        without_chain.erase(log_keys::chain);
-        without_chain.erase(log_keys::mac);
-        const std::string expected = event_chain(chain, without_chain, log.schema_version);
-        consistent = expected == recorded->get<std::string>();
-        chain = expected;
-      }
-      if (!consistent) log.first_chain_error_line = line_number;
-    }
+    const auto seq = event.find(log_keys::seq);
+    const auto recorded = event.find(log_keys::chain);
+    const auto mac = event.find(log_keys::mac);
+    chain.line(lines, seq != event.end() && seq->is_number_integer() ? std::optional<int64_t>(seq->get<int64_t>()) : std::nullopt,
+               recorded != event.end() && recorded->is_string()
+                   ? std::optional<std::string_view>(recorded->get_ref<const std::string&>())
+                   : std::nullopt,
+               mac != event.end() && mac->is_string(), log.schema_version, &event);
     log.events.push_back(std::move(event));
-    log.line_numbers.push_back(line_number);
+    log.line_numbers.push_back(lines.number());
   }
-  log.last_chain = chain;
+  log.first_chain_error_line = chain.first_error_line();
+  log.last_chain = chain.last_chain();
+  log.header_chain = chain.header_chain();
   return log;
 }
 

@@ -91,11 +91,10 @@ std::string event_chain(const std::string& previous_chain, const nlohmann::json&
 inline constexpr uint64_t max_log_bytes = uint64_t{1} << 30;
 inline constexpr const char* session_log_kind = "a session log (events.jsonl)";
 
-// Events nest 3 levels deep and a header's config 4; a deeper line is refused before any recursive
-// parser sees it (nlohmann's recursion would overflow the stack on a line of a million '[').
+// Events nest 3 levels deep and a header's config 4; a line with an array or object deeper than
+// this (the line's own object is level 1) is refused by every reader, whichever field it is in, and
+// no reader recurses deeper (log_lines.h: a line of a million '[' cannot overflow the stack).
 inline constexpr int max_event_nesting = 32;
-// The deepest array/object nesting of a line, strings skipped.
-int json_nesting_depth(std::string_view line);
 // A UTF-8 byte-order mark at the start of a log (an editor put it there; fovlab writes none) is
 // skipped by every reader: the length to skip.
 size_t byte_order_mark_length(std::string_view bytes);
@@ -109,11 +108,13 @@ struct EventLogFile {
   uint64_t intact_bytes = 0;            // length of the file up to and including the last newline
   int first_chain_error_line = 0;       // 0 when every seq/chain is consistent
   std::string last_chain;               // chain of the last event ("" when none)
+  std::string header_chain;             // the session's identity (log_lines.h EventChain::header_chain)
 };
 
-// Reads a log. A line that is not a JSON object in the middle of the file is an error:
-// InputError("path:LINE: not a JSON event (...)"); an unterminated last line is returned as
-// torn_tail, never parsed. A missing file is an InputError too.
+// Reads a log, line by line as the fast scan does (log_lines.h: the same grammar, nesting cap and
+// seq/chain rule). A line that is not one JSON object, or nests deeper than max_event_nesting, is
+// an error: InputError("path:LINE: not a JSON event (...)"); an unterminated last line is returned
+// as torn_tail, never parsed. A missing file is an InputError too.
 EventLogFile read_event_log(const std::string& path);
 // A log file itself, or every results/<study>/<participant>/events.jsonl under a folder (sorted).
 // Throws InputError when there is none.

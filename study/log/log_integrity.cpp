@@ -49,12 +49,15 @@ const char* log_status_name(LogStatus status) {
   return "broken";
 }
 
+bool LogIntegrity::macs_not_checked() const { return keyed && !mac_checked; }
+
 std::string LogIntegrity::describe() const {
   switch (status) {
     case LogStatus::sealed:
       if (!keyed) return "sealed (no lab key: detects accidents and edits, not a forger who rewrites the chain)";
-      return mac_checked ? "sealed (keyed, every MAC verified)" : "sealed (keyed; MACs not checked: no --lab-key given)";
-    case LogStatus::unsealed: return "unsealed (" + reason + ")";
+      return mac_checked ? "sealed (keyed, every MAC verified)" : std::string("sealed (keyed; ") + macs_not_checked_note + ")";
+    case LogStatus::unsealed:
+      return "unsealed (" + reason + ")" + (macs_not_checked() ? std::string("; keyed, ") + macs_not_checked_note : "");
     case LogStatus::broken: return "broken at line " + std::to_string(line) + ": " + reason;
   }
   return reason;
@@ -77,10 +80,10 @@ void IntegrityTracker::header(const nlohmann::json& header, const std::string& p
   last_was_seal_ = false;
 }
 
-void IntegrityTracker::mac(const std::string& chain, const std::optional<std::string>& mac, int line) {
+void IntegrityTracker::mac(std::string_view chain, std::optional<std::string_view> mac, int line) {
   if (!result_.keyed) return;
   if (!mac) return broken(line, "the log is keyed but this event has no mac");
-  if (key_ && *mac != event_mac(*key_, chain))
+  if (key_ && *mac != event_mac(*key_, std::string(chain)))
     broken(line, "the event's MAC does not verify under the lab key (the log was changed after it was written)");
 }
 

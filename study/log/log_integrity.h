@@ -12,6 +12,7 @@
 //              or a lab key was given and the log is not keyed with it.
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -40,10 +41,15 @@ struct LogIntegrity {
   int schema_version = 0;
   bool keyed = false;       // the header names a lab key (lab_key_id)
   bool mac_checked = false; // keyed and the key was given: every event's MAC verified
-  // One line for a person: "sealed", "sealed (keyed; MAC not checked: no --lab-key)",
+  // Keyed, but read without the key: what only the key proves is unproven (said so by every reader
+  // that calls such a log sealed or unsealed; it stays usable).
+  bool macs_not_checked() const;
+  // One line for a person: "sealed (...)", "sealed (keyed; MACs not checked (no key given))",
   // "unsealed (...)", "broken at line N: ...".
   std::string describe() const;
 };
+
+inline constexpr const char* macs_not_checked_note = "MACs not checked (no key given)";
 
 // The MAC of an event in a keyed log: HMAC-SHA-256 under the key of the event's chain (which
 // commits the event's text and every event before it).
@@ -57,7 +63,7 @@ class IntegrityTracker {
   void header(const nlohmann::json& header, const std::string& path);
   // Every event, the header too, with its recomputed chain and its "mac" (none: absent or not a
   // string). Checks the MAC of a keyed log when the key was given.
-  void mac(const std::string& chain, const std::optional<std::string>& mac, int line);
+  void mac(std::string_view chain, std::optional<std::string_view> mac, int line);
   // Any later event but a seal.
   void event() { last_was_seal_ = false; }
   // A seal at `line`; `previous_chain` is the chain of the event before it, `trials_complete` the

@@ -100,6 +100,7 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
       if (!trial_index) fail(i, "trial_start: trial missing (expected the trial index)");
       RecordedTrial trial;
       trial.index = *trial_index;
+      trial.line = log.line_numbers[i];
       trial.start = parse_trial_start(event, FieldCheck::lenient);
       trials.start(std::move(trial));
       continue;
@@ -109,6 +110,7 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
       if (kind == SessionEndEvent::kind) {
         record.ended = true;
         record.end_reason = parse_session_end(event, FieldCheck::lenient).reason;
+        record.end_line = log.line_numbers[i];
       }
       if (kind == SessionResumedEvent::kind) trials.resume();
       if (kind == BlockStartEvent::kind) record.blocks.push_back(parse_block_start(event, FieldCheck::lenient));

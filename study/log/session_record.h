@@ -18,6 +18,7 @@ namespace fovlab {
 // (check_log_field_types) are read leniently: a value of the wrong type there is left at its default.
 struct RecordedTrial {
   int index = 0;
+  int line = 0;                            // of its trial_start
   TrialStartEvent start;
   std::vector<StimulusEvent> stimuli;      // in order
   std::vector<ResponseEvent> responses;    // in order
@@ -36,6 +37,7 @@ struct SessionRecord {
   bool excluded = false;
   bool ended = false;                    // a session_end event exists
   std::string end_reason;
+  int end_line = 0;                      // of the last session_end
   int next_trial = 0;                    // the first trial index with no complete record
   double last_time_s = 0.0;              // the latest session time in the log
   int incomplete_trial = -1;             // a trial started but not finished at the end of the log

@@ -15,17 +15,18 @@
 #include "study/log/event_log.h"
 #include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
+#include "study/log/log_lines.h"
 #include "study/log/session_record.h"
 #include "study/log/trial_assembly.h"
 
 namespace fovlab {
 namespace {
 
-// The fields of one event the scan uses; everything else is skipped.
+// The fields of one event the scan uses; every other value is only checked (LogLines::check_value).
 struct EventFields {
   std::string_view kind;
   std::optional<int64_t> seq;
-  std::string_view chain;  // empty when absent or not a string (the chain then does not match)
+  std::optional<std::string_view> chain;
   std::optional<std::string_view> mac;
   std::optional<int> trial;
   std::optional<int> block;
@@ -58,107 +59,111 @@ int small_int(simdjson::ondemand::value value) {
   return static_cast<int>(number);
 }
 
-EventFields decode(simdjson::ondemand::document& document) {
+// The keys the scan keeps.
+enum class Key {
+  other, event, seq, chain, mac, trial, block, step, track, condition, variant, answer, name, scene, level,
+  attention_check, reference_first, ramp_toward_reference, correct, practice, sequence, dropped_frames,
+  present_clock, gaze_acquired_s, gaze_age_s
+};
+
+// Which kept key `key` is, by its first letter and then the few keys that start with it (a line has
+// about ten keys, most of them not kept: each is compared with two or three names, not twenty-four).
+Key key_of(std::string_view key) {
+  namespace k = log_keys;
+  const auto is = [&](const char* name) { return key == name; };
+  if (key.empty()) return Key::other;
+  switch (key.front()) {
+    case 'a': return is(k::answer) ? Key::answer : is(k::attention_check) ? Key::attention_check : Key::other;
+    case 'b': return is(k::block) ? Key::block : Key::other;
+    case 'c': return is(k::chain) ? Key::chain : is(k::condition) ? Key::condition : is(k::correct) ? Key::correct : Key::other;
+    case 'd': return is(k::dropped_frames) ? Key::dropped_frames : Key::other;
+    case 'e': return is(k::event) ? Key::event : Key::other;
+    case 'g': return is(k::gaze_acquired_s) ? Key::gaze_acquired_s : is(k::gaze_age_s) ? Key::gaze_age_s : Key::other;
+    case 'l': return is(k::level) ? Key::level : Key::other;
+    case 'm': return is(k::mac) ? Key::mac : Key::other;
+    case 'n': return is(k::name) ? Key::name : Key::other;
+    case 'p': return is(k::practice) ? Key::practice : is(k::present_clock) ? Key::present_clock : Key::other;
+    case 'r':
+      return is(k::reference_first)         ? Key::reference_first
+             : is(k::ramp_toward_reference) ? Key::ramp_toward_reference
+                                            : Key::other;
+    case 's':
+      return is(k::seq) ? Key::seq : is(k::step) ? Key::step : is(k::scene) ? Key::scene : is(k::sequence) ? Key::sequence : Key::other;
+    case 't': return is(k::trial) ? Key::trial : is(k::track) ? Key::track : Key::other;
+    case 'v': return is(k::variant) ? Key::variant : Key::other;
+    default: return Key::other;
+  }
+}
+
+// The fields the scan keeps, read with the types check_log_field_types requires (a wrong one throws
+// simdjson's INCORRECT_TYPE or NUMBER_OUT_OF_RANGE); every other value checked by `lines`, so the
+// line is refused exactly when the full reader refuses it.
+EventFields decode(LogLines& lines) {
   EventFields fields;
-  if (document.type() != simdjson::ondemand::json_type::object) throw simdjson::simdjson_error(simdjson::TAPE_ERROR);
-  simdjson::ondemand::object object = document.get_object();
-  for (auto field : object) {
+  for (auto field : lines.object()) {
     const std::string_view key = field.unescaped_key();
     simdjson::ondemand::value value = field.value();
-    if (key == log_keys::event) fields.kind = value.get_string();
-    else if (key == log_keys::seq) {
-      int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
-      if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
-    } else if (key == log_keys::chain) {
-      std::string_view chain;
-      if (value.get_string().get(chain) == simdjson::SUCCESS) fields.chain = chain;
-    } else if (key == log_keys::mac) {
-      std::string_view mac;
-      if (value.get_string().get(mac) == simdjson::SUCCESS) fields.mac = mac;
-    }
-    else if (key == log_keys::trial) fields.trial = small_int(value);
-    else if (key == log_keys::block) fields.block = small_int(value);
-    else if (key == log_keys::step) fields.step = small_int(value);
-    else if (key == log_keys::track) fields.track = small_int(value);
-    else if (key == log_keys::condition) fields.condition = value.get_string();
-    else if (key == log_keys::variant) fields.variant = value.get_string();
-    else if (key == log_keys::answer) fields.answer = value.get_string();
-    else if (key == log_keys::name) fields.name = value.get_string();
-    else if (key == log_keys::scene) fields.scene = value.get_string();
-    else if (key == log_keys::level) {
-      if (!value.is_null()) fields.level = value.get_double();
-    } else if (key == log_keys::attention_check) fields.attention_check = value.get_bool();
-    else if (key == log_keys::reference_first) fields.reference_first = value.get_bool();
-    else if (key == log_keys::ramp_toward_reference) fields.ramp_toward_reference = value.get_bool();
-    else if (key == log_keys::correct) fields.correct = value.get_bool();
-    else if (key == log_keys::practice) fields.practice = value.get_bool();
-    else if (key == log_keys::sequence) {
-      for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
-    }
-    else if (key == log_keys::dropped_frames) fields.dropped_frames = small_int(value);
-    else if (key == log_keys::present_clock) fields.present_clock = value.get_string();
-    else if (key == log_keys::gaze_acquired_s) number_or_null_array(value, nullptr);
-    else if (key == log_keys::gaze_age_s) {
-      fields.has_gaze_age = true;
-      number_or_null_array(value, &fields.gaze_age_s);
+    switch (key_of(key)) {
+      case Key::other: lines.check_value(value, 2); break;
+      case Key::event: fields.kind = value.get_string(); break;
+      case Key::seq: {
+        int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
+        if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
+        else lines.check_value(value, 2);
+        break;
+      }
+      case Key::chain:
+      case Key::mac: {
+        std::string_view text;  // not a string: left out (the chain, or the MAC, then does not hold)
+        if (value.get_string().get(text) == simdjson::SUCCESS) (key == log_keys::chain ? fields.chain : fields.mac) = text;
+        else lines.check_value(value, 2);
+        break;
+      }
+      case Key::trial: fields.trial = small_int(value); break;
+      case Key::block: fields.block = small_int(value); break;
+      case Key::step: fields.step = small_int(value); break;
+      case Key::track: fields.track = small_int(value); break;
+      case Key::condition: fields.condition = value.get_string(); break;
+      case Key::variant: fields.variant = value.get_string(); break;
+      case Key::answer: fields.answer = value.get_string(); break;
+      case Key::name: fields.name = value.get_string(); break;
+      case Key::scene: fields.scene = value.get_string(); break;
+      case Key::level:
+        if (!value.is_null()) fields.level = value.get_double();
+        break;
+      case Key::attention_check: fields.attention_check = value.get_bool(); break;
+      case Key::reference_first: fields.reference_first = value.get_bool(); break;
+      case Key::ramp_toward_reference: fields.ramp_toward_reference = value.get_bool(); break;
+      case Key::correct: fields.correct = value.get_bool(); break;
+      case Key::practice: fields.practice = value.get_bool(); break;
+      case Key::sequence:
+        for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
+        break;
+      case Key::dropped_frames: fields.dropped_frames = small_int(value); break;
+      case Key::present_clock: fields.present_clock = value.get_string(); break;
+      case Key::gaze_acquired_s: number_or_null_array(value, nullptr); break;
+      case Key::gaze_age_s:
+        fields.has_gaze_age = true;
+        number_or_null_array(value, &fields.gaze_age_s);
+        break;
     }
   }
-  // Anything after the object is not looked for here: such a line is not the writer's canonical
-  // text, so its chain does not match and the log counts as edited.
+  lines.expect_end();
   return fields;
-}
-
-// The chain of a line as the writer computed it: a hash of the previous chain and the event's text
-// without its "chain" member (event_chain). Fast path: cut the member out of the line itself (the
-// writer's text is canonical); when that does not reproduce the recorded chain (a line re-formatted
-// by hand, say), the canonical text is rebuilt with nlohmann::json, exactly as read_event_log does
-// (after the same nesting guard). `scratch` is reused between lines.
-// `text` without its member `"name":"<digits hex characters>"` (and the comma joining it), or false
-// when there is none of that shape.
-bool cut_member(std::string_view text, std::string_view name, size_t digits, std::string& out) {
-  const std::string member = "\"" + std::string(name) + "\":\"";
-  const size_t at = text.find(member);
-  if (at == std::string_view::npos || at + member.size() + digits + 1 > text.size()) return false;
-  size_t begin = at, end = at + member.size() + digits + 1;  // the hex digits and the closing quote
-  if (begin > 0 && text[begin - 1] == ',') --begin;
-  else if (end < text.size() && text[end] == ',') ++end;
-  out.assign(text.substr(0, begin)).append(text.substr(end));
-  return true;
-}
-
-std::string line_chain(const std::string& previous, std::string_view line, bool has_mac, std::string& scratch,
-                       std::string& scratch_mac, int schema_version) {
-  const size_t digits = schema_version == 1 ? 16 : 64;
-  if (cut_member(line, log_keys::chain, digits, scratch) && (!has_mac || cut_member(scratch, log_keys::mac, 64, scratch_mac))) {
-    const std::string fast = chain_of_text(previous, has_mac ? scratch_mac : scratch, schema_version);
-    const std::string member = "\"" + std::string(log_keys::chain) + "\":\"";
-    const size_t at = line.find(member) + member.size();
-    if (line.substr(at, digits) == fast) return fast;
-  }
-  if (json_nesting_depth(line) > max_event_nesting) return {};
-  nlohmann::json event = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-  if (event.is_discarded() || !event.is_object()) return {};
-  event.erase(log_keys::chain);
-  event.erase(log_keys::mac);
-  return event_chain(previous, event, schema_version);
-}
-
-// A whole event as nlohmann::json (the header, a seal: a few lines a log), after the nesting guard.
-nlohmann::json parse_whole_event(std::string_view line) {
-  if (json_nesting_depth(line) > max_event_nesting) return nlohmann::json(nlohmann::json::value_t::discarded);
-  return nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
 }
 
 }  // namespace
 
 namespace {
 
-// The scan of `size` bytes at `data`, which stay readable up to size + SIMDJSON_PADDING.
-ScannedSession scan_padded(const char* data, size_t size, const std::string& path, const LabKey* lab_key);
+// The scan of `size` bytes at `data`, which stay readable up to size + SIMDJSON_PADDING; the
+// chain of every line up to the first that breaks it goes to `line_chains` when given.
+ScannedSession scan_padded(const char* data, size_t size, const std::string& path, const LabKey* lab_key,
+                           std::vector<std::string>* line_chains = nullptr);
 
-}  // namespace
-
-ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) {
+// The log at `path`, read into a buffer of this thread (reused by its next call) followed by
+// SIMDJSON_PADDING readable bytes; returns the buffer and the log's size.
+std::pair<const char*, size_t> read_padded(const std::string& path) {
   // simdjson reads up to SIMDJSON_PADDING bytes past a document: every line is followed by the
   // rest of the file, and the file by the padding. The buffer is kept by the thread and reused, so
   // a scan of many logs neither clears nor faults in fresh memory for each.
@@ -200,7 +205,21 @@ ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) 
     size += static_cast<size_t>(got);
   }
   ::close(file);
-  return scan_padded(buffer.get(), size, path, lab_key);
+  return {buffer.get(), size};
+}
+
+}  // namespace
+
+ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key) {
+  const auto [data, size] = read_padded(path);
+  return scan_padded(data, size, path, lab_key);
+}
+
+std::vector<std::string> scan_line_chains(const std::string& path) {
+  const auto [data, size] = read_padded(path);
+  std::vector<std::string> chains;
+  scan_padded(data, size, path, nullptr, &chains);
+  return chains;
 }
 
 ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages, const LabKey* lab_key) {
@@ -213,65 +232,46 @@ ScannedSession scan_session_bytes(const std::string& bytes, const std::string& p
 
 namespace {
 
-ScannedSession scan_padded(const char* data, size_t size, const std::string& path, const LabKey* lab_key) {
-  const size_t last_newline = std::string_view(data, size).rfind('\n');
-  const size_t intact = last_newline == std::string_view::npos ? 0 : last_newline + 1;
-  const size_t readable = size + simdjson::SIMDJSON_PADDING;
+ScannedSession scan_padded(const char* data, size_t size, const std::string& path, const LabKey* lab_key,
+                           std::vector<std::string>* line_chains) {
+  LogLines lines(data, size, size + simdjson::SIMDJSON_PADDING, path);
   ScannedSession session;
   session.path = path;
-  session.torn_tail_bytes = size - intact;
-  simdjson::ondemand::parser parser;
-  std::string scratch, scratch_mac;
+  session.torn_tail_bytes = lines.torn_tail_bytes();
 
   TrialAssembly<ScannedTrial> trials;
   IntegrityTracker integrity(lab_key);
+  EventChain chain;
   int schema_version = 0;
-  std::string chain;
-  int line_number = 0;
-  size_t begin = byte_order_mark_length(std::string_view(data, intact));
-  while (begin < intact) {
-    const size_t end = std::string_view(data, intact).find('\n', begin);
-    const std::string_view line(data + begin, end - begin);
-    ++line_number;
-    const auto fail = [&](const std::string& what) {
-      throw InputError(path + ":" + std::to_string(line_number) + ": " + what);
-    };
+  std::string previous_chain;
+  while (lines.next()) {
+    const int line_number = lines.number();
+    const auto fail = [&](const std::string& what) { lines.fail(what); };
     EventFields fields;
     try {
-      simdjson::ondemand::document document = parser.iterate(line, readable - begin);
-      fields = decode(document);
+      fields = decode(lines);
     } catch (const simdjson::simdjson_error& error) {
       const bool wrong_type = error.error() == simdjson::INCORRECT_TYPE || error.error() == simdjson::NUMBER_OUT_OF_RANGE;
-      fail(wrong_type ? std::string("an event has a field of the wrong type (") + error.what() + ")"
-                      : std::string("not a JSON event (expected one JSON object a line)"));
+      if (!wrong_type) lines.not_an_event();
+      fail(std::string("an event has a field of the wrong type (") + error.what() + ")");
     }
-    begin = end + 1;
 
     if (line_number == 1) {
-      session.header = parse_whole_event(line);
-      if (session.header.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
+      session.header = lines.whole_event();
       check_session_header(session.header, path);
       schema_version = session.header[log_keys::schema_version].get<int>();
       integrity.header(session.header, path);
     }
-    const std::string previous_chain = chain;
-    if (!session.first_chain_error_line) {
-      bool consistent = fields.seq && *fields.seq == line_number - 1 && fields.chain.size() == (schema_version == 1 ? 16u : 64u);
-      if (consistent) {
-        const std::string expected = line_chain(chain, line, fields.mac.has_value(), scratch, scratch_mac, schema_version);
-        consistent = expected == fields.chain;
-        chain = expected;
-      }
-      if (!consistent) session.first_chain_error_line = line_number;
-    }
-    integrity.mac(std::string(fields.chain), fields.mac ? std::optional<std::string>(*fields.mac) : std::nullopt, line_number);
+    previous_chain = chain.last_chain();
+    chain.line(lines, fields.seq, fields.chain, fields.mac.has_value(), schema_version,
+               line_number == 1 ? &session.header : nullptr);
+    if (line_chains && !chain.first_error_line()) line_chains->push_back(chain.last_chain());
+    integrity.mac(fields.chain.value_or(std::string_view()), fields.mac, line_number);
     if (line_number == 1) continue;
     if (fields.kind.empty()) fail("event: missing (expected a string naming the event)");
     const std::string kind(fields.kind);
     if (kind == SealEvent::kind) {
-      const nlohmann::json seal = parse_whole_event(line);
-      if (seal.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
-      integrity.seal(seal, line_number, previous_chain, trials.complete_count());
+      integrity.seal(lines.whole_event(), line_number, previous_chain, trials.complete_count());
       continue;
     }
     integrity.event();
@@ -283,12 +283,13 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       if (!fields.trial) fail("trial_start: trial missing (expected the trial index)");
       ScannedTrial trial;
       trial.index = *fields.trial;
+      trial.line = line_number;
       trial.block = fields.block.value_or(0);
       trial.condition = fields.condition;
       trial.variant = fields.variant;
       trial.level = fields.level;
       trial.attention_check = fields.attention_check.value_or(false);
-      trial.reference_first = fields.reference_first.value_or(true);
+      trial.reference_first = fields.reference_first;
       trial.ramp_toward_reference = fields.ramp_toward_reference.value_or(true);
       trial.practice = fields.practice.value_or(false);
       trial.track = fields.track;
@@ -297,13 +298,14 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       continue;
     }
     if (!is_trial_event(kind, fields.trial.has_value())) {
-      if (kind == TrackerValidationEvent::kind) {  // rare: read whole
-        const nlohmann::json event = parse_whole_event(line);
-        if (event.is_discarded()) fail("not a JSON event (expected one JSON object a line)");
-        session.validations.push_back(parse_tracker_validation(event, FieldCheck::lenient));
-      }
+      if (kind == TrackerValidationEvent::kind)  // rare: read whole
+        session.validations.push_back(parse_tracker_validation(lines.whole_event(), FieldCheck::lenient));
       if (kind == ExcludedEvent::kind) session.excluded = true;
-      if (kind == SessionEndEvent::kind) session.ended = true;
+      if (kind == SessionEndEvent::kind) {  // once a run: read whole
+        session.ended = true;
+        session.end_reason = parse_session_end(lines.whole_event(), FieldCheck::lenient).reason;
+        session.end_line = line_number;
+      }
       if (kind == SessionResumedEvent::kind) trials.resume();
       continue;
     }
@@ -329,7 +331,10 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (kind == TrialEndEvent::kind && !trials.end())
       fail("trial_end: trial " + std::to_string(*fields.trial) + " is complete twice in this log (forged or spliced)");
   }
-  if (line_number == 0) throw InputError(path + ":1: the log has no complete event (expected a session_header first)");
+  if (lines.number() == 0) throw InputError(path + ":1: the log has no complete event (expected a session_header first)");
+  session.line_count = lines.number();
+  session.first_chain_error_line = chain.first_error_line();
+  session.header_chain = chain.header_chain();
   session.incomplete_trial = trials.incomplete_index();
   session.integrity = integrity.finish(session.first_chain_error_line, session.torn_tail_bytes > 0);
   session.trials = trials.take_complete();

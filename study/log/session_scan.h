@@ -1,9 +1,10 @@
 #pragma once
 // A fast read of a session log for analysing many of them (fovlab analyze reads a million trials):
-// every line is still checked (one JSON object, its seq, the hash chain), but only the fields a
-// trial summary needs are decoded, with simdjson's On-Demand API; of the per-refresh arrays of
-// stimulus events only the gaze ages (and the acquisition times, for their types) are read, the
-// rest skipped, never built. Trials are assembled by the rules of session_record.h
+// every line is still checked as the full reader checks it (the line level is one piece of code
+// under both, log_lines.h: the JSON grammar of every value, the nesting cap, one object a line, its
+// seq, the hash chain), but only the fields a trial summary needs are decoded, with simdjson's
+// On-Demand API; of the per-refresh arrays of stimulus events only the gaze ages (and the
+// acquisition times, for their types) are kept, the rest checked and dropped, never built. Trials are assembled by the rules of session_record.h
 // (complete at trial_end; a session_resumed drops the trial a crash cut off);
 // tests/study/log/session_scan_test.cpp checks that both readers agree on every protocol.
 #include <cstddef>
@@ -22,12 +23,13 @@ namespace fovlab {
 
 struct ScannedTrial {
   int index = 0;
+  int line = 0;                           // of its trial_start
   int block = 0;
   std::string condition;
   std::string variant;
   std::optional<double> level;
   bool attention_check = false;
-  bool reference_first = true;
+  std::optional<bool> reference_first;    // as logged (none: the protocol has no interval order)
   bool ramp_toward_reference = true;
   bool practice = false;                  // a practice trial (never analysed)
   std::optional<int> track;               // an adaptive trial: its track in the schedule
@@ -52,11 +54,15 @@ struct ScannedSession {
   int attention_errors = 0;               // wrong attention-check answers in complete trials
   bool excluded = false;
   bool ended = false;
+  std::string end_reason;                 // of the last session_end ("completed", "excluded")
+  int end_line = 0;                       // its line
   int incomplete_trial = -1;              // a trial started but not finished at the end of the log
   size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
   std::vector<TrackerValidationEvent> validations;  // every eye-tracker validation attempt, in log order
   std::vector<std::string> present_clocks; // the stimulus events' present_clock values, first seen first
   int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
+  int line_count = 0;                     // complete lines
+  std::string header_chain;               // the session's identity (log_lines.h EventChain::header_chain)
   LogIntegrity integrity;                 // sealed, unsealed or broken (log_integrity.h)
 };
 
@@ -65,6 +71,10 @@ struct ScannedSession {
 // its trial, a field of the wrong type).
 // `lab_key` (may be null) checks the seals' MACs of a keyed log.
 ScannedSession scan_session_log(const std::string& path, const LabKey* lab_key = nullptr);
+// The chain of every line of the log at `path`, in order, up to the first line whose seq or chain
+// does not hold (session_copies.h compares logs of one session with it). Throws as
+// scan_session_log does.
+std::vector<std::string> scan_line_chains(const std::string& path);
 // The same from bytes already in memory (the fuzz target and the corpus replay use this).
 ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages,
                                   const LabKey* lab_key = nullptr);

@@ -19,8 +19,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "study/config/study_config.h"
 #include "study/log/event_log.h"
+#include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
+#include "tests/support/forged_log.h"
 #include "tests/support/temp_dir.h"
 
 namespace {
@@ -377,24 +380,12 @@ TEST(AnalyzeCli, LogsOfSeveralStudiesAreRefusedNamingEach) {
 // The session at `log` as if a person had answered it: the header's observer set to "human" (and its
 // participant ID to `participant`, when given) and the chain made whole again (what the header says
 // is all the analysis goes by).
-void as_human_session(const fs::path& log, const std::string& participant = "") {
-  std::istringstream lines(read_all(log));
-  std::string line, text, chain;
-  int64_t seq = 0;
-  while (std::getline(lines, line)) {
-    json event = json::parse(line);
-    event.erase("chain");
-    if (event.value("event", "") == "session_header") {
-      event["observer"] = "human";
-      if (!participant.empty()) event["participant"] = participant;
-    }
-    event["seq"] = seq++;
-    if (event.value("event", "") == "seal") event["last_chain"] = chain;
-    chain = fovlab::event_chain(chain, event);
-    event["chain"] = chain;
-    text += event.dump() + "\n";
-  }
-  std::ofstream(log, std::ios::binary | std::ios::trunc) << text;
+void as_human_session(const fs::path& log) {
+  std::vector<std::string> lines = fovlab::testing::lines_of(read_all(log));
+  json header = json::parse(lines.front());
+  header["observer"] = "human";
+  lines.front() = header.dump();
+  std::ofstream(log, std::ios::binary | std::ios::trunc) << fovlab::testing::rechained(lines);
 }
 
 // Simulated observers never mix with real participants unless asked: a study with both is refused
@@ -445,9 +436,12 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
   EXPECT_FALSE(fs::exists(out));
   // The observers are taken before duplicate IDs are looked at: a human session whose ID a simulated
   // one (first in path order) also has is analysed with --observers human, not left out as a duplicate.
+  const fs::path elsewhere = scratch("observers") / "elsewhere";
+  run_session(fixture("tiny_2afc"), "P001", elsewhere);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
   const fs::path twin = study / "P009";
-  fs::copy(study / "P003", twin, fs::copy_options::recursive);
-  as_human_session(twin / "events.jsonl", "P001");
+  fs::copy(elsewhere / "tiny_2afc" / "P001", twin, fs::copy_options::recursive);
+  as_human_session(twin / "events.jsonl");
   const fs::path twin_out = scratch("observers") / "out-twin";
   const CommandResult twin_result =
       analyze(study.string() + " --bootstrap 0 --observers human --out " + twin_out.string());
@@ -466,13 +460,16 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
   expect_unchanged(before, results);
 }
 
-// Two logs of one participant ID: the first in path order is used, the other listed.
+// Two sessions of one participant ID (each its own header: here another observer): the first log
+// in path order is used, the other listed.
 TEST(AnalyzeCli, DuplicateParticipantIdUsesTheFirstLog) {
   const fs::path results = scratch("duplicate") / "results";
   run_2afc_participants(results, 2);
+  const fs::path elsewhere = scratch("duplicate") / "elsewhere";
+  run_session(fixture("tiny_2afc"), "P001", elsewhere, "simulated:guess=0.3,seed=2");
   ASSERT_FALSE(testing::Test::HasFatalFailure());
   const fs::path copy = results / "tiny_2afc" / "P009";
-  fs::copy(results / "tiny_2afc" / "P001", copy, fs::copy_options::recursive);
+  fs::copy(elsewhere / "tiny_2afc" / "P001", copy, fs::copy_options::recursive);
   const auto before = snapshot(results);
   const fs::path out = scratch("duplicate") / "out";
   const CommandResult result = analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out.string());
@@ -482,11 +479,134 @@ TEST(AnalyzeCli, DuplicateParticipantIdUsesTheFirstLog) {
   EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
   EXPECT_EQ(thresholds["participants"][0].value("log_path", ""), log_of(results, "tiny_2afc", "P001").string());
   expect_left_out(out, (copy / "events.jsonl").string(), "duplicate");
-  // The copy's trials are not counted twice: every condition holds the two participants' trials.
+  // The other session's trials are not counted: every condition holds the two participants' trials.
   const fs::path out_two = scratch("duplicate") / "out-two";
   fs::remove_all(copy);
   ASSERT_EQ(analyze((results / "tiny_2afc").string() + " --bootstrap 0 --out " + out_two.string()).exit_code, 0);
   EXPECT_EQ(load_json(out_two / "thresholds.json")["conditions"], thresholds["conditions"]);
+}
+
+// Issue 37: a participant's folder copied under another name is one session (the same header), not
+// two: export wrote its rows twice and analyze called it a duplicate participant. Now both count it
+// once and name the copy; a copy taken mid-session (its lines the first of the other's) too.
+TEST(AnalyzeCli, ACopiedParticipantFolderIsOneSessionCountedOnce) {
+  const fs::path results = scratch("copied") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path study = results / "tiny_2afc";
+  const fs::path original = log_of(results, "tiny_2afc", "P001");
+  const fs::path out_once = scratch("copied") / "once";
+  const fs::path csv_once = scratch("copied") / "once.csv";
+  ASSERT_EQ(analyze(study.string() + " --bootstrap 0 --out " + out_once.string()).exit_code, 0);
+  ASSERT_EQ(fovlab_command("export " + study.string() + " --out " + csv_once.string()).exit_code, 0);
+
+  fs::copy(study / "P001", study / "P001b", fs::copy_options::recursive);
+  const std::vector<std::string> lines = fovlab::testing::lines_of(read_all(original));
+  std::string first_half;
+  for (size_t i = 0; i < lines.size() / 2; ++i) first_half += lines[i] + "\n";
+  fs::create_directories(study / "P001c");
+  std::ofstream(study / "P001c" / "events.jsonl", std::ios::binary) << first_half;
+  const auto before = snapshot(results);
+
+  const fs::path out = scratch("copied") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  const json thresholds = load_json(out / "thresholds.json");
+  EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_EQ(thresholds["conditions"], load_json(out_once / "thresholds.json")["conditions"]);
+  expect_left_out(out, (study / "P001b" / "events.jsonl").string(), "a copy of " + original.string() + " (the same session)");
+  expect_left_out(out, (study / "P001c" / "events.jsonl").string(),
+                  "a copy of " + original.string() + " (the same session: its " + std::to_string(lines.size() / 2) +
+                      " lines are the first of " + std::to_string(lines.size()) + ")");
+
+  const fs::path csv = scratch("copied") / "trials.csv";
+  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + csv.string());
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_EQ(read_all(csv), read_all(csv_once));
+  EXPECT_NE(exported.err.find((study / "P001b" / "events.jsonl").string() + ": a copy of " + original.string() +
+                              " (the same session), left out"),
+            std::string::npos)
+      << exported.err;
+  EXPECT_NE(exported.err.find((study / "P001c" / "events.jsonl").string() + ": a copy of " + original.string()),
+            std::string::npos)
+      << exported.err;
+  expect_unchanged(before, results);
+}
+
+// Issue 37: two logs of one session that part after a common start (a copy run on, or edited and
+// re-chained): neither can be trusted alone, so both are broken at the line where they part, in
+// export (refused) and analyze (left out) alike.
+TEST(AnalyzeCli, TwoLogsOfOneSessionThatPartAreBothBroken) {
+  const fs::path results = scratch("parted") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path study = results / "tiny_2afc";
+  const fs::path original = log_of(results, "tiny_2afc", "P001");
+  std::vector<std::string> lines = fovlab::testing::lines_of(read_all(original));
+  // The last answer of the copy changed, its chain rebuilt.
+  size_t changed = lines.size();
+  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
+  }
+  std::string& line = lines[changed];
+  const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
+  line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
+  const fs::path copy = study / "P001b" / "events.jsonl";
+  fs::create_directories(copy.parent_path());
+  std::ofstream(copy, std::ios::binary) << fovlab::testing::rechained(lines);
+  const int parting = static_cast<int>(changed) + 1;
+  const auto parted = [&](const fs::path& other) {
+    return "the same session as " + other.string() + " (the same header), but the two logs part at line " +
+           std::to_string(parting) + ": neither can be trusted alone";
+  };
+
+  const fs::path out = scratch("parted") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P002"}));
+  expect_left_out(out, original.string(), "line " + std::to_string(parting) + ": the log is broken (" + parted(copy));
+  expect_left_out(out, copy.string(), "line " + std::to_string(parting) + ": the log is broken (" + parted(original));
+
+  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + (scratch("parted") / "t.csv").string());
+  expect_one_line_error(exported, original.string() + ":" + std::to_string(parting) + ": the log is broken (" + parted(copy) + ")");
+}
+
+// Issue 37: a keyed log read without --lab-key is sealed as far as its chain goes, but its MACs were
+// not checked; export and analyze said only "sealed". They still read it, and now say so.
+TEST(AnalyzeCli, AKeyedLogReadWithoutTheKeySaysItsMacsWereNotChecked) {
+  const fs::path results = scratch("keyed") / "results";
+  const fs::path key = fovlab::cli_test::write_file(scratch("keyed") / "lab.key", "0123456789abcdef0123456789abcdef");
+  for (const char* participant : {"P001", "P002"}) {
+    const CommandResult run = fovlab_command("run " + fixture("tiny_2afc") + " --participant " + participant +
+                                             " --headless --results " + results.string() +
+                                             " --observer simulated --lab-key " + key.string());
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  const fs::path study = results / "tiny_2afc";
+  const std::string note = "MACs not checked (no key given)";
+
+  const fs::path out = scratch("keyed") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P001", "P002"}));
+  EXPECT_NE(analysed.out.find(log_of(results, "tiny_2afc", "P001").string() + ": sealed (keyed; " + note + ")"),
+            std::string::npos)
+      << analysed.out;
+  EXPECT_NE(read_all(out / "report.html").find(note), std::string::npos);
+  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + (scratch("keyed") / "t.csv").string());
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_NE(exported.err.find(log_of(results, "tiny_2afc", "P002").string() + ": sealed (keyed; " + note + ")"),
+            std::string::npos)
+      << exported.err;
+
+  // With the key, every MAC is checked and nothing is said.
+  const fs::path keyed_out = scratch("keyed") / "keyed-out";
+  const CommandResult checked = analyze(study.string() + " --bootstrap 0 --lab-key " + key.string() + " --out " + keyed_out.string());
+  ASSERT_EQ(checked.exit_code, 0) << checked.err;
+  EXPECT_EQ(checked.out.find(note), std::string::npos) << checked.out;
+  const CommandResult keyed_export = fovlab_command("export " + study.string() + " --force --lab-key " + key.string() +
+                                                    " --out " + (scratch("keyed") / "t.csv").string());
+  ASSERT_EQ(keyed_export.exit_code, 0) << keyed_export.err;
+  EXPECT_EQ(keyed_export.err.find(note), std::string::npos) << keyed_export.err;
 }
 
 // An answer edited in a log breaks its hash chain: the log is left out, the others analysed.
@@ -707,6 +827,37 @@ void write_log_with_header(const fs::path& log, const fs::path& to, const json& 
   std::ofstream(to, std::ios::binary) << bytes;
 }
 
+// An older build's log of `participant` (a name this build no longer starts): the session of `log`
+// made that participant's as a session of it would have been, its session_seed and every trial_start
+// as the schedule of the config it carries makes them for that participant, re-chained.
+void write_log_of_participant(const fs::path& log, const fs::path& to, const std::string& participant) {
+  const fovlab::EventLogFile file = fovlab::read_event_log(log.string());
+  const json& header = file.events.front();
+  const fovlab::StudyConfig config = fovlab::parse_logged_study_config(
+      header["config_toml"].get<std::string>(), log.string(), header["schema_version"].get<int>(), nullptr);
+  const fovlab::StudyPlan plan = fovlab::make_study_plan(config, participant);
+  std::vector<std::string> lines;
+  for (json event : file.events) {
+    if (event.value("event", "") == "session_header") {
+      event["participant"] = participant;
+      event["session_seed"] = plan.session_seed;
+    }
+    if (event.value("event", "") == "trial_start") {
+      const fovlab::Trial& trial = plan.trials.at(event["trial"].get<size_t>());
+      event["condition"] = trial.condition;
+      event["variant"] = trial.variant;
+      if (trial.level) event["level"] = *trial.level;
+      else event.erase("level");
+      event["attention_check"] = trial.attention_check;
+      event["sequence"] = trial.sequence;
+      event["reference_first"] = trial.reference_first;
+    }
+    lines.push_back(event.dump());
+  }
+  fs::create_directories(to.parent_path());
+  std::ofstream(to, std::ios::binary) << fovlab::testing::rechained(lines);
+}
+
 // A run leaves exactly the report files at --out, and nothing beside it; the temporaries a killed
 // run left beside it (a dead process's) are removed, a running process's are not touched.
 TEST(AnalyzeCli, OutputIsCompleteAndKilledRunsLeaveNothingBehind) {
@@ -831,7 +982,7 @@ TEST(AnalyzeCli, ParticipantCalledAnalysisCannotShareTheReportFolder) {
   ASSERT_FALSE(testing::Test::HasFatalFailure());
   // An older build's log of participant "analysis", in the default report folder.
   const fs::path shared = results / "tiny_2afc" / "analysis";
-  write_log_with_header(log_of(results, "tiny_2afc", "P001"), shared / "events.jsonl", {{"participant", "analysis"}});
+  write_log_of_participant(log_of(results, "tiny_2afc", "P001"), shared / "events.jsonl", "analysis");
   const auto before = snapshot(results);
   for (const char* force : {"", " --force"}) {
     SCOPED_TRACE(force);

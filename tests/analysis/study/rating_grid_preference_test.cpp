@@ -18,7 +18,9 @@
 #include "analysis/study/preference_table.h"
 #include "analysis/study/rating_grid.h"
 #include "analysis/study/study_analysis.h"
+#include "study/config/study_config.h"
 #include "study/log/event_log.h"
+#include "study/schedule/study_plan.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab::analysis {
@@ -354,32 +356,36 @@ scene = "primitives"
   fs::create_directories(folder);
   const std::string path = (folder / "events.jsonl").string();
   {
+    // The header and the trials as the schedule makes them for P001 (each variant at each level once,
+    // in the schedule's order): every reader holds a log to the config it carries.
+    const StudyConfig parsed = parse_logged_study_config(config, "grid.toml", log_schema_version, nullptr);
+    const StudyPlan plan = make_study_plan(parsed, "P001");
     EventLogWriter log(path, "", 0);
     nlohmann::json stimuli = nlohmann::json::array();
-    stimuli.push_back({{"is_reference", true}, {"method", "gt"}, {"level", nullptr}, {"scene", "primitives"}, {"variant", ""}});
-    const std::vector<std::string> variants = {"lo_lo", "lo_hi", "hi_lo", "hi_hi"};
-    for (const std::string& variant : variants)
-      for (double level : {2.2, 2.8})
-        stimuli.push_back({{"is_reference", false}, {"method", "rmfr"}, {"level", level}, {"scene", "primitives"},
-                           {"variant", variant}});
+    for (const PlannedStimulus& stimulus : plan.stimuli)
+      stimuli.push_back({{"is_reference", stimulus.is_reference}, {"method", stimulus.is_reference ? "gt" : "rmfr"},
+                         {"level", stimulus.level ? nlohmann::json(*stimulus.level) : nlohmann::json()},
+                         {"scene", "primitives"}, {"variant", stimulus.variant}});
     log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "grid_log"},
-                {"participant", "P001"}, {"config_hash", "0123456789abcdef"}, {"config_toml", config},
-                {"protocol", "rating"}, {"stimuli", stimuli}, {"observer", "human"}, {"t", 0.0}});
+                {"participant", "P001"}, {"config_hash", parsed.hash}, {"session_seed", plan.session_seed},
+                {"config_toml", config}, {"protocol", "rating"}, {"stimuli", stimuli}, {"observer", "human"},
+                {"t", 0.0}});
     log.append({{"event", "block_start"}, {"block", 0}, {"name", "primitives"}, {"scene", "primitives"}, {"t", 0.1}});
     // hi_lo scores 3 at both levels; lo_lo 1 and 2; the others 2.
+    const std::vector<std::string> variants = {"lo_lo", "lo_hi", "hi_lo", "hi_hi"};
     const std::vector<std::vector<std::string>> answers = {{"1", "2"}, {"2", "2"}, {"3", "3"}, {"2", "2"}};
-    int trial = 0;
-    for (size_t v = 0; v < variants.size(); ++v)
-      for (size_t l = 0; l < 2; ++l, ++trial) {
-        const double level = l == 0 ? 2.2 : 2.8;
-        const double t = 1.0 + trial;
-        log.append({{"event", "trial_start"}, {"trial", trial}, {"block", 0},
-                    {"condition", variants[v] + "/level=" + (l == 0 ? "2.2" : "2.8")}, {"variant", variants[v]},
-                    {"level", level}, {"attention_check", false}, {"sequence", {0, int(1 + 2 * v + l)}},
-                    {"reference_first", true}, {"t", t}});
-        log.append({{"event", "response"}, {"trial", trial}, {"step", 0}, {"answer", answers[v][l]}, {"t", t + 0.5}});
-        log.append({{"event", "trial_end"}, {"trial", trial}, {"t", t + 0.6}});
-      }
+    ASSERT_EQ(plan.trials.size(), 8u);
+    for (const Trial& trial : plan.trials) {
+      const size_t v = size_t(std::find(variants.begin(), variants.end(), trial.variant) - variants.begin());
+      ASSERT_LT(v, variants.size());
+      const size_t l = trial.level == 2.2 ? 0 : 1;
+      const double t = 1.0 + trial.index;
+      log.append({{"event", "trial_start"}, {"trial", trial.index}, {"block", 0}, {"condition", trial.condition},
+                  {"variant", trial.variant}, {"level", *trial.level}, {"attention_check", false},
+                  {"sequence", trial.sequence}, {"reference_first", trial.reference_first}, {"t", t}});
+      log.append({{"event", "response"}, {"trial", trial.index}, {"step", 0}, {"answer", answers[v][l]}, {"t", t + 0.5}});
+      log.append({{"event", "trial_end"}, {"trial", trial.index}, {"t", t + 0.6}});
+    }
   }
   const StudyData data = load_study({path});
   ASSERT_EQ(data.participants.size(), 1u) << (data.left_out.empty() ? "" : data.left_out[0].reason);

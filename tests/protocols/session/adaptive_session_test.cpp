@@ -15,7 +15,7 @@
 #include "analysis/study/study_data.h"
 #include "core/input_error.h"
 #include "protocols/session/replay.h"
-#include "protocols/session/schedule_check.h"
+#include "study/log/schedule_check.h"
 #include "study/log/log_events.h"
 #include "study/schedule/adaptive_progress.h"
 #include "study/schedule/quest_plus.h"

@@ -4,9 +4,11 @@
 // are checked before they name a folder; hostile lines cannot crash a reader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
+#include "analysis/study/study_data.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "study/log/event_log.h"
@@ -16,6 +18,7 @@
 #include "protocols/session/session.h"
 #include "protocols/session/trials_export.h"
 #include "tests/protocols/session/session_test_support.h"
+#include "tests/support/forged_log.h"
 
 namespace fovlab {
 namespace {
@@ -25,49 +28,9 @@ using test::fresh_folder;
 using test::simulated;
 using test::read_file;
 using test::study_fixture;
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  size_t begin = 0;
-  for (size_t end = text.find('\n'); end != std::string::npos; begin = end + 1, end = text.find('\n', begin))
-    lines.push_back(text.substr(begin, end - begin));
-  return lines;
-}
-
-// What a forger without the key does after editing lines: renumber and re-chain every event with
-// the public algorithm, so the chain itself is intact again (the MACs of a keyed log, which need the
-// key, are kept as they were, or with `strip_keys` removed along with the header's lab_key_id).
-std::string rechained(const std::vector<std::string>& lines, bool strip_keys = false) {
-  std::string text, chain;
-  int64_t seq = 0;
-  for (const std::string& line : lines) {
-    nlohmann::json event = nlohmann::json::parse(line);
-    event.erase("chain");
-    const nlohmann::json old_mac = event.value("mac", nlohmann::json());
-    event.erase("mac");
-    if (strip_keys && event.contains("lab_key_id")) event["lab_key_id"] = nullptr;
-    event["seq"] = seq++;
-    if (event.value("event", "") == "seal") event["last_chain"] = chain;
-    chain = event_chain(chain, event);
-    event["chain"] = chain;
-    if (!strip_keys && !old_mac.is_null()) event["mac"] = old_mac;
-    text += event.dump() + "\n";
-  }
-  return text;
-}
-
-// The first line holding `needle`, with `from` replaced by `to`; the text re-chained.
-std::string forged(const std::string& original, const std::string& needle, const std::string& from, const std::string& to) {
-  std::vector<std::string> lines = lines_of(original);
-  for (std::string& line : lines) {
-    if (line.find(needle) == std::string::npos) continue;
-    const size_t at = line.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    line.replace(at, from.size(), to);
-    break;
-  }
-  return rechained(lines);
-}
+using testing::forged;
+using testing::lines_of;
+using testing::rechained;
 
 fs::path write_copy(const fs::path& folder, const std::string& name, const std::string& text) {
   const fs::path path = folder / name;
@@ -341,6 +304,169 @@ TEST_F(SessionIntegrity, HostileLinesAreRefusedWithoutCrashingEitherReader) {
   for (const std::string& line : lines) text += line + "\n";
   const fs::path header_path = write_copy(*folder_, "deep-header.jsonl", text);
   EXPECT_THROW(scan_session_log(header_path.string()), InputError);
+}
+
+// Issue 37: a field nested one level past the cap in one event, the chain rebuilt over it. The fast
+// scan of analyze used to count the trial (its fast chain path never looked at the depth) while
+// export, replay and resume refused it: one line reader now, so every reader refuses it, in the
+// same words; one level less is read by every reader.
+TEST_F(SessionIntegrity, ALineNestedPastTheCapIsRefusedByEveryReaderAlike) {
+  const std::string original = read_file(*unkeyed_log_);
+  const auto with_field = [&](int depth) {  // a response with "x" nested `depth` levels (the line's object is 1)
+    return forged(original, "\"event\":\"response\"", "\"event\":\"response\"",
+                  "\"event\":\"response\",\"x\":" + std::string(size_t(depth - 1), '[') + std::string(size_t(depth - 1), ']'));
+  };
+  const std::string deep = with_field(max_event_nesting + 1);
+  const std::vector<std::string> lines = lines_of(deep);
+  int line = 0;
+  while (lines[size_t(line)].find("\"x\":") == std::string::npos) ++line;
+  ++line;
+
+  const StudyConfig config = parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  const fs::path results = *folder_ / "deep-results";
+  const fs::path log = session_log_path(results.string(), config.name, "Plain");
+  fs::create_directories(log.parent_path());
+  std::ofstream(log, std::ios::binary) << deep;
+  const std::string reason = "not a session event (nested deeper than 32 levels)";
+  const std::string refused = log.string() + ":" + std::to_string(line) + ": " + reason;
+  const auto expect_refused = [&](const char* reader, const auto& read, const std::string& words) {
+    SCOPED_TRACE(reader);
+    try {
+      read();
+      ADD_FAILURE() << reader << " read a line nested deeper than the cap";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
+    }
+  };
+  expect_refused("full reader", [&] { read_event_log(log.string()); }, refused);
+  expect_refused("fast scan", [&] { scan_session_log(log.string()); }, refused);
+  expect_refused("export", [&] { export_trials_csv({log.string()}); }, refused);
+  // Its only log left out, analyze has nothing to analyse and says why.
+  expect_refused("analyze", [&] { analysis::load_study({log.string()}); },
+                 log.string() + ": line " + std::to_string(line) + ": " + reason);
+  expect_refused("replay", [&] { replay(log); }, refused);
+  expect_refused("resume", [&] { run_session(config, simulated(results, "Plain")); }, refused);
+  EXPECT_EQ(read_file(log), deep);
+
+  const fs::path at_cap = write_copy(*folder_, "at-cap.jsonl", with_field(max_event_nesting));
+  EXPECT_EQ(full_reader(at_cap).status, LogStatus::sealed);
+  EXPECT_EQ(fast_scan(at_cap).status, LogStatus::sealed);
+  EXPECT_EQ(scan_session_log(at_cap.string()).trials.size(), read_session_record(read_event_log(at_cap.string())).trials.size());
+}
+
+// Issue 37: what replay alone checked, export and analyze check too. A trial deleted (in the middle,
+// or the last of a session that says it completed), a trial added, or the header's config_hash
+// edited, and the chain and seals rebuilt by a forger without the key: the chain holds, so only
+// the checks against the log's own header catch it. Both report it broken at the same line for
+// the same reason; export refuses it unless --include-broken, analyze leaves it out.
+TEST_F(SessionIntegrity, ExportAndAnalyzeCatchATrialDeletedOrAddedOrAnEditedConfigHash) {
+  const std::vector<std::string> lines = lines_of(read_file(*unkeyed_log_));
+  // The lines of each trial, from its trial_start to its trial_end.
+  std::vector<std::pair<size_t, size_t>> trials;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].find("\"event\":\"trial_start\"") != std::string::npos) trials.emplace_back(i, i);
+    if (lines[i].find("\"event\":\"trial_end\"") != std::string::npos) trials.back().second = i;
+  }
+  ASSERT_GT(trials.size(), 4u);
+  const auto without = [&](size_t trial) {
+    std::vector<std::string> kept = lines;
+    kept.erase(kept.begin() + long(trials[trial].first), kept.begin() + long(trials[trial].second) + 1);
+    return kept;
+  };
+  const auto line_of = [](const std::vector<std::string>& text, const std::string& needle) {
+    for (size_t i = 0; i < text.size(); ++i)
+      if (text[i].find(needle) != std::string::npos) return int(i) + 1;
+    return 0;
+  };
+  const int count = int(trials.size());
+  // A trial added after the last: trial 1's events under a new index.
+  std::vector<std::string> added = lines;
+  size_t end = 0;
+  while (added[end].find("\"event\":\"session_end\"") == std::string::npos) ++end;
+  for (size_t i = trials[1].first; i <= trials[1].second; ++i) {
+    std::string copy = lines[i];
+    const size_t at = copy.find("\"trial\":1");
+    ASSERT_NE(at, std::string::npos) << copy;
+    copy.replace(at, 9, "\"trial\":" + std::to_string(count));
+    added.insert(added.begin() + long(end++), copy);
+  }
+  const std::vector<std::string> middle = without(2), last = without(size_t(count - 1));
+  const std::vector<std::string> hashed = lines_of(forged(read_file(*unkeyed_log_), "session_header", "\"config_hash\":\"", "\"config_hash\":\"00"));
+  const std::string hash = nlohmann::json::parse(lines.front())["config_hash"].get<std::string>();
+  struct Case {
+    const char* name;
+    std::vector<std::string> lines;
+    int line;
+    std::string reason;
+  };
+  const std::vector<Case> cases = {
+      {"middle trial deleted", middle, line_of(middle, "\"trial\":3,"),
+       "trial 2: missing from the log before trial 3 (the schedule runs it)"},
+      {"last trial deleted", last, line_of(last, "\"event\":\"session_end\""),
+       "session_end: the session says it completed, but the log holds " + std::to_string(count - 1) + " of " +
+           std::to_string(count) + " trials and the schedule runs more"},
+      {"trial added", added, line_of(added, "\"trial\":" + std::to_string(count)),
+       "trial " + std::to_string(count) + ": not in this study's plan (" + std::to_string(count) + " trials)"},
+      {"config_hash edited", hashed, 1, "header: config_hash 00" + hash + " is not the hash of its config_toml (" + hash + ")"}};
+  for (const Case& forgery : cases) {
+    SCOPED_TRACE(forgery.name);
+    const fs::path folder = *folder_ / "forged" / forgery.name;
+    fs::create_directories(folder);
+    const fs::path path = write_copy(folder, "events.jsonl", rechained(forgery.lines, false, /*recount_seals=*/true));
+    EXPECT_EQ(full_reader(path).status, LogStatus::sealed);  // the chain and the seals hold
+    EXPECT_EQ(fast_scan(path).status, LogStatus::sealed);
+    const std::string broken = "the log is broken (" + forgery.reason + ")";
+    try {
+      export_trials_csv({path.string()});
+      ADD_FAILURE() << "exported";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(path.string() + ":" + std::to_string(forgery.line) + ": " + broken),
+                std::string::npos)
+          << error.what();
+    }
+    ExportOptions include;
+    include.include_broken = true;
+    EXPECT_NE(export_trials_csv({path.string()}, include).find(",broken,"), std::string::npos);
+    // Analysed beside another session's log: this one left out, with the same words.
+    const analysis::StudyData data = analysis::load_study({path.string(), *keyed_log_});
+    ASSERT_EQ(data.participants.size(), 1u);
+    EXPECT_EQ(data.participants.front().participant, "Keyed");
+    bool named = false;
+    for (const analysis::LeftOut& item : data.left_out)
+      named = named || (item.what == path.string() &&
+                        item.reason.find("line " + std::to_string(forgery.line) + ": " + broken) != std::string::npos);
+    EXPECT_TRUE(named) << (data.left_out.empty() ? std::string("nothing left out") : data.left_out.front().reason);
+    analysis::LoadOptions all;
+    all.include_broken = true;
+    const analysis::StudyData with_broken = analysis::load_study({path.string(), *keyed_log_}, all);
+    EXPECT_TRUE(std::any_of(with_broken.participants.begin(), with_broken.participants.end(), [&](const auto& participant) {
+      return participant.log_path == path.string() && participant.log_status == LogStatus::broken;
+    }));
+  }
+}
+
+// Issue 37: replay read the config a log carries under the name of the config file the session ran
+// with, so a fault in the log's config_toml was reported against that file, which holds none.
+TEST_F(SessionIntegrity, AFaultInALogsConfigTextNamesTheLog) {
+  const std::string edited = forged(read_file(*unkeyed_log_), "session_header", "repeats = 4", "repeats = \\\"four\\\"");
+  const fs::path path = write_copy(*folder_, "bad-config-toml.jsonl", edited);
+  try {
+    replay(path);
+    ADD_FAILURE() << "replayed a log whose config_toml cannot be read";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind(path.string() + ":1: config_toml", 0), 0u) << error.what();
+    EXPECT_NE(std::string(error.what()).find("repeats"), std::string::npos) << error.what();
+  }
+  // Export and analyze: broken at the header, naming the log.
+  try {
+    export_trials_csv({path.string()});
+    ADD_FAILURE() << "exported a log whose config_toml cannot be read";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(path.string() + ":1: the log is broken (header: its config_toml cannot be read (" +
+                                             path.string() + " (config_toml)"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 TEST_F(SessionIntegrity, AnOversizedLogOrAFolderIsRefusedBeforeAnythingIsRead) {

@@ -85,7 +85,7 @@ void expect_same_story(const std::string& path) {
     EXPECT_EQ(fast.variant, full.start.variant);
     EXPECT_EQ(fast.level, full.start.level);
     EXPECT_EQ(fast.attention_check, full.start.attention_check);
-    EXPECT_EQ(fast.reference_first, full.start.reference_first.value_or(true));
+    EXPECT_EQ(fast.reference_first, full.start.reference_first);
     EXPECT_EQ(fast.sequence, full.start.sequence);
     ASSERT_EQ(fast.answers.size(), full.responses.size());
     for (size_t j = 0; j < fast.answers.size(); ++j) {
