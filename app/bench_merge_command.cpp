@@ -19,7 +19,6 @@
 #include "app/commands.h"
 #include "app/output_options.h"
 #include "bench/bench_parts.h"
-#include "core/image_io.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
 

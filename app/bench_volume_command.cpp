@@ -18,7 +18,6 @@
 #include "app/output_options.h"
 #include "bench/volume_bench.h"
 #include "core/atomic_file.h"
-#include "core/image_io.h"
 #include "core/input_error.h"
 #include "renderer/vk/context.h"
 #include "renderer/volume/volume_raycaster.h"

@@ -21,7 +21,6 @@
 #include "app/display_flags.h"
 #include "app/output_options.h"
 #include "core/atomic_file.h"
-#include "core/image_io.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "foveation/display_geometry.h"

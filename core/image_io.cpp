@@ -72,27 +72,36 @@ Image read_image(const std::filesystem::path& path) {
   return decode_image(read_input_file(path, kImageFileExpected, kMaxImageFileBytes), path.string());
 }
 
-void write_image_to_temporary(const std::filesystem::path& temporary, const Image& image,
-                              const std::filesystem::path& target) {
+bool can_encode_image(const std::filesystem::path& target) {
+  const auto output = OIIO::ImageOutput::create(target.string());
+  return output && output->supports("ioproxy");
+}
+
+std::string encode_image(const Image& image, const std::filesystem::path& target) {
+  const std::string expected = "expected a .png, .exr or other extension OpenImageIO writes to memory";
+  auto output = OIIO::ImageOutput::create(target.string());
+  if (!output) throw InputError(target.string() + ": cannot write image (" + one_line(OIIO::geterror()) + "); " + expected);
+  if (!output->supports("ioproxy"))
+    throw InputError(target.string() + ": OpenImageIO writes \"" + lower_extension(target) + "\" files only by their path; " + expected);
   const bool floating_point = lower_extension(target) == ".exr";
-  const OIIO::TypeDesc file_type = floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
-  auto output = OIIO::ImageOutput::create(temporary.string());
-  if (!output) {
-    throw InputError(target.string() + ": cannot write image (" + OIIO::geterror() +
-                     "); expected a .png, .exr or other OpenImageIO extension");
-  }
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, file_type);
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   // No write time in the file (OpenEXR's capDate would be the clock's): the same pixels give the
   // same bytes, so a frame cache's hashes hold across machines and runs.
   if (floating_point) spec.attribute("DateTime", "");
-  if (!output->open(temporary.string(), spec) ||
-      !output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !output->close()) {
-    throw InputError(target.string() + ": cannot write image: " + output->geterror());
-  }
+  // Encoded into memory (an IOProxy): OpenImageIO's writers do not all report a failed write(2) (a
+  // PNG on a full disk came out as an empty file and exit 0); the caller writes these bytes itself.
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  output->set_ioproxy(&proxy);
+  if (!output->open(target.string(), spec) || !output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
+      !output->close())
+    throw InputError(target.string() + ": cannot encode image: " + one_line(output->geterror()));
+  if (bytes.empty()) throw InputError(target.string() + ": OpenImageIO encoded no bytes; " + expected);
+  return std::string(bytes.begin(), bytes.end());
 }
 
 void write_image(const std::filesystem::path& path, const Image& image) {
-  write_atomically(path, [&](const std::filesystem::path& temporary) { write_image_to_temporary(temporary, image, path); });
+  write_text_atomically(path, encode_image(image, path));
 }
 
 }  // namespace fovlab

@@ -1,6 +1,6 @@
 #pragma once
-// Image files through OpenImageIO. Writes never leave a half-written file: the image goes to a
-// temporary name in the same folder, then is renamed over the target.
+// Image files through OpenImageIO, which reads and writes memory only: the bytes of a file are read
+// through the input guard (core/input_file.h) and written by core/atomic_file.h, whole or not at all.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -30,15 +30,15 @@ Image read_image(const std::filesystem::path& path);
 // checked before any pixel is allocated.
 Image decode_image(std::string_view bytes, const std::string& name);
 
-// Writes by extension: .png/.jpg/... as 8 bits per channel (values clamped to [0, 1] and rounded),
-// .exr as 32-bit float, with no write time in it (the same pixels give the same bytes). Throws
-// InputError naming the path when it cannot be written.
-void write_image(const std::filesystem::path& path, const Image& image);
+// The file's bytes of `image` in the format of `target`'s extension (OpenImageIO writes nothing to
+// disk): .png/.jpg/... as 8 bits per channel (values clamped to [0, 1] and rounded), .exr as 32-bit
+// float with no write time in it (the same pixels give the same bytes). Throws InputError naming
+// `target` for a format OpenImageIO cannot write to memory (can_encode_image) or an encoding error.
+std::string encode_image(const Image& image, const std::filesystem::path& target);
+bool can_encode_image(const std::filesystem::path& target);
 
-// The step write_image takes inside write_atomically (core/atomic_file.h): the image written to
-// `temporary` as it is (no rename), in the format of `target`'s extension, errors naming `target`; for
-// a caller that acts between the write and the rename (the frame cache hashes the bytes first).
-void write_image_to_temporary(const std::filesystem::path& temporary, const Image& image,
-                              const std::filesystem::path& target);
+// encode_image, then write_text_atomically (core/atomic_file.h): the file appears whole or not at
+// all, and a failed write (a full disk) throws FileError with the system's reason.
+void write_image(const std::filesystem::path& path, const Image& image);
 
 }  // namespace fovlab

@@ -1,10 +1,10 @@
 #include "core/output_guard.h"
 
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
 
+#include "core/image_io.h"
 #include "core/input_error.h"
 #include "core/session_files.h"
 
@@ -106,8 +106,8 @@ std::string output_target_refusal(const fs::path& path, const std::string& flag,
   const fs::path folder = lexical.parent_path();
   if (!fs::is_directory(folder, error)) return named + ": folder " + folder.string() + " does not exist";
   if (::access(folder.c_str(), W_OK) != 0) return named + ": folder " + folder.string() + " is not writable";
-  if (target.kind == OutputKind::image_file && !OIIO::ImageOutput::create(path.string()))
-    return named + ": unknown image format; expected a .png, .exr or other OpenImageIO extension";
+  if (target.kind == OutputKind::image_file && !can_encode_image(path))
+    return named + ": unknown image format; expected a .png, .exr or other extension OpenImageIO writes";
   return "";
 }
 

@@ -30,6 +30,7 @@
 #include "display/headless_presenter.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
+#include "study/schedule/log_estimate.h"
 #include "study/schedule/study_plan.h"
 #include "protocols/session/response_source.h"
 #include "protocols/session/session_header.h"
@@ -180,6 +181,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.log_path = session_log_path(options.results_dir, config.name, options.participant);
   check_prepared_frames_fit(planned_specs(plan), config.source_path);  // before the window, the lock, any render
   check_sampling_maps(plan.stimuli, config.source_path);
+  check_log_fits_readers(plan, config.source_path);  // a log export, analyze and replay could not read back is not begun
 
   // Answers and gaze: parsed before anything is written.
   std::optional<ObserverModel> observer_model;

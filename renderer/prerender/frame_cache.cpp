@@ -182,14 +182,12 @@ PathTraceResult FrameCache::render_frame(const PathTraceSequence& sequence, int 
   if (!context_) throw std::logic_error("FrameCache: rendering " + file.string() + " without a Vulkan context");
   if (!entry.tracer) entry.tracer = std::make_unique<PathTracer>(*context_, entry.loaded.scene);
   PathTraceResult result = entry.tracer->render(sequence.settings(frame));
-  // The frame is written to a temporary name, its .sha256 (of those bytes) put in place, then the
-  // frame renamed over the target: a frame on disk always has its hash beside it, so a kill at any
-  // moment leaves no frame without one (at worst a hash without its frame: the frame is missing).
-  write_atomically(file, [&](const std::filesystem::path& temporary) {
-    write_image_to_temporary(temporary, result.image, file);
-    const std::string bytes = read_input_file(temporary, kFrameExpected, max_frame_file_bytes(sequence));
-    write_text_atomically(hash_file(sequence, frame), hash_line(bytes, file));
-  });
+  // The frame's .sha256 (of the encoded bytes) is put in place before the frame itself: a frame on
+  // disk always has its hash beside it, so a kill at any moment leaves no frame without one (at worst
+  // a hash without its frame, or beside an older frame it does not match: rendered again).
+  const std::string bytes = encode_image(result.image, file);
+  write_text_atomically(hash_file(sequence, frame), hash_line(bytes, file));
+  write_text_atomically(file, bytes);
   return result;
 }
 

@@ -18,6 +18,7 @@
 
 #include "core/input_error.h"
 #include "core/input_file.h"
+#include "core/number_text.h"
 #include "core/prng.h"
 
 namespace fovlab {
@@ -185,7 +186,7 @@ void store_values(const T* samples, uint64_t count, const std::optional<ValueRan
   }
   const double scale = 1.0 / (range.high - range.low);
   if (!(std::isfinite(scale) && scale > 0.0))
-    throw InputError("value range " + std::to_string(range.low) + " to " + std::to_string(range.high) +
+    throw InputError("value range " + exact_number_text(range.low) + " to " + exact_number_text(range.high) +
                      ": expected a finite span above 0");
   out.resize(count);
   for (uint64_t i = 0; i < count; ++i) {
@@ -489,8 +490,8 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
   const double widest = std::max({grid.spacing[0], grid.spacing[1], grid.spacing[2]});
   const double narrowest = std::min({grid.spacing[0], grid.spacing[1], grid.spacing[2]});
   if (!(widest <= 1000.0 * narrowest))
-    throw InputError(path.string() + ": spacings " + std::to_string(grid.spacing[0]) + " " + std::to_string(grid.spacing[1]) +
-                     " " + std::to_string(grid.spacing[2]) + ": expected the largest at most 1000 times the smallest");
+    throw InputError(path.string() + ": spacings " + exact_number_text(grid.spacing[0]) + " " + exact_number_text(grid.spacing[1]) +
+                     " " + exact_number_text(grid.spacing[2]) + ": expected the largest at most 1000 times the smallest");
   const uint64_t count = grid.voxel_count();
   const void* data = nrrd->data;
   switch (nrrd->type) {

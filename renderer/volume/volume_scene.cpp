@@ -82,6 +82,7 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
     scene.seed = uint64_t(seed);
   } else {
     std::filesystem::path file = unshield_toml_hazards(volume.string("file"));
+    if (file.empty()) volume.fail("file", "expected the path of a volume file (.nrrd, .nhdr or .dat), got \"\"");
     if (file.is_relative()) file = scene.path.parent_path() / file;
     scene.volume_file = file.lexically_normal();
     if (volume.has("value_range")) {

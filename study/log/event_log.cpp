@@ -166,6 +166,13 @@ void EventLogWriter::check_still_named() {
                          "");
 }
 
+int header_schema_version(const nlohmann::json& header) {
+  const auto schema = header.find(log_keys::schema_version);
+  if (schema == header.end() || !schema->is_number_integer()) return 0;
+  const int64_t version = schema->get<int64_t>();  // an unsigned above 2^63 reads as negative: refused too
+  return version >= oldest_log_schema_version && version <= log_schema_version ? int(version) : 0;
+}
+
 size_t byte_order_mark_length(std::string_view bytes) { return bytes.starts_with("\xEF\xBB\xBF") ? 3 : 0; }
 
 EventLogFile parse_event_log(const std::string& bytes, const std::string& path) {
@@ -177,10 +184,7 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
   EventChain chain;
   while (lines.next()) {
     nlohmann::json event = lines.whole_event();
-    if (lines.number() == 1) {
-      const auto schema = event.find(log_keys::schema_version);
-      log.schema_version = schema != event.end() && schema->is_number_integer() ? schema->get<int>() : 0;
-    }
+    if (lines.number() == 1) log.schema_version = header_schema_version(event);
     const auto seq = event.find(log_keys::seq);
     const auto recorded = event.find(log_keys::chain);
     const auto mac = event.find(log_keys::mac);

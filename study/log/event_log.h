@@ -30,6 +30,10 @@ namespace fovlab {
 inline constexpr int log_schema_version = 6;      // what this build writes
 inline constexpr int oldest_log_schema_version = 1; // the oldest it reads (resume needs the current one)
 
+// The schema_version a session header states, or 0 when it states none this build could read
+// (absent, not an integer, or outside oldest..current: 2^32 + 6 is not read as 6).
+int header_schema_version(const nlohmann::json& header);
+
 struct LabKey;
 
 class EventLogWriter {

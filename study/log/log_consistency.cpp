@@ -1,6 +1,7 @@
 #include "study/log/log_consistency.h"
 
 #include "core/input_error.h"
+#include "study/log/event_log.h"
 #include "study/log/log_events.h"
 #include "study/log/schedule_check.h"
 #include "study/schedule/study_plan.h"
@@ -43,8 +44,7 @@ std::optional<LogInconsistency> check(const nlohmann::json& header, const Log& l
 
 std::shared_ptr<const StudyConfig> LoggedConfigs::config_of(const nlohmann::json& header, const std::string& path,
                                                           std::string& error) {
-  const auto schema = header.find(k::schema_version);
-  const int schema_version = schema != header.end() && schema->is_number_integer() ? schema->get<int>() : 0;
+  const int schema_version = header_schema_version(header);
   auto key = std::make_tuple(schema_version, text_of(header, k::config_toml), text_of(header, k::conditions_csv));
   const std::string name = path + " (config_toml)";
   {

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "study/log/event_log.h"
 #include "study/log/log_events.h"
 #include "core/digest.h"
 #include "core/input_error.h"
@@ -66,8 +67,7 @@ std::string LogIntegrity::describe() const {
 std::string event_mac(const LabKey& key, const std::string& chain) { return hmac_sha256_hex(key.bytes, chain); }
 
 void IntegrityTracker::header(const nlohmann::json& header, const std::string& path) {
-  const auto schema = header.find(log_keys::schema_version);
-  result_.schema_version = schema != header.end() && schema->is_number_integer() ? schema->get<int>() : 0;
+  result_.schema_version = header_schema_version(header);
   const auto key_id = header.find(log_keys::lab_key_id);
   result_.keyed = key_id != header.end() && key_id->is_string();
   if (result_.keyed && key_ && key_id->get<std::string>() != key_->id)

@@ -259,7 +259,7 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (line_number == 1) {
       session.header = lines.whole_event();
       check_session_header(session.header, path);
-      schema_version = session.header[log_keys::schema_version].get<int>();
+      schema_version = header_schema_version(session.header);
       integrity.header(session.header, path);
     }
     previous_chain = chain.last_chain();

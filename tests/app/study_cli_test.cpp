@@ -180,6 +180,12 @@ TEST(StudyCli, ValidateRefusesAStudyWhoseLogWouldPassTheReadersCap) {
   expect_one_line_error(refused, config.string() + ": 25716 trials: a session's log would take up to ");
   EXPECT_NE(refused.err.find("bytes (estimated from the plan, up to "), std::string::npos) << refused.err;
   EXPECT_NE(refused.err.find("more than the 1073741824 bytes (1024 MiB) the log readers take"), std::string::npos) << refused.err;
+  // A session of it is refused the same way before it writes anything.
+  const fs::path results = dir / "results";
+  const CommandResult run_refused =
+      run("run " + config.string() + " --participant P001 --observer simulated --headless --results " + results.string());
+  expect_one_line_error(run_refused, config.string() + ": 25716 trials: a session's log would take up to ");
+  EXPECT_FALSE(fs::exists(results / "log_2afc")) << "the refused session left a folder";
   text.replace(text.find("repeats = 1000\n"), std::string("repeats = 1000\n").size(), "repeats = 100\n");
   fovlab::cli_test::write_file(config, text);
   const CommandResult accepted = run("validate " + config.string() + " --no-render-timing");

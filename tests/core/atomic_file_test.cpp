@@ -98,6 +98,23 @@ TEST(AtomicFile, AFullDiskSaysSoAndKeepsTheOldFile) {
   const std::string message = write_error([&] { write_set(set, true, big); });
   EXPECT_NE(message.find("a.txt: writing failed (No space left on device)"), std::string::npos) << message;
   EXPECT_EQ(read_all(set / "a.txt"), "old set");
+
+  // An image: OpenImageIO's PNG writer ignored the failed write (an empty file, no error); encoded in
+  // memory and written by write_text_atomically, it says so and keeps the old file, in every format.
+  std::filesystem::remove(folder / "disk" / "filler");
+  std::filesystem::remove_all(set);
+  Image noise(256, 256, 4);
+  uint32_t state = 1;
+  for (float& value : noise.pixels) value = float((state = state * 1664525u + 1013904223u) >> 8) / float(1 << 24);
+  for (const char* name : {"frame.png", "frame.exr"}) {
+    const auto image_target = folder / "disk" / name;
+    write_text_atomically(image_target, "old image");
+    disk.fill(folder / "disk" / "filler");
+    EXPECT_EQ(write_error([&] { write_image(image_target, noise); }),
+              image_target.string() + ": writing failed (No space left on device)");
+    EXPECT_EQ(read_all(image_target), "old image");
+    std::filesystem::remove(folder / "disk" / "filler");
+  }
 }
 
 TEST(AtomicFile, ARenameTheSystemRefusesSaysWhy) {
