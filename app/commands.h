@@ -6,7 +6,8 @@
 namespace fovlab::app {
 
 // Every subcommand below, in the order --help lists them (app/commands.cpp): the whole command line,
-// which main() parses and the tests read (tests/app/output_guard_cli_test.cpp).
+// which main() parses and the tests read (SessionRace.EveryOptionThatLooksLikeAnOutputIsRegisteredAsOne,
+// tests/protocols/session/session_race_test.cpp).
 void add_commands(CLI::App& app);
 
 void add_render_command(CLI::App& app);

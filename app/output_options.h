@@ -3,7 +3,8 @@
 // checked by the output guard (core/output_guard.h) while the command line is parsed, before any
 // work, and says in its --help what happens to an existing file. The option carries a named
 // validator (output_kind_of reads it back), so a test can list every command's output options from
-// the command-line definition itself (tests/app/output_guard_cli_test.cpp): a new output flag
+// the command-line definition itself (SessionRace.EveryOptionThatLooksLikeAnOutputIsRegisteredAsOne,
+// tests/protocols/session/session_race_test.cpp): a new output flag
 // registered any other way is caught there by its name.
 #include <filesystem>
 #include <optional>

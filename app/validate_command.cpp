@@ -12,7 +12,7 @@
 #include "app/output_options.h"
 #include "renderer/vk/context.h"
 #include "study/config/study_config.h"
-#include "study/schedule/log_estimate.h"
+#include "study/log/log_estimate.h"
 #include "study/schedule/study_plan.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "protocols/stimuli/stimulus_settings.h"

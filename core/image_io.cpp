@@ -42,11 +42,13 @@ Image decode_image(std::string_view bytes, const std::string& name) {
   const std::string format = extension.empty() ? std::string() : extension.substr(1);
   // The plugin by its format's name opens nothing; it then reads these bytes only (an IOProxy), so
   // OpenImageIO never opens a path (a FIFO or a device would block it or feed it without end).
+  // The proxy outlives the plugin (declared first): a plugin closed by its destructor, after a
+  // refusal below, still reads from a live proxy.
+  OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
   std::unique_ptr<OIIO::ImageInput> input = format.empty() ? nullptr : OIIO::ImageInput::create(format);
   if (!input) throw InputError(name + ": unknown image format \"" + extension + "\": " + expected);
   if (!input->supports("ioproxy"))
     throw InputError(name + ": OpenImageIO reads \"" + extension + "\" files only by their path: " + expected);
-  OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
   input->set_ioproxy(&proxy);
   OIIO::ImageSpec spec;
   if (!input->open(name, spec))
@@ -79,6 +81,10 @@ bool can_encode_image(const std::filesystem::path& target) {
 
 std::string encode_image(const Image& image, const std::filesystem::path& target) {
   const std::string expected = "expected a .png, .exr or other extension OpenImageIO writes to memory";
+  // The bytes and their proxy outlive the plugin (declared first): a plugin closed by its
+  // destructor after an error still writes into live memory.
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
   auto output = OIIO::ImageOutput::create(target.string());
   if (!output) throw InputError(target.string() + ": cannot write image (" + one_line(OIIO::geterror()) + "); " + expected);
   if (!output->supports("ioproxy"))
@@ -90,8 +96,6 @@ std::string encode_image(const Image& image, const std::filesystem::path& target
   if (floating_point) spec.attribute("DateTime", "");
   // Encoded into memory (an IOProxy): OpenImageIO's writers do not all report a failed write(2) (a
   // PNG on a full disk came out as an empty file and exit 0); the caller writes these bytes itself.
-  std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput proxy(bytes);
   output->set_ioproxy(&proxy);
   if (!output->open(target.string(), spec) || !output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
       !output->close())

@@ -42,14 +42,14 @@ std::string session_refusal(const fs::path& path, const OutputTarget& target) {
   const std::string name = path.filename().string();
   if (is_session_file_name(name)) return what_session_file(name);
   if (target.kind == OutputKind::folder)
-    if (const std::string_view mark = participant_folder_mark(path); !mark.empty())
+    if (const std::string mark = participant_folder_mark(path); !mark.empty())
       return "a participant's folder (it holds " + std::string(mark) + ")";
   for (fs::path folder = path.parent_path();; folder = folder.parent_path()) {
-    if (const std::string_view mark = participant_folder_mark(folder); !mark.empty()) {
+    if (const std::string mark = participant_folder_mark(folder); !mark.empty()) {
       const auto& owned = target.owned_names_in_participant_folder;
       const bool owned_here = target.kind != OutputKind::folder && folder == path.parent_path() &&
                               std::find(owned.begin(), owned.end(), name) != owned.end();
-      if (!owned_here) return "inside the participant's folder " + folder.string() + " (it holds " + std::string(mark) + ")";
+      if (!owned_here) return "inside the participant's folder " + folder.string() + " (it holds " + mark + ")";
     }
     if (!folder.has_parent_path() || folder == folder.parent_path()) break;
   }
@@ -59,17 +59,25 @@ std::string session_refusal(const fs::path& path, const OutputTarget& target) {
 }  // namespace
 
 fs::path resolved_output_path(const fs::path& path) {
-  fs::path current = lexical_path(path);
+  // Resolved as the kernel does, each link before a ".." that follows it (l/../x, with l a link,
+  // is the folder beside l's target, not beside l): never normalised as text first.
+  fs::path current = fs::absolute(path);
+  if (current.filename().empty() && current.has_parent_path()) current = current.parent_path();
   for (int hops = 0; hops < 40; ++hops) {  // the kernel's own limit on a chain of links
     std::error_code error;
+    if (current.filename() == "." || current.filename() == "..") break;
     if (!fs::is_symlink(fs::symlink_status(current, error))) break;
     const fs::path link = fs::read_symlink(current, error);
     if (error) break;
-    current = (link.is_absolute() ? link : current.parent_path() / link).lexically_normal();
+    current = link.is_absolute() ? link : current.parent_path() / link;
   }
   std::error_code error;
+  if (current.filename() == "." || current.filename() == "..") {
+    const fs::path folder = fs::weakly_canonical(current, error);
+    return error ? current.lexically_normal() : folder;
+  }
   const fs::path folder = fs::weakly_canonical(current.parent_path(), error);
-  return error ? current : folder / current.filename();
+  return error ? current.lexically_normal() : folder / current.filename();
 }
 
 std::string output_target_refusal(const fs::path& path, const std::string& flag, const OutputTarget& target) {

@@ -46,13 +46,17 @@ inline bool is_session_file_name(std::string_view name) {
          (name.size() > kSessionLogName.size() && name.starts_with(kSessionLogName) && name[kSessionLogName.size()] == '.');
 }
 
-// A participant's folder: one that holds a session log or a session lock (a run takes the lock
-// before it writes the first event). Returns the name of the file that makes it one, "" for any
-// other folder. Symbolic links are looked at, not followed.
-inline std::string_view participant_folder_mark(const std::filesystem::path& folder) {
+// A participant's folder: one that holds a session log, a session lock (a run takes the lock before
+// it writes the first event) or anything a session set aside (a folder left with only
+// events.jsonl.recovered-1, after a log was removed under its session, is still a participant's).
+// Returns the name of the file that makes it one, "" for any other folder. Symbolic links are
+// looked at, not followed.
+inline std::string participant_folder_mark(const std::filesystem::path& folder) {
   std::error_code error;
   for (const std::string_view name : {kSessionLogName, kSessionLockName})
-    if (std::filesystem::exists(std::filesystem::symlink_status(folder / name, error))) return name;
+    if (std::filesystem::exists(std::filesystem::symlink_status(folder / name, error))) return std::string(name);
+  for (std::filesystem::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error))
+    if (const std::string name = entry->path().filename().string(); is_session_file_name(name)) return name;
   return "";
 }
 

@@ -20,6 +20,7 @@
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/input_file.h"
+#include "core/output_guard.h"
 
 namespace fovlab {
 namespace {
@@ -289,7 +290,7 @@ VoronoiReconstruction cached_voronoi_reconstruction(const VoronoiMaskSettings& s
   }
   VoronoiReconstruction made_now = make_voronoi_reconstruction(settings, progress);
   try {  // a cache that cannot be written (a read-only or full disk) costs the next run time, nothing else
-    std::filesystem::create_directories(cache_folder);
+    create_output_folder(cache_folder, "");  // through the output guard: never inside a participant's folder
     write_text_atomically(file, voronoi_cache_bytes(made_now));  // binary-safe: written as bytes
   } catch (const std::exception& error) {
     std::fprintf(stderr, "fovlab: warning: the sampling mask was not cached (%s)\n", error.what());

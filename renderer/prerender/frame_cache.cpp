@@ -182,10 +182,13 @@ PathTraceResult FrameCache::render_frame(const PathTraceSequence& sequence, int 
   if (!context_) throw std::logic_error("FrameCache: rendering " + file.string() + " without a Vulkan context");
   if (!entry.tracer) entry.tracer = std::make_unique<PathTracer>(*context_, entry.loaded.scene);
   PathTraceResult result = entry.tracer->render(sequence.settings(frame));
-  // The frame's .sha256 (of the encoded bytes) is put in place before the frame itself: a frame on
-  // disk always has its hash beside it, so a kill at any moment leaves no frame without one (at worst
-  // a hash without its frame, or beside an older frame it does not match: rendered again).
+  // The frame's .sha256 (of the encoded bytes) is put in place before the frame itself, and an older
+  // frame there is removed first: a kill at any moment leaves no frame without its hash and no older
+  // frame beside the new hash (which would read as a frame changed after it was rendered); at worst
+  // a hash without its frame, rendered again.
   const std::string bytes = encode_image(result.image, file);
+  std::error_code absent_already;
+  std::filesystem::remove(file, absent_already);
   write_text_atomically(hash_file(sequence, frame), hash_line(bytes, file));
   write_text_atomically(file, bytes);
   return result;
@@ -212,6 +215,7 @@ Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
                        " (delete both files to render the frame again)");
     case HashVerdict::differs: break;
   }
+
   throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +
                    " (changed after it was rendered); expected the frame fovlab prerender wrote (delete both "
                    "files to render it again)");

@@ -87,7 +87,7 @@ class FrameCache {
   FrameStatus frame_status(const PathTraceSequence& sequence, int frame);
   // The frame can be shown as it is: whole (decodes, and matches its .sha256).
   bool has_frame(const PathTraceSequence& sequence, int frame);
-  // Renders the frame and stores it, then its .sha256 (replacing what was there). Returns the
+  // Renders the frame, removes an older one, stores its .sha256, then the frame. Returns the
   // render's statistics.
   PathTraceResult render_frame(const PathTraceSequence& sequence, int frame);
   // The frame from the cache, rendered and stored first when it or its .sha256 is missing.

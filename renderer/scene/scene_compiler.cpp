@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/output_guard.h"
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
@@ -145,9 +146,8 @@ CompiledShader compile_scene_shader(const SceneSource& scene, const SceneConsume
   }
   compiled.spirv = compile_glsl(scene, consumer);
   // The cache is an optimisation: a cache folder we cannot write only costs a compile next time.
-  std::error_code error;
-  std::filesystem::create_directories(compiled.cache_file.parent_path(), error);
   try {
+    create_output_folder(compiled.cache_file.parent_path(), "");  // never inside a participant's folder
     write_text_atomically(compiled.cache_file,
                           std::string_view(reinterpret_cast<const char*>(compiled.spirv.data()),
                                            compiled.spirv.size() * sizeof(uint32_t)));

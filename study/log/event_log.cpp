@@ -137,7 +137,15 @@ int copy_open_file(int fd, off_t size, const std::string& copy) {
 void EventLogWriter::check_still_named() {
   struct stat named {};
   const bool same = ::stat(path_.c_str(), &named) == 0 && named.st_dev == device_ && named.st_ino == inode_;
-  if (same) return;
+  if (same) {
+    // Written over in place (cp onto it, a shell's >, an editor that saves without a rename): the
+    // same file, another size. What another program wrote is not this session's to cut; it stops.
+    if (named.st_size == size_) return;
+    throw InputError(path_ + ": another program wrote into the session log while this session wrote it (it holds " +
+                     std::to_string(named.st_size) + " bytes where this session wrote " + std::to_string(size_) +
+                     "); the session stops after " + std::to_string(next_seq_) +
+                     " events and leaves the file as it is (a resume refuses it where its events no longer chain)");
+  }
   const std::string now_there = std::filesystem::exists(std::filesystem::symlink_status(path_))
                                     ? "another program put another file at its name"
                                     : "its name no longer exists (removed or moved)";
@@ -151,19 +159,16 @@ void EventLogWriter::check_still_named() {
     reason = copy_open_file(fd_, size_, copy);
     if (reason == EEXIST) continue;
     if (reason == 0)
-      throw LogReplacedError(what + ". Every event it wrote is kept in " + copy +
-                                 "; run the same command again to resume from it (whatever is then at the log's name is "
-                                 "kept beside it as " +
-                                 std::string(kSessionLogName) + ".replaced-N)",
-                             copy);
+      throw InputError(what + ". Every event it wrote is kept in " + copy +
+                       "; run the same command again to resume from it (whatever is then at the log's name is kept beside it as " +
+                       std::string(kSessionLogName) + ".replaced-N)");
     break;
   }
   struct stat held {};
   const bool still_linked = ::fstat(fd_, &held) == 0 && held.st_nlink > 0;
-  throw LogReplacedError(what + ", and copying its events out beside it failed (" + std::strerror(reason) + "): " +
-                             (still_linked ? "the file it wrote is still on disk under another name"
-                                           : "the events it wrote are lost when this process ends"),
-                         "");
+  throw InputError(what + ", and copying its events out beside it failed (" + std::strerror(reason) + "): " +
+                   (still_linked ? "the file it wrote is still on disk under another name"
+                                 : "the events it wrote are lost when this process ends"));
 }
 
 int header_schema_version(const nlohmann::json& header) {

@@ -53,14 +53,16 @@ class EventLogWriter {
   // After each fsync the log's name must still lead to the file this writer holds open: when another
   // program replaced or removed it (a rename onto it, an editor's save), every event this writer's
   // file holds is copied from the open descriptor to events.jsonl.recovered-N beside it (fsync'd),
-  // and LogReplacedError says where; the session stops there. The next run of the participant
-  // resumes from that copy (protocols/session/session.cpp).
+  // and an InputError says where; the session stops there. The next run of the participant
+  // resumes from that copy (protocols/session/session.cpp). A log written over in place (the same
+  // file, another size) stops the session too, the file left as it is.
   void append(nlohmann::json event);
   const std::string& path() const { return path_; }
   double seconds_writing() const { return seconds_writing_; }  // time in write + fsync so far
 
  private:
-  // Throws LogReplacedError (after the copy) when the log's name no longer leads to fd_'s file.
+  // Throws InputError (after the copy) when the log's name no longer leads to fd_'s file, or when
+  // the file is no longer the size this writer made it.
   void check_still_named();
 
   std::string path_;
@@ -72,14 +74,6 @@ class EventLogWriter {
   int64_t next_seq_ = 0;
   const LabKey* lab_key_ = nullptr;
   double seconds_writing_ = 0.0;
-};
-
-// The session log's name led to another file (or none) while a session wrote it; the events it
-// wrote are in `recovered_copy` ("" when even the copy failed: the message says why).
-class LogReplacedError : public InputError {
- public:
-  LogReplacedError(const std::string& message, std::string copy) : InputError(message), recovered_copy(std::move(copy)) {}
-  std::string recovered_copy;
 };
 
 // The chain value of an event (given the previous chain) in a log of this schema version, as the

@@ -67,6 +67,10 @@ std::vector<SessionCopy> find_session_copies(const std::vector<SessionLogIdentit
         else if (log.lines < used.lines)
           copy.reason += ": its " + std::to_string(log.lines) + " lines are the first of " + std::to_string(used.lines);
         copy.reason += ")";
+      } else if (common == chains[kept].size()) {  // longer than the used log, but broken past it
+        copy.reason = "the same session as " + used.path + ", longer but its chain broken at line " +
+                      std::to_string(log.first_chain_error_line) + " (the intact " + std::to_string(used.lines) +
+                      " lines of the other are used)";
       } else {
         copy.kind = SessionCopy::Kind::diverged;
         copy.line = static_cast<int>(common) + 1;

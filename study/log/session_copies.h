@@ -8,7 +8,8 @@
 //     or later) is a copy of it, left out, the longer one used (of two equal ones, the one in the
 //     folder its header's participant names, else the first in path order);
 //   - a copy whose own chain breaks where it still agrees with the other is a damaged copy, left
-//     out too;
+//     out too; so is a longer log whose chain breaks after every line of an intact one (the intact
+//     one, a backup taken mid-session, is used);
 //   - two that part after a common start (both chains intact where they differ) are neither to be
 //     trusted alone: both broken at the line where they part.
 #include <cstddef>

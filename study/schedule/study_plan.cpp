@@ -218,6 +218,50 @@ class PlanBuilder {
   std::map<std::string, int> stimulus_ids_;  // by stimulus_key: the index of plan_.stimuli
 };
 
+// A plan's size before it is made, as the planner's loops make it: its trials, and the stimuli
+// their sequences list (a ramp's trial lists its whole ladder). A config of 16 MiB can ask for more
+// than memory holds (10,000 variants x 1000 repeats x a long ladder); a log of more than
+// kMaxPlannedTrials trials could not be read back anyway (every trial logs four events or more of
+// at least 64 bytes each: more than 1 GiB, max_log_bytes), so such a config is refused before any
+// trial is made: by validate and run, and by export, analyze and replay reading a log that carries one.
+void check_plan_size(const StudyConfig& config) {
+  constexpr uint64_t kMaxPlannedTrials = 4'000'000, kMaxPlannedSequenceEntries = 64'000'000;
+  uint64_t trials = config.practice.trials > 0 ? uint64_t(config.practice.trials) : 0, entries = 0;
+  const std::vector<const VariantConfig*> variants = tested_variants(config.stimulus);
+  const double with_checks = 1.0 / (1.0 - config.attention.share);
+  for (const BlockConfig& block : config.blocks) {
+    uint64_t block_trials = 0, block_entries = 0;
+    for (const VariantConfig* variant : variants) {
+      const uint64_t levels = std::max<uint64_t>(1, variant_levels(config.levels, variant).size());
+      const uint64_t repeats = uint64_t(config.protocol.repeats);
+      if (block.procedure >= 0) {
+        const ProcedureConfig& procedure = config.procedures.at(size_t(block.procedure));
+        block_trials += uint64_t(std::max<size_t>(1, procedure.starts.size())) * uint64_t(procedure.max_trials());
+        block_entries += uint64_t(std::max<size_t>(1, procedure.starts.size())) * levels;  // the track's grid
+      } else if (config.protocol.kind == ProtocolKind::ramp) {
+        block_trials += 2 * repeats;
+        block_entries += 2 * repeats * (levels + 1);
+      } else if (config.protocol.kind == ProtocolKind::slider) {
+        block_trials += repeats;
+        block_entries += repeats * levels;
+      } else {
+        block_trials += levels * repeats;
+        block_entries += 2 * levels * repeats;
+      }
+    }
+    trials += uint64_t(std::ceil(double(block_trials) * with_checks));
+    entries += block_entries + 2 * uint64_t(std::ceil(double(block_trials) * with_checks));
+    if (trials > kMaxPlannedTrials || entries > kMaxPlannedSequenceEntries) break;
+  }
+  if (trials > kMaxPlannedTrials)
+    throw InputError(config.source_path + ": more than " + std::to_string(kMaxPlannedTrials) +
+                     " trials planned a participant (a log of them could not be read back); expected fewer blocks, "
+                     "variants, levels or [protocol] repeats");
+  if (entries > kMaxPlannedSequenceEntries)
+    throw InputError(config.source_path + ": more than " + std::to_string(kMaxPlannedSequenceEntries) +
+                     " presentations planned a participant; expected fewer blocks, variants, levels or [protocol] repeats");
+}
+
 }  // namespace
 
 void check_participant_id(const std::string& participant) {
@@ -288,6 +332,7 @@ std::optional<int> participant_number(const std::string& participant) {
 
 StudyPlan make_study_plan(const StudyConfig& config, const std::string& participant) {
   check_participant_id(participant);
+  check_plan_size(config);
   StudyPlan plan;
   plan.config = config;
   plan.participant = participant;

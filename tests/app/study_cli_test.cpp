@@ -11,7 +11,7 @@
 
 #include "protocols/stimuli/stimulus_settings.h"
 #include "study/config/study_config.h"
-#include "study/schedule/log_estimate.h"
+#include "study/log/log_estimate.h"
 #include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
 

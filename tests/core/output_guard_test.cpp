@@ -72,6 +72,12 @@ TEST(OutputGuard, NothingInsideAParticipantsFolderButTheNamesACommandOwnsThere) 
   // A folder holding a lock only (a run that has not written its first event yet) is a participant's.
   fs::remove(folders.log);
   EXPECT_NE(refusal(folders.participant / "x.json", kFile), "");
+  // Nor is it one no more when only what its session set aside is left (a log removed under its
+  // session: the lock goes at the session's end, events.jsonl.recovered-1 stays).
+  fs::remove(folders.participant / kSessionLockName);
+  std::ofstream(set_aside_path(folders.log, SetAside::recovered, 1)) << "{}\n";
+  EXPECT_NE(refusal(folders.participant / "x.json", kFile).find("it holds events.jsonl.recovered-1"), std::string::npos);
+  EXPECT_NE(refusal(folders.participant, kFolder), "");
   // The study folder beside participants is no participant's.
   EXPECT_EQ(refusal(folders.root / "results" / "study" / "trials.csv", kFile), "");
   EXPECT_EQ(refusal(folders.root / "results" / "study" / "analysis", kFolder), "");
@@ -90,6 +96,14 @@ TEST(OutputGuard, SymbolicLinksAreFollowedToWhereAWriteWouldLand) {
   fs::create_symlink(folders.participant / "new.json", outside / "dangling.json");
   fs::create_symlink(outside / "dangling.json", outside / "chain.json");
   EXPECT_NE(refusal(outside / "chain.json", kFile), "");
+  // A ".." after a link is taken from the link's target, as the kernel does: l/../P001 is the
+  // participant's folder when l is a link to a folder beside it, whatever the text says.
+  fs::create_directories(folders.root / "results" / "study" / "other");
+  fs::create_directory_symlink(folders.root / "results" / "study" / "other", outside / "l");
+  EXPECT_NE(refusal(outside / "l" / ".." / "P001", kFolder).find("resolves to " + folders.participant.string()), std::string::npos)
+      << refusal(outside / "l" / ".." / "P001", kFolder);
+  EXPECT_NE(refusal(outside / "l" / ".." / "P001" / "x.json", kFile), "");
+  EXPECT_NE(refusal(outside / "l" / ".." / "P001" / "sub" / "..", kFolder), "");
   // A link to an ordinary file is an ordinary output.
   std::ofstream(outside / "plain.json") << "{}";
   fs::create_symlink(outside / "plain.json", outside / "to-plain.json");

@@ -570,6 +570,42 @@ TEST(AnalyzeCli, TwoLogsOfOneSessionThatPartAreBothBroken) {
   expect_one_line_error(exported, original.string() + ":" + std::to_string(parting) + ": the log is broken (" + parted(copy) + ")");
 }
 
+// A backup taken mid-session is intact; the original, longer, was damaged after the backup's last
+// line (its chain breaks there). The backup is the session (its lines are all the original's), the
+// damaged original left out and named; neither is called parted.
+TEST(AnalyzeCli, AnIntactBackupOfALogDamagedLaterIsTheSessionUsed) {
+  const fs::path results = scratch("backup") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path study = results / "tiny_2afc";
+  const fs::path original = log_of(results, "tiny_2afc", "P001");
+  std::vector<std::string> lines = fovlab::testing::lines_of(read_all(original));
+  std::string backup;
+  for (size_t i = 0; i < lines.size() / 2; ++i) backup += lines[i] + "\n";
+  const fs::path backup_log = study / "P001-backup" / "events.jsonl";
+  fs::create_directories(backup_log.parent_path());
+  std::ofstream(backup_log, std::ios::binary) << backup;
+  // The original's last response edited in place, its chain not rebuilt: broken at that line.
+  size_t changed = lines.size();
+  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
+  }
+  ASSERT_GT(changed, lines.size() / 2);
+  std::string& line = lines[changed];
+  const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
+  line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
+  std::string damaged;
+  for (const std::string& text : lines) damaged += text + "\n";
+  std::ofstream(original, std::ios::binary | std::ios::trunc) << damaged;
+
+  const fs::path out = scratch("backup") / "out";
+  const CommandResult analysed = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P001", "P002"}));
+  expect_left_out(out, original.string(),
+                  "the same session as " + backup_log.string() + ", longer but its chain broken at line " +
+                      std::to_string(changed + 1));
+}
+
 // Issue 37: a keyed log read without --lab-key is sealed as far as its chain goes, but its MACs were
 // not checked; export and analyze said only "sealed". They still read it, and now say so.
 TEST(AnalyzeCli, AKeyedLogReadWithoutTheKeySaysItsMacsWereNotChecked) {

@@ -313,6 +313,24 @@ TEST(SessionRace, ALogReplacedOrRemovedUnderARunningSessionIsKeptAndTheNextRunRe
     expect_one_whole_session(log_path);
     EXPECT_EQ(test::trial_summary(log_path), whole_trials);
   }
+
+  // Written over in place (the same file: cp onto it, a shell's >): no copy can hold what the other
+  // program overwrote, so the session stops at its next event, says so, and leaves the file as it is.
+  const fs::path results = root / "overwritten";
+  const std::string log_path = session_log_path(results.string(), "tiny_pair", "R1");
+  const Child live = start_run(results, "trial_end:2", "overwritten");
+  ASSERT_TRUE(wait_until_stopped(live.pid)) << test::read_file(live.output);
+  const std::string foreign = "{\"written_by\":\"another program\"}\n";
+  {
+    std::ofstream over(log_path, std::ios::binary | std::ios::trunc);
+    over << foreign;
+  }
+  kill(live.pid, SIGCONT);
+  EXPECT_EQ(exit_code(live.pid), 2);
+  const std::string said = test::read_file(live.output);
+  EXPECT_NE(said.find(log_path + ": another program wrote into the session log while this session wrote it"), std::string::npos)
+      << said;
+  EXPECT_EQ(test::read_file(log_path).substr(0, foreign.size()), foreign);  // not cut back by the session
 }
 
 }  // namespace

@@ -203,6 +203,26 @@ TEST(ProtocolsSchedule, TwoAfcCountsLevelsTimesVariantsTimesRepeatsPlusChecks) {
   EXPECT_EQ(per_condition.count({1, "fine/level=64"}), 1u);
 }
 
+// A config of a few kilobytes can ask for billions of trials (the readers plan the config a log
+// carries, so a forged log could too); such a plan is refused before a trial is made, in one line.
+TEST(ProtocolsSchedule, APlanPastWhatALogCouldHoldIsRefusedBeforeItIsMade) {
+  Sections s;
+  std::string values;
+  for (int level = 1; level <= 3000; ++level) values += (level > 1 ? ", " : "") + std::to_string(level);
+  s.levels = "[levels]\nparameter = \"max_steps\"\nvalues = [" + values + "]\n";
+  s.protocol = "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 1000\n";
+  const StudyConfig huge = make_config(s);  // 2 blocks x 3000 levels x 1000 repeats, plus checks
+  try {
+    make_study_plan(huge, "p01");
+    FAIL() << "a plan of 7.5 million trials was made";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("plan_test.toml: more than 4000000 trials planned a participant", 0), 0u)
+        << error.what();
+  }
+  s.protocol = "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 100\n";  // 750,000 trials: made
+  EXPECT_EQ(make_study_plan(make_config(s), "p01").trials.size(), 750000u);
+}
+
 TEST(ProtocolsSchedule, AttentionCheckShareIsOfAllTrialsRounded) {
   struct Case {
     const char* share;

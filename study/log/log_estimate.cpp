@@ -1,4 +1,4 @@
-#include "study/schedule/log_estimate.h"
+#include "study/log/log_estimate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@ namespace fovlab {
 namespace {
 
 // The widths, in bytes, each at its widest (docs/log-schema.md; measured on logs in
-// tests/study/schedule/log_estimate_test.cpp).
+// tests/app/study_cli_test.cpp, StudyCli.LogsOfEveryProtocolStayWithinTheEstimate).
 constexpr uint64_t kEventBytes = 260;           // {"event":...,"seq":N,"t":T,"chain":64 hex,"mac":64 hex}
 constexpr uint64_t kTrialStartBytes = 300;      // besides the event, the sequence and the names
 constexpr uint64_t kSequenceEntryBytes = 12;    // a stimulus id in trial_start's sequence

@@ -9,7 +9,9 @@
 // 17 significant digits, and an invalid-gaze entry); a trial's start, answers and end; the header
 // (the config's and conditions file's text, escaped, and every planned stimulus). A slider trial is
 // counted at two actions a ladder step (the participant decides how many). Logs of every protocol
-// stay below it (tests/study/schedule/log_estimate_test.cpp compares it with real sessions' logs).
+// stay below it (StudyCli.LogsOfEveryProtocolStayWithinTheEstimate, tests/app/study_cli_test.cpp,
+// compares it with real sessions' logs). Not counted: what a stopped and resumed session adds
+// (pause, resume and seal events, the interrupted trial run again), a few kilobytes a stop.
 #include <cstdint>
 #include <string>
 
