@@ -55,7 +55,7 @@ std::string default_out_dir(const std::vector<std::string>& inputs, const analys
 // Seed 002, 4.4.1: per block (and pooled), the grid of mean scores over every level, rows from the
 // largest y down, the best pair starred.
 void print_rating_grid(const analysis::RatingGrid& grid) {
-  std::printf("pilot grid (seed 002, 4.4.1): mean score (3 identical, 1 significant difference) per %s (columns) and %s "
+  std::printf("pilot grid (Ye et al. 2022, 4.4.1): mean score (3 identical, 1 significant difference) per %s (columns) and %s "
               "(rows) over every level: each participant's mean, then the mean over participants; * the best\n",
               grid.x_key.c_str(), grid.y_key.c_str());
   const size_t columns = grid.x_values.size();
@@ -91,7 +91,7 @@ void print_rating_grid(const analysis::RatingGrid& grid) {
 
 // Seed 002, Table 2: the votes for the reference, one-sided whatever --alternative says.
 void print_preference_table(const std::vector<analysis::PreferenceRow>& rows) {
-  std::printf("preference table (seed 002, Table 2): votes for the reference; exact binomial, ONE-sided (greater: the "
+  std::printf("preference table (Ye et al. 2022, Table 2): votes for the reference; exact binomial, ONE-sided (greater: the "
               "reference preferred), H0 1/2, whatever --alternative says; 95 %% Clopper-Pearson\n");
   std::printf("  %-24s %-16s %-24s %9s %7s %10s %5s  %s\n", "scene", "condition", "reference v. test", "votes", "share",
               "p", "stars", "95 % CI");

@@ -19,7 +19,7 @@ namespace {
 // The fovea of seed 000's Table 1 and of its speed-ups "at 7.5 degrees" (section 5.2).
 constexpr double kPaperFoveaDeg = 7.5;
 const char* const kPaperNote =
-    "Seed 000 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups 1.1x-16x "
+    "Polychronakis et al. 2023 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups 1.1x-16x "
     "(section 5.2).";
 
 // Marks each scene's cells on the Pareto fronts of speed-up against FLIP and against 1 - SSIM
@@ -107,7 +107,7 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
   if (has_cells) {
     if (ipr) print("\nGT against IPR:\n" + gt_ipr_table);
     if (fipr) print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
-    if (!models.empty()) print("\nSampling models (seed 002) against GT:\n" + models);
+    if (!models.empty()) print("\nSampling models (Ye et al. 2022) against GT:\n" + models);
     if (several_times && !ranking.empty()) print("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
     if (!focal_sweep.table.empty()) print("\nRMFR's best f_x, f_y (Figure 6's sweep):\n" + focal_sweep.table);
     print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
@@ -142,7 +142,7 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
     if (ipr || !has_cells) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
     if (has_cells) markdown += "## Every cell\n\n" + cell_table + "\n";
     if (fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";
-    if (!models.empty()) markdown += "## Sampling models (seed 002) against GT\n\n" + models + "\n";
+    if (!models.empty()) markdown += "## Sampling models (Ye et al. 2022) against GT\n\n" + models + "\n";
     if (several_times && !ranking.empty())
       markdown += "## Sampling models ranked by mean FPSNR over the scene times\n\n" + ranking + "\n";
     if (!focal_sweep.table.empty())

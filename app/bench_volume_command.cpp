@@ -93,7 +93,7 @@ void run_bench_volume(BenchVolumeOptions options) {
 void add_bench_volume_command(CLI::App& app) {
   auto options = std::make_shared<BenchVolumeOptions>();
   CLI::App* command = app.add_subcommand(
-      "bench-volume", "Seed 003's benchmark: full against Voronoi-foveated volume raycasting over random cameras and gazes");
+      "bench-volume", "Bruder et al. 2019's benchmark: full against Voronoi-foveated volume raycasting over random cameras and gazes");
   command->add_option("--scenes", options->scenes, "Volume scenes, comma-separated (built-in names or .toml files)");
   command->add_option("--width", options->width, "Frame width in pixels (512)");
   command->add_option("--height", options->height, "Frame height in pixels (512)");

@@ -51,7 +51,7 @@ std::string default_to_seed001_display(DisplayFlags& flags) {
   std::string assumed;
   if (flags.diagonal_in.empty() && flags.size_mm.empty()) {
     flags.diagonal_in = "27";
-    assumed = "seed 001's 27-inch monitor";
+    assumed = "Polychronakis et al. 2021's 27-inch monitor";
   }
   if (flags.distance_mm.empty()) {
     flags.distance_mm = "500";

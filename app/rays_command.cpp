@@ -158,7 +158,7 @@ void run_rays(const RaysOptions& options) {
 void add_rays_command(CLI::App& app) {
   auto options = std::make_shared<RaysOptions>();
   CLI::App* command =
-      app.add_subcommand("rays", "Ray-count speed-up of a three-zone foveated frame (seed 001, Table 1)");
+      app.add_subcommand("rays", "Ray-count speed-up of a three-zone foveated frame (Polychronakis et al. 2021, Table 1)");
   command->add_option("--resolution", options->resolution, "Display resolution WxH in pixels, e.g. 1920x1080")
       ->required();
   add_display_flags(*command, options->display, /*required=*/true);

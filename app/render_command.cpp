@@ -158,9 +158,9 @@ void add_render_command(CLI::App& app) {
                       "Built-in scene name or path to a .glsl scene file (volume, fvolume: a volume scene, built-in or .toml)")
       ->required();
   command->add_option("--method", options->method,
-                      "gt (ground truth), ipr (inverted pyramid), fipr (foveated inverted pyramid), or a sampling model of seed 002: "
+                      "gt (ground truth), ipr (inverted pyramid), fipr (foveated inverted pyramid), or a sampling model of Ye et al. 2022: "
       "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar), "
-      "or seed 003's volume raycaster: volume (every pixel), fvolume (Voronoi foveated); these take a volume scene")
+      "or Bruder et al. 2019's volume raycaster: volume (every pixel), fvolume (Voronoi foveated); these take a volume scene")
       ->check(CLI::IsMember({"gt", "ipr", "fipr", "rmfr", "hyperbolic", "linear", "kfr", "volume", "fvolume"}));
   command->add_option("--width", options->settings.width, "Frame width in pixels")->required();
   command->add_option("--height", options->settings.height, "Frame height in pixels")->required();

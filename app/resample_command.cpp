@@ -111,13 +111,13 @@ void run_resample(ResampleOptions options) {
 void add_resample_command(CLI::App& app) {
   auto options = std::make_shared<ResampleOptions>();
   CLI::App* command = app.add_subcommand(
-      "resample", "Preview a sampling model of seed 002 on a pre-rendered frame for one gaze sample (pt-rmfr, ...)");
+      "resample", "Preview a sampling model of Ye et al. 2022 on a pre-rendered frame for one gaze sample (pt-rmfr, ...)");
   command->add_option("--frame", options->frame, "Full-resolution frame (EXR: linear light)")->required();
   command->add_option("--method", options->method,
                       "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar)")
       ->required()
       ->check(CLI::IsMember({"rmfr", "hyperbolic", "linear", "kfr"}));
-  add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (seed 001's frames)
+  add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (Polychronakis et al. 2021's frames)
   command->get_option("--gaze")->description("Gaze point X,Y in pixels, or each in percent of the frame (default: the centre)");
   add_sampling_flags(*command, options->sampling);
   add_output_option(*command, "--out", options->out, "Resampled image (.png: sRGB, .exr: linear)", {{OutputKind::image_file}, kReplacesAFile})->required();

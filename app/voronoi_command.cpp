@@ -99,7 +99,7 @@ void run_voronoi(VoronoiOptions options) {
 
 void add_voronoi_command(CLI::App& app) {
   auto options = std::make_shared<VoronoiOptions>();
-  CLI::App* command = app.add_subcommand("voronoi", "Seed 003's Voronoi sampling mask for a screen (Figure 1)");
+  CLI::App* command = app.add_subcommand("voronoi", "Bruder et al. 2019's Voronoi sampling mask for a screen (Figure 1)");
   command->add_option("--width", options->width_px, "Screen width in pixels (the mask is twice as wide)")->required();
   command->add_option("--height", options->height_px, "Screen height in pixels")->required();
   add_display_flags(*command, options->display, false);  // default: 27" at 500 mm

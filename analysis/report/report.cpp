@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -391,7 +392,7 @@ json thresholds_json(const AnalysisResult& result) {
                       {"tie", map.best.size() > 1},
                       {"cells", cells}});
     }
-    root["rating_grid"] = {{"definition", "seed 002, 4.4.1: per cell, each participant's mean score (1-3) over the "
+    root["rating_grid"] = {{"definition", "Ye et al. 2022, 4.4.1: per cell, each participant's mean score (1-3) over the "
                                           "cell's trials, then the mean over participants"},
                            {"x_key", grid.x_key},
                            {"y_key", grid.y_key},
@@ -805,6 +806,38 @@ figure{margin:1em 0}figcaption{font-size:0.9em;color:#555;max-width:720px}
 svg{max-width:100%;height:auto}
 )";
 
+// The papers a report can cite, by the name it cites them with; the full list, and what fovlab
+// takes from each, is docs/references.md.
+struct PaperReference {
+  std::string_view cited_as;
+  std::string_view reference;
+};
+constexpr PaperReference kPaperReferences[] = {
+    {"Polychronakis et al. 2023",
+     "A. Polychronakis, G. A. Koulieris and K. Mania. An Inverted Pyramid Acceleration Structure Guiding Foveated "
+     "Sphere Tracing for Implicit Surfaces in VR. Eurographics, 2023."},
+    {"Polychronakis et al. 2021",
+     "A. Polychronakis, G. A. Koulieris and K. Mania. Emulating Foveated Path Tracing. Motion, Interaction and Games "
+     "(MIG '21), ACM, 2021. doi:10.1145/3487983.3488295"},
+    {"Ye et al. 2022",
+     "G. Ye, A. Xie, S. Jabbireddy, Y. Li, X. Yang and X. Meng. Rectangular Mapping-based Foveated Rendering. IEEE "
+     "Conference on Virtual Reality and 3D User Interfaces (IEEE VR), 2022."},
+    {"Bruder et al. 2019",
+     "V. Bruder, C. Schulz, R. Bauer, S. Frey, D. Weiskopf and T. Ertl. Voronoi-Based Foveated Volume Rendering. "
+     "EuroVis 2019 Short Papers, Eurographics, 2019. doi:10.2312/evs.20191172"},
+};
+
+// A References section listing, in full, each paper that `html` cites by authors and year.
+std::string html_references(const std::string& html) {
+  std::string items;
+  for (const PaperReference& paper : kPaperReferences)
+    if (html.find(paper.cited_as) != std::string::npos)
+      items += "<li><strong>" + std::string(paper.cited_as) + "</strong>: " + html_escape(std::string(paper.reference)) +
+               "</li>\n";
+  if (items.empty()) return {};
+  return "<h2 id=\"references\">References</h2>\n<ul>\n" + items + "</ul>\n";
+}
+
 std::string report_html(const AnalysisResult& result, const std::vector<Plot>& plots) {
   int included = 0;
   int excluded = 0;
@@ -870,7 +903,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
 
   if (result.rating_grid) {
     const RatingGrid& grid = *result.rating_grid;
-    html += "<h2 id=\"rating-grid\">Pilot grid</h2>\n<p>Seed 002, 4.4.1: the mean score of each pair of " +
+    html += "<h2 id=\"rating-grid\">Pilot grid</h2>\n<p>Ye et al. 2022, 4.4.1: the mean score of each pair of " +
             html_escape(grid.x_key) + " and " + html_escape(grid.y_key) +
             " (each participant's mean over the pair's trials, then the mean over participants), over every level; "
             "the pair with the highest mean per block. Every cell and level: rating_grid.csv.</p>\n";
@@ -892,7 +925,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   }
 
   if (!result.preferences.empty()) {
-    html += "<h2 id=\"preference\">Preference table</h2>\n<p>Seed 002, Table 2: the votes for the reference "
+    html += "<h2 id=\"preference\">Preference table</h2>\n<p>Ye et al. 2022, Table 2: the votes for the reference "
             "stimulus. Test: exact binomial, one-sided (greater: the reference preferred), H0 p = 1/2, whatever "
             "--alternative says, no correction; CI: 95 % Clopper-Pearson of the share.</p>\n";
     std::vector<std::vector<std::string>> rows;
@@ -1045,6 +1078,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   }
   html += std::string("<p>The same numbers as data: conditions.csv, participants.csv, ") +
           (with_tracks > 0 ? "adaptive_tracks.csv, " : "") + "thresholds.json.</p>\n";
+  html += html_references(html);
   html += "</body>\n</html>\n";
   return html;
 }

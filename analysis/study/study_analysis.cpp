@@ -211,7 +211,7 @@ class ComparisonAnalysis {
     GroupThreshold threshold;
     threshold.group = group;
     if (data_.protocol == ProtocolKind::rating) {
-      threshold.definition = "seed 002, 4.4.2: the most degraded level whose mean rating, and that of every better level, "
+      threshold.definition = "Ye et al. 2022, 4.4.2: the most degraded level whose mean rating, and that of every better level, "
                              "is at least " + format_number(options_.rating_cutoff, 6);
       threshold.level = walk_from_best(
           group, [&](const ConditionRow& row) { return row.mean_rating && *row.mean_rating >= options_.rating_cutoff; },
@@ -467,12 +467,12 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
   }
   const char* definition =
       data.protocol == ProtocolKind::pair
-          ? "seed 001, 4.7: per participant, the most degraded level such that it and every better level were judged "
+          ? "Polychronakis et al. 2021, 4.7: per participant, the most degraded level such that it and every better level were judged "
             "as good as or better than the reference in at least half of the trials; mean and SD across participants"
       : data.protocol == ProtocolKind::ramp
-          ? "seed 001, 4.7: per ramp, the most degraded level of a step answered wrongly (a change missed or seen the wrong "
+          ? "Polychronakis et al. 2021, 4.7: per ramp, the most degraded level of a step answered wrongly (a change missed or seen the wrong "
             "way; every step right: the best level); per participant the mean over ramps; mean and SD across participants"
-          : "seed 001, 4.7: per participant, the mean saved level; mean and SD across participants";
+          : "Polychronakis et al. 2021, 4.7: per participant, the mean saved level; mean and SD across participants";
   std::set<GroupKey> groups;
   for (const auto& [group, values] : per_group) groups.insert(group);
   for (const auto& [group, count] : without) groups.insert(group);

@@ -30,7 +30,7 @@ std::vector<ProtocolRules> make_rules() {
   same_2afc.two_intervals = true;
   same_2afc.judges_against_reference = true;
   same_2afc.judged_words = "judged identical";
-  same_2afc.threshold_definition = "seed 000, 4.4 and 5.1";
+  same_2afc.threshold_definition = "Polychronakis et al. 2023, 4.4 and 5.1";
   all.push_back(same_2afc);
 
   ProtocolRules better_2afc = same_2afc;
@@ -40,7 +40,7 @@ std::vector<ProtocolRules> make_rules() {
   better_2afc.identical = "";
   better_2afc.default_question = "Which sequence had the better quality?";
   better_2afc.judged_words = "preferred";
-  better_2afc.threshold_definition = "seed 002, 5.2";
+  better_2afc.threshold_definition = "Ye et al. 2022, 5.2";
   all.push_back(better_2afc);
 
   ProtocolRules pair;
@@ -53,7 +53,7 @@ std::vector<ProtocolRules> make_rules() {
   pair.judges_against_reference = true;
   pair.guess_rate_scale = 0.5;
   pair.judged_words = "judged as good or better";
-  pair.threshold_definition = "seed 001, 4.7 (pooled)";
+  pair.threshold_definition = "Polychronakis et al. 2021, 4.7 (pooled)";
   all.push_back(pair);
 
   ProtocolRules ramp;
@@ -82,7 +82,7 @@ std::vector<ProtocolRules> make_rules() {
   rating.two_intervals = true;
   rating.judges_against_reference = true;
   rating.judged_words = "rated identical";
-  rating.threshold_definition = "seed 002, 4.4.2";
+  rating.threshold_definition = "Ye et al. 2022, 4.4.2";
   all.push_back(rating);
   return all;
 }

@@ -155,7 +155,7 @@ MethodDescriptor ground_truth() {
 }
 
 MethodDescriptor inverted_pyramid() {
-  MethodDescriptor method{RenderMethod::inverted_pyramid, "ipr", "the inverted pyramid (seed 000 section 3.1)",
+  MethodDescriptor method{RenderMethod::inverted_pyramid, "ipr", "the inverted pyramid (Polychronakis et al. 2023, section 3.1)",
                           SceneKind::signed_distance};
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   method.parameters = sphere_trace_parameters<InvertedPyramidParameters>();
@@ -171,7 +171,7 @@ MethodDescriptor inverted_pyramid() {
 MethodDescriptor foveated_pyramid() {
   using P = FoveatedPyramidParameters;
   MethodDescriptor method{RenderMethod::foveated_pyramid, "fipr",
-                          "the foveated inverted pyramid (seed 000 section 3.2)", SceneKind::signed_distance};
+                          "the foveated inverted pyramid (Polychronakis et al. 2023, section 3.2)", SceneKind::signed_distance};
   method.depends_on_gaze = true;
   method.needs_display = true;
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
@@ -238,7 +238,7 @@ std::vector<ParameterDescriptor> path_trace_parameters() {
 }
 
 MethodDescriptor path_traced() {
-  MethodDescriptor method{RenderMethod::path_traced, "pt", "path tracing, pre-rendered (seed 001's reference)",
+  MethodDescriptor method{RenderMethod::path_traced, "pt", "path tracing, pre-rendered (Polychronakis et al. 2021's reference)",
                           SceneKind::path_traced};
   method.parameters = path_trace_parameters<PathTracedParameters>();
   return method;
@@ -247,7 +247,7 @@ MethodDescriptor path_traced() {
 MethodDescriptor foveated_path_traced() {
   using P = FoveatedPathTracedParameters;
   MethodDescriptor method{RenderMethod::foveated_path_traced, "fpt",
-                          "the emulated foveated path tracer (seed 001 section 3.2)", SceneKind::path_traced};
+                          "the emulated foveated path tracer (Polychronakis et al. 2021, section 3.2)", SceneKind::path_traced};
   method.depends_on_gaze = true;
   method.needs_display = true;
   method.parameters = path_trace_parameters<P>();
@@ -259,14 +259,14 @@ MethodDescriptor foveated_path_traced() {
   list.push_back(with_legacy_key(
       parameter<&P::middle_minus_foveal_aperture_deg>("middle_minus_foveal_aperture_deg", "deg", ParameterType::real,
                                                       52.5, 0, 360,
-                                                      "how much wider the middle zone's aperture is than the foveal one's (seed 001's 5 to 30)"),
+                                                      "how much wider the middle zone's aperture is than the foveal one's (Polychronakis et al. 2021's 5 to 30)"),
       "middle_over_foveal_deg"));
   list.push_back(with_legacy_key(
       parameter<&P::band_width_deg>("band_width_deg", "deg", ParameterType::real, 1.0, 0, 90,
                                     "width, in degrees of eccentricity, of the linear band at each zone boundary; 0 a hard edge"),
       "band_deg"));
   list.push_back(parameter<&P::periphery_bounces>("periphery_bounces", "", ParameterType::integer, -1, -1, 1024,
-                                                  "-1: the middle and outer zones come from the same frames; else from frames path traced with this many bounces (seed 001 section 4.2's pilot)"));
+                                                  "-1: the middle and outer zones come from the same frames; else from frames path traced with this many bounces (the pilot of Polychronakis et al. 2021, section 4.2)"));
   add_display_parameters<P>(list);
   return method;
 }
@@ -380,10 +380,10 @@ MethodDescriptor kernel_log_polar(MethodDescriptor method) {
   return method;
 }
 
-constexpr std::string_view kRmfrSummary = "rectangular mapping-based foveated rendering (seed 002 section 3)";
-constexpr std::string_view kHyperbolicSummary = "three layers of falling resolution (Guenter et al.; seed 002 section 5.1)";
-constexpr std::string_view kLinearSummary = "linear fall-off of the sampling probability (Weier et al.; seed 002 section 5.1)";
-constexpr std::string_view kKfrSummary = "kernel log-polar foveated rendering (Meng et al.; seed 002 section 5.1)";
+constexpr std::string_view kRmfrSummary = "rectangular mapping-based foveated rendering (Ye et al. 2022, section 3)";
+constexpr std::string_view kHyperbolicSummary = "three layers of falling resolution (Guenter et al.; Ye et al. 2022, section 5.1)";
+constexpr std::string_view kLinearSummary = "linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)";
+constexpr std::string_view kKfrSummary = "kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)";
 
 std::vector<MethodDescriptor> sampling_models() {
   using R = RenderMethod;
@@ -422,7 +422,7 @@ std::vector<ParameterDescriptor> volume_parameters() {
 }
 
 MethodDescriptor volume_raycast() {
-  MethodDescriptor method{RenderMethod::volume_raycast, "volume", "volume raycasting, every pixel traced (seed 003's reference)",
+  MethodDescriptor method{RenderMethod::volume_raycast, "volume", "volume raycasting, every pixel traced (Bruder et al. 2019's reference)",
                           SceneKind::volume};
   method.parameters = volume_parameters<VolumeRaycastParameters>();
   return method;
@@ -431,7 +431,7 @@ MethodDescriptor volume_raycast() {
 MethodDescriptor foveated_volume_raycast() {
   using P = FoveatedVolumeRaycastParameters;
   MethodDescriptor method{RenderMethod::foveated_volume_raycast, "fvolume",
-                          "Voronoi-based foveated volume raycasting (seed 003)", SceneKind::volume};
+                          "Voronoi-based foveated volume raycasting (Bruder et al. 2019)", SceneKind::volume};
   method.depends_on_gaze = true;
   method.needs_display = true;
   method.parameters = volume_parameters<P>();

@@ -160,7 +160,7 @@ TEST(BinomialTest, ClopperPearsonTextbookValue) {
 // Seed 002, Table 2 (RMFR study): 12 participants x 6 scenes = 72 trials per comparison, vote
 // ratios 68.1 %, 65.3 %, 69.4 %, 48.6 % = 49, 47, 50, 35 of 72, reported as **, **, *** and "no
 // significant difference". The one-sided test (greater, p0 = 0.5) gives exactly those stars.
-TEST(BinomialTest, Seed002Table2StarsComeFromTheOneSidedTest) {
+TEST(BinomialTest, YeEtAl2022Table2StarsComeFromTheOneSidedTest) {
   struct Comparison {
     uint64_t k;
     const char* stars;

@@ -278,6 +278,26 @@ TEST(AnalyzeCli, EveryProtocolEndToEnd) {
     EXPECT_EQ(html.find("two-sided") != std::string::npos, !per_participant_only);
     EXPECT_NE(html_left_out(out).find("<p>nothing</p>"), std::string::npos) << html_left_out(out);
     EXPECT_NE(result.out.find("study " + std::string(c.study)), std::string::npos) << result.out;
+
+    // Each threshold cites the paper its definition comes from by authors and year (the full
+    // reference: docs/references.md), and no output names a paper by a seed number (issue 38).
+    const std::string paper = protocol == "2afc"     ? "Polychronakis et al. 2023, "
+                              : protocol == "rating" ? "Ye et al. 2022, "
+                                                     : "Polychronakis et al. 2021, ";
+    for (const json& threshold : thresholds["thresholds"]) {
+      EXPECT_EQ(threshold.value("definition", "").rfind(paper, 0), 0u) << threshold.dump();
+      EXPECT_NE(html.find(paper), std::string::npos) << "report.html does not cite " << paper;
+    }
+    // The report's References section gives that paper in full.
+    const std::string title = protocol == "2afc"     ? "An Inverted Pyramid Acceleration Structure"
+                              : protocol == "rating" ? "Rectangular Mapping-based Foveated Rendering"
+                                                     : "Emulating Foveated Path Tracing";
+    const size_t references = html.find("<h2 id=\"references\">References</h2>");
+    ASSERT_NE(references, std::string::npos);
+    EXPECT_NE(html.find(title, references), std::string::npos) << html.substr(references);
+    for (const char* file : {"thresholds.json", "conditions.csv", "participants.csv", "report.html"})
+      EXPECT_EQ(read_all(out / file).find("eed 00"), std::string::npos) << file << " cites a paper by seed number";
+    EXPECT_EQ(result.out.find("eed 00"), std::string::npos) << result.out;
   }
 }
 

@@ -296,6 +296,14 @@ TEST(RatingGrid, ReportWritesTheCsvAndOneHeatMapPerBlock) {
   // The colour bar runs over the score's scale 1..3, whatever the data span.
   EXPECT_NE(svg.find(">1</text>"), std::string::npos);
   EXPECT_NE(svg.find(">3</text>"), std::string::npos);
+  // The grid's definition (thresholds.json) and its section of report.html cite the paper by
+  // authors and year, never by a seed number (issue 38).
+  for (const char* name : {"thresholds.json", "report.html"}) {
+    std::ifstream file(dir.path() / name);
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("Ye et al. 2022, 4.4.1"), std::string::npos) << name;
+    EXPECT_EQ(text.find("eed 00"), std::string::npos) << name;
+  }
 }
 
 // A session log as `fovlab run` writes it, small: a rating study whose config (carried in the header)
@@ -503,6 +511,9 @@ TEST(PreferenceTable, IsOneSidedWhateverTheAlternativeAndCountsTheReference) {
   EXPECT_NE(html.find("<h2 id=\"preference\">"), std::string::npos);
   EXPECT_NE(html.find("one-sided (greater"), std::string::npos);
   EXPECT_NE(html.find("<td>rmfr v. linear</td>"), std::string::npos);
+  // The table cites its paper by authors and year, never by a seed number (issue 38).
+  EXPECT_NE(html.find("Ye et al. 2022, Table 2"), std::string::npos);
+  EXPECT_EQ(html.find("eed 00"), std::string::npos);
 
   // Any other protocol: no table.
   StudyData same = data;
