@@ -177,7 +177,7 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
   while (!frame1 && std::chrono::steady_clock::now() < deadline) {
     if (fs::exists(cache))
       for (const auto& sequence : fs::directory_iterator(cache))
-        if (fs::exists(sequence.path() / "frame_000001.sha256")) frame1 = sequence.path() / "frame_000001.exr";
+        if (fs::exists(sequence.path() / "frame_000001.exr")) frame1 = sequence.path() / "frame_000001.exr";  // its hash first
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   ASSERT_TRUE(frame1) << "task 1 rendered nothing in 180 s: " << read_all(slurm.dir() / "log" / "slurmd.log");
@@ -197,8 +197,7 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
   EXPECT_NE(task1_log.find("exit 137"), std::string::npos) << task1_log;
   EXPECT_NE(task1_log.find("killed; requeued"), std::string::npos) << task1_log;
   EXPECT_NE(task1_log.find("attempt 2,"), std::string::npos) << task1_log;
-  // Frame 1 kept; frame 5 rendered again, or (a kill that landed after frame 5 was on disk, or
-  // between its rename and its hash's) kept or hashed.
+  // Frame 1 kept; frame 5 rendered again, or (a kill that landed after frame 5 was on disk) kept.
   EXPECT_TRUE(task1_log.find("shard 1/4 holds 2: 1 cached, 1 to render") != std::string::npos ||
               task1_log.find("shard 1/4 holds 2: 2 cached, 0 to render") != std::string::npos)
       << task1_log;
