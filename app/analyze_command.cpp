@@ -9,6 +9,7 @@
 #include "analysis/report/report.h"
 #include "analysis/study/study_analysis.h"
 #include "app/commands.h"
+#include "study/log/study_versions.h"
 #include "app/output_options.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
@@ -43,10 +44,18 @@ std::string default_out_dir(const std::vector<std::string>& inputs, const analys
   if (!is_valid_study_name(study))
     throw InputError((data.participants.empty() ? std::string("a session log") : data.participants.front().log_path) +
                      ": line 1: study: expected a name that is one folder, got \"" + study + "\"");
+  // A later config version analysed, its logs all in its own folder: beside them, never in
+  // results/<study>/analysis, which is the first version's.
+  for (const analysis::ConfigVersion& version : data.config_versions) {
+    if (!version.analysed || version.folders.size() != 1) continue;
+    const std::optional<int> number = study_version_of_folder_name(study, fs::path(version.folders.front()).filename().string());
+    if (number && *number > 1) return (fs::path(version.folders.front()) / "analysis").string();
+  }
   if (inputs.size() == 1 && fs::is_directory(inputs.front())) {
     const fs::path folder = fs::path(inputs.front()).lexically_normal();
     const fs::path named = folder.filename().empty() ? folder.parent_path() : folder;
-    if (named.filename() == study) return (named / "analysis").string();
+    // results/<study>, or a later config version's results/<study>@vN (study/log/study_versions.h).
+    if (study_version_of_folder_name(study, named.filename().string())) return (named / "analysis").string();
     if (fs::is_directory(folder / study)) return (folder / study / "analysis").string();
   }
   return (fs::path("results") / study / "analysis").string();
@@ -117,6 +126,9 @@ void print_summary(const analysis::AnalysisResult& result) {
   std::printf("study %s (%s%s): %zu participant(s)%s, %d excluded%s\n", result.study.c_str(), result.rules().name.data(),
               result.rules().question_name.empty() ? "" : (" " + std::string(result.rules().question_name)).c_str(),
               result.participants.size(), observers.c_str(), excluded, test.c_str());
+  if (result.config_versions.size() > 1) std::printf("config versions found: %zu, one analysed\n", result.config_versions.size());
+  for (const auto& version : result.config_versions)
+    std::printf("  config %s\n", analysis::describe_config_version(version).c_str());
   for (const auto& threshold : result.thresholds) {
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
                 threshold.level ? format_number(*threshold.level, 6).c_str() : "none");

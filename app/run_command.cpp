@@ -103,6 +103,10 @@ void add_run_command(CLI::App& app) {
   command->add_option("--participant", options->session.participant, "Participant ID (names the log's folder); \"next\": the first unused P001, P002, ...")->required();
   command->add_option("--observer", options->session.observer,
                       "simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N] instead of a person at the keys");
+  command->add_flag("--new-version", options->session.new_version,
+                    "The config differs from the sessions already in results/<study> (comments and formatting aside): "
+                    "run this participant in the folder of its version, results/<study>@v2, @v3, ... (docs/config.md, "
+                    "\"Config versions\"), never pooled with the others");
   command->add_flag("--headless", options->session.headless, "No window: a virtual clock (needs --observer)");
   command->add_option("--gaze", options->session.gaze,
                       "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "

@@ -1,5 +1,7 @@
 // fovlab validate: checks a study config and prints the schedule it makes (trials, blocks, time).
 #include <chrono>
+#include <cstdint>
+#include <filesystem>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -10,6 +12,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/output_options.h"
+#include "renderer/prerender/frame_cache.h"
 #include "renderer/vk/context.h"
 #include "study/config/study_config.h"
 #include "study/log/log_estimate.h"
@@ -20,6 +23,8 @@
 namespace fovlab::app {
 namespace {
 
+namespace fs = std::filesystem;
+
 // Seconds of one call, wall clock.
 template <typename Work>
 double timed_s(Work&& work) {
@@ -28,11 +33,66 @@ double timed_s(Work&& work) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// What pre-rendering the path-traced frames not yet cached costs, from a short timed render: of each
+// scene's missing frames the first is rendered (and stored: the cache keeps it, so prerender and
+// the session skip it), timed on the wall clock and measured on disk (the frame and its .sha256);
+// the scene's other missing frames are scaled from it by their samples (width x height x samples
+// per pixel) for the time and by their pixels for the disk.
+// "3.2 MiB", "1.5 GiB", "812 KiB": an estimate's size, in binary units.
+std::string approximate_size_text(double bytes) {
+  const char* const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  int unit = 0;
+  while (bytes >= 1024.0 && unit < 4) {
+    bytes /= 1024.0;
+    ++unit;
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, unit == 0 ? "%.0f %s" : "%.1f %s", bytes, units[unit]);
+  return text;
+}
+
+struct PrerenderEstimate {
+  double seconds = 0.0;
+  uint64_t bytes = 0;
+};
+
+PrerenderEstimate estimate_prerender(FrameCache& cache, const std::vector<const PathTraceFrameJob*>& missing) {
+  std::map<std::string, std::vector<const PathTraceFrameJob*>> by_scene;
+  for (const PathTraceFrameJob* job : missing) by_scene[job->sequence.scene].push_back(job);
+  const auto samples_of = [](const PathTraceSequence& sequence) {
+    return double(sequence.width_px) * double(sequence.height_px) * double(sequence.samples_per_pixel);
+  };
+  const auto pixels_of = [](const PathTraceSequence& sequence) { return double(sequence.width_px) * double(sequence.height_px); };
+  PrerenderEstimate total;
+  for (const auto& [scene, jobs] : by_scene) {
+    const PathTraceFrameJob& timed = *jobs.front();
+    const double frame_s = timed_s([&] { cache.render_frame(timed.sequence, timed.frame); });
+    std::error_code error;
+    const uintmax_t frame_bytes = fs::file_size(cache.frame_file(timed.sequence, timed.frame), error);
+    const uintmax_t hash_bytes = fs::file_size(cache.hash_file(timed.sequence, timed.frame), error);
+    const double bytes_per_pixel = double(error ? 0 : frame_bytes + hash_bytes) / pixels_of(timed.sequence);
+    const double seconds_per_sample = frame_s / samples_of(timed.sequence);
+    double scene_s = frame_s, scene_bytes = bytes_per_pixel * pixels_of(timed.sequence);
+    for (size_t i = 1; i < jobs.size(); ++i) {
+      scene_s += seconds_per_sample * samples_of(jobs[i]->sequence);
+      scene_bytes += bytes_per_pixel * pixels_of(jobs[i]->sequence);
+    }
+    std::printf("  %-8s %-24s %zu path-traced frames not yet cached: about %s and %s on disk (one rendered and "
+                "cached: %.2f s, %s)\n",
+                "pt", scene.c_str(), jobs.size(), duration_text(scene_s).c_str(),
+                approximate_size_text(scene_bytes).c_str(), frame_s,
+                approximate_size_text(bytes_per_pixel * pixels_of(timed.sequence)).c_str());
+    total.seconds += scene_s;
+    total.bytes += static_cast<uint64_t>(scene_bytes);
+  }
+  return total;
+}
+
 // The render time a session spends before its first trial, from a quick timed sample: for each
 // (method, scene) of the stimuli rendered ahead, the first stimulus's first, middle and last
 // frames (after one untimed frame that compiles the scene), their mean times the group's frames;
 // for the stimuli rendered live with the gaze, one frame against the refresh period. Path-traced
-// frames come from the pre-render cache and are not timed here (prerender has its own ETA).
+// frames come from the pre-render cache: those it lacks are estimated by estimate_prerender.
 void estimate_render_time(const StudyPlan& plan, const std::string& device, const std::string& cache_dir) {
   std::unique_ptr<vk::Context> made;
   try {
@@ -92,15 +152,20 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
   // Path-traced frames: those the pre-render cache lacks render before the first trial too.
   const std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan));
   FrameCache cache(context, cache_dir);
-  size_t missing = 0;
-  for (const PathTraceFrameJob& job : jobs) missing += cache.has_frame(job.sequence, job.frame) ? 0 : 1;
+  std::vector<const PathTraceFrameJob*> missing;
+  for (const PathTraceFrameJob& job : jobs)
+    if (!cache.has_frame(job.sequence, job.frame)) missing.push_back(&job);
+  const PrerenderEstimate prerender = estimate_prerender(cache, missing);
+  std::string path_traced;
+  if (!jobs.empty() && missing.empty())
+    path_traced = ", all " + std::to_string(jobs.size()) + " path-traced frames already in " + cache_dir;
+  else if (!jobs.empty())
+    path_traced = ", including the pre-render of " + std::to_string(missing.size()) + " of " + std::to_string(jobs.size()) +
+                  " path-traced frames not yet in " + cache_dir + ": about " + duration_text(prerender.seconds) + " and " +
+                  approximate_size_text(double(prerender.bytes)) +
+                  " on disk (fovlab prerender renders them ahead, with an ETA)";
   std::printf("render time before the first trial: about %s on %s (timed sample above)%s\n",
-              duration_text(ahead_s).c_str(), context.description.name.c_str(),
-              jobs.empty() ? ""
-                           : (", plus " + std::to_string(missing) + " of " + std::to_string(jobs.size()) +
-                              " path-traced frames not yet in " + cache_dir +
-                              (missing ? " (fovlab prerender renders them with an ETA)" : ""))
-                                 .c_str());
+              duration_text(ahead_s + prerender.seconds).c_str(), context.description.name.c_str(), path_traced.c_str());
 }
 
 void validate(const std::string& config_path, const std::string& participant, bool time_render,

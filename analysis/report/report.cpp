@@ -443,6 +443,13 @@ json thresholds_json(const AnalysisResult& result) {
     if (!participant.tracks.empty()) root["participants"].back()["adaptive_tracks"] = adaptive_tracks_json(participant);
   }
 
+  root["config_versions"] = json::array();
+  for (const ConfigVersion& version : result.config_versions)
+    root["config_versions"].push_back({{"content_hash", version.content_hash},
+                                       {"config_hash", version.config_hash},
+                                       {"sessions", version.sessions},
+                                       {"folders", version.folders},
+                                       {"analysed", version.analysed}});
   root["left_out"] = json::array();
   for (const LeftOut& left : result.left_out) {
     root["left_out"].push_back({{"what", left.what}, {"reason", left.reason}});
@@ -864,6 +871,9 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   }
   item("Levels", levels.empty() ? "none" : levels);
   item("Inputs", std::to_string(result.inputs.size()) + (result.inputs.size() == 1 ? " session log" : " session logs"));
+  for (const ConfigVersion& version : result.config_versions)
+    item(result.config_versions.size() == 1 ? "Config version" : "Config versions (only one is analysed)",
+         describe_config_version(version));
   item("Participants", std::to_string(included) + " included, " + std::to_string(excluded) + " excluded");
   item("Observers", result.observers == "human" ? "human (real participants)"
                     : result.observers == "simulated" ? "simulated observers only: not real participants' data"

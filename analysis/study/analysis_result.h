@@ -185,6 +185,27 @@ struct LeftOut {
   std::string reason;
 };
 
+// One version of the study's config among the logs read (StudyConfig::content_hash: what the
+// config says, comments and formatting aside). Only one version is analysed; the others are named
+// here, never pooled (fovlab run keeps them in results/<study>@vN: study/log/study_versions.h).
+struct ConfigVersion {
+  std::string content_hash;           // the version ("" when its config_toml could not be read: then its config_hash)
+  std::string config_hash;            // of its first log's header (the config file's bytes)
+  int sessions = 0;                   // readable logs of it (after copies, observers and broken logs were left out)
+  std::vector<std::string> folders;   // the study folders its logs are in, in path order
+  bool analysed = false;
+};
+
+// "version 1a2b3c4d5e6f7081: 5 session(s) in results/x, analysed" (or "..., not analysed: another
+// version of the config, analyse it on its own"): one line per version in stdout and the report.
+inline std::string describe_config_version(const ConfigVersion& version) {
+  std::string folders;
+  for (const std::string& folder : version.folders) folders += (folders.empty() ? "" : ", ") + folder;
+  return "version " + (version.content_hash.empty() ? "config_hash " + version.config_hash : version.content_hash) + ": " +
+         std::to_string(version.sessions) + " session(s) in " + folders +
+         (version.analysed ? ", analysed" : ", not analysed (another version of the config: analyse it on its own)");
+}
+
 struct AnalysisResult {
   std::string study;
   ProtocolKind protocol = ProtocolKind::two_afc;
@@ -206,6 +227,7 @@ struct AnalysisResult {
   std::vector<GroupFit> fits;
   std::optional<RatingGrid> rating_grid;     // rating studies whose variants form a 2-parameter grid
   std::vector<PreferenceRow> preferences;    // 2afc "better" studies: one row a condition row
+  std::vector<ConfigVersion> config_versions;  // every version found, the analysed one first
   std::vector<LeftOut> left_out;
 };
 

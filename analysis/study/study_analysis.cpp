@@ -509,6 +509,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
   result.inputs = data.inputs;
   result.observers = data.observers;
   result.left_out = data.left_out;
+  result.config_versions = data.config_versions;
 
   std::vector<const ParticipantData*> included;
   std::set<std::string> scenes;

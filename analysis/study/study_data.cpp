@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <atomic>
 #include <thread>
 #include <cctype>
@@ -27,9 +28,17 @@ std::optional<double> optional_number(const nlohmann::json& object, const char* 
 
 // Which study (and config version) a log belongs to, from its header; the config text it carries
 // is parsed once, for the study chosen (every log of it carries the same text: config_hash).
+// What tells config versions apart: the content hash, or, for a config that cannot be read, its
+// bytes' hash.
+std::string version_key(const std::string& content_hash, const std::string& config_hash) {
+  return content_hash.empty() ? "config_hash " + config_hash : content_hash;
+}
+
 struct LogStudy {
   std::string study, config_hash, config_toml, conditions_csv;
+  std::string content_hash;  // the config's version, comments and formatting aside ("" when unreadable)
   int log_schema_version = 0;
+  std::string version() const { return version_key(content_hash, config_hash); }
 };
 
 void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
@@ -150,7 +159,10 @@ ReadLog read_log(const std::string& path, const LoadOptions& options, LoggedConf
                      session.first_chain_error_line};
     read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
                           session.header.value("config_toml", ""), session.header.value("conditions_csv", ""),
-                          integrity.schema_version};
+                          std::string(), integrity.schema_version};
+    std::string config_error;
+    if (const std::shared_ptr<const StudyConfig> config = configs.config_of(session.header, path, config_error))
+      read.study->content_hash = config->content_hash;
     // The study names the default output folder (results/<study>/analysis): the scan refused a
     // header whose study is not one folder name ("../../x", "/tmp/x"; check_session_header).
     read.participant = participant_of(session);
@@ -305,12 +317,12 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
   // comes first in path order.
   std::map<std::pair<std::string, std::string>, int> logs_per_study;
   for (const ReadLog& read : logs)
-    if (read.study) ++logs_per_study[{read.study->study, read.study->config_hash}];
+    if (read.study) ++logs_per_study[{read.study->study, read.study->version()}];
   const LogStudy* study = nullptr;
   std::string study_path;  // the study's first log, named if its config cannot be read
   for (const ReadLog& read : logs) {
-    if (read.study && (!study || logs_per_study[{read.study->study, read.study->config_hash}] >
-                                     logs_per_study[{study->study, study->config_hash}])) {
+    if (read.study && (!study || logs_per_study[{read.study->study, read.study->version()}] >
+                                     logs_per_study[{study->study, study->version()}])) {
       study = &*read.study;
       study_path = read.participant.log_path;
     }
@@ -320,6 +332,28 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
     throw InputError(first.what.empty() ? first.reason : first.what + ": " + first.reason);
   }
 
+  // Every version, the analysed one first, then by sessions (ties: the first log's path order).
+  for (const ReadLog& read : logs) {
+    if (!read.study) continue;
+    const std::string version = read.study->version();
+    auto found = std::find_if(data.config_versions.begin(), data.config_versions.end(), [&](const ConfigVersion& known) {
+      return version_key(known.content_hash, known.config_hash) == version;
+    });
+    if (found == data.config_versions.end()) {
+      data.config_versions.push_back({read.study->content_hash, read.study->config_hash, 0, {}, version == study->version()});
+      found = std::prev(data.config_versions.end());
+    }
+    ++found->sessions;
+    // results/<folder>/<participant>/events.jsonl: the study's folder is two up.
+    const std::string folder =
+        std::filesystem::path(read.participant.log_path).parent_path().parent_path().lexically_normal().string();
+    if (std::find(found->folders.begin(), found->folders.end(), folder) == found->folders.end()) found->folders.push_back(folder);
+  }
+  std::stable_sort(data.config_versions.begin(), data.config_versions.end(),
+                   [](const ConfigVersion& a, const ConfigVersion& b) {
+                     return a.analysed != b.analysed ? a.analysed : a.sessions > b.sessions;
+                   });
+
   std::map<std::string, std::string> log_of_participant;
   for (ReadLog& read : logs) {
     const std::string& path = read.participant.log_path;
@@ -327,11 +361,7 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
       data.left_out.insert(data.left_out.end(), read.notes.begin(), read.notes.end());
       continue;
     }
-    if (read.study->config_hash != study->config_hash) {
-      data.left_out.push_back({path, "config " + read.study->config_hash + ", not " + study->config_hash +
-                                         " (another version of the study's config)"});
-      continue;
-    }
+    if (read.study->version() != study->version()) continue;  // counted in config_versions
     const auto [previous, inserted] = log_of_participant.emplace(read.participant.participant, path);
     if (!inserted) {
       data.left_out.push_back({path, "participant " + read.participant.participant + " is also in " + previous->second +

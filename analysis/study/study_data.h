@@ -75,6 +75,9 @@ struct StudyData {
   std::vector<std::string> inputs;         // every log path given (sorted)
   std::vector<ParticipantData> participants;  // in log-path order
   std::vector<LeftOut> left_out;
+  // Every config version among the logs (the analysed one first, then by sessions): the logs of
+  // the others are counted there, not listed in left_out one by one.
+  std::vector<ConfigVersion> config_versions;
   // Who answered in the participants analysed: "human", "simulated", or "human and simulated" when
   // pooled on request (--observers all).
   std::string observers = "human";
@@ -94,8 +97,9 @@ struct LoadOptions {
 // `paths`: log files and/or folders (every events.jsonl under them), all of one study: logs of
 // several studies are refused (InputError naming each study and its count of logs), as is a study
 // whose sessions mix human and simulated observers without `observers` saying which to take.
-// The config version most readable logs carry is analysed (ties: the one whose first log comes
-// first in sorted path order); logs of another version, sessions of the observers not taken, and
+// The config version (StudyConfig::content_hash) most readable logs carry is analysed (ties: the
+// one whose first log comes first in sorted path order), every version found is in
+// config_versions; logs of another version, sessions of the observers not taken, and
 // broken logs (unless include_broken) are left out; unsealed logs are analysed and listed. Throws
 // InputError when no log at all can be read (naming the first reason).
 StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options = {});

@@ -27,6 +27,7 @@
 #include "study/log/participant_lock.h"
 #include "study/log/session_record.h"
 #include "study/log/schedule_check.h"
+#include "study/log/study_versions.h"
 #include "display/headless_presenter.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
@@ -163,10 +164,15 @@ std::string session_log_path(const std::string& results_dir, const std::string& 
 }
 
 std::string next_participant_id(const std::string& results_dir, const std::string& study) {
+  const std::map<int, std::string> folders = study_version_folders(results_dir, study);
   for (int number = 1;; ++number) {
     char id[16];
     std::snprintf(id, sizeof id, "P%03d", number);
-    if (!fs::exists(fs::path(results_dir) / study / id)) return id;
+    const bool used = fs::exists(fs::path(results_dir) / study / id) ||
+                      std::any_of(folders.begin(), folders.end(), [&](const auto& folder) {
+                        return fs::exists(fs::path(results_dir) / folder.second / id);
+                      });
+    if (!used) return id;
   }
 }
 
@@ -178,7 +184,6 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   outcome.trials_total = static_cast<int>(plan.trials.size());
   outcome.trials_total_is_upper_bound = !plan.tracks.empty();
-  outcome.log_path = session_log_path(options.results_dir, config.name, options.participant);
   check_prepared_frames_fit(planned_specs(plan), config.source_path);  // before the window, the lock, any render
   check_sampling_maps(plan.stimuli, config.source_path);
   check_log_fits_readers(plan, config.source_path);  // a log export, analyze and replay could not read back is not begun
@@ -206,7 +211,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   check_output_target(options.results_dir, "--results", {OutputKind::folder});
   check_output_target(options.cache_dir, "--cache", {OutputKind::folder});
   if (!options.screenshots_dir.empty()) check_output_target(options.screenshots_dir, "--screenshots", {OutputKind::folder});
-  const ParticipantLock lock(options.results_dir, config.name, options.participant);
+  // The folder of the config's version (study/log/study_versions.h): a new participant under an
+  // edited config is refused here, after every other check of the input and before anything is
+  // written, unless options.new_version.
+  outcome.study_folder = choose_study_folder(options.results_dir, config, options.participant, options.new_version);
+  outcome.log_path = session_log_path(options.results_dir, outcome.study_folder, options.participant);
+  const ParticipantLock lock(options.results_dir, outcome.study_folder, options.participant);
   test_pause_point("locked");
   restore_recovered_log(outcome.log_path);
 

@@ -35,9 +35,14 @@ struct SessionOptions {
   bool validation = false;
   std::string screenshots_dir;    // the first screen of each kind as <kind>.png (session_run.h), headless too
   std::string lab_key_path;       // --lab-key: key the log's seals (a file outside results_dir)
+  // --new-version: a new participant under a config that differs from the sessions in
+  // results/<study> runs in the folder of its version, results/<study>@vN (study/log/study_versions.h),
+  // instead of being refused.
+  bool new_version = false;
 };
 
 struct SessionOutcome {
+  std::string study_folder;       // the study's folder under results_dir: "<study>", or "<study>@vN" for a later config version
   std::string log_path;
   int trials_completed = 0;       // complete trials in the log, this run and earlier ones
   int trials_total = 0;
@@ -66,8 +71,9 @@ struct SessionOutcome {
 // The log path of a participant: <results>/<study>/<participant>/events.jsonl.
 std::string session_log_path(const std::string& results_dir, const std::string& study, const std::string& participant);
 
-// "P001", "P002", ...: the first of these with no folder under <results>/<study>/ (for
-// `fovlab run --participant next`, so a demo or pilot can be started again and again).
+// "P001", "P002", ...: the first of these with no folder under <results>/<study>/ nor under any
+// later version's <results>/<study>@vN/ (for `fovlab run --participant next`, so a demo or pilot
+// can be started again and again, and an ID names one person across versions).
 std::string next_participant_id(const std::string& results_dir, const std::string& study);
 
 // Everything is checked before the first event is written: participant ID, results folder,

@@ -1,5 +1,6 @@
 #include "protocols/session/trials_export.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -40,7 +41,9 @@ const char* const columns[] = {"study", "participant", "observer", "protocol", "
                                "key", "correct", "repeat", "level_parameter", "session_started_utc",
                                "fovlab_version", "config_hash", "refresh_hz",
                                // [practice] trials: exported, never analysed.
-                               "practice"};
+                               "practice",
+                               // An adaptive trial's track (as adaptive_tracks.csv names it); empty otherwise.
+                               "track", "track_procedure", "track_kind"};
 
 const char* const step_columns[] = {"study", "participant", "observer", "protocol", "trial", "step", "level",
                                     "previous_level", "answer", "key", "rt_s", "correct", "log_status", "practice"};
@@ -61,6 +64,30 @@ std::string level_parameter(const nlohmann::json& header, const std::string& pat
   std::string error;
   const std::shared_ptr<const StudyConfig> config = configs.config_of(header, path, error);
   return config ? config->levels.parameter : std::string();
+}
+
+// An adaptive trial's track by its index as logged: its [procedure.NAME] name and its kind
+// ("staircase" or "quest_plus"), from the schedule the header's config makes for its participant
+// (made only for a log with adaptive trials; none when the config cannot be read).
+struct TrackNames {
+  std::string procedure, kind;
+};
+std::vector<TrackNames> track_names(const nlohmann::json& header, const SessionRecord& record, const std::string& path,
+                                    LoggedConfigs& configs) {
+  if (std::none_of(record.trials.begin(), record.trials.end(), [](const RecordedTrial& trial) { return trial.start.track.has_value(); }))
+    return {};
+  std::string error;
+  const std::shared_ptr<const StudyConfig> config = configs.config_of(header, path, error);
+  if (!config) return {};
+  std::vector<TrackNames> names;
+  try {
+    for (const AdaptiveTrack& track : make_study_plan(*config, header.value("participant", "")).tracks)
+      names.push_back({config->procedures.at(static_cast<size_t>(track.procedure)).name,
+                       track.kind == ProcedureConfig::Kind::staircase ? "staircase" : "quest_plus"});
+  } catch (const InputError&) {
+    return {};  // a config that makes no schedule: the log is broken already (log_consistency.h)
+  }
+  return names;
 }
 
 }  // namespace
@@ -142,6 +169,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
       const auto measured = display->find("measured_refresh_hz");
       refresh_hz = measured != display->end() && measured->is_number() ? *measured : display->value("refresh_hz", nlohmann::json());
     }
+    const std::vector<TrackNames> tracks = track_names(header, record, path, configs);
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
     for (const BlockStartEvent& event : record.blocks) blocks[event.block] = {event.name, event.scene};
     // The repeat index: how many earlier trials of the log showed the same condition.
@@ -164,6 +192,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
       const int block = start.block;
       const auto block_info = blocks.count(block) ? blocks[block] : std::pair<std::string, std::string>();
       const std::string attention_correct = trial.attention_check ? number_cell(optional_json(trial.attention_check->correct)) : "";
+      const bool named_track = start.track && *start.track >= 0 && static_cast<size_t>(*start.track) < tracks.size();
+      const TrackNames track = named_track ? tracks[static_cast<size_t>(*start.track)] : TrackNames{};
       const std::vector<std::string> cells = {
           header.value("study", ""),
           header.value("participant", ""),
@@ -197,7 +227,10 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
           header.value("fovlab_version", ""),
           header.value("config_hash", ""),
           number_cell(refresh_hz),
-          number_cell(start.practice)};
+          number_cell(start.practice),
+          start.track ? std::to_string(*start.track) : "",
+          track.procedure,
+          track.kind};
       std::vector<std::string> row = cells;
       row.insert(row.end(), field_cells.begin(), field_cells.end());
       csv << csv_line(row);

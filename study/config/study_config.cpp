@@ -5,7 +5,10 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <cstdio>
 #include <set>
+#include <sstream>
+#include <string_view>
 
 #include "core/content_hash.h"
 #include "core/csv.h"
@@ -785,6 +788,74 @@ int StimulusConfig::refreshes_per_frame(double refresh_hz) const {
 
 namespace {
 
+void write_quoted(std::string_view text, std::string& out) {
+  out += '"';
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  out += '"';
+}
+
+// The canonical text of a parsed TOML value: tables by key in byte order, arrays in order, strings
+// quoted as JSON quotes them, integers in decimal, floats with 17 significant digits, dates and
+// times as TOML writes them. Comments, whitespace, key order, quoting style, number notation
+// (0x10 / 16, 1.0 / 1.00) and inline versus [table] syntax leave no trace in it.
+void write_canonical_toml(const toml::node& node, std::string& out) {
+  if (const toml::table* table = node.as_table()) {
+    std::vector<std::pair<std::string, const toml::node*>> entries;
+    for (const auto& [key, value] : *table) entries.emplace_back(std::string(key.str()), &value);
+    std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    out += '{';
+    for (size_t i = 0; i < entries.size(); ++i) {
+      if (i) out += ',';
+      write_quoted(entries[i].first, out);
+      out += ':';
+      write_canonical_toml(*entries[i].second, out);
+    }
+    out += '}';
+  } else if (const toml::array* array = node.as_array()) {
+    out += '[';
+    for (size_t i = 0; i < array->size(); ++i) {
+      if (i) out += ',';
+      write_canonical_toml(*array->get(i), out);
+    }
+    out += ']';
+  } else if (const auto* text = node.as_string()) {
+    write_quoted(text->get(), out);
+  } else if (const auto* integer = node.as_integer()) {
+    out += "i" + std::to_string(integer->get());
+  } else if (const auto* number = node.as_floating_point()) {
+    char digits[40];
+    std::snprintf(digits, sizeof digits, "f%.17g", number->get());
+    out += digits;
+  } else if (const auto* flag = node.as_boolean()) {
+    out += flag->get() ? "true" : "false";
+  } else {  // a date, a time or a date-time
+    std::ostringstream written;
+    node.visit([&written](const auto& value) { written << value; });
+    out += "t" + written.str();
+  }
+}
+
+std::string canonical_config_content(const toml::table& root) {
+  std::string out;
+  write_canonical_toml(root, out);
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
 StudyConfig parse_config(const std::string& text, const std::string& path, const Reading& reading) {
   // The guards in front of toml++, here so that configs from files and from session logs' headers
   // (replay, analyze) pass the same ones.
@@ -803,6 +874,7 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
   config.source_path = path;
   config.source_text = text;
   config.hash = ContentHash().add(text).hex();
+  config.content_hash = ContentHash().add(canonical_config_content(root)).hex();
 
   const TomlFields fields(root, path, "");
   const TomlFields study = fields.table("study");
@@ -831,6 +903,7 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     read_conditions(conditions_fields, reading, config);
     const std::string separator = std::string(1, '\0') + "conditions_csv " + std::to_string(config.conditions_csv.size()) + '\0';
     config.hash = ContentHash().add(text).add(separator).add(config.conditions_csv).hex();
+    config.content_hash = ContentHash().add(canonical_config_content(root)).add(separator).add(config.conditions_csv).hex();
   }
   check_frame_size_rules(fields.table("display"), config.display, config.stimulus, config.levels);
   read_protocol(fields.table("protocol"), config.levels, config.stimulus, config.protocol);

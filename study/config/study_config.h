@@ -203,6 +203,11 @@ struct StudyConfig {
   std::string source_path;      // where it was read from (messages)
   std::string source_text;      // the file's bytes (logged in the header, so a replay needs nothing else)
   std::string hash;             // content hash of source_text, then conditions_csv when there is one (hex)
+  // The config's version: a content hash of what it says, comments and formatting aside (the
+  // canonical text of its parsed TOML, canonical_config_content), then conditions_csv's bytes when
+  // there is one. Two configs of one version run the same study; `fovlab run` keeps versions in
+  // separate study folders and `fovlab analyze` pools only one version.
+  std::string content_hash;
 };
 
 // A conditions file: at most this many bytes and rows.

@@ -177,6 +177,34 @@ TEST(FptStudyCli, ReplayDetectsAChangedCacheFrame) {
 }
 
 // Bad input: exit code 2, one line naming the problem, and no results folder.
+// validate estimates the pre-render of the path-traced frames the cache lacks from one frame a
+// scene, which it renders and caches; once the cache holds them all it says so.
+TEST(FptStudyCli, ValidateEstimatesThePrerenderOfTheFramesNotYetCached) {
+  const fs::path dir = working_dir("validate-prerender");
+  write_file(dir / "study.toml", fpt_config("validate_prerender", "kind = \"pair\"\nrepeats = 1"));
+  const CommandResult first = run_in(dir, "validate study.toml");
+  ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
+  EXPECT_NE(first.out.find("courtyard                2 path-traced frames not yet cached: about "), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("one rendered and cached: "), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("including the pre-render of 2 of 2 path-traced frames not yet in stimuli/cache: about "),
+            std::string::npos) << first.out;
+  EXPECT_NE(first.out.find(" on disk (fovlab prerender renders them ahead"), std::string::npos) << first.out;
+  EXPECT_EQ(cache_frames(dir).size(), 1u);  // the timed frame is kept
+  const CommandResult second = run_in(dir, "validate study.toml");
+  ASSERT_EQ(second.exit_code, 0) << second.out << second.err;
+  EXPECT_NE(second.out.find("pre-render of 1 of 2 path-traced frames"), std::string::npos) << second.out;
+  ASSERT_EQ(cache_frames(dir).size(), 2u);
+  const CommandResult third = run_in(dir, "validate study.toml");
+  EXPECT_NE(third.out.find("all 2 path-traced frames already in stimuli/cache"), std::string::npos) << third.out;
+  // Skipped on request: nothing rendered, nothing estimated.
+  const fs::path other = working_dir("validate-no-timing");
+  write_file(other / "study.toml", fpt_config("validate_no_timing", "kind = \"pair\"\nrepeats = 1"));
+  const CommandResult skipped = run_in(other, "validate study.toml --no-render-timing");
+  ASSERT_EQ(skipped.exit_code, 0) << skipped.err;
+  EXPECT_EQ(skipped.out.find("not yet cached"), std::string::npos) << skipped.out;
+  EXPECT_TRUE(cache_frames(other).empty());
+}
+
 TEST(FptStudyCli, PtReferenceWithASphereTracedTestIsRefused) {
   const fs::path dir = working_dir("mixed");
   std::string text = fpt_config("tiny_mixed", "kind = \"pair\"\nrepeats = 2");

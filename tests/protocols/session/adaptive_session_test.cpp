@@ -13,8 +13,10 @@
 
 #include "analysis/study/study_analysis.h"
 #include "analysis/study/study_data.h"
+#include "core/csv.h"
 #include "core/input_error.h"
 #include "protocols/session/replay.h"
+#include "protocols/session/trials_export.h"
 #include "study/log/schedule_check.h"
 #include "study/log/log_events.h"
 #include "study/schedule/adaptive_progress.h"
@@ -335,6 +337,57 @@ TEST(AdaptiveSession, QuestPlusChoosesEachLevelFromTheAnswersBeforeItAndAnalyses
   const auto [resumed, log_path] = resume_after_cut(config, simulated(results), results, whole, cut);
   EXPECT_TRUE(resumed.resumed);
   EXPECT_EQ(trial_summary(log_path), trial_summary(outcome.log_path));
+}
+
+// trials.csv names each adaptive trial's track (its index as logged, as adaptive_tracks.csv names
+// it), the track's procedure and kind; constant-stimuli trials and attention checks leave them empty.
+TEST(AdaptiveExport, TrialsCsvNamesEachAdaptiveTrialsTrack) {
+  // The first block on staircases, the second on QUEST+.
+  std::string text = adaptive_text(std::string(kProcedure) + kQuestPlus);
+  const std::string second = "name = \"primitives\"\nprocedure = \"stairs\"";
+  text.replace(text.find(second), second.size(), "name = \"primitives\"\nprocedure = \"quest\"");
+  const StudyConfig config = parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  const fs::path results = fresh_folder("adaptive-export");
+  const SessionOutcome outcome = run_session(config, simulated(results));
+  ASSERT_TRUE(outcome.finished);
+  const std::vector<CsvRow> rows = read_csv_rows(export_trials_csv({outcome.log_path}), "trials.csv");
+  ASSERT_GT(rows.size(), 1u);
+  const std::vector<std::string>& header = rows.front().cells;
+  const auto column = [&](const std::string& name) {
+    const auto at = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(at, header.end()) << name;
+    return static_cast<size_t>(at - header.begin());
+  };
+  const size_t track = column("track"), procedure = column("track_procedure"), kind = column("track_kind");
+  const size_t attention = column("attention_check"), block = column("block");
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  ASSERT_EQ(rows.size(), record.trials.size() + 1);
+  std::set<std::string> kinds;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    const std::vector<std::string>& cells = rows[i].cells;
+    const RecordedTrial& trial = record.trials[i - 1];
+    SCOPED_TRACE("trial " + std::to_string(trial.index));
+    if (cells[attention] == "true") {
+      EXPECT_EQ(cells[track] + cells[procedure] + cells[kind], "");
+      continue;
+    }
+    ASSERT_TRUE(trial.start.track.has_value());
+    EXPECT_EQ(cells[track], std::to_string(*trial.start.track));
+    EXPECT_EQ(cells[procedure], cells[block] == "0" ? "stairs" : "quest");
+    EXPECT_EQ(cells[kind], cells[block] == "0" ? "staircase" : "quest_plus");
+    kinds.insert(cells[kind]);
+  }
+  EXPECT_EQ(kinds, (std::set<std::string>{"staircase", "quest_plus"}));
+
+  // Constant stimuli: the columns are there, empty.
+  const SessionOutcome constant =
+      run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()),
+                  simulated(fresh_folder("constant-export")));
+  const std::vector<CsvRow> constant_rows = read_csv_rows(export_trials_csv({constant.log_path}), "trials.csv");
+  ASSERT_GT(constant_rows.size(), 1u);
+  EXPECT_EQ(constant_rows.front().cells, header);
+  for (size_t i = 1; i < constant_rows.size(); ++i)
+    EXPECT_EQ(constant_rows[i].cells[track] + constant_rows[i].cells[procedure] + constant_rows[i].cells[kind], "");
 }
 
 TEST(AdaptiveSchedule, BadQuestPlusProceduresAreOneLineErrorsNamingTheField) {

@@ -224,6 +224,34 @@ TEST(ProtocolsConfig, ParsesTheBaseTwoAfcSameConfigFieldByField) {
   EXPECT_NE(parse(replace_once(text, "seed = 7", "seed = 8")).hash, config.hash);
 }
 
+// The config's version (content_hash): what it says, comments and formatting aside. `fovlab run`
+// keeps sessions of different versions apart by it (study/log/study_versions.h).
+TEST(ProtocolsConfig, ContentHashIgnoresCommentsAndFormattingNotValues) {
+  const std::string text = ConfigText().text();
+  const StudyConfig config = parse(text);
+  EXPECT_EQ(config.content_hash.size(), 16u);
+  // Comments, blank lines, spacing, quoting, key order, number notation and inline tables: the same version.
+  std::string reformatted = "# edited: comments only\n\n" + text;
+  reformatted = replace_once(reformatted, "seed = 7\n", "seed   =   0x7   # hexadecimal\n");
+  reformatted = replace_once(reformatted, "name = \"unit\"\n", "name = 'unit'\n");
+  reformatted = replace_once(reformatted, "duration_s = 0.5\nframes_per_second = 10\n",
+                             "frames_per_second = 10\nduration_s = 0.50\n");
+  reformatted = replace_once(reformatted, "values = [4, 8, 16, 32, 64]", "values = [\n  4, 8, 16,\n  32, 64,  # the ladder\n]");
+  reformatted = replace_once(reformatted, "[stimulus.reference]\nmethod = \"gt\"\n\n", "");
+  reformatted = replace_once(reformatted, "camera_start_s = 1.0\n", "camera_start_s = 1.0\nreference = { method = \"gt\" }\n");
+  const StudyConfig same = parse(reformatted);
+  EXPECT_NE(same.hash, config.hash);  // other bytes
+  EXPECT_EQ(same.content_hash, config.content_hash);
+  // A changed value, an added key (even one at its default) or another ladder: another version.
+  EXPECT_NE(parse(replace_once(text, "repeats = 2", "repeats = 3")).content_hash, config.content_hash);
+  EXPECT_NE(parse(replace_once(text, "values = [4, 8, 16, 32, 64]", "values = [4, 8, 16, 32, 128]")).content_hash,
+            config.content_hash);
+  EXPECT_NE(parse(replace_once(text, "instructions = \"Go.\"", "instructions = \"Go!\"")).content_hash, config.content_hash);
+  // A session log's copy of the config is the same version.
+  EXPECT_EQ(parse_logged_study_config(text, "x.toml (config_toml)", log_schema_version, nullptr).content_hash,
+            config.content_hash);
+}
+
 TEST(ProtocolsConfig, DefaultsOfOptionalTablesAndKeys) {
   ConfigText base;
   base.timing.clear();
