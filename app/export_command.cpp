@@ -7,6 +7,8 @@
 #include "app/output_options.h"
 #include "core/atomic_file.h"
 #include "core/input_error.h"
+#include "core/output_guard.h"
+#include "core/session_files.h"
 #include "study/log/event_log.h"
 #include "study/log/log_integrity.h"
 #include "protocols/session/trials_export.h"
@@ -39,6 +41,17 @@ void export_trials(const ExportArguments& arguments) {
   const std::string flag = arguments.out.empty() ? "" : "--out";
   check_output_target(out, flag, kExportTarget);
   check_output_target(steps_out, flag, kExportTarget);
+  // The names export owns in a participant's folder are its own only beside the one log it reads:
+  // never another participant's (whose trials.csv it would replace, and whose steps.csv --force removes).
+  const fs::path out_folder = resolved_output_path(out).parent_path();
+  if (const std::string mark = participant_folder_mark(out_folder); !mark.empty()) {
+    std::error_code error;
+    const bool own_folder = logs.size() == 1 && fs::equivalent(fs::path(logs.front()).parent_path(), out_folder, error);
+    if (!own_folder)
+      throw InputError((flag.empty() ? out : flag + " " + out) + ": inside the participant's folder " + out_folder.string() +
+                       ", which is not the folder of the one log exported; expected a path outside participant folders "
+                       "(or that log's own folder when exporting one log)");
+  }
   if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
   const ExportedCsv csv = export_session_csvs(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});

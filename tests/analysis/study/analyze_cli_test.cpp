@@ -590,6 +590,28 @@ TEST(AnalyzeCli, TwoLogsOfOneSessionThatPartAreBothBroken) {
   expect_one_line_error(exported, original.string() + ":" + std::to_string(parting) + ": the log is broken (" + parted(copy) + ")");
 }
 
+// Export owns trials.csv and steps.csv beside the one log it reads, and nowhere else: aimed at
+// another participant's folder (whose export it would replace, and whose steps.csv --force would
+// remove), or at a participant's folder while exporting a whole study, it is refused.
+TEST(AnalyzeCli, ExportWritesIntoAParticipantsFolderOnlyBesideTheOneLogItReads) {
+  const fs::path results = scratch("export-owned") / "results";
+  run_2afc_participants(results, 2);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  const fs::path study = results / "tiny_2afc";
+  const fs::path p001 = log_of(results, "tiny_2afc", "P001");
+  ASSERT_EQ(fovlab_command("export " + p001.string()).exit_code, 0);  // beside its own log
+  ASSERT_TRUE(fs::exists(study / "P001" / "trials.csv"));
+  const auto before = snapshot(results);
+  const fs::path other = study / "P002" / "trials.csv";
+  expect_one_line_error(fovlab_command("export " + p001.string() + " --out " + other.string() + " --force"),
+                        "--out " + other.string() + ": inside the participant's folder " + (study / "P002").string() +
+                            ", which is not the folder of the one log exported");
+  expect_one_line_error(fovlab_command("export " + study.string() + " --out " + (study / "P001" / "trials.csv").string() +
+                                       " --force"),
+                        "which is not the folder of the one log exported");
+  expect_unchanged(before, results);
+}
+
 // A backup taken mid-session is intact; the original, longer, was damaged after the backup's last
 // line (its chain breaks there). The backup is the session (its lines are all the original's), the
 // damaged original left out and named; neither is called parted.
