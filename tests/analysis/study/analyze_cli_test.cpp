@@ -553,6 +553,18 @@ TEST(AnalyzeCli, ACopiedParticipantFolderIsOneSessionCountedOnce) {
   expect_unchanged(before, results);
 }
 
+// The last response of a 2AFC same/different log's lines answered the other way (the chain not
+// rebuilt); returns that line's index.
+size_t flip_last_answer(std::vector<std::string>& lines) {
+  size_t changed = lines.size();
+  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
+  }
+  std::string& line = lines[changed];
+  const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
+  line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
+  return changed;
+}
+
 // Issue 37: two logs of one session that part after a common start (a copy run on, or edited and
 // re-chained): neither can be trusted alone, so both are broken at the line where they part, in
 // export (refused) and analyze (left out) alike.
@@ -563,13 +575,7 @@ TEST(AnalyzeCli, TwoLogsOfOneSessionThatPartAreBothBroken) {
   const fs::path study = results / "tiny_2afc";
   const fs::path original = log_of(results, "tiny_2afc", "P001");
   std::vector<std::string> lines = fovlab::testing::lines_of(read_all(original));
-  // The last answer of the copy changed, its chain rebuilt.
-  size_t changed = lines.size();
-  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
-  }
-  std::string& line = lines[changed];
-  const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
-  line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
+  const size_t changed = flip_last_answer(lines);  // in the copy, its chain rebuilt
   const fs::path copy = study / "P001b" / "events.jsonl";
   fs::create_directories(copy.parent_path());
   std::ofstream(copy, std::ios::binary) << fovlab::testing::rechained(lines);
@@ -628,13 +634,8 @@ TEST(AnalyzeCli, AnIntactBackupOfALogDamagedLaterIsTheSessionUsed) {
   fs::create_directories(backup_log.parent_path());
   std::ofstream(backup_log, std::ios::binary) << backup;
   // The original's last response edited in place, its chain not rebuilt: broken at that line.
-  size_t changed = lines.size();
-  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
-  }
+  const size_t changed = flip_last_answer(lines);
   ASSERT_GT(changed, lines.size() / 2);
-  std::string& line = lines[changed];
-  const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
-  line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
   std::string damaged;
   for (const std::string& text : lines) damaged += text + "\n";
   std::ofstream(original, std::ios::binary | std::ios::trunc) << damaged;
