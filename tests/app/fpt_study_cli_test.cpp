@@ -65,6 +65,22 @@ std::vector<fs::path> cache_frames(const fs::path& dir) {
   return frames;
 }
 
+// The two frames' files swapped: both valid, each of the right size, but not what was rendered.
+void swap_frame_files(const fs::path& a, const fs::path& b) {
+  const std::string bytes_a = read_all(a);
+  const std::string bytes_b = read_all(b);
+  ASSERT_TRUE(bytes_a != bytes_b);
+  write_file(a, bytes_b);
+  write_file(b, bytes_a);
+}
+
+// Each frame's .sha256 written again for the bytes now there (a forger's move).
+void rehash_frames(const std::vector<fs::path>& frames) {
+  for (const fs::path& frame : frames)
+    write_file(fs::path(frame).replace_extension(".sha256"),
+               fovlab::sha256_hex(read_all(frame)) + "  " + frame.filename().string() + "\n");
+}
+
 // Run a participant, replay --verify its log, analyze the study: each exits 0. `config`: the study
 // (fpt_config's by default), whose test method is `test_method`.
 void run_replay_analyze(const std::string& name, const std::string& protocol, const std::string& values,
@@ -154,24 +170,15 @@ TEST(FptStudyCli, ReplayDetectsAChangedCacheFrame) {
   ASSERT_EQ(session.exit_code, 0) << session.out << session.err;
   const auto frames = cache_frames(dir);
   ASSERT_EQ(frames.size(), 2u);
-  // Swap the two frames: both valid, each of the right size, but not what was shown.
-  const auto swap_files = [](const fs::path& a, const fs::path& b) {
-    const std::string bytes_a = read_all(a);
-    const std::string bytes_b = read_all(b);
-    ASSERT_TRUE(bytes_a != bytes_b);
-    write_file(a, bytes_b);
-    write_file(b, bytes_a);
-  };
-  swap_files(frames[0], frames[1]);
+  swap_frame_files(frames[0], frames[1]);  // not what was shown
+  ASSERT_FALSE(::testing::Test::HasFatalFailure());
   const std::string log = (dir / "results" / name / "P1/events.jsonl").string();
   const CommandResult refused = run_in(dir, "replay --verify " + log);
   expect_one_line_error(refused, "stimuli/cache/");
   EXPECT_NE(refused.err.find(".exr: its bytes differ from frame_00000"), std::string::npos) << refused.err;
   // The hashes written again for the swapped frames (a forger's move): each frame matches its
   // .sha256, and the replay finds the frames are not the ones the log says were shown.
-  for (const fs::path& frame : frames)
-    write_file(fs::path(frame).replace_extension(".sha256"),
-               fovlab::sha256_hex(read_all(frame)) + "  " + frame.filename().string() + "\n");
+  rehash_frames(frames);
   const CommandResult replay = run_in(dir, "replay --verify " + log);
   EXPECT_EQ(replay.exit_code, 1) << replay.out << replay.err;
 }
@@ -376,13 +383,9 @@ TEST(FptStudyCli, AForgedCacheIsFoundByAReplayFromAnEmptyCache) {
   ASSERT_EQ(run_in(dir, "prerender study.toml").exit_code, 0);
   const auto frames = cache_frames(dir);
   ASSERT_EQ(frames.size(), 2u);
-  const std::string first = read_all(frames[0]), second = read_all(frames[1]);
-  ASSERT_TRUE(first != second);
-  write_file(frames[0], second);
-  write_file(frames[1], first);
-  for (const fs::path& frame : frames)
-    write_file(fs::path(frame).replace_extension(".sha256"),
-               fovlab::sha256_hex(read_all(frame)) + "  " + frame.filename().string() + "\n");
+  swap_frame_files(frames[0], frames[1]);
+  ASSERT_FALSE(::testing::Test::HasFatalFailure());
+  rehash_frames(frames);
   ASSERT_EQ(run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results").exit_code, 0);
   const std::string log = (dir / "results" / name / "P1/events.jsonl").string();
   EXPECT_EQ(run_in(dir, "replay --verify " + log).exit_code, 0) << "the same forged cache: nothing differs";
