@@ -180,6 +180,47 @@ struct PreferenceRow {
   ProportionInterval interval;        // 95 % Clopper-Pearson interval of the share
 };
 
+// Whether a headline's value can be published as it stands (docs/analysis.md, "The headline").
+enum class HeadlineStatus {
+  estimated,      // value and interval are the method's estimate
+  not_estimable,  // no value: the data cannot give one (threshold outside the levels, unbounded or
+                  // zero-width interval, no convergence, too few participants); `reason` says which
+  biased,         // a value whose method is known to miss what it aims at; `reason` gives the measured bias
+};
+inline const char* headline_status_name(HeadlineStatus status) {
+  switch (status) {
+    case HeadlineStatus::estimated: return "estimated";
+    case HeadlineStatus::not_estimable: return "not estimable";
+    case HeadlineStatus::biased: return "biased";
+  }
+  return "estimated";
+}
+
+// The one number a (scene, variant) group hands back (analysis/study/headline.h): its method
+// follows from the study's design and is named; its status says whether it can be published as
+// it stands. The paper's own rule (GroupThreshold) is kept beside it, labelled, with one line on
+// why it differs when it does.
+struct Headline {
+  GroupKey group;
+  std::string quantity;               // "threshold" (in the level parameter's units) or "preference share"
+  std::string method;                 // the estimator and its interval, in one phrase ("logistic fit, 95 % profile-likelihood interval")
+  std::string aims_at;                // what the estimator aims at ("the level where p_see = 1/2", "p_report = 0.707", ...)
+  HeadlineStatus status = HeadlineStatus::estimated;
+  std::string reason;                 // why not estimable or biased; "" when estimated
+  std::optional<double> value;        // none when not estimable
+  std::optional<double> lower, upper; // its 95 % interval; none where the method gives none (see reason)
+  std::vector<std::string> flags;     // worth a look but no failure: "lapse at its bound (0)", "slope at its bound"
+  std::vector<std::string> notes;     // the fit's notes and anything else a reader should see
+  int participants = 0;               // participants whose data the value rests on
+  // The paper's rule, kept beside the headline (its full definition is the GroupThreshold's).
+  std::string paper_rule;             // e.g. "Polychronakis et al. 2021, 4.7"; "" when the design has none
+  std::optional<double> paper_value;
+  std::string paper_difference;       // one line on why the paper's rule gives another value; "" when it does not
+  bool paper_rule_is_headline = false;  // the config chose the paper's rule as the headline ([analysis] headline = "paper")
+  // Adaptive designs: the pooled psychometric fit of every adaptive trial of the group, beside the headline.
+  std::optional<double> pooled_fit, pooled_fit_lower, pooled_fit_upper;
+};
+
 struct LeftOut {
   std::string what;                   // a log path, or "participant P003", or a condition
   std::string reason;
@@ -227,6 +268,7 @@ struct AnalysisResult {
   std::vector<GroupFit> fits;
   std::optional<RatingGrid> rating_grid;     // rating studies whose variants form a 2-parameter grid
   std::vector<PreferenceRow> preferences;    // 2afc "better" studies: one row a condition row
+  std::vector<Headline> headlines;           // one per (scene, variant) group, in group order
   std::vector<ConfigVersion> config_versions;  // every version found, the analysed one first
   std::vector<LeftOut> left_out;
 };
