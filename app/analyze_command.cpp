@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "analysis/report/report.h"
+#include "analysis/study/headline.h"
 #include "analysis/study/study_analysis.h"
 #include "app/commands.h"
 #include "study/log/study_versions.h"
@@ -114,6 +115,33 @@ void print_preference_table(const std::vector<analysis::PreferenceRow>& rows) {
   }
 }
 
+// The one number per group first (headline.csv, thresholds.json), then everything behind it.
+void print_headlines(const analysis::AnalysisResult& result) {
+  if (result.headlines.empty()) return;
+  std::printf("headline (one per group; headline.csv; docs/analysis.md, \"The headline\"):\n");
+  for (const analysis::Headline& headline : result.headlines) {
+    std::string figure;
+    if (headline.value)
+      figure = headline.quantity + " " + format_number(*headline.value, 4) +
+               (headline.lower ? " " + format_interval(*headline.lower, *headline.upper, 4) : std::string());
+    else
+      figure = headline.quantity + ": none";
+    const bool estimated = headline.status == analysis::HeadlineStatus::estimated;
+    std::printf("  %-24s %s%s%s\n", headline.group.label().c_str(), figure.c_str(), estimated ? "" : "  [",
+                estimated ? "" : (std::string(analysis::headline_status_name(headline.status)) + ": " + headline.reason + "]").c_str());
+    std::printf("    method: %s; aims at %s\n", headline.method.c_str(), headline.aims_at.c_str());
+    if (headline.pooled_fit)
+      std::printf("    pooled fit of every adaptive trial: %s %s\n", format_number(*headline.pooled_fit, 4).c_str(),
+                  format_interval(*headline.pooled_fit_lower, *headline.pooled_fit_upper, 4).c_str());
+    if (!headline.paper_rule.empty() && !headline.paper_rule_is_headline)
+      std::printf("    paper's rule (%s): %s%s\n", headline.paper_rule.c_str(),
+                  headline.paper_value ? format_number(*headline.paper_value, 4).c_str() : "no value",
+                  headline.paper_difference.empty() ? "" : ("; " + headline.paper_difference).c_str());
+    for (const std::string& flag : headline.flags) std::printf("    flag: %s\n", flag.c_str());
+    for (const std::string& note : headline.notes) std::printf("    note: %s\n", note.c_str());
+  }
+}
+
 void print_summary(const analysis::AnalysisResult& result) {
   int excluded = 0;
   for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
@@ -129,6 +157,8 @@ void print_summary(const analysis::AnalysisResult& result) {
   if (result.config_versions.size() > 1) std::printf("config versions found: %zu, one analysed\n", result.config_versions.size());
   for (const auto& version : result.config_versions)
     std::printf("  config %s\n", analysis::describe_config_version(version).c_str());
+  print_headlines(result);
+  if (!result.thresholds.empty()) std::printf("the paper's rule per group (%s):\n", result.thresholds.front().definition.substr(0, result.thresholds.front().definition.find(':')).c_str());
   for (const auto& threshold : result.thresholds) {
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
                 threshold.level ? format_number(*threshold.level, 6).c_str() : "none");
@@ -142,10 +172,19 @@ void print_summary(const analysis::AnalysisResult& result) {
     if (!threshold.note.empty()) std::printf("    %s\n", threshold.note.c_str());
   }
   for (const auto& group : result.fits)
-    for (const auto& fit : group.fits)
-      std::printf("  fit %-10s %-18s threshold %s %s\n", group.group.label().c_str(),
-                  shape_name(fit.model.shape), format_number(fit.model.parameters.threshold, 5).c_str(),
-                  format_interval(fit.threshold_interval.lower, fit.threshold_interval.upper, 5).c_str());
+    for (const auto& fit : group.fits) {
+      const auto [low, high] = std::minmax_element(group.data.begin(), group.data.end(),
+                                                   [](const auto& a, const auto& b) { return a.level < b.level; });
+      const std::string not_estimable = analysis::fit_not_estimable_reason(fit, low->level, high->level);
+      if (not_estimable.empty())
+        std::printf("  fit %-10s %-18s threshold %s %s\n", group.group.label().c_str(), shape_name(fit.model.shape),
+                    format_number(fit.model.parameters.threshold, 5).c_str(),
+                    format_interval(fit.threshold_interval.lower, fit.threshold_interval.upper, 5).c_str());
+      else
+        std::printf("  fit %-10s %-18s threshold not estimable: %s\n", group.group.label().c_str(), shape_name(fit.model.shape),
+                    not_estimable.c_str());
+      if (!fit.note.empty()) std::printf("    fit note: %s\n", fit.note.c_str());
+    }
   // Adaptive tracks: at most 20 lines (adaptive_tracks.csv holds every one).
   size_t tracks_printed = 0, tracks = 0;
   for (const auto& participant : result.participants)

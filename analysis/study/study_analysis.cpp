@@ -7,9 +7,9 @@
 #include <set>
 #include <stdexcept>
 
-#include <boost/math/distributions/students_t.hpp>
-
+#include "analysis/statistics/mean_interval.h"
 #include "analysis/statistics/multiple_comparisons.h"
+#include "analysis/study/headline.h"
 #include "analysis/study/preference_table.h"
 #include "analysis/study/rating_grid.h"
 #include "analysis/study/adaptive_tracks.h"
@@ -50,32 +50,6 @@ struct ConditionCounts {
   double rating_sum = 0.0;
   double rating_square_sum = 0.0;
 };
-
-struct Summary {
-  std::optional<double> mean, sd;
-  std::optional<double> mean_lower, mean_upper;  // 95 % Student-t interval of the mean
-  int count = 0;
-};
-
-Summary summarise(const std::vector<double>& values) {
-  Summary summary;
-  summary.count = static_cast<int>(values.size());
-  if (values.empty()) return summary;
-  double sum = 0.0;
-  for (double value : values) sum += value;
-  const double mean = sum / double(values.size());
-  summary.mean = mean;
-  if (values.size() >= 2) {
-    double squares = 0.0;
-    for (double value : values) squares += (value - mean) * (value - mean);
-    summary.sd = std::sqrt(squares / double(values.size() - 1));
-    const double t = boost::math::quantile(boost::math::students_t(double(values.size() - 1)), 0.975);
-    const double half_width = t * *summary.sd / std::sqrt(double(values.size()));
-    summary.mean_lower = mean - half_width;
-    summary.mean_upper = mean + half_width;
-  }
-  return summary;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Comparison protocols: counts per condition, tests, study-level thresholds and fits.
@@ -445,7 +419,7 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
           censored_count += outcome == RampOutcome::all_right ? 1 : 0;
           unanswered_count += outcome == RampOutcome::unanswered_step ? 1 : 0;
         }
-        threshold.level = summarise(levels).mean;
+        threshold.level = mean_with_t_interval(levels).mean;
         const std::string of_ramps = " of " + std::to_string(group_trials.size()) + " ramps ";
         if (censored_count > 0)
           threshold.note = std::to_string(censored_count) + of_ramps + "had every step right: counted at the best level";
@@ -456,7 +430,7 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
         std::vector<double> levels;
         for (const StudyTrial* trial : group_trials)
           if (trial->saved_level) levels.push_back(*trial->saved_level);
-        threshold.level = summarise(levels).mean;
+        threshold.level = mean_with_t_interval(levels).mean;
         if (levels.size() < group_trials.size())
           threshold.note = std::to_string(group_trials.size() - levels.size()) + " slider trial(s) without a saved level";
       }
@@ -477,7 +451,7 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
   for (const auto& [group, values] : per_group) groups.insert(group);
   for (const auto& [group, count] : without) groups.insert(group);
   for (const GroupKey& group : groups) {
-    const Summary summary = summarise(per_group[group]);
+    const MeanInterval summary = mean_with_t_interval(per_group[group]);
     GroupThreshold threshold;
     threshold.group = group;
     threshold.definition = definition;
@@ -555,6 +529,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     add_participant_thresholds(data, pool_scenes, result);
   if (included.empty())
     result.left_out.push_back({"study " + data.study, "every participant was excluded: no result"});
+  result.headlines = study_headlines(data, options, result);
   return result;
 }
 

@@ -913,6 +913,15 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     read_attention(TomlFields(*attention, path, "attention"), config.protocol, config.attention);
   if (const toml::table* validation = fields.optional_table("validation"))
     read_validation(TomlFields(*validation, path, "validation"), config.display, config.validation);
+  if (const toml::table* analysis = fields.optional_table("analysis")) {
+    const TomlFields analysis_fields(*analysis, path, "analysis");
+    const std::string headline = analysis_fields.string("headline", "estimate");
+    if (headline != "estimate" && headline != "paper")
+      analysis_fields.fail("headline", "expected \"estimate\" (the design's estimate, the default) or \"paper\" (the paper's own rule), got \"" +
+                                           headline + "\"");
+    config.analysis.headline_is_paper_rule = headline == "paper";
+    analysis_fields.finish();
+  }
   if (const toml::table* participant = fields.optional_table("participant")) {
     const TomlFields participant_fields(*participant, path, "participant");
     config.participant_fields = participant_fields.strings("fields");

@@ -176,6 +176,13 @@ struct ProtocolConfig {
   SliderConfig slider;
 };
 
+// [analysis]: how `fovlab analyze` reports the study (docs/analysis.md, "The headline").
+struct AnalysisConfig {
+  // headline = "paper": each group's headline is the paper's own rule (the walk, the per-participant
+  // rule) rather than the estimate the design calls for ("estimate", the default).
+  bool headline_is_paper_rule = false;
+};
+
 struct StudyConfig {
   std::string name;             // results/<name>/...
   uint64_t seed = 0;
@@ -190,6 +197,7 @@ struct StudyConfig {
   AttentionConfig attention;
   ValidationConfig validation;
   PracticeConfig practice;
+  AnalysisConfig analysis;
   // [participant] fields: what each participant is asked before the session (age, handedness, ...):
   // given with fovlab run --field NAME=VALUE or asked on the terminal, kept in the log's header and
   // exported. Names: 1-32 of a-z, 0-9, '_', unique, at most 32 of them.
