@@ -48,6 +48,23 @@ void simulate(const std::string& config_path, const bench::SimulationOptions& op
   }
   std::printf("truth: the level each procedure aims at (constant stimuli and QUEST+: p_see = 1/2; a staircase: its "
               "target p_report); no frames are rendered (the observer answers from the level)\n");
+  std::printf("headline per group, as fovlab analyze gives it for these participants' answers, against what its method aims at:\n");
+  nlohmann::json headlines = nlohmann::json::array();
+  for (const bench::HeadlineCheck& check : result.headlines) {
+    const analysis::Headline& headline = check.headline;
+    std::string figure = headline.value ? cell(*headline.value) : std::string(analysis::headline_status_name(headline.status));
+    if (headline.lower) figure += " " + format_interval(*headline.lower, *headline.upper, 4);
+    const bool holds = headline.lower && check.aim >= *headline.lower && check.aim <= *headline.upper;
+    std::printf("  %-20s %-24s aims at %-8s %s  (%s)%s\n", headline.group.label().c_str(), figure.c_str(), cell(check.aim).c_str(),
+                std::isnan(check.aim) ? "-" : holds ? "inside the interval" : "OUTSIDE the interval", headline.method.c_str(),
+                headline.reason.empty() ? "" : ("; " + headline.reason).c_str());
+    headlines.push_back({{"group", headline.group.label()}, {"status", analysis::headline_status_name(headline.status)},
+                         {"reason", headline.reason}, {"method", headline.method}, {"aims_at", headline.aims_at},
+                         {"value", headline.value ? nlohmann::json(*headline.value) : nlohmann::json()},
+                         {"lower", headline.lower ? nlohmann::json(*headline.lower) : nlohmann::json()},
+                         {"upper", headline.upper ? nlohmann::json(*headline.upper) : nlohmann::json()},
+                         {"aim", std::isnan(check.aim) ? nlohmann::json() : nlohmann::json(check.aim)}});
+  }
   if (!json_path.empty()) {
     nlohmann::json report = {{"config", config_path},
                              {"participants", options.participants},
@@ -55,7 +72,8 @@ void simulate(const std::string& config_path, const bench::SimulationOptions& op
                                            {"guess", result.observer_guess}, {"lapse", result.observer_lapse}}},
                              {"wall_s", result.wall_s},
                              {"threads", result.threads},
-                             {"summaries", rows}};
+                             {"summaries", rows},
+                             {"headlines", headlines}};
     write_text_atomically(json_path, report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   }
 }

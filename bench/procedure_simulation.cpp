@@ -11,6 +11,8 @@
 #include <thread>
 
 #include "analysis/psychometric/psychometric_fit.h"
+#include "analysis/study/study_analysis.h"
+#include "analysis/study/study_data.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
 #include "protocols/observer/simulated_observer.h"
@@ -39,7 +41,55 @@ struct Key {
 struct ParticipantRun {
   std::map<Key, Outcome> outcomes;
   ObserverModel model;
+  analysis::ParticipantData data;  // the trials as a log would give them to the analysis
 };
+
+// A presented trial as the analysis reads it from a log (analysis/study/study_data.h), answered by
+// the observer as a session asks: one answer (comparisons), one a ramp step, or slider actions up
+// to "save" (protocols/session/session_run.cpp run_slider).
+analysis::StudyTrial answered_trial(const StudyPlan& plan, const SimulatedObserver& observer, const Trial& trial) {
+  analysis::StudyTrial logged;
+  logged.index = trial.index;
+  logged.scene = plan.blocks.at(static_cast<size_t>(trial.block)).name;
+  logged.condition = trial.condition;
+  logged.variant = trial.variant;
+  logged.level = trial.level;
+  logged.attention_check = trial.attention_check;
+  logged.reference_first = trial.reference_first;
+  logged.ramp_toward_reference = trial.ramp_toward_reference;
+  if (trial.track >= 0) logged.track = trial.track;
+  const auto level_of = [&](int id) { return plan.stimuli.at(static_cast<size_t>(id)).level; };
+  if (!trial.attention_check) {
+    for (int id : trial.sequence) logged.sequence_levels.push_back(level_of(id));
+    logged.method = std::string(describe(plan.config.stimulus.test.method).name);
+  }
+  switch (plan.config.protocol.kind) {
+    case ProtocolKind::ramp:
+      for (int step = 1; step < static_cast<int>(trial.sequence.size()); ++step) {
+        logged.answers.push_back(observer.answer_ramp_step(trial, step).answer);
+        logged.answer_steps.push_back(step);
+      }
+      break;
+    case ProtocolKind::slider: {
+      int ladder_index = trial.slider_start;
+      for (int action = 0; action < 100000; ++action) {
+        const std::string answer = observer.answer_slider(trial, action, ladder_index).answer;
+        logged.answers.push_back(answer);
+        logged.answer_steps.push_back(action + 1);
+        if (answer == answers::save) {
+          logged.saved_level = level_of(trial.sequence.at(static_cast<size_t>(ladder_index)));
+          break;
+        }
+        ladder_index = next_ladder_index(trial, answer, ladder_index);
+      }
+      break;
+    }
+    default:
+      logged.answers.push_back(observer.answer_comparison(trial).answer);
+      logged.answer_steps.push_back(static_cast<int>(trial.sequence.size()));
+  }
+  return logged;
+}
 
 // The level where the observer's p_report (p_detect) equals `target`, by bisection over the levels'
 // range (p_detect is monotone in the level); NaN when the range does not reach it.
@@ -77,13 +127,18 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
       if (config.blocks[i].name == plan.blocks[b].name) config_block[b] = static_cast<int>(i);
   std::map<Key, std::map<double, analysis::LevelCounts>> counts;  // constant stimuli, by level
   std::vector<int> track_trials(plan.tracks.size(), 0);
+  run.data.participant = participant;
+  run.data.observer = "simulated";
+  const bool compares = config.protocol.rules().judges_against_reference;
   for (const Trial& planned : plan.trials) {
     if (planned.practice) continue;
     const std::optional<Trial> trial = progress.presented(planned);
     if (!trial) continue;
-    const std::string answer = observer.answer_comparison(*trial).answer;
+    run.data.trials.push_back(answered_trial(plan, observer, *trial));
+    const std::string& answer = run.data.trials.back().answers.back();
     progress.record(planned, answer);
-    if (trial->attention_check || !trial->level) continue;
+    run.data.attention_checks += trial->attention_check ? 1 : 0;
+    if (!compares || trial->attention_check || !trial->level) continue;
     if (planned.track >= 0) {
       ++track_trials[static_cast<size_t>(planned.track)];
       continue;
@@ -131,6 +186,47 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
   return run;
 }
 
+// What the headline's method aims at for observers of `model` (procedure_simulation.h); NaN: nothing.
+double headline_aim(const StudyConfig& config, const ObserverModel& model, const analysis::Headline& headline, double low,
+                    double high) {
+  if (headline.quantity != "threshold") return std::nan("");
+  const auto block = std::find_if(config.blocks.begin(), config.blocks.end(),
+                                  [&](const BlockConfig& b) { return b.name == headline.group.scene; });
+  const BlockConfig& first = block == config.blocks.end() ? config.blocks.front() : *block;
+  if (first.procedure >= 0) {
+    const ProcedureConfig& procedure = config.procedures.at(static_cast<size_t>(first.procedure));
+    return procedure.kind == ProcedureConfig::Kind::staircase
+               ? level_where_p_detect_is(model, staircase_target_probability(procedure.staircase), low, high)
+               : model.threshold;
+  }
+  if (config.protocol.kind == ProtocolKind::rating) {  // the walk on expected mean scores: 3 - p_detect (1 + p_see)
+    std::vector<double> best_first = config.levels.values;
+    if (config.levels.higher_is_better) std::reverse(best_first.begin(), best_first.end());
+    double aim = std::nan("");
+    for (double level : best_first) {
+      if (3.0 - model.p_detect(level) * (1.0 + model.p_see(level)) < analysis::AnalysisOptions{}.rating_cutoff) break;
+      aim = level;
+    }
+    return aim;
+  }
+  if (config.protocol.kind == ProtocolKind::slider) {  // from the start, a step up while a difference is seen
+    const StudyPlan plan = make_study_plan(config, "S000001");
+    for (const Trial& trial : plan.trials) {
+      if (trial.practice || trial.sequence.empty() || trial.variant != headline.group.variant) continue;
+      double expected = 0.0, reach = 1.0;
+      for (size_t i = size_t(trial.slider_start); i < trial.sequence.size(); ++i) {
+        const std::optional<double> level = plan.stimuli.at(static_cast<size_t>(trial.sequence[i])).level;
+        const double save = i + 1 < trial.sequence.size() ? 1.0 - model.p_detect(level) : 1.0;
+        expected += level.value_or(std::nan("")) * reach * save;
+        reach *= 1.0 - save;
+      }
+      return expected;
+    }
+    return std::nan("");
+  }
+  return model.threshold;  // the fits (2afc, pair) and the ramp's step model
+}
+
 }  // namespace
 
 SimulationResult simulate_study(const StudyConfig& config, const SimulationOptions& options) {
@@ -176,7 +272,10 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
   result.observer_slope = model.slope;
   result.observer_guess = model.guess;
   result.observer_lapse = model.lapse;
-  const auto [low, high] = std::minmax_element(config.levels.values.begin(), config.levels.values.end());
+  // The tested range (NaN without levels: a 2afc "better" study may have none).
+  const std::vector<double>& levels = config.levels.values;
+  const double low = levels.empty() ? std::nan("") : *std::min_element(levels.begin(), levels.end());
+  const double high = levels.empty() ? std::nan("") : *std::max_element(levels.begin(), levels.end());
   std::map<Key, std::vector<Outcome>> by_key;
   for (size_t run = 0; run < runs; ++run)
     for (const auto& [key, outcome] : results[run].outcomes)
@@ -195,7 +294,7 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
                                                                           : "staircase";
     summary.truth = model.threshold;
     if (summary.kind == "staircase") {
-      summary.truth = level_where_p_detect_is(model, staircase_target_probability(procedure->staircase), *low, *high);
+      summary.truth = level_where_p_detect_is(model, staircase_target_probability(procedure->staircase), low, high);
     }
     summary.participants = static_cast<int>(outcomes.size());
     double sum = 0.0, trials = 0.0;
@@ -220,6 +319,13 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
     }
     result.summaries.push_back(std::move(summary));
   }
+  // The first sweep's participants, analysed as their logs would be.
+  analysis::StudyData data;
+  analysis::describe_study_config(config, data);
+  data.observers = "simulated";
+  for (size_t run = 0; run < runs; run += sweeps.size()) data.participants.push_back(std::move(results[run].data));
+  for (const analysis::Headline& headline : analysis::analyse_study(data, analysis::AnalysisOptions{}).headlines)
+    result.headlines.push_back({headline, headline_aim(config, model, headline, low, high)});
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/study/analysis_result.h"
 #include "study/config/study_config.h"
 
 namespace fovlab::bench {
@@ -42,8 +43,20 @@ struct ProcedureSummary {
   double mean_trials = 0.0;               // trials a participant answered for it
 };
 
+// A pilot of the simulated participants, analysed as `fovlab analyze` would analyse their logs
+// (analysis/study/headline.h), each group's headline beside what its method aims at for these
+// observers: the observer's threshold (fits, QUEST+, the ramp's step model); the level where
+// p_report is a staircase's target; the expected saved level (slider: from the start, a step up
+// while a difference is seen); the most degraded level whose expected mean rating keeps the
+// cutoff (rating); none for a preference share.
+struct HeadlineCheck {
+  analysis::Headline headline;
+  double aim = 0.0;                         // NaN: none
+};
+
 struct SimulationResult {
   std::vector<ProcedureSummary> summaries;  // in block, procedure, variant order
+  std::vector<HeadlineCheck> headlines;     // of the first sweep (--max-trials' first value)
   double observer_threshold = 0.0, observer_slope = 0.0, observer_guess = 0.0, observer_lapse = 0.0;
   double wall_s = 0.0;
   int threads = 0;

@@ -42,19 +42,11 @@ struct LogStudy {
 };
 
 void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
-  const StudyConfig config =
-      parse_logged_study_config(study.config_toml, path + " (config_toml)", study.log_schema_version, nullptr, study.conditions_csv);
+  describe_study_config(
+      parse_logged_study_config(study.config_toml, path + " (config_toml)", study.log_schema_version, nullptr, study.conditions_csv),
+      data);
   data.study = study.study;
   data.config_hash = study.config_hash;
-  data.protocol = config.protocol.kind;
-  data.question = config.protocol.two_afc_question;
-  data.level_parameter = config.levels.parameter;
-  data.levels = config.levels.values;
-  data.higher_is_better = config.levels.higher_is_better;
-  data.reference_method = config.stimulus.reference.method;
-  data.test_method = config.stimulus.test.method;
-  data.variants = config.stimulus.variants;
-  data.config = config;
 }
 
 ParticipantData participant_of(ScannedSession& session) {
@@ -373,6 +365,20 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
   }
   describe_study(*study, study_path, data);
   return data;
+}
+
+void describe_study_config(const StudyConfig& config, StudyData& data) {
+  data.study = config.name;
+  data.config_hash = config.hash;
+  data.protocol = config.protocol.kind;
+  data.question = config.protocol.two_afc_question;
+  data.level_parameter = config.levels.parameter;
+  data.levels = config.levels.values;
+  data.higher_is_better = config.levels.higher_is_better;
+  data.reference_method = config.stimulus.reference.method;
+  data.test_method = config.stimulus.test.method;
+  data.variants = config.stimulus.variants;
+  data.config = config;
 }
 
 }  // namespace fovlab::analysis

@@ -83,6 +83,10 @@ struct StudyData {
   std::string observers = "human";
 };
 
+// The fields of `data` a config gives (study, protocol, levels, methods, variants, the config
+// itself): what load_study takes from a log's config_toml, and `fovlab simulate` from its config.
+void describe_study_config(const StudyConfig& config, StudyData& data);
+
 // Which sessions an analysis takes by who answered. Simulated sessions never mix with real
 // participants unless asked: by default a study with both is refused, naming the counts.
 enum class ObserverFilter { unmixed, human, simulated, all };

@@ -352,5 +352,71 @@ TEST(StudyAnalysis, ScenesArePooledAsAllWhenThereAreSeveral) {
   EXPECT_EQ(all->k, 10u);
 }
 
+// The headline (docs/analysis.md, "The headline"): a degenerate fit is not estimable with its
+// reason and no number, and [analysis] headline = "paper" puts the paper's rule in its place.
+TEST(StudyAnalysisHeadline, AFitWhoseThresholdLeavesTheLevelsIsNotEstimable) {
+  StudyData data = study("2afc", "same", {4, 8, 16, 32, 64});
+  ParticipantData participant;
+  participant.participant = "P001";
+  for (double level : {4.0, 8.0, 16.0, 32.0, 64.0}) add_comparisons(participant, "2afc-same", "temple", level, 20, 0);
+  data.participants.push_back(participant);
+  const AnalysisResult result = analyse_study(data, quick_options());
+  ASSERT_EQ(result.headlines.size(), 1u);
+  const Headline& headline = result.headlines.front();
+  EXPECT_EQ(headline.status, HeadlineStatus::not_estimable);
+  EXPECT_FALSE(headline.value);
+  EXPECT_FALSE(headline.lower);
+  EXPECT_FALSE(headline.reason.empty());
+}
+
+TEST(StudyAnalysisHeadline, TheFitIsTheHeadlineAndTheWalkStaysBesideItOrTakesItsPlaceWhenTheConfigSaysSo) {
+  StudyData data = study("2afc", "same", {2.5, 5, 7.5, 10});
+  ParticipantData participant;
+  participant.participant = "P001";
+  add_comparisons(participant, "2afc-same", "temple", 2.5, 40, 3);
+  add_comparisons(participant, "2afc-same", "temple", 5, 40, 12);
+  add_comparisons(participant, "2afc-same", "temple", 7.5, 40, 30);
+  add_comparisons(participant, "2afc-same", "temple", 10, 40, 37);
+  data.participants.push_back(participant);
+  const AnalysisResult estimate = analyse_study(data, quick_options());
+  ASSERT_EQ(estimate.headlines.size(), 1u);
+  const Headline& fit = estimate.headlines.front();
+  EXPECT_EQ(fit.status, HeadlineStatus::estimated) << fit.reason;
+  ASSERT_TRUE(fit.value && fit.lower && fit.upper);
+  EXPECT_GT(*fit.value, 5.0);
+  EXPECT_LT(*fit.value, 7.5);
+  EXPECT_NE(fit.method.find("logistic fit"), std::string::npos);
+  EXPECT_EQ(fit.paper_rule, "Polychronakis et al. 2023, 4.4 and 5.1");
+  ASSERT_TRUE(fit.paper_value);
+  EXPECT_DOUBLE_EQ(*fit.paper_value, 7.5);
+  EXPECT_FALSE(fit.paper_rule_is_headline);
+
+  data.config.analysis.headline_is_paper_rule = true;
+  const AnalysisResult paper = analyse_study(data, quick_options());
+  const Headline& walk = paper.headlines.front();
+  EXPECT_TRUE(walk.paper_rule_is_headline);
+  ASSERT_TRUE(walk.value);
+  EXPECT_DOUBLE_EQ(*walk.value, 7.5);
+  ASSERT_FALSE(walk.notes.empty());
+  EXPECT_NE(walk.notes.front().find("the design's estimate"), std::string::npos) << walk.notes.front();
+}
+
+TEST(StudyAnalysisHeadline, PreferenceShareWithItsClopperPearsonInterval) {
+  StudyData data = study("2afc", "better", {});
+  ParticipantData participant;
+  participant.participant = "P001";
+  add_comparisons(participant, "2afc-better", "temple", 1.0, 20, 5);  // the test chosen 5 times: the reference 15
+  data.participants.push_back(participant);
+  const AnalysisResult result = analyse_study(data, quick_options());
+  ASSERT_EQ(result.headlines.size(), 1u);
+  const Headline& share = result.headlines.front();
+  EXPECT_EQ(share.quantity, "preference share");
+  ASSERT_TRUE(share.value && share.lower && share.upper);
+  EXPECT_DOUBLE_EQ(*share.value, 0.75);
+  const ProportionInterval interval = clopper_pearson_interval(15, 20, 0.95);
+  EXPECT_DOUBLE_EQ(*share.lower, interval.lower);
+  EXPECT_DOUBLE_EQ(*share.upper, interval.upper);
+}
+
 }  // namespace
 }  // namespace fovlab::analysis

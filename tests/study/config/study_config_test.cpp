@@ -1360,5 +1360,25 @@ TEST(ShippedExperiments, EveryConfigInExperimentsParses) {
   EXPECT_EQ(lab.participant_fields, (std::vector<std::string>{"age", "handedness"}));
 }
 
+// [analysis] headline: the design's estimate by default, the paper's rule when asked; a config
+// without the table keeps its version (content_hash).
+TEST(StudyConfigAnalysis, HeadlineChoosesThePapersRuleAndLeavesOtherConfigsTheirVersion) {
+  ConfigText config;
+  const StudyConfig plain = parse_study_config_text(config.text(), kPath, renderer_scene_catalog());
+  EXPECT_FALSE(plain.analysis.headline_is_paper_rule);
+  ConfigText paper = config;
+  paper.attention += "\n[analysis]\nheadline = \"paper\"\n";
+  const StudyConfig chosen = parse_study_config_text(paper.text(), kPath, renderer_scene_catalog());
+  EXPECT_TRUE(chosen.analysis.headline_is_paper_rule);
+  EXPECT_NE(chosen.content_hash, plain.content_hash);
+  ConfigText commented = config;
+  commented.attention += "\n# a comment\n";
+  EXPECT_EQ(parse_study_config_text(commented.text(), kPath, renderer_scene_catalog()).content_hash, plain.content_hash);
+  ConfigText bad = config;
+  bad.attention += "\n[analysis]\nheadline = \"walk\"\n";
+  const std::string text = bad.text();
+  expect_error(text, line_of(text, "headline = \"walk\""), "analysis.headline", "expected \"estimate\"");
+}
+
 }  // namespace
 }  // namespace fovlab
