@@ -52,7 +52,8 @@ void run_binomial(const BinomialOptions& options) {
   std::printf("%llu of %llu (%.1f %%), H0: p = %g, alternative %s\n", static_cast<unsigned long long>(k),
               static_cast<unsigned long long>(n), 100.0 * double(k) / double(n), options.p0,
               analysis::alternative_name(alternative));
-  std::printf("exact binomial p = %.4g%s%s\n", p, stars.empty() ? "" : " ", stars.c_str());
+  const double log10_p = analysis::binomial_test_log10_p_value(k, n, options.p0, alternative);
+  std::printf("exact binomial p = %s%s%s\n", analysis::p_value_text(p, log10_p, 4).c_str(), stars.empty() ? "" : " ", stars.c_str());
   std::printf("%g %% Clopper-Pearson interval of the share: [%.4f, %.4f]\n", 100.0 * options.confidence,
               interval.lower, interval.upper);
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -143,7 +145,101 @@ double degenerate_p_value(uint64_t k, uint64_t outcome, Alternative alternative)
   throw std::invalid_argument("binomial_test_p_value: unknown alternative");
 }
 
+// Log space, for p-values a double cannot hold (binomial_test_log10_p_value).
+class LogBinomial {
+ public:
+  LogBinomial(uint64_t n, double p) : n_(n), p_(p), log_p_(std::log(p)), log_q_(std::log1p(-p)), log_n_factorial_(std::lgamma(double(n) + 1.0)) {}
+
+  double log_pmf(uint64_t i) const {
+    const double log_choose =
+        i == 0 || i == n_ ? 0.0 : log_n_factorial_ - std::lgamma(double(i) + 1.0) - std::lgamma(double(n_ - i) + 1.0);
+    return log_choose + (i == 0 ? 0.0 : double(i) * log_p_) + (i == n_ ? 0.0 : double(n_ - i) * log_q_);
+  }
+  // log P(X <= k) for k in the lower tail: from k down, the terms fall (the pmf is log-concave).
+  double log_at_most(uint64_t k) const {
+    double sum = 1.0, term = 1.0;
+    for (uint64_t i = k; i > 0; --i) {
+      term *= double(i) * (1.0 - p_) / (double(n_ - i + 1) * p_);  // pmf(i - 1) / pmf(i)
+      sum += term;
+      if (term < 1e-17 * sum) break;
+    }
+    return log_pmf(k) + std::log(sum);
+  }
+  // log P(X >= k) for k in the upper tail.
+  double log_at_least(uint64_t k) const {
+    double sum = 1.0, term = 1.0;
+    for (uint64_t i = k; i < n_; ++i) {
+      term *= double(n_ - i) * p_ / (double(i + 1) * (1.0 - p_));  // pmf(i + 1) / pmf(i)
+      sum += term;
+      if (term < 1e-17 * sum) break;
+    }
+    return log_pmf(k) + std::log(sum);
+  }
+  // The first i in [begin, end) with log_pmf(i) <= threshold on a piece where the pmf falls; the
+  // last such i + 1 ... on a rising piece: by bisection, as Binomial::count_at_most does.
+  template <typename Predicate>
+  static uint64_t partition_point(uint64_t begin, uint64_t end, Predicate predicate) {
+    while (begin < end) {
+      const uint64_t middle = begin + (end - begin) / 2;
+      if (predicate(middle)) end = middle;
+      else begin = middle + 1;
+    }
+    return begin;
+  }
+
+ private:
+  uint64_t n_;
+  double p_, log_p_, log_q_, log_n_factorial_;
+};
+
+double log_sum(double a, double b) {
+  if (std::isinf(a) && a < 0) return b;
+  if (std::isinf(b) && b < 0) return a;
+  const double high = std::max(a, b);
+  return high + std::log1p(std::exp(std::min(a, b) - high));
+}
+
+// The two-sided p-value's natural log: k's tail and the outcomes on the other side no more likely
+// than k (two_sided_p_value's rule), every probability in log space.
+double log_two_sided_p_value(uint64_t k, uint64_t n, double p0) {
+  const LogBinomial binomial(n, p0);
+  const double threshold = binomial.log_pmf(k) + std::log(kRelativeTolerance);
+  const double expected = static_cast<double>(n) * p0;
+  const uint64_t mode = Binomial(n, p0).mode();
+  if (static_cast<double>(k) < expected) {
+    // The other side, beyond the mode, falls: its outcomes at or below the threshold are its top ones.
+    const auto begin = std::max<uint64_t>(mode, static_cast<uint64_t>(std::ceil(expected)));
+    const uint64_t first = LogBinomial::partition_point(begin, n + 1, [&](uint64_t i) { return binomial.log_pmf(i) <= threshold; });
+    const double other = first > n ? -std::numeric_limits<double>::infinity() : binomial.log_at_least(first);
+    return log_sum(binomial.log_at_most(k), other);
+  }
+  // The other side, below the mode, rises: its outcomes at or below the threshold are its bottom ones.
+  const auto end = std::min<uint64_t>(mode, static_cast<uint64_t>(std::floor(expected))) + 1;
+  const uint64_t first_above = LogBinomial::partition_point(0, end, [&](uint64_t i) { return binomial.log_pmf(i) > threshold; });
+  const double other = first_above == 0 ? -std::numeric_limits<double>::infinity() : binomial.log_at_most(first_above - 1);
+  return log_sum(other, binomial.log_at_least(k));
+}
+
 }  // namespace
+
+double binomial_test_log10_p_value(uint64_t k, uint64_t n, double p0, Alternative alternative) {
+  const double p_value = binomial_test_p_value(k, n, p0, alternative);
+  if (p_value >= kSmallestPrintedPValue || p0 == 0.0 || p0 == 1.0) return std::log10(p_value);
+  double log_p = 0.0;
+  switch (alternative) {
+    case Alternative::greater: log_p = LogBinomial(n, p0).log_at_least(k); break;
+    case Alternative::less: log_p = LogBinomial(n, p0).log_at_most(k); break;
+    case Alternative::two_sided: log_p = log_two_sided_p_value(k, n, p0); break;
+  }
+  return std::min(0.0, log_p / std::log(10.0));
+}
+
+std::string p_value_text(double p_value, double log10_p, int significant_digits) {
+  if (p_value >= kSmallestPrintedPValue || !std::isfinite(log10_p)) return format_number(p_value, significant_digits);
+  char text[96];
+  std::snprintf(text, sizeof text, "< 1e-300 (log10 p = %.1f)", log10_p);
+  return text;
+}
 
 const char* alternative_name(Alternative alternative) {
   switch (alternative) {
@@ -180,7 +276,7 @@ double binomial_test_p_value(uint64_t k, uint64_t n, double p0, Alternative alte
     case Alternative::less: p_value = Binomial(n, p0).at_most(k); break;
     case Alternative::two_sided: p_value = two_sided_p_value(k, n, p0); break;
   }
-  return std::clamp(p_value, 0.0, 1.0);
+  return p_value < kSmallestPrintedPValue ? 0.0 : std::clamp(p_value, 0.0, 1.0);
 }
 
 ProportionInterval clopper_pearson_interval(uint64_t k, uint64_t n, double confidence) {

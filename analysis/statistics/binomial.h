@@ -23,8 +23,25 @@ Alternative parse_alternative(const std::string& text);
 //   two-sided: the probability of every outcome no more likely than k, with R's relative
 //              tolerance: sum of P(X = i) over i with P(X = i) <= P(X = k) * (1 + 1e-7).
 //              k == n p0 (in double precision) gives 1.
-// p0 = 0 or 1 makes X certain (0 or n): each p-value is then 1 or 0. The result is clamped to [0, 1].
+// p0 = 0 or 1 makes X certain (0 or n): each p-value is then 1 or 0. The result is clamped to [0, 1],
+// and a p-value below kSmallestPrintedPValue is 0 (never a subnormal): binomial_test_log10_p_value
+// gives its size.
 double binomial_test_p_value(uint64_t k, uint64_t n, double p0, Alternative alternative);
+
+// p-values below this are not printed as numbers: a double holds them only as subnormals (or 0),
+// so fovlab gives log10 p beside them and prints "< 1e-300 (log10 p = -301029.7)".
+constexpr double kSmallestPrintedPValue = 1e-300;
+
+// log10 of binomial_test_p_value's p, summed in log space where the p-value is below
+// kSmallestPrintedPValue (Debian's Boost 1.74 has no log-space binomial tail): the tails are summed
+// outward from k, each term the previous times the ratio of neighbouring probabilities, the
+// log-probability of k from lgamma. Equal to log10(binomial_test_p_value) elsewhere; -infinity
+// where p is exactly 0 (p0 = 0 or 1).
+double binomial_test_log10_p_value(uint64_t k, uint64_t n, double p0, Alternative alternative);
+
+// A p-value as text: `significant_digits` digits, or "< 1e-300 (log10 p = -301029.7)" below
+// kSmallestPrintedPValue (log10_p from binomial_test_log10_p_value).
+std::string p_value_text(double p_value, double log10_p, int significant_digits);
 
 struct ProportionInterval {
   double lower = 0.0;

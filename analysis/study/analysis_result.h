@@ -43,7 +43,8 @@ struct ConditionRow {
   uint64_t n = 0;
   uint64_t k = 0;
   double proportion = 0.0;            // k / n
-  double p_value = 0.0;               // exact binomial test of k/n against 1/2, --alternative
+  double p_value = 0.0;               // exact binomial test of k/n against 1/2, --alternative (0 below 1e-300)
+  double log10_p = 0.0;               // its log10, also where p_value underflows (binomial.h)
   double p_holm = 0.0;                // Holm-adjusted across the levels of the group
   std::string stars;                  // of p_holm, the p the threshold uses
   ProportionInterval interval;        // Clopper-Pearson, 95 %
@@ -175,7 +176,8 @@ struct PreferenceRow {
   uint64_t n = 0;                     // answered trials
   uint64_t reference_votes = 0;       // the reference chosen as better
   double share = 0.0;                 // reference_votes / n
-  double p_value = 1.0;               // exact binomial, H0 p = 1/2, alternative greater
+  double p_value = 1.0;               // exact binomial, H0 p = 1/2, alternative greater (0 below 1e-300)
+  double log10_p = 0.0;               // its log10, also where p_value underflows (binomial.h)
   std::string stars;                  // "***", "**", "*" or "n.s."
   ProportionInterval interval;        // 95 % Clopper-Pearson interval of the share
 };

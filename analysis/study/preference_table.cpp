@@ -22,6 +22,7 @@ std::vector<PreferenceRow> preference_table(const std::vector<PreferenceCount>& 
     row.reference_votes = count.reference_votes;
     row.share = double(count.reference_votes) / double(count.n);
     row.p_value = binomial_test_p_value(count.reference_votes, count.n, 0.5, Alternative::greater);
+    row.log10_p = binomial_test_log10_p_value(count.reference_votes, count.n, 0.5, Alternative::greater);
     row.stars = significance_stars(row.p_value);
     if (row.stars.empty()) row.stars = "n.s.";
     row.interval = clopper_pearson_interval(count.reference_votes, count.n, 0.95);

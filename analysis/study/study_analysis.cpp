@@ -130,6 +130,7 @@ class ComparisonAnalysis {
       row.k = counts.k;
       row.proportion = double(counts.k) / double(counts.n);
       row.p_value = binomial_test_p_value(counts.k, counts.n, 0.5, options_.alternative);
+      row.log10_p = binomial_test_log10_p_value(counts.k, counts.n, 0.5, options_.alternative);
       row.interval = clopper_pearson_interval(counts.k, counts.n, 0.95);
       if (data_.protocol == ProtocolKind::rating) {
         const double n = double(counts.n);

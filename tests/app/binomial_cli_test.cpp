@@ -30,6 +30,14 @@ TEST(BinomialCli, TableTwoOfSeed002FromItsCounts) {
   expect_output("0 10 --p0 0.2 --alternative less", "exact binomial p = 0.1074\n");  // 0.8^10
 }
 
+// A p-value a double cannot hold is printed as a bound with its log10, never as a subnormal: k = 0
+// of n at p0 = 1/2, two-sided, is 2 / 2^n, log10 p = log10(2) - n log10(2).
+TEST(BinomialCli, UnderflowingPValuesSayHowSmall) {
+  expect_output("0 1000000 --alternative two-sided", "exact binomial p = < 1e-300 (log10 p = -301029.7) ***");
+  expect_output("0 1000000000 --alternative two-sided", "exact binomial p = < 1e-300 (log10 p = -301029995.4) ***");
+  expect_output("0 1000000000000 --alternative two-sided", "exact binomial p = < 1e-300 (log10 p = -301029995663.7) ***");
+}
+
 TEST(BinomialCli, BadCountsAreOneLineErrors) {
   expect_one_line_error(run("binomial x 72"), "K \"x\": expected a whole number");
   expect_one_line_error(run("binomial -3 72"), "K \"-3\": expected a whole number");

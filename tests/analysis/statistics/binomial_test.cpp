@@ -301,5 +301,47 @@ TEST(BinomialTest, AlternativeNamesRoundTrip) {
   }
 }
 
+// p-values below 1e-300 (issue 40): log10 p in log space, against mpmath at 60 digits
+// (tests/analysis/statistics/make_log10_reference.py printed these rows), and 0, never a
+// subnormal, from binomial_test_p_value.
+struct Log10Row {
+  uint64_t k, n;
+  double p0;
+  Alternative alternative;
+  double log10_p;
+};
+
+TEST(BinomialLog10, MatchesMpmathWhereThePValueUnderflows) {
+  const Log10Row rows[] = {
+      {0, 1000000, 0.5, Alternative::less, -301029.9956639812},
+      {100, 1000000, 0.5, Alternative::less, -300587.96777402902},
+      {999900, 1000000, 0.5, Alternative::greater, -300587.96777402902},
+      {0, 2000, 0.5, Alternative::two_sided, -601.75896133229841},
+      {10, 100000, 0.3, Alternative::two_sided, -15450.167033963769},
+      {99000, 100000, 0.3, Alternative::two_sided, -49489.677067506433},
+      {5, 20000, 0.5, Alternative::two_sided, -6000.8730231117316},
+  };
+  for (const Log10Row& row : rows) {
+    SCOPED_TRACE(describe(row.k, row.n, row.p0, row.alternative));
+    EXPECT_TRUE(close(binomial_test_log10_p_value(row.k, row.n, row.p0, row.alternative), row.log10_p, 0.0, 1e-10));
+    EXPECT_EQ(binomial_test_p_value(row.k, row.n, row.p0, row.alternative), 0.0);
+  }
+}
+
+TEST(BinomialLog10, KZeroAtHugeNIsTwoOverTwoToTheN) {
+  for (uint64_t n : {uint64_t{1'000'000}, uint64_t{1'000'000'000}, uint64_t{1'000'000'000'000}}) {
+    const double expected = std::log10(2.0) - double(n) * std::log10(2.0);
+    EXPECT_TRUE(close(binomial_test_log10_p_value(0, n, 0.5, Alternative::two_sided), expected, 0.0, 1e-12)) << "n=" << n;
+    EXPECT_EQ(binomial_test_p_value(0, n, 0.5, Alternative::two_sided), 0.0) << "n=" << n;
+    EXPECT_EQ(p_value_text(0.0, expected, 4).rfind("< 1e-300 (log10 p = -", 0), 0u);
+  }
+}
+
+TEST(BinomialLog10, EqualsLog10OfThePValueWhereItDoesNotUnderflow) {
+  EXPECT_DOUBLE_EQ(binomial_test_log10_p_value(47, 72, 0.5, Alternative::greater),
+                   std::log10(binomial_test_p_value(47, 72, 0.5, Alternative::greater)));
+  EXPECT_EQ(p_value_text(0.006387, std::log10(0.006387), 4), "0.006387");
+}
+
 }  // namespace
 }  // namespace fovlab::analysis
