@@ -150,6 +150,11 @@ TEST(StudyCli, AGazeContingentStudyInAWindowNeedsItsGazeSourceNamed) {
   expect_one_line_error(run("run " + tracker.string() + simulated), named + ": a headless session's default gaze is synthetic");
   expect_one_line_error(run("run " + tracker.string() + simulated + " --gaze synthetic"), "got a synthetic");
   EXPECT_FALSE(fs::exists(results)) << "a refused run wrote " << results;
+  // validate says so beforehand.
+  const CommandResult validated = run("validate " + fipr.string());
+  EXPECT_NE(validated.out.find("gaze: gaze-contingent: a session in a window needs --gaze"), std::string::npos) << validated.out;
+  const CommandResult validated_tracker = run("validate " + tracker.string());
+  EXPECT_NE(validated_tracker.out.find("gaze: [gaze] require = tracker"), std::string::npos) << validated_tracker.out;
 
   // require = ["synthetic"]: a headless pilot runs, its header names the source and its validation,
   // and trials.csv says which source each trial's session had.
