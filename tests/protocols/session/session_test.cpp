@@ -619,6 +619,25 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   fs::create_directories(unknown.parent_path());
   std::ofstream(unknown, std::ios::binary) << testing::rechained(lines);
   EXPECT_TRUE(testing::lines_of(export_trials_csv({unknown.string()})).back().ends_with(",not recorded"));
+  // A run resumed with a source of another kind (a trace at the centre) names it in its session_resumed; the session then
+  // had both, in the order used.
+  const fs::path trace = results / "centre.csv";
+  {
+    std::ofstream out(trace);
+    out << "time_s,x_px,y_px\n";
+    for (int i = 0; i < 60 * 60; ++i) out << i / 60.0 << ",32,18\n";
+  }
+  SessionOptions traced = simulated(results);
+  traced.gaze = "trace:" + trace.string();
+  const std::string whole = read_file(outcome.log_path);
+  const auto [resumed, resumed_log] = resume_after_cut(config, traced, results, whole, whole.size() / 2);
+  ASSERT_TRUE(resumed.resumed);  // paused again: the fixed trace fails the validation, which does not matter here
+  const SessionRecord resumed_record = read_session_record(read_event_log(resumed_log));
+  ASSERT_EQ(resumed_record.resumes.size(), 1u);
+  EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("kind", ""), "trace");
+  EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("requested", false), true);
+  EXPECT_EQ(analysis::load_study({resumed_log}).participants.at(0).validation.gaze_source, "synthetic+trace");
+  EXPECT_TRUE(testing::lines_of(export_trials_csv({resumed_log})).back().ends_with(",synthetic+trace"));
   // This build resumes only its own schema.
   SessionOptions resume = simulated(results / "schema6");
   try {
