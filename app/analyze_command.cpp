@@ -33,6 +33,7 @@ struct AnalyzeArguments {
   double rating_cutoff = 2.0;
   bool include_broken = false;
   std::string observers;  // "": refuse a mix of human and simulated sessions
+  std::string gaze_sources;  // "": a gaze-contingent study's mouse sessions kept apart from the others
   std::string lab_key_path;
   bool force = false;  // replace an earlier analysis at the output folder
 };
@@ -142,7 +143,7 @@ void print_headlines(const analysis::AnalysisResult& result) {
   }
 }
 
-void print_summary(const analysis::AnalysisResult& result) {
+void print_summary(const analysis::AnalysisResult& result, const std::string& gaze_note) {
   int excluded = 0;
   for (const auto& participant : result.participants) excluded += participant.excluded ? 1 : 0;
   const std::string observers = result.observers == "human" ? "" : " (" + result.observers + " observers)";
@@ -151,9 +152,10 @@ void print_summary(const analysis::AnalysisResult& result) {
   const std::string test = per_condition ? "; test: exact binomial, " + std::string(analysis::alternative_name(result.alternative)) +
                                                ", H0 1/2, Holm, alpha " + format_number(result.alpha, 6)
                                          : "; thresholds per participant, then their mean";
-  std::printf("study %s (%s%s): %zu participant(s)%s, %d excluded%s\n", result.study.c_str(), result.rules().name.data(),
+  std::printf("study %s (%s%s): %zu participant(s)%s%s, %d excluded%s\n", result.study.c_str(), result.rules().name.data(),
               result.rules().question_name.empty() ? "" : (" " + std::string(result.rules().question_name)).c_str(),
-              result.participants.size(), observers.c_str(), excluded, test.c_str());
+              result.participants.size(), observers.c_str(), gaze_note.empty() ? "" : (" (" + gaze_note + ")").c_str(),
+              excluded, test.c_str());
   if (result.config_versions.size() > 1) std::printf("config versions found: %zu, one analysed\n", result.config_versions.size());
   for (const auto& version : result.config_versions)
     std::printf("  config %s\n", analysis::describe_config_version(version).c_str());
@@ -250,14 +252,16 @@ void analyze(const AnalyzeArguments& arguments) {
     observers = *parsed;
   }
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
+  analysis::GazeSourceFilter gaze_sources;
+  if (!arguments.gaze_sources.empty()) gaze_sources = analysis::parse_gaze_source_filter(arguments.gaze_sources);
   const analysis::StudyData data = analysis::load_study(
-      arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken, observers});
+      arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken, observers, gaze_sources});
   const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;
   check_output_target(out, arguments.out.empty() ? "" : "--out", {OutputKind::folder});
   analysis::check_analysis_destination(out, arguments.force);  // before the fits (which take a while)
   const analysis::AnalysisResult result = analysis::analyse_study(data, options);
   const std::vector<std::string> written = analysis::write_analysis_folder(result, out, arguments.force);
-  print_summary(result);
+  print_summary(result, data.gaze_note);
   std::printf("wrote %zu file(s) to %s (report: %s)\n", written.size(), out.c_str(),
               (fs::path(out) / "report.html").string().c_str());
 }
@@ -294,6 +298,10 @@ void add_analyze_command(CLI::App& app) {
                       "human, simulated or all: whose sessions to analyse (default: all of one kind; a study mixing "
                       "real participants and simulated observers is refused)")
       ->check(CLI::IsMember({"human", "simulated", "all"}));
+  command->add_option("--gaze-sources", arguments->gaze_sources,
+                      "all, or gaze source kinds separated by commas (tracker, trace, synthetic, mouse): whose sessions to "
+                      "analyse by their gaze (default: a gaze-contingent study's sessions with the mouse as gaze, "
+                      "rehearsals, are left out when others had gaze from elsewhere; docs/analysis.md)");
   command->callback([arguments] { analyze(*arguments); });
 }
 

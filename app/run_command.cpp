@@ -13,6 +13,7 @@
 #include "app/commands.h"
 #include "app/output_options.h"
 #include "core/input_error.h"
+#include "protocols/gaze/gaze_spec.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "study/config/study_config.h"
 #include "protocols/session/session.h"
@@ -30,6 +31,11 @@ struct RunOptions {
 void run(RunOptions options) {
   const StudyConfig config = parse_study_config_file(options.config_path, renderer_scene_catalog());
   SessionOptions& session = options.session;
+  // A gaze-contingent study in a window needs its gaze source named, and a config's [gaze] require
+  // is kept (docs/gaze.md): refused before the display is looked for, any window or any folder.
+  // A simulated observer without a display runs headless (below).
+  const bool in_window = !session.headless && (session.observer.empty() || display_available());
+  choose_gaze(config, session.gaze, !in_window);
   if (!session.headless && !display_available()) {
     if (session.observer.empty())
       throw InputError("run: no display to open a window on (DISPLAY is not set); a human participant needs one "
@@ -110,8 +116,9 @@ void add_run_command(CLI::App& app) {
   command->add_flag("--headless", options->session.headless, "No window: a virtual clock (needs --observer)");
   command->add_option("--gaze", options->session.gaze,
                       "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
-                      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: mouse, or synthetic headless; "
-                      "the trace format and the options: docs/gaze.md)");
+                      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: synthetic headless; in a window the "
+                      "mouse, but a gaze-contingent study needs a tracker named, pupil..., or the mouse by name for a "
+                      "rehearsal; a config's [gaze] require is kept; the trace format and the options: docs/gaze.md)");
   CLI::Option* results = add_output_option(
       *command, "--results", options->session.results_dir,
       "Results folder (default: results, and results/simulated for a simulated observer, so that pilots never share a "

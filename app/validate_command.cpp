@@ -194,6 +194,13 @@ void validate(const std::string& config_path, const std::string& participant, bo
   std::printf("display %dx%d at %g Hz, %.1f x %.1f mm at %g mm\n", config.display.width_px, config.display.height_px,
               config.display.refresh_hz, config.display.width_mm, config.display.height_mm,
               config.display.viewing_distance_mm);
+  // Which gaze sources may run it (docs/gaze.md, "Which source a session may use").
+  if (!config.gaze.require.empty())
+    std::printf("gaze: [gaze] require = %s (a source of another kind is refused, headless too)\n",
+                config.gaze.require_text().c_str());
+  else if (is_gaze_contingent(config))
+    std::printf("gaze: gaze-contingent: a session in a window needs --gaze (a tracker: pupil[:HOST[:PORT]]; --gaze mouse "
+                "for a rehearsal); headless: synthetic\n");
   for (const PlannedBlock& block : plan.blocks)
     std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
   size_t prepared = 0;  // gaze-dependent stimuli (FIPR) render live and are not held in memory

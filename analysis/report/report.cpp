@@ -128,6 +128,12 @@ std::vector<std::string> validation_cells(const ParticipantRow& participant) {
           csv_number(validation.worst_accuracy_deg), csv_number(validation.mean_precision_deg)};
 }
 
+// The gaze source the session's runs used ("tracker", "mouse", "tracker+mouse", ...; "not recorded"
+// when its log names none).
+std::string gaze_source_cell(const ParticipantRow& participant) {
+  return participant.validation.gaze_source.empty() ? "not recorded" : participant.validation.gaze_source;
+}
+
 // adaptive_tracks.csv: one row a participant's adaptive track (staircase or QUEST+), with its
 // threshold by the procedure's rule and its levels and answers (';'-separated, in trial order).
 std::string adaptive_tracks_csv(const AnalysisResult& result) {
@@ -181,7 +187,8 @@ std::string participants_csv(const AnalysisResult& result) {
                               "attention_errors", "scene", "variant", "threshold", "note", "log_status",
                               "latency_median_ms", "latency_p95_ms", "latency_refreshes", "dropped_frames",
                               "present_clock", "practice_trials", "validation_attempts", "validations_passed",
-                              "validation_accuracy_deg", "validation_worst_accuracy_deg", "validation_precision_deg"});
+                              "validation_accuracy_deg", "validation_worst_accuracy_deg", "validation_precision_deg",
+                              "gaze_source"});
   for (const ParticipantRow& participant : result.participants) {
     const std::vector<std::string> common = {
         participant.participant,          participant.observer, participant.excluded ? "true" : "false",
@@ -191,6 +198,7 @@ std::string participants_csv(const AnalysisResult& result) {
     std::vector<std::string> tail = latency_cells(participant);
     tail.push_back(std::to_string(participant.practice_trials));
     for (std::string& cell : validation_cells(participant)) tail.push_back(std::move(cell));
+    tail.push_back(gaze_source_cell(participant));
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {"", "", "", "", log_status_name(participant.log_status)});
@@ -1037,6 +1045,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
                                                                         p.present_clock + ")"
                                                                   : "not recorded",
                                                std::to_string(p.dropped_frames),
+                                               gaze_source_cell(p),
                                                validation_text(p.validation)};
       if (p.thresholds.empty()) {
         auto cells = common;
@@ -1050,7 +1059,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
       }
     }
     html += html_table({"participant", "observer", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
-                        "gaze-to-present ms, median / p95 (clock)", "dropped frames",
+                        "gaze-to-present ms, median / p95 (clock)", "dropped frames", "gaze source",
                         "eye-tracker checks passed / tried; accuracy (worst), precision", "scene", "variant", "threshold",
                         "note"},
                        rows);

@@ -56,7 +56,12 @@ struct ConditionRow {
 // A participant's eye-tracker validations (the log's tracker_validation events): the attempts that
 // passed and failed, and over those that passed the mean and worst accuracy and the mean precision
 // (docs/gaze.md). `attempts` 0: the study validated nothing.
+// The summary also names the gaze source the session's runs used (the log header's gaze_source,
+// schema 7; in an earlier log, the kind its `gaze` spec names): "tracker", "trace", "synthetic",
+// "mouse", or several joined by "+" when a resumed run used another ("tracker+mouse"); "" when the
+// log names none (participants.csv: "not recorded").
 struct ValidationSummary {
+  std::string gaze_source;
   int attempts = 0;
   int passed = 0;
   std::optional<double> mean_accuracy_deg, worst_accuracy_deg, mean_precision_deg;

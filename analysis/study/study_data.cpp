@@ -80,6 +80,8 @@ ParticipantData participant_of(ScannedSession& session) {
     scanned.gaze_age_s = {};
   }
   participant.latency = summarise_latency(gaze_age_s);
+  participant.gaze_kinds = session_gaze_kinds(session.header, session.resumes);
+  participant.validation.gaze_source = gaze_kinds_text(participant.gaze_kinds);
   for (const std::string& clock : session.present_clocks)
     participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
   for (const TrackerValidationEvent& attempt : session.validations) {
@@ -280,7 +282,92 @@ std::string take_observers(std::vector<ReadLog>& logs, ObserverFilter filter, st
   return kept;
 }
 
+std::string kinds_text(const std::vector<GazeSourceKind>& kinds, const char* separator) {
+  std::string text;
+  for (GazeSourceKind kind : kinds) text += (text.empty() ? "" : separator) + std::string(gaze_source_kind_name(kind));
+  return text;
+}
+
+bool uses(const ParticipantData& participant, GazeSourceKind kind) {
+  return std::find(participant.gaze_kinds.begin(), participant.gaze_kinds.end(), kind) != participant.gaze_kinds.end();
+}
+
+// Keeps the sessions of the gaze sources asked for (after the config version and duplicate IDs were
+// decided), the others left out and named. By default only a gaze-contingent study is looked at:
+// its mouse sessions (rehearsals) are left out when other sessions had gaze from elsewhere.
+void take_gaze_sources(StudyData& data, const GazeSourceFilter& filter) {
+  const bool contingent = is_gaze_contingent(data.config);
+  std::vector<ParticipantData> kept;
+  const auto gaze_of = [](const ParticipantData& participant) {
+    return participant.gaze_kinds.empty() ? std::string("a source not recorded") : "the " + kinds_text(participant.gaze_kinds, " and the ");
+  };
+  if (!filter.kinds.empty()) {
+    const std::string asked = kinds_text(filter.kinds, ",");
+    for (ParticipantData& participant : data.participants) {
+      const bool taken = !participant.gaze_kinds.empty() &&
+                         std::all_of(participant.gaze_kinds.begin(), participant.gaze_kinds.end(), [&](GazeSourceKind kind) {
+                           return std::find(filter.kinds.begin(), filter.kinds.end(), kind) != filter.kinds.end();
+                         });
+      if (taken) kept.push_back(std::move(participant));
+      else data.left_out.push_back({participant.log_path, "gaze from " + gaze_of(participant) + " (--gaze-sources " + asked + ")"});
+    }
+    if (kept.empty())
+      throw InputError("study " + data.study + ": no session with gaze from a source of the kinds asked for (--gaze-sources " +
+                       asked + ")");
+    data.participants = std::move(kept);
+    if (contingent && std::all_of(data.participants.begin(), data.participants.end(),
+                                  [](const ParticipantData& p) { return uses(p, GazeSourceKind::mouse); }))
+      data.gaze_note = "mouse gaze: rehearsals";
+    return;
+  }
+  if (!contingent) return;
+  const auto mouse = std::count_if(data.participants.begin(), data.participants.end(),
+                                   [](const ParticipantData& p) { return uses(p, GazeSourceKind::mouse); });
+  const auto others = static_cast<std::ptrdiff_t>(data.participants.size()) - mouse;
+  if (mouse == 0) return;
+  if (filter.all) {
+    data.gaze_note = others > 0 ? "mouse gaze pooled with the other sources by --gaze-sources all" : "mouse gaze: rehearsals";
+    return;
+  }
+  if (others == 0) {
+    data.gaze_note = "mouse gaze: rehearsals";
+    return;
+  }
+  for (ParticipantData& participant : data.participants) {
+    if (!uses(participant, GazeSourceKind::mouse)) {
+      kept.push_back(std::move(participant));
+      continue;
+    }
+    data.left_out.push_back({participant.log_path,
+                             "gaze from " + gaze_of(participant) + " (a rehearsal of a gaze-contingent study), kept apart from the " +
+                                 std::to_string(others) + " session(s) with gaze from another source; --gaze-sources all "
+                                 "pools them, --gaze-sources mouse analyses them alone"});
+  }
+  data.participants = std::move(kept);
+}
+
 }  // namespace
+
+GazeSourceFilter parse_gaze_source_filter(const std::string& text) {
+  GazeSourceFilter filter;
+  if (text == "all") {
+    filter.all = true;
+    return filter;
+  }
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = text.find(',', begin);
+    const std::string name = text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
+    const std::optional<GazeSourceKind> kind = parse_gaze_source_kind(name);
+    if (!kind || std::find(filter.kinds.begin(), filter.kinds.end(), *kind) != filter.kinds.end())
+      throw InputError("--gaze-sources: expected all, or gaze source kinds (tracker, trace, synthetic, mouse) separated by "
+                       "commas, each once, got \"" + text + "\"");
+    filter.kinds.push_back(*kind);
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  return filter;
+}
 
 std::optional<ObserverFilter> parse_observer_filter(const std::string& text) {
   if (text == "human") return ObserverFilter::human;
@@ -364,6 +451,7 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
     data.participants.push_back(std::move(read.participant));
   }
   describe_study(*study, study_path, data);
+  take_gaze_sources(data, options.gaze_sources);
   return data;
 }
 

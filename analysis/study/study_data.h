@@ -50,7 +50,8 @@ struct ParticipantData {
   LatencySummary latency;
   int64_t dropped_frames = 0;                // refresh periods missed in the complete trials (every schema)
   std::string present_clock;                 // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
-  ValidationSummary validation;              // eye-tracker validations (every attempt in the log)
+  ValidationSummary validation;              // the gaze source (validation.gaze_source) and the eye-tracker validations (every attempt in the log)
+  std::vector<GazeSourceKind> gaze_kinds;    // the gaze sources its runs used, in order (log_events.h session_gaze_kinds)
   int practice_trials = 0;                   // complete practice trials: counted here, never in `trials`
 };
 
@@ -81,6 +82,10 @@ struct StudyData {
   // Who answered in the participants analysed: "human", "simulated", or "human and simulated" when
   // pooled on request (--observers all).
   std::string observers = "human";
+  // The gaze sources of the sessions analysed, when worth a word on the study line: "" (nothing to
+  // say), or e.g. "mouse gaze: rehearsals" when every session of a gaze-contingent study had the
+  // mouse as gaze, "mouse gaze pooled with the other sources by --gaze-sources all".
+  std::string gaze_note;
 };
 
 // The fields of `data` a config gives (study, protocol, levels, methods, variants, the config
@@ -92,10 +97,23 @@ void describe_study_config(const StudyConfig& config, StudyData& data);
 enum class ObserverFilter { unmixed, human, simulated, all };
 std::optional<ObserverFilter> parse_observer_filter(const std::string& text);  // "human", "simulated", "all"
 
+// Which sessions an analysis takes by their gaze source (docs/analysis.md, "Gaze sources"). By
+// default (`all` false, `kinds` empty) a gaze-contingent study whose sessions had gaze from the mouse
+// (rehearsals) and from another source leaves the mouse sessions out, each named; `all` pools every
+// source; `kinds` keeps only the sessions whose every run had a source of those kinds.
+struct GazeSourceFilter {
+  bool all = false;
+  std::vector<GazeSourceKind> kinds;
+};
+// "all", or kinds separated by commas ("tracker", "tracker,trace"); InputError "--gaze-sources: ..."
+// naming what was expected.
+GazeSourceFilter parse_gaze_source_filter(const std::string& text);
+
 struct LoadOptions {
   const LabKey* lab_key = nullptr;  // verify keyed seals
   bool include_broken = false;      // analyse logs whose chain or seal is broken (else left out)
   ObserverFilter observers = ObserverFilter::unmixed;
+  GazeSourceFilter gaze_sources;
 };
 
 // `paths`: log files and/or folders (every events.jsonl under them), all of one study: logs of
@@ -104,7 +122,8 @@ struct LoadOptions {
 // The config version (StudyConfig::content_hash) most readable logs carry is analysed (ties: the
 // one whose first log comes first in sorted path order), every version found is in
 // config_versions; logs of another version, sessions of the observers not taken, and
-// broken logs (unless include_broken) are left out; unsealed logs are analysed and listed. Throws
+// broken logs (unless include_broken), and sessions of the gaze sources not taken (gaze_sources) are
+// left out; unsealed logs are analysed and listed. Throws
 // InputError when no log at all can be read (naming the first reason).
 StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& options = {});
 

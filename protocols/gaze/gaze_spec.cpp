@@ -80,7 +80,76 @@ void parse_pupil_options(const std::string& text, std::string_view options, Gaze
   }
 }
 
+// How to give a source of `kind` on the command line.
+std::string how_to_give(GazeSourceKind kind) {
+  switch (kind) {
+    case GazeSourceKind::tracker: return "--gaze pupil[:HOST[:PORT]] for the eye tracker";
+    case GazeSourceKind::trace: return "--gaze trace:FILE for a recorded trace";
+    case GazeSourceKind::synthetic: return "--gaze synthetic for a simulated gaze";
+    case GazeSourceKind::mouse: return "--gaze mouse for a rehearsal with the pointer as gaze";
+  }
+  return "";
+}
+
+std::string how_to_give(const std::vector<GazeSourceKind>& kinds) {
+  std::string text;
+  for (size_t i = 0; i < kinds.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == kinds.size() ? " or " : ", ") + how_to_give(kinds[i]);
+  return text;
+}
+
+// "x.toml:12: gaze.require = tracker"
+std::string require_named(const StudyConfig& config) {
+  return config.source_path + (config.gaze.require_line > 0 ? ":" + std::to_string(config.gaze.require_line) : "") +
+         ": gaze.require = " + config.gaze.require_text();
+}
+
 }  // namespace
+
+GazeSourceKind source_kind(const GazeSpec& spec) {
+  switch (spec.kind) {
+    case GazeSpec::Kind::mouse: return GazeSourceKind::mouse;
+    case GazeSpec::Kind::trace: return GazeSourceKind::trace;
+    case GazeSpec::Kind::synthetic: return GazeSourceKind::synthetic;
+    case GazeSpec::Kind::pupil: return GazeSourceKind::tracker;
+  }
+  return GazeSourceKind::mouse;
+}
+
+ChosenGaze choose_gaze(const StudyConfig& config, const std::string& option, bool headless) {
+  const GazeConfig& require = config.gaze;
+  ChosenGaze chosen;
+  if (!option.empty()) {
+    chosen.spec = parse_gaze_spec(option);
+    chosen.requested = true;
+    const GazeSourceKind kind = source_kind(chosen.spec);
+    if (!require.require.empty() && !require.allows(kind))
+      throw InputError("--gaze " + option + ": " + require_named(config) + ": expected a source of that kind, got a " +
+                       gaze_source_kind_name(kind) + " (give " + how_to_give(require.require) + ")");
+    return chosen;
+  }
+  if (headless) {
+    chosen.spec = parse_gaze_spec("synthetic");
+    if (!require.require.empty() && !require.allows(GazeSourceKind::synthetic))
+      throw InputError(require_named(config) + ": a headless session's default gaze is synthetic; give " +
+                       how_to_give(require.require));
+    return chosen;
+  }
+  const bool mouse_only = require.require.size() == 1 && require.require.front() == GazeSourceKind::mouse;
+  if (mouse_only || (require.require.empty() && !is_gaze_contingent(config))) {
+    chosen.spec = parse_gaze_spec("mouse");
+    return chosen;
+  }
+  if (!require.require.empty())
+    throw InputError(require_named(config) + ": a session in a window needs its gaze source named; give " +
+                     how_to_give(require.require));
+  const std::string method(describe(config.stimulus.test.method).depends_on_gaze ? describe(config.stimulus.test.method).name
+                                                                                  : describe(config.stimulus.reference.method).name);
+  throw InputError(config.source_path + ": a gaze-contingent study (" + method +
+                   " follows the gaze) in a window needs its gaze source named; give " +
+                   how_to_give(GazeSourceKind::tracker) + ", or " + how_to_give(GazeSourceKind::mouse) +
+                   " (docs/gaze.md)");
+}
 
 GazeSpec parse_gaze_spec(const std::string& text) {
   std::string_view view(text);

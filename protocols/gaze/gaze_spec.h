@@ -17,6 +17,7 @@
 #include <string>
 
 #include "protocols/gaze/gaze_source.h"
+#include "study/config/study_config.h"
 
 namespace fovlab {
 
@@ -32,6 +33,23 @@ struct GazeSpec {
   bool seed_given = false;         // synthetic: false = derive_seed(session seed, "gaze")
   double age_ms = 0.0;             // synthetic: how old each sample is when read
 };
+
+// The kind of source a spec makes: pupil is a tracker (study_config.h GazeSourceKind).
+GazeSourceKind source_kind(const GazeSpec& spec);
+
+// The source a session runs with, and whether --gaze named it.
+struct ChosenGaze {
+  GazeSpec spec;
+  bool requested = false;  // given with --gaze (false: the default)
+};
+
+// The source of --gaze `option` ("" for the default) for a session of `config`, headless or in a
+// window (docs/gaze.md, "Which source a session may use"). Headless, the default is synthetic. In a
+// window it is the mouse, except for a gaze-contingent study (is_gaze_contingent) or a config whose
+// [gaze] require leaves the mouse out: those need --gaze (a tracker: pupil...; the mouse only by
+// name, --gaze mouse, a rehearsal), and without it are refused. A source of a kind the config's
+// require leaves out is refused, headless too. InputError, one line, naming what to give.
+ChosenGaze choose_gaze(const StudyConfig& config, const std::string& option, bool headless);
 
 // The session clock (seconds) as the session reads it: the Pupil source maps the tracker's time
 // onto it at start-up. Empty: a monotonic clock of the process (fine for sources that need none).

@@ -191,7 +191,10 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // Answers and gaze: parsed before anything is written.
   std::optional<ObserverModel> observer_model;
   if (!options.observer.empty()) observer_model = parse_observer_spec(options.observer, plan);
-  const GazeSpec gaze_spec = parse_gaze_spec(options.gaze.empty() ? (options.headless ? "synthetic" : "mouse") : options.gaze);
+  // The config's [gaze] require, and in a window a gaze-contingent study's need of a named source
+  // (docs/gaze.md): refused here, before any window or folder.
+  const ChosenGaze chosen_gaze = choose_gaze(config, options.gaze, options.headless);
+  const GazeSpec& gaze_spec = chosen_gaze.spec;
   if (gaze_spec.kind == GazeSpec::Kind::mouse && options.headless)
     throw InputError("--gaze mouse: a headless session has no pointer (use synthetic, trace:FILE or pupil:HOST:PORT)");
   if (!observer_model && options.headless)
@@ -362,6 +365,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
                                presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
                                window ? window->device_name() : "", outcome.frame_path, gaze->describe(),
+                               gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze),
                                presenter->refresh_hz(), utc_now(), participant_fields};
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
@@ -376,6 +380,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     resumed.next_trial = schedule->next_trial;
     resumed.started_utc = utc_now();
     resumed.gaze = gaze->describe();
+    resumed.gaze_source = gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze);
     if (record->incomplete_trial >= 0) resumed.discarded_trial = record->incomplete_trial;
     if (!torn_aside.empty()) resumed.torn_line_set_aside = torn_aside;
     run.log(to_json(resumed));

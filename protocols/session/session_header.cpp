@@ -18,6 +18,26 @@
 
 namespace fovlab {
 
+nlohmann::json gaze_source_json(GazeSourceKind kind, const std::string& spec, bool requested, const GazeConfig& config) {
+  nlohmann::json require = nlohmann::json::array();
+  for (GazeSourceKind allowed : config.require) require.push_back(gaze_source_kind_name(allowed));
+  return {{"kind", gaze_source_kind_name(kind)}, {"spec", spec}, {"requested", requested}, {"require", require}};
+}
+
+nlohmann::json gaze_validation_json(const ValidationConfig& validation) {
+  if (!validation.enabled) return {{"enabled", false}};
+  return {{"enabled", true},
+          {"targets", validation.targets},
+          {"target_offset_deg", validation.target_offset_deg},
+          {"target_radius_deg", validation.target_radius_deg},
+          {"target_s", validation.target_s},
+          {"settle_s", validation.settle_s},
+          {"max_accuracy_deg", validation.max_accuracy_deg},
+          {"max_precision_deg", validation.max_precision_deg},
+          {"max_attempts", validation.max_attempts},
+          {"after_breaks", validation.after_breaks}};
+}
+
 nlohmann::json observer_json(const ObserverModel& model) {
   return {{"model", "logistic"}, {"threshold", model.threshold}, {"slope", model.slope},
           {"guess", model.guess}, {"lapse", model.lapse}, {"mean_response_s", model.mean_response_s},
@@ -82,6 +102,8 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
                     {"frame_path", inputs.frame_path}};
   header.presenter = inputs.presenter;
   header.gaze = inputs.gaze;
+  header.gaze_source = inputs.gaze_source;
+  header.gaze_validation = gaze_validation_json(config.validation);
   header.observer = inputs.observer ? observer_json(*inputs.observer) : nlohmann::json("human");
   header.started_utc = inputs.started_utc;
   for (const auto& [name, value] : inputs.participant_fields) header.participant_fields[name] = value;

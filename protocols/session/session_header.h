@@ -24,6 +24,7 @@ struct SessionHeaderInputs {
   std::string present_device;               // the device that presents ("" headless)
   std::string frame_path;                   // "on_device", "via_host" (another device presents), "none" (headless)
   std::string gaze;                         // GazeSource::describe()
+  nlohmann::json gaze_source;               // gaze_source_json(): its kind, spec and whether --gaze named it
   double refresh_hz = 0.0;                  // measured by the presenter
   std::string started_utc;
   std::map<std::string, std::string> participant_fields;  // the config's [participant] fields
@@ -31,6 +32,15 @@ struct SessionHeaderInputs {
 
 // The header event; lab_key_id is left null (run_session sets it for a keyed log).
 SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs);
+
+// The header's (and session_resumed's) `gaze_source`: {"kind": tracker|trace|synthetic|mouse,
+// "spec": GazeSource::describe(), "requested": whether --gaze named it (false: the default),
+// "require": the config's [gaze] require (an empty array: none)}.
+nlohmann::json gaze_source_json(GazeSourceKind kind, const std::string& spec, bool requested, const GazeConfig& config);
+// The header's `gaze_validation`: {"enabled": false}, or {"enabled": true} with every [validation]
+// setting the session runs with (targets, target_offset_deg, target_radius_deg, target_s,
+// settle_s, max_accuracy_deg, max_precision_deg, max_attempts, after_breaks).
+nlohmann::json gaze_validation_json(const ValidationConfig& validation);
 
 nlohmann::json observer_json(const ObserverModel& model);
 ObserverModel observer_from_json(const nlohmann::json& json);  // throws InputError when malformed

@@ -43,7 +43,9 @@ const char* const columns[] = {"study", "participant", "observer", "protocol", "
                                // [practice] trials: exported, never analysed.
                                "practice",
                                // An adaptive trial's track (as adaptive_tracks.csv names it); empty otherwise.
-                               "track", "track_procedure", "track_kind"};
+                               "track", "track_procedure", "track_kind",
+                               // The session's gaze source kind (several runs, several kinds: "tracker+mouse").
+                               "gaze_source"};
 
 const char* const step_columns[] = {"study", "participant", "observer", "protocol", "trial", "step", "level",
                                     "previous_level", "answer", "key", "rt_s", "correct", "log_status", "practice"};
@@ -170,6 +172,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
       refresh_hz = measured != display->end() && measured->is_number() ? *measured : display->value("refresh_hz", nlohmann::json());
     }
     const std::vector<TrackNames> tracks = track_names(header, record, path, configs);
+    const std::string gaze_source = gaze_kinds_text(session_gaze_kinds(header, record.resumes));
     std::map<int, std::pair<std::string, std::string>> blocks;  // index -> name, scene
     for (const BlockStartEvent& event : record.blocks) blocks[event.block] = {event.name, event.scene};
     // The repeat index: how many earlier trials of the log showed the same condition.
@@ -230,7 +233,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
           number_cell(start.practice),
           start.track ? std::to_string(*start.track) : "",
           track.procedure,
-          track.kind};
+          track.kind,
+          gaze_source.empty() ? "not recorded" : gaze_source};
       std::vector<std::string> row = cells;
       row.insert(row.end(), field_cells.begin(), field_cells.end());
       csv << csv_line(row);

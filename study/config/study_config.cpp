@@ -392,6 +392,27 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   fields.finish();
 }
 
+// [gaze] require = "tracker" or ["tracker", "trace"]: the kinds of source a session may use.
+void read_gaze(const TomlFields& fields, GazeConfig& gaze) {
+  const std::string expected = "expected a gaze source kind (tracker, trace, synthetic or mouse) or a non-empty array of them";
+  if (!fields.has("require")) fields.fail("require", "missing: " + expected + " (or no [gaze] table)");
+  const toml::node& node = *fields.raw().get("require");
+  gaze.require_line = static_cast<int>(node.source().begin.line);
+  std::vector<std::string> names;
+  if (node.is_string()) names.push_back(fields.string("require"));
+  else if (node.is_array()) names = fields.strings("require");
+  else fields.fail("require", expected);
+  for (const std::string& name : names) {
+    const std::optional<GazeSourceKind> kind = parse_gaze_source_kind(name);
+    if (!kind)
+      fields.fail("require", expected + ", got \"" + name + "\"" +
+                                 (name == "pupil" ? " (Pupil Core is the kind \"tracker\")" : ""));
+    if (gaze.allows(*kind)) fields.fail("require", "\"" + name + "\" given twice; expected each kind once");
+    gaze.require.push_back(*kind);
+  }
+  fields.finish();
+}
+
 void read_validation(const TomlFields& fields, const DisplayConfig& display, ValidationConfig& validation) {
   validation.enabled = true;
   validation.targets = bounded_integer(fields, "targets", validation.targets, 5, 9);
@@ -922,6 +943,7 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     config.analysis.headline_is_paper_rule = headline == "paper";
     analysis_fields.finish();
   }
+  if (const toml::table* gaze = fields.optional_table("gaze")) read_gaze(TomlFields(*gaze, path, "gaze"), config.gaze);
   if (const toml::table* participant = fields.optional_table("participant")) {
     const TomlFields participant_fields(*participant, path, "participant");
     config.participant_fields = participant_fields.strings("fields");
@@ -996,6 +1018,48 @@ StudyConfig parse_study_config_file(const std::string& path, const SceneCatalog&
 StudyConfig parse_logged_study_config(const std::string& text, const std::string& path, int log_schema_version,
                                       const SceneCatalog* scenes, const std::string& conditions_csv) {
   return parse_config(text, path, Reading{scenes, true, log_schema_version, &conditions_csv});
+}
+
+const char* gaze_source_kind_name(GazeSourceKind kind) {
+  switch (kind) {
+    case GazeSourceKind::tracker: return "tracker";
+    case GazeSourceKind::trace: return "trace";
+    case GazeSourceKind::synthetic: return "synthetic";
+    case GazeSourceKind::mouse: return "mouse";
+  }
+  return "";
+}
+
+std::optional<GazeSourceKind> parse_gaze_source_kind(const std::string& name) {
+  for (GazeSourceKind kind : {GazeSourceKind::tracker, GazeSourceKind::trace, GazeSourceKind::synthetic, GazeSourceKind::mouse})
+    if (name == gaze_source_kind_name(kind)) return kind;
+  return std::nullopt;
+}
+
+std::optional<GazeSourceKind> gaze_source_kind_of_spec(const std::string& spec) {
+  const auto named = [&](const std::string& prefix) {
+    return spec == prefix || spec.rfind(prefix + ":", 0) == 0 || spec.rfind(prefix + ",", 0) == 0;
+  };
+  if (spec == "mouse") return GazeSourceKind::mouse;
+  if (spec.rfind("trace:", 0) == 0) return GazeSourceKind::trace;
+  if (named("synthetic")) return GazeSourceKind::synthetic;
+  if (named("pupil")) return GazeSourceKind::tracker;
+  return std::nullopt;
+}
+
+bool GazeConfig::allows(GazeSourceKind kind) const {
+  return std::find(require.begin(), require.end(), kind) != require.end();
+}
+
+std::string GazeConfig::require_text() const {
+  std::string text;
+  for (size_t i = 0; i < require.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == require.size() ? " or " : ", ") + std::string(gaze_source_kind_name(require[i]));
+  return text;
+}
+
+bool is_gaze_contingent(const StudyConfig& config) {
+  return describe(config.stimulus.reference.method).depends_on_gaze || describe(config.stimulus.test.method).depends_on_gaze;
 }
 
 const std::vector<double>& variant_levels(const LevelsConfig& levels, const VariantConfig* variant) {

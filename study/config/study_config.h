@@ -148,6 +148,27 @@ std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig
 // The target disk's radius in pixels (D tan(radius) / horizontal pitch, at least 2).
 double validation_target_radius_px(const DisplayConfig& display, const ValidationConfig& validation);
 
+// [gaze]: the kinds of gaze source a study may run with (docs/gaze.md). A tracker is an eye tracker
+// (`--gaze pupil...`); a trace replays a recorded file; synthetic is a simulated gaze; the mouse
+// moves the gaze with the pointer (a rehearsal).
+enum class GazeSourceKind { tracker, trace, synthetic, mouse };
+const char* gaze_source_kind_name(GazeSourceKind kind);  // "tracker", "trace", "synthetic", "mouse"
+std::optional<GazeSourceKind> parse_gaze_source_kind(const std::string& name);
+// The kind of a gaze source as a session log names it (the header's and session_resumed's `gaze`,
+// GazeSource::describe(): "mouse", "trace:FILE", "synthetic:seed=N...", "pupil:HOST:PORT..."); none
+// for any other text.
+std::optional<GazeSourceKind> gaze_source_kind_of_spec(const std::string& spec);
+
+struct GazeConfig {
+  // `require`: one kind or an array of kinds; a session whose source is of another kind is refused.
+  // Empty: the config requires none (a gaze-contingent study in a window then requires a tracker
+  // unless --gaze names the source: docs/gaze.md).
+  std::vector<GazeSourceKind> require;
+  int require_line = 0;  // its line in the config (messages)
+  bool allows(GazeSourceKind kind) const;
+  std::string require_text() const;  // "tracker", "tracker or trace"
+};
+
 // [practice]: trials before the first block that teach the task. They run as the study's trials do
 // (in a block of their own, named "practice") and are logged with "practice": true; no analysis
 // counts them.
@@ -196,6 +217,7 @@ struct StudyConfig {
   TimingConfig timing;
   AttentionConfig attention;
   ValidationConfig validation;
+  GazeConfig gaze;
   PracticeConfig practice;
   AnalysisConfig analysis;
   // [participant] fields: what each participant is asked before the session (age, handedness, ...):
@@ -246,6 +268,11 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 StudyConfig parse_logged_study_config(const std::string& text, const std::string& path_for_messages,
                                       int log_schema_version, const SceneCatalog* scenes,
                                       const std::string& conditions_csv = {});
+
+// A gaze-contingent study: its stimuli follow the gaze (the reference's or the test's method
+// depends_on_gaze: fipr, fpt, the sampling models), so where the gaze comes from decides what the
+// participant sees.
+bool is_gaze_contingent(const StudyConfig& config);
 
 // A study name (study.name, and the study a session log's header names): 1-64 letters, digits,
 // '_', '-' or '.', not starting with '.' or '-', so it is one folder name (results/<study>), never

@@ -217,6 +217,36 @@ nlohmann::json numbers_or_nulls(const std::vector<std::optional<double>>& values
 
 }  // namespace
 
+namespace {
+
+std::optional<GazeSourceKind> logged_gaze_kind(const nlohmann::json& gaze_source, const std::string& gaze) {
+  if (gaze_source.is_object()) {
+    const auto kind = gaze_source.find("kind");
+    if (kind != gaze_source.end() && kind->is_string()) return parse_gaze_source_kind(kind->get<std::string>());
+  }
+  return gaze_source_kind_of_spec(gaze);
+}
+
+}  // namespace
+
+std::vector<GazeSourceKind> session_gaze_kinds(const nlohmann::json& header, const std::vector<SessionResumedEvent>& resumes) {
+  std::vector<GazeSourceKind> kinds;
+  const auto add = [&](std::optional<GazeSourceKind> kind) {
+    if (kind && std::find(kinds.begin(), kinds.end(), *kind) == kinds.end()) kinds.push_back(*kind);
+  };
+  const auto gaze = header.find(k::gaze);
+  add(logged_gaze_kind(header.value(k::gaze_source, nlohmann::json()),
+                       gaze != header.end() && gaze->is_string() ? gaze->get<std::string>() : std::string()));
+  for (const SessionResumedEvent& resumed : resumes) add(logged_gaze_kind(resumed.gaze_source, resumed.gaze));
+  return kinds;
+}
+
+std::string gaze_kinds_text(const std::vector<GazeSourceKind>& kinds) {
+  std::string text;
+  for (GazeSourceKind kind : kinds) text += (text.empty() ? "" : "+") + std::string(gaze_source_kind_name(kind));
+  return text;
+}
+
 // ---- to_json: the keys and value types the writer has always logged ----
 
 nlohmann::json to_json(const SessionHeaderEvent& event) {
@@ -245,6 +275,9 @@ nlohmann::json to_json(const SessionHeaderEvent& event) {
   if (event.participant_fields.is_object() && !event.participant_fields.empty())
     json[k::participant_fields] = event.participant_fields;
   if (!event.conditions_csv.empty()) json[k::conditions_csv] = event.conditions_csv;
+  // Schema 7; absent from a header of an earlier schema, which then writes back its own bytes.
+  if (!event.gaze_source.is_null()) json[k::gaze_source] = event.gaze_source;
+  if (!event.gaze_validation.is_null()) json[k::gaze_validation] = event.gaze_validation;
   return json;
 }
 
@@ -255,6 +288,7 @@ nlohmann::json to_json(const SessionResumedEvent& event) {
   json[k::torn_line_set_aside] = or_null(event.torn_line_set_aside);
   json[k::gaze] = event.gaze;
   json[k::started_utc] = event.started_utc;
+  if (!event.gaze_source.is_null()) json[k::gaze_source] = event.gaze_source;
   return json;
 }
 
@@ -433,6 +467,8 @@ SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck c
   in.read(k::started_utc, event.started_utc);
   in.read(k::participant_fields, event.participant_fields);
   in.read(k::conditions_csv, event.conditions_csv);
+  in.read(k::gaze_source, event.gaze_source);
+  in.read(k::gaze_validation, event.gaze_validation);
   return event;
 }
 
@@ -445,6 +481,7 @@ SessionResumedEvent parse_session_resumed(const nlohmann::json& json, FieldCheck
   in.read(k::torn_line_set_aside, event.torn_line_set_aside);
   in.read(k::gaze, event.gaze);
   in.read(k::started_utc, event.started_utc);
+  in.read(k::gaze_source, event.gaze_source);
   return event;
 }
 

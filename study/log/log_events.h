@@ -26,6 +26,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "study/config/study_config.h"  // GazeSourceKind
+
 namespace fovlab {
 
 namespace log_keys {
@@ -58,6 +60,8 @@ inline constexpr const char* observer = "observer";
 inline constexpr const char* started_utc = "started_utc";
 inline constexpr const char* participant_fields = "participant_fields";
 inline constexpr const char* conditions_csv = "conditions_csv";
+inline constexpr const char* gaze_source = "gaze_source";          // schema 7: also session_resumed's
+inline constexpr const char* gaze_validation = "gaze_validation";  // schema 7
 // session_resumed
 inline constexpr const char* next_trial = "next_trial";
 inline constexpr const char* discarded_trial = "discarded_trial";
@@ -149,6 +153,11 @@ struct SessionHeaderEvent {
   std::string started_utc;
   nlohmann::json participant_fields = nlohmann::json::object();  // the config's [participant] fields: name -> text
   std::string conditions_csv;  // the config's [conditions] file, its bytes ("": none; then not written)
+  // Schema 7 (null in earlier logs, and then not written): the gaze source the session started with
+  // ({kind, spec, requested, require}) and the eye-tracker validation it runs with ({enabled, and
+  // the [validation] settings}); docs/log-schema.md.
+  nlohmann::json gaze_source;
+  nlohmann::json gaze_validation;
   bool operator==(const SessionHeaderEvent&) const = default;
 };
 
@@ -157,6 +166,15 @@ struct SessionHeaderEvent {
 // session whose answerer is unknown is never counted as a person's.
 std::string observer_kind(const nlohmann::json& header);
 
+struct SessionResumedEvent;
+// The kinds of gaze source a session's runs used, each once, in order of first use: the header's
+// gaze_source.kind (schema 7) or, in an earlier log, the kind its `gaze` names
+// (study_config.h gaze_source_kind_of_spec: the spec the session ran with, which every schema
+// logs), then each resumed run's. Empty when no run's source can be told.
+std::vector<GazeSourceKind> session_gaze_kinds(const nlohmann::json& header, const std::vector<SessionResumedEvent>& resumes);
+// "tracker", "tracker+mouse" (several runs, several kinds); "" for none.
+std::string gaze_kinds_text(const std::vector<GazeSourceKind>& kinds);
+
 struct SessionResumedEvent {
   static constexpr const char* kind = "session_resumed";
   EventStamp stamp;
@@ -164,6 +182,7 @@ struct SessionResumedEvent {
   std::optional<int> discarded_trial;
   std::optional<std::string> torn_line_set_aside;
   std::string gaze, started_utc;
+  nlohmann::json gaze_source;  // schema 7: as the header's, for this run (null earlier; then not written)
   bool operator==(const SessionResumedEvent&) const = default;
 };
 

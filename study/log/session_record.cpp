@@ -112,7 +112,10 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
         record.end_reason = parse_session_end(event, FieldCheck::lenient).reason;
         record.end_line = log.line_numbers[i];
       }
-      if (kind == SessionResumedEvent::kind) trials.resume();
+      if (kind == SessionResumedEvent::kind) {
+        trials.resume();
+        record.resumes.push_back(parse_session_resumed(event, FieldCheck::lenient));
+      }
       if (kind == BlockStartEvent::kind) record.blocks.push_back(parse_block_start(event, FieldCheck::lenient));
       if (kind == TrackerValidationEvent::kind) record.validations.push_back(parse_tracker_validation(event, FieldCheck::lenient));
       continue;

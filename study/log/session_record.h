@@ -32,6 +32,7 @@ struct SessionRecord {
   nlohmann::json header;                 // the first event (session_header), as logged
   std::vector<BlockStartEvent> blocks;   // every block_start, in log order
   std::vector<TrackerValidationEvent> validations;  // every eye-tracker validation attempt, in log order
+  std::vector<SessionResumedEvent> resumes;         // every session_resumed, in log order (their gaze sources)
   std::vector<RecordedTrial> trials;     // complete trials, ordered by index, one per index
   int attention_errors = 0;              // wrong attention-check answers in complete trials
   bool excluded = false;

@@ -306,7 +306,10 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
         session.end_reason = parse_session_end(lines.whole_event(), FieldCheck::lenient).reason;
         session.end_line = line_number;
       }
-      if (kind == SessionResumedEvent::kind) trials.resume();
+      if (kind == SessionResumedEvent::kind) {  // once a run: read whole
+        trials.resume();
+        session.resumes.push_back(parse_session_resumed(lines.whole_event(), FieldCheck::lenient));
+      }
       continue;
     }
     ScannedTrial* open = trials.open_for(fields.trial);

@@ -59,6 +59,7 @@ struct ScannedSession {
   int incomplete_trial = -1;              // a trial started but not finished at the end of the log
   size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
   std::vector<TrackerValidationEvent> validations;  // every eye-tracker validation attempt, in log order
+  std::vector<SessionResumedEvent> resumes;         // every session_resumed, in log order (their gaze sources)
   std::vector<std::string> present_clocks; // the stimulus events' present_clock values, first seen first
   int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
   int line_count = 0;                     // complete lines

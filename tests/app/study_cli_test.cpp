@@ -118,6 +118,66 @@ TEST(StudyCli, BadInputIsOneLineWithExitCode2AndWritesNothing) {
     fs::remove(fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (std::string("generated_") + name + ".toml"));
 }
 
+// A gaze-contingent study (FIPR follows the gaze) run in a window without --gaze is refused with
+// one line naming what to give, before any window or folder: DISPLAY is unset here, and the refusal
+// comes before the display is looked for. A config's [gaze] require is kept, headless too
+// (docs/gaze.md, "Which source a session may use").
+TEST(StudyCli, AGazeContingentStudyInAWindowNeedsItsGazeSourceNamed) {
+  const fs::path results = scratch() / "results-gaze";
+  fs::remove_all(results);
+  const std::string tail = " --results " + results.string();
+  const fs::path fipr = write_config("gaze_fipr", "method = \"ipr\"", "method = \"fipr\"");
+  const CommandResult refused = run("run " + fipr.string() + " --participant next" + tail);
+  expect_one_line_error(refused, fipr.string() + ": a gaze-contingent study (fipr follows the gaze) in a window needs its "
+                                                 "gaze source named");
+  EXPECT_NE(refused.err.find("give --gaze pupil[:HOST[:PORT]] for the eye tracker, or --gaze mouse for a rehearsal"),
+            std::string::npos)
+      << refused.err;
+  // Named, the source is taken (the mouse by name: a rehearsal), and the run goes on to look for a display.
+  expect_one_line_error(run("run " + fipr.string() + " --participant next --gaze mouse" + tail), "no display");
+  expect_one_line_error(run("run " + fipr.string() + " --participant next --gaze pupil" + tail), "no display");
+
+  // [gaze] require = "tracker": any other kind refused, in a window and headless, naming the line.
+  const fs::path tracker = write_config("gaze_tracker", "[[block]]", "[gaze]\nrequire = \"tracker\"\n\n[[block]]");
+  const std::string text = read_all(tracker);
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find("require")), '\n'));
+  const std::string named = tracker.string() + ":" + std::to_string(line) + ": gaze.require = tracker";
+  expect_one_line_error(run("run " + tracker.string() + " --participant P1 --gaze mouse" + tail),
+                        "--gaze mouse: " + named + ": expected a source of that kind, got a mouse");
+  expect_one_line_error(run("run " + tracker.string() + " --participant P1" + tail),
+                        named + ": a session in a window needs its gaze source named; give --gaze pupil");
+  const std::string simulated = " --participant P1 --headless --observer simulated" + tail;
+  expect_one_line_error(run("run " + tracker.string() + simulated), named + ": a headless session's default gaze is synthetic");
+  expect_one_line_error(run("run " + tracker.string() + simulated + " --gaze synthetic"), "got a synthetic");
+  EXPECT_FALSE(fs::exists(results)) << "a refused run wrote " << results;
+  // validate says so beforehand.
+  const CommandResult validated = run("validate " + fipr.string());
+  EXPECT_NE(validated.out.find("gaze: gaze-contingent: a session in a window needs --gaze"), std::string::npos) << validated.out;
+  const CommandResult validated_tracker = run("validate " + tracker.string());
+  EXPECT_NE(validated_tracker.out.find("gaze: [gaze] require = tracker"), std::string::npos) << validated_tracker.out;
+
+  // require = ["synthetic"]: a headless pilot runs, its header names the source and its validation,
+  // and trials.csv says which source each trial's session had.
+  const fs::path synthetic = write_config("gaze_synthetic", "[[block]]", "[gaze]\nrequire = [\"synthetic\"]\n\n[[block]]");
+  const CommandResult pilot = run("run " + synthetic.string() + simulated);
+  ASSERT_EQ(pilot.exit_code, 0) << pilot.err;
+  const fs::path log = results / "simulated" / "tiny_2afc" / "P1" / "events.jsonl";
+  const fs::path log_path = fs::exists(log) ? log : results / "tiny_2afc" / "P1" / "events.jsonl";
+  const std::string first = read_all(log_path).substr(0, read_all(log_path).find('\n'));
+  EXPECT_NE(first.find("\"gaze_source\":{\"kind\":\"synthetic\",\"requested\":false,\"require\":[\"synthetic\"],"
+                       "\"spec\":\"synthetic:seed="),
+            std::string::npos)
+      << first;
+  EXPECT_NE(first.find("\"gaze_validation\":{\"enabled\":false}"), std::string::npos) << first;
+  const CommandResult exported = run("export " + log_path.parent_path().parent_path().string());
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  const std::string csv = read_all(log_path.parent_path().parent_path() / "trials.csv");
+  EXPECT_NE(csv.find(",track_kind,gaze_source\n"), std::string::npos) << csv.substr(0, 600);
+  EXPECT_NE(csv.find(",synthetic\n"), std::string::npos);
+  for (const char* name : {"gaze_fipr", "gaze_tracker", "gaze_synthetic"})
+    fs::remove(fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies" / (std::string("generated_") + name + ".toml"));
+}
+
 TEST(StudyCli, ValidateRefusesWhatCannotBeAConfigInOneLine) {
   // A directory read as an empty text ("study: missing"), /dev/zero was read for 2.2 GB, and a
   // dotted key of 40,000 parts overflowed toml++'s stack.

@@ -238,7 +238,9 @@ TEST(AnalysisReport, ConditionsCsvHasOneQuotedRowPerCondition) {
 
 TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
   TempDir dir("participants");
-  write_analysis_report(sample_result(), dir.path().string());
+  AnalysisResult result = sample_result();
+  result.participants.at(0).validation.gaze_source = "tracker";  // P002's log names none: "not recorded"
+  write_analysis_report(result, dir.path().string());
   const auto rows = parse_csv(read_text(dir.path() / "participants.csv"));
   ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "observer", "excluded", "session_ended", "complete_trials",
@@ -247,17 +249,18 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
                                                "latency_p95_ms", "latency_refreshes", "dropped_frames",
                                                "present_clock", "practice_trials", "validation_attempts",
                                                "validations_passed", "validation_accuracy_deg",
-                                               "validation_worst_accuracy_deg", "validation_precision_deg"}));
+                                               "validation_worst_accuracy_deg", "validation_precision_deg",
+                                               "gaze_source"}));
   EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
                                                "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
-                                               "0.5", "0.75", "0.125"}));
+                                               "0.5", "0.75", "0.125", "tracker"}));
   EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", "city", "", "",
                                                "every step answered correctly, censored", "sealed",
                                                "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
-                                               "0.5", "0.75", "0.125"}));
+                                               "0.5", "0.75", "0.125", "tracker"}));
   // A study that validates nothing leaves the validation cells empty.
   EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "human", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
-                                               "", "", "", "1", "not recorded", "0", "", "", "", "", ""}));
+                                               "", "", "", "1", "not recorded", "0", "", "", "", "", "", "not recorded"}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {

@@ -480,6 +480,93 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
   expect_unchanged(before, results);
 }
 
+// A session's gaze source as a window session would have logged it (a tracker's, or the mouse's).
+void with_gaze_source(const fs::path& log, const std::string& kind, const std::string& spec) {
+  std::vector<std::string> lines = fovlab::testing::lines_of(read_all(log));
+  json header = json::parse(lines.front());
+  header["gaze"] = spec;
+  header["gaze_source"] = {{"kind", kind}, {"spec", spec}, {"requested", true}, {"require", json::array()}};
+  lines.front() = header.dump();
+  std::ofstream(log, std::ios::binary | std::ios::trunc) << fovlab::testing::rechained(lines);
+}
+
+// The last cell of each participants.csv row (gaze_source), by participant.
+std::map<std::string, std::string> gaze_sources_of(const fs::path& participants_csv) {
+  std::map<std::string, std::string> sources;
+  for (const auto& row : csv_rows(participants_csv)) sources[row.front()] = row.back();
+  return sources;
+}
+
+// A gaze-contingent study (FIPR follows the gaze) whose sessions had gaze from a tracker and from
+// the mouse (a rehearsal): the mouse sessions are left out by default, each named with the flag that
+// pools them; --gaze-sources takes the kinds asked for, and a study of mouse sessions only is
+// analysed and says so. The source is a column of participants.csv and trials.csv.
+TEST(AnalyzeCli, MouseSessionsOfAGazeContingentStudyAreKeptApartUnlessAsked) {
+  const fs::path folder = scratch("gaze");
+  const fs::path config = write_variant(folder, "fipr", "tiny_2afc", {{"method = \"ipr\"", "method = \"fipr\""}, {"repeats = 4", "repeats = 2"}});
+  const fs::path results = folder / "results";
+  for (const char* participant : {"P001", "P002", "P003"}) run_session(config.string(), participant, results);
+  ASSERT_FALSE(testing::Test::HasFatalFailure());
+  with_gaze_source(log_of(results, "tiny_2afc", "P001"), "tracker", "pupil:127.0.0.1:50020");
+  with_gaze_source(log_of(results, "tiny_2afc", "P002"), "tracker", "pupil:127.0.0.1:50020");
+  with_gaze_source(log_of(results, "tiny_2afc", "P003"), "mouse", "mouse");
+  const auto before = snapshot(results);
+  const fs::path study = results / "tiny_2afc";
+  const std::string mouse_log = log_of(results, "tiny_2afc", "P003").string();
+
+  const fs::path out = folder / "out";
+  const CommandResult plain = analyze(study.string() + " --bootstrap 0 --out " + out.string());
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(plain.out.find("study tiny_2afc (2afc same): 2 participant(s) (simulated observers), "), std::string::npos) << plain.out;
+  EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P001", "P002"}));
+  expect_left_out(out, mouse_log, "gaze from the mouse (a rehearsal of a gaze-contingent study)");
+  expect_left_out(out, mouse_log, "--gaze-sources all pools them");
+  EXPECT_EQ(read_all(out / "participants.csv").substr(0, read_all(out / "participants.csv").find('\n')).ends_with(",gaze_source"), true);
+  EXPECT_EQ(gaze_sources_of(out / "participants.csv"),
+            (std::map<std::string, std::string>{{"P001", "tracker"}, {"P002", "tracker"}}));
+  EXPECT_NE(read_all(out / "report.html").find("gaze source"), std::string::npos);
+
+  const struct {
+    const char* filter;
+    std::vector<std::string> participants;
+    const char* study_line;
+  } cases[] = {{"all", {"P001", "P002", "P003"},
+                "3 participant(s) (simulated observers) (mouse gaze pooled with the other sources by --gaze-sources all), "},
+               {"mouse", {"P003"}, "1 participant(s) (simulated observers) (mouse gaze: rehearsals), "},
+               {"tracker,trace", {"P001", "P002"}, "2 participant(s) (simulated observers), "}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.filter);
+    std::string name = std::string("out-") + c.filter;
+    std::replace(name.begin(), name.end(), ',', '_');
+    const fs::path filtered = folder / name;
+    const CommandResult result = analyze(study.string() + " --bootstrap 0 --gaze-sources " + c.filter + " --out " + filtered.string());
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.out.find(c.study_line), std::string::npos) << result.out;
+    EXPECT_EQ(participants_of(load_json(filtered / "thresholds.json")), c.participants);
+  }
+  expect_left_out(folder / "out-tracker_trace", mouse_log, "gaze from the mouse (--gaze-sources tracker,trace)");
+  EXPECT_EQ(gaze_sources_of(folder / "out-all" / "participants.csv").at("P003"), "mouse");
+  // Mouse sessions alone: analysed, and the study line says they are rehearsals.
+  const CommandResult alone = analyze(mouse_log + " --bootstrap 0 --out " + (folder / "out-alone").string());
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  EXPECT_NE(alone.out.find("1 participant(s) (simulated observers) (mouse gaze: rehearsals), "), std::string::npos) << alone.out;
+  // Bad filters: one line, exit 2, nothing written.
+  const fs::path bad = folder / "out-bad";
+  expect_one_line_error(analyze(study.string() + " --gaze-sources eyes --out " + bad.string()), "--gaze-sources: expected all");
+  expect_one_line_error(analyze(study.string() + " --gaze-sources mouse,mouse --out " + bad.string()), "each once");
+  expect_one_line_error(analyze(study.string() + " --gaze-sources synthetic --out " + bad.string()),
+                        "no session with gaze from a source of the kinds asked for (--gaze-sources synthetic)");
+  EXPECT_FALSE(fs::exists(bad));
+  // trials.csv names each session's source.
+  const fs::path trials = folder / "trials.csv";
+  ASSERT_EQ(fovlab_command("export " + study.string() + " --out " + trials.string()).exit_code, 0);
+  const std::string csv = read_all(trials);
+  EXPECT_NE(csv.find(",track_kind,gaze_source\n"), std::string::npos) << csv.substr(0, 400);
+  EXPECT_NE(csv.find(",tracker\n"), std::string::npos);
+  EXPECT_NE(csv.find(",mouse\n"), std::string::npos);
+  expect_unchanged(before, results);
+}
+
 // Two sessions of one participant ID (each its own header: here another observer): the first log
 // in path order is used, the other listed.
 TEST(AnalyzeCli, DuplicateParticipantIdUsesTheFirstLog) {

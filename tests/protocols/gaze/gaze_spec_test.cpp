@@ -7,6 +7,7 @@
 #include "core/input_error.h"
 #include "core/prng.h"
 #include "protocols/gaze/gaze_spec.h"
+#include "protocols/stimuli/stimulus_settings.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab {
@@ -105,6 +106,61 @@ TEST(GazeSpecParse, SyntheticSampleAge) {
                            "synthetic:seed=1,", "synthetic:,age_ms=1", "synthetic:age=40"}) {
     EXPECT_THROW(parse_gaze_spec(text), InputError) << '"' << text << '"';
   }
+}
+
+// Which source a session runs with (docs/gaze.md, "Which source a session may use"): the default
+// by where it runs and what the study shows, and the config's [gaze] require, kept strictly.
+TEST(GazeSpecChoose, DefaultsAndTheConfigsRequirement) {
+  const auto config = [](const std::string& test_method, const std::string& gaze_table) {
+    const std::string text = "[study]\nname = \"g\"\nseed = 1\n[display]\nwidth_px = 64\nheight_px = 36\nrefresh_hz = 60\n"
+                             "width_mm = 600\nheight_mm = 337.5\nviewing_distance_mm = 500\n[stimulus]\nduration_s = 0.1\n"
+                             "[stimulus.reference]\nmethod = \"gt\"\n[stimulus.test]\nmethod = \"" + test_method + "\"\n"
+                             "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\n" + gaze_table +
+                             "[[block]]\nscene = \"primitives\"\n";
+    return parse_study_config_text(text, "g.toml", renderer_scene_catalog());
+  };
+  const auto kind_of = [](const ChosenGaze& chosen) { return source_kind(chosen.spec); };
+  const auto refusal = [](const StudyConfig& study, const std::string& option, bool headless) {
+    try {
+      choose_gaze(study, option, headless);
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no refusal");
+  };
+  const StudyConfig plain = config("ipr", "");
+  const StudyConfig contingent = config("fipr", "");
+  // Headless: synthetic; in a window: the mouse, unless the study is gaze-contingent.
+  EXPECT_EQ(kind_of(choose_gaze(plain, "", true)), GazeSourceKind::synthetic);
+  EXPECT_EQ(kind_of(choose_gaze(contingent, "", true)), GazeSourceKind::synthetic);
+  EXPECT_FALSE(choose_gaze(contingent, "", true).requested);
+  EXPECT_EQ(kind_of(choose_gaze(plain, "", false)), GazeSourceKind::mouse);
+  EXPECT_NE(refusal(contingent, "", false).find("g.toml: a gaze-contingent study (fipr follows the gaze) in a window"),
+            std::string::npos);
+  EXPECT_EQ(kind_of(choose_gaze(contingent, "mouse", false)), GazeSourceKind::mouse);
+  EXPECT_TRUE(choose_gaze(contingent, "mouse", false).requested);
+  EXPECT_EQ(kind_of(choose_gaze(contingent, "pupil:10.0.0.2", false)), GazeSourceKind::tracker);
+  // require: strict, headless too; the mouse alone (a demo) is the window's default.
+  const StudyConfig tracker = config("fipr", "[gaze]\nrequire = \"tracker\"\n");
+  EXPECT_EQ(kind_of(choose_gaze(tracker, "pupil", false)), GazeSourceKind::tracker);
+  EXPECT_EQ(kind_of(choose_gaze(tracker, "pupil", true)), GazeSourceKind::tracker);
+  EXPECT_NE(refusal(tracker, "mouse", false).find("--gaze mouse: g.toml:21: gaze.require = tracker: expected a source of that "
+                                                  "kind, got a mouse (give --gaze pupil[:HOST[:PORT]] for the eye tracker)"),
+            std::string::npos)
+      << refusal(tracker, "mouse", false);
+  EXPECT_NE(refusal(tracker, "trace:x.csv", true).find("got a trace"), std::string::npos);
+  EXPECT_NE(refusal(tracker, "", true).find("a headless session's default gaze is synthetic"), std::string::npos);
+  EXPECT_NE(refusal(tracker, "", false).find("a session in a window needs its gaze source named"), std::string::npos);
+  const StudyConfig plain_tracker = config("ipr", "[gaze]\nrequire = \"tracker\"\n");
+  EXPECT_NE(refusal(plain_tracker, "", false).find("needs its gaze source named"), std::string::npos);
+  const StudyConfig demo = config("fipr", "[gaze]\nrequire = \"mouse\"\n");
+  EXPECT_EQ(kind_of(choose_gaze(demo, "", false)), GazeSourceKind::mouse);
+  const StudyConfig either = config("fipr", "[gaze]\nrequire = [\"trace\", \"synthetic\"]\n");
+  EXPECT_EQ(kind_of(choose_gaze(either, "", true)), GazeSourceKind::synthetic);
+  EXPECT_NE(refusal(either, "", false).find("give --gaze trace:FILE for a recorded trace or --gaze synthetic"),
+            std::string::npos);
+  // A bad spec is the spec's error, before the requirement.
+  EXPECT_NE(refusal(tracker, "eyes", false).find("--gaze: expected"), std::string::npos);
 }
 
 TEST(GazeSpecMake, SyntheticSamplesAreAsOldAsConfigured) {

@@ -14,6 +14,7 @@
 
 #include "analysis/report/report.h"
 #include "analysis/study/study_analysis.h"
+#include "analysis/study/study_data.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "core/image_io.h"
@@ -25,6 +26,7 @@
 #include "protocols/session/trials_export.h"
 #include "study/log/log_events.h"
 #include "tests/protocols/session/session_test_support.h"
+#include "tests/support/forged_log.h"
 
 namespace fovlab {
 namespace {
@@ -540,6 +542,110 @@ TEST(SessionValidation, FailingEveryAttemptPausesTheSessionAndResumingValidatesF
   EXPECT_EQ(validations[2]["reason"], "resumed");
   EXPECT_EQ(validations[2]["passed"], true);
   EXPECT_EQ(validations[3]["reason"], "rest");
+}
+
+// Log schema 7: the header names the gaze source (its kind, its spec, whether --gaze named it, the
+// config's [gaze] require) and the eye-tracker validation the session runs with; a log of an earlier
+// schema (without them) is still read, replayed to its hashes, exported and analysed, its source's
+// kind told from the `gaze` spec every schema logs (docs/log-schema.md, "Versions").
+TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStillReads) {
+  const StudyConfig config = validated_config("targets = 5\ntarget_s = 0.5\nsettle_s = 0.2\nmax_accuracy_deg = 0.75\n");
+  const fs::path results = fresh_folder("gaze-header");
+  const SessionOutcome outcome = run_session(config, simulated(results));
+  ASSERT_TRUE(outcome.finished);
+  const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
+  EXPECT_EQ(record.header.value("schema_version", 0), 7);
+  const nlohmann::json& source = record.header.at("gaze_source");
+  EXPECT_EQ(source.value("kind", ""), "synthetic");
+  EXPECT_EQ(source.value("spec", ""), record.header.value("gaze", "-"));
+  EXPECT_EQ(source.value("spec", "").rfind("synthetic:seed=", 0), 0u);
+  EXPECT_EQ(source.value("requested", true), false) << "headless, no --gaze: the default";
+  EXPECT_EQ(source.at("require"), nlohmann::json::array());
+  const nlohmann::json& validation = record.header.at("gaze_validation");
+  EXPECT_EQ(validation.value("enabled", false), true);
+  EXPECT_EQ(validation.value("targets", 0), 5);
+  EXPECT_DOUBLE_EQ(validation.value("target_s", 0.0), 0.5);
+  EXPECT_DOUBLE_EQ(validation.value("settle_s", 0.0), 0.2);
+  EXPECT_DOUBLE_EQ(validation.value("max_accuracy_deg", 0.0), 0.75);
+  EXPECT_DOUBLE_EQ(validation.value("max_precision_deg", 0.0), 0.5);
+  EXPECT_EQ(validation.value("max_attempts", 0), 3);
+  EXPECT_EQ(validation.value("after_breaks", false), true);
+  // Read back through the typed header, and a study without [validation] says so.
+  const SessionHeaderEvent typed = parse_session_header(record.header, FieldCheck::strict);
+  EXPECT_EQ(typed.gaze_source, source);
+  EXPECT_EQ(typed.gaze_validation, validation);
+  SessionOptions named = simulated(fresh_folder("gaze-header-named"));
+  named.gaze = "synthetic:seed=5";
+  const SessionOutcome plain = run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), named);
+  const nlohmann::json plain_header = read_session_record(read_event_log(plain.log_path)).header;
+  EXPECT_EQ(plain_header.at("gaze_source").value("requested", false), true);
+  EXPECT_EQ(plain_header.at("gaze_source").value("spec", ""), "synthetic:seed=5");
+  EXPECT_EQ(plain_header.at("gaze_validation"), (nlohmann::json{{"enabled", false}}));
+  // The analysis and the export name the source.
+  EXPECT_EQ(analysis::load_study({outcome.log_path}).participants.at(0).validation.gaze_source, "synthetic");
+  const std::string csv = export_trials_csv({outcome.log_path});
+  const std::vector<std::string> rows = testing::lines_of(csv);
+  ASSERT_GT(rows.size(), 1u);
+  EXPECT_NE(rows.front().find(",gaze_source"), std::string::npos) << rows.front();
+  for (size_t i = 1; i < rows.size(); ++i) EXPECT_TRUE(rows[i].ends_with(",synthetic")) << rows[i];
+
+  // The same session as schema 6 wrote it: no gaze_source, no gaze_validation.
+  std::vector<std::string> lines = testing::lines_of(read_file(outcome.log_path));
+  nlohmann::json header = nlohmann::json::parse(lines.front());
+  header.erase("gaze_source");
+  header.erase("gaze_validation");
+  header["schema_version"] = 6;
+  lines.front() = header.dump();
+  const fs::path earlier = results / "schema6" / config.name / "P1" / "events.jsonl";
+  fs::create_directories(earlier.parent_path());
+  std::ofstream(earlier, std::ios::binary) << testing::rechained(lines);
+  const SessionRecord earlier_record = read_session_record(read_event_log(earlier.string()));
+  EXPECT_EQ(earlier_record.integrity.status, LogStatus::sealed);
+  EXPECT_FALSE(earlier_record.header.contains("gaze_source"));
+  const ReplayOutcome replayed = replay(earlier.string());
+  EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences.front());
+  EXPECT_EQ(replayed.trials, outcome.trials_completed);
+  const analysis::StudyData data = analysis::load_study({earlier.string()});
+  ASSERT_EQ(data.participants.size(), 1u);
+  EXPECT_EQ(data.participants.front().validation.gaze_source, "synthetic") << "told from the header's gaze spec";
+  EXPECT_EQ(data.participants.front().validation.attempts, 2);
+  const std::vector<std::string> earlier_rows = testing::lines_of(export_trials_csv({earlier.string()}));
+  ASSERT_EQ(earlier_rows.size(), rows.size());
+  for (size_t i = 1; i < earlier_rows.size(); ++i) EXPECT_TRUE(earlier_rows[i].ends_with(",synthetic")) << earlier_rows[i];
+  // A log of no schema that names its source in a way this build does not know: "not recorded".
+  header["gaze"] = "eyelink:1";
+  lines.front() = header.dump();
+  const fs::path unknown = results / "unknown" / config.name / "P1" / "events.jsonl";
+  fs::create_directories(unknown.parent_path());
+  std::ofstream(unknown, std::ios::binary) << testing::rechained(lines);
+  EXPECT_TRUE(testing::lines_of(export_trials_csv({unknown.string()})).back().ends_with(",not recorded"));
+  // A run resumed with a source of another kind (a trace at the centre) names it in its session_resumed; the session then
+  // had both, in the order used.
+  const fs::path trace = results / "centre.csv";
+  {
+    std::ofstream out(trace);
+    out << "time_s,x_px,y_px\n";
+    for (int i = 0; i < 60 * 60; ++i) out << i / 60.0 << ",32,18\n";
+  }
+  SessionOptions traced = simulated(results);
+  traced.gaze = "trace:" + trace.string();
+  const std::string whole = read_file(outcome.log_path);
+  const auto [resumed, resumed_log] = resume_after_cut(config, traced, results, whole, whole.size() / 2);
+  ASSERT_TRUE(resumed.resumed);  // paused again: the fixed trace fails the validation, which does not matter here
+  const SessionRecord resumed_record = read_session_record(read_event_log(resumed_log));
+  ASSERT_EQ(resumed_record.resumes.size(), 1u);
+  EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("kind", ""), "trace");
+  EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("requested", false), true);
+  EXPECT_EQ(analysis::load_study({resumed_log}).participants.at(0).validation.gaze_source, "synthetic+trace");
+  EXPECT_TRUE(testing::lines_of(export_trials_csv({resumed_log})).back().ends_with(",synthetic+trace"));
+  // This build resumes only its own schema.
+  SessionOptions resume = simulated(results / "schema6");
+  try {
+    run_session(config, resume);
+    ADD_FAILURE() << "an earlier schema was resumed";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("log schema 6"), std::string::npos) << error.what();
+  }
 }
 
 StudyConfig with_practice(const std::string& fixture, const std::string& practice) {

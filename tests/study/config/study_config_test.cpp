@@ -154,6 +154,56 @@ std::vector<std::string> keys_of(const StudyConfig& config, const std::string& a
   return {};
 }
 
+// [gaze] require: one kind or an array of kinds (docs/config.md, docs/gaze.md). An optional table:
+// a config without it keeps its version (content_hash); one with it is another version.
+TEST(ProtocolsConfig, GazeRequireTakesOneKindOrAnArrayAndNamesItsLineWhenBad) {
+  const ConfigText base;
+  const StudyConfig plain = parse(base.text());
+  EXPECT_TRUE(plain.gaze.require.empty());
+  EXPECT_FALSE(is_gaze_contingent(plain));
+  EXPECT_EQ(parse(base.text()).content_hash, plain.content_hash);
+
+  const StudyConfig one = parse(base.text() + "[gaze]\nrequire = \"tracker\"\n");
+  EXPECT_EQ(one.gaze.require, (std::vector<GazeSourceKind>{GazeSourceKind::tracker}));
+  EXPECT_EQ(one.gaze.require_text(), "tracker");
+  EXPECT_TRUE(one.gaze.allows(GazeSourceKind::tracker));
+  EXPECT_FALSE(one.gaze.allows(GazeSourceKind::mouse));
+  EXPECT_NE(one.content_hash, plain.content_hash) << "a config with [gaze] says more: another version";
+  const StudyConfig several = parse(base.text() + "[gaze]\nrequire = [\"tracker\", \"trace\", \"mouse\"]\n");
+  EXPECT_EQ(several.gaze.require,
+            (std::vector<GazeSourceKind>{GazeSourceKind::tracker, GazeSourceKind::trace, GazeSourceKind::mouse}));
+  EXPECT_EQ(several.gaze.require_text(), "tracker, trace or mouse");
+
+  const std::string text = base.text() + "[gaze]\n";
+  const int line = line_of(text + "require", "require");
+  expect_error(text + "require = \"eyelink\"\n", line, "gaze.require", "tracker, trace, synthetic or mouse");
+  expect_error(text + "require = \"pupil\"\n", line, "gaze.require", "Pupil Core is the kind \"tracker\"");
+  expect_error(text + "require = 3\n", line, "gaze.require", "a non-empty array");
+  expect_error(text + "require = []\n", line, "gaze.require", "a non-empty array");
+  expect_error(text + "require = [\"mouse\", \"mouse\"]\n", line, "gaze.require", "given twice");
+  expect_error(text + "require = \"tracker\"\nsource = \"pupil\"\n", line + 1, "gaze.source", "");
+  const std::string missing = error_of(text + "\n");
+  EXPECT_NE(missing.find("gaze.require: missing"), std::string::npos) << missing;
+
+  // The kinds the logs name: the spec text of every source (GazeSource::describe()).
+  EXPECT_EQ(gaze_source_kind_of_spec("mouse"), GazeSourceKind::mouse);
+  EXPECT_EQ(gaze_source_kind_of_spec("trace:/data/p1.csv"), GazeSourceKind::trace);
+  EXPECT_EQ(gaze_source_kind_of_spec("synthetic:seed=3,age_ms=40"), GazeSourceKind::synthetic);
+  EXPECT_EQ(gaze_source_kind_of_spec("pupil:127.0.0.1:50020,surface=monitor"), GazeSourceKind::tracker);
+  EXPECT_EQ(gaze_source_kind_of_spec(""), std::nullopt);
+  EXPECT_EQ(gaze_source_kind_of_spec("mouse2"), std::nullopt);
+}
+
+// A study whose stimuli follow the gaze (fipr, fpt, the sampling models) is gaze-contingent.
+TEST(ProtocolsConfig, AStudyIsGazeContingentWhenAMethodFollowsTheGaze) {
+  ConfigText fipr;
+  fipr.stimulus = replace_once(fipr.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"fipr\"");
+  EXPECT_TRUE(is_gaze_contingent(parse(fipr.text())));
+  ConfigText ipr;
+  ipr.stimulus = replace_once(ipr.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"ipr\"");
+  EXPECT_FALSE(is_gaze_contingent(parse(ipr.text())));
+}
+
 // --- valid configs ----------------------------------------------------------------------------------
 
 TEST(ProtocolsConfig, ParsesTheBaseTwoAfcSameConfigFieldByField) {
