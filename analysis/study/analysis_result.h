@@ -10,6 +10,7 @@
 
 #include "analysis/psychometric/psychometric_fit.h"
 #include "analysis/statistics/binomial.h"
+#include "analysis/statistics/frame_intervals.h"
 #include "analysis/statistics/percentile.h"
 #include "study/protocol/protocol_rules.h"
 #include "study/log/log_integrity.h"
@@ -102,6 +103,9 @@ struct ParticipantRow {
   bool latency_recorded = false;
   LatencySummary latency;
   int64_t dropped_frames = 0;
+  // The intervals between presented refreshes of the complete trials' stimuli (every schema;
+  // docs/analysis.md, "Frame intervals").
+  FrameIntervalSummary frame_intervals;
   std::string present_clock;
   ValidationSummary validation;
   int practice_trials = 0;            // complete practice trials (never analysed)

@@ -49,6 +49,7 @@ struct ParticipantData {
   bool latency_recorded = false;
   LatencySummary latency;
   int64_t dropped_frames = 0;                // refresh periods missed in the complete trials (every schema)
+  FrameIntervalSummary frame_intervals;      // between the complete trials' presented refreshes (every schema)
   std::string present_clock;                 // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
   ValidationSummary validation;              // eye-tracker validations (every attempt in the log)
   int practice_trials = 0;                   // complete practice trials: counted here, never in `trials`
