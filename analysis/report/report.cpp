@@ -140,9 +140,12 @@ const Headline* headline_of(const AnalysisResult& result, const GroupKey& group)
   return nullptr;
 }
 
-// The headline is a threshold on the level axis (not a preference share) with a value to mark.
+// The headline is an estimated threshold on the level axis (not a preference share): marked on its
+// plots. A biased or not estimable one is not (the plot's caption says why), as the Headline table
+// prints no number for it.
 bool marks_level(const Headline* headline) {
-  return headline && headline->quantity != "preference share" && headline_has_value(*headline);
+  return headline && headline->status == HeadlineStatus::estimated && headline->quantity != "preference share" &&
+         headline_has_value(*headline);
 }
 
 // ---- CSV -------------------------------------------------------------------------------------
@@ -703,9 +706,11 @@ std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std
   return plot;
 }
 
-// The headline of a group as a legend label: "headline 13.81 [12.96, 14.71]".
-std::string headline_label(const Headline& headline) {
-  return "headline " + headline_value_text(headline);
+// The headline of a group as a legend label, "headline 13.81 [12.96, 14.71]" after `prefix`; the
+// interval left out when the legend would cut it (the band shows it).
+std::string headline_label(const std::string& prefix, const Headline& headline) {
+  const std::string full = prefix + "headline " + headline_value_text(headline);
+  return full.size() <= 36 ? full : prefix + "headline " + html_number(headline.value);
 }
 
 // Marks a group's headline on a chart: its value as a dashed vertical line, its 95 % interval as a
@@ -718,7 +723,7 @@ void mark_headline(XyChart& chart, const Headline& headline, const std::string& 
     const double band_upper = std::min(*headline.upper, hi);
     if (band_lower <= band_upper) chart.bands.push_back({"", band_lower, band_upper, colour});
   }
-  chart.vertical_lines.push_back({prefix + headline_label(headline), *headline.value, colour});
+  chart.vertical_lines.push_back({headline_label(prefix, headline), *headline.value, colour});
 }
 
 // Why a group's plot shows no threshold mark: "blur: not estimable (the fit's threshold lies
@@ -791,8 +796,22 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
   chart.x_log = log_spaced(result.levels) && lo > 0.0;
   std::vector<std::string> unmarked;
   bool any_participants = false, any_data = false;
+  // Overlaid variants share levels: each one's points are shifted a little along x (as in the share
+  // plot: 1.7 % of the range, at most 30 % of the smallest gap; on a log axis a factor).
+  double offset_step = 0.0;
+  if (overlay && lo < hi) {
+    std::vector<double> levels = result.levels;
+    std::sort(levels.begin(), levels.end());
+    double gap = hi - lo;
+    for (size_t i = 1; i < levels.size(); ++i)
+      if (levels[i] > levels[i - 1]) gap = std::min(gap, levels[i] - levels[i - 1]);
+    offset_step = chart.x_log ? 0.017 * std::log10(hi / lo)
+                              : std::min(0.017 * (hi - lo), 0.3 * gap / static_cast<double>(groups.size() - 1));
+  }
   for (size_t g = 0; g < groups.size(); ++g) {
     const GroupFit& group = *groups[g];
+    const double offset = offset_step * (static_cast<double>(g) - static_cast<double>(groups.size() - 1) / 2);
+    const auto shifted = [&](double x) { return chart.x_log ? x * std::pow(10.0, offset) : x + offset; };
     const std::optional<std::size_t> colour = overlay ? std::optional<std::size_t>(g) : std::nullopt;
     const std::string name = group.group.variant.empty() ? "(no variant)" : group.group.variant;
     XySeries data;
@@ -802,12 +821,13 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
     for (const LevelCounts& counts : group.data) {
       if (counts.n == 0 || counts.k > counts.n || !std::isfinite(counts.level)) continue;
       const ProportionInterval interval = clopper_pearson_interval(counts.k, counts.n);
-      data.x.push_back(counts.level);
+      data.x.push_back(shifted(counts.level));
       data.y.push_back(static_cast<double>(counts.k) / static_cast<double>(counts.n));
       data.y_lower.push_back(interval.lower);
       data.y_upper.push_back(interval.upper);
     }
     XySeries participants = participant_proportions(result, group.group);
+    for (double& x : participants.x) x = shifted(x);
     if (!participants.x.empty()) {
       participants.colour = data.colour;
       if (!any_participants) participants.label = "each participant (small)";
@@ -828,8 +848,9 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
         // "cumulative_normal" is the name in the tables; the legend has room for a short one.
         const std::string shape =
             fit.model.shape == PsychometricShape::cumulative_normal ? "normal" : shape_name(fit.model.shape);
-        curve.label = (overlay ? name + ": " : std::string()) + shape + " fit, threshold " +
-                      format_number(fit.model.parameters.threshold, kHtmlDigits);
+        // Overlaid: the variant and the shape (the headline's line gives the number).
+        curve.label = overlay ? name + ": " + shape + " fit"
+                              : shape + " fit, threshold " + format_number(fit.model.parameters.threshold, kHtmlDigits);
         for (int i = 0; i < kCurveSamples; ++i) {
           const double t = double(i) / (kCurveSamples - 1);
           const double level = chart.x_log ? lo * std::pow(hi / lo, t) : lo + (hi - lo) * t;
@@ -864,6 +885,7 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
                  (overlay ? " of each variant" : "s") + ", and the headline threshold (dashed) with its 95 % interval (shaded)";
   if (any_participants) plot.caption += "; small points: each participant's share at a level they saw at least twice";
   plot.caption += ".";
+  if (offset_step > 0.0) plot.caption += " The variants' points are shifted slightly along x to keep them apart.";
   if (!any_data) plot.caption += " No pooled data to show.";
   if (!unmarked.empty()) plot.caption += " No threshold marked for " + joined(unmarked, "; ") + ".";
   plot.svg = render_xy_chart_svg(chart);
@@ -1279,8 +1301,8 @@ std::string html_headlines(const AnalysisResult& result) {
     const std::string row_class = headline.status == HeadlineStatus::not_estimable ? "not-estimable"
                                   : headline.status == HeadlineStatus::biased      ? "biased"
                                                                                    : "estimated";
-    std::string value = shown ? html_escape(headline_value_text(headline))
-                              : "<span class=\"status\">" + html_escape(headline_status_name(headline.status)) + "</span>";
+    const char* no_value = headline.status == HeadlineStatus::biased ? "withheld (biased)" : "none";
+    std::string value = shown ? html_escape(headline_value_text(headline)) : no_value;
     std::string status = "<span class=\"status\">" + html_escape(headline_status_name(headline.status)) + "</span>";
     if (!headline.reason.empty()) status += ": " + html_escape(headline.reason);
     std::string paper = "\xE2\x80\x93";
@@ -1371,26 +1393,35 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     for (const GroupThreshold& t : result.thresholds)
       if (std::find(definitions.begin(), definitions.end(), t.definition) == definitions.end())
         definitions.push_back(t.definition);
-    if (definitions.size() == 1) {
+    // Several (pair: pooled and per participant): each once, numbered, and each row names its number.
+    const bool several = definitions.size() > 1;
+    const auto number_of = [&](const std::string& definition) {
+      return "(" + std::to_string(std::find(definitions.begin(), definitions.end(), definition) - definitions.begin() + 1) + ")";
+    };
+    if (!several) {
       html += "<p class=\"definition\"><strong>Definition</strong>: " + html_escape(definitions.front()) + "</p>\n";
     } else {
-      html += "<p class=\"definition\"><strong>Definitions</strong>:</p>\n<ul class=\"definition\">\n";
-      for (const GroupThreshold& t : result.thresholds)
-        html += "<li>" + html_escape(t.group.label()) + ": " + html_escape(t.definition) + "</li>\n";
+      html += "<p class=\"definition\"><strong>Definitions</strong> (the table's column names which):</p>\n"
+              "<ul class=\"definition\">\n";
+      for (const std::string& definition : definitions)
+        html += "<li>" + html_escape(number_of(definition)) + " " + html_escape(definition) + "</li>\n";
       html += "</ul>\n";
     }
     std::vector<std::vector<std::string>> rows;
     for (const GroupThreshold& t : result.thresholds) {
-      rows.push_back({t.group.scene, t.group.variant, t.unsupported ? "none (see note)" : html_number(t.level),
-                      html_number(t.mean),
-                      t.mean_lower ? html_interval(*t.mean_lower, *t.mean_upper) : std::string("\xE2\x80\x93"),
-                      html_number(t.sd),
-                      std::to_string(t.participants_with_threshold), std::to_string(t.participants_without_threshold),
-                      t.note});
+      std::vector<std::string> row = {t.group.scene, t.group.variant};
+      if (several) row.push_back(number_of(t.definition));
+      row.insert(row.end(), {t.unsupported ? "none (see note)" : html_number(t.level), html_number(t.mean),
+                             t.mean_lower ? html_interval(*t.mean_lower, *t.mean_upper) : std::string("\xE2\x80\x93"),
+                             html_number(t.sd), std::to_string(t.participants_with_threshold),
+                             std::to_string(t.participants_without_threshold), t.note});
+      rows.push_back(std::move(row));
     }
-    html += html_table({"scene", "variant", "threshold", "mean over participants", "95 % CI of the mean", "SD",
-                        "participants with a threshold", "participants without", "note"},
-                       rows);
+    std::vector<std::string> header = {"scene", "variant"};
+    if (several) header.push_back("definition");
+    header.insert(header.end(), {"threshold", "mean over participants", "95 % CI of the mean", "SD",
+                                 "participants with a threshold", "participants without", "note"});
+    html += html_table(header, rows);
   }
 
   if (result.rating_grid) {
