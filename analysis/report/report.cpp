@@ -1116,7 +1116,8 @@ std::vector<Plot> adaptive_track_plots(const AnalysisResult& result, std::set<st
   return plots;
 }
 
-// The histogram of a frame-interval summary: bins a quarter of a refresh period wide, centred on
+// The histogram of a frame-interval summary: bins a sixteenth of a refresh period wide (about 1 ms
+// at 60 Hz, so a display's jitter shows), centred on
 // multiples of it (an interval of exactly one period sits mid-bar), from 0 to 3 to 6 periods
 // (longer intervals in the last bar), with the late limit (1.5 periods) marked. Without a refresh
 // rate the median stands for the period.
@@ -1131,8 +1132,8 @@ Histogram frame_interval_histogram(const FrameIntervalSummary& frames, const std
   const double period_ms = frames.refresh_hz ? 1e3 / *frames.refresh_hz : frames.median_ms.value_or(0.0);
   if (period_ms > 0.0 && std::isfinite(period_ms)) {
     const double periods = std::clamp(std::ceil(frames.max_ms.value_or(period_ms) / period_ms), 3.0, 6.0);
-    const double width = period_ms / 4;
-    for (int k = 0; k <= static_cast<int>(periods * 4) + 1; ++k) histogram.bin_edges.push_back((k - 0.5) * width);
+    const double width = period_ms / 16;
+    for (int k = 0; k <= static_cast<int>(periods * 16) + 1; ++k) histogram.bin_edges.push_back((k - 0.5) * width);
     histogram.bin_edges.front() = 0.0;
     histogram.count_labels = false;
     if (frames.refresh_hz) {

@@ -84,7 +84,8 @@ struct Histogram {
   std::vector<double> counts;
   std::vector<double> vertical_lines;  // dashed marks at these x (e.g. a limit), in the x range
   std::string vertical_lines_label;    // what the marks are, written in the top right corner
-  bool count_labels = true;            // each bar labelled with its count (false: many narrow bars)
+  bool count_labels = true;            // each bar labelled with its count (false: many narrow bars;
+                                       // a bar under 3 px tall is still labelled, so it is not missed)
 };
 
 struct HeatMap {
