@@ -830,7 +830,7 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
     for (double& x : participants.x) x = shifted(x);
     if (!participants.x.empty()) {
       participants.colour = data.colour;
-      if (!any_participants) participants.label = "each participant (small)";
+      if (!any_participants) participants.label = "each participant";
       any_participants = true;
       chart.series.push_back(std::move(participants));
     }

@@ -269,6 +269,7 @@ struct LegendEntry {
   enum class Kind { points, line, bars, band, vertical } kind = Kind::points;
   std::size_t index = 0;  // the palette index of its marker shape
   const char* colour = kPalette[0];
+  bool small = false;     // points: the series' small markers
 };
 
 std::string draw_legend(const std::vector<LegendEntry>& entries, double left, double top, double bottom) {
@@ -285,7 +286,7 @@ std::string draw_legend(const std::vector<LegendEntry>& entries, double left, do
     out += "<g><title>" + xml_escape(entry.label) + "</title>\n";
     switch (entry.kind) {
       case LegendEntry::Kind::points:
-        out += marker(entry.index, left + 10, y, entry.colour);
+        out += marker(entry.index, left + 10, y, entry.colour, entry.small);
         break;
       case LegendEntry::Kind::line:
         out += "<line" + attr("x1", left) + attr("y1", y) + attr("x2", left + 20) + attr("y2", y) + " stroke=\"" +
@@ -513,7 +514,7 @@ std::string render_xy_chart_svg(const XyChart& requested) {
                       : series.style == XySeries::Style::line ? LegendEntry::Kind::line
                                                               : LegendEntry::Kind::bars;
     const std::size_t index = series.colour.value_or(i);
-    legend.push_back({series.label, kind, index, series_colour(index)});
+    legend.push_back({series.label, kind, index, series_colour(index), series.small});
   }
   for (std::size_t i = 0; i < chart.bands.size(); ++i) {
     if (!chart.bands[i].label.empty()) legend.push_back({chart.bands[i].label, LegendEntry::Kind::band, i, band_fill(i)});

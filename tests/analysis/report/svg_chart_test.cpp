@@ -543,7 +543,7 @@ TEST(XyChart, ColourOverridesSmallPointsAndVerticalLines) {
   const std::string svg = render_xy_chart_svg(chart);
   EXPECT_TRUE(well_formed_svg(svg));
   EXPECT_EQ(count(svg, "<circle"), 0u) << "colour 1 draws squares";
-  EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.5\""), 3u);  // the small points
+  EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.5\""), 3u + 1u);  // the small points and their legend sample
   EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.18\""), 1u);  // the band, in the series colour
   // Both lines drawn (the one at 9 widens the axis), one with a legend entry (line and sample).
   EXPECT_EQ(count(svg, "stroke-dasharray=\"4 3\""), 3u);
