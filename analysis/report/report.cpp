@@ -277,7 +277,7 @@ std::string participants_csv(const AnalysisResult& result) {
   return csv;
 }
 
-// Seed 002's pilot grid: one row per map and cell.
+// Ye et al. 2022's pilot grid: one row per map and cell.
 std::string rating_grid_csv(const RatingGrid& grid, const std::string& study) {
   std::string csv = csv_line({"study", "scene", "level", "x_key", "x", "y_key", "y", "mean_score", "trials",
                               "participants", "best"});
@@ -293,7 +293,7 @@ std::string rating_grid_csv(const RatingGrid& grid, const std::string& study) {
   return csv;
 }
 
-// Seed 002's Table 2: one row per condition, the votes for the reference, one-sided.
+// Ye et al. 2022's Table 2: one row per condition, the votes for the reference, one-sided.
 std::string preference_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"study", "scene", "variant", "condition", "reference_method", "test_method", "n",
                               "reference_votes", "share", "ci_lower", "ci_upper", "p_value", "alternative", "stars"});
@@ -625,8 +625,8 @@ struct Plot {
   std::string svg;
 };
 
-// Share of answers for the test stimulus per level (seed 000, Fig. 9), one series per group; rating
-// studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
+// Share of answers for the test stimulus per level (Polychronakis et al. 2023, Fig. 9), one series
+// per group; rating studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
 // `only`: the plot of that group alone (one of the small multiples drawn for many groups).
 std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std::optional<GroupKey>& only = std::nullopt) {
   const bool rating = is_rating(result);
@@ -982,7 +982,7 @@ std::vector<Plot> participant_threshold_plots(const AnalysisResult& result, std:
   return plots;
 }
 
-// Seed 002, Figure 9: one heat map per block (and for every block pooled) of the mean score per pair
+// Ye et al. 2022, Figure 9: one heat map per block (and for every block pooled) of the mean score per pair
 // of the two grid parameters over every level, coloured on the score's scale 1..3, the best pair
 // outlined.
 std::vector<Plot> rating_grid_plots(const AnalysisResult& result, std::set<std::string>& taken) {
@@ -1031,7 +1031,7 @@ std::vector<double> level_bin_edges(std::vector<double> centres) {
   return edges;
 }
 
-// Per-participant thresholds of the included participants (seed 001, Fig. 7): pooled over the
+// Per-participant thresholds of the included participants (Polychronakis et al. 2021, Fig. 7): pooled over the
 // groups, and one histogram a group when there are several.
 std::vector<Plot> threshold_histograms(const AnalysisResult& result, std::set<std::string>& taken) {
   std::map<GroupKey, std::vector<double>> by_group;
