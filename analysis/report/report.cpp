@@ -882,7 +882,9 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
   plot.file_name = unique_svg_name(stem, taken);
   plot.caption = "Psychometric fits for " + (overlay ? first.group.scene + ", its variants overlaid" : first.group.label()) +
                  ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curve" +
-                 (overlay ? " of each variant" : "s") + ", and the headline threshold (dashed) with its 95 % interval (shaded)";
+                 (overlay ? " of each variant" : "s") +
+                 (chart.vertical_lines.empty() ? std::string()
+                                               : ", and the headline threshold (dashed) with its 95 % interval (shaded)");
   if (any_participants) plot.caption += "; small points: each participant's share at a level they saw at least twice";
   plot.caption += ".";
   if (offset_step > 0.0) plot.caption += " The variants' points are shifted slightly along x to keep them apart.";
@@ -974,7 +976,10 @@ std::vector<Plot> participant_threshold_plots(const AnalysisResult& result, std:
     plot.file_name = unique_svg_name("participant_thresholds_" + safe_name(scene), taken);
     plot.caption = "Each included participant's threshold, " + scene +
                    (overlay ? " (variants overlaid, each row shifted a little per variant)" : std::string()) +
-                   "; dashed: the headline, the mean over participants, with its 95 % interval (shaded).";
+                   (chart.vertical_lines.empty()
+                        ? std::string(".")
+                        : "; dashed: each group's headline (its method in the Headline table) with its 95 % interval "
+                          "(shaded).");
     if (!unmarked.empty()) plot.caption += " No threshold marked for " + joined(unmarked, "; ") + ".";
     plot.svg = render_xy_chart_svg(chart);
     plots.push_back(std::move(plot));
