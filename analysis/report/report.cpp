@@ -30,6 +30,7 @@ constexpr int kCsvDigits = 10;   // significant digits of numbers in the CSV fil
 constexpr int kHtmlDigits = 4;   // ... and in the HTML tables (people read them)
 constexpr int kCurveSamples = 200;
 constexpr size_t kGroupsInOnePlot = 4;  // more groups: one share plot each
+constexpr size_t kTrackPlots = 24;       // participants drawn one plot each (adaptive tracks, frame intervals)
 
 // ---- text helpers ----------------------------------------------------------------------------
 
@@ -92,6 +93,61 @@ std::string level_axis_label(const AnalysisResult& result) {
   return result.level_parameter.empty() ? "level" : "level (" + result.level_parameter + ")";
 }
 
+// The stars a condition row shows (docs/analysis.md, "Significance stars in the outputs"): a
+// one-sided test's as they are (its alternative names the direction); a two-sided test's only where
+// the share in favour of the test is below 1/2, the direction in which the threshold counts a level
+// as distinguished. A two-sided p below alpha with the share above 1/2 says the test was favoured,
+// not that it was told apart: its p is shown, without stars.
+std::string shown_stars(const AnalysisResult& result, const ConditionRow& row) {
+  if (result.alternative != Alternative::two_sided) return row.stars;
+  return row.proportion < 0.5 ? row.stars : std::string();
+}
+
+// Whether a headline's value may be printed: never when not estimable (whatever the struct holds).
+bool headline_has_value(const Headline& headline) {
+  return headline.status != HeadlineStatus::not_estimable && headline.value && std::isfinite(*headline.value);
+}
+std::optional<double> headline_value(const Headline& headline) {
+  return headline_has_value(headline) ? headline.value : std::nullopt;
+}
+std::optional<double> headline_lower(const Headline& headline) {
+  return headline_has_value(headline) ? headline.lower : std::nullopt;
+}
+std::optional<double> headline_upper(const Headline& headline) {
+  return headline_has_value(headline) ? headline.upper : std::nullopt;
+}
+
+std::string joined(const std::vector<std::string>& items, const std::string& separator) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : separator) + item;
+  return text;
+}
+
+// "12.5 [11.73, 13.27]": a headline's value with its 95 % interval ("no interval" when it has none).
+std::string headline_value_text(const Headline& headline) {
+  std::string text = html_number(*headline.value);
+  if (headline.lower && headline.upper)
+    text += " " + html_interval(*headline.lower, *headline.upper);
+  else
+    text += " (no interval)";
+  return text;
+}
+
+// The headline of `group`, if the analysis gave one.
+const Headline* headline_of(const AnalysisResult& result, const GroupKey& group) {
+  for (const Headline& headline : result.headlines)
+    if (headline.group == group) return &headline;
+  return nullptr;
+}
+
+// The headline is an estimated threshold on the level axis (not a preference share): marked on its
+// plots. A biased or not estimable one is not (the plot's caption says why), as the Headline table
+// prints no number for it.
+bool marks_level(const Headline* headline) {
+  return headline && headline->status == HeadlineStatus::estimated && headline->quantity != "preference share" &&
+         headline_has_value(*headline);
+}
+
 // ---- CSV -------------------------------------------------------------------------------------
 
 std::string conditions_csv(const AnalysisResult& result) {
@@ -103,7 +159,7 @@ std::string conditions_csv(const AnalysisResult& result) {
                      row.group.variant, row.method, row.condition, csv_number(row.level),
                      std::to_string(row.n), std::to_string(row.k), csv_number(row.proportion),
                      csv_number(row.interval.lower), csv_number(row.interval.upper), csv_number(row.p_value),
-                     csv_number(row.p_holm), row.stars, alternative_name(result.alternative),
+                     csv_number(row.p_holm), shown_stars(result, row), alternative_name(result.alternative),
                      csv_number(row.mean_rating), csv_number(row.sd_rating)});
   }
   return csv;
@@ -119,6 +175,15 @@ std::vector<std::string> latency_cells(const ParticipantRow& participant) {
           participant.present_clock};
 }
 
+// The frame-interval columns: the refresh rate they are measured against, the intervals counted,
+// their median, SD, p99 and max (ms), and the late ones (beyond 1.5 refresh periods), as a count
+// and a share; empty numbers without intervals.
+std::vector<std::string> frame_interval_cells(const FrameIntervalSummary& frames) {
+  return {csv_number(frames.refresh_hz), std::to_string(frames.intervals), csv_number(frames.median_ms),
+          csv_number(frames.sd_ms),      csv_number(frames.p99_ms),        csv_number(frames.max_ms),
+          frames.intervals ? std::to_string(frames.late) : "",              csv_number(frames.late_share)};
+}
+
 // The eye-tracker validation columns: attempts, passed, and over the passed ones the mean and worst
 // accuracy and the mean precision (all empty when the study validated nothing).
 std::vector<std::string> validation_cells(const ParticipantRow& participant) {
@@ -131,7 +196,7 @@ std::vector<std::string> validation_cells(const ParticipantRow& participant) {
 // The gaze source the session's runs used ("tracker", "mouse", "tracker+mouse", ...; "not recorded"
 // when its log names none).
 std::string gaze_source_cell(const ParticipantRow& participant) {
-  return participant.validation.gaze_source.empty() ? "not recorded" : participant.validation.gaze_source;
+  return participant.gaze_source.empty() ? "not recorded" : participant.gaze_source;
 }
 
 // adaptive_tracks.csv: one row a participant's adaptive track (staircase or QUEST+), with its
@@ -188,7 +253,10 @@ std::string participants_csv(const AnalysisResult& result) {
                               "latency_median_ms", "latency_p95_ms", "latency_refreshes", "dropped_frames",
                               "present_clock", "practice_trials", "validation_attempts", "validations_passed",
                               "validation_accuracy_deg", "validation_worst_accuracy_deg", "validation_precision_deg",
-                              "gaze_source"});
+                              "gaze_source",
+                              "refresh_hz", "frame_intervals", "frame_interval_median_ms", "frame_interval_sd_ms",
+                              "frame_interval_p99_ms", "frame_interval_max_ms", "frame_intervals_late",
+                              "frame_intervals_late_share"});
   for (const ParticipantRow& participant : result.participants) {
     const std::vector<std::string> common = {
         participant.participant,          participant.observer, participant.excluded ? "true" : "false",
@@ -199,6 +267,7 @@ std::string participants_csv(const AnalysisResult& result) {
     tail.push_back(std::to_string(participant.practice_trials));
     for (std::string& cell : validation_cells(participant)) tail.push_back(std::move(cell));
     tail.push_back(gaze_source_cell(participant));
+    for (std::string& cell : frame_interval_cells(participant.frame_intervals)) tail.push_back(std::move(cell));
     if (participant.thresholds.empty()) {
       std::vector<std::string> cells = common;
       cells.insert(cells.end(), {"", "", "", "", log_status_name(participant.log_status)});
@@ -216,7 +285,7 @@ std::string participants_csv(const AnalysisResult& result) {
   return csv;
 }
 
-// Seed 002's pilot grid: one row per map and cell.
+// Ye et al. 2022's pilot grid: one row per map and cell.
 std::string rating_grid_csv(const RatingGrid& grid, const std::string& study) {
   std::string csv = csv_line({"study", "scene", "level", "x_key", "x", "y_key", "y", "mean_score", "trials",
                               "participants", "best"});
@@ -232,7 +301,7 @@ std::string rating_grid_csv(const RatingGrid& grid, const std::string& study) {
   return csv;
 }
 
-// Seed 002's Table 2: one row per condition, the votes for the reference, one-sided.
+// Ye et al. 2022's Table 2: one row per condition, the votes for the reference, one-sided.
 std::string preference_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"study", "scene", "variant", "condition", "reference_method", "test_method", "n",
                               "reference_votes", "share", "ci_lower", "ci_upper", "p_value", "alternative", "stars"});
@@ -245,7 +314,72 @@ std::string preference_csv(const AnalysisResult& result) {
   return csv;
 }
 
+// headline.csv: one row a (scene, variant) group, the number to publish with its interval, status
+// and method, and the paper's rule beside it (docs/analysis.md). No value when not estimable.
+std::string headline_csv(const AnalysisResult& result) {
+  std::string csv = csv_line({"scene", "variant", "quantity", "value", "lower", "upper", "status", "reason", "method",
+                              "aims_at", "flags", "participants", "paper_rule", "paper_value", "paper_difference",
+                              "paper_rule_is_headline", "pooled_fit", "pooled_fit_lower", "pooled_fit_upper", "notes"});
+  for (const Headline& headline : result.headlines) {
+    csv += csv_line({headline.group.scene, headline.group.variant, headline.quantity, csv_number(headline_value(headline)),
+                     csv_number(headline_lower(headline)), csv_number(headline_upper(headline)),
+                     headline_status_name(headline.status), headline.reason, headline.method, headline.aims_at,
+                     joined(headline.flags, "; "), std::to_string(headline.participants), headline.paper_rule,
+                     csv_number(headline.paper_value), headline.paper_difference,
+                     headline.paper_rule_is_headline ? "true" : "false", csv_number(headline.pooled_fit),
+                     csv_number(headline.pooled_fit_lower), csv_number(headline.pooled_fit_upper),
+                     joined(headline.notes, "; ")});
+  }
+  return csv;
+}
+
 // ---- JSON ------------------------------------------------------------------------------------
+
+// One headline in thresholds.json's `headlines`: value and interval null when not estimable.
+json headline_json(const Headline& headline) {
+  json pooled = nullptr;
+  if (headline.pooled_fit)
+    pooled = {{"value", json_number(headline.pooled_fit)},
+              {"interval", {{"lower", json_number(headline.pooled_fit_lower)}, {"upper", json_number(headline.pooled_fit_upper)}}}};
+  return {{"scene", headline.group.scene},
+          {"variant", headline.group.variant},
+          {"quantity", headline.quantity},
+          {"value", json_number(headline_value(headline))},
+          {"interval", {{"lower", json_number(headline_lower(headline))}, {"upper", json_number(headline_upper(headline))}}},
+          {"method", headline.method},
+          {"aims_at", headline.aims_at},
+          {"status", headline_status_name(headline.status)},
+          {"reason", headline.reason},
+          {"flags", headline.flags},
+          {"notes", headline.notes},
+          {"participants", headline.participants},
+          {"paper_rule", headline.paper_rule},
+          {"paper_value", json_number(headline.paper_value)},
+          {"paper_difference", headline.paper_difference},
+          {"paper_rule_is_headline", headline.paper_rule_is_headline},
+          {"pooled_fit", pooled}};
+}
+
+// A frame-interval summary in thresholds.json (participants' and the study's).
+json frame_intervals_json(const FrameIntervalSummary& frames) {
+  return {{"refresh_hz", json_number(frames.refresh_hz)},
+          {"late_beyond_ms", frames.refresh_hz ? json_number(kLateRefreshPeriods * 1e3 / *frames.refresh_hz) : json(nullptr)},
+          {"intervals", frames.intervals},
+          {"median_ms", json_number(frames.median_ms)},
+          {"sd_ms", json_number(frames.sd_ms)},
+          {"p99_ms", json_number(frames.p99_ms)},
+          {"max_ms", json_number(frames.max_ms)},
+          {"late", frames.late},
+          {"late_share", json_number(frames.late_share)}};
+}
+
+// The study's frame intervals: every included (not excluded) participant's pooled.
+FrameIntervalSummary study_frame_intervals(const AnalysisResult& result) {
+  std::vector<const FrameIntervalSummary*> sessions;
+  for (const ParticipantRow& participant : result.participants)
+    if (!participant.excluded) sessions.push_back(&participant.frame_intervals);
+  return pool_frame_intervals(sessions);
+}
 
 // null: not computed, or (profile intervals) an end the data do not bound; the fit's note says which.
 json interval_json(const ParameterInterval& interval) {
@@ -292,6 +426,8 @@ json thresholds_json(const AnalysisResult& result) {
   root["guess_rate"] = json_number(result.guess_rate);
   root["guess_rate_source"] = result.guess_rate_source;
   root["inputs"] = result.inputs;
+  root["headlines"] = json::array();
+  for (const Headline& headline : result.headlines) root["headlines"].push_back(headline_json(headline));
 
   root["thresholds"] = json::array();
   for (const GroupThreshold& threshold : result.thresholds) {
@@ -371,7 +507,7 @@ json thresholds_json(const AnalysisResult& result) {
                                   {"ci_upper", json_number(row.interval.upper)},
                                   {"p_value", json_number(row.p_value)},
                                   {"p_holm", json_number(row.p_holm)},
-                                  {"stars", row.stars},
+                                  {"stars", shown_stars(result, row)},
                                   {"mean_rating", json_number(row.mean_rating)},
                                   {"sd_rating", json_number(row.sd_rating)}});
   }
@@ -445,11 +581,14 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"attention_checks", participant.attention_checks},
                                     {"attention_errors", participant.attention_errors},
                                     {"latency", latency_json(participant)},
+                                    {"frame_intervals", frame_intervals_json(participant.frame_intervals)},
                                     {"validation", validation_json(participant)},
                                     {"practice_trials", participant.practice_trials},
                                     {"thresholds", thresholds}});
     if (!participant.tracks.empty()) root["participants"].back()["adaptive_tracks"] = adaptive_tracks_json(participant);
   }
+
+  root["frame_intervals"] = frame_intervals_json(study_frame_intervals(result));
 
   root["config_versions"] = json::array();
   for (const ConfigVersion& version : result.config_versions)
@@ -494,8 +633,8 @@ struct Plot {
   std::string svg;
 };
 
-// Share of answers for the test stimulus per level (seed 000, Fig. 9), one series per group; rating
-// studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
+// Share of answers for the test stimulus per level (Polychronakis et al. 2023, Fig. 9), one series
+// per group; rating studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
 // `only`: the plot of that group alone (one of the small multiples drawn for many groups).
 std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std::optional<GroupKey>& only = std::nullopt) {
   const bool rating = is_rating(result);
@@ -575,24 +714,77 @@ std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std
   return plot;
 }
 
-// Data (share of "difference reported" with Clopper-Pearson intervals) and every fitted curve of one
-// group; the band is the first fit's bootstrap threshold interval.
-std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupFit& group, std::set<std::string>& taken) {
-  XySeries data;
-  data.label = "data";
-  data.style = XySeries::Style::points;
+// The headline of a group as a legend label, "headline 13.81 [12.96, 14.71]" after `prefix`; the
+// interval left out when the legend would cut it (the band shows it).
+std::string headline_label(const std::string& prefix, const Headline& headline) {
+  const std::string full = prefix + "headline " + headline_value_text(headline);
+  return full.size() <= 36 ? full : prefix + "headline " + html_number(headline.value);
+}
+
+// Marks a group's headline on a chart: its value as a dashed vertical line, its 95 % interval as a
+// band (an unbounded end drawn to the edge of [lo, hi]). `prefix` names the group in the legend
+// ("" when the chart shows one group); `colour` is the group's palette index (none: grey).
+void mark_headline(XyChart& chart, const Headline& headline, const std::string& prefix, std::optional<std::size_t> colour,
+                   double lo, double hi) {
+  if (headline.lower && headline.upper) {
+    const double band_lower = std::max(*headline.lower, lo);
+    const double band_upper = std::min(*headline.upper, hi);
+    if (band_lower <= band_upper) chart.bands.push_back({"", band_lower, band_upper, colour});
+  }
+  chart.vertical_lines.push_back({headline_label(prefix, headline), *headline.value, colour});
+}
+
+// Why a group's plot shows no threshold mark: "blur: not estimable (the fit's threshold lies
+// outside the tested levels)".
+std::string unmarked_headline_note(const Headline& headline) {
+  return headline.group.label() + ": " + headline_status_name(headline.status) +
+         (headline.reason.empty() ? std::string() : " (" + headline.reason + ")");
+}
+
+// Each included participant's share of trials with a difference reported per level, where their
+// data give one: adaptive tracks of the group (block = the group's scene, or any block for "all"),
+// at levels they were shown at least twice. Constant-stimulus designs keep no per-participant
+// counts in the result.
+XySeries participant_proportions(const AnalysisResult& result, const GroupKey& group) {
+  XySeries points;
+  points.style = XySeries::Style::points;
+  points.small = true;
+  for (const ParticipantRow& participant : result.participants) {
+    if (participant.excluded) continue;
+    std::map<double, std::pair<int, int>> by_level;  // level -> (trials, seen)
+    for (const AdaptiveTrackResult& track : participant.tracks) {
+      if (track.variant != group.variant || (group.scene != "all" && track.block != group.scene)) continue;
+      for (size_t i = 0; i < track.levels.size() && i < track.seen.size(); ++i) {
+        auto& [trials, seen] = by_level[track.levels[i]];
+        ++trials;
+        seen += track.seen[i] ? 1 : 0;
+      }
+    }
+    for (const auto& [level, counts] : by_level) {
+      if (counts.first < 2 || !std::isfinite(level)) continue;
+      points.x.push_back(level);
+      points.y.push_back(double(counts.second) / double(counts.first));
+    }
+  }
+  return points;
+}
+
+// Data (share of "difference reported" with Clopper-Pearson intervals), fitted curves and the
+// headline threshold (a dashed line and its interval as a band) of the groups of one scene: one
+// group alone gets every fitted shape; several variants are overlaid, one colour each, with their
+// first fit. Each participant's proportions, where the data give them, are small points.
+std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::vector<const GroupFit*>& groups,
+                                      std::set<std::string>& taken) {
+  if (groups.empty()) return std::nullopt;
+  const bool overlay = groups.size() > 1;
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
-  for (const LevelCounts& counts : group.data) {
-    if (counts.n == 0 || counts.k > counts.n || !std::isfinite(counts.level)) continue;
-    const ProportionInterval interval = clopper_pearson_interval(counts.k, counts.n);
-    data.x.push_back(counts.level);
-    data.y.push_back(static_cast<double>(counts.k) / static_cast<double>(counts.n));
-    data.y_lower.push_back(interval.lower);
-    data.y_upper.push_back(interval.upper);
-    lo = std::min(lo, counts.level);
-    hi = std::max(hi, counts.level);
-  }
+  for (const GroupFit* group : groups)
+    for (const LevelCounts& counts : group->data) {
+      if (counts.n == 0 || counts.k > counts.n || !std::isfinite(counts.level)) continue;
+      lo = std::min(lo, counts.level);
+      hi = std::max(hi, counts.level);
+    }
   if (!(lo < hi)) {  // one level or none: the study's levels give the range of the curves
     for (double level : result.levels) {
       if (!std::isfinite(level)) continue;
@@ -601,53 +793,209 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const GroupF
     }
   }
   XyChart chart;
+  const GroupFit& first = *groups.front();
   // The complement of the share plot's quantity: what the psychometric function models.
-  chart.title = group.group.label() + ": P(difference reported) = 1 - share " + std::string(result.rules().judged_words);
+  chart.title = (overlay ? first.group.scene : first.group.label()) + ": P(difference reported) = 1 - share " +
+                std::string(result.rules().judged_words);
   chart.x_label = level_axis_label(result);
   chart.y_label = "P(difference reported)";
   chart.y_min = 0.0;
   chart.y_max = 1.0;
   chart.x_log = log_spaced(result.levels) && lo > 0.0;
-  if (!data.x.empty()) chart.series.push_back(data);
-  if (lo < hi) {
-    for (const PsychometricFit& fit : group.fits) {
-      XySeries curve;
-      curve.style = XySeries::Style::line;
-      // "cumulative_normal" is the name in the tables; the legend has room for a short one.
-      const std::string shape =
-          fit.model.shape == PsychometricShape::cumulative_normal ? "normal" : shape_name(fit.model.shape);
-      curve.label = shape + ", threshold " + format_number(fit.model.parameters.threshold, kHtmlDigits);
-      for (int i = 0; i < kCurveSamples; ++i) {
-        const double t = double(i) / (kCurveSamples - 1);
-        const double level = chart.x_log ? lo * std::pow(hi / lo, t) : lo + (hi - lo) * t;
-        curve.x.push_back(level);
-        curve.y.push_back(fit.model.p_report(level));
-      }
-      chart.series.push_back(std::move(curve));
-    }
+  std::vector<std::string> unmarked;
+  bool any_participants = false, any_data = false;
+  // Overlaid variants share levels: each one's points are shifted a little along x (as in the share
+  // plot: 1.7 % of the range, at most 30 % of the smallest gap; on a log axis a factor).
+  double offset_step = 0.0;
+  if (overlay && lo < hi) {
+    std::vector<double> levels = result.levels;
+    std::sort(levels.begin(), levels.end());
+    double gap = hi - lo;
+    for (size_t i = 1; i < levels.size(); ++i)
+      if (levels[i] > levels[i - 1]) gap = std::min(gap, levels[i] - levels[i - 1]);
+    offset_step = chart.x_log ? 0.017 * std::log10(hi / lo)
+                              : std::min(0.017 * (hi - lo), 0.3 * gap / static_cast<double>(groups.size() - 1));
   }
-  if (!group.fits.empty()) {
-    // An unbounded end is drawn to the edge of the tested levels.
-    const ParameterInterval& interval = group.fits.front().threshold_interval;
-    const double band_lower = std::max(interval.lower, lo);
-    const double band_upper = std::min(interval.upper, hi);
-    if (band_lower <= band_upper)  // false for NaN ends and for an interval beyond the tested levels
-      chart.bands.push_back({std::string("threshold CI (") + shape_name(group.fits.front().model.shape) + ")",
-                             band_lower, band_upper});
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const GroupFit& group = *groups[g];
+    const double offset = offset_step * (static_cast<double>(g) - static_cast<double>(groups.size() - 1) / 2);
+    const auto shifted = [&](double x) { return chart.x_log ? x * std::pow(10.0, offset) : x + offset; };
+    const std::optional<std::size_t> colour = overlay ? std::optional<std::size_t>(g) : std::nullopt;
+    const std::string name = group.group.variant.empty() ? "(no variant)" : group.group.variant;
+    XySeries data;
+    data.label = overlay ? name + ": data" : "data";
+    data.style = XySeries::Style::points;
+    data.colour = colour.value_or(0);
+    for (const LevelCounts& counts : group.data) {
+      if (counts.n == 0 || counts.k > counts.n || !std::isfinite(counts.level)) continue;
+      const ProportionInterval interval = clopper_pearson_interval(counts.k, counts.n);
+      data.x.push_back(shifted(counts.level));
+      data.y.push_back(static_cast<double>(counts.k) / static_cast<double>(counts.n));
+      data.y_lower.push_back(interval.lower);
+      data.y_upper.push_back(interval.upper);
+    }
+    XySeries participants = participant_proportions(result, group.group);
+    for (double& x : participants.x) x = shifted(x);
+    if (!participants.x.empty()) {
+      participants.colour = data.colour;
+      if (!any_participants) participants.label = "each participant";
+      any_participants = true;
+      chart.series.push_back(std::move(participants));
+    }
+    if (!data.x.empty()) {
+      any_data = true;
+      chart.series.push_back(data);
+    }
+    if (lo < hi) {
+      for (size_t f = 0; f < group.fits.size() && (f == 0 || !overlay); ++f) {
+        const PsychometricFit& fit = group.fits[f];
+        XySeries curve;
+        curve.style = XySeries::Style::line;
+        if (overlay) curve.colour = g;
+        else curve.colour = f + 1;
+        // "cumulative_normal" is the name in the tables; the legend has room for a short one.
+        const std::string shape =
+            fit.model.shape == PsychometricShape::cumulative_normal ? "normal" : shape_name(fit.model.shape);
+        // Overlaid: the variant and the shape (the headline's line gives the number).
+        curve.label = overlay ? name + ": " + shape + " fit"
+                              : shape + " fit, threshold " + format_number(fit.model.parameters.threshold, kHtmlDigits);
+        for (int i = 0; i < kCurveSamples; ++i) {
+          const double t = double(i) / (kCurveSamples - 1);
+          const double level = chart.x_log ? lo * std::pow(hi / lo, t) : lo + (hi - lo) * t;
+          curve.x.push_back(level);
+          curve.y.push_back(fit.model.p_report(level));
+        }
+        chart.series.push_back(std::move(curve));
+      }
+    }
+    const Headline* headline = headline_of(result, group.group);
+    if (marks_level(headline)) {
+      mark_headline(chart, *headline, overlay ? name + ": " : "", colour, lo, hi);
+    } else if (headline) {
+      unmarked.push_back(unmarked_headline_note(*headline));
+    } else if (!group.fits.empty() && !overlay) {
+      // No headline from the analysis: the first fit's profile interval, as before headlines existed.
+      const ParameterInterval& interval = group.fits.front().threshold_interval;
+      const double band_lower = std::max(interval.lower, lo);
+      const double band_upper = std::min(interval.upper, hi);
+      if (band_lower <= band_upper)  // false for NaN ends and for an interval beyond the tested levels
+        chart.bands.push_back({std::string("threshold CI (") + shape_name(group.fits.front().model.shape) + ")",
+                               band_lower, band_upper, std::nullopt});
+    }
   }
   if (chart.series.empty()) return std::nullopt;
   Plot plot;
-  std::string stem = "psychometric_" + safe_name(group.group.scene);
-  if (!group.group.variant.empty()) stem += "_" + safe_name(group.group.variant);
+  std::string stem = "psychometric_" + safe_name(first.group.scene);
+  if (!overlay && !first.group.variant.empty()) stem += "_" + safe_name(first.group.variant);
   plot.file_name = unique_svg_name(stem, taken);
-  plot.caption = "Psychometric fits for " + group.group.label() +
-                 ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curves, "
-                 "and the 95 % profile-likelihood interval of the first fit's threshold (shaded).";
+  plot.caption = "Psychometric fits for " + (overlay ? first.group.scene + ", its variants overlaid" : first.group.label()) +
+                 ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curve" +
+                 (overlay ? " of each variant" : "s") +
+                 (chart.vertical_lines.empty() ? std::string()
+                                               : ", and the headline threshold (dashed) with its 95 % interval (shaded)");
+  if (any_participants) plot.caption += "; small points: each participant's share at a level they saw at least twice";
+  plot.caption += ".";
+  if (offset_step > 0.0) plot.caption += " The variants' points are shifted slightly along x to keep them apart.";
+  if (!any_data) plot.caption += " No pooled data to show.";
+  if (!unmarked.empty()) plot.caption += " No threshold marked for " + joined(unmarked, "; ") + ".";
   plot.svg = render_xy_chart_svg(chart);
   return plot;
 }
 
-// Seed 002, Figure 9: one heat map per block (and for every block pooled) of the mean score per pair
+// Each included participant's threshold as a point (pair, ramp, slider), one row a participant, the
+// variants of one scene overlaid (one colour each, rows shifted a little apart), with the headline
+// (the mean over participants: a dashed line) and its 95 % interval (shaded).
+std::vector<Plot> participant_threshold_plots(const AnalysisResult& result, std::set<std::string>& taken) {
+  std::vector<std::string> scenes;
+  std::map<std::string, std::vector<GroupKey>> groups_of;  // scene -> its groups, first appearance first
+  std::vector<const ParticipantRow*> rows;                  // participants with a threshold, in path order
+  for (const ParticipantRow& participant : result.participants) {
+    if (participant.excluded) continue;
+    bool any = false;
+    for (const ParticipantThreshold& threshold : participant.thresholds) {
+      if (!threshold.level || !std::isfinite(*threshold.level)) continue;
+      any = true;
+      auto& groups = groups_of[threshold.group.scene];
+      if (groups.empty()) scenes.push_back(threshold.group.scene);
+      if (std::find(groups.begin(), groups.end(), threshold.group) == groups.end()) groups.push_back(threshold.group);
+    }
+    if (any) rows.push_back(&participant);
+  }
+  std::vector<Plot> plots;
+  for (const std::string& scene : scenes) {
+    const std::vector<GroupKey>& groups = groups_of[scene];
+    const bool overlay = groups.size() > 1;
+    XyChart chart;
+    chart.title = result.study + ", " + scene + ": each participant's threshold";
+    chart.x_label = "threshold " + level_axis_label(result);
+    chart.y_label = "participant (in log-path order)";
+    chart.y_min = 0.0;
+    chart.y_max = double(rows.size()) + 1.0;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (double level : result.levels) {
+      lo = std::min(lo, level);
+      hi = std::max(hi, level);
+    }
+    std::vector<std::string> unmarked;
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const GroupKey& group = groups[g];
+      const std::string name = group.variant.empty() ? "(no variant)" : group.variant;
+      const double shift = overlay ? 0.5 * (double(g) - double(groups.size() - 1) / 2) / double(groups.size()) : 0.0;
+      XySeries points;
+      points.style = XySeries::Style::points;
+      points.colour = g;
+      points.label = overlay ? name + ": each participant" : "each participant";
+      for (size_t r = 0; r < rows.size(); ++r)
+        for (const ParticipantThreshold& threshold : rows[r]->thresholds) {
+          if (!(threshold.group == group) || !threshold.level || !std::isfinite(*threshold.level)) continue;
+          points.x.push_back(*threshold.level);
+          points.y.push_back(double(r + 1) + shift);
+          if (!overlay && rows.size() <= kTrackPlots) points.point_labels.push_back(rows[r]->participant);
+          lo = std::min(lo, *threshold.level);
+          hi = std::max(hi, *threshold.level);
+        }
+      if (!points.point_labels.empty() && points.point_labels.size() != points.x.size()) points.point_labels.clear();
+      chart.series.push_back(std::move(points));
+    }
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const std::string name = groups[g].variant.empty() ? "(no variant)" : groups[g].variant;
+      const Headline* headline = headline_of(result, groups[g]);
+      if (marks_level(headline)) {
+        mark_headline(chart, *headline, overlay ? name + ": " : "", g, lo, hi);
+      } else if (headline) {
+        unmarked.push_back(unmarked_headline_note(*headline));
+      } else {
+        // No headline from the analysis: the paper's mean over participants and its interval.
+        for (const GroupThreshold& threshold : result.thresholds)
+          if (threshold.group == groups[g] && threshold.mean) {
+            if (threshold.mean_lower && threshold.mean_upper)
+              chart.bands.push_back({"", *threshold.mean_lower, *threshold.mean_upper, g});
+            chart.vertical_lines.push_back({(overlay ? name + ": " : std::string()) + "mean " +
+                                                html_number(threshold.mean) +
+                                                (threshold.mean_lower && threshold.mean_upper
+                                                     ? " " + html_interval(*threshold.mean_lower, *threshold.mean_upper)
+                                                     : std::string()),
+                                            *threshold.mean, g});
+          }
+      }
+    }
+    chart.x_log = log_spaced(result.levels) && lo > 0.0;
+    Plot plot;
+    plot.file_name = unique_svg_name("participant_thresholds_" + safe_name(scene), taken);
+    plot.caption = "Each included participant's threshold, " + scene +
+                   (overlay ? " (variants overlaid, each row shifted a little per variant)" : std::string()) +
+                   (chart.vertical_lines.empty()
+                        ? std::string(".")
+                        : "; dashed: each group's headline (its method in the Headline table) with its 95 % interval "
+                          "(shaded).");
+    if (!unmarked.empty()) plot.caption += " No threshold marked for " + joined(unmarked, "; ") + ".";
+    plot.svg = render_xy_chart_svg(chart);
+    plots.push_back(std::move(plot));
+  }
+  return plots;
+}
+
+// Ye et al. 2022, Figure 9: one heat map per block (and for every block pooled) of the mean score per pair
 // of the two grid parameters over every level, coloured on the score's scale 1..3, the best pair
 // outlined.
 std::vector<Plot> rating_grid_plots(const AnalysisResult& result, std::set<std::string>& taken) {
@@ -696,7 +1044,7 @@ std::vector<double> level_bin_edges(std::vector<double> centres) {
   return edges;
 }
 
-// Per-participant thresholds of the included participants (seed 001, Fig. 7): pooled over the
+// Per-participant thresholds of the included participants (Polychronakis et al. 2021, Fig. 7): pooled over the
 // groups, and one histogram a group when there are several.
 std::vector<Plot> threshold_histograms(const AnalysisResult& result, std::set<std::string>& taken) {
   std::map<GroupKey, std::vector<double>> by_group;
@@ -737,7 +1085,6 @@ std::vector<Plot> threshold_histograms(const AnalysisResult& result, std::set<st
 // A participant's adaptive tracks: each one's level trial by trial (a line), the trials whose answer
 // saw the difference and those that did not, a staircase's reversals, and each threshold (dashed).
 // At most kTrackPlots participants are drawn; adaptive_tracks.csv holds every track.
-constexpr size_t kTrackPlots = 24;
 
 std::vector<Plot> adaptive_track_plots(const AnalysisResult& result, std::set<std::string>& taken) {
   std::vector<Plot> plots;
@@ -782,6 +1129,61 @@ std::vector<Plot> adaptive_track_plots(const AnalysisResult& result, std::set<st
   return plots;
 }
 
+// The histogram of a frame-interval summary: bins a sixteenth of a refresh period wide (about 1 ms
+// at 60 Hz, so a display's jitter shows), centred on
+// multiples of it (an interval of exactly one period sits mid-bar), from 0 to 3 to 6 periods
+// (longer intervals in the last bar), with the late limit (1.5 periods) marked. Without a refresh
+// rate the median stands for the period.
+Histogram frame_interval_histogram(const FrameIntervalSummary& frames, const std::string& title) {
+  Histogram histogram;
+  histogram.title = title;
+  histogram.x_label = "interval between presented refreshes (ms)";
+  for (const auto& [us, count] : frames.count_by_us) {
+    histogram.values.push_back(static_cast<double>(us) / 1e3);
+    histogram.counts.push_back(static_cast<double>(count));
+  }
+  const double period_ms = frames.refresh_hz ? 1e3 / *frames.refresh_hz : frames.median_ms.value_or(0.0);
+  if (period_ms > 0.0 && std::isfinite(period_ms)) {
+    const double periods = std::clamp(std::ceil(frames.max_ms.value_or(period_ms) / period_ms), 3.0, 6.0);
+    const double width = period_ms / 16;
+    for (int k = 0; k <= static_cast<int>(periods * 16) + 1; ++k) histogram.bin_edges.push_back((k - 0.5) * width);
+    histogram.bin_edges.front() = 0.0;
+    histogram.count_labels = false;
+    if (frames.refresh_hz) {
+      histogram.vertical_lines = {kLateRefreshPeriods * period_ms};
+      histogram.vertical_lines_label = "dashed: late beyond 1.5 refresh periods (" +
+                                       format_number(kLateRefreshPeriods * period_ms, kHtmlDigits) + " ms)";
+    }
+  }
+  return histogram;
+}
+
+// The study's frame-interval histogram, then one a session (at most kTrackPlots).
+std::vector<Plot> frame_interval_plots(const AnalysisResult& result, std::set<std::string>& taken) {
+  std::vector<Plot> plots;
+  const FrameIntervalSummary study = study_frame_intervals(result);
+  if (study.intervals == 0) return plots;
+  Plot plot;
+  plot.file_name = unique_svg_name("frame_intervals", taken);
+  plot.caption = "Intervals between presented refreshes, every included session pooled (" +
+                 std::to_string(study.intervals) + " intervals).";
+  plot.svg = render_histogram_svg(frame_interval_histogram(study, result.study + ": frame intervals, every session"));
+  plots.push_back(std::move(plot));
+  size_t sessions = 0;
+  for (const ParticipantRow& participant : result.participants) {
+    if (participant.frame_intervals.intervals == 0 || sessions >= kTrackPlots) continue;
+    ++sessions;
+    Plot session;
+    session.file_name = unique_svg_name("frame_intervals_" + safe_name(participant.participant), taken);
+    session.caption = participant.participant + "'s session: intervals between presented refreshes (" +
+                      std::to_string(participant.frame_intervals.intervals) + " intervals).";
+    session.svg = render_histogram_svg(
+        frame_interval_histogram(participant.frame_intervals, participant.participant + ": frame intervals"));
+    plots.push_back(std::move(session));
+  }
+  return plots;
+}
+
 // ---- HTML ------------------------------------------------------------------------------------
 
 std::string html_escape(const std::string& text) { return xml_escape(text); }
@@ -819,6 +1221,10 @@ th{background:#f0f0f0}tbody tr:nth-child(even){background:#fafafa}
 dl{display:grid;grid-template-columns:max-content auto;gap:0.2em 1em}dt{font-weight:bold}dd{margin:0}
 figure{margin:1em 0}figcaption{font-size:0.9em;color:#555;max-width:720px}
 svg{max-width:100%;height:auto}
+table.headline{font-size:1em}table.headline td.value{font-weight:bold;white-space:nowrap}
+tr.not-estimable td{background:#fdecea}tr.biased td{background:#fff4e0}
+span.status{font-weight:bold}p.definition{font-size:0.9em;color:#333}
+details{margin:0.5em 0}
 )";
 
 // The papers a report can cite, by the name it cites them with; the full list, and what fovlab
@@ -853,7 +1259,98 @@ std::string html_references(const std::string& html) {
   return "<h2 id=\"references\">References</h2>\n<ul>\n" + items + "</ul>\n";
 }
 
-std::string report_html(const AnalysisResult& result, const std::vector<Plot>& plots) {
+// The frame-interval section: the study's and each session's summary, the study's histogram and
+// the sessions' (collapsed).
+std::string html_frame_intervals(const AnalysisResult& result, const std::vector<Plot>& frame_plots) {
+  std::string html = "<h2 id=\"frame-intervals\">Frame intervals</h2>\n";
+  html += "<p>The intervals between consecutive refreshes presented during each stimulus (the log's present times; "
+          "the gap between two stimuli is not counted), over the complete trials, practice left out. Late: an "
+          "interval beyond 1.5 refresh periods (a refresh missed). Median and p99 by nearest rank, SD the sample "
+          "SD; intervals are rounded to the microsecond. The study row pools the included sessions. A headless "
+          "session's presenter keeps a virtual clock, so its intervals are exact periods.</p>\n";
+  const FrameIntervalSummary study = study_frame_intervals(result);
+  int included = 0;
+  for (const ParticipantRow& participant : result.participants) included += participant.excluded ? 0 : 1;
+  auto row = [&](const std::string& name, const FrameIntervalSummary& frames) -> std::vector<std::string> {
+    return {name,
+            html_number(frames.refresh_hz),
+            std::to_string(frames.intervals),
+            html_number(frames.median_ms),
+            html_number(frames.sd_ms),
+            html_number(frames.p99_ms),
+            html_number(frames.max_ms),
+            frames.intervals ? std::to_string(frames.late) : "\xE2\x80\x93",
+            frames.late_share ? format_number(100.0 * *frames.late_share, 3) + " %" : "\xE2\x80\x93"};
+  };
+  std::vector<std::vector<std::string>> rows;
+  rows.push_back(row("study (" + std::to_string(included) + (included == 1 ? " session)" : " sessions)"), study));
+  for (const ParticipantRow& participant : result.participants)
+    rows.push_back(row(participant.participant + (participant.excluded ? " (excluded)" : ""), participant.frame_intervals));
+  html += html_table({"session", "refresh (Hz)", "intervals", "median (ms)", "SD (ms)", "p99 (ms)", "max (ms)",
+                      "late (> 1.5 refreshes)", "late share"},
+                     rows);
+  for (size_t i = 0; i < frame_plots.size(); ++i) {
+    if (i == 1) html += "<details><summary>Each session's histogram</summary>\n";
+    html += "<figure>\n" + inline_svg(frame_plots[i].svg) + "<figcaption>" + html_escape(frame_plots[i].caption) + " (" +
+            html_escape(frame_plots[i].file_name) + ")</figcaption>\n</figure>\n";
+  }
+  if (frame_plots.size() > 1) html += "</details>\n";
+  return html;
+}
+
+// The Headline section, first on the page: one row a group, the value only when it is one.
+std::string html_headlines(const AnalysisResult& result) {
+  std::string html = "<h2 id=\"headline\">Headline</h2>\n";
+  if (result.headlines.empty()) return html + "<p>No headline: the analysis gave none for this design.</p>\n";
+  html += "<p>The number to publish for each group, with its 95 % interval, the method that gives it and what "
+          "that method aims at. A status other than <em>estimated</em> is shown with its reason and no number. "
+          "The paper's own rule is beside it; the same in headline.csv and thresholds.json (headlines).</p>\n";
+  html += "<div class=\"table\"><table class=\"headline\">\n<thead>" +
+          html_row({"group", "quantity", "value [95 % interval]", "status", "method", "aims at", "flags", "participants",
+                    "the paper's rule"},
+                   true) +
+          "</thead>\n<tbody>\n";
+  for (const Headline& headline : result.headlines) {
+    const bool shown = headline.status == HeadlineStatus::estimated && headline_has_value(headline);
+    const std::string row_class = headline.status == HeadlineStatus::not_estimable ? "not-estimable"
+                                  : headline.status == HeadlineStatus::biased      ? "biased"
+                                                                                   : "estimated";
+    const char* no_value = headline.status == HeadlineStatus::biased ? "withheld (biased)" : "none";
+    std::string value = shown ? html_escape(headline_value_text(headline)) : no_value;
+    std::string status = "<span class=\"status\">" + html_escape(headline_status_name(headline.status)) + "</span>";
+    if (!headline.reason.empty()) status += ": " + html_escape(headline.reason);
+    std::string paper = "\xE2\x80\x93";
+    if (!headline.paper_rule.empty()) {
+      paper = html_escape(headline.paper_rule) + ": " +
+              (headline.paper_value ? html_escape(html_number(headline.paper_value)) : std::string("no value"));
+      if (headline.paper_rule_is_headline) paper += " (chosen as the headline)";
+      if (!headline.paper_difference.empty()) paper += "<br>" + html_escape(headline.paper_difference);
+    }
+    std::string flags = html_escape(joined(headline.flags, "; "));
+    html += "<tr class=\"" + row_class + "\"><td>" + html_escape(headline.group.label()) + "</td><td>" +
+            html_escape(headline.quantity) + "</td><td class=\"value\">" + value + "</td><td>" + status + "</td><td>" +
+            html_escape(headline.method) + "</td><td>" + html_escape(headline.aims_at) + "</td><td>" + flags +
+            "</td><td>" + std::to_string(headline.participants) + "</td><td>" + paper + "</td></tr>\n";
+  }
+  html += "</tbody>\n</table></div>\n";
+  // The notes (the fits' among them) and the pooled fit of adaptive designs, per group.
+  std::string notes;
+  for (const Headline& headline : result.headlines) {
+    std::vector<std::string> lines = headline.notes;
+    if (headline.pooled_fit)
+      lines.insert(lines.begin(), "the pooled fit of every adaptive trial: " + html_number(headline.pooled_fit) +
+                                      (headline.pooled_fit_lower && headline.pooled_fit_upper
+                                           ? " " + html_interval(*headline.pooled_fit_lower, *headline.pooled_fit_upper)
+                                           : std::string()));
+    for (const std::string& line : lines)
+      notes += "<li><strong>" + html_escape(headline.group.label()) + "</strong>: " + html_escape(line) + "</li>\n";
+  }
+  if (!notes.empty()) html += "<ul class=\"notes\">\n" + notes + "</ul>\n";
+  return html;
+}
+
+std::string report_html(const AnalysisResult& result, const std::vector<Plot>& plots,
+                        const std::vector<Plot>& frame_plots) {
   int included = 0;
   int excluded = 0;
   for (const ParticipantRow& participant : result.participants) (participant.excluded ? excluded : included) += 1;
@@ -861,6 +1358,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<title>fovlab analysis: " + html_escape(result.study) + "</title>\n<style>\n" + kStyle + "</style>\n";
   html += "</head>\n<body>\n<h1>fovlab analysis: " + html_escape(result.study) + "</h1>\n";
+  html += html_headlines(result);
 
   html += "<h2 id=\"summary\">Study</h2>\n<dl>\n";
   auto item = [&](const std::string& term, const std::string& value) {
@@ -900,23 +1398,44 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     html += "</ul>\n</details>\n";
   }
 
-  html += "<h2 id=\"thresholds\">Thresholds</h2>\n";
+  html += "<h2 id=\"thresholds\">Thresholds by the paper's rule</h2>\n";
   if (result.thresholds.empty()) {
     html += "<p>No thresholds.</p>\n";
   } else {
+    // The definition once: one for every group (the usual case), else one line a group.
+    std::vector<std::string> definitions;
+    for (const GroupThreshold& t : result.thresholds)
+      if (std::find(definitions.begin(), definitions.end(), t.definition) == definitions.end())
+        definitions.push_back(t.definition);
+    // Several (pair: pooled and per participant): each once, numbered, and each row names its number.
+    const bool several = definitions.size() > 1;
+    const auto number_of = [&](const std::string& definition) {
+      return "(" + std::to_string(std::find(definitions.begin(), definitions.end(), definition) - definitions.begin() + 1) + ")";
+    };
+    if (!several) {
+      html += "<p class=\"definition\"><strong>Definition</strong>: " + html_escape(definitions.front()) + "</p>\n";
+    } else {
+      html += "<p class=\"definition\"><strong>Definitions</strong> (the table's column names which):</p>\n"
+              "<ul class=\"definition\">\n";
+      for (const std::string& definition : definitions)
+        html += "<li>" + html_escape(number_of(definition)) + " " + html_escape(definition) + "</li>\n";
+      html += "</ul>\n";
+    }
     std::vector<std::vector<std::string>> rows;
     for (const GroupThreshold& t : result.thresholds) {
-      rows.push_back({t.group.scene, t.group.variant, t.unsupported ? "none (see note)" : html_number(t.level),
-                      html_number(t.mean),
-                      t.mean_lower ? html_interval(*t.mean_lower, *t.mean_upper) : std::string("\xE2\x80\x93"),
-                      html_number(t.sd),
-                      std::to_string(t.participants_with_threshold), std::to_string(t.participants_without_threshold),
-                      t.definition, t.note});
+      std::vector<std::string> row = {t.group.scene, t.group.variant};
+      if (several) row.push_back(number_of(t.definition));
+      row.insert(row.end(), {t.unsupported ? "none (see note)" : html_number(t.level), html_number(t.mean),
+                             t.mean_lower ? html_interval(*t.mean_lower, *t.mean_upper) : std::string("\xE2\x80\x93"),
+                             html_number(t.sd), std::to_string(t.participants_with_threshold),
+                             std::to_string(t.participants_without_threshold), t.note});
+      rows.push_back(std::move(row));
     }
-    html += html_table({"scene", "variant", "threshold", "mean", "95 % CI of the mean", "SD", "participants with",
-                        "participants without",
-                        "definition", "note"},
-                       rows);
+    std::vector<std::string> header = {"scene", "variant"};
+    if (several) header.push_back("definition");
+    header.insert(header.end(), {"threshold", "mean over participants", "95 % CI of the mean", "SD",
+                                 "participants with a threshold", "participants without", "note"});
+    html += html_table(header, rows);
   }
 
   if (result.rating_grid) {
@@ -1021,7 +1540,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
       std::vector<std::string> cells = {row.group.scene, row.group.variant, row.method, row.condition, html_number(row.level),
                                         std::to_string(row.n), std::to_string(row.k), html_number(row.proportion),
                                         html_interval(row.interval.lower, row.interval.upper),
-                                        html_number(row.p_value), html_number(row.p_holm), row.stars};
+                                        html_number(row.p_value), html_number(row.p_holm), shown_stars(result, row)};
       if (ratings) cells.insert(cells.end(), {html_number(row.mean_rating), html_number(row.sd_rating)});
       rows.push_back(std::move(cells));
     }
@@ -1065,6 +1584,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
                        rows);
   }
 
+  html += html_frame_intervals(result, frame_plots);
+
   const auto with_tracks = std::count_if(result.participants.begin(), result.participants.end(),
                                          [](const ParticipantRow& p) { return !p.tracks.empty(); });
   if (with_tracks > 0) {
@@ -1095,7 +1616,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     }
     html += "</ul>\n";
   }
-  html += std::string("<p>The same numbers as data: conditions.csv, participants.csv, ") +
+  html += std::string("<p>The same numbers as data: headline.csv, conditions.csv, participants.csv, ") +
           (with_tracks > 0 ? "adaptive_tracks.csv, " : "") + "thresholds.json.</p>\n";
   html += html_references(html);
   html += "</body>\n</html>\n";
@@ -1114,6 +1635,7 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
     written.push_back(path.string());
   };
 
+  write("headline.csv", headline_csv(result));
   write("conditions.csv", conditions_csv(result));
   write("participants.csv", participants_csv(result));
   const bool adaptive = std::any_of(result.participants.begin(), result.participants.end(),
@@ -1141,14 +1663,31 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
       }
   }
   for (Plot& plot : rating_grid_plots(result, taken)) plots.push_back(std::move(plot));
+  // The psychometric plots: a scene's variants overlaid on one (up to four), else one a group.
+  std::vector<std::vector<const GroupFit*>> by_scene;
   for (const GroupFit& group : result.fits) {
-    if (auto plot = psychometric_plot(result, group, taken)) plots.push_back(std::move(*plot));
+    auto same = std::find_if(by_scene.begin(), by_scene.end(), [&](const std::vector<const GroupFit*>& fits) {
+      return fits.front()->group.scene == group.group.scene;
+    });
+    if (same == by_scene.end()) by_scene.push_back({&group});
+    else same->push_back(&group);
   }
+  for (const std::vector<const GroupFit*>& scene : by_scene) {
+    if (scene.size() <= kGroupsInOnePlot) {
+      if (auto plot = psychometric_plot(result, scene, taken)) plots.push_back(std::move(*plot));
+    } else {
+      for (const GroupFit* group : scene)
+        if (auto plot = psychometric_plot(result, {group}, taken)) plots.push_back(std::move(*plot));
+    }
+  }
+  for (Plot& plot : participant_threshold_plots(result, taken)) plots.push_back(std::move(plot));
   for (Plot& plot : threshold_histograms(result, taken)) plots.push_back(std::move(plot));
   for (Plot& plot : adaptive_track_plots(result, taken)) plots.push_back(std::move(plot));
   for (const Plot& plot : plots) write(plot.file_name, plot.svg);
+  const std::vector<Plot> frame_plots = frame_interval_plots(result, taken);
+  for (const Plot& plot : frame_plots) write(plot.file_name, plot.svg);
 
-  write("report.html", report_html(result, plots));
+  write("report.html", report_html(result, plots, frame_plots));
   return written;
 }
 
@@ -1157,7 +1696,7 @@ namespace {
 // A name write_analysis_report writes, or the temporary of one (".<stem>.tmp-<pid>.<ext>", left
 // inside by a run killed before this folder-level writing existed).
 bool is_report_file_name(const std::string& name) {
-  if (name == "thresholds.json" || name == "conditions.csv" || name == "participants.csv" || name == "report.html" ||
+  if (name == "thresholds.json" || name == "headline.csv" || name == "conditions.csv" || name == "participants.csv" || name == "report.html" ||
       name == "rating_grid.csv" || name == "preference.csv" || name == "adaptive_tracks.csv")
     return true;
   const auto ends_with = [&](const std::string& end) {

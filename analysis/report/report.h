@@ -1,8 +1,9 @@
 #pragma once
 // The files `fovlab analyze` writes for an AnalysisResult, under one folder:
-//   thresholds.json    every threshold, fit, condition and what was left out (docs/analysis.md)
+//   headline.csv       one row a group: the number to publish, its interval, status and method
+//   thresholds.json    every headline, threshold, fit, condition and what was left out (docs/analysis.md)
 //   conditions.csv     one row a condition (tidy, RFC 4180)
-//   participants.csv   one row a participant and group threshold
+//   participants.csv   one row a participant and group threshold (with its session's frame intervals)
 //   *.svg              the plots (svg_chart.h)
 //   report.html        one self-contained page: the tables and the plots inline
 // Every file is written atomically (core/atomic_file.h); write_analysis_folder writes them as a set.

@@ -246,26 +246,30 @@ const char* band_colour(std::size_t index) { return kBandPalette[index % kBandPa
 
 // A point marker centred on (x, y): circle, square, triangle, diamond by series index, so the series
 // differ in shape as well as colour.
-std::string marker(std::size_t index, double x, double y, const char* colour) {
-  const std::string fill = std::string(" fill=\"") + colour + "\"";
+std::string marker(std::size_t index, double x, double y, const char* colour, bool small = false) {
+  const double k = small ? 0.55 : 1.0;  // small markers: about half the size, half transparent
+  const std::string fill = std::string(" fill=\"") + colour + "\"" + (small ? " fill-opacity=\"0.5\"" : "");
   switch (index % 4) {
     case 0:
-      return "<circle" + attr("cx", x) + attr("cy", y) + attr("r", 4.0) + fill + "/>\n";
+      return "<circle" + attr("cx", x) + attr("cy", y) + attr("r", 4.0 * k) + fill + "/>\n";
     case 1:
-      return "<rect" + attr("x", x - 3.5) + attr("y", y - 3.5) + attr("width", 7.0) + attr("height", 7.0) + fill + "/>\n";
+      return "<rect" + attr("x", x - 3.5 * k) + attr("y", y - 3.5 * k) + attr("width", 7.0 * k) + attr("height", 7.0 * k) +
+             fill + "/>\n";
     case 2:
-      return "<polygon points=\"" + coord(x) + "," + coord(y - 5) + " " + coord(x + 4.5) + "," + coord(y + 3.5) + " " +
-             coord(x - 4.5) + "," + coord(y + 3.5) + "\"" + fill + "/>\n";
+      return "<polygon points=\"" + coord(x) + "," + coord(y - 5 * k) + " " + coord(x + 4.5 * k) + "," +
+             coord(y + 3.5 * k) + " " + coord(x - 4.5 * k) + "," + coord(y + 3.5 * k) + "\"" + fill + "/>\n";
     default:
-      return "<polygon points=\"" + coord(x) + "," + coord(y - 5) + " " + coord(x + 5) + "," + coord(y) + " " + coord(x) +
-             "," + coord(y + 5) + " " + coord(x - 5) + "," + coord(y) + "\"" + fill + "/>\n";
+      return "<polygon points=\"" + coord(x) + "," + coord(y - 5 * k) + " " + coord(x + 5 * k) + "," + coord(y) + " " +
+             coord(x) + "," + coord(y + 5 * k) + " " + coord(x - 5 * k) + "," + coord(y) + "\"" + fill + "/>\n";
   }
 }
 
 struct LegendEntry {
   std::string label;
-  enum class Kind { points, line, bars, band } kind = Kind::points;
-  std::size_t index = 0;  // series or band index (colour, marker)
+  enum class Kind { points, line, bars, band, vertical } kind = Kind::points;
+  std::size_t index = 0;  // the palette index of its marker shape
+  const char* colour = kPalette[0];
+  bool small = false;     // points: the series' small markers
 };
 
 std::string draw_legend(const std::vector<LegendEntry>& entries, double left, double top, double bottom) {
@@ -282,19 +286,23 @@ std::string draw_legend(const std::vector<LegendEntry>& entries, double left, do
     out += "<g><title>" + xml_escape(entry.label) + "</title>\n";
     switch (entry.kind) {
       case LegendEntry::Kind::points:
-        out += marker(entry.index, left + 10, y, series_colour(entry.index));
+        out += marker(entry.index, left + 10, y, entry.colour, entry.small);
         break;
       case LegendEntry::Kind::line:
         out += "<line" + attr("x1", left) + attr("y1", y) + attr("x2", left + 20) + attr("y2", y) + " stroke=\"" +
-               series_colour(entry.index) + "\" stroke-width=\"2\"/>\n";
+               entry.colour + "\" stroke-width=\"2\"/>\n";
         break;
       case LegendEntry::Kind::bars:
         out += "<rect" + attr("x", left + 4) + attr("y", y - 5) + attr("width", 12.0) + attr("height", 10.0) + " fill=\"" +
-               series_colour(entry.index) + "\"/>\n";
+               entry.colour + "\"/>\n";
         break;
       case LegendEntry::Kind::band:
         out += "<rect" + attr("x", left + 2) + attr("y", y - 6) + attr("width", 16.0) + attr("height", 12.0) + " fill=\"" +
-               band_colour(entry.index) + "\" fill-opacity=\"0.3\"/>\n";
+               entry.colour + "\" fill-opacity=\"0.3\"/>\n";
+        break;
+      case LegendEntry::Kind::vertical:
+        out += "<line" + attr("x1", left + 10) + attr("y1", y - 7) + attr("x2", left + 10) + attr("y2", y + 7) +
+               " stroke=\"" + entry.colour + "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>\n";
         break;
     }
     out += text_at(left + 26, y + 4, shorten(entry.label, kLegendChars), "start");
@@ -423,7 +431,7 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
-// The chart on a log10 x axis: every x (points, band ends, fixed bounds) replaced by its log10;
+// The chart on a log10 x axis: every x (points, band ends, vertical lines, fixed bounds) replaced by its log10;
 // x <= 0 becomes NaN (left out).
 XyChart to_log_x(XyChart chart) {
   const auto log_x = [](double x) { return x > 0.0 ? std::log10(x) : std::numeric_limits<double>::quiet_NaN(); };
@@ -433,6 +441,7 @@ XyChart to_log_x(XyChart chart) {
     band.x_lower = log_x(band.x_lower);
     band.x_upper = log_x(band.x_upper);
   }
+  for (XLine& line : chart.vertical_lines) line.x = log_x(line.x);
   if (chart.x_min) chart.x_min = log_x(*chart.x_min);
   if (chart.x_max) chart.x_max = log_x(*chart.x_max);
   chart.x_log = false;
@@ -491,7 +500,12 @@ std::string render_xy_chart_svg(const XyChart& requested) {
     }
   }
   for (double line : chart.horizontal_lines) y_extent.add(line);
+  for (const XLine& line : chart.vertical_lines) x_extent.add(line.x);
 
+  const auto band_fill = [&](std::size_t i) {
+    return chart.bands[i].colour ? series_colour(*chart.bands[i].colour) : band_colour(i);
+  };
+  const auto line_colour = [](const XLine& line) { return line.colour ? series_colour(*line.colour) : "#333333"; };
   std::vector<LegendEntry> legend;
   for (std::size_t i = 0; i < chart.series.size(); ++i) {
     const XySeries& series = chart.series[i];
@@ -499,10 +513,14 @@ std::string render_xy_chart_svg(const XyChart& requested) {
     const auto kind = series.style == XySeries::Style::points ? LegendEntry::Kind::points
                       : series.style == XySeries::Style::line ? LegendEntry::Kind::line
                                                               : LegendEntry::Kind::bars;
-    legend.push_back({series.label, kind, i});
+    const std::size_t index = series.colour.value_or(i);
+    legend.push_back({series.label, kind, index, series_colour(index), series.small});
   }
   for (std::size_t i = 0; i < chart.bands.size(); ++i) {
-    if (!chart.bands[i].label.empty()) legend.push_back({chart.bands[i].label, LegendEntry::Kind::band, i});
+    if (!chart.bands[i].label.empty()) legend.push_back({chart.bands[i].label, LegendEntry::Kind::band, i, band_fill(i)});
+  }
+  for (const XLine& line : chart.vertical_lines) {
+    if (!line.label.empty()) legend.push_back({line.label, LegendEntry::Kind::vertical, 0, line_colour(line)});
   }
 
   Frame frame;
@@ -524,12 +542,19 @@ std::string render_xy_chart_svg(const XyChart& requested) {
     const double x1 = frame.px(std::min(band.x_lower, band.x_upper));
     const double x2 = frame.px(std::max(band.x_lower, band.x_upper));
     out += "<rect" + attr("x", x1) + attr("y", frame.top) + attr("width", std::max(x2 - x1, 1.0)) +
-           attr("height", frame.bottom - frame.top) + " fill=\"" + band_colour(i) + "\" fill-opacity=\"0.3\"/>\n";
+           attr("height", frame.bottom - frame.top) + " fill=\"" + band_fill(i) + "\" fill-opacity=\"" +
+           (band.colour ? "0.18" : "0.3") + "\"/>\n";
   }
   for (double line : chart.horizontal_lines) {
     if (!usable(line) || line < frame.y.lo || line > frame.y.hi) continue;
     out += "<line" + attr("x1", frame.left) + attr("y1", frame.py(line)) + attr("x2", frame.right) +
            attr("y2", frame.py(line)) + " stroke=\"#555555\" stroke-width=\"1.2\" stroke-dasharray=\"6 4\"/>\n";
+  }
+  for (const XLine& line : chart.vertical_lines) {
+    const double x = line.x;
+    if (!usable(x) || x < frame.x.lo || x > frame.x.hi) continue;
+    out += "<line" + attr("x1", frame.px(x)) + attr("y1", frame.top) + attr("x2", frame.px(x)) + attr("y2", frame.bottom) +
+           " stroke=\"" + line_colour(line) + "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>\n";
   }
 
   std::size_t bar_series = 0;
@@ -537,7 +562,8 @@ std::string render_xy_chart_svg(const XyChart& requested) {
   std::size_t bar_rank = 0;
   for (std::size_t s = 0; s < chart.series.size(); ++s) {
     const XySeries& series = chart.series[s];
-    const char* colour = series_colour(s);
+    const std::size_t palette_index = series.colour.value_or(s);
+    const char* colour = series_colour(palette_index);
     const std::size_t n = point_count(series);
     const bool errors = has_error_bars(series);
     switch (series.style) {
@@ -576,7 +602,7 @@ std::string render_xy_chart_svg(const XyChart& requested) {
         for (std::size_t i = 0; i < n; ++i) {
           if (!frame.inside(series.x[i], series.y[i])) continue;
           if (errors) out += error_bar(frame, series.x[i], series.y_lower[i], series.y_upper[i], colour);
-          out += marker(s, frame.px(series.x[i]), frame.py(series.y[i]), colour);
+          out += marker(palette_index, frame.px(series.x[i]), frame.py(series.y[i]), colour, series.small);
           if (labelled && !series.point_labels[i].empty()) {
             out += text_at(frame.px(series.x[i]) + 6, frame.py(series.y[i]) - 5, series.point_labels[i], "start",
                            " font-size=\"9\" fill=\"#444444\"");
@@ -610,9 +636,16 @@ std::string render_xy_chart_svg(const XyChart& requested) {
 }
 
 std::string render_histogram_svg(const Histogram& histogram) {
+  // Each usable value with its weight (1, or its entry of `counts`).
   std::vector<double> values;
-  for (double value : histogram.values) {
-    if (usable(value)) values.push_back(value);
+  std::vector<double> weights;
+  const bool weighted = histogram.counts.size() == histogram.values.size();
+  for (std::size_t i = 0; i < histogram.values.size(); ++i) {
+    if (!usable(histogram.values[i])) continue;
+    double weight = weighted ? histogram.counts[i] : 1.0;
+    if (!usable(weight) || weight < 0.0) weight = 0.0;
+    values.push_back(histogram.values[i]);
+    weights.push_back(std::round(weight));
   }
   std::vector<double> edges;
   for (double edge : histogram.bin_edges) {
@@ -628,12 +661,12 @@ std::string render_histogram_svg(const Histogram& histogram) {
     edges = {extent.lo, extent.hi};
   }
   std::vector<uint64_t> counts(edges.size() - 1, 0);
-  for (double value : values) {
+  for (std::size_t v = 0; v < values.size(); ++v) {
     // Values below the first edge count in the first bin, at or above the last edge in the last.
-    const auto upper = std::upper_bound(edges.begin(), edges.end(), value);
+    const auto upper = std::upper_bound(edges.begin(), edges.end(), values[v]);
     std::size_t bin = upper == edges.begin() ? 0 : static_cast<std::size_t>(upper - edges.begin()) - 1;
     bin = std::min(bin, counts.size() - 1);
-    ++counts[bin];
+    counts[bin] += static_cast<uint64_t>(weights[v]);
   }
   const uint64_t most = counts.empty() ? 0 : *std::max_element(counts.begin(), counts.end());
 
@@ -656,8 +689,21 @@ std::string render_histogram_svg(const Histogram& histogram) {
     const double y = frame.py(static_cast<double>(counts[i]));
     out += "<rect" + attr("x", x1) + attr("y", y) + attr("width", std::max(x2 - x1, 0.5)) +
            attr("height", frame.py(0.0) - y) + " fill=\"" + kPalette[0] + "\" stroke=\"#ffffff\" stroke-width=\"1\"/>\n";
-    out += text_at((x1 + x2) / 2, y - 4, std::to_string(counts[i]), "middle", " font-size=\"11\"");
+    // Without count labels, a bar too short to see (under 3 px) still gets its count: a rare late
+    // frame must not vanish beside a tall bar.
+    if (histogram.count_labels || frame.py(0.0) - y < 3.0)
+      out += text_at((x1 + x2) / 2, y - 4, std::to_string(counts[i]), "middle", " font-size=\"11\"");
   }
+  bool marked = false;
+  for (double line : histogram.vertical_lines) {
+    if (!usable(line) || line < frame.x.lo || line > frame.x.hi) continue;
+    marked = true;
+    out += "<line" + attr("x1", frame.px(line)) + attr("y1", frame.top) + attr("x2", frame.px(line)) +
+           attr("y2", frame.bottom) + " stroke=\"" + kPalette[1] + "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>\n";
+  }
+  if (marked && !histogram.vertical_lines_label.empty())
+    out += text_at(frame.right - 4, frame.top + 14, histogram.vertical_lines_label, "end",
+                   (std::string(" font-size=\"11\" fill=\"") + kPalette[1] + "\"").c_str());
   if (values.empty()) out += no_data_note(frame);
   out += "</svg>\n";
   return out;

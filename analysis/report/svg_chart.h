@@ -30,6 +30,11 @@ struct XySeries {
   // Points only: a short text drawn beside each point (e.g. the settings of a benchmark cell); empty or
   // one per point (else ignored); "" for none at that point.
   std::vector<std::string> point_labels;
+  // The palette index of its colour and marker shape; none: the series' own index. Series of one
+  // group (its data, its curve, its threshold) share one.
+  std::optional<std::size_t> colour;
+  // Points only: small, half-transparent markers (e.g. each participant's, under the pooled ones).
+  bool small = false;
 };
 
 // A shaded horizontal interval [x_lower, x_upper] (e.g. a threshold's confidence interval).
@@ -37,6 +42,15 @@ struct XBand {
   std::string label;
   double x_lower = 0.0;
   double x_upper = 0.0;
+  std::optional<std::size_t> colour;  // a series palette index (lighter); none: the band palette by band index
+};
+
+// A vertical line across the plot at x (e.g. a threshold), dashed, drawn over the bands and under
+// the series.
+struct XLine {
+  std::string label;                  // legend entry ("" for none)
+  double x = 0.0;
+  std::optional<std::size_t> colour;  // a series palette index; none: dark grey
 };
 
 struct XyChart {
@@ -54,6 +68,7 @@ struct XyChart {
   std::vector<XySeries> series;       // drawn in order, coloured by index
   std::vector<XBand> bands;          // drawn first, under everything else
   std::vector<double> horizontal_lines;  // e.g. 0.5 or a score cutoff, dashed
+  std::vector<XLine> vertical_lines;     // counted in the x range like the bands
 };
 
 struct Histogram {
@@ -64,6 +79,13 @@ struct Histogram {
   // above it. Unsorted or repeated edges are sorted and merged; fewer than two usable edges give one
   // bin over the data.
   std::vector<double> bin_edges;
+  // Empty, or one per value: how many times each value counts (e.g. values already tallied); a
+  // non-finite or negative count counts 0. Else ignored.
+  std::vector<double> counts;
+  std::vector<double> vertical_lines;  // dashed marks at these x (e.g. a limit), in the x range
+  std::string vertical_lines_label;    // what the marks are, written in the top right corner
+  bool count_labels = true;            // each bar labelled with its count (false: many narrow bars;
+                                       // a bar under 3 px tall is still labelled, so it is not missed)
 };
 
 struct HeatMap {

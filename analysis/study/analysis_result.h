@@ -10,6 +10,7 @@
 
 #include "analysis/psychometric/psychometric_fit.h"
 #include "analysis/statistics/binomial.h"
+#include "analysis/statistics/frame_intervals.h"
 #include "analysis/statistics/percentile.h"
 #include "study/protocol/protocol_rules.h"
 #include "study/log/log_integrity.h"
@@ -52,21 +53,16 @@ struct ConditionRow {
   std::optional<double> sd_rating;
 };
 
-// One participant's threshold for one group (pair, ramp, slider), with how it was reached.
 // A participant's eye-tracker validations (the log's tracker_validation events): the attempts that
 // passed and failed, and over those that passed the mean and worst accuracy and the mean precision
 // (docs/gaze.md). `attempts` 0: the study validated nothing.
-// The summary also names the gaze source the session's runs used (the log header's gaze_source,
-// schema 7; in an earlier log, the kind its `gaze` spec names): "tracker", "trace", "synthetic",
-// "mouse", or several joined by "+" when a resumed run used another ("tracker+mouse"); "" when the
-// log names none (participants.csv: "not recorded").
 struct ValidationSummary {
-  std::string gaze_source;
   int attempts = 0;
   int passed = 0;
   std::optional<double> mean_accuracy_deg, worst_accuracy_deg, mean_precision_deg;
 };
 
+// One participant's threshold for one group (pair, ramp, slider), with how it was reached.
 struct ParticipantThreshold {
   GroupKey group;
   std::optional<double> level;        // none: the definition found no level (see note)
@@ -108,6 +104,14 @@ struct ParticipantRow {
   bool latency_recorded = false;
   LatencySummary latency;
   int64_t dropped_frames = 0;
+  // The intervals between presented refreshes of the complete trials' stimuli (every schema;
+  // docs/analysis.md, "Frame intervals").
+  FrameIntervalSummary frame_intervals;
+  // The gaze source the session's runs used (the log header's gaze_source, schema 7; in an earlier
+  // log, the kind its `gaze` spec names): "tracker", "trace", "synthetic", "mouse", or several
+  // joined by "+" when a resumed run used another ("tracker+mouse"); "" when the log names none
+  // (participants.csv: "not recorded").
+  std::string gaze_source;
   std::string present_clock;
   ValidationSummary validation;
   int practice_trials = 0;            // complete practice trials (never analysed)

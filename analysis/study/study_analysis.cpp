@@ -503,6 +503,8 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.latency_recorded = participant.latency_recorded;
     row.latency = participant.latency;
     row.dropped_frames = participant.dropped_frames;
+    row.frame_intervals = participant.frame_intervals;
+    row.gaze_source = participant.gaze_source;
     row.present_clock = participant.present_clock;
     row.validation = participant.validation;
     row.practice_trials = participant.practice_trials;

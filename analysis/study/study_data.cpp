@@ -49,6 +49,17 @@ void describe_study(const LogStudy& study, const std::string& path, StudyData& d
   data.config_hash = study.config_hash;
 }
 
+// The refresh rate a session's frames were presented at: the header's display.measured_refresh_hz
+// (what the presenter measured), else the config's display.refresh_hz; none when neither is a
+// positive number.
+std::optional<double> header_refresh_hz(const nlohmann::json& header) {
+  const auto display = header.find("display");
+  if (display == header.end() || !display->is_object()) return std::nullopt;
+  for (const char* key : {"measured_refresh_hz", "refresh_hz"})
+    if (const std::optional<double> hz = optional_number(*display, key); hz && *hz > 0.0) return hz;
+  return std::nullopt;
+}
+
 ParticipantData participant_of(ScannedSession& session) {
   // The level and method of every stimulus id (level none: a reference), from the header once.
   std::vector<std::optional<double>> level_of_stimulus;
@@ -71,17 +82,21 @@ ParticipantData participant_of(ScannedSession& session) {
   participant.session_ended = session.ended;
   participant.attention_errors = session.attention_errors;
   // Latency: every age of the complete trials, summarised here so the ages are not kept.
-  std::vector<double> gaze_age_s;
+  // Frame intervals likewise, against the refresh rate the presenter measured (the header's display).
+  std::vector<double> gaze_age_s, frame_interval_s;
   for (ScannedTrial& scanned : session.trials) {
     if (scanned.practice) continue;  // practice trials are in no figure
     participant.dropped_frames += scanned.dropped_frames;
     if (scanned.stimuli_with_latency > 0) participant.latency_recorded = true;
     gaze_age_s.insert(gaze_age_s.end(), scanned.gaze_age_s.begin(), scanned.gaze_age_s.end());
     scanned.gaze_age_s = {};
+    frame_interval_s.insert(frame_interval_s.end(), scanned.frame_interval_s.begin(), scanned.frame_interval_s.end());
+    scanned.frame_interval_s = {};
   }
   participant.latency = summarise_latency(gaze_age_s);
   participant.gaze_kinds = session_gaze_kinds(session.header, session.resumes);
-  participant.validation.gaze_source = gaze_kinds_text(participant.gaze_kinds);
+  participant.gaze_source = gaze_kinds_text(participant.gaze_kinds);
+  participant.frame_intervals = summarise_frame_intervals(frame_interval_s, header_refresh_hz(session.header));
   for (const std::string& clock : session.present_clocks)
     participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
   for (const TrackerValidationEvent& attempt : session.validations) {

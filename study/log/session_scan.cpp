@@ -40,6 +40,7 @@ struct EventFields {
   std::string_view present_clock;
   bool has_gaze_age = false;
   std::vector<double> gaze_age_s;  // the non-null entries
+  std::vector<double> present_s;   // a stimulus event's present times (empty unless every entry is a number)
 };
 
 // An array of numbers or nulls (the per-refresh latency arrays), as check_field_types wants it;
@@ -53,6 +54,30 @@ void number_or_null_array(simdjson::ondemand::value value, std::vector<double>* 
   }
 }
 
+// A stimulus event's present_s, which the full reader reads leniently (a value of another type is
+// left at its default there, not refused): the numbers go to `out` when every entry is one; any
+// other value is only checked, as `lines` checks every value it does not keep.
+void present_times(LogLines& lines, simdjson::ondemand::value value, std::vector<double>& out) {
+  simdjson::ondemand::json_type type;
+  if (value.type().get(type) != simdjson::SUCCESS || type != simdjson::ondemand::json_type::array) {
+    lines.check_value(value, 2);
+    return;
+  }
+  bool numbers = true;
+  for (auto element : value.get_array()) {
+    simdjson::ondemand::value item = element.value();
+    double number = 0.0;
+    if (numbers && item.type().get(type) == simdjson::SUCCESS && type == simdjson::ondemand::json_type::number &&
+        item.get_double().get(number) == simdjson::SUCCESS) {
+      out.push_back(number);
+      continue;
+    }
+    numbers = false;
+    lines.check_value(item, 3);
+  }
+  if (!numbers) out.clear();
+}
+
 int small_int(simdjson::ondemand::value value) {
   const int64_t number = value.get_int64();
   if (number < INT32_MIN || number > INT32_MAX) throw simdjson::simdjson_error(simdjson::NUMBER_OUT_OF_RANGE);
@@ -63,7 +88,7 @@ int small_int(simdjson::ondemand::value value) {
 enum class Key {
   other, event, seq, chain, mac, trial, block, step, track, condition, variant, answer, name, scene, level,
   attention_check, reference_first, ramp_toward_reference, correct, practice, sequence, dropped_frames,
-  present_clock, gaze_acquired_s, gaze_age_s
+  present_clock, gaze_acquired_s, gaze_age_s, present_s
 };
 
 // Which kept key `key` is, by its first letter and then the few keys that start with it (a line has
@@ -82,7 +107,11 @@ Key key_of(std::string_view key) {
     case 'l': return is(k::level) ? Key::level : Key::other;
     case 'm': return is(k::mac) ? Key::mac : Key::other;
     case 'n': return is(k::name) ? Key::name : Key::other;
-    case 'p': return is(k::practice) ? Key::practice : is(k::present_clock) ? Key::present_clock : Key::other;
+    case 'p':
+      return is(k::practice)        ? Key::practice
+             : is(k::present_clock) ? Key::present_clock
+             : is(k::present_s)     ? Key::present_s
+                                    : Key::other;
     case 'r':
       return is(k::reference_first)         ? Key::reference_first
              : is(k::ramp_toward_reference) ? Key::ramp_toward_reference
@@ -146,6 +175,7 @@ EventFields decode(LogLines& lines) {
         fields.has_gaze_age = true;
         number_or_null_array(value, &fields.gaze_age_s);
         break;
+      case Key::present_s: present_times(lines, value, fields.present_s); break;
     }
   }
   lines.expect_end();
@@ -316,6 +346,8 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (!open) fail(kind + ": trial does not match the trial started last");
     if (kind == StimulusEvent::kind) {
       open->dropped_frames += fields.dropped_frames.value_or(0);
+      for (size_t i = 1; i < fields.present_s.size(); ++i)
+        open->frame_interval_s.push_back(fields.present_s[i] - fields.present_s[i - 1]);
       if (fields.has_gaze_age) {
         ++open->stimuli_with_latency;
         open->gaze_age_s.insert(open->gaze_age_s.end(), fields.gaze_age_s.begin(), fields.gaze_age_s.end());

@@ -3,8 +3,8 @@
 // every line is still checked as the full reader checks it (the line level is one piece of code
 // under both, log_lines.h: the JSON grammar of every value, the nesting cap, one object a line, its
 // seq, the hash chain), but only the fields a trial summary needs are decoded, with simdjson's
-// On-Demand API; of the per-refresh arrays of stimulus events only the gaze ages (and the
-// acquisition times, for their types) are kept, the rest checked and dropped, never built. Trials are assembled by the rules of session_record.h
+// On-Demand API; of the per-refresh arrays of stimulus events only the gaze ages and the present
+// times' intervals (and the acquisition times, for their types) are kept, the rest checked and dropped, never built. Trials are assembled by the rules of session_record.h
 // (complete at trial_end; a session_resumed drops the trial a crash cut off);
 // tests/study/log/session_scan_test.cpp checks that both readers agree on every protocol.
 #include <cstddef>
@@ -44,6 +44,9 @@ struct ScannedTrial {
   std::vector<double> gaze_age_s;
   int64_t dropped_frames = 0;
   int stimuli_with_latency = 0;
+  // The intervals between consecutive refreshes of each stimulus event (its present_s: every
+  // schema), in seconds; the gap between two stimuli is not one.
+  std::vector<double> frame_interval_s;
 };
 
 struct ScannedSession {

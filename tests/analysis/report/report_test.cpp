@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -110,6 +111,44 @@ ConditionRow condition(const GroupKey& group, double level, uint64_t n, uint64_t
   return row;
 }
 
+// A headline as a pair study's analysis gives it: the mean over participants with its t interval.
+Headline estimated_headline(const GroupKey& group) {
+  Headline headline;
+  headline.group = group;
+  headline.quantity = "threshold";
+  headline.method = "mean over participants, 95 % Student-t interval";
+  headline.aims_at = "the participants' mean threshold";
+  headline.value = 12.5;
+  headline.lower = 11.75;
+  headline.upper = 13.25;
+  headline.flags = {"lapse at its bound (0)", "slope at its bound"};
+  headline.notes = {"2 participants censored at the best level"};
+  headline.participants = 8;
+  headline.paper_rule = "Polychronakis et al. 2021, 4.7";
+  headline.paper_value = 16.0;
+  headline.paper_difference = "the walk reports the last level not distinguished, not the crossing";
+  return headline;
+}
+
+// A fit whose threshold lies outside the levels: the struct holds a number that must not be printed.
+Headline not_estimable_headline(const GroupKey& group) {
+  Headline headline;
+  headline.group = group;
+  headline.quantity = "threshold";
+  headline.method = "logistic fit, 95 % profile-likelihood interval";
+  headline.aims_at = "the level where p_see = 1/2";
+  headline.status = HeadlineStatus::not_estimable;
+  headline.reason = "the fit's threshold -55.333 lies outside the tested levels 4 to 64";
+  headline.value = -55.333;
+  headline.lower = -std::numeric_limits<double>::infinity();
+  headline.upper = 5.12;
+  headline.participants = 3;
+  headline.pooled_fit = 14.5;
+  headline.pooled_fit_lower = 13.0;
+  headline.pooled_fit_upper = 16.25;
+  return headline;
+}
+
 // Two groups (one with a troublesome scene name), a logistic fit, a participant with thresholds, an
 // excluded one without, and a left-out log.
 AnalysisResult sample_result() {
@@ -155,6 +194,7 @@ AnalysisResult sample_result() {
   p1.validation.mean_accuracy_deg = 0.5;
   p1.validation.worst_accuracy_deg = 0.75;
   p1.validation.mean_precision_deg = 0.125;
+  p1.frame_intervals = summarise_frame_intervals({0.016, 0.016, 0.017, 0.016, 0.034}, 60.0);
   ParticipantRow p2;
   p2.participant = "P002";
   p2.log_path = "results/demo/P002/events.jsonl";
@@ -186,7 +226,20 @@ AnalysisResult sample_result() {
   result.fits = {fit};
 
   result.left_out = {{"results/demo/P003/events.jsonl", "no complete trials (session log torn)"}};
+  result.headlines = {estimated_headline(park), not_estimable_headline(city)};
   return result;
+}
+
+// A number as the CSV files write it (10 significant digits).
+std::string csv_number_for_test(double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.10g", value);
+  return text;
+}
+
+std::vector<std::string> operator+(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
 }
 
 std::vector<std::string> file_names(const std::vector<std::string>& paths) {
@@ -200,9 +253,10 @@ TEST(AnalysisReport, WritesEveryFileAndReturnsItsPath) {
   const fs::path out = dir.path() / "nested" / "report";  // created, parents too
   const std::vector<std::string> paths = write_analysis_report(sample_result(), out.string());
   EXPECT_EQ(file_names(paths),
-            (std::vector<std::string>{"conditions.csv", "participants.csv", "thresholds.json", "share_per_level.svg",
-                                      "psychometric_park___north__blur.svg", "thresholds_histogram.svg",
-                                      "report.html"}));
+            (std::vector<std::string>{"headline.csv", "conditions.csv", "participants.csv", "thresholds.json",
+                                      "share_per_level.svg", "psychometric_park___north__blur.svg",
+                                      "participant_thresholds_park___north_.svg", "thresholds_histogram.svg",
+                                      "frame_intervals.svg", "frame_intervals_P001.svg", "report.html"}));
   for (const std::string& path : paths) {
     EXPECT_EQ(fs::path(path).parent_path(), out);
     EXPECT_TRUE(fs::is_regular_file(path)) << path;
@@ -239,7 +293,7 @@ TEST(AnalysisReport, ConditionsCsvHasOneQuotedRowPerCondition) {
 TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
   TempDir dir("participants");
   AnalysisResult result = sample_result();
-  result.participants.at(0).validation.gaze_source = "tracker";  // P002's log names none: "not recorded"
+  result.participants.at(0).gaze_source = "tracker";  // P002's log names none: "not recorded"
   write_analysis_report(result, dir.path().string());
   const auto rows = parse_csv(read_text(dir.path() / "participants.csv"));
   ASSERT_EQ(rows.size(), 4u);
@@ -250,17 +304,23 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
                                                "present_clock", "practice_trials", "validation_attempts",
                                                "validations_passed", "validation_accuracy_deg",
                                                "validation_worst_accuracy_deg", "validation_precision_deg",
-                                               "gaze_source"}));
+                                               "gaze_source", "refresh_hz", "frame_intervals", "frame_interval_median_ms",
+                                               "frame_interval_sd_ms", "frame_interval_p99_ms", "frame_interval_max_ms",
+                                               "frame_intervals_late", "frame_intervals_late_share"}));
+  // P001's frame intervals: 16, 16, 16, 17, 34 ms at 60 Hz (34 is beyond 25 ms: late); SD by hand:
+  // mean 19.8, squares 3 x 14.44 + 7.84 + 201.64 = 252.8, / 4 = 63.2.
+  const std::vector<std::string> frames = {"60", "5", "16", csv_number_for_test(std::sqrt(63.2)), "34", "34", "1", "0.2"};
   EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
                                                "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
-                                               "0.5", "0.75", "0.125", "tracker"}));
+                                               "0.5", "0.75", "0.125", "tracker"}) + frames);
   EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", "city", "", "",
                                                "every step answered correctly, censored", "sealed",
                                                "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
-                                               "0.5", "0.75", "0.125", "tracker"}));
-  // A study that validates nothing leaves the validation cells empty.
+                                               "0.5", "0.75", "0.125", "tracker"}) + frames);
+  // A study that validates nothing leaves the validation cells empty; no frame interval: empty numbers.
   EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "human", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
-                                               "", "", "", "1", "not recorded", "0", "", "", "", "", "", "not recorded"}));
+                                               "", "", "", "1", "not recorded", "0", "", "", "", "", "",
+                                               "not recorded", "", "0", "", "", "", "", "", ""}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
@@ -369,9 +429,10 @@ TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {
   // The test used, with its alternative.
   EXPECT_NE(html.find("exact binomial, one-sided (greater), H0 p = 1/2, Holm across levels, alpha 0.05"),
             std::string::npos);
-  // Each table: thresholds, fits, conditions, participants.
-  EXPECT_EQ(count(html, "<table>"), 4u);
-  EXPECT_EQ(count(html, "</table>"), 4u);
+  // Each table: headline (first), thresholds, fits, conditions, participants, frame intervals.
+  EXPECT_EQ(count(html, "<table class=\"headline\">"), 1u);
+  EXPECT_EQ(count(html, "<table>"), 5u);
+  EXPECT_EQ(count(html, "</table>"), 6u);
   for (const char* id : {"id=\"thresholds\"", "id=\"fits\"", "id=\"conditions\"", "id=\"participants\"",
                          "id=\"left-out\""}) {
     EXPECT_NE(html.find(id), std::string::npos) << id;
@@ -384,9 +445,10 @@ TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {
   EXPECT_NE(html.find("<td>120 (+4 practice)</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>2 / 3; 0.5 (0.75) deg, 0.125 deg</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>none</td>"), std::string::npos);  // P002: no validation
-  // Three plots, inline.
-  EXPECT_EQ(count(html, "<svg "), 3u);
-  EXPECT_EQ(count(html, "</svg>"), 3u);
+  // Six plots, inline: share, psychometric, each participant's threshold, histogram, frame intervals
+  // (the study's, P001's).
+  EXPECT_EQ(count(html, "<svg "), 6u);
+  EXPECT_EQ(count(html, "</svg>"), 6u);
   // Text escaped.
   EXPECT_NE(html.find("demo &lt;study&gt;"), std::string::npos);
   EXPECT_NE(html.find("park, &quot;north&quot;"), std::string::npos);
@@ -399,6 +461,7 @@ TEST(AnalysisReport, PlotsShowTheirData) {
   TempDir dir("plots");
   AnalysisResult result = sample_result();
   result.participants[1].thresholds = {{result.fits[0].group, 20.0, ""}};  // excluded: not in the histogram
+  result.headlines.clear();  // without headlines the first fit's interval is shaded (as before them)
   write_analysis_report(result, dir.path().string());
   for (const char* name : {"share_per_level.svg", "psychometric_park___north__blur.svg", "thresholds_histogram.svg"}) {
     const std::string svg = read_text(dir.path() / name);
@@ -455,8 +518,9 @@ TEST(AnalysisReport, RatingStudyPlotsMeanRatingAgainstTheCutoff) {
   }
   for (ParticipantRow& participant : result.participants) participant.thresholds.clear();
   const auto names = file_names(write_analysis_report(result, dir.path().string()));
-  EXPECT_EQ(names, (std::vector<std::string>{"conditions.csv", "participants.csv", "thresholds.json",
-                                             "share_per_level.svg", "report.html"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"headline.csv", "conditions.csv", "participants.csv", "thresholds.json",
+                                             "share_per_level.svg", "frame_intervals.svg", "frame_intervals_P001.svg",
+                                             "report.html"}));
   const std::string share = read_text(dir.path() / "share_per_level.svg");
   EXPECT_NE(share.find("mean rating"), std::string::npos);
   EXPECT_EQ(count(share, "stroke-dasharray"), 1u);  // the cutoff 2
@@ -471,7 +535,9 @@ TEST(AnalysisReport, RatingStudyPlotsMeanRatingAgainstTheCutoff) {
 TEST(AnalysisReport, EmptyResultWritesTablesAndNoPlots) {
   TempDir dir("empty");
   const auto names = file_names(write_analysis_report(AnalysisResult{}, dir.path().string()));
-  EXPECT_EQ(names, (std::vector<std::string>{"conditions.csv", "participants.csv", "thresholds.json", "report.html"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"headline.csv", "conditions.csv", "participants.csv", "thresholds.json",
+                                             "report.html"}));
+  EXPECT_EQ(parse_csv(read_text(dir.path() / "headline.csv")).size(), 1u);
   EXPECT_EQ(parse_csv(read_text(dir.path() / "conditions.csv")).size(), 1u);
   EXPECT_EQ(parse_csv(read_text(dir.path() / "participants.csv")).size(), 1u);
   const json root = json::parse(read_text(dir.path() / "thresholds.json"));
@@ -506,6 +572,152 @@ TEST(AnalysisReport, SameResultSameBytes) {
   const auto second = file_names(write_analysis_report(sample_result(), b.path().string()));
   ASSERT_EQ(first, second);
   for (const std::string& name : first) EXPECT_EQ(read_text(a.path() / name), read_text(b.path() / name)) << name;
+}
+
+TEST(AnalysisReport, HeadlineCsvHasOneRowPerGroupAndNoValueWhenNotEstimable) {
+  TempDir dir("headline_csv");
+  write_analysis_report(sample_result(), dir.path().string());
+  const std::string text = read_text(dir.path() / "headline.csv");
+  EXPECT_NE(text.find("\"park, \"\"north\"\"\""), std::string::npos) << "RFC 4180 quoting";
+  const auto rows = parse_csv(text);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"scene", "variant", "quantity", "value", "lower", "upper", "status", "reason",
+                                               "method", "aims_at", "flags", "participants", "paper_rule", "paper_value",
+                                               "paper_difference", "paper_rule_is_headline", "pooled_fit",
+                                               "pooled_fit_lower", "pooled_fit_upper", "notes"}));
+  EXPECT_EQ(rows[1], (std::vector<std::string>{kParkScene, "blur", "threshold", "12.5", "11.75", "13.25", "estimated", "",
+                                               "mean over participants, 95 % Student-t interval",
+                                               "the participants' mean threshold",
+                                               "lapse at its bound (0); slope at its bound", "8",
+                                               "Polychronakis et al. 2021, 4.7", "16",
+                                               "the walk reports the last level not distinguished, not the crossing",
+                                               "false", "", "", "", "2 participants censored at the best level"}));
+  // Not estimable: the value, lower and upper cells are empty although the struct holds numbers.
+  EXPECT_EQ(rows[2], (std::vector<std::string>{"city", "", "threshold", "", "", "", "not estimable",
+                                               "the fit's threshold -55.333 lies outside the tested levels 4 to 64",
+                                               "logistic fit, 95 % profile-likelihood interval",
+                                               "the level where p_see = 1/2", "", "3", "", "", "", "false", "14.5", "13",
+                                               "16.25", ""}));
+}
+
+TEST(AnalysisReport, ThresholdsJsonHoldsEachHeadlineAndTheFrameIntervals) {
+  TempDir dir("headline_json");
+  write_analysis_report(sample_result(), dir.path().string());
+  const json root = json::parse(read_text(dir.path() / "thresholds.json"));
+  ASSERT_EQ(root["headlines"].size(), 2u);
+  const json& park = root["headlines"][0];
+  EXPECT_EQ(park["scene"], kParkScene);
+  EXPECT_EQ(park["variant"], "blur");
+  EXPECT_EQ(park["quantity"], "threshold");
+  EXPECT_EQ(park["value"], 12.5);
+  EXPECT_EQ(park["interval"], json({{"lower", 11.75}, {"upper", 13.25}}));
+  EXPECT_EQ(park["status"], "estimated");
+  EXPECT_EQ(park["reason"], "");
+  EXPECT_EQ(park["method"], "mean over participants, 95 % Student-t interval");
+  EXPECT_EQ(park["aims_at"], "the participants' mean threshold");
+  EXPECT_EQ(park["flags"], json({"lapse at its bound (0)", "slope at its bound"}));
+  EXPECT_EQ(park["notes"], json({"2 participants censored at the best level"}));
+  EXPECT_EQ(park["participants"], 8);
+  EXPECT_EQ(park["paper_rule"], "Polychronakis et al. 2021, 4.7");
+  EXPECT_EQ(park["paper_value"], 16.0);
+  EXPECT_EQ(park["paper_rule_is_headline"], false);
+  EXPECT_TRUE(park["pooled_fit"].is_null());
+  const json& city = root["headlines"][1];
+  EXPECT_EQ(city["status"], "not estimable");
+  EXPECT_TRUE(city["value"].is_null());
+  EXPECT_TRUE(city["interval"]["lower"].is_null());
+  EXPECT_TRUE(city["interval"]["upper"].is_null());
+  EXPECT_EQ(city["reason"], "the fit's threshold -55.333 lies outside the tested levels 4 to 64");
+  EXPECT_EQ(city["pooled_fit"], json({{"value", 14.5}, {"interval", {{"lower", 13.0}, {"upper", 16.25}}}}));
+  // Frame intervals: P001's, and the study's (the included participants pooled: P001 alone).
+  const json& frames = root["participants"][0]["frame_intervals"];
+  EXPECT_EQ(frames["refresh_hz"], 60.0);
+  EXPECT_DOUBLE_EQ(frames["late_beyond_ms"].get<double>(), 25.0);
+  EXPECT_EQ(frames["intervals"], 5);
+  EXPECT_EQ(frames["median_ms"], 16.0);
+  EXPECT_EQ(frames["p99_ms"], 34.0);
+  EXPECT_EQ(frames["max_ms"], 34.0);
+  EXPECT_EQ(frames["late"], 1);
+  EXPECT_EQ(frames["late_share"], 0.2);
+  EXPECT_NEAR(frames["sd_ms"].get<double>(), std::sqrt(63.2), 1e-12);
+  EXPECT_EQ(root["frame_intervals"], frames);
+  EXPECT_TRUE(root["participants"][1]["frame_intervals"]["median_ms"].is_null());
+}
+
+TEST(AnalysisReport, HeadlineTableComesFirstAndPrintsNoNumberWhenNotEstimable) {
+  TempDir dir("headline_html");
+  write_analysis_report(sample_result(), dir.path().string());
+  const std::string html = read_text(dir.path() / "report.html");
+  const auto headline = html.find("<h2 id=\"headline\">");
+  ASSERT_NE(headline, std::string::npos);
+  EXPECT_EQ(headline, html.find("<h2"));  // the first section, before the study's
+  EXPECT_LT(headline, html.find("<h2 id=\"summary\">"));
+  EXPECT_LT(html.find("<table class=\"headline\">"), html.find("<table>"));
+  const std::string table = html.substr(headline, html.find("</table>", headline) - headline);
+  EXPECT_NE(table.find("12.5 [11.75, 13.25]"), std::string::npos);
+  EXPECT_NE(table.find("lapse at its bound (0); slope at its bound"), std::string::npos);
+  EXPECT_NE(table.find("Polychronakis et al. 2021, 4.7: 16<br>the walk reports"), std::string::npos);
+  // The not estimable row: its status and reason, and none of the numbers its struct holds.
+  EXPECT_NE(table.find("<tr class=\"not-estimable\">"), std::string::npos);
+  EXPECT_NE(table.find("not estimable</span>: the fit&apos;s threshold -55.333 lies outside"), std::string::npos);
+  EXPECT_EQ(table.find("5.12"), std::string::npos);
+  // The definition once, above the thresholds table; plain column names.
+  EXPECT_EQ(count(html, "the smallest level from which every larger level is judged identical"), 1u);
+  EXPECT_NE(html.find("<th>participants with a threshold</th>"), std::string::npos);
+  EXPECT_NE(html.find("<th>participants without</th>"), std::string::npos);
+  EXPECT_EQ(html.find("participants with 0"), std::string::npos);
+}
+
+TEST(AnalysisReport, NoStarsOnTwoSidedRowsTheThresholdDoesNotCountAsDistinguished) {
+  AnalysisResult result = sample_result();
+  result.alternative = Alternative::two_sided;
+  for (ConditionRow& row : result.conditions) row.stars = "**";
+  TempDir dir("stars");
+  write_analysis_report(result, dir.path().string());
+  const auto rows = parse_csv(read_text(dir.path() / "conditions.csv"));
+  // park: 3 of 12 (below 1/2: distinguished, starred), 8 and 12 of 12 (favoured: no stars).
+  EXPECT_EQ(rows[1][14], "**");
+  EXPECT_EQ(rows[2][14], "");
+  EXPECT_EQ(rows[3][14], "");
+  EXPECT_EQ(rows[5][14], "") << "6 of 12 is not below 1/2";
+  const json root = json::parse(read_text(dir.path() / "thresholds.json"));
+  EXPECT_EQ(root["conditions"][0]["stars"], "**");
+  EXPECT_EQ(root["conditions"][2]["stars"], "");
+  const std::string html = read_text(dir.path() / "report.html");
+  EXPECT_EQ(count(html, "<td>**</td>"), 1u);
+  // One-sided: the alternative names the direction; the stars stay.
+  result.alternative = Alternative::greater;
+  TempDir one_sided("stars_greater");
+  write_analysis_report(result, one_sided.path().string());
+  const auto greater = parse_csv(read_text(one_sided.path() / "conditions.csv"));
+  EXPECT_EQ(greater[3][14], "**");
+}
+
+TEST(AnalysisReport, PlotsMarkTheHeadlineAndOverlayVariants) {
+  AnalysisResult result = sample_result();
+  GroupFit sharp = result.fits[0];
+  sharp.group = {kParkScene, "sharp"};
+  result.fits.push_back(sharp);
+  Headline sharp_headline = estimated_headline(sharp.group);
+  sharp_headline.value = 9.0;
+  result.headlines.push_back(sharp_headline);
+  TempDir dir("overlay");
+  const auto names = file_names(write_analysis_report(result, dir.path().string()));
+  // The scene's two variants on one plot, named by the scene.
+  EXPECT_NE(std::find(names.begin(), names.end(), "psychometric_park___north_.svg"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "psychometric_park___north__blur.svg"), names.end());
+  const std::string svg = read_text(dir.path() / "psychometric_park___north_.svg");
+  EXPECT_NE(svg.find(">blur: data</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">sharp: data</text>"), std::string::npos);
+  EXPECT_EQ(count(svg, "<polyline"), 2u);  // one curve a variant
+  // Each headline: a dashed vertical line (plus its legend sample) and its interval as a band.
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"4 3\""), 4u);
+  EXPECT_NE(svg.find("blur: headline 12.5 [11.75, 13.25]"), std::string::npos);
+  EXPECT_EQ(count(svg, "fill-opacity=\"0.18\""), 2u);
+  // Each participant's threshold as a point, the headline marked.
+  const std::string points = read_text(dir.path() / "participant_thresholds_park___north_.svg");
+  EXPECT_NE(points.find(">P001</text>"), std::string::npos);
+  EXPECT_NE(points.find("headline 12.5 [11.75, 13.25]"), std::string::npos);
 }
 
 }  // namespace

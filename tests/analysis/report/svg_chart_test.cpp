@@ -530,5 +530,48 @@ TEST(HeatMapSvg, AFixedColourScaleAndMarkedCells) {
   EXPECT_NE(render_heat_map_svg(map).find("fill=\"#fde725\""), std::string::npos);
 }
 
+TEST(XyChart, ColourOverridesSmallPointsAndVerticalLines) {
+  XyChart chart;
+  XySeries data{"blur: data", XySeries::Style::points, {1, 2}, {0.5, 0.5}, {}, {}, {}};
+  data.colour = 1;  // the second colour and marker (square), whatever its index
+  XySeries small{"each participant", XySeries::Style::points, {1, 2, 3}, {0.2, 0.4, 0.6}, {}, {}, {}};
+  small.colour = 1;
+  small.small = true;
+  chart.series = {data, small};
+  chart.bands = {{"", 1.5, 2.5, std::size_t{1}}};
+  chart.vertical_lines = {{"blur: headline 2", 2.0, std::size_t{1}}, {"", 9.0, std::nullopt}};
+  const std::string svg = render_xy_chart_svg(chart);
+  EXPECT_TRUE(well_formed_svg(svg));
+  EXPECT_EQ(count(svg, "<circle"), 0u) << "colour 1 draws squares";
+  EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.5\""), 3u + 1u);  // the small points and their legend sample
+  EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.18\""), 1u);  // the band, in the series colour
+  // Both lines drawn (the one at 9 widens the axis), one with a legend entry (line and sample).
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"4 3\""), 3u);
+  EXPECT_NE(svg.find(">blur: headline 2</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">10</text>"), std::string::npos) << "the x axis reaches the line at 9";
+}
+
+TEST(Histogram, CountsTalliedValuesAndLabelsBarsTooShortToSee) {
+  Histogram histogram;
+  histogram.values = {16.0, 17.0, 40.0};
+  histogram.counts = {600.0, 400.0, 1.0};  // 1000 intervals near 16 ms, one late
+  histogram.bin_edges = {0, 20, 30, 50};
+  histogram.count_labels = false;
+  histogram.vertical_lines = {25.0};
+  histogram.vertical_lines_label = "late beyond 25 ms";
+  const std::string svg = render_histogram_svg(histogram);
+  EXPECT_TRUE(well_formed_svg(svg));
+  EXPECT_EQ(count(svg, "font-size=\"11\">1</text>"), 1u) << "the one late interval is labelled";
+  EXPECT_EQ(count(svg, "font-size=\"11\">1000</text>"), 0u) << "the tall bar is not";
+  EXPECT_NE(svg.find(">late beyond 25 ms</text>"), std::string::npos);
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"4 3\""), 1u);
+  // Counts that do not match the values are ignored (each value counts once).
+  histogram.counts = {5.0};
+  histogram.count_labels = true;
+  const std::string plain = render_histogram_svg(histogram);
+  EXPECT_EQ(count(plain, "font-size=\"11\">1</text>"), 1u);  // 40 ms alone in its bin
+  EXPECT_EQ(count(plain, "font-size=\"11\">2</text>"), 1u);  // 16 and 17 ms
+}
+
 }  // namespace
 }  // namespace fovlab::analysis

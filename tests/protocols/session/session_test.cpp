@@ -582,7 +582,7 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   EXPECT_EQ(plain_header.at("gaze_source").value("spec", ""), "synthetic:seed=5");
   EXPECT_EQ(plain_header.at("gaze_validation"), (nlohmann::json{{"enabled", false}}));
   // The analysis and the export name the source.
-  EXPECT_EQ(analysis::load_study({outcome.log_path}).participants.at(0).validation.gaze_source, "synthetic");
+  EXPECT_EQ(analysis::load_study({outcome.log_path}).participants.at(0).gaze_source, "synthetic");
   const std::string csv = export_trials_csv({outcome.log_path});
   const std::vector<std::string> rows = testing::lines_of(csv);
   ASSERT_GT(rows.size(), 1u);
@@ -607,7 +607,7 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   EXPECT_EQ(replayed.trials, outcome.trials_completed);
   const analysis::StudyData data = analysis::load_study({earlier.string()});
   ASSERT_EQ(data.participants.size(), 1u);
-  EXPECT_EQ(data.participants.front().validation.gaze_source, "synthetic") << "told from the header's gaze spec";
+  EXPECT_EQ(data.participants.front().gaze_source, "synthetic") << "told from the header's gaze spec";
   EXPECT_EQ(data.participants.front().validation.attempts, 2);
   const std::vector<std::string> earlier_rows = testing::lines_of(export_trials_csv({earlier.string()}));
   ASSERT_EQ(earlier_rows.size(), rows.size());
@@ -636,7 +636,7 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   ASSERT_EQ(resumed_record.resumes.size(), 1u);
   EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("kind", ""), "trace");
   EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("requested", false), true);
-  EXPECT_EQ(analysis::load_study({resumed_log}).participants.at(0).validation.gaze_source, "synthetic+trace");
+  EXPECT_EQ(analysis::load_study({resumed_log}).participants.at(0).gaze_source, "synthetic+trace");
   EXPECT_TRUE(testing::lines_of(export_trials_csv({resumed_log})).back().ends_with(",synthetic+trace"));
   // This build resumes only its own schema.
   SessionOptions resume = simulated(results / "schema6");

@@ -184,5 +184,30 @@ TEST(SessionScan, RejectsWhatTheFullReaderRejects) {
   EXPECT_THROW(scan_session_log(scratch_log("never_written.jsonl")), InputError);
 }
 
+TEST(SessionScan, KeepsTheIntervalsBetweenEachStimulusPresentTimes) {
+  // Issue 38's frame intervals: consecutive present_s entries of one stimulus event; the gap between
+  // two stimuli is not one. present_s is read leniently by the full reader (a value of another type
+  // is left at its default), so the scan accepts it too and keeps no interval from it.
+  const std::string path = scratch_log("present_times.jsonl");
+  {
+    EventLogWriter log(path, "", 0);
+    log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"},
+                {"t", 0.0}});
+    log.append({{"event", "block_start"}, {"block", 0}, {"name", "courtyard"}, {"scene", "x.glsl"}, {"t", 0.1}});
+    log.append({{"event", "trial_start"}, {"trial", 0}, {"block", 0}, {"condition", "level=5"}, {"variant", ""},
+                {"level", 5}, {"attention_check", false}, {"sequence", {0, 1}}, {"t", 1.0}});
+    log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", {1.0, 1.25, 1.75}}, {"t", 1.8}});
+    log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", {3.0, 3.5}}, {"t", 3.6}});
+    log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", {4.0, "x"}}, {"t", 4.1}});
+    log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", "x"}, {"t", 4.2}});
+    log.append({{"event", "response"}, {"trial", 0}, {"step", 1}, {"answer", "same"}, {"t", 4.3}});
+    log.append({{"event", "trial_end"}, {"trial", 0}, {"t", 4.4}});
+  }
+  const ScannedSession scan = scan_session_log(path);
+  ASSERT_EQ(scan.trials.size(), 1u);
+  EXPECT_EQ(scan.trials[0].frame_interval_s, (std::vector<double>{0.25, 0.5, 0.5}));
+  EXPECT_NO_THROW(read_session_record(read_event_log(path)));
+}
+
 }  // namespace
 }  // namespace fovlab
