@@ -1,6 +1,7 @@
 // fovlab analyze: per-study thresholds from session logs (analysis/study), written as JSON, CSV,
 // SVG and one HTML report (analysis/report).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -187,6 +188,12 @@ void print_summary(const analysis::AnalysisResult& result, const std::string& ga
                     not_estimable.c_str());
       if (!fit.note.empty()) std::printf("    fit note: %s\n", fit.note.c_str());
     }
+  if (const analysis::FrameIntervalSummary& frames = result.frame_intervals; frames.intervals > 0)
+    std::printf("frame intervals (every session's presented refreshes pooled; report.html has each): median %s ms, SD %s ms, "
+                "p99 %s ms, max %s ms, %llu of %llu late (beyond 1.5 refresh periods)\n",
+                format_number(frames.median_ms.value_or(NAN), 4).c_str(), format_number(frames.sd_ms.value_or(NAN), 3).c_str(),
+                format_number(frames.p99_ms.value_or(NAN), 4).c_str(), format_number(frames.max_ms.value_or(NAN), 4).c_str(),
+                static_cast<unsigned long long>(frames.late), static_cast<unsigned long long>(frames.intervals));
   // Adaptive tracks: at most 20 lines (adaptive_tracks.csv holds every one).
   size_t tracks_printed = 0, tracks = 0;
   for (const auto& participant : result.participants)

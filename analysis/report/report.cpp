@@ -153,14 +153,14 @@ bool marks_level(const Headline* headline) {
 std::string conditions_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"study", "protocol", "scene", "variant", "method", "condition", "level", "n", "k", "proportion",
                               "ci_lower", "ci_upper", "p_value", "p_holm", "stars", "alternative", "mean_rating",
-                              "sd_rating"});
+                              "sd_rating", "log10_p"});
   for (const ConditionRow& row : result.conditions) {
     csv += csv_line({result.study, std::string(result.rules().name), row.group.scene,
                      row.group.variant, row.method, row.condition, csv_number(row.level),
                      std::to_string(row.n), std::to_string(row.k), csv_number(row.proportion),
                      csv_number(row.interval.lower), csv_number(row.interval.upper), csv_number(row.p_value),
                      csv_number(row.p_holm), shown_stars(result, row), alternative_name(result.alternative),
-                     csv_number(row.mean_rating), csv_number(row.sd_rating)});
+                     csv_number(row.mean_rating), csv_number(row.sd_rating), csv_number(row.log10_p)});
   }
   return csv;
 }
@@ -304,12 +304,13 @@ std::string rating_grid_csv(const RatingGrid& grid, const std::string& study) {
 // Ye et al. 2022's Table 2: one row per condition, the votes for the reference, one-sided.
 std::string preference_csv(const AnalysisResult& result) {
   std::string csv = csv_line({"study", "scene", "variant", "condition", "reference_method", "test_method", "n",
-                              "reference_votes", "share", "ci_lower", "ci_upper", "p_value", "alternative", "stars"});
+                              "reference_votes", "share", "ci_lower", "ci_upper", "p_value", "alternative", "stars",
+                              "log10_p"});
   for (const PreferenceRow& row : result.preferences) {
     csv += csv_line({row.study, row.group.scene, row.group.variant, row.condition, row.reference_method, row.test_method,
                      std::to_string(row.n), std::to_string(row.reference_votes), csv_number(row.share),
                      csv_number(row.interval.lower), csv_number(row.interval.upper), csv_number(row.p_value), "greater",
-                     row.stars});
+                     row.stars, csv_number(row.log10_p)});
   }
   return csv;
 }
@@ -371,14 +372,6 @@ json frame_intervals_json(const FrameIntervalSummary& frames) {
           {"max_ms", json_number(frames.max_ms)},
           {"late", frames.late},
           {"late_share", json_number(frames.late_share)}};
-}
-
-// The study's frame intervals: every included (not excluded) participant's pooled.
-FrameIntervalSummary study_frame_intervals(const AnalysisResult& result) {
-  std::vector<const FrameIntervalSummary*> sessions;
-  for (const ParticipantRow& participant : result.participants)
-    if (!participant.excluded) sessions.push_back(&participant.frame_intervals);
-  return pool_frame_intervals(sessions);
 }
 
 // null: not computed, or (profile intervals) an end the data do not bound; the fit's note says which.
@@ -506,6 +499,7 @@ json thresholds_json(const AnalysisResult& result) {
                                   {"ci_lower", json_number(row.interval.lower)},
                                   {"ci_upper", json_number(row.interval.upper)},
                                   {"p_value", json_number(row.p_value)},
+                                  {"log10_p", json_number(row.log10_p)},
                                   {"p_holm", json_number(row.p_holm)},
                                   {"stars", shown_stars(result, row)},
                                   {"mean_rating", json_number(row.mean_rating)},
@@ -558,6 +552,7 @@ json thresholds_json(const AnalysisResult& result) {
                                         {"ci_lower", json_number(row.interval.lower)},
                                         {"ci_upper", json_number(row.interval.upper)},
                                         {"p_value", json_number(row.p_value)},
+                                        {"log10_p", json_number(row.log10_p)},
                                         {"alternative", "greater"},
                                         {"stars", row.stars}});
   }
@@ -583,12 +578,13 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"latency", latency_json(participant)},
                                     {"frame_intervals", frame_intervals_json(participant.frame_intervals)},
                                     {"validation", validation_json(participant)},
+                                    {"gaze_source", gaze_source_cell(participant)},
                                     {"practice_trials", participant.practice_trials},
                                     {"thresholds", thresholds}});
     if (!participant.tracks.empty()) root["participants"].back()["adaptive_tracks"] = adaptive_tracks_json(participant);
   }
 
-  root["frame_intervals"] = frame_intervals_json(study_frame_intervals(result));
+  root["frame_intervals"] = frame_intervals_json(result.frame_intervals);
 
   root["config_versions"] = json::array();
   for (const ConfigVersion& version : result.config_versions)
@@ -1161,7 +1157,7 @@ Histogram frame_interval_histogram(const FrameIntervalSummary& frames, const std
 // The study's frame-interval histogram, then one a session (at most kTrackPlots).
 std::vector<Plot> frame_interval_plots(const AnalysisResult& result, std::set<std::string>& taken) {
   std::vector<Plot> plots;
-  const FrameIntervalSummary study = study_frame_intervals(result);
+  const FrameIntervalSummary study = result.frame_intervals;
   if (study.intervals == 0) return plots;
   Plot plot;
   plot.file_name = unique_svg_name("frame_intervals", taken);
@@ -1268,7 +1264,7 @@ std::string html_frame_intervals(const AnalysisResult& result, const std::vector
           "interval beyond 1.5 refresh periods (a refresh missed). Median and p99 by nearest rank, SD the sample "
           "SD; intervals are rounded to the microsecond. The study row pools the included sessions. A headless "
           "session's presenter keeps a virtual clock, so its intervals are exact periods.</p>\n";
-  const FrameIntervalSummary study = study_frame_intervals(result);
+  const FrameIntervalSummary study = result.frame_intervals;
   int included = 0;
   for (const ParticipantRow& participant : result.participants) included += participant.excluded ? 0 : 1;
   auto row = [&](const std::string& name, const FrameIntervalSummary& frames) -> std::vector<std::string> {
@@ -1423,12 +1419,15 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
     }
     std::vector<std::vector<std::string>> rows;
     for (const GroupThreshold& t : result.thresholds) {
+      // A pooled rule (the walk) counts no participants: its participant columns are a dash.
+      const bool per_participant = t.participants_with_threshold + t.participants_without_threshold > 0;
+      const std::string dash = "\xE2\x80\x93";
       std::vector<std::string> row = {t.group.scene, t.group.variant};
       if (several) row.push_back(number_of(t.definition));
       row.insert(row.end(), {t.unsupported ? "none (see note)" : html_number(t.level), html_number(t.mean),
                              t.mean_lower ? html_interval(*t.mean_lower, *t.mean_upper) : std::string("\xE2\x80\x93"),
-                             html_number(t.sd), std::to_string(t.participants_with_threshold),
-                             std::to_string(t.participants_without_threshold), t.note});
+                             html_number(t.sd), per_participant ? std::to_string(t.participants_with_threshold) : dash,
+                             per_participant ? std::to_string(t.participants_without_threshold) : dash, t.note});
       rows.push_back(std::move(row));
     }
     std::vector<std::string> header = {"scene", "variant"};
@@ -1470,7 +1469,7 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
       rows.push_back({row.group.scene, row.group.variant, row.condition,
                       row.reference_method + " v. " + row.test_method,
                       std::to_string(row.reference_votes) + " / " + std::to_string(row.n),
-                      format_number(100.0 * row.share, 3) + " %", html_number(row.p_value), row.stars,
+                      format_number(100.0 * row.share, 3) + " %", p_value_text(row.p_value, row.log10_p, kHtmlDigits), row.stars,
                       html_interval(row.interval.lower, row.interval.upper)});
     }
     html += html_table({"scene", "variant", "condition", "reference v. test", "votes for the reference",
@@ -1540,7 +1539,8 @@ std::string report_html(const AnalysisResult& result, const std::vector<Plot>& p
       std::vector<std::string> cells = {row.group.scene, row.group.variant, row.method, row.condition, html_number(row.level),
                                         std::to_string(row.n), std::to_string(row.k), html_number(row.proportion),
                                         html_interval(row.interval.lower, row.interval.upper),
-                                        html_number(row.p_value), html_number(row.p_holm), shown_stars(result, row)};
+                                        p_value_text(row.p_value, row.log10_p, kHtmlDigits), html_number(row.p_holm),
+                                        shown_stars(result, row)};
       if (ratings) cells.insert(cells.end(), {html_number(row.mean_rating), html_number(row.sd_rating)});
       rows.push_back(std::move(cells));
     }

@@ -280,6 +280,7 @@ struct AnalysisResult {
   std::optional<RatingGrid> rating_grid;     // rating studies whose variants form a 2-parameter grid
   std::vector<PreferenceRow> preferences;    // 2afc "better" studies: one row a condition row
   std::vector<Headline> headlines;           // one per (scene, variant) group, in group order
+  FrameIntervalSummary frame_intervals;      // every included (not excluded) participant's, pooled
   std::vector<ConfigVersion> config_versions;  // every version found, the analysed one first
   std::vector<LeftOut> left_out;
 };

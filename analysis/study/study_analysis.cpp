@@ -533,6 +533,10 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
   if (included.empty())
     result.left_out.push_back({"study " + data.study, "every participant was excluded: no result"});
   result.headlines = study_headlines(data, options, result);
+  std::vector<const FrameIntervalSummary*> sessions;
+  for (const ParticipantRow& participant : result.participants)
+    if (!participant.excluded) sessions.push_back(&participant.frame_intervals);
+  result.frame_intervals = pool_frame_intervals(sessions);
   return result;
 }
 
