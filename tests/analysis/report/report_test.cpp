@@ -105,6 +105,7 @@ ConditionRow condition(const GroupKey& group, double level, uint64_t n, uint64_t
   row.k = k;
   row.proportion = static_cast<double>(k) / static_cast<double>(n);
   row.p_value = 0.0123;
+  row.log10_p = -1.91;
   row.p_holm = 0.0369;
   row.stars = "*";
   row.interval = {0.25, 0.875};
@@ -204,6 +205,7 @@ AnalysisResult sample_result() {
   p2.excluded = true;
   p2.dropped_frames = 1;  // a schema 2 log: no latency recorded
   result.participants = {p1, p2};
+  result.frame_intervals = pool_frame_intervals({&p1.frame_intervals});  // analyse_study pools the included (P001)
 
   GroupThreshold t_park;
   t_park.group = park;
@@ -277,11 +279,11 @@ TEST(AnalysisReport, ConditionsCsvHasOneQuotedRowPerCondition) {
   ASSERT_EQ(rows.size(), result.conditions.size() + 1);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"study", "protocol", "scene", "variant", "method", "condition", "level", "n", "k",
                                                "proportion", "ci_lower", "ci_upper", "p_value", "p_holm", "stars",
-                                               "alternative", "mean_rating", "sd_rating"}));
-  for (const auto& row : rows) ASSERT_EQ(row.size(), 18u);
+                                               "alternative", "mean_rating", "sd_rating", "log10_p"}));
+  for (const auto& row : rows) ASSERT_EQ(row.size(), 19u);
   EXPECT_EQ(rows[1], (std::vector<std::string>{"demo <study>", "pair", kParkScene, "blur", "", "level=5", "5", "12", "3",
                                                "0.25", "0.25", "0.875", "0.0123", "0.0369", "*", "greater", "",
-                                               ""}));
+                                               "", "-1.91"}));
   EXPECT_EQ(rows[2][12], "") << "a NaN p-value is an empty cell";
   EXPECT_EQ(rows[2][9], "0.6666666667") << "10 significant digits";
   EXPECT_EQ(rows[4][2], "city");
