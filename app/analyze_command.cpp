@@ -161,8 +161,11 @@ void print_summary(const analysis::AnalysisResult& result, const std::string& ga
   for (const auto& version : result.config_versions)
     std::printf("  config %s\n", analysis::describe_config_version(version).c_str());
   print_headlines(result);
-  if (!result.thresholds.empty()) std::printf("the paper's rule per group (%s):\n", result.thresholds.front().definition.substr(0, result.thresholds.front().definition.find(':')).c_str());
+  // The paper's rules, each named once (a pair study has two: pooled and per participant).
+  std::string rule_named;
   for (const auto& threshold : result.thresholds) {
+    const std::string rule = threshold.definition.substr(0, threshold.definition.find(':'));
+    if (rule != rule_named) std::printf("the paper's rule (%s), per group:\n", (rule_named = rule).c_str());
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
                 threshold.level ? format_number(*threshold.level, 6).c_str() : "none");
     if (threshold.mean)
