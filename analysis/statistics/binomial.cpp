@@ -38,6 +38,21 @@ void check_counts(uint64_t k, uint64_t n, const char* function) {
   }
 }
 
+// The first i in [begin, end) with predicate(i) true, for a predicate that is false and then true
+// on the range; end if it is never true. O(log(end - begin)) calls.
+template <typename Predicate>
+uint64_t partition_point(uint64_t begin, uint64_t end, Predicate predicate) {
+  while (begin < end) {
+    const uint64_t middle = begin + (end - begin) / 2;
+    if (predicate(middle)) {
+      end = middle;
+    } else {
+      begin = middle + 1;
+    }
+  }
+  return begin;
+}
+
 // The binomial distribution with 0 < p < 1 and the tail sums the tests need, on uint64 outcomes.
 class Binomial {
  public:
@@ -95,21 +110,6 @@ class Binomial {
   }
 
  private:
-  // The first i in [begin, end) with predicate(i) true, for a predicate that is false and then
-  // true on the range; end if it is never true.
-  template <typename Predicate>
-  static uint64_t partition_point(uint64_t begin, uint64_t end, Predicate predicate) {
-    while (begin < end) {
-      const uint64_t middle = begin + (end - begin) / 2;
-      if (predicate(middle)) {
-        end = middle;
-      } else {
-        begin = middle + 1;
-      }
-    }
-    return begin;
-  }
-
   uint64_t n_;
   double p_;
   Distribution distribution_;
@@ -175,17 +175,6 @@ class LogBinomial {
     }
     return log_pmf(k) + std::log(sum);
   }
-  // The first i in [begin, end) with log_pmf(i) <= threshold on a piece where the pmf falls; the
-  // last such i + 1 ... on a rising piece: by bisection, as Binomial::count_at_most does.
-  template <typename Predicate>
-  static uint64_t partition_point(uint64_t begin, uint64_t end, Predicate predicate) {
-    while (begin < end) {
-      const uint64_t middle = begin + (end - begin) / 2;
-      if (predicate(middle)) end = middle;
-      else begin = middle + 1;
-    }
-    return begin;
-  }
 
  private:
   uint64_t n_;
@@ -209,13 +198,13 @@ double log_two_sided_p_value(uint64_t k, uint64_t n, double p0) {
   if (static_cast<double>(k) < expected) {
     // The other side, beyond the mode, falls: its outcomes at or below the threshold are its top ones.
     const auto begin = std::max<uint64_t>(mode, static_cast<uint64_t>(std::ceil(expected)));
-    const uint64_t first = LogBinomial::partition_point(begin, n + 1, [&](uint64_t i) { return binomial.log_pmf(i) <= threshold; });
+    const uint64_t first = partition_point(begin, n + 1, [&](uint64_t i) { return binomial.log_pmf(i) <= threshold; });
     const double other = first > n ? -std::numeric_limits<double>::infinity() : binomial.log_at_least(first);
     return log_sum(binomial.log_at_most(k), other);
   }
   // The other side, below the mode, rises: its outcomes at or below the threshold are its bottom ones.
   const auto end = std::min<uint64_t>(mode, static_cast<uint64_t>(std::floor(expected))) + 1;
-  const uint64_t first_above = LogBinomial::partition_point(0, end, [&](uint64_t i) { return binomial.log_pmf(i) > threshold; });
+  const uint64_t first_above = partition_point(0, end, [&](uint64_t i) { return binomial.log_pmf(i) > threshold; });
   const double other = first_above == 0 ? -std::numeric_limits<double>::infinity() : binomial.log_at_most(first_above - 1);
   return log_sum(other, binomial.log_at_least(k));
 }

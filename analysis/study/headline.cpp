@@ -140,11 +140,12 @@ void fit_headline(const Context& context, Headline& headline) {
 }
 
 // Adaptive blocks: each participant's estimate is the mean of their tracks' thresholds in the group.
-void adaptive_headline(const Context& context, Headline& headline) {
+// `members`: the included participants with trials in the group (Context::participants_in).
+void adaptive_headline(const Context& context, const std::vector<size_t>& members, Headline& headline) {
   std::set<std::string> aims;
   std::vector<double> estimates;
   int without = 0;
-  for (size_t p : context.participants_in(headline.group)) {
+  for (size_t p : members) {
     std::vector<double> thresholds;
     for (const AdaptiveTrackResult& track : context.result.participants[p].tracks) {
       if (!in_group(track.block, track.variant, headline.group)) continue;
@@ -203,11 +204,11 @@ void adaptive_headline(const Context& context, Headline& headline) {
 }
 
 // Ramp: the step model over every participant's steps (ramp_model.h).
-void ramp_headline(const Context& context, Headline& headline) {
+void ramp_headline(const Context& context, const std::vector<size_t>& members, Headline& headline) {
   const StudyData& data = context.data;
   std::vector<RampStep> steps;
   int index = 0;
-  for (size_t p : context.participants_in(headline.group)) {
+  for (size_t p : members) {
     for (const StudyTrial& trial : data.participants[p].trials) {
       if (trial.attention_check || !in_group(trial.scene, trial.variant, headline.group)) continue;
       const std::string_view right = answers::ramp_correct_answer(trial.ramp_toward_reference);
@@ -273,7 +274,8 @@ void slider_headline(Headline& headline, const GroupThreshold* paper) {
 }
 
 // Rating: Ye et al. 2022's walk on the mean ratings, its interval from resampling participants.
-void rating_headline(const Context& context, Headline& headline, const GroupThreshold* paper) {
+void rating_headline(const Context& context, const std::vector<size_t>& members, Headline& headline,
+                     const GroupThreshold* paper) {
   const StudyData& data = context.data;
   const double cutoff = context.options.rating_cutoff;
   headline.method = "Ye et al. 2022's rule (the most degraded level whose mean rating, and every better level's, is at least " +
@@ -282,7 +284,7 @@ void rating_headline(const Context& context, Headline& headline, const GroupThre
   // Per participant and level: the sum and count of the scores.
   std::set<double> level_set;
   std::vector<std::map<double, std::pair<double, double>>> scores;
-  for (size_t p : context.participants_in(headline.group)) {
+  for (size_t p : members) {
     std::map<double, std::pair<double, double>> by_level;
     for (const StudyTrial& trial : data.participants[p].trials) {
       if (trial.attention_check || !trial.level || trial.answers.empty() || !in_group(trial.scene, trial.variant, headline.group))
@@ -363,7 +365,6 @@ void preference_headline(const Context& context, Headline& headline) {
   headline.quantity = "preference share";
   headline.method = "share of answered trials in which the reference was chosen as better, 95 % Clopper-Pearson interval";
   headline.aims_at = "the probability that the reference is preferred (1/2: no preference either way)";
-  headline.participants = static_cast<int>(context.participants_in(headline.group).size());
   if (n == 0) return set_not_estimable(headline, "no answered trial");
   const ProportionInterval interval = clopper_pearson_interval(reference_votes, n, 0.95);
   headline.value = double(reference_votes) / double(n);
@@ -448,7 +449,8 @@ std::vector<Headline> study_headlines(const StudyData& data, const AnalysisOptio
     Headline headline;
     headline.group = group;
     headline.quantity = "threshold";
-    headline.participants = static_cast<int>(context.participants_in(group).size());
+    const std::vector<size_t> members = context.participants_in(group);
+    headline.participants = static_cast<int>(members.size());
     const GroupThreshold* paper = context.paper_threshold(group);
     if (paper) {
       headline.paper_rule = rule_name(*paper);
@@ -462,13 +464,13 @@ std::vector<Headline> study_headlines(const StudyData& data, const AnalysisOptio
     } else if (data.levels.empty()) {
       set_not_estimable(headline, "the study has no levels: no level axis for a threshold");
     } else if (adaptive) {
-      adaptive_headline(context, headline);
+      adaptive_headline(context, members, headline);
     } else if (data.protocol == ProtocolKind::ramp) {
-      ramp_headline(context, headline);
+      ramp_headline(context, members, headline);
     } else if (data.protocol == ProtocolKind::slider) {
       slider_headline(headline, paper);
     } else if (data.protocol == ProtocolKind::rating) {
-      rating_headline(context, headline, paper);
+      rating_headline(context, members, headline, paper);
     } else {
       fit_headline(context, headline);
     }

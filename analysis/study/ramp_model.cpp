@@ -7,17 +7,16 @@
 #include "analysis/psychometric/nelder_mead.h"
 #include "analysis/statistics/percentile.h"
 #include "core/prng.h"
+#include "study/psychometric/psychometric_function.h"
 
 namespace fovlab::analysis {
 namespace {
 
 constexpr double kMaxLapse = 0.1;
 
-double softplus(double a) { return a > 30.0 ? a : std::log1p(std::exp(a)); }
-
-double visible_degradation(std::optional<double> level, double threshold, double slope, bool higher_is_better) {
-  if (!level) return 0.0;
-  return softplus(slope * (higher_is_better ? threshold - *level : *level - threshold));
+// A stimulus's visible degradation (study/psychometric/psychometric_function.h); 0 for the reference.
+double degradation_of(std::optional<double> level, double threshold, double slope, bool higher_is_better) {
+  return level ? visible_degradation(slope * (higher_is_better ? threshold - *level : *level - threshold)) : 0.0;
 }
 
 // Steps with the same stimuli and answer counted once with a weight: the likelihood visits each
@@ -83,9 +82,8 @@ Solution fit(const std::vector<WeightedStep>& steps, double guess, bool higher_i
 
 double ramp_step_seen_probability(std::optional<double> before, std::optional<double> after, double threshold, double slope,
                                   bool higher_is_better) {
-  const double difference = visible_degradation(after, threshold, slope, higher_is_better) -
-                            visible_degradation(before, threshold, slope, higher_is_better);
-  return -std::expm1(-std::fabs(difference));
+  return step_seen_probability(degradation_of(before, threshold, slope, higher_is_better),
+                               degradation_of(after, threshold, slope, higher_is_better));
 }
 
 RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_better, double level_low, double level_high,

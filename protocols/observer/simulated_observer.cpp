@@ -41,8 +41,7 @@ double ObserverModel::p_see(std::optional<double> level) const {
 
 double ObserverModel::visible_degradation(std::optional<double> level) const {
   if (!level) return 0.0;
-  const double a = see_logit(*this, *level);
-  return a > 0.0 ? a + std::log1p(std::exp(-a)) : std::log1p(std::exp(a));  // softplus, without overflow
+  return fovlab::visible_degradation(see_logit(*this, *level));
 }
 
 double ObserverModel::p_detect(std::optional<double> level) const {
@@ -136,7 +135,7 @@ ObserverAnswer SimulatedObserver::answer_comparison(const Trial& trial) const {
 ObserverAnswer SimulatedObserver::answer_ramp_step(const Trial& trial, int step) const {
   const double before = model_.visible_degradation(level_of(trial.sequence.at(static_cast<size_t>(step - 1))));
   const double now = model_.visible_degradation(level_of(trial.sequence.at(static_cast<size_t>(step))));
-  const double p_seen = -std::expm1(-std::fabs(now - before));
+  const double p_seen = step_seen_probability(before, now);
   Pcg32 random = stream(model_.seed, trial.index, step);
   const double u = random.uniform();
   const double p_true = (1.0 - model_.guess - model_.lapse) * p_seen;

@@ -81,4 +81,13 @@ double PsychometricModel::p_report(double level) const {
   return detail::report_probabilities(*this, level).report;
 }
 
+double visible_degradation(double see_logit) {
+  const double a = see_logit;
+  return a > 0.0 ? a + std::log1p(std::exp(-a)) : std::log1p(std::exp(a));  // softplus, without overflow
+}
+
+double step_seen_probability(double visible_degradation_before, double visible_degradation_after) {
+  return -std::expm1(-std::fabs(visible_degradation_after - visible_degradation_before));
+}
+
 }  // namespace fovlab

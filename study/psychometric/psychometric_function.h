@@ -37,4 +37,13 @@ struct PsychometricModel {
   double p_report(double level) const;  // guess + (1 - guess - lapse) * p_see
 };
 
+// How a step between two stimuli is seen (docs/analysis.md, "Ramp: the step model"): a stimulus
+// whose logit of p_see against the reference is `see_logit` (positive on the degraded side) carries
+// the visible degradation softplus(see_logit), 0 for the reference; a step between two stimuli of
+// visible degradations a and b is seen with probability 1 - exp(-|a - b|), which against the
+// reference is the logistic p_see itself. The simulated observer answers ramps by it and the
+// analysis fits it (analysis/study/ramp_model.h).
+double visible_degradation(double see_logit);
+double step_seen_probability(double visible_degradation_before, double visible_degradation_after);
+
 }  // namespace fovlab
