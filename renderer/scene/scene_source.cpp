@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "core/data_folders.h"
 #include "core/input_file.h"
 #include "core/input_error.h"
 
 namespace fovlab {
 
 std::filesystem::path builtin_scenes_directory() {
-  if (const char* folder = std::getenv("FOVLAB_SCENES_DIR"); folder && *folder) return folder;
-  return std::filesystem::path(FOVLAB_SOURCE_DIR) / "stimuli" / "scenes";
+  return stimuli_subdirectory("FOVLAB_SCENES_DIR", "scenes");
 }
 
 std::vector<std::string> builtin_scene_names() {

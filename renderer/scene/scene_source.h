@@ -13,7 +13,8 @@ struct SceneSource {
   std::string text;
 };
 
-// The folder of built-in scenes: $FOVLAB_SCENES_DIR if set, else the source tree's stimuli/scenes.
+// The folder of built-in scenes: $FOVLAB_SCENES_DIR if set, else stimuli/scenes beside the program
+// (core/data_folders.h).
 std::filesystem::path builtin_scenes_directory();
 
 // Names of the built-in scenes, sorted.

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "core/content_hash.h"
+#include "core/data_folders.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
 #include "core/toml_fields.h"
@@ -27,8 +28,7 @@ double number_in(const TomlFields& fields, const std::string& key, double fallba
 }  // namespace
 
 std::filesystem::path builtin_volumes_directory() {
-  if (const char* folder = std::getenv("FOVLAB_VOLUMES_DIR"); folder && *folder) return folder;
-  return std::filesystem::path(FOVLAB_SOURCE_DIR) / "stimuli" / "volumes";
+  return stimuli_subdirectory("FOVLAB_VOLUMES_DIR", "volumes");
 }
 
 std::vector<std::string> builtin_volume_names() {

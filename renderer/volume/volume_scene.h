@@ -59,7 +59,7 @@ struct VolumeScene {
   VolumeCamera camera;
 };
 
-std::filesystem::path builtin_volumes_directory();  // stimuli/volumes (FOVLAB_VOLUMES_DIR overrides)
+std::filesystem::path builtin_volumes_directory();  // stimuli/volumes beside the program (FOVLAB_VOLUMES_DIR overrides)
 std::vector<std::string> builtin_volume_names();
 
 // Reads a built-in volume scene by name or a .toml volume scene file. InputError naming the file,
