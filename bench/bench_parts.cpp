@@ -48,7 +48,7 @@ bool is_kind(const nlohmann::json& value, Kind kind) {
 }
 
 // `object` (at `where` in the part) has every key, each of its kind: what the tables and charts read
-// (bench/bench_report.h, app/bench_outputs.h), so a part edited by hand or cut short is refused
+// (bench/bench_report.h, bench/bench_outputs.h), so a part edited by hand or cut short is refused
 // naming the file and the field rather than read past what it holds.
 void require(const PartReport& part, const nlohmann::json& object, const std::string& where,
              std::initializer_list<const char*> keys, Kind kind) {
