@@ -1,7 +1,7 @@
 // fovlab bench-merge PART.json... [--json OUT] [--out-dir DIR]: joins the parts of a sweep run as
 // fovlab bench --cells I/N (on a cluster: fovlab slurm bench) into the report one run of the whole
 // sweep writes: the same JSON, tables, charts and Pareto fronts (bench/bench_parts.h,
-// app/bench_outputs.h). A file that is not a part, a part missing or given twice, parts of another
+// bench/bench_outputs.h). A file that is not a part, a part missing or given twice, parts of another
 // sweep or device, or a part whose rows and cells are not those its index holds in the sweep its
 // flags plan (a relabelled index, a method or variant not planned, a time out of range) is one line
 // naming the file and the field, exit code 2, and nothing written.
@@ -14,11 +14,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_outputs.h"
-#include "app/bench_plan.h"
+#include "app/bench_flags.h"
 #include "app/commands.h"
 #include "app/output_options.h"
-#include "bench/bench_parts.h"
+#include "bench/bench.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
 
@@ -48,8 +47,7 @@ bench::PartReport read_part(const std::string& path) {
 // The sweep a part's flags (its "command") plan, rebuilt as fovlab bench plans it.
 bench::SweepLayout part_layout(const bench::PartReport& part) {
   try {
-    const BenchOptions options = parse_sweep_command(part.report["command"].get<std::string>());
-    return sweep_layout(options, plan_bench(options));
+    return bench::sweep_layout(plan_bench(parse_sweep_command(part.report["command"].get<std::string>())));
   } catch (const InputError& error) {
     throw InputError(part.path + ": \"command\": " + error.what() + "; expected the command of the sweep, as bench writes it");
   }
@@ -62,7 +60,7 @@ void run_bench_merge(const BenchMergeOptions& options) {
   if (!options.out_dir.empty()) create_output_folder(options.out_dir, "--out-dir");
   std::printf("fovlab bench-merge: %zu parts, %zu (scene, time, spp) units, %zu cells, measured on %s\n", parts.size(),
               report["rows"].size(), report["cells"].size(), report["device"].get<std::string>().c_str());
-  finish_sweep(report, false, options.json, options.out_dir);
+  bench::finish_sweep(report, false, options.json, options.out_dir);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 #include "app/output_options.h"
 #include "app/render_outputs.h"
 #include "app/sampling_flags.h"
-#include "bench/bench_runs.h"
+#include "bench/frame_errors.h"
 #include "core/colour.h"
 #include "core/image_io.h"
 #include "core/input_error.h"

@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/bench_plan.h"
+#include "app/bench_flags.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/output_options.h"
@@ -306,7 +306,7 @@ void run_slurm_prerender(const PrerenderJobOptions& options) {
 void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& bench_words) {
   for (const std::string& word : bench_words) check_script_word("bench flag " + word.substr(0, 40), word);
   check_script_word("--fovlab", slurm.fovlab);
-  BenchOptions bench = parse_bench_flags(bench_words, "bench flags");
+  BenchFlags bench = parse_bench_flags(bench_words, "bench flags");
   for (const auto& [flag, given] : {std::pair{"--json", !bench.json.empty()}, std::pair{"--out-dir", !bench.out_dir.empty()},
                                     std::pair{"--cells", !bench.cells.empty()}})
     if (given)
@@ -315,8 +315,8 @@ void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& 
   const fs::path out = absolute_text(slurm.out.empty() ? "slurm/bench" : slurm.out);
   bench.json = out / "parts" / "part-0.json";
   bench.cells = "0/1";  // a part's plan is the sweep's
-  const BenchPlan plan = plan_bench(bench);  // every bench flag checked before anything is written,
-  load_bench_scenes(bench, plan);            // the scenes and the memory too
+  const fovlab::bench::BenchPlan plan = plan_bench(bench);  // every bench flag checked before anything is written,
+  fovlab::bench::load_bench_scenes(plan);                  // the scenes and the memory too
   const size_t units = bench.scenes.size() * plan.times_s.size() * bench.spps.size();
   check_slurm_flags(slurm, int(std::min<size_t>(units, 100000)),
                     std::to_string(units) + " (scene, time, spp) units of the sweep");

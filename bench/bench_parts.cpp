@@ -48,7 +48,7 @@ bool is_kind(const nlohmann::json& value, Kind kind) {
 }
 
 // `object` (at `where` in the part) has every key, each of its kind: what the tables and charts read
-// (bench/bench_report.h, app/bench_outputs.h), so a part edited by hand or cut short is refused
+// (bench/bench_report.h, bench/bench_outputs.h), so a part edited by hand or cut short is refused
 // naming the file and the field rather than read past what it holds.
 void require(const PartReport& part, const nlohmann::json& object, const std::string& where,
              std::initializer_list<const char*> keys, Kind kind) {
@@ -226,7 +226,7 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
     throw InputError(first.path + ": times_s is " + first.report["times_s"].dump().substr(0, 80) + "; expected " +
                      times_s.dump() + planned);
   const bool fipr = std::any_of(layout.unit_cells.begin(), layout.unit_cells.end(),
-                                [](const PlannedCell& cell) { return cell.method == "fipr"; });
+                                [](const PlannedCell& cell) { return cell.method == BenchMethod::fipr; });
   if (first.report.contains("fipr") != fipr)
     throw InputError(first.path + ": " + (fipr ? "no \"fipr\" object" : "a \"fipr\" object") + "; expected " +
                      (fipr ? "one: the sweep has FIPR cells" : "none: the sweep has no FIPR cell") + planned);
@@ -239,7 +239,7 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
                      "; expected " + (layout.focal_shares_x.empty() ? "none: the sweep has no sampling model" : focal_shares.dump()) +
                      planned);
   std::string cell_methods;
-  for (const PlannedCell& cell : layout.unit_cells) cell_methods += (cell_methods.empty() ? "" : ", ") + cell.method;
+  for (const PlannedCell& cell : layout.unit_cells) cell_methods += (cell_methods.empty() ? "" : ", ") + std::string(bench_method_name(cell.method));
   const size_t cells_per_unit = layout.unit_cells.size();
 
   // Each part holds exactly the units of its index, each with exactly its planned cells.
@@ -284,9 +284,9 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
         const std::string nth = " (cell " + std::to_string(planned_index + 1) + " of every unit's " +
                                 std::to_string(cells_per_unit) + ": " + cell_methods + ", as its \"command\" plans "
                                 "the sweep)";
-        if (cell["method"] != plan.method)
+        if (cell["method"] != bench_method_name(plan.method))
           throw InputError(part->path + ": " + where + ".method is " + cell["method"].dump().substr(0, 60) +
-                           "; expected \"" + plan.method + "\"" + nth);
+                           "; expected \"" + bench_method_name(plan.method) + "\"" + nth);
         const auto check = [&](const char* key, const auto& value) {
           if (value && (!cell.contains(key) || cell[key] != nlohmann::json(*value)))
             throw InputError(part->path + ": " + where + "." + key + " is " +

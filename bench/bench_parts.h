@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_method.h"
+
 namespace fovlab::bench {
 
 struct SweepPart {
@@ -31,14 +33,14 @@ nlohmann::json part_json(const SweepPart& part, int units);
 
 // One cell of every unit, as the sweep's plan makes it: the method and the variant it measures.
 struct PlannedCell {
-  std::string method;                   // "gt", "ipr", "fipr", "rmfr", "hyperbolic", "linear", "kfr"
+  BenchMethod method = BenchMethod::gt;
   std::optional<int> refresh;           // fipr's periphery refresh
   std::optional<double> fovea_deg;      // fipr's fovea
   std::optional<double> focal_share_x;  // rmfr's pair
   std::optional<double> focal_share_y;
 };
 
-// What a sweep's flags plan (app/bench_plan.h sweep_layout): its units, (scene, time, spp) in the
+// What a sweep's flags plan (bench/bench_plan.h sweep_layout): its units, (scene, time, spp) in the
 // order bench runs them, scene-major then time then spp, and the cells of each unit, in order.
 struct SweepLayout {
   std::vector<std::string> scenes;  // as rows name them: a built-in name, or a file's stem

@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "metrics/flip.h"
-#include "metrics/fpsnr.h"
-#include "metrics/image_metrics.h"
 
 namespace fovlab::bench {
 
@@ -26,18 +23,18 @@ void MethodRuns::add(const SphereTraceResult& result, double wall) {
   for (const vk::PassTime& pass : result.passes) pass_ms[pass.name].push_back(pass.gpu_ms);
 }
 
-nlohmann::json MethodRuns::json(const SphereTraceSettings& settings) const {
-  nlohmann::json passes = nlohmann::json::object();
-  for (const auto& [name, values] : pass_ms) passes[name] = median(values);
-  return {{"median_gpu_ms", median(gpu_ms)},
-          {"median_wall_ms", median(wall_ms)},
-          {"gpu_ms_runs", gpu_ms},
-          {"median_pass_gpu_ms", passes},
-          {"total_steps", frame.total_steps},
-          {"steps_per_pixel", frame.mean_steps_per_pixel()},
-          {"steps_per_sample", frame.mean_steps_per_pixel() / settings.samples_per_pixel},
-          {"capped_rays", frame.capped_rays},
-          {"restarted_rays", frame.restarted_rays}};
+RunsResult MethodRuns::result(const SphereTraceSettings& settings) const {
+  RunsResult result;
+  result.median_gpu_ms = median(gpu_ms);
+  result.median_wall_ms = median(wall_ms);
+  result.gpu_ms_runs = gpu_ms;
+  for (const auto& [name, values] : pass_ms) result.median_pass_gpu_ms[name] = median(values);
+  result.total_steps = frame.total_steps;
+  result.steps_per_pixel = frame.mean_steps_per_pixel();
+  result.steps_per_sample = frame.mean_steps_per_pixel() / settings.samples_per_pixel;
+  result.capped_rays = frame.capped_rays;
+  result.restarted_rays = frame.restarted_rays;
+  return result;
 }
 
 void time_interleaved(SphereTracer& tracer, const std::vector<std::pair<SphereTraceSettings, MethodRuns*>>& methods,
@@ -78,38 +75,6 @@ FiprSequence time_fipr_sequence(SphereTracer& tracer, SphereTraceSettings settin
   }
   sequence.last_timed_frame = frame - 1;
   return sequence;
-}
-
-nlohmann::json FrameErrors::json() const {
-  return {{"ssim", ssim},
-          {"psnr_db", psnr_db ? nlohmann::json(*psnr_db) : nlohmann::json(nullptr)},
-          {"flip", flip},
-          {"fpsnr_db", fpsnr_db ? nlohmann::json(*fpsnr_db) : nlohmann::json(nullptr)}};
-}
-
-namespace {
-
-FrameErrors errors_of(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
-                      double gaze_y_px, double flip_pixels_per_degree) {
-  FrameErrors errors;
-  errors.ssim = analysis::ssim(gt, test).mean_ssim;
-  const analysis::PsnrResult psnr = analysis::psnr(gt, test);
-  if (!psnr.identical) errors.psnr_db = psnr.psnr_db;
-  errors.flip = analysis::flip(gt, test, flip_pixels_per_degree).mean_flip;
-  const analysis::FpsnrResult fpsnr = analysis::fpsnr(gt, test, display, gaze_x_px, gaze_y_px);
-  if (!fpsnr.identical) errors.fpsnr_db = fpsnr.fpsnr_db;
-  return errors;
-}
-
-}  // namespace
-
-FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& plan) {
-  return errors_of(gt, test, plan.display, plan.gaze_x_px, plan.gaze_y_px, plan.flip_pixels_per_degree);
-}
-
-FrameErrors frame_errors(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
-                         double gaze_y_px) {
-  return errors_of(gt, test, display, gaze_x_px, gaze_y_px, display.pixels_per_degree_at_centre());
 }
 
 }  // namespace fovlab::bench

@@ -9,10 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "bench/bench_plan.h"
-#include "core/image.h"
+#include "bench/bench_results.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab::bench {
@@ -31,7 +28,7 @@ struct MethodRuns {
   void add(const SphereTraceResult& result, double wall);
   double median_gpu_ms() const { return median(gpu_ms); }
   // Median GPU and wall ms, every run's GPU ms, median per pass, and the measured frame's steps.
-  nlohmann::json json(const SphereTraceSettings& settings) const;
+  RunsResult result(const SphereTraceSettings& settings) const;
 };
 
 // GT and IPR (or GT alone) of one scene and spp: one untimed run of each (allocation, caches; its
@@ -54,20 +51,5 @@ struct FiprSequence {
   uint32_t last_timed_frame = 0;
 };
 FiprSequence time_fipr_sequence(SphereTracer& tracer, SphereTraceSettings settings, int repeats);
-
-// Error of a display image (sRGB-encoded) against GT's: SSIM over the whole frame, PSNR, LDR-FLIP at
-// the display's pixels per degree, FPSNR with the display and the gaze of the plan.
-struct FrameErrors {
-  double ssim = 1.0;
-  std::optional<double> psnr_db;   // none when identical
-  double flip = 0.0;
-  std::optional<double> fpsnr_db;  // none when identical
-
-  nlohmann::json json() const;  // ssim, psnr_db, flip, fpsnr_db (null when identical)
-};
-FrameErrors frame_errors(const Image& gt, const Image& test, const BenchPlan& plan);
-// The same for any display and gaze (FLIP at the display's pixels per degree at its centre).
-FrameErrors frame_errors(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
-                         double gaze_y_px);
 
 }  // namespace fovlab::bench

@@ -6,7 +6,8 @@
 #include <cstdio>
 
 #include "bench/bench_runs.h"  // median, elapsed_ms
-#include "renderer/upsampling/openimageio_resize.h"
+#include "bench/blend_cost.h"
+#include "bench/openimageio_resize.h"
 #include "renderer/upsampling/upsampler.h"
 #include "renderer/zone_blend/zone_blender.h"
 
@@ -70,7 +71,7 @@ BlendTiming time_blend(ZoneBlender& blender, const DisplayGeometry& display, dou
                        const ZoneBounds& bounds, int repeats) {
   std::vector<double> display_ms, linear_ms, shader_ms, buffer_ms, refresh_ms;
   uint32_t band_pixels = 0;
-  for (const ZoneBlender::BlendCost& cost : blender.measure_cost(display, gaze_x_px, gaze_y_px, bounds, repeats)) {
+  for (const BlendCost& cost : measure_blend_cost(blender, display, gaze_x_px, gaze_y_px, bounds, repeats)) {
     band_pixels = cost.band_pixels;
     display_ms.push_back(cost.display_blend_ms);
     linear_ms.push_back(cost.linear_blend_ms);

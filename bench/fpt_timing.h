@@ -36,7 +36,7 @@ UpsampleTiming time_upsampling(Upsampler& upsampler, const Image& image, int fac
                                bool against_openimageio);
 
 struct BlendTiming {
-  // GPU medians (ms) of ZoneBlender::measure_cost's four passes.
+  // GPU medians (ms) of measure_blend_cost's four passes (bench/blend_cost.h).
   double display_blend_ms = 0, linear_blend_ms = 0, copy_shader_ms = 0, copy_buffer_ms = 0;
   // A session's refresh on the wall clock: ZoneBlender::display_frame (blend, encode, read back).
   double refresh_wall_ms = 0;

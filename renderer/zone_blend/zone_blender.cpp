@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -150,7 +149,6 @@ ZoneBlender::ZoneBlender(vk::Context& context)
       display_pipeline_(pipeline(context, shaders::zone_display_spirv, 3, sizeof(BlendParams))),
       band_pipeline_(pipeline(context, shaders::zone_band_spirv, 3, sizeof(BlendParams))),
       list_dispatch_pipeline_(pipeline(context, shaders::list_dispatch_spirv, 2, sizeof(kBandList))),
-      copy_pipeline_(pipeline(context, shaders::buffer_copy_spirv, 2, 2 * sizeof(uint32_t))),
       upsampler_(std::make_unique<Upsampler>(context)) {}
 
 ZoneBlender::~ZoneBlender() = default;
@@ -252,12 +250,6 @@ void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry
   band_pipeline_->dispatch_indirect(commands, band_buffers, &params, band_dispatch_.handle(), 0);
 }
 
-void ZoneBlender::record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const {
-  const uint32_t frame_size[] = {uint32_t(width_), uint32_t(height_)};
-  const VkBuffer buffers[] = {from.handle(), to.handle()};
-  copy_pipeline_->dispatch_groups(commands, buffers, frame_size, row_groups(width_), uint32_t(height_));
-}
-
 void ZoneBlender::check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const {
   if (width_ == 0) throw std::logic_error("ZoneBlender: blend before set_frame");
   check_zone_bounds(bounds);
@@ -333,43 +325,9 @@ Image ZoneBlender::zone_buffer(Zone zone) {
   return read_back(zones_, zone_bytes * (zone == Zone::foveal ? 0 : zone == Zone::middle ? 1 : 2), zone_bytes);
 }
 
-std::vector<ZoneBlender::BlendCost> ZoneBlender::measure_cost(const DisplayGeometry& display, double gaze_x_px,
-                                                              double gaze_y_px, const ZoneBounds& bounds, int repeats) {
+void ZoneBlender::check_display(const DisplayGeometry& display, const ZoneBounds& bounds) const {
   check_blend(display, bounds);
   require_colour(channels_, "zone blend to the display");
-  const vk::Buffer band_count_readback(context_, sizeof(uint32_t), vk::MemoryUse::host_readback);
-  std::vector<BlendCost> costs;
-  for (int repeat = 0; repeat < repeats; ++repeat) {
-    vk::OneTimeCommands commands(context_);
-    VkCommandBuffer cmd = commands.handle();
-    vk::PassTimer timer(context_, 4);
-    timer.reset(cmd);
-    timer.begin(cmd, "display_blend");
-    record_display(cmd, display, gaze_x_px, gaze_y_px, bounds);
-    timer.end(cmd);
-    vk::compute_to_compute_barrier(cmd);  // each timed pass alone on the device
-    timer.begin(cmd, "linear_blend");
-    record_blend(cmd, display, gaze_x_px, gaze_y_px, bounds);
-    timer.end(cmd);
-    vk::compute_to_compute_barrier(cmd);  // the copies overwrite the linear blend's output
-    timer.begin(cmd, "copy_shader");
-    record_copy(cmd, zones_, blended_linear_);  // the foveal zone, the buffer's first width x height texels
-    timer.end(cmd);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    timer.begin(cmd, "copy_buffer");
-    const VkBufferCopy foveal_zone{0, 0, blended_linear_.size_bytes()};
-    vkCmdCopyBuffer(cmd, zones_.handle(), blended_linear_.handle(), 1, &foveal_zone);
-    timer.end(cmd);
-    record_read_back(cmd, band_list_, 0, sizeof(uint32_t), band_count_readback);
-    commands.submit_and_wait();
-    const std::vector<vk::PassTime> times = timer.results();
-    uint32_t band_pixels = 0;
-    band_count_readback.invalidate();
-    std::memcpy(&band_pixels, band_count_readback.mapped(), sizeof band_pixels);
-    costs.push_back({times[0].gpu_ms, times[1].gpu_ms, times[2].gpu_ms, times[3].gpu_ms, band_pixels});
-  }
-  return costs;
 }
 
 Image ZoneBlender::read_back(const vk::Buffer& buffer, VkDeviceSize offset_bytes, VkDeviceSize size_bytes) {

@@ -81,38 +81,29 @@ class ZoneBlender {
   // One zone buffer as the blend reads it (full size; the middle and outer ones upsampled).
   Image zone_buffer(Zone zone);
 
-  // The cost of the blend against the memory-bandwidth limit it is measured by: a plain copy of
-  // one full-size float RGBA zone buffer into another (every pixel read once and written once, the
-  // least a blend must do). Each repeat is one command buffer holding, between GPU timestamps, the
-  // display blend (display_frame's passes, sRGB8 out), the linear blend (float RGBA out), a copy shader
-  // (buffer_copy.comp.glsl: one load and one store a texel, the blend's workgroups) and
-  // vkCmdCopyBuffer of the same buffer. One entry a repeat; zeros where the queue has no timestamps.
-  // Also the number of band pixels, which the display blend's second pass blends. Needs a colour
-  // frame, as display_frame does.
-  struct BlendCost {
-    double display_blend_ms = 0;
-    double linear_blend_ms = 0;
-    double copy_shader_ms = 0;
-    double copy_buffer_ms = 0;
-    uint32_t band_pixels = 0;
-  };
-  std::vector<BlendCost> measure_cost(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
-                                      const ZoneBounds& bounds, int repeats);
-
- private:
-  void check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const;
+  // For timing the blend (bench/blend_cost.h): display_frame's checks; its passes, and blend's, recorded
+  // into the caller's command buffer; and the buffers they read and write (the zones: foveal, middle,
+  // outer, width x height float RGBA texels each; the linear blend, float RGBA; the band list, its
+  // count at word 0).
+  void check_display(const DisplayGeometry& display, const ZoneBounds& bounds) const;
   // The linear blend of the current zones for a gaze, into blended_linear_ (zone_blend.comp.glsl).
   void record_blend(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                     const ZoneBounds& bounds) const;
   // display_frame's passes for a gaze, into blended_srgb8_.
   void record_display(VkCommandBuffer commands, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px,
                       const ZoneBounds& bounds) const;
-  void record_copy(VkCommandBuffer commands, const vk::Buffer& from, const vk::Buffer& to) const;
+  vk::Context& context() const { return context_; }
+  const vk::Buffer& zone_buffers() const { return zones_; }
+  const vk::Buffer& linear_blend_buffer() const { return blended_linear_; }
+  const vk::Buffer& band_list_buffer() const { return band_list_; }
+
+ private:
+  void check_blend(const DisplayGeometry& display, const ZoneBounds& bounds) const;
   Image read_back(const vk::Buffer& buffer, VkDeviceSize offset_bytes, VkDeviceSize size_bytes);
   vk::Context& context_;
   std::unique_ptr<vk::ComputePipeline> linear_pipeline_;
   std::unique_ptr<Srgb8Encoder> encoder_;
-  std::unique_ptr<vk::ComputePipeline> display_pipeline_, band_pipeline_, list_dispatch_pipeline_, copy_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> display_pipeline_, band_pipeline_, list_dispatch_pipeline_;
   std::unique_ptr<Upsampler> upsampler_;
   int width_ = 0;
   int height_ = 0;

@@ -22,7 +22,7 @@ SweepLayout layout_of(int scenes, std::vector<int> spps = {1}) {
   for (int scene = 0; scene < scenes; ++scene) layout.scenes.push_back("s" + std::to_string(scene));
   layout.times_s = {0.0f};
   layout.spps = std::move(spps);
-  layout.unit_cells = {{"gt"}, {"ipr"}};
+  layout.unit_cells = {{BenchMethod::gt}, {BenchMethod::ipr}};
   layout.width = 64;
   layout.height = 36;
   layout.repeats = 1;
@@ -37,7 +37,7 @@ nlohmann::json whole_sweep(const SweepLayout& layout) {
   const nlohmann::json runs = {{"median_gpu_ms", 2.0}, {"steps_per_pixel", 9.5}, {"capped_rays", 0},
                                {"median_pass_gpu_ms", {{"trace_level0", 2.0}}}};
   for (const PlannedCell& planned : layout.unit_cells)
-    if (planned.method == "fipr") report["fipr"] = {{"refresh", {*planned.refresh}}, {"fovea_deg", {*planned.fovea_deg}}};
+    if (planned.method == BenchMethod::fipr) report["fipr"] = {{"refresh", {*planned.refresh}}, {"fovea_deg", {*planned.fovea_deg}}};
   if (!layout.focal_shares_x.empty())
     report["sampling_focal_shares"] = {{"x", layout.focal_shares_x}, {"y", layout.focal_shares_y}};
   report["rows"] = nlohmann::json::array();
@@ -53,7 +53,7 @@ nlohmann::json whole_sweep(const SweepLayout& layout) {
     report["rows"].push_back(row);
     for (const PlannedCell& planned : layout.unit_cells) {
       nlohmann::json cell = key;
-      cell["method"] = planned.method;
+      cell["method"] = bench_method_name(planned.method);
       cell["unit"] = unit;
       if (planned.refresh) cell.update({{"refresh", *planned.refresh}, {"fovea_deg", *planned.fovea_deg}});
       if (planned.focal_share_x)
@@ -234,8 +234,8 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
   EXPECT_NE(error_of({swapped, p1}, layout).find("cells[0].method is \"ipr\"; expected \"gt\""), std::string::npos);
 
   SweepLayout variants = layout;
-  variants.unit_cells = {{"gt"}, {"fipr", 2, 7.5, std::nullopt, std::nullopt},
-                         {"rmfr", std::nullopt, std::nullopt, 0.3, 0.55}};
+  variants.unit_cells = {{BenchMethod::gt}, {BenchMethod::fipr, 2, 7.5, std::nullopt, std::nullopt},
+                         {BenchMethod::rmfr, std::nullopt, std::nullopt, 0.3, 0.55}};
   variants.focal_shares_x = {0.3};
   variants.focal_shares_y = {0.55};
   const nlohmann::json variant_whole = whole_sweep(variants);

@@ -13,6 +13,10 @@ set(allowed_analysis core foveation metrics study analysis)
 set(allowed_bench core foveation metrics renderer study display protocols analysis bench)
 set(allowed_app core foveation metrics renderer study display protocols analysis bench app)
 set(folders core foveation metrics renderer study display protocols analysis bench app)
+# bench is a library of its own: app/ includes only its interface headers, never the internals
+# behind them (the plan's cells, the timing loops, the JSON and tables).
+set(bench_interface_for_app bench/bench.h bench/fpt_timing.h bench/volume_bench.h bench/procedure_simulation.h
+    bench/frame_errors.h)
 
 set(violations "")
 foreach(folder ${folders})
@@ -27,6 +31,12 @@ foreach(folder ${folders})
       if(NOT target IN_LIST allowed_${folder})
         file(RELATIVE_PATH relative "${SOURCE_DIR}" "${source}")
         string(APPEND violations "  ${relative}: ${line} (${folder}/ may use: ${allowed_${folder}})\n")
+      elseif(folder STREQUAL "app" AND target STREQUAL "bench")
+        string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]+\"([^\"]+)\".*$" "\\1" header "${line}")
+        if(NOT header IN_LIST bench_interface_for_app)
+          file(RELATIVE_PATH relative "${SOURCE_DIR}" "${source}")
+          string(APPEND violations "  ${relative}: ${line} (app/ may include of bench/ only: ${bench_interface_for_app})\n")
+        endif()
       endif()
     endforeach()
   endforeach()

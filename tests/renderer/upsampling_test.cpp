@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/prng.h"
-#include "renderer/upsampling/openimageio_resize.h"
+#include "bench/openimageio_resize.h"
 #include "renderer/upsampling/upsample_filter.h"
 #include "renderer/upsampling/upsampler.h"
 #include "tests/renderer/vulkan_test_fixture.h"
@@ -76,7 +76,7 @@ TEST(UpsampleFilter, OpenImageIOResizeIsTheSameLanczos3) {
   const float range = *std::max_element(source.pixels.begin(), source.pixels.end());
   for (int factor : {2, 4}) {
     const Image expected = upsample_reference(source, factor, UpsampleFilter::lanczos3);
-    const Image oiio = resize_with_openimageio(source, factor);
+    const Image oiio = bench::resize_with_openimageio(source, factor);
     ASSERT_EQ(oiio.width, expected.width);
     ASSERT_EQ(oiio.height, expected.height);
     double worst = 0.0;

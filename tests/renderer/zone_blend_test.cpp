@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/blend_cost.h"
 #include "core/colour.h"
 #include "core/input_error.h"
 #include "core/prng.h"
@@ -253,10 +254,10 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
   EXPECT_NEAR(blended.at(32, 24, 0), 1.0f, 1e-6);   // the gaze point
   EXPECT_NEAR(blended.at(0, 0, 1), 0.25f, 1e-5);    // a corner, about 34 degrees out: outer zone
   EXPECT_NEAR(blended.at(32, 8, 2), 0.25f, 1e-5);   // about 17 degrees out: middle zone
-  const auto costs = blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 0.5}, 2);
+  const auto costs = bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 0.5}, 2);
   ASSERT_EQ(costs.size(), 2u);
   if (context().timestamp_period_ns > 0.0)
-    for (const ZoneBlender::BlendCost& cost : costs) {
+    for (const bench::BlendCost& cost : costs) {
       EXPECT_GT(cost.display_blend_ms, 0.0);
       EXPECT_GT(cost.linear_blend_ms, 0.0);
       EXPECT_GT(cost.copy_shader_ms, 0.0);
@@ -273,8 +274,8 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
     }
   EXPECT_GT(reference_band_pixels, 40);
   EXPECT_NEAR(double(costs.front().band_pixels), double(reference_band_pixels), 4.0);
-  EXPECT_EQ(blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 0.0}, 1).front().band_pixels, 0u);
-  EXPECT_EQ(blender.measure_cost(display, 32.0, 24.0, {10.0, 40.0, 400.0}, 1).front().band_pixels, 64u * 48u);
+  EXPECT_EQ(bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 0.0}, 1).front().band_pixels, 0u);
+  EXPECT_EQ(bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 400.0}, 1).front().band_pixels, 64u * 48u);
   // Timing leaves the zones as they were.
   EXPECT_NEAR(blender.blend(display, 32.0, 24.0, {10.0, 40.0, 0.5}).image.at(32, 24, 0), 1.0f, 1e-6);
 }

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace fovlab::app {
+namespace fovlab::bench {
 
 // Marks the Pareto fronts of every cell in `report` (per scene), prints the summary tables (with the
 // per-row table first unless `rows_printed`: bench printed each row as it was measured), and writes
@@ -15,4 +15,4 @@ namespace fovlab::app {
 void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesystem::path& json,
                   const std::filesystem::path& out_dir);
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

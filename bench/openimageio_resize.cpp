@@ -1,10 +1,10 @@
-#include "renderer/upsampling/openimageio_resize.h"
+#include "bench/openimageio_resize.h"
 
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "core/input_error.h"
 
-namespace fovlab {
+namespace fovlab::bench {
 
 Image resize_with_openimageio(const Image& image, int factor) {
   const OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
@@ -17,4 +17,4 @@ Image resize_with_openimageio(const Image& image, int factor) {
   return out;
 }
 
-}  // namespace fovlab
+}  // namespace fovlab::bench

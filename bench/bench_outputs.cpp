@@ -1,5 +1,6 @@
-#include "app/bench_outputs.h"
+#include "bench/bench_outputs.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -10,9 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/number_text.h"
 
-namespace fovlab::app {
-
-using namespace fovlab::bench;
+namespace fovlab::bench {
 
 namespace {
 
@@ -154,4 +153,4 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
   for (const auto& [path, text] : files) write_text_atomically(path, text);
 }
 
-}  // namespace fovlab::app
+}  // namespace fovlab::bench

@@ -1,8 +1,7 @@
 #pragma once
-// fovlab bench, step 1: its flags as given, checked and turned into the plan of the sweep (methods,
-// FIPR variants, the display the metrics assume), and the commands that reproduce a sweep or one
-// of its cells. Everything here runs before Vulkan is opened: bad input is one InputError naming
-// the flag, and nothing is written.
+// fovlab bench's flags: registered on a command (fovlab bench, and fovlab slurm bench's check of the
+// flags it passes on), then read and checked into bench's typed options (bench/bench.h), before
+// Vulkan is opened: bad input is one InputError naming the flag, and nothing is written.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -10,20 +9,13 @@
 #include <CLI/CLI.hpp>
 
 #include "app/foveation_flags.h"
-#include "app/sampling_flags.h"
-#include "bench/bench_plan.h"
-#include "foveation/display_geometry.h"
-#include "renderer/scene/scene_source.h"
+#include "bench/bench.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab::app {
 
-using bench::BenchPlan;
-using bench::FiprVariant;
-using bench::SweepPart;
-
 // The flags of `fovlab bench` as given (lists still as text where they are parsed by us).
-struct BenchOptions {
+struct BenchFlags {
   std::vector<std::string> scenes{"primitives", "columns", "temple"};
   std::vector<int> spps{1, 4, 16};
   SphereTraceSettings settings;
@@ -54,37 +46,23 @@ struct BenchOptions {
 
 // Registers bench's flags on `command` (fovlab bench, and fovlab slurm bench's check of the flags it
 // passes on to its tasks); after parsing, note_given_bench_flags records which were given.
-void add_bench_flags(CLI::App& command, BenchOptions& options);
-void note_given_bench_flags(CLI::App& command, BenchOptions& options);
+void add_bench_flags(CLI::App& command, BenchFlags& flags);
+void note_given_bench_flags(CLI::App& command, BenchFlags& flags);
 
 // bench's flags as words (as a shell splits them; fovlab slurm bench passes them on so), parsed
-// and noted as fovlab bench parses them, not yet checked (plan_bench checks them). InputError
+// and noted as fovlab bench parses them, not yet checked (read_bench_flags checks them). InputError
 // "`what`: CLI11's reason" when they do not parse.
-BenchOptions parse_bench_flags(const std::vector<std::string>& words, const std::string& what);
+BenchFlags parse_bench_flags(const std::vector<std::string>& words, const std::string& what);
 
 // The flags of a sweep's command as sweep_command writes it ("fovlab bench --scenes ... "), parsed.
 // InputError when the text is not such a command.
-BenchOptions parse_sweep_command(const std::string& command);
-
-// The units and cells of the sweep `options` and `plan` describe, in the order fovlab bench runs
-// and writes them (bench/bench_parts.h): what each part of the sweep must hold.
-bench::SweepLayout sweep_layout(const BenchOptions& options, const BenchPlan& plan);
+BenchFlags parse_sweep_command(const std::string& command);
 
 // Checks every flag (lists, ranges, the frame settings of every spp and FIPR variant, the display)
-// and returns the plan. Throws InputError naming the flag.
-BenchPlan plan_bench(const BenchOptions& options);
-
-// What bench checks after the plan and before opening Vulkan: the sweep fits in memory, and every
-// scene loads (InputError naming it otherwise). Returns the scenes.
-std::vector<SceneSource> load_bench_scenes(const BenchOptions& options, const BenchPlan& plan);
-
-// The command that reproduces the whole sweep, every setting spelled out.
-std::string sweep_command(const BenchOptions& options, const BenchPlan& plan);
-// The command that reproduces one cell: GT against IPR for one scene, scene time and spp (method
-// "gt" or "ipr"), one FIPR variant with its GT, or one sampling model ("rmfr", ...) with its GT.
-// `map`: the sampling model's map of the cell (its RMFR focal shares).
-std::string cell_command(const BenchOptions& options, const BenchPlan& plan, const std::string& scene, float time_s,
-                         int spp, const std::string& method, const FiprVariant* variant = nullptr,
-                         const SamplingMap* map = nullptr);
+// and returns them typed: the methods, scene times, FIPR variants and sampling models' maps. Throws
+// InputError naming the flag.
+bench::BenchOptions read_bench_flags(const BenchFlags& flags);
+// read_bench_flags, planned (bench::plan_bench).
+bench::BenchPlan plan_bench(const BenchFlags& flags);
 
 }  // namespace fovlab::app

@@ -1,11 +1,11 @@
 #pragma once
 // OpenImageIO's own Lanczos-3 resize of a zone buffer, the CPU baseline that `fovlab upsample
-// --against-oiio` times and compares with (docs/foveated-path-tracing.md, "Against OpenImageIO's
-// resize"). Same filter as upsample_reference: Lanczos-3 over six input pixels, normalised
-// weights, edges clamped.
+// --against-oiio` and `fovlab bench-fpt` time and compare with (bench/fpt_timing.h;
+// docs/foveated-path-tracing.md, "Against OpenImageIO's resize"). Same filter as renderer/upsampling's
+// upsample_reference: Lanczos-3 over six input pixels, normalised weights, edges clamped.
 #include "core/image.h"
 
-namespace fovlab {
+namespace fovlab::bench {
 
 // `image` enlarged by `factor` per axis with ImageBufAlgo::resize("lanczos3"), on every core.
 // The filter width is left to OpenImageIO: it measures widths in output pixels and, when
@@ -14,4 +14,4 @@ namespace fovlab {
 // 2i and 2i + 1 come out in the wrong order.) Throws InputError with OpenImageIO's message on failure.
 Image resize_with_openimageio(const Image& image, int factor);
 
-}  // namespace fovlab
+}  // namespace fovlab::bench

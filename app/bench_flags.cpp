@@ -1,0 +1,306 @@
+#include "app/bench_flags.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <sstream>
+
+#include "app/cli_support.h"
+#include "app/display_flags.h"
+#include "app/output_options.h"
+#include "app/sampling_flags.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
+#include "renderer/scene/scene_source.h"
+
+namespace fovlab::app {
+
+namespace {
+
+constexpr int kMinSsimSidePx = 11;  // SSIM's 11x11 window must fit in the frame
+
+template <typename T>
+std::string join(const std::vector<T>& values) {
+  std::ostringstream out;
+  for (size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
+  return out.str();
+}
+
+// As given: a merge rebuilds the sweep's cells from its command (exact_number_text reads back the same).
+std::string join_numbers(const std::vector<double>& values) {
+  std::string text;
+  for (size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + exact_number_text(values[i]);
+  return text;
+}
+
+template <typename T>
+void refuse_repeats(const std::vector<T>& values, const std::string& flag, const std::string& text) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (std::find(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(i), values[i]) !=
+        values.begin() + static_cast<std::ptrdiff_t>(i)) {
+      fail_flag(flag, "each value once", text);
+    }
+  }
+}
+
+// --methods: each word read once into its method (bench/bench_method.h's table).
+std::vector<bench::BenchMethod> parse_methods(const std::vector<std::string>& names) {
+  const std::string text = join(names);
+  const std::string expected =
+      "a comma-separated list of gt, ipr, fipr, rmfr, hyperbolic, linear and kfr that includes gt (the reference)";
+  std::vector<bench::BenchMethod> methods;
+  for (const std::string& name : names) {
+    const std::optional<bench::BenchMethod> method = bench::parse_bench_method(name);
+    if (!method) fail_flag("--methods", expected, text);
+    methods.push_back(*method);
+  }
+  refuse_repeats(names, "--methods", text);
+  if (std::find(methods.begin(), methods.end(), bench::BenchMethod::gt) == methods.end())
+    fail_flag("--methods", expected, text);
+  return methods;
+}
+
+std::vector<int> parse_refreshes(const std::vector<std::string>& texts) {
+  const std::string text = join(texts);
+  const std::string expected = "periphery refresh periods from 1, 2 and 4 (frames), comma-separated";
+  if (texts.empty()) fail_flag("--refresh", expected, text);
+  std::vector<int> refreshes;
+  for (const std::string& value : texts) {
+    if (value != "1" && value != "2" && value != "4") fail_flag("--refresh", expected, text);
+    refreshes.push_back(value[0] - '0');
+  }
+  refuse_repeats(refreshes, "--refresh", text);
+  return refreshes;
+}
+
+std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
+  const std::string text = join(texts);
+  const std::string expected = "foveal eccentricities in degrees from 0 to 180, comma-separated";
+  if (texts.empty()) fail_flag("--fovea-deg", expected, text);
+  std::vector<double> degrees;
+  for (const std::string& value : texts) {
+    const std::optional<double> deg = parse_finite_number(value);
+    if (!deg || *deg < 0.0 || *deg > 180.0) fail_flag("--fovea-deg", expected, text);
+    degrees.push_back(*deg);
+  }
+  refuse_repeats(degrees, "--fovea-deg", text);
+  return degrees;
+}
+
+
+std::vector<double> parse_focal_shares(const std::vector<std::string>& texts, const char* flag) {
+  const std::string text = join(texts);
+  const std::string expected = "shares of the screen from 0.001 to 1, comma-separated, none twice";
+  std::vector<double> shares;
+  for (const std::string& value : texts) {
+    const std::optional<double> share = parse_finite_number(value);
+    if (!share || *share < kRmfrMinFocalShare || *share > kRmfrMaxFocalShare) fail_flag(flag, expected, text);
+    shares.push_back(*share);
+  }
+  if (shares.empty()) fail_flag(flag, expected, text);
+  refuse_repeats(shares, flag, text);
+  return shares;
+}
+
+std::vector<float> parse_times(const std::vector<std::string>& texts) {
+  const std::string text = join(texts);
+  const std::string expected = "scene times in seconds, finite, comma-separated, none twice";
+  std::vector<float> times;
+  for (const std::string& value : texts) {
+    const std::optional<double> time = parse_finite_number(value);
+    if (!time || std::abs(*time) > 1e6) fail_flag("--times", expected, text);
+    times.push_back(static_cast<float>(*time));
+  }
+  if (times.empty()) fail_flag("--times", expected, text);
+  refuse_repeats(times, "--times", text);
+  return times;
+}
+
+}  // namespace
+
+
+bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
+  bench::BenchOptions options;
+  if (!flags.cells.empty()) {
+    const PartOfN given = parse_part_of_n(flags.cells, "--cells", "e.g. 1/4: units 1, 5, 9, ... of the sweep");
+    options.part = bench::SweepPart{given.index, given.count};
+    if (flags.json.empty())
+      throw InputError("--cells " + flags.cells + ": needs --json PART.json (fovlab bench-merge joins the parts)");
+    if (!flags.out_dir.empty())
+      throw InputError("--out-dir: not with --cells (a part's tables and charts are not the sweep's); give --out-dir "
+                       "to fovlab bench-merge");
+  }
+  if (flags.repeats < 1 || flags.repeats > 1000) {
+    throw InputError("--repeats " + std::to_string(flags.repeats) + ": expected 1 to 1000");
+  }
+  options.methods = parse_methods(flags.methods);
+  const auto has = [&](bench::BenchMethod method) {
+    return std::find(options.methods.begin(), options.methods.end(), method) != options.methods.end();
+  };
+  const bool fipr = has(bench::BenchMethod::fipr);
+  std::vector<SamplingModel> sampling_models;  // in the order given
+  for (bench::BenchMethod method : options.methods)
+    if (const std::optional<SamplingModel> model = bench::sampling_model_of(method)) sampling_models.push_back(*model);
+  if (!fipr && !flags.fipr_flags_given.empty()) {
+    throw InputError(flags.fipr_flags_given.front() + ": only FIPR uses it; add fipr to --methods (e.g. gt,ipr,fipr)");
+  }
+  if (sampling_models.empty() && !flags.sampling_flags_given.empty()) {
+    throw InputError(flags.sampling_flags_given.front() +
+                     ": only the sampling models use it; add rmfr, hyperbolic, linear or kfr to --methods");
+  }
+  refuse_flags_unused_by(flags.sampling_flags_given, sampling_models);
+  const int width = flags.settings.width;
+  const int height = flags.settings.height;
+  for (int spp : flags.spps) {
+    SphereTraceSettings check = flags.settings;
+    check.samples_per_pixel = spp;
+    validate_trace_flags(check);
+  }
+  if (width < kMinSsimSidePx || height < kMinSsimSidePx) {
+    throw InputError("--width " + std::to_string(width) + " --height " + std::to_string(height) +
+                     ": expected at least 11x11 pixels (the SSIM window)");
+  }
+  if (flags.foveation.display.gaze == "none") {
+    fail_flag("--gaze", "a gaze point X,Y (FPSNR and FIPR's mask need one; left out: the centre)", "none");
+  }
+  if (!flags.times.empty() && flags.time_given) {
+    throw InputError("--time, --times: expected one of them (one scene time, or a comma-separated list)");
+  }
+  if (!flags.times.empty()) options.times_s = parse_times(flags.times);
+  const FoveationSettings base = parse_foveation(flags.foveation, width, height);
+  options.display = base.display;
+  options.gaze_x_px = base.gaze_x_px;
+  options.gaze_y_px = base.gaze_y_px;
+  options.display_line = display_line(options.display, has_display(flags.foveation.display)
+                                                           ? ""
+                                                           : "FIPR's default, a 24-inch display at 600 mm");
+  options.display_flags = display_flags_text(flags.foveation.display);
+  SamplingSettings sampling = flags.sampling;
+  options.sampling_filter = sampling.filter;
+  options.focal_shares_x = parse_focal_shares(flags.focal_shares_x, "--fx");
+  options.focal_shares_y = parse_focal_shares(flags.focal_shares_y, "--fy");
+  sampling.focal_share_x = options.focal_shares_x.front();
+  sampling.focal_share_y = options.focal_shares_y.front();
+  for (SamplingModel model : sampling_models) {
+    if (model != SamplingModel::rectangular) {
+      options.sampling.push_back({parse_sampling(model, sampling, base), sampling_flags_text(model, sampling)});
+      continue;
+    }
+    SamplingSettings pair = sampling;
+    for (double focal_share_y : options.focal_shares_y)
+      for (double focal_share_x : options.focal_shares_x) {
+        pair.focal_share_x = focal_share_x;
+        pair.focal_share_y = focal_share_y;
+        options.sampling.push_back({parse_sampling(model, pair, base), sampling_flags_text(model, pair)});
+      }
+  }
+  if (!sampling_models.empty()) {
+    std::vector<SamplingModel> models;  // each once
+    for (SamplingModel model : sampling_models)
+      if (std::find(models.begin(), models.end(), model) == models.end()) models.push_back(model);
+    options.sampling_flags = all_sampling_flags_text(sampling, models,
+                                                     "--fx " + join_numbers(options.focal_shares_x) + " --fy " +
+                                                         join_numbers(options.focal_shares_y));
+  }
+  options.scenes = flags.scenes;
+  options.spps = flags.spps;
+  options.settings = flags.settings;
+  options.repeats = flags.repeats;
+  options.json = flags.json;
+  options.out_dir = flags.out_dir;
+  options.device = flags.device;
+  options.require_gpu = flags.require_gpu;
+  if (!fipr) return options;
+
+  options.refreshes = parse_refreshes(flags.refresh);
+  options.fovea_degs = parse_fovea_degs(flags.fovea_deg);
+  options.foveation_flags = foveation_flags_text(flags.foveation);
+  for (int refresh : options.refreshes) {
+    for (double fovea_deg : options.fovea_degs) {
+      FoveationFlags variant_flags = flags.foveation;
+      variant_flags.refresh = refresh;
+      variant_flags.fovea_deg = fovea_deg;
+      bench::FiprVariant variant{refresh, fovea_deg, parse_foveation(variant_flags, width, height)};
+      for (int spp : flags.spps) {
+        SphereTraceSettings check = flags.settings;
+        check.samples_per_pixel = spp;
+        check.method = TraceMethod::foveated_pyramid;
+        check.foveation = variant.foveation;
+        validate_trace_flags(check);
+      }
+      options.variants.push_back(variant);
+    }
+  }
+  return options;
+}
+
+bench::BenchPlan plan_bench(const BenchFlags& flags) { return bench::plan_bench(read_bench_flags(flags)); }
+
+BenchFlags parse_bench_flags(const std::vector<std::string>& words, const std::string& what) {
+  BenchFlags flags;
+  CLI::App command("fovlab bench", "bench");
+  add_bench_flags(command, flags);
+  std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes them reversed
+  try {
+    command.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    throw InputError(what + ": " + e.what());
+  }
+  note_given_bench_flags(command, flags);
+  return flags;
+}
+
+BenchFlags parse_sweep_command(const std::string& command) {
+  const std::string start = "fovlab bench ";
+  if (command.compare(0, start.size(), start) != 0)
+    throw InputError("expected \"fovlab bench\" and the sweep's flags, got " + quoted_input(command));
+  return parse_bench_flags(CLI::detail::split_up(command.substr(start.size())), "the sweep's flags");
+}
+
+void add_bench_flags(CLI::App& command, BenchFlags& options) {
+  command.add_option("--scenes", options.scenes, "Scenes, comma-separated (names or .glsl paths)")->delimiter(',');
+  command.add_option("--spp", options.spps, "Samples per pixel, comma-separated (1, 4, 16)")->delimiter(',');
+  command.add_option("--width", options.settings.width, "Frame width in pixels");
+  command.add_option("--height", options.settings.height, "Frame height in pixels");
+  command.add_option("--repeats", options.repeats, "Timed runs per method and cell (median reported)");
+  add_output_option(command, "--json", options.json, "Write the full results as JSON", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(command, "--out-dir", options.out_dir,
+                    "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here", {{OutputKind::folder}, kWritesIntoAFolder});
+  command.add_option("--device", options.device, "Vulkan device: index or part of its name (fovlab devices)");
+  command.add_flag("--require-gpu", options.require_gpu,
+                   "Refuse to run on a CPU Vulkan device (lavapipe): exit 2 on a node without a GPU");
+  command.add_option("--cells", options.cells,
+                     "I/N: measure only part I of N of the sweep's (scene, time, spp) units, into --json; fovlab "
+                     "bench-merge joins the parts into the sweep's report");
+  command.add_option("--methods", options.methods,
+                     "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
+      ->delimiter(',');
+  add_trace_options(command, options.settings);
+  command.add_option("--times", options.times,
+                     "Scene times in seconds, comma-separated, instead of --time: every scene is measured at each "
+                     "(the rotating patterns turn 10 degrees a second)")
+      ->delimiter(',');
+  // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
+  add_foveation_flags(command, options.foveation, FoveationPoint::swept);
+  command.add_option("--refresh", options.refresh, "FIPR: periphery refresh periods, comma-separated (1, 2, 4)")
+      ->delimiter(',');
+  command.add_option("--fovea-deg", options.fovea_deg,
+                     "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
+      ->delimiter(',');
+  add_sampling_flags(command, options.sampling, false);
+  command.add_option("--fx", options.focal_shares_x,
+                     "Sampling: rmfr's f_x as shares of the width, comma-separated (with --fy: every pair, Figure 6's "
+                     "sweep; default 0.3)")
+      ->delimiter(',');
+  command.add_option("--fy", options.focal_shares_y, "Sampling: rmfr's f_y as shares of the height, comma-separated")
+      ->delimiter(',');
+}
+
+void note_given_bench_flags(CLI::App& command, BenchFlags& options) {
+  options.fipr_flags_given = given_fipr_only_flags(command);
+  options.sampling_flags_given = given_sampling_only_flags(command);
+  options.time_given = command.count("--time") > 0;
+}
+
+}  // namespace fovlab::app

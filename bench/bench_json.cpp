@@ -1,0 +1,186 @@
+#include "bench/bench_json.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "foveation/foveation_mask.h"
+
+namespace fovlab::bench {
+
+namespace {
+
+nlohmann::json runs_json(const RunsResult& runs) {
+  nlohmann::json passes = nlohmann::json::object();
+  for (const auto& [name, ms] : runs.median_pass_gpu_ms) passes[name] = ms;
+  return {{"median_gpu_ms", runs.median_gpu_ms},
+          {"median_wall_ms", runs.median_wall_ms},
+          {"gpu_ms_runs", runs.gpu_ms_runs},
+          {"median_pass_gpu_ms", passes},
+          {"total_steps", runs.total_steps},
+          {"steps_per_pixel", runs.steps_per_pixel},
+          {"steps_per_sample", runs.steps_per_sample},
+          {"capped_rays", runs.capped_rays},
+          {"restarted_rays", runs.restarted_rays}};
+}
+
+nlohmann::json optional_json(const std::optional<double>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+// ssim, psnr_db, flip, fpsnr_db (null when identical).
+nlohmann::json errors_json(const FrameErrors& errors) {
+  return {{"ssim", errors.ssim},
+          {"psnr_db", optional_json(errors.psnr_db)},
+          {"flip", errors.flip},
+          {"fpsnr_db", optional_json(errors.fpsnr_db)}};
+}
+
+nlohmann::json display_json(const DisplayGeometry& display) {
+  return {{"width_mm", display.width_mm},
+          {"height_mm", display.height_mm},
+          {"viewing_distance_mm", display.viewing_distance_mm},
+          {"pixels_per_degree_at_centre", display.pixels_per_degree_at_centre()}};
+}
+
+// Every FIPR setting of the measured frame and its shares, as fovlab render --stats-json writes them.
+nlohmann::json foveation_json(const FiprCellResult& fipr) {
+  const FoveationSettings& f = fipr.foveation;
+  const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
+  return {
+      {"gaze_px", has_gaze ? nlohmann::json::array({f.gaze_x_px, f.gaze_y_px}) : nlohmann::json(nullptr)},
+      {"fovea_deg", f.acuity.fovea_radius_deg},
+      {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_radius_deg)
+                                  ? nlohmann::json(f.acuity.outer_periphery_radius_deg)
+                                  : nlohmann::json(nullptr)},
+      {"combine", mask_combine_name(f.combine)},
+      {"edge_threshold", f.edge_threshold},
+      {"periphery_refresh", f.periphery_refresh},
+      {"periphery_steps", f.periphery_steps},
+      {"periphery_reconstruction", periphery_reconstruction_name(f.reconstruction)},
+      {"near_misses", near_misses_name(f.near_misses)},
+      {"blur", f.blur},
+      {"seed", f.seed},
+      {"frame_index", f.frame_index},
+      {"display", display_json(f.display)},
+      {"top_level_share", double(fipr.stats.masked_pixels) / fipr.pixels},
+      {"refreshed_share", double(fipr.stats.refreshed_pixels) / fipr.pixels},
+      {"kept_share", double(fipr.stats.kept_pixels) / fipr.pixels},
+  };
+}
+
+nlohmann::json sampling_json(const SamplingCellResult& sampling) {
+  return {{"model", sampling_model_name(sampling.model)},
+          {"shaded_samples", sampling.shaded_samples},
+          {"shaded_share", sampling.shaded_share},
+          {"theoretical_speedup", sampling.theoretical_speedup},
+          {"effective_speedup", sampling.effective_speedup},
+          {"mean_density", sampling.mean_density}};
+}
+
+}  // namespace
+
+nlohmann::json unit_json(const UnitResult& unit) {
+  nlohmann::json row = {{"scene", unit.scene}, {"spp", unit.spp}, {"time_s", unit.time_s}, {"gt", runs_json(unit.gt)},
+                        {"floor", runs_json(unit.floor)}};
+  row["floor"]["ssim_against_gt"] = unit.floor_ssim_against_gt;
+  row["gt_over_floor"] = unit.gt_over_floor;
+  if (unit.ipr) {
+    row["ipr"] = runs_json(*unit.ipr);
+    row["speedup"] = unit.speedup;
+    row["ipr_over_floor"] = unit.ipr_over_floor;
+    row.update(errors_json(unit.errors));
+  }
+  return row;
+}
+
+nlohmann::json cell_json(const CellResult& cell) {
+  nlohmann::json json = {{"method", bench_method_name(cell.method)}, {"scene", cell.scene}, {"spp", cell.spp}};
+  json.update(runs_json(cell.runs));
+  json["gt_median_gpu_ms"] = cell.gt_median_gpu_ms;
+  json["speedup"] = cell.speedup;
+  json.update(errors_json(cell.errors));
+  json["top_level_share"] = cell.top_level_share;
+  json["refreshed_share"] = cell.refreshed_share;
+  if (cell.fipr) {
+    json["refresh"] = cell.fipr->refresh;
+    json["fovea_deg"] = cell.fipr->fovea_deg;
+    json["kept_share"] = cell.fipr->kept_share;
+    json["foveation"] = foveation_json(*cell.fipr);
+    json["warmup_frames"] = cell.fipr->warmup_frames;
+    json["timed_frame_indices"] = {cell.fipr->first_timed_frame, cell.fipr->last_timed_frame};
+    json["measured_frame_index"] = cell.fipr->last_timed_frame;
+  }
+  if (cell.sampling) {
+    json["sampling"] = sampling_json(*cell.sampling);
+    if (cell.sampling->focal_share_x) json["focal_share_x"] = *cell.sampling->focal_share_x;
+    if (cell.sampling->focal_share_y) json["focal_share_y"] = *cell.sampling->focal_share_y;
+  }
+  json["command"] = cell.command;
+  json["time_s"] = cell.time_s;
+  return json;
+}
+
+nlohmann::json bench_report_json(const BenchReport& report) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const UnitResult& unit : report.rows) rows.push_back(unit_json(unit));
+  nlohmann::json cells = nlohmann::json::array();
+  for (const CellResult& cell : report.cells) cells.push_back(cell_json(cell));
+  nlohmann::json methods = nlohmann::json::array();
+  for (BenchMethod method : report.methods) methods.push_back(bench_method_name(method));
+  const SphereTraceSettings& s = report.settings;
+  nlohmann::json json = {{"device", report.device},
+                         {"timestamps", report.timestamps},
+                         {"width", s.width},
+                         {"height", s.height},
+                         {"repeats", report.repeats},
+                         {"pyramid_levels", s.pyramid_levels},
+                         {"min_filter_size", s.min_filter_size},
+                         {"coarse_test", coarse_test_name(s.coarse_test)},
+                         {"full_resolution_depth", s.full_resolution_depth},
+                         {"max_steps", s.max_steps},
+                         {"hit_threshold", s.hit_threshold},
+                         {"time_s", s.time_s},
+                         {"times_s", report.times_s},
+                         {"command", report.command},
+                         {"methods", methods},
+                         {"camera", "GT and IPR at scene time time_s; a FIPR cell's frames at 60 Hz of scene time "
+                                    "ending at time_s (the camera moves), the last compared with GT"},
+                         {"metrics",
+                          {{"reference", "the GT frame of the same scene and spp"},
+                           {"images", "sRGB-encoded display images"},
+                           {"flip_pixels_per_degree", report.flip_pixels_per_degree},
+                           {"display", display_json(report.display)},
+                           {"gaze_px", {report.gaze_x_px, report.gaze_y_px}}}},
+                         {"rows", rows},
+                         {"cells", cells}};
+  if (report.sampling) json["sampling_focal_shares"] = {{"x", report.focal_shares_x}, {"y", report.focal_shares_y}};
+  if (report.fipr) {
+    json["fipr"] = {
+        {"refresh", report.refreshes},
+        {"fovea_deg", report.fovea_degs},
+        {"settings", "every FIPR setting of a cell is in its \"foveation\" object (as fovlab render --stats-json)"},
+        {"sequence",
+         "per cell: frames 0 to refresh - 1 untimed (frame 0 refreshes every pixel), then --repeats timed frames "
+         "continuing the sequence (frame_index increasing, scene time advancing 1/60 s a frame, ending at time_s); "
+         "median GPU ms of the timed frames; errors, steps and shares of the last timed frame"},
+        {"speedup", "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
+                    "GPU ms"}};
+  }
+  if (report.part) json["part"] = part_json(*report.part, report.units);
+  return json;
+}
+
+void write_bench_part(const BenchReport& report, const std::filesystem::path& path) {
+  write_text_atomically(path, bench_report_json(report).dump(2) + "\n");
+  const SweepPart& part = *report.part;
+  std::printf("%s", ("\npart " + std::to_string(part.index) + "/" + std::to_string(part.count) + ": " +
+                     std::to_string(part.units_held(report.units)) + " of " + std::to_string(report.units) +
+                     " (scene, time, spp) units, written to " + path.string() +
+                     "; fovlab bench-merge joins the parts\n")
+                        .c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace fovlab::bench
