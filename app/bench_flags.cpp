@@ -30,7 +30,10 @@ std::string join(const std::vector<T>& values) {
 // As given: a merge rebuilds the sweep's cells from its command (exact_number_text reads back the same).
 std::string join_numbers(const std::vector<double>& values) {
   std::string text;
-  for (size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + exact_number_text(values[i]);
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i) text += ',';
+    text += exact_number_text(values[i]);
+  }
   return text;
 }
 

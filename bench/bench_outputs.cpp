@@ -61,17 +61,17 @@ std::vector<ChartCell> chart_cells(const nlohmann::json& cells, const std::strin
   return chart;
 }
 
-void print(const std::string& text) {
-  std::printf("%s", text.c_str());
-  std::fflush(stdout);
-}
-
 std::vector<double> numbers(const nlohmann::json& report, const char* axis) {
   if (!report.contains("sampling_focal_shares")) return {};
   return report["sampling_focal_shares"][axis].get<std::vector<double>>();
 }
 
 }  // namespace
+
+void print_now(const std::string& text) {
+  std::printf("%s", text.c_str());
+  std::fflush(stdout);
+}
 
 void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesystem::path& json,
                   const std::filesystem::path& out_dir) {
@@ -95,7 +95,7 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
   for (const nlohmann::json& row : rows) gt_ipr_table += gt_ipr_table_row(row);
   std::string cell_table = cell_table_header();
   for (const nlohmann::json& cell : cells) cell_table += cell_table_row(cell);
-  if (!rows_printed) print(has_cells ? cell_table : gt_ipr_table);
+  if (!rows_printed) print_now(has_cells ? cell_table : gt_ipr_table);
 
   const std::string passes = pass_table(rows);
   const std::string fovea_7_5 = fipr ? fovea_table(cells, kPaperFoveaDeg) : "";
@@ -104,14 +104,14 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
   const FocalSweep focal_sweep = rmfr_focal_sweep(cells, numbers(report, "x"), numbers(report, "y"));
   const std::string ranking = sampling ? sampling_ranking_table(cells) : "";
   if (has_cells) {
-    if (ipr) print("\nGT against IPR:\n" + gt_ipr_table);
-    if (fipr) print("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
-    if (!models.empty()) print("\nSampling models (Ye et al. 2022) against GT:\n" + models);
-    if (several_times && !ranking.empty()) print("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
-    if (!focal_sweep.table.empty()) print("\nRMFR's best f_x, f_y (Figure 6's sweep):\n" + focal_sweep.table);
-    print("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
+    if (ipr) print_now("\nGT against IPR:\n" + gt_ipr_table);
+    if (fipr) print_now("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
+    if (!models.empty()) print_now("\nSampling models (Ye et al. 2022) against GT:\n" + models);
+    if (several_times && !ranking.empty()) print_now("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
+    if (!focal_sweep.table.empty()) print_now("\nRMFR's best f_x, f_y (Figure 6's sweep):\n" + focal_sweep.table);
+    print_now("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
   }
-  print("\nWhere the time goes (median GPU ms per pass):\n" + passes);
+  print_now("\nWhere the time goes (median GPU ms per pass):\n" + passes);
 
   // Every file made in memory first, then written: nothing is written if making one fails.
   std::vector<std::pair<std::filesystem::path, std::string>> files;

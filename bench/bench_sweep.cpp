@@ -11,6 +11,7 @@
 
 #include "bench/bench.h"
 #include "bench/bench_json.h"
+#include "bench/bench_outputs.h"
 #include "bench/bench_report.h"
 #include "bench/bench_runs.h"
 #include "core/colour.h"
@@ -36,11 +37,6 @@ CellResult measured_cell(BenchMethod method, const UnitResult& unit, const RunsR
   return cell;
 }
 
-void print(const std::string& line) {
-  std::printf("%s", line.c_str());
-  std::fflush(stdout);
-}
-
 }  // namespace
 
 int units_measured(const BenchPlan& plan) {
@@ -64,7 +60,7 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
 
   BenchReport report;
   const auto add_cell = [&](CellResult cell) {
-    if (plan.has_cells()) print(cell_table_row(cell_json(cell)));
+    if (plan.has_cells()) print_now(cell_table_row(cell_json(cell)));
     report.cells.push_back(std::move(cell));
   };
   // With --times every cell says its scene time; images of each time are kept apart.
@@ -169,7 +165,7 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
         cell.command = cell_command(plan, scene.name, time_s, spp, planned);
         add_cell(std::move(cell));
         if (planned.method == BenchMethod::ipr || (planned.method == BenchMethod::gt && !plan.ipr)) {
-          if (!plan.has_cells()) print(gt_ipr_table_row(unit_json(unit)));
+          if (!plan.has_cells()) print_now(gt_ipr_table_row(unit_json(unit)));
           report.rows.push_back(unit);
           if (write_images) {
             options.write_frame_images(stem + "_gt", gt.frame, gt_settings);

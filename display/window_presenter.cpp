@@ -1,6 +1,5 @@
 #include "display/window_presenter.h"
 
-#define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
 #include <algorithm>

@@ -22,6 +22,7 @@ namespace {
 
 using detail::require_same_size;
 using detail::require_valid_layout;
+using detail::colour_channel_count;
 using detail::size_text;
 
 // Foveation model of Geisler & Perry (Proc. SPIE 3299, 1998), adopted by Lee et al. 2002: contrast
@@ -46,7 +47,6 @@ void require_valid_display(const DisplayGeometry& d) {
   }
 }
 
-int colour_channel_count(const Image& image) { return image.channels == 4 ? 3 : image.channels; }
 
 // w(x) = (f_m(x) / f_m(gaze))^2 with f_m = min(f_c(e), f_d), in double.
 class FoveationWeight {

@@ -13,6 +13,9 @@ inline std::string size_text(const Image& image) {
   return std::to_string(image.width) + "x" + std::to_string(image.height);
 }
 
+// The colour channels a metric compares: alpha is not a colour.
+inline int colour_channel_count(const Image& image) { return image.channels == 4 ? 3 : image.channels; }
+
 inline void require_valid_layout(const Image& image) {
   if (image.channels != 1 && image.channels != 3 && image.channels != 4) {
     throw std::invalid_argument("image has " + std::to_string(image.channels) +

@@ -16,6 +16,7 @@ namespace {
 
 using detail::require_same_size;
 using detail::require_valid_layout;
+using detail::colour_channel_count;
 using detail::size_text;
 
 // BT.601 luma weights, as MATLAB's rgb2gray (used by Wang et al.'s code).
@@ -38,7 +39,6 @@ constexpr double kPsnrPeak = 1.0;
 
 
 // Number of channels that carry colour: alpha is not part of the picture.
-int colour_channel_count(const Image& image) { return image.channels == 4 ? 3 : image.channels; }
 
 // Luma of one image row in double precision. luma() and ssim() share it, so
 // the public luma and the one SSIM works on differ only by float rounding.

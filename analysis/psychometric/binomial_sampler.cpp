@@ -12,7 +12,7 @@ namespace {
 
 using QuantilePolicy = boost::math::policies::policy<
     boost::math::policies::discrete_quantile<boost::math::policies::integer_round_up>>;
-using Binomial = boost::math::binomial_distribution<double, QuantilePolicy>;
+using BinomialDistribution = boost::math::binomial_distribution<double, QuantilePolicy>;
 
 constexpr uint64_t kBernoulliLimit = 64;
 
@@ -28,7 +28,7 @@ uint64_t draw_binomial(uint64_t n, double p, Pcg32& rng) {
     return k;
   }
   const double u = rng.uniform();  // [0, 1)
-  const Binomial distribution(static_cast<double>(n), p);
+  const BinomialDistribution distribution(static_cast<double>(n), p);
   const double nd = static_cast<double>(n);
   double x = 0.0;
   if (u > 0.0) {

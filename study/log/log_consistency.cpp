@@ -11,7 +11,7 @@ namespace {
 
 namespace k = log_keys;
 
-std::string text_of(const nlohmann::json& header, const char* key) {
+std::string header_text(const nlohmann::json& header, const char* key) {
   const auto found = header.find(key);
   return found != header.end() && found->is_string() ? found->get<std::string>() : std::string();
 }
@@ -26,7 +26,7 @@ std::optional<LogInconsistency> check(const nlohmann::json& header, const Log& l
     return LogInconsistency{1, "header: " + differences.front()};
   std::optional<StudyPlan> plan;
   try {
-    plan = make_study_plan(*config, text_of(header, k::participant));
+    plan = make_study_plan(*config, header_text(header, k::participant));
   } catch (const InputError& failure) {
     return LogInconsistency{1, std::string("header: its config_toml makes no schedule (") + failure.what() + ")"};
   }
@@ -45,7 +45,7 @@ std::optional<LogInconsistency> check(const nlohmann::json& header, const Log& l
 std::shared_ptr<const StudyConfig> LoggedConfigs::config_of(const nlohmann::json& header, const std::string& path,
                                                           std::string& error) {
   const int schema_version = header_schema_version(header);
-  auto key = std::make_tuple(schema_version, text_of(header, k::config_toml), text_of(header, k::conditions_csv));
+  auto key = std::make_tuple(schema_version, header_text(header, k::config_toml), header_text(header, k::conditions_csv));
   const std::string name = path + " (config_toml)";
   {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -71,15 +71,15 @@ std::shared_ptr<const StudyConfig> LoggedConfigs::config_of(const nlohmann::json
 
 std::vector<std::string> header_differences(const nlohmann::json& header, const StudyConfig& config) {
   std::vector<std::string> differences;
-  const std::string study = text_of(header, k::study);
+  const std::string study = header_text(header, k::study);
   if (study != config.name)
     differences.push_back("study \"" + study + "\" but its config_toml names study \"" + config.name + "\"");
-  const std::string config_hash = text_of(header, k::config_hash);
+  const std::string config_hash = header_text(header, k::config_hash);
   if (config_hash != config.hash)
     differences.push_back("config_hash " + config_hash + " is not the hash of its config_toml (" + config.hash + ")");
   const auto seed = header.find(k::session_seed);
   if (seed == header.end() || !seed->is_number_integer() || (!seed->is_number_unsigned() && seed->get<int64_t>() < 0) ||
-      seed->get<uint64_t>() != session_seed(config.seed, text_of(header, k::participant)))
+      seed->get<uint64_t>() != session_seed(config.seed, header_text(header, k::participant)))
     differences.push_back("session_seed differs from the one derived from the study seed and participant");
   return differences;
 }
