@@ -12,6 +12,9 @@
 #include "renderer/present/srgb8_encoder.h"
 #include "renderer/scene/scene_compiler.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/fipr_params.h"
+#include "renderer/shaders/shared/list_dispatch_params.h"
+#include "renderer/shaders/shared/sphere_trace_params.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
@@ -21,20 +24,14 @@ namespace fovlab {
 
 namespace {
 
-constexpr uint32_t kFlagShade = 1;
-constexpr uint32_t kFlagHasStart = 2;
-constexpr uint32_t kFlagFoveatedMid = 4;
-constexpr uint32_t kFlagFoveatedTop = 8;
-constexpr uint32_t kFlagCone = 16;
-constexpr uint32_t kFlagMaskedList = 32;
-constexpr uint32_t kFlagSampleList = 64;
-constexpr uint32_t kFlagStartSameSize = 128;
-constexpr uint32_t kFlagNearMiss = 256;
-constexpr uint32_t kFlagSampleDepthOut = 512;
-constexpr uint32_t kFlagSampleDepthIn = 1024;
-constexpr uint32_t kMaskFlagTraceAll = 1;
-constexpr uint32_t kMaskFlagAllDue = 2;
-constexpr uint32_t kMaskFlagListRefresh = 4;
+using gpu::BlurParams;
+using gpu::EdgeParams;
+using gpu::FiprReconstructParams;
+using gpu::ListParams;
+using gpu::MaskParams;
+using gpu::MidListParams;
+using gpu::MinFilterParams;
+using gpu::TraceParams;
 constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (its eccentricities are ~90 degrees)
 
 // Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
@@ -42,73 +39,6 @@ enum Counter : uint32_t {
   capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, mid_listed, counter_count
 };
 constexpr int kMaxFrameSide = 16384;
-
-// Must match TraceParams in sphere_trace.comp.glsl (std430 push constant layout).
-struct TraceParams {
-  uint32_t level_size[2];
-  uint32_t start_size[2];
-  float frame_size[2];
-  float time_s;
-  float hit_threshold;
-  uint32_t samples_per_pixel;
-  uint32_t max_steps;
-  uint32_t level_scale;
-  uint32_t flags;
-  uint32_t frame_index;
-  uint32_t periphery_steps;
-};
-
-// Must match MidListParams in fipr_mid_list.comp.glsl.
-struct MidListParams {
-  uint32_t mid_size[2];
-  uint32_t start_size[2];
-  int32_t min_filter_radius;
-  uint32_t list_counter;
-};
-
-// Must match EdgeParams in depth_edges.comp.glsl.
-struct EdgeParams {
-  uint32_t size[2];
-  float relative_threshold;
-};
-
-// Must match MaskParams in foveation_mask.comp.glsl.
-struct MaskParams {
-  uint32_t frame_size[2];
-  uint32_t mid_size[2];
-  uint32_t low_size[2];
-  uint32_t low_scale;
-  uint32_t combine;
-  float gaze_px[2];
-  float pixel_pitch_mm[2];
-  float viewing_distance_mm;
-  float fovea_radius_deg;
-  float outer_periphery_radius_deg;
-  uint32_t seed;
-  uint32_t frame_index;
-  uint32_t flags;
-  uint32_t refresh_period;
-};
-
-// Must match ReconstructParams in fipr_reconstruct.comp.glsl.
-struct ReconstructParams {
-  uint32_t frame_size[2];
-  uint32_t mid_size[2];
-  uint32_t refresh_period;
-  uint32_t frame_index;
-  uint32_t catmull_rom;  // PeripheryReconstruction::catmull_rom
-};
-
-// Must match BlurParams in masked_blur.comp.glsl.
-struct BlurParams {
-  uint32_t size[2];
-};
-
-// Must match MinFilterParams in min_filter.comp.glsl.
-struct MinFilterParams {
-  uint32_t size[2];
-  int32_t radius;
-};
 
 struct LevelBuffers {
   PyramidLevelStats stats;    // size and scale; steps are counted per render
@@ -421,17 +351,17 @@ void validate(const SphereTraceSettings& settings) {
 
 
 SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
-  CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source});
+  CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers});
   shader_from_cache_ = trace.from_cache;
   trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 10, sizeof(TraceParams));
   min_filter_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2,
                                                                sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
   mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 6, sizeof(MaskParams));
-  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, 3 * sizeof(uint32_t));
+  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(ListParams));
   mid_list_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_mid_list_spirv, 6, sizeof(MidListParams));
   reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
-                                                                sizeof(ReconstructParams));
+                                                                sizeof(FiprReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
   encoder_ = std::make_unique<Srgb8Encoder>(context);
 }
@@ -468,7 +398,7 @@ MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelSt
   params.low_scale = static_cast<uint32_t>(low.scale);
   params.combine = static_cast<uint32_t>(f.combine);
   const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
-  params.flags = has_gaze ? 0u : kMaskFlagTraceAll;
+  params.flags = has_gaze ? 0u : gpu::FLAG_TRACE_ALL;
   if (has_gaze) {
     params.gaze_px[0] = static_cast<float>(std::clamp(f.gaze_x_px, -kGazeLimitPx, settings.width + kGazeLimitPx));
     params.gaze_px[1] = static_cast<float>(std::clamp(f.gaze_y_px, -kGazeLimitPx, settings.height + kGazeLimitPx));
@@ -481,8 +411,8 @@ MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelSt
   params.seed = f.seed;
   params.frame_index = f.frame_index;
   params.refresh_period = static_cast<uint32_t>(f.periphery_refresh);
-  if (all_due) params.flags |= kMaskFlagAllDue;
-  if (f.periphery_steps > 0) params.flags |= kMaskFlagListRefresh;
+  if (all_due) params.flags |= gpu::FLAG_ALL_DUE;
+  if (f.periphery_steps > 0) params.flags |= gpu::FLAG_LIST_REFRESH;
   return params;
 }
 
@@ -538,11 +468,10 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
   // The workgroup counts of indirect dispatches over one or two lists an earlier pass filled:
-  // `lists` is list_dispatch.comp.glsl's ListParams (two counter indices and the number of lists).
-  const auto record_list_dispatch = [&](const char* pass, std::array<uint32_t, 3> lists, const vk::Buffer& counts) {
+  const auto record_list_dispatch = [&](const char* pass, const ListParams& lists, const vk::Buffer& counts) {
     const VkBuffer dispatch_buffers[] = {frame.counters.handle(), counts.handle()};
     timer.begin(cmd, pass);
-    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists.data(), 1, 1);
+    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, &lists, 1, 1);
     timer.end(cmd);
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
@@ -593,11 +522,11 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       params.samples_per_pixel = static_cast<uint32_t>(level.stats.scale * level.stats.scale);
     params.max_steps = static_cast<uint32_t>(settings.max_steps);
     params.level_scale = static_cast<uint32_t>(level.stats.scale);
-    params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
-                   (foveated_top ? kFlagFoveatedTop : 0u) |
-                   (settings.coarse_test == CoarseTest::cone ? kFlagCone : 0u) |
-                   (start && start_stats.scale == level.stats.scale ? kFlagStartSameSize : 0u) |
-                   (near_misses ? kFlagNearMiss : 0u);
+    params.flags = (top ? gpu::FLAG_SHADE : 0u) | (start ? gpu::FLAG_HAS_START : 0u) | (foveated_mid ? gpu::FLAG_FOVEATED_MID : 0u) |
+                   (foveated_top ? gpu::FLAG_FOVEATED_TOP : 0u) |
+                   (settings.coarse_test == CoarseTest::cone ? gpu::FLAG_CONE : 0u) |
+                   (start && start_stats.scale == level.stats.scale ? gpu::FLAG_START_SAME_SIZE : 0u) |
+                   (near_misses ? gpu::FLAG_NEAR_MISS : 0u);
     params.frame_index = fov.frame_index;
     params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
     const VkBuffer colour_target = top ? frame.colour.handle() : foveated_mid ? frame.mid_colour.handle() : frame.unused.handle();
@@ -626,7 +555,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       // Masked pixels first, densely from their list; then the rest of the frame (reconstruction).
       // The two passes write disjoint pixels (mask 1, mask 0), so neither waits for the other.
       TraceParams list_params = params;
-      list_params.flags = (params.flags & ~kFlagFoveatedTop) | kFlagMaskedList;
+      list_params.flags = (params.flags & ~gpu::FLAG_FOVEATED_TOP) | gpu::FLAG_MASKED_LIST;
       const auto list_buffers = with_binding(5, frame.masked_list.handle());
       timer.begin(cmd, "trace_level" + std::to_string(i));
       trace_pipeline_->dispatch_indirect(cmd, list_buffers, &list_params, frame.list_dispatch.handle(), 0);
@@ -641,7 +570,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
         timer.end(cmd);
       } else {
         const PyramidLevelStats& mid = levels[size_t(mid_index)].stats;
-        ReconstructParams reconstruct{{params.level_size[0], params.level_size[1]},
+        FiprReconstructParams reconstruct{{params.level_size[0], params.level_size[1]},
                                       {uint32_t(mid.width), uint32_t(mid.height)},
                                       static_cast<uint32_t>(fov.periphery_refresh), params.frame_index,
                                       fov.reconstruction == PeripheryReconstruction::catmull_rom ? 1u : 0u};
@@ -665,20 +594,20 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       mid_list_pipeline_->dispatch_2d(cmd, list_buffers, &list_params, params.level_size[0], params.level_size[1]);
       timer.end(cmd);
       vk::compute_to_compute_barrier(cmd);
-      record_list_dispatch("mid_list_dispatch", {mid_listed, 0, 1}, frame.mid_list_dispatch);
+      record_list_dispatch("mid_list_dispatch", {{mid_listed, 0}, 1}, frame.mid_list_dispatch);
       timer.begin(cmd, "trace_level" + std::to_string(i));
       trace_pipeline_->dispatch_indirect(cmd, buffers, &params, frame.mid_list_dispatch.handle(), 0);
       timer.end(cmd);
       // The top level's lists are complete now: the mask pass's, and the children this level promoted.
       vk::compute_to_compute_barrier(cmd);
-      record_list_dispatch("list_dispatch", {masked, refresh_listed, 2}, frame.list_dispatch);
+      record_list_dispatch("list_dispatch", {{masked, refresh_listed}, 2}, frame.list_dispatch);
     } else if (settings.one_step_floor) {
       // GT's trace, untimed, recording where each sample stopped; then the timed floor from there.
       const VkDeviceSize sample_bytes = VkDeviceSize(frame_pixels) * VkDeviceSize(settings.samples_per_pixel) * sizeof(float);
       if (frame.sample_depth.size_bytes() != sample_bytes)
         frame.sample_depth = vk::Buffer(context_, sample_bytes, vk::MemoryUse::device_local);
       TraceParams record = params;
-      record.flags |= kFlagSampleDepthOut;
+      record.flags |= gpu::FLAG_SAMPLE_DEPTH_OUT;
       const auto record_buffers = with_binding(1, frame.sample_depth.handle());
       trace_pipeline_->dispatch_2d(cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
       vk::compute_to_compute_barrier(cmd);
@@ -686,7 +615,7 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
       vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
       TraceParams floor_params = params;
-      floor_params.flags |= kFlagSampleDepthIn;
+      floor_params.flags |= gpu::FLAG_SAMPLE_DEPTH_IN;
       floor_params.max_steps = 1;
       const auto floor_buffers = with_binding(0, frame.sample_depth.handle());
       timer.begin(cmd, "one_step_floor");
@@ -827,7 +756,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   params.samples_per_pixel = static_cast<uint32_t>(settings.samples_per_pixel);
   params.max_steps = static_cast<uint32_t>(settings.max_steps);
   params.level_scale = 1;
-  params.flags = kFlagShade | kFlagSampleList;
+  params.flags = gpu::FLAG_SHADE | gpu::FLAG_SAMPLE_LIST;
   const VkBuffer unused = frame.unused.handle();
   const VkBuffer trace_buffers[] = {unused, unused, sampling.sample_steps(), sampling.sample_colours(), frame.counters.handle(),
                                     sampling.sample_list(), unused, unused, unused, unused};
