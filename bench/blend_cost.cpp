@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/zone_blend_params.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
@@ -18,9 +19,9 @@ constexpr uint32_t kGroupWidth = 64;  // buffer_copy.comp.glsl's local_size_x, a
 // The copy shader over the first width x height float RGBA texels of `from` into `to`.
 void record_copy_shader(VkCommandBuffer commands, const vk::ComputePipeline& copy, const vk::Buffer& from,
                         const vk::Buffer& to, int width, int height) {
-  const uint32_t frame_size[] = {uint32_t(width), uint32_t(height)};
+  const gpu::CopyParams params{{uint32_t(width), uint32_t(height)}};
   const VkBuffer buffers[] = {from.handle(), to.handle()};
-  copy.dispatch_groups(commands, buffers, frame_size, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth, uint32_t(height));
+  copy.dispatch_groups(commands, buffers, &params, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth, uint32_t(height));
 }
 
 // The band list's count (word 0) into the host-readable `to`, with the barriers on either side.
@@ -40,7 +41,7 @@ std::vector<BlendCost> measure_blend_cost(ZoneBlender& blender, const DisplayGeo
                                           double gaze_y_px, const ZoneBounds& bounds, int repeats) {
   blender.check_display(display, bounds);
   vk::Context& context = blender.context();
-  const vk::ComputePipeline copy(context, shaders::buffer_copy_spirv, 2, 2 * sizeof(uint32_t));
+  const vk::ComputePipeline copy(context, shaders::buffer_copy_spirv, 2, sizeof(gpu::CopyParams));
   const vk::Buffer& zones = blender.zone_buffers();
   const vk::Buffer& linear_blend = blender.linear_blend_buffer();
   const vk::Buffer band_count_readback(context, sizeof(uint32_t), vk::MemoryUse::host_readback);

@@ -9,6 +9,7 @@
 #include "core/input_error.h"
 #include "renderer/present/srgb8_encoder.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/sampling_params.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
 #include "renderer/vk/image_texels.h"
@@ -20,11 +21,7 @@ namespace {
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 constexpr uint32_t kListCounter = 0;  // counters_[0] counts the sample list
 
-// Must match FrameReadParams in sampling_frame_read.comp.glsl.
-struct FrameReadParams {
-  uint32_t frame_size[2];
-  uint32_t counter_index;
-};
+using gpu::FrameReadParams;
 
 }  // namespace
 

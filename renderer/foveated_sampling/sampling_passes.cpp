@@ -6,6 +6,8 @@
 #include <cstring>
 
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/list_dispatch_params.h"
+#include "renderer/shaders/shared/sampling_params.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
 #include "renderer/vk/submission.h"
@@ -14,48 +16,9 @@ namespace fovlab {
 
 namespace {
 
-// Must match SamplingLayer and SamplingParams in sampling_map.glsl (std430).
-struct GpuLayer {
-  float origin_px[2];
-  float pixel_size_px;
-  uint32_t first_sample;
-  uint32_t grid_size[2];
-  float weight_range_deg[2];
-};
-struct GpuSamplingParams {
-  uint32_t screen_size[2];
-  uint32_t buffer_size[2];
-  float gaze_px[2];
-  float gaze_share[2];
-  float focal_share[2];
-  float pixel_pitch_mm[2];
-  uint32_t model;
-  uint32_t seed;
-  float alpha;
-  float log_max_radius;
-  float inner_radius_deg;
-  float outer_radius_deg;
-  float blend_band_deg;
-  float min_probability;
-  float viewing_distance_mm;
-  uint32_t sample_capacity;
-  uint32_t resample_filter;  // ResampleFilter
-  uint32_t pad;
-  GpuLayer layers[3];
-};
-static_assert(sizeof(GpuLayer) == 32 && sizeof(GpuSamplingParams) == 192, "must match sampling_map.glsl");
-static_assert(offsetof(GpuSamplingParams, model) == 48 && offsetof(GpuSamplingParams, sample_capacity) == 84 &&
-                  offsetof(GpuSamplingParams, resample_filter) == 88 && offsetof(GpuSamplingParams, layers) == 96,
-              "std430 offsets of sampling_map.glsl's SamplingParams");
-
-// Must match PullPushParams in pull_push.comp.glsl.
-struct PullPushParams {
-  uint32_t fine_size[2];
-  uint32_t coarse_size[2];
-  uint32_t fine_offset;
-  uint32_t coarse_offset;
-  uint32_t mode;  // 0 pull, 1 push, 2 push into the frame
-};
+using GpuLayer = gpu::SamplingLayer;
+using GpuSamplingParams = gpu::SamplingParams;
+using gpu::PullPushParams;
 
 constexpr uint32_t kHyperbolicGridWidth = 256;  // the positions pass's row length over the layers' samples
 
@@ -74,10 +37,12 @@ void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double
 }  // namespace
 
 SamplingPasses::SamplingPasses(vk::Context& context) : context_(context) {
-  positions_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3, sizeof(uint32_t));
-  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 3, sizeof(uint32_t));
+  positions_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3,
+                                                                sizeof(gpu::PositionParams));
+  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 3,
+                                                                  sizeof(gpu::SamplingReconstructParams));
   pull_push_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::pull_push_spirv, 2, sizeof(PullPushParams));
-  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, 3 * sizeof(uint32_t));
+  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(gpu::ListParams));
   params_buffer_ = vk::Buffer(context, sizeof(GpuSamplingParams), vk::MemoryUse::device_local);
   dispatch_ = vk::Buffer(context, 3 * sizeof(uint32_t), vk::MemoryUse::device_local);
 }
@@ -184,12 +149,13 @@ void SamplingPasses::record_positions(VkCommandBuffer cmd, vk::PassTimer& timer,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   const VkBuffer buffers[] = {params_buffer_.handle(), counters, list_.handle()};
   timer.begin(cmd, "sample_positions");
-  positions_pipeline_->dispatch_2d(cmd, buffers, &counter_index, grid_width_, grid_height_);
+  const gpu::PositionParams positions{counter_index};
+  positions_pipeline_->dispatch_2d(cmd, buffers, &positions, grid_width_, grid_height_);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
   const VkBuffer dispatch_buffers[] = {counters, dispatch_.handle()};
-  const uint32_t lists[] = {counter_index, 0, 1};  // list_dispatch.comp.glsl's ListParams
-  list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists, 1, 1);
+  const gpu::ListParams lists{{counter_index, 0}, 1};
+  list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, &lists, 1, 1);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
@@ -198,9 +164,9 @@ void SamplingPasses::record_positions(VkCommandBuffer cmd, vk::PassTimer& timer,
 void SamplingPasses::record_reconstruct(VkCommandBuffer cmd, vk::PassTimer& timer, VkBuffer frame_colour) {
   if (model_ != SamplingModel::linear) {
     const VkBuffer buffers[] = {params_buffer_.handle(), colours_.handle(), frame_colour};
-    const uint32_t unused = 0;
+    const gpu::SamplingReconstructParams reconstruct{0};
     timer.begin(cmd, "sample_reconstruct");
-    reconstruct_pipeline_->dispatch_2d(cmd, buffers, &unused, screen_width_, screen_height_);
+    reconstruct_pipeline_->dispatch_2d(cmd, buffers, &reconstruct, screen_width_, screen_height_);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
     return;

@@ -7,17 +7,13 @@
 
 #include <glm/vec3.hpp>
 
+#include "renderer/shaders/shared/path_trace_params.h"
+
 namespace fovlab {
 
 struct PathScene;
 
-struct BvhNode {
-  glm::vec3 bounds_min{0.0f};
-  uint32_t left_or_first = 0;   // interior: index of the left child (the right one follows it); leaf: first slot in triangle_order
-  glm::vec3 bounds_max{0.0f};
-  uint32_t triangle_count = 0;  // 0: interior node
-};
-static_assert(sizeof(BvhNode) == 32, "BvhNode must match the shader's std430 layout");
+using BvhNode = gpu::BvhNode;  // what path_trace.comp.glsl reads
 
 struct Bvh {
   std::vector<BvhNode> nodes;            // nodes[0] is the root

@@ -10,7 +10,7 @@ PackedScene pack_scene(const PathScene& scene, const Bvh& bvh) {
   PackedScene packed;
   packed.nodes = bvh.nodes;
   for (const PathMaterial& material : scene.materials) {
-    GpuMaterial gpu;
+    GpuMaterial gpu{};
     gpu.colour = material.colour;
     gpu.kind = static_cast<uint32_t>(material.kind);
     gpu.index_of_refraction = material.index_of_refraction;
@@ -36,7 +36,7 @@ PackedScene pack_scene(const PathScene& scene, const Bvh& bvh) {
     const double area = 0.5 * glm::length(glm::cross(e1, e2));
     const double radiance = (double(material.colour.x) + double(material.colour.y) + double(material.colour.z)) / 3.0;
     if (!(area > 0.0 && radiance > 0.0)) continue;
-    packed.emitters.push_back(GpuEmitter{uint32_t(slot), 0.0f, {0, 0}});
+    packed.emitters.push_back(GpuEmitter{uint32_t(slot), 0.0f, 0.0f, 0.0f});
     weights.push_back(area * radiance);
     areas.push_back(area);
   }

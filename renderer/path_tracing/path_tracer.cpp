@@ -14,6 +14,7 @@
 #include "renderer/path_tracing/bvh.h"
 #include "renderer/path_tracing/gpu_scene.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/path_trace_params.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
@@ -32,24 +33,9 @@ constexpr uint64_t kSamplesPerBatch = uint64_t(1) << 19;
 constexpr int kMaxSamplesPerPixelPerBatch = 16;
 constexpr uint32_t kFlagNextEventEstimation = 1u;
 
-// Must match PathTraceParams in path_trace.comp.glsl (push constants, 112 bytes).
-struct PathTraceParams {
-  float eye[4];
-  float right[4];    // camera right scaled by tan(fov / 2) x aspect
-  float up[4];       // camera up scaled by tan(fov / 2)
-  float forward[4];
-  float sky_radiance[4];
-  uint32_t size[2];
-  uint32_t sample_begin;
-  uint32_t sample_count;
-  uint32_t max_bounces;
-  uint32_t seed;
-  uint32_t emitter_count;
-  uint32_t flags;
-};
-static_assert(sizeof(PathTraceParams) == 112, "PathTraceParams must match the shader");
+using gpu::PathTraceParams;
 
-void copy3(float* out, const glm::vec3& v) {
+void copy3(gpu::vec4& out, const glm::vec3& v) {
   out[0] = v.x;
   out[1] = v.y;
   out[2] = v.z;

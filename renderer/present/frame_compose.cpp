@@ -4,24 +4,12 @@
 #include <cstdint>
 
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/present_params.h"
 #include "renderer/vk/compute_pipeline.h"
 
 namespace fovlab {
 
-namespace {
-
-// frame_compose.comp.glsl's push constants (std430 scalars and vectors of 4-byte components).
-struct ComposeParams {
-  uint32_t frame_size[2];
-  uint32_t image_size[2];
-  int32_t shown_min[2];  // the image rectangle [shown_min, shown_max) shows the frame
-  int32_t shown_max[2];
-  int32_t offset[2];     // image pixel p shows scaled frame pixel p - offset
-  uint32_t scale;
-  uint32_t bgra;
-};
-
-}  // namespace
+using gpu::ComposeParams;
 
 FramePlacement place_frame(int frame_width, int frame_height, int image_width, int image_height) {
   FramePlacement placement;

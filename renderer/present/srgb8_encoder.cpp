@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/present_params.h"
 #include "renderer/vk/compute_pipeline.h"
 
 namespace fovlab {
@@ -12,14 +13,14 @@ constexpr uint32_t kGroupWidth = 64;  // srgb8_encode's local size: rows of 64
 }
 
 Srgb8Encoder::Srgb8Encoder(const vk::Context& context)
-    : pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::srgb8_encode_spirv, 2, 2 * sizeof(uint32_t))) {}
+    : pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::srgb8_encode_spirv, 2, sizeof(gpu::EncodeParams))) {}
 
 Srgb8Encoder::~Srgb8Encoder() = default;
 
 void Srgb8Encoder::record(VkCommandBuffer commands, VkBuffer texels, VkBuffer encoded, int width, int height) const {
-  const uint32_t image_size[] = {uint32_t(width), uint32_t(height)};
+  const gpu::EncodeParams params{{uint32_t(width), uint32_t(height)}};
   const VkBuffer buffers[] = {texels, encoded};
-  pipeline_->dispatch_groups(commands, buffers, image_size, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
+  pipeline_->dispatch_groups(commands, buffers, &params, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
                              uint32_t(height));
 }
 

@@ -17,6 +17,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
+#include "renderer/scene/shader_includes.h"
 
 namespace fovlab {
 
@@ -94,7 +95,8 @@ std::vector<uint32_t> compile_glsl(const SceneSource& scene, const SceneConsumer
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_1);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_3);
   const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
-  if (!shader.parse(GetDefaultResources(), 460, false, messages)) {
+  SharedHeaderIncluder includer(consumer.headers);
+  if (!shader.parse(GetDefaultResources(), 460, ENoProfile, false, false, messages, includer)) {
     throw_compile_error(scene, consumer, shader.getInfoLog());
   }
   glslang::TProgram program;
@@ -134,11 +136,16 @@ std::filesystem::path shader_cache_directory() {
   return std::filesystem::temp_directory_path() / "fovlab-spirv";
 }
 
-CompiledShader compile_scene_shader(const SceneSource& scene, const SceneConsumerShader& consumer) {
+std::string scene_shader_cache_key(const SceneSource& scene, const SceneConsumerShader& consumer) {
   ContentHash key;
   key.add(kCacheFormat).add(glslang::GetGlslVersionString()).add(kVersionLine).add(scene.text).add(consumer.source);
+  for (const shaders::ShaderHeader& header : consumer.headers) key.add(header.name).add(header.text);
+  return key.hex();
+}
+
+CompiledShader compile_scene_shader(const SceneSource& scene, const SceneConsumerShader& consumer) {
   CompiledShader compiled;
-  compiled.cache_file = shader_cache_directory() / (scene.name + "-" + key.hex() + ".spv");
+  compiled.cache_file = shader_cache_directory() / (scene.name + "-" + scene_shader_cache_key(scene, consumer) + ".spv");
   compiled.spirv = read_cached_spirv(compiled.cache_file);
   if (!compiled.spirv.empty()) {
     compiled.from_cache = true;

@@ -3,15 +3,15 @@
 // (1) when the Sobel gradient magnitude of the depth, relative to the pixel's own depth, exceeds
 // relative_threshold; else 0. Relative, so the same threshold serves near and far geometry: a depth
 // step of s * depth between neighbours gives a magnitude of about 4 s (docs/foveation.md).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/fipr_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer LowDepth { float low_depth[]; };
 layout(std430, binding = 1) writeonly buffer Edges { uint edges[]; };
 
-layout(push_constant) uniform EdgeParams {
-  uvec2 size;               // pixels of the low-resolution level
-  float relative_threshold; // edge when |Sobel(depth)| > relative_threshold * depth
-} params;
+layout(push_constant) uniform EdgeParamsBlock { EdgeParams params; };
 
 float depth_at(ivec2 pixel) {
   ivec2 clamped = clamp(pixel, ivec2(0), ivec2(params.size) - 1);

@@ -25,6 +25,16 @@ namespace {
 #include "zone_blend.spv.h"
 #include "zone_display.spv.h"
 #include "sphere_trace.glsl.h"
+#include "shared_gpu_types.h.h"
+#include "shared_sphere_trace_params.h.h"
+#include "shared_fipr_params.h.h"
+#include "shared_list_dispatch_params.h.h"
+#include "shared_zone_blend_params.h.h"
+#include "shared_present_params.h.h"
+#include "shared_sampling_params.h.h"
+#include "shared_path_trace_params.h.h"
+#include "shared_upsample_params.h.h"
+#include "shared_volume_params.h.h"
 }  // namespace
 
 const std::span<const uint32_t> min_filter_spirv{min_filter_spirv_words};
@@ -49,5 +59,26 @@ const std::span<const uint32_t> pull_push_spirv{pull_push_spirv_words};
 const std::span<const uint32_t> volume_raycast_spirv{volume_raycast_spirv_words};
 const std::span<const uint32_t> voronoi_reconstruct_spirv{voronoi_reconstruct_spirv_words};
 const std::string_view sphere_trace_source{sphere_trace_text, sizeof(sphere_trace_text) - 1};
+
+namespace {
+template <size_t N>
+constexpr std::string_view text_of(const char (&text)[N]) {
+  return {text, N - 1};
+}
+const ShaderHeader kSharedHeaders[] = {
+    {"shared/gpu_types.h", text_of(shared_gpu_types_text)},
+    {"shared/sphere_trace_params.h", text_of(shared_sphere_trace_params_text)},
+    {"shared/fipr_params.h", text_of(shared_fipr_params_text)},
+    {"shared/list_dispatch_params.h", text_of(shared_list_dispatch_params_text)},
+    {"shared/zone_blend_params.h", text_of(shared_zone_blend_params_text)},
+    {"shared/present_params.h", text_of(shared_present_params_text)},
+    {"shared/sampling_params.h", text_of(shared_sampling_params_text)},
+    {"shared/path_trace_params.h", text_of(shared_path_trace_params_text)},
+    {"shared/upsample_params.h", text_of(shared_upsample_params_text)},
+    {"shared/volume_params.h", text_of(shared_volume_params_text)},
+};
+}  // namespace
+
+const std::span<const ShaderHeader> shared_headers{kSharedHeaders};
 
 }  // namespace fovlab::shaders

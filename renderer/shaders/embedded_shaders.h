@@ -1,7 +1,8 @@
 #pragma once
 // Shaders built into the binary by the build (CMakeLists.txt):
 // - scene-independent passes, compiled to SPIR-V by glslangValidator at build time;
-// - GLSL that is compiled at run time together with a scene (the sphere tracer), kept as text.
+// - GLSL that is compiled at run time together with a scene (the sphere tracer), kept as text;
+// - the headers in shared/ that C++ and GLSL both include, kept as text for the run-time compile.
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -30,5 +31,12 @@ extern const std::span<const uint32_t> pull_push_spirv;
 extern const std::span<const uint32_t> volume_raycast_spirv;
 extern const std::span<const uint32_t> voronoi_reconstruct_spirv;
 extern const std::string_view sphere_trace_source;
+
+// A header as GLSL includes it ("shared/fipr_params.h") and its text.
+struct ShaderHeader {
+  std::string_view name;
+  std::string_view text;
+};
+extern const std::span<const ShaderHeader> shared_headers;
 
 }  // namespace fovlab::shaders

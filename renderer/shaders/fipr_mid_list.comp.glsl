@@ -5,9 +5,12 @@
 // are due for a refresh (the mid level shades them, or the top level traces them from its depth).
 // Those pixels are appended to a list that the trace pass (sphere_trace.comp.glsl,
 // FLAG_FOVEATED_MID) runs over densely, 64 entries a workgroup, instead of paying a SIMD lane for
-// every pixel of the level; each entry carries what the trace needs (fovlab_mid_entry_* below, the same
-// there). The other pixels pass their parent's (filtered) depth on here, with no steps. The list's
+// every pixel of the level; each entry carries what the trace needs (fovlab_mid_entry_* in
+// shared/fipr_params.h). The other pixels pass their parent's (filtered) depth on here, with no steps. The list's
 // order is that of the atomics; no pixel's result depends on it.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/fipr_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 // Per mid pixel: masked children (bits 0-3) | children (bits 4-7) | due for a refresh (bit 8).
@@ -18,18 +21,7 @@ layout(std430, binding = 3) writeonly buffer LevelSteps { uint level_steps[]; };
 layout(std430, binding = 4) buffer Counters { uint counters[]; };
 layout(std430, binding = 5) writeonly buffer MidList { uint mid_list[]; };
 
-layout(push_constant) uniform MidListParams {
-  uvec2 mid_size;          // pixels of the mid level
-  uvec2 start_size;        // pixels of the level below (its filtered depth)
-  int min_filter_radius;   // the top level starts from the minimum over this radius
-  uint list_counter;       // counters[list_counter]: the list's length
-} params;
-
-const uint MID_FLAG_DUE = 256u;
-// A list entry: the mid pixel's index, its unmasked children (0-4) and whether they are due.
-const uint fovlab_mid_entry_index_mask = 0x0FFFFFFFu;
-const uint fovlab_mid_entry_unmasked_shift = 28u;
-const uint fovlab_mid_entry_refresh = 0x80000000u;
+layout(push_constant) uniform MidListParamsBlock { MidListParams params; };
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;

@@ -7,6 +7,9 @@
 // renormalised; the pixel's own parent was just shaded, so one tap always counts. A pixel that is
 // not due keeps the colour it has (the colour buffer persists between frames). Masked pixels are the
 // top level's, left alone. The refresh phases are those of fovlab_refresh_due in sphere_trace.comp.glsl.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/fipr_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Mask { uint mask[]; };
@@ -14,13 +17,7 @@ layout(std430, binding = 1) readonly buffer MidFlags { uint mid_flags[]; };  // 
 layout(std430, binding = 2) readonly buffer MidColour { vec4 mid_colour[]; };
 layout(std430, binding = 3) buffer Colour { vec4 colour[]; };
 
-layout(push_constant) uniform ReconstructParams {
-  uvec2 frame_size;
-  uvec2 mid_size;
-  uint refresh_period;
-  uint frame_index;
-  uint catmull_rom;
-} params;
+layout(push_constant) uniform FiprReconstructParamsBlock { FiprReconstructParams params; };
 
 bool fresh(vec4 value, float newest) { return value.a > 0.0 && newest - value.a < float(params.refresh_period); }
 
@@ -36,7 +33,7 @@ void main() {
   uint index = pixel.y * params.frame_size.x + pixel.x;
   if (mask[index] != 0u) return;
   uvec2 parent = pixel / 2u;
-  if ((mid_flags[parent.y * params.mid_size.x + parent.x] & 256u) == 0u) return;
+  if ((mid_flags[parent.y * params.mid_size.x + parent.x] & MID_FLAG_DUE) == 0u) return;
   float newest = float(params.frame_index + 1u);
   vec2 position = (vec2(pixel) + 0.5) * 0.5 - 0.5;  // in mid-level pixel centres
   ivec2 base = ivec2(floor(position));

@@ -10,6 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "eccentricity.glsl"
 #include "lowbias32.glsl"
+#include "shared/fipr_params.h"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -25,26 +26,8 @@ const uint COMBINE_MAX = 0u;
 const uint COMBINE_FOVEA_OR_PRODUCT = 1u;
 const uint COMBINE_PRODUCT = 2u;
 const uint COMBINE_ACUITY = 3u;
-const uint FLAG_TRACE_ALL = 1u;     // no usable gaze: every pixel is traced in full
-const uint FLAG_ALL_DUE = 2u;       // no history yet: every unmasked pixel is due for a refresh
-const uint FLAG_LIST_REFRESH = 4u;  // the periphery is traced: list the unmasked pixels due (counters[6])
 
-layout(push_constant) uniform MaskParams {
-  uvec2 frame_size;       // full-resolution pixels
-  uvec2 mid_size;         // mid-level pixels
-  uvec2 low_size;         // low-level pixels (the edge map)
-  uint low_scale;         // full-resolution pixels per low-level pixel along each axis
-  uint combine;
-  vec2 gaze_px;           // in full-resolution pixels (finite, clamped by the renderer)
-  vec2 pixel_pitch_mm;
-  float viewing_distance_mm;
-  float fovea_radius_deg;
-  float outer_periphery_radius_deg;  // a huge value when there is none
-  uint seed;
-  uint frame_index;
-  uint flags;
-  uint refresh_period;
-} params;
+layout(push_constant) uniform MaskParamsBlock { MaskParams params; };
 
 // Whether the unmasked pixels under a mid pixel get a new colour this frame (the mid and
 // reconstruction passes read it from the mid flags). Periods are staggered over tiles of 16x16
@@ -113,7 +96,7 @@ void main() {
       }
     }
   }
-  mid_flags[mid.y * params.mid_size.x + mid.x] = masked | (children << 4) | (due_now ? 256u : 0u);
+  mid_flags[mid.y * params.mid_size.x + mid.x] = masked | (children << 4) | (due_now ? MID_FLAG_DUE : 0u);
   if (masked > 0u) {
     uint first = atomicAdd(counters[2], masked);
     for (uint i = 0u; i < masked; ++i) masked_list[first + i] = masked_indices[i];

@@ -2,20 +2,15 @@
 // A frame onto a presentation image (renderer/present/frame_compose.h): every image pixel is
 // written, with the frame's pixel it shows (integer scale, centred, cropped) or opaque black
 // (letterbox), in the image's byte order. One invocation an image pixel.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/present_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Frame { uint frame_texels[]; };  // packed RGBA8
 layout(std430, binding = 1) writeonly buffer Image { uint image_texels[]; };
 
-layout(push_constant) uniform ComposeParams {
-  uvec2 frame_size;
-  uvec2 image_size;
-  ivec2 shown_min;  // the image rectangle [shown_min, shown_max) shows the frame
-  ivec2 shown_max;
-  ivec2 offset;     // image pixel p shows scaled frame pixel p - offset
-  uint scale;
-  uint bgra;        // 1: swap R and B (B8G8R8A8 images)
-} params;
+layout(push_constant) uniform ComposeParamsBlock { ComposeParams params; };
 
 const uint kOpaqueBlack = 0xff000000u;
 

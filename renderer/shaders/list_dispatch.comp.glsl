@@ -5,15 +5,15 @@
 // guaranteed; the list's shader numbers a workgroup y * groups_x + x. FIPR's top level has two
 // lists (the masked pixels and the unmasked ones due for a refresh), its mid level one (the pixels it
 // traces), the zone blend's band pass one.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/list_dispatch_params.h"
+
 layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Counters { uint counters[]; };
 layout(std430, binding = 1) writeonly buffer DispatchArguments { uint group_counts[]; };
 
-layout(push_constant) uniform ListParams {
-  uvec2 counter_index;
-  uint list_count;  // 1 or 2
-} params;
+layout(push_constant) uniform ListParamsBlock { ListParams params; };
 
 const uint MAX_GROUPS_X = 65535u;
 

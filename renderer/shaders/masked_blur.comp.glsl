@@ -3,15 +3,16 @@
 // at the top level keep their value; a pixel filled from the mid level is blurred (5x5 Gaussian,
 // sigma 1 pixel, weights normalised at the frame's borders) when a top-level pixel lies within its
 // 5x5 window, i.e. in the transition between high- and low-fidelity pixels. Elsewhere it is copied.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/fipr_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Colour { vec4 colour[]; };
 layout(std430, binding = 1) readonly buffer Mask { uint mask[]; };
 layout(std430, binding = 2) writeonly buffer Blurred { vec4 blurred[]; };
 
-layout(push_constant) uniform BlurParams {
-  uvec2 size;
-} params;
+layout(push_constant) uniform BlurParamsBlock { BlurParams params; };
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

@@ -3,15 +3,15 @@
 // pixel holds the smallest depth among the (2 * radius + 1)^2 input pixels around it, clamped at the
 // borders. The next level starts its rays at this depth, so a ray next to a nearer surface starts
 // in front of it instead of behind it.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/fipr_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer InputDepth { float input_depth[]; };
 layout(std430, binding = 1) writeonly buffer FilteredDepth { float filtered_depth[]; };
 
-layout(push_constant) uniform MinFilterParams {
-  uvec2 size;   // pixels of the level
-  int radius;   // 0 (filter size 1), 1 (3x3), 2 (5x5)
-} params;
+layout(push_constant) uniform MinFilterParamsBlock { MinFilterParams params; };
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

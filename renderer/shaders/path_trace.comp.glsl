@@ -7,35 +7,9 @@
 // hash of (seed, pixel, sample, dimension): no state carries from one sample to the next.
 #extension GL_GOOGLE_include_directive : require
 #include "lowbias32.glsl"
+#include "shared/path_trace_params.h"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-
-// Layouts match renderer/path_tracing/bvh.h and gpu_scene.h.
-struct BvhNode {
-  vec3 bounds_min;
-  uint left_or_first;   // interior: left child (right = left + 1); leaf: first triangle slot
-  vec3 bounds_max;
-  uint triangle_count;  // 0: interior
-};
-struct Triangle {
-  vec3 v0;
-  uint material;
-  vec3 edge1;
-  float light_pdf_per_area;  // emitters: pick probability / area; else 0
-  vec3 edge2;
-  uint scene_triangle;
-};
-struct Material {
-  vec3 colour;
-  uint kind;  // 0 lambertian, 1 glass, 2 emissive
-  float index_of_refraction;
-  float unused0, unused1, unused2;
-};
-struct Emitter {
-  uint slot;
-  float cdf;
-  float unused0, unused1;
-};
 
 layout(std430, binding = 0) readonly buffer Nodes { BvhNode nodes[]; };
 layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
@@ -43,20 +17,7 @@ layout(std430, binding = 2) readonly buffer Materials { Material materials[]; };
 layout(std430, binding = 3) readonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 4) buffer Accumulation { vec4 accumulation[]; };
 
-layout(push_constant) uniform PathTraceParams {
-  vec4 eye;
-  vec4 right;    // scaled by tan(fov / 2) x aspect
-  vec4 up;       // scaled by tan(fov / 2)
-  vec4 forward;
-  vec4 sky_radiance;
-  uvec2 size;
-  uint sample_begin;
-  uint sample_count;
-  uint max_bounces;
-  uint seed;
-  uint emitter_count;  // 0: no next-event estimation
-  uint flags;
-} params;
+layout(push_constant) uniform PathTraceParamsBlock { PathTraceParams params; };
 
 const uint kLambertian = 0u;
 const uint kGlass = 1u;

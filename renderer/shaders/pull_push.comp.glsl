@@ -4,18 +4,15 @@
 // children's sum capped at 1. Push, coarse to fine: a pixel keeps its own colour in proportion to
 // its alpha and takes the rest from the level above, read bilinearly; the finest level's result is
 // the frame. All levels live in one buffer, the finest (the sample buffer, one entry a pixel) first.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/sampling_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) buffer Pyramid { vec4 pyramid[]; };
 layout(std430, binding = 1) writeonly buffer FrameColour { vec4 frame_colour[]; };
 
-layout(push_constant) uniform PullPushParams {
-  uvec2 fine_size;
-  uvec2 coarse_size;
-  uint fine_offset;    // first entry of the finer level in `pyramid`
-  uint coarse_offset;  // of the coarser one
-  uint mode;           // 0: pull (writes coarse); 1: push (writes fine); 2: push into frame_colour
-} params;
+layout(push_constant) uniform PullPushParamsBlock { PullPushParams params; };
 
 void pull(uvec2 pixel) {
   vec4 sum = vec4(0.0);

@@ -6,6 +6,9 @@
 // the sphere tracer spreads a sample's rays (sphere_trace.comp.glsl's FLAG_SAMPLE_LIST); a
 // footprint of one pixel is the bilinear read of the frame. renderer/foveated_sampling/
 // frame_sampler.cpp's footprint_mean is the CPU reference.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/sampling_params.h"
+
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Counters { uint counters[]; };
@@ -13,10 +16,7 @@ layout(std430, binding = 1) readonly buffer SampleList { uint sample_list[]; }; 
 layout(std430, binding = 2) readonly buffer Frame { vec4 frame[]; };             // linear RGBA, row-major
 layout(std430, binding = 3) writeonly buffer SampleColours { vec4 sample_colours[]; };
 
-layout(push_constant) uniform FrameReadParams {
-  uvec2 frame_size;
-  uint counter_index;  // counters[counter_index] counts the list
-} params;
+layout(push_constant) uniform FrameReadParamsBlock { FrameReadParams params; };
 
 void main() {
   uint slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;

@@ -21,9 +21,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(std430, binding = 1) buffer Counters { uint counters[]; };
 layout(std430, binding = 2) writeonly buffer SampleList { uint sample_list[]; };
 
-layout(push_constant) uniform PositionParams {
-  uint counter_index;  // counters[counter_index] counts the list
-} params;
+layout(push_constant) uniform PositionParamsBlock { PositionParams params; };
 
 void append(vec2 position_px, float footprint_px, uint entry) {
   uint slot = atomicAdd(counters[params.counter_index], 1u);

@@ -16,9 +16,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(std430, binding = 1) readonly buffer SampleColours { vec4 sample_colours[]; };  // alpha 1: shaded
 layout(std430, binding = 2) writeonly buffer FrameColour { vec4 frame_colour[]; };
 
-layout(push_constant) uniform ReconstructParams {
-  uint unused;
-} params;
+layout(push_constant) uniform SamplingReconstructParamsBlock { SamplingReconstructParams params; };
 
 // The Lanczos-2 kernel sinc(x) sinc(x / 2) on |x| < 2.
 float lanczos2(float x) {

@@ -29,6 +29,10 @@
 // (sampling_positions.comp.glsl) with spp samples each, spread and filtered over the samples'
 // spacing (their footprint) as a pyramid level's scale does.
 
+#extension GL_GOOGLE_include_directive : require
+#include "shared/fipr_params.h"
+#include "shared/sphere_trace_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer StartDepth { float start_depth[]; };
@@ -56,44 +60,11 @@ layout(std430, binding = 8) readonly buffer ParentNearDepth { float parent_near_
 layout(std430, binding = 9) writeonly buffer NearDepth { float near_depth[]; };
 const float NO_NEAR_MISS = -1.0;
 
-const uint FLAG_SHADE = 1u;          // top level: shade and write colour
-const uint FLAG_HAS_START = 2u;      // start rays at start_depth of the parent pixel
-const uint FLAG_FOVEATED_MID = 4u;   // FIPR mid level
-const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level: the periphery's refresh list in mask_values
-const uint FLAG_CONE = 16u;          // depth levels (and FIPR's mid level) march their pixel's cone
-const uint FLAG_START_SAME_SIZE = 128u;  // the start buffer is this level's own size (pixel -> pixel)
-const uint FLAG_SAMPLE_DEPTH_OUT = 512u;  // GT before its one-step floor: each sample's stop to level_depth
-const uint FLAG_SAMPLE_DEPTH_IN = 1024u;  // the one-step floor: each sample starts at its entry of start_depth
-const uint FLAG_NEAR_MISS = 256u;     // FIPR: where a depth level's ray passed a surface within its cone
-                                     // (near_depth); the mid level promotes the children of such a pixel
-const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
-const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in mask_values, four words each
-                                     // (x, y and footprint in pixels as float bits, then the sample's entry);
-                                     // colour (alpha 1: shaded) and steps go to that entry
-// An entry of the mid level's list (fipr_mid_list.comp.glsl, the same there): the pixel's index,
-// its unmasked children (0-4) and whether they are due for a refresh.
-const uint fovlab_mid_entry_index_mask = 0x0FFFFFFFu;
-const uint fovlab_mid_entry_unmasked_shift = 28u;
-const uint fovlab_mid_entry_refresh = 0x80000000u;
 // An entry of the masked pixels' list that the mid level promoted (it starts from the mid level's
 // near depth; the mask pass's entries start from the filtered depth, as IPR's pixels).
 const uint fovlab_promoted_entry = 0x80000000u;
 
-layout(push_constant) uniform TraceParams {
-  uvec2 level_size;          // pixels of this level
-  uvec2 start_size;          // pixels of the start-depth buffer (the level below); unused without FLAG_HAS_START
-  vec2 frame_size;           // pixels of the full-resolution frame
-  float time_s;              // scene time
-  float hit_threshold;       // a ray hits when distance < t * pixel_angle_rad * level_scale * hit_threshold
-  uint samples_per_pixel;    // 1, 4 or 16 (top level; FIPR's mid level: 4 for a one-pixel texture footprint)
-  uint max_steps;            // step cap of one ray at this level
-  uint level_scale;          // full-resolution pixels per level pixel along each axis (1, 2, 4, ...)
-  uint flags;
-  uint frame_index;          // FIPR: frame of the sequence (stamps the mid level's colours)
-  uint periphery_steps;      // FIPR: 0: the mid level shades the pixels its unmasked children take
-                             // (fipr_reconstruct); else those are traced from the mid depth with this
-                             // step budget and shaded (1 sample)
-} params;
+layout(push_constant) uniform TraceParamsBlock { TraceParams params; };
 
 struct Ray { vec3 origin; vec3 direction; };
 

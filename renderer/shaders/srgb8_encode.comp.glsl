@@ -11,10 +11,11 @@ const uint OUTPUT_SRGB8 = 1u;
 
 #include "srgb8.glsl"
 #include "zone_texels.glsl"
+#include "shared/present_params.h"
 
 layout(std430, binding = 1) writeonly buffer Encoded { uint encoded[]; };
 
-layout(push_constant) uniform EncodeParams { uvec2 image_size; } params;
+layout(push_constant) uniform EncodeParamsBlock { EncodeParams params; };
 
 void main() {
   uvec2 pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y);

@@ -14,21 +14,16 @@
 // The target may be cropped: target_size along the axis may be less than factor times the source
 // (a frame whose sides are not multiples of the factor has zone buffers rounded up); outputs past
 // it are not written, and the others are exactly those of the uncropped image.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/upsample_params.h"
+
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Source { vec4 source[]; };
 layout(std430, binding = 1) writeonly buffer Target { vec4 target[]; };
 layout(std430, binding = 2) readonly buffer Weights { float weights[]; };  // factor x 7
 
-layout(push_constant) uniform UpsampleParams {
-  uvec2 source_size;
-  uvec2 target_size;  // source_size scaled by factor along `axis`, or less (cropped at the far edge)
-  uint factor;
-  uint axis;          // 0: x, 1: y
-  uint target_offset; // texels before the target image in its buffer (a zone of ZoneBlender's buffer)
-} params;
-
-const uint CELLS_PER_INVOCATION = 8u;  // must match kCellsPerInvocation in upsampler.cpp
+layout(push_constant) uniform UpsampleParamsBlock { UpsampleParams params; };
 
 void main() {
   uint line = gl_GlobalInvocationID.x;

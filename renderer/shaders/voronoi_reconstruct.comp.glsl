@@ -5,16 +5,12 @@
 // pixels with the gaze). Then the temporal smoothing (section 4.4): the output is the mean of this
 // frame and the stored ones (history_count of them), and this frame is stored in slot store_slot
 // when it is to be kept (renderer/volume/volume_raycaster.cpp decides when).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/volume_params.h"
+
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-// Must match ReconstructParams in renderer/volume/volume_raycaster.cpp.
-layout(push_constant) uniform ReconstructParams {
-  uvec2 screen_size;
-  uvec2 mask_size;
-  ivec2 mask_offset;   // mask pixel = screen pixel + mask_offset
-  uint history_count;  // stored frames to average with, 0 to 8
-  uint store_slot;     // slot to store this frame in; 0xFFFFFFFF: none
-} params;
+layout(push_constant) uniform VoronoiReconstructParamsBlock { VoronoiReconstructParams params; };
 
 // 8 a mask pixel, heaviest first: the site's index in the low 20 bits, its weight in 1/4095 in the
 // high 12 (0: an unused entry). One load a neighbour, and the colour two more: the pass reads little.

@@ -12,6 +12,10 @@
 #include "renderer/present/srgb8_encoder.h"
 #include "renderer/scene/scene_compiler.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/fipr_params.h"
+#include "renderer/shaders/shared/list_dispatch_params.h"
+#include "renderer/shaders/shared/sphere_trace_params.h"
+#include "renderer/sphere_tracing/sphere_tracer_frame.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
@@ -21,252 +25,18 @@ namespace fovlab {
 
 namespace {
 
-constexpr uint32_t kFlagShade = 1;
-constexpr uint32_t kFlagHasStart = 2;
-constexpr uint32_t kFlagFoveatedMid = 4;
-constexpr uint32_t kFlagFoveatedTop = 8;
-constexpr uint32_t kFlagCone = 16;
-constexpr uint32_t kFlagMaskedList = 32;
-constexpr uint32_t kFlagSampleList = 64;
-constexpr uint32_t kFlagStartSameSize = 128;
-constexpr uint32_t kFlagNearMiss = 256;
-constexpr uint32_t kFlagSampleDepthOut = 512;
-constexpr uint32_t kFlagSampleDepthIn = 1024;
-constexpr uint32_t kMaskFlagTraceAll = 1;
-constexpr uint32_t kMaskFlagAllDue = 2;
-constexpr uint32_t kMaskFlagListRefresh = 4;
-constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (its eccentricities are ~90 degrees)
+using gpu::BlurParams;
+using gpu::EdgeParams;
+using gpu::FiprReconstructParams;
+using gpu::ListParams;
+using gpu::MaskParams;
+using gpu::MidListParams;
+using gpu::MinFilterParams;
+using gpu::TraceParams;
 
-// Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
-enum Counter : uint32_t {
-  capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, mid_listed, counter_count
-};
 constexpr int kMaxFrameSide = 16384;
 
-// Must match TraceParams in sphere_trace.comp.glsl (std430 push constant layout).
-struct TraceParams {
-  uint32_t level_size[2];
-  uint32_t start_size[2];
-  float frame_size[2];
-  float time_s;
-  float hit_threshold;
-  uint32_t samples_per_pixel;
-  uint32_t max_steps;
-  uint32_t level_scale;
-  uint32_t flags;
-  uint32_t frame_index;
-  uint32_t periphery_steps;
-};
-
-// Must match MidListParams in fipr_mid_list.comp.glsl.
-struct MidListParams {
-  uint32_t mid_size[2];
-  uint32_t start_size[2];
-  int32_t min_filter_radius;
-  uint32_t list_counter;
-};
-
-// Must match EdgeParams in depth_edges.comp.glsl.
-struct EdgeParams {
-  uint32_t size[2];
-  float relative_threshold;
-};
-
-// Must match MaskParams in foveation_mask.comp.glsl.
-struct MaskParams {
-  uint32_t frame_size[2];
-  uint32_t mid_size[2];
-  uint32_t low_size[2];
-  uint32_t low_scale;
-  uint32_t combine;
-  float gaze_px[2];
-  float pixel_pitch_mm[2];
-  float viewing_distance_mm;
-  float fovea_radius_deg;
-  float outer_periphery_radius_deg;
-  uint32_t seed;
-  uint32_t frame_index;
-  uint32_t flags;
-  uint32_t refresh_period;
-};
-
-// Must match ReconstructParams in fipr_reconstruct.comp.glsl.
-struct ReconstructParams {
-  uint32_t frame_size[2];
-  uint32_t mid_size[2];
-  uint32_t refresh_period;
-  uint32_t frame_index;
-  uint32_t catmull_rom;  // PeripheryReconstruction::catmull_rom
-};
-
-// Must match BlurParams in masked_blur.comp.glsl.
-struct BlurParams {
-  uint32_t size[2];
-};
-
-// Must match MinFilterParams in min_filter.comp.glsl.
-struct MinFilterParams {
-  uint32_t size[2];
-  int32_t radius;
-};
-
-struct LevelBuffers {
-  PyramidLevelStats stats;    // size and scale; steps are counted per render
-  vk::Buffer depth;           // distance each ray reached (not for the top level)
-  vk::Buffer start_for_next;  // min-filtered depth (not for the top level, nor without a filter)
-  vk::Buffer near_depth;      // FIPR's depth levels: where the ray passed a surface within its cone, or -1
-  vk::Buffer steps;
-  vk::Buffer steps_readback;
-};
-
-uint32_t ceil_div(int value, int divisor) { return static_cast<uint32_t>((value + divisor - 1) / divisor); }
-
-// The levels a frame traces, bottom first: the pyramid's (scales ..., 4, 2, 1), and with a
-// full-resolution depth level one more of scale 1 below the top. GT and the sampling models: one.
-struct LevelLayout {
-  int pyramid_levels = 1;
-  bool full_resolution_depth = false;
-
-  int count() const { return pyramid_levels + (full_resolution_depth ? 1 : 0); }
-  int scale(int index) const { return 1 << std::max(0, pyramid_levels - 1 - index); }
-  bool operator==(const LevelLayout&) const = default;
-};
-
-LevelLayout level_layout(const SphereTraceSettings& settings) {
-  if (settings.method == TraceMethod::ground_truth || settings.method == TraceMethod::sampling_model) return {};
-  return {settings.pyramid_levels,
-          settings.method == TraceMethod::inverted_pyramid && settings.full_resolution_depth};
-}
-
 }  // namespace
-
-// Every buffer of one frame layout; kept between renders of the same layout, so repeated frames
-// (bench repeats, a session's frames) do not allocate.
-struct SphereTracer::FrameBuffers {
-  int width = 0;
-  int height = 0;
-  LevelLayout layout;
-  bool filtered = false;
-  bool foveated = false;
-  // FIPR: `colour` and `mid_colour` hold the frame `history_index` of a sequence rendered with
-  // `history_key`; the next frame may reuse them only if it continues that sequence.
-  bool history_valid = false;
-  uint32_t history_index = 0;
-  std::string history_key;
-  std::vector<LevelBuffers> levels;  // bottom (coarsest) first
-  vk::Buffer colour;
-  vk::Buffer colour_readback;
-  vk::Buffer display_srgb8;  // TraceOutputs::display: the shown colour, packed sRGB8
-  vk::Buffer counters;
-  vk::Buffer counters_readback;
-  vk::Buffer unused;  // bound where a pass has no such buffer
-  vk::Buffer sample_depth;  // GT's one-step floor: where each sample's trace stopped (made when first needed)
-  // FIPR only.
-  vk::Buffer edges;           // low level: 0 or 1
-  vk::Buffer mask;            // full resolution: 0 or 1
-  vk::Buffer mask_readback;
-  vk::Buffer masked_list;     // full-resolution pixel indices of the masked pixels (the first counters[masked])
-  vk::Buffer refresh_list;    // and of the unmasked pixels due for a refresh, when the periphery is traced
-  vk::Buffer list_dispatch;   // workgroup counts of the top level's passes over the two lists
-  vk::Buffer mid_list;        // mid level: the pixels traced (fipr_mid_list.comp.glsl's entries)
-  vk::Buffer mid_list_dispatch;  // workgroup counts of the mid level's pass over its list
-  vk::Buffer mid_flags;       // mid level: masked children | children << 4
-  vk::Buffer mid_colour;      // mid level: shaded colour of pixels due for a refresh
-  vk::Buffer blurred;         // full resolution: pass 5's output
-
-  FrameBuffers(const vk::Context& context, int width_px, int height_px, LevelLayout level_layout, bool with_filter,
-               bool with_foveation)
-      : width(width_px), height(height_px), layout(level_layout), filtered(with_filter), foveated(with_foveation),
-        levels(static_cast<size_t>(level_layout.count())) {
-    const int level_count = layout.count();
-    for (int i = 0; i < level_count; ++i) {
-      LevelBuffers& level = levels[static_cast<size_t>(i)];
-      level.stats.scale = layout.scale(i);
-      level.stats.width = static_cast<int>(ceil_div(width, level.stats.scale));
-      level.stats.height = static_cast<int>(ceil_div(height, level.stats.scale));
-      const VkDeviceSize pixels = VkDeviceSize(level.stats.width) * VkDeviceSize(level.stats.height);
-      level.steps = vk::Buffer(context, pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-      level.steps_readback = vk::Buffer(context, pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
-      if (i + 1 < level_count) {
-        level.depth = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
-        if (filtered) level.start_for_next = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
-        if (foveated) level.near_depth = vk::Buffer(context, pixels * sizeof(float), vk::MemoryUse::device_local);
-      }
-    }
-    const VkDeviceSize colour_bytes = VkDeviceSize(width) * VkDeviceSize(height) * 4 * sizeof(float);
-    colour = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
-    colour_readback = vk::Buffer(context, colour_bytes, vk::MemoryUse::host_readback);
-    display_srgb8 = vk::Buffer(context, VkDeviceSize(width) * VkDeviceSize(height) * 4, vk::MemoryUse::device_local);
-    counters = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::device_local);
-    counters_readback = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::host_readback);
-    unused = vk::Buffer(context, 16, vk::MemoryUse::device_local);
-    if (!foveated) return;
-    const auto pixels_of = [](const PyramidLevelStats& level) { return VkDeviceSize(level.width) * VkDeviceSize(level.height); };
-    const VkDeviceSize frame_pixels = VkDeviceSize(width) * VkDeviceSize(height);
-    const VkDeviceSize mid_pixels = pixels_of(levels[size_t(level_count - 2)].stats);
-    edges = vk::Buffer(context, pixels_of(levels[0].stats) * sizeof(uint32_t), vk::MemoryUse::device_local);
-    mask = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-    mask_readback = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
-    masked_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-    refresh_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-    list_dispatch = vk::Buffer(context, 6 * sizeof(uint32_t), vk::MemoryUse::device_local);
-    mid_list = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-    mid_list_dispatch = vk::Buffer(context, 3 * sizeof(uint32_t), vk::MemoryUse::device_local);
-    mid_flags = vk::Buffer(context, mid_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
-    mid_colour = vk::Buffer(context, mid_pixels * 4 * sizeof(float), vk::MemoryUse::device_local);
-    blurred = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
-  }
-
-  // Records how the shown colour leaves the frame, after the passes: sRGB8-encoded on the device
-  // (TraceOutputs::display) or copied for the host, and the counters copied; `more_copies(copy)`
-  // adds the method's own copies before the host may read them.
-  template <class MoreCopies>
-  void record_outputs(VkCommandBuffer cmd, vk::PassTimer& timer, Srgb8Encoder& encoder, const vk::Buffer& shown,
-                      bool on_device, MoreCopies&& more_copies) {
-    if (on_device) {
-      timer.begin(cmd, "srgb8_encode");
-      encoder.record(cmd, shown.handle(), display_srgb8.handle(), width, height);
-      timer.end(cmd);
-    }
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    const auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
-      VkBufferCopy region{0, 0, from.size_bytes()};
-      vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
-    };
-    if (!on_device) copy(shown, colour_readback);
-    copy(counters, counters_readback);
-    more_copies(copy);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                       VK_ACCESS_HOST_READ_BIT);
-  }
-
-  // After the submit: the frame (on the device, or its linear colour read back) into `result`, and
-  // the counters' values.
-  std::array<uint32_t, counter_count> read_outputs(vk::Context& context, bool on_device, SphereTraceResult& result) const {
-    if (on_device) {
-      result.display = DeviceRgba8Frame{&context, display_srgb8.handle(), width, height};
-    } else {
-      colour_readback.invalidate();
-      const auto* rgba = static_cast<const float*>(colour_readback.mapped());
-      result.colour_linear = Image(width, height, 3);
-      const uint64_t pixels = uint64_t(width) * uint64_t(height);
-      for (uint64_t p = 0; p < pixels; ++p)
-        for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
-    }
-    counters_readback.invalidate();
-    std::array<uint32_t, counter_count> values;
-    std::memcpy(values.data(), counters_readback.mapped(), sizeof(uint32_t) * counter_count);
-    result.capped_rays = values[capped];
-    result.restarted_rays = values[restarted];
-    return values;
-  }
-
-  bool fits(int width_px, int height_px, LevelLayout level_layout, bool with_filter, bool with_foveation) const {
-    return width == width_px && height == height_px && layout == level_layout && filtered == with_filter &&
-           foveated == with_foveation;
-  }
-};
 
 // FrameBuffers' allocations (keep the two in step) plus the result's images.
 uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
@@ -421,17 +191,17 @@ void validate(const SphereTraceSettings& settings) {
 
 
 SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
-  CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source});
+  CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers});
   shader_from_cache_ = trace.from_cache;
   trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 10, sizeof(TraceParams));
   min_filter_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2,
                                                                sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
   mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 6, sizeof(MaskParams));
-  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, 3 * sizeof(uint32_t));
+  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(ListParams));
   mid_list_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_mid_list_spirv, 6, sizeof(MidListParams));
   reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
-                                                                sizeof(ReconstructParams));
+                                                                sizeof(FiprReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
   encoder_ = std::make_unique<Srgb8Encoder>(context);
 }
@@ -452,38 +222,6 @@ std::string history_key_of(const SphereTraceSettings& s) {
       << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
       << periphery_reconstruction_name(f.reconstruction) << ' ' << near_misses_name(f.near_misses);
   return key.str();
-}
-
-// The mask pass's constants: display, gaze and acuity model in the shader's float terms.
-MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelStats& low, const PyramidLevelStats& mid,
-                       bool all_due) {
-  const FoveationSettings& f = settings.foveation;
-  MaskParams params{};
-  params.frame_size[0] = static_cast<uint32_t>(settings.width);
-  params.frame_size[1] = static_cast<uint32_t>(settings.height);
-  params.mid_size[0] = static_cast<uint32_t>(mid.width);
-  params.mid_size[1] = static_cast<uint32_t>(mid.height);
-  params.low_size[0] = static_cast<uint32_t>(low.width);
-  params.low_size[1] = static_cast<uint32_t>(low.height);
-  params.low_scale = static_cast<uint32_t>(low.scale);
-  params.combine = static_cast<uint32_t>(f.combine);
-  const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
-  params.flags = has_gaze ? 0u : kMaskFlagTraceAll;
-  if (has_gaze) {
-    params.gaze_px[0] = static_cast<float>(std::clamp(f.gaze_x_px, -kGazeLimitPx, settings.width + kGazeLimitPx));
-    params.gaze_px[1] = static_cast<float>(std::clamp(f.gaze_y_px, -kGazeLimitPx, settings.height + kGazeLimitPx));
-  }
-  params.pixel_pitch_mm[0] = static_cast<float>(f.display.pixel_pitch_x_mm());
-  params.pixel_pitch_mm[1] = static_cast<float>(f.display.pixel_pitch_y_mm());
-  params.viewing_distance_mm = static_cast<float>(f.display.viewing_distance_mm);
-  params.fovea_radius_deg = static_cast<float>(f.acuity.fovea_radius_deg);
-  params.outer_periphery_radius_deg = static_cast<float>(std::min(f.acuity.outer_periphery_radius_deg, 1e9));
-  params.seed = f.seed;
-  params.frame_index = f.frame_index;
-  params.refresh_period = static_cast<uint32_t>(f.periphery_refresh);
-  if (all_due) params.flags |= kMaskFlagAllDue;
-  if (f.periphery_steps > 0) params.flags |= kMaskFlagListRefresh;
-  return params;
 }
 
 }  // namespace
@@ -509,227 +247,62 @@ void SphereTracer::prepare_frame(const SphereTraceSettings& settings) {
 SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   validate(settings);
   check_sphere_trace_frame_bytes(context_, settings.width, settings.height, "--width x --height");
-  const bool foveated = settings.method == TraceMethod::foveated_pyramid;
-  const LevelLayout layout = level_layout(settings);
-  const int level_count = layout.count();
-  const int filter_radius = settings.min_filter_size / 2;
-  const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
-
   if (settings.method == TraceMethod::sampling_model) return render_sampled(settings);
   prepare_frame(settings);
   FrameBuffers& frame = *frame_;
-  std::vector<LevelBuffers>& levels = frame.levels;
   const FoveationSettings& fov = settings.foveation;
+  const bool foveated = settings.method == TraceMethod::foveated_pyramid;
+  const int level_count = frame.layout.count();
   // A frame continues the sequence in the buffers only if it is the next one, with the same settings
   // (all but gaze, scene time and frame index); otherwise every pixel is refreshed.
   const std::string history_key = foveated ? history_key_of(settings) : std::string();
   const bool all_due = !frame.history_valid || fov.frame_index == 0 || fov.frame_index != frame.history_index + 1 ||
                        history_key != frame.history_key;
-  const int mid_index = level_count - 2;
-
-  vk::OneTimeCommands commands(context_);
-  VkCommandBuffer cmd = commands.handle();
-  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 10));
-  timer.reset(cmd);
-  vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
-  if (foveated && all_due) vkCmdFillBuffer(cmd, frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
-  if (foveated) vkCmdFillBuffer(cmd, levels.back().steps.handle(), 0, VK_WHOLE_SIZE, 0);  // pixels not traced: 0
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-
-  // The workgroup counts of indirect dispatches over one or two lists an earlier pass filled:
-  // `lists` is list_dispatch.comp.glsl's ListParams (two counter indices and the number of lists).
-  const auto record_list_dispatch = [&](const char* pass, std::array<uint32_t, 3> lists, const vk::Buffer& counts) {
-    const VkBuffer dispatch_buffers[] = {frame.counters.handle(), counts.handle()};
-    timer.begin(cmd, pass);
-    list_dispatch_pipeline_->dispatch_2d(cmd, dispatch_buffers, lists.data(), 1, 1);
-    timer.end(cmd);
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
-  };
-
-  // FIPR passes 2 and 3, once the low level's depth exists.
-  const auto edges_and_mask = [&] {
-    const PyramidLevelStats& low = levels.front().stats;
-    EdgeParams edge_params{{uint32_t(low.width), uint32_t(low.height)}, fov.edge_threshold};
-    const VkBuffer edge_buffers[] = {levels.front().depth.handle(), frame.edges.handle()};
-    timer.begin(cmd, "sobel_edges");
-    edges_pipeline_->dispatch_2d(cmd, edge_buffers, &edge_params, edge_params.size[0], edge_params.size[1]);
-    timer.end(cmd);
-    vk::compute_to_compute_barrier(cmd);
-    const MaskParams params = mask_params(settings, low, levels[size_t(mid_index)].stats, all_due);
-    const VkBuffer mask_buffers[] = {frame.edges.handle(), frame.mask.handle(), frame.mid_flags.handle(),
-                                     frame.counters.handle(), frame.masked_list.handle(), frame.refresh_list.handle()};
-    timer.begin(cmd, "foveation_mask");
-    mask_pipeline_->dispatch_2d(cmd, mask_buffers, &params, params.mid_size[0], params.mid_size[1]);
-    timer.end(cmd);
-    vk::compute_to_compute_barrier(cmd);
-  };
-
   // FIPR's depth levels track where their rays pass a surface (near depths), for the mid level's
   // promotion, which only a periphery from the mid level has, and the start of what it promoted.
   const bool near_misses = foveated && fov.near_misses == NearMisses::promote && fov.periphery_steps == 0;
-  const vk::Buffer* start = nullptr;  // start depth for the current level (the filtered level below)
-  PyramidLevelStats start_stats;
-  for (int i = 0; i < level_count; ++i) {
-    LevelBuffers& level = levels[static_cast<size_t>(i)];
-    const bool top = i + 1 == level_count;
-    const bool foveated_mid = foveated && i == mid_index;
-    const bool foveated_top = foveated && top;
-    TraceParams params{};
-    params.level_size[0] = static_cast<uint32_t>(level.stats.width);
-    params.level_size[1] = static_cast<uint32_t>(level.stats.height);
-    params.start_size[0] = static_cast<uint32_t>(start_stats.width);
-    params.start_size[1] = static_cast<uint32_t>(start_stats.height);
-    params.frame_size[0] = static_cast<float>(settings.width);
-    params.frame_size[1] = static_cast<float>(settings.height);
-    params.time_s = settings.time_s;
-    params.hit_threshold = settings.hit_threshold;
-    params.samples_per_pixel = top ? static_cast<uint32_t>(settings.samples_per_pixel) : 1u;
-    // The shader textures a shaded ray over level scale / sqrt(samples) pixels; a mid colour stands
-    // for the frame's pixel at its position, so it takes one pixel's footprint (but as first built).
-    if (foveated_mid && fov.periphery_steps == 0 && fov.reconstruction != PeripheryReconstruction::mid_footprint_bilinear)
-      params.samples_per_pixel = static_cast<uint32_t>(level.stats.scale * level.stats.scale);
-    params.max_steps = static_cast<uint32_t>(settings.max_steps);
-    params.level_scale = static_cast<uint32_t>(level.stats.scale);
-    params.flags = (top ? kFlagShade : 0u) | (start ? kFlagHasStart : 0u) | (foveated_mid ? kFlagFoveatedMid : 0u) |
-                   (foveated_top ? kFlagFoveatedTop : 0u) |
-                   (settings.coarse_test == CoarseTest::cone ? kFlagCone : 0u) |
-                   (start && start_stats.scale == level.stats.scale ? kFlagStartSameSize : 0u) |
-                   (near_misses ? kFlagNearMiss : 0u);
-    params.frame_index = fov.frame_index;
-    params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
-    const VkBuffer colour_target = top ? frame.colour.handle() : foveated_mid ? frame.mid_colour.handle() : frame.unused.handle();
-    const VkBuffer mask_input = foveated_top ? frame.mask.handle() : foveated_mid ? frame.mid_list.handle() : frame.unused.handle();
-    // Near misses: a depth level reads the near depths of the level below and writes its own; the mid
-    // level adds the children it promotes to the mask and its list; the top level starts those from
-    // the mid level's near depths.
-    const bool promotes = foveated_mid && near_misses;
-    const VkBuffer unused = frame.unused.handle();
-    const std::array<VkBuffer, 10> buffers = {start ? start->handle() : unused,
-                                              top ? unused : level.depth.handle(),
-                                              level.steps.handle(),
-                                              colour_target,
-                                              frame.counters.handle(),
-                                              mask_input,
-                                              promotes ? frame.mask.handle() : unused,
-                                              promotes ? frame.masked_list.handle() : unused,
-                                              near_misses && i > 0 ? levels[size_t(i - 1)].near_depth.handle() : unused,
-                                              near_misses && !top ? level.near_depth.handle() : unused};
-    const auto with_binding = [&](size_t binding, VkBuffer buffer) {
-      std::array<VkBuffer, 10> changed = buffers;
-      changed[binding] = buffer;
-      return changed;
-    };
-    if (foveated_top) {
-      // Masked pixels first, densely from their list; then the rest of the frame (reconstruction).
-      // The two passes write disjoint pixels (mask 1, mask 0), so neither waits for the other.
-      TraceParams list_params = params;
-      list_params.flags = (params.flags & ~kFlagFoveatedTop) | kFlagMaskedList;
-      const auto list_buffers = with_binding(5, frame.masked_list.handle());
-      timer.begin(cmd, "trace_level" + std::to_string(i));
-      trace_pipeline_->dispatch_indirect(cmd, list_buffers, &list_params, frame.list_dispatch.handle(), 0);
-      timer.end(cmd);
-      if (fov.periphery_steps > 0) {
-        TraceParams periphery_params = params;
-        periphery_params.samples_per_pixel = 1;  // one ray per peripheral pixel (also its texture footprint)
-        const auto refresh_buffers = with_binding(5, frame.refresh_list.handle());
-        timer.begin(cmd, "periphery_trace");
-        trace_pipeline_->dispatch_indirect(cmd, refresh_buffers, &periphery_params, frame.list_dispatch.handle(),
-                                           3 * sizeof(uint32_t));
-        timer.end(cmd);
-      } else {
-        const PyramidLevelStats& mid = levels[size_t(mid_index)].stats;
-        ReconstructParams reconstruct{{params.level_size[0], params.level_size[1]},
-                                      {uint32_t(mid.width), uint32_t(mid.height)},
-                                      static_cast<uint32_t>(fov.periphery_refresh), params.frame_index,
-                                      fov.reconstruction == PeripheryReconstruction::catmull_rom ? 1u : 0u};
-        const VkBuffer reconstruct_buffers[] = {frame.mask.handle(), frame.mid_flags.handle(), frame.mid_colour.handle(),
-                                                frame.colour.handle()};
-        timer.begin(cmd, "reconstruct");
-        reconstruct_pipeline_->dispatch_2d(cmd, reconstruct_buffers, &reconstruct, params.level_size[0],
-                                           params.level_size[1]);
-        timer.end(cmd);
-      }
-      vk::compute_to_compute_barrier(cmd);
-      break;
-    }
-    if (foveated_mid) {
-      // The pixels to trace, listed (the others take their start depth there), then traced densely.
-      const MidListParams list_params{{params.level_size[0], params.level_size[1]},
-                                      {params.start_size[0], params.start_size[1]}, filter_radius, mid_listed};
-      const VkBuffer list_buffers[] = {frame.mid_flags.handle(), start->handle(), level.depth.handle(),
-                                       level.steps.handle(), frame.counters.handle(), frame.mid_list.handle()};
-      timer.begin(cmd, "mid_list");
-      mid_list_pipeline_->dispatch_2d(cmd, list_buffers, &list_params, params.level_size[0], params.level_size[1]);
-      timer.end(cmd);
-      vk::compute_to_compute_barrier(cmd);
-      record_list_dispatch("mid_list_dispatch", {mid_listed, 0, 1}, frame.mid_list_dispatch);
-      timer.begin(cmd, "trace_level" + std::to_string(i));
-      trace_pipeline_->dispatch_indirect(cmd, buffers, &params, frame.mid_list_dispatch.handle(), 0);
-      timer.end(cmd);
-      // The top level's lists are complete now: the mask pass's, and the children this level promoted.
-      vk::compute_to_compute_barrier(cmd);
-      record_list_dispatch("list_dispatch", {masked, refresh_listed, 2}, frame.list_dispatch);
-    } else if (settings.one_step_floor) {
-      // GT's trace, untimed, recording where each sample stopped; then the timed floor from there.
-      const VkDeviceSize sample_bytes = VkDeviceSize(frame_pixels) * VkDeviceSize(settings.samples_per_pixel) * sizeof(float);
-      if (frame.sample_depth.size_bytes() != sample_bytes)
-        frame.sample_depth = vk::Buffer(context_, sample_bytes, vk::MemoryUse::device_local);
-      TraceParams record = params;
-      record.flags |= kFlagSampleDepthOut;
-      const auto record_buffers = with_binding(1, frame.sample_depth.handle());
-      trace_pipeline_->dispatch_2d(cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
-      vk::compute_to_compute_barrier(cmd);
-      vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);  // the floor's own capped and restarted rays
-      vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-      TraceParams floor_params = params;
-      floor_params.flags |= kFlagSampleDepthIn;
-      floor_params.max_steps = 1;
-      const auto floor_buffers = with_binding(0, frame.sample_depth.handle());
-      timer.begin(cmd, "one_step_floor");
-      trace_pipeline_->dispatch_2d(cmd, floor_buffers, &floor_params, params.level_size[0], params.level_size[1]);
-      timer.end(cmd);
+
+  vk::OneTimeCommands commands(context_);
+  vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 10));
+  FrameRecording f{settings, frame, commands.handle(), timer, foveated, level_count, level_count - 2,
+                   settings.min_filter_size / 2, all_due, near_misses};
+  clear_counters(f);
+
+  // The depth levels, coarsest first, each starting from the one below (IPR, FIPR; GT has none).
+  DepthStart start;
+  for (int level = 0; level + 1 < level_count; ++level) {
+    if (foveated && level == f.mid_index) {
+      fipr_trace_mid_level(f, start);
     } else {
-      timer.begin(cmd, "trace_level" + std::to_string(i));
-      trace_pipeline_->dispatch_2d(cmd, buffers, &params, params.level_size[0], params.level_size[1]);
-      timer.end(cmd);
+      trace_level(f, level, start);
     }
-    vk::compute_to_compute_barrier(cmd);
-    if (top) break;
-    if (foveated && i == 0) edges_and_mask();
-
-    start = &level.depth;
-    if (filter_radius > 0) {
-      MinFilterParams filter{{params.level_size[0], params.level_size[1]}, filter_radius};
-      const VkBuffer filter_buffers[] = {level.depth.handle(), level.start_for_next.handle()};
-      timer.begin(cmd, "min_filter_level" + std::to_string(i));
-      min_filter_pipeline_->dispatch_2d(cmd, filter_buffers, &filter, filter.size[0], filter.size[1]);
-      timer.end(cmd);
-      vk::compute_to_compute_barrier(cmd);
-      start = &level.start_for_next;
+    if (foveated && level == 0) {
+      fipr_edges(f);
+      fipr_mask(f);
     }
-    start_stats = level.stats;
+    start = start_of_next_level(f, level);
   }
-
-  const vk::Buffer* shown = &frame.colour;
-  if (foveated && fov.blur) {
-    BlurParams blur{{uint32_t(settings.width), uint32_t(settings.height)}};
-    const VkBuffer blur_buffers[] = {frame.colour.handle(), frame.mask.handle(), frame.blurred.handle()};
-    timer.begin(cmd, "masked_blur");
-    blur_pipeline_->dispatch_2d(cmd, blur_buffers, &blur, blur.size[0], blur.size[1]);
-    timer.end(cmd);
-    vk::compute_to_compute_barrier(cmd);
-    shown = &frame.blurred;
+  // The top level: shaded.
+  if (foveated) {
+    fipr_trace_masked(f, start);
+    if (fov.periphery_steps > 0) {
+      fipr_trace_periphery(f, start);
+    } else {
+      fipr_reconstruct_periphery(f);
+    }
+    vk::compute_to_compute_barrier(commands.handle());
+  } else if (settings.one_step_floor) {
+    trace_ground_truth_floor(f, start);
+  } else {
+    trace_level(f, level_count - 1, start);
   }
+  const vk::Buffer& shown = foveated && fov.blur ? fipr_blur(f) : frame.colour;
 
   const bool on_device = settings.outputs == TraceOutputs::display;
-  frame.record_outputs(cmd, timer, *encoder_, *shown, on_device, [&](const auto& copy) {
+  frame.record_outputs(commands.handle(), timer, *encoder_, shown, on_device, [&](const auto& copy) {
     if (settings.outputs != TraceOutputs::all) return;
     if (foveated) copy(frame.mask, frame.mask_readback);
-    for (const LevelBuffers& level : levels) copy(level.steps, level.steps_readback);
+    for (const LevelBuffers& level : frame.levels) copy(level.steps, level.steps_readback);
   });
   commands.submit_and_wait();
   frame.history_valid = foveated;  // (a GT or IPR frame has its own layout: changing method resets history)
@@ -739,25 +312,33 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   SphereTraceResult result;
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
-
   const std::array<uint32_t, counter_count> counter_values = frame.read_outputs(context_, on_device, result);
-  if (foveated) {
-    result.foveation.masked_pixels = counter_values[masked];
-    result.foveation.refreshed_pixels = counter_values[refreshed];
-    result.foveation.kept_pixels = frame_pixels - counter_values[masked] - counter_values[refreshed];
-  }
-  if (foveated && settings.outputs == TraceOutputs::all) {
-    frame.mask_readback.invalidate();
-    const auto* mask = static_cast<const uint32_t*>(frame.mask_readback.mapped());
-    result.mask = Image(settings.width, settings.height, 1);
-    for (uint64_t p = 0; p < frame_pixels; ++p) result.mask.pixels[p] = mask[p] != 0 ? 1.0f : 0.0f;
-  }
+  if (foveated) f.read_fipr_outputs(counter_values, result);
+  f.read_level_stats(counter_values, result);
+  return result;
+}
 
-  // Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
-  // per-pixel image sums to total_steps.
+void SphereTracer::FrameRecording::read_fipr_outputs(const std::array<uint32_t, counter_count>& counters,
+                                                     SphereTraceResult& result) const {
+  const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
+  result.foveation.masked_pixels = counters[masked];
+  result.foveation.refreshed_pixels = counters[refreshed];
+  result.foveation.kept_pixels = frame_pixels - counters[masked] - counters[refreshed];
+  if (settings.outputs != TraceOutputs::all) return;
+  frame.mask_readback.invalidate();
+  const auto* mask = static_cast<const uint32_t*>(frame.mask_readback.mapped());
+  result.mask = Image(settings.width, settings.height, 1);
+  for (uint64_t p = 0; p < frame_pixels; ++p) result.mask.pixels[p] = mask[p] != 0 ? 1.0f : 0.0f;
+}
+
+// Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
+// per-pixel image sums to total_steps.
+void SphereTracer::FrameRecording::read_level_stats(const std::array<uint32_t, counter_count>& counters,
+                                                    SphereTraceResult& result) const {
+  const FoveationSettings& fov = settings.foveation;
   if (settings.outputs == TraceOutputs::all) result.steps_per_pixel = Image(settings.width, settings.height, 1);
   for (int i = 0; i < level_count; ++i) {
-    const LevelBuffers& level = levels[size_t(i)];
+    const LevelBuffers& level = frame.levels[size_t(i)];
     PyramidLevelStats stats = level.stats;
     stats.steps = 0;
     const uint64_t level_pixels = uint64_t(stats.width) * uint64_t(stats.height);
@@ -766,11 +347,11 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     stats.shaded_pixels = top ? level_pixels : 0;
     if (foveated && top) {  // the masked pixels, and the periphery's refresh list when it is traced
       stats.traced_pixels = stats.shaded_pixels =
-          counter_values[masked] + (fov.periphery_steps > 0 ? counter_values[refresh_listed] : 0u);
+          counters[masked] + (fov.periphery_steps > 0 ? counters[refresh_listed] : 0u);
     }
     if (foveated && i == mid_index) {
-      stats.traced_pixels = counter_values[mid_traced];
-      stats.shaded_pixels = counter_values[mid_shaded];
+      stats.traced_pixels = counters[mid_traced];
+      stats.shaded_pixels = counters[mid_shaded];
     }
     if (settings.outputs != TraceOutputs::all) {
       result.levels.push_back(stats);
@@ -796,7 +377,6 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
     result.total_steps += stats.steps;
     result.levels.push_back(stats);
   }
-  return result;
 }
 
 // The sampling models: list the samples, trace and shade them, make every pixel from them.
@@ -827,7 +407,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   params.samples_per_pixel = static_cast<uint32_t>(settings.samples_per_pixel);
   params.max_steps = static_cast<uint32_t>(settings.max_steps);
   params.level_scale = 1;
-  params.flags = kFlagShade | kFlagSampleList;
+  params.flags = gpu::FLAG_SHADE | gpu::FLAG_SAMPLE_LIST;
   const VkBuffer unused = frame.unused.handle();
   const VkBuffer trace_buffers[] = {unused, unused, sampling.sample_steps(), sampling.sample_colours(), frame.counters.handle(),
                                     sampling.sample_list(), unused, unused, unused, unused};

@@ -25,6 +25,7 @@ namespace fovlab {
 
 namespace vk {
 class Context;
+class Buffer;
 class ComputePipeline;
 }  // namespace vk
 class Srgb8Encoder;
@@ -194,9 +195,25 @@ class SphereTracer {
   SphereTraceResult render(const SphereTraceSettings& settings);
 
  private:
-  struct FrameBuffers;
+  struct FrameBuffers;    // the buffers of one frame layout (sphere_tracer_frame.h)
+  struct FrameRecording;  // one render being recorded
+  struct DepthStart;      // where a level's rays start
   void prepare_frame(const SphereTraceSettings& settings);  // the buffers of its frame layout, kept if they fit
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
+  // render()'s passes (sphere_tracer_passes.cpp), in the order a frame records them.
+  void clear_counters(FrameRecording& f);  // and FIPR's mid colours when it has no history
+  void trace_level(FrameRecording& f, int level_index, const DepthStart& start);  // GT, IPR, FIPR's depth levels
+  void fipr_edges(FrameRecording& f);                                // Sobel edges of the low level's depth
+  void fipr_mask(FrameRecording& f);                                 // the foveation mask and its lists
+  void fipr_trace_mid_level(FrameRecording& f, const DepthStart& start);  // from its list; lists the top's
+  DepthStart start_of_next_level(FrameRecording& f, int level_index);     // min-filtered depth
+  void trace_ground_truth_floor(FrameRecording& f, const DepthStart& start);  // GT, then one step from there
+  void fipr_trace_masked(FrameRecording& f, const DepthStart& start);         // the top level's masked pixels
+  void fipr_trace_periphery(FrameRecording& f, const DepthStart& start);      // periphery_steps > 0
+  void fipr_reconstruct_periphery(FrameRecording& f);                         // periphery_steps 0
+  const vk::Buffer& fipr_blur(FrameRecording& f);                             // the masked blur: the shown frame
+  void dispatch_list_sizes(FrameRecording& f, const char* pass, const vk::Buffer& counts, uint32_t first_counter,
+                           uint32_t second_counter, uint32_t list_count);
   vk::Context& context_;
   bool shader_from_cache_ = false;
   std::unique_ptr<vk::ComputePipeline> trace_pipeline_;

@@ -8,6 +8,7 @@
 
 #include "core/input_error.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/upsample_params.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
@@ -16,18 +17,7 @@
 
 namespace fovlab {
 
-namespace {
-
-// Must match UpsampleParams in upsample.comp.glsl.
-struct UpsampleParams {
-  uint32_t source_size[2];
-  uint32_t target_size[2];
-  uint32_t factor;
-  uint32_t axis;
-  uint32_t target_offset;
-};
-
-}  // namespace
+using gpu::UpsampleParams;
 
 Upsampler::Upsampler(vk::Context& context)
     : context_(context),
@@ -100,9 +90,8 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
     throw std::logic_error("Upsampler::record: a target side must lie in ((side - 1) * factor, side * factor]");
   const VkBuffer weight_table = weights(filter, factor).handle();
   constexpr uint32_t kGroupWidth = 64;           // local_size_x of upsample.comp.glsl
-  constexpr uint32_t kCellsPerInvocation = 8;    // CELLS_PER_INVOCATION there
   const auto groups = [&](uint32_t lines, uint32_t cells) {
-    return std::pair{(lines + kGroupWidth - 1) / kGroupWidth, (cells + kCellsPerInvocation - 1) / kCellsPerInvocation};
+    return std::pair{(lines + kGroupWidth - 1) / kGroupWidth, (cells + gpu::CELLS_PER_INVOCATION - 1) / gpu::CELLS_PER_INVOCATION};
   };
   // Along x: one invocation a row and run of cells.
   const UpsampleParams along_x{{width, height}, {target_width, height}, factor, 0, 0};

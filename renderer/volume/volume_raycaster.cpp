@@ -10,6 +10,7 @@
 #include "core/memory_budget.h"
 #include "renderer/present/srgb8_encoder.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/volume_params.h"
 #include "renderer/vk/compute_pipeline.h"
 #include "renderer/vk/context.h"
 #include "renderer/vk/image_texels.h"
@@ -24,33 +25,8 @@ constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 // Phong with a headlight: ambient, diffuse, specular, shininess.
 constexpr std::array<float, 4> kShading{0.3f, 0.7f, 0.25f, 24.0f};
 
-// Must match Params in volume_raycast.comp.glsl: every member 16 bytes (std430).
-struct VolumeRayParams {
-  float eye[4];
-  float forward[4];
-  float right[4];
-  float down[4];
-  float box_half[4];
-  float voxel_scale[4];
-  uint32_t volume_size[4];
-  uint32_t brick_count[4];
-  uint32_t screen[4];
-  int32_t mask_offset[4];
-  float gaze[4];
-  float background[4];
-  float shading[4];
-  float sites_window[4];
-};
-static_assert(sizeof(VolumeRayParams) == 14 * 16);
-
-// Must match ReconstructParams in voronoi_reconstruct.comp.glsl.
-struct ReconstructParams {
-  uint32_t screen_size[2];
-  uint32_t mask_size[2];
-  int32_t mask_offset[2];
-  uint32_t history_count;
-  uint32_t store_slot;
-};
+using gpu::VolumeRayParams;
+using gpu::VoronoiReconstructParams;
 
 std::array<double, 3> normalised(const std::array<double, 3>& v) {
   const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -154,7 +130,7 @@ VolumeRaycaster::VolumeRaycaster(vk::Context& context, const VolumeScene& scene,
       scene_(scene),
       raycast_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::volume_raycast_spirv, 7, 0)),
       reconstruct_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::voronoi_reconstruct_spirv, 4,
-                                                                  sizeof(ReconstructParams))),
+                                                                  sizeof(VoronoiReconstructParams))),
       encoder_(std::make_unique<Srgb8Encoder>(context)),
       params_(context, sizeof(VolumeRayParams), vk::MemoryUse::host_upload) {
   const VolumeLimits limits = volume_limits(context);
@@ -219,7 +195,7 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite scene time");
   const VolumeCameraPose pose = camera_pose(settings.camera.value_or(scene_.camera), settings.time_s);
   VolumeRayParams p{};
-  const auto put3 = [](float* out, const std::array<double, 3>& v, double w) {
+  const auto put3 = [](gpu::vec4& out, const std::array<double, 3>& v, double w) {
     out[0] = float(v[0]);
     out[1] = float(v[1]);
     out[2] = float(v[2]);
@@ -256,7 +232,7 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
   p.gaze[1] = gaze[1];
   p.gaze[2] = foveated && settings.foveated_step ? 1.0f : 0.0f;
   p.gaze[3] = foveated && settings.correct_opacity ? 1.0f : 0.0f;
-  std::copy(kShading.begin(), kShading.end(), p.shading);
+  std::copy(kShading.begin(), kShading.end(), p.shading.begin());
   if (mode == kModeSites) {
     const float reach = reconstruction_->neighbour_reach_px + 1.0f;
     p.sites_window[0] = -reach;
@@ -363,7 +339,7 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   write_params(settings, kModeSites, {offset_x, offset_y}, gaze, true);
 
   // The temporal smoothing: a new view clears the history; a frame is stored when the mask moved.
-  ReconstructParams reconstruct{{uint32_t(width_), uint32_t(height_)},
+  VoronoiReconstructParams reconstruct{{uint32_t(width_), uint32_t(height_)},
                                 {uint32_t(reconstruction_->mask.width_px), uint32_t(reconstruction_->mask.height_px)},
                                 {offset_x, offset_y}, 0, kNoSlot};
   if (smoothing) {

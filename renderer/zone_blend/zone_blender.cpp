@@ -8,6 +8,8 @@
 
 #include "core/input_error.h"
 #include "renderer/shaders/embedded_shaders.h"
+#include "renderer/shaders/shared/list_dispatch_params.h"
+#include "renderer/shaders/shared/zone_blend_params.h"
 #include "renderer/upsampling/upsample_filter.h"
 #include "renderer/upsampling/upsampler.h"
 #include "renderer/vk/compute_pipeline.h"
@@ -23,20 +25,8 @@ constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 constexpr int kMaxFrameSide = 16384;  // zone_display.comp.glsl lists band pixels as x | y << 16
 constexpr uint32_t kGroupWidth = 64;  // local_size_x of the blend's and encoding's shaders and buffer_copy: rows of 64
 
-// Must match BlendParams in zone_weights.glsl.
-struct BlendParams {
-  float edge_tan2[4];
-  float gaze_direction[3];
-  float viewing_distance_mm;
-  float first_pixel_mm[2];
-  float pixel_pitch_mm[2];
-  uint32_t frame_size[2];
-  float band_end_deg[2];
-  float band_per_deg;
-  uint32_t has_middle;
-};
-static_assert(sizeof(BlendParams) == 72, "BlendParams must match zone_weights.glsl");
-constexpr uint32_t kBandList[] = {0, 0, 1};  // list_dispatch.comp.glsl's ListParams: one list, counted at word 0
+using gpu::BlendParams;
+constexpr gpu::ListParams kBandList{{0, 0}, 1};  // one list, counted at word 0
 
 // tan^2 of an eccentricity bound in degrees: -1 below 0 (nothing is inside), huge from 90 on.
 float tan2_of_bound(double bound_deg) {
@@ -242,7 +232,7 @@ void ZoneBlender::record_display(VkCommandBuffer commands, const DisplayGeometry
   display_pipeline_->dispatch_groups(commands, display_buffers, &params, row_groups(width_), uint32_t(height_));
   vk::compute_to_compute_barrier(commands);
   const VkBuffer dispatch_buffers[] = {band_list_.handle(), band_dispatch_.handle()};
-  list_dispatch_pipeline_->dispatch_2d(commands, dispatch_buffers, kBandList, 1, 1);
+  list_dispatch_pipeline_->dispatch_2d(commands, dispatch_buffers, &kBandList, 1, 1);
   vk::memory_barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                      VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);

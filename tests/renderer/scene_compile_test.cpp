@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "core/input_error.h"
 #include "renderer/scene/scene_compiler.h"
@@ -16,7 +17,7 @@
 namespace fovlab {
 namespace {
 
-const SceneConsumerShader kTracer{"sphere_trace.comp.glsl", shaders::sphere_trace_source};
+const SceneConsumerShader kTracer{"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers};
 
 SceneSource fixture_scene() { return load_scene(std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/sphere.glsl"); }
 
@@ -78,6 +79,37 @@ TEST(SceneCompile, TornCacheFileIsCompiledAgain) {
   const CompiledShader again = compile_scene_shader(scene, kTracer);
   EXPECT_FALSE(again.from_cache);
   EXPECT_EQ(again.spirv, first.spirv);
+}
+
+// The shared headers (renderer/shaders/shared/) enter the cache key: an edited header never meets
+// SPIR-V cached from the old text.
+TEST(SceneCompile, AChangedSharedHeaderChangesTheCacheKey) {
+  const SceneSource scene = fixture_scene();
+  std::vector<shaders::ShaderHeader> headers(shaders::shared_headers.begin(), shaders::shared_headers.end());
+  ASSERT_FALSE(headers.empty());
+  const std::string key = scene_shader_cache_key(scene, {kTracer.name, kTracer.source, headers});
+  EXPECT_EQ(key, scene_shader_cache_key(scene, kTracer));
+  for (shaders::ShaderHeader& header : headers) {
+    const std::string_view original = header.text;
+    const std::string edited = std::string(original) + "\n// edited\n";
+    header.text = edited;
+    EXPECT_NE(scene_shader_cache_key(scene, {kTracer.name, kTracer.source, headers}), key) << header.name;
+    header.text = original;
+  }
+}
+
+// The run-time compile includes the shared headers and refuses any other name, saying why.
+TEST(SceneCompile, AnIncludeOtherThanTheSharedHeadersIsRefused) {
+  const SceneSource scene = fixture_scene();
+  const std::string consumer = std::string(kTracer.source) + unique_comment() + "#include \"eccentricity.glsl\"\n";
+  try {
+    compile_scene_shader(scene, {kTracer.name, consumer, shaders::shared_headers});
+    FAIL() << "compiled";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("eccentricity.glsl"), std::string::npos) << message;
+    EXPECT_NE(message.find("only the renderer's shared headers"), std::string::npos) << message;
+  }
 }
 
 TEST(SceneSource, UnknownNameListsTheBuiltInScenes) {
