@@ -1,14 +1,10 @@
 #version 460
 // A plain copy of one float RGBA buffer into another, one invocation a texel in rows of 64 as
 // zone_blend.comp.glsl runs: the least a blend of full-size buffers must do (read every pixel once,
-<<<<<<< HEAD
 // write it once), and so the baseline its cost is measured against (bench/blend_cost.h).
-=======
-// write it once), and so the baseline its cost is measured against (ZoneBlender::measure_cost).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/zone_blend_params.h"
 
->>>>>>> h-gpu
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Source { vec4 source[]; };
