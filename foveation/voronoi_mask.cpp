@@ -1,6 +1,7 @@
 #include "foveation/voronoi_mask.h"
 
 #include <algorithm>
+#include <numbers>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -12,7 +13,6 @@ namespace fovlab {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Sites bucketed on a square grid, for nearest-site queries by rings of cells.
 class SiteGrid {
@@ -184,7 +184,7 @@ VoronoiMask make_voronoi_mask(const VoronoiMaskSettings& settings) {
         continue;
       }
       const double diameter = 0.5 + 1.5 * std::sqrt(cell.mass / cell.pixels);
-      const double area = kPi * diameter * diameter / 4.0;
+      const double area = std::numbers::pi * diameter * diameter / 4.0;
       if (cell.mass < area * (1.0 - hysteresis / 2.0)) {
         changed = true;
         continue;
@@ -198,7 +198,7 @@ VoronoiMask make_voronoi_mask(const VoronoiMaskSettings& settings) {
       const double vxx = cell.xx / cell.mass - cx * cx, vyy = cell.yy / cell.mass - cy * cy;
       const double vxy = cell.xy / cell.mass - cx * cy;
       const double angle = 0.5 * std::atan2(2.0 * vxy, vxx - vyy);
-      const double offset = 0.5 * std::sqrt(cell.pixels / kPi);
+      const double offset = 0.5 * std::sqrt(cell.pixels / std::numbers::pi);
       const double ox = offset * std::cos(angle), oy = offset * std::sin(angle);
       next.push_back({inside(cx - ox, width), inside(cy - oy, height)});
       next.push_back({inside(cx + ox, width), inside(cy + oy, height)});

@@ -1,6 +1,7 @@
 #include "renderer/path_tracing/mesh_builder.h"
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <vector>
 
@@ -11,7 +12,6 @@ namespace fovlab {
 namespace {
 
 constexpr float kTwoPi = 6.28318530717958647f;
-constexpr float kPi = 3.14159265358979324f;
 
 }  // namespace
 
@@ -58,7 +58,7 @@ void add_faceted_sphere(PathScene& scene, uint32_t material, const glm::vec3& ce
                         int segments) {
   if (rings < 2 || segments < 3) throw std::invalid_argument("add_faceted_sphere: expected rings >= 2, segments >= 3");
   auto point = [&](int ring, int segment) {
-    const float theta = kPi * float(ring) / float(rings);
+    const float theta = std::numbers::pi_v<float> * float(ring) / float(rings);
     const float phi = kTwoPi * float(segment % segments) / float(segments);
     return centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
   };

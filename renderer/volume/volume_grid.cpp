@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <numbers>
 #include <cctype>
 #include <cstdint>
 #include <cerrno>
@@ -24,7 +25,6 @@
 namespace fovlab {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 uint16_t quantise(double value) {
   if (!(value > 0.0)) return 0;  // NaN too
@@ -95,14 +95,14 @@ constexpr Ellipsoid kSheppLogan[] = {
 double marschner_lobb(double x, double y, double z) {
   constexpr double alpha = 0.25, f_m = 6.0;
   const double r = std::sqrt(x * x + y * y);
-  const double rho_r = std::cos(2.0 * kPi * f_m * std::cos(kPi * r / 2.0));
-  return (1.0 - std::sin(kPi * z / 2.0) + alpha * (1.0 + rho_r)) / (2.0 * (1.0 + alpha));
+  const double rho_r = std::cos(2.0 * std::numbers::pi * f_m * std::cos(std::numbers::pi * r / 2.0));
+  return (1.0 - std::sin(std::numbers::pi * z / 2.0) + alpha * (1.0 + rho_r)) / (2.0 * (1.0 + alpha));
 }
 
 double shepp_logan(double x, double y, double z) {
   double value = 0.0;
   for (const Ellipsoid& e : kSheppLogan) {
-    const double phi = e.phi_deg * kPi / 180.0;
+    const double phi = e.phi_deg * std::numbers::pi / 180.0;
     const double dx = x - e.x0, dy = y - e.y0, dz = z - e.z0;
     const double u = std::cos(phi) * dx + std::sin(phi) * dy, v = -std::sin(phi) * dx + std::cos(phi) * dy;
     if ((u * u) / (e.a * e.a) + (v * v) / (e.b * e.b) + (dz * dz) / (e.c * e.c) <= 1.0) value += e.intensity;

@@ -1,6 +1,7 @@
 #include "renderer/volume/volume_raycaster.h"
 
 #include <algorithm>
+#include <numbers>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -18,7 +19,6 @@
 namespace fovlab {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr uint32_t kModeFull = 0, kModeSites = 1;
 constexpr uint32_t kNoSlot = 0xFFFFFFFFu;
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
@@ -65,8 +65,8 @@ VolumeLimits volume_limits(const vk::Context& context) {
 }
 
 VolumeCameraPose camera_pose(const VolumeCamera& camera, double time_s) {
-  const double azimuth = (camera.azimuth_deg + camera.orbit_deg_per_s * time_s) * kPi / 180.0;
-  const double elevation = camera.elevation_deg * kPi / 180.0;
+  const double azimuth = (camera.azimuth_deg + camera.orbit_deg_per_s * time_s) * std::numbers::pi / 180.0;
+  const double elevation = camera.elevation_deg * std::numbers::pi / 180.0;
   VolumeCameraPose pose;
   // Azimuth 0 looks along +z with x to the right and y down, as an image of the slices is read.
   pose.eye = {-camera.distance * std::cos(elevation) * std::sin(azimuth), -camera.distance * std::sin(elevation),
@@ -74,7 +74,7 @@ VolumeCameraPose camera_pose(const VolumeCamera& camera, double time_s) {
   pose.forward = normalised({-pose.eye[0], -pose.eye[1], -pose.eye[2]});
   pose.right = normalised(cross({0.0, 1.0, 0.0}, pose.forward));
   pose.down = cross(pose.forward, pose.right);
-  pose.tan_half_fov = std::tan(camera.vertical_fov_deg * kPi / 360.0);
+  pose.tan_half_fov = std::tan(camera.vertical_fov_deg * std::numbers::pi / 360.0);
   return pose;
 }
 
