@@ -19,7 +19,7 @@ template <class Pyramid>
 void set_pyramid(SphereTraceSettings& settings, const Pyramid& pyramid) {
   settings.pyramid_levels = pyramid.pyramid_levels;
   settings.min_filter_size = pyramid.min_filter_size;
-  settings.coarse_test = static_cast<CoarseTest>(static_cast<uint32_t>(pyramid.coarse_test));
+  settings.coarse_test = pyramid.coarse_test;
 }
 
 }  // namespace
@@ -67,11 +67,10 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
                                                : fipr->outer_periphery_radius_deg;
     foveation.periphery_refresh = fipr->periphery_refresh;
     foveation.periphery_steps = fipr->periphery_steps;
-    foveation.reconstruction =
-        static_cast<PeripheryReconstruction>(static_cast<uint32_t>(fipr->periphery_reconstruction));
-    foveation.near_misses = static_cast<NearMisses>(static_cast<uint32_t>(fipr->near_misses));
+    foveation.reconstruction = fipr->periphery_reconstruction;
+    foveation.near_misses = fipr->near_misses;
     foveation.blur = fipr->blur;
-    foveation.combine = static_cast<MaskCombine>(static_cast<uint32_t>(fipr->combine));
+    foveation.combine = fipr->combine;
     foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);
     foveation.seed = fipr->mask_seed;
     foveation.frame_index = 0;
@@ -183,7 +182,7 @@ ResampleFilter sampling_filter(const StimulusSpec& spec) {
   require_sampling_model(spec, "sampling_filter");
   return std::visit(
       [](const auto& p) {
-        if constexpr (requires { p.resample; }) return static_cast<ResampleFilter>(static_cast<uint32_t>(p.resample));
+        if constexpr (requires { p.resample; }) return p.resample;
         return ResampleFilter::bilinear;
       },
       spec.parameters);

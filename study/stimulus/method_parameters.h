@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <variant>
 
+#include "core/render_choices.h"
+
 namespace fovlab {
 
 enum class RenderMethod {
@@ -29,25 +31,8 @@ enum class RenderMethod {
   foveated_volume_raycast,   // the same, rays at the Voronoi mask's sites around the gaze
 };
 
-// How FIPR combines the acuity probability and the depth edges (docs/foveation.md); the order is
-// that of foveation/foveation_mask.h's MaskCombine (protocols/stimuli checks it).
-enum class FiprCombine : uint32_t { max, fovea_or_product, product, acuity };
-
-// How IPR's and FIPR's depth levels stop their rays; the order is that of renderer/sphere_tracing's
-// CoarseTest (protocols/stimuli checks it).
-enum class PyramidCoarseTest : uint32_t { centre_ray, cone };
-
-// How FIPR fills the pixels outside its mask from the mid level; the order is that of
-// renderer/sphere_tracing's PeripheryReconstruction (protocols/stimuli casts; a test checks each).
-enum class FiprPeripheryReconstruction : uint32_t { mid_footprint_bilinear, bilinear, catmull_rom };
-
-// What FIPR does where a coarse ray passed a surface within its pixel's cone; the order is that of
-// renderer/sphere_tracing's NearMisses (protocols/stimuli maps them by the same order).
-enum class FiprNearMisses : uint32_t { ignore, promote };
-
-// How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
-// ResampleFilter (protocols/stimuli checks it).
-enum class SampleResampling : uint32_t { bilinear, lanczos };
+// The choices (MaskCombine, CoarseTest, PeripheryReconstruction, NearMisses, ResampleFilter) are
+// core/render_choices.h's, the renderer's own: they reach it as they are.
 
 // The physical display of the foveated methods: the stimulus image's size and the eye's distance.
 // 0 means "not given": a study's schedule fills them from its [display].
@@ -71,7 +56,7 @@ struct InvertedPyramidParameters {
   double hit_threshold;
   int pyramid_levels;
   int min_filter_size;
-  PyramidCoarseTest coarse_test;
+  CoarseTest coarse_test;
   bool full_resolution_depth;
 };
 
@@ -86,15 +71,15 @@ struct FoveatedPyramidParameters {
   double hit_threshold;
   int pyramid_levels;
   int min_filter_size;
-  PyramidCoarseTest coarse_test;
+  CoarseTest coarse_test;
   double fovea_radius_deg;            // eccentricity up to which every pixel is traced
   double outer_periphery_radius_deg;  // eccentricity beyond which none is (180: no outer periphery)
   int periphery_refresh;
   int periphery_steps;
-  FiprPeripheryReconstruction periphery_reconstruction;
-  FiprNearMisses near_misses;
+  PeripheryReconstruction periphery_reconstruction;
+  NearMisses near_misses;
   bool blur;
-  FiprCombine combine;
+  MaskCombine combine;
   double edge_threshold;
   uint32_t mask_seed;
   StimulusDisplay display;
@@ -130,7 +115,7 @@ struct RectangularMappingParameters {
   double sigma;
   double focal_share_x;  // f_x / W
   double focal_share_y;  // f_y / H
-  SampleResampling resample;
+  ResampleFilter resample;
 };
 
 // KFR: a buffer sigma times smaller per axis in (log radius)^alpha and angle around the gaze.
@@ -140,7 +125,7 @@ struct KernelLogPolarParameters {
   double hit_threshold;
   double sigma;
   double alpha;
-  SampleResampling resample;
+  ResampleFilter resample;
 };
 
 // The hyperbolic model: layers of pixel size 1, 2 (middle_pixel_size_px) and s3 out to r1, r2 and
@@ -156,7 +141,7 @@ struct HyperbolicLayersParameters {
   double blend_band_deg;
   bool equalise;             // s3 solved (gaze at the centre) so that the mean density is 1 / sigma^2
   double sigma;              // the target of equalise
-  SampleResampling resample;
+  ResampleFilter resample;
   StimulusDisplay display;
 };
 
@@ -184,7 +169,7 @@ struct PathTracedRectangularMappingParameters {
   double sigma;
   double focal_share_x;
   double focal_share_y;
-  SampleResampling resample;
+  ResampleFilter resample;
 };
 
 struct PathTracedKernelLogPolarParameters {
@@ -193,7 +178,7 @@ struct PathTracedKernelLogPolarParameters {
   uint32_t path_seed;
   double sigma;
   double alpha;
-  SampleResampling resample;
+  ResampleFilter resample;
 };
 
 struct PathTracedHyperbolicLayersParameters {
@@ -207,7 +192,7 @@ struct PathTracedHyperbolicLayersParameters {
   double blend_band_deg;
   bool equalise;
   double sigma;
-  SampleResampling resample;
+  ResampleFilter resample;
   StimulusDisplay display;
 };
 

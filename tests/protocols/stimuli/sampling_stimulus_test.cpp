@@ -155,7 +155,7 @@ TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
 
 TEST(SamplingStimulus, ResampleChoiceReachesTheRenderer) {
   StimulusSpec spec = spec_of(RenderMethod::kernel_log_polar);
-  std::get<KernelLogPolarParameters>(spec.parameters).resample = SampleResampling::lanczos;
+  std::get<KernelLogPolarParameters>(spec.parameters).resample = ResampleFilter::lanczos2;
   EXPECT_EQ(sphere_trace_settings(spec, 0).sampling_filter, ResampleFilter::lanczos2);
 }
 
