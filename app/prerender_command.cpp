@@ -25,6 +25,7 @@
 #include "core/input_error.h"
 #include "study/config/study_config.h"
 #include "study/schedule/study_plan.h"
+#include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/path_tracing/path_tracer.h"
 #include "renderer/prerender/frame_cache.h"
@@ -71,7 +72,7 @@ void print_progress(bool terminal, int done, int total, double seconds_per_frame
 std::vector<PathTraceFrameJob> prerender_frame_jobs(const std::string& config_path) {
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
-  check_sampling_maps(plan.stimuli, config_path);  // a config no session could run is refused before rendering
+  check_plan_renderable(plan, config_path, PlanUse::prerender);  // a config no session could run is refused before rendering
   std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan));
   if (jobs.empty())
     throw InputError(config_path + ": no path-traced stimuli (method pt, fpt, pt-rmfr, pt-hyperbolic, pt-linear or pt-kfr); nothing to pre-render");

@@ -17,6 +17,7 @@
 #include "study/config/study_config.h"
 #include "study/log/log_estimate.h"
 #include "study/schedule/study_plan.h"
+#include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "protocols/stimuli/stimulus_settings.h"
 
@@ -173,11 +174,7 @@ void validate(const std::string& config_path, const std::string& participant, bo
   check_output_target(cache_dir, "--cache", {OutputKind::folder});  // the default's too: the timed sample may fill it
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, participant);
-  const std::vector<StimulusSpec> specs = planned_specs(plan);
-  // A config whose prepared frames would not fit in this machine's memory cannot run here: said now,
-  // not after minutes of rendering (the session refuses it the same way).
-  check_prepared_frames_fit(specs, config_path);
-  check_sampling_maps(plan.stimuli, config_path);
+  check_plan_renderable(plan, config_path, PlanUse::session);  // what a session would refuse, refused now
   check_log_fits_readers(plan, config_path);  // what validate accepts, the log readers can read back
   int checks = 0, practice = 0;
   std::set<std::string> conditions;
@@ -208,7 +205,7 @@ void validate(const std::string& config_path, const std::string& participant, bo
   std::printf("trials %zu (%d attention checks, %d practice), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: "
               "%.0f MiB; %zu rendered live with the gaze)\n",
               plan.trials.size(), checks, practice, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
-              double(prepared_frames_bytes(specs)) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
+              double(prepared_frames_bytes(planned_specs(plan))) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
   if (!plan.tracks.empty())
     std::printf("adaptive: %zu track%s (staircases, QUEST+), each planned to its max_trials (one that stops sooner skips "
                 "the rest: the trials and duration are upper bounds)\n",

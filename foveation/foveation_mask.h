@@ -9,19 +9,12 @@
 #include <optional>
 #include <string>
 
+#include "core/render_choices.h"
 #include "foveation/acuity_model.h"
 
 namespace fovlab {
 
-// How acuity probability and edges combine. The paper multiplies them, yet its Fig. 6 keeps the
-// whole fovea; `max` is the reading that matches the figure and is the default.
-enum class MaskCombine : uint32_t {
-  max = 0,               // P = max(P_acuity, edge): the fovea in full, every peripheral edge, the rest by acuity
-  fovea_or_product = 1,  // P = 1 in the fovea, else P_acuity x edge (peripheral non-edges never)
-  product = 2,           // P = P_acuity x edge: the paper's words taken literally (drops fovea non-edges)
-  acuity = 3,            // P = P_acuity: edges ignored (the usual foveated renderer)
-};
-
+// How acuity probability and edges combine: MaskCombine (core/render_choices.h).
 const char* mask_combine_name(MaskCombine combine);  // "max", "fovea-or-product", "product", "acuity"
 std::optional<MaskCombine> parse_mask_combine(const std::string& name);
 

@@ -19,6 +19,7 @@
 #include <utility>
 #include <variant>
 
+#include "core/render_choices.h"
 #include "foveation/display_geometry.h"
 #include "foveation/rectangular_mapping.h"
 
@@ -104,11 +105,7 @@ struct LinearFalloff {
   bool sampled(int x, int y) const;
 };
 
-// How pass 2 reads the reduced buffers (RMFR, KFR, the hyperbolic layers) at a pixel's forward-mapped
-// position: bilinear (2x2 samples, the paper's), or Lanczos-2 (4x4 samples, sinc(x) sinc(x/2) per
-// axis, the weights of the shaded samples normalised), sharper but with ringing. The linear model
-// is filled by pull-push either way.
-enum class ResampleFilter : uint32_t { bilinear = 0, lanczos2 = 1 };
+// How pass 2 reads the reduced buffers: ResampleFilter (core/render_choices.h).
 const char* resample_filter_name(ResampleFilter filter);  // "bilinear", "lanczos"
 
 using SamplingMap = std::variant<RectangularMapping, HyperbolicLayers, LinearFalloff, KernelLogPolarMapping>;

@@ -17,6 +17,7 @@
 #include "study/schedule/study_plan.h"
 #include "study/log/schedule_check.h"
 #include "protocols/session/session_header.h"
+#include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
 
@@ -130,6 +131,8 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   // holds (the same checks as export and analyze, log_consistency.h).
   for (const std::string& difference : header_differences(record.header, config)) differences.add("header", difference);
   const StudyPlan plan = make_study_plan(config, header.participant);
+  // What no session could have rendered is refused before the device is opened, as run refuses it.
+  check_plan_renderable(plan, options.log_path + ":1: config_toml (of " + header.config_path + ")", PlanUse::replay);
   // The stimuli this build makes of config_toml must be those the session recorded: a parameter read
   // otherwise (a default that changed, read without the log's schema) renders other frames. Schema
   // 3 and later record them as stimuli_json does (schema 1-2: older keys and numeric choices).

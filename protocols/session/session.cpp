@@ -36,6 +36,7 @@
 #include "protocols/session/response_source.h"
 #include "protocols/session/session_header.h"
 #include "protocols/session/session_run.h"
+#include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
 
@@ -184,8 +185,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.plan_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   outcome.trials_total = static_cast<int>(plan.trials.size());
   outcome.trials_total_is_upper_bound = !plan.tracks.empty();
-  check_prepared_frames_fit(planned_specs(plan), config.source_path);  // before the window, the lock, any render
-  check_sampling_maps(plan.stimuli, config.source_path);
+  check_plan_renderable(plan, config.source_path, PlanUse::session);  // before the window, the lock, any render
   check_log_fits_readers(plan, config.source_path);  // a log export, analyze and replay could not read back is not begun
 
   // Answers and gaze: parsed before anything is written.

@@ -1,17 +1,15 @@
 #pragma once
 // Renders the frames of a study's stimuli and keeps them ready for presentation. Stimuli whose
-// frames do not depend on gaze (gt, ipr, pt) are rendered once, before the first trial, so no trial
-// waits on a compile or a render it could have done earlier; each frame is kept as the sRGB RGBA8
-// a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr, fpt, the
-// sampling models) are
-// rendered live, one image per refresh, with that refresh's gaze, and left on the rendering device
-// (sRGB-encoded there by the one encoder, renderer/present/srgb8_encoder.h), so that a presenter on
-// that device shows them without a copy through the host; their hash is taken after the present
-// (hash()). Path-traced frames (pt, fpt, pt-rmfr, ...) come
-// from the pre-render cache (renderer/prerender/frame_cache.h); missing ones are rendered into it
-// before the first trial. Volume stimuli (volume, fvolume) come from seed 003's raycaster; fvolume's
-// sampling mask and weights are made before the first trial, never read from the Voronoi cache
-// (foveation/voronoi_reconstruction.h: a cache file can be forged past its own checks).
+// frames do not depend on gaze (gt, ipr, pt, volume) are rendered once, before the first trial, so
+// no trial waits on a compile or a render it could have done earlier; each frame is kept as the sRGB
+// RGBA8 a presenter shows, with the content hash the log records. Gaze-dependent stimuli (fipr, fpt,
+// fvolume, the sampling models) are rendered live, one image per refresh, with that refresh's gaze,
+// and left on the rendering device (sRGB-encoded there by the one encoder,
+// renderer/present/srgb8_encoder.h), so that a presenter on that device shows them without a copy
+// through the host; their hash is taken after the present (hash()). What a stimulus needs is its
+// family's (stimulus_renderer.h: sphere-traced SDF scenes, pre-rendered path-traced frames from the
+// pre-render cache, volume scenes), the one renderer the library asks to validate, prepare and
+// render it.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -25,7 +23,6 @@
 #include "protocols/gaze/gaze_sample.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/present/device_frame.h"
-#include "renderer/volume/volume_scene.h"
 
 namespace fovlab {
 
@@ -33,11 +30,8 @@ namespace vk {
 class Buffer;
 class Context;
 }  // namespace vk
-class SphereTracer;
-class FrameCache;
-class ZoneBlender;
-class FrameSampler;
-class VolumeRaycaster;
+class StimulusRenderer;
+enum class StimulusFamily;
 
 struct PreparedFrame {
   Rgba8Frame image;            // the bytes (prepared frames; a live frame once hash() read it back)
@@ -101,51 +95,16 @@ class StimulusLibrary {
   double render_seconds() const { return render_seconds_; }
 
  private:
-  // The last image a scene's tracer rendered, for the sequence check of gaze-dependent methods.
-  struct LastImage {
-    std::string canonical;  // spec; empty after a gaze-independent frame
-    int image_index = -1;
-  };
-  SphereTracer& tracer_for(const std::string& scene);
-  // render() without the read-back: gaze-dependent methods and the sphere-traced ones leave the
-  // frame on the device (no hash yet); pt frames come back as bytes with their hash.
+  // The renderer of the spec's family (stimulus_renderer.h), made once each by make_stimulus_renderer.
+  StimulusRenderer& renderer_for(const StimulusSpec& spec);
+  // render() without the read-back: most methods leave the frame on the device (no hash yet); pt
+  // frames come back as bytes with their hash.
   PreparedFrame render_live(const StimulusSpec& spec, const StimulusImage& image);
-  DeviceRgba8Frame render_sphere_traced(const StimulusSpec& spec, const StimulusImage& image);
-  Rgba8Frame render_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt
-  DeviceRgba8Frame blend_foveated_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // fpt
-  DeviceRgba8Frame sample_path_traced(const StimulusSpec& spec, const StimulusImage& image);  // pt-rmfr, ...
-  DeviceRgba8Frame render_volume(const StimulusSpec& spec, const StimulusImage& image);  // volume, fvolume
-  // The raycaster of a volume spec: one a scene for volume, one a scene and sampling mask for fvolume
-  // (its mask and weights made anew), so that stimuli of several masks
-  // switch without reloading anything; the volume itself is loaded once a scene.
-  VolumeRaycaster& raycaster_for(const StimulusSpec& spec);
-  // Gaze-dependent methods render a presentation's images in order: std::logic_error unless image k
-  // directly follows image k - 1 of the same spec (`last` is what was rendered before).
-  static void check_sequence(const LastImage& last, const std::string& canonical, const StimulusImage& image);
-  // fpt's settings, size and display, without rendering (InputError).
-  void check_foveated_path_traced(const StimulusSpec& spec);
-  // The device's limits on the frame size, which is the study config's display size: errors name
-  // its fields ([display] width_px, height_px), not a command's flags.
-  void check_frame_size(const StimulusSpec& spec);
-  // fpt and the path-traced sampling models: every frame in the cache before the first trial.
-  void prepare_path_traced(const StimulusSpec& spec, const std::function<void()>& frame_done);
-  ZoneBlender& blender();
-  FrameSampler& sampler();
   vk::Context& context_;
-  std::unique_ptr<FrameCache> frame_cache_;
-  std::unique_ptr<ZoneBlender> blender_;
-  std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
-  std::unique_ptr<FrameSampler> sampler_;
-  std::string sampler_frame_;  // spec and frame the sampler holds
-  std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
-  std::string sampler_centre_spec_;            // ... with this canonical text
-  std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;   // by scene
-  std::map<std::string, std::unique_ptr<VolumeRaycaster>> raycasters_;  // by volume scene (and mask)
-  std::map<std::string, std::pair<VolumeScene, VolumeGrid>> volumes_;   // by volume scene
-  std::map<std::string, LastImage> last_image_;                    // by scene (sphere-traced and volume)
-  std::map<int, std::vector<PreparedFrame>> prepared_;             // by stimulus id
-  PreparedFrame live_;                                             // the last gaze-dependent image
-  std::unique_ptr<vk::Buffer> readback_;                           // frames read back from the device
+  std::map<StimulusFamily, std::unique_ptr<StimulusRenderer>> renderers_;  // every family
+  std::map<int, std::vector<PreparedFrame>> prepared_;                     // by stimulus id
+  PreparedFrame live_;                                                     // the last gaze-dependent image
+  std::unique_ptr<vk::Buffer> readback_;                                   // frames read back from the device
   double render_seconds_ = 0.0;
 };
 

@@ -19,7 +19,7 @@ template <class Pyramid>
 void set_pyramid(SphereTraceSettings& settings, const Pyramid& pyramid) {
   settings.pyramid_levels = pyramid.pyramid_levels;
   settings.min_filter_size = pyramid.min_filter_size;
-  settings.coarse_test = static_cast<CoarseTest>(static_cast<uint32_t>(pyramid.coarse_test));
+  settings.coarse_test = pyramid.coarse_test;
 }
 
 }  // namespace
@@ -35,120 +35,144 @@ SceneCatalog renderer_scene_catalog(bool check_files) {
   return catalog;
 }
 
+namespace {
+
+// std::visit over one lambda per alternative.
+template <class... Visitors>
+struct Overloaded : Visitors... {
+  using Visitors::operator()...;
+};
+template <class... Visitors>
+Overloaded(Visitors...) -> Overloaded<Visitors...>;
+
+template <class Trace>
+void set_trace(SphereTraceSettings& settings, const Trace& trace) {
+  settings.samples_per_pixel = trace.samples_per_pixel;
+  settings.max_steps = trace.max_steps;
+  settings.hit_threshold = static_cast<float>(trace.hit_threshold);
+}
+
+void set_foveation(SphereTraceSettings& settings, const FoveatedPyramidParameters& fipr, const StimulusSpec& spec) {
+  FoveationSettings& foveation = settings.foveation;
+  foveation.display = stimulus_display(spec);
+  foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
+  foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
+  foveation.acuity.fovea_radius_deg = fipr.fovea_radius_deg;
+  foveation.acuity.outer_periphery_radius_deg = fipr.outer_periphery_radius_deg >= kNoOuterPeripheryRadiusDeg
+                                                    ? std::numeric_limits<double>::infinity()
+                                                    : fipr.outer_periphery_radius_deg;
+  foveation.periphery_refresh = fipr.periphery_refresh;
+  foveation.periphery_steps = fipr.periphery_steps;
+  foveation.reconstruction = fipr.periphery_reconstruction;
+  foveation.near_misses = fipr.near_misses;
+  foveation.blur = fipr.blur;
+  foveation.combine = fipr.combine;
+  foveation.edge_threshold = static_cast<float>(fipr.edge_threshold);
+  foveation.seed = fipr.mask_seed;
+  foveation.frame_index = 0;
+}
+
+}  // namespace
+
 SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
   SphereTraceSettings settings;
   settings.width = spec.width_px;
   settings.height = spec.height_px;
   settings.time_s = static_cast<float>(spec.frame_time_s(frame));
-  const auto set_trace = [&](const auto& p) {
-    settings.samples_per_pixel = p.samples_per_pixel;
-    settings.max_steps = p.max_steps;
-    settings.hit_threshold = static_cast<float>(p.hit_threshold);
-  };
-  if (const auto* gt = std::get_if<GroundTruthParameters>(&spec.parameters)) {
-    settings.method = TraceMethod::ground_truth;
-    set_trace(*gt);
-  } else if (const auto* ipr = std::get_if<InvertedPyramidParameters>(&spec.parameters)) {
-    settings.method = TraceMethod::inverted_pyramid;
-    set_trace(*ipr);
-    set_pyramid(settings, *ipr);
-    settings.full_resolution_depth = ipr->full_resolution_depth;
-  } else if (const auto* fipr = std::get_if<FoveatedPyramidParameters>(&spec.parameters)) {
-    settings.method = TraceMethod::foveated_pyramid;
-    set_trace(*fipr);
-    set_pyramid(settings, *fipr);
-    FoveationSettings& foveation = settings.foveation;
-    foveation.display = stimulus_display(spec);
-    foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
-    foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
-    foveation.acuity.fovea_radius_deg = fipr->fovea_radius_deg;
-    foveation.acuity.outer_periphery_radius_deg = fipr->outer_periphery_radius_deg >= kNoOuterPeripheryRadiusDeg
-                                               ? std::numeric_limits<double>::infinity()
-                                               : fipr->outer_periphery_radius_deg;
-    foveation.periphery_refresh = fipr->periphery_refresh;
-    foveation.periphery_steps = fipr->periphery_steps;
-    foveation.reconstruction =
-        static_cast<PeripheryReconstruction>(static_cast<uint32_t>(fipr->periphery_reconstruction));
-    foveation.near_misses = static_cast<NearMisses>(static_cast<uint32_t>(fipr->near_misses));
-    foveation.blur = fipr->blur;
-    foveation.combine = static_cast<MaskCombine>(static_cast<uint32_t>(fipr->combine));
-    foveation.edge_threshold = static_cast<float>(fipr->edge_threshold);
-    foveation.seed = fipr->mask_seed;
-    foveation.frame_index = 0;
-  } else if (is_sampling_model(spec.method()) && !is_path_traced(spec.method())) {
-    settings.method = TraceMethod::sampling_model;
-    std::visit(
-        [&](const auto& p) {
-          if constexpr (requires { p.max_steps; }) set_trace(p);
-        },
-        spec.parameters);
-    settings.sampling = sampling_map(spec, std::nan(""), std::nan(""));
-    settings.sampling_filter = sampling_filter(spec);
-  } else {
+  const auto not_sphere_traced = [&] {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + std::string(spec.method_name()));
-  }
+  };
+  std::visit(Overloaded{
+                 [&](const GroundTruthParameters& gt) {
+                   settings.method = TraceMethod::ground_truth;
+                   set_trace(settings, gt);
+                 },
+                 [&](const InvertedPyramidParameters& ipr) {
+                   settings.method = TraceMethod::inverted_pyramid;
+                   set_trace(settings, ipr);
+                   set_pyramid(settings, ipr);
+                   settings.full_resolution_depth = ipr.full_resolution_depth;
+                 },
+                 [&](const FoveatedPyramidParameters& fipr) {
+                   settings.method = TraceMethod::foveated_pyramid;
+                   set_trace(settings, fipr);
+                   set_pyramid(settings, fipr);
+                   set_foveation(settings, fipr, spec);
+                 },
+                 [&](const SampledParameters& sampled) {
+                   const auto* samples = std::get_if<SphereTracedSamples>(&sampled.source);
+                   if (!samples) not_sphere_traced();
+                   settings.method = TraceMethod::sampling_model;
+                   set_trace(settings, *samples);
+                   settings.sampling = sampling_map(spec, std::nan(""), std::nan(""));
+                   settings.sampling_filter = sampling_filter(spec);
+                 },
+                 [&](const auto&) { not_sphere_traced(); },
+             },
+             spec.parameters);
   return settings;
 }
 
 namespace {
 
-// A sampling model's settings from its parameters, the same keys on the sphere tracer and on
-// pre-rendered frames. Returns whether the model needs the spec's display.
-template <class P>
-bool read_model(const P& p, SamplingSettings& settings) {
-  if constexpr (requires { p.focal_share_x; }) {
-    settings.model = SamplingModel::rectangular;
-    settings.sigma = p.sigma;
-    settings.focal_share_x = p.focal_share_x;
-    settings.focal_share_y = p.focal_share_y;
-    return false;
-  } else if constexpr (requires { p.alpha; }) {
-    settings.model = SamplingModel::kernel_log_polar;
-    settings.sigma = p.sigma;
-    settings.alpha = p.alpha;
-    return false;
-  } else if constexpr (requires { p.middle_pixel_size_px; }) {
-    settings.model = SamplingModel::hyperbolic;
-    settings.inner_radius_deg = p.inner_radius_deg;
-    settings.outer_radius_deg = p.outer_radius_deg;
-    settings.middle_pixel_size_px = p.middle_pixel_size_px;
-    settings.outer_pixel_size_px = p.outer_pixel_size_px;
-    settings.blend_band_deg = p.blend_band_deg;
-    settings.equalise = p.equalise;
-    settings.sigma = p.sigma;
-    return true;
-  } else {
-    static_assert(requires { p.min_probability; }, "not a sampling model's parameters");
-    settings.model = SamplingModel::linear;
-    settings.inner_radius_deg = p.inner_radius_deg;
-    settings.outer_radius_deg = p.outer_radius_deg;
-    settings.min_probability = p.min_probability;
-    settings.seed = p.sample_seed;
-    settings.equalise = p.equalise;
-    settings.sigma = p.sigma;
-    return true;
-  }
+// A sampling model's settings from its parameters, the same on either source. Returns whether the
+// model needs the spec's display.
+bool read_model(const SamplingModelParameters& model, SamplingSettings& settings) {
+  return std::visit(Overloaded{
+                        [&](const RectangularMappingModel& p) {
+                          settings.model = SamplingModel::rectangular;
+                          settings.sigma = p.sigma;
+                          settings.focal_share_x = p.focal_share_x;
+                          settings.focal_share_y = p.focal_share_y;
+                          return false;
+                        },
+                        [&](const KernelLogPolarModel& p) {
+                          settings.model = SamplingModel::kernel_log_polar;
+                          settings.sigma = p.sigma;
+                          settings.alpha = p.alpha;
+                          return false;
+                        },
+                        [&](const HyperbolicLayersModel& p) {
+                          settings.model = SamplingModel::hyperbolic;
+                          settings.inner_radius_deg = p.inner_radius_deg;
+                          settings.outer_radius_deg = p.outer_radius_deg;
+                          settings.middle_pixel_size_px = p.middle_pixel_size_px;
+                          settings.outer_pixel_size_px = p.outer_pixel_size_px;
+                          settings.blend_band_deg = p.blend_band_deg;
+                          settings.equalise = p.equalise;
+                          settings.sigma = p.sigma;
+                          return true;
+                        },
+                        [&](const LinearFalloffModel& p) {
+                          settings.model = SamplingModel::linear;
+                          settings.inner_radius_deg = p.inner_radius_deg;
+                          settings.outer_radius_deg = p.outer_radius_deg;
+                          settings.min_probability = p.min_probability;
+                          settings.seed = p.sample_seed;
+                          settings.equalise = p.equalise;
+                          settings.sigma = p.sigma;
+                          return true;
+                        },
+                    },
+                    model);
 }
 
-void require_sampling_model(const StimulusSpec& spec, const char* function) {
-  if (!is_sampling_model(spec.method()))
-    throw std::logic_error(std::string(function) + ": not a sampling model: " + std::string(spec.method_name()));
+// The (source, model) pair of a sampling-model spec; std::logic_error for other methods.
+const SampledParameters& sampled_parameters(const StimulusSpec& spec, const char* function) {
+  const auto* sampled = std::get_if<SampledParameters>(&spec.parameters);
+  if (!sampled) throw std::logic_error(std::string(function) + ": not a sampling model: " + std::string(spec.method_name()));
+  return *sampled;
 }
 
 }  // namespace
 
 SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px, const SamplingMap* centre) {
-  require_sampling_model(spec, "sampling_map");
+  const SampledParameters& sampled = sampled_parameters(spec, "sampling_map");
   SamplingSettings settings;
   DisplayGeometry display;
   display.width_px = spec.width_px;
   display.height_px = spec.height_px;
-  const bool needs_display = std::visit(
-      [&](const auto& p) {
-        if constexpr (requires { p.sigma; }) return read_model(p, settings);
-        return false;
-      },
-      spec.parameters);
+  const bool needs_display = read_model(sampled.model, settings);
   if (needs_display) display = stimulus_display(spec);
   if (settings.equalise) {
     // Solved once for the stimulus, with the gaze at the centre; the map then follows each gaze
@@ -180,13 +204,12 @@ void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std:
 }
 
 ResampleFilter sampling_filter(const StimulusSpec& spec) {
-  require_sampling_model(spec, "sampling_filter");
   return std::visit(
-      [](const auto& p) {
-        if constexpr (requires { p.resample; }) return static_cast<ResampleFilter>(static_cast<uint32_t>(p.resample));
-        return ResampleFilter::bilinear;
+      [](const auto& model) {
+        if constexpr (requires { model.resample; }) return model.resample;
+        return ResampleFilter::bilinear;  // the linear model fills by pull-push
       },
-      spec.parameters);
+      sampled_parameters(spec, "sampling_filter").model);
 }
 
 VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame) {
@@ -263,11 +286,8 @@ PathTracedFrames path_traced_frames(const StimulusSpec& spec) {
     throw std::logic_error("path_traced_frames: not a path-traced method: " + std::string(spec.method_name()));
   const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&spec.parameters);
   if (!fpt) {  // pt and the sampling models: the frames alone
-    std::visit(
-        [&](const auto& p) {
-          if constexpr (requires { p.max_bounces; }) set_paths(p);
-        },
-        spec.parameters);
+    if (const auto* pt = std::get_if<PathTracedParameters>(&spec.parameters)) set_paths(*pt);
+    else set_paths(std::get<PathTracedSamples>(std::get<SampledParameters>(spec.parameters).source));
     return {{frames}};
   }
   set_paths(*fpt);

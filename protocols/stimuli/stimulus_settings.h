@@ -1,6 +1,9 @@
 #pragma once
 // From a typed stimulus spec (study/stimulus) to the settings of the renderer that draws it: the
-// one place that knows both. Adding a rendering method adds its conversion here.
+// one place that knows both, one conversion a family (sphere_trace_settings, path_traced_frames,
+// volume_render_settings), each a std::visit or a lookup of its own alternatives. A sampling model
+// is converted once (sampling_map), whatever its source. Adding a rendering method adds its
+// conversion here.
 #include <vector>
 
 #include "foveation/display_geometry.h"
@@ -40,12 +43,8 @@ bool temporal_smoothing(const StimulusSpec& spec);
 // Whether a method is one of seed 002's sampling models, on the sphere tracer (rmfr, hyperbolic,
 // linear, kfr) or on pre-rendered path-traced frames (pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr).
 inline bool is_sampling_model(RenderMethod method) {
-  using R = RenderMethod;
-  for (R model : {R::rectangular_mapping, R::hyperbolic_layers, R::linear_falloff, R::kernel_log_polar,
-                  R::path_traced_rectangular_mapping, R::path_traced_hyperbolic_layers, R::path_traced_linear_falloff,
-                  R::path_traced_kernel_log_polar})
-    if (method == model) return true;
-  return false;
+  size_t source = 0, model = 0;
+  return sampled_method_parts(method, source, model);
 }
 
 // The sphere-tracer settings of a gt, ipr, fipr or sampling-model spec (frame time of the given

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/render_choices.h"
 #include "foveation/acuity_model.h"
 #include "foveation/display_geometry.h"
 #include "foveation/foveation_mask.h"
@@ -36,31 +37,12 @@ enum class TraceMethod { ground_truth, inverted_pyramid, foveated_pyramid, sampl
 const char* method_name(TraceMethod method);  // "gt", "ipr", "fipr" or "sampling"
 std::optional<TraceMethod> parse_trace_method(const std::string& name);
 
-// How FIPR fills a pixel outside the mask from the mid level (periphery_steps 0; docs/foveation.md).
-// The mid colours are interpolated at the frame's pixels, so each stands for the frame's pixel at its
-// position; a texture filtered over the mid pixel's own 2-pixel footprint is blurred twice.
-enum class PeripheryReconstruction {
-  mid_footprint_bilinear,  // as built first (every log before schema 5): textured over the mid pixel's
-                           // footprint, interpolated bilinearly
-  bilinear,                // textured over one frame pixel's footprint, interpolated bilinearly
-  catmull_rom,             // textured so, interpolated by Catmull-Rom over 4x4 mid pixels (bilinear
-                           // where a tap is stale): sharper on filtered textures, and on aliased detail
-};
-inline constexpr PeripheryReconstruction kPeripheryReconstructions[] = {
-    PeripheryReconstruction::mid_footprint_bilinear, PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom};
-// "mid-footprint-bilinear", "bilinear", "catmull-rom": the CLI's and the config's words.
+// The names of core/render_choices.h's PeripheryReconstruction: "mid-footprint-bilinear", "bilinear",
+// "catmull-rom" (the CLI's and the config's words).
 const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction);
 std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std::string& name);
 
-// What FIPR does where a coarse ray (low or mid level, the paper's centre-ray test) passed a surface
-// within its pixel's cone without hitting it: a wire between two rays, a silhouette it grazed.
-enum class NearMisses {
-  ignore,   // the paper's (every log before schema 6): the periphery takes the colour behind it
-  promote,  // the mid level's unmasked children of such a pixel are traced and shaded in full at the
-            // top level, from in front of it; nothing else changes (docs/foveation.md, "Near misses")
-};
-inline constexpr NearMisses kNearMisses[] = {NearMisses::ignore, NearMisses::promote};
-// "ignore", "promote": the CLI's and the config's words.
+// The names of core/render_choices.h's NearMisses: "ignore", "promote" (the CLI's and the config's words).
 const char* near_misses_name(NearMisses near_misses);
 std::optional<NearMisses> parse_near_misses(const std::string& name);
 
@@ -91,13 +73,7 @@ enum class TraceOutputs {
             // what a session shows, for a presenter on the same device or a read-back when needed
 };
 
-// How a pyramid level below the top decides where its rays stop (docs/scenes.md "Inverted pyramid").
-enum class CoarseTest {
-  centre_ray,  // the paper's: the ray through the level pixel's centre hits within the level's threshold;
-               // thin geometry between two centre rays can be stepped over and lost to the finer levels
-  cone,        // conservative: the level pixel's whole cone (corners and the top level's hit band) stops
-               // where geometry may enter it, so no finer ray starts behind a surface it would hit
-};
+// The names of core/render_choices.h's CoarseTest.
 const char* coarse_test_name(CoarseTest test);  // "ray" or "cone" (the CLI's and the config's words)
 
 struct SphereTraceSettings {

@@ -1,13 +1,18 @@
 #pragma once
 // The typed parameters of each rendering method: one plain struct per method, held in a variant
-// whose alternative is the method. Their defaults, ranges, units and keys are in the method's
+// whose alternative is the method, except the sampling models, each a (source, model) pair held in
+// one alternative, SampledParameters (method_of). Their defaults, ranges, units and keys are in the method's
 // descriptor (render_method.h): make a set with default_parameters(method), never by value
 // initialisation alone (which zeroes everything).
 //
 // Angles say in their name whether they are a radius (an eccentricity from the gaze) or an
 // aperture (the full angle across, twice the radius).
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <variant>
+
+#include "core/render_choices.h"
 
 namespace fovlab {
 
@@ -29,25 +34,8 @@ enum class RenderMethod {
   foveated_volume_raycast,   // the same, rays at the Voronoi mask's sites around the gaze
 };
 
-// How FIPR combines the acuity probability and the depth edges (docs/foveation.md); the order is
-// that of foveation/foveation_mask.h's MaskCombine (protocols/stimuli checks it).
-enum class FiprCombine : uint32_t { max, fovea_or_product, product, acuity };
-
-// How IPR's and FIPR's depth levels stop their rays; the order is that of renderer/sphere_tracing's
-// CoarseTest (protocols/stimuli checks it).
-enum class PyramidCoarseTest : uint32_t { centre_ray, cone };
-
-// How FIPR fills the pixels outside its mask from the mid level; the order is that of
-// renderer/sphere_tracing's PeripheryReconstruction (protocols/stimuli casts; a test checks each).
-enum class FiprPeripheryReconstruction : uint32_t { mid_footprint_bilinear, bilinear, catmull_rom };
-
-// What FIPR does where a coarse ray passed a surface within its pixel's cone; the order is that of
-// renderer/sphere_tracing's NearMisses (protocols/stimuli maps them by the same order).
-enum class FiprNearMisses : uint32_t { ignore, promote };
-
-// How the sampling models' pass 2 reads their samples; the order is that of foveation/sampling_map.h's
-// ResampleFilter (protocols/stimuli checks it).
-enum class SampleResampling : uint32_t { bilinear, lanczos };
+// The choices (MaskCombine, CoarseTest, PeripheryReconstruction, NearMisses, ResampleFilter) are
+// core/render_choices.h's, the renderer's own: they reach it as they are.
 
 // The physical display of the foveated methods: the stimulus image's size and the eye's distance.
 // 0 means "not given": a study's schedule fills them from its [display].
@@ -71,7 +59,7 @@ struct InvertedPyramidParameters {
   double hit_threshold;
   int pyramid_levels;
   int min_filter_size;
-  PyramidCoarseTest coarse_test;
+  CoarseTest coarse_test;
   bool full_resolution_depth;
 };
 
@@ -86,15 +74,15 @@ struct FoveatedPyramidParameters {
   double hit_threshold;
   int pyramid_levels;
   int min_filter_size;
-  PyramidCoarseTest coarse_test;
+  CoarseTest coarse_test;
   double fovea_radius_deg;            // eccentricity up to which every pixel is traced
   double outer_periphery_radius_deg;  // eccentricity beyond which none is (180: no outer periphery)
   int periphery_refresh;
   int periphery_steps;
-  FiprPeripheryReconstruction periphery_reconstruction;
-  FiprNearMisses near_misses;
+  PeripheryReconstruction periphery_reconstruction;
+  NearMisses near_misses;
   bool blur;
-  FiprCombine combine;
+  MaskCombine combine;
   double edge_threshold;
   uint32_t mask_seed;
   StimulusDisplay display;
@@ -120,35 +108,41 @@ struct FoveatedPathTracedParameters {
   StimulusDisplay display;
 };
 
-// Seed 002's sampling models (section 5.1; foveation/sampling_map.h): every sample traced from the
-// camera, only the model's samples shaded, the frame made from them per gaze sample.
-// RMFR: a buffer sigma times smaller per axis, each axis warped towards the gaze.
-struct RectangularMappingParameters {
+// A sampling-model stimulus is a source of samples and a model of where they fall (Ye et al. 2022,
+// section 5.1; foveation/sampling_map.h): only the model's samples are made, and the frame is made
+// from them per gaze sample. Each method rmfr, hyperbolic, linear, kfr, pt-rmfr, ... is one pair
+// (kSampledMethods). The source's parameters come first in the descriptor, then the model's, under
+// the same keys on either source.
+
+// The sphere tracer on the SDF scene: every sample traced from the camera.
+struct SphereTracedSamples {
   int samples_per_pixel;  // rays a sample, spread over the sample's footprint
   int max_steps;
   double hit_threshold;
+};
+
+// Pre-rendered path-traced frames (as pt; Ye et al. 2022's demo does the same): the path tracer's
+// parameters make the frames; each sample takes the frame's mean over its footprint.
+struct PathTracedSamples {
+  int samples_per_pixel;  // of the pre-rendered frames
+  int max_bounces;
+  uint32_t path_seed;
+};
+
+// In the order of kSampledMethods' rows.
+using SampleSource = std::variant<SphereTracedSamples, PathTracedSamples>;
+
+// RMFR: a buffer sigma times smaller per axis, each axis warped towards the gaze.
+struct RectangularMappingModel {
   double sigma;
   double focal_share_x;  // f_x / W
   double focal_share_y;  // f_y / H
-  SampleResampling resample;
-};
-
-// KFR: a buffer sigma times smaller per axis in (log radius)^alpha and angle around the gaze.
-struct KernelLogPolarParameters {
-  int samples_per_pixel;
-  int max_steps;
-  double hit_threshold;
-  double sigma;
-  double alpha;
-  SampleResampling resample;
+  ResampleFilter resample;
 };
 
 // The hyperbolic model: layers of pixel size 1, 2 (middle_pixel_size_px) and s3 out to r1, r2 and
 // the whole screen, blended over blend_band_deg at each border.
-struct HyperbolicLayersParameters {
-  int samples_per_pixel;
-  int max_steps;
-  double hit_threshold;
+struct HyperbolicLayersModel {
   double inner_radius_deg;   // r1, an eccentricity (radius)
   double outer_radius_deg;   // r2
   double middle_pixel_size_px;
@@ -156,15 +150,12 @@ struct HyperbolicLayersParameters {
   double blend_band_deg;
   bool equalise;             // s3 solved (gaze at the centre) so that the mean density is 1 / sigma^2
   double sigma;              // the target of equalise
-  SampleResampling resample;
+  ResampleFilter resample;
   StimulusDisplay display;
 };
 
 // The linear model: every pixel shaded with a probability 1 up to r1, falling linearly to p_min at r2.
-struct LinearFalloffParameters {
-  int samples_per_pixel;
-  int max_steps;
-  double hit_threshold;
+struct LinearFalloffModel {
   double inner_radius_deg;
   double outer_radius_deg;
   double min_probability;
@@ -174,55 +165,38 @@ struct LinearFalloffParameters {
   StimulusDisplay display;
 };
 
-// The four models emulated on pre-rendered path-traced frames (seed 002's demo does the same): the
-// path tracer's parameters make the frames, as for pt; each sample takes the frame's mean over its
-// footprint; the model's parameters are those of its sphere-traced form, under the same keys.
-struct PathTracedRectangularMappingParameters {
-  int samples_per_pixel;  // of the pre-rendered frames
-  int max_bounces;
-  uint32_t path_seed;
-  double sigma;
-  double focal_share_x;
-  double focal_share_y;
-  SampleResampling resample;
-};
-
-struct PathTracedKernelLogPolarParameters {
-  int samples_per_pixel;
-  int max_bounces;
-  uint32_t path_seed;
+// KFR: a buffer sigma times smaller per axis in (log radius)^alpha and angle around the gaze.
+struct KernelLogPolarModel {
   double sigma;
   double alpha;
-  SampleResampling resample;
+  ResampleFilter resample;
 };
 
-struct PathTracedHyperbolicLayersParameters {
-  int samples_per_pixel;
-  int max_bounces;
-  uint32_t path_seed;
-  double inner_radius_deg;
-  double outer_radius_deg;
-  double middle_pixel_size_px;
-  double outer_pixel_size_px;
-  double blend_band_deg;
-  bool equalise;
-  double sigma;
-  SampleResampling resample;
-  StimulusDisplay display;
+// In the order of kSampledMethods' columns.
+using SamplingModelParameters =
+    std::variant<RectangularMappingModel, HyperbolicLayersModel, LinearFalloffModel, KernelLogPolarModel>;
+
+struct SampledParameters {
+  SampleSource source;
+  SamplingModelParameters model;
 };
 
-struct PathTracedLinearFalloffParameters {
-  int samples_per_pixel;
-  int max_bounces;
-  uint32_t path_seed;
-  double inner_radius_deg;
-  double outer_radius_deg;
-  double min_probability;
-  uint32_t sample_seed;
-  bool equalise;
-  double sigma;
-  StimulusDisplay display;
+// The method of each (source, model) pair: kSampledMethods[source][model].
+inline constexpr RenderMethod kSampledMethods[std::variant_size_v<SampleSource>]
+                                             [std::variant_size_v<SamplingModelParameters>] = {
+    {RenderMethod::rectangular_mapping, RenderMethod::hyperbolic_layers, RenderMethod::linear_falloff,
+     RenderMethod::kernel_log_polar},
+    {RenderMethod::path_traced_rectangular_mapping, RenderMethod::path_traced_hyperbolic_layers,
+     RenderMethod::path_traced_linear_falloff, RenderMethod::path_traced_kernel_log_polar},
 };
+
+// The source and model indices of a sampling-model method; false for the other methods.
+inline bool sampled_method_parts(RenderMethod method, size_t& source, size_t& model) {
+  for (source = 0; source < std::size(kSampledMethods); ++source)
+    for (model = 0; model < std::size(kSampledMethods[source]); ++model)
+      if (kSampledMethods[source][model] == method) return true;
+  return false;
+}
 
 // Seed 003's volume raycaster (docs/volume-rendering.md) on a volume scene, every pixel traced.
 struct VolumeRaycastParameters {
@@ -244,23 +218,28 @@ struct FoveatedVolumeRaycastParameters {
 
 using MethodParameters =
     std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters, PathTracedParameters,
-                 FoveatedPathTracedParameters, RectangularMappingParameters, HyperbolicLayersParameters,
-                 LinearFalloffParameters, KernelLogPolarParameters, PathTracedRectangularMappingParameters,
-                 PathTracedHyperbolicLayersParameters, PathTracedLinearFalloffParameters,
-                 PathTracedKernelLogPolarParameters, VolumeRaycastParameters, FoveatedVolumeRaycastParameters>;
+                 FoveatedPathTracedParameters, SampledParameters, VolumeRaycastParameters,
+                 FoveatedVolumeRaycastParameters>;
 
 inline RenderMethod method_of(const MethodParameters& parameters) {
-  return static_cast<RenderMethod>(parameters.index());
+  if (const auto* sampled = std::get_if<SampledParameters>(&parameters))
+    return kSampledMethods[sampled->source.index()][sampled->model.index()];
+  constexpr RenderMethod kByAlternative[] = {
+      RenderMethod::ground_truth,         RenderMethod::inverted_pyramid,    RenderMethod::foveated_pyramid,
+      RenderMethod::path_traced,          RenderMethod::foveated_path_traced, RenderMethod::rectangular_mapping,
+      RenderMethod::volume_raycast,       RenderMethod::foveated_volume_raycast};
+  static_assert(std::size(kByAlternative) == std::variant_size_v<MethodParameters>);
+  return kByAlternative[parameters.index()];
 }
 
 // The display of a foveated method's parameters; nullptr for the others.
 inline const StimulusDisplay* display_of(const MethodParameters& parameters) {
   if (const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters)) return &fipr->display;
   if (const auto* fpt = std::get_if<FoveatedPathTracedParameters>(&parameters)) return &fpt->display;
-  if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) return &layers->display;
-  if (const auto* linear = std::get_if<LinearFalloffParameters>(&parameters)) return &linear->display;
-  if (const auto* layers = std::get_if<PathTracedHyperbolicLayersParameters>(&parameters)) return &layers->display;
-  if (const auto* linear = std::get_if<PathTracedLinearFalloffParameters>(&parameters)) return &linear->display;
+  if (const auto* sampled = std::get_if<SampledParameters>(&parameters)) {
+    if (const auto* layers = std::get_if<HyperbolicLayersModel>(&sampled->model)) return &layers->display;
+    if (const auto* linear = std::get_if<LinearFalloffModel>(&sampled->model)) return &linear->display;
+  }
   if (const auto* volume = std::get_if<FoveatedVolumeRaycastParameters>(&parameters)) return &volume->display;
   return nullptr;
 }

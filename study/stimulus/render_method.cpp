@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "core/number_text.h"
 
@@ -20,10 +22,26 @@ struct MemberOf<Value Struct::*> {
   using value = Value;
 };
 
+template <class Part, class Variant>
+constexpr bool is_alternative_of = false;
+template <class Part, class... Alternatives>
+constexpr bool is_alternative_of<Part, std::variant<Alternatives...>> = (std::is_same_v<Part, Alternatives> || ...);
+
+// The struct a member belongs to: a method's, or a sampling-model method's source or model.
+template <class Part, class Parameters>
+auto& part_of(Parameters& parameters) {
+  if constexpr (is_alternative_of<Part, SampleSource>)
+    return std::get<Part>(std::get<SampledParameters>(parameters).source);
+  else if constexpr (is_alternative_of<Part, SamplingModelParameters>)
+    return std::get<Part>(std::get<SampledParameters>(parameters).model);
+  else
+    return std::get<Part>(parameters);
+}
+
 template <auto Member>
 double read_member(const MethodParameters& parameters) {
   using Traits = MemberOf<decltype(Member)>;
-  const auto value = std::get<typename Traits::object>(parameters).*Member;
+  const auto value = part_of<typename Traits::object>(parameters).*Member;
   if constexpr (std::is_enum_v<typename Traits::value>)
     return static_cast<double>(static_cast<std::underlying_type_t<typename Traits::value>>(value));
   else
@@ -34,7 +52,7 @@ template <auto Member>
 void write_member(MethodParameters& parameters, double value) {
   using Traits = MemberOf<decltype(Member)>;
   using Value = typename Traits::value;
-  auto& member = std::get<typename Traits::object>(parameters).*Member;
+  auto& member = part_of<typename Traits::object>(parameters).*Member;
   if constexpr (std::is_enum_v<Value>)
     member = static_cast<Value>(static_cast<std::underlying_type_t<Value>>(value));
   else if constexpr (std::is_same_v<Value, bool>)
@@ -277,23 +295,21 @@ constexpr double kMinSigma = 1.0, kMaxSigma = 8.0;
 constexpr double kMinFocalShare = 1e-3, kMaxFocalShare = 1.0;
 constexpr double kMinAlpha = 0.25, kMaxAlpha = 8.0;
 
-// Seed 002's sampling models: on the sphere tracer, its parameters then the model's; on
-// pre-rendered path-traced frames, the path tracer's then the model's (the same keys).
-template <class Struct>
-MethodDescriptor sampling_model(RenderMethod method, std::string_view name, std::string_view summary) {
+// The sampling models' sources (Ye et al. 2022): on the sphere tracer, its parameters; on
+// pre-rendered path-traced frames, the path tracer's. The model's follow (the same keys on both).
+MethodDescriptor sphere_traced_samples(RenderMethod method, std::string_view name, std::string_view summary) {
   MethodDescriptor descriptor{method, name, summary, SceneKind::signed_distance};
   descriptor.depends_on_gaze = true;
   descriptor.max_samples_per_frame = kSphereTraceSamplesPerFrame;
-  descriptor.parameters = sphere_trace_parameters<Struct>();
+  descriptor.parameters = sphere_trace_parameters<SphereTracedSamples>();
   descriptor.parameters[0].help = "rays a sample, spread over the sample's footprint on the screen";
   return descriptor;
 }
 
-template <class Struct>
-MethodDescriptor path_traced_sampling_model(RenderMethod method, std::string_view name, std::string_view summary) {
+MethodDescriptor path_traced_samples(RenderMethod method, std::string_view name, std::string_view summary) {
   MethodDescriptor descriptor{method, name, summary, SceneKind::path_traced};
   descriptor.depends_on_gaze = true;
-  descriptor.parameters = path_trace_parameters<Struct>();
+  descriptor.parameters = path_trace_parameters<PathTracedSamples>();
   return descriptor;
 }
 
@@ -329,8 +345,8 @@ void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solve
   list.push_back(sigma_parameter<Struct>("with equalise on: the mean density sought is 1 / sigma^2"));
 }
 
-template <class P>
 MethodDescriptor rectangular_mapping(MethodDescriptor method) {
+  using P = RectangularMappingModel;
   method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis: sigma^2 is the theoretical speed-up"));
   method.parameters.push_back(parameter<&P::focal_share_x>("focal_share_x", "", ParameterType::real, 0.3, kMinFocalShare,
                                                            kMaxFocalShare, "f_x as a share of the width"));
@@ -340,8 +356,8 @@ MethodDescriptor rectangular_mapping(MethodDescriptor method) {
   return method;
 }
 
-template <class P>
 MethodDescriptor hyperbolic_layers(MethodDescriptor method) {
+  using P = HyperbolicLayersModel;
   method.needs_display = true;
   auto& list = method.parameters;
   add_radii<P>(list);
@@ -357,8 +373,8 @@ MethodDescriptor hyperbolic_layers(MethodDescriptor method) {
   return method;
 }
 
-template <class P>
 MethodDescriptor linear_falloff(MethodDescriptor method) {
+  using P = LinearFalloffModel;
   method.needs_display = true;
   auto& list = method.parameters;
   add_radii<P>(list);
@@ -371,8 +387,8 @@ MethodDescriptor linear_falloff(MethodDescriptor method) {
   return method;
 }
 
-template <class P>
 MethodDescriptor kernel_log_polar(MethodDescriptor method) {
+  using P = KernelLogPolarModel;
   method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis"));
   method.parameters.push_back(parameter<&P::alpha>("alpha", "", ParameterType::real, 4.0, kMinAlpha, kMaxAlpha,
                                                    "the kernel's exponent: u = w (ln r / L)^alpha"));
@@ -385,29 +401,36 @@ constexpr std::string_view kHyperbolicSummary = "three layers of falling resolut
 constexpr std::string_view kLinearSummary = "linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)";
 constexpr std::string_view kKfrSummary = "kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)";
 
+// The sampling models, in the order of SamplingModelParameters: the config's names and summaries on
+// each source (kSampledMethods' rows) and the model's parameters.
+struct SamplingModelDescriptor {
+  std::string_view names[std::variant_size_v<SampleSource>];
+  std::string_view summaries[std::variant_size_v<SampleSource>];
+  MethodDescriptor (*add_parameters)(MethodDescriptor);
+};
+const SamplingModelDescriptor kSamplingModels[] = {
+    {{"rmfr", "pt-rmfr"}, {kRmfrSummary, "rmfr on pre-rendered path-traced frames (emulated)"}, &rectangular_mapping},
+    {{"hyperbolic", "pt-hyperbolic"},
+     {kHyperbolicSummary, "hyperbolic on pre-rendered path-traced frames (emulated)"},
+     &hyperbolic_layers},
+    {{"linear", "pt-linear"}, {kLinearSummary, "linear on pre-rendered path-traced frames (emulated)"}, &linear_falloff},
+    {{"kfr", "pt-kfr"}, {kKfrSummary, "kfr on pre-rendered path-traced frames (emulated)"}, &kernel_log_polar},
+};
+static_assert(std::size(kSamplingModels) == std::variant_size_v<SamplingModelParameters>);
+
+// Every (source, model) pair, in RenderMethod's order (source-major).
 std::vector<MethodDescriptor> sampling_models() {
-  using R = RenderMethod;
-  return {
-      rectangular_mapping<RectangularMappingParameters>(
-          sampling_model<RectangularMappingParameters>(R::rectangular_mapping, "rmfr", kRmfrSummary)),
-      hyperbolic_layers<HyperbolicLayersParameters>(
-          sampling_model<HyperbolicLayersParameters>(R::hyperbolic_layers, "hyperbolic", kHyperbolicSummary)),
-      linear_falloff<LinearFalloffParameters>(
-          sampling_model<LinearFalloffParameters>(R::linear_falloff, "linear", kLinearSummary)),
-      kernel_log_polar<KernelLogPolarParameters>(
-          sampling_model<KernelLogPolarParameters>(R::kernel_log_polar, "kfr", kKfrSummary)),
-      rectangular_mapping<PathTracedRectangularMappingParameters>(
-          path_traced_sampling_model<PathTracedRectangularMappingParameters>(
-              R::path_traced_rectangular_mapping, "pt-rmfr", "rmfr on pre-rendered path-traced frames (emulated)")),
-      hyperbolic_layers<PathTracedHyperbolicLayersParameters>(
-          path_traced_sampling_model<PathTracedHyperbolicLayersParameters>(
-              R::path_traced_hyperbolic_layers, "pt-hyperbolic", "hyperbolic on pre-rendered path-traced frames (emulated)")),
-      linear_falloff<PathTracedLinearFalloffParameters>(path_traced_sampling_model<PathTracedLinearFalloffParameters>(
-          R::path_traced_linear_falloff, "pt-linear", "linear on pre-rendered path-traced frames (emulated)")),
-      kernel_log_polar<PathTracedKernelLogPolarParameters>(
-          path_traced_sampling_model<PathTracedKernelLogPolarParameters>(
-              R::path_traced_kernel_log_polar, "pt-kfr", "kfr on pre-rendered path-traced frames (emulated)")),
-  };
+  using Source = MethodDescriptor (*)(RenderMethod, std::string_view, std::string_view);
+  const Source sources[] = {&sphere_traced_samples, &path_traced_samples};
+  static_assert(std::size(sources) == std::variant_size_v<SampleSource>);
+  std::vector<MethodDescriptor> list;
+  for (size_t source = 0; source < std::size(sources); ++source)
+    for (size_t model = 0; model < std::size(kSamplingModels); ++model) {
+      const SamplingModelDescriptor& entry = kSamplingModels[model];
+      list.push_back(entry.add_parameters(
+          sources[source](kSampledMethods[source][model], entry.names[source], entry.summaries[source])));
+    }
+  return list;
 }
 
 // Seed 003's volume raycaster, full and Voronoi-foveated (docs/volume-rendering.md).
@@ -557,24 +580,39 @@ double default_in_log_schema(const ParameterDescriptor& parameter, int log_schem
   return default_changed_since(parameter, log_schema_version) ? parameter.earlier_default : parameter.default_value;
 }
 
+namespace {
+
+// The variant holding its alternative number `index`, value-initialised (zeroed: the descriptors
+// write the defaults).
+template <class Variant, size_t... Index>
+Variant alternative_at(size_t index, std::index_sequence<Index...>) {
+  Variant variant;
+  ((index == Index ? void(variant.template emplace<Index>()) : void()), ...);
+  return variant;
+}
+template <class Variant>
+Variant alternative_at(size_t index) {
+  return alternative_at<Variant>(index, std::make_index_sequence<std::variant_size_v<Variant>>());
+}
+
+}  // namespace
+
 MethodParameters default_parameters(RenderMethod method) {
   MethodParameters parameters;
-  switch (method) {
-    case RenderMethod::ground_truth: parameters = GroundTruthParameters{}; break;
-    case RenderMethod::inverted_pyramid: parameters = InvertedPyramidParameters{}; break;
-    case RenderMethod::foveated_pyramid: parameters = FoveatedPyramidParameters{}; break;
-    case RenderMethod::path_traced: parameters = PathTracedParameters{}; break;
-    case RenderMethod::foveated_path_traced: parameters = FoveatedPathTracedParameters{}; break;
-    case RenderMethod::rectangular_mapping: parameters = RectangularMappingParameters{}; break;
-    case RenderMethod::hyperbolic_layers: parameters = HyperbolicLayersParameters{}; break;
-    case RenderMethod::linear_falloff: parameters = LinearFalloffParameters{}; break;
-    case RenderMethod::kernel_log_polar: parameters = KernelLogPolarParameters{}; break;
-    case RenderMethod::path_traced_rectangular_mapping: parameters = PathTracedRectangularMappingParameters{}; break;
-    case RenderMethod::path_traced_hyperbolic_layers: parameters = PathTracedHyperbolicLayersParameters{}; break;
-    case RenderMethod::path_traced_linear_falloff: parameters = PathTracedLinearFalloffParameters{}; break;
-    case RenderMethod::path_traced_kernel_log_polar: parameters = PathTracedKernelLogPolarParameters{}; break;
-    case RenderMethod::volume_raycast: parameters = VolumeRaycastParameters{}; break;
-    case RenderMethod::foveated_volume_raycast: parameters = FoveatedVolumeRaycastParameters{}; break;
+  size_t source = 0, model = 0;
+  if (sampled_method_parts(method, source, model)) {
+    parameters = SampledParameters{alternative_at<SampleSource>(source), alternative_at<SamplingModelParameters>(model)};
+  } else {
+    switch (method) {
+      case RenderMethod::ground_truth: parameters = GroundTruthParameters{}; break;
+      case RenderMethod::inverted_pyramid: parameters = InvertedPyramidParameters{}; break;
+      case RenderMethod::foveated_pyramid: parameters = FoveatedPyramidParameters{}; break;
+      case RenderMethod::path_traced: parameters = PathTracedParameters{}; break;
+      case RenderMethod::foveated_path_traced: parameters = FoveatedPathTracedParameters{}; break;
+      case RenderMethod::volume_raycast: parameters = VolumeRaycastParameters{}; break;
+      case RenderMethod::foveated_volume_raycast: parameters = FoveatedVolumeRaycastParameters{}; break;
+      default: throw std::logic_error("default_parameters: a sampling model not in kSampledMethods");
+    }
   }
   for (const ParameterDescriptor& parameter : describe(method).parameters)
     parameter.write(parameters, parameter.default_value);
@@ -613,10 +651,11 @@ std::optional<ParameterConflict> parameter_conflict(const MethodParameters& para
   const auto linear = [&](const auto& falloff) {
     return at_least("outer_radius_deg", falloff.outer_radius_deg, "inner_radius_deg", falloff.inner_radius_deg);
   };
-  if (const auto* layers = std::get_if<HyperbolicLayersParameters>(&parameters)) return hyperbolic(*layers);
-  if (const auto* layers = std::get_if<PathTracedHyperbolicLayersParameters>(&parameters)) return hyperbolic(*layers);
-  if (const auto* falloff = std::get_if<LinearFalloffParameters>(&parameters)) return linear(*falloff);
-  if (const auto* falloff = std::get_if<PathTracedLinearFalloffParameters>(&parameters)) return linear(*falloff);
+  if (const auto* sampled = std::get_if<SampledParameters>(&parameters)) {
+    if (const auto* layers = std::get_if<HyperbolicLayersModel>(&sampled->model)) return hyperbolic(*layers);
+    if (const auto* falloff = std::get_if<LinearFalloffModel>(&sampled->model)) return linear(*falloff);
+    return std::nullopt;
+  }
   const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters);
   if (!fipr || fipr->outer_periphery_radius_deg >= fipr->fovea_radius_deg) return std::nullopt;
   return ParameterConflict{{"fovea_radius_deg", "outer_periphery_radius_deg"},

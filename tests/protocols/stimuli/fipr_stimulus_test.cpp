@@ -207,15 +207,15 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   EXPECT_EQ(f.reconstruction, r.reconstruction);
   // Each of the config's choices reaches the renderer as the same-named reconstruction.
   auto& fipr = std::get<FoveatedPyramidParameters>(spec.parameters);
-  for (const FiprPeripheryReconstruction choice :
-       {FiprPeripheryReconstruction::mid_footprint_bilinear, FiprPeripheryReconstruction::bilinear,
-        FiprPeripheryReconstruction::catmull_rom}) {
+  for (const PeripheryReconstruction choice :
+       {PeripheryReconstruction::mid_footprint_bilinear, PeripheryReconstruction::bilinear,
+        PeripheryReconstruction::catmull_rom}) {
     fipr.periphery_reconstruction = choice;
     const std::string name = to_json(spec)["parameters"].value("periphery_reconstruction", "mid-footprint-bilinear");
     EXPECT_EQ(periphery_reconstruction_name(sphere_trace_settings(spec, 0).foveation.reconstruction), name);
   }
   EXPECT_EQ(f.near_misses, r.near_misses);
-  for (const FiprNearMisses choice : {FiprNearMisses::ignore, FiprNearMisses::promote}) {
+  for (const NearMisses choice : {NearMisses::ignore, NearMisses::promote}) {
     fipr.near_misses = choice;
     const std::string name = to_json(spec)["parameters"].value("near_misses", "ignore");
     EXPECT_EQ(near_misses_name(sphere_trace_settings(spec, 0).foveation.near_misses), name);
@@ -257,13 +257,13 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(settings.coarse_test, CoarseTest::centre_ray);
   EXPECT_NO_THROW(validate(settings));
 
-  fipr.coarse_test = PyramidCoarseTest::cone;
+  fipr.coarse_test = CoarseTest::cone;
   fipr.fovea_radius_deg = 12.5;
   fipr.outer_periphery_radius_deg = 40;
   fipr.periphery_refresh = 4;
   fipr.periphery_steps = 0;
   fipr.blur = true;
-  fipr.combine = FiprCombine::product;
+  fipr.combine = MaskCombine::product;
   fipr.edge_threshold = 0.1;
   fipr.mask_seed = 4294967295u;
   settings = sphere_trace_settings(spec, 0);
@@ -348,7 +348,7 @@ viewing_distance_mm = 300
   EXPECT_EQ(config.stimulus.test.parameters.at("mask_seed"), 77);
   EXPECT_EQ(config.stimulus.test.parameters.at("combine"), 3);  // its index
   const auto typed = std::get<FoveatedPyramidParameters>(parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters}));
-  EXPECT_EQ(typed.combine, FiprCombine::acuity);
+  EXPECT_EQ(typed.combine, MaskCombine::acuity);
   EXPECT_TRUE(typed.blur);
   EXPECT_EQ(typed.outer_periphery_radius_deg, 40);
 }

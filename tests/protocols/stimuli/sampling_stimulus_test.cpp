@@ -155,13 +155,13 @@ TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
 
 TEST(SamplingStimulus, ResampleChoiceReachesTheRenderer) {
   StimulusSpec spec = spec_of(RenderMethod::kernel_log_polar);
-  std::get<KernelLogPolarParameters>(spec.parameters).resample = SampleResampling::lanczos;
+  std::get<KernelLogPolarModel>(std::get<SampledParameters>(spec.parameters).model).resample = ResampleFilter::lanczos2;
   EXPECT_EQ(sphere_trace_settings(spec, 0).sampling_filter, ResampleFilter::lanczos2);
 }
 
 TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   StimulusSpec spec = spec_of(RenderMethod::linear_falloff);
-  auto& linear = std::get<LinearFalloffParameters>(spec.parameters);
+  auto& linear = std::get<LinearFalloffModel>(std::get<SampledParameters>(spec.parameters).model);
   linear.equalise = true;
   linear.sigma = 1.05;  // this small display is mostly within 20 degrees: only a small sigma is reachable
   EXPECT_NEAR(mean_density(sampling_map(spec, 48, 27)), 1.0 / (1.05 * 1.05), 1e-9);
@@ -170,7 +170,7 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   const double centre_p_min = std::get<LinearFalloff>(sampling_map(spec, 48, 27)).min_probability;
   EXPECT_EQ(std::get<LinearFalloff>(sampling_map(spec, 0, 0)).min_probability, centre_p_min);
   StimulusSpec layers_spec = spec_of(RenderMethod::hyperbolic_layers);
-  auto& layers = std::get<HyperbolicLayersParameters>(layers_spec.parameters);
+  auto& layers = std::get<HyperbolicLayersModel>(std::get<SampledParameters>(layers_spec.parameters).model);
   layers.equalise = true;
   layers.inner_radius_deg = 4;  // this small display lies within 20 degrees: smaller zones
   layers.outer_radius_deg = 8;

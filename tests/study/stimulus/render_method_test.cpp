@@ -54,7 +54,7 @@ TEST(RenderMethod, ChoicesTravelByNameInTheCanonicalTextAndJson) {
   StimulusSpec spec;
   spec.scene = "primitives";
   spec.parameters = default_parameters(RenderMethod::foveated_pyramid);
-  std::get<FoveatedPyramidParameters>(spec.parameters).combine = FiprCombine::fovea_or_product;
+  std::get<FoveatedPyramidParameters>(spec.parameters).combine = MaskCombine::fovea_or_product;
   EXPECT_NE(spec.canonical().find(";combine=fovea-or-product;"), std::string::npos) << spec.canonical();
   EXPECT_NE(spec.canonical().find(";blur=off;"), std::string::npos);
   EXPECT_NE(spec.canonical().find(";fovea_radius_deg=7.5;"), std::string::npos);
@@ -78,7 +78,7 @@ TEST(RenderMethod, ParametersAddedLaterKeepTheCanonicalTextOfOlderStimuli) {
             "samples_per_pixel=1;size=64x36;frames=1@1;camera_start_s=0");
   EXPECT_FALSE(to_json(spec)["parameters"].contains("coarse_test"));
   auto& ipr = std::get<InvertedPyramidParameters>(spec.parameters);
-  ipr.coarse_test = PyramidCoarseTest::cone;
+  ipr.coarse_test = CoarseTest::cone;
   ipr.full_resolution_depth = true;
   EXPECT_NE(spec.canonical().find(";coarse_test=cone;full_resolution_depth=on;"), std::string::npos) << spec.canonical();
   EXPECT_EQ(to_json(spec)["parameters"]["coarse_test"], "cone");
@@ -137,7 +137,7 @@ TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
   const auto test = std::get<FoveatedPyramidParameters>(
       parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters, &config.stimulus.variants[0].parameters}));
   EXPECT_EQ(test.outer_periphery_radius_deg, 40);
-  EXPECT_EQ(test.combine, FiprCombine::product);
+  EXPECT_EQ(test.combine, MaskCombine::product);
   EXPECT_TRUE(test.blur);
   // Without a catalog (a log read on another machine) the scene is taken as written.
   EXPECT_EQ(parse_logged_study_config(kLegacyConfig, "events.jsonl", 2, nullptr).blocks[0].scene, "primitives");
@@ -179,26 +179,26 @@ TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
         parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters, variant ? variant : &none}));
   };
   const StudyConfig now = parse_study_config_text(config_text, "x.toml", kScenes);
-  EXPECT_EQ(test_of(now, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::bilinear);
+  EXPECT_EQ(test_of(now, nullptr).periphery_reconstruction, PeripheryReconstruction::bilinear);
   const StudyConfig schema5 = parse_logged_study_config(config_text, "events.jsonl", 5, nullptr);
-  EXPECT_EQ(test_of(schema5, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::bilinear);
+  EXPECT_EQ(test_of(schema5, nullptr).periphery_reconstruction, PeripheryReconstruction::bilinear);
   // near_misses changed in schema 6 (two parameters' defaults, each from its own schema).
-  EXPECT_EQ(test_of(now, nullptr).near_misses, FiprNearMisses::promote);
+  EXPECT_EQ(test_of(now, nullptr).near_misses, NearMisses::promote);
   EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", 6, nullptr), nullptr).near_misses,
-            FiprNearMisses::promote);
+            NearMisses::promote);
   for (const int schema : {1, 2, 3, 4, 5}) {
     EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", schema, nullptr), nullptr).near_misses,
-              FiprNearMisses::ignore)
+              NearMisses::ignore)
         << schema;
   }
   for (const int schema : {1, 2, 3, 4}) {
     const StudyConfig old = parse_logged_study_config(config_text, "events.jsonl", schema, nullptr);
-    EXPECT_EQ(test_of(old, nullptr).periphery_reconstruction, FiprPeripheryReconstruction::mid_footprint_bilinear)
+    EXPECT_EQ(test_of(old, nullptr).periphery_reconstruction, PeripheryReconstruction::mid_footprint_bilinear)
         << schema;
     // A variant that names it is still obeyed (a config of schema 5 read from a schema 4 log
     // cannot name it, but the layering must not hide what a config says).
     const ParameterLayer variant{{"periphery_reconstruction", 2.0}};
-    EXPECT_EQ(test_of(old, &variant).periphery_reconstruction, FiprPeripheryReconstruction::catmull_rom) << schema;
+    EXPECT_EQ(test_of(old, &variant).periphery_reconstruction, PeripheryReconstruction::catmull_rom) << schema;
     // The reference's method (gt) has no such parameter and gains none.
     EXPECT_TRUE(old.stimulus.reference.parameters.empty());
   }
@@ -206,9 +206,9 @@ TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
   config_text.replace(config_text.find("method = \"fipr\"\n"), 16,
                       "method = \"fipr\"\nperiphery_reconstruction = \"catmull-rom\"\n");
   EXPECT_EQ(test_of(parse_study_config_text(config_text, "x.toml", kScenes), nullptr).periphery_reconstruction,
-            FiprPeripheryReconstruction::catmull_rom);
+            PeripheryReconstruction::catmull_rom);
   EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", 4, nullptr), nullptr).periphery_reconstruction,
-            FiprPeripheryReconstruction::catmull_rom);
+            PeripheryReconstruction::catmull_rom);
 
   StimulusSpec spec;
   spec.scene = "primitives";
@@ -218,11 +218,11 @@ TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
   EXPECT_NE(spec.canonical().find(";periphery_reconstruction=bilinear;"), std::string::npos) << spec.canonical();
   EXPECT_EQ(to_json(spec)["parameters"]["periphery_reconstruction"], "bilinear");
   std::get<FoveatedPyramidParameters>(spec.parameters).periphery_reconstruction =
-      FiprPeripheryReconstruction::mid_footprint_bilinear;
+      PeripheryReconstruction::mid_footprint_bilinear;
   EXPECT_EQ(spec.canonical().find("periphery_reconstruction"), std::string::npos) << spec.canonical();
   EXPECT_FALSE(to_json(spec)["parameters"].contains("periphery_reconstruction"));
   EXPECT_NE(spec.canonical().find(";near_misses=promote;"), std::string::npos) << spec.canonical();
-  std::get<FoveatedPyramidParameters>(spec.parameters).near_misses = FiprNearMisses::ignore;
+  std::get<FoveatedPyramidParameters>(spec.parameters).near_misses = NearMisses::ignore;
   EXPECT_EQ(spec.canonical().find("near_misses"), std::string::npos) << spec.canonical();
   EXPECT_FALSE(to_json(spec)["parameters"].contains("near_misses"));
 }

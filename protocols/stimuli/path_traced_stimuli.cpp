@@ -1,0 +1,140 @@
+// The path-traced family: pre-rendered path-traced frames (renderer/prerender/frame_cache.h), shown
+// as they are (pt), blended by the gaze of each refresh into three zones (fpt, the emulated foveated
+// path tracer of Polychronakis et al. 2021) or sampled by a sampling model (pt-rmfr, pt-hyperbolic,
+// pt-linear, pt-kfr: Ye et al. 2022's models on the frames). No state carries from one image to the
+// next, so any image can be rendered on its own.
+#include <cmath>
+#include <optional>
+
+#include "core/input_error.h"
+#include "protocols/stimuli/stimulus_renderer.h"
+#include "renderer/foveated_sampling/frame_sampler.h"
+#include "renderer/path_tracing/path_tracer.h"
+#include "renderer/prerender/frame_cache.h"
+#include "renderer/zone_blend/zone_blender.h"
+
+namespace fovlab {
+namespace {
+
+class PathTracedStimuli final : public StimulusRenderer {
+ public:
+  PathTracedStimuli(vk::Context& context, const std::filesystem::path& cache_root)
+      : context_(context), frame_cache_(context, cache_root) {}
+
+  bool renders(RenderMethod method) const override { return describe(method).scene_kind == SceneKind::path_traced; }
+
+  void validate(const StimulusSpec& spec) override {
+    try {
+      check_path_trace_frame_bytes(context_, spec.width_px, spec.height_px);
+      if (spec.method() == RenderMethod::foveated_path_traced) check_zone_frame_size(context_, spec.width_px, spec.height_px);
+    } catch (const InputError& error) {
+      throw InputError(config_frame_size(spec) + ": " + error.what());
+    }
+    if (spec.method() == RenderMethod::foveated_path_traced) {  // its display and zones
+      stimulus_display(spec);
+      check_zone_bounds(zone_bounds(spec));
+    }
+  }
+
+  void prepare(const StimulusSpec& spec, const std::function<void()>& frame_done) override {
+    if (!describe(spec.method()).depends_on_gaze) return;  // pt frames are loaded (or rendered) by the library's render loop
+    // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
+    // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
+    // error naming its file now rather than mid-session.
+    for (const PathTraceSequence& sequence : path_traced_frames(spec).sequences)
+      for (int frame = 0; frame < sequence.frame_count; ++frame) {
+        frame_cache_.frame(sequence, frame);
+        frame_done();
+      }
+    if (is_sampling_model(spec.method())) sampling_map(spec, std::nan(""), std::nan(""));  // equalise solves now
+  }
+
+  PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
+    PreparedFrame rendered;
+    if (spec.method() == RenderMethod::path_traced) {
+      rendered.image = shown(spec, image);
+      rendered.hash = frame_hash(rendered.image);
+    } else if (spec.method() == RenderMethod::foveated_path_traced) {
+      rendered.on_device = blended(spec, image);
+    } else {
+      rendered.on_device = sampled(spec, image);
+    }
+    return rendered;
+  }
+
+ private:
+  // pt: the frame encoded by the shader that encodes fpt's frames, so that the two agree to the
+  // byte wherever fpt shows its full-resolution zone.
+  Rgba8Frame shown(const StimulusSpec& spec, const StimulusImage& image) {
+    const PathTracedFrames frames = path_traced_frames(spec);
+    Rgba8Frame frame;
+    frame.width = spec.width_px;
+    frame.height = spec.height_px;
+    frame.rgba = blender().encode_for_display(frame_cache_.frame(frames.sequences[0], image.frame));
+    return frame;
+  }
+
+  // fpt: the zone buffers change with the animation frame, the blend with every gaze sample.
+  DeviceRgba8Frame blended(const StimulusSpec& spec, const StimulusImage& image) {
+    const PathTracedFrames frames = path_traced_frames(spec);
+    const std::string key = spec.canonical() + "#" + std::to_string(image.frame);
+    if (key != blender_frame_) {
+      blender_frame_.clear();
+      const Image foveal = frame_cache_.frame(frames.sequences[0], image.frame);
+      if (frames.sequences.size() > 1) {
+        const Image periphery = frame_cache_.frame(frames.sequences[1], image.frame);
+        blender().set_frame(foveal, &periphery);
+      } else {
+        blender().set_frame(foveal);
+      }
+      blender_frame_ = key;
+    }
+    // Blended and sRGB-encoded on the GPU. A gaze sample that is not a number (none usable, not even
+    // a substitute) shows the frame itself: the full-resolution zone everywhere.
+    return blender().display_frame_on_device(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec));
+  }
+
+  // The sampling models: as fpt, the frame is uploaded when the animation frame changes and the map
+  // follows every gaze sample.
+  DeviceRgba8Frame sampled(const StimulusSpec& spec, const StimulusImage& image) {
+    const std::string canonical = spec.canonical();
+    const std::string key = canonical + "#" + std::to_string(image.frame);
+    if (key != sampler_frame_) {
+      sampler_frame_.clear();
+      sampler().set_frame(frame_cache_.frame(path_traced_frames(spec).sequences[0], image.frame));
+      sampler_frame_ = key;
+    }
+    if (canonical != sampler_centre_spec_) {  // equalise's solution, solved once a stimulus
+      sampler_centre_ = sampling_map(spec, std::nan(""), std::nan(""));
+      sampler_centre_spec_ = canonical;
+    }
+    return sampler().display_frame_on_device(sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*sampler_centre_),
+                                             sampling_filter(spec));
+  }
+
+  ZoneBlender& blender() {
+    if (!blender_) blender_ = std::make_unique<ZoneBlender>(context_);
+    return *blender_;
+  }
+  FrameSampler& sampler() {
+    if (!sampler_) sampler_ = std::make_unique<FrameSampler>(context_);
+    return *sampler_;
+  }
+
+  vk::Context& context_;
+  FrameCache frame_cache_;
+  std::unique_ptr<ZoneBlender> blender_;
+  std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
+  std::unique_ptr<FrameSampler> sampler_;
+  std::string sampler_frame_;  // spec and frame the sampler holds
+  std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
+  std::string sampler_centre_spec_;            // ... with this canonical text
+};
+
+}  // namespace
+
+std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context, const std::filesystem::path& cache_root) {
+  return std::make_unique<PathTracedStimuli>(context, cache_root);
+}
+
+}  // namespace fovlab

@@ -1,0 +1,68 @@
+#pragma once
+// One renderer per stimulus family, each doing the four things StimulusLibrary asks of a stimulus:
+// refuse what can be refused without rendering (validate), ready what its images need before the
+// first trial (prepare), render one image (render), and key what it keeps between images by what
+// changes it. The family is the kind of scene the method renders (SceneKind), chosen once, by
+// make_stimulus_renderer:
+// - sphere-traced SDF scenes: gt, ipr, fipr and the sampling models on the sphere tracer;
+// - pre-rendered path-traced frames (renderer/prerender/frame_cache.h), shown as they are (pt),
+//   blended by zone (fpt, Polychronakis et al. 2021) or sampled by a model (pt-rmfr, ...);
+// - volume scenes: volume and fvolume (Bruder et al. 2019).
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "protocols/stimuli/stimulus_library.h"
+
+namespace fovlab {
+
+enum class StimulusFamily { sphere_traced, path_traced, volume };
+inline constexpr StimulusFamily kStimulusFamilies[] = {StimulusFamily::sphere_traced, StimulusFamily::path_traced,
+                                                       StimulusFamily::volume};
+const char* stimulus_family_name(StimulusFamily family);  // "sphere-traced", "path-traced", "volume"
+
+// The family whose renderer draws the method: its descriptor's scene kind.
+StimulusFamily stimulus_family(RenderMethod method);
+
+class StimulusRenderer {
+ public:
+  virtual ~StimulusRenderer() = default;
+  // Whether this family draws the method (exactly one family draws each).
+  virtual bool renders(RenderMethod method) const = 0;
+  // Refuses (InputError) what needs no render: the frame size against the device's limits (the
+  // study config's display size: errors name its fields), a foveated method's settings.
+  virtual void validate(const StimulusSpec& spec) = 0;
+  // Readies, before the first trial, what the spec's images need (the scene compiled or loaded, the
+  // cache's frames on disk, a sampling model's equalise solved, a Voronoi mask made); `frame_done`
+  // hears each pre-rendered frame read or rendered into the cache. Gaze-independent frames are not
+  // rendered here: the library renders them ahead through render().
+  virtual void prepare(const StimulusSpec& spec, const std::function<void()>& frame_done) = 0;
+  // One image: left on the device (PreparedFrame::on_device, no hash yet), or, for pt, as bytes with
+  // their hash. Gaze-dependent methods that keep state between images render a presentation's
+  // images in order (check_image_sequence).
+  virtual PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) = 0;
+};
+
+// The renderer of a family; `cache_root`: the pre-render cache's folder (path-traced family).
+std::unique_ptr<StimulusRenderer> make_stimulus_renderer(StimulusFamily family, vk::Context& context,
+                                                         const std::filesystem::path& cache_root);
+
+// The last image a scene's renderer made, for the sequence check of gaze-dependent methods.
+struct LastImage {
+  std::string canonical;  // spec; empty after a gaze-independent frame
+  int image_index = -1;
+};
+// Gaze-dependent methods render a presentation's images in order: std::logic_error unless image k
+// directly follows image k - 1 of the same spec (`last` is what was rendered before).
+void check_image_sequence(const LastImage& last, const std::string& canonical, const StimulusImage& image);
+
+// Each family's renderer (sphere_traced_stimuli.cpp, path_traced_stimuli.cpp, volume_stimuli.cpp).
+std::unique_ptr<StimulusRenderer> make_sphere_traced_renderer(vk::Context& context);
+std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context, const std::filesystem::path& cache_root);
+std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context);
+
+// The study config's frame size in messages: "display.width_px x display.height_px = WxH".
+extern const char* const kConfigFrameSize;
+std::string config_frame_size(const StimulusSpec& spec);
+
+}  // namespace fovlab
