@@ -14,14 +14,12 @@ namespace fovlab::bench {
 
 namespace {
 
-constexpr uint32_t kGroupWidth = 64;  // buffer_copy.comp.glsl's local_size_x, as the blend's shaders: rows of 64
-
 // The copy shader over the first width x height float RGBA texels of `from` into `to`.
 void record_copy_shader(VkCommandBuffer commands, const vk::ComputePipeline& copy, const vk::Buffer& from,
                         const vk::Buffer& to, int width, int height) {
   const gpu::CopyParams params{{uint32_t(width), uint32_t(height)}};
   const VkBuffer buffers[] = {from.handle(), to.handle()};
-  copy.dispatch_groups(commands, buffers, &params, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth, uint32_t(height));
+  copy.dispatch_groups(commands, buffers, &params, gpu::row_groups(uint32_t(width)), uint32_t(height));
 }
 
 // The band list's count (word 0) into the host-readable `to`, with the barriers on either side.

@@ -18,7 +18,6 @@ namespace fovlab {
 
 namespace {
 
-constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 constexpr uint32_t kListCounter = 0;  // counters_[0] counts the sample list
 
 using gpu::FrameReadParams;
@@ -71,10 +70,10 @@ void FrameSampler::set_frame(const Image& frame) {
   if (frame.channels < 1 || frame.channels > 4 || frame.pixel_count() == 0)
     throw InputError("frame of " + std::to_string(frame.width) + "x" + std::to_string(frame.height) + "x" +
                      std::to_string(frame.channels) + " to sample: expected 1 to 4 channels and at least one pixel");
-  const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * kTexelBytes;
+  const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * vk::kRgba32fTexelBytes;
   if (bytes > context_.max_storage_buffer_bytes)
     throw InputError("frame of " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " pixels to sample: expected at most " + std::to_string(context_.max_storage_buffer_bytes / kTexelBytes) +
+                     " pixels to sample: expected at most " + std::to_string(context_.max_storage_buffer_bytes / vk::kRgba32fTexelBytes) +
                      " pixels (16 bytes a pixel in one buffer) on " + context_.description.name);
   if (frame.width != width_ || frame.height != height_) {  // kept from one animation frame to the next
     frame_ = vk::Buffer(context_, bytes, vk::MemoryUse::device_local);

@@ -9,7 +9,6 @@
 namespace fovlab {
 
 namespace {
-constexpr uint32_t kGroupWidth = 64;  // srgb8_encode's local size: rows of 64
 }
 
 Srgb8Encoder::Srgb8Encoder(const vk::Context& context)
@@ -20,7 +19,7 @@ Srgb8Encoder::~Srgb8Encoder() = default;
 void Srgb8Encoder::record(VkCommandBuffer commands, VkBuffer texels, VkBuffer encoded, int width, int height) const {
   const gpu::EncodeParams params{{uint32_t(width), uint32_t(height)}};
   const VkBuffer buffers[] = {texels, encoded};
-  pipeline_->dispatch_groups(commands, buffers, &params, (uint32_t(width) + kGroupWidth - 1) / kGroupWidth,
+  pipeline_->dispatch_groups(commands, buffers, &params, gpu::row_groups(uint32_t(width)),
                              uint32_t(height));
 }
 

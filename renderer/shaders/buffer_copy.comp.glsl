@@ -4,8 +4,8 @@
 // write it once), and so the baseline its cost is measured against (bench/blend_cost.h).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/zone_blend_params.h"
+layout(local_size_x = ROW_GROUP_WIDTH, local_size_y = 1, local_size_z = 1) in;
 
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Source { vec4 source[]; };
 layout(std430, binding = 1) writeonly buffer Target { vec4 target[]; };

@@ -5,13 +5,13 @@
 // (zone_display then copies most pixels from there) and the pt method's frames, so that a pt frame
 // and the fovea of the fpt frame made from it are the same bytes.
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;  // rows of 64, as zone_blend
 
 const uint OUTPUT_SRGB8 = 1u;
 
 #include "srgb8.glsl"
 #include "zone_texels.glsl"
 #include "shared/present_params.h"
+layout(local_size_x = ROW_GROUP_WIDTH, local_size_y = 1, local_size_z = 1) in;  // rows of 64, as zone_blend
 
 layout(std430, binding = 1) writeonly buffer Encoded { uint encoded[]; };
 

@@ -4,13 +4,13 @@
 // to sRGB8 (zone_blend's blend, srgb8_encode's encoding). Dispatched indirectly (list_dispatch):
 // workgroup (x, y) of 64 takes list items from (y * groups_x + x) * 64.
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 const uint OUTPUT_SRGB8 = 1u;
 
 #include "srgb8.glsl"
 #include "zone_weights.glsl"
 #include "zone_texels.glsl"
+layout(local_size_x = ROW_GROUP_WIDTH, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 1) writeonly buffer BlendedSrgb8 { uint blended_srgb8[]; };
 layout(std430, binding = 2) readonly buffer BandList {

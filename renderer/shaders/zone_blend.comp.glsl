@@ -8,12 +8,12 @@
 // One invocation a pixel in row-major order: a workgroup covers 64 consecutive pixels of a row,
 // which lavapipe runs far faster than 8x8 tiles (contiguous SIMD loads and stores).
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 const uint OUTPUT_SRGB8 = 0u;
 
 #include "zone_weights.glsl"
 #include "zone_texels.glsl"
+layout(local_size_x = ROW_GROUP_WIDTH, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 1) writeonly buffer Blended { vec4 blended[]; };
 

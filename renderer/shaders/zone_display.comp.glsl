@@ -6,9 +6,9 @@
 // per-sample cost of most pixels is a copy's. (On lavapipe every branch runs for every pixel under
 // a mask, so the band's work must be in a pass of its own to be skipped.)
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 #include "zone_weights.glsl"
+layout(local_size_x = ROW_GROUP_WIDTH, local_size_y = 1, local_size_z = 1) in;
 
 // The zones' sRGB8 texels (packed RGBA) one after the other: foveal, middle, outer.
 layout(std430, binding = 0) readonly buffer ZonesSrgb8 { uint zones_srgb8[]; };

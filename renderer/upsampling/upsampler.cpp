@@ -89,9 +89,8 @@ void Upsampler::record(VkCommandBuffer commands, VkBuffer source, VkBuffer scrat
       target_height + factor <= height * factor)
     throw std::logic_error("Upsampler::record: a target side must lie in ((side - 1) * factor, side * factor]");
   const VkBuffer weight_table = weights(filter, factor).handle();
-  constexpr uint32_t kGroupWidth = 64;           // local_size_x of upsample.comp.glsl
   const auto groups = [&](uint32_t lines, uint32_t cells) {
-    return std::pair{(lines + kGroupWidth - 1) / kGroupWidth, (cells + gpu::CELLS_PER_INVOCATION - 1) / gpu::CELLS_PER_INVOCATION};
+    return std::pair{gpu::row_groups(lines), (cells + gpu::CELLS_PER_INVOCATION - 1) / gpu::CELLS_PER_INVOCATION};
   };
   // Along x: one invocation a row and run of cells.
   const UpsampleParams along_x{{width, height}, {target_width, height}, factor, 0, 0};

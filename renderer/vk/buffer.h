@@ -6,6 +6,9 @@
 
 namespace fovlab::vk {
 
+// One texel of the float RGBA frames the passes hand each other (vec4 in std430).
+inline constexpr VkDeviceSize kRgba32fTexelBytes = 4 * sizeof(float);
+
 class Context;
 
 enum class MemoryUse {

@@ -21,7 +21,6 @@ namespace {
 
 constexpr uint32_t kModeFull = 0, kModeSites = 1;
 constexpr uint32_t kNoSlot = 0xFFFFFFFFu;
-constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 // Phong with a headlight: ambient, diffuse, specular, shininess.
 constexpr std::array<float, 4> kShading{0.3f, 0.7f, 0.25f, 24.0f};
 
@@ -179,8 +178,8 @@ void VolumeRaycaster::ensure_frame_buffers(int width_px, int height_px) {
                      " pixels: expected at most " + std::to_string(context_.max_storage_buffer_bytes / 128) +
                      " pixels on " + context_.description.name + " (its largest buffer binding holds " +
                      std::to_string(context_.max_storage_buffer_bytes) + " bytes; 128 bytes a pixel)");
-  colour_ = vk::Buffer(context_, pixels * kTexelBytes, vk::MemoryUse::device_local);
-  readback_ = vk::Buffer(context_, pixels * kTexelBytes, vk::MemoryUse::host_readback);
+  colour_ = vk::Buffer(context_, pixels * vk::kRgba32fTexelBytes, vk::MemoryUse::device_local);
+  readback_ = vk::Buffer(context_, pixels * vk::kRgba32fTexelBytes, vk::MemoryUse::host_readback);
   display_srgb8_ = vk::Buffer(context_, pixels * 4, vk::MemoryUse::device_local);
   history_ = vk::Buffer();
   history_state_ = History{};
@@ -344,7 +343,7 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
                                 {offset_x, offset_y}, 0, kNoSlot};
   if (smoothing) {
     if (history_.handle() == VK_NULL_HANDLE) {
-      history_ = vk::Buffer(context_, VkDeviceSize(width_) * VkDeviceSize(height_) * kTexelBytes * kTemporalHistoryFrames,
+      history_ = vk::Buffer(context_, VkDeviceSize(width_) * VkDeviceSize(height_) * vk::kRgba32fTexelBytes * kTemporalHistoryFrames,
                             vk::MemoryUse::device_local);
       history_state_ = History{};
     }

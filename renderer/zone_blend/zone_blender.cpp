@@ -21,9 +21,7 @@ namespace fovlab {
 
 namespace {
 
-constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float);
 constexpr int kMaxFrameSide = 16384;  // zone_display.comp.glsl lists band pixels as x | y << 16
-constexpr uint32_t kGroupWidth = 64;  // local_size_x of the blend's and encoding's shaders and buffer_copy: rows of 64
 
 using gpu::BlendParams;
 constexpr gpu::ListParams kBandList{{0, 0}, 1};  // one list, counted at word 0
@@ -77,8 +75,7 @@ std::unique_ptr<vk::ComputePipeline> pipeline(const vk::Context& context, std::s
   return std::make_unique<vk::ComputePipeline>(context, spirv, storage_buffers, push_constant_bytes);
 }
 
-// Workgroups of kGroupWidth covering a row of `width` pixels.
-uint32_t row_groups(int width) { return (uint32_t(width) + kGroupWidth - 1) / kGroupWidth; }
+uint32_t row_groups(int width) { return gpu::row_groups(uint32_t(width)); }
 
 // `image` as RGBA float texels in the host-visible `staging`.
 void stage(const Image& image, const vk::Buffer& staging) {
@@ -87,7 +84,7 @@ void stage(const Image& image, const vk::Buffer& staging) {
 }
 
 vk::Buffer upload(const vk::Context& context, const Image& image) {
-  vk::Buffer staging(context, VkDeviceSize(image.pixel_count()) * kTexelBytes, vk::MemoryUse::host_upload);
+  vk::Buffer staging(context, VkDeviceSize(image.pixel_count()) * vk::kRgba32fTexelBytes, vk::MemoryUse::host_upload);
   stage(image, staging);
   return staging;
 }
@@ -125,9 +122,9 @@ void require_colour(int channels, const char* what) {
 
 void check_zone_frame_size(const vk::Context& context, int width_px, int height_px) {
   const VkDeviceSize pixels = VkDeviceSize(width_px) * VkDeviceSize(height_px);
-  if (3 * kTexelBytes * pixels > context.max_storage_buffer_bytes)
+  if (3 * vk::kRgba32fTexelBytes * pixels > context.max_storage_buffer_bytes)
     throw InputError("zone buffers of " + std::to_string(width_px) + "x" + std::to_string(height_px) +
-                     " pixels: expected at most " + std::to_string(context.max_storage_buffer_bytes / (3 * kTexelBytes)) +
+                     " pixels: expected at most " + std::to_string(context.max_storage_buffer_bytes / (3 * vk::kRgba32fTexelBytes)) +
                      " pixels (48 bytes a pixel in one buffer of at most " +
                      std::to_string(context.max_storage_buffer_bytes >> 20) + " MiB) on " + context.description.name);
 }
@@ -157,16 +154,16 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   // The middle and outer zones are ceil(side / 2) and ceil(side / 4) per axis (decimate_nearest),
   // upsampled and cropped back to the frame's size: any size works, not only multiples of 4.
   const auto zone_side = [](int side, int factor) { return VkDeviceSize((side + factor - 1) / factor); };
-  const VkDeviceSize frame_bytes = VkDeviceSize(frame.pixel_count()) * kTexelBytes;
+  const VkDeviceSize frame_bytes = VkDeviceSize(frame.pixel_count()) * vk::kRgba32fTexelBytes;
   if (frame.width != width_ || frame.height != height_) {  // buffers kept from one animation frame to the next
     zones_ = vk::Buffer(context_, 3 * frame_bytes, vk::MemoryUse::device_local);
     foveal_staging_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::host_upload);
-    half_staging_ = vk::Buffer(context_, zone_side(frame.width, 2) * zone_side(frame.height, 2) * kTexelBytes,
+    half_staging_ = vk::Buffer(context_, zone_side(frame.width, 2) * zone_side(frame.height, 2) * vk::kRgba32fTexelBytes,
                                vk::MemoryUse::host_upload);
-    quarter_staging_ = vk::Buffer(context_, zone_side(frame.width, 4) * zone_side(frame.height, 4) * kTexelBytes,
+    quarter_staging_ = vk::Buffer(context_, zone_side(frame.width, 4) * zone_side(frame.height, 4) * vk::kRgba32fTexelBytes,
                                   vk::MemoryUse::host_upload);
     // The x pass of factor 2 (the frame's width x half its height, rounded up): the larger of the two.
-    upsample_scratch_ = vk::Buffer(context_, VkDeviceSize(frame.width) * zone_side(frame.height, 2) * kTexelBytes,
+    upsample_scratch_ = vk::Buffer(context_, VkDeviceSize(frame.width) * zone_side(frame.height, 2) * vk::kRgba32fTexelBytes,
                                    vk::MemoryUse::device_local);
     blended_linear_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
     zones_srgb8_ = vk::Buffer(context_, 3 * VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
@@ -291,9 +288,9 @@ DeviceRgba8Frame ZoneBlender::display_frame_on_device(const DisplayGeometry& dis
 
 std::vector<uint8_t> ZoneBlender::encode_for_display(const Image& frame) {
   require_colour(frame.channels, "display encoding");
-  if (VkDeviceSize(frame.pixel_count()) * kTexelBytes > context_.max_storage_buffer_bytes || frame.pixel_count() == 0)
+  if (VkDeviceSize(frame.pixel_count()) * vk::kRgba32fTexelBytes > context_.max_storage_buffer_bytes || frame.pixel_count() == 0)
     throw InputError("display encoding of a " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " frame: expected 1 to " + std::to_string(context_.max_storage_buffer_bytes / kTexelBytes) +
+                     " frame: expected 1 to " + std::to_string(context_.max_storage_buffer_bytes / vk::kRgba32fTexelBytes) +
                      " pixels on " + context_.description.name);
   const vk::Buffer texels = upload(context_, frame);  // read as the foveal zone, the only one read
   const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * 4;

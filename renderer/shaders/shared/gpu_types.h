@@ -44,4 +44,14 @@ using ivec4 = Vector<int32_t, 4, 16>;
 #define FOVLAB_GPU_END
 #endif
 
+FOVLAB_GPU_BEGIN
+// The workgroup width (local_size_x) of the passes that run over a frame in rows of invocations (the
+// zone blend, its display and band passes, the sRGB8 encoder, the copy baseline, the upsampler).
+const uint ROW_GROUP_WIDTH = 64u;
+#ifdef __cplusplus
+// The workgroups of ROW_GROUP_WIDTH that cover a row of `width` pixels.
+constexpr uint32_t row_groups(uint32_t width) { return (width + ROW_GROUP_WIDTH - 1) / ROW_GROUP_WIDTH; }
+#endif
+FOVLAB_GPU_END
+
 #endif
