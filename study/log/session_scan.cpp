@@ -92,26 +92,29 @@ int small_int(simdjson::ondemand::value value) {
 // One value of a scanned key, read with the type its line type requires (a wrong one throws
 // simdjson's INCORRECT_TYPE or NUMBER_OUT_OF_RANGE, as check_log_field_types refuses it).
 void read_value(LogLines& lines, simdjson::ondemand::value value, lf::LineType type, LineValue& out) {
-  out.present = true;  // a key given twice: the last counts, as in LogLines::whole_event
-  out.integer = 0;
-  out.boolean = false;
-  out.number.reset();
-  out.text = {};
-  out.integers.clear();
-  out.numbers.clear();
-  out.doubles.clear();
+  // A key's slot is always read as its one line type, so only that type's member is set (a key
+  // given twice: the last counts, as in LogLines::whole_event).
+  out.present = true;
   switch (type) {
     case lf::LineType::small_int: out.integer = small_int(value); break;
     case lf::LineType::string: out.text = value.get_string(); break;
     case lf::LineType::boolean: out.boolean = value.get_bool(); break;
     case lf::LineType::number_or_null:
+      out.number.reset();
       if (!value.is_null()) out.number = double(value.get_double());
       break;
     case lf::LineType::small_int_array:
+      out.integers.clear();
       for (auto id : value.get_array()) out.integers.push_back(small_int(id.value()));
       break;
-    case lf::LineType::number_or_null_array: number_or_null_array(value, out.numbers); break;
-    case lf::LineType::numbers_lenient: present_times(lines, value, out.doubles); break;
+    case lf::LineType::number_or_null_array:
+      out.numbers.clear();
+      number_or_null_array(value, out.numbers);
+      break;
+    case lf::LineType::numbers_lenient:
+      out.doubles.clear();
+      present_times(lines, value, out.doubles);
+      break;
   }
 }
 
