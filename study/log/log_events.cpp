@@ -1,9 +1,12 @@
 #include "study/log/log_events.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <stdexcept>
 
 #include "core/input_error.h"
+#include "study/log/log_event_fields.h"
 
 namespace fovlab {
 namespace {
@@ -13,6 +16,11 @@ namespace k = log_keys;
 bool is_small_int(const nlohmann::json& value) {
   return value.is_number_integer() && value.get<int64_t>() >= INT32_MIN && value.get<int64_t>() <= INT32_MAX;
 }
+
+class FieldReader;
+// Reads the fields of `object`'s table (log_event_fields.h) from `in`.
+template <typename Object>
+void read_fields(const FieldReader& in, Object& object);
 
 // Reads the fields of one event of kind `kind_` (see FieldCheck in the header).
 class FieldReader {
@@ -131,22 +139,25 @@ class FieldReader {
     }
     out.clear();
     for (const nlohmann::json& item : *value) {
-      const FieldReader target(item, key, FieldCheck::lenient);
-      ValidationTarget result;
-      target.read(k::x_px, result.x_px);
-      target.read(k::y_px, result.y_px);
-      target.read(k::samples, result.samples);
-      target.read(k::valid_samples, result.valid_samples);
-      target.read(k::accuracy_deg, result.accuracy_deg);
-      target.read(k::precision_deg, result.precision_deg);
-      if (const auto gaze = item.find(k::gaze); gaze != item.end() && gaze->is_array())
-        for (const nlohmann::json& position : *gaze) {
-          if (position.is_array() && position.size() == 2 && position[0].is_number() && position[1].is_number())
-            result.gaze.push_back(std::array<double, 2>{position[0].get<double>(), position[1].get<double>()});
-          else
-            result.gaze.push_back(std::nullopt);
-        }
-      out.push_back(result);
+      ValidationTarget target;
+      read_fields(FieldReader(item, key, FieldCheck::lenient), target);
+      out.push_back(std::move(target));
+    }
+  }
+  // A validation target's gaze: each a pair of numbers or null (ValidationTarget's check above).
+  void read(const char* key, std::vector<std::optional<std::array<double, 2>>>& out) const {
+    const nlohmann::json* value = find(key);
+    if (!value) return;
+    if (!value->is_array()) {
+      wrong(key, "an array of [x, y] pairs of numbers or nulls", *value);
+      return;
+    }
+    out.clear();
+    for (const nlohmann::json& position : *value) {
+      if (position.is_array() && position.size() == 2 && position[0].is_number() && position[1].is_number())
+        out.push_back(std::array<double, 2>{position[0].get<double>(), position[1].get<double>()});
+      else
+        out.push_back(std::nullopt);
     }
   }
   void read(const char* key, std::vector<InvalidGaze>& out) const {
@@ -161,9 +172,14 @@ class FieldReader {
       return;
     }
     out.clear();
-    for (const nlohmann::json& item : *value)
-      out.push_back({item[k::invalid_index].get<int>(), item[k::reason].get<std::string>()});
+    for (const nlohmann::json& item : *value) {
+      InvalidGaze invalid;
+      read_fields(FieldReader(item, key, FieldCheck::lenient), invalid);
+      out.push_back(std::move(invalid));
+    }
   }
+
+  bool has(const char* key) const { return find(key) != nullptr; }
 
  private:
   const nlohmann::json* find(const char* key) const {
@@ -197,25 +213,183 @@ class FieldReader {
   FieldCheck check_;
 };
 
-nlohmann::json start(const char* kind, const EventStamp& stamp) {
-  nlohmann::json json = {{k::event, kind}};
-  if (stamp.t) json[k::t] = *stamp.t;
-  if (stamp.seq) json[k::seq] = *stamp.seq;
-  return json;
-}
+
+// ---- writing and reading by the tables (log_event_fields.h) ----
+
+using log_fields::Read;
+using log_fields::Write;
 
 template <typename T>
-nlohmann::json or_null(const std::optional<T>& value) {
-  return value ? nlohmann::json(*value) : nlohmann::json();
-}
+struct IsOptional : std::false_type {};
+template <typename T>
+struct IsOptional<std::optional<T>> : std::true_type {};
 
-nlohmann::json numbers_or_nulls(const std::vector<std::optional<double>>& values) {
+template <typename Object>
+nlohmann::json object_json(const Object& object);
+
+// A field's value as the writer has always logged it: the member's own JSON type (an int as an
+// integer, a double as a float), an unset optional as null, the structs as objects.
+template <typename T>
+nlohmann::json value_json(const T& value) {
+  return nlohmann::json(value);
+}
+template <typename T>
+nlohmann::json value_json(const std::vector<T>& values);
+nlohmann::json value_json(const InvalidGaze& entry) { return object_json(entry); }
+nlohmann::json value_json(const ValidationTarget& target) { return object_json(target); }
+template <typename T>
+nlohmann::json value_json(const std::optional<T>& value) {
+  return value ? value_json(*value) : nlohmann::json();
+}
+template <typename T>
+nlohmann::json value_json(const std::vector<T>& values) {
   nlohmann::json array = nlohmann::json::array();
-  for (const std::optional<double>& value : values) array.push_back(or_null(value));
+  for (const T& value : values) array.push_back(value_json(value));
   return array;
 }
 
+// Whether the writer writes a field holding `value` (Write).
+template <typename T>
+bool written(const T& value, Write write) {
+  switch (write) {
+    case Write::always: return true;
+    case Write::when_set:
+      if constexpr (IsOptional<T>::value) return value.has_value();
+      break;
+    case Write::when_true:
+      if constexpr (std::is_same_v<T, bool>) return value;
+      break;
+    case Write::when_not_empty:
+      if constexpr (std::is_same_v<T, std::string>) return !value.empty();
+      if constexpr (std::is_same_v<T, nlohmann::json>) return value.is_object() && !value.empty();
+      break;
+    case Write::when_not_null:
+      if constexpr (std::is_same_v<T, nlohmann::json>) return !value.is_null();
+      break;
+  }
+  throw std::logic_error("log_event_fields.h: a Write rule that does not fit its field's type");
+}
+
+template <typename Object>
+void write_fields(nlohmann::json& out, const Object& object) {
+  log_fields::for_each_field<Object>([&](const auto& row) {
+    const auto& value = object.*row.member;
+    if (written(value, row.write)) out[row.key] = value_json(value);
+  });
+}
+
+template <typename Object>
+nlohmann::json object_json(const Object& object) {
+  nlohmann::json json = nlohmann::json::object();
+  write_fields(json, object);
+  return json;
+}
+
+template <typename Event>
+nlohmann::json event_json(const Event& event) {
+  nlohmann::json json = {{k::event, Event::kind}};
+  if (event.stamp.t) json[k::t] = *event.stamp.t;
+  if (event.stamp.seq) json[k::seq] = *event.stamp.seq;
+  write_fields(json, event);
+  return json;
+}
+
+template <typename Object>
+void read_fields(const FieldReader& in, Object& object) {
+  log_fields::for_each_field<Object>([&](const auto& row) {
+    using Row = std::remove_cvref_t<decltype(row)>;
+    auto& member = object.*row.member;
+    if constexpr (Row::read == Read::when_given) {
+      if (!in.has(row.key)) return;
+      typename Row::MemberType::value_type value{};
+      in.read(row.key, value);
+      member = std::move(value);
+    } else {
+      in.read(row.key, member);
+    }
+  });
+}
+
+template <typename Event>
+Event parse_event(const nlohmann::json& json, FieldCheck check) {
+  const FieldReader in(json, Event::kind, check);
+  Event event;
+  in.stamp(event.stamp);
+  read_fields(in, event);
+  return event;
+}
+
+// The line type rules (log_event_fields.h LineType) on a value.
+bool has_line_type(const nlohmann::json& value, log_fields::LineType type) {
+  using log_fields::LineType;
+  const auto number_or_null = [](const nlohmann::json& element) { return element.is_number() || element.is_null(); };
+  switch (type) {
+    case LineType::small_int: return is_small_int(value);
+    case LineType::string: return value.is_string();
+    case LineType::boolean: return value.is_boolean();
+    case LineType::number_or_null: return number_or_null(value);
+    case LineType::small_int_array: return value.is_array() && std::all_of(value.begin(), value.end(), is_small_int);
+    case LineType::number_or_null_array: return value.is_array() && std::all_of(value.begin(), value.end(), number_or_null);
+    case LineType::numbers_lenient: return true;  // no type check (Scan::kept)
+  }
+  return true;
+}
+
 }  // namespace
+
+namespace log_fields {
+
+const std::vector<ScannedKey>& scanned_keys() {
+  static const std::vector<ScannedKey> keys = [] {
+    std::vector<ScannedKey> found;
+    std::vector<std::string_view> untyped;  // keys of rows the scan does not read
+    const auto add_rows = [&](auto tag) {
+      using Event = typename decltype(tag)::type;
+      for_each_field<Event>([&](const auto& row) {
+        const std::string_view key = row.key;
+        const auto same = [&](const ScannedKey& known) { return known.key == key; };
+        const auto known = std::find_if(found.begin(), found.end(), same);
+        if (row.scan == Scan::no) {
+          if (known != found.end()) throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is read by the scan in one event, not in another");
+          untyped.push_back(key);
+          return;
+        }
+        const std::optional<LineType> type = line_type(row);
+        if (!type) throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is scanned but has no line type");
+        const ScannedKey scanned{key, *type, row.scan};
+        if (std::find(untyped.begin(), untyped.end(), key) != untyped.end())
+          throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is read by the scan in one event, not in another");
+        if (known == found.end()) found.push_back(scanned);
+        else if (known->type != scanned.type || known->scan != scanned.scan)
+          throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " has two types in two events");
+      });
+    };
+    std::apply([&](auto... tags) { (add_rows(tags), ...); },
+               []<typename... Events>(std::type_identity<std::variant<Events...>>) {
+                 return std::tuple<Of<Events>...>{};
+               }(std::type_identity<LogEvent>{}));
+    return found;
+  }();
+  return keys;
+}
+
+int scanned_key_index(std::string_view key) {
+  // By the key's first letter, then the few keys that start with it: the scan asks this for about
+  // ten keys a line, most of them not scanned, so each is compared with two or three names, not twenty.
+  static const std::array<std::vector<int>, 128> by_first_letter = [] {
+    std::array<std::vector<int>, 128> buckets;
+    const std::vector<ScannedKey>& keys = scanned_keys();
+    for (size_t i = 0; i < keys.size(); ++i) buckets[static_cast<unsigned char>(keys[i].key.front()) % 128].push_back(int(i));
+    return buckets;
+  }();
+  if (key.empty() || static_cast<unsigned char>(key.front()) >= 128) return -1;
+  const std::vector<ScannedKey>& keys = scanned_keys();
+  for (const int i : by_first_letter[static_cast<unsigned char>(key.front())])
+    if (keys[i].key == key) return i;
+  return -1;
+}
+
+}  // namespace log_fields
 
 namespace {
 
@@ -247,417 +421,42 @@ std::string gaze_kinds_text(const std::vector<GazeSourceKind>& kinds) {
   return text;
 }
 
-// ---- to_json: the keys and value types the writer has always logged ----
 
-nlohmann::json to_json(const SessionHeaderEvent& event) {
-  nlohmann::json json = start(SessionHeaderEvent::kind, event.stamp);
-  json[k::schema_version] = event.schema_version;
-  json[k::lab_key_id] = or_null(event.lab_key_id);
-  json[k::fovlab_version] = event.fovlab_version;
-  json[k::study] = event.study;
-  json[k::participant] = event.participant;
-  json[k::study_seed] = event.study_seed;
-  json[k::session_seed] = event.session_seed;
-  json[k::config_path] = event.config_path;
-  json[k::config_hash] = event.config_hash;
-  json[k::config_toml] = event.config_toml;
-  json[k::protocol] = event.protocol;
-  json[k::trial_count] = event.trial_count;
-  json[k::scene_hashes] = event.scene_hashes;
-  json[k::stimuli] = event.stimuli;
-  json[k::device] = event.device;
-  json[k::display] = event.display;
-  json[k::presenter] = event.presenter;
-  json[k::gaze] = event.gaze;
-  json[k::observer] = event.observer;
-  json[k::started_utc] = event.started_utc;
-  // Only when there are some: a header without fields keeps the bytes earlier builds wrote.
-  if (event.participant_fields.is_object() && !event.participant_fields.empty())
-    json[k::participant_fields] = event.participant_fields;
-  if (!event.conditions_csv.empty()) json[k::conditions_csv] = event.conditions_csv;
-  // Schema 7; absent from a header of an earlier schema, which then writes back its own bytes.
-  if (!event.gaze_source.is_null()) json[k::gaze_source] = event.gaze_source;
-  if (!event.gaze_validation.is_null()) json[k::gaze_validation] = event.gaze_validation;
-  return json;
-}
+// ---- every event: its table (log_event_fields.h) written and read ----
 
-nlohmann::json to_json(const SessionResumedEvent& event) {
-  nlohmann::json json = start(SessionResumedEvent::kind, event.stamp);
-  json[k::next_trial] = event.next_trial;
-  json[k::discarded_trial] = or_null(event.discarded_trial);
-  json[k::torn_line_set_aside] = or_null(event.torn_line_set_aside);
-  json[k::gaze] = event.gaze;
-  json[k::started_utc] = event.started_utc;
-  if (!event.gaze_source.is_null()) json[k::gaze_source] = event.gaze_source;
-  return json;
-}
+nlohmann::json to_json(const SessionHeaderEvent& event) { return event_json(event); }
+nlohmann::json to_json(const SessionResumedEvent& event) { return event_json(event); }
+nlohmann::json to_json(const InstructionsEvent& event) { return event_json(event); }
+nlohmann::json to_json(const BlockStartEvent& event) { return event_json(event); }
+nlohmann::json to_json(const BreakEvent& event) { return event_json(event); }
+nlohmann::json to_json(const TrialStartEvent& event) { return event_json(event); }
+nlohmann::json to_json(const StimulusEvent& event) { return event_json(event); }
+nlohmann::json to_json(const ResponseEvent& event) { return event_json(event); }
+nlohmann::json to_json(const SliderSavedEvent& event) { return event_json(event); }
+nlohmann::json to_json(const AttentionCheckEvent& event) { return event_json(event); }
+nlohmann::json to_json(const TrialEndEvent& event) { return event_json(event); }
+nlohmann::json to_json(const ExcludedEvent& event) { return event_json(event); }
+nlohmann::json to_json(const TrackerValidationEvent& event) { return event_json(event); }
+nlohmann::json to_json(const SessionPausedEvent& event) { return event_json(event); }
+nlohmann::json to_json(const SessionEndEvent& event) { return event_json(event); }
+nlohmann::json to_json(const SealEvent& event) { return event_json(event); }
 
-nlohmann::json to_json(const TrackerValidationEvent& event) {
-  nlohmann::json json = start(TrackerValidationEvent::kind, event.stamp);
-  json[k::reason] = event.reason;
-  json[k::attempt] = event.attempt;
-  json[k::start_s] = event.start_s;
-  nlohmann::json targets = nlohmann::json::array();
-  for (const ValidationTarget& target : event.targets) {
-    nlohmann::json gaze = nlohmann::json::array();
-    for (const auto& position : target.gaze) gaze.push_back(position ? nlohmann::json(*position) : nlohmann::json());
-    targets.push_back({{k::x_px, target.x_px}, {k::y_px, target.y_px}, {k::samples, target.samples},
-                       {k::valid_samples, target.valid_samples}, {k::accuracy_deg, or_null(target.accuracy_deg)},
-                       {k::precision_deg, or_null(target.precision_deg)}, {k::gaze, std::move(gaze)}});
-  }
-  json[k::targets] = std::move(targets);
-  json[k::accuracy_deg] = or_null(event.accuracy_deg);
-  json[k::precision_deg] = or_null(event.precision_deg);
-  json[k::max_accuracy_deg] = event.max_accuracy_deg;
-  json[k::max_precision_deg] = event.max_precision_deg;
-  json[k::passed] = event.passed;
-  if (event.stopped) json[k::stopped] = true;
-  return json;
-}
-
-nlohmann::json to_json(const InstructionsEvent& event) {
-  nlohmann::json json = start(InstructionsEvent::kind, event.stamp);
-  json[k::shown_s] = event.shown_s;
-  return json;
-}
-
-nlohmann::json to_json(const BlockStartEvent& event) {
-  nlohmann::json json = start(BlockStartEvent::kind, event.stamp);
-  json[k::block] = event.block;
-  json[k::name] = event.name;
-  json[k::scene] = event.scene;
-  return json;
-}
-
-nlohmann::json to_json(const BreakEvent& event) {
-  nlohmann::json json = start(BreakEvent::kind, event.stamp);
-  json[k::reason] = event.reason;
-  if (event.trial) json[k::trial] = *event.trial;
-  json[k::start_s] = event.start_s;
-  json[k::duration_s] = event.duration_s;
-  return json;
-}
-
-nlohmann::json to_json(const TrialStartEvent& event) {
-  nlohmann::json json = start(TrialStartEvent::kind, event.stamp);
-  json[k::trial] = event.trial;
-  json[k::block] = event.block;
-  json[k::condition] = event.condition;
-  json[k::variant] = event.variant;
-  if (event.level) json[k::level] = *event.level;
-  json[k::attention_check] = event.attention_check;
-  json[k::sequence] = event.sequence;
-  json[k::reference] = event.reference;
-  if (event.reference_first) json[k::reference_first] = *event.reference_first;
-  if (event.ramp_toward_reference) json[k::ramp_toward_reference] = *event.ramp_toward_reference;
-  if (event.slider_start) json[k::slider_start] = *event.slider_start;
-  if (event.practice) json[k::practice] = true;
-  if (event.track) json[k::track] = *event.track;
-  return json;
-}
-
-nlohmann::json to_json(const StimulusEvent& event) {
-  nlohmann::json json = start(StimulusEvent::kind, event.stamp);
-  json[k::trial] = event.trial;
-  json[k::step] = event.step;
-  json[k::stimulus] = event.stimulus;
-  json[k::onset_s] = event.onset_s;
-  json[k::present_s] = event.present_s;
-  json[k::frame] = event.frame;
-  json[k::hash] = event.hash;
-  nlohmann::json gaze = nlohmann::json::array();
-  for (const auto& [x, y] : event.gaze) gaze.push_back({x, y});
-  json[k::gaze] = gaze;
-  nlohmann::json invalid = nlohmann::json::array();
-  for (const InvalidGaze& entry : event.invalid_gaze)
-    invalid.push_back({{k::invalid_index, entry.index}, {k::reason, entry.reason}});
-  json[k::invalid_gaze] = invalid;
-  json[k::dropped_frames] = event.dropped_frames;
-  if (event.gaze_acquired_s) json[k::gaze_acquired_s] = numbers_or_nulls(*event.gaze_acquired_s);
-  if (event.gaze_age_s) json[k::gaze_age_s] = numbers_or_nulls(*event.gaze_age_s);
-  if (event.present_clock) json[k::present_clock] = *event.present_clock;
-  return json;
-}
-
-nlohmann::json to_json(const ResponseEvent& event) {
-  nlohmann::json json = start(ResponseEvent::kind, event.stamp);
-  json[k::trial] = event.trial;
-  json[k::step] = event.step;
-  json[k::answer] = event.answer;
-  json[k::key] = event.key;
-  if (event.rt_s) json[k::rt_s] = *event.rt_s;
-  return json;
-}
-
-nlohmann::json to_json(const SliderSavedEvent& event) {
-  nlohmann::json json = start(SliderSavedEvent::kind, event.stamp);
-  json[k::trial] = event.trial;
-  json[k::ladder_index] = event.ladder_index;
-  json[k::stimulus] = event.stimulus;
-  if (event.level) json[k::level] = *event.level;
-  return json;
-}
-
-nlohmann::json to_json(const AttentionCheckEvent& event) {
-  nlohmann::json json = start(AttentionCheckEvent::kind, event.stamp);
-  json[k::trial] = event.trial;
-  if (event.correct) json[k::correct] = *event.correct;
-  json[k::errors] = event.errors;
-  return json;
-}
-
-nlohmann::json to_json(const TrialEndEvent& event) {
-  nlohmann::json json = start(TrialEndEvent::kind, event.stamp);
-  json[k::trial] = event.trial;
-  return json;
-}
-
-nlohmann::json to_json(const ExcludedEvent& event) {
-  nlohmann::json json = start(ExcludedEvent::kind, event.stamp);
-  json[k::errors] = event.errors;
-  json[k::max_errors] = event.max_errors;
-  return json;
-}
-
-nlohmann::json to_json(const SessionPausedEvent& event) {
-  nlohmann::json json = start(SessionPausedEvent::kind, event.stamp);
-  json[k::reason] = event.reason;
-  return json;
-}
-
-nlohmann::json to_json(const SessionEndEvent& event) {
-  nlohmann::json json = start(SessionEndEvent::kind, event.stamp);
-  json[k::reason] = event.reason;
-  json[k::completed_trials] = event.completed_trials;
-  return json;
-}
-
-nlohmann::json to_json(const SealEvent& event) {
-  nlohmann::json json = start(SealEvent::kind, event.stamp);
-  json[k::trials_complete] = event.trials_complete;
-  if (!event.last_chain.empty()) json[k::last_chain] = event.last_chain;
-  return json;
-}
-
-// ---- parse ----
-
-SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, SessionHeaderEvent::kind, check);
-  SessionHeaderEvent event;
-  in.stamp(event.stamp);
-  in.read(k::schema_version, event.schema_version);
-  in.read(k::lab_key_id, event.lab_key_id);
-  in.read(k::fovlab_version, event.fovlab_version);
-  in.read(k::study, event.study);
-  in.read(k::participant, event.participant);
-  in.read(k::study_seed, event.study_seed);
-  in.read(k::session_seed, event.session_seed);
-  in.read(k::config_path, event.config_path);
-  in.read(k::config_hash, event.config_hash);
-  in.read(k::config_toml, event.config_toml);
-  in.read(k::protocol, event.protocol);
-  in.read(k::trial_count, event.trial_count);
-  in.read(k::scene_hashes, event.scene_hashes);
-  in.read(k::stimuli, event.stimuli);
-  in.read(k::device, event.device);
-  in.read(k::display, event.display);
-  in.read(k::presenter, event.presenter);
-  in.read(k::gaze, event.gaze);
-  in.read(k::observer, event.observer);
-  in.read(k::started_utc, event.started_utc);
-  in.read(k::participant_fields, event.participant_fields);
-  in.read(k::conditions_csv, event.conditions_csv);
-  in.read(k::gaze_source, event.gaze_source);
-  in.read(k::gaze_validation, event.gaze_validation);
-  return event;
-}
-
-SessionResumedEvent parse_session_resumed(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, SessionResumedEvent::kind, check);
-  SessionResumedEvent event;
-  in.stamp(event.stamp);
-  in.read(k::next_trial, event.next_trial);
-  in.read(k::discarded_trial, event.discarded_trial);
-  in.read(k::torn_line_set_aside, event.torn_line_set_aside);
-  in.read(k::gaze, event.gaze);
-  in.read(k::started_utc, event.started_utc);
-  in.read(k::gaze_source, event.gaze_source);
-  return event;
-}
-
-InstructionsEvent parse_instructions(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, InstructionsEvent::kind, check);
-  InstructionsEvent event;
-  in.stamp(event.stamp);
-  in.read(k::shown_s, event.shown_s);
-  return event;
-}
-
-BlockStartEvent parse_block_start(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, BlockStartEvent::kind, check);
-  BlockStartEvent event;
-  in.stamp(event.stamp);
-  in.read(k::block, event.block);
-  in.read(k::name, event.name);
-  in.read(k::scene, event.scene);
-  return event;
-}
-
-TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, TrackerValidationEvent::kind, check);
-  TrackerValidationEvent event;
-  in.stamp(event.stamp);
-  in.read(k::reason, event.reason);
-  in.read(k::attempt, event.attempt);
-  in.read(k::start_s, event.start_s);
-  in.read(k::targets, event.targets);
-  in.read(k::accuracy_deg, event.accuracy_deg);
-  in.read(k::precision_deg, event.precision_deg);
-  in.read(k::max_accuracy_deg, event.max_accuracy_deg);
-  in.read(k::max_precision_deg, event.max_precision_deg);
-  in.read(k::passed, event.passed);
-  in.read(k::stopped, event.stopped);
-  return event;
-}
-
-BreakEvent parse_break(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, BreakEvent::kind, check);
-  BreakEvent event;
-  in.stamp(event.stamp);
-  in.read(k::reason, event.reason);
-  in.read(k::trial, event.trial);
-  in.read(k::start_s, event.start_s);
-  in.read(k::duration_s, event.duration_s);
-  return event;
-}
-
-TrialStartEvent parse_trial_start(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, TrialStartEvent::kind, check);
-  TrialStartEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trial, event.trial);
-  in.read(k::block, event.block);
-  in.read(k::condition, event.condition);
-  in.read(k::variant, event.variant);
-  in.read(k::level, event.level);
-  in.read(k::attention_check, event.attention_check);
-  in.read(k::sequence, event.sequence);
-  in.read(k::reference, event.reference);
-  in.read(k::reference_first, event.reference_first);
-  in.read(k::ramp_toward_reference, event.ramp_toward_reference);
-  in.read(k::slider_start, event.slider_start);
-  in.read(k::practice, event.practice);
-  in.read(k::track, event.track);
-  return event;
-}
-
-StimulusEvent parse_stimulus(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, StimulusEvent::kind, check);
-  StimulusEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trial, event.trial);
-  in.read(k::step, event.step);
-  in.read(k::stimulus, event.stimulus);
-  in.read(k::onset_s, event.onset_s);
-  in.read(k::present_s, event.present_s);
-  in.read(k::frame, event.frame);
-  in.read(k::hash, event.hash);
-  in.read(k::gaze, event.gaze);
-  in.read(k::invalid_gaze, event.invalid_gaze);
-  in.read(k::dropped_frames, event.dropped_frames);
-  if (json.contains(k::gaze_acquired_s)) {
-    std::vector<std::optional<double>> values;
-    in.read(k::gaze_acquired_s, values);
-    event.gaze_acquired_s = std::move(values);
-  }
-  if (json.contains(k::gaze_age_s)) {
-    std::vector<std::optional<double>> values;
-    in.read(k::gaze_age_s, values);
-    event.gaze_age_s = std::move(values);
-  }
-  if (json.contains(k::present_clock)) {
-    std::string clock;
-    in.read(k::present_clock, clock);
-    event.present_clock = clock;
-  }
-  return event;
-}
-
-ResponseEvent parse_response(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, ResponseEvent::kind, check);
-  ResponseEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trial, event.trial);
-  in.read(k::step, event.step);
-  in.read(k::answer, event.answer);
-  in.read(k::key, event.key);
-  in.read(k::rt_s, event.rt_s);
-  return event;
-}
-
-SliderSavedEvent parse_slider_saved(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, SliderSavedEvent::kind, check);
-  SliderSavedEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trial, event.trial);
-  in.read(k::ladder_index, event.ladder_index);
-  in.read(k::stimulus, event.stimulus);
-  in.read(k::level, event.level);
-  return event;
-}
-
-AttentionCheckEvent parse_attention_check(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, AttentionCheckEvent::kind, check);
-  AttentionCheckEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trial, event.trial);
-  in.read(k::correct, event.correct);
-  in.read(k::errors, event.errors);
-  return event;
-}
-
-TrialEndEvent parse_trial_end(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, TrialEndEvent::kind, check);
-  TrialEndEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trial, event.trial);
-  return event;
-}
-
-ExcludedEvent parse_excluded(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, ExcludedEvent::kind, check);
-  ExcludedEvent event;
-  in.stamp(event.stamp);
-  in.read(k::errors, event.errors);
-  in.read(k::max_errors, event.max_errors);
-  return event;
-}
-
-SessionPausedEvent parse_session_paused(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, SessionPausedEvent::kind, check);
-  SessionPausedEvent event;
-  in.stamp(event.stamp);
-  in.read(k::reason, event.reason);
-  return event;
-}
-
-SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, SessionEndEvent::kind, check);
-  SessionEndEvent event;
-  in.stamp(event.stamp);
-  in.read(k::reason, event.reason);
-  in.read(k::completed_trials, event.completed_trials);
-  return event;
-}
-
-SealEvent parse_seal(const nlohmann::json& json, FieldCheck check) {
-  const FieldReader in(json, SealEvent::kind, check);
-  SealEvent event;
-  in.stamp(event.stamp);
-  in.read(k::trials_complete, event.trials_complete);
-  in.read(k::last_chain, event.last_chain);
-  return event;
-}
+SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionHeaderEvent>(json, check); }
+SessionResumedEvent parse_session_resumed(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionResumedEvent>(json, check); }
+InstructionsEvent parse_instructions(const nlohmann::json& json, FieldCheck check) { return parse_event<InstructionsEvent>(json, check); }
+BlockStartEvent parse_block_start(const nlohmann::json& json, FieldCheck check) { return parse_event<BlockStartEvent>(json, check); }
+BreakEvent parse_break(const nlohmann::json& json, FieldCheck check) { return parse_event<BreakEvent>(json, check); }
+TrialStartEvent parse_trial_start(const nlohmann::json& json, FieldCheck check) { return parse_event<TrialStartEvent>(json, check); }
+StimulusEvent parse_stimulus(const nlohmann::json& json, FieldCheck check) { return parse_event<StimulusEvent>(json, check); }
+ResponseEvent parse_response(const nlohmann::json& json, FieldCheck check) { return parse_event<ResponseEvent>(json, check); }
+SliderSavedEvent parse_slider_saved(const nlohmann::json& json, FieldCheck check) { return parse_event<SliderSavedEvent>(json, check); }
+AttentionCheckEvent parse_attention_check(const nlohmann::json& json, FieldCheck check) { return parse_event<AttentionCheckEvent>(json, check); }
+TrialEndEvent parse_trial_end(const nlohmann::json& json, FieldCheck check) { return parse_event<TrialEndEvent>(json, check); }
+ExcludedEvent parse_excluded(const nlohmann::json& json, FieldCheck check) { return parse_event<ExcludedEvent>(json, check); }
+TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, FieldCheck check) { return parse_event<TrackerValidationEvent>(json, check); }
+SessionPausedEvent parse_session_paused(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionPausedEvent>(json, check); }
+SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionEndEvent>(json, check); }
+SealEvent parse_seal(const nlohmann::json& json, FieldCheck check) { return parse_event<SealEvent>(json, check); }
 
 nlohmann::json to_json(const LogEvent& event) {
   return std::visit([](const auto& typed) { return to_json(typed); }, event);
@@ -693,23 +492,14 @@ std::string event_kind(const nlohmann::json& event) {
 }
 
 std::string check_log_field_types(const nlohmann::json& event) {
+  const std::vector<log_fields::ScannedKey>& scanned = log_fields::scanned_keys();
   for (const auto& [key, value] : event.items()) {
     bool ok = true;
-    if (key == k::trial || key == k::block || key == k::step || key == k::track) ok = is_small_int(value);
-    else if (key == k::event || key == k::condition || key == k::variant || key == k::answer || key == k::name ||
-             key == k::scene)
+    if (key == k::event) {
       ok = value.is_string();
-    else if (key == k::level) ok = value.is_number() || value.is_null();
-    else if (key == k::attention_check || key == k::reference_first || key == k::ramp_toward_reference ||
-             key == k::correct || key == k::practice)
-      ok = value.is_boolean();
-    else if (key == k::sequence) ok = value.is_array() && std::all_of(value.begin(), value.end(), is_small_int);
-    else if (key == k::dropped_frames) ok = is_small_int(value);
-    else if (key == k::present_clock) ok = value.is_string();
-    else if (key == k::gaze_acquired_s || key == k::gaze_age_s)
-      ok = value.is_array() && std::all_of(value.begin(), value.end(), [](const nlohmann::json& element) {
-             return element.is_number() || element.is_null();
-           });
+    } else if (const int index = log_fields::scanned_key_index(key); index >= 0) {
+      if (scanned[index].scan == log_fields::Scan::typed) ok = has_line_type(value, scanned[index].type);
+    }
     if (!ok) return "an event has a field of the wrong type (" + key + ": " + value.dump().substr(0, 40) + ")";
   }
   return {};

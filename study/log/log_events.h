@@ -1,10 +1,12 @@
 #pragma once
 // The session log's events as types (docs/log-schema.md, schema 3): one struct per event kind, the
-// key names in one place (log_keys), and each struct's JSON both ways. The writer
-// (protocols/session) builds these structs and logs to_json(event); the full reader
-// (session_record) parses every trial event into them; the fast scan (session_scan) and the
-// field type checks read the same key constants. to_json writes exactly the keys and value types
-// the log has always had (nlohmann::json sorts keys), so the bytes of a log do not change.
+// key names in one place (log_keys), and each struct's JSON both ways. Each struct's JSON fields
+// are listed once, in its table (log_event_fields.h), from which to_json, parse_*, the field type
+// checks and the fast scan's reading all come. The writer (protocols/session) builds these
+// structs and logs to_json(event); the full reader (session_record) parses every trial event into
+// them; the fast scan (session_scan) reads the fields the tables mark for it into them. to_json
+// writes exactly the keys and value types the log has always had (nlohmann::json sorts keys), so
+// the bytes of a log do not change.
 //
 // Fields every event has: "event" (the struct's `kind`), "seq", "t", "chain", "mac". The structs
 // hold `t` and `seq` (as read; unset when the writer fills them in: SessionRun::log adds "t",
@@ -397,7 +399,8 @@ LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check = FieldChe
 // The "event" of a logged event, or "" when it has none or it is not a string.
 std::string event_kind(const nlohmann::json& event);
 
-// The type checks both readers make on every event (the fast scan's decoder enforces the same):
+// The type checks both readers make on every event (the fast scan's decoder enforces the same),
+// from the fields the tables mark typed (log_event_fields.h scanned_keys) and "event":
 // a trial, block, step or track is a 32-bit integer; event, condition, variant, answer, name and scene are
 // strings; a level a number or null; attention_check, reference_first, ramp_toward_reference and
 // correct and practice booleans; a sequence an array of 32-bit integers; dropped_frames a 32-bit integer,

@@ -9,10 +9,12 @@
 #include <cerrno>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 
 #include "core/input_error.h"
 #include "core/input_file.h"
 #include "study/log/event_log.h"
+#include "study/log/log_event_fields.h"
 #include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
 #include "study/log/log_lines.h"
@@ -22,35 +24,38 @@
 namespace fovlab {
 namespace {
 
-// The fields of one event the scan uses; every other value is only checked (LogLines::check_value).
+namespace lf = log_fields;
+
+// A value the scan read of a key of log_fields::scanned_keys(), as its line type gives it.
+struct LineValue {
+  bool present = false;
+  int integer = 0;                                // small_int
+  bool boolean = false;                           // boolean
+  std::optional<double> number;                   // number_or_null
+  std::string_view text;                          // string
+  std::vector<int> integers;                      // small_int_array
+  std::vector<std::optional<double>> numbers;     // number_or_null_array
+  std::vector<double> doubles;                    // numbers_lenient
+};
+
+// What the scan reads of one event: the envelope, and the value of every scanned key (by its
+// index in log_fields::scanned_keys()); every other value is only checked (LogLines::check_value).
 struct EventFields {
   std::string_view kind;
   std::optional<int64_t> seq;
   std::optional<std::string_view> chain;
   std::optional<std::string_view> mac;
-  std::optional<int> trial;
-  std::optional<int> block;
-  std::optional<int> step;
-  std::optional<int> track;
-  std::string_view condition, variant, answer, name, scene;
-  std::optional<double> level;
-  std::optional<bool> attention_check, reference_first, ramp_toward_reference, correct, practice;
-  std::vector<int> sequence;
-  std::optional<int> dropped_frames;
-  std::string_view present_clock;
-  bool has_gaze_age = false;
-  std::vector<double> gaze_age_s;  // the non-null entries
-  std::vector<double> present_s;   // a stimulus event's present times (empty unless every entry is a number)
+  std::optional<int> trial;  // the trial it names (is_trial_event, TrialAssembly)
+  std::vector<LineValue> values;
 };
 
-// An array of numbers or nulls (the per-refresh latency arrays), as check_field_types wants it;
-// the numbers go to `out` when it is given. Any other element is a type error.
-void number_or_null_array(simdjson::ondemand::value value, std::vector<double>* out) {
+// An array of numbers or nulls (the per-refresh latency arrays), as check_field_types wants it.
+// Any other element is a type error.
+void number_or_null_array(simdjson::ondemand::value value, std::vector<std::optional<double>>& out) {
   for (auto element : value.get_array()) {
     simdjson::ondemand::value item = element.value();
-    if (item.is_null()) continue;
-    const double number = item.get_double();
-    if (out) out->push_back(number);
+    if (item.is_null()) out.push_back(std::nullopt);
+    else out.push_back(double(item.get_double()));
   }
 }
 
@@ -84,102 +89,106 @@ int small_int(simdjson::ondemand::value value) {
   return static_cast<int>(number);
 }
 
-// The keys the scan keeps.
-enum class Key {
-  other, event, seq, chain, mac, trial, block, step, track, condition, variant, answer, name, scene, level,
-  attention_check, reference_first, ramp_toward_reference, correct, practice, sequence, dropped_frames,
-  present_clock, gaze_acquired_s, gaze_age_s, present_s
-};
-
-// Which kept key `key` is, by its first letter and then the few keys that start with it (a line has
-// about ten keys, most of them not kept: each is compared with two or three names, not twenty-four).
-Key key_of(std::string_view key) {
-  namespace k = log_keys;
-  const auto is = [&](const char* name) { return key == name; };
-  if (key.empty()) return Key::other;
-  switch (key.front()) {
-    case 'a': return is(k::answer) ? Key::answer : is(k::attention_check) ? Key::attention_check : Key::other;
-    case 'b': return is(k::block) ? Key::block : Key::other;
-    case 'c': return is(k::chain) ? Key::chain : is(k::condition) ? Key::condition : is(k::correct) ? Key::correct : Key::other;
-    case 'd': return is(k::dropped_frames) ? Key::dropped_frames : Key::other;
-    case 'e': return is(k::event) ? Key::event : Key::other;
-    case 'g': return is(k::gaze_acquired_s) ? Key::gaze_acquired_s : is(k::gaze_age_s) ? Key::gaze_age_s : Key::other;
-    case 'l': return is(k::level) ? Key::level : Key::other;
-    case 'm': return is(k::mac) ? Key::mac : Key::other;
-    case 'n': return is(k::name) ? Key::name : Key::other;
-    case 'p':
-      return is(k::practice)        ? Key::practice
-             : is(k::present_clock) ? Key::present_clock
-             : is(k::present_s)     ? Key::present_s
-                                    : Key::other;
-    case 'r':
-      return is(k::reference_first)         ? Key::reference_first
-             : is(k::ramp_toward_reference) ? Key::ramp_toward_reference
-                                            : Key::other;
-    case 's':
-      return is(k::seq) ? Key::seq : is(k::step) ? Key::step : is(k::scene) ? Key::scene : is(k::sequence) ? Key::sequence : Key::other;
-    case 't': return is(k::trial) ? Key::trial : is(k::track) ? Key::track : Key::other;
-    case 'v': return is(k::variant) ? Key::variant : Key::other;
-    default: return Key::other;
+// One value of a scanned key, read with the type its line type requires (a wrong one throws
+// simdjson's INCORRECT_TYPE or NUMBER_OUT_OF_RANGE, as check_log_field_types refuses it).
+void read_value(LogLines& lines, simdjson::ondemand::value value, lf::LineType type, LineValue& out) {
+  // A key's slot is always read as its one line type, so only that type's member is set (a key
+  // given twice: the last counts, as in LogLines::whole_event).
+  out.present = true;
+  switch (type) {
+    case lf::LineType::small_int: out.integer = small_int(value); break;
+    case lf::LineType::string: out.text = value.get_string(); break;
+    case lf::LineType::boolean: out.boolean = value.get_bool(); break;
+    case lf::LineType::number_or_null:
+      out.number.reset();
+      if (!value.is_null()) out.number = double(value.get_double());
+      break;
+    case lf::LineType::small_int_array:
+      out.integers.clear();
+      for (auto id : value.get_array()) out.integers.push_back(small_int(id.value()));
+      break;
+    case lf::LineType::number_or_null_array:
+      out.numbers.clear();
+      number_or_null_array(value, out.numbers);
+      break;
+    case lf::LineType::numbers_lenient:
+      out.doubles.clear();
+      present_times(lines, value, out.doubles);
+      break;
   }
 }
 
-// The fields the scan keeps, read with the types check_log_field_types requires (a wrong one throws
-// simdjson's INCORRECT_TYPE or NUMBER_OUT_OF_RANGE); every other value checked by `lines`, so the
+// Reads the line's envelope and every scanned key (log_fields::scanned_keys(): the typed ones
+// with the types check_log_field_types requires); every other value checked by `lines`, so the
 // line is refused exactly when the full reader refuses it.
-EventFields decode(LogLines& lines) {
-  EventFields fields;
+void decode(LogLines& lines, EventFields& fields) {
+  static const int trial_index = lf::scanned_key_index(log_keys::trial);
+  const std::vector<lf::ScannedKey>& scanned = lf::scanned_keys();
+  fields.kind = {};
+  fields.seq.reset();
+  fields.chain.reset();
+  fields.mac.reset();
+  fields.trial.reset();
+  fields.values.resize(scanned.size());
+  for (LineValue& value : fields.values) value.present = false;
   for (auto field : lines.object()) {
     const std::string_view key = field.unescaped_key();
     simdjson::ondemand::value value = field.value();
-    switch (key_of(key)) {
-      case Key::other: lines.check_value(value, 2); break;
-      case Key::event: fields.kind = value.get_string(); break;
-      case Key::seq: {
-        int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
-        if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
-        else lines.check_value(value, 2);
-        break;
-      }
-      case Key::chain:
-      case Key::mac: {
-        std::string_view text;  // not a string: left out (the chain, or the MAC, then does not hold)
-        if (value.get_string().get(text) == simdjson::SUCCESS) (key == log_keys::chain ? fields.chain : fields.mac) = text;
-        else lines.check_value(value, 2);
-        break;
-      }
-      case Key::trial: fields.trial = small_int(value); break;
-      case Key::block: fields.block = small_int(value); break;
-      case Key::step: fields.step = small_int(value); break;
-      case Key::track: fields.track = small_int(value); break;
-      case Key::condition: fields.condition = value.get_string(); break;
-      case Key::variant: fields.variant = value.get_string(); break;
-      case Key::answer: fields.answer = value.get_string(); break;
-      case Key::name: fields.name = value.get_string(); break;
-      case Key::scene: fields.scene = value.get_string(); break;
-      case Key::level:
-        if (!value.is_null()) fields.level = value.get_double();
-        break;
-      case Key::attention_check: fields.attention_check = value.get_bool(); break;
-      case Key::reference_first: fields.reference_first = value.get_bool(); break;
-      case Key::ramp_toward_reference: fields.ramp_toward_reference = value.get_bool(); break;
-      case Key::correct: fields.correct = value.get_bool(); break;
-      case Key::practice: fields.practice = value.get_bool(); break;
-      case Key::sequence:
-        for (auto id : value.get_array()) fields.sequence.push_back(small_int(id.value()));
-        break;
-      case Key::dropped_frames: fields.dropped_frames = small_int(value); break;
-      case Key::present_clock: fields.present_clock = value.get_string(); break;
-      case Key::gaze_acquired_s: number_or_null_array(value, nullptr); break;
-      case Key::gaze_age_s:
-        fields.has_gaze_age = true;
-        number_or_null_array(value, &fields.gaze_age_s);
-        break;
-      case Key::present_s: present_times(lines, value, fields.present_s); break;
+    if (key == log_keys::event) {
+      fields.kind = value.get_string();
+    } else if (key == log_keys::seq) {
+      int64_t seq = 0;  // not an integer: left out, so the chain check fails at this line
+      if (value.get_int64().get(seq) == simdjson::SUCCESS) fields.seq = seq;
+      else lines.check_value(value, 2);
+    } else if (key == log_keys::chain || key == log_keys::mac) {
+      std::string_view text;  // not a string: left out (the chain, or the MAC, then does not hold)
+      if (value.get_string().get(text) == simdjson::SUCCESS) (key == log_keys::chain ? fields.chain : fields.mac) = text;
+      else lines.check_value(value, 2);
+    } else if (const int index = lf::scanned_key_index(key); index >= 0) {
+      read_value(lines, value, scanned[index].type, fields.values[index]);
+    } else {
+      lines.check_value(value, 2);
     }
   }
   lines.expect_end();
-  return fields;
+  if (fields.values[trial_index].present) fields.trial = fields.values[trial_index].integer;
+}
+
+// A scanned value into a member of the type its table row gives it (the arrays moved out).
+void assign(int& out, LineValue& value) { out = value.integer; }
+void assign(std::optional<int>& out, LineValue& value) { out = value.integer; }
+void assign(bool& out, LineValue& value) { out = value.boolean; }
+void assign(std::optional<bool>& out, LineValue& value) { out = value.boolean; }
+void assign(std::optional<double>& out, LineValue& value) { out = value.number; }
+void assign(std::string& out, LineValue& value) { out = value.text; }
+void assign(std::optional<std::string>& out, LineValue& value) { out = std::string(value.text); }
+void assign(std::vector<int>& out, LineValue& value) { out = std::move(value.integers); }
+void assign(std::vector<double>& out, LineValue& value) { out = std::move(value.doubles); }
+void assign(std::optional<std::vector<std::optional<double>>>& out, LineValue& value) { out = std::move(value.numbers); }
+
+// The event of the line as the scan reads it: the fields its table marks typed or kept (the
+// others at their defaults), as the full reader's parse_* gives them. Once a line: it moves the
+// line's arrays out.
+template <typename Event>
+Event scanned_event(EventFields& fields) {
+  static const std::vector<int> indices = [] {  // each row's scanned key (-1: not scanned)
+    std::vector<int> found;
+    lf::for_each_field<Event>([&](const auto& row) {
+      found.push_back(row.scan == lf::Scan::no ? -1 : lf::scanned_key_index(row.key));
+    });
+    return found;
+  }();
+  Event event;
+  size_t row_number = 0;
+  lf::for_each_field<Event>([&](const auto& row) {
+    const int index = indices[row_number++];
+    if constexpr (requires(LineValue& value) { assign(event.*row.member, value); }) {
+      if (index >= 0 && fields.values[index].present) assign(event.*row.member, fields.values[index]);
+    } else {
+      if (index >= 0) throw std::logic_error(std::string("session_scan: no reading for the scanned field ") + row.key);
+    }
+  });
+  return event;
 }
 
 }  // namespace
@@ -274,12 +283,12 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
   EventChain chain;
   int schema_version = 0;
   std::string previous_chain;
+  EventFields fields;  // reused line after line (its arrays keep their memory)
   while (lines.next()) {
     const int line_number = lines.number();
     const auto fail = [&](const std::string& what) { lines.fail(what); };
-    EventFields fields;
     try {
-      fields = decode(lines);
+      decode(lines, fields);
     } catch (const simdjson::simdjson_error& error) {
       const bool wrong_type = error.error() == simdjson::INCORRECT_TYPE || error.error() == simdjson::NUMBER_OUT_OF_RANGE;
       if (!wrong_type) lines.not_an_event();
@@ -306,24 +315,26 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     }
     integrity.event();
     if (kind == BlockStartEvent::kind) {
-      session.block_names[fields.block.value_or(0)] = std::string(fields.name.empty() ? fields.scene : fields.name);
+      const BlockStartEvent block = scanned_event<BlockStartEvent>(fields);
+      session.block_names[block.block] = block.name.empty() ? block.scene : block.name;
       continue;
     }
     if (kind == TrialStartEvent::kind) {
       if (!fields.trial) fail("trial_start: trial missing (expected the trial index)");
+      TrialStartEvent start = scanned_event<TrialStartEvent>(fields);
       ScannedTrial trial;
-      trial.index = *fields.trial;
+      trial.index = start.trial;
       trial.line = line_number;
-      trial.block = fields.block.value_or(0);
-      trial.condition = fields.condition;
-      trial.variant = fields.variant;
-      trial.level = fields.level;
-      trial.attention_check = fields.attention_check.value_or(false);
-      trial.reference_first = fields.reference_first;
-      trial.ramp_toward_reference = fields.ramp_toward_reference.value_or(true);
-      trial.practice = fields.practice.value_or(false);
-      trial.track = fields.track;
-      trial.sequence = std::move(fields.sequence);
+      trial.block = start.block;
+      trial.condition = std::move(start.condition);
+      trial.variant = std::move(start.variant);
+      trial.level = start.level;
+      trial.attention_check = start.attention_check;
+      trial.reference_first = start.reference_first;
+      trial.ramp_toward_reference = start.ramp_toward_reference.value_or(true);
+      trial.practice = start.practice;
+      trial.track = start.track;
+      trial.sequence = std::move(start.sequence);
       trials.start(std::move(trial));
       continue;
     }
@@ -345,24 +356,28 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     ScannedTrial* open = trials.open_for(fields.trial);
     if (!open) fail(kind + ": trial does not match the trial started last");
     if (kind == StimulusEvent::kind) {
-      open->dropped_frames += fields.dropped_frames.value_or(0);
-      for (size_t i = 1; i < fields.present_s.size(); ++i)
-        open->frame_interval_s.push_back(fields.present_s[i] - fields.present_s[i - 1]);
-      if (fields.has_gaze_age) {
+      const StimulusEvent stimulus = scanned_event<StimulusEvent>(fields);
+      open->dropped_frames += stimulus.dropped_frames;
+      for (size_t i = 1; i < stimulus.present_s.size(); ++i)
+        open->frame_interval_s.push_back(stimulus.present_s[i] - stimulus.present_s[i - 1]);
+      if (stimulus.gaze_age_s) {
         ++open->stimuli_with_latency;
-        open->gaze_age_s.insert(open->gaze_age_s.end(), fields.gaze_age_s.begin(), fields.gaze_age_s.end());
+        for (const std::optional<double>& age : *stimulus.gaze_age_s)
+          if (age) open->gaze_age_s.push_back(*age);  // a refresh without a sample (null) left out
       }
-      if (!fields.present_clock.empty() &&
-          std::find(session.present_clocks.begin(), session.present_clocks.end(), fields.present_clock) ==
+      if (stimulus.present_clock && !stimulus.present_clock->empty() &&
+          std::find(session.present_clocks.begin(), session.present_clocks.end(), *stimulus.present_clock) ==
               session.present_clocks.end())
-        session.present_clocks.emplace_back(fields.present_clock);
+        session.present_clocks.push_back(*stimulus.present_clock);
     }
     if (kind == ResponseEvent::kind) {
-      open->answers.emplace_back(fields.answer);
-      open->answer_steps.push_back(fields.step.value_or(0));
+      const ResponseEvent response = scanned_event<ResponseEvent>(fields);
+      open->answers.push_back(response.answer);
+      open->answer_steps.push_back(response.step);
     }
-    if (kind == SliderSavedEvent::kind) open->saved_level = fields.level;
-    if (kind == AttentionCheckEvent::kind) open->attention_correct = fields.correct.value_or(true);
+    if (kind == SliderSavedEvent::kind) open->saved_level = scanned_event<SliderSavedEvent>(fields).level;
+    if (kind == AttentionCheckEvent::kind)
+      open->attention_correct = scanned_event<AttentionCheckEvent>(fields).correct.value_or(true);
     if (kind == TrialEndEvent::kind && !trials.end())
       fail("trial_end: trial " + std::to_string(*fields.trial) + " is complete twice in this log (forged or spliced)");
   }

@@ -2,7 +2,8 @@
 // A fast read of a session log for analysing many of them (fovlab analyze reads a million trials):
 // every line is still checked as the full reader checks it (the line level is one piece of code
 // under both, log_lines.h: the JSON grammar of every value, the nesting cap, one object a line, its
-// seq, the hash chain), but only the fields a trial summary needs are decoded, with simdjson's
+// seq, the hash chain), but only the fields a trial summary needs are decoded (the rows the event
+// tables mark for the scan, log_event_fields.h, into the same structs), with simdjson's
 // On-Demand API; of the per-refresh arrays of stimulus events only the gaze ages and the present
 // times' intervals (and the acquisition times, for their types) are kept, the rest checked and dropped, never built. Trials are assembled by the rules of session_record.h
 // (complete at trial_end; a session_resumed drops the trial a crash cut off);

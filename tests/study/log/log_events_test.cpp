@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 #include <string>
 
 #include "core/input_error.h"
 #include "study/log/event_log.h"
+#include "study/log/log_event_fields.h"
 
 namespace fovlab {
 namespace {
@@ -346,6 +348,50 @@ TEST(LogEvents, FieldTypeChecksRefuseWhatTheReadersRefuse) {
   EXPECT_NE(check_log_field_types({{"gaze_age_s", {1.0, "x"}}}), "");
   EXPECT_NE(check_log_field_types({{"present_clock", 1}}), "");
   EXPECT_EQ(check_log_field_types({{"rt_s", "fast"}}), "") << "rt_s is not a checked field (the fast scan skips it)";
+}
+
+// The keys both readers type-check on every line (and the scan keeps) are those the event tables
+// mark: the same set, and the same types, as the hand-written checks had before the tables.
+TEST(LogEvents, TheTablesTypedKeysAreTheCheckedOnes) {
+  using log_fields::LineType;
+  std::map<std::string, LineType> typed, kept;
+  for (const log_fields::ScannedKey& key : log_fields::scanned_keys())
+    (key.scan == log_fields::Scan::typed ? typed : kept)[std::string(key.key)] = key.type;
+  const std::map<std::string, LineType> expected = {
+      {"trial", LineType::small_int},
+      {"block", LineType::small_int},
+      {"step", LineType::small_int},
+      {"track", LineType::small_int},
+      {"dropped_frames", LineType::small_int},
+      {"condition", LineType::string},
+      {"variant", LineType::string},
+      {"answer", LineType::string},
+      {"name", LineType::string},
+      {"scene", LineType::string},
+      {"present_clock", LineType::string},
+      {"level", LineType::number_or_null},
+      {"attention_check", LineType::boolean},
+      {"reference_first", LineType::boolean},
+      {"ramp_toward_reference", LineType::boolean},
+      {"correct", LineType::boolean},
+      {"practice", LineType::boolean},
+      {"sequence", LineType::small_int_array},
+      {"gaze_acquired_s", LineType::number_or_null_array},
+      {"gaze_age_s", LineType::number_or_null_array},
+  };
+  EXPECT_EQ(typed, expected);
+  EXPECT_EQ(kept, (std::map<std::string, LineType>{{"present_s", LineType::numbers_lenient}}));
+  for (const log_fields::ScannedKey& key : log_fields::scanned_keys())
+    EXPECT_EQ(log_fields::scanned_keys().at(size_t(log_fields::scanned_key_index(key.key))).key, key.key);
+  EXPECT_EQ(log_fields::scanned_key_index("rt_s"), -1);
+  // Each key's check, as its line type says.
+  EXPECT_NE(check_log_field_types({{"block", 1.5}}), "");
+  EXPECT_NE(check_log_field_types({{"practice", 1}}), "");
+  EXPECT_NE(check_log_field_types({{"name", nullptr}}), "");
+  EXPECT_NE(check_log_field_types({{"event", 3}}), "");
+  EXPECT_NE(check_log_field_types({{"track", 4294967296ll}}), "");
+  EXPECT_EQ(check_log_field_types({{"present_s", "x"}}), "") << "present_s is read leniently, not checked";
+  EXPECT_EQ(check_log_field_types({{"gaze_age_s", {nullptr, 0.5}}, {"correct", true}, {"sequence", nlohmann::json::array()}}), "");
 }
 
 // Who answered: "human", or "simulated" for a model; anything else (a missing field too) is refused,

@@ -100,6 +100,24 @@ void expect_same_story(const std::string& path) {
     std::optional<double> saved;
     for (const SliderSavedEvent& event : full.slider_saved) saved = event.level;
     EXPECT_EQ(fast.saved_level, saved);
+    EXPECT_EQ(fast.practice, full.start.practice);
+    EXPECT_EQ(fast.track, full.start.track);
+    // The stimulus events' fields the scan keeps (log_event_fields.h: typed and kept rows).
+    int64_t dropped_frames = 0;
+    int stimuli_with_latency = 0;
+    std::vector<double> gaze_age_s, frame_interval_s;
+    for (const StimulusEvent& stimulus : full.stimuli) {
+      dropped_frames += stimulus.dropped_frames;
+      if (stimulus.gaze_age_s) ++stimuli_with_latency;
+      for (const std::optional<double>& age : stimulus.gaze_age_s.value_or(std::vector<std::optional<double>>{}))
+        if (age) gaze_age_s.push_back(*age);
+      for (size_t j = 1; j < stimulus.present_s.size(); ++j)
+        frame_interval_s.push_back(stimulus.present_s[j] - stimulus.present_s[j - 1]);
+    }
+    EXPECT_EQ(fast.dropped_frames, dropped_frames);
+    EXPECT_EQ(fast.stimuli_with_latency, stimuli_with_latency);
+    EXPECT_EQ(fast.gaze_age_s, gaze_age_s);
+    EXPECT_EQ(fast.frame_interval_s, frame_interval_s);
   }
   std::map<int, std::string> block_names;  // from the full reader's events
   for (const json& event : log.events)
@@ -207,6 +225,63 @@ TEST(SessionScan, KeepsTheIntervalsBetweenEachStimulusPresentTimes) {
   ASSERT_EQ(scan.trials.size(), 1u);
   EXPECT_EQ(scan.trials[0].frame_interval_s, (std::vector<double>{0.25, 0.5, 0.5}));
   EXPECT_NO_THROW(read_session_record(read_event_log(path)));
+}
+
+TEST(SessionScan, ReadsEveryFieldItKeepsAsTheFullReaderReadsIt) {
+  // Schema 3 stimulus fields (nulls where the tracker had no sample), a practice trial of a track,
+  // a ramp trial, and a line with a key given twice (the last counts, for both readers).
+  const std::string path = scratch_log("kept_fields.jsonl");
+  {
+    EventLogWriter log(path, "", 0);
+    log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"},
+                {"t", 0.0}});
+    log.append(to_json(TrialStartEvent{.stamp = {1.0, {}}, .trial = 0, .block = 2, .condition = "c", .variant = "v",
+                                       .level = 3.5, .sequence = {4, 5}, .ramp_toward_reference = false,
+                                       .practice = true, .track = 1}));
+    StimulusEvent stimulus{.stamp = {1.5, {}}, .trial = 0, .step = 0, .stimulus = 4, .onset_s = 1.0};
+    stimulus.present_s = {1.0, 1.0125, 1.05};
+    stimulus.dropped_frames = 2;
+    stimulus.gaze_acquired_s = std::vector<std::optional<double>>{0.99, std::nullopt, 1.04};
+    stimulus.gaze_age_s = std::vector<std::optional<double>>{0.01, std::nullopt, 0.01};
+    stimulus.present_clock = "steady";
+    log.append(to_json(stimulus));
+    stimulus.gaze_age_s = std::vector<std::optional<double>>{};
+    stimulus.present_clock = "vsync";
+    log.append(to_json(stimulus));
+    log.append(to_json(ResponseEvent{.stamp = {1.6, {}}, .trial = 0, .step = 3, .answer = "up", .key = "u", .rt_s = 0.2}));
+    log.append(to_json(TrialEndEvent{.stamp = {1.7, {}}, .trial = 0}));
+  }
+  {  // a trial_start whose sequence is given twice, added by hand and re-chained
+    EventLogFile log = read_event_log(path);
+    std::string text;
+    std::string chain;
+    for (size_t i = 0; i < log.events.size(); ++i) {
+      nlohmann::json event = log.events[i];
+      event.erase("chain");
+      std::string line = event.dump();
+      if (event.value("event", "") == "trial_start") line.insert(1, "\"sequence\":[9,9,9],");
+      chain = chain_of_text(chain, line, log.schema_version);
+      line.insert(line.size() - 1, ",\"chain\":\"" + chain + "\"");
+      text += line + "\n";
+    }
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+  }
+  expect_same_story(path);
+  const ScannedSession scan = scan_session_log(path);
+  EXPECT_EQ(scan.first_chain_error_line, 0);
+  ASSERT_EQ(scan.trials.size(), 1u);
+  const ScannedTrial& trial = scan.trials[0];
+  EXPECT_EQ(trial.block, 2);
+  EXPECT_EQ(trial.sequence, (std::vector<int>{4, 5}));
+  EXPECT_TRUE(trial.practice);
+  EXPECT_EQ(trial.track, 1);
+  EXPECT_FALSE(trial.ramp_toward_reference);
+  EXPECT_EQ(trial.level, 3.5);
+  EXPECT_EQ(trial.dropped_frames, 4);
+  EXPECT_EQ(trial.stimuli_with_latency, 2);
+  EXPECT_EQ(trial.gaze_age_s, (std::vector<double>{0.01, 0.01}));
+  EXPECT_EQ(trial.answer_steps, (std::vector<int>{3}));
+  EXPECT_EQ(scan.present_clocks, (std::vector<std::string>{"steady", "vsync"}));
 }
 
 }  // namespace
