@@ -33,7 +33,7 @@ struct AnalyzeArguments {
   uint64_t seed = 1;
   double rating_cutoff = 2.0;
   bool include_broken = false;
-  std::string observers;  // "": refuse a mix of human and simulated sessions
+  std::string observers;     // "": refuse a mix of human and simulated sessions
   std::string gaze_sources;  // "": a gaze-contingent study's mouse sessions kept apart from the others
   std::string lab_key_path;
   bool force = false;  // replace an earlier analysis at the output folder
@@ -51,7 +51,8 @@ std::string default_out_dir(const std::vector<std::string>& inputs, const analys
   // results/<study>/analysis, which is the first version's.
   for (const analysis::ConfigVersion& version : data.config_versions) {
     if (!version.analysed || version.folders.size() != 1) continue;
-    const std::optional<int> number = study_version_of_folder_name(study, fs::path(version.folders.front()).filename().string());
+    const std::optional<int> number =
+        study_version_of_folder_name(study, fs::path(version.folders.front()).filename().string());
     if (number && *number > 1) return (fs::path(version.folders.front()) / "analysis").string();
   }
   if (inputs.size() == 1 && fs::is_directory(inputs.front())) {
@@ -64,12 +65,13 @@ std::string default_out_dir(const std::vector<std::string>& inputs, const analys
   return (fs::path("results") / study / "analysis").string();
 }
 
-// Seed 002, 4.4.1: per block (and pooled), the grid of mean scores over every level, rows from the
+// Ye et al. 2022, 4.4.1: per block (and pooled), the grid of mean scores over every level, rows from the
 // largest y down, the best pair starred.
 void print_rating_grid(const analysis::RatingGrid& grid) {
-  std::printf("pilot grid (Ye et al. 2022, 4.4.1): mean score (3 identical, 1 significant difference) per %s (columns) and %s "
-              "(rows) over every level: each participant's mean, then the mean over participants; * the best\n",
-              grid.x_key.c_str(), grid.y_key.c_str());
+  std::printf(
+      "pilot grid (Ye et al. 2022, 4.4.1): mean score (3 identical, 1 significant difference) per %s (columns) and %s "
+      "(rows) over every level: each participant's mean, then the mean over participants; * the best\n",
+      grid.x_key.c_str(), grid.y_key.c_str());
   const size_t columns = grid.x_values.size();
   for (const analysis::GridMap& map : grid.maps) {
     if (map.level) continue;
@@ -101,10 +103,11 @@ void print_rating_grid(const analysis::RatingGrid& grid) {
   }
 }
 
-// Seed 002, Table 2: the votes for the reference, one-sided whatever --alternative says.
+// Ye et al. 2022, Table 2: the votes for the reference, one-sided whatever --alternative says.
 void print_preference_table(const std::vector<analysis::PreferenceRow>& rows) {
-  std::printf("preference table (Ye et al. 2022, Table 2): votes for the reference; exact binomial, ONE-sided (greater: the "
-              "reference preferred), H0 1/2, whatever --alternative says; 95 %% Clopper-Pearson\n");
+  std::printf(
+      "preference table (Ye et al. 2022, Table 2): votes for the reference; exact binomial, ONE-sided (greater: the "
+      "reference preferred), H0 1/2, whatever --alternative says; 95 %% Clopper-Pearson\n");
   std::printf("  %-24s %-16s %-24s %9s %7s %10s %5s  %s\n", "scene", "condition", "reference v. test", "votes", "share",
               "p", "stars", "95 % CI");
   for (const analysis::PreferenceRow& row : rows) {
@@ -126,11 +129,13 @@ void print_headlines(const analysis::AnalysisResult& result) {
     if (headline.value)
       figure = headline.quantity + " " + format_number(*headline.value, 4) +
                (headline.lower ? " " + format_interval(*headline.lower, *headline.upper, 4) : std::string());
-    else
-      figure = headline.quantity + ": none";
+    else figure = headline.quantity + ": none";
     const bool estimated = headline.status == analysis::HeadlineStatus::estimated;
-    std::printf("  %-24s %s%s%s\n", headline.group.label().c_str(), figure.c_str(), estimated ? "" : "  [",
-                estimated ? "" : (std::string(analysis::headline_status_name(headline.status)) + ": " + headline.reason + "]").c_str());
+    std::printf(
+        "  %-24s %s%s%s\n", headline.group.label().c_str(), figure.c_str(), estimated ? "" : "  [",
+        estimated
+            ? ""
+            : (std::string(analysis::headline_status_name(headline.status)) + ": " + headline.reason + "]").c_str());
     std::printf("    method: %s; aims at %s\n", headline.method.c_str(), headline.aims_at.c_str());
     if (headline.pooled_fit)
       std::printf("    pooled fit of every adaptive trial: %s %s\n", format_number(*headline.pooled_fit, 4).c_str(),
@@ -150,14 +155,17 @@ void print_summary(const analysis::AnalysisResult& result, const std::string& ga
   const std::string observers = result.observers == "human" ? "" : " (" + result.observers + " observers)";
   // Ramps and sliders have no binomial tests: their thresholds are per participant.
   const bool per_condition = result.protocol != ProtocolKind::ramp && result.protocol != ProtocolKind::slider;
-  const std::string test = per_condition ? "; test: exact binomial, " + std::string(analysis::alternative_name(result.alternative)) +
+  const std::string test = per_condition ? "; test: exact binomial, " +
+                                               std::string(analysis::alternative_name(result.alternative)) +
                                                ", H0 1/2, Holm, alpha " + format_number(result.alpha, 6)
                                          : "; thresholds per participant, then their mean";
-  std::printf("study %s (%s%s): %zu participant(s)%s%s, %d excluded%s\n", result.study.c_str(), result.rules().name.data(),
+  std::printf("study %s (%s%s): %zu participant(s)%s%s, %d excluded%s\n", result.study.c_str(),
+              result.rules().name.data(),
               result.rules().question_name.empty() ? "" : (" " + std::string(result.rules().question_name)).c_str(),
               result.participants.size(), observers.c_str(), gaze_note.empty() ? "" : (" (" + gaze_note + ")").c_str(),
               excluded, test.c_str());
-  if (result.config_versions.size() > 1) std::printf("config versions found: %zu, one analysed\n", result.config_versions.size());
+  if (result.config_versions.size() > 1)
+    std::printf("config versions found: %zu, one analysed\n", result.config_versions.size());
   for (const auto& version : result.config_versions)
     std::printf("  config %s\n", analysis::describe_config_version(version).c_str());
   print_headlines(result);
@@ -169,11 +177,11 @@ void print_summary(const analysis::AnalysisResult& result, const std::string& ga
     std::printf("  threshold %-24s %s", threshold.group.label().c_str(),
                 threshold.level ? format_number(*threshold.level, 6).c_str() : "none");
     if (threshold.mean)
-      std::printf(" %s(mean of %d participants, SD %s)",
-                  threshold.mean_lower ? (format_interval(*threshold.mean_lower, *threshold.mean_upper, 4) + " ").c_str() : "",
-                  threshold.participants_with_threshold, threshold.sd ? format_number(*threshold.sd, 4).c_str() : "-");
-    else if (result.protocol == ProtocolKind::pair)
-      std::printf(" (pooled over participants)");
+      std::printf(
+          " %s(mean of %d participants, SD %s)",
+          threshold.mean_lower ? (format_interval(*threshold.mean_lower, *threshold.mean_upper, 4) + " ").c_str() : "",
+          threshold.participants_with_threshold, threshold.sd ? format_number(*threshold.sd, 4).c_str() : "-");
+    else if (result.protocol == ProtocolKind::pair) std::printf(" (pooled over participants)");
     std::printf("\n");
     if (!threshold.note.empty()) std::printf("    %s\n", threshold.note.c_str());
   }
@@ -187,16 +195,17 @@ void print_summary(const analysis::AnalysisResult& result, const std::string& ga
                     format_number(fit.model.parameters.threshold, 5).c_str(),
                     format_interval(fit.threshold_interval.lower, fit.threshold_interval.upper, 5).c_str());
       else
-        std::printf("  fit %-10s %-18s threshold not estimable: %s\n", group.group.label().c_str(), shape_name(fit.model.shape),
-                    not_estimable.c_str());
+        std::printf("  fit %-10s %-18s threshold not estimable: %s\n", group.group.label().c_str(),
+                    shape_name(fit.model.shape), not_estimable.c_str());
       if (!fit.note.empty()) std::printf("    fit note: %s\n", fit.note.c_str());
     }
   if (const analysis::FrameIntervalSummary& frames = result.frame_intervals; frames.intervals > 0)
-    std::printf("frame intervals (every session's presented refreshes pooled; report.html has each): median %s ms, SD %s ms, "
-                "p99 %s ms, max %s ms, %llu of %llu late (beyond 1.5 refresh periods)\n",
-                format_number(frames.median_ms.value_or(NAN), 4).c_str(), format_number(frames.sd_ms.value_or(NAN), 3).c_str(),
-                format_number(frames.p99_ms.value_or(NAN), 4).c_str(), format_number(frames.max_ms.value_or(NAN), 4).c_str(),
-                static_cast<unsigned long long>(frames.late), static_cast<unsigned long long>(frames.intervals));
+    std::printf(
+        "frame intervals (every session's presented refreshes pooled; report.html has each): median %s ms, SD %s ms, "
+        "p99 %s ms, max %s ms, %llu of %llu late (beyond 1.5 refresh periods)\n",
+        format_number(frames.median_ms.value_or(NAN), 4).c_str(), format_number(frames.sd_ms.value_or(NAN), 3).c_str(),
+        format_number(frames.p99_ms.value_or(NAN), 4).c_str(), format_number(frames.max_ms.value_or(NAN), 4).c_str(),
+        static_cast<unsigned long long>(frames.late), static_cast<unsigned long long>(frames.intervals));
   // Adaptive tracks: at most 20 lines (adaptive_tracks.csv holds every one).
   size_t tracks_printed = 0, tracks = 0;
   for (const auto& participant : result.participants)
@@ -206,10 +215,12 @@ void print_summary(const analysis::AnalysisResult& result, const std::string& ga
       ++tracks_printed;
       const std::string procedure =
           track.procedure + (track.start_level ? " from " + format_number(*track.start_level, 4) : std::string());
-      std::printf("  %-10s %-12s %-16s %-10s %s%s, %zu trials%s\n", participant.participant.c_str(), track.block.c_str(),
-                  procedure.c_str(), track.variant.empty() ? "-" : track.variant.c_str(),
+      std::printf("  %-10s %-12s %-16s %-10s %s%s, %zu trials%s\n", participant.participant.c_str(),
+                  track.block.c_str(), procedure.c_str(), track.variant.empty() ? "-" : track.variant.c_str(),
                   track.threshold ? format_number(*track.threshold, 5).c_str() : "none",
-                  track.threshold_lower ? (" " + format_interval(*track.threshold_lower, *track.threshold_upper, 4)).c_str() : "",
+                  track.threshold_lower
+                      ? (" " + format_interval(*track.threshold_lower, *track.threshold_upper, 4)).c_str()
+                      : "",
                   track.levels.size(), track.note.empty() ? "" : ("; " + track.note).c_str());
     }
   if (tracks > tracks_printed) std::printf("  ... and %zu more\n", tracks - tracks_printed);
@@ -265,7 +276,8 @@ void analyze(const AnalyzeArguments& arguments) {
   analysis::GazeSourceFilter gaze_sources;
   if (!arguments.gaze_sources.empty()) gaze_sources = analysis::parse_gaze_source_filter(arguments.gaze_sources);
   const analysis::StudyData data = analysis::load_study(
-      arguments.inputs, analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken, observers, gaze_sources});
+      arguments.inputs,
+      analysis::LoadOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken, observers, gaze_sources});
   const std::string out = arguments.out.empty() ? default_out_dir(arguments.inputs, data) : arguments.out;
   check_output_target(out, arguments.out.empty() ? "" : "--out", {OutputKind::folder});
   analysis::check_analysis_destination(out, arguments.force);  // before the fits (which take a while)
@@ -280,18 +292,22 @@ void analyze(const AnalyzeArguments& arguments) {
 
 void add_analyze_command(CLI::App& app) {
   auto arguments = std::make_shared<AnalyzeArguments>();
-  CLI::App* command = app.add_subcommand("analyze", "Thresholds, tests, fits, tables and plots from a study's session logs");
+  CLI::App* command =
+      app.add_subcommand("analyze", "Thresholds, tests, fits, tables and plots from a study's session logs");
   command->add_option("logs", arguments->inputs, "Session logs and/or results folders (every events.jsonl under them)")
       ->required();
   add_output_option(*command, "--out", arguments->out, "Output folder (default: results/<study>/analysis)",
                     {{OutputKind::folder},
                      "an earlier analysis there is replaced only with --force; a folder holding anything else never"});
   command->add_flag("--force", arguments->force, "Replace an earlier analysis in the output folder");
-  command->add_option("--alternative", arguments->alternative, "two-sided (default), greater or less: the binomial tests' alternative");
+  command->add_option("--alternative", arguments->alternative,
+                      "two-sided (default), greater or less: the binomial tests' alternative");
   command->add_option("--alpha", arguments->alpha, "Significance level of the threshold criteria (default 0.05)");
   command->add_option("--guess-rate", arguments->guess_rate,
-                      "Fixed guess rate of the psychometric fits (default: 1/2 for 2afc 'better', else the attention-check false-alarm rate)");
-  command->add_option("--bootstrap", arguments->bootstrap, "Parametric bootstrap replicates per fit (default 1000; 0: none)");
+                      "Fixed guess rate of the psychometric fits (default: 1/2 for 2afc 'better', else the "
+                      "attention-check false-alarm rate)");
+  command->add_option("--bootstrap", arguments->bootstrap,
+                      "Parametric bootstrap replicates per fit (default 1000; 0: none)");
   command->add_option("--seed", arguments->seed, "Seed of the bootstrap, a whole number in [0, 2^64) (default 1)")
       ->check(CLI::Validator(
           [](std::string& text) {
@@ -300,18 +316,22 @@ void add_analyze_command(CLI::App& app) {
                        : "expected a whole number in [0, 2^64), got \"" + text + "\"";
           },
           "SEED"));
-  command->add_option("--rating-cutoff", arguments->rating_cutoff, "Rating studies: the lowest acceptable mean score (default 2.0)");
+  command->add_option("--rating-cutoff", arguments->rating_cutoff,
+                      "Rating studies: the lowest acceptable mean score (default 2.0)");
   command->add_flag("--include-broken", arguments->include_broken,
                     "Analyse logs whose chain or seal is broken too (left out by default)");
-  command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");
-  command->add_option("--observers", arguments->observers,
-                      "human, simulated or all: whose sessions to analyse (default: all of one kind; a study mixing "
-                      "real participants and simulated observers is refused)")
+  command->add_option("--lab-key", arguments->lab_key_path,
+                      "The lab key the sessions ran with: verify their seals' MACs");
+  command
+      ->add_option("--observers", arguments->observers,
+                   "human, simulated or all: whose sessions to analyse (default: all of one kind; a study mixing "
+                   "real participants and simulated observers is refused)")
       ->check(CLI::IsMember({"human", "simulated", "all"}));
-  command->add_option("--gaze-sources", arguments->gaze_sources,
-                      "all, or gaze source kinds separated by commas (tracker, trace, synthetic, mouse): whose sessions to "
-                      "analyse by their gaze (default: a gaze-contingent study's sessions with the mouse as gaze, "
-                      "rehearsals, are left out when others had gaze from elsewhere; docs/analysis.md)");
+  command->add_option(
+      "--gaze-sources", arguments->gaze_sources,
+      "all, or gaze source kinds separated by commas (tracker, trace, synthetic, mouse): whose sessions to "
+      "analyse by their gaze (default: a gaze-contingent study's sessions with the mouse as gaze, "
+      "rehearsals, are left out when others had gaze from elsewhere; docs/analysis.md)");
   command->callback([arguments] { analyze(*arguments); });
 }
 

@@ -55,8 +55,9 @@ void run_bench(const BenchFlags& flags) {
 
 void add_bench_command(CLI::App& app) {
   auto flags = std::make_shared<BenchFlags>();
-  CLI::App* command =
-      app.add_subcommand("bench", "Benchmark GT against IPR, FIPR and the sampling models: time, steps, SSIM, PSNR, FLIP, FPSNR, Pareto fronts");
+  CLI::App* command = app.add_subcommand(
+      "bench",
+      "Benchmark GT against IPR, FIPR and the sampling models: time, steps, SSIM, PSNR, FLIP, FPSNR, Pareto fronts");
   add_bench_flags(*command, *flags);
   command->callback([flags, command] {
     note_given_bench_flags(*command, *flags);

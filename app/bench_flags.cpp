@@ -91,7 +91,6 @@ std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
   return degrees;
 }
 
-
 std::vector<double> parse_focal_shares(const std::vector<std::string>& texts, const char* flag) {
   const std::string text = join(texts);
   const std::string expected = "shares of the screen from 0.001 to 1, comma-separated, none twice";
@@ -122,7 +121,6 @@ std::vector<float> parse_times(const std::vector<std::string>& texts) {
 
 }  // namespace
 
-
 bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   bench::BenchOptions options;
   if (!flags.cells.empty()) {
@@ -131,8 +129,9 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
     if (flags.json.empty())
       throw InputError("--cells " + flags.cells + ": needs --json PART.json (fovlab bench-merge joins the parts)");
     if (!flags.out_dir.empty())
-      throw InputError("--out-dir: not with --cells (a part's tables and charts are not the sweep's); give --out-dir "
-                       "to fovlab bench-merge");
+      throw InputError(
+          "--out-dir: not with --cells (a part's tables and charts are not the sweep's); give --out-dir "
+          "to fovlab bench-merge");
   }
   if (flags.repeats < 1 || flags.repeats > 1000) {
     throw InputError("--repeats " + std::to_string(flags.repeats) + ": expected 1 to 1000");
@@ -175,9 +174,8 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   options.display = base.display;
   options.gaze_x_px = base.gaze_x_px;
   options.gaze_y_px = base.gaze_y_px;
-  options.display_line = display_line(options.display, has_display(flags.foveation.display)
-                                                           ? ""
-                                                           : "FIPR's default, a 24-inch display at 600 mm");
+  options.display_line = display_line(
+      options.display, has_display(flags.foveation.display) ? "" : "FIPR's default, a 24-inch display at 600 mm");
   options.display_flags = display_flags_text(flags.foveation.display);
   SamplingSettings sampling = flags.sampling;
   options.sampling_filter = sampling.filter;
@@ -202,9 +200,9 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
     std::vector<SamplingModel> models;  // each once
     for (SamplingModel model : sampling_models)
       if (std::find(models.begin(), models.end(), model) == models.end()) models.push_back(model);
-    options.sampling_flags = all_sampling_flags_text(sampling, models,
-                                                     "--fx " + join_numbers(options.focal_shares_x) + " --fy " +
-                                                         join_numbers(options.focal_shares_y));
+    options.sampling_flags = all_sampling_flags_text(
+        sampling, models,
+        "--fx " + join_numbers(options.focal_shares_x) + " --fy " + join_numbers(options.focal_shares_y));
   }
   options.scenes = flags.scenes;
   options.spps = flags.spps;
@@ -267,34 +265,40 @@ void add_bench_flags(CLI::App& command, BenchFlags& options) {
   command.add_option("--width", options.settings.width, "Frame width in pixels");
   command.add_option("--height", options.settings.height, "Frame height in pixels");
   command.add_option("--repeats", options.repeats, "Timed runs per method and cell (median reported)");
-  add_output_option(command, "--json", options.json, "Write the full results as JSON", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(command, "--json", options.json, "Write the full results as JSON",
+                    {{OutputKind::file}, kReplacesAFile});
   add_output_option(command, "--out-dir", options.out_dir,
-                    "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here", {{OutputKind::folder}, kWritesIntoAFolder});
+                    "Write images, step heat maps, FIPR masks, Pareto charts (SVG), table.md and bench.json here",
+                    {{OutputKind::folder}, kWritesIntoAFolder});
   command.add_option("--device", options.device, "Vulkan device: index or part of its name (fovlab devices)");
   command.add_flag("--require-gpu", options.require_gpu,
                    "Refuse to run on a CPU Vulkan device (lavapipe): exit 2 on a node without a GPU");
   command.add_option("--cells", options.cells,
                      "I/N: measure only part I of N of the sweep's (scene, time, spp) units, into --json; fovlab "
                      "bench-merge joins the parts into the sweep's report");
-  command.add_option("--methods", options.methods,
-                     "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
+  command
+      .add_option("--methods", options.methods,
+                  "Methods, comma-separated: gt (always), ipr, fipr, rmfr, hyperbolic, linear, kfr (default gt,ipr)")
       ->delimiter(',');
   add_trace_options(command, options.settings);
-  command.add_option("--times", options.times,
-                     "Scene times in seconds, comma-separated, instead of --time: every scene is measured at each "
-                     "(the rotating patterns turn 10 degrees a second)")
+  command
+      .add_option("--times", options.times,
+                  "Scene times in seconds, comma-separated, instead of --time: every scene is measured at each "
+                  "(the rotating patterns turn 10 degrees a second)")
       ->delimiter(',');
   // The FIPR flags of `render`, but a list of refresh periods and of foveae: the sweep.
   add_foveation_flags(command, options.foveation, FoveationPoint::swept);
   command.add_option("--refresh", options.refresh, "FIPR: periphery refresh periods, comma-separated (1, 2, 4)")
       ->delimiter(',');
-  command.add_option("--fovea-deg", options.fovea_deg,
-                     "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
+  command
+      .add_option("--fovea-deg", options.fovea_deg,
+                  "FIPR: foveal eccentricities in degrees, comma-separated (default 2.5,5,7.5,10,12.5,15)")
       ->delimiter(',');
   add_sampling_flags(command, options.sampling, false);
-  command.add_option("--fx", options.focal_shares_x,
-                     "Sampling: rmfr's f_x as shares of the width, comma-separated (with --fy: every pair, Figure 6's "
-                     "sweep; default 0.3)")
+  command
+      .add_option("--fx", options.focal_shares_x,
+                  "Sampling: rmfr's f_x as shares of the width, comma-separated (with --fy: every pair, Figure 6's "
+                  "sweep; default 0.3)")
       ->delimiter(',');
   command.add_option("--fy", options.focal_shares_y, "Sampling: rmfr's f_y as shares of the height, comma-separated")
       ->delimiter(',');

@@ -29,13 +29,13 @@ struct BenchFlags {
   // --time alone. time_given: --time was on the command line too (refused with --times).
   std::vector<std::string> times;
   bool time_given = false;
-  // FIPR sweep (seed 000, 5.2: refresh 1, 1/2, 1/4; fovea 2.5 to 15 degrees in steps of 2.5).
+  // FIPR sweep (Polychronakis et al. 2023, 5.2: refresh 1, 1/2, 1/4; fovea 2.5 to 15 degrees in steps of 2.5).
   std::vector<std::string> refresh{"1", "2", "4"};
   std::vector<std::string> fovea_deg{"2.5", "5", "7.5", "10", "12.5", "15"};
   FoveationFlags foveation;  // display, gaze and the other FIPR flags; its fovea_deg and refresh are unused
   // FIPR-only flags the user gave (e.g. "--refresh"): refused unless fipr is among the methods.
   std::vector<std::string> fipr_flags_given;
-  SamplingSettings sampling;  // seed 002's sampling models (rmfr, hyperbolic, linear, kfr in --methods)
+  SamplingSettings sampling;  // Ye et al. 2022's sampling models (rmfr, hyperbolic, linear, kfr in --methods)
   // RMFR's f_x and f_y as shares of the screen, comma-separated: every pair is a cell (Figure 6's sweep).
   std::vector<std::string> focal_shares_x{"0.3"};
   std::vector<std::string> focal_shares_y{"0.3"};

@@ -49,7 +49,8 @@ bench::SweepLayout part_layout(const bench::PartReport& part) {
   try {
     return bench::sweep_layout(plan_bench(parse_sweep_command(part.report["command"].get<std::string>())));
   } catch (const InputError& error) {
-    throw InputError(part.path + ": \"command\": " + error.what() + "; expected the command of the sweep, as bench writes it");
+    throw InputError(part.path + ": \"command\": " + error.what() +
+                     "; expected the command of the sweep, as bench writes it");
   }
 }
 
@@ -69,9 +70,13 @@ void add_bench_merge_command(CLI::App& app) {
   auto options = std::make_shared<BenchMergeOptions>();
   CLI::App* command = app.add_subcommand(
       "bench-merge", "Join the parts of a sweep run with bench --cells I/N into one report (JSON, tables, charts)");
-  command->add_option("parts", options->parts, "Every part's JSON (bench --cells I/N --json), in any order")->required();
-  add_output_option(*command, "--json", options->json, "Write the sweep's JSON, as one run of bench --json writes it", {{OutputKind::file}, kReplacesAFile});
-  add_output_option(*command, "--out-dir", options->out_dir, "Write bench.json, table.md and the Pareto charts (SVG) here", {{OutputKind::folder}, kWritesIntoAFolder});
+  command->add_option("parts", options->parts, "Every part's JSON (bench --cells I/N --json), in any order")
+      ->required();
+  add_output_option(*command, "--json", options->json, "Write the sweep's JSON, as one run of bench --json writes it",
+                    {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--out-dir", options->out_dir,
+                    "Write bench.json, table.md and the Pareto charts (SVG) here",
+                    {{OutputKind::folder}, kWritesIntoAFolder});
   command->callback([options] { run_bench_merge(*options); });
 }
 

@@ -45,7 +45,7 @@ constexpr int kWarmupRefreshes = 5;  // rendered and presented before the timed 
 
 struct BenchPresentOptions {
   std::vector<std::string> sizes = {"320x180", "1280x720"};
-  int width = 0;   // --width/--height: one size instead of --sizes
+  int width = 0;  // --width/--height: one size instead of --sizes
   int height = 0;
   int refreshes = 120;
   std::string presenter = "both";  // window, headless, both
@@ -118,8 +118,8 @@ Row measure(Presenter& presenter, StimulusLibrary& library, int id, const Stimul
   double previous_present_s = -1.0;
   for (int image = 0; image < kWarmupRefreshes + refreshes; ++image) {
     const auto read_at = std::chrono::steady_clock::now();
-    const GazeSample sample =
-        sanitize_gaze(gaze.sample(presenter.now_s()), spec.width_px, spec.height_px, last_valid ? &*last_valid : nullptr);
+    const GazeSample sample = sanitize_gaze(gaze.sample(presenter.now_s()), spec.width_px, spec.height_px,
+                                            last_valid ? &*last_valid : nullptr);
     if (sample.valid) last_valid = sample;
     const PreparedFrame& frame = library.frame(id, spec, StimulusImage{image, image, sample});
     const double render_s = seconds_since(read_at);
@@ -142,8 +142,12 @@ Row measure(Presenter& presenter, StimulusLibrary& library, int id, const Stimul
   return row;
 }
 
-double median_ms(const std::vector<double>& seconds) { return 1e3 * analysis::nearest_rank_percentile(seconds, 50.0).value_or(NAN); }
-double p95_ms(const std::vector<double>& seconds) { return 1e3 * analysis::nearest_rank_percentile(seconds, 95.0).value_or(NAN); }
+double median_ms(const std::vector<double>& seconds) {
+  return 1e3 * analysis::nearest_rank_percentile(seconds, 50.0).value_or(NAN);
+}
+double p95_ms(const std::vector<double>& seconds) {
+  return 1e3 * analysis::nearest_rank_percentile(seconds, 95.0).value_or(NAN);
+}
 
 std::string command_line(const BenchPresentOptions& o, const std::vector<Size>& sizes) {
   std::string text = "fovlab bench-present --sizes ";
@@ -168,8 +172,9 @@ void run_bench_present(const BenchPresentOptions& options) {
     throw InputError("--presenter " + options.presenter + ": expected window, headless or both");
   const bool want_window = options.presenter != "headless";
   if (want_window && !display_available())
-    throw InputError("bench-present: no display for the window presenter (DISPLAY is not set); run it under Xvfb "
-                     "(xvfb-run -a -s -noreset fovlab bench-present ...) or with --presenter headless");
+    throw InputError(
+        "bench-present: no display for the window presenter (DISPLAY is not set); run it under Xvfb "
+        "(xvfb-run -a -s -noreset fovlab bench-present ...) or with --presenter headless");
   const std::filesystem::path json_folder = options.json.parent_path();
   if (!options.json.empty() && !json_folder.empty() && !std::filesystem::is_directory(json_folder))
     throw InputError("--json " + options.json.string() + ": expected a file in an existing folder");
@@ -229,7 +234,8 @@ void run_bench_present(const BenchPresentOptions& options) {
                            {"percentiles", "nearest rank"},
                            {"rows", nlohmann::json::array()}};
   std::string table =
-      "| presenter | frame path | size | gaze to present, median ms | p95 ms | render, median ms | present, median ms | "
+      "| presenter | frame path | size | gaze to present, median ms | p95 ms | render, median ms | present, median ms "
+      "| "
       "read-back + hash after the present, median ms | dropped frames | present clock |\n"
       "|---|---|---|---:|---:|---:|---:|---:|---:|---|\n";
   char line[512];
@@ -253,10 +259,11 @@ void run_bench_present(const BenchPresentOptions& options) {
                   median_ms(row.hash_s), row.dropped_frames, row.present_clock.c_str());
     table += line;
   }
-  std::printf("# fovlab bench-present\n\nCommand: `%s`\n\nRender device: %s; FIPR on %s; %d timed refreshes after %d "
-              "warm-up ones; nearest-rank percentiles.\n\n%s",
-              report["command"].get<std::string>().c_str(), context.description.name.c_str(), options.scene.c_str(),
-              options.refreshes, kWarmupRefreshes, table.c_str());
+  std::printf(
+      "# fovlab bench-present\n\nCommand: `%s`\n\nRender device: %s; FIPR on %s; %d timed refreshes after %d "
+      "warm-up ones; nearest-rank percentiles.\n\n%s",
+      report["command"].get<std::string>().c_str(), context.description.name.c_str(), options.scene.c_str(),
+      options.refreshes, kWarmupRefreshes, table.c_str());
   if (!options.json.empty()) write_text_atomically(options.json, report.dump(2) + "\n");
 }
 
@@ -271,10 +278,12 @@ void add_bench_present_command(CLI::App& app) {
   command->add_option("--width", options->width, "One stimulus width instead of --sizes (with --height)");
   command->add_option("--height", options->height, "One stimulus height instead of --sizes (with --width)");
   command->add_option("--refreshes", options->refreshes, "Timed refreshes a row (120)");
-  command->add_option("--presenter", options->presenter,
-                      "window, headless or both (both; the window needs a display: xvfb-run -a -s -noreset without one)");
+  command->add_option(
+      "--presenter", options->presenter,
+      "window, headless or both (both; the window needs a display: xvfb-run -a -s -noreset without one)");
   command->add_option("--scene", options->scene, "Sphere-traced scene of the FIPR stimulus (primitives)");
-  add_output_option(*command, "--json", options->json, "Write every figure as JSON", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--json", options->json, "Write every figure as JSON",
+                    {{OutputKind::file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device for rendering: index or part of its name");
   command->callback([options] { run_bench_present(*options); });
 }

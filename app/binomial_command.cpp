@@ -1,5 +1,5 @@
 // fovlab binomial K N: the exact binomial test of K successes in N trials, for checking published
-// counts in one line (seed 002's Table 2: 47 of 72 votes for RMFR over linear fall-off is p = 0.0064,
+// counts in one line (Ye et al. 2022's Table 2: 47 of 72 votes for RMFR over linear fall-off is p = 0.0064,
 // **, one-sided; 0.0128, *, two-sided). The same test and interval as `fovlab analyze`
 // (analysis/statistics/binomial.h); docs/analysis.md, "Statistics".
 #include <charconv>
@@ -44,7 +44,8 @@ void run_binomial(const BinomialOptions& options) {
   if (!(options.p0 > 0.0 && options.p0 < 1.0))
     throw InputError("--p0 " + format_number(options.p0, 6) + ": expected a probability strictly between 0 and 1");
   if (!(options.confidence > 0.0 && options.confidence < 1.0))
-    throw InputError("--confidence " + format_number(options.confidence, 6) + ": expected a level strictly between 0 and 1");
+    throw InputError("--confidence " + format_number(options.confidence, 6) +
+                     ": expected a level strictly between 0 and 1");
   const analysis::Alternative alternative = analysis::parse_alternative(options.alternative);
   const double p = analysis::binomial_test_p_value(k, n, options.p0, alternative);
   const analysis::ProportionInterval interval = analysis::clopper_pearson_interval(k, n, options.confidence);
@@ -53,9 +54,10 @@ void run_binomial(const BinomialOptions& options) {
               static_cast<unsigned long long>(n), 100.0 * double(k) / double(n), options.p0,
               analysis::alternative_name(alternative));
   const double log10_p = analysis::binomial_test_log10_p_value(k, n, options.p0, alternative);
-  std::printf("exact binomial p = %s%s%s\n", analysis::p_value_text(p, log10_p, 4).c_str(), stars.empty() ? "" : " ", stars.c_str());
-  std::printf("%g %% Clopper-Pearson interval of the share: [%.4f, %.4f]\n", 100.0 * options.confidence,
-              interval.lower, interval.upper);
+  std::printf("exact binomial p = %s%s%s\n", analysis::p_value_text(p, log10_p, 4).c_str(), stars.empty() ? "" : " ",
+              stars.c_str());
+  std::printf("%g %% Clopper-Pearson interval of the share: [%.4f, %.4f]\n", 100.0 * options.confidence, interval.lower,
+              interval.upper);
 }
 
 }  // namespace

@@ -56,7 +56,7 @@ Image zones_over_frame(const Image& zones, const Image& frame_display) {
 }
 
 void run_blend(BlendOptions options) {
-  const std::string assumed_display = default_to_seed001_display(options.display);
+  const std::string assumed_display = default_to_fpt_study_display(options.display);
   if (options.repeats < 0 || options.repeats > 1000)
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 0 to 1000");
   const Image frame = read_image(options.frame);
@@ -85,12 +85,13 @@ void run_blend(BlendOptions options) {
   if (linear) write_colour(options.out, result.image);
   else write_image(options.out, result.image);
   if (!options.zones_out.empty())
-    write_image(options.zones_out, zones_over_frame(zone_map(display, gaze_x, gaze_y, bounds),
-                                                    linear ? encode_srgb(frame) : frame));
-  std::printf("%s %dx%d, gaze %.1f,%.1f px, foveal %g deg, middle %g deg, band %g deg: zone buffers %.2f ms, blend %.2f ms "
-              "GPU -> %s\n",
-              options.frame.c_str(), frame.width, frame.height, gaze_x, gaze_y, bounds.foveal_deg, bounds.middle_deg,
-              bounds.band_deg, zone_buffers_ms, result.gpu_ms, options.out.c_str());
+    write_image(options.zones_out,
+                zones_over_frame(zone_map(display, gaze_x, gaze_y, bounds), linear ? encode_srgb(frame) : frame));
+  std::printf(
+      "%s %dx%d, gaze %.1f,%.1f px, foveal %g deg, middle %g deg, band %g deg: zone buffers %.2f ms, blend %.2f ms "
+      "GPU -> %s\n",
+      options.frame.c_str(), frame.width, frame.height, gaze_x, gaze_y, bounds.foveal_deg, bounds.middle_deg,
+      bounds.band_deg, zone_buffers_ms, result.gpu_ms, options.out.c_str());
   std::printf("%s\n", display_line(display, assumed_display).c_str());
   if (options.repeats > 0) print_blend_timing(timing);
 }
@@ -104,13 +105,16 @@ void add_blend_command(CLI::App& app) {
   command->add_option("--frame", options->frame, "Full-resolution frame (EXR: linear light)")->required();
   command->add_option("--periphery-frame", options->periphery_frame,
                       "Source of the middle and outer zones instead of the frame (e.g. fewer bounces)");
-  add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (seed 001)
+  add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (Polychronakis et al. 2021)
   command->get_option("--gaze")->required()->description("Gaze point X,Y in pixels, or each in percent of the frame");
   command->add_option("--foveal-deg", options->foveal_deg, "Foveal zone, full aperture in degrees")->required();
   command->add_option("--middle-deg", options->middle_deg, "Middle zone, full aperture (default foveal + 52.5)");
   command->add_option("--band-deg", options->band_deg, "Width of the linear band at each boundary (default 1)");
-  add_output_option(*command, "--out", options->out, "Blended image (.png: sRGB, .exr: linear)", {{OutputKind::image_file}, kReplacesAFile})->required();
-  add_output_option(*command, "--zones-out", options->zones_out, "Picture of the zones over the frame", {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--out", options->out, "Blended image (.png: sRGB, .exr: linear)",
+                    {{OutputKind::image_file}, kReplacesAFile})
+      ->required();
+  add_output_option(*command, "--zones-out", options->zones_out, "Picture of the zones over the frame",
+                    {{OutputKind::image_file}, kReplacesAFile});
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
   command->add_option("--repeats", options->repeats, "Also time the blend against a plain copy, N times");
   command->callback([options] { run_blend(*options); });

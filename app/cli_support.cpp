@@ -52,7 +52,8 @@ std::function<void(double)> percent_progress(const std::string& what) {
     const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - state->start).count();
     const int percent = int(std::floor(std::clamp(share, 0.0, 1.0) * 100.0));
     if (elapsed_s < 1.0 || percent == state->shown) return;
-    if (!state->terminal && percent < 100 && percent / 10 == std::max(state->shown, 0) / 10 && state->shown >= 0) return;
+    if (!state->terminal && percent < 100 && percent / 10 == std::max(state->shown, 0) / 10 && state->shown >= 0)
+      return;
     state->shown = percent;
     const double eta_s = share > 0.0 ? elapsed_s * (1.0 - share) / share : 0.0;
     std::fprintf(stderr, state->terminal ? "\r%s: %3d %%, ETA %s   " : "%s: %d %%, ETA %s\n", what.c_str(), percent,
@@ -93,16 +94,19 @@ void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
   command.add_option("--time", settings.time_s, "Scene time in seconds (camera path, moving lights)");
   command.add_option("--levels", settings.pyramid_levels, "IPR pyramid levels, 2 to 5 (3: 1/16, 1/4, full)");
   command.add_option("--min-filter", settings.min_filter_size, "IPR min-filter size: 1, 3 or 5");
-  static const std::map<std::string, CoarseTest> coarse_tests = {{coarse_test_name(CoarseTest::centre_ray), CoarseTest::centre_ray},
-                                                                  {coarse_test_name(CoarseTest::cone), CoarseTest::cone}};
+  static const std::map<std::string, CoarseTest> coarse_tests = {
+      {coarse_test_name(CoarseTest::centre_ray), CoarseTest::centre_ray},
+      {coarse_test_name(CoarseTest::cone), CoarseTest::cone}};
   command
-      .add_option("--coarse-test", settings.coarse_test,
-                  "IPR/FIPR depth levels: ray (the paper's centre ray) or cone (the pixel's whole cone: no finer ray starts "
-                  "behind a surface it would hit)")
+      .add_option(
+          "--coarse-test", settings.coarse_test,
+          "IPR/FIPR depth levels: ray (the paper's centre ray) or cone (the pixel's whole cone: no finer ray starts "
+          "behind a surface it would hit)")
       ->transform(CLI::CheckedTransformer(coarse_tests))
       ->default_str(coarse_test_name(settings.coarse_test));
-  command.add_flag("--full-depth", settings.full_resolution_depth,
-                   "IPR: a full-resolution depth level (one ray a pixel) before the shaded samples, which start from it");
+  command.add_flag(
+      "--full-depth", settings.full_resolution_depth,
+      "IPR: a full-resolution depth level (one ray a pixel) before the shaded samples, which start from it");
   command.add_option("--max-steps", settings.max_steps, "Step cap of one ray at one level");
   command.add_option("--hit-threshold", settings.hit_threshold,
                      "Hit when distance < t x pixel angle x this (pixel-footprint epsilon)");
@@ -136,7 +140,8 @@ void check_flags_against_descriptor(const SphereTraceSettings& settings) {
   if (settings.method == TraceMethod::foveated_pyramid) {
     flags.push_back(flag("--fovea-deg", "fovea_radius_deg", fov.acuity.fovea_radius_deg));
     if (std::isfinite(fov.acuity.outer_periphery_radius_deg))
-      flags.push_back(flag("--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_radius_deg));
+      flags.push_back(
+          flag("--outer-periphery-deg", "outer_periphery_radius_deg", fov.acuity.outer_periphery_radius_deg));
     flags.push_back(flag("--refresh", "periphery_refresh", double(fov.periphery_refresh)));
     flags.push_back(flag("--periphery-steps", "periphery_steps", double(fov.periphery_steps)));
     flags.push_back(flag("--edge-threshold", "edge_threshold", fov.edge_threshold));
@@ -145,9 +150,10 @@ void check_flags_against_descriptor(const SphereTraceSettings& settings) {
     const ParameterDescriptor* parameter = find_parameter(descriptor, given.key);
     if (!parameter) continue;  // not a parameter of this method (e.g. --levels of gt)
     if (const std::optional<std::string> expected = check_parameter_value(*parameter, given.value))
-      throw InputError(std::string(given.flag) + " " +
-                       (parameter->type == ParameterType::choice ? parameter_value_text(*parameter, given.value) : given.text) +
-                       ": expected " + *expected);
+      throw InputError(
+          std::string(given.flag) + " " +
+          (parameter->type == ParameterType::choice ? parameter_value_text(*parameter, given.value) : given.text) +
+          ": expected " + *expected);
   }
 }
 

@@ -65,19 +65,22 @@ void run_compare(const CompareOptions& options) {
     throw InputError("--gaze: FPSNR needs the display too (--diagonal-in or --size-mm, and --distance-mm)");
   const double pixels_per_degree = display ? display->pixels_per_degree_at_centre() : default_flip_pixels_per_degree;
 
-  const analysis::PsnrResult psnr = analysis::psnr(a, b);
-  const analysis::SsimResult ssim = analysis::ssim(a, b);
+  const metrics::PsnrResult psnr = metrics::psnr(a, b);
+  const metrics::SsimResult ssim = metrics::ssim(a, b);
   // LDR-FLIP is defined for display values in [0, 1]; an HDR file (EXR above 1) has no LDR-FLIP.
   const auto displayable = [](const Image& image) {
     return std::all_of(image.pixels.begin(), image.pixels.end(), [](float v) { return v >= 0.0f && v <= 1.0f; });
   };
-  std::optional<analysis::FlipResult> flip;
-  if (displayable(a) && displayable(b)) flip = analysis::flip(a, b, pixels_per_degree);
-  std::optional<analysis::FpsnrResult> fpsnr;
-  if (display) fpsnr = analysis::fpsnr(a, b, *display, gaze_x, gaze_y);
+  std::optional<metrics::FlipResult> flip;
+  if (displayable(a) && displayable(b)) flip = metrics::flip(a, b, pixels_per_degree);
+  std::optional<metrics::FpsnrResult> fpsnr;
+  if (display) fpsnr = metrics::fpsnr(a, b, *display, gaze_x, gaze_y);
   if (options.json) {
-    nlohmann::json out = {{"a", options.a.string()}, {"b", options.b.string()}, {"mse", psnr.mse},
-                          {"identical", psnr.identical}, {"ssim", ssim.mean_ssim},
+    nlohmann::json out = {{"a", options.a.string()},
+                          {"b", options.b.string()},
+                          {"mse", psnr.mse},
+                          {"identical", psnr.identical},
+                          {"ssim", ssim.mean_ssim},
                           {"flip", flip ? nlohmann::json(flip->mean_flip) : nlohmann::json(nullptr)},
                           {"flip_pixels_per_degree", pixels_per_degree}};
     out["psnr_db"] = psnr.identical ? nlohmann::json(nullptr) : nlohmann::json(psnr.psnr_db);
@@ -91,7 +94,8 @@ void run_compare(const CompareOptions& options) {
       std::printf("PSNR %.2f dB\n", psnr.psnr_db);
     }
     std::printf("SSIM %.6f\n", ssim.mean_ssim);
-    if (flip) std::printf("FLIP %.6f (%.1f px/deg%s)\n", flip->mean_flip, pixels_per_degree, display ? "" : ", FLIP's default");
+    if (flip)
+      std::printf("FLIP %.6f (%.1f px/deg%s)\n", flip->mean_flip, pixels_per_degree, display ? "" : ", FLIP's default");
     else std::printf("FLIP n/a (values outside [0, 1]: LDR-FLIP needs display values)\n");
     if (fpsnr && fpsnr->identical) std::printf("FPSNR inf dB (identical)\n");
     else if (fpsnr) std::printf("FPSNR %.2f dB (gaze %.1f, %.1f px)\n", fpsnr->fpsnr_db, gaze_x, gaze_y);
@@ -101,11 +105,12 @@ void run_compare(const CompareOptions& options) {
 
 void add_compare_command(CLI::App& app) {
   auto options = std::make_shared<CompareOptions>();
-  CLI::App* command =
-      app.add_subcommand("compare", "PSNR, SSIM, FLIP and (given the display) FPSNR between two images of the same size");
+  CLI::App* command = app.add_subcommand(
+      "compare", "PSNR, SSIM, FLIP and (given the display) FPSNR between two images of the same size");
   command->add_option("a", options->a, "Reference image")->required();
   command->add_option("b", options->b, "Test image")->required();
-  command->add_flag("--json", options->json, "Print JSON (psnr_db and fpsnr_db are null when the images are identical)");
+  command->add_flag("--json", options->json,
+                    "Print JSON (psnr_db and fpsnr_db are null when the images are identical)");
   add_display_flags(*command, options->display, /*required=*/false);
   command->callback([options] { run_compare(*options); });
 }

@@ -32,9 +32,11 @@ std::pair<double, double> parse_size_mm(const std::string& text) {
   throw InputError(flag + ": expected " + expected + ", got \"" + got + "\"");
 }
 
-std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text, std::string_view separators) {
+std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text,
+                                                                        std::string_view separators) {
   const size_t at = text.find_first_of(separators);
-  if (at == std::string_view::npos || text.find_first_of(separators, at + 1) != std::string_view::npos) return std::nullopt;
+  if (at == std::string_view::npos || text.find_first_of(separators, at + 1) != std::string_view::npos)
+    return std::nullopt;
   return std::make_pair(text.substr(0, at), text.substr(at + 1));
 }
 
@@ -47,7 +49,7 @@ void add_display_flags(CLI::App& command, DisplayFlags& flags, bool required) {
   command.add_option("--gaze", flags.gaze, "Gaze point X,Y in pixels (default: the centre, W/2,H/2)");
 }
 
-std::string default_to_seed001_display(DisplayFlags& flags) {
+std::string default_to_fpt_study_display(DisplayFlags& flags) {
   std::string assumed;
   if (flags.diagonal_in.empty() && flags.size_mm.empty()) {
     flags.diagonal_in = "27";
@@ -62,8 +64,8 @@ std::string default_to_seed001_display(DisplayFlags& flags) {
 
 std::string display_line(const DisplayGeometry& display, const std::string& assumed) {
   char text[160];
-  std::snprintf(text, sizeof text, "display %dx%d px, %.1fx%.1f mm at %g mm, %.1f px/deg at the centre", display.width_px,
-                display.height_px, display.width_mm, display.height_mm, display.viewing_distance_mm,
+  std::snprintf(text, sizeof text, "display %dx%d px, %.1fx%.1f mm at %g mm, %.1f px/deg at the centre",
+                display.width_px, display.height_px, display.width_mm, display.height_mm, display.viewing_distance_mm,
                 display.pixels_per_degree_at_centre());
   std::string line = text;
   if (!assumed.empty()) line += " (assumed: " + assumed + "; set --diagonal-in or --size-mm, and --distance-mm)";

@@ -21,14 +21,14 @@ struct DisplayFlags {
   std::string gaze;
 };
 
-// Fills in what `flags` leaves out with seed 001's set-up (sections 4.1, 4.3), the default of the
+// Fills in what `flags` leaves out with Polychronakis et al. 2021's set-up (sections 4.1, 4.3), the default of the
 // commands that need a display and are not FIPR's (blend, resample, voronoi, bench-fpt, render and
 // bench-volume): a 27-inch 16:9 monitor at 500 mm. Returns what was assumed ("" when nothing was),
 // for display_line.
-std::string default_to_seed001_display(DisplayFlags& flags);
+std::string default_to_fpt_study_display(DisplayFlags& flags);
 
 // One line for a command's output saying which display its figures assume, e.g. "display 1280x720
-// px, 597.7x336.2 mm at 500 mm, 46.1 px/deg at the centre (assumed: seed 001's 27-inch monitor at
+// px, 597.7x336.2 mm at 500 mm, 46.1 px/deg at the centre (assumed: Polychronakis et al. 2021's 27-inch monitor at
 // 500 mm; set --diagonal-in or --size-mm, and --distance-mm)"; `assumed` "": the flags gave it.
 std::string display_line(const DisplayGeometry& display, const std::string& assumed);
 
@@ -46,6 +46,7 @@ std::pair<double, double> parse_gaze(const std::string& text, int width_px, int 
 // Helpers for other flags given as text.
 [[noreturn]] void fail_flag(const std::string& flag, const std::string& expected, const std::string& got);
 // "AxB" split at its one separator (any of `separators`); nullopt without exactly one.
-std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text, std::string_view separators);
+std::optional<std::pair<std::string_view, std::string_view>> split_pair(std::string_view text,
+                                                                        std::string_view separators);
 
 }  // namespace fovlab::app

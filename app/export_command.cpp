@@ -48,13 +48,15 @@ void export_trials(const ExportArguments& arguments) {
     std::error_code error;
     const bool own_folder = logs.size() == 1 && fs::equivalent(fs::path(logs.front()).parent_path(), out_folder, error);
     if (!own_folder)
-      throw InputError((flag.empty() ? out : flag + " " + out) + ": inside the participant's folder " + out_folder.string() +
+      throw InputError((flag.empty() ? out : flag + " " + out) + ": inside the participant's folder " +
+                       out_folder.string() +
                        ", which is not the folder of the one log exported; expected a path outside participant folders "
                        "(or that log's own folder when exporting one log)");
   }
   if (fs::exists(out) && !arguments.force) throw InputError("--out: " + out + " exists (pass --force to replace it)");
   const std::optional<LabKey> lab_key = read_optional_lab_key(arguments.lab_key_path);
-  const ExportedCsv csv = export_session_csvs(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
+  const ExportedCsv csv =
+      export_session_csvs(logs, ExportOptions{lab_key ? &*lab_key : nullptr, arguments.include_broken});
   const bool has_steps = csv.steps.find('\n') + 1 < csv.steps.size();  // more than the header
   if (has_steps && fs::exists(steps_out) && !arguments.force)
     throw InputError("--out: " + steps_out.string() + " exists (pass --force to replace it)");
@@ -73,9 +75,10 @@ void export_trials(const ExportArguments& arguments) {
 
 void add_export_command(CLI::App& app) {
   auto arguments = std::make_shared<ExportArguments>();
-  CLI::App* command =
-      app.add_subcommand("export", "Write trials.csv (one row a trial) and steps.csv (ramp steps, slider actions) from session logs");
-  command->add_option("logs", arguments->input, "A session log, or a results folder (every events.jsonl under it)")->required();
+  CLI::App* command = app.add_subcommand(
+      "export", "Write trials.csv (one row a trial) and steps.csv (ramp steps, slider actions) from session logs");
+  command->add_option("logs", arguments->input, "A session log, or a results folder (every events.jsonl under it)")
+      ->required();
   add_output_option(*command, "--out", arguments->out,
                     "CSV file (default: trials.csv beside the log or in the folder); ramp steps and slider actions "
                     "go to steps.csv beside it (NAME_steps.csv for another name)",
@@ -83,7 +86,8 @@ void add_export_command(CLI::App& app) {
   command->add_flag("--force", arguments->force, "Replace an existing CSV (never a session's file)");
   command->add_flag("--include-broken", arguments->include_broken,
                     "Export logs whose chain or seal is broken too (their rows say log_status broken)");
-  command->add_option("--lab-key", arguments->lab_key_path, "The lab key the sessions ran with: verify their seals' MACs");
+  command->add_option("--lab-key", arguments->lab_key_path,
+                      "The lab key the sessions ran with: verify their seals' MACs");
   command->callback([arguments] { export_trials(*arguments); });
 }
 

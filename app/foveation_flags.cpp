@@ -11,7 +11,8 @@ namespace fovlab::app {
 void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoint point) {
   add_display_flags(command, flags.display, false);
   if (point == FoveationPoint::single) {
-    command.add_option("--fovea-deg", flags.fovea_deg, "FIPR: foveal eccentricity in degrees (everything traced within)");
+    command.add_option("--fovea-deg", flags.fovea_deg,
+                       "FIPR: foveal eccentricity in degrees (everything traced within)");
     command.add_option("--refresh", flags.refresh, "FIPR: periphery refreshed every 1st, 2nd or 4th frame");
   }
   command.add_option("--outer-periphery-deg", flags.outer_periphery_deg,
@@ -35,8 +36,11 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
                   "pixels there traced in full, from in front of it), ignore (the paper's: every FIPR frame before "
                   "log schema 6)")
       ->check(CLI::IsMember(near_misses));
-  command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")->check(CLI::IsMember({"on", "off"}));
-  command.add_option("--combine", flags.combine, "FIPR: acuity and edges combined by max, fovea-or-product, product, acuity")
+  command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")
+      ->check(CLI::IsMember({"on", "off"}));
+  command
+      .add_option("--combine", flags.combine,
+                  "FIPR: acuity and edges combined by max, fovea-or-product, product, acuity")
       ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
   command.add_option("--edge-threshold", flags.edge_threshold,
                      "FIPR: Sobel magnitude of the low-level depth, relative to the depth, that makes an edge");

@@ -18,11 +18,13 @@ int main(int argc, char** argv) {
   fovlab::app::add_commands(app);
   // A first word that is neither a flag nor a subcommand is named as such (CLI11 would say only that
   // a subcommand is required).
-  if (argc > 1 && argv[1][0] != '-' && app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; }).empty()) {
+  if (argc > 1 && argv[1][0] != '-' &&
+      app.get_subcommands([&](CLI::App* command) { return command->get_name() == argv[1]; }).empty()) {
     std::string known;
     for (const CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
       known += (known.empty() ? "" : ", ") + command->get_name();
-    std::fprintf(stderr, "fovlab: unknown subcommand \"%s\": expected one of %s (fovlab --help)\n", argv[1], known.c_str());
+    std::fprintf(stderr, "fovlab: unknown subcommand \"%s\": expected one of %s (fovlab --help)\n", argv[1],
+                 known.c_str());
     return 2;
   }
   try {

@@ -5,15 +5,19 @@ namespace {
 
 const char* validator_name(OutputKind kind) {
   switch (kind) {
-    case OutputKind::file: return "fovlab-output-file";
-    case OutputKind::image_file: return "fovlab-output-image";
-    case OutputKind::folder: return "fovlab-output-folder";
+    case OutputKind::file:
+      return "fovlab-output-file";
+    case OutputKind::image_file:
+      return "fovlab-output-image";
+    case OutputKind::folder:
+      return "fovlab-output-folder";
   }
   return "";
 }
 
 template <typename Path>
-CLI::Option* add(CLI::App& command, const std::string& name, Path& path, const std::string& help, const OutputOption& output) {
+CLI::Option* add(CLI::App& command, const std::string& name, Path& path, const std::string& help,
+                 const OutputOption& output) {
   const OutputTarget target = output.target;
   // CLI11 puts the option's name before the message ("--json: ...").
   CLI::Validator guard([target](std::string& text) { return output_target_refusal(text, "", target); }, "",
@@ -40,8 +44,7 @@ std::optional<OutputKind> output_kind_of(CLI::Option& option) {
     try {
       option.get_validator(validator_name(kind));
       return kind;
-    } catch (const CLI::OptionNotFound&) {
-    }
+    } catch (const CLI::OptionNotFound&) {}
   }
   return std::nullopt;
 }

@@ -46,9 +46,7 @@ struct PrerenderOptions {
   bool require_gpu = false;
 };
 
-Shard parse_shard(const std::string& text) {
-  return parse_part_of_n(text, "--shard", "e.g. 0/4: frames 0, 4, 8, ...");
-}
+Shard parse_shard(const std::string& text) { return parse_part_of_n(text, "--shard", "e.g. 0/4: frames 0, 4, 8, ..."); }
 
 void print_progress(bool terminal, int done, int total, double seconds_per_frame, const std::string& file) {
   const double eta_s = seconds_per_frame * (total - done);
@@ -72,10 +70,13 @@ void print_progress(bool terminal, int done, int total, double seconds_per_frame
 std::vector<PathTraceFrameJob> prerender_frame_jobs(const std::string& config_path) {
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
-  check_plan_renderable(plan, config_path, PlanUse::prerender);  // a config no session could run is refused before rendering
+  check_plan_renderable(plan, config_path,
+                        PlanUse::prerender);  // a config no session could run is refused before rendering
   std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan));
   if (jobs.empty())
-    throw InputError(config_path + ": no path-traced stimuli (method pt, fpt, pt-rmfr, pt-hyperbolic, pt-linear or pt-kfr); nothing to pre-render");
+    throw InputError(config_path +
+                     ": no path-traced stimuli (method pt, fpt, pt-rmfr, pt-hyperbolic, pt-linear or pt-kfr); nothing "
+                     "to pre-render");
   return jobs;
 }
 
@@ -95,10 +96,11 @@ void verify_frames(const PrerenderOptions& options, const Shard& shard, const st
     ++bad;
     std::printf("%s: %s\n", cache.frame_file(job.sequence, job.frame).c_str(), frame_status_text(status));
   }
-  std::printf("%s: %zu frames in all, shard %d/%d holds %zu in %zu sequences: %zu whole and matching their .sha256, "
-              "%zu not (cache %s)\n",
-              options.config.c_str(), all_frames, shard.index, shard.count, jobs.size(), sequences.size(),
-              jobs.size() - bad, bad, options.cache.c_str());
+  std::printf(
+      "%s: %zu frames in all, shard %d/%d holds %zu in %zu sequences: %zu whole and matching their .sha256, "
+      "%zu not (cache %s)\n",
+      options.config.c_str(), all_frames, shard.index, shard.count, jobs.size(), sequences.size(), jobs.size() - bad,
+      bad, options.cache.c_str());
   std::fflush(stdout);
   if (bad > 0) throw CommandExit{1};
 }
@@ -132,8 +134,11 @@ void run_prerender(const PrerenderOptions& options) {
   std::printf("%s: %zu frames in all, shard %d/%d holds %zu: %zu cached, %zu to render (cache %s)\n",
               options.config.c_str(), all_jobs.size(), shard.index, shard.count, jobs.size(),
               jobs.size() - missing.size(), missing.size(), options.cache.c_str());
-  if (unhashed > 0) std::printf("%zu frames had no .sha256 beside them (left so by an older fovlab, or replaced and their hash "
-                                "deleted): rendered again\n", unhashed);
+  if (unhashed > 0)
+    std::printf(
+        "%zu frames had no .sha256 beside them (left so by an older fovlab, or replaced and their hash "
+        "deleted): rendered again\n",
+        unhashed);
   if (altered > 0) std::printf("%zu frames differ from their .sha256: rendered again\n", altered);
   std::fflush(stdout);
 
@@ -166,7 +171,8 @@ void add_prerender_command(CLI::App& app) {
   command->add_option("config", options->config, "Study config (TOML) with pt or fpt stimuli")->required();
   command->add_option("--shard", options->shard, "I/N: render frames I, I + N, I + 2N, ... of the list (default 0/1)");
   command->add_option("--device", options->device, "Vulkan device: index or part of its name (fovlab devices)");
-  add_output_option(*command, "--cache", options->cache, "Pre-render cache folder (default stimuli/cache under the working directory)",
+  add_output_option(*command, "--cache", options->cache,
+                    "Pre-render cache folder (default stimuli/cache under the working directory)",
                     {{OutputKind::folder}, kCacheFolder});
   command->add_flag("--verify", options->verify,
                     "Render nothing: check that every frame (of the shard) is there and matches its .sha256; list "

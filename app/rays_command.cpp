@@ -1,5 +1,5 @@
 // fovlab rays: speed-up of a three-zone foveated frame over a grid of foveal and middle zone
-// angles (seed 001, section 5.1 and Table 1; docs/analysis.md, "Ray reduction").
+// angles (Polychronakis et al. 2021, section 5.1 and Table 1; docs/analysis.md, "Ray reduction").
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -85,8 +85,8 @@ std::string speedup_text(double speedup) {
 
 void print_table(const DisplayGeometry& display, double gaze_x, double gaze_y, const std::vector<double>& foveal,
                  const std::vector<double>& middle, const std::vector<analysis::RayCell>& cells) {
-  std::printf("display %dx%d px, %s x %s mm, viewed from %s mm (%.1f px/deg at the centre)\n",
-              display.width_px, display.height_px, format_number(display.width_mm, 5).c_str(),
+  std::printf("display %dx%d px, %s x %s mm, viewed from %s mm (%.1f px/deg at the centre)\n", display.width_px,
+              display.height_px, format_number(display.width_mm, 5).c_str(),
               format_number(display.height_mm, 5).c_str(), format_number(display.viewing_distance_mm, 6).c_str(),
               display.pixels_per_degree_at_centre());
   std::printf("gaze (%s, %s) px\n", format_number(gaze_x, 6).c_str(), format_number(gaze_y, 6).c_str());
@@ -139,7 +139,7 @@ void run_rays(const RaysOptions& options) {
     write_text_atomically(options.json, cells_json(cells).dump(2) + "\n");
     std::printf("wrote %s\n", options.json.c_str());
   }
-  if (!options.svg.empty()) {  // seed 001 Fig. 8, as a heat map of the speed-up
+  if (!options.svg.empty()) {  // Polychronakis et al. 2021 Fig. 8, as a heat map of the speed-up
     analysis::HeatMap map;
     map.title = "Speed-up from ray reduction (" + std::to_string(width_px) + "x" + std::to_string(height_px) + ", " +
                 format_number(display.viewing_distance_mm, 6) + " mm)";
@@ -157,8 +157,8 @@ void run_rays(const RaysOptions& options) {
 
 void add_rays_command(CLI::App& app) {
   auto options = std::make_shared<RaysOptions>();
-  CLI::App* command =
-      app.add_subcommand("rays", "Ray-count speed-up of a three-zone foveated frame (Polychronakis et al. 2021, Table 1)");
+  CLI::App* command = app.add_subcommand(
+      "rays", "Ray-count speed-up of a three-zone foveated frame (Polychronakis et al. 2021, Table 1)");
   command->add_option("--resolution", options->resolution, "Display resolution WxH in pixels, e.g. 1920x1080")
       ->required();
   add_display_flags(*command, options->display, /*required=*/true);
@@ -166,8 +166,10 @@ void add_rays_command(CLI::App& app) {
       ->required();
   command->add_option("--middle-deg", options->middle_deg, "Middle zone angles, full aperture in degrees, e.g. 50,60")
       ->required();
-  add_output_option(*command, "--json", options->json, "Also write the cells as JSON to this file", {{OutputKind::file}, kReplacesAFile});
-  add_output_option(*command, "--svg", options->svg, "Also draw the speed-ups as a heat map (SVG) to this file", {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--json", options->json, "Also write the cells as JSON to this file",
+                    {{OutputKind::file}, kReplacesAFile});
+  add_output_option(*command, "--svg", options->svg, "Also draw the speed-ups as a heat map (SVG) to this file",
+                    {{OutputKind::file}, kReplacesAFile});
   command->callback([options] { run_rays(*options); });
 }
 

@@ -74,7 +74,8 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
     stats["pyramid_levels"] = settings.pyramid_levels;
     stats["min_filter_size"] = settings.min_filter_size;
     stats["coarse_test"] = coarse_test_name(settings.coarse_test);
-    if (settings.method == TraceMethod::inverted_pyramid) stats["full_resolution_depth"] = settings.full_resolution_depth;
+    if (settings.method == TraceMethod::inverted_pyramid)
+      stats["full_resolution_depth"] = settings.full_resolution_depth;
   }
   if (settings.method == TraceMethod::foveated_pyramid) {
     const FoveationSettings& f = settings.foveation;
@@ -83,8 +84,9 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
     stats["foveation"] = {
         {"gaze_px", has_gaze ? nlohmann::json::array({f.gaze_x_px, f.gaze_y_px}) : nlohmann::json(nullptr)},
         {"fovea_deg", f.acuity.fovea_radius_deg},
-        {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_radius_deg) ? nlohmann::json(f.acuity.outer_periphery_radius_deg)
-                                                                             : nlohmann::json(nullptr)},
+        {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_radius_deg)
+                                    ? nlohmann::json(f.acuity.outer_periphery_radius_deg)
+                                    : nlohmann::json(nullptr)},
         {"combine", mask_combine_name(f.combine)},
         {"edge_threshold", f.edge_threshold},
         {"periphery_refresh", f.periphery_refresh},
@@ -94,9 +96,11 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
         {"blur", f.blur},
         {"seed", f.seed},
         {"frame_index", f.frame_index},
-        {"display", {{"width_mm", f.display.width_mm}, {"height_mm", f.display.height_mm},
-                     {"viewing_distance_mm", f.display.viewing_distance_mm},
-                     {"pixels_per_degree_at_centre", f.display.pixels_per_degree_at_centre()}}},
+        {"display",
+         {{"width_mm", f.display.width_mm},
+          {"height_mm", f.display.height_mm},
+          {"viewing_distance_mm", f.display.viewing_distance_mm},
+          {"pixels_per_degree_at_centre", f.display.pixels_per_degree_at_centre()}}},
         {"top_level_share", double(result.foveation.masked_pixels) / pixels},
         {"refreshed_share", double(result.foveation.refreshed_pixels) / pixels},
         {"kept_share", double(result.foveation.kept_pixels) / pixels},

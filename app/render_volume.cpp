@@ -20,17 +20,21 @@ namespace fovlab::app {
 void run_render_volume(const VolumeRenderOptions& options) {
   if (options.width_px < 1 || options.width_px > kMaxVolumeFrameSidePx || options.height_px < 1 ||
       options.height_px > kMaxVolumeFrameSidePx)
-    throw InputError("--width, --height: expected 1 to " + std::to_string(kMaxVolumeFrameSidePx) + " pixels for a volume frame");
-  if (options.frames < 1 || options.frames > 100000) throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
+    throw InputError("--width, --height: expected 1 to " + std::to_string(kMaxVolumeFrameSidePx) +
+                     " pixels for a volume frame");
+  if (options.frames < 1 || options.frames > 100000)
+    throw InputError("--frames " + std::to_string(options.frames) + ": expected 1 to 100000");
   if (!(options.frame_rate_hz > 0.0 && std::isfinite(options.frame_rate_hz)))
     throw InputError("--frame-rate: expected a positive number of frames per second");
-  if (!(options.step_voxels >= 0.05 && options.step_voxels <= 16.0)) throw InputError("--step-voxels: expected 0.05 to 16 voxels");
-  if (!(options.sigma_deg > 0.0 && options.sigma_deg <= 90.0)) throw InputError("--sigma-deg: expected a radius in degrees in (0, 90]");
+  if (!(options.step_voxels >= 0.05 && options.step_voxels <= 16.0))
+    throw InputError("--step-voxels: expected 0.05 to 16 voxels");
+  if (!(options.sigma_deg > 0.0 && options.sigma_deg <= 90.0))
+    throw InputError("--sigma-deg: expected a radius in degrees in (0, 90]");
   if (!std::isfinite(options.time_s)) throw InputError("--time: expected a finite scene time in seconds");
   if (!options.mask_out.empty() && !options.foveated)
     throw InputError("--mask-out: only fvolume has a sampling mask; add --method fvolume");
   DisplayFlags display_flags = options.display;
-  const std::string assumed_display = default_to_seed001_display(display_flags);
+  const std::string assumed_display = default_to_fpt_study_display(display_flags);
   const DisplayGeometry display = parse_display(display_flags, options.width_px, options.height_px);
   const auto [gaze_x, gaze_y] = parse_gaze(display_flags.gaze, options.width_px, options.height_px);
 
@@ -40,8 +44,10 @@ void run_render_volume(const VolumeRenderOptions& options) {
   VolumeRaycaster raycaster(context, scene, grid);
   std::optional<VoronoiReconstruction> reconstruction;
   if (options.foveated) {
-    const VoronoiMaskSettings mask_settings = voronoi_mask_settings(options.width_px, options.height_px, display, options.sigma_deg);
-    reconstruction = cached_voronoi_reconstruction(mask_settings, kVoronoiCacheFolder, percent_progress("sampling mask weights"));
+    const VoronoiMaskSettings mask_settings =
+        voronoi_mask_settings(options.width_px, options.height_px, display, options.sigma_deg);
+    reconstruction =
+        cached_voronoi_reconstruction(mask_settings, kVoronoiCacheFolder, percent_progress("sampling mask weights"));
     raycaster.set_reconstruction(*reconstruction);
   }
   VolumeRenderSettings settings;
@@ -89,7 +95,8 @@ void run_render_volume(const VolumeRenderOptions& options) {
   if (reconstruction) stats["sites"] = reconstruction->mask.sites.size();
   if (!options.stats_json.empty()) write_text_atomically(options.stats_json, stats.dump(2) + "\n");
   std::printf("%s %s %dx%d (%dx%dx%d voxels): %.2f ms GPU", scene.name.c_str(), options.foveated ? "fvolume" : "volume",
-              options.width_px, options.height_px, grid.size_voxels[0], grid.size_voxels[1], grid.size_voxels[2], result.gpu_ms);
+              options.width_px, options.height_px, grid.size_voxels[0], grid.size_voxels[1], grid.size_voxels[2],
+              result.gpu_ms);
   if (options.foveated)
     std::printf(" (reconstruction %.2f ms), %llu rays: %.2f %% of the pixels", result.reconstruct_gpu_ms,
                 static_cast<unsigned long long>(result.rays), 100.0 * result.traced_share);

@@ -1,5 +1,5 @@
 #pragma once
-// `fovlab render --method volume|fvolume`: seed 003's volume raycaster, every pixel (volume) or
+// `fovlab render --method volume|fvolume`: Bruder et al. 2019's volume raycaster, every pixel (volume) or
 // foveated on the Voronoi sampling mask (fvolume), one frame or a sequence (the temporal smoothing
 // averages a sequence's frames while the view stays and the gaze moves).
 #include <filesystem>
@@ -16,7 +16,7 @@ struct VolumeRenderOptions {
   double time_s = 0.0;
   int frames = 1;
   double frame_rate_hz = 60.0;
-  DisplayFlags display;  // fvolume: the display (seed 001's by default) and --gaze
+  DisplayFlags display;  // fvolume: the display (Polychronakis et al. 2021's by default) and --gaze
   double sigma_deg = 2.5;
   double step_voxels = 0.5;
   bool correct_opacity = true;

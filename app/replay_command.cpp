@@ -52,15 +52,18 @@ void add_replay_command(CLI::App& app) {
   command->add_option("log", options->replay.log_path, "A session log (events.jsonl)")->required();
   command->add_flag("--verify", options->verify,
                     "Also require a finished session (any difference always exits with 1)");
-  add_output_option(*command, "--frames-out", options->replay.frames_out, "Write every frame rendered again here (PNG)", {{OutputKind::folder}, kWritesIntoAFolder});
+  add_output_option(*command, "--frames-out", options->replay.frames_out, "Write every frame rendered again here (PNG)",
+                    {{OutputKind::folder}, kWritesIntoAFolder});
   command->add_option("--reference-frames", options->replay.reference_frames,
                       "Compare by SSIM with frames written by --frames-out on the recording device");
   command->add_option("--min-ssim", options->replay.min_ssim, "SSIM a frame must reach with --reference-frames")
       ->check(CLI::Range(0.0, 1.0));
   command->add_option("--device", options->device, "Vulkan device: index or part of its name");
   add_output_option(*command, "--cache", options->replay.cache_dir,
-                    "The pre-render cache the session used (default stimuli/cache under the working directory)", {{OutputKind::folder}, kCacheFolder});
-  command->add_option("--lab-key", options->replay.lab_key_path, "The lab key the session ran with: verify its seals' MACs");
+                    "The pre-render cache the session used (default stimuli/cache under the working directory)",
+                    {{OutputKind::folder}, kCacheFolder});
+  command->add_option("--lab-key", options->replay.lab_key_path,
+                      "The lab key the session ran with: verify its seals' MACs");
   command->callback([options] { replay(*options); });
 }
 

@@ -1,5 +1,5 @@
 // fovlab resample --frame IMG --method rmfr|hyperbolic|linear|kfr [model flags] --gaze X,Y --out IMG
-//                 [--mask-out IMG] [--density-out IMG] [--repeats N]: an offline preview of seed 002's
+//                 [--mask-out IMG] [--density-out IMG] [--repeats N]: an offline preview of Ye et al. 2022's
 // sampling models on a pre-rendered frame, what a participant of pt-rmfr, pt-hyperbolic, pt-linear
 // or pt-kfr sees for one gaze sample (renderer/foveated_sampling/frame_sampler.h; an EXR frame, in
 // linear light as the pre-render cache holds them). Prints what the
@@ -52,7 +52,7 @@ void run_resample(ResampleOptions options) {
   const std::optional<SamplingModel> model = parse_sampling_model(options.method);
   if (!model) throw std::logic_error("resample: --method is checked by CLI11");
   refuse_flags_unused_by(options.sampling_flags_given, {*model});
-  const std::string assumed_display = default_to_seed001_display(options.display);
+  const std::string assumed_display = default_to_fpt_study_display(options.display);
   if (options.repeats < 1 || options.repeats > 1000)
     throw InputError("--repeats " + std::to_string(options.repeats) + ": expected 1 to 1000");
   Image frame = read_image(options.frame);
@@ -102,7 +102,8 @@ void run_resample(ResampleOptions options) {
               frame.width, frame.height, where.gaze_x_px, where.gaze_y_px, sampling_summary(map).c_str(),
               static_cast<unsigned long long>(result.shaded_samples), gpu_ms[gpu_ms.size() / 2], options.repeats);
   std::printf("against the frame: SSIM %.4f, PSNR %s, FLIP %.4f, FPSNR %s -> %s\n", errors.ssim,
-              optional_db(errors.psnr_db).c_str(), errors.flip, optional_db(errors.fpsnr_db).c_str(), options.out.c_str());
+              optional_db(errors.psnr_db).c_str(), errors.flip, optional_db(errors.fpsnr_db).c_str(),
+              options.out.c_str());
   std::printf("%s\n", display_line(where.display, assumed_display).c_str());
 }
 
@@ -111,17 +112,24 @@ void run_resample(ResampleOptions options) {
 void add_resample_command(CLI::App& app) {
   auto options = std::make_shared<ResampleOptions>();
   CLI::App* command = app.add_subcommand(
-      "resample", "Preview a sampling model of Ye et al. 2022 on a pre-rendered frame for one gaze sample (pt-rmfr, ...)");
+      "resample",
+      "Preview a sampling model of Ye et al. 2022 on a pre-rendered frame for one gaze sample (pt-rmfr, ...)");
   command->add_option("--frame", options->frame, "Full-resolution frame (EXR: linear light)")->required();
-  command->add_option("--method", options->method,
-                      "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar)")
+  command
+      ->add_option(
+          "--method", options->method,
+          "rmfr (rectangular mapping), hyperbolic (three layers), linear (linear fall-off), kfr (kernel log-polar)")
       ->required()
       ->check(CLI::IsMember({"rmfr", "hyperbolic", "linear", "kfr"}));
   add_display_flags(*command, options->display, false);  // default: 27" at 500 mm (Polychronakis et al. 2021's frames)
-  command->get_option("--gaze")->description("Gaze point X,Y in pixels, or each in percent of the frame (default: the centre)");
+  command->get_option("--gaze")->description(
+      "Gaze point X,Y in pixels, or each in percent of the frame (default: the centre)");
   add_sampling_flags(*command, options->sampling);
-  add_output_option(*command, "--out", options->out, "Resampled image (.png: sRGB, .exr: linear)", {{OutputKind::image_file}, kReplacesAFile})->required();
-  add_output_option(*command, "--mask-out", options->mask_out, "Samples per pixel (white 1 or more)", {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--out", options->out, "Resampled image (.png: sRGB, .exr: linear)",
+                    {{OutputKind::image_file}, kReplacesAFile})
+      ->required();
+  add_output_option(*command, "--mask-out", options->mask_out, "Samples per pixel (white 1 or more)",
+                    {{OutputKind::image_file}, kReplacesAFile});
   add_output_option(*command, "--density-out", options->density_out,
                     "The model's sampling density (samples per pixel; white 1 or more, log scale below)",
                     {{OutputKind::image_file}, kReplacesAFile});

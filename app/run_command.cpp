@@ -38,8 +38,9 @@ void run(RunOptions options) {
   choose_gaze(config, session.gaze, !in_window);
   if (!session.headless && !display_available()) {
     if (session.observer.empty())
-      throw InputError("run: no display to open a window on (DISPLAY is not set); a human participant needs one "
-                       "(for a simulated pilot add --observer simulated)");
+      throw InputError(
+          "run: no display to open a window on (DISPLAY is not set); a human participant needs one "
+          "(for a simulated pilot add --observer simulated)");
     session.headless = true;
   }
   if (session.headless && !session.present_device_selector.empty())
@@ -73,31 +74,35 @@ void run(RunOptions options) {
   std::printf("%s: %s%s%s, %d of %s%d trials complete%s\n", outcome.log_path.c_str(),
               outcome.resumed ? "resumed" : "new session", session.headless ? " (headless, virtual clock)" : "",
               outcome.excluded ? ", participant excluded (attention checks)" : "", outcome.trials_completed, at_most,
-              outcome.trials_total, outcome.stop_reason.empty() ? "" : (" (stopped: " + outcome.stop_reason + ")").c_str());
+              outcome.trials_total,
+              outcome.stop_reason.empty() ? "" : (" (stopped: " + outcome.stop_reason + ")").c_str());
   if (!outcome.finished && outcome.trials_completed < outcome.trials_total)
     std::printf("paused after %d of %s%d trials: every answer so far is kept; to resume, run %s\n",
                 outcome.trials_completed, at_most, outcome.trials_total,
                 participant_was_next ? ("the same command with --participant " + session.participant).c_str()
                                      : "the same command again");
   const int trials_run = std::max(1, outcome.trials_run);
-  std::printf("timing: schedule %.2f ms, prepare %.2f s, trial loop %.3f s (%.2f ms a trial), %d events with "
-              "%.3f ms write+fsync each, %.2f s in all\n",
-              1e3 * outcome.plan_s, outcome.prepare_s, outcome.trial_loop_s, 1e3 * outcome.trial_loop_s / trials_run,
-              outcome.events_written, outcome.events_written ? 1e3 * outcome.log_write_s / outcome.events_written : 0.0,
-              outcome.wall_s);
+  std::printf(
+      "timing: schedule %.2f ms, prepare %.2f s, trial loop %.3f s (%.2f ms a trial), %d events with "
+      "%.3f ms write+fsync each, %.2f s in all\n",
+      1e3 * outcome.plan_s, outcome.prepare_s, outcome.trial_loop_s, 1e3 * outcome.trial_loop_s / trials_run,
+      outcome.events_written, outcome.events_written ? 1e3 * outcome.log_write_s / outcome.events_written : 0.0,
+      outcome.wall_s);
   // Gaze-to-present latency of this run's stimulus refreshes (nearest-rank percentiles).
   const analysis::LatencySummary latency = analysis::summarise_latency(outcome.gaze_age_s);
   if (latency.median_ms) {
-    std::printf("latency: gaze-to-present median %.2f ms, p95 %.2f ms over %zu refreshes (%s clock), %d dropped frames\n",
-                *latency.median_ms, *latency.p95_ms, latency.refreshes, outcome.present_clock.c_str(),
-                outcome.dropped_frames);
+    std::printf(
+        "latency: gaze-to-present median %.2f ms, p95 %.2f ms over %zu refreshes (%s clock), %d dropped frames\n",
+        *latency.median_ms, *latency.p95_ms, latency.refreshes, outcome.present_clock.c_str(), outcome.dropped_frames);
   } else {
-    std::printf("latency: no stimulus refresh with a gaze sample in this run, %d dropped frames\n", outcome.dropped_frames);
+    std::printf("latency: no stimulus refresh with a gaze sample in this run, %d dropped frames\n",
+                outcome.dropped_frames);
   }
   if (outcome.frame_path == "via_host")
-    std::printf("presentation: on another device than the renderer's; %d frames copied through the host, %.3f ms each\n",
-                outcome.cross_device_frames,
-                outcome.cross_device_frames ? 1e3 * outcome.cross_device_copy_s / outcome.cross_device_frames : 0.0);
+    std::printf(
+        "presentation: on another device than the renderer's; %d frames copied through the host, %.3f ms each\n",
+        outcome.cross_device_frames,
+        outcome.cross_device_frames ? 1e3 * outcome.cross_device_copy_s / outcome.cross_device_frames : 0.0);
 }
 
 }  // namespace
@@ -106,7 +111,10 @@ void add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* command = app.add_subcommand("run", "Run (or resume) a participant's session of a study");
   command->add_option("config", options->config_path, "Study config (TOML)")->required();
-  command->add_option("--participant", options->session.participant, "Participant ID (names the log's folder); \"next\": the first unused P001, P002, ...")->required();
+  command
+      ->add_option("--participant", options->session.participant,
+                   "Participant ID (names the log's folder); \"next\": the first unused P001, P002, ...")
+      ->required();
   command->add_option("--observer", options->session.observer,
                       "simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N] instead of a person at the keys");
   command->add_flag("--new-version", options->session.new_version,
@@ -114,11 +122,12 @@ void add_run_command(CLI::App& app) {
                     "run this participant in the folder of its version, results/<study>@v2, @v3, ... (docs/config.md, "
                     "\"Config versions\"), never pooled with the others");
   command->add_flag("--headless", options->session.headless, "No window: a virtual clock (needs --observer)");
-  command->add_option("--gaze", options->session.gaze,
-                      "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
-                      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: synthetic headless; in a window the "
-                      "mouse, but a gaze-contingent study needs a tracker named, pupil..., or the mouse by name for a "
-                      "rehearsal; a config's [gaze] require is kept; the trace format and the options: docs/gaze.md)");
+  command->add_option(
+      "--gaze", options->session.gaze,
+      "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
+      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: synthetic headless; in a window the "
+      "mouse, but a gaze-contingent study needs a tracker named, pupil..., or the mouse by name for a "
+      "rehearsal; a config's [gaze] require is kept; the trace format and the options: docs/gaze.md)");
   CLI::Option* results = add_output_option(
       *command, "--results", options->session.results_dir,
       "Results folder (default: results, and results/simulated for a simulated observer, so that pilots never share a "

@@ -14,11 +14,16 @@ struct FieldFlag {
   const char* field;
   const char* flag;
 };
-constexpr FieldFlag kFieldFlags[] = {
-    {"sigma", "--sigma"}, {"focal_share_x", "--fx"}, {"focal_share_y", "--fy"}, {"alpha", "--alpha"},
-    {"inner_radius_deg", "--inner-radius-deg"}, {"outer_radius_deg", "--outer-radius-deg"},
-    {"middle_pixel_size_px", "--middle-pixel-size"}, {"outer_pixel_size_px", "--outer-pixel-size"},
-    {"blend_band_deg", "--blend-band-deg"}, {"min_probability", "--min-probability"}};
+constexpr FieldFlag kFieldFlags[] = {{"sigma", "--sigma"},
+                                     {"focal_share_x", "--fx"},
+                                     {"focal_share_y", "--fy"},
+                                     {"alpha", "--alpha"},
+                                     {"inner_radius_deg", "--inner-radius-deg"},
+                                     {"outer_radius_deg", "--outer-radius-deg"},
+                                     {"middle_pixel_size_px", "--middle-pixel-size"},
+                                     {"outer_pixel_size_px", "--outer-pixel-size"},
+                                     {"blend_band_deg", "--blend-band-deg"},
+                                     {"min_probability", "--min-probability"}};
 }  // namespace
 
 void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool focal_shares) {
@@ -54,7 +59,8 @@ void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool foca
 std::vector<std::string> given_sampling_only_flags(const CLI::App& command) {
   std::vector<std::string> given;
   for (const CLI::Option* option : command.get_options())
-    if (option->count() > 0 && option->get_description().rfind("Sampling:", 0) == 0) given.push_back(option->get_name());
+    if (option->count() > 0 && option->get_description().rfind("Sampling:", 0) == 0)
+      given.push_back(option->get_name());
   return given;
 }
 
@@ -67,7 +73,8 @@ std::vector<M> users_of(const std::string& flag) {
   if (flag == "--fx" || flag == "--fy") return {M::rectangular};
   if (flag == "--alpha") return {M::kernel_log_polar};
   if (flag == "--inner-radius-deg" || flag == "--outer-radius-deg") return {M::hyperbolic, M::linear};
-  if (flag == "--middle-pixel-size" || flag == "--outer-pixel-size" || flag == "--blend-band-deg") return {M::hyperbolic};
+  if (flag == "--middle-pixel-size" || flag == "--outer-pixel-size" || flag == "--blend-band-deg")
+    return {M::hyperbolic};
   if (flag == "--min-probability" || flag == "--sample-seed") return {M::linear};
   if (flag == "--equalise") return {M::hyperbolic, M::linear};
   if (flag == "--resample") return {M::rectangular, M::hyperbolic, M::kernel_log_polar};
@@ -109,16 +116,21 @@ std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) 
   const auto number = [](double value) { return exact_number_text(value); };  // reproduces the settings
   std::string text = "--sigma " + number(s.sigma);
   switch (model) {
-    case SamplingModel::rectangular: text += " --fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y); break;
-    case SamplingModel::kernel_log_polar: text += " --alpha " + number(s.alpha); break;
+    case SamplingModel::rectangular:
+      text += " --fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y);
+      break;
+    case SamplingModel::kernel_log_polar:
+      text += " --alpha " + number(s.alpha);
+      break;
     case SamplingModel::hyperbolic:
-      text += " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " + number(s.outer_radius_deg) +
-              " --middle-pixel-size " + number(s.middle_pixel_size_px) + " --outer-pixel-size " +
-              number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg);
+      text += " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " +
+              number(s.outer_radius_deg) + " --middle-pixel-size " + number(s.middle_pixel_size_px) +
+              " --outer-pixel-size " + number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg);
       break;
     case SamplingModel::linear:
-      text += " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " + number(s.outer_radius_deg) +
-              " --min-probability " + number(s.min_probability) + " --sample-seed " + std::to_string(s.seed);
+      text += " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " +
+              number(s.outer_radius_deg) + " --min-probability " + number(s.min_probability) + " --sample-seed " +
+              std::to_string(s.seed);
       break;
   }
   if (s.equalise && (model == SamplingModel::hyperbolic || model == SamplingModel::linear)) text += " --equalise";
@@ -129,11 +141,12 @@ std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) 
 
 std::string all_sampling_flags_text(const SamplingSettings& s, const std::vector<SamplingModel>& models,
                                     const std::string& focal_shares) {
-  const auto number = [](double value) { return exact_number_text(value); };  // reproduces the settings
+  const auto number = [](double value) { return exact_number_text(value); };      // reproduces the settings
   const auto used = [&](const char* flag) { return used_by_any(flag, models); };  // a flag no model uses is refused
   std::string text = "--sigma " + number(s.sigma);
   if (used("--fx"))
-    text += " " + (focal_shares.empty() ? "--fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y) : focal_shares);
+    text += " " + (focal_shares.empty() ? "--fx " + number(s.focal_share_x) + " --fy " + number(s.focal_share_y)
+                                        : focal_shares);
   if (used("--alpha")) text += " --alpha " + number(s.alpha);
   if (used("--inner-radius-deg"))
     text += " --inner-radius-deg " + number(s.inner_radius_deg) + " --outer-radius-deg " + number(s.outer_radius_deg);
@@ -150,12 +163,14 @@ std::string all_sampling_flags_text(const SamplingSettings& s, const std::vector
 std::string sampling_summary(const SamplingMap& map) {
   const double pixels = double(screen_width_px(map)) * double(screen_height_px(map));
   std::string text = std::string(sampling_model_name(model_of(map))) + ": " +
-                     format_number(100.0 * double(shaded_samples(map)) / pixels, 3) + " % of pixels shaded (theoretical speed-up " +
-                     format_number(theoretical_speedup(map), 3) + ", effective " + format_number(effective_speedup(map), 3) +
-                     "), mean density " + format_number(mean_density(map), 3);
+                     format_number(100.0 * double(shaded_samples(map)) / pixels, 3) +
+                     " % of pixels shaded (theoretical speed-up " + format_number(theoretical_speedup(map), 3) +
+                     ", effective " + format_number(effective_speedup(map), 3) + "), mean density " +
+                     format_number(mean_density(map), 3);
   if (const auto* layers = std::get_if<HyperbolicLayers>(&map))
     text += ", outer pixel " + format_number(layers->layers[2].pixel_size_px, 4) + " px";
-  if (const auto* linear = std::get_if<LinearFalloff>(&map)) text += ", p_min " + format_number(linear->min_probability, 4);
+  if (const auto* linear = std::get_if<LinearFalloff>(&map))
+    text += ", p_min " + format_number(linear->min_probability, 4);
   return text;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// The flags of seed 002's sampling models (rmfr, hyperbolic, linear, kfr) for `render` and `bench`:
+// The flags of Ye et al. 2022's sampling models (rmfr, hyperbolic, linear, kfr) for `render` and `bench`:
 // sigma, RMFR's focal shares, KFR's alpha, the hyperbolic and linear radii, pixel sizes and p_min,
 // --equalise. Their descriptions start with "Sampling:" so a command can refuse them for other
 // methods. The display and gaze come from the display flags (app/foveation_flags.h's defaults).

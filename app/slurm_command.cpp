@@ -66,7 +66,8 @@ std::string shell_word(const std::string& text) {
   return quoted + "'";
 }
 
-void check_pattern(const std::string& flag, const std::string& value, const char* pattern, const std::string& expected) {
+void check_pattern(const std::string& flag, const std::string& value, const char* pattern,
+                   const std::string& expected) {
   if (!value.empty() && !std::regex_match(value, std::regex(pattern))) fail_flag(flag, expected, value);
 }
 
@@ -100,7 +101,8 @@ void check_script_word(const std::string& what, const std::string& word) {
 void check_sbatch_path(const std::string& what, const std::string& path) {
   check_script_word(what, path);
   if (path.find_first_of(" \t%\"'\\") != std::string::npos)
-    throw InputError(what + " " + path + ": holds a space, quote, backslash or %, which an #SBATCH line cannot; "
+    throw InputError(what + " " + path +
+                     ": holds a space, quote, backslash or %, which an #SBATCH line cannot; "
                      "expected a path without them (run from another folder, or give --out)");
 }
 
@@ -151,56 +153,91 @@ void write_job(const SlurmOptions& options, const std::string& invocation, const
   const std::string tasks = std::to_string(options.tasks);
   const std::string requeues = std::to_string(options.max_requeue);
   const std::string logs = (out / "logs").string();
-  std::string array = "#!/bin/bash\n"
-                      "# fovlab slurm " + job.kind + ": task I of " + tasks + " (I = SLURM_ARRAY_TASK_ID) " + job.what + "\n"
-                      "# Written by: " + invocation + "\n"
-                      "# Edit freely; submit.sh submits it, then merge.sbatch after every task has succeeded.\n"
-                      "#SBATCH --job-name=fovlab-" + job.kind + "\n"
-                      "#SBATCH --array=0-" + std::to_string(options.tasks - 1) + "\n"
-                      "#SBATCH --chdir=" + working_dir + "\n"
-                      "#SBATCH --output=" + logs + "/task-%A_%a.log\n"
-                      "#SBATCH --open-mode=append\n"
-                      "#SBATCH --requeue\n"
-                      "#SBATCH --cpus-per-task=" + std::to_string(options.cpus_per_task) + "\n" +
-                      (job.exclusive ? "#SBATCH --exclusive\n" : "") + sbatch_lines(options, true) +
-                      "set -u\n"
-                      "task=${SLURM_ARRAY_TASK_ID}\n"
-                      "restarts=${SLURM_RESTART_COUNT:-0}\n"
-                      "echo \"fovlab slurm: task ${task} of " + tasks + ", attempt $((restarts + 1)), job ${SLURM_JOB_ID} on "
-                      "$(hostname) at $(date -u +%Y-%m-%dT%H:%M:%SZ)\"\n" +
-                      job.task_command + "\n"
-                      "status=$?\n"
-                      "echo \"fovlab slurm: task ${task} exit ${status}\"\n"
-                      "# fovlab killed by a signal (exit 128 + its number: the OOM killer, a kill of the process): requeue\n"
-                      "# this task, at most " + requeues + " times; it resumes from what is already done. Pre-emption and\n"
-                      "# node failures are requeued by Slurm itself (--requeue above). Bad input (exit 2) and other\n"
-                      "# failures (1) stay failed, and the merge job is then cancelled.\n"
-                      "if [ \"${status}\" -gt 128 ] && [ \"${restarts}\" -lt " + requeues + " ]; then\n"
-                      "  echo \"fovlab slurm: task ${task} killed; requeued\"\n"
-                      "  scontrol requeue \"${SLURM_JOB_ID}\"\n"
-                      "fi\n"
-                      "exit \"${status}\"\n";
-  std::string merge = "#!/bin/bash\n"
-                      "# fovlab slurm " + job.kind + ": " + job.merge_what + "\n"
-                      "# Written by: " + invocation + "\n"
-                      "#SBATCH --job-name=fovlab-" + job.kind + "-merge\n"
-                      "#SBATCH --chdir=" + working_dir + "\n"
-                      "#SBATCH --output=" + logs + "/merge-%j.log\n"
-                      "#SBATCH --cpus-per-task=1\n" +
-                      sbatch_lines(options, false) +
-                      "set -u\n" + job.merge_command + "\n";
-  std::string submit = "#!/bin/bash\n"
-                       "# Submits array.sbatch (" + tasks + " tasks), then merge.sbatch to run once every task has succeeded\n"
-                       "# (afterok; cancelled if a task fails for good). Job IDs are appended to submitted.txt.\n"
-                       "set -euo pipefail\n"
-                       "cd \"$(dirname \"$0\")\"\n"
-                       "mkdir -p logs\n"
-                       "array=$(sbatch --parsable array.sbatch)\n"
-                       "array=${array%%;*}\n"
-                       "merge=$(sbatch --parsable --dependency=afterok:${array} --kill-on-invalid-dep=yes merge.sbatch)\n"
-                       "merge=${merge%%;*}\n"
-                       "echo \"array ${array} merge ${merge}\" >> submitted.txt\n"
-                       "echo \"submitted: array job ${array} (" + tasks + " tasks), merge job ${merge} after it; logs in $(pwd)/logs\"\n";
+  std::string array =
+      "#!/bin/bash\n"
+      "# fovlab slurm " +
+      job.kind + ": task I of " + tasks + " (I = SLURM_ARRAY_TASK_ID) " + job.what +
+      "\n"
+      "# Written by: " +
+      invocation +
+      "\n"
+      "# Edit freely; submit.sh submits it, then merge.sbatch after every task has succeeded.\n"
+      "#SBATCH --job-name=fovlab-" +
+      job.kind +
+      "\n"
+      "#SBATCH --array=0-" +
+      std::to_string(options.tasks - 1) +
+      "\n"
+      "#SBATCH --chdir=" +
+      working_dir +
+      "\n"
+      "#SBATCH --output=" +
+      logs +
+      "/task-%A_%a.log\n"
+      "#SBATCH --open-mode=append\n"
+      "#SBATCH --requeue\n"
+      "#SBATCH --cpus-per-task=" +
+      std::to_string(options.cpus_per_task) + "\n" + (job.exclusive ? "#SBATCH --exclusive\n" : "") +
+      sbatch_lines(options, true) +
+      "set -u\n"
+      "task=${SLURM_ARRAY_TASK_ID}\n"
+      "restarts=${SLURM_RESTART_COUNT:-0}\n"
+      "echo \"fovlab slurm: task ${task} of " +
+      tasks +
+      ", attempt $((restarts + 1)), job ${SLURM_JOB_ID} on "
+      "$(hostname) at $(date -u +%Y-%m-%dT%H:%M:%SZ)\"\n" +
+      job.task_command +
+      "\n"
+      "status=$?\n"
+      "echo \"fovlab slurm: task ${task} exit ${status}\"\n"
+      "# fovlab killed by a signal (exit 128 + its number: the OOM killer, a kill of the process): requeue\n"
+      "# this task, at most " +
+      requeues +
+      " times; it resumes from what is already done. Pre-emption and\n"
+      "# node failures are requeued by Slurm itself (--requeue above). Bad input (exit 2) and other\n"
+      "# failures (1) stay failed, and the merge job is then cancelled.\n"
+      "if [ \"${status}\" -gt 128 ] && [ \"${restarts}\" -lt " +
+      requeues +
+      " ]; then\n"
+      "  echo \"fovlab slurm: task ${task} killed; requeued\"\n"
+      "  scontrol requeue \"${SLURM_JOB_ID}\"\n"
+      "fi\n"
+      "exit \"${status}\"\n";
+  std::string merge =
+      "#!/bin/bash\n"
+      "# fovlab slurm " +
+      job.kind + ": " + job.merge_what +
+      "\n"
+      "# Written by: " +
+      invocation +
+      "\n"
+      "#SBATCH --job-name=fovlab-" +
+      job.kind +
+      "-merge\n"
+      "#SBATCH --chdir=" +
+      working_dir +
+      "\n"
+      "#SBATCH --output=" +
+      logs +
+      "/merge-%j.log\n"
+      "#SBATCH --cpus-per-task=1\n" +
+      sbatch_lines(options, false) + "set -u\n" + job.merge_command + "\n";
+  std::string submit =
+      "#!/bin/bash\n"
+      "# Submits array.sbatch (" +
+      tasks +
+      " tasks), then merge.sbatch to run once every task has succeeded\n"
+      "# (afterok; cancelled if a task fails for good). Job IDs are appended to submitted.txt.\n"
+      "set -euo pipefail\n"
+      "cd \"$(dirname \"$0\")\"\n"
+      "mkdir -p logs\n"
+      "array=$(sbatch --parsable array.sbatch)\n"
+      "array=${array%%;*}\n"
+      "merge=$(sbatch --parsable --dependency=afterok:${array} --kill-on-invalid-dep=yes merge.sbatch)\n"
+      "merge=${merge%%;*}\n"
+      "echo \"array ${array} merge ${merge}\" >> submitted.txt\n"
+      "echo \"submitted: array job ${array} (" +
+      tasks + " tasks), merge job ${merge} after it; logs in $(pwd)/logs\"\n";
   create_output_folder(out / "logs", "--out");
   std::error_code error;
   write_text_atomically(out / "array.sbatch", array);
@@ -266,7 +303,8 @@ void add_slurm_flags(CLI::App& command, SlurmOptions& options) {
   command.add_flag("--allow-lavapipe", options.allow_lavapipe,
                    "Let tasks render on a CPU Vulkan device (lavapipe) where a node has no GPU; default: refuse");
   add_output_option(command, "--out", options.out,
-                    "Folder for the scripts and logs (default slurm/<config name>-prerender, or slurm/bench)", {{OutputKind::folder}, kWritesIntoAFolder});
+                    "Folder for the scripts and logs (default slurm/<config name>-prerender, or slurm/bench)",
+                    {{OutputKind::folder}, kWritesIntoAFolder});
   command.add_option("--fovlab", options.fovlab, "The fovlab binary the tasks run (default this one)");
   command.add_flag("--submit", options.submit, "Submit with sbatch (submit.sh) once written");
 }
@@ -279,20 +317,25 @@ struct PrerenderJobOptions {
 };
 
 void run_slurm_prerender(const PrerenderJobOptions& options) {
-  for (const auto& [what, word] : {std::pair<std::string, std::string>{"CONFIG", options.config}, {"--cache", options.cache},
-                                   {"--device", options.device}, {"--fovlab", options.slurm.fovlab}})
+  for (const auto& [what, word] : {std::pair<std::string, std::string>{"CONFIG", options.config},
+                                   {"--cache", options.cache},
+                                   {"--device", options.device},
+                                   {"--fovlab", options.slurm.fovlab}})
     check_script_word(what, word);
   const size_t frames = prerender_frame_jobs(options.config).size();
-  check_slurm_flags(options.slurm, int(std::min<size_t>(frames, 100000)), std::to_string(frames) + " frames of " + options.config);
-  const fs::path out = absolute_text(options.slurm.out.empty()
-                                         ? "slurm/" + fs::path(options.config).stem().string() + "-prerender"
-                                         : options.slurm.out);
-  std::string common = shell_word(fovlab_binary(options.slurm)) + " prerender " + shell_word(absolute_text(options.config)) +
-                       " --cache " + shell_word(absolute_text(options.cache));
+  check_slurm_flags(options.slurm, int(std::min<size_t>(frames, 100000)),
+                    std::to_string(frames) + " frames of " + options.config);
+  const fs::path out =
+      absolute_text(options.slurm.out.empty() ? "slurm/" + fs::path(options.config).stem().string() + "-prerender"
+                                              : options.slurm.out);
+  std::string common = shell_word(fovlab_binary(options.slurm)) + " prerender " +
+                       shell_word(absolute_text(options.config)) + " --cache " +
+                       shell_word(absolute_text(options.cache));
   if (!options.device.empty()) common += " --device " + shell_word(options.device);
   Job job;
   job.kind = "prerender";
-  job.what = "renders frames I, I + N, ... of " + options.config + " into the cache; a rerun renders only what is missing.";
+  job.what =
+      "renders frames I, I + N, ... of " + options.config + " into the cache; a rerun renders only what is missing.";
   job.task_command = common + " --shard \"${task}/" + std::to_string(options.slurm.tasks) + "\"" +
                      (options.slurm.allow_lavapipe ? "" : " --require-gpu");
   job.merge_what = "checks that every frame is in the cache and matches its .sha256 (exit 1 lists those that do not).";
@@ -307,16 +350,18 @@ void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& 
   for (const std::string& word : bench_words) check_script_word("bench flag " + word.substr(0, 40), word);
   check_script_word("--fovlab", slurm.fovlab);
   BenchFlags bench = parse_bench_flags(bench_words, "bench flags");
-  for (const auto& [flag, given] : {std::pair{"--json", !bench.json.empty()}, std::pair{"--out-dir", !bench.out_dir.empty()},
-                                    std::pair{"--cells", !bench.cells.empty()}})
+  for (const auto& [flag, given] :
+       {std::pair{"--json", !bench.json.empty()}, std::pair{"--out-dir", !bench.out_dir.empty()},
+        std::pair{"--cells", !bench.cells.empty()}})
     if (given)
-      throw InputError(std::string(flag) + ": set by fovlab slurm bench (each task writes parts/part-I.json; the "
+      throw InputError(std::string(flag) +
+                       ": set by fovlab slurm bench (each task writes parts/part-I.json; the "
                        "merge job writes bench.json and report/); leave it out");
   const fs::path out = absolute_text(slurm.out.empty() ? "slurm/bench" : slurm.out);
   bench.json = out / "parts" / "part-0.json";
-  bench.cells = "0/1";  // a part's plan is the sweep's
+  bench.cells = "0/1";                                      // a part's plan is the sweep's
   const fovlab::bench::BenchPlan plan = plan_bench(bench);  // every bench flag checked before anything is written,
-  fovlab::bench::load_bench_scenes(plan);                  // the scenes and the memory too
+  fovlab::bench::load_bench_scenes(plan);                   // the scenes and the memory too
   const size_t units = bench.scenes.size() * plan.times_s.size() * bench.spps.size();
   check_slurm_flags(slurm, int(std::min<size_t>(units, 100000)),
                     std::to_string(units) + " (scene, time, spp) units of the sweep");
@@ -345,15 +390,18 @@ void run_slurm_bench(const SlurmOptions& slurm, const std::vector<std::string>& 
 
 void add_slurm_command(CLI::App& app) {
   CLI::App* slurm = app.add_subcommand(
-      "slurm", "Run a pre-render or a benchmark sweep on a Slurm cluster: a job array and a merge job (docs/scale-out.md)");
+      "slurm",
+      "Run a pre-render or a benchmark sweep on a Slurm cluster: a job array and a merge job (docs/scale-out.md)");
   slurm->require_subcommand(1);
 
   auto prerender = std::make_shared<PrerenderJobOptions>();
   CLI::App* prerender_command = slurm->add_subcommand(
-      "prerender", "Write (and --submit) a job array whose task I runs fovlab prerender CONFIG --shard I/N, then --verify");
+      "prerender",
+      "Write (and --submit) a job array whose task I runs fovlab prerender CONFIG --shard I/N, then --verify");
   prerender_command->add_option("config", prerender->config, "Study config (TOML) with pt or fpt stimuli")->required();
   add_output_option(*prerender_command, "--cache", prerender->cache,
-                    "Pre-render cache folder, on a file system every node shares (default stimuli/cache)", {{OutputKind::folder}, kCacheFolder});
+                    "Pre-render cache folder, on a file system every node shares (default stimuli/cache)",
+                    {{OutputKind::folder}, kCacheFolder});
   prerender_command->add_option("--device", prerender->device, "Vulkan device of each task: index or part of its name");
   add_slurm_flags(*prerender_command, prerender->slurm);
   prerender_command->callback([prerender] { run_slurm_prerender(*prerender); });
@@ -366,8 +414,9 @@ void add_slurm_command(CLI::App& app) {
                           "Let tasks share a node (default: each its own, #SBATCH --exclusive, so their times do not "
                           "disturb each other)");
   bench_command->allow_extras();  // bench's own flags, passed on
-  bench_command->footer("Every other flag is one of fovlab bench's (fovlab bench --help): checked as bench checks it, "
-                        "then passed on to the tasks as given.");
+  bench_command->footer(
+      "Every other flag is one of fovlab bench's (fovlab bench --help): checked as bench checks it, "
+      "then passed on to the tasks as given.");
   bench_command->callback([bench, bench_command] { run_slurm_bench(*bench, bench_command->remaining()); });
 }
 

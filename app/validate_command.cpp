@@ -63,7 +63,9 @@ PrerenderEstimate estimate_prerender(FrameCache& cache, const std::vector<const 
   const auto samples_of = [](const PathTraceSequence& sequence) {
     return double(sequence.width_px) * double(sequence.height_px) * double(sequence.samples_per_pixel);
   };
-  const auto pixels_of = [](const PathTraceSequence& sequence) { return double(sequence.width_px) * double(sequence.height_px); };
+  const auto pixels_of = [](const PathTraceSequence& sequence) {
+    return double(sequence.width_px) * double(sequence.height_px);
+  };
   PrerenderEstimate total;
   for (const auto& [scene, jobs] : by_scene) {
     const PathTraceFrameJob& timed = *jobs.front();
@@ -78,11 +80,11 @@ PrerenderEstimate estimate_prerender(FrameCache& cache, const std::vector<const 
       scene_s += seconds_per_sample * samples_of(jobs[i]->sequence);
       scene_bytes += bytes_per_pixel * pixels_of(jobs[i]->sequence);
     }
-    std::printf("  %-8s %-24s %zu path-traced frames not yet cached: about %s and %s on disk (one rendered and "
-                "cached: %.2f s, %s)\n",
-                "pt", scene.c_str(), jobs.size(), duration_text(scene_s).c_str(),
-                approximate_size_text(scene_bytes).c_str(), frame_s,
-                approximate_size_text(bytes_per_pixel * pixels_of(timed.sequence)).c_str());
+    std::printf(
+        "  %-8s %-24s %zu path-traced frames not yet cached: about %s and %s on disk (one rendered and "
+        "cached: %.2f s, %s)\n",
+        "pt", scene.c_str(), jobs.size(), duration_text(scene_s).c_str(), approximate_size_text(scene_bytes).c_str(),
+        frame_s, approximate_size_text(bytes_per_pixel * pixels_of(timed.sequence)).c_str());
     total.seconds += scene_s;
     total.bytes += static_cast<uint64_t>(scene_bytes);
   }
@@ -113,7 +115,9 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     const StimulusSpec& spec = stimulus.spec;
     if (is_path_traced(spec.method())) continue;
-    Group& group = (describe(spec.method()).depends_on_gaze ? live : ahead)[{std::string(describe(spec.method()).name), spec.scene}];
+    Group& group =
+        (describe(spec.method()).depends_on_gaze ? live
+                                                 : ahead)[{std::string(describe(spec.method()).name), spec.scene}];
     if (!group.first) group.first = &stimulus;
     ++group.stimuli;
     group.frames += spec.frame_count;
@@ -133,8 +137,8 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
     }
     const double frame_s = sum_s / 3.0;
     ahead_s += frame_s * double(group.frames);
-    std::printf("  %-8s %-24s %3d stimuli x %ld frames in all, %.1f ms a frame\n", key.first.c_str(), key.second.c_str(),
-                group.stimuli, group.frames, 1e3 * frame_s);
+    std::printf("  %-8s %-24s %3d stimuli x %ld frames in all, %.1f ms a frame\n", key.first.c_str(),
+                key.second.c_str(), group.stimuli, group.frames, 1e3 * frame_s);
   }
   const double refresh_ms = 1e3 / plan.config.display.refresh_hz;
   for (const auto& [key, group] : live) {
@@ -161,12 +165,13 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
   if (!jobs.empty() && missing.empty())
     path_traced = ", all " + std::to_string(jobs.size()) + " path-traced frames already in " + cache_dir;
   else if (!jobs.empty())
-    path_traced = ", including the pre-render of " + std::to_string(missing.size()) + " of " + std::to_string(jobs.size()) +
-                  " path-traced frames not yet in " + cache_dir + ": about " + duration_text(prerender.seconds) + " and " +
-                  approximate_size_text(double(prerender.bytes)) +
+    path_traced = ", including the pre-render of " + std::to_string(missing.size()) + " of " +
+                  std::to_string(jobs.size()) + " path-traced frames not yet in " + cache_dir + ": about " +
+                  duration_text(prerender.seconds) + " and " + approximate_size_text(double(prerender.bytes)) +
                   " on disk (fovlab prerender renders them ahead, with an ETA)";
   std::printf("render time before the first trial: about %s on %s (timed sample above)%s\n",
-              duration_text(ahead_s + prerender.seconds).c_str(), context.description.name.c_str(), path_traced.c_str());
+              duration_text(ahead_s + prerender.seconds).c_str(), context.description.name.c_str(),
+              path_traced.c_str());
 }
 
 void validate(const std::string& config_path, const std::string& participant, bool time_render,
@@ -175,7 +180,7 @@ void validate(const std::string& config_path, const std::string& participant, bo
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
   const StudyPlan plan = make_study_plan(config, participant);
   check_plan_renderable(plan, config_path, PlanUse::session);  // what a session would refuse, refused now
-  check_log_fits_readers(plan, config_path);  // what validate accepts, the log readers can read back
+  check_log_fits_readers(plan, config_path);                   // what validate accepts, the log readers can read back
   int checks = 0, practice = 0;
   std::set<std::string> conditions;
   for (const Trial& trial : plan.trials) {
@@ -196,20 +201,24 @@ void validate(const std::string& config_path, const std::string& participant, bo
     std::printf("gaze: [gaze] require = %s (a source of another kind is refused, headless too)\n",
                 config.gaze.require_text().c_str());
   else if (is_gaze_contingent(config))
-    std::printf("gaze: gaze-contingent: a session in a window needs --gaze (a tracker: pupil[:HOST[:PORT]]; --gaze mouse "
-                "for a rehearsal); headless: synthetic\n");
+    std::printf(
+        "gaze: gaze-contingent: a session in a window needs --gaze (a tracker: pupil[:HOST[:PORT]]; --gaze mouse "
+        "for a rehearsal); headless: synthetic\n");
   for (const PlannedBlock& block : plan.blocks)
     std::printf("block %-16s scene %-24s %d trials\n", block.name.c_str(), block.scene.c_str(), block.trial_count);
   size_t prepared = 0;  // gaze-dependent stimuli (FIPR) render live and are not held in memory
-  for (const PlannedStimulus& stimulus : plan.stimuli) prepared += describe(stimulus.spec.method()).depends_on_gaze ? 0 : 1;
-  std::printf("trials %zu (%d attention checks, %d practice), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: "
-              "%.0f MiB; %zu rendered live with the gaze)\n",
-              plan.trials.size(), checks, practice, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(), prepared,
-              double(prepared_frames_bytes(planned_specs(plan))) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
+  for (const PlannedStimulus& stimulus : plan.stimuli)
+    prepared += describe(stimulus.spec.method()).depends_on_gaze ? 0 : 1;
+  std::printf(
+      "trials %zu (%d attention checks, %d practice), conditions %zu, stimuli %zu x %d frames (%zu prepared ahead: "
+      "%.0f MiB; %zu rendered live with the gaze)\n",
+      plan.trials.size(), checks, practice, conditions.size(), plan.stimuli.size(), config.stimulus.frame_count(),
+      prepared, double(prepared_frames_bytes(planned_specs(plan))) / (1024.0 * 1024.0), plan.stimuli.size() - prepared);
   if (!plan.tracks.empty())
-    std::printf("adaptive: %zu track%s (staircases, QUEST+), each planned to its max_trials (one that stops sooner skips "
-                "the rest: the trials and duration are upper bounds)\n",
-                plan.tracks.size(), plan.tracks.size() == 1 ? "" : "s");
+    std::printf(
+        "adaptive: %zu track%s (staircases, QUEST+), each planned to its max_trials (one that stops sooner skips "
+        "the rest: the trials and duration are upper bounds)\n",
+        plan.tracks.size(), plan.tracks.size() == 1 ? "" : "s");
   std::printf("expected duration %.1f min of trials (1.5 s an answer%s)\n", minutes,
               config.validation.enabled ? ", eye-tracker validations passing at once" : "");
   if (time_render) estimate_render_time(plan, device, cache_dir);
@@ -229,7 +238,8 @@ void add_validate_command(CLI::App& app) {
                     "Skip the quick timed sample that estimates the render time before the first trial");
   command->add_option("--device", *device, "Vulkan device of the timed sample: index or part of its name");
   auto cache = std::make_shared<std::string>(kDefaultCacheRoot.string());
-  add_output_option(*command, "--cache", *cache, "Pre-render cache whose path-traced frames count as done (default stimuli/cache)",
+  add_output_option(*command, "--cache", *cache,
+                    "Pre-render cache whose path-traced frames count as done (default stimuli/cache)",
                     {{OutputKind::folder}, kCacheFolder});
   command->callback([config_path, participant, no_timing, device, cache] {
     validate(*config_path, *participant, !*no_timing, *device, *cache);

@@ -1,5 +1,5 @@
 // fovlab voronoi --width W --height H [display flags] [--sigma-deg D | --sigma-px S] [--seed N]
-//                [--out-sites IMG] [--out-cells IMG]: seed 003's sampling mask (foveation/
+//                [--out-sites IMG] [--out-cells IMG]: Bruder et al. 2019's sampling mask (foveation/
 // voronoi_mask.h) for a screen, as Figure 1 draws it: the sites as black dots on white, and the
 // Voronoi cells in colours with the sites on them. Prints the sites, the iterations and the share of
 // the screen's pixels that get a ray with the gaze at the centre.
@@ -43,7 +43,7 @@ void run_voronoi(VoronoiOptions options) {
     throw InputError("--width, --height: expected 1 to 4096 pixels (the mask is twice the screen per axis)");
   if (!options.display.gaze.empty())
     throw InputError("--gaze: the mask is made once, centred; a session shifts it to each gaze sample");
-  const std::string assumed_display = default_to_seed001_display(options.display);
+  const std::string assumed_display = default_to_fpt_study_display(options.display);
   const DisplayGeometry display = parse_display(options.display, options.width_px, options.height_px);
   VoronoiMaskSettings settings;
   settings.screen_width_px = options.width_px;
@@ -67,12 +67,13 @@ void run_voronoi(VoronoiOptions options) {
   for (const MaskSite& site : mask.sites)
     on_screen += site.x_px >= x0 && site.x_px < x0 + float(options.width_px) && site.y_px >= y0 &&
                  site.y_px < y0 + float(options.height_px);
-  std::printf("mask %dx%d for a %dx%d screen, s %.2f px (%s): %zu sites after %d iterations (%s), %.2f s; "
-              "%d rays on the screen with the gaze at the centre: %.2f %% of its pixels\n",
-              mask.width_px, mask.height_px, options.width_px, options.height_px, settings.density_sigma_px,
-              options.sigma_px > 0.0 ? "--sigma-px" : (format_number(options.sigma_deg, 6) + " deg").c_str(),
-              mask.sites.size(), mask.iterations, mask.converged ? "converged" : "stopped at the limit", seconds,
-              on_screen, 100.0 * on_screen / (double(options.width_px) * options.height_px));
+  std::printf(
+      "mask %dx%d for a %dx%d screen, s %.2f px (%s): %zu sites after %d iterations (%s), %.2f s; "
+      "%d rays on the screen with the gaze at the centre: %.2f %% of its pixels\n",
+      mask.width_px, mask.height_px, options.width_px, options.height_px, settings.density_sigma_px,
+      options.sigma_px > 0.0 ? "--sigma-px" : (format_number(options.sigma_deg, 6) + " deg").c_str(), mask.sites.size(),
+      mask.iterations, mask.converged ? "converged" : "stopped at the limit", seconds, on_screen,
+      100.0 * on_screen / (double(options.width_px) * options.height_px));
   std::printf("%s\n", display_line(display, assumed_display).c_str());
 
   if (!options.sites_out.empty()) {
@@ -99,15 +100,20 @@ void run_voronoi(VoronoiOptions options) {
 
 void add_voronoi_command(CLI::App& app) {
   auto options = std::make_shared<VoronoiOptions>();
-  CLI::App* command = app.add_subcommand("voronoi", "Bruder et al. 2019's Voronoi sampling mask for a screen (Figure 1)");
+  CLI::App* command =
+      app.add_subcommand("voronoi", "Bruder et al. 2019's Voronoi sampling mask for a screen (Figure 1)");
   command->add_option("--width", options->width_px, "Screen width in pixels (the mask is twice as wide)")->required();
   command->add_option("--height", options->height_px, "Screen height in pixels")->required();
   add_display_flags(*command, options->display, false);  // default: 27" at 500 mm
-  command->add_option("--sigma-deg", options->sigma_deg, "Phi's Gaussian radius in degrees of visual angle (default 2.5)");
+  command->add_option("--sigma-deg", options->sigma_deg,
+                      "Phi's Gaussian radius in degrees of visual angle (default 2.5)");
   command->add_option("--sigma-px", options->sigma_px, "Phi's Gaussian radius in pixels, instead of --sigma-deg");
   command->add_option("--seed", options->seed, "Seed of the initial sites (default 1)");
-  add_output_option(*command, "--out-sites", options->sites_out, "The sites as black dots on white (PNG)", {{OutputKind::image_file}, kReplacesAFile});
-  add_output_option(*command, "--out-cells", options->cells_out, "The Voronoi cells in colours, the sites in black (PNG)", {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--out-sites", options->sites_out, "The sites as black dots on white (PNG)",
+                    {{OutputKind::image_file}, kReplacesAFile});
+  add_output_option(*command, "--out-cells", options->cells_out,
+                    "The Voronoi cells in colours, the sites in black (PNG)",
+                    {{OutputKind::image_file}, kReplacesAFile});
   command->callback([options] { run_voronoi(*options); });
 }
 

@@ -14,14 +14,10 @@ namespace {
 nlohmann::json runs_json(const RunsResult& runs) {
   nlohmann::json passes = nlohmann::json::object();
   for (const auto& [name, ms] : runs.median_pass_gpu_ms) passes[name] = ms;
-  return {{"median_gpu_ms", runs.median_gpu_ms},
-          {"median_wall_ms", runs.median_wall_ms},
-          {"gpu_ms_runs", runs.gpu_ms_runs},
-          {"median_pass_gpu_ms", passes},
-          {"total_steps", runs.total_steps},
-          {"steps_per_pixel", runs.steps_per_pixel},
-          {"steps_per_sample", runs.steps_per_sample},
-          {"capped_rays", runs.capped_rays},
+  return {{"median_gpu_ms", runs.median_gpu_ms},       {"median_wall_ms", runs.median_wall_ms},
+          {"gpu_ms_runs", runs.gpu_ms_runs},           {"median_pass_gpu_ms", passes},
+          {"total_steps", runs.total_steps},           {"steps_per_pixel", runs.steps_per_pixel},
+          {"steps_per_sample", runs.steps_per_sample}, {"capped_rays", runs.capped_rays},
           {"restarted_rays", runs.restarted_rays}};
 }
 
@@ -71,18 +67,18 @@ nlohmann::json foveation_json(const FiprCellResult& fipr) {
 }
 
 nlohmann::json sampling_json(const SamplingCellResult& sampling) {
-  return {{"model", sampling_model_name(sampling.model)},
-          {"shaded_samples", sampling.shaded_samples},
-          {"shaded_share", sampling.shaded_share},
-          {"theoretical_speedup", sampling.theoretical_speedup},
-          {"effective_speedup", sampling.effective_speedup},
-          {"mean_density", sampling.mean_density}};
+  return {{"model", sampling_model_name(sampling.model)},    {"shaded_samples", sampling.shaded_samples},
+          {"shaded_share", sampling.shaded_share},           {"theoretical_speedup", sampling.theoretical_speedup},
+          {"effective_speedup", sampling.effective_speedup}, {"mean_density", sampling.mean_density}};
 }
 
 }  // namespace
 
 nlohmann::json unit_json(const UnitResult& unit) {
-  nlohmann::json row = {{"scene", unit.scene}, {"spp", unit.spp}, {"time_s", unit.time_s}, {"gt", runs_json(unit.gt)},
+  nlohmann::json row = {{"scene", unit.scene},
+                        {"spp", unit.spp},
+                        {"time_s", unit.time_s},
+                        {"gt", runs_json(unit.gt)},
                         {"floor", runs_json(unit.floor)}};
   row["floor"]["ssim_against_gt"] = unit.floor_ssim_against_gt;
   row["gt_over_floor"] = unit.gt_over_floor;
@@ -145,8 +141,9 @@ nlohmann::json bench_report_json(const BenchReport& report) {
                          {"times_s", report.times_s},
                          {"command", report.command},
                          {"methods", methods},
-                         {"camera", "GT and IPR at scene time time_s; a FIPR cell's frames at 60 Hz of scene time "
-                                    "ending at time_s (the camera moves), the last compared with GT"},
+                         {"camera",
+                          "GT and IPR at scene time time_s; a FIPR cell's frames at 60 Hz of scene time "
+                          "ending at time_s (the camera moves), the last compared with GT"},
                          {"metrics",
                           {{"reference", "the GT frame of the same scene and spp"},
                            {"images", "sRGB-encoded display images"},
@@ -165,8 +162,9 @@ nlohmann::json bench_report_json(const BenchReport& report) {
          "per cell: frames 0 to refresh - 1 untimed (frame 0 refreshes every pixel), then --repeats timed frames "
          "continuing the sequence (frame_index increasing, scene time advancing 1/60 s a frame, ending at time_s); "
          "median GPU ms of the timed frames; errors, steps and shares of the last timed frame"},
-        {"speedup", "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
-                    "GPU ms"}};
+        {"speedup",
+         "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
+         "GPU ms"}};
   }
   if (report.part) json["part"] = part_json(*report.part, report.units);
   return json;
@@ -175,11 +173,11 @@ nlohmann::json bench_report_json(const BenchReport& report) {
 void write_bench_part(const BenchReport& report, const std::filesystem::path& path) {
   write_text_atomically(path, bench_report_json(report).dump(2) + "\n");
   const SweepPart& part = *report.part;
-  std::printf("%s", ("\npart " + std::to_string(part.index) + "/" + std::to_string(part.count) + ": " +
-                     std::to_string(part.units_held(report.units)) + " of " + std::to_string(report.units) +
-                     " (scene, time, spp) units, written to " + path.string() +
-                     "; fovlab bench-merge joins the parts\n")
-                        .c_str());
+  std::printf("%s",
+              ("\npart " + std::to_string(part.index) + "/" + std::to_string(part.count) + ": " +
+               std::to_string(part.units_held(report.units)) + " of " + std::to_string(report.units) +
+               " (scene, time, spp) units, written to " + path.string() + "; fovlab bench-merge joins the parts\n")
+                  .c_str());
   std::fflush(stdout);
 }
 

@@ -15,10 +15,11 @@ namespace fovlab::bench {
 
 namespace {
 
-// The fovea of seed 000's Table 1 and of its speed-ups "at 7.5 degrees" (section 5.2).
+// The fovea of Polychronakis et al. 2023's Table 1 and of its speed-ups "at 7.5 degrees" (section 5.2).
 constexpr double kPaperFoveaDeg = 7.5;
 const char* const kPaperNote =
-    "Polychronakis et al. 2023 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups 1.1x-16x "
+    "Polychronakis et al. 2023 at 7.5 degrees: SSIM 0.949-0.990 and FLIP 0.030-0.109 against GT (Table 1); speed-ups "
+    "1.1x-16x "
     "(section 5.2).";
 
 // Marks each scene's cells on the Pareto fronts of speed-up against FLIP and against 1 - SSIM
@@ -30,7 +31,8 @@ void mark_pareto_fronts(nlohmann::json& cells, const std::vector<std::string>& s
       std::vector<nlohmann::json*> of_scene;
       for (nlohmann::json& cell : cells) {
         if (cell["scene"] != scene) continue;
-        const double value = std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
+        const double value =
+            std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
         points.push_back({cell["speedup"].get<double>(), value});
         of_scene.push_back(&cell);
       }
@@ -107,7 +109,8 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
     if (ipr) print_now("\nGT against IPR:\n" + gt_ipr_table);
     if (fipr) print_now("\nFIPR at a fovea of 7.5 degrees:\n" + fovea_7_5 + kPaperNote + "\n");
     if (!models.empty()) print_now("\nSampling models (Ye et al. 2022) against GT:\n" + models);
-    if (several_times && !ranking.empty()) print_now("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
+    if (several_times && !ranking.empty())
+      print_now("\nSampling models ranked by mean FPSNR over the scene times:\n" + ranking);
     if (!focal_sweep.table.empty()) print_now("\nRMFR's best f_x, f_y (Figure 6's sweep):\n" + focal_sweep.table);
     print_now("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
   }
@@ -125,17 +128,17 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
     files.emplace_back(out_dir / "bench.json", json_text);
     for (const std::string& scene : scene_names) {
       const std::string size = std::to_string(width) + "x" + std::to_string(height);
-      files.emplace_back(out_dir / (scene + "_pareto_flip.svg"),
-                         pareto_chart_svg(scene + ", " + size + ": speed-up against FLIP",
-                                          "FLIP against GT (mean, " + format_number(flip_pixels_per_degree, 3) +
-                                              " px/deg)",
-                                          chart_cells(cells, scene, true)));
+      files.emplace_back(
+          out_dir / (scene + "_pareto_flip.svg"),
+          pareto_chart_svg(scene + ", " + size + ": speed-up against FLIP",
+                           "FLIP against GT (mean, " + format_number(flip_pixels_per_degree, 3) + " px/deg)",
+                           chart_cells(cells, scene, true)));
       files.emplace_back(out_dir / (scene + "_pareto_ssim.svg"),
                          pareto_chart_svg(scene + ", " + size + ": speed-up against 1 - SSIM", "1 - SSIM against GT",
                                           chart_cells(cells, scene, false)));
     }
-    std::string markdown = "# fovlab bench\n\nCommand: `" + command + "`\n\nDevice: " +
-                           report["device"].get<std::string>() + "; " + std::to_string(width) + "x" +
+    std::string markdown = "# fovlab bench\n\nCommand: `" + command +
+                           "`\n\nDevice: " + report["device"].get<std::string>() + "; " + std::to_string(width) + "x" +
                            std::to_string(height) + "; median of " + std::to_string(report["repeats"].get<int>()) +
                            " runs.\n\n";
     if (ipr || !has_cells) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";

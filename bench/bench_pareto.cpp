@@ -56,7 +56,7 @@ std::string pareto_chart_svg(const std::string& title, const std::string& error_
   analysis::XySeries gt{"GT (speed-up 1, error 0)", analysis::XySeries::Style::points, {}, {}, {}, {}, {}};
   analysis::XySeries ipr{"IPR (label: ipr spp)", analysis::XySeries::Style::points, {}, {}, {}, {}, {}};
   std::map<int, analysis::XySeries> fipr_by_spp;
-  std::map<std::string, analysis::XySeries> model_series;  // seed 002's sampling models, one series each
+  std::map<std::string, analysis::XySeries> model_series;  // Ye et al. 2022's sampling models, one series each
   std::vector<std::pair<double, double>> front;
   for (const ChartCell& cell : cells) {
     if (cell.method == "gt") {

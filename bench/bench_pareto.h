@@ -18,7 +18,7 @@ struct TradeOff {
 std::vector<bool> pareto_front(const std::vector<TradeOff>& points);
 
 struct ChartCell {
-  std::string method;      // "gt", "ipr" or "fipr"
+  std::string method;  // "gt", "ipr" or "fipr"
   int spp = 1;
   int refresh = 1;         // FIPR only
   double fovea_deg = 0.0;  // FIPR only

@@ -21,7 +21,8 @@ const char* const kExpectedPart = "expected the JSON of fovlab bench --cells I/N
 // messages quote the part's own text).
 int64_t part_field(const PartReport& part, const char* key) {
   const nlohmann::json value = part.report["part"].value(key, nlohmann::json());
-  if (!value.is_number_integer()) throw InputError(part.path + ": \"part\"." + key + " is not a whole number; " + kExpectedPart);
+  if (!value.is_number_integer())
+    throw InputError(part.path + ": \"part\"." + key + " is not a whole number; " + kExpectedPart);
   if (value.is_number_unsigned())
     return int64_t(std::min<uint64_t>(value.get<uint64_t>(), uint64_t(std::numeric_limits<int64_t>::max())));
   return value.get<int64_t>();
@@ -39,10 +40,14 @@ enum class Kind { text, number, number_or_null, object };
 
 bool is_kind(const nlohmann::json& value, Kind kind) {
   switch (kind) {
-    case Kind::text: return value.is_string();
-    case Kind::number: return value.is_number();
-    case Kind::number_or_null: return value.is_number() || value.is_null();  // PSNR of identical frames: null
-    case Kind::object: return value.is_object();
+    case Kind::text:
+      return value.is_string();
+    case Kind::number:
+      return value.is_number();
+    case Kind::number_or_null:
+      return value.is_number() || value.is_null();  // PSNR of identical frames: null
+    case Kind::object:
+      return value.is_object();
   }
   return false;
 }
@@ -55,8 +60,10 @@ void require(const PartReport& part, const nlohmann::json& object, const std::st
   for (const char* key : keys)
     if (!object.is_object() || !object.contains(key) || !is_kind(object[key], kind))
       throw InputError(part.path + ": " + (where.empty() ? "" : where + ".") + key + " is missing or not " +
-                       (kind == Kind::text ? "text" : kind == Kind::object ? "an object" : "a number") + "; " +
-                       kExpectedPart);
+                       (kind == Kind::text     ? "text"
+                        : kind == Kind::object ? "an object"
+                                               : "a number") +
+                       "; " + kExpectedPart);
 }
 
 // `object`[key], a number already, as a GPU time of a frame: from 0 to kMaxFrameGpuMs.
@@ -85,7 +92,8 @@ void require_runs(const PartReport& part, const nlohmann::json& runs, const std:
   require_time(part, runs, where, "median_gpu_ms");
   require_not_negative(part, runs, where, {"steps_per_pixel"});
   const nlohmann::json& capped = runs["capped_rays"];
-  if (!capped.is_number_integer() || (!capped.is_number_unsigned() && capped.get<int64_t>() < 0))  // the tables print a count
+  if (!capped.is_number_integer() ||
+      (!capped.is_number_unsigned() && capped.get<int64_t>() < 0))  // the tables print a count
     throw InputError(part.path + ": " + where + ".capped_rays is " + capped.dump() +
                      "; expected a whole number of rays, at least 0");
   for (const auto& [pass, ms] : runs["median_pass_gpu_ms"].items()) {
@@ -214,8 +222,8 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
                      std::to_string(layout.units()) + ", the sweep's " + std::to_string(layout.scenes.size()) +
                      " scenes x " + std::to_string(layout.times_s.size()) + " times x " +
                      std::to_string(layout.spps.size()) + " spp" + planned);
-  for (const auto& [key, value] : {std::pair{"width", layout.width}, std::pair{"height", layout.height},
-                                   std::pair{"repeats", layout.repeats}})
+  for (const auto& [key, value] :
+       {std::pair{"width", layout.width}, std::pair{"height", layout.height}, std::pair{"repeats", layout.repeats}})
     if (first.report[key] != nlohmann::json(value))
       throw InputError(first.path + ": " + key + " is " + first.report[key].dump() + "; expected " +
                        std::to_string(value) + planned);
@@ -233,13 +241,15 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
   const nlohmann::json focal_shares = {{"x", layout.focal_shares_x}, {"y", layout.focal_shares_y}};
   if (layout.focal_shares_x.empty() ? first.report.contains("sampling_focal_shares")
                                     : first.report.value("sampling_focal_shares", nlohmann::json()) != focal_shares)
-    throw InputError(first.path + ": sampling_focal_shares is " +
-                     (first.report.contains("sampling_focal_shares") ? first.report["sampling_focal_shares"].dump().substr(0, 80)
-                                                                      : std::string("missing")) +
-                     "; expected " + (layout.focal_shares_x.empty() ? "none: the sweep has no sampling model" : focal_shares.dump()) +
-                     planned);
+    throw InputError(
+        first.path + ": sampling_focal_shares is " +
+        (first.report.contains("sampling_focal_shares") ? first.report["sampling_focal_shares"].dump().substr(0, 80)
+                                                        : std::string("missing")) +
+        "; expected " +
+        (layout.focal_shares_x.empty() ? "none: the sweep has no sampling model" : focal_shares.dump()) + planned);
   std::string cell_methods;
-  for (const PlannedCell& cell : layout.unit_cells) cell_methods += (cell_methods.empty() ? "" : ", ") + std::string(bench_method_name(cell.method));
+  for (const PlannedCell& cell : layout.unit_cells)
+    cell_methods += (cell_methods.empty() ? "" : ", ") + std::string(bench_method_name(cell.method));
   const size_t cells_per_unit = layout.unit_cells.size();
 
   // Each part holds exactly the units of its index, each with exactly its planned cells.
@@ -253,7 +263,8 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
                        " of " + std::to_string(units) + " units");
     if (cells.size() != rows.size() * cells_per_unit)
       throw InputError(part->path + ": " + std::to_string(cells.size()) + " cells for " + std::to_string(rows.size()) +
-                       " units; expected " + std::to_string(cells_per_unit) + " a unit (" + cell_methods + ")" + planned);
+                       " units; expected " + std::to_string(cells_per_unit) + " a unit (" + cell_methods + ")" +
+                       planned);
     for (size_t row_index = 0; row_index < rows.size(); ++row_index) {
       const nlohmann::json& row = rows[row_index];
       require_unit(*part, row, row_index, cells, row_index * cells_per_unit, cells_per_unit);
@@ -282,7 +293,8 @@ nlohmann::json merge_bench_parts(const std::vector<PartReport>& parts, const Par
                              "); expected the cells of each unit after one another");
         const PlannedCell& plan = layout.unit_cells[planned_index];
         const std::string nth = " (cell " + std::to_string(planned_index + 1) + " of every unit's " +
-                                std::to_string(cells_per_unit) + ": " + cell_methods + ", as its \"command\" plans "
+                                std::to_string(cells_per_unit) + ": " + cell_methods +
+                                ", as its \"command\" plans "
                                 "the sweep)";
         if (cell["method"] != bench_method_name(plan.method))
           throw InputError(part->path + ": " + where + ".method is " + cell["method"].dump().substr(0, 60) +

@@ -39,7 +39,8 @@ std::vector<SamplingModel> sampling_models(const BenchPlan& plan) {
 std::string methods_text(const BenchPlan& plan, bool with_ipr, bool with_fipr) {
   std::string text = with_ipr ? "gt,ipr" : "gt";
   if (with_fipr) text += ",fipr";
-  for (SamplingModel model : sampling_models(plan)) text += std::string(",") + bench_method_name(bench_method_of(model));
+  for (SamplingModel model : sampling_models(plan))
+    text += std::string(",") + bench_method_name(bench_method_of(model));
   return text;
 }
 
@@ -56,8 +57,8 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
                          const std::string& methods, const std::string& time_text) {
   const SphereTraceSettings& s = options.settings;
   std::ostringstream out;
-  out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps << " --width " << s.width << " --height " << s.height
-      << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
+  out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps << " --width " << s.width << " --height "
+      << s.height << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
       << " --min-filter " << s.min_filter_size << " --coarse-test " << coarse_test_name(s.coarse_test)
       << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
       << exact_number_text(s.hit_threshold) << " --methods " << methods;
@@ -70,7 +71,8 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
 uint64_t bench_memory_bytes(const BenchPlan& plan) {
   SphereTraceSettings settings = plan.options.settings;
   const std::vector<int>& spps = plan.options.spps;
-  if (!spps.empty()) settings.samples_per_pixel = *std::max_element(spps.begin(), spps.end());  // the floor keeps a depth a sample
+  if (!spps.empty())
+    settings.samples_per_pixel = *std::max_element(spps.begin(), spps.end());  // the floor keeps a depth a sample
   uint64_t layout_bytes = 0;
   uint64_t results_bytes = 0;
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
@@ -100,7 +102,9 @@ BenchPlan plan_bench(BenchOptions options) {
   BenchPlan plan;
   plan.options = std::move(options);
   const BenchOptions& o = plan.options;
-  const auto has = [&](BenchMethod method) { return std::find(o.methods.begin(), o.methods.end(), method) != o.methods.end(); };
+  const auto has = [&](BenchMethod method) {
+    return std::find(o.methods.begin(), o.methods.end(), method) != o.methods.end();
+  };
   plan.ipr = has(BenchMethod::ipr);
   plan.fipr = has(BenchMethod::fipr);
   plan.times_s = o.times_s.empty() ? std::vector<float>{o.settings.time_s} : o.times_s;
@@ -162,10 +166,12 @@ std::string sweep_command(const BenchPlan& plan) {
   std::string text = command_text(o, join(o.scenes), join(o.spps), methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!o.sampling.empty()) text += " " + o.sampling_flags;
   if (!plan.fipr) return text + " " + o.display_flags;
-  return text + " --refresh " + join(o.refreshes) + " --fovea-deg " + join_numbers(o.fovea_degs) + " " + o.foveation_flags;
+  return text + " --refresh " + join(o.refreshes) + " --fovea-deg " + join_numbers(o.fovea_degs) + " " +
+         o.foveation_flags;
 }
 
-std::string cell_command(const BenchPlan& plan, const std::string& scene, float time_s, int spp, const BenchCell& cell) {
+std::string cell_command(const BenchPlan& plan, const std::string& scene, float time_s, int spp,
+                         const BenchCell& cell) {
   const BenchOptions& o = plan.options;
   const std::string time_text = time_flag(time_s);
   const std::string spp_text = std::to_string(spp);

@@ -39,7 +39,7 @@ struct SamplingVariant {
 struct BenchOptions {
   std::vector<std::string> scenes;  // names or .glsl paths
   std::vector<int> spps;
-  SphereTraceSettings settings;     // the trace flags; time_s: --time
+  SphereTraceSettings settings;  // the trace flags; time_s: --time
   int repeats = 5;
   std::vector<BenchMethod> methods;  // as given: gt among them, each once
   std::vector<float> times_s;        // --times; empty: --time alone

@@ -53,8 +53,8 @@ std::string gt_ipr_table_row(const nlohmann::json& row) {
       << number(gt["median_gpu_ms"], "%.1f") << " | ";
   if (!row.contains("ipr")) {
     out << "- | - | " << number(floor_ms, "%.1f") << " | " << over_floor(gt) << " | - | "
-        << number(gt["steps_per_pixel"], "%.1f") << " | - | - | - | - | - | " << gt["capped_rays"].get<unsigned long long>()
-        << "/- |\n";
+        << number(gt["steps_per_pixel"], "%.1f") << " | - | - | - | - | - | "
+        << gt["capped_rays"].get<unsigned long long>() << "/- |\n";
     return out.str();
   }
   const nlohmann::json& ipr = row["ipr"];
@@ -88,7 +88,8 @@ std::string pass_table(const nlohmann::json& rows) {
 }
 
 std::string cell_table_header() {
-  return "| scene | time s | spp | method | refresh | fovea deg | GPU ms | speed-up | steps/px | top level | refreshed | "
+  return "| scene | time s | spp | method | refresh | fovea deg | GPU ms | speed-up | steps/px | top level | refreshed "
+         "| "
          "SSIM | FLIP | FPSNR dB |\n"
          "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 }
@@ -98,8 +99,8 @@ std::string cell_table_row(const nlohmann::json& cell) {
   std::ostringstream out;
   out << "| " << cell["scene"].get<std::string>() << " | " << number(cell["time_s"], "%g") << " | "
       << cell["spp"].get<int>() << " | " << cell["method"].get<std::string>() << " | "
-      << (fipr ? std::to_string(cell["refresh"].get<int>()) : "-")
-      << " | " << (fipr ? format_number(cell["fovea_deg"].get<double>(), 6) : "-") << " | "
+      << (fipr ? std::to_string(cell["refresh"].get<int>()) : "-") << " | "
+      << (fipr ? format_number(cell["fovea_deg"].get<double>(), 6) : "-") << " | "
       << number(cell["median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
       << number(cell["steps_per_pixel"], "%.1f") << " | " << percent(cell["top_level_share"]) << " | "
       << percent(cell["refreshed_share"]) << " | " << number(cell["ssim"], "%.5f") << " | "
@@ -120,15 +121,15 @@ std::string model_label(const nlohmann::json& cell) {
 
 std::string sampling_table(const nlohmann::json& cells) {
   std::ostringstream out;
-  out << "| scene | time s | spp | model (rmfr: f_x/f_y) | GPU ms | GT ms | speed-up | theoretical | effective | shaded | PSNR dB | SSIM | "
+  out << "| scene | time s | spp | model (rmfr: f_x/f_y) | GPU ms | GT ms | speed-up | theoretical | effective | "
+         "shaded | PSNR dB | SSIM | "
          "FLIP | FPSNR dB |\n|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const nlohmann::json& cell : cells) {
     if (!cell.contains("sampling")) continue;
     const nlohmann::json& sampling = cell["sampling"];
     out << "| " << cell["scene"].get<std::string>() << " | " << number(cell["time_s"], "%g") << " | "
-        << cell["spp"].get<int>() << " | "
-        << model_label(cell) << " | " << number(cell["median_gpu_ms"], "%.1f") << " | "
-        << number(cell["gt_median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
+        << cell["spp"].get<int>() << " | " << model_label(cell) << " | " << number(cell["median_gpu_ms"], "%.1f")
+        << " | " << number(cell["gt_median_gpu_ms"], "%.1f") << " | " << number(cell["speedup"], "%.2fx") << " | "
         << number(sampling["theoretical_speedup"], "%.2fx") << " | " << number(sampling["effective_speedup"], "%.2fx")
         << " | " << percent(sampling["shaded_share"]) << " | " << number(cell["psnr_db"], "%.2f") << " | "
         << number(cell["ssim"], "%.5f") << " | " << number(cell["flip"], "%.5f") << " | "
@@ -162,7 +163,8 @@ std::string sampling_ranking_table(const nlohmann::json& cells) {
     return values.size() % 2 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
   };
   std::ostringstream out;
-  out << "| scene | spp | rank | model (rmfr: f_x/f_y) | times | mean FPSNR dB | mean PSNR dB | mean SSIM | median speed-up |\n"
+  out << "| scene | spp | rank | model (rmfr: f_x/f_y) | times | mean FPSNR dB | mean PSNR dB | mean SSIM | median "
+         "speed-up |\n"
          "|---|---:|---:|---|---:|---:|---:|---:|---:|\n";
   for (const auto& [key, models] : groups) {
     std::vector<std::pair<double, std::string>> order;
@@ -194,10 +196,12 @@ FocalSweep rmfr_focal_sweep(const nlohmann::json& cells, const std::vector<doubl
     const auto column = std::find(focal_shares_x.begin(), focal_shares_x.end(), cell["focal_share_x"].get<double>());
     const auto row = std::find(focal_shares_y.begin(), focal_shares_y.end(), cell["focal_share_y"].get<double>());
     if (column == focal_shares_x.end() || row == focal_shares_y.end()) continue;
-    grid[size_t(row - focal_shares_y.begin()) * focal_shares_x.size() + size_t(column - focal_shares_x.begin())] = &cell;
+    grid[size_t(row - focal_shares_y.begin()) * focal_shares_x.size() + size_t(column - focal_shares_x.begin())] =
+        &cell;
   }
   std::ostringstream table;
-  table << "| scene | time s | spp | metric | best f_x | best f_y | value | worst |\n|---|---:|---:|---|---:|---:|---:|---:|\n";
+  table << "| scene | time s | spp | metric | best f_x | best f_y | value | worst "
+           "|\n|---|---:|---:|---|---:|---:|---:|---:|\n";
   const struct {
     const char* key;
     const char* name;
@@ -227,8 +231,8 @@ FocalSweep rmfr_focal_sweep(const nlohmann::json& cells, const std::vector<doubl
       map.marked_label = "outlined: best";
       char time_text[32];
       std::snprintf(time_text, sizeof(time_text), "%g", time_s);
-      map.title = "RMFR " + std::string(metric.name) + ", " + scene + " at " + time_text + " s, " + std::to_string(spp) +
-                  " spp";
+      map.title = "RMFR " + std::string(metric.name) + ", " + scene + " at " + time_text + " s, " +
+                  std::to_string(spp) + " spp";
       const std::string metric_key = metric.key;
       sweep.heat_maps.emplace_back(scene + "_t" + time_text + "_spp" + std::to_string(spp) + "_rmfr_" +
                                        metric_key.substr(0, metric_key.find('_')) + ".svg",
@@ -245,7 +249,8 @@ FocalSweep rmfr_focal_sweep(const nlohmann::json& cells, const std::vector<doubl
 
 std::string fovea_table(const nlohmann::json& cells, double fovea_deg) {
   std::ostringstream out;
-  out << "| scene | spp | refresh | FIPR ms | GT ms | speed-up | SSIM | FLIP |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  out << "| scene | spp | refresh | FIPR ms | GT ms | speed-up | SSIM | FLIP "
+         "|\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
   int count = 0;
   for (const nlohmann::json& cell : cells) {
     if (cell["method"] != "fipr" || cell["fovea_deg"].get<double>() != fovea_deg) continue;
@@ -269,18 +274,20 @@ std::string pareto_table(const nlohmann::json& cells) {
   out << "| scene | error | on the Pareto front, by speed-up (speed-up, error; FIPR as spp/refresh/fovea deg) |\n"
          "|---|---|---|\n";
   for (const std::string& scene : scenes) {
-    for (const auto& [key, error, name] : {std::tuple{"pareto_flip", "flip", "FLIP"},
-                                           std::tuple{"pareto_one_minus_ssim", "ssim", "1 - SSIM"}}) {
+    for (const auto& [key, error, name] :
+         {std::tuple{"pareto_flip", "flip", "FLIP"}, std::tuple{"pareto_one_minus_ssim", "ssim", "1 - SSIM"}}) {
       std::vector<std::tuple<double, double, std::string>> front;  // speed-up, error, settings
       for (const nlohmann::json& cell : cells) {
         if (cell["scene"] != scene || !cell.value(key, false)) continue;
-        const double value = std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
+        const double value =
+            std::string(error) == "ssim" ? 1.0 - cell["ssim"].get<double>() : cell["flip"].get<double>();
         front.emplace_back(cell["speedup"].get<double>(), value, cell_settings_label(cell));
       }
       std::sort(front.begin(), front.end());
       std::string list;
       for (const auto& [speedup, value, label] : front) {
-        list += (list.empty() ? "" : ", ") + label + " (" + number(speedup, "%.2fx") + ", " + number(value, "%.4f") + ")";
+        list +=
+            (list.empty() ? "" : ", ") + label + " (" + number(speedup, "%.2fx") + ", " + number(value, "%.4f") + ")";
       }
       out << "| " << scene << " | " << name << " | " << list << " |\n";
     }

@@ -21,11 +21,11 @@ std::string pass_table(const nlohmann::json& rows);
 std::string cell_table_header();
 std::string cell_table_row(const nlohmann::json& cell);
 
-// FIPR at one fovea (scene x spp x refresh: ms, speed-up, SSIM, FLIP), for comparison with seed 000's
+// FIPR at one fovea (scene x spp x refresh: ms, speed-up, SSIM, FLIP), for comparison with Polychronakis et al. 2023's
 // Table 1 and section 5.2 at 7.5 degrees; a one-line note when no cell has that fovea.
 std::string fovea_table(const nlohmann::json& cells, double fovea_deg);
 
-// The sampling models' cells (seed 002): GPU ms, measured speed-up over GT, the speed-up the model is
+// The sampling models' cells (Ye et al. 2022): GPU ms, measured speed-up over GT, the speed-up the model is
 // set for and the one its shaded samples allow, the share of pixels shaded, PSNR, SSIM, FLIP, FPSNR.
 std::string sampling_table(const nlohmann::json& cells);
 // The sampling models per scene and spp, over every scene time the cells have (bench --times: seed
@@ -33,7 +33,7 @@ std::string sampling_table(const nlohmann::json& cells);
 // ranked by mean FPSNR.
 std::string sampling_ranking_table(const nlohmann::json& cells);
 
-// Seed 002's Figure 6: RMFR's cells over a grid of focal shares (bench --fx A,B,... --fy C,D,...),
+// Ye et al. 2022's Figure 6: RMFR's cells over a grid of focal shares (bench --fx A,B,... --fy C,D,...),
 // per scene, scene time and spp: the best (f_x, f_y) by FPSNR, PSNR and SSIM (a Markdown table),
 // and a heat map (SVG) of each metric over the grid, the best cell outlined. Empty for one pair.
 struct FocalSweep {

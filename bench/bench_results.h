@@ -92,7 +92,7 @@ struct BenchReport {
   SphereTraceSettings settings;  // the trace flags (time_s: --time)
   int repeats = 0;
   std::vector<float> times_s;
-  std::string command;  // the sweep's
+  std::string command;               // the sweep's
   std::vector<BenchMethod> methods;  // as given
   double flip_pixels_per_degree = 0.0;
   DisplayGeometry display;

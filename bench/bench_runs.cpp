@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 
-
 namespace fovlab::bench {
 
 double elapsed_ms(std::chrono::steady_clock::time_point started) {

@@ -29,7 +29,8 @@ FrameErrors errors_against(const Image& gt, const SphereTraceResult& frame, cons
   return frame_errors(gt, display_image(frame), o.display, o.gaze_x_px, o.gaze_y_px, plan.flip_pixels_per_degree);
 }
 
-CellResult measured_cell(BenchMethod method, const UnitResult& unit, const RunsResult& runs, const FrameErrors& errors) {
+CellResult measured_cell(BenchMethod method, const UnitResult& unit, const RunsResult& runs,
+                         const FrameErrors& errors) {
   CellResult cell{method, unit.scene, unit.spp, unit.time_s, runs};
   cell.gt_median_gpu_ms = unit.gt.median_gpu_ms;
   cell.speedup = unit.gt.median_gpu_ms / runs.median_gpu_ms;
@@ -51,11 +52,12 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   vk::Context context(context_settings);
   const int width = options.settings.width;
   const int height = options.settings.height;
-  std::printf("fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
-              "%.1f px\n%s\n%s",
-              context.description.name.c_str(), width, height, options.repeats, plan.flip_pixels_per_degree,
-              options.gaze_x_px, options.gaze_y_px, options.display_line.c_str(),
-              plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
+  std::printf(
+      "fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
+      "%.1f px\n%s\n%s",
+      context.description.name.c_str(), width, height, options.repeats, plan.flip_pixels_per_degree, options.gaze_x_px,
+      options.gaze_y_px, options.display_line.c_str(),
+      plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
   std::fflush(stdout);
 
   BenchReport report;
@@ -81,105 +83,119 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
     // and IPR frames run only between sequences.
     SphereTracer tracer(context, scene);
     for (size_t time_index = 0; time_index < plan.times_s.size(); ++time_index)
-    for (size_t spp_index = 0; spp_index < options.spps.size(); ++spp_index) {
-      if (!held(first_unit + int(time_index * options.spps.size() + spp_index))) continue;
-      const float time_s = plan.times_s[time_index];
-      const int spp = options.spps[spp_index];
-      SphereTraceSettings gt_settings = options.settings;
-      gt_settings.samples_per_pixel = spp;
-      gt_settings.time_s = time_s;
-      gt_settings.method = TraceMethod::ground_truth;
-      SphereTraceSettings ipr_settings = gt_settings;
-      ipr_settings.method = TraceMethod::inverted_pyramid;
-      SphereTraceSettings floor_settings = gt_settings;
-      floor_settings.one_step_floor = true;
+      for (size_t spp_index = 0; spp_index < options.spps.size(); ++spp_index) {
+        if (!held(first_unit + int(time_index * options.spps.size() + spp_index))) continue;
+        const float time_s = plan.times_s[time_index];
+        const int spp = options.spps[spp_index];
+        SphereTraceSettings gt_settings = options.settings;
+        gt_settings.samples_per_pixel = spp;
+        gt_settings.time_s = time_s;
+        gt_settings.method = TraceMethod::ground_truth;
+        SphereTraceSettings ipr_settings = gt_settings;
+        ipr_settings.method = TraceMethod::inverted_pyramid;
+        SphereTraceSettings floor_settings = gt_settings;
+        floor_settings.one_step_floor = true;
 
-      MethodRuns gt;
-      MethodRuns ipr;
-      MethodRuns floor_runs;
-      std::vector<std::pair<SphereTraceSettings, MethodRuns*>> methods{{gt_settings, &gt}, {floor_settings, &floor_runs}};
-      if (plan.ipr) methods.emplace_back(ipr_settings, &ipr);
-      time_interleaved(tracer, methods, options.repeats);
-      const Image gt_image = display_image(gt.frame);
+        MethodRuns gt;
+        MethodRuns ipr;
+        MethodRuns floor_runs;
+        std::vector<std::pair<SphereTraceSettings, MethodRuns*>> methods{{gt_settings, &gt},
+                                                                         {floor_settings, &floor_runs}};
+        if (plan.ipr) methods.emplace_back(ipr_settings, &ipr);
+        time_interleaved(tracer, methods, options.repeats);
+        const Image gt_image = display_image(gt.frame);
 
-      UnitResult unit{scene.name, spp, time_s, gt.result(gt_settings), floor_runs.result(floor_settings)};
-      unit.floor_ssim_against_gt = errors_against(gt_image, floor_runs.frame, plan).ssim;
-      unit.gt_over_floor = gt.median_gpu_ms() / floor_runs.median_gpu_ms();
-      const std::string stem =
-          scene.name + (several_times ? "_t" + format_number(time_s, 6) : std::string()) + "_spp" + std::to_string(spp);
-      for (const BenchCell& planned : plan.unit_cells) {
-        CellResult cell;
-        if (planned.method == BenchMethod::gt) {  // the reference: its errors are those of identical frames
-          cell = measured_cell(BenchMethod::gt, unit, unit.gt, FrameErrors{});
-          cell.speedup = 1.0;
-        } else if (planned.method == BenchMethod::ipr) {
-          unit.errors = errors_against(gt_image, ipr.frame, plan);
-          unit.ipr = ipr.result(ipr_settings);
-          unit.speedup = gt.median_gpu_ms() / ipr.median_gpu_ms();
-          unit.ipr_over_floor = ipr.median_gpu_ms() / floor_runs.median_gpu_ms();
-          cell = measured_cell(BenchMethod::ipr, unit, *unit.ipr, unit.errors);
-        } else if (planned.method == BenchMethod::fipr) {
-          const FiprVariant& variant = plan.variant_of(planned);
-          SphereTraceSettings fipr_settings = gt_settings;
-          fipr_settings.method = TraceMethod::foveated_pyramid;
-          fipr_settings.foveation = variant.foveation;
-          const FiprSequence sequence = time_fipr_sequence(tracer, fipr_settings, options.repeats);
-          const SphereTraceResult& frame = sequence.runs.frame;
-          cell = measured_cell(BenchMethod::fipr, unit, sequence.runs.result(fipr_settings),
-                               errors_against(gt_image, frame, plan));
-          const double pixels = double(width) * double(height);
-          fipr_settings.foveation.frame_index = sequence.last_timed_frame;
-          cell.fipr = FiprCellResult{variant.refresh, variant.fovea_deg, double(frame.foveation.kept_pixels) / pixels,
-                                     fipr_settings.foveation, frame.foveation, pixels, sequence.warmup_frames,
-                                     sequence.first_timed_frame, sequence.last_timed_frame};
-          cell.top_level_share = double(frame.foveation.masked_pixels) / pixels;
-          cell.refreshed_share = double(frame.foveation.refreshed_pixels) / pixels;
-          if (write_images)
-            options.write_frame_images(stem + "_fipr_r" + std::to_string(variant.refresh) + "_fovea" + variant.fovea_text(),
-                                       frame, fipr_settings);
-        } else {
-          const SamplingMap& map = plan.sampling_of(planned).map;
-          SphereTraceSettings model_settings = gt_settings;
-          model_settings.method = TraceMethod::sampling_model;
-          model_settings.sampling = map;
-          model_settings.sampling_filter = options.sampling_filter;
-          MethodRuns runs;
-          time_interleaved(tracer, {{model_settings, &runs}}, options.repeats);
-          cell = measured_cell(planned.method, unit, runs.result(model_settings), errors_against(gt_image, runs.frame, plan));
-          const double pixels = double(width) * double(height);
-          SamplingCellResult sampling{model_of(map), runs.frame.shaded_samples, double(runs.frame.shaded_samples) / pixels,
-                                      theoretical_speedup(map),
-                                      pixels / double(std::max<uint64_t>(1, runs.frame.shaded_samples)), mean_density(map)};
-          std::string image_stem = stem + "_" + bench_method_name(planned.method);
-          if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {
-            sampling.focal_share_x = rmfr->x.focal_share;
-            sampling.focal_share_y = rmfr->y.focal_share;
-            if (options.focal_shares_x.size() * options.focal_shares_y.size() > 1)
-              image_stem += "_fx" + format_number(rmfr->x.focal_share, 6) + "_fy" + format_number(rmfr->y.focal_share, 6);
+        UnitResult unit{scene.name, spp, time_s, gt.result(gt_settings), floor_runs.result(floor_settings)};
+        unit.floor_ssim_against_gt = errors_against(gt_image, floor_runs.frame, plan).ssim;
+        unit.gt_over_floor = gt.median_gpu_ms() / floor_runs.median_gpu_ms();
+        const std::string stem = scene.name + (several_times ? "_t" + format_number(time_s, 6) : std::string()) +
+                                 "_spp" + std::to_string(spp);
+        for (const BenchCell& planned : plan.unit_cells) {
+          CellResult cell;
+          if (planned.method == BenchMethod::gt) {  // the reference: its errors are those of identical frames
+            cell = measured_cell(BenchMethod::gt, unit, unit.gt, FrameErrors{});
+            cell.speedup = 1.0;
+          } else if (planned.method == BenchMethod::ipr) {
+            unit.errors = errors_against(gt_image, ipr.frame, plan);
+            unit.ipr = ipr.result(ipr_settings);
+            unit.speedup = gt.median_gpu_ms() / ipr.median_gpu_ms();
+            unit.ipr_over_floor = ipr.median_gpu_ms() / floor_runs.median_gpu_ms();
+            cell = measured_cell(BenchMethod::ipr, unit, *unit.ipr, unit.errors);
+          } else if (planned.method == BenchMethod::fipr) {
+            const FiprVariant& variant = plan.variant_of(planned);
+            SphereTraceSettings fipr_settings = gt_settings;
+            fipr_settings.method = TraceMethod::foveated_pyramid;
+            fipr_settings.foveation = variant.foveation;
+            const FiprSequence sequence = time_fipr_sequence(tracer, fipr_settings, options.repeats);
+            const SphereTraceResult& frame = sequence.runs.frame;
+            cell = measured_cell(BenchMethod::fipr, unit, sequence.runs.result(fipr_settings),
+                                 errors_against(gt_image, frame, plan));
+            const double pixels = double(width) * double(height);
+            fipr_settings.foveation.frame_index = sequence.last_timed_frame;
+            cell.fipr = FiprCellResult{variant.refresh,
+                                       variant.fovea_deg,
+                                       double(frame.foveation.kept_pixels) / pixels,
+                                       fipr_settings.foveation,
+                                       frame.foveation,
+                                       pixels,
+                                       sequence.warmup_frames,
+                                       sequence.first_timed_frame,
+                                       sequence.last_timed_frame};
+            cell.top_level_share = double(frame.foveation.masked_pixels) / pixels;
+            cell.refreshed_share = double(frame.foveation.refreshed_pixels) / pixels;
+            if (write_images)
+              options.write_frame_images(
+                  stem + "_fipr_r" + std::to_string(variant.refresh) + "_fovea" + variant.fovea_text(), frame,
+                  fipr_settings);
+          } else {
+            const SamplingMap& map = plan.sampling_of(planned).map;
+            SphereTraceSettings model_settings = gt_settings;
+            model_settings.method = TraceMethod::sampling_model;
+            model_settings.sampling = map;
+            model_settings.sampling_filter = options.sampling_filter;
+            MethodRuns runs;
+            time_interleaved(tracer, {{model_settings, &runs}}, options.repeats);
+            cell = measured_cell(planned.method, unit, runs.result(model_settings),
+                                 errors_against(gt_image, runs.frame, plan));
+            const double pixels = double(width) * double(height);
+            SamplingCellResult sampling{model_of(map),
+                                        runs.frame.shaded_samples,
+                                        double(runs.frame.shaded_samples) / pixels,
+                                        theoretical_speedup(map),
+                                        pixels / double(std::max<uint64_t>(1, runs.frame.shaded_samples)),
+                                        mean_density(map)};
+            std::string image_stem = stem + "_" + bench_method_name(planned.method);
+            if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {
+              sampling.focal_share_x = rmfr->x.focal_share;
+              sampling.focal_share_y = rmfr->y.focal_share;
+              if (options.focal_shares_x.size() * options.focal_shares_y.size() > 1)
+                image_stem +=
+                    "_fx" + format_number(rmfr->x.focal_share, 6) + "_fy" + format_number(rmfr->y.focal_share, 6);
+            }
+            cell.top_level_share = sampling.shaded_share;
+            cell.refreshed_share = 0.0;
+            cell.sampling = sampling;
+            if (write_images) options.write_frame_images(image_stem, runs.frame, model_settings);
           }
-          cell.top_level_share = sampling.shaded_share;
-          cell.refreshed_share = 0.0;
-          cell.sampling = sampling;
-          if (write_images) options.write_frame_images(image_stem, runs.frame, model_settings);
-        }
-        cell.command = cell_command(plan, scene.name, time_s, spp, planned);
-        add_cell(std::move(cell));
-        if (planned.method == BenchMethod::ipr || (planned.method == BenchMethod::gt && !plan.ipr)) {
-          if (!plan.has_cells()) print_now(gt_ipr_table_row(unit_json(unit)));
-          report.rows.push_back(unit);
-          if (write_images) {
-            options.write_frame_images(stem + "_gt", gt.frame, gt_settings);
-            if (plan.ipr) options.write_frame_images(stem + "_ipr", ipr.frame, ipr_settings);
+          cell.command = cell_command(plan, scene.name, time_s, spp, planned);
+          add_cell(std::move(cell));
+          if (planned.method == BenchMethod::ipr || (planned.method == BenchMethod::gt && !plan.ipr)) {
+            if (!plan.has_cells()) print_now(gt_ipr_table_row(unit_json(unit)));
+            report.rows.push_back(unit);
+            if (write_images) {
+              options.write_frame_images(stem + "_gt", gt.frame, gt_settings);
+              if (plan.ipr) options.write_frame_images(stem + "_ipr", ipr.frame, ipr_settings);
+            }
           }
         }
+        if (progress)
+          progress(scene.name + (several_times ? ", t " + format_number(time_s, 6) : std::string()) + ", " +
+                   std::to_string(spp) + " spp");
       }
-      if (progress)
-        progress(scene.name + (several_times ? ", t " + format_number(time_s, 6) : std::string()) + ", " +
-                 std::to_string(spp) + " spp");
-    }
   }
   if (context.validation_message_count() > 0)
-    throw std::runtime_error(std::to_string(context.validation_message_count()) + " Vulkan validation message(s); see above");
+    throw std::runtime_error(std::to_string(context.validation_message_count()) +
+                             " Vulkan validation message(s); see above");
 
   report.device = context.description.name;
   report.timestamps = context.timestamp_period_ns > 0;

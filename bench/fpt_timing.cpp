@@ -17,7 +17,8 @@ namespace {
 
 double largest_difference(const Image& a, const Image& b) {
   double largest = 0.0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) largest = std::max(largest, double(std::fabs(a.pixels[i] - b.pixels[i])));
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    largest = std::max(largest, double(std::fabs(a.pixels[i] - b.pixels[i])));
   return largest;
 }
 
@@ -83,8 +84,9 @@ BlendTiming time_blend(ZoneBlender& blender, const DisplayGeometry& display, dou
     blender.display_frame(display, gaze_x_px, gaze_y_px, bounds);
     refresh_ms.push_back(elapsed_ms(started));
   }
-  return {median(display_ms), median(linear_ms), median(shader_ms), median(buffer_ms), median(refresh_ms), repeats,
-          band_pixels, uint32_t(blender.width()) * uint32_t(blender.height())};
+  return {
+      median(display_ms), median(linear_ms), median(shader_ms), median(buffer_ms),
+      median(refresh_ms), repeats,           band_pixels,       uint32_t(blender.width()) * uint32_t(blender.height())};
 }
 
 double time_zone_buffers(ZoneBlender& blender, const Image& frame, int repeats) {

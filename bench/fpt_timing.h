@@ -19,8 +19,8 @@ class ZoneBlender;
 namespace fovlab::bench {
 
 struct UpsampleTiming {
-  Image upsampled;                    // the GPU's image (of the last run)
-  double gpu_median_ms = 0;           // both passes, GPU timestamps
+  Image upsampled;           // the GPU's image (of the last run)
+  double gpu_median_ms = 0;  // both passes, GPU timestamps
   int repeats = 0;
   // With against_openimageio (Lanczos-3 only): OpenImageIO's resize of the same image on the CPU,
   // every core, wall clock; the largest absolute differences between the three results.

@@ -9,11 +9,11 @@ namespace fovlab::bench {
 FrameErrors frame_errors(const Image& gt, const Image& test, const DisplayGeometry& display, double gaze_x_px,
                          double gaze_y_px, double flip_pixels_per_degree) {
   FrameErrors errors;
-  errors.ssim = analysis::ssim(gt, test).mean_ssim;
-  const analysis::PsnrResult psnr = analysis::psnr(gt, test);
+  errors.ssim = metrics::ssim(gt, test).mean_ssim;
+  const metrics::PsnrResult psnr = metrics::psnr(gt, test);
   if (!psnr.identical) errors.psnr_db = psnr.psnr_db;
-  errors.flip = analysis::flip(gt, test, flip_pixels_per_degree).mean_flip;
-  const analysis::FpsnrResult fpsnr = analysis::fpsnr(gt, test, display, gaze_x_px, gaze_y_px);
+  errors.flip = metrics::flip(gt, test, flip_pixels_per_degree).mean_flip;
+  const metrics::FpsnrResult fpsnr = metrics::fpsnr(gt, test, display, gaze_x_px, gaze_y_px);
   if (!fpsnr.identical) errors.fpsnr_db = fpsnr.fpsnr_db;
   return errors;
 }

@@ -11,7 +11,7 @@ namespace fovlab::bench {
 
 struct FrameErrors {
   double ssim = 1.0;
-  std::optional<double> psnr_db;   // none when identical
+  std::optional<double> psnr_db;  // none when identical
   double flip = 0.0;
   std::optional<double> fpsnr_db;  // none when identical
 };

@@ -10,7 +10,7 @@
 #include <tuple>
 #include <thread>
 
-#include "analysis/psychometric/psychometric_fit.h"
+#include "analysis/fitting/psychometric_fit.h"
 #include "analysis/study/study_analysis.h"
 #include "analysis/study/study_data.h"
 #include "core/input_error.h"
@@ -107,8 +107,8 @@ double level_where_p_detect_is(const ObserverModel& model, double target, double
 
 // One participant's session, answered by the observer, every adaptive procedure's max_trials set
 // to `max_trials` (0: as configured).
-ParticipantRun run_participant(const StudyConfig& base, const std::string& participant, const std::string& observer_spec,
-                               int max_trials) {
+ParticipantRun run_participant(const StudyConfig& base, const std::string& participant,
+                               const std::string& observer_spec, int max_trials) {
   StudyConfig config = base;
   if (max_trials > 0)
     for (ProcedureConfig& procedure : config.procedures) {
@@ -156,15 +156,14 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
     outcome.trials = track_trials[i];
     if (const QuestPlus* quest = progress.quest(index))
       outcome.estimate = quest->estimate(progress.quest_state(index).posterior).threshold_mean;
-    else
-      outcome.estimate = staircase_threshold(track.staircase, progress.staircase(index), track.grid);
+    else outcome.estimate = staircase_threshold(track.staircase, progress.staircase(index), track.grid);
     const ProcedureConfig& procedure = config.procedures.at(static_cast<size_t>(track.procedure));
     // Interleaved staircases of one variant are reported apart, by their start.
     std::string name = procedure.name;
     if (procedure.starts.size() > 1)
       name.append(" from ").append(format_number(track.grid.at(size_t(track.staircase.start_index)), 6));
-    run.outcomes[Key{config_block[static_cast<size_t>(track.block)], name, track.variant,
-                     track.max_trials()}] = outcome;
+    run.outcomes[Key{config_block[static_cast<size_t>(track.block)], name, track.variant, track.max_trials()}] =
+        outcome;
   }
   for (const auto& [key, by_level] : counts) {
     std::vector<analysis::LevelCounts> data;
@@ -179,7 +178,8 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
       options.guess = run.model.guess;
       options.bootstrap_samples = 0;
       const analysis::PsychometricFit fit = analysis::fit_psychometric(data, options);
-      if (fit.converged && std::isfinite(fit.model.parameters.threshold)) outcome.estimate = fit.model.parameters.threshold;
+      if (fit.converged && std::isfinite(fit.model.parameters.threshold))
+        outcome.estimate = fit.model.parameters.threshold;
     }
     run.outcomes[key] = outcome;
   }
@@ -187,8 +187,8 @@ ParticipantRun run_participant(const StudyConfig& base, const std::string& parti
 }
 
 // What the headline's method aims at for observers of `model` (procedure_simulation.h); NaN: nothing.
-double headline_aim(const StudyConfig& config, const ObserverModel& model, const analysis::Headline& headline, double low,
-                    double high) {
+double headline_aim(const StudyConfig& config, const ObserverModel& model, const analysis::Headline& headline,
+                    double low, double high) {
   if (headline.quantity != "threshold") return std::nan("");
   const auto block = std::find_if(config.blocks.begin(), config.blocks.end(),
                                   [&](const BlockConfig& b) { return b.name == headline.group.scene; });
@@ -231,11 +231,13 @@ double headline_aim(const StudyConfig& config, const ObserverModel& model, const
 
 SimulationResult simulate_study(const StudyConfig& config, const SimulationOptions& options) {
   if (options.participants < 1 || options.participants > 1000000)
-    throw InputError("--participants: expected 1 to 1000000 simulated participants, got " + std::to_string(options.participants));
+    throw InputError("--participants: expected 1 to 1000000 simulated participants, got " +
+                     std::to_string(options.participants));
   if (options.observer.find("seed=") != std::string::npos)
     throw InputError("--observer: expected no seed= (each simulated participant's answers are seeded by its ID)");
   for (int trials : options.max_trials)
-    if (trials < 1 || trials > 10000) throw InputError("--max-trials: expected values from 1 to 10000, got " + std::to_string(trials));
+    if (trials < 1 || trials > 10000)
+      throw InputError("--max-trials: expected values from 1 to 10000, got " + std::to_string(trials));
   const auto start = std::chrono::steady_clock::now();
   std::vector<int> sweeps = options.max_trials;
   if (sweeps.empty()) sweeps = {0};
@@ -289,7 +291,7 @@ SimulationResult simulate_study(const StudyConfig& config, const SimulationOptio
     const std::string base_name = key.procedure.substr(0, key.procedure.find(" from "));
     const auto procedure = std::find_if(config.procedures.begin(), config.procedures.end(),
                                         [&](const ProcedureConfig& p) { return p.name == base_name; });
-    summary.kind = procedure == config.procedures.end() ? "constant"
+    summary.kind = procedure == config.procedures.end()                   ? "constant"
                    : procedure->kind == ProcedureConfig::Kind::quest_plus ? "quest_plus"
                                                                           : "staircase";
     summary.truth = model.threshold;

@@ -38,9 +38,9 @@ struct ProcedureSummary {
   int max_trials = 0;                     // the procedure's (adaptive only)
   double truth = 0.0;                     // the level the procedure aims at (see above); NaN outside the levels
   int participants = 0;
-  int estimates = 0;                      // participants with a threshold (a fit that converged, enough reversals)
+  int estimates = 0;  // participants with a threshold (a fit that converged, enough reversals)
   double mean_estimate = 0.0, bias = 0.0, sd = 0.0, rmse = 0.0;  // over the estimates
-  double mean_trials = 0.0;               // trials a participant answered for it
+  double mean_trials = 0.0;                                      // trials a participant answered for it
 };
 
 // A pilot of the simulated participants, analysed as `fovlab analyze` would analyse their logs
@@ -51,7 +51,7 @@ struct ProcedureSummary {
 // cutoff (rating); none for a preference share.
 struct HeadlineCheck {
   analysis::Headline headline;
-  double aim = 0.0;                         // NaN: none
+  double aim = 0.0;  // NaN: none
 };
 
 struct SimulationResult {

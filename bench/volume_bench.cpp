@@ -42,7 +42,8 @@ std::string text(const char* format, double value) {
 
 std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const VolumeBenchPlan& plan,
                                                 void (*progress)(const std::string& line)) {
-  VoronoiMaskSettings mask_settings = voronoi_mask_settings(plan.width_px, plan.height_px, plan.display, plan.sigma_deg);
+  VoronoiMaskSettings mask_settings =
+      voronoi_mask_settings(plan.width_px, plan.height_px, plan.display, plan.sigma_deg);
   const VoronoiReconstruction mask = cached_voronoi_reconstruction(mask_settings, plan.voronoi_cache);
   std::vector<VolumeBenchResult> results;
   for (const std::string& scene_name : plan.scenes) {
@@ -101,8 +102,8 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
         // The mask's centre is the rounded, clamped gaze: the errors are weighted there too.
         const auto [offset_x, offset_y] = raycaster.mask_offset(plan.width_px, plan.height_px, gaze_x, gaze_y);
         // The metrics read what is shown: sRGB-encoded, clamped to the display's range.
-        const FrameErrors errors = frame_errors(encode_srgb(full), encode_srgb(foveated), plan.display, double(plan.width_px - offset_x),
-                                                double(plan.height_px - offset_y));
+        const FrameErrors errors = frame_errors(encode_srgb(full), encode_srgb(foveated), plan.display,
+                                                double(plan.width_px - offset_x), double(plan.height_px - offset_y));
         ssims.push_back(errors.ssim);
         flips.push_back(errors.flip);
         if (errors.fpsnr_db) fpsnrs.push_back(*errors.fpsnr_db);
@@ -150,36 +151,49 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
 
 std::string volume_bench_markdown(const std::vector<VolumeBenchResult>& results) {
   std::string table =
-      "| volume | voxels | full ms | foveated ms | speed-up median [quartiles] (min-max) | traced | reconstruction ms (share of foveated) | SSIM | FLIP | FPSNR dB |\n"
+      "| volume | voxels | full ms | foveated ms | speed-up median [quartiles] (min-max) | traced | reconstruction ms "
+      "(share of foveated) | SSIM | FLIP | FPSNR dB |\n"
       "|---|---|---:|---:|---|---:|---:|---:|---:|---:|\n";
   for (const VolumeBenchResult& r : results) {
-    table += "| " + r.scene + " | " + std::to_string(r.volume_voxels[0]) + "x" + std::to_string(r.volume_voxels[1]) + "x" +
-             std::to_string(r.volume_voxels[2]) + " | " + text("%.1f", r.full_ms) + " | " + text("%.1f", r.foveated_ms) + " | " +
-             text("%.2fx", r.speed_up_median) + " [" + text("%.2f", r.speed_up_q1) + ", " + text("%.2f", r.speed_up_q3) + "] (" +
-             text("%.2f", r.speed_up_min) + "-" + text("%.2f", r.speed_up_max) + ") | " + text("%.2f %%", 100.0 * r.traced_share) +
-             " | " + text("%.2f", r.reconstruct_ms) + " (" + text("%.1f %%", 100.0 * r.reconstruct_ms / r.foveated_ms) + ") | " +
-             text("%.4f", r.ssim) + " | " + text("%.4f", r.flip) + " | " + text("%.2f", r.fpsnr_db) + " |\n";
+    table += "| " + r.scene + " | " + std::to_string(r.volume_voxels[0]) + "x" + std::to_string(r.volume_voxels[1]) +
+             "x" + std::to_string(r.volume_voxels[2]) + " | " + text("%.1f", r.full_ms) + " | " +
+             text("%.1f", r.foveated_ms) + " | " + text("%.2fx", r.speed_up_median) + " [" +
+             text("%.2f", r.speed_up_q1) + ", " + text("%.2f", r.speed_up_q3) + "] (" + text("%.2f", r.speed_up_min) +
+             "-" + text("%.2f", r.speed_up_max) + ") | " + text("%.2f %%", 100.0 * r.traced_share) + " | " +
+             text("%.2f", r.reconstruct_ms) + " (" + text("%.1f %%", 100.0 * r.reconstruct_ms / r.foveated_ms) +
+             ") | " + text("%.4f", r.ssim) + " | " + text("%.4f", r.flip) + " | " + text("%.2f", r.fpsnr_db) + " |\n";
   }
   return table;
 }
 
 nlohmann::json volume_bench_json(const VolumeBenchPlan& plan, const std::vector<VolumeBenchResult>& results) {
-  nlohmann::json json = {{"width_px", plan.width_px}, {"height_px", plan.height_px}, {"cameras", plan.cameras},
-                         {"gazes", plan.gazes},       {"frames", plan.frames},       {"seed", plan.seed},
+  nlohmann::json json = {{"width_px", plan.width_px},   {"height_px", plan.height_px},
+                         {"cameras", plan.cameras},     {"gazes", plan.gazes},
+                         {"frames", plan.frames},       {"seed", plan.seed},
                          {"sigma_deg", plan.sigma_deg}, {"correct_opacity", plan.correct_opacity}};
   nlohmann::json volumes = nlohmann::json::array();
   for (const VolumeBenchResult& r : results) {
     nlohmann::json cameras = nlohmann::json::array();
     for (const VolumeBenchCamera& c : r.cameras)
-      cameras.push_back({{"azimuth_deg", c.azimuth_deg}, {"elevation_deg", c.elevation_deg}, {"full_ms", c.full_ms},
-                         {"foveated_ms", c.foveated_ms}, {"reconstruct_ms", c.reconstruct_ms},
-                         {"traced_share", c.traced_share}, {"speed_up", c.speed_up}, {"ssim", c.ssim}, {"flip", c.flip},
+      cameras.push_back({{"azimuth_deg", c.azimuth_deg},
+                         {"elevation_deg", c.elevation_deg},
+                         {"full_ms", c.full_ms},
+                         {"foveated_ms", c.foveated_ms},
+                         {"reconstruct_ms", c.reconstruct_ms},
+                         {"traced_share", c.traced_share},
+                         {"speed_up", c.speed_up},
+                         {"ssim", c.ssim},
+                         {"flip", c.flip},
                          {"fpsnr_db", c.fpsnr_db}});
     volumes.push_back({{"scene", r.scene},
                        {"volume_voxels", r.volume_voxels},
                        {"sites", r.sites},
-                       {"speed_up", {{"min", r.speed_up_min}, {"q1", r.speed_up_q1}, {"median", r.speed_up_median},
-                                     {"q3", r.speed_up_q3}, {"max", r.speed_up_max}}},
+                       {"speed_up",
+                        {{"min", r.speed_up_min},
+                         {"q1", r.speed_up_q1},
+                         {"median", r.speed_up_median},
+                         {"q3", r.speed_up_q3},
+                         {"max", r.speed_up_max}}},
                        {"full_ms", r.full_ms},
                        {"foveated_ms", r.foveated_ms},
                        {"reconstruct_ms", r.reconstruct_ms},

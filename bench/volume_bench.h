@@ -1,5 +1,5 @@
 #pragma once
-// Seed 003's benchmark (section 5, Table 1) on fovlab's raycaster: for each volume scene, random
+// Bruder et al. 2019's benchmark (section 5, Table 1) on fovlab's raycaster: for each volume scene, random
 // cameras x random gazes (seeded), each configuration the median of `frames` timed frames after one
 // untimed; per camera the full frame's GPU time over the median foveated one (the speed-up), then
 // summarised per volume as the paper's box plots; with the share of pixels traced, the
@@ -22,25 +22,25 @@ namespace fovlab::bench {
 struct VolumeBenchPlan {
   std::vector<std::string> scenes;  // built-in names or .toml volume scenes
   int width_px = 512, height_px = 512;
-  int cameras = 8;                  // random orbits: azimuth 0-360, elevation -60 to 60 degrees
-  int gazes = 4;                    // random gaze positions on the screen, per camera
-  int frames = 5;                   // timed frames a configuration (median)
+  int cameras = 8;  // random orbits: azimuth 0-360, elevation -60 to 60 degrees
+  int gazes = 4;    // random gaze positions on the screen, per camera
+  int frames = 5;   // timed frames a configuration (median)
   uint64_t seed = 1;
-  double sigma_deg = 2.5;           // the sampling density's Gaussian radius
+  double sigma_deg = 2.5;  // the sampling density's Gaussian radius
   bool correct_opacity = true;
   DisplayGeometry display;
-  std::string voronoi_cache;        // folder of the masks' cache
+  std::string voronoi_cache;  // folder of the masks' cache
 };
 
 struct VolumeBenchCamera {
   double azimuth_deg = 0.0, elevation_deg = 0.0;
-  double full_ms = 0.0;             // median GPU ms of the full frame
-  double foveated_ms = 0.0;         // median over the gazes of each gaze's median
-  double reconstruct_ms = 0.0;      // the same, of the reconstruction alone
-  double traced_share = 0.0;        // mean over the gazes
-  double speed_up = 0.0;            // full_ms / foveated_ms
-  double ssim = 0.0, flip = 0.0;    // means over the gazes
-  double fpsnr_db = 0.0;            // mean over the gazes of finite values
+  double full_ms = 0.0;           // median GPU ms of the full frame
+  double foveated_ms = 0.0;       // median over the gazes of each gaze's median
+  double reconstruct_ms = 0.0;    // the same, of the reconstruction alone
+  double traced_share = 0.0;      // mean over the gazes
+  double speed_up = 0.0;          // full_ms / foveated_ms
+  double ssim = 0.0, flip = 0.0;  // means over the gazes
+  double fpsnr_db = 0.0;          // mean over the gazes of finite values
 };
 
 struct VolumeBenchResult {

@@ -110,7 +110,7 @@ fs::path folder_path(const fs::path& target) {
 // `<name>.<kind>-<pid>-<16 hex digits>` beside `target` (kind "tmp" or "old").
 fs::path folder_temporary(const fs::path& target, const char* kind) {
   std::random_device device;
-  const uint64_t value = (uint64_t{device()} << 32) ^ uint64_t{device()};
+  const uint64_t value = (uint64_t{device()} << 32) ^ uint64_t { device() };
   char digits[17];
   std::snprintf(digits, sizeof digits, "%016" PRIx64, value);
   std::string name = target.filename().string();
@@ -128,7 +128,8 @@ long temporary_pid(const std::string& name, const std::string& prefix, const std
   const std::string start = prefix + kind + "-";
   if (name.compare(0, start.size(), start) != 0) return 0;
   const size_t dash = name.find('-', start.size());
-  if (dash == std::string::npos || dash == start.size() || dash - start.size() > 9 || name.size() != dash + 17) return 0;
+  if (dash == std::string::npos || dash == start.size() || dash - start.size() > 9 || name.size() != dash + 17)
+    return 0;
   for (size_t i = start.size(); i < dash; ++i)
     if (name[i] < '0' || name[i] > '9') return 0;
   for (size_t i = dash + 1; i < name.size(); ++i)
@@ -165,7 +166,9 @@ void move_into_place(const fs::path& temporary, const fs::path& target, bool rep
     fs::rename(temporary, target, error);
     if (error == std::errc::directory_not_empty || error == std::errc::file_exists)
       throw InputError(target.string() + ": already exists; not replaced");
-    if (error) throw FileError(target.string(), "renaming the new folder " + temporary.filename().string() + " into place", error.value());
+    if (error)
+      throw FileError(target.string(), "renaming the new folder " + temporary.filename().string() + " into place",
+                      error.value());
     fsync_directory(parent);
     return;
   }
@@ -181,12 +184,14 @@ void move_into_place(const fs::path& temporary, const fs::path& target, bool rep
   // No swap on this file system: the old folder aside (complete), the new one in (complete).
   const fs::path aside = folder_temporary(target, "old");
   fs::rename(target, aside, error);
-  if (error) throw FileError(target.string(), "renaming the old folder aside to " + aside.filename().string(), error.value());
+  if (error)
+    throw FileError(target.string(), "renaming the old folder aside to " + aside.filename().string(), error.value());
   fs::rename(temporary, target, error);
   if (error) {
     std::error_code ignored;
     fs::rename(aside, target, ignored);
-    throw FileError(target.string(), "renaming the new folder " + temporary.filename().string() + " into place", error.value());
+    throw FileError(target.string(), "renaming the new folder " + temporary.filename().string() + " into place",
+                    error.value());
   }
   fsync_directory(parent);
   remove_quietly(aside);

@@ -14,7 +14,8 @@ std::vector<CsvRow> read_csv_rows(std::string_view text, const std::string& name
   int line = 1;
   size_t i = 0;
   const auto fail = [&](const std::string& what) {
-    throw InputError(name + ":" + std::to_string(line) + ": " + what + " (expected CSV: cells separated by commas, "
+    throw InputError(name + ":" + std::to_string(line) + ": " + what +
+                     " (expected CSV: cells separated by commas, "
                      "a cell with a comma, quote or line break in double quotes)");
   };
   const auto end_row = [&] {

@@ -36,8 +36,8 @@ std::string sha256_hex(std::string_view first, std::string_view second) {
 std::string hmac_sha256_hex(std::string_view key, std::string_view message) {
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int size = 0;
-  if (!HMAC(EVP_sha256(), key.data(), static_cast<int>(key.size()), reinterpret_cast<const unsigned char*>(message.data()),
-            message.size(), digest, &size))
+  if (!HMAC(EVP_sha256(), key.data(), static_cast<int>(key.size()),
+            reinterpret_cast<const unsigned char*>(message.data()), message.size(), digest, &size))
     throw std::runtime_error("OpenSSL: HMAC-SHA-256 failed");
   return to_hex(digest, size);
 }

@@ -86,11 +86,14 @@ std::string encode_image(const Image& image, const std::filesystem::path& target
   std::vector<unsigned char> bytes;
   OIIO::Filesystem::IOVecOutput proxy(bytes);
   auto output = OIIO::ImageOutput::create(target.string());
-  if (!output) throw InputError(target.string() + ": cannot write image (" + one_line(OIIO::geterror()) + "); " + expected);
+  if (!output)
+    throw InputError(target.string() + ": cannot write image (" + one_line(OIIO::geterror()) + "); " + expected);
   if (!output->supports("ioproxy"))
-    throw InputError(target.string() + ": OpenImageIO writes \"" + lower_extension(target) + "\" files only by their path; " + expected);
+    throw InputError(target.string() + ": OpenImageIO writes \"" + lower_extension(target) +
+                     "\" files only by their path; " + expected);
   const bool floating_point = lower_extension(target) == ".exr";
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(image.width, image.height, image.channels,
+                       floating_point ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   // No write time in the file (OpenEXR's capDate would be the clock's): the same pixels give the
   // same bytes, so a frame cache's hashes hold across machines and runs.
   if (floating_point) spec.attribute("DateTime", "");

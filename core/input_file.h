@@ -49,7 +49,9 @@ inline std::string byte_size_text(std::uint64_t bytes) {
 // (.toml)". Throws the one-line InputErrors above.
 inline std::uint64_t check_input_file(int fd, const std::string& name, const std::string& expected,
                                       std::uint64_t max_bytes) {
-  const auto fail = [&](const std::string& what) -> void { throw InputError(name + ": " + what + ": expected " + expected); };
+  const auto fail = [&](const std::string& what) -> void {
+    throw InputError(name + ": " + what + ": expected " + expected);
+  };
   struct stat status {};
   if (::fstat(fd, &status) != 0) fail(std::string("cannot read (") + std::strerror(errno) + ")");
   if (!S_ISREG(status.st_mode)) {
@@ -100,7 +102,8 @@ class OpenInputFile {
 
 // The rest of an open input file, never more than max_bytes + 1 bytes read (one byte past the cap is
 // enough to know it is exceeded: a file that grew after its check).
-inline std::string read_open_input_file(const OpenInputFile& file, const std::string& expected, std::uint64_t max_bytes) {
+inline std::string read_open_input_file(const OpenInputFile& file, const std::string& expected,
+                                        std::uint64_t max_bytes) {
   std::string bytes;
   bytes.reserve(static_cast<size_t>(std::min(file.size_bytes(), max_bytes)));
   char buffer[1 << 16];

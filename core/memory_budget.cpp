@@ -24,17 +24,20 @@ std::optional<AvailableMemory> available_memory() {
     std::string key, unit;
     uint64_t kib = 0;
     if (fields >> key >> kib >> unit && key == "MemAvailable:" && unit == "kB")
-      return AvailableMemory{kib * 1024, std::string("MemAvailable in /proc/meminfo; ") + kMemoryLimitVariable +
-                                             " overrides"};
+      return AvailableMemory{kib * 1024,
+                             std::string("MemAvailable in /proc/meminfo; ") + kMemoryLimitVariable + " overrides"};
   }
   return std::nullopt;
 }
 
 std::string memory_text(uint64_t bytes) {
   char text[64];
-  if (bytes >= (uint64_t{1} << 30)) std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(uint64_t{1} << 30));
-  else if (bytes >= (uint64_t{1} << 20)) std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(uint64_t{1} << 20));
-  else if (bytes >= (uint64_t{1} << 10)) std::snprintf(text, sizeof text, "%.1f KiB", double(bytes) / double(uint64_t{1} << 10));
+  if (bytes >= (uint64_t{1} << 30))
+    std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(uint64_t{1} << 30));
+  else if (bytes >= (uint64_t{1} << 20))
+    std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(uint64_t{1} << 20));
+  else if (bytes >= (uint64_t{1} << 10))
+    std::snprintf(text, sizeof text, "%.1f KiB", double(bytes) / double(uint64_t{1} << 10));
   else std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
   return text;
 }

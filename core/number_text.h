@@ -34,7 +34,8 @@ inline std::string exact_number_text(float value) {
 // NaN (not computed).
 inline std::string format_interval(double lower, double upper, int significant_digits) {
   if (std::isnan(lower) || std::isnan(upper)) return "";
-  const std::string low = std::isinf(lower) ? "(\xE2\x88\x92\xE2\x88\x9E" : "[" + format_number(lower, significant_digits);
+  const std::string low =
+      std::isinf(lower) ? "(\xE2\x88\x92\xE2\x88\x9E" : "[" + format_number(lower, significant_digits);
   const std::string high = std::isinf(upper) ? "\xE2\x88\x9E)" : format_number(upper, significant_digits) + "]";
   return low + ", " + high;
 }

@@ -28,12 +28,18 @@ std::string what_session_file(const std::string& name) {
 
 std::string file_type_text(fs::file_type type) {
   switch (type) {
-    case fs::file_type::directory: return "a folder";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::fifo: return "a FIFO";
-    case fs::file_type::socket: return "a socket";
-    default: return "not a regular file";
+    case fs::file_type::directory:
+      return "a folder";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::block:
+      return "a block device";
+    case fs::file_type::fifo:
+      return "a FIFO";
+    case fs::file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
   }
 }
 
@@ -91,8 +97,8 @@ std::string output_target_refusal(const fs::path& path, const std::string& flag,
     return named + ": " + why + "; only that participant's session writes there: " + expected;
   if (resolved != lexical)
     if (std::string why = session_refusal(resolved, target); !why.empty())
-      return named + ": resolves to " + resolved.string() + ", " + why + "; only that participant's session writes there: " +
-             expected;
+      return named + ": resolves to " + resolved.string() + ", " + why +
+             "; only that participant's session writes there: " + expected;
 
   std::error_code error;
   const fs::file_status status = fs::status(path, error);  // through links: what a write would meet
@@ -127,7 +133,9 @@ void create_output_folder(const fs::path& folder, const std::string& flag) {
   check_output_target(folder, flag, {OutputKind::folder});
   std::error_code error;
   fs::create_directories(folder, error);
-  if (error) throw FileError(folder.string(), "creating the folder" + (flag.empty() ? std::string() : " of " + flag), error.value());
+  if (error)
+    throw FileError(folder.string(), "creating the folder" + (flag.empty() ? std::string() : " of " + flag),
+                    error.value());
 }
 
 }  // namespace fovlab

@@ -39,8 +39,9 @@ enum class PeripheryReconstruction : uint32_t {
   catmull_rom = 2,             // textured so, interpolated by Catmull-Rom over 4x4 mid pixels (bilinear
                                // where a tap is stale): sharper on filtered textures, and on aliased detail
 };
-inline constexpr PeripheryReconstruction kPeripheryReconstructions[] = {
-    PeripheryReconstruction::mid_footprint_bilinear, PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom};
+inline constexpr PeripheryReconstruction kPeripheryReconstructions[] = {PeripheryReconstruction::mid_footprint_bilinear,
+                                                                        PeripheryReconstruction::bilinear,
+                                                                        PeripheryReconstruction::catmull_rom};
 
 // What FIPR does where a coarse ray (low or mid level, the paper's centre-ray test) passed a surface
 // within its pixel's cone without hitting it: a wire between two rays, a silhouette it grazed.

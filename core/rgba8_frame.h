@@ -12,7 +12,8 @@ struct Rgba8Frame {
 
   Rgba8Frame() = default;
   Rgba8Frame(int width_px, int height_px)
-      : width(width_px), height(height_px),
+      : width(width_px),
+        height(height_px),
         rgba(static_cast<size_t>(width_px) * static_cast<size_t>(height_px) * 4, 0) {
     for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;
   }

@@ -21,9 +21,12 @@ enum class SetAside {
 };
 inline std::string_view set_aside_kind_name(SetAside kind) {
   switch (kind) {
-    case SetAside::torn: return "torn";
-    case SetAside::recovered: return "recovered";
-    case SetAside::replaced: return "replaced";
+    case SetAside::torn:
+      return "torn";
+    case SetAside::recovered:
+      return "recovered";
+    case SetAside::replaced:
+      return "replaced";
   }
   return "?";
 }
@@ -43,7 +46,8 @@ inline std::filesystem::path set_aside_path(const std::filesystem::path& log, Se
 // set aside beside a log ("events.jsonl.*").
 inline bool is_session_file_name(std::string_view name) {
   return name == kSessionLogName || name == kSessionLockName ||
-         (name.size() > kSessionLogName.size() && name.starts_with(kSessionLogName) && name[kSessionLogName.size()] == '.');
+         (name.size() > kSessionLogName.size() && name.starts_with(kSessionLogName) &&
+          name[kSessionLogName.size()] == '.');
 }
 
 // A participant's folder: one that holds a session log, a session lock (a run takes the lock before

@@ -17,18 +17,18 @@ class TomlFields {
   TomlFields(const toml::table& table, std::string path, std::string prefix);
 
   bool has(const std::string& key) const;
-  std::string string(const std::string& key) const;                 // required
+  std::string string(const std::string& key) const;  // required
   std::string string(const std::string& key, const std::string& fallback) const;
-  double number(const std::string& key) const;                      // integer or float, finite
+  double number(const std::string& key) const;  // integer or float, finite
   double number(const std::string& key, double fallback) const;
   int64_t integer(const std::string& key) const;
   int64_t integer(const std::string& key, int64_t fallback) const;
   bool boolean(const std::string& key, bool fallback) const;
-  std::vector<double> numbers(const std::string& key) const;        // array of numbers, not empty
-  std::vector<std::string> strings(const std::string& key) const;   // array of strings, not empty
-  TomlFields table(const std::string& key) const;                   // required sub-table
+  std::vector<double> numbers(const std::string& key) const;       // array of numbers, not empty
+  std::vector<std::string> strings(const std::string& key) const;  // array of strings, not empty
+  TomlFields table(const std::string& key) const;                  // required sub-table
   const toml::table* optional_table(const std::string& key) const;
-  std::vector<TomlFields> tables(const std::string& key) const;     // array of tables, not empty
+  std::vector<TomlFields> tables(const std::string& key) const;  // array of tables, not empty
   const toml::table& raw() const { return table_; }
   const std::string& path() const { return path_; }
 

@@ -144,10 +144,17 @@ class NestingScanner {
       }
       ++i_;
       switch (mode_) {
-        case Mode::key: key_character(c); break;
-        case Mode::header: header_character(c); break;
-        case Mode::value: value_character(c); break;
-        case Mode::rest_of_line: break;
+        case Mode::key:
+          key_character(c);
+          break;
+        case Mode::header:
+          header_character(c);
+          break;
+        case Mode::value:
+          value_character(c);
+          break;
+        case Mode::rest_of_line:
+          break;
       }
     }
   }
@@ -265,8 +272,8 @@ class NestingScanner {
   Mode mode_ = Mode::key;
   int key_parts_ = 1;
   int header_extra_ = 0;
-  int header_depth_ = 0;      // of the current [table] (0 for the root table)
-  int top_value_depth_ = 0;   // of the top-level key/value being read
+  int header_depth_ = 0;       // of the current [table] (0 for the root table)
+  int top_value_depth_ = 0;    // of the top-level key/value being read
   std::vector<Frame> frames_;  // open arrays and inline tables, innermost last
 };
 

@@ -20,9 +20,7 @@ Rgba8Frame image_to_frame(const Image& image) {
     throw std::invalid_argument("image_to_frame: expected 1, 3 or 4 channels, got " + std::to_string(image.channels));
   }
   Rgba8Frame frame(image.width, image.height);
-  auto byte = [](float value) {
-    return static_cast<uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
-  };
+  auto byte = [](float value) { return static_cast<uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f)); };
   for (size_t i = 0; i < image.pixel_count(); ++i) {
     const float* in = image.pixels.data() + i * static_cast<size_t>(image.channels);
     uint8_t* out = frame.rgba.data() + i * 4;

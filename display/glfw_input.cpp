@@ -16,21 +16,31 @@ std::string glfw_key_name(int glfw_key, const char* layout_name) {
     if (c >= 'A' && c <= 'Z') return std::string(1, static_cast<char>(c - 'A' + 'a'));
     if (c >= '0' && c <= '9') return std::string(1, c);
   }
-  if (glfw_key >= GLFW_KEY_A && glfw_key <= GLFW_KEY_Z) return std::string(1, static_cast<char>('a' + (glfw_key - GLFW_KEY_A)));
-  if (glfw_key >= GLFW_KEY_0 && glfw_key <= GLFW_KEY_9) return std::string(1, static_cast<char>('0' + (glfw_key - GLFW_KEY_0)));
+  if (glfw_key >= GLFW_KEY_A && glfw_key <= GLFW_KEY_Z)
+    return std::string(1, static_cast<char>('a' + (glfw_key - GLFW_KEY_A)));
+  if (glfw_key >= GLFW_KEY_0 && glfw_key <= GLFW_KEY_9)
+    return std::string(1, static_cast<char>('0' + (glfw_key - GLFW_KEY_0)));
   if (glfw_key >= GLFW_KEY_KP_0 && glfw_key <= GLFW_KEY_KP_9) {
     return std::string(1, static_cast<char>('0' + (glfw_key - GLFW_KEY_KP_0)));
   }
   switch (glfw_key) {
-    case GLFW_KEY_SPACE: return "space";
+    case GLFW_KEY_SPACE:
+      return "space";
     case GLFW_KEY_ENTER:
-    case GLFW_KEY_KP_ENTER: return "enter";
-    case GLFW_KEY_ESCAPE: return "escape";
-    case GLFW_KEY_LEFT: return "left";
-    case GLFW_KEY_RIGHT: return "right";
-    case GLFW_KEY_UP: return "up";
-    case GLFW_KEY_DOWN: return "down";
-    default: return "";
+    case GLFW_KEY_KP_ENTER:
+      return "enter";
+    case GLFW_KEY_ESCAPE:
+      return "escape";
+    case GLFW_KEY_LEFT:
+      return "left";
+    case GLFW_KEY_RIGHT:
+      return "right";
+    case GLFW_KEY_UP:
+      return "up";
+    case GLFW_KEY_DOWN:
+      return "down";
+    default:
+      return "";
   }
 }
 

@@ -65,7 +65,8 @@ std::string find_font_path() {
       "fonts-dejavu-core, or FOVLAB_FONT=<file.ttf>)");
 }
 
-std::vector<std::string> wrap_text(const std::string& text, int max_width_px, int font_px, const std::string& font_path) {
+std::vector<std::string> wrap_text(const std::string& text, int max_width_px, int font_px,
+                                   const std::string& font_path) {
   std::vector<std::string> lines;
   for (const std::string& paragraph : split(text, '\n')) {
     std::string line;
@@ -152,7 +153,8 @@ Rgba8Frame fixation_cross_frame(int width_px, int height_px, const TextScreenSty
   auto fill = [&](int x0, int y0, int x1, int y1) {  // inclusive-exclusive, clipped
     for (int y = std::max(0, y0); y < std::min(height_px, y1); ++y) {
       for (int x = std::max(0, x0); x < std::min(width_px, x1); ++x) {
-        uint8_t* p = frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(width_px) + static_cast<size_t>(x)) * 4;
+        uint8_t* p =
+            frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(width_px) + static_cast<size_t>(x)) * 4;
         p[0] = p[1] = p[2] = style.grey;
       }
     }
@@ -174,7 +176,8 @@ Rgba8Frame validation_target_frame(int width_px, int height_px, double x_px, dou
     for (int x = x0; x < x1; ++x) {
       const double distance = std::hypot(x + 0.5 - x_px, y + 0.5 - y_px);
       if (distance > radius_px || distance <= dot_px) continue;
-      uint8_t* p = frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(width_px) + static_cast<size_t>(x)) * 4;
+      uint8_t* p =
+          frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(width_px) + static_cast<size_t>(x)) * 4;
       p[0] = p[1] = p[2] = style.grey;
     }
   }

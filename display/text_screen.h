@@ -15,11 +15,11 @@ struct TextScreenStyle {
   // the frame's height.
   double font_height_fraction = 0.04;
   int min_font_px = 12;
-  int font_px = 0;                  // > 0: this size instead
-  double margin_fraction = 0.05;    // each side; text wraps to the rest of the width
-  double line_spacing = 1.3;        // baseline to baseline, in font sizes
-  unsigned char grey = 204;         // sRGB-encoded text grey (light grey on black)
-  std::string font_path;            // empty: find_font_path()
+  int font_px = 0;                // > 0: this size instead
+  double margin_fraction = 0.05;  // each side; text wraps to the rest of the width
+  double line_spacing = 1.3;      // baseline to baseline, in font sizes
+  unsigned char grey = 204;       // sRGB-encoded text grey (light grey on black)
+  std::string font_path;          // empty: find_font_path()
 };
 
 // A TrueType font file: $FOVLAB_FONT when set, else DejaVu Sans (Debian: fonts-dejavu-core), else
@@ -28,7 +28,8 @@ std::string find_font_path();
 
 // `text` split into lines that fit max_width_px at font_px: paragraphs at '\n', greedy word wrap at
 // spaces, a word longer than a line broken between characters. Empty paragraphs stay empty lines.
-std::vector<std::string> wrap_text(const std::string& text, int max_width_px, int font_px, const std::string& font_path);
+std::vector<std::string> wrap_text(const std::string& text, int max_width_px, int font_px,
+                                   const std::string& font_path);
 
 // Light grey text on black, every line centred horizontally, the block centred vertically.
 Rgba8Frame render_text_screen(int width_px, int height_px, const std::string& text, const TextScreenStyle& style = {});

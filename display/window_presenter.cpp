@@ -108,7 +108,8 @@ void WindowPresenter::create_window() {
     glfw_initialised_ = true;
   }
   if (!glfwVulkanSupported()) {
-    throw InputError("window: GLFW finds no Vulkan loader (expected libvulkan1 and a driver such as mesa-vulkan-drivers)");
+    throw InputError(
+        "window: GLFW finds no Vulkan loader (expected libvulkan1 and a driver such as mesa-vulkan-drivers)");
   }
 
   GLFWmonitor* monitor = glfwGetPrimaryMonitor();
@@ -152,7 +153,8 @@ void WindowPresenter::create_context() {
     return surface;
   };
   request.unmet_need = [](VkPhysicalDevice device, VkSurfaceKHR surface) {
-    return choose_format(surface_formats(device, surface)) ? std::string() : std::string("no 8-bit RGBA/BGRA surface format");
+    return choose_format(surface_formats(device, surface)) ? std::string()
+                                                           : std::string("no 8-bit RGBA/BGRA surface format");
   };
   context_ = std::make_unique<vk::Context>(
       vk::ContextOptions{options_.device_selector, options_.validation, request, options_.device_flag});
@@ -177,7 +179,8 @@ void WindowPresenter::create_swapchain() {
   if (extent.width == std::numeric_limits<uint32_t>::max()) {
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
-    extent.width = std::clamp(static_cast<uint32_t>(std::max(width, 0)), caps.minImageExtent.width, caps.maxImageExtent.width);
+    extent.width =
+        std::clamp(static_cast<uint32_t>(std::max(width, 0)), caps.minImageExtent.width, caps.maxImageExtent.width);
     extent.height =
         std::clamp(static_cast<uint32_t>(std::max(height, 0)), caps.minImageExtent.height, caps.maxImageExtent.height);
   }
@@ -201,9 +204,11 @@ void WindowPresenter::create_swapchain() {
   can_read_back_ = options_.screenshots && (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
 
   uint32_t mode_count = 0;
-  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count, nullptr));
+  VK_CHECK(
+      vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count, nullptr));
   std::vector<VkPresentModeKHR> modes(mode_count);
-  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count, modes.data()));
+  VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count,
+                                                     modes.data()));
   present_mode_ = VK_PRESENT_MODE_FIFO_KHR;  // always supported
   if (!options_.vsync) {
     for (VkPresentModeKHR wanted : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR}) {
@@ -216,8 +221,9 @@ void WindowPresenter::create_swapchain() {
 
   VkCompositeAlphaFlagBitsKHR composite = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
   if (!(caps.supportedCompositeAlpha & composite)) {
-    for (VkCompositeAlphaFlagBitsKHR bit : {VK_COMPOSITE_ALPHA_INHERIT_BIT_KHR, VK_COMPOSITE_ALPHA_PRE_MULTIPLIED_BIT_KHR,
-                                            VK_COMPOSITE_ALPHA_POST_MULTIPLIED_BIT_KHR}) {
+    for (VkCompositeAlphaFlagBitsKHR bit :
+         {VK_COMPOSITE_ALPHA_INHERIT_BIT_KHR, VK_COMPOSITE_ALPHA_PRE_MULTIPLIED_BIT_KHR,
+          VK_COMPOSITE_ALPHA_POST_MULTIPLIED_BIT_KHR}) {
       if (caps.supportedCompositeAlpha & bit) {
         composite = bit;
         break;
@@ -252,7 +258,8 @@ void WindowPresenter::create_swapchain() {
   images_.resize(image_count);
   VkSemaphoreCreateInfo semaphore_info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
   render_finished_.assign(image_count, VK_NULL_HANDLE);
-  for (VkSemaphore& semaphore : render_finished_) VK_CHECK(vkCreateSemaphore(context_->device, &semaphore_info, nullptr, &semaphore));
+  for (VkSemaphore& semaphore : render_finished_)
+    VK_CHECK(vkCreateSemaphore(context_->device, &semaphore_info, nullptr, &semaphore));
 
   const VkDeviceSize bytes = VkDeviceSize{extent.width} * extent.height * 4;
   if (composed_.size_bytes() < bytes) {
@@ -387,7 +394,8 @@ double WindowPresenter::present_source(const ComposeSource& source, bool recompo
     }
     vk::throw_vulkan_error("vkAcquireNextImageKHR", acquired);
   }
-  const bool compose = recompose || composed_extent_.width != extent_.width || composed_extent_.height != extent_.height;
+  const bool compose =
+      recompose || composed_extent_.width != extent_.width || composed_extent_.height != extent_.height;
 
   const VkImage image = images_[image_index];
   const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};

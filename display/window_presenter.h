@@ -43,7 +43,7 @@ struct GLFWwindow;
 namespace fovlab {
 
 struct WindowPresenterOptions {
-  int width_px = 1280;   // the frame size; windowed: the window's client size (not resizable)
+  int width_px = 1280;  // the frame size; windowed: the window's client size (not resizable)
   int height_px = 720;
   // Full screen on the primary monitor at its current video mode. Frames are centred, scaled up by
   // the largest integer factor that fits (1 when none does; a frame larger than the screen is

@@ -5,7 +5,7 @@
 namespace fovlab {
 
 double acuity_fit(double eccentricity_deg) {
-  constexpr double amplitude = 0.90964, scale_deg = 2.9661, floor = 0.00792;  // seed 001, eq. 1
+  constexpr double amplitude = 0.90964, scale_deg = 2.9661, floor = 0.00792;  // Polychronakis et al. 2021, eq. 1
   return amplitude * std::exp(-eccentricity_deg / scale_deg) + floor;
 }
 

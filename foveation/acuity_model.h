@@ -1,14 +1,14 @@
 #pragma once
-// The acuity model of seed 001 (section 3.2, eq. 1-2), shared by FIPR's foveation mask and the
+// The acuity model of Polychronakis et al. 2021 (section 3.2, eq. 1-2), shared by FIPR's foveation mask and the
 // path-tracer emulation's zones: an exponential fit to Mandelbaum & Sloan's (1947) acuity against
 // eccentricity, turned into the probability that a pixel is traced at full resolution.
 //
 //   V(w) = 0.90964 exp(-w / 2.9661) + 0.00792                           (eq. 1, w in degrees)
 //   P(w) = 1 for w <= fovea, V(w) for fovea < w <= outer periphery, 0 beyond    (eq. 2 + zones)
 //
-// Seed 000 prints eq. 1 with a positive exponent; that grows without bound (V(1) = 1.28 already)
+// Polychronakis et al. 2023 prints eq. 1 with a positive exponent; that grows without bound (V(1) = 1.28 already)
 // and cannot be a probability nor a fall-off, which its text calls it: the negative exponent of
-// seed 001 is the fit. Definitions and plots: docs/foveation.md ("Acuity model").
+// Polychronakis et al. 2021 is the fit. Definitions and plots: docs/foveation.md ("Acuity model").
 #include <limits>
 
 namespace fovlab {
@@ -17,7 +17,8 @@ namespace fovlab {
 double acuity_fit(double eccentricity_deg);
 
 struct AcuityModel {
-  double fovea_radius_deg = 7.5;  // eccentricity (a radius, not an aperture) up to which P = 1; FIPR's default (study/stimulus/render_method.cpp)
+  double fovea_radius_deg =
+      7.5;  // eccentricity (a radius, not an aperture) up to which P = 1; FIPR's default (study/stimulus/render_method.cpp)
   double outer_periphery_radius_deg = std::numeric_limits<double>::infinity();  // beyond it P = 0
 
   // Eq. 2 with the outer periphery: in [0, 1]. A non-finite or negative eccentricity (a gaze sample

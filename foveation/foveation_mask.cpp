@@ -18,16 +18,21 @@ uint32_t lowbias32(uint32_t x) {
 
 const char* mask_combine_name(MaskCombine combine) {
   switch (combine) {
-    case MaskCombine::max: return "max";
-    case MaskCombine::fovea_or_product: return "fovea-or-product";
-    case MaskCombine::product: return "product";
-    case MaskCombine::acuity: return "acuity";
+    case MaskCombine::max:
+      return "max";
+    case MaskCombine::fovea_or_product:
+      return "fovea-or-product";
+    case MaskCombine::product:
+      return "product";
+    case MaskCombine::acuity:
+      return "acuity";
   }
   return "max";
 }
 
 std::optional<MaskCombine> parse_mask_combine(const std::string& name) {
-  for (MaskCombine combine : {MaskCombine::max, MaskCombine::fovea_or_product, MaskCombine::product, MaskCombine::acuity})
+  for (MaskCombine combine :
+       {MaskCombine::max, MaskCombine::fovea_or_product, MaskCombine::product, MaskCombine::acuity})
     if (name == mask_combine_name(combine)) return combine;
   return std::nullopt;
 }
@@ -35,10 +40,14 @@ std::optional<MaskCombine> parse_mask_combine(const std::string& name) {
 double mask_probability(MaskCombine combine, double acuity_probability, bool in_fovea, bool edge) {
   const double edge_value = edge ? 1.0 : 0.0;
   switch (combine) {
-    case MaskCombine::max: return std::max(acuity_probability, edge_value);
-    case MaskCombine::fovea_or_product: return in_fovea ? 1.0 : acuity_probability * edge_value;
-    case MaskCombine::product: return acuity_probability * edge_value;
-    case MaskCombine::acuity: return acuity_probability;
+    case MaskCombine::max:
+      return std::max(acuity_probability, edge_value);
+    case MaskCombine::fovea_or_product:
+      return in_fovea ? 1.0 : acuity_probability * edge_value;
+    case MaskCombine::product:
+      return acuity_probability * edge_value;
+    case MaskCombine::acuity:
+      return acuity_probability;
   }
   return acuity_probability;
 }

@@ -1,5 +1,5 @@
 #pragma once
-// FIPR's foveation mask (seed 000 section 3.2.3), the CPU reference of the mask pass
+// FIPR's foveation mask (Polychronakis et al. 2023 section 3.2.3), the CPU reference of the mask pass
 // (renderer/shaders/foveation_mask.comp.glsl): which full-resolution pixels are traced at the top
 // level of the pyramid this frame. A pixel is traced when its threshold xi (a hash of seed, frame
 // and pixel) is below its probability P, built from the acuity model (foveation/

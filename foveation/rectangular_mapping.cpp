@@ -18,14 +18,14 @@ double g_inverse(double s, double phi) { return phi * s / (phi - s); }
 
 void check_setting_range(const char* field, double value, double low, double high) {
   if (!(value >= low && value <= high))
-    throw SettingError(field, " " + format_number(value, 6) + ": expected " + format_number(low, 6) + " to " +
-                                  format_number(high, 6));
+    throw SettingError(
+        field, " " + format_number(value, 6) + ": expected " + format_number(low, 6) + " to " + format_number(high, 6));
 }
 
 void check_screen_size(int width_px, int height_px) {
   if (width_px <= 0 || height_px <= 0)
-    throw SettingError("screen", " " + std::to_string(width_px) + "x" + std::to_string(height_px) +
-                                     ": expected a positive size");
+    throw SettingError("screen",
+                       " " + std::to_string(width_px) + "x" + std::to_string(height_px) + ": expected a positive size");
 }
 
 int reduced_buffer_px(int screen_px, double sigma) { return std::max(1, int(std::lround(screen_px / sigma))); }
@@ -56,11 +56,13 @@ RectangularAxis rectangular_axis(double gaze_px, double screen_px, double focal_
 }
 
 std::pair<double, double> RectangularMapping::to_buffer_px(double x_px, double y_px) const {
-  return {x.to_buffer(x_px / screen_width_px) * buffer_width_px, y.to_buffer(y_px / screen_height_px) * buffer_height_px};
+  return {x.to_buffer(x_px / screen_width_px) * buffer_width_px,
+          y.to_buffer(y_px / screen_height_px) * buffer_height_px};
 }
 
 std::pair<double, double> RectangularMapping::to_screen_px(double u_px, double v_px) const {
-  return {x.to_screen(u_px / buffer_width_px) * screen_width_px, y.to_screen(v_px / buffer_height_px) * screen_height_px};
+  return {x.to_screen(u_px / buffer_width_px) * screen_width_px,
+          y.to_screen(v_px / buffer_height_px) * screen_height_px};
 }
 
 double RectangularMapping::density(double x_px, double y_px) const {

@@ -1,5 +1,5 @@
 #pragma once
-// Rectangular mapping (RMFR, seed 002 section 3, eq. 3-7): the screen is shaded in a buffer
+// Rectangular mapping (RMFR, Ye et al. 2022 section 3, eq. 3-7): the screen is shaded in a buffer
 // sigma times smaller per axis, each axis warped on its own by the thin-lens curve so that samples
 // gather at the gaze. Per axis, in shares of the screen (X = x / W), with the gaze at c and the
 // curve's focal length phi = f / W:
@@ -7,7 +7,7 @@
 //   screen to buffer, d = X - c:  d >= 0: U = c + (1 - c) g(d) / g(1 - c);  d < 0: U = c - c g(-d) / g(c)
 //   buffer to screen:  U >= c: X = c + g^-1((U - c) / (1 - c) g(1 - c));  else X = c - g^-1((c - U) / c g(c))
 // Eq. 4 as printed divides the pixel, not the gaze, by W and shows only the positive quadrant; this
-// is the form the authors' shaders use (../shared/notes/seeds-002-003-facts.md). The gaze share is
+// is the form the authors' public shaders use (Bob-Yeah/Rectangular-Mapping-based-Foveated-Rendering, RMFR_Pass1/2.shader). The gaze share is
 // clamped to [0.01, 0.99] (at an edge g(0) = 0 would divide by zero), as the authors' code does; a
 // gaze that is not a number is taken at the centre. The map fixes 0, c and 1 and is strictly
 // increasing, so the buffer covers the whole screen. CPU reference of the GPU passes
@@ -18,7 +18,7 @@ namespace fovlab {
 
 inline constexpr double kRmfrMinGazeShare = 0.01;
 inline constexpr double kRmfrMaxGazeShare = 0.99;
-inline constexpr double kRmfrMinSigma = 1.0;   // the buffer as large as the screen
+inline constexpr double kRmfrMinSigma = 1.0;  // the buffer as large as the screen
 inline constexpr double kRmfrMaxSigma = 8.0;
 inline constexpr double kRmfrMinFocalShare = 1e-3;
 inline constexpr double kRmfrMaxFocalShare = 1.0;

@@ -43,7 +43,8 @@ std::pair<double, double> along_gaze_line(double gaze_x, double gaze_y, double x
 struct Box {
   double min_x, min_y, max_x, max_y;
 };
-Box eccentricity_box(const DisplayGeometry& display, double gaze_x, double gaze_y, double radius_deg, double margin_px) {
+Box eccentricity_box(const DisplayGeometry& display, double gaze_x, double gaze_y, double radius_deg,
+                     double margin_px) {
   const double far_px = 4.0 * double(display.width_px + display.height_px);
   Box box{gaze_x, gaze_y, gaze_x, gaze_y};
   constexpr int kRays = 128;
@@ -51,12 +52,14 @@ Box eccentricity_box(const DisplayGeometry& display, double gaze_x, double gaze_
     const double angle = kTwoPi * ray / kRays;
     const double cx = std::cos(angle), cy = std::sin(angle);
     double inside = 0.0, outside = far_px;
-    if (eccentricity_deg(display, gaze_x, gaze_y, gaze_x + cx * far_px, gaze_y + cy * far_px) <= radius_deg) inside = far_px;
+    if (eccentricity_deg(display, gaze_x, gaze_y, gaze_x + cx * far_px, gaze_y + cy * far_px) <= radius_deg)
+      inside = far_px;
     else
       for (int step = 0; step < 48; ++step) {
         const double middle = 0.5 * (inside + outside);
-        (eccentricity_deg(display, gaze_x, gaze_y, gaze_x + cx * middle, gaze_y + cy * middle) <= radius_deg ? inside
-                                                                                                         : outside) = middle;
+        (eccentricity_deg(display, gaze_x, gaze_y, gaze_x + cx * middle, gaze_y + cy * middle) <= radius_deg
+             ? inside
+             : outside) = middle;
       }
     box.min_x = std::min(box.min_x, gaze_x + cx * inside);
     box.max_x = std::max(box.max_x, gaze_x + cx * inside);
@@ -106,8 +109,7 @@ BandAreas band_areas(const DisplayGeometry& display, double gaze_x, double gaze_
       else if (e < r2_deg) {
         areas.between += 1;
         areas.between_ramp += (e - r1_deg) / (r2_deg - r1_deg);
-      } else
-        areas.outside_outer += 1;
+      } else areas.outside_outer += 1;
     }
   for (double* area : {&areas.inside_inner, &areas.between, &areas.between_ramp, &areas.outside_outer}) *area /= count;
   return areas;
@@ -125,10 +127,14 @@ double mean_over_pixels(const SamplingMap& map) {
 
 const char* sampling_model_name(SamplingModel model) {
   switch (model) {
-    case SamplingModel::rectangular: return "rmfr";
-    case SamplingModel::hyperbolic: return "hyperbolic";
-    case SamplingModel::linear: return "linear";
-    case SamplingModel::kernel_log_polar: return "kfr";
+    case SamplingModel::rectangular:
+      return "rmfr";
+    case SamplingModel::hyperbolic:
+      return "hyperbolic";
+    case SamplingModel::linear:
+      return "linear";
+    case SamplingModel::kernel_log_polar:
+      return "kfr";
   }
   return "rmfr";
 }
@@ -138,8 +144,8 @@ const char* resample_filter_name(ResampleFilter filter) {
 }
 
 std::optional<SamplingModel> parse_sampling_model(const std::string& name) {
-  for (SamplingModel model : {SamplingModel::rectangular, SamplingModel::hyperbolic, SamplingModel::linear,
-                              SamplingModel::kernel_log_polar})
+  for (SamplingModel model :
+       {SamplingModel::rectangular, SamplingModel::hyperbolic, SamplingModel::linear, SamplingModel::kernel_log_polar})
     if (name == sampling_model_name(model)) return model;
   return std::nullopt;
 }
@@ -320,7 +326,8 @@ uint64_t shaded_samples(const SamplingMap& map) {
 double theoretical_speedup(const SamplingMap& map) {
   if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) return rmfr->theoretical_speedup();
   if (const auto* kfr = std::get_if<KernelLogPolarMapping>(&map))
-    return double(kfr->screen_width_px) * kfr->screen_height_px / (double(kfr->buffer_width_px) * kfr->buffer_height_px);
+    return double(kfr->screen_width_px) * kfr->screen_height_px /
+           (double(kfr->buffer_width_px) * kfr->buffer_height_px);
   return 1.0 / mean_density(map);
 }
 
@@ -339,12 +346,14 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
       return make_kernel_log_polar_mapping(display.width_px, display.height_px, settings.sigma, settings.alpha,
                                            gaze_x_px, gaze_y_px);
     case SamplingModel::hyperbolic:
-    case SamplingModel::linear: break;
+    case SamplingModel::linear:
+      break;
   }
   check_screen_size(display.width_px, display.height_px);
   if (!(display.width_mm > 0 && display.height_mm > 0 && display.viewing_distance_mm > 0))
     throw SettingError("display", ": expected a physical size and viewing distance (the " +
-                                      std::string(sampling_model_name(settings.model)) + " model's radii are eccentricities)");
+                                      std::string(sampling_model_name(settings.model)) +
+                                      " model's radii are eccentricities)");
   check_setting_range("sigma", settings.sigma, kRmfrMinSigma, kRmfrMaxSigma);
   check_setting_range("inner_radius_deg", settings.inner_radius_deg, 0.0, 90.0);
   check_setting_range("outer_radius_deg", settings.outer_radius_deg, settings.inner_radius_deg, 90.0);
@@ -356,9 +365,11 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
   if (settings.model == SamplingModel::linear) {
     check_setting_range("min_probability", settings.min_probability, 0.0, 1.0);
     if (settings.inner_radius_deg == 0.0 && settings.min_probability == 0.0 && !settings.equalise)
-      throw SettingError("min_probability", " 0: expected more than 0 when inner_radius_deg is 0 (no pixel would be shaded)");
-    LinearFalloff linear{display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg,
-                         settings.min_probability, settings.seed};
+      throw SettingError("min_probability",
+                         " 0: expected more than 0 when inner_radius_deg is 0 (no pixel would be shaded)");
+    LinearFalloff linear{
+        display,      gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg, settings.min_probability,
+        settings.seed};
     if (settings.equalise) {
       // mean p = (inside + between - ramp + (ramp + outside) p_min) / pixels: linear in p_min.
       const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);
@@ -367,10 +378,11 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
       const double p_min = per_p_min > 0 ? (target_density - fixed) / per_p_min : -1.0;
       if (!(p_min >= 0.0 && p_min <= 1.0))
         throw InputError("equalise: the linear model cannot reach " + target_text + " on this display: " +
-                         (p_min > 1.0 ? "even p_min 1 gives less (raise sigma)"
-                                      : "with p_min 0 its density within " + format_number(settings.outer_radius_deg, 4) +
-                                            " deg alone is " + format_number(fixed, 4) +
-                                            " (lower sigma, or the radii, or view the display from nearer)"));
+                         (p_min > 1.0
+                              ? "even p_min 1 gives less (raise sigma)"
+                              : "with p_min 0 its density within " + format_number(settings.outer_radius_deg, 4) +
+                                    " deg alone is " + format_number(fixed, 4) +
+                                    " (lower sigma, or the radii, or view the display from nearer)"));
       linear.min_probability = p_min;
     }
     return linear;
@@ -383,14 +395,18 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
   double outer_pixel_size_px = settings.outer_pixel_size_px;
   if (settings.equalise) {
     const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);
-    const double fixed = areas.inside_inner + areas.between / (settings.middle_pixel_size_px * settings.middle_pixel_size_px);
+    const double fixed =
+        areas.inside_inner + areas.between / (settings.middle_pixel_size_px * settings.middle_pixel_size_px);
     const double left = target_density - fixed;
     const double size = left > 0 && areas.outside_outer > 0 ? std::sqrt(areas.outside_outer / left) : -1.0;
     if (!(size >= settings.middle_pixel_size_px && size <= 256.0)) {
       std::string why;
       if (areas.outside_outer <= 0)
-        why = "no part of it lies beyond outer_radius_deg, so the outer pixel size changes nothing (lower outer_radius_deg)";
-      else if (size > 256.0) why = "the outer pixel would be " + format_number(size, 4) + " px, more than 256 (lower sigma)";
+        why =
+            "no part of it lies beyond outer_radius_deg, so the outer pixel size changes nothing (lower "
+            "outer_radius_deg)";
+      else if (size > 256.0)
+        why = "the outer pixel would be " + format_number(size, 4) + " px, more than 256 (lower sigma)";
       else if (size > 0)
         why = "the outer pixel would be " + format_number(size, 4) + " px, finer than the middle layer's " +
               format_number(settings.middle_pixel_size_px, 4) + " (raise sigma or middle_pixel_size_px)";
@@ -410,17 +426,20 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
   layers.blend_band_deg = settings.blend_band_deg;
   const double band = settings.blend_band_deg;
   const Box inner_box = eccentricity_box(display, gaze_x, gaze_y, settings.inner_radius_deg, 2.0);
-  const Box middle_box = eccentricity_box(display, gaze_x, gaze_y, settings.outer_radius_deg, 2.0 * settings.middle_pixel_size_px);
+  const Box middle_box =
+      eccentricity_box(display, gaze_x, gaze_y, settings.outer_radius_deg, 2.0 * settings.middle_pixel_size_px);
   const Box screen{0.0, 0.0, double(display.width_px), double(display.height_px)};
   layers.layers = {layer_over(inner_box, 1.0, 0.0, settings.inner_radius_deg),
-                   layer_over(middle_box, settings.middle_pixel_size_px, settings.inner_radius_deg - band, settings.outer_radius_deg),
+                   layer_over(middle_box, settings.middle_pixel_size_px, settings.inner_radius_deg - band,
+                              settings.outer_radius_deg),
                    layer_over(screen, outer_pixel_size_px, settings.outer_radius_deg - band, 180.0)};
   return layers;
 }
 
 SamplingSettings with_solved_equalise(SamplingSettings settings, const SamplingMap& solved) {
   if (!settings.equalise) return settings;
-  if (const auto* layers = std::get_if<HyperbolicLayers>(&solved)) settings.outer_pixel_size_px = layers->layers[2].pixel_size_px;
+  if (const auto* layers = std::get_if<HyperbolicLayers>(&solved))
+    settings.outer_pixel_size_px = layers->layers[2].pixel_size_px;
   if (const auto* linear = std::get_if<LinearFalloff>(&solved)) settings.min_probability = linear->min_probability;
   settings.equalise = false;
   return settings;

@@ -1,5 +1,5 @@
 #pragma once
-// The four foveation models of seed 002 (section 5.1) behind one interface: where a frame shades its
+// The four foveation models of Ye et al. 2022 (section 5.1) behind one interface: where a frame shades its
 // samples, how densely, and what that saves. Each model is a plain struct; SamplingMap holds one.
 //   - rectangular (RMFR, foveation/rectangular_mapping.h): a buffer sigma times smaller per axis,
 //     each axis warped towards the gaze;
@@ -76,9 +76,9 @@ struct HyperbolicLayer {
 struct HyperbolicLayers {
   DisplayGeometry display;
   double gaze_x_px = 0.0, gaze_y_px = 0.0;
-  double inner_radius_deg = 10.0;   // r1: the inner layer alone within r1 - band
-  double middle_radius_deg = 20.0;  // r2
-  double blend_band_deg = 1.0;      // each layer fades out over the last band_deg of its radius
+  double inner_radius_deg = 10.0;         // r1: the inner layer alone within r1 - band
+  double middle_radius_deg = 20.0;        // r2
+  double blend_band_deg = 1.0;            // each layer fades out over the last band_deg of its radius
   std::array<HyperbolicLayer, 3> layers;  // inner, middle, outer
 
   // Blend weights of the three layers at a screen point (they sum to 1).
@@ -130,17 +130,17 @@ double effective_speedup(const SamplingMap& map);
 // Every model's parameters; each model reads its own. Ranges are checked by make_sampling_map.
 struct SamplingSettings {
   SamplingModel model = SamplingModel::rectangular;
-  double sigma = 2.6;                // RMFR, KFR: screen over buffer size per axis; --equalise's target 1/sigma^2
-  double focal_share_x = 0.3;        // RMFR: f_x / W
-  double focal_share_y = 0.3;        // RMFR: f_y / H
-  double alpha = 4.0;                // KFR: the kernel's exponent
-  double inner_radius_deg = 10.0;    // hyperbolic and linear: r1
-  double outer_radius_deg = 20.0;    // hyperbolic and linear: r2
-  double middle_pixel_size_px = 2.0; // hyperbolic: s2 (s1 is 1)
+  double sigma = 2.6;                  // RMFR, KFR: screen over buffer size per axis; --equalise's target 1/sigma^2
+  double focal_share_x = 0.3;          // RMFR: f_x / W
+  double focal_share_y = 0.3;          // RMFR: f_y / H
+  double alpha = 4.0;                  // KFR: the kernel's exponent
+  double inner_radius_deg = 10.0;      // hyperbolic and linear: r1
+  double outer_radius_deg = 20.0;      // hyperbolic and linear: r2
+  double middle_pixel_size_px = 2.0;   // hyperbolic: s2 (s1 is 1)
   double outer_pixel_size_px = 12.35;  // hyperbolic: s3
-  double blend_band_deg = 1.0;       // hyperbolic: width of the fade at each layer's border
-  double min_probability = 0.047;    // linear: p_min
-  uint32_t seed = 0;                 // linear: the thresholds' seed
+  double blend_band_deg = 1.0;         // hyperbolic: width of the fade at each layer's border
+  double min_probability = 0.047;      // linear: p_min
+  uint32_t seed = 0;                   // linear: the thresholds' seed
   // Hyperbolic: s3, linear: p_min solved so that the mean density over this display and gaze is
   // 1 / sigma^2 (the other parameters as given). RMFR and KFR are at sigma^2 by construction.
   bool equalise = false;

@@ -13,7 +13,6 @@ namespace fovlab {
 
 namespace {
 
-
 // Sites bucketed on a square grid, for nearest-site queries by rings of cells.
 class SiteGrid {
  public:
@@ -77,7 +76,7 @@ class SiteGrid {
 // What one iteration gathers over a site's cell.
 struct CellMoments {
   uint32_t pixels = 0;
-  double mass = 0.0;  // T_r
+  double mass = 0.0;                                      // T_r
   double x = 0.0, y = 0.0, xx = 0.0, xy = 0.0, yy = 0.0;  // Phi-weighted sums
 };
 
@@ -90,8 +89,8 @@ void check_settings(const VoronoiMaskSettings& settings) {
     fail("expected a positive, finite density radius");
   if (settings.initial_sites < 1 || settings.initial_sites > 1000000) fail("expected 1 to 10^6 initial sites");
   if (settings.max_iterations < 1 || settings.max_iterations > 1000) fail("expected 1 to 1000 iterations");
-  if (!(settings.hysteresis_start >= 0.0 && settings.hysteresis_step >= 0.0 && std::isfinite(settings.hysteresis_start) &&
-        std::isfinite(settings.hysteresis_step)))
+  if (!(settings.hysteresis_start >= 0.0 && settings.hysteresis_step >= 0.0 &&
+        std::isfinite(settings.hysteresis_start) && std::isfinite(settings.hysteresis_step)))
     fail("expected a hysteresis that is finite and not negative");
 }
 
@@ -99,7 +98,8 @@ float inside(double value, int size) { return float(std::clamp(value, 1e-3, doub
 
 }  // namespace
 
-VoronoiMaskSettings voronoi_mask_settings(int width_px, int height_px, const DisplayGeometry& display, double sigma_deg) {
+VoronoiMaskSettings voronoi_mask_settings(int width_px, int height_px, const DisplayGeometry& display,
+                                          double sigma_deg) {
   VoronoiMaskSettings settings;
   settings.screen_width_px = width_px;
   settings.screen_height_px = height_px;

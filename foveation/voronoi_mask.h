@@ -1,5 +1,5 @@
 #pragma once
-// Seed 003's sampling mask (Bruder et al. 2019, section 4.1): where a foveated volume raycaster
+// Bruder et al. 2019's sampling mask (Bruder et al. 2019, section 4.1): where a foveated volume raycaster
 // starts its rays. A mask of 2W x 2H pixels, twice the screen per axis, centred on the gaze (it is
 // shifted with the gaze by whole pixels), holds sites placed by the weighted Linde-Buzo-Gray
 // algorithm (Deussen et al. 2017) so that their density follows
@@ -26,7 +26,7 @@
 namespace fovlab {
 
 struct VoronoiMaskSettings {
-  int screen_width_px = 256;   // the mask is twice this per axis
+  int screen_width_px = 256;  // the mask is twice this per axis
   int screen_height_px = 256;
   double density_sigma_px = 32.0;  // s: Phi's Gaussian radius, in mask (= screen) pixels
   int initial_sites = 10000;
@@ -36,7 +36,7 @@ struct VoronoiMaskSettings {
   uint64_t seed = 1;
 };
 
-// The Gaussian radius s of 2.5 degrees of visual angle (seed 003's choice) on `display`, in pixels
+// The Gaussian radius s of 2.5 degrees of visual angle (Bruder et al. 2019's choice) on `display`, in pixels
 // at its centre.
 double density_sigma_px(const DisplayGeometry& display, double sigma_deg = 2.5);
 

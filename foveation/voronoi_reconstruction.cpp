@@ -71,7 +71,8 @@ std::vector<Weighted> coordinates(const Delaunay& triangulation, const std::vect
       hint = neighbour->face();  // the next pixel's search starts beside this one's
     }
   }
-  if (!inside) return {{nearest_site(sites, x, y), 1.0}};  // outside the hull, or fewer than 3 sites in general position
+  if (!inside)
+    return {{nearest_site(sites, x, y), 1.0}};  // outside the hull, or fewer than 3 sites in general position
   std::sort(weights.begin(), weights.end(), [](const Weighted& a, const Weighted& b) {
     return a.second != b.second ? a.second > b.second : a.first < b.first;
   });
@@ -145,12 +146,14 @@ bool get(const std::string& in, size_t& offset, T& value) {
 // site that owns no pixel is deleted), every pixel's neighbours and the hash. A larger file is not
 // read at all.
 uint64_t max_cache_file_bytes(const VoronoiMaskSettings& settings, const std::string& key) {
-  const uint64_t pixels = 4 * uint64_t(std::max(settings.screen_width_px, 0)) * uint64_t(std::max(settings.screen_height_px, 0));
+  const uint64_t pixels =
+      4 * uint64_t(std::max(settings.screen_width_px, 0)) * uint64_t(std::max(settings.screen_height_px, 0));
   const uint64_t header = sizeof kMagic + 4 + key.size() + 3 * 4 + 1 + 4 + 4;
   return header + pixels * sizeof(MaskSite) + pixels * kVoronoiNeighbours * (sizeof(uint32_t) + sizeof(uint16_t)) + 8;
 }
 
-bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, const std::string& key, VoronoiReconstruction& r) {
+bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, const std::string& key,
+                 VoronoiReconstruction& r) {
   if (in.size() < sizeof kMagic + 8 || std::memcmp(in.data(), kMagic, sizeof kMagic) != 0) return false;
   uint64_t stored_hash = 0;
   std::memcpy(&stored_hash, in.data() + in.size() - 8, 8);
@@ -162,8 +165,8 @@ bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, con
   int32_t width = 0, height = 0, iterations = 0;
   uint8_t converged = 0;
   uint32_t site_count = 0;
-  if (!get(in, offset, width) || !get(in, offset, height) || !get(in, offset, iterations) || !get(in, offset, converged) ||
-      !get(in, offset, r.neighbour_reach_px) || !get(in, offset, site_count))
+  if (!get(in, offset, width) || !get(in, offset, height) || !get(in, offset, iterations) ||
+      !get(in, offset, converged) || !get(in, offset, r.neighbour_reach_px) || !get(in, offset, site_count))
     return false;
   if (width != 2 * settings.screen_width_px || height != 2 * settings.screen_height_px) return false;
   const size_t pixels = size_t(width) * size_t(height) * kVoronoiNeighbours;
@@ -185,7 +188,8 @@ bool deserialise(const std::string& in, const VoronoiMaskSettings& settings, con
   for (uint32_t index : r.neighbour_sites)
     if (index >= site_count) return false;
   for (const MaskSite& site : r.mask.sites)
-    if (!(site.x_px >= 0.0f && site.x_px <= float(width) && site.y_px >= 0.0f && site.y_px <= float(height))) return false;
+    if (!(site.x_px >= 0.0f && site.x_px <= float(width) && site.y_px >= 0.0f && site.y_px <= float(height)))
+      return false;
   // The reach decides which sites are traced: recomputed from the weights, never taken on trust.
   if (voronoi_neighbour_reach_px(r) != r.neighbour_reach_px) return false;
   return site_count > 0;
@@ -225,11 +229,13 @@ float voronoi_neighbour_reach_px(const VoronoiReconstruction& r) {
   return reach;
 }
 
-std::filesystem::path voronoi_cache_file(const VoronoiMaskSettings& settings, const std::filesystem::path& cache_folder) {
+std::filesystem::path voronoi_cache_file(const VoronoiMaskSettings& settings,
+                                         const std::filesystem::path& cache_folder) {
   return cache_folder / ("voronoi-" + ContentHash().add(voronoi_settings_key(settings)).hex() + ".bin");
 }
 
-std::vector<std::pair<uint32_t, double>> sibson_coordinates(const std::vector<MaskSite>& sites, double x_px, double y_px) {
+std::vector<std::pair<uint32_t, double>> sibson_coordinates(const std::vector<MaskSite>& sites, double x_px,
+                                                            double y_px) {
   if (sites.empty()) return {};
   const Delaunay triangulation = triangulate(sites);
   Delaunay::Face_handle hint;

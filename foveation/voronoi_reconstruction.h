@@ -1,5 +1,5 @@
 #pragma once
-// How a foveated volume frame is rebuilt from the rays traced at the Voronoi mask's sites (seed 003
+// How a foveated volume frame is rebuilt from the rays traced at the Voronoi mask's sites (Bruder et al. 2019
 // section 4.3): every mask pixel takes a weighted sum of its natural neighbours' colours, with
 // Sibson's weights: the share of the pixel's own Voronoi cell, were the pixel's centre inserted as
 // a site, that it takes from each site's cell. CGAL (Debian's libcgal-dev) computes them exactly
@@ -35,7 +35,8 @@ struct VoronoiReconstruction {
 // Sibson's coordinates of the point (x, y) among the sites, as (site index, weight) with weights
 // summing to 1, the heaviest first, at most kVoronoiNeighbours (renormalised); outside the convex
 // hull, the nearest site with weight 1. The reference of what make_voronoi_reconstruction stores.
-std::vector<std::pair<uint32_t, double>> sibson_coordinates(const std::vector<MaskSite>& sites, double x_px, double y_px);
+std::vector<std::pair<uint32_t, double>> sibson_coordinates(const std::vector<MaskSite>& sites, double x_px,
+                                                            double y_px);
 
 // The mask (make_voronoi_mask) and its weights. `progress` is called with the share done (0 to 1)
 // now and then while the weights are computed (on all cores).
@@ -46,10 +47,13 @@ VoronoiReconstruction make_voronoi_reconstruction(const VoronoiMaskSettings& set
 std::string voronoi_settings_key(const VoronoiMaskSettings& settings);
 
 // The Voronoi cache's folder inside a pre-render cache folder (stimuli/cache by default).
-inline std::filesystem::path voronoi_cache_folder(const std::filesystem::path& cache_root) { return cache_root / "voronoi"; }
+inline std::filesystem::path voronoi_cache_folder(const std::filesystem::path& cache_root) {
+  return cache_root / "voronoi";
+}
 
 // The cache's file for these settings in `cache_folder`: voronoi-<hash of voronoi_settings_key>.bin.
-std::filesystem::path voronoi_cache_file(const VoronoiMaskSettings& settings, const std::filesystem::path& cache_folder);
+std::filesystem::path voronoi_cache_file(const VoronoiMaskSettings& settings,
+                                         const std::filesystem::path& cache_folder);
 
 // A cache file's bytes: a header (magic, the settings' key, the mask's size, iterations, whether it
 // converged, the reach, the site count), the sites, each pixel's neighbours and weights, then the

@@ -37,8 +37,9 @@ ZoneWeights zone_weights(const ZoneBounds& bounds, double eccentricity_deg) {
   if (!std::isfinite(eccentricity_deg)) return {1.0, 0.0, 0.0};
   ZoneWeights weights;
   weights.foveal = inside_weight(eccentricity_deg, 0.5 * bounds.foveal_deg, bounds.band_deg);
-  const double within_middle =
-      bounds.middle_deg > bounds.foveal_deg ? inside_weight(eccentricity_deg, 0.5 * bounds.middle_deg, bounds.band_deg) : 0.0;
+  const double within_middle = bounds.middle_deg > bounds.foveal_deg
+                                   ? inside_weight(eccentricity_deg, 0.5 * bounds.middle_deg, bounds.band_deg)
+                                   : 0.0;
   weights.middle = (1.0 - weights.foveal) * within_middle;
   weights.outer = 1.0 - weights.foveal - weights.middle;
   return weights;
@@ -49,7 +50,8 @@ Image blend_zones_reference(const DisplayGeometry& display, double gaze_x_px, do
   const auto same_shape = [&](const Image& image) {
     return image.width == foveal.width && image.height == foveal.height && image.channels == foveal.channels;
   };
-  if (!same_shape(middle) || !same_shape(outer) || foveal.width != display.width_px || foveal.height != display.height_px)
+  if (!same_shape(middle) || !same_shape(outer) || foveal.width != display.width_px ||
+      foveal.height != display.height_px)
     throw InputError("zone buffers: expected three images of the display's " + std::to_string(display.width_px) + "x" +
                      std::to_string(display.height_px) + " pixels with the same channels");
   Image blended(foveal.width, foveal.height, foveal.channels);

@@ -1,12 +1,12 @@
 #pragma once
-// The three zones of the emulated foveated path tracer (seed 001 sections 3.2 and 4): which of the
+// The three zones of the emulated foveated path tracer (Polychronakis et al. 2021 sections 3.2 and 4): which of the
 // full-resolution (foveal), 1/4 (middle) and 1/16 (outer) buffers a pixel shows for a gaze sample,
 // with linear bands between zones. CPU code: the reference for renderer/zone_blend/zone_blender.h,
 // the zone pictures of `fovlab blend --zones-out`, and the zone-buffer decimation. Definitions in
 // docs/foveated-path-tracing.md ("Zones and blend").
 //
 // Angles are full apertures, as in `fovlab rays` (analysis/rays/ray_count.h, the reading that
-// reproduces seed 001 Table 1): a foveal zone of F degrees holds the pixels whose eccentricity is at
+// reproduces Polychronakis et al. 2021 Table 1): a foveal zone of F degrees holds the pixels whose eccentricity is at
 // most F / 2. A band of B degrees (of eccentricity) centred on each boundary ramps linearly from the
 // inner zone to the outer one; B = 0 is a hard edge (a pixel exactly on a boundary is inner).
 #include "core/image.h"
@@ -14,7 +14,7 @@
 
 namespace fovlab {
 
-// Seed 001 pairs each foveal level with a middle level 52.5 degrees wider (5 -> 57.5 ... 30 ->
+// Polychronakis et al. 2021 pairs each foveal level with a middle level 52.5 degrees wider (5 -> 57.5 ... 30 ->
 // 82.5, section 4.4); fovlab's default middle boundary. Eq. 2 alone cannot set it: beyond the fovea
 // P(w) = V(w) does not depend on the foveal angle (docs/foveated-path-tracing.md).
 inline constexpr double kMiddleOverFovealDeg = 52.5;
@@ -50,7 +50,7 @@ Image blend_zones_reference(const DisplayGeometry& display, double gaze_x_px, do
 // RGB, 1 = full), for the display's pixel size.
 Image zone_map(const DisplayGeometry& display, double gaze_x_px, double gaze_y_px, const ZoneBounds& bounds);
 
-// Nearest-neighbour decimation by `factor` per axis (seed 001: the zone buffers "drop extra
+// Nearest-neighbour decimation by `factor` per axis (Polychronakis et al. 2021: the zone buffers "drop extra
 // pixels"): output pixel (i, j) is input pixel (i * factor + factor / 2, j * factor + factor / 2),
 // the one whose area holds the output pixel's centre (the lower-right one of a tie), clamped to the
 // last row and column. Output size: ceil(input / factor) per axis.

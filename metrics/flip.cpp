@@ -18,7 +18,7 @@
 // flip_api.py), read to check every constant and the order of operations. The code below is our
 // own: separable passes in double precision instead of the reference's 2-D float kernels.
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 namespace {
 
 using detail::require_same_size;
@@ -102,9 +102,7 @@ Vec3 hunt_adjust(const Vec3& lab) { return {lab[0], 0.01 * lab[0] * lab[1], 0.01
 
 // HyAB distance of Abasi, Amani Tehran, Fairchild (2020) (paper, colour pipeline): city-block in L*,
 // Euclidean in (a*, b*).
-double hyab(const Vec3& p, const Vec3& q) {
-  return std::abs(p[0] - q[0]) + std::hypot(p[1] - q[1], p[2] - q[2]);
-}
+double hyab(const Vec3& p, const Vec3& q) { return std::abs(p[0] - q[0]) + std::hypot(p[1] - q[1], p[2] - q[2]); }
 
 // --- Constants of the metric ----------------------------------------------------------------------
 
@@ -129,7 +127,7 @@ constexpr double kPt = 0.95;  // error at the break point (paper, colour pipelin
 // Edge and point detectors: Gaussian derivatives whose peak-to-trough distance (two standard
 // deviations) is w = 0.082 degrees (paper, feature pipeline; ref. code gw).
 constexpr double kDetectorWidthDeg = 0.082;
-constexpr double kQf = 0.5;   // feature difference exponent (paper, feature pipeline; ref. code gqf)
+constexpr double kQf = 0.5;  // feature difference exponent (paper, feature pipeline; ref. code gqf)
 
 // --- Separable filtering with replicated borders --------------------------------------------------
 
@@ -294,7 +292,6 @@ Plane feature_magnitude(const Plane& luminance, int width, int height, const Det
 
 // --- Input ----------------------------------------------------------------------------------------
 
-
 // sRGB-encoded image -> YCxCz (paper, colour pipeline: sRGB -> linear RGB -> XYZ -> YCxCz).
 Opponent to_opponent(const Image& image) {
   const std::size_t n = image.pixel_count();
@@ -384,4 +381,4 @@ FlipResult flip(const Image& reference, const Image& test, double pixels_per_deg
   return result;
 }
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

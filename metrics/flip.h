@@ -11,7 +11,7 @@
 // LDR-FLIP itself expects).
 #include "core/image.h"
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 
 struct FlipResult {
   double mean_flip = 0.0;  // plain mean of the per-pixel FLIP error, in [0, 1]; 0 for identical images
@@ -33,4 +33,4 @@ FlipResult flip(const Image& reference, const Image& test, double pixels_per_deg
 // About 41.2761 (the value NVIDIA's CUDA code hard-codes).
 double flip_cmax();
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

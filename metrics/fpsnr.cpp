@@ -11,18 +11,18 @@
 #include "metrics/image_checks.h"
 
 // FPSNR of Lee, Pattichis, Bovik, "Foveated video quality assessment", IEEE Trans. Multimedia 4(1),
-// 2002 (seed 002, ref. [14]): the foveated MSE weights each squared error by the square of the
+// 2002 (Ye et al. 2022, ref. [14]): the foveated MSE weights each squared error by the square of the
 // normalised local bandwidth f_n(x) = f_m(x) / f_m(fovea), i.e. by the local sampling density of
 // the foveated (curvilinear) image, and FPSNR = 10 log10(peak^2 / FMSE). The local bandwidth is the
 // smaller of the eye's cutoff frequency at the pixel's eccentricity (Geisler & Perry 1998, the
 // model Lee et al. use) and the display's Nyquist frequency.
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 namespace {
 
+using detail::colour_channel_count;
 using detail::require_same_size;
 using detail::require_valid_layout;
-using detail::colour_channel_count;
 using detail::size_text;
 
 // Foveation model of Geisler & Perry (Proc. SPIE 3299, 1998), adopted by Lee et al. 2002: contrast
@@ -38,7 +38,6 @@ double cutoff_frequency(double eccentricity_deg) {
   return kE2 * std::log(1.0 / kCt0) / (kAlpha * (eccentricity_deg + kE2));
 }
 
-
 void require_valid_display(const DisplayGeometry& d) {
   const bool sizes_ok = std::isfinite(d.width_mm) && d.width_mm > 0.0 && std::isfinite(d.height_mm) &&
                         d.height_mm > 0.0 && std::isfinite(d.viewing_distance_mm) && d.viewing_distance_mm > 0.0;
@@ -46,7 +45,6 @@ void require_valid_display(const DisplayGeometry& d) {
     throw std::invalid_argument("FPSNR: display sizes must be positive and finite");
   }
 }
-
 
 // w(x) = (f_m(x) / f_m(gaze))^2 with f_m = min(f_c(e), f_d), in double.
 class FoveationWeight {
@@ -84,8 +82,7 @@ Image foveation_weights(const DisplayGeometry& display, double gaze_x_px, double
   return weights;
 }
 
-FpsnrResult fpsnr(const Image& a, const Image& b, const DisplayGeometry& display, double gaze_x_px,
-                  double gaze_y_px) {
+FpsnrResult fpsnr(const Image& a, const Image& b, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px) {
   require_valid_layout(a);
   require_valid_layout(b);
   require_valid_display(display);
@@ -123,9 +120,9 @@ FpsnrResult fpsnr(const Image& a, const Image& b, const DisplayGeometry& display
   FpsnrResult result;
   result.fmse = weighted_error / (weight_sum * channels);
   result.identical = result.fmse == 0.0;
-  result.fpsnr_db = result.identical ? std::numeric_limits<double>::infinity()
-                                     : 10.0 * std::log10(kPeak * kPeak / result.fmse);
+  result.fpsnr_db =
+      result.identical ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(kPeak * kPeak / result.fmse);
   return result;
 }
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

@@ -1,8 +1,8 @@
 #pragma once
-// FPSNR, the foveated peak signal-to-noise ratio that seed 002 (section 5.1/5.3.2, its refs. [14]
+// FPSNR, the foveated peak signal-to-noise ratio that Ye et al. 2022 (section 5.1/5.3.2, its refs. [14]
 // and [29]) reports: a PSNR whose squared errors are weighted per pixel by how much detail the eye
 // resolves there. Definition of S. Lee, M. S. Pattichis, A. C. Bovik, "Foveated video quality
-// assessment", IEEE Transactions on Multimedia 4(1):129-132, 2002 (seed 002's [14]), with the
+// assessment", IEEE Transactions on Multimedia 4(1):129-132, 2002 (Ye et al. 2022's [14]), with the
 // foveation model of W. S. Geisler, J. S. Perry, "A real-time foveated multiresolution system for
 // low-bandwidth video communication", Proc. SPIE 3299, 1998. Full definition: docs/analysis.md,
 // section "FPSNR".
@@ -21,7 +21,7 @@
 #include "core/image.h"
 #include "foveation/display_geometry.h"
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 
 struct FpsnrResult {
   double fmse = 0.0;       // foveation-weighted mean squared error over the colour samples
@@ -40,7 +40,6 @@ Image foveation_weights(const DisplayGeometry& display, double gaze_x_px, double
 // psnr(): R, G, B (alpha ignored) or the one grey channel; RGB may be compared with RGBA, grey with
 // colour may not. Both images must be display.width_px x display.height_px. Throws
 // std::invalid_argument otherwise, and for the cases of foveation_weights().
-FpsnrResult fpsnr(const Image& a, const Image& b, const DisplayGeometry& display, double gaze_x_px,
-                  double gaze_y_px);
+FpsnrResult fpsnr(const Image& a, const Image& b, const DisplayGeometry& display, double gaze_x_px, double gaze_y_px);
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

@@ -7,7 +7,7 @@
 
 #include "core/image.h"
 
-namespace fovlab::analysis::detail {
+namespace fovlab::metrics::detail {
 
 inline std::string size_text(const Image& image) {
   return std::to_string(image.width) + "x" + std::to_string(image.height);
@@ -33,4 +33,4 @@ inline void require_same_size(const Image& a, const Image& b) {
     throw std::invalid_argument("images differ in size: " + size_text(a) + " vs " + size_text(b));
 }
 
-}  // namespace fovlab::analysis::detail
+}  // namespace fovlab::metrics::detail

@@ -11,12 +11,12 @@
 
 #include "metrics/image_checks.h"
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 namespace {
 
+using detail::colour_channel_count;
 using detail::require_same_size;
 using detail::require_valid_layout;
-using detail::colour_channel_count;
 using detail::size_text;
 
 // BT.601 luma weights, as MATLAB's rgb2gray (used by Wang et al.'s code).
@@ -34,9 +34,6 @@ constexpr int kWindowSize = 11;
 constexpr double kWindowSigma = 1.5;
 
 constexpr double kPsnrPeak = 1.0;
-
-
-
 
 // Number of channels that carry colour: alpha is not part of the picture.
 
@@ -222,4 +219,4 @@ SsimResult ssim(const Image& a, const Image& b) {
   return result;
 }
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

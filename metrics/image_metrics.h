@@ -10,7 +10,7 @@
 // images. Accepted channel counts are 1 (grey), 3 (RGB) and 4 (RGBA).
 #include "core/image.h"
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 
 // Luma with ITU-R BT.601 weights (0.299 R + 0.587 G + 0.114 B) applied to the
 // encoded values, as MATLAB's rgb2gray. Alpha is ignored. A grey image is
@@ -19,8 +19,8 @@ namespace fovlab::analysis {
 Image luma(const Image& image);
 
 struct PsnrResult {
-  double mse = 0.0;      // mean squared error over every colour sample
-  double psnr_db = 0.0;  // 10 log10(1 / mse); +infinity when identical
+  double mse = 0.0;        // mean squared error over every colour sample
+  double psnr_db = 0.0;    // 10 log10(1 / mse); +infinity when identical
   bool identical = false;  // mse == 0: every colour sample is bit-equal in value
 };
 
@@ -32,8 +32,8 @@ PsnrResult psnr(const Image& a, const Image& b);
 
 struct SsimResult {
   double mean_ssim = 0.0;  // plain mean of `map`
-  Image map;  // one channel, (width - 10) x (height - 10): local SSIM at each
-              // position where the 11x11 window lies fully inside the image
+  Image map;               // one channel, (width - 10) x (height - 10): local SSIM at each
+                           // position where the 11x11 window lies fully inside the image
 };
 
 // Mean SSIM of the lumas of `a` and `b` (Wang et al. 2004): data range 1,
@@ -42,4 +42,4 @@ struct SsimResult {
 // smaller than 11x11.
 SsimResult ssim(const Image& a, const Image& b);
 
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

@@ -1,5 +1,5 @@
 #pragma once
-// Ray-reduction analysis of a three-zone foveated frame (seed 001, section 5.1 and Table 1): the
+// Ray-reduction analysis of a three-zone foveated frame (Polychronakis et al. 2021, section 5.1 and Table 1): the
 // foveal zone is traced at full resolution (one ray a pixel), the middle zone at 1/4 (one ray per
 // 4 pixels), the outer zone at 1/16. A zone "of angle A degrees" holds the pixels whose centre has an
 // eccentricity of at most A / 2 (the angle is the zone's full aperture, its diameter); this is the
@@ -14,11 +14,11 @@ namespace fovlab::analysis {
 struct RayCell {
   double foveal_deg = 0.0;
   double middle_deg = 0.0;
-  int64_t foveal_pixels = 0;     // eccentricity <= foveal_deg / 2
-  int64_t middle_pixels = 0;     // foveal_deg / 2 < eccentricity <= middle_deg / 2
-  int64_t outer_pixels = 0;      // the rest of the frame
-  double rays = 0.0;             // foveal + middle / 4 + outer / 16
-  double speedup = 0.0;          // width * height / rays
+  int64_t foveal_pixels = 0;  // eccentricity <= foveal_deg / 2
+  int64_t middle_pixels = 0;  // foveal_deg / 2 < eccentricity <= middle_deg / 2
+  int64_t outer_pixels = 0;   // the rest of the frame
+  double rays = 0.0;          // foveal + middle / 4 + outer / 16
+  double speedup = 0.0;       // width * height / rays
 };
 
 // Every pixel's eccentricity from the gaze point, sorted, so each cell costs two binary searches.

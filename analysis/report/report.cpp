@@ -27,7 +27,8 @@ std::vector<std::string> write_analysis_report(const AnalysisResult& result, con
   write("headline.csv", report_detail::headline_csv(result));
   write("conditions.csv", report_detail::conditions_csv(result));
   write("participants.csv", report_detail::participants_csv(result));
-  if (report_detail::has_adaptive_tracks(result)) write("adaptive_tracks.csv", report_detail::adaptive_tracks_csv(result));
+  if (report_detail::has_adaptive_tracks(result))
+    write("adaptive_tracks.csv", report_detail::adaptive_tracks_csv(result));
   if (result.rating_grid) write("rating_grid.csv", report_detail::rating_grid_csv(*result.rating_grid, result.study));
   if (!result.preferences.empty()) write("preference.csv", report_detail::preference_csv(result));
   write("thresholds.json", report_detail::thresholds_json_text(result));
@@ -45,8 +46,8 @@ namespace {
 // A name write_analysis_report writes, or the temporary of one (".<stem>.tmp-<pid>.<ext>", left
 // inside by a run killed before this folder-level writing existed).
 bool is_report_file_name(const std::string& name) {
-  if (name == "thresholds.json" || name == "headline.csv" || name == "conditions.csv" || name == "participants.csv" || name == "report.html" ||
-      name == "rating_grid.csv" || name == "preference.csv" || name == "adaptive_tracks.csv")
+  if (name == "thresholds.json" || name == "headline.csv" || name == "conditions.csv" || name == "participants.csv" ||
+      name == "report.html" || name == "rating_grid.csv" || name == "preference.csv" || name == "adaptive_tracks.csv")
     return true;
   const auto ends_with = [&](const std::string& end) {
     return name.size() > end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0;
@@ -63,8 +64,7 @@ void check_analysis_destination(const std::string& out_dir, bool replace) {
   std::error_code error;
   const fs::file_status status = fs::symlink_status(dir, error);
   if (!fs::exists(status)) return;
-  if (!fs::is_directory(status))
-    throw InputError(out_dir + ": is not a folder; give --out a folder for the analysis");
+  if (!fs::is_directory(status)) throw InputError(out_dir + ": is not a folder; give --out a folder for the analysis");
   bool has_thresholds = false;
   for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();

@@ -104,8 +104,8 @@ std::string html_references(const std::string& html) {
   std::string items;
   for (const PaperReference& paper : kPaperReferences)
     if (html.find(paper.cited_as) != std::string::npos)
-      items += "<li><strong>" + std::string(paper.cited_as) + "</strong>: " + html_escape(std::string(paper.reference)) +
-               "</li>\n";
+      items += "<li><strong>" + std::string(paper.cited_as) +
+               "</strong>: " + html_escape(std::string(paper.reference)) + "</li>\n";
   if (items.empty()) return {};
   return "<h2 id=\"references\">References</h2>\n<ul>\n" + items + "</ul>\n";
 }
@@ -114,11 +114,12 @@ std::string html_references(const std::string& html) {
 // the sessions' (collapsed).
 std::string html_frame_intervals(const AnalysisResult& result, const std::vector<Plot>& frame_plots) {
   std::string html = "<h2 id=\"frame-intervals\">Frame intervals</h2>\n";
-  html += "<p>The intervals between consecutive refreshes presented during each stimulus (the log's present times; "
-          "the gap between two stimuli is not counted), over the complete trials, practice left out. Late: an "
-          "interval beyond 1.5 refresh periods (a refresh missed). Median and p99 by nearest rank, SD the sample "
-          "SD; intervals are rounded to the microsecond. The study row pools the included sessions. A headless "
-          "session's presenter keeps a virtual clock, so its intervals are exact periods.</p>\n";
+  html +=
+      "<p>The intervals between consecutive refreshes presented during each stimulus (the log's present times; "
+      "the gap between two stimuli is not counted), over the complete trials, practice left out. Late: an "
+      "interval beyond 1.5 refresh periods (a refresh missed). Median and p99 by nearest rank, SD the sample "
+      "SD; intervals are rounded to the microsecond. The study row pools the included sessions. A headless "
+      "session's presenter keeps a virtual clock, so its intervals are exact periods.</p>\n";
   const FrameIntervalSummary study = result.frame_intervals;
   int included = 0;
   for (const ParticipantRow& participant : result.participants) included += participant.excluded ? 0 : 1;
@@ -136,7 +137,8 @@ std::string html_frame_intervals(const AnalysisResult& result, const std::vector
   std::vector<std::vector<std::string>> rows;
   rows.push_back(row("study (" + std::to_string(included) + (included == 1 ? " session)" : " sessions)"), study));
   for (const ParticipantRow& participant : result.participants)
-    rows.push_back(row(participant.participant + (participant.excluded ? " (excluded)" : ""), participant.frame_intervals));
+    rows.push_back(
+        row(participant.participant + (participant.excluded ? " (excluded)" : ""), participant.frame_intervals));
   html += html_table({"session", "refresh (Hz)", "intervals", "median (ms)", "SD (ms)", "p99 (ms)", "max (ms)",
                       "late (> 1.5 refreshes)", "late share"},
                      rows);
@@ -152,12 +154,13 @@ std::string html_frame_intervals(const AnalysisResult& result, const std::vector
 std::string html_headlines(const AnalysisResult& result) {
   std::string html = "<h2 id=\"headline\">Headline</h2>\n";
   if (result.headlines.empty()) return html + "<p>No headline: the analysis gave none for this design.</p>\n";
-  html += "<p>The number to publish for each group, with its 95 % interval, the method that gives it and what "
-          "that method aims at. A status other than <em>estimated</em> is shown with its reason and no number. "
-          "The paper's own rule is beside it; the same in headline.csv and thresholds.json (headlines).</p>\n";
+  html +=
+      "<p>The number to publish for each group, with its 95 % interval, the method that gives it and what "
+      "that method aims at. A status other than <em>estimated</em> is shown with its reason and no number. "
+      "The paper's own rule is beside it; the same in headline.csv and thresholds.json (headlines).</p>\n";
   html += "<div class=\"table\"><table class=\"headline\">\n<thead>" +
-          html_row({"group", "quantity", "value [95 % interval]", "status", "method", "aims at", "flags", "participants",
-                    "the paper's rule"},
+          html_row({"group", "quantity", "value [95 % interval]", "status", "method", "aims at", "flags",
+                    "participants", "the paper's rule"},
                    true) +
           "</thead>\n<tbody>\n";
   for (const Headline& headline : result.headlines) {
@@ -219,7 +222,8 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
   const std::string question(result.rules().question_name);
   item("Protocol", std::string(result.rules().name) + (question.empty() ? "" : " (question: " + question + ")"));
   if (!result.level_parameter.empty()) {
-    item("Level parameter", result.level_parameter + (result.higher_is_better ? " (higher is better)" : " (lower is better)"));
+    item("Level parameter",
+         result.level_parameter + (result.higher_is_better ? " (higher is better)" : " (lower is better)"));
   }
   std::string levels;
   for (double level : result.levels) {
@@ -232,15 +236,15 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
     item(result.config_versions.size() == 1 ? "Config version" : "Config versions (only one is analysed)",
          describe_config_version(version));
   item("Participants", std::to_string(included) + " included, " + std::to_string(excluded) + " excluded");
-  item("Observers", result.observers == "human" ? "human (real participants)"
+  item("Observers", result.observers == "human"       ? "human (real participants)"
                     : result.observers == "simulated" ? "simulated observers only: not real participants' data"
                                                       : "human and simulated, pooled on request (--observers all)");
   // Ramps and sliders have no per-condition tests or fits: their thresholds are per participant.
   const bool per_condition = result.protocol != ProtocolKind::ramp && result.protocol != ProtocolKind::slider;
   if (per_condition) {
     item("Test", test_description(result));
-    item("Guess rate of the fits",
-         html_number(result.guess_rate) + (result.guess_rate_source.empty() ? "" : " (" + result.guess_rate_source + ")"));
+    item("Guess rate of the fits", html_number(result.guess_rate) +
+                                       (result.guess_rate_source.empty() ? "" : " (" + result.guess_rate_source + ")"));
   }
   html += "</dl>\n";
   if (!result.inputs.empty()) {
@@ -261,13 +265,16 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
     // Several (pair: pooled and per participant): each once, numbered, and each row names its number.
     const bool several = definitions.size() > 1;
     const auto number_of = [&](const std::string& definition) {
-      return "(" + std::to_string(std::find(definitions.begin(), definitions.end(), definition) - definitions.begin() + 1) + ")";
+      return "(" +
+             std::to_string(std::find(definitions.begin(), definitions.end(), definition) - definitions.begin() + 1) +
+             ")";
     };
     if (!several) {
       html += "<p class=\"definition\"><strong>Definition</strong>: " + html_escape(definitions.front()) + "</p>\n";
     } else {
-      html += "<p class=\"definition\"><strong>Definitions</strong> (the table's column names which):</p>\n"
-              "<ul class=\"definition\">\n";
+      html +=
+          "<p class=\"definition\"><strong>Definitions</strong> (the table's column names which):</p>\n"
+          "<ul class=\"definition\">\n";
       for (const std::string& definition : definitions)
         html += "<li>" + html_escape(number_of(definition)) + " " + html_escape(definition) + "</li>\n";
       html += "</ul>\n";
@@ -303,7 +310,8 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
       if (map.level) continue;
       std::string pairs;
       for (std::size_t index : map.best) {
-        pairs += (pairs.empty() ? "(" : "; (") + html_number(map.cells[index].x) + ", " + html_number(map.cells[index].y) + ")";
+        pairs += (pairs.empty() ? "(" : "; (") + html_number(map.cells[index].x) + ", " +
+                 html_number(map.cells[index].y) + ")";
       }
       uint64_t trials = 0;
       for (const GridCell& cell : map.cells) trials += cell.trials;
@@ -316,19 +324,20 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
   }
 
   if (!result.preferences.empty()) {
-    html += "<h2 id=\"preference\">Preference table</h2>\n<p>Ye et al. 2022, Table 2: the votes for the reference "
-            "stimulus. Test: exact binomial, one-sided (greater: the reference preferred), H0 p = 1/2, whatever "
-            "--alternative says, no correction; CI: 95 % Clopper-Pearson of the share.</p>\n";
+    html +=
+        "<h2 id=\"preference\">Preference table</h2>\n<p>Ye et al. 2022, Table 2: the votes for the reference "
+        "stimulus. Test: exact binomial, one-sided (greater: the reference preferred), H0 p = 1/2, whatever "
+        "--alternative says, no correction; CI: 95 % Clopper-Pearson of the share.</p>\n";
     std::vector<std::vector<std::string>> rows;
     for (const PreferenceRow& row : result.preferences) {
       rows.push_back({row.group.scene, row.group.variant, row.condition,
                       row.reference_method + " v. " + row.test_method,
                       std::to_string(row.reference_votes) + " / " + std::to_string(row.n),
-                      format_number(100.0 * row.share, 3) + " %", p_value_text(row.p_value, row.log10_p, kHtmlDigits), row.stars,
-                      html_interval(row.interval.lower, row.interval.upper)});
+                      format_number(100.0 * row.share, 3) + " %", p_value_text(row.p_value, row.log10_p, kHtmlDigits),
+                      row.stars, html_interval(row.interval.lower, row.interval.upper)});
     }
-    html += html_table({"scene", "variant", "condition", "reference v. test", "votes for the reference",
-                        "share", "p (one-sided)", "stars", "95 % CI"},
+    html += html_table({"scene", "variant", "condition", "reference v. test", "votes for the reference", "share",
+                        "p (one-sided)", "stars", "95 % CI"},
                        rows);
   }
 
@@ -349,26 +358,24 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
   for (const GroupFit& group : result.fits) {
     for (const PsychometricFit& fit : group.fits) {
       const PsychometricParameters& p = fit.model.parameters;
-      fit_rows.push_back({group.group.scene, group.group.variant, shape_name(fit.model.shape),
-                          fit.model.rising ? "rising" : "falling", html_number(p.threshold),
-                          html_interval(fit.threshold_interval.lower, fit.threshold_interval.upper),
-                          html_number(p.slope), html_interval(fit.slope_interval.lower, fit.slope_interval.upper),
-                          html_number(p.lapse), html_interval(fit.lapse_interval.lower, fit.lapse_interval.upper),
-                          html_number(fit.model.guess), html_number(fit.deviance),
-                          std::to_string(fit.degrees_of_freedom), html_number(fit.deviance_p_value),
-                          html_number(fit.log_likelihood), fit.converged ? "yes" : "no",
-                          std::to_string(fit.bootstrap_samples) + " / " + std::to_string(fit.bootstrap_failures),
-                          fit.note});
+      fit_rows.push_back(
+          {group.group.scene, group.group.variant, shape_name(fit.model.shape), fit.model.rising ? "rising" : "falling",
+           html_number(p.threshold), html_interval(fit.threshold_interval.lower, fit.threshold_interval.upper),
+           html_number(p.slope), html_interval(fit.slope_interval.lower, fit.slope_interval.upper),
+           html_number(p.lapse), html_interval(fit.lapse_interval.lower, fit.lapse_interval.upper),
+           html_number(fit.model.guess), html_number(fit.deviance), std::to_string(fit.degrees_of_freedom),
+           html_number(fit.deviance_p_value), html_number(fit.log_likelihood), fit.converged ? "yes" : "no",
+           std::to_string(fit.bootstrap_samples) + " / " + std::to_string(fit.bootstrap_failures), fit.note});
     }
     for (const std::string& reason : group.not_fitted) not_fitted.push_back(group.group.label() + ": " + reason);
   }
   if (fit_rows.empty()) {
     if (per_condition) html += "<p>No fits.</p>\n";
   } else {
-    html += html_table({"scene", "variant", "shape", "direction", "threshold", "threshold CI", "slope", "slope CI",
-                        "lapse", "lapse CI", "guess", "deviance", "dof", "p (deviance)", "log L", "converged",
-                        "bootstrap ok / failed", "note"},
-                       fit_rows);
+    html += html_table(
+        {"scene", "variant", "shape", "direction", "threshold", "threshold CI", "slope", "slope CI", "lapse",
+         "lapse CI", "guess", "deviance", "dof", "p (deviance)", "log L", "converged", "bootstrap ok / failed", "note"},
+        fit_rows);
   }
   if (!not_fitted.empty()) {
     html += "<p>Not fitted:</p>\n<ul>\n";
@@ -385,15 +392,22 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
   } else {
     const bool ratings = std::any_of(result.conditions.begin(), result.conditions.end(),
                                      [](const ConditionRow& row) { return row.mean_rating.has_value(); });
-    std::vector<std::string> header = {"scene", "variant", "method", "condition", "level", "n", "k", "k/n", "95 % CI",
-                                       "p", "p (Holm)", "stars"};
+    std::vector<std::string> header = {"scene", "variant", "method",  "condition", "level",    "n",
+                                       "k",     "k/n",     "95 % CI", "p",         "p (Holm)", "stars"};
     if (ratings) header.insert(header.end(), {"mean rating", "SD rating"});
     std::vector<std::vector<std::string>> rows;
     for (const ConditionRow& row : result.conditions) {
-      std::vector<std::string> cells = {row.group.scene, row.group.variant, row.method, row.condition, html_number(row.level),
-                                        std::to_string(row.n), std::to_string(row.k), html_number(row.proportion),
+      std::vector<std::string> cells = {row.group.scene,
+                                        row.group.variant,
+                                        row.method,
+                                        row.condition,
+                                        html_number(row.level),
+                                        std::to_string(row.n),
+                                        std::to_string(row.k),
+                                        html_number(row.proportion),
                                         html_interval(row.interval.lower, row.interval.upper),
-                                        p_value_text(row.p_value, row.log10_p, kHtmlDigits), html_number(row.p_holm),
+                                        p_value_text(row.p_value, row.log10_p, kHtmlDigits),
+                                        html_number(row.p_holm),
                                         shown_stars(result, row)};
       if (ratings) cells.insert(cells.end(), {html_number(row.mean_rating), html_number(row.sd_rating)});
       rows.push_back(std::move(cells));
@@ -407,19 +421,21 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
   } else {
     std::vector<std::vector<std::string>> rows;
     for (const ParticipantRow& p : result.participants) {
-      const std::vector<std::string> common = {p.participant, p.observer, p.excluded ? "yes" : "no", p.session_ended ? "yes" : "no",
-                                               p.log_note.empty() ? log_status_name(p.log_status) : p.log_note,
-                                               std::to_string(p.complete_trials) +
-                                                   (p.practice_trials ? " (+" + std::to_string(p.practice_trials) + " practice)" : ""),
-                                               std::to_string(p.attention_errors) + " / " +
-                                                   std::to_string(p.attention_checks),
-                                               p.latency_recorded ? html_number(p.latency.median_ms) + " / " +
-                                                                        html_number(p.latency.p95_ms) + " (" +
-                                                                        p.present_clock + ")"
-                                                                  : "not recorded",
-                                               std::to_string(p.dropped_frames),
-                                               gaze_source_cell(p),
-                                               validation_text(p.validation)};
+      const std::vector<std::string> common = {
+          p.participant,
+          p.observer,
+          p.excluded ? "yes" : "no",
+          p.session_ended ? "yes" : "no",
+          p.log_note.empty() ? log_status_name(p.log_status) : p.log_note,
+          std::to_string(p.complete_trials) +
+              (p.practice_trials ? " (+" + std::to_string(p.practice_trials) + " practice)" : ""),
+          std::to_string(p.attention_errors) + " / " + std::to_string(p.attention_checks),
+          p.latency_recorded
+              ? html_number(p.latency.median_ms) + " / " + html_number(p.latency.p95_ms) + " (" + p.present_clock + ")"
+              : "not recorded",
+          std::to_string(p.dropped_frames),
+          gaze_source_cell(p),
+          validation_text(p.validation)};
       if (p.thresholds.empty()) {
         auto cells = common;
         cells.insert(cells.end(), {"", "", "", ""});
@@ -431,20 +447,21 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
         rows.push_back(std::move(cells));
       }
     }
-    html += html_table({"participant", "observer", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
-                        "gaze-to-present ms, median / p95 (clock)", "dropped frames", "gaze source",
-                        "eye-tracker checks passed / tried; accuracy (worst), precision", "scene", "variant", "threshold",
-                        "note"},
-                       rows);
+    html += html_table(
+        {"participant", "observer", "excluded", "session ended", "log", "complete trials", "attention errors / checks",
+         "gaze-to-present ms, median / p95 (clock)", "dropped frames", "gaze source",
+         "eye-tracker checks passed / tried; accuracy (worst), precision", "scene", "variant", "threshold", "note"},
+        rows);
   }
 
   html += html_frame_intervals(result, report_plots.frame_intervals);
 
   const bool with_tracks = has_adaptive_tracks(result);
   if (with_tracks) {
-    html += "<h2 id=\"adaptive\">Adaptive tracks</h2>\n<p>Each adaptive track's threshold by its procedure's rule "
-            "(docs/analysis.md): a staircase's mean level of its last reversals; QUEST+'s posterior mean, with its 95 % "
-            "credible interval. The tracks are plotted above and listed in adaptive_tracks.csv.</p>\n";
+    html +=
+        "<h2 id=\"adaptive\">Adaptive tracks</h2>\n<p>Each adaptive track's threshold by its procedure's rule "
+        "(docs/analysis.md): a staircase's mean level of its last reversals; QUEST+'s posterior mean, with its 95 % "
+        "credible interval. The tracks are plotted above and listed in adaptive_tracks.csv.</p>\n";
     std::vector<std::vector<std::string>> rows;
     for (const ParticipantRow& p : result.participants)
       for (const AdaptiveTrackResult& track : p.tracks)

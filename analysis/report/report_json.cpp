@@ -21,9 +21,9 @@ json adaptive_tracks_json(const ParticipantRow& participant) {
   for (const AdaptiveTrackResult& track : participant.tracks) {
     json levels = json::array();
     for (double level : track.levels) levels.push_back(json_number(level));
-    json entry = {{"track", track.track},       {"block", track.block},   {"procedure", track.procedure},
-                  {"kind", track.kind},         {"variant", track.variant}, {"levels", levels},
-                  {"seen", track.seen},         {"stopped", track.stopped}, {"threshold", json_number(track.threshold)},
+    json entry = {{"track", track.track}, {"block", track.block},     {"procedure", track.procedure},
+                  {"kind", track.kind},   {"variant", track.variant}, {"levels", levels},
+                  {"seen", track.seen},   {"stopped", track.stopped}, {"threshold", json_number(track.threshold)},
                   {"note", track.note}};
     if (track.kind == "staircase") {
       entry["start_level"] = json_number(track.start_level);
@@ -45,12 +45,14 @@ json headline_json(const Headline& headline) {
   json pooled = nullptr;
   if (headline.pooled_fit)
     pooled = {{"value", json_number(headline.pooled_fit)},
-              {"interval", {{"lower", json_number(headline.pooled_fit_lower)}, {"upper", json_number(headline.pooled_fit_upper)}}}};
+              {"interval",
+               {{"lower", json_number(headline.pooled_fit_lower)}, {"upper", json_number(headline.pooled_fit_upper)}}}};
   return {{"scene", headline.group.scene},
           {"variant", headline.group.variant},
           {"quantity", headline.quantity},
           {"value", json_number(headline_value(headline))},
-          {"interval", {{"lower", json_number(headline_lower(headline))}, {"upper", json_number(headline_upper(headline))}}},
+          {"interval",
+           {{"lower", json_number(headline_lower(headline))}, {"upper", json_number(headline_upper(headline))}}},
           {"method", headline.method},
           {"aims_at", headline.aims_at},
           {"status", headline_status_name(headline.status)},
@@ -68,7 +70,8 @@ json headline_json(const Headline& headline) {
 // A frame-interval summary in thresholds.json (participants' and the study's).
 json frame_intervals_json(const FrameIntervalSummary& frames) {
   return {{"refresh_hz", json_number(frames.refresh_hz)},
-          {"late_beyond_ms", frames.refresh_hz ? json_number(kLateRefreshPeriods * 1e3 / *frames.refresh_hz) : json(nullptr)},
+          {"late_beyond_ms",
+           frames.refresh_hz ? json_number(kLateRefreshPeriods * 1e3 / *frames.refresh_hz) : json(nullptr)},
           {"intervals", frames.intervals},
           {"median_ms", json_number(frames.median_ms)},
           {"sd_ms", json_number(frames.sd_ms)},
@@ -128,18 +131,19 @@ json thresholds_json(const AnalysisResult& result) {
 
   root["thresholds"] = json::array();
   for (const GroupThreshold& threshold : result.thresholds) {
-    root["thresholds"].push_back({{"scene", threshold.group.scene},
-                                  {"variant", threshold.group.variant},
-                                  {"definition", threshold.definition},
-                                  {"level", json_number(threshold.level)},
-                                  {"supported", !threshold.unsupported},
-                                  {"note", threshold.note},
-                                  {"mean", json_number(threshold.mean)},
-                                  {"sd", json_number(threshold.sd)},
-                                  {"mean_interval", {{"lower", json_number(threshold.mean_lower)},
-                                                     {"upper", json_number(threshold.mean_upper)}}},
-                                  {"participants_with_threshold", threshold.participants_with_threshold},
-                                  {"participants_without_threshold", threshold.participants_without_threshold}});
+    root["thresholds"].push_back(
+        {{"scene", threshold.group.scene},
+         {"variant", threshold.group.variant},
+         {"definition", threshold.definition},
+         {"level", json_number(threshold.level)},
+         {"supported", !threshold.unsupported},
+         {"note", threshold.note},
+         {"mean", json_number(threshold.mean)},
+         {"sd", json_number(threshold.sd)},
+         {"mean_interval",
+          {{"lower", json_number(threshold.mean_lower)}, {"upper", json_number(threshold.mean_upper)}}},
+         {"participants_with_threshold", threshold.participants_with_threshold},
+         {"participants_without_threshold", threshold.participants_without_threshold}});
   }
 
   root["fits"] = json::array();
@@ -147,12 +151,12 @@ json thresholds_json(const AnalysisResult& result) {
   for (const GroupFit& group : result.fits) {
     json data = json::array();
     for (const LevelCounts& counts : group.data) {
-      data.push_back({{"level", json_number(counts.level)},
-                      {"n", counts.n},
-                      {"k_difference", counts.k},
-                      {"proportion", counts.n > 0 ? json_number(static_cast<double>(counts.k) /
-                                                                static_cast<double>(counts.n))
-                                                  : json(nullptr)}});
+      data.push_back(
+          {{"level", json_number(counts.level)},
+           {"n", counts.n},
+           {"k_difference", counts.k},
+           {"proportion", counts.n > 0 ? json_number(static_cast<double>(counts.k) / static_cast<double>(counts.n))
+                                       : json(nullptr)}});
     }
     for (const PsychometricFit& fit : group.fits) {
       const PsychometricModel& model = fit.model;
@@ -227,15 +231,17 @@ json thresholds_json(const AnalysisResult& result) {
       for (std::size_t index : map.best) {
         best.push_back({{"x", json_number(map.cells[index].x)}, {"y", json_number(map.cells[index].y)}});
       }
-      maps.push_back({{"scene", map.scene},
-                      {"level", json_number(map.level)},
-                      {"best", best},
-                      {"best_mean_score", map.best.empty() ? json(nullptr) : json_number(map.cells[map.best[0]].mean_score)},
-                      {"tie", map.best.size() > 1},
-                      {"cells", cells}});
+      maps.push_back(
+          {{"scene", map.scene},
+           {"level", json_number(map.level)},
+           {"best", best},
+           {"best_mean_score", map.best.empty() ? json(nullptr) : json_number(map.cells[map.best[0]].mean_score)},
+           {"tie", map.best.size() > 1},
+           {"cells", cells}});
     }
-    root["rating_grid"] = {{"definition", "Ye et al. 2022, 4.4.1: per cell, each participant's mean score (1-3) over the "
-                                          "cell's trials, then the mean over participants"},
+    root["rating_grid"] = {{"definition",
+                            "Ye et al. 2022, 4.4.1: per cell, each participant's mean score (1-3) over the "
+                            "cell's trials, then the mean over participants"},
                            {"x_key", grid.x_key},
                            {"y_key", grid.y_key},
                            {"x_values", grid.x_values},

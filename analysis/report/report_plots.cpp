@@ -18,13 +18,14 @@ namespace {
 
 constexpr int kCurveSamples = 200;
 constexpr size_t kGroupsInOnePlot = 4;  // more groups: one share plot each
-constexpr size_t kTrackPlots = 24;       // participants drawn one plot each (adaptive tracks, frame intervals)
+constexpr size_t kTrackPlots = 24;      // participants drawn one plot each (adaptive tracks, frame intervals)
 
 // Anything outside [A-Za-z0-9_-] becomes '_' (a UTF-8 character: one '_' a byte).
 std::string safe_name(const std::string& text) {
   std::string name;
   for (char c : text) {
-    const bool keep = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    const bool keep =
+        (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
     name += keep ? c : '_';
   }
   return name.empty() ? "unnamed" : name;
@@ -91,7 +92,8 @@ bool log_spaced(std::vector<double> levels) {
 // Share of answers for the test stimulus per level (Polychronakis et al. 2023, Fig. 9), one series
 // per group; rating studies: the mean rating per level (error bars ±1 SD) against the cutoff 2.
 // `only`: the plot of that group alone (one of the small multiples drawn for many groups).
-std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std::optional<GroupKey>& only = std::nullopt) {
+std::optional<Plot> share_per_level_plot(const AnalysisResult& result,
+                                         const std::optional<GroupKey>& only = std::nullopt) {
   const bool rating = is_rating(result);
   std::map<GroupKey, XySeries> by_group;
   std::vector<GroupKey> order;  // first appearance, so the legend follows the table
@@ -139,8 +141,8 @@ std::optional<Plot> share_per_level_plot(const AnalysisResult& result, const std
     if (levels.size() > 1) {
       double gap = levels.back() - levels.front();
       for (std::size_t i = 1; i < levels.size(); ++i) gap = std::min(gap, levels[i] - levels[i - 1]);
-      offset_step = std::min(0.017 * (levels.back() - levels.front()),
-                             0.3 * gap / static_cast<double>(order.size() - 1));
+      offset_step =
+          std::min(0.017 * (levels.back() - levels.front()), 0.3 * gap / static_cast<double>(order.size() - 1));
     }
   }
   if (chart.x_log) {  // the same shift as a share of the log range: a factor, not a difference
@@ -179,8 +181,8 @@ std::string headline_label(const std::string& prefix, const Headline& headline) 
 // Marks a group's headline on a chart: its value as a dashed vertical line, its 95 % interval as a
 // band (an unbounded end drawn to the edge of [lo, hi]). `prefix` names the group in the legend
 // ("" when the chart shows one group); `colour` is the group's palette index (none: grey).
-void mark_headline(XyChart& chart, const Headline& headline, const std::string& prefix, std::optional<std::size_t> colour,
-                   double lo, double hi) {
+void mark_headline(XyChart& chart, const Headline& headline, const std::string& prefix,
+                   std::optional<std::size_t> colour, double lo, double hi) {
   if (headline.lower && headline.upper) {
     const double band_lower = std::max(*headline.lower, lo);
     const double band_upper = std::min(*headline.upper, hi);
@@ -342,11 +344,12 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
   Plot plot;
   plot.file_name = unique_svg_name(
       overlay ? "psychometric_" + safe_name(first.group.scene) : group_file_stem("psychometric_", first.group), taken);
-  plot.caption = "Psychometric fits for " + (overlay ? first.group.scene + ", its variants overlaid" : first.group.label()) +
-                 ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curve" +
-                 (overlay ? " of each variant" : "s") +
-                 (chart.vertical_lines.empty() ? std::string()
-                                               : ", and the headline threshold (dashed) with its 95 % interval (shaded)");
+  plot.caption =
+      "Psychometric fits for " + (overlay ? first.group.scene + ", its variants overlaid" : first.group.label()) +
+      ": share of trials with a difference reported (bars: 95 % Clopper-Pearson), the fitted curve" +
+      (overlay ? " of each variant" : "s") +
+      (chart.vertical_lines.empty() ? std::string()
+                                    : ", and the headline threshold (dashed) with its 95 % interval (shaded)");
   if (any_participants) plot.caption += "; small points: each participant's share at a level they saw at least twice";
   plot.caption += ".";
   if (offset_step > 0.0) plot.caption += " The variants' points are shifted slightly along x to keep them apart.";
@@ -362,7 +365,7 @@ std::optional<Plot> psychometric_plot(const AnalysisResult& result, const std::v
 std::vector<Plot> participant_threshold_plots(const AnalysisResult& result, std::set<std::string>& taken) {
   std::vector<std::string> scenes;
   std::map<std::string, std::vector<GroupKey>> groups_of;  // scene -> its groups, first appearance first
-  std::vector<const ParticipantRow*> rows;                  // participants with a threshold, in path order
+  std::vector<const ParticipantRow*> rows;                 // participants with a threshold, in path order
   for (const ParticipantRow& participant : result.participants) {
     if (participant.excluded) continue;
     bool any = false;
@@ -424,10 +427,10 @@ std::vector<Plot> participant_threshold_plots(const AnalysisResult& result, std:
           if (threshold.group == groups[g] && threshold.mean) {
             if (threshold.mean_lower && threshold.mean_upper)
               chart.bands.push_back({"", *threshold.mean_lower, *threshold.mean_upper, g});
-            chart.vertical_lines.push_back({(overlay ? name + ": " : std::string()) + "mean " +
-                                                html_value_with_interval(threshold.mean, threshold.mean_lower,
-                                                                         threshold.mean_upper),
-                                            *threshold.mean, g});
+            chart.vertical_lines.push_back(
+                {(overlay ? name + ": " : std::string()) + "mean " +
+                     html_value_with_interval(threshold.mean, threshold.mean_lower, threshold.mean_upper),
+                 *threshold.mean, g});
           }
       }
     }
@@ -470,10 +473,13 @@ std::vector<Plot> rating_grid_plots(const AnalysisResult& result, std::set<std::
     heat.marked_label = map.best.size() > 1 ? "outlined: highest mean (a tie)" : "outlined: highest mean";
     Plot plot;
     plot.file_name = unique_svg_name("rating_grid_" + safe_name(map.scene), taken);
-    plot.caption = "Pilot grid, " + map.scene + ": mean score (3 identical, 2 minimal difference, 1 significant "
-                   "difference) per pair of " + grid.x_key + " and " + grid.y_key +
+    plot.caption = "Pilot grid, " + map.scene +
+                   ": mean score (3 identical, 2 minimal difference, 1 significant "
+                   "difference) per pair of " +
+                   grid.x_key + " and " + grid.y_key +
                    ", each participant's mean over every level, then the mean over participants; grey: no trial; "
-                   "outlined: the highest mean" + (map.best.size() > 1 ? " (a tie)" : "") + ".";
+                   "outlined: the highest mean" +
+                   (map.best.size() > 1 ? " (a tie)" : "") + ".";
     plot.svg = render_heat_map_svg(heat);
     plots.push_back(std::move(plot));
   }
@@ -570,7 +576,8 @@ std::vector<Plot> adaptive_track_plots(const AnalysisResult& result, std::set<st
       if (!answers->x.empty()) chart.series.push_back(std::move(*answers));
     Plot plot;
     plot.file_name = unique_svg_name("adaptive_tracks_" + safe_name(participant.participant), taken);
-    plot.caption = participant.participant + "'s adaptive tracks: the level of each trial, its answer, a staircase's "
+    plot.caption = participant.participant +
+                   "'s adaptive tracks: the level of each trial, its answer, a staircase's "
                    "reversals, and each threshold (dashed: a staircase's mean of its last reversals, QUEST+'s "
                    "posterior mean).";
     plot.svg = render_xy_chart_svg(chart);

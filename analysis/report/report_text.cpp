@@ -9,7 +9,9 @@
 
 namespace fovlab::analysis::report_detail {
 
-std::string html_number(double value) { return std::isfinite(value) ? format_number(value, kHtmlDigits) : "\xE2\x80\x93"; }
+std::string html_number(double value) {
+  return std::isfinite(value) ? format_number(value, kHtmlDigits) : "\xE2\x80\x93";
+}
 std::string html_number(const std::optional<double>& value) { return value ? html_number(*value) : "\xE2\x80\x93"; }
 
 std::string html_interval(double lower, double upper) {

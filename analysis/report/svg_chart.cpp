@@ -98,8 +98,8 @@ std::string svg_open(const std::string& title) {
   out += " font-family=\"sans-serif\" font-size=\"12\" role=\"img\">\n";
   out += "<title>" + xml_escape(title) + "</title>\n";
   out += "<rect x=\"0\" y=\"0\" width=\"" + width + "\" height=\"" + height + "\" fill=\"#ffffff\"/>\n";
-  out += "<text" + attr("x", kWidth / 2) + attr("y", 26) + " text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
-         xml_escape(title) + "</text>\n";
+  out += "<text" + attr("x", kWidth / 2) + attr("y", 26) +
+         " text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" + xml_escape(title) + "</text>\n";
   return out;
 }
 
@@ -121,8 +121,8 @@ std::string draw_axes(const Frame& frame, const std::string& x_label, const std:
   }
   out += "</g>\n";
   out += "<g stroke=\"#333333\" stroke-width=\"1\">\n";
-  out += "<line" + attr("x1", frame.left) + attr("y1", frame.bottom) + attr("x2", frame.right) + attr("y2", frame.bottom) +
-         "/>\n";
+  out += "<line" + attr("x1", frame.left) + attr("y1", frame.bottom) + attr("x2", frame.right) +
+         attr("y2", frame.bottom) + "/>\n";
   out += "<line" + attr("x1", frame.left) + attr("y1", frame.top) + attr("x2", frame.left) + attr("y2", frame.bottom) +
          "/>\n";
   for (double tick : frame.x.ticks) {
@@ -137,12 +137,15 @@ std::string draw_axes(const Frame& frame, const std::string& x_label, const std:
   for (double tick : frame.x.ticks)
     out += text_at(frame.px(tick), frame.bottom + 18,
                    frame.x.log ? format_number(std::pow(10.0, tick), 4) : tick_label(tick, frame.x.step), "middle");
-  for (double tick : frame.y.ticks) out += text_at(frame.left - 8, frame.py(tick) + 4, tick_label(tick, frame.y.step), "end");
-  if (!x_label.empty()) out += text_at((frame.left + frame.right) / 2, kHeight - 14, x_label, "middle", " font-size=\"13\"");
+  for (double tick : frame.y.ticks)
+    out += text_at(frame.left - 8, frame.py(tick) + 4, tick_label(tick, frame.y.step), "end");
+  if (!x_label.empty())
+    out += text_at((frame.left + frame.right) / 2, kHeight - 14, x_label, "middle", " font-size=\"13\"");
   if (!y_label.empty()) {
     const double cy = (frame.top + frame.bottom) / 2;
-    out += "<text" + attr("x", 18) + attr("y", cy) + " text-anchor=\"middle\" font-size=\"13\" transform=\"rotate(-90 18 " +
-           coord(cy) + ")\">" + xml_escape(y_label) + "</text>\n";
+    out += "<text" + attr("x", 18) + attr("y", cy) +
+           " text-anchor=\"middle\" font-size=\"13\" transform=\"rotate(-90 18 " + coord(cy) + ")\">" +
+           xml_escape(y_label) + "</text>\n";
   }
   return out;
 }
@@ -161,11 +164,21 @@ std::string xml_escape(const std::string& text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
       default:
         // Control characters other than tab, newline and carriage return are not allowed in XML 1.0.
         if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') {

@@ -21,11 +21,11 @@ namespace fovlab::analysis {
 
 struct XySeries {
   enum class Style { points, line, bars };
-  std::string label;                 // legend entry ("" for none)
+  std::string label;  // legend entry ("" for none)
   Style style = Style::points;
   std::vector<double> x;
   std::vector<double> y;
-  std::vector<double> y_lower;       // error bars (points, bars): empty or one per point (else ignored)
+  std::vector<double> y_lower;  // error bars (points, bars): empty or one per point (else ignored)
   std::vector<double> y_upper;
   // Points only: a short text drawn beside each point (e.g. the settings of a benchmark cell); empty or
   // one per point (else ignored); "" for none at that point.
@@ -48,7 +48,7 @@ struct XBand {
 // A vertical line across the plot at x (e.g. a threshold), dashed, drawn over the bands and under
 // the series.
 struct XLine {
-  std::string label;                  // legend entry ("" for none)
+  std::string label;  // legend entry ("" for none)
   double x = 0.0;
   std::optional<std::size_t> colour;  // a series palette index; none: dark grey
 };
@@ -65,16 +65,16 @@ struct XyChart {
   // ticks at 1, 2 and 5 times the powers of ten in range (only the powers when there are many),
   // labelled with their values. Points and band ends at x <= 0 are left out.
   bool x_log = false;
-  std::vector<XySeries> series;       // drawn in order, coloured by index
-  std::vector<XBand> bands;          // drawn first, under everything else
+  std::vector<XySeries> series;          // drawn in order, coloured by index
+  std::vector<XBand> bands;              // drawn first, under everything else
   std::vector<double> horizontal_lines;  // e.g. 0.5 or a score cutoff, dashed
   std::vector<XLine> vertical_lines;     // counted in the x range like the bands
 };
 
 struct Histogram {
   std::string title;
-  std::string x_label;                // the y axis counts (integer ticks); each bar is labelled with its count
-  std::vector<double> values;         // non-finite values are ignored
+  std::string x_label;         // the y axis counts (integer ticks); each bar is labelled with its count
+  std::vector<double> values;  // non-finite values are ignored
   // Ascending, >= 2; values outside are counted in the end bins, a value on an inner edge in the bin
   // above it. Unsorted or repeated edges are sorted and merged; fewer than two usable edges give one
   // bin over the data.
@@ -92,8 +92,8 @@ struct HeatMap {
   std::string title;
   std::string x_label;
   std::string y_label;
-  std::vector<double> x_values;       // column labels
-  std::vector<double> y_values;       // row labels; row 0 is drawn at the bottom, as on a y axis
+  std::vector<double> x_values;  // column labels
+  std::vector<double> y_values;  // row labels; row 0 is drawn at the bottom, as on a y axis
   // Row-major, y_values.size() * x_values.size() (missing cells and non-finite values are blank
   // grey cells; extra values are ignored). Colours run over viridis from the smallest finite value to
   // the largest, shown by a colour bar.

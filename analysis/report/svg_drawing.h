@@ -22,7 +22,7 @@ inline constexpr double kMarginTop = 44.0;
 inline constexpr double kMarginBottom = 58.0;
 inline constexpr double kMarginLeft = 72.0;
 inline constexpr double kMarginRight = 20.0;
-inline constexpr double kInset = 10.0;           // the data keep this far from the axes: edge markers show whole
+inline constexpr double kInset = 10.0;  // the data keep this far from the axes: edge markers show whole
 
 // Okabe & Ito (2008), "Color Universal Design": distinguishable with every common colour-vision
 // deficiency. Yellow (#F0E442) is last: it is faint on white.

@@ -92,7 +92,7 @@ std::string render_heat_map_svg(const HeatMap& map) {
   auto cell = [&](std::size_t row, std::size_t column) {
     const std::size_t index = row * columns + column;
     return index < map.cells.size() && usable(map.cells[index]) ? map.cells[index]
-                                                                 : std::numeric_limits<double>::quiet_NaN();
+                                                                : std::numeric_limits<double>::quiet_NaN();
   };
   Extent values;
   for (std::size_t r = 0; r < rows; ++r) {
@@ -132,12 +132,12 @@ std::string render_heat_map_svg(const HeatMap& map) {
       const double value = cell(r, c);
       bool dark = false;
       const std::string fill = std::isnan(value) ? "#dddddd" : viridis(position(value), &dark);
-      out += "<rect" + attr("x", x) + attr("y", y) + attr("width", cell_width) + attr("height", cell_height) + " fill=\"" +
-             fill + "\" stroke=\"#ffffff\" stroke-width=\"1\"/>\n";
+      out += "<rect" + attr("x", x) + attr("y", y) + attr("width", cell_width) + attr("height", cell_height) +
+             " fill=\"" + fill + "\" stroke=\"#ffffff\" stroke-width=\"1\"/>\n";
       if (write_values && !std::isnan(value)) {
         out += "<text" + attr("x", x + cell_width / 2) + attr("y", y + cell_height / 2 + font * 0.35) +
-               " text-anchor=\"middle\"" + attr("font-size", font) + " fill=\"" + (dark ? "#ffffff" : "#000000") + "\">" +
-               xml_escape(format_cell(format, value)) + "</text>\n";
+               " text-anchor=\"middle\"" + attr("font-size", font) + " fill=\"" + (dark ? "#ffffff" : "#000000") +
+               "\">" + xml_escape(format_cell(format, value)) + "</text>\n";
       }
     }
   }
@@ -149,7 +149,8 @@ std::string render_heat_map_svg(const HeatMap& map) {
     out += "<rect" + attr("x", x + 2) + attr("y", y + 2) + attr("width", std::max(cell_width - 4, 1.0)) +
            attr("height", std::max(cell_height - 4, 1.0)) + " fill=\"none\" stroke=\"#000000\" stroke-width=\"3\"/>\n";
     out += "<rect" + attr("x", x + 4.5) + attr("y", y + 4.5) + attr("width", std::max(cell_width - 9, 1.0)) +
-           attr("height", std::max(cell_height - 9, 1.0)) + " fill=\"none\" stroke=\"#ffffff\" stroke-width=\"1.5\"/>\n";
+           attr("height", std::max(cell_height - 9, 1.0)) +
+           " fill=\"none\" stroke=\"#ffffff\" stroke-width=\"1.5\"/>\n";
   }
   if (!map.marked_label.empty() && !map.marked_cells.empty()) {
     out += text_at(kWidth - 8, kHeight - 14, map.marked_label, "end", " font-size=\"11\"");
@@ -172,8 +173,9 @@ std::string render_heat_map_svg(const HeatMap& map) {
   }
   if (!map.y_label.empty()) {
     const double cy = (frame.top + frame.bottom) / 2;
-    out += "<text" + attr("x", 18) + attr("y", cy) + " text-anchor=\"middle\" font-size=\"13\" transform=\"rotate(-90 18 " +
-           coord(cy) + ")\">" + xml_escape(map.y_label) + "</text>\n";
+    out += "<text" + attr("x", 18) + attr("y", cy) +
+           " text-anchor=\"middle\" font-size=\"13\" transform=\"rotate(-90 18 " + coord(cy) + ")\">" +
+           xml_escape(map.y_label) + "</text>\n";
   }
 
   // Colour bar: 48 stacked steps from the smallest value (bottom) to the largest (top), with ticks.
@@ -184,8 +186,8 @@ std::string render_heat_map_svg(const HeatMap& map) {
     const double step_height = (frame.bottom - frame.top) / kSteps;
     for (int i = 0; i < kSteps; ++i) {
       const double t = (i + 0.5) / kSteps;
-      out += "<rect" + attr("x", bar_left) + attr("y", frame.bottom - step_height * (i + 1)) + attr("width", bar_width) +
-             attr("height", step_height + 0.5) + " fill=\"" + viridis(t, nullptr) + "\"/>\n";
+      out += "<rect" + attr("x", bar_left) + attr("y", frame.bottom - step_height * (i + 1)) +
+             attr("width", bar_width) + attr("height", step_height + 0.5) + " fill=\"" + viridis(t, nullptr) + "\"/>\n";
     }
     out += "<rect" + attr("x", bar_left) + attr("y", frame.top) + attr("width", bar_width) +
            attr("height", frame.bottom - frame.top) + " fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";

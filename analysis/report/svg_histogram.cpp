@@ -66,7 +66,8 @@ std::string render_histogram_svg(const Histogram& histogram) {
     const double x2 = frame.px(edges[i + 1]);
     const double y = frame.py(static_cast<double>(counts[i]));
     out += "<rect" + attr("x", x1) + attr("y", y) + attr("width", std::max(x2 - x1, 0.5)) +
-           attr("height", frame.py(0.0) - y) + " fill=\"" + kPalette[0] + "\" stroke=\"#ffffff\" stroke-width=\"1\"/>\n";
+           attr("height", frame.py(0.0) - y) + " fill=\"" + kPalette[0] +
+           "\" stroke=\"#ffffff\" stroke-width=\"1\"/>\n";
     // Without count labels, a bar too short to see (under 3 px) still gets its count: a rare late
     // frame must not vanish beside a tall bar.
     if (histogram.count_labels || frame.py(0.0) - y < 3.0)

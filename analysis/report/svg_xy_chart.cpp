@@ -16,7 +16,7 @@ using namespace svg_detail;
 
 namespace {
 
-constexpr double kLegendWidth = 236.0;    // right-hand column for the legend, when there is one
+constexpr double kLegendWidth = 236.0;  // right-hand column for the legend, when there is one
 constexpr double kLegendRow = 18.0;
 constexpr std::size_t kLegendChars = 36;  // longer labels are cut (the whole label is the entry's <title>)
 
@@ -47,8 +47,8 @@ std::string marker(std::size_t index, double x, double y, const char* colour, bo
     case 0:
       return "<circle" + attr("cx", x) + attr("cy", y) + attr("r", 4.0 * k) + fill + "/>\n";
     case 1:
-      return "<rect" + attr("x", x - 3.5 * k) + attr("y", y - 3.5 * k) + attr("width", 7.0 * k) + attr("height", 7.0 * k) +
-             fill + "/>\n";
+      return "<rect" + attr("x", x - 3.5 * k) + attr("y", y - 3.5 * k) + attr("width", 7.0 * k) +
+             attr("height", 7.0 * k) + fill + "/>\n";
     case 2:
       return "<polygon points=\"" + coord(x) + "," + coord(y - 5 * k) + " " + coord(x + 4.5 * k) + "," +
              coord(y + 3.5 * k) + " " + coord(x - 4.5 * k) + "," + coord(y + 3.5 * k) + "\"" + fill + "/>\n";
@@ -63,7 +63,7 @@ struct LegendEntry {
   enum class Kind { points, line, bars, band, vertical } kind = Kind::points;
   std::size_t index = 0;  // the palette index of its marker shape
   const char* colour = kPalette[0];
-  bool small = false;     // points: the series' small markers
+  bool small = false;  // points: the series' small markers
 };
 
 std::string draw_legend(const std::vector<LegendEntry>& entries, double left, double top, double bottom) {
@@ -87,12 +87,12 @@ std::string draw_legend(const std::vector<LegendEntry>& entries, double left, do
                entry.colour + "\" stroke-width=\"2\"/>\n";
         break;
       case LegendEntry::Kind::bars:
-        out += "<rect" + attr("x", left + 4) + attr("y", y - 5) + attr("width", 12.0) + attr("height", 10.0) + " fill=\"" +
-               entry.colour + "\"/>\n";
+        out += "<rect" + attr("x", left + 4) + attr("y", y - 5) + attr("width", 12.0) + attr("height", 10.0) +
+               " fill=\"" + entry.colour + "\"/>\n";
         break;
       case LegendEntry::Kind::band:
-        out += "<rect" + attr("x", left + 2) + attr("y", y - 6) + attr("width", 16.0) + attr("height", 12.0) + " fill=\"" +
-               entry.colour + "\" fill-opacity=\"0.3\"/>\n";
+        out += "<rect" + attr("x", left + 2) + attr("y", y - 6) + attr("width", 16.0) + attr("height", 12.0) +
+               " fill=\"" + entry.colour + "\" fill-opacity=\"0.3\"/>\n";
         break;
       case LegendEntry::Kind::vertical:
         out += "<line" + attr("x1", left + 10) + attr("y1", y - 7) + attr("x2", left + 10) + attr("y2", y + 7) +
@@ -231,7 +231,8 @@ std::string render_xy_chart_svg(const XyChart& requested) {
     legend.push_back({series.label, kind, index, series_colour(index), series.small});
   }
   for (std::size_t i = 0; i < chart.bands.size(); ++i) {
-    if (!chart.bands[i].label.empty()) legend.push_back({chart.bands[i].label, LegendEntry::Kind::band, i, band_fill(i)});
+    if (!chart.bands[i].label.empty())
+      legend.push_back({chart.bands[i].label, LegendEntry::Kind::band, i, band_fill(i)});
   }
   for (const XLine& line : chart.vertical_lines) {
     if (!line.label.empty()) legend.push_back({line.label, LegendEntry::Kind::vertical, 0, line_colour(line)});
@@ -267,8 +268,9 @@ std::string render_xy_chart_svg(const XyChart& requested) {
   for (const XLine& line : chart.vertical_lines) {
     const double x = line.x;
     if (!usable(x) || x < frame.x.lo || x > frame.x.hi) continue;
-    out += "<line" + attr("x1", frame.px(x)) + attr("y1", frame.top) + attr("x2", frame.px(x)) + attr("y2", frame.bottom) +
-           " stroke=\"" + line_colour(line) + "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>\n";
+    out += "<line" + attr("x1", frame.px(x)) + attr("y1", frame.top) + attr("x2", frame.px(x)) +
+           attr("y2", frame.bottom) + " stroke=\"" + line_colour(line) +
+           "\" stroke-width=\"2\" stroke-dasharray=\"4 3\"/>\n";
   }
 
   std::size_t bar_series = 0;
@@ -286,8 +288,8 @@ std::string render_xy_chart_svg(const XyChart& requested) {
         std::vector<std::pair<double, double>> run;
         auto flush = [&] {
           if (run.size() == 1) {
-            out += "<circle" + attr("cx", run[0].first) + attr("cy", run[0].second) + attr("r", 2.5) + " fill=\"" + colour +
-                   "\"/>\n";
+            out += "<circle" + attr("cx", run[0].first) + attr("cy", run[0].second) + attr("r", 2.5) + " fill=\"" +
+                   colour + "\"/>\n";
           } else if (run.size() > 1) {
             out += "<polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"2\" points=\"";
             for (std::size_t i = 0; i < run.size(); ++i) {

@@ -29,8 +29,7 @@ constexpr double kRelativeTolerance = 1.0 + 1e-7;
 void check_counts(uint64_t k, uint64_t n, const char* function) {
   if (n == 0) throw std::invalid_argument(std::string(function) + ": n must be at least 1");
   if (n > kMaxTrials) {
-    throw std::invalid_argument(std::string(function) + ": n = " + std::to_string(n) +
-                                " exceeds 2^53 - 1");
+    throw std::invalid_argument(std::string(function) + ": n = " + std::to_string(n) + " exceeds 2^53 - 1");
   }
   if (k > n) {
     throw std::invalid_argument(std::string(function) + ": k = " + std::to_string(k) +
@@ -95,8 +94,7 @@ class Binomial {
     // Rising piece: the outcomes with pmf <= threshold come first.
     const uint64_t rising_end = std::min(end, split);
     if (begin < rising_end) {
-      const uint64_t first_above =
-          partition_point(begin, rising_end, [&](uint64_t i) { return pmf(i) > threshold; });
+      const uint64_t first_above = partition_point(begin, rising_end, [&](uint64_t i) { return pmf(i) > threshold; });
       count += first_above - begin;
     }
     // Falling piece: the outcomes with pmf <= threshold come last.
@@ -138,9 +136,12 @@ double two_sided_p_value(uint64_t k, uint64_t n, double p0) {
 // p0 = 0 or 1: X is certain to equal `outcome` (0 or n).
 double degenerate_p_value(uint64_t k, uint64_t outcome, Alternative alternative) {
   switch (alternative) {
-    case Alternative::greater: return outcome >= k ? 1.0 : 0.0;
-    case Alternative::less: return outcome <= k ? 1.0 : 0.0;
-    case Alternative::two_sided: return outcome == k ? 1.0 : 0.0;
+    case Alternative::greater:
+      return outcome >= k ? 1.0 : 0.0;
+    case Alternative::less:
+      return outcome <= k ? 1.0 : 0.0;
+    case Alternative::two_sided:
+      return outcome == k ? 1.0 : 0.0;
   }
   throw std::invalid_argument("binomial_test_p_value: unknown alternative");
 }
@@ -148,7 +149,8 @@ double degenerate_p_value(uint64_t k, uint64_t outcome, Alternative alternative)
 // Log space, for p-values a double cannot hold (binomial_test_log10_p_value).
 class LogBinomial {
  public:
-  LogBinomial(uint64_t n, double p) : n_(n), p_(p), log_p_(std::log(p)), log_q_(std::log1p(-p)), log_n_factorial_(std::lgamma(double(n) + 1.0)) {}
+  LogBinomial(uint64_t n, double p)
+      : n_(n), p_(p), log_p_(std::log(p)), log_q_(std::log1p(-p)), log_n_factorial_(std::lgamma(double(n) + 1.0)) {}
 
   double log_pmf(uint64_t i) const {
     const double log_choose =
@@ -205,7 +207,8 @@ double log_two_sided_p_value(uint64_t k, uint64_t n, double p0) {
   // The other side, below the mode, rises: its outcomes at or below the threshold are its bottom ones.
   const auto end = std::min<uint64_t>(mode, static_cast<uint64_t>(std::floor(expected))) + 1;
   const uint64_t first_above = partition_point(0, end, [&](uint64_t i) { return binomial.log_pmf(i) > threshold; });
-  const double other = first_above == 0 ? -std::numeric_limits<double>::infinity() : binomial.log_at_most(first_above - 1);
+  const double other =
+      first_above == 0 ? -std::numeric_limits<double>::infinity() : binomial.log_at_most(first_above - 1);
   return log_sum(other, binomial.log_at_least(k));
 }
 
@@ -216,9 +219,15 @@ double binomial_test_log10_p_value(uint64_t k, uint64_t n, double p0, Alternativ
   if (p_value >= kSmallestPrintedPValue || p0 == 0.0 || p0 == 1.0) return std::log10(p_value);
   double log_p = 0.0;
   switch (alternative) {
-    case Alternative::greater: log_p = LogBinomial(n, p0).log_at_least(k); break;
-    case Alternative::less: log_p = LogBinomial(n, p0).log_at_most(k); break;
-    case Alternative::two_sided: log_p = log_two_sided_p_value(k, n, p0); break;
+    case Alternative::greater:
+      log_p = LogBinomial(n, p0).log_at_least(k);
+      break;
+    case Alternative::less:
+      log_p = LogBinomial(n, p0).log_at_most(k);
+      break;
+    case Alternative::two_sided:
+      log_p = log_two_sided_p_value(k, n, p0);
+      break;
   }
   return std::min(0.0, log_p / std::log(10.0));
 }
@@ -232,9 +241,12 @@ std::string p_value_text(double p_value, double log10_p, int significant_digits)
 
 const char* alternative_name(Alternative alternative) {
   switch (alternative) {
-    case Alternative::two_sided: return "two-sided";
-    case Alternative::greater: return "greater";
-    case Alternative::less: return "less";
+    case Alternative::two_sided:
+      return "two-sided";
+    case Alternative::greater:
+      return "greater";
+    case Alternative::less:
+      return "less";
   }
   throw std::invalid_argument("alternative_name: unknown alternative");
 }
@@ -249,8 +261,7 @@ Alternative parse_alternative(const std::string& text) {
 double binomial_test_p_value(uint64_t k, uint64_t n, double p0, Alternative alternative) {
   check_counts(k, n, "binomial_test_p_value");
   if (!(p0 >= 0.0 && p0 <= 1.0)) {
-    throw std::invalid_argument("binomial_test_p_value: p0 = " + exact_number_text(p0) +
-                                " is outside [0, 1]");
+    throw std::invalid_argument("binomial_test_p_value: p0 = " + exact_number_text(p0) + " is outside [0, 1]");
   }
   if (alternative != Alternative::two_sided && alternative != Alternative::greater &&
       alternative != Alternative::less) {
@@ -261,9 +272,15 @@ double binomial_test_p_value(uint64_t k, uint64_t n, double p0, Alternative alte
 
   double p_value = 0.0;
   switch (alternative) {
-    case Alternative::greater: p_value = Binomial(n, p0).at_least(k); break;
-    case Alternative::less: p_value = Binomial(n, p0).at_most(k); break;
-    case Alternative::two_sided: p_value = two_sided_p_value(k, n, p0); break;
+    case Alternative::greater:
+      p_value = Binomial(n, p0).at_least(k);
+      break;
+    case Alternative::less:
+      p_value = Binomial(n, p0).at_most(k);
+      break;
+    case Alternative::two_sided:
+      p_value = two_sided_p_value(k, n, p0);
+      break;
   }
   return p_value < kSmallestPrintedPValue ? 0.0 : std::clamp(p_value, 0.0, 1.0);
 }
@@ -271,8 +288,8 @@ double binomial_test_p_value(uint64_t k, uint64_t n, double p0, Alternative alte
 ProportionInterval clopper_pearson_interval(uint64_t k, uint64_t n, double confidence) {
   check_counts(k, n, "clopper_pearson_interval");
   if (!(confidence > 0.0 && confidence < 1.0)) {
-    throw std::invalid_argument("clopper_pearson_interval: confidence = " +
-                                exact_number_text(confidence) + " is outside (0, 1)");
+    throw std::invalid_argument("clopper_pearson_interval: confidence = " + exact_number_text(confidence) +
+                                " is outside (0, 1)");
   }
   // Each bound leaves (1 - confidence) / 2 in its tail (Clopper & Pearson 1934).
   const double tail = (1.0 - confidence) / 2.0;

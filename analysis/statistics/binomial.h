@@ -53,7 +53,7 @@ struct ProportionInterval {
 // and k <= n (std::invalid_argument otherwise).
 ProportionInterval clopper_pearson_interval(uint64_t k, uint64_t n, double confidence = 0.95);
 
-// "***" for p < 0.001, "**" for p < 0.01, "*" for p < 0.05, "" otherwise (seed 002, Table 2).
+// "***" for p < 0.001, "**" for p < 0.01, "*" for p < 0.05, "" otherwise (Ye et al. 2022, Table 2).
 // A NaN p-value throws std::invalid_argument.
 std::string significance_stars(double p_value);
 

@@ -48,7 +48,8 @@ void fill_statistics(FrameIntervalSummary& summary) {
 
 }  // namespace
 
-FrameIntervalSummary summarise_frame_intervals(const std::vector<double>& interval_s, std::optional<double> refresh_hz) {
+FrameIntervalSummary summarise_frame_intervals(const std::vector<double>& interval_s,
+                                               std::optional<double> refresh_hz) {
   FrameIntervalSummary summary;
   if (known_rate(refresh_hz)) summary.refresh_hz = refresh_hz;
   const double late_beyond_us = summary.refresh_hz ? kLateRefreshPeriods * 1e6 / *summary.refresh_hz : 0.0;

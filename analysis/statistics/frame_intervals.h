@@ -23,12 +23,12 @@ struct FrameIntervalSummary {
   // different rates pooled (each counted late against its own rate).
   std::optional<double> refresh_hz;
   uint64_t intervals = 0;
-  std::optional<double> median_ms;    // nearest rank (analysis/statistics/percentile.h)
-  std::optional<double> sd_ms;        // sample SD (n - 1); none with fewer than two
-  std::optional<double> p99_ms;       // nearest rank
+  std::optional<double> median_ms;  // nearest rank (analysis/statistics/percentile.h)
+  std::optional<double> sd_ms;      // sample SD (n - 1); none with fewer than two
+  std::optional<double> p99_ms;     // nearest rank
   std::optional<double> max_ms;
-  uint64_t late = 0;                  // intervals > kLateRefreshPeriods refresh periods
-  std::optional<double> late_share;   // late / intervals; none without intervals
+  uint64_t late = 0;                        // intervals > kLateRefreshPeriods refresh periods
+  std::optional<double> late_share;         // late / intervals; none without intervals
   std::map<int64_t, uint64_t> count_by_us;  // every interval, rounded to the microsecond: its count
 };
 

@@ -23,8 +23,7 @@ std::vector<double> holm_adjusted(const std::vector<double>& p_values) {
   // Ranks by ascending p; ties keep input order (any order of ties gives the same result).
   std::vector<std::size_t> order(m);
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return p_values[a] < p_values[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p_values[a] < p_values[b]; });
 
   std::vector<double> adjusted(m);
   double running_max = 0.0;

@@ -7,7 +7,8 @@
 namespace fovlab::analysis {
 
 std::optional<double> nearest_rank_percentile(std::vector<double> values, double percent) {
-  if (!(percent >= 0.0 && percent <= 100.0)) throw std::invalid_argument("nearest_rank_percentile: percent outside [0, 100]");
+  if (!(percent >= 0.0 && percent <= 100.0))
+    throw std::invalid_argument("nearest_rank_percentile: percent outside [0, 100]");
   if (values.empty()) return std::nullopt;
   for (const double value : values)
     if (!std::isfinite(value)) throw std::invalid_argument("nearest_rank_percentile: a value is not finite");

@@ -17,8 +17,8 @@ std::optional<double> nearest_rank_percentile(std::vector<double> values, double
 // Gaze-to-present latency of a session (or a participant): from every refresh's gaze sample age
 // at present time, in seconds.
 struct LatencySummary {
-  size_t refreshes = 0;              // ages counted (refreshes with a gaze sample)
-  std::optional<double> median_ms;   // nearest rank; none without refreshes
+  size_t refreshes = 0;             // ages counted (refreshes with a gaze sample)
+  std::optional<double> median_ms;  // nearest rank; none without refreshes
   std::optional<double> p95_ms;
 };
 

@@ -31,10 +31,12 @@ std::string interval_text(std::optional<double> lower, std::optional<double> upp
 }
 
 // The interval is unbounded or of zero width: no value to publish ("": it is neither).
-std::string interval_failure(double value, std::optional<double> lower, std::optional<double> upper, const std::string& what) {
+std::string interval_failure(double value, std::optional<double> lower, std::optional<double> upper,
+                             const std::string& what) {
   if (!lower || !upper) return "";
   if (std::isinf(*lower) || std::isinf(*upper))
-    return "its 95 % " + what + " " + interval_text(lower, upper) + " is unbounded: the data do not bound the threshold";
+    return "its 95 % " + what + " " + interval_text(lower, upper) +
+           " is unbounded: the data do not bound the threshold";
   if (*upper - *lower <= 1e-9 * std::max(1.0, std::fabs(value)))
     return "its 95 % " + what + " has zero width (" + interval_text(lower, upper) + "): no spread to judge it by";
   return "";
@@ -89,7 +91,8 @@ struct Context {
   const GroupThreshold* paper_threshold(const GroupKey& group) const {
     const GroupThreshold* found = nullptr;
     for (const GroupThreshold& threshold : result.thresholds)
-      if (threshold.group == group && (!found || (data.protocol == ProtocolKind::pair && threshold.mean))) found = &threshold;
+      if (threshold.group == group && (!found || (data.protocol == ProtocolKind::pair && threshold.mean)))
+        found = &threshold;
     return found;
   }
 };
@@ -113,7 +116,8 @@ void add_lapse_flags(Headline& headline, const PsychometricFit& fit) {
 // Constant stimuli (2afc same, pair): the first fit.
 void fit_headline(const Context& context, Headline& headline) {
   const GroupFit* group_fit = context.fit_of(headline.group);
-  headline.aims_at = "the level whose difference from the reference is seen half the time (p_see = 1/2, guess and lapse aside)";
+  headline.aims_at =
+      "the level whose difference from the reference is seen half the time (p_see = 1/2, guess and lapse aside)";
   if (!group_fit || group_fit->fits.empty()) {
     headline.method = "psychometric fit";
     std::string why = "no psychometric fit";
@@ -149,8 +153,9 @@ void adaptive_headline(const Context& context, const std::vector<size_t>& member
     std::vector<double> thresholds;
     for (const AdaptiveTrackResult& track : context.result.participants[p].tracks) {
       if (!in_group(track.block, track.variant, headline.group)) continue;
-      const auto procedure = std::find_if(context.data.config.procedures.begin(), context.data.config.procedures.end(),
-                                          [&](const ProcedureConfig& config) { return config.name == track.procedure; });
+      const auto procedure =
+          std::find_if(context.data.config.procedures.begin(), context.data.config.procedures.end(),
+                       [&](const ProcedureConfig& config) { return config.name == track.procedure; });
       if (procedure != context.data.config.procedures.end())
         aims.insert(procedure->kind == ProcedureConfig::Kind::quest_plus
                         ? "QUEST+'s threshold parameter: the level where p_see = 1/2"
@@ -164,12 +169,14 @@ void adaptive_headline(const Context& context, const std::vector<size_t>& member
     }
     estimates.push_back(*mean_with_t_interval(thresholds).mean);
   }
-  headline.method = "mean of the participants' estimates (each the mean of their tracks' thresholds by the procedure's rule), "
-                    "95 % Student-t interval across participants";
+  headline.method =
+      "mean of the participants' estimates (each the mean of their tracks' thresholds by the procedure's rule), "
+      "95 % Student-t interval across participants";
   for (const std::string& aim : aims) headline.aims_at += (headline.aims_at.empty() ? "" : "; ") + aim;
   headline.participants = static_cast<int>(estimates.size());
   if (without > 0)
-    headline.notes.push_back(std::to_string(without) + " participant(s) without a track threshold (adaptive_tracks.csv says why)");
+    headline.notes.push_back(std::to_string(without) +
+                             " participant(s) without a track threshold (adaptive_tracks.csv says why)");
   // The pooled fit of every adaptive trial, beside.
   if (const GroupFit* group_fit = context.fit_of(headline.group); group_fit && !group_fit->fits.empty()) {
     const PsychometricFit& fit = group_fit->fits.front();
@@ -180,7 +187,8 @@ void adaptive_headline(const Context& context, const std::vector<size_t>& member
       headline.pooled_fit_lower = fit.threshold_interval.lower;
       headline.pooled_fit_upper = fit.threshold_interval.upper;
     } else {
-      headline.notes.push_back("the pooled " + std::string(shape_name(fit.model.shape)) + " fit is not estimable: " + reason);
+      headline.notes.push_back("the pooled " + std::string(shape_name(fit.model.shape)) +
+                               " fit is not estimable: " + reason);
     }
   }
   if (aims.size() > 1) {
@@ -198,7 +206,8 @@ void adaptive_headline(const Context& context, const std::vector<size_t>& member
   headline.value = mean.mean;
   headline.lower = mean.mean_lower;
   headline.upper = mean.mean_upper;
-  if (const std::string reason = interval_failure(*mean.mean, mean.mean_lower, mean.mean_upper, "interval across participants");
+  if (const std::string reason =
+          interval_failure(*mean.mean, mean.mean_lower, mean.mean_upper, "interval across participants");
       !reason.empty())
     set_not_estimable(headline, reason);
 }
@@ -232,19 +241,22 @@ void ramp_headline(const Context& context, const std::vector<size_t>& members, H
   const RampModelFit fit =
       fit_ramp_model(steps, data.higher_is_better, low, high, context.options.bootstrap_samples,
                      derive_seed(derive_seed(context.options.seed, headline.group.label()), "ramp"));
-  headline.method = "step model fitted to every participant's ramp steps (maximum likelihood), 95 % percentile bootstrap "
-                    "interval over participants (" + std::to_string(fit.bootstrap_samples) + " replicates)";
-  headline.aims_at = "the level whose difference from the reference is seen half the time (p_see = 1/2), through the step model";
+  headline.method =
+      "step model fitted to every participant's ramp steps (maximum likelihood), 95 % percentile bootstrap "
+      "interval over participants (" +
+      std::to_string(fit.bootstrap_samples) + " replicates)";
+  headline.aims_at =
+      "the level whose difference from the reference is seen half the time (p_see = 1/2), through the step model";
   headline.participants = fit.participants;
   headline.notes.push_back("step model: slope " + number(fit.slope) + " per level unit, guess " + number(fit.guess) +
-                           " (twice the wrong-way share), lapse " + number(fit.lapse) + ", " + std::to_string(fit.steps) +
-                           " steps");
+                           " (twice the wrong-way share), lapse " + number(fit.lapse) + ", " +
+                           std::to_string(fit.steps) + " steps");
   if (!fit.note.empty()) headline.notes.push_back(fit.note);
   if (fit.lapse <= 1e-9) headline.flags.push_back("lapse at its bound 0 (usual for an observer who does not lapse)");
   if (!fit.converged) return set_not_estimable(headline, "the step model's fit did not converge");
   if (!(fit.threshold >= low && fit.threshold <= high))
-    return set_not_estimable(headline, "the step model's threshold " + number(fit.threshold) + " lies outside the tested levels " +
-                                           number(low) + " to " + number(high));
+    return set_not_estimable(headline, "the step model's threshold " + number(fit.threshold) +
+                                           " lies outside the tested levels " + number(low) + " to " + number(high));
   if (fit.participants < 2)
     return set_not_estimable(headline, "one participant (step model threshold " + number(fit.threshold) +
                                            "): the interval over participants needs two or more");
@@ -252,7 +264,8 @@ void ramp_headline(const Context& context, const std::vector<size_t>& members, H
   headline.lower = fit.lower;
   headline.upper = fit.upper;
   if (!fit.lower && context.options.bootstrap_samples == 0) headline.notes.push_back("no interval: --bootstrap 0");
-  if (const std::string reason = interval_failure(fit.threshold, fit.lower, fit.upper, "bootstrap interval"); !reason.empty())
+  if (const std::string reason = interval_failure(fit.threshold, fit.lower, fit.upper, "bootstrap interval");
+      !reason.empty())
     set_not_estimable(headline, reason);
 }
 
@@ -268,7 +281,8 @@ void slider_headline(Headline& headline, const GroupThreshold* paper) {
   headline.value = paper->mean;
   headline.lower = paper->mean_lower;
   headline.upper = paper->mean_upper;
-  if (const std::string reason = interval_failure(*paper->mean, paper->mean_lower, paper->mean_upper, "interval across participants");
+  if (const std::string reason =
+          interval_failure(*paper->mean, paper->mean_lower, paper->mean_upper, "interval across participants");
       !reason.empty())
     set_not_estimable(headline, reason);
 }
@@ -278,16 +292,19 @@ void rating_headline(const Context& context, const std::vector<size_t>& members,
                      const GroupThreshold* paper) {
   const StudyData& data = context.data;
   const double cutoff = context.options.rating_cutoff;
-  headline.method = "Ye et al. 2022's rule (the most degraded level whose mean rating, and every better level's, is at least " +
-                    number(cutoff) + "), 95 % percentile bootstrap interval over participants";
-  headline.aims_at = "the most degraded level of the grid whose expected mean rating stays at or above " + number(cutoff);
+  headline.method =
+      "Ye et al. 2022's rule (the most degraded level whose mean rating, and every better level's, is at least " +
+      number(cutoff) + "), 95 % percentile bootstrap interval over participants";
+  headline.aims_at =
+      "the most degraded level of the grid whose expected mean rating stays at or above " + number(cutoff);
   // Per participant and level: the sum and count of the scores.
   std::set<double> level_set;
   std::vector<std::map<double, std::pair<double, double>>> scores;
   for (size_t p : members) {
     std::map<double, std::pair<double, double>> by_level;
     for (const StudyTrial& trial : data.participants[p].trials) {
-      if (trial.attention_check || !trial.level || trial.answers.empty() || !in_group(trial.scene, trial.variant, headline.group))
+      if (trial.attention_check || !trial.level || trial.answers.empty() ||
+          !in_group(trial.scene, trial.variant, headline.group))
         continue;
       const std::string& answer = trial.answers.back();
       if (!data.rules().in_favour_of_test(answer, trial.reference_first)) continue;
@@ -363,15 +380,17 @@ void preference_headline(const Context& context, Headline& headline) {
       ++conditions;
     }
   headline.quantity = "preference share";
-  headline.method = "share of answered trials in which the reference was chosen as better, 95 % Clopper-Pearson interval";
+  headline.method =
+      "share of answered trials in which the reference was chosen as better, 95 % Clopper-Pearson interval";
   headline.aims_at = "the probability that the reference is preferred (1/2: no preference either way)";
   if (n == 0) return set_not_estimable(headline, "no answered trial");
   const ProportionInterval interval = clopper_pearson_interval(reference_votes, n, 0.95);
   headline.value = double(reference_votes) / double(n);
   headline.lower = interval.lower;
   headline.upper = interval.upper;
-  headline.notes.push_back(std::to_string(reference_votes) + " of " + std::to_string(n) + " answers preferred the reference" +
-                           (conditions > 1 ? " (pooled over " + std::to_string(conditions) + " conditions; conditions.csv has each)" : ""));
+  headline.notes.push_back(
+      std::to_string(reference_votes) + " of " + std::to_string(n) + " answers preferred the reference" +
+      (conditions > 1 ? " (pooled over " + std::to_string(conditions) + " conditions; conditions.csv has each)" : ""));
 }
 
 // Why the paper's rule gives another value, in one line ("" when it falls in the headline's interval).
@@ -380,17 +399,21 @@ std::string paper_difference(const Context& context, const Headline& headline, b
   if (*headline.paper_value >= *headline.lower && *headline.paper_value <= *headline.upper) return "";
   const std::string value = number(*headline.paper_value);
   if (adaptive)
-    return "the paper's walk gives " + value + ": it applies the binomial tests to the levels the procedure happened to "
+    return "the paper's walk gives " + value +
+           ": it applies the binomial tests to the levels the procedure happened to "
            "place, not what the procedure estimates";
   switch (context.data.protocol) {
     case ProtocolKind::two_afc:
-      return "the paper's walk gives " + value + ": the last level the binomial tests could not tell from the reference, "
+      return "the paper's walk gives " + value +
+             ": the last level the binomial tests could not tell from the reference, "
              "which moves with the trials per level, while the fit estimates where p_see = 1/2";
     case ProtocolKind::pair:
-      return "the paper's per-participant rule gives " + value + ": each participant's most degraded level still judged as good "
+      return "the paper's per-participant rule gives " + value +
+             ": each participant's most degraded level still judged as good "
              "in half their trials, a level of the grid rather than the p_see = 1/2 point";
     case ProtocolKind::ramp:
-      return "the paper's rule gives " + value + ": the most degraded step answered wrongly is the extreme of many noisy "
+      return "the paper's rule gives " + value +
+             ": the most degraded step answered wrongly is the extreme of many noisy "
              "answers, so single misses between degraded stimuli pull it toward the degraded end";
     default:
       return "the paper's rule gives " + value;
@@ -402,8 +425,7 @@ void make_paper_rule_the_headline(Headline& headline, const GroupThreshold& pape
   std::string estimate = "the design's estimate (" + headline.method + "): ";
   if (headline.value)
     estimate += number(*headline.value) + (headline.lower ? " " + interval_text(headline.lower, headline.upper) : "");
-  else
-    estimate += std::string(headline_status_name(headline.status)) + " (" + headline.reason + ")";
+  else estimate += std::string(headline_status_name(headline.status)) + " (" + headline.reason + ")";
   headline.notes.insert(headline.notes.begin(), estimate);
   headline.paper_rule_is_headline = true;
   headline.paper_difference.clear();
@@ -425,20 +447,22 @@ std::string fit_not_estimable_reason(const PsychometricFit& fit, double low, dou
   const double threshold = fit.model.parameters.threshold;
   if (!fit.converged) return "the " + shape + " fit did not converge";
   if (!std::isfinite(threshold) || !(threshold >= low && threshold <= high))
-    return "the " + shape + " fit's threshold " + number(threshold) + " lies outside the tested levels " + number(low) + " to " +
-           number(high);
-  const std::string interval =
-      interval_failure(threshold, fit.threshold_interval.lower, fit.threshold_interval.upper, "profile-likelihood interval");
+    return "the " + shape + " fit's threshold " + number(threshold) + " lies outside the tested levels " + number(low) +
+           " to " + number(high);
+  const std::string interval = interval_failure(threshold, fit.threshold_interval.lower, fit.threshold_interval.upper,
+                                                "profile-likelihood interval");
   if (!interval.empty()) return interval;
   if (!std::isnan(fit.bootstrap_threshold_interval.lower) &&
-      fit.bootstrap_threshold_interval.upper - fit.bootstrap_threshold_interval.lower <= 1e-9 * std::max(1.0, std::fabs(threshold)))
+      fit.bootstrap_threshold_interval.upper - fit.bootstrap_threshold_interval.lower <=
+          1e-9 * std::max(1.0, std::fabs(threshold)))
     return "its bootstrap interval has zero width (" +
            format_interval(fit.bootstrap_threshold_interval.lower, fit.bootstrap_threshold_interval.upper, 4) +
            "): the replicates' fits all land on one value";
   return "";
 }
 
-std::vector<Headline> study_headlines(const StudyData& data, const AnalysisOptions& options, const AnalysisResult& result) {
+std::vector<Headline> study_headlines(const StudyData& data, const AnalysisOptions& options,
+                                      const AnalysisResult& result) {
   const Context context{data, options, result};
   std::set<GroupKey> groups;
   for (const ConditionRow& row : result.conditions) groups.insert(row.group);

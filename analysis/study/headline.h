@@ -23,7 +23,8 @@
 namespace fovlab::analysis {
 
 // `result`: the analysis so far (conditions, thresholds, fits, participants with their tracks).
-std::vector<Headline> study_headlines(const StudyData& data, const AnalysisOptions& options, const AnalysisResult& result);
+std::vector<Headline> study_headlines(const StudyData& data, const AnalysisOptions& options,
+                                      const AnalysisResult& result);
 
 // Why a psychometric fit's threshold cannot be published (""; it can): no convergence, outside
 // the tested levels [low, high], an unbounded or zero-width interval.

@@ -1,5 +1,5 @@
 #pragma once
-// Seed 002's comparison study (sections 4.3.3 and 5.2, Table 2): 2AFC "which looked better?" votes
+// Ye et al. 2022's comparison study (sections 4.3.3 and 5.2, Table 2): 2AFC "which looked better?" votes
 // of the proposed method (RMFR, the config's reference) against each competitor (the test), pooled
 // over participants and trials, as the share of votes for the reference with the exact binomial
 // test of H0 p = 1/2 against the ONE-sided alternative "greater" (the reference preferred), its

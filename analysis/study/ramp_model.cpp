@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "analysis/psychometric/nelder_mead.h"
+#include "analysis/fitting/nelder_mead.h"
 #include "analysis/statistics/percentile.h"
 #include "core/prng.h"
 #include "study/psychometric/psychometric_function.h"
@@ -80,14 +80,14 @@ Solution fit(const std::vector<WeightedStep>& steps, double guess, bool higher_i
 
 }  // namespace
 
-double ramp_step_seen_probability(std::optional<double> before, std::optional<double> after, double threshold, double slope,
-                                  bool higher_is_better) {
+double ramp_step_seen_probability(std::optional<double> before, std::optional<double> after, double threshold,
+                                  double slope, bool higher_is_better) {
   return step_seen_probability(degradation_of(before, threshold, slope, higher_is_better),
                                degradation_of(after, threshold, slope, higher_is_better));
 }
 
-RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_better, double level_low, double level_high,
-                            int bootstrap_samples, uint64_t seed) {
+RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_better, double level_low,
+                            double level_high, int bootstrap_samples, uint64_t seed) {
   RampModelFit result;
   result.steps = steps.size();
   int participants = 0;
@@ -106,7 +106,8 @@ RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_b
   const double range = std::max(level_high - level_low, 1e-9);
   std::vector<detail::Point> starts;
   for (double t : {0.1, 0.3, 0.5, 0.7, 0.9})
-    for (double scaled_slope : {2.0, 8.0, 32.0}) starts.push_back({level_low + t * range, std::log(scaled_slope / range), 0.02});
+    for (double scaled_slope : {2.0, 8.0, 32.0})
+      starts.push_back({level_low + t * range, std::log(scaled_slope / range), 0.02});
   const std::vector<int> everyone(size_t(participants), 1);
   const Solution best = fit(weigh(steps, everyone), result.guess, higher_is_better, level_low, level_high, starts);
   result.converged = best.converged;
@@ -135,7 +136,8 @@ RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_b
     result.lower = nearest_rank_percentile(thresholds, 2.5);
     result.upper = nearest_rank_percentile(thresholds, 97.5);
   } else {
-    result.note += std::string(result.note.empty() ? "" : "; ") + "too few bootstrap replicates converged for an interval";
+    result.note +=
+        std::string(result.note.empty() ? "" : "; ") + "too few bootstrap replicates converged for an interval";
   }
   return result;
 }

@@ -24,28 +24,28 @@ namespace fovlab::analysis {
 struct RampStep {
   std::optional<double> before, after;  // the two stimuli's levels (none: the reference)
   enum class Answer { right, wrong, same } answer = Answer::same;
-  int participant = 0;                  // the bootstrap resamples participants by this index
+  int participant = 0;  // the bootstrap resamples participants by this index
 };
 
 struct RampModelFit {
   bool converged = false;
-  double threshold = 0.0;               // T, in level units
-  double slope = 0.0;                   // S, per level unit
+  double threshold = 0.0;  // T, in level units
+  double slope = 0.0;      // S, per level unit
   double lapse = 0.0, guess = 0.0;
   size_t steps = 0;
   int participants = 0;
-  std::optional<double> lower, upper;   // 95 % percentile bootstrap interval of T over participants
-  int bootstrap_samples = 0;            // replicates that converged
+  std::optional<double> lower, upper;  // 95 % percentile bootstrap interval of T over participants
+  int bootstrap_samples = 0;           // replicates that converged
   std::string note;
 };
 
 // `level_low`, `level_high`: the tested range (the search box spans it and one range either side).
 // `bootstrap_samples` 0: no interval. Replicate b draws from Pcg32(derive_seed(seed, b)).
-RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_better, double level_low, double level_high,
-                            int bootstrap_samples, uint64_t seed);
+RampModelFit fit_ramp_model(const std::vector<RampStep>& steps, bool higher_is_better, double level_low,
+                            double level_high, int bootstrap_samples, uint64_t seed);
 
 // The probability that a step between `before` and `after` is seen, by the model above.
-double ramp_step_seen_probability(std::optional<double> before, std::optional<double> after, double threshold, double slope,
-                                  bool higher_is_better);
+double ramp_step_seen_probability(std::optional<double> before, std::optional<double> after, double threshold,
+                                  double slope, bool higher_is_better);
 
 }  // namespace fovlab::analysis

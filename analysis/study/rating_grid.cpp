@@ -110,7 +110,7 @@ std::optional<RatingGrid> rating_grid(const StudyData& data) {
   const std::string pooled = "all";
 
   // First each participant's mean score per map and cell, then the mean of those over participants
-  // (seed 002, 4.4.1: per participant averaged over sigma, then over participants).
+  // (Ye et al. 2022, 4.4.1: per participant averaged over sigma, then over participants).
   // A conditions file may test the cells at levels of their own: a map over all levels would then
   // compare cells averaged over different levels, so it is made only when every cell has the same.
   const bool same_levels = std::all_of(data.variants.begin(), data.variants.end(), [&](const VariantConfig& variant) {

@@ -1,5 +1,5 @@
 #pragma once
-// Seed 002's pilot study (sections 4.3.1 and 4.4.1, Figure 9): participants rate the test stimulus
+// Ye et al. 2022's pilot study (sections 4.3.1 and 4.4.1, Figure 9): participants rate the test stimulus
 // against the reference (3 identical, 2 a minimal difference, 1 a significant difference) for every
 // pair of two test parameters on a grid (f_x, f_y), at several levels (sigma). Per block, and over
 // every block pooled, the mean score of each pair over the levels and the participants, and the pair
@@ -15,11 +15,11 @@ namespace fovlab::analysis {
 
 // The two parameters a study's variants set on a full grid, and where each variant lies on it.
 struct ParameterGrid {
-  std::string x_key;                   // alphabetical order: x before y
+  std::string x_key;  // alphabetical order: x before y
   std::string y_key;
-  std::vector<double> x_values;        // ascending, at least two each
+  std::vector<double> x_values;  // ascending, at least two each
   std::vector<double> y_values;
-  std::vector<size_t> cell_of_variant; // per variant (config order): its cell, row * x_values.size() + column
+  std::vector<size_t> cell_of_variant;  // per variant (config order): its cell, row * x_values.size() + column
 };
 
 // The grid the variants form, or none. They form one when every variant sets the same keys, exactly

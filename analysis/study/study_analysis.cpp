@@ -95,11 +95,11 @@ class ComparisonAnalysis {
         }
       }
     if (unanswered > 0)
-      result_.left_out.push_back({std::to_string(unanswered) + " trial(s)",
-                                  "no answer of this protocol (a timeout): not counted"});
+      result_.left_out.push_back(
+          {std::to_string(unanswered) + " trial(s)", "no answer of this protocol (a timeout): not counted"});
     if (counts_.empty() && !included.empty())
-      result_.left_out.push_back({"study " + data_.study,
-                                  "no answered comparison trial of an included participant: no condition to test"});
+      result_.left_out.push_back(
+          {"study " + data_.study, "no answered comparison trial of an included participant: no condition to test"});
     // Levels of the config no included trial tested (a conditions file's variant: of its own levels).
     // An adaptive block chooses its levels, so a level none of its tracks reached is no gap in the
     // data: not listed when the study has adaptive blocks.
@@ -112,9 +112,9 @@ class ComparisonAnalysis {
         if (counts.level) tested.insert(*counts.level);
       for (double level : data_.levels_of(group.variant))
         if (!tested.count(level))
-          result_.left_out.push_back({"condition " + data_.level_parameter + "=" + format_number(level, 6) + " in " +
-                                          group.label(),
-                                      "no trial of an included participant: nothing to analyse"});
+          result_.left_out.push_back(
+              {"condition " + data_.level_parameter + "=" + format_number(level, 6) + " in " + group.label(),
+               "no trial of an included participant: nothing to analyse"});
     }
   }
 
@@ -186,37 +186,44 @@ class ComparisonAnalysis {
     GroupThreshold threshold;
     threshold.group = group;
     if (data_.protocol == ProtocolKind::rating) {
-      threshold.definition = "Ye et al. 2022, 4.4.2: the most degraded level whose mean rating, and that of every better level, "
-                             "is at least " + format_number(options_.rating_cutoff, 6);
+      threshold.definition =
+          "Ye et al. 2022, 4.4.2: the most degraded level whose mean rating, and that of every better level, "
+          "is at least " +
+          format_number(options_.rating_cutoff, 6);
       threshold.level = walk_from_best(
           group, [&](const ConditionRow& row) { return row.mean_rating && *row.mean_rating >= options_.rating_cutoff; },
           threshold.note);
     } else {
       const std::string judged(data_.rules().judged_words);
-      threshold.definition = std::string(data_.rules().threshold_definition) +
-                             ": the most degraded level from which on no level is distinguished from the reference; a level is "
-                             "distinguished when the test is " + judged +
-                             " in less than half of its trials and the Holm-adjusted exact binomial p (H0: 1/2, " +
-                             alternative_name(options_.alternative) + ") is below " + format_number(options_.alpha, 6);
+      threshold.definition =
+          std::string(data_.rules().threshold_definition) +
+          ": the most degraded level from which on no level is distinguished from the reference; a level is "
+          "distinguished when the test is " +
+          judged + " in less than half of its trials and the Holm-adjusted exact binomial p (H0: 1/2, " +
+          alternative_name(options_.alternative) + ") is below " + format_number(options_.alpha, 6);
       // Can any outcome distinguish a level? Holm's smallest adjusted p is m times the smallest raw p,
       // so with m levels the most extreme answers (none in favour) must reach p < alpha / m somewhere.
       const std::vector<const ConditionRow*> rows = rows_of(group);
       double smallest_possible_p = 1.0;
       uint64_t most_trials = 0;
       for (const ConditionRow* row : rows) {
-        smallest_possible_p = std::min(smallest_possible_p, binomial_test_p_value(0, row->n, 0.5, options_.alternative));
+        smallest_possible_p =
+            std::min(smallest_possible_p, binomial_test_p_value(0, row->n, 0.5, options_.alternative));
         most_trials = std::max(most_trials, row->n);
       }
       const double smallest_possible_holm = std::min(1.0, double(rows.size()) * smallest_possible_p);
       if (options_.alternative == Alternative::greater) {
-        threshold.note = "with --alternative greater the tests ask whether the test is favoured, so no level can count "
-                         "as distinguished: no threshold";
+        threshold.note =
+            "with --alternative greater the tests ask whether the test is favoured, so no level can count "
+            "as distinguished: no threshold";
         threshold.unsupported = true;
       } else if (smallest_possible_holm >= options_.alpha) {
         threshold.note = "too few trials: with " + std::to_string(rows.size()) + " levels and at most " +
-                         std::to_string(most_trials) + " trials a level, even answers all against the test give a "
-                         "Holm-adjusted p of at least " + format_number(smallest_possible_holm, 3) + " >= alpha " +
-                         format_number(options_.alpha, 3) + ", so no level could be distinguished: no threshold";
+                         std::to_string(most_trials) +
+                         " trials a level, even answers all against the test give a "
+                         "Holm-adjusted p of at least " +
+                         format_number(smallest_possible_holm, 3) + " >= alpha " + format_number(options_.alpha, 3) +
+                         ", so no level could be distinguished: no threshold";
         threshold.unsupported = true;
       } else {
         threshold.level = walk_from_best(
@@ -227,10 +234,10 @@ class ComparisonAnalysis {
           for (const ConditionRow* row : rows)
             if (row->proportion < 0.5 && row->p_value < options_.alpha && row->p_holm >= options_.alpha &&
                 !more_degraded_than(*row->level, *threshold.level, data_.higher_is_better))
-              append_note(threshold.note, "level " + format_number(*row->level, 6) + " passes only after Holm's correction (" +
-                                              std::to_string(row->k) + " of " + std::to_string(row->n) + " " + judged +
-                                              ", p " + format_number(row->p_value, 3) + ", Holm " +
-                                              format_number(row->p_holm, 3) + ")");
+              append_note(threshold.note,
+                          "level " + format_number(*row->level, 6) + " passes only after Holm's correction (" +
+                              std::to_string(row->k) + " of " + std::to_string(row->n) + " " + judged + ", p " +
+                              format_number(row->p_value, 3) + ", Holm " + format_number(row->p_holm, 3) + ")");
       }
     }
     result_.thresholds.push_back(threshold);
@@ -239,8 +246,7 @@ class ComparisonAnalysis {
   void add_fits(const GroupKey& group) {
     GroupFit group_fit;
     group_fit.group = group;
-    for (const ConditionRow* row : rows_of(group))
-      group_fit.data.push_back({*row->level, row->n, row->n - row->k});
+    for (const ConditionRow* row : rows_of(group)) group_fit.data.push_back({*row->level, row->n, row->n - row->k});
     std::set<double> distinct;
     for (const LevelCounts& counts : group_fit.data) distinct.insert(counts.level);
     if (distinct.size() < 2) return;
@@ -274,26 +280,32 @@ class ComparisonAnalysis {
     if (result_.thresholds.empty() || result_.fits.empty() || data_.protocol == ProtocolKind::rating) return;
     GroupThreshold& threshold = result_.thresholds.back();
     const GroupFit& group_fit = result_.fits.back();
-    if (!(threshold.group == group) || !(group_fit.group == group) || !threshold.level || group_fit.fits.empty()) return;
+    if (!(threshold.group == group) || !(group_fit.group == group) || !threshold.level || group_fit.fits.empty())
+      return;
     const PsychometricFit& fit = group_fit.fits.front();
     const ParameterInterval& interval = fit.threshold_interval;
     const double walk = *threshold.level;
     const bool higher_is_better = data_.higher_is_better;
-    double degraded_end = higher_is_better ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    double degraded_end =
+        higher_is_better ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
     for (const ConditionRow* row : rows_of(group))
-      if (more_degraded_than(*row->level, walk, higher_is_better) && !more_degraded_than(*row->level, degraded_end, higher_is_better))
+      if (more_degraded_than(*row->level, walk, higher_is_better) &&
+          !more_degraded_than(*row->level, degraded_end, higher_is_better))
         degraded_end = *row->level;  // the next more degraded level tested
     const double low = std::min(walk, degraded_end), high = std::max(walk, degraded_end);
     if (!(interval.upper < low || interval.lower > high)) return;
     const bool beyond_the_walk = higher_is_better ? interval.upper < low : interval.lower > high;
-    append_note(threshold.note,
-                "the " + std::string(shape_name(fit.model.shape)) + " fit's threshold is " +
-                    format_number(fit.model.parameters.threshold, 4) + " " + format_interval(interval.lower, interval.upper, 4) +
-                    ", outside the walk's bracket (" + format_number(walk, 6) +
-                    (std::isinf(degraded_end) ? " or more degraded" : " to the next more degraded level") + "): " +
-                    (beyond_the_walk ? "more degraded than the walk says (levels the tests passed were seen more than half the time)"
-                                     : "less degraded than the walk says: the tests could not tell the levels between apart "
-                                       "with these trials"));
+    append_note(
+        threshold.note,
+        "the " + std::string(shape_name(fit.model.shape)) + " fit's threshold is " +
+            format_number(fit.model.parameters.threshold, 4) + " " +
+            format_interval(interval.lower, interval.upper, 4) + ", outside the walk's bracket (" +
+            format_number(walk, 6) +
+            (std::isinf(degraded_end) ? " or more degraded" : " to the next more degraded level") + "): " +
+            (beyond_the_walk
+                 ? "more degraded than the walk says (levels the tests passed were seen more than half the time)"
+                 : "less degraded than the walk says: the tests could not tell the levels between apart "
+                   "with these trials"));
   }
 
   const StudyData& data_;
@@ -339,7 +351,7 @@ void choose_guess_rate(const StudyData& data, const AnalysisOptions& options,
 }
 
 // ---------------------------------------------------------------------------------------------
-// Per-participant thresholds: pair, ramp, slider (seed 001, 4.7).
+// Per-participant thresholds: pair, ramp, slider (Polychronakis et al. 2021, 4.7).
 
 // Pair: the most degraded level such that it and every better level were judged as good as or
 // better than the reference in at least half of the participant's trials.
@@ -380,8 +392,8 @@ RampOutcome ramp_trial_threshold(const StudyData& data, const StudyTrial& trial,
     if (trial.answers[i].empty() || step < 1 || step > static_cast<int>(steps)) continue;
     answered[size_t(step)] = true;
     if (trial.answers[i] == correct) continue;
-    const std::optional<double> level =
-        more_degraded(trial.sequence_levels[size_t(step - 1)], trial.sequence_levels[size_t(step)], data.higher_is_better);
+    const std::optional<double> level = more_degraded(trial.sequence_levels[size_t(step - 1)],
+                                                      trial.sequence_levels[size_t(step)], data.higher_is_better);
     threshold = more_degraded(threshold, level, data.higher_is_better);
   }
   if (steps == 0 || std::count(answered.begin() + 1, answered.end(), true) < static_cast<long>(steps)) {
@@ -423,17 +435,19 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
         threshold.level = mean_with_t_interval(levels).mean;
         const std::string of_ramps = " of " + std::to_string(group_trials.size()) + " ramps ";
         if (censored_count > 0)
-          threshold.note = std::to_string(censored_count) + of_ramps + "had every step right: counted at the best level";
+          threshold.note =
+              std::to_string(censored_count) + of_ramps + "had every step right: counted at the best level";
         if (unanswered_count > 0)
-          threshold.note += std::string(threshold.note.empty() ? "" : "; ") + std::to_string(unanswered_count) + of_ramps +
-                            "had a step left unanswered: not counted";
+          threshold.note += std::string(threshold.note.empty() ? "" : "; ") + std::to_string(unanswered_count) +
+                            of_ramps + "had a step left unanswered: not counted";
       } else if (data.protocol == ProtocolKind::slider) {
         std::vector<double> levels;
         for (const StudyTrial* trial : group_trials)
           if (trial->saved_level) levels.push_back(*trial->saved_level);
         threshold.level = mean_with_t_interval(levels).mean;
         if (levels.size() < group_trials.size())
-          threshold.note = std::to_string(group_trials.size() - levels.size()) + " slider trial(s) without a saved level";
+          threshold.note =
+              std::to_string(group_trials.size() - levels.size()) + " slider trial(s) without a saved level";
       }
       if (threshold.level) per_group[group].push_back(*threshold.level);
       else ++without[group];
@@ -442,11 +456,14 @@ void add_participant_thresholds(const StudyData& data, bool pool_scenes, Analysi
   }
   const char* definition =
       data.protocol == ProtocolKind::pair
-          ? "Polychronakis et al. 2021, 4.7: per participant, the most degraded level such that it and every better level were judged "
+          ? "Polychronakis et al. 2021, 4.7: per participant, the most degraded level such that it and every better "
+            "level were judged "
             "as good as or better than the reference in at least half of the trials; mean and SD across participants"
       : data.protocol == ProtocolKind::ramp
-          ? "Polychronakis et al. 2021, 4.7: per ramp, the most degraded level of a step answered wrongly (a change missed or seen the wrong "
-            "way; every step right: the best level); per participant the mean over ramps; mean and SD across participants"
+          ? "Polychronakis et al. 2021, 4.7: per ramp, the most degraded level of a step answered wrongly (a change "
+            "missed or seen the wrong "
+            "way; every step right: the best level); per participant the mean over ramps; mean and SD across "
+            "participants"
           : "Polychronakis et al. 2021, 4.7: per participant, the mean saved level; mean and SD across participants";
   std::set<GroupKey> groups;
   for (const auto& [group, values] : per_group) groups.insert(group);
@@ -513,7 +530,8 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     if (participant.excluded) {
       result.left_out.push_back({"participant " + participant.participant,
                                  "excluded by attention checks (" + std::to_string(participant.attention_errors) +
-                                     (participant.attention_errors == 1 ? " error" : " errors") + "): no trial counted"});
+                                     (participant.attention_errors == 1 ? " error" : " errors") +
+                                     "): no trial counted"});
       continue;
     }
     included.push_back(&participant);
@@ -521,17 +539,18 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
   }
   const bool pool_scenes = scenes.size() > 1;
   if (data.levels.empty())
-    result.left_out.push_back({"thresholds and fits", "the study has no levels: its conditions are tested, but there is "
-                                                      "no level axis for a threshold or a fit"});
+    result.left_out.push_back({"thresholds and fits",
+                               "the study has no levels: its conditions are tested, but there is "
+                               "no level axis for a threshold or a fit"});
   choose_guess_rate(data, options, included, result);
   if (data.rules().judges_against_reference) ComparisonAnalysis(data, options, result).run(included, pool_scenes);
-  // Seed 002: the pilot's grid of two test parameters (rating), and Table 2's layout (2afc "better").
+  // Ye et al. 2022: the pilot's grid of two test parameters (rating), and Table 2's layout (2afc "better").
   result.rating_grid = rating_grid(data);
   result.preferences = preference_table(preference_counts(result, std::string(describe(data.reference_method).name)));
-  if (data.protocol == ProtocolKind::pair || data.protocol == ProtocolKind::ramp || data.protocol == ProtocolKind::slider)
+  if (data.protocol == ProtocolKind::pair || data.protocol == ProtocolKind::ramp ||
+      data.protocol == ProtocolKind::slider)
     add_participant_thresholds(data, pool_scenes, result);
-  if (included.empty())
-    result.left_out.push_back({"study " + data.study, "every participant was excluded: no result"});
+  if (included.empty()) result.left_out.push_back({"study " + data.study, "every participant was excluded: no result"});
   result.headlines = study_headlines(data, options, result);
   std::vector<const FrameIntervalSummary*> sessions;
   for (const ParticipantRow& participant : result.participants)

@@ -42,9 +42,9 @@ struct LogStudy {
 };
 
 void describe_study(const LogStudy& study, const std::string& path, StudyData& data) {
-  describe_study_config(
-      parse_logged_study_config(study.config_toml, path + " (config_toml)", study.log_schema_version, nullptr, study.conditions_csv),
-      data);
+  describe_study_config(parse_logged_study_config(study.config_toml, path + " (config_toml)", study.log_schema_version,
+                                                  nullptr, study.conditions_csv),
+                        data);
   data.study = study.study;
   data.config_hash = study.config_hash;
 }
@@ -104,8 +104,10 @@ ParticipantData participant_of(ScannedSession& session) {
     ++validation.attempts;
     if (!attempt.passed || !attempt.accuracy_deg || !attempt.precision_deg) continue;
     const double count = ++validation.passed;
-    validation.mean_accuracy_deg = validation.mean_accuracy_deg.value_or(0.0) + (*attempt.accuracy_deg - validation.mean_accuracy_deg.value_or(0.0)) / count;
-    validation.mean_precision_deg = validation.mean_precision_deg.value_or(0.0) + (*attempt.precision_deg - validation.mean_precision_deg.value_or(0.0)) / count;
+    validation.mean_accuracy_deg = validation.mean_accuracy_deg.value_or(0.0) +
+                                   (*attempt.accuracy_deg - validation.mean_accuracy_deg.value_or(0.0)) / count;
+    validation.mean_precision_deg = validation.mean_precision_deg.value_or(0.0) +
+                                    (*attempt.precision_deg - validation.mean_precision_deg.value_or(0.0)) / count;
     validation.worst_accuracy_deg = std::max(validation.worst_accuracy_deg.value_or(0.0), *attempt.accuracy_deg);
   }
   for (ScannedTrial& scanned : session.trials) {
@@ -140,10 +142,10 @@ ParticipantData participant_of(ScannedSession& session) {
 
 // One log, read: its study, its participant, and notes on what of it was not read.
 struct ReadLog {
-  std::optional<LogStudy> study;           // none: the log could not be read (reason in notes)
+  std::optional<LogStudy> study;  // none: the log could not be read (reason in notes)
   ParticipantData participant;
-  LogIntegrity integrity;                  // with the checks against its own header (log_consistency.h)
-  SessionLogIdentity identity;             // which session it is a log of (session_copies.h)
+  LogIntegrity integrity;       // with the checks against its own header (log_consistency.h)
+  SessionLogIdentity identity;  // which session it is a log of (session_copies.h)
   std::vector<LeftOut> notes;
 };
 
@@ -166,9 +168,12 @@ ReadLog read_log(const std::string& path, const LoadOptions& options, LoggedConf
     read.integrity = integrity;
     read.identity = {path, session.header_chain, session.header.value("participant", ""), session.line_count,
                      session.first_chain_error_line};
-    read.study = LogStudy{session.header.value("study", ""), session.header.value("config_hash", ""),
-                          session.header.value("config_toml", ""), session.header.value("conditions_csv", ""),
-                          std::string(), integrity.schema_version};
+    read.study = LogStudy{session.header.value("study", ""),
+                          session.header.value("config_hash", ""),
+                          session.header.value("config_toml", ""),
+                          session.header.value("conditions_csv", ""),
+                          std::string(),
+                          integrity.schema_version};
     std::string config_error;
     if (const std::shared_ptr<const StudyConfig> config = configs.config_of(session.header, path, config_error))
       read.study->content_hash = config->content_hash;
@@ -179,8 +184,8 @@ ReadLog read_log(const std::string& path, const LoadOptions& options, LoggedConf
       read.notes.push_back({path, "the last line is cut off (" + std::to_string(session.torn_tail_bytes) +
                                       " bytes, a write a crash interrupted): not read"});
     if (session.incomplete_trial >= 0)
-      read.notes.push_back({path, "trial " + std::to_string(session.incomplete_trial) +
-                                      " was started but not finished: not counted"});
+      read.notes.push_back(
+          {path, "trial " + std::to_string(session.incomplete_trial) + " was started but not finished: not counted"});
   } catch (const InputError& error) {
     read.study.reset();
     read.notes = {left_out(path, error.what())};
@@ -240,7 +245,8 @@ void take_sessions_once(std::vector<ReadLog>& logs, const LoadOptions& options) 
       continue;
     }
     read.participant.log_status = integrity.status;
-    if (integrity.status != LogStatus::sealed || integrity.macs_not_checked()) read.participant.log_note = integrity.describe();
+    if (integrity.status != LogStatus::sealed || integrity.macs_not_checked())
+      read.participant.log_note = integrity.describe();
   }
 }
 
@@ -259,9 +265,11 @@ void require_one_study(const std::vector<ReadLog>& logs) {
   for (const auto& [study, count] : logs_per_study) counts.emplace_back(-count, study);
   std::sort(counts.begin(), counts.end());
   std::string studies;
-  for (const auto& [count, study] : counts) studies += (studies.empty() ? "" : ", ") + study + " " + std::to_string(-count);
+  for (const auto& [count, study] : counts)
+    studies += (studies.empty() ? "" : ", ") + study + " " + std::to_string(-count);
   // results/<study>/<participant>/events.jsonl: the study's folder is two up.
-  const std::filesystem::path folder = std::filesystem::path(first_log[counts.front().second]).parent_path().parent_path();
+  const std::filesystem::path folder =
+      std::filesystem::path(first_log[counts.front().second]).parent_path().parent_path();
   throw InputError("session logs of " + std::to_string(counts.size()) + " studies (" + studies +
                    " logs): analyse one study at a time, e.g. " + folder.string());
 }
@@ -277,7 +285,8 @@ std::string take_observers(std::vector<ReadLog>& logs, ObserverFilter filter, st
     ++(read.participant.observer == "human" ? human : simulated);
     study = read.study->study;
   }
-  if (filter == ObserverFilter::all) return human && simulated ? "human and simulated" : simulated ? "simulated" : "human";
+  if (filter == ObserverFilter::all)
+    return human && simulated ? "human and simulated" : simulated ? "simulated" : "human";
   if (filter == ObserverFilter::unmixed) {
     if (human && simulated)
       throw InputError("study " + study + ": " + std::to_string(human) + " human and " + std::to_string(simulated) +
@@ -290,7 +299,8 @@ std::string take_observers(std::vector<ReadLog>& logs, ObserverFilter filter, st
     throw InputError("study " + study + ": no session answered by a " + kept + " observer (--observers " + kept + ")");
   for (ReadLog& read : logs) {
     if (!read.study || read.participant.observer == kept) continue;
-    left_out.push_back({read.participant.log_path, "answered by a " + read.participant.observer + " observer (--observers " + kept + ")"});
+    left_out.push_back({read.participant.log_path,
+                        "answered by a " + read.participant.observer + " observer (--observers " + kept + ")"});
     read.study.reset();
     read.notes.clear();
   }
@@ -314,21 +324,25 @@ void take_gaze_sources(StudyData& data, const GazeSourceFilter& filter) {
   const bool contingent = is_gaze_contingent(data.config);
   std::vector<ParticipantData> kept;
   const auto gaze_of = [](const ParticipantData& participant) {
-    return participant.gaze_kinds.empty() ? std::string("a source not recorded") : "the " + kinds_text(participant.gaze_kinds, " and the ");
+    return participant.gaze_kinds.empty() ? std::string("a source not recorded")
+                                          : "the " + kinds_text(participant.gaze_kinds, " and the ");
   };
   if (!filter.kinds.empty()) {
     const std::string asked = kinds_text(filter.kinds, ",");
     for (ParticipantData& participant : data.participants) {
-      const bool taken = !participant.gaze_kinds.empty() &&
-                         std::all_of(participant.gaze_kinds.begin(), participant.gaze_kinds.end(), [&](GazeSourceKind kind) {
-                           return std::find(filter.kinds.begin(), filter.kinds.end(), kind) != filter.kinds.end();
-                         });
+      const bool taken =
+          !participant.gaze_kinds.empty() &&
+          std::all_of(participant.gaze_kinds.begin(), participant.gaze_kinds.end(), [&](GazeSourceKind kind) {
+            return std::find(filter.kinds.begin(), filter.kinds.end(), kind) != filter.kinds.end();
+          });
       if (taken) kept.push_back(std::move(participant));
-      else data.left_out.push_back({participant.log_path, "gaze from " + gaze_of(participant) + " (--gaze-sources " + asked + ")"});
+      else
+        data.left_out.push_back(
+            {participant.log_path, "gaze from " + gaze_of(participant) + " (--gaze-sources " + asked + ")"});
     }
     if (kept.empty())
-      throw InputError("study " + data.study + ": no session with gaze from a source of the kinds asked for (--gaze-sources " +
-                       asked + ")");
+      throw InputError("study " + data.study +
+                       ": no session with gaze from a source of the kinds asked for (--gaze-sources " + asked + ")");
     data.participants = std::move(kept);
     if (contingent && std::all_of(data.participants.begin(), data.participants.end(),
                                   [](const ParticipantData& p) { return uses(p, GazeSourceKind::mouse); }))
@@ -341,7 +355,8 @@ void take_gaze_sources(StudyData& data, const GazeSourceFilter& filter) {
   const auto others = static_cast<std::ptrdiff_t>(data.participants.size()) - mouse;
   if (mouse == 0) return;
   if (filter.all) {
-    data.gaze_note = others > 0 ? "mouse gaze pooled with the other sources by --gaze-sources all" : "mouse gaze: rehearsals";
+    data.gaze_note =
+        others > 0 ? "mouse gaze pooled with the other sources by --gaze-sources all" : "mouse gaze: rehearsals";
     return;
   }
   if (others == 0) {
@@ -353,10 +368,12 @@ void take_gaze_sources(StudyData& data, const GazeSourceFilter& filter) {
       kept.push_back(std::move(participant));
       continue;
     }
-    data.left_out.push_back({participant.log_path,
-                             "gaze from " + gaze_of(participant) + " (a rehearsal of a gaze-contingent study), kept apart from the " +
-                                 std::to_string(others) + " session(s) with gaze from another source; --gaze-sources all "
-                                 "pools them, --gaze-sources mouse analyses them alone"});
+    data.left_out.push_back(
+        {participant.log_path, "gaze from " + gaze_of(participant) +
+                                   " (a rehearsal of a gaze-contingent study), kept apart from the " +
+                                   std::to_string(others) +
+                                   " session(s) with gaze from another source; --gaze-sources all "
+                                   "pools them, --gaze-sources mouse analyses them alone"});
   }
   data.participants = std::move(kept);
 }
@@ -375,8 +392,10 @@ GazeSourceFilter parse_gaze_source_filter(const std::string& text) {
     const std::string name = text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
     const std::optional<GazeSourceKind> kind = parse_gaze_source_kind(name);
     if (!kind || std::find(filter.kinds.begin(), filter.kinds.end(), *kind) != filter.kinds.end())
-      throw InputError("--gaze-sources: expected all, or gaze source kinds (tracker, trace, synthetic, mouse) separated by "
-                       "commas, each once, got \"" + text + "\"");
+      throw InputError(
+          "--gaze-sources: expected all, or gaze source kinds (tracker, trace, synthetic, mouse) separated by "
+          "commas, each once, got \"" +
+          text + "\"");
     filter.kinds.push_back(*kind);
     if (comma == std::string::npos) break;
     begin = comma + 1;
@@ -392,7 +411,8 @@ std::optional<ObserverFilter> parse_observer_filter(const std::string& text) {
 }
 
 const std::vector<double>& StudyData::levels_of(const std::string& variant) const {
-  const auto found = std::find_if(variants.begin(), variants.end(), [&](const VariantConfig& v) { return v.name == variant; });
+  const auto found =
+      std::find_if(variants.begin(), variants.end(), [&](const VariantConfig& v) { return v.name == variant; });
   return found != variants.end() && !found->levels.empty() ? found->levels : levels;
 }
 
@@ -430,18 +450,20 @@ StudyData load_study(const std::vector<std::string>& paths, const LoadOptions& o
   for (const ReadLog& read : logs) {
     if (!read.study) continue;
     const std::string version = read.study->version();
-    auto found = std::find_if(data.config_versions.begin(), data.config_versions.end(), [&](const ConfigVersion& known) {
-      return version_key(known.content_hash, known.config_hash) == version;
-    });
+    auto found = std::find_if(
+        data.config_versions.begin(), data.config_versions.end(),
+        [&](const ConfigVersion& known) { return version_key(known.content_hash, known.config_hash) == version; });
     if (found == data.config_versions.end()) {
-      data.config_versions.push_back({read.study->content_hash, read.study->config_hash, 0, {}, version == study->version()});
+      data.config_versions.push_back(
+          {read.study->content_hash, read.study->config_hash, 0, {}, version == study->version()});
       found = std::prev(data.config_versions.end());
     }
     ++found->sessions;
     // results/<folder>/<participant>/events.jsonl: the study's folder is two up.
     const std::string folder =
         std::filesystem::path(read.participant.log_path).parent_path().parent_path().lexically_normal().string();
-    if (std::find(found->folders.begin(), found->folders.end(), folder) == found->folders.end()) found->folders.push_back(folder);
+    if (std::find(found->folders.begin(), found->folders.end(), folder) == found->folders.end())
+      found->folders.push_back(folder);
   }
   std::stable_sort(data.config_versions.begin(), data.config_versions.end(),
                    [](const ConfigVersion& a, const ConfigVersion& b) {

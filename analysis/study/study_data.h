@@ -18,43 +18,43 @@ using fovlab::LabKey;
 
 struct StudyTrial {
   int index = 0;
-  std::string scene;                      // of the trial's stimuli
-  std::string condition;                  // as logged ("level=7.5", "blur/ramp_up", ...)
+  std::string scene;      // of the trial's stimuli
+  std::string condition;  // as logged ("level=7.5", "blur/ramp_up", ...)
   std::string variant;
-  std::string method;                     // of the test stimulus ("" for attention checks)
-  std::optional<double> level;            // comparison trials with levels
+  std::string method;           // of the test stimulus ("" for attention checks)
+  std::optional<double> level;  // comparison trials with levels
   bool attention_check = false;
-  bool reference_first = true;            // comparison trials
-  bool ramp_toward_reference = true;      // ramp
+  bool reference_first = true;                         // comparison trials
+  bool ramp_toward_reference = true;                   // ramp
   std::vector<std::optional<double>> sequence_levels;  // ramp: level of each stimulus shown (none: the reference)
-  std::vector<std::string> answers;       // in order ("" after a timeout)
-  std::vector<int> answer_steps;          // the `step` of each answer
-  std::optional<double> saved_level;      // slider
-  std::optional<int> track;               // an adaptive trial: its track in the participant's schedule
+  std::vector<std::string> answers;                    // in order ("" after a timeout)
+  std::vector<int> answer_steps;                       // the `step` of each answer
+  std::optional<double> saved_level;                   // slider
+  std::optional<int> track;                            // an adaptive trial: its track in the participant's schedule
 };
 
 struct ParticipantData {
   std::string participant;
   std::string log_path;
-  std::string observer = "human";          // "human", or "simulated" (the header's observer model)
+  std::string observer = "human";  // "human", or "simulated" (the header's observer model)
   bool excluded = false;
   bool session_ended = false;
   int attention_checks = 0;
   int attention_errors = 0;
-  std::vector<StudyTrial> trials;          // complete trials, in session order
+  std::vector<StudyTrial> trials;            // complete trials, in session order
   LogStatus log_status = LogStatus::sealed;  // unsealed: interrupted; broken: only with include_broken
   std::string log_note;                      // the verdict in words, when not sealed
   // Gaze-to-present latency over the complete trials' stimulus refreshes, from the log's
   // gaze_age_s (schema 3); a schema 1-2 log has none (latency_recorded false: "not recorded").
   bool latency_recorded = false;
   LatencySummary latency;
-  int64_t dropped_frames = 0;                // refresh periods missed in the complete trials (every schema)
-  FrameIntervalSummary frame_intervals;      // between the complete trials' presented refreshes (every schema)
-  std::string present_clock;                 // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
-  ValidationSummary validation;              // the eye-tracker validations (every attempt in the log)
-  std::string gaze_source;                   // gaze_kinds as text (ParticipantRow::gaze_source)
-  std::vector<GazeSourceKind> gaze_kinds;    // the gaze sources its runs used, in order (log_events.h session_gaze_kinds)
-  int practice_trials = 0;                   // complete practice trials: counted here, never in `trials`
+  int64_t dropped_frames = 0;              // refresh periods missed in the complete trials (every schema)
+  FrameIntervalSummary frame_intervals;    // between the complete trials' presented refreshes (every schema)
+  std::string present_clock;               // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
+  ValidationSummary validation;            // the eye-tracker validations (every attempt in the log)
+  std::string gaze_source;                 // gaze_kinds as text (ParticipantRow::gaze_source)
+  std::vector<GazeSourceKind> gaze_kinds;  // the gaze sources its runs used, in order (log_events.h session_gaze_kinds)
+  int practice_trials = 0;                 // complete practice trials: counted here, never in `trials`
 };
 
 struct StudyData {
@@ -64,18 +64,18 @@ struct StudyData {
   TwoAfcQuestion question = TwoAfcQuestion::same;  // 2afc only
   const ProtocolRules& rules() const { return protocol_rules(protocol, question); }
   std::string level_parameter;
-  std::vector<double> levels;              // ascending
+  std::vector<double> levels;  // ascending
   bool higher_is_better = true;
   // The stimuli of the config the logs carry: the reference's and the test's method, and the
-  // variants' overrides of the test's parameters (the pilot grid of seed 002: rating_grid.h).
+  // variants' overrides of the test's parameters (the pilot grid of Ye et al. 2022: rating_grid.h).
   RenderMethod reference_method = RenderMethod::ground_truth;
   RenderMethod test_method = RenderMethod::ground_truth;
-  std::vector<VariantConfig> variants;     // in config order; empty: one unnamed variant
-  StudyConfig config;                      // the whole config the logs carry (adaptive blocks: each schedule is rebuilt)
+  std::vector<VariantConfig> variants;  // in config order; empty: one unnamed variant
+  StudyConfig config;                   // the whole config the logs carry (adaptive blocks: each schedule is rebuilt)
   // The levels the variant named `variant` is tested at (study_config.h variant_levels): its own
   // (a conditions file's), else `levels`.
   const std::vector<double>& levels_of(const std::string& variant) const;
-  std::vector<std::string> inputs;         // every log path given (sorted)
+  std::vector<std::string> inputs;            // every log path given (sorted)
   std::vector<ParticipantData> participants;  // in log-path order
   std::vector<LeftOut> left_out;
   // Every config version among the logs (the analysed one first, then by sessions): the logs of

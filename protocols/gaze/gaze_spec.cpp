@@ -17,8 +17,10 @@ namespace fovlab {
 namespace {
 
 [[noreturn]] void bad_spec(const std::string& text) {
-  throw InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
-                   "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"" + text + "\"");
+  throw InputError(
+      "--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
+      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"" +
+      text + "\"");
 }
 
 template <typename T>
@@ -63,8 +65,10 @@ void parse_pupil_options(const std::string& text, std::string_view options, Gaze
                          name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-. ") ==
                              std::string_view::npos;
       if (!plain)
-        throw InputError("--gaze: surface: expected a Surface Tracker name of 1 to 64 letters, digits, '_', '-', '.' or "
-                         "spaces, got \"" + std::string(name) + "\"");
+        throw InputError(
+            "--gaze: surface: expected a Surface Tracker name of 1 to 64 letters, digits, '_', '-', '.' or "
+            "spaces, got \"" +
+            std::string(name) + "\"");
       spec.surface = std::string(name);
       surface_given = true;
     } else if (option.substr(0, 15) == "min_confidence=" && !confidence_given) {
@@ -83,10 +87,14 @@ void parse_pupil_options(const std::string& text, std::string_view options, Gaze
 // How to give a source of `kind` on the command line.
 std::string how_to_give(GazeSourceKind kind) {
   switch (kind) {
-    case GazeSourceKind::tracker: return "--gaze pupil[:HOST[:PORT]] for the eye tracker";
-    case GazeSourceKind::trace: return "--gaze trace:FILE for a recorded trace";
-    case GazeSourceKind::synthetic: return "--gaze synthetic for a simulated gaze";
-    case GazeSourceKind::mouse: return "--gaze mouse for a rehearsal with the pointer as gaze";
+    case GazeSourceKind::tracker:
+      return "--gaze pupil[:HOST[:PORT]] for the eye tracker";
+    case GazeSourceKind::trace:
+      return "--gaze trace:FILE for a recorded trace";
+    case GazeSourceKind::synthetic:
+      return "--gaze synthetic for a simulated gaze";
+    case GazeSourceKind::mouse:
+      return "--gaze mouse for a rehearsal with the pointer as gaze";
   }
   return "";
 }
@@ -108,10 +116,14 @@ std::string require_named(const StudyConfig& config) {
 
 GazeSourceKind source_kind(const GazeSpec& spec) {
   switch (spec.kind) {
-    case GazeSpec::Kind::mouse: return GazeSourceKind::mouse;
-    case GazeSpec::Kind::trace: return GazeSourceKind::trace;
-    case GazeSpec::Kind::synthetic: return GazeSourceKind::synthetic;
-    case GazeSpec::Kind::pupil: return GazeSourceKind::tracker;
+    case GazeSpec::Kind::mouse:
+      return GazeSourceKind::mouse;
+    case GazeSpec::Kind::trace:
+      return GazeSourceKind::trace;
+    case GazeSpec::Kind::synthetic:
+      return GazeSourceKind::synthetic;
+    case GazeSpec::Kind::pupil:
+      return GazeSourceKind::tracker;
   }
   return GazeSourceKind::mouse;
 }
@@ -143,8 +155,9 @@ ChosenGaze choose_gaze(const StudyConfig& config, const std::string& option, boo
   if (!require.require.empty())
     throw InputError(require_named(config) + ": a session in a window needs its gaze source named; give " +
                      how_to_give(require.require));
-  const std::string method(describe(config.stimulus.test.method).depends_on_gaze ? describe(config.stimulus.test.method).name
-                                                                                  : describe(config.stimulus.reference.method).name);
+  const std::string method(describe(config.stimulus.test.method).depends_on_gaze
+                               ? describe(config.stimulus.test.method).name
+                               : describe(config.stimulus.reference.method).name);
   throw InputError(config.source_path + ": a gaze-contingent study (" + method +
                    " follows the gaze) in a window needs its gaze source named; give " +
                    how_to_give(GazeSourceKind::tracker) + ", or " + how_to_give(GazeSourceKind::mouse) +
@@ -192,8 +205,8 @@ GazeSpec parse_gaze_spec(const std::string& text) {
   return spec;
 }
 
-std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px,
-                                             uint64_t session_seed, SessionClock session_clock) {
+std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px, uint64_t session_seed,
+                                             SessionClock session_clock) {
   switch (spec.kind) {
     case GazeSpec::Kind::mouse:
       throw std::logic_error("make_gaze_source: the mouse gaze source is made by the session from its presenter");

@@ -24,7 +24,7 @@ namespace fovlab {
 struct GazeSpec {
   enum class Kind { mouse, trace, synthetic, pupil };
   Kind kind = Kind::mouse;
-  std::string trace_path;         // trace
+  std::string trace_path;          // trace
   std::string host = "127.0.0.1";  // pupil
   int port = 50020;                // pupil
   std::string surface = "screen";  // pupil: the Surface Tracker surface covering the screen
@@ -63,7 +63,7 @@ GazeSpec parse_gaze_spec(const std::string& text);
 // The source of a trace, synthetic or pupil spec for a screen of width_px x height_px (the pupil one
 // connects now, so it may throw InputError). std::logic_error for mouse: the session makes that one
 // from its window presenter.
-std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px,
-                                             uint64_t session_seed, SessionClock session_clock = {});
+std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px, int height_px, uint64_t session_seed,
+                                             SessionClock session_clock = {});
 
 }  // namespace fovlab

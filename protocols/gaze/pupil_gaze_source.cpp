@@ -162,8 +162,8 @@ struct PupilGazeSource::Impl {
             decode_pupil_surface_gaze(parts[1].to_string_view(), options.min_confidence, width_px, height_px);
         if (!sample) continue;  // no gaze on this world frame
         GazeSample mapped = *sample;
-        mapped.acquired_s = sample->acquired_s ? *sample->acquired_s - clock_offset_s
-                                               : steady_seconds(arrival) + steady_to_session_s;
+        mapped.acquired_s =
+            sample->acquired_s ? *sample->acquired_s - clock_offset_s : steady_seconds(arrival) + steady_to_session_s;
         {
           const std::lock_guard lock(mutex);
           latest = mapped;
@@ -210,8 +210,7 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
   const std::string no_answer = "no answer from Pupil Remote within " + exact_number_text(impl.options.timeout_s) +
                                 " s (is Pupil Capture running with the Network API plugin?)";
   const auto session_now = [&impl] {
-    return impl.options.session_clock ? impl.options.session_clock()
-                                       : steady_seconds(std::chrono::steady_clock::now());
+    return impl.options.session_clock ? impl.options.session_clock() : steady_seconds(std::chrono::steady_clock::now());
   };
   std::string sub_port_text, pupil_time_text;
   double session_midpoint_s = 0.0;
@@ -241,7 +240,8 @@ PupilGazeSource::PupilGazeSource(PupilGazeOptions options, int width_px, int hei
   }
 
   int sub_port = 0;
-  const auto [end, error] = std::from_chars(sub_port_text.data(), sub_port_text.data() + sub_port_text.size(), sub_port);
+  const auto [end, error] =
+      std::from_chars(sub_port_text.data(), sub_port_text.data() + sub_port_text.size(), sub_port);
   if (error != std::errc() || end != sub_port_text.data() + sub_port_text.size() || sub_port < 1 || sub_port > 65535) {
     fail("Pupil Remote answered SUB_PORT with \"" + sub_port_text + "\", expected a port number");
   }

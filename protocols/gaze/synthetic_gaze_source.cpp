@@ -21,8 +21,8 @@ void require(bool condition, const std::string& what) {
 
 SyntheticGazeSource::SyntheticGazeSource(const SyntheticGazeParams& params, int width_px, int height_px)
     : params_(params), width_px_(width_px), height_px_(height_px), rng_(params.seed) {
-  require(width_px > 0 && height_px > 0, "screen size must be positive, got " + std::to_string(width_px) + "x" +
-                                             std::to_string(height_px));
+  require(width_px > 0 && height_px > 0,
+          "screen size must be positive, got " + std::to_string(width_px) + "x" + std::to_string(height_px));
   require(std::isfinite(params.fixation_min_s) && params.fixation_min_s > 0.0,
           "fixation_min_s must be > 0, got " + exact_number_text(params.fixation_min_s));
   require(std::isfinite(params.fixation_max_s) && params.fixation_max_s >= params.fixation_min_s,
@@ -94,7 +94,8 @@ GazeSample SyntheticGazeSource::sample(double query_s) {
 
 std::string SyntheticGazeSource::describe() const {
   std::string text = "synthetic:seed=" + std::to_string(params_.seed);
-  if (params_.sample_age_ms > 0.0) text += ",age_ms=" + exact_number_text(params_.sample_age_ms);  // reads back the same
+  if (params_.sample_age_ms > 0.0)
+    text += ",age_ms=" + exact_number_text(params_.sample_age_ms);  // reads back the same
   return text;
 }
 

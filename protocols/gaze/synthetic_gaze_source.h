@@ -31,8 +31,8 @@ namespace fovlab {
 struct SyntheticGazeParams {
   double fixation_min_s = 0.2;  // fixation duration ~ uniform [min, max] (typical human fixations)
   double fixation_max_s = 0.6;
-  double saccade_s = 0.03;           // duration of each saccade (>= 0; 0 = jumps)
-  double target_fraction = 0.8;      // targets uniform over this central fraction of width and height
+  double saccade_s = 0.03;             // duration of each saccade (>= 0; 0 = jumps)
+  double target_fraction = 0.8;        // targets uniform over this central fraction of width and height
   double jitter_sigma_fraction = 0.0;  // fixational jitter sigma as a fraction of the width (0.001 typical)
   double sample_age_ms = 0.0;          // how old a sample is when it is read (0..10000 ms)
   uint64_t seed = 0;

@@ -39,7 +39,6 @@ bool parse_number(std::string_view field, double& value) {
   return error == std::errc() && end == field.data() + field.size();
 }
 
-
 class LineError {
  public:
   LineError(const std::string& name, size_t line) : prefix_(name + ":" + std::to_string(line) + ": ") {}
@@ -119,7 +118,8 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
       }
       double value = 0.0;
       if (!parse_number(field, value)) {
-        error.fail(std::string(axis_names[axis]) + ": expected a number, an empty field or nan, got " + quoted_input(field));
+        error.fail(std::string(axis_names[axis]) + ": expected a number, an empty field or nan, got " +
+                   quoted_input(field));
       }
       if (std::isfinite(value)) {
         position[axis] = value;
@@ -154,7 +154,8 @@ std::vector<GazeSample> parse_gaze_trace(std::string_view text, const std::strin
   }
 
   if (column_count == 0) {
-    throw InputError(name + ":1: expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got an empty file");
+    throw InputError(name +
+                     ":1: expected the header \"time_s,x_px,y_px\" or \"time_s,x_px,y_px,valid\", got an empty file");
   }
   if (samples.empty()) throw InputError(name + ": expected at least one gaze sample after the header, got none");
   return samples;

@@ -42,8 +42,8 @@ ValidationTarget measure_validation_target(const DisplayGeometry& display, doubl
     previous = std::array<double, 2>{x_px, y_px};
   }
   if (target.valid_samples < 2 || 2 * target.valid_samples < target.samples || pairs == 0) return target;
-  target.accuracy_deg = eccentricity_deg(display, target_x_px, target_y_px, sum_x / target.valid_samples,
-                                         sum_y / target.valid_samples);
+  target.accuracy_deg =
+      eccentricity_deg(display, target_x_px, target_y_px, sum_x / target.valid_samples, sum_y / target.valid_samples);
   target.precision_deg = std::sqrt(sum_squares / pairs);
   return target;
 }

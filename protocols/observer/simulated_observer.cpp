@@ -51,7 +51,8 @@ double ObserverModel::p_detect(std::optional<double> level) const {
 ObserverModel parse_observer_spec(const std::string& text, const StudyPlan& plan) {
   const std::string prefix = "simulated";
   if (text.rfind(prefix, 0) != 0 || (text.size() > prefix.size() && text[prefix.size()] != ':'))
-    throw InputError("--observer: expected simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N], got \"" + text + "\"");
+    throw InputError("--observer: expected simulated[:threshold=T,slope=S,guess=G,lapse=L,rt=R,seed=N], got \"" + text +
+                     "\"");
   ObserverModel model;
   const std::vector<double>& levels = plan.config.levels.values;
   if (!levels.empty()) {
@@ -122,8 +123,9 @@ ObserverAnswer SimulatedObserver::answer_comparison(const Trial& trial) const {
     case ProtocolKind::rating:
       // Seen differences are "significant" (1) as often as they are plainly visible.
       // Through a std::string: GCC 12's Release build warns falsely (-Wrestrict) on assigning the view.
-      answer.answer = std::string(!detected ? answers::rating_3
-                                            : (random.uniform() < model_.p_see(effective) ? answers::rating_1 : answers::rating_2));
+      answer.answer =
+          std::string(!detected ? answers::rating_3
+                                : (random.uniform() < model_.p_see(effective) ? answers::rating_1 : answers::rating_2));
       break;
     default:
       answer.answer = answers::same;
@@ -159,7 +161,8 @@ ObserverAnswer SimulatedObserver::answer_slider(const Trial& trial, int action, 
     answer.answer = answers::reference;
     return answer;
   }
-  const bool detected = random.uniform() < model_.p_detect(level_of(trial.sequence.at(static_cast<size_t>(ladder_index))));
+  const bool detected =
+      random.uniform() < model_.p_detect(level_of(trial.sequence.at(static_cast<size_t>(ladder_index))));
   const bool can_improve = ladder_index + 1 < static_cast<int>(trial.sequence.size());
   // The ladder runs from least to most like the reference: "up" is toward the reference.
   answer.answer = detected && can_improve ? answers::up : answers::save;

@@ -28,15 +28,15 @@
 namespace fovlab {
 
 struct ObserverModel {
-  double threshold = 0.0;   // level where p_see = 0.5
-  double slope = 1.0;       // per level unit, > 0
+  double threshold = 0.0;  // level where p_see = 0.5
+  double slope = 1.0;      // per level unit, > 0
   double guess = 0.02;
   double lapse = 0.02;
   double mean_response_s = 0.8;  // reaction time: 0.3 s + exponential with this mean minus 0.3 s
   uint64_t seed = 0;
   bool higher_is_better = true;
 
-  double p_see(std::optional<double> level) const;     // nullopt: identical stimuli
+  double p_see(std::optional<double> level) const;  // nullopt: identical stimuli
   double p_detect(std::optional<double> level) const;
   double visible_degradation(std::optional<double> level) const;  // v(x) above; 0 for nullopt
 };

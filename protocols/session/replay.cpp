@@ -140,7 +140,8 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     const nlohmann::json made = stimuli_json(plan);
     const nlohmann::json& recorded = header.stimuli;
     if (!recorded.is_array() || recorded.size() != made.size())
-      differences.add("header", "stimuli: the log records " + std::to_string(recorded.is_array() ? recorded.size() : 0) +
+      differences.add("header", "stimuli: the log records " +
+                                    std::to_string(recorded.is_array() ? recorded.size() : 0) +
                                     ", its config_toml makes " + std::to_string(made.size()));
     else
       for (size_t id = 0; id < made.size(); ++id)
@@ -186,10 +187,11 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     if (!options.frames_out.empty()) write_frame_image(fs::path(options.frames_out) / file_name, made.image);
     if (by_ssim) {
       const fs::path reference_path = fs::path(options.reference_frames) / file_name;
-      const double value = analysis::ssim(read_image(reference_path), frame_to_image(made.image)).mean_ssim;
+      const double value = metrics::ssim(read_image(reference_path), frame_to_image(made.image)).mean_ssim;
       outcome.lowest_ssim = std::min(outcome.lowest_ssim, value);
       if (value < options.min_ssim)
-        differences.add(reference_path.string(), "SSIM " + std::to_string(value) + " below " + std::to_string(options.min_ssim));
+        differences.add(reference_path.string(),
+                        "SSIM " + std::to_string(value) + " below " + std::to_string(options.min_ssim));
     }
     if (gaze_dependent) {
       live = std::move(made);
@@ -229,7 +231,8 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     for (const ResponseEvent& response : recorded.responses) {
       const std::string& answer = response.answer;
       if (!answer.empty() && std::find(allowed.begin(), allowed.end(), answer) == allowed.end())
-        differences.add(where + " (" + line_of(response.stamp) + ")", "answer \"" + answer + "\" is not an answer of this protocol");
+        differences.add(where + " (" + line_of(response.stamp) + ")",
+                        "answer \"" + answer + "\" is not an answer of this protocol");
     }
     if (observer) check_observer_answers(*observer, plan, trial, recorded, differences);
     if (recorded.attention_check && !recorded.responses.empty()) {
@@ -244,7 +247,8 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     for (const StimulusEvent& shown : recorded.stimuli) shown_ids.push_back(shown.stimulus);
     if (config.protocol.kind == ProtocolKind::slider) {
       for (size_t i = 0; i < shown_ids.size(); ++i) {
-        const bool on_ladder = std::find(trial.sequence.begin(), trial.sequence.end(), shown_ids[i]) != trial.sequence.end();
+        const bool on_ladder =
+            std::find(trial.sequence.begin(), trial.sequence.end(), shown_ids[i]) != trial.sequence.end();
         if ((i == 0 && shown_ids[i] != trial.reference) || (!on_ladder && shown_ids[i] != trial.reference))
           differences.add(where, "stimulus " + std::to_string(shown_ids[i]) + " is not the reference or on the ladder");
       }
@@ -261,7 +265,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
         for (int refresh = 0; refresh < refreshes; ++refresh) expected_frames.push_back(frame);
       if (shown.frame != expected_frames)
         differences.add(where + " (" + line + ")", "the frames shown are not every frame of the stimulus, " +
-                                                                 std::to_string(refreshes) + " refreshes each");
+                                                       std::to_string(refreshes) + " refreshes each");
       if (stimulus < 0 || stimulus >= static_cast<int>(plan.stimuli.size())) {
         differences.add(where + " (" + line + ")", "stimulus id " + std::to_string(stimulus) + " not in the plan");
         continue;
@@ -285,9 +289,9 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
           differences.add(where + " (" + line + ")", "frame " + std::to_string(frame) + " out of range");
           break;
         }
-        const std::string file_name =
-            gaze_dependent ? image_file_name(recorded.index, shown.step, stimulus, image.image_index)
-                           : frame_file_name(stimulus, frame);
+        const std::string file_name = gaze_dependent
+                                          ? image_file_name(recorded.index, shown.step, stimulus, image.image_index)
+                                          : frame_file_name(stimulus, frame);
         const PreparedFrame& again = image_for(stimulus, image, file_name);
         ++outcome.presents_checked;
         const std::string what = where + " (" + line + ") stimulus " + std::to_string(stimulus) + " frame " +

@@ -12,16 +12,16 @@
 namespace fovlab {
 
 struct AnswerRequest {
-  const Trial* trial = nullptr;   // nullptr for the instructions screen
-  int step = 0;                   // ramp: the sequence step answered; slider: the action number
-  int ladder_index = 0;           // slider: where the ladder stands
-  double onset_s = 0.0;           // presenter time the question appeared
+  const Trial* trial = nullptr;  // nullptr for the instructions screen
+  int step = 0;                  // ramp: the sequence step answered; slider: the action number
+  int ladder_index = 0;          // slider: where the ladder stands
+  double onset_s = 0.0;          // presenter time the question appeared
 };
 
 struct Answer {
-  std::string answer;             // one of the protocol's answers ("" for the instructions)
-  std::string key;                // the key or button, or "simulated"
-  double time_s = 0.0;            // presenter time of the answer
+  std::string answer;   // one of the protocol's answers ("" for the instructions)
+  std::string key;      // the key or button, or "simulated"
+  double time_s = 0.0;  // presenter time of the answer
 };
 
 class ResponseSource {

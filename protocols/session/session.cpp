@@ -89,10 +89,12 @@ std::string set_torn_tail_aside(const EventLogFile& log) {
 // A resumed log must be one this plan made: every complete trial within the plan and as the plan
 // (with its adaptive tracks' answers so far) presents it, none missing (a forged log cannot make a
 // session "131 of 89 trials complete"). Returns the tracks' progress to continue from.
-ScheduleCheck check_trials_against_plan(const SessionRecord& record, const StudyPlan& plan, const std::string& log_path) {
+ScheduleCheck check_trials_against_plan(const SessionRecord& record, const StudyPlan& plan,
+                                        const std::string& log_path) {
   ScheduleCheck check = check_log_against_schedule(record, plan);
   if (!check.differences.empty())
-    throw InputError(log_path + ": " + check.differences.front() + "; the log was not written by this config; not resuming");
+    throw InputError(log_path + ": " + check.differences.front() +
+                     "; the log was not written by this config; not resuming");
   return check;
 }
 
@@ -114,8 +116,8 @@ void restore_recovered_log(const std::string& log_path) {
   std::string kept;
   if (fs::exists(fs::symlink_status(log))) {
     fs::path aside;
-    for (int number = 1; fs::exists(fs::symlink_status(aside = set_aside_path(log, SetAside::replaced, number))); ++number) {
-    }
+    for (int number = 1; fs::exists(fs::symlink_status(aside = set_aside_path(log, SetAside::replaced, number)));
+         ++number) {}
     if (::rename(log.c_str(), aside.c_str()) != 0) throw FileError(log_path, "setting the replacement aside", errno);
     kept = "; what was at its name is kept as " + aside.string();
   }
@@ -147,7 +149,8 @@ SessionOutcome seal_finished_session(const EventLogFile& log, const SessionRecor
 
 // A participant field's value: at most 200 bytes of text without control characters.
 void check_participant_field_value(const std::string& name, const std::string& value) {
-  const bool control = std::any_of(value.begin(), value.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+  const bool control =
+      std::any_of(value.begin(), value.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
   if (value.size() > 200 || control)
     throw InputError("--field " + name + ": expected at most 200 characters of text without control characters");
 }
@@ -186,7 +189,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.trials_total = static_cast<int>(plan.trials.size());
   outcome.trials_total_is_upper_bound = !plan.tracks.empty();
   check_plan_renderable(plan, config.source_path, PlanUse::session);  // before the window, the lock, any render
-  check_log_fits_readers(plan, config.source_path);  // a log export, analyze and replay could not read back is not begun
+  check_log_fits_readers(plan,
+                         config.source_path);  // a log export, analyze and replay could not read back is not begun
 
   // Answers and gaze: parsed before anything is written.
   std::optional<ObserverModel> observer_model;
@@ -202,10 +206,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
 
   const std::optional<LabKey> lab_key = read_optional_lab_key(options.lab_key_path, options.results_dir);
   for (const auto& [name, value] : options.participant_fields) {
-    if (std::find(config.participant_fields.begin(), config.participant_fields.end(), name) == config.participant_fields.end())
+    if (std::find(config.participant_fields.begin(), config.participant_fields.end(), name) ==
+        config.participant_fields.end())
       throw InputError("--field " + name + ": not a participant field of " + config.source_path + " (expected " +
                        (config.participant_fields.empty() ? std::string("none: the config has no [participant] fields")
-                                                          : "one of " + join(config.participant_fields, ", ")) + ")");
+                                                          : "one of " + join(config.participant_fields, ", ")) +
+                       ")");
     check_participant_field_value(name, value);
   }
 
@@ -213,7 +219,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // locked until this run exits: a second run of the participant changes nothing and exits 2.
   check_output_target(options.results_dir, "--results", {OutputKind::folder});
   check_output_target(options.cache_dir, "--cache", {OutputKind::folder});
-  if (!options.screenshots_dir.empty()) check_output_target(options.screenshots_dir, "--screenshots", {OutputKind::folder});
+  if (!options.screenshots_dir.empty())
+    check_output_target(options.screenshots_dir, "--screenshots", {OutputKind::folder});
   // The folder of the config's version (study/log/study_versions.h): a new participant under an
   // edited config is refused here, after every other check of the input and before anything is
   // written, unless options.new_version.
@@ -236,11 +243,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     record = read_session_record(*existing, lab_key ? &*lab_key : nullptr);
     const nlohmann::json& header = record->header;
     if (record->integrity.status == LogStatus::broken)
-      throw InputError(outcome.log_path + ":" + std::to_string(record->integrity.line) + ": " + record->integrity.reason +
-                       "; not resuming");
+      throw InputError(outcome.log_path + ":" + std::to_string(record->integrity.line) + ": " +
+                       record->integrity.reason + "; not resuming");
     if (existing->schema_version != log_schema_version)
       throw InputError(outcome.log_path + ":1: written by an older fovlab (log schema " +
-                       std::to_string(existing->schema_version) + "); finish it with that version or use another participant ID");
+                       std::to_string(existing->schema_version) +
+                       "); finish it with that version or use another participant ID");
     if (header.value("study", "") != config.name || header.value("participant", "") != options.participant)
       throw InputError(outcome.log_path + ":1: the log belongs to study \"" + header.value("study", "") +
                        "\", participant \"" + header.value("participant", "") + "\"");
@@ -253,17 +261,18 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
       throw InputError(outcome.log_path + ":1: the session was started with observer " +
                        header.value("observer", nlohmann::json()).dump() + "; resume it with the same --observer");
     if (record->integrity.keyed && !lab_key)
-      throw InputError(outcome.log_path + ":1: the session's seals are keyed (lab key " + header.value("lab_key_id", "") +
-                       "); resume it with the same --lab-key");
+      throw InputError(outcome.log_path + ":1: the session's seals are keyed (lab key " +
+                       header.value("lab_key_id", "") + "); resume it with the same --lab-key");
     if (!record->integrity.keyed && lab_key)
       throw InputError("--lab-key: the session started without a lab key (" + outcome.log_path +
                        "); resume it without one, or use another participant ID");
     if (record->ended && record->integrity.status == LogStatus::sealed)
-      throw InputError(outcome.log_path + ": participant \"" + options.participant + "\" already finished this study (" +
-                       record->end_reason + "); choose another participant ID");
+      throw InputError(outcome.log_path + ": participant \"" + options.participant +
+                       "\" already finished this study (" + record->end_reason + "); choose another participant ID");
     if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan))
-      throw InputError(outcome.log_path + ":1: a scene file changed since this participant started (scene_hashes); "
-                                          "restore it to resume, or use another participant ID");
+      throw InputError(outcome.log_path +
+                       ":1: a scene file changed since this participant started (scene_hashes); "
+                       "restore it to resume, or use another participant ID");
     schedule = check_trials_against_plan(*record, plan, outcome.log_path);
     // Ended, but killed before its seal: every check above passed, so the seal is all it lacks.
     if (record->ended) return seal_finished_session(*existing, *record, lab_key ? &*lab_key : nullptr, outcome);
@@ -278,8 +287,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
       const nlohmann::json& logged = record->header.value("participant_fields", nlohmann::json::object());
       if (!logged.contains(name) || logged[name] != value)
         throw InputError("--field " + name + "=" + value + ": the session was started with " + name + " = " +
-                         (logged.contains(name) ? logged[name].dump() : std::string("none")) +
-                         " (" + outcome.log_path + "); resume it without --field or with the same value");
+                         (logged.contains(name) ? logged[name].dump() : std::string("none")) + " (" + outcome.log_path +
+                         "); resume it without --field or with the same value");
     }
   } else {
     participant_fields = options.participant_fields;
@@ -328,8 +337,9 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   const double time_base_s = record ? record->last_time_s : 0.0;
   std::unique_ptr<GazeSource> gaze;
   if (gaze_spec.kind == GazeSpec::Kind::mouse) gaze = std::make_unique<MouseGazeSource>(*presenter);
-  else gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed,
-                               [&presenter, time_base_s] { return time_base_s + presenter->now_s(); });
+  else
+    gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed,
+                            [&presenter, time_base_s] { return time_base_s + presenter->now_s(); });
 
   // One device renders and presents unless --present-device names another (or, chosen
   // automatically, the preferred rendering device cannot present to the window).
@@ -347,7 +357,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   StimulusLibrary library(context, options.cache_dir);
   std::vector<std::pair<int, StimulusSpec>> all;
   for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
-  outcome.prepare_s = library.prepare(all, options.prepare_progress);  // scene errors surface here, before any event is written
+  outcome.prepare_s =
+      library.prepare(all, options.prepare_progress);  // scene errors surface here, before any event is written
   test_pause_point("prepared");
   std::unique_ptr<ResponseSource> responses;
   if (observer_model) responses = std::make_unique<ObserverResponses>(*observer_model, plan);
@@ -362,11 +373,18 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // The header before the log file exists: an error making it (a scene file gone) leaves no empty log.
   std::optional<SessionHeaderEvent> header;
   if (!record) {
-    SessionHeaderInputs inputs{&plan, &context.description, observer_model ? &*observer_model : nullptr,
-                               presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
-                               window ? window->device_name() : "", outcome.frame_path, gaze->describe(),
-                               gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze),
-                               presenter->refresh_hz(), utc_now(), participant_fields};
+    SessionHeaderInputs inputs{
+        &plan,
+        &context.description,
+        observer_model ? &*observer_model : nullptr,
+        presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
+        window ? window->device_name() : "",
+        outcome.frame_path,
+        gaze->describe(),
+        gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze),
+        presenter->refresh_hz(),
+        utc_now(),
+        participant_fields};
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
   }
@@ -380,7 +398,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     resumed.next_trial = schedule->next_trial;
     resumed.started_utc = utc_now();
     resumed.gaze = gaze->describe();
-    resumed.gaze_source = gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze);
+    resumed.gaze_source =
+        gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze);
     if (record->incomplete_trial >= 0) resumed.discarded_trial = record->incomplete_trial;
     if (!torn_aside.empty()) resumed.torn_line_set_aside = torn_aside;
     run.log(to_json(resumed));
@@ -403,7 +422,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   run.log(to_json(SealEvent{{}, outcome.trials_completed, {}}));
   outcome.trial_loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   if (window && render_context && window->validation_message_count() > 0)
-    throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(window->validation_message_count()) +
+    throw std::runtime_error("the Vulkan validation layer reported " +
+                             std::to_string(window->validation_message_count()) +
                              " message(s) in the session window (see stderr)");
   if (window) {
     outcome.cross_device_frames = window->cross_device_copies().frames;
@@ -416,8 +436,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.log_write_s = writer.seconds_writing();
   outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (context.validation_message_count() > 0)
-    throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(context.validation_message_count()) +
-                             " message(s) (see stderr)");
+    throw std::runtime_error("the Vulkan validation layer reported " +
+                             std::to_string(context.validation_message_count()) + " message(s) (see stderr)");
   return outcome;
 }
 

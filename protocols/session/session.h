@@ -16,8 +16,8 @@ namespace fovlab {
 struct SessionOptions {
   std::string participant;
   std::string results_dir = "results";
-  std::string observer;           // "" for a human at the keys, else "simulated[:k=v,...]"
-  std::string gaze;               // "" for the default: mouse in a window, synthetic headless
+  std::string observer;                     // "" for a human at the keys, else "simulated[:k=v,...]"
+  std::string gaze;                         // "" for the default: mouse in a window, synthetic headless
   std::string cache_dir = "stimuli/cache";  // the pre-render cache (path-traced frames, Voronoi masks)
   // The config's [participant] fields given on the command line (name -> value), and how to ask
   // for the others when a new session starts (empty: not asked; a human's missing field is then an
@@ -30,11 +30,11 @@ struct SessionOptions {
   // minutes with nothing on screen).
   std::function<void(double)> trial_progress;
   bool headless = false;
-  std::string device_selector;    // --device: renders (and, in a window, presents unless present_device_selector)
+  std::string device_selector;          // --device: renders (and, in a window, presents unless present_device_selector)
   std::string present_device_selector;  // --present-device: a window on another device (frames copied through the host)
   bool validation = false;
-  std::string screenshots_dir;    // the first screen of each kind as <kind>.png (session_run.h), headless too
-  std::string lab_key_path;       // --lab-key: key the log's seals (a file outside results_dir)
+  std::string screenshots_dir;  // the first screen of each kind as <kind>.png (session_run.h), headless too
+  std::string lab_key_path;     // --lab-key: key the log's seals (a file outside results_dir)
   // --new-version: a new participant under a config that differs from the sessions in
   // results/<study> runs in the folder of its version, results/<study>@vN (study/log/study_versions.h),
   // instead of being refused.
@@ -42,29 +42,30 @@ struct SessionOptions {
 };
 
 struct SessionOutcome {
-  std::string study_folder;       // the study's folder under results_dir: "<study>", or "<study>@vN" for a later config version
+  std::string
+      study_folder;  // the study's folder under results_dir: "<study>", or "<study>@vN" for a later config version
   std::string log_path;
-  int trials_completed = 0;       // complete trials in the log, this run and earlier ones
+  int trials_completed = 0;  // complete trials in the log, this run and earlier ones
   int trials_total = 0;
   bool trials_total_is_upper_bound = false;  // adaptive tracks: one that stops early skips the rest of its trials
-  int trials_run = 0;             // complete trials added by this run
+  int trials_run = 0;                        // complete trials added by this run
   bool resumed = false;
   bool excluded = false;
-  bool finished = false;          // the session reached its end (all trials, or exclusion)
-  std::string stop_reason;        // why it stopped early (window closed...)
-  double plan_s = 0.0;            // building the schedule
-  double prepare_s = 0.0;         // rendering stimuli before the first trial
-  double trial_loop_s = 0.0;      // wall time from the first event of this run to its last
+  bool finished = false;      // the session reached its end (all trials, or exclusion)
+  std::string stop_reason;    // why it stopped early (window closed...)
+  double plan_s = 0.0;        // building the schedule
+  double prepare_s = 0.0;     // rendering stimuli before the first trial
+  double trial_loop_s = 0.0;  // wall time from the first event of this run to its last
   double wall_s = 0.0;
-  double log_write_s = 0.0;       // write + fsync of all events of this run
+  double log_write_s = 0.0;  // write + fsync of all events of this run
   int events_written = 0;
   // Gaze-to-present latency of this run: every stimulus refresh's gaze sample age at present time
   // (refreshes without a sample left out), the refresh periods missed, and the present clock.
   std::vector<double> gaze_age_s;
   int dropped_frames = 0;
   std::string present_clock;
-  std::string frame_path;         // "on_device", "via_host", "none" (headless)
-  int cross_device_frames = 0;    // via_host: frames copied from the rendering device to the presenting one
+  std::string frame_path;            // "on_device", "via_host", "none" (headless)
+  int cross_device_frames = 0;       // via_host: frames copied from the rendering device to the presenting one
   double cross_device_copy_s = 0.0;  // and the seconds those copies took
 };
 

@@ -18,7 +18,8 @@
 
 namespace fovlab {
 
-nlohmann::json gaze_source_json(GazeSourceKind kind, const std::string& spec, bool requested, const GazeConfig& config) {
+nlohmann::json gaze_source_json(GazeSourceKind kind, const std::string& spec, bool requested,
+                                const GazeConfig& config) {
   nlohmann::json require = nlohmann::json::array();
   for (GazeSourceKind allowed : config.require) require.push_back(gaze_source_kind_name(allowed));
   return {{"kind", gaze_source_kind_name(kind)}, {"spec", spec}, {"requested", requested}, {"require", require}};
@@ -39,9 +40,10 @@ nlohmann::json gaze_validation_json(const ValidationConfig& validation) {
 }
 
 nlohmann::json observer_json(const ObserverModel& model) {
-  return {{"model", "logistic"}, {"threshold", model.threshold}, {"slope", model.slope},
-          {"guess", model.guess}, {"lapse", model.lapse}, {"mean_response_s", model.mean_response_s},
-          {"seed", model.seed}, {"higher_is_better", model.higher_is_better}};
+  return {{"model", "logistic"},  {"threshold", model.threshold},
+          {"slope", model.slope}, {"guess", model.guess},
+          {"lapse", model.lapse}, {"mean_response_s", model.mean_response_s},
+          {"seed", model.seed},   {"higher_is_better", model.higher_is_better}};
 }
 
 ObserverModel observer_from_json(const nlohmann::json& json) {
@@ -63,12 +65,19 @@ ObserverModel observer_from_json(const nlohmann::json& json) {
 nlohmann::json scene_hashes(const StudyPlan& plan) {
   nlohmann::json hashes = nlohmann::json::object();
   std::map<std::string, SceneKind> scenes;
-  for (const PlannedStimulus& stimulus : plan.stimuli) scenes[stimulus.spec.scene] = describe(stimulus.spec.method()).scene_kind;
+  for (const PlannedStimulus& stimulus : plan.stimuli)
+    scenes[stimulus.spec.scene] = describe(stimulus.spec.method()).scene_kind;
   for (const auto& [scene, kind] : scenes) {
     switch (kind) {
-      case SceneKind::path_traced: hashes[scene] = load_path_scene(scene).content_hash; break;
-      case SceneKind::volume: hashes[scene] = volume_scene_hash(load_volume_scene(scene)); break;
-      case SceneKind::signed_distance: hashes[scene] = ContentHash().add(load_scene(scene).text).hex(); break;
+      case SceneKind::path_traced:
+        hashes[scene] = load_path_scene(scene).content_hash;
+        break;
+      case SceneKind::volume:
+        hashes[scene] = volume_scene_hash(load_volume_scene(scene));
+        break;
+      case SceneKind::signed_distance:
+        hashes[scene] = ContentHash().add(load_scene(scene).text).hex();
+        break;
     }
   }
   return hashes;
@@ -93,12 +102,19 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.protocol = protocol_name(config.protocol.kind);
   header.trial_count = static_cast<int64_t>(plan.trials.size());
   header.scene_hashes = scene_hashes(plan);
-  header.device = {{"name", inputs.device->name}, {"type", inputs.device->type},
-                   {"api_version", inputs.device->api_version}, {"driver", inputs.device->driver}};
-  header.display = {{"width_px", display.width_px}, {"height_px", display.height_px}, {"refresh_hz", display.refresh_hz},
-                    {"measured_refresh_hz", inputs.refresh_hz}, {"width_mm", display.width_mm},
-                    {"height_mm", display.height_mm}, {"viewing_distance_mm", display.viewing_distance_mm},
-                    {"fullscreen", display.fullscreen}, {"present_device", inputs.present_device},
+  header.device = {{"name", inputs.device->name},
+                   {"type", inputs.device->type},
+                   {"api_version", inputs.device->api_version},
+                   {"driver", inputs.device->driver}};
+  header.display = {{"width_px", display.width_px},
+                    {"height_px", display.height_px},
+                    {"refresh_hz", display.refresh_hz},
+                    {"measured_refresh_hz", inputs.refresh_hz},
+                    {"width_mm", display.width_mm},
+                    {"height_mm", display.height_mm},
+                    {"viewing_distance_mm", display.viewing_distance_mm},
+                    {"fullscreen", display.fullscreen},
+                    {"present_device", inputs.present_device},
                     {"frame_path", inputs.frame_path}};
   header.presenter = inputs.presenter;
   header.gaze = inputs.gaze;

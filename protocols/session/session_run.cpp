@@ -46,9 +46,15 @@ class FixationTargetScope {
 }  // namespace
 
 SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Presenter& presenter, GazeSource& gaze,
-           ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s)
-    : plan_(plan), options_(options), presenter_(presenter), gaze_(gaze), responses_(responses),
-      library_(library), log_(log), time_base_s_(time_base_s) {}
+                       ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s)
+    : plan_(plan),
+      options_(options),
+      presenter_(presenter),
+      gaze_(gaze),
+      responses_(responses),
+      library_(library),
+      log_(log),
+      time_base_s_(time_base_s) {}
 
 void SessionRun::log(nlohmann::json event) {
   if (!event.contains("t")) event["t"] = t();
@@ -69,13 +75,15 @@ void SessionRun::show_screen(const std::string& screen_kind, const std::function
 }
 
 void SessionRun::show_text(const std::string& text, const std::string& screen_kind) {
-  show_screen(screen_kind, [&] { return render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text); });
+  show_screen(screen_kind,
+              [&] { return render_text_screen(plan_.config.display.width_px, plan_.config.display.height_px, text); });
 }
 
 void SessionRun::show_fixation(double duration_s) {
   if (duration_s <= 0) return;
   const double until = presenter_.now_s() + duration_s;
-  show_screen("fixation", [&] { return fixation_cross_frame(plan_.config.display.width_px, plan_.config.display.height_px); });
+  show_screen("fixation",
+              [&] { return fixation_cross_frame(plan_.config.display.width_px, plan_.config.display.height_px); });
   presenter_.wait_until(until);
 }
 
@@ -97,7 +105,8 @@ void SessionRun::take_break(const std::string& text, double duration_s, const st
 void SessionRun::show_black(double duration_s) {
   if (duration_s <= 0) return;
   const double until = presenter_.now_s() + duration_s;
-  if (!presenter_.is_headless()) presenter_.present(black_frame(plan_.config.display.width_px, plan_.config.display.height_px));
+  if (!presenter_.is_headless())
+    presenter_.present(black_frame(plan_.config.display.width_px, plan_.config.display.height_px));
   presenter_.wait_until(until);
 }
 
@@ -147,7 +156,8 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       event.present_s.push_back(shown_at);
       event.frame.push_back(frame);
       event.hash.push_back(library_.hash(shown));  // a live frame's: read back now, after its present
-      if (frame == 0 && refresh == refreshes - 1 && wants_screenshot("stimulus")) save_screenshot("stimulus", shown.image);
+      if (frame == 0 && refresh == refreshes - 1 && wants_screenshot("stimulus"))
+        save_screenshot("stimulus", shown.image);
       event.gaze.push_back({sample.x_px, sample.y_px});
       // The sample's own time (already on the session clock: the source was asked at t()) and its
       // age when the frame made with it was presented (null: the tracker had no sample).
@@ -253,8 +263,7 @@ std::string question_screen_text(const QuestionConfig& question) {
 Answer SessionRun::ask(const Trial& trial, int step, int ladder_index) {
   show_text(question_screen_text(plan_.config.protocol.question), "question");
   AnswerRequest request{&trial, step, ladder_index, presenter_.now_s()};
-  const std::optional<Answer> answer =
-      responses_.await(request, presenter_, plan_.config.timing.response_timeout_s);
+  const std::optional<Answer> answer = responses_.await(request, presenter_, plan_.config.timing.response_timeout_s);
   Answer result = answer.value_or(Answer{"", "", presenter_.now_s()});
   ResponseEvent event;
   event.stamp.t = time_base_s_ + result.time_s;
@@ -308,7 +317,8 @@ void SessionRun::run_slider(const Trial& trial) {
   }
 }
 
-bool SessionRun::run_trials(int first, int attention_errors, bool resumed, int complete_before, AdaptiveProgress& adaptive) {
+bool SessionRun::run_trials(int first, int attention_errors, bool resumed, int complete_before,
+                            AdaptiveProgress& adaptive) {
   const StudyConfig& config = plan_.config;
   const bool checks_on = config.attention.share > 0;
   const auto exclude = [&](bool excluded_logged, int completed_trials) {
@@ -347,7 +357,8 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed, int c
       show_text("The practice is over: the study begins now.\n\nPress an answer key to begin.", "practice_end");
       wait_for_key();
     }
-    if (trial.index == block.first_trial && trial.block > 0 && !after_practice && config.timing.rest_between_blocks_s > 0) {
+    if (trial.index == block.first_trial && trial.block > 0 && !after_practice &&
+        config.timing.rest_between_blocks_s > 0) {
       const double start = t();
       take_break("Rest before the next block.", config.timing.rest_between_blocks_s, "rest");
       log(to_json(BreakEvent{{}, BreakEvent::rest, std::nullopt, start, t() - start}));
@@ -359,8 +370,10 @@ bool SessionRun::run_trials(int first, int attention_errors, bool resumed, int c
     }
     if (block_starts) log(to_json(BlockStartEvent{{}, trial.block, block.name, block.scene}));
     if (block.practice && trial.index == block.first_trial) {
-      show_text("Practice: " + std::to_string(block.trial_count) + " trials to learn the task. These answers are not "
-                "part of the results.\n\nPress an answer key to begin.", "practice");
+      show_text("Practice: " + std::to_string(block.trial_count) +
+                    " trials to learn the task. These answers are not "
+                    "part of the results.\n\nPress an answer key to begin.",
+                "practice");
       wait_for_key();
     }
     TrialStartEvent start;

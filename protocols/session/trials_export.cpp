@@ -33,22 +33,22 @@ nlohmann::json optional_json(const std::optional<T>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json();
 }
 
-const char* const columns[] = {"study", "participant", "observer", "protocol", "trial", "block", "block_name", "scene",
-                               "condition", "variant", "level", "attention_check", "reference_first",
-                               "ramp_toward_reference", "answer", "answers", "rt_s", "saved_level",
-                               "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status",
-                               // Issue 18: what PsychoPy users look for in a trials file.
-                               "key", "correct", "repeat", "level_parameter", "session_started_utc",
-                               "fovlab_version", "config_hash", "refresh_hz",
-                               // [practice] trials: exported, never analysed.
-                               "practice",
-                               // An adaptive trial's track (as adaptive_tracks.csv names it); empty otherwise.
-                               "track", "track_procedure", "track_kind",
-                               // The session's gaze source kind (several runs, several kinds: "tracker+mouse").
-                               "gaze_source"};
+const char* const columns[] = {
+    "study", "participant", "observer", "protocol", "trial", "block", "block_name", "scene", "condition", "variant",
+    "level", "attention_check", "reference_first", "ramp_toward_reference", "answer", "answers", "rt_s", "saved_level",
+    "attention_correct", "onset_s", "end_s", "dropped_frames", "excluded", "log_status",
+    // Issue 18: what PsychoPy users look for in a trials file.
+    "key", "correct", "repeat", "level_parameter", "session_started_utc", "fovlab_version", "config_hash", "refresh_hz",
+    // [practice] trials: exported, never analysed.
+    "practice",
+    // An adaptive trial's track (as adaptive_tracks.csv names it); empty otherwise.
+    "track", "track_procedure", "track_kind",
+    // The session's gaze source kind (several runs, several kinds: "tracker+mouse").
+    "gaze_source"};
 
-const char* const step_columns[] = {"study", "participant", "observer", "protocol", "trial", "step", "level",
-                                    "previous_level", "answer", "key", "rt_s", "correct", "log_status", "practice"};
+const char* const step_columns[] = {"study", "participant", "observer",       "protocol", "trial",
+                                    "step",  "level",       "previous_level", "answer",   "key",
+                                    "rt_s",  "correct",     "log_status",     "practice"};
 
 // The level of stimulus `id` in the header's stimuli (null for the reference or an unknown id).
 nlohmann::json stimulus_level(const nlohmann::json& header, int id) {
@@ -76,7 +76,8 @@ struct TrackNames {
 };
 std::vector<TrackNames> track_names(const nlohmann::json& header, const SessionRecord& record, const std::string& path,
                                     LoggedConfigs& configs) {
-  if (std::none_of(record.trials.begin(), record.trials.end(), [](const RecordedTrial& trial) { return trial.start.track.has_value(); }))
+  if (std::none_of(record.trials.begin(), record.trials.end(),
+                   [](const RecordedTrial& trial) { return trial.start.track.has_value(); }))
     return {};
   std::string error;
   const std::shared_ptr<const StudyConfig> config = configs.config_of(header, path, error);
@@ -94,11 +95,11 @@ std::vector<TrackNames> track_names(const nlohmann::json& header, const SessionR
 
 }  // namespace
 
-
 namespace {
 
 // The export; `current` names the log being read, for the caller's message.
-ExportedCsv export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options, std::string& current) {
+ExportedCsv export_checked(const std::vector<std::string>& log_paths, const ExportOptions& options,
+                           std::string& current) {
   // The config's [participant] fields, one column each ("field_age"), over every log.
   // Every log is read once, first, so the field columns are known before the first row.
   std::set<std::string> field_names;
@@ -133,7 +134,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
     SessionRecord& record = records[log_index];
     if (record.integrity.status != LogStatus::broken)
       mark_inconsistent(record.integrity, check_log_against_header(record.header, record, current, configs));
-    if (const auto fields = record.header.find("participant_fields"); fields != record.header.end() && fields->is_object())
+    if (const auto fields = record.header.find("participant_fields");
+        fields != record.header.end() && fields->is_object())
       for (const auto& [name, value] : fields->items()) field_names.insert(name);
   }
   std::ostringstream csv, steps;
@@ -153,8 +155,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
     std::vector<std::string> field_cells;
     for (const std::string& name : field_names) {
       const auto fields = record.header.find("participant_fields");
-      const bool has = fields != record.header.end() && fields->is_object() && fields->contains(name) &&
-                       (*fields)[name].is_string();
+      const bool has =
+          fields != record.header.end() && fields->is_object() && fields->contains(name) && (*fields)[name].is_string();
       field_cells.push_back(has ? (*fields)[name].get<std::string>() : "");
     }
     if (integrity.status == LogStatus::broken && !options.include_broken)
@@ -169,7 +171,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
     nlohmann::json refresh_hz;
     if (const auto display = header.find("display"); display != header.end() && display->is_object()) {
       const auto measured = display->find("measured_refresh_hz");
-      refresh_hz = measured != display->end() && measured->is_number() ? *measured : display->value("refresh_hz", nlohmann::json());
+      refresh_hz = measured != display->end() && measured->is_number() ? *measured
+                                                                       : display->value("refresh_hz", nlohmann::json());
     }
     const std::vector<TrackNames> tracks = track_names(header, record, path, configs);
     const std::string gaze_source = gaze_kinds_text(session_gaze_kinds(header, record.resumes));
@@ -194,7 +197,8 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
       for (const StimulusEvent& shown : trial.stimuli) dropped = dropped.get<int>() + shown.dropped_frames;
       const int block = start.block;
       const auto block_info = blocks.count(block) ? blocks[block] : std::pair<std::string, std::string>();
-      const std::string attention_correct = trial.attention_check ? number_cell(optional_json(trial.attention_check->correct)) : "";
+      const std::string attention_correct =
+          trial.attention_check ? number_cell(optional_json(trial.attention_check->correct)) : "";
       const bool named_track = start.track && *start.track >= 0 && static_cast<size_t>(*start.track) < tracks.size();
       const TrackNames track = named_track ? tracks[static_cast<size_t>(*start.track)] : TrackNames{};
       const std::vector<std::string> cells = {
@@ -250,22 +254,24 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
         nlohmann::json level, previous, correct;
         if (start.ramp_toward_reference) {
           const auto at = [&](int index) {
-            return index >= 0 && size_t(index) < start.sequence.size() ? stimulus_level(header, start.sequence[size_t(index)])
-                                                                      : nlohmann::json();
+            return index >= 0 && size_t(index) < start.sequence.size()
+                       ? stimulus_level(header, start.sequence[size_t(index)])
+                       : nlohmann::json();
           };
           level = at(response.step);
           previous = at(response.step - 1);
           if (!response.answer.empty())
             correct = response.answer == answers::ramp_correct_answer(*start.ramp_toward_reference);
         } else {
-          if (ladder >= 0 && size_t(ladder) < start.sequence.size()) level = stimulus_level(header, start.sequence[size_t(ladder)]);
+          if (ladder >= 0 && size_t(ladder) < start.sequence.size())
+            level = stimulus_level(header, start.sequence[size_t(ladder)]);
           ladder = next_ladder_index(ladder_trial, response.answer, ladder);
         }
-        steps << csv_line(std::vector<std::string>{header.value("study", ""), header.value("participant", ""), observer,
-                                                   protocol, std::to_string(trial.index), std::to_string(response.step),
-                                                   number_cell(level), number_cell(previous), response.answer, response.key,
-                                                   number_cell(optional_json(response.rt_s)), number_cell(correct),
-                                                   log_status_name(integrity.status), number_cell(start.practice)});
+        steps << csv_line(std::vector<std::string>{
+            header.value("study", ""), header.value("participant", ""), observer, protocol, std::to_string(trial.index),
+            std::to_string(response.step), number_cell(level), number_cell(previous), response.answer, response.key,
+            number_cell(optional_json(response.rt_s)), number_cell(correct), log_status_name(integrity.status),
+            number_cell(start.practice)});
       }
     }
   }

@@ -26,7 +26,8 @@ class PathTracedStimuli final : public StimulusRenderer {
   void validate(const StimulusSpec& spec) override {
     try {
       check_path_trace_frame_bytes(context_, spec.width_px, spec.height_px);
-      if (spec.method() == RenderMethod::foveated_path_traced) check_zone_frame_size(context_, spec.width_px, spec.height_px);
+      if (spec.method() == RenderMethod::foveated_path_traced)
+        check_zone_frame_size(context_, spec.width_px, spec.height_px);
     } catch (const InputError& error) {
       throw InputError(config_frame_size(spec) + ": " + error.what());
     }
@@ -37,7 +38,8 @@ class PathTracedStimuli final : public StimulusRenderer {
   }
 
   void prepare(const StimulusSpec& spec, const std::function<void()>& frame_done) override {
-    if (!describe(spec.method()).depends_on_gaze) return;  // pt frames are loaded (or rendered) by the library's render loop
+    if (!describe(spec.method()).depends_on_gaze)
+      return;  // pt frames are loaded (or rendered) by the library's render loop
     // Every frame on disk and readable before the first trial: missing ones are rendered now (fovlab
     // prerender does the same ahead of time, on as many machines as wanted), a damaged one is an
     // error naming its file now rather than mid-session.
@@ -91,7 +93,8 @@ class PathTracedStimuli final : public StimulusRenderer {
     }
     // Blended and sRGB-encoded on the GPU. A gaze sample that is not a number (none usable, not even
     // a substitute) shows the frame itself: the full-resolution zone everywhere.
-    return blender().display_frame_on_device(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px, zone_bounds(spec));
+    return blender().display_frame_on_device(stimulus_display(spec), image.gaze.x_px, image.gaze.y_px,
+                                             zone_bounds(spec));
   }
 
   // The sampling models: as fpt, the frame is uploaded when the animation frame changes and the map
@@ -126,14 +129,15 @@ class PathTracedStimuli final : public StimulusRenderer {
   std::unique_ptr<ZoneBlender> blender_;
   std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
   std::unique_ptr<FrameSampler> sampler_;
-  std::string sampler_frame_;  // spec and frame the sampler holds
+  std::string sampler_frame_;                  // spec and frame the sampler holds
   std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
   std::string sampler_centre_spec_;            // ... with this canonical text
 };
 
 }  // namespace
 
-std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context, const std::filesystem::path& cache_root) {
+std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context,
+                                                            const std::filesystem::path& cache_root) {
   return std::make_unique<PathTracedStimuli>(context, cache_root);
 }
 

@@ -39,7 +39,8 @@ class SphereTracedStimuli final : public StimulusRenderer {
       settings.foveation.gaze_x_px = image.gaze.x_px;
       settings.foveation.gaze_y_px = image.gaze.y_px;
       settings.foveation.frame_index = static_cast<uint32_t>(image.image_index);
-      if (settings.sampling) settings.sampling = sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*settings.sampling);
+      if (settings.sampling)
+        settings.sampling = sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*settings.sampling);
     }
     // A gaze-independent frame overwrites what a sequence would continue from; a failed render
     // leaves nothing to continue from either.

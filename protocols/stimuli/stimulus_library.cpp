@@ -13,14 +13,13 @@
 
 namespace fovlab {
 std::string frame_hash(const Rgba8Frame& frame) {
-  return ContentHash()
-      .add(std::string_view(reinterpret_cast<const char*>(frame.rgba.data()), frame.rgba.size()))
-      .hex();
+  return ContentHash().add(std::string_view(reinterpret_cast<const char*>(frame.rgba.data()), frame.rgba.size())).hex();
 }
 
 StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root)
     : context_(context), readback_(std::make_unique<vk::Buffer>()) {
-  for (StimulusFamily family : kStimulusFamilies) renderers_[family] = make_stimulus_renderer(family, context, cache_root);
+  for (StimulusFamily family : kStimulusFamilies)
+    renderers_[family] = make_stimulus_renderer(family, context, cache_root);
 }
 StimulusLibrary::~StimulusLibrary() = default;
 
@@ -106,7 +105,8 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
     // What the family readies ahead: a scene compiled or loaded, cached frames, a mask or equalise's
     // solution. Gaze-dependent stimuli are then rendered live, the others ahead, below.
     const auto start = std::chrono::steady_clock::now();
-    renderer_for(spec).prepare(spec, [&] { advance(std::max(0.0, std::min(1.0, before_stimulus + units(spec) - done))); });
+    renderer_for(spec).prepare(spec,
+                               [&] { advance(std::max(0.0, std::min(1.0, before_stimulus + units(spec) - done))); });
     render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (describe(spec.method()).depends_on_gaze) {
       advance(std::max(0.0, before_stimulus + units(spec) - done));

@@ -6,18 +6,24 @@ namespace fovlab {
 
 const char* stimulus_family_name(StimulusFamily family) {
   switch (family) {
-    case StimulusFamily::sphere_traced: return "sphere-traced";
-    case StimulusFamily::path_traced: return "path-traced";
-    case StimulusFamily::volume: return "volume";
+    case StimulusFamily::sphere_traced:
+      return "sphere-traced";
+    case StimulusFamily::path_traced:
+      return "path-traced";
+    case StimulusFamily::volume:
+      return "volume";
   }
   return "?";
 }
 
 StimulusFamily stimulus_family(RenderMethod method) {
   switch (describe(method).scene_kind) {
-    case SceneKind::signed_distance: return StimulusFamily::sphere_traced;
-    case SceneKind::path_traced: return StimulusFamily::path_traced;
-    case SceneKind::volume: return StimulusFamily::volume;
+    case SceneKind::signed_distance:
+      return StimulusFamily::sphere_traced;
+    case SceneKind::path_traced:
+      return StimulusFamily::path_traced;
+    case SceneKind::volume:
+      return StimulusFamily::volume;
   }
   throw std::logic_error("stimulus_family: a method of no scene kind");
 }
@@ -25,9 +31,12 @@ StimulusFamily stimulus_family(RenderMethod method) {
 std::unique_ptr<StimulusRenderer> make_stimulus_renderer(StimulusFamily family, vk::Context& context,
                                                          const std::filesystem::path& cache_root) {
   switch (family) {
-    case StimulusFamily::sphere_traced: return make_sphere_traced_renderer(context);
-    case StimulusFamily::path_traced: return make_path_traced_renderer(context, cache_root);
-    case StimulusFamily::volume: return make_volume_renderer(context);
+    case StimulusFamily::sphere_traced:
+      return make_sphere_traced_renderer(context);
+    case StimulusFamily::path_traced:
+      return make_path_traced_renderer(context, cache_root);
+    case StimulusFamily::volume:
+      return make_volume_renderer(context);
   }
   throw std::logic_error("make_stimulus_renderer: no such family");
 }

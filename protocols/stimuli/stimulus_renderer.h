@@ -58,7 +58,8 @@ void check_image_sequence(const LastImage& last, const std::string& canonical, c
 
 // Each family's renderer (sphere_traced_stimuli.cpp, path_traced_stimuli.cpp, volume_stimuli.cpp).
 std::unique_ptr<StimulusRenderer> make_sphere_traced_renderer(vk::Context& context);
-std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context, const std::filesystem::path& cache_root);
+std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context,
+                                                            const std::filesystem::path& cache_root);
 std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context);
 
 // The study config's frame size in messages: "display.width_px x display.height_px = WxH".

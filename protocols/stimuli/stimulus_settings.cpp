@@ -160,7 +160,8 @@ bool read_model(const SamplingModelParameters& model, SamplingSettings& settings
 // The (source, model) pair of a sampling-model spec; std::logic_error for other methods.
 const SampledParameters& sampled_parameters(const StimulusSpec& spec, const char* function) {
   const auto* sampled = std::get_if<SampledParameters>(&spec.parameters);
-  if (!sampled) throw std::logic_error(std::string(function) + ": not a sampling model: " + std::string(spec.method_name()));
+  if (!sampled)
+    throw std::logic_error(std::string(function) + ": not a sampling model: " + std::string(spec.method_name()));
   return *sampled;
 }
 
@@ -233,8 +234,8 @@ VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame)
 VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec) {
   const auto* foveated = std::get_if<FoveatedVolumeRaycastParameters>(&spec.parameters);
   if (!foveated) throw std::logic_error("voronoi_mask_settings: not fvolume: " + std::string(spec.method_name()));
-  VoronoiMaskSettings settings = voronoi_mask_settings(spec.width_px, spec.height_px, stimulus_display(spec),
-                                                       foveated->density_sigma_deg);
+  VoronoiMaskSettings settings =
+      voronoi_mask_settings(spec.width_px, spec.height_px, stimulus_display(spec), foveated->density_sigma_deg);
   settings.seed = foveated->mask_seed;
   return settings;
 }

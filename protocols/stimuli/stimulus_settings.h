@@ -28,7 +28,7 @@ SceneCatalog renderer_scene_catalog(bool check_files = true);
 // path-traced sequences (pt, fpt).
 inline bool is_path_traced(RenderMethod method) { return describe(method).scene_kind == SceneKind::path_traced; }
 
-// Whether a method is seed 003's volume raycaster (volume, fvolume).
+// Whether a method is Bruder et al. 2019's volume raycaster (volume, fvolume).
 inline bool is_volume(RenderMethod method) { return describe(method).scene_kind == SceneKind::volume; }
 
 // The raycaster's settings of a volume or fvolume spec at an animation frame (the jitter's frame is
@@ -40,7 +40,7 @@ VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec);
 // Whether an fvolume spec smooths over time (false for volume).
 bool temporal_smoothing(const StimulusSpec& spec);
 
-// Whether a method is one of seed 002's sampling models, on the sphere tracer (rmfr, hyperbolic,
+// Whether a method is one of Ye et al. 2022's sampling models, on the sphere tracer (rmfr, hyperbolic,
 // linear, kfr) or on pre-rendered path-traced frames (pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr).
 inline bool is_sampling_model(RenderMethod method) {
   size_t source = 0, model = 0;
@@ -79,7 +79,7 @@ void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std:
 ResampleFilter sampling_filter(const StimulusSpec& spec);
 
 // The pre-rendered sequences a path-traced spec (pt, fpt, pt-rmfr, ...) shows: its frames, and for fpt with
-// periphery_bounces >= 0 other than max_bounces (seed 001 section 4.2's pilot variant) a second
+// periphery_bounces >= 0 other than max_bounces (Polychronakis et al. 2021 section 4.2's pilot variant) a second
 // sequence with that many bounces, the source of the middle and outer zones.
 struct PathTracedFrames {
   std::vector<PathTraceSequence> sequences;  // [0]: the frames; [1]: the periphery's, if any

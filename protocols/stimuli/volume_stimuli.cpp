@@ -21,7 +21,8 @@ class VolumeStimuli final : public StimulusRenderer {
   bool renders(RenderMethod method) const override { return describe(method).scene_kind == SceneKind::volume; }
 
   void validate(const StimulusSpec& spec) override {
-    if (spec.width_px < 1 || spec.height_px < 1 || spec.width_px > kMaxVolumeFrameSidePx || spec.height_px > kMaxVolumeFrameSidePx)
+    if (spec.width_px < 1 || spec.height_px < 1 || spec.width_px > kMaxVolumeFrameSidePx ||
+        spec.height_px > kMaxVolumeFrameSidePx)
       throw InputError(config_frame_size(spec) + ": expected 1 to " + std::to_string(kMaxVolumeFrameSidePx) +
                        " pixels a side for " + std::string(spec.method_name()));
   }
@@ -59,7 +60,8 @@ class VolumeStimuli final : public StimulusRenderer {
   // anything; the volume itself is loaded once a scene.
   VolumeRaycaster& raycaster_for(const StimulusSpec& spec) {
     const bool foveated = spec.method() == RenderMethod::foveated_volume_raycast;
-    const std::optional<VoronoiMaskSettings> mask = foveated ? std::optional(voronoi_mask_settings(spec)) : std::nullopt;
+    const std::optional<VoronoiMaskSettings> mask =
+        foveated ? std::optional(voronoi_mask_settings(spec)) : std::nullopt;
     const std::string key = mask ? spec.scene + "#" + voronoi_settings_key(*mask) : spec.scene;
     auto found = raycasters_.find(key);
     if (found != raycasters_.end()) return *found->second;

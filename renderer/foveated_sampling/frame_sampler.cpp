@@ -27,7 +27,8 @@ using gpu::FrameReadParams;
 std::array<float, 3> footprint_mean(const Image& frame, const ListedSample& sample) {
   const float width = float(frame.width), height = float(frame.height);
   const float footprint = sample.footprint_px >= 1.0f ? sample.footprint_px : 1.0f;  // NaN too
-  const float sample_x = std::isnan(sample.x_px) ? 0.5f : sample.x_px, sample_y = std::isnan(sample.y_px) ? 0.5f : sample.y_px;
+  const float sample_x = std::isnan(sample.x_px) ? 0.5f : sample.x_px,
+              sample_y = std::isnan(sample.y_px) ? 0.5f : sample.y_px;
   float low_x = std::max(sample_x - 0.5f * footprint, 0.0f), high_x = std::min(sample_x + 0.5f * footprint, width);
   float low_y = std::max(sample_y - 0.5f * footprint, 0.0f), high_y = std::min(sample_y + 0.5f * footprint, height);
   if (high_x <= low_x || high_y <= low_y) {
@@ -73,7 +74,8 @@ void FrameSampler::set_frame(const Image& frame) {
   const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * vk::kRgba32fTexelBytes;
   if (bytes > context_.max_storage_buffer_bytes)
     throw InputError("frame of " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " pixels to sample: expected at most " + std::to_string(context_.max_storage_buffer_bytes / vk::kRgba32fTexelBytes) +
+                     " pixels to sample: expected at most " +
+                     std::to_string(context_.max_storage_buffer_bytes / vk::kRgba32fTexelBytes) +
                      " pixels (16 bytes a pixel in one buffer) on " + context_.description.name);
   if (frame.width != width_ || frame.height != height_) {  // kept from one animation frame to the next
     frame_ = vk::Buffer(context_, bytes, vk::MemoryUse::device_local);
@@ -92,12 +94,13 @@ void FrameSampler::set_frame(const Image& frame) {
   commands.submit_and_wait();
 }
 
-void FrameSampler::record_passes(VkCommandBuffer cmd, vk::PassTimer& timer, const SamplingMap& map, ResampleFilter filter) {
+void FrameSampler::record_passes(VkCommandBuffer cmd, vk::PassTimer& timer, const SamplingMap& map,
+                                 ResampleFilter filter) {
   if (width_ == 0) throw std::logic_error("FrameSampler: no frame set");
   if (screen_width_px(map) != width_ || screen_height_px(map) != height_)
     throw std::invalid_argument("FrameSampler: a map of a " + std::to_string(screen_width_px(map)) + "x" +
-                                std::to_string(screen_height_px(map)) + " screen for a " + std::to_string(width_) + "x" +
-                                std::to_string(height_) + " frame");
+                                std::to_string(screen_height_px(map)) + " screen for a " + std::to_string(width_) +
+                                "x" + std::to_string(height_) + " frame");
   passes_->prepare(map, filter);
   timer.reset(cmd);
   vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -137,7 +140,8 @@ FrameSamplingResult FrameSampler::resample(const SamplingMap& map, ResampleFilte
   std::memcpy(&listed, counters_readback_.mapped(), sizeof(listed));
   result.shaded_samples = listed;
   colour_readback_.invalidate();
-  result.colour_linear = vk::unpack_rgba_texels(static_cast<const float*>(colour_readback_.mapped()), width_, height_, 3);
+  result.colour_linear =
+      vk::unpack_rgba_texels(static_cast<const float*>(colour_readback_.mapped()), width_, height_, 3);
   if (with_samples) {
     result.samples_per_pixel = Image(width_, height_, 1);
     for (const ListedSample& sample : passes_->listed_samples(listed)) {

@@ -1,5 +1,5 @@
 #pragma once
-// Seed 002's sampling models emulated on a pre-rendered frame (path-traced stimuli), as seed 001
+// Ye et al. 2022's sampling models emulated on a pre-rendered frame (path-traced stimuli), as Polychronakis et al. 2021
 // emulates its foveated path tracer and as the RMFR authors' demo resamples a full frame: the
 // frame is uploaded once per animation frame; for each gaze sample, SamplingPasses lists the map's
 // samples, sampling_frame_read.comp.glsl gives each the frame's mean over its footprint (what a
@@ -33,8 +33,8 @@ class Srgb8Encoder;
 std::array<float, 3> footprint_mean(const Image& frame, const ListedSample& sample);
 
 struct FrameSamplingResult {
-  Image colour_linear;        // RGB, the frame's size (resample())
-  Image samples_per_pixel;    // with_samples: how many listed samples lie in each pixel
+  Image colour_linear;      // RGB, the frame's size (resample())
+  Image samples_per_pixel;  // with_samples: how many listed samples lie in each pixel
   uint64_t shaded_samples = 0;
   double gpu_ms = 0.0;
   std::vector<vk::PassTime> passes;
@@ -72,10 +72,10 @@ class FrameSampler {
   std::unique_ptr<vk::ComputePipeline> read_pipeline_;
   std::unique_ptr<Srgb8Encoder> encoder_;
   int width_ = 0, height_ = 0;
-  vk::Buffer frame_;           // the pre-rendered frame, RGBA float texels
-  vk::Buffer counters_;        // [0]: the listed samples
-  vk::Buffer colour_;          // the rebuilt frame, RGBA float texels
-  vk::Buffer display_srgb8_;   // one packed RGBA8 uint a pixel
+  vk::Buffer frame_;          // the pre-rendered frame, RGBA float texels
+  vk::Buffer counters_;       // [0]: the listed samples
+  vk::Buffer colour_;         // the rebuilt frame, RGBA float texels
+  vk::Buffer display_srgb8_;  // one packed RGBA8 uint a pixel
   vk::Buffer colour_readback_, counters_readback_;
 };
 

@@ -37,12 +37,14 @@ void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double
 }  // namespace
 
 SamplingPasses::SamplingPasses(vk::Context& context) : context_(context) {
-  positions_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3,
-                                                                sizeof(gpu::PositionParams));
+  positions_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3, sizeof(gpu::PositionParams));
   reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 3,
-                                                                  sizeof(gpu::SamplingReconstructParams));
-  pull_push_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::pull_push_spirv, 2, sizeof(PullPushParams));
-  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(gpu::ListParams));
+                                                                sizeof(gpu::SamplingReconstructParams));
+  pull_push_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::pull_push_spirv, 2, sizeof(PullPushParams));
+  list_dispatch_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(gpu::ListParams));
   params_buffer_ = vk::Buffer(context, sizeof(GpuSamplingParams), vk::MemoryUse::device_local);
   dispatch_ = vk::Buffer(context, 3 * sizeof(uint32_t), vk::MemoryUse::device_local);
 }
@@ -61,7 +63,8 @@ void SamplingPasses::allocate(uint32_t capacity, uint64_t colour_entries) {
   list_readback_ = vk::Buffer(context_, entries * 4 * sizeof(uint32_t), vk::MemoryUse::host_readback);
   steps_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::device_local);
   steps_readback_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::host_readback);
-  colours_ = vk::Buffer(context_, std::max<uint64_t>(1, colour_entries_) * 4 * sizeof(float), vk::MemoryUse::device_local);
+  colours_ =
+      vk::Buffer(context_, std::max<uint64_t>(1, colour_entries_) * 4 * sizeof(float), vk::MemoryUse::device_local);
 }
 
 void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
@@ -141,7 +144,8 @@ void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
   std::memcpy(params_.data(), &params, sizeof(params));
 }
 
-void SamplingPasses::record_positions(VkCommandBuffer cmd, vk::PassTimer& timer, VkBuffer counters, uint32_t counter_index) {
+void SamplingPasses::record_positions(VkCommandBuffer cmd, vk::PassTimer& timer, VkBuffer counters,
+                                      uint32_t counter_index) {
   vkCmdUpdateBuffer(cmd, params_buffer_.handle(), 0, params_.size(), params_.data());
   vkCmdFillBuffer(cmd, colours_.handle(), 0, VK_WHOLE_SIZE, 0);
   vkCmdFillBuffer(cmd, steps_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -183,8 +187,8 @@ void SamplingPasses::record_reconstruct(VkCommandBuffer cmd, vk::PassTimer& time
   for (size_t i = pyramid_.size() - 1; i-- > 0;) {
     const PullPushLevel& fine = pyramid_[i];
     const PullPushLevel& coarse = pyramid_[i + 1];
-    PullPushParams push{{fine.width, fine.height}, {coarse.width, coarse.height}, fine.offset, coarse.offset,
-                        i == 0 ? 2u : 1u};
+    PullPushParams push{
+        {fine.width, fine.height}, {coarse.width, coarse.height}, fine.offset, coarse.offset, i == 0 ? 2u : 1u};
     pull_push_pipeline_->dispatch_2d(cmd, buffers, &push, fine.width, fine.height);
     vk::compute_to_compute_barrier(cmd);
   }

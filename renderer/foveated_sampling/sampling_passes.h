@@ -1,5 +1,5 @@
 #pragma once
-// The GPU passes of seed 002's sampling models (RMFR, hyperbolic, linear, KFR; foveation/
+// The GPU passes of Ye et al. 2022's sampling models (RMFR, hyperbolic, linear, KFR; foveation/
 // sampling_map.h), around whatever shades the samples:
 //   1a. sampling_positions.comp.glsl lists this frame's samples (screen position, footprint, entry);
 //   1b. (the caller) shades each listed sample into its entry of sample_colours(): the sphere
@@ -76,8 +76,8 @@ class SamplingPasses {
   SamplingModel model_ = SamplingModel::rectangular;
   uint32_t grid_width_ = 0, grid_height_ = 0;  // the positions pass's invocations
   uint32_t screen_width_ = 0, screen_height_ = 0;
-  uint32_t capacity_ = 0;            // entries of this frame's sample buffer
-  uint32_t allocated_capacity_ = 0;  // entries the buffers hold (they only grow)
+  uint32_t capacity_ = 0;               // entries of this frame's sample buffer
+  uint32_t allocated_capacity_ = 0;     // entries the buffers hold (they only grow)
   std::vector<PullPushLevel> pyramid_;  // linear: the pull-push levels, finest first
   vk::Buffer params_buffer_;
   vk::Buffer list_;

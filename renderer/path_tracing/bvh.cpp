@@ -84,7 +84,8 @@ struct Builder {
         left.grow(bins[size_t(plane - 1)]);
         left_n += counts[size_t(plane - 1)];
         if (left_n == 0 || right_count[size_t(plane)] == 0) continue;
-        const float cost = left.half_area() * float(left_n) + right_area[size_t(plane)] * float(right_count[size_t(plane)]);
+        const float cost =
+            left.half_area() * float(left_n) + right_area[size_t(plane)] * float(right_count[size_t(plane)]);
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = axis;
@@ -142,7 +143,8 @@ Bvh build_bvh(const PathScene& scene) {
     builder.triangle_boxes[t] = box;
     // The vertex mean, not the box centre: the two halves of an axis-aligned quad share a box.
     builder.centroids[t] = (scene.positions[scene.indices[3 * t]] + scene.positions[scene.indices[3 * t + 1]] +
-                            scene.positions[scene.indices[3 * t + 2]]) / 3.0f;
+                            scene.positions[scene.indices[3 * t + 2]]) /
+                           3.0f;
     builder.bvh.triangle_order[t] = uint32_t(t);
   }
   builder.bvh.nodes.reserve(2 * triangles + 1);

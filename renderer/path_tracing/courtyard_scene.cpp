@@ -11,13 +11,13 @@ namespace fovlab {
 
 namespace {
 
-constexpr float kHalfLength_m = 10.0f;   // courtyard along x
-constexpr float kHalfWidth_m = 6.0f;     // courtyard along z, to the arcades
-constexpr float kGalleryDepth_m = 3.0f;  // behind each arcade
-constexpr float kWall_m = 0.3f;          // wall thickness
-constexpr float kArcadeHeight_m = 4.0f;  // column height
-constexpr float kGalleryHeight_m = 7.0f; // gallery ceiling
-constexpr float kWallHeight_m = 10.0f;   // top of the walls; open sky above the courtyard
+constexpr float kHalfLength_m = 10.0f;    // courtyard along x
+constexpr float kHalfWidth_m = 6.0f;      // courtyard along z, to the arcades
+constexpr float kGalleryDepth_m = 3.0f;   // behind each arcade
+constexpr float kWall_m = 0.3f;           // wall thickness
+constexpr float kArcadeHeight_m = 4.0f;   // column height
+constexpr float kGalleryHeight_m = 7.0f;  // gallery ceiling
+constexpr float kWallHeight_m = 10.0f;    // top of the walls; open sky above the courtyard
 
 PathMaterial lambertian(glm::vec3 albedo) { return {MaterialKind::lambertian, albedo, 1.5f}; }
 PathMaterial glass(glm::vec3 tint) { return {MaterialKind::glass, tint, 1.5f}; }
@@ -40,7 +40,8 @@ void add_arcade(PathScene& scene, float z_sign, uint32_t stone, uint32_t column,
   const glm::vec2 back_wall = span_z(back, back + z_sign * kWall_m);
   add_box(scene, stone, {-kHalfLength_m, 0.0f, back_wall.x}, {kHalfLength_m, kGalleryHeight_m, back_wall.y});
   const glm::vec2 roof = span_z(front, back);
-  add_box(scene, ceiling, {-kHalfLength_m, kGalleryHeight_m, roof.x}, {kHalfLength_m, kGalleryHeight_m + kWall_m, roof.y});
+  add_box(scene, ceiling, {-kHalfLength_m, kGalleryHeight_m, roof.x},
+          {kHalfLength_m, kGalleryHeight_m + kWall_m, roof.y});
   const float lamp_z = 0.5f * (front + back);
   const float lamp_y = kGalleryHeight_m - 0.05f;
   add_quad_facing(scene, lamp, {-1.5f, lamp_y, lamp_z - 0.5f}, {1.5f, lamp_y, lamp_z - 0.5f},
@@ -77,10 +78,10 @@ PathScene courtyard_scene() {
   const glm::vec3 towards = glm::normalize(glm::vec3(0.0f) - sun_centre);
   const glm::vec3 side_a = 3.0f * glm::normalize(glm::cross(towards, glm::vec3(0.0f, 1.0f, 0.0f)));
   const glm::vec3 side_b = 3.0f * glm::normalize(glm::cross(side_a, towards));
-  add_quad_facing(scene, sun, sun_centre - side_a - side_b, sun_centre + side_a - side_b,
-                  sun_centre + side_a + side_b, sun_centre - side_a + side_b, towards);
+  add_quad_facing(scene, sun, sun_centre - side_a - side_b, sun_centre + side_a - side_b, sun_centre + side_a + side_b,
+                  sun_centre - side_a + side_b, towards);
 
-  // Three glass objects of different colours on pedestals (seed 001's three dragons).
+  // Three glass objects of different colours on pedestals (Polychronakis et al. 2021's three dragons).
   for (float x : {-4.0f, 0.0f, 4.0f}) add_box(scene, pedestal, {x - 0.5f, 0.0f, -0.5f}, {x + 0.5f, 0.9f, 0.5f});
   add_faceted_sphere(scene, red_glass, {-4.0f, 1.65f, 0.0f}, 0.75f, 7, 12);
   add_faceted_sphere(scene, green_glass, {0.0f, 1.85f, 0.0f}, 0.95f, 2, 6);  // a hexagonal bipyramid

@@ -60,7 +60,8 @@ void add_faceted_sphere(PathScene& scene, uint32_t material, const glm::vec3& ce
   auto point = [&](int ring, int segment) {
     const float theta = std::numbers::pi_v<float> * float(ring) / float(rings);
     const float phi = kTwoPi * float(segment % segments) / float(segments);
-    return centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+    return centre +
+           radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
   };
   for (int ring = 0; ring < rings; ++ring) {
     for (int segment = 0; segment < segments; ++segment) {

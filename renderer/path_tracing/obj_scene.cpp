@@ -179,8 +179,8 @@ PathScene parse_obj_scene(const std::string& obj_text, const std::string& name, 
     size_t offset = 0;
     for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face) {
       const size_t corners = shape.mesh.num_face_vertices[f];
-      const std::string where = lines_known ? file + ":" + std::to_string(scan.face_lines[face])
-                                            : file + ": face " + std::to_string(face);
+      const std::string where =
+          lines_known ? file + ":" + std::to_string(scan.face_lines[face]) : file + ": face " + std::to_string(face);
       std::vector<uint32_t> polygon;
       for (size_t c = 0; c < corners; ++c) {
         const int index = shape.mesh.indices[offset + c].vertex_index;
@@ -193,7 +193,8 @@ PathScene parse_obj_scene(const std::string& obj_text, const std::string& name, 
       const int material_id = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
       const bool has_material = material_id >= 0 && size_t(material_id) < default_material;
       for (size_t c = 1; c + 1 < corners; ++c) {
-        const glm::dvec3 a(scene.positions[polygon[0]]), b(scene.positions[polygon[c]]), d(scene.positions[polygon[c + 1]]);
+        const glm::dvec3 a(scene.positions[polygon[0]]), b(scene.positions[polygon[c]]),
+            d(scene.positions[polygon[c + 1]]);
         const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(d - b, d - b), glm::dot(a - d, a - d)});
         const double doubled_area = glm::length(glm::cross(b - a, d - a));
         if (!(doubled_area > kDegenerateRatio * longest2)) {  // height < ratio x longest edge

@@ -40,7 +40,8 @@ void validate_camera(const CameraPath& camera) {
       throw InputError(where + "expected a finite time, eye and target");
     if (key.eye == key.target) throw InputError(where + "eye equals target: expected distinct points");
     if (k > 0 && !(key.time_s > camera.keyframes[k - 1].time_s))
-      throw InputError(where + "time " + exact_number_text(key.time_s) + " s: expected more than the previous keyframe's");
+      throw InputError(where + "time " + exact_number_text(key.time_s) +
+                       " s: expected more than the previous keyframe's");
   }
 }
 

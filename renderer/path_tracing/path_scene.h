@@ -1,5 +1,5 @@
 #pragma once
-// A scene for the path tracer (seed 001, sections 3.1 and 4): world-space triangles, one material
+// A scene for the path tracer (Polychronakis et al. 2021, sections 3.1 and 4): world-space triangles, one material
 // per triangle, a uniform sky and a keyframed camera path. docs/path-tracing.md.
 #include <cstdint>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The path tracer of seed 001 (sections 3.1-3.2 and 4: reference frames of 128 samples per pixel
+// The path tracer of Polychronakis et al. 2021 (sections 3.1-3.2 and 4: reference frames of 128 samples per pixel
 // and 32 bounces) on Vulkan compute: renderer/shaders/path_trace.comp.glsl traces a batch of samples
 // per pixel per dispatch and adds them to a float buffer; the image is the sum over the sample
 // count. Unidirectional, with next-event estimation on emissive triangles combined with BSDF
@@ -21,10 +21,10 @@ class ComputePipeline;
 struct PathTraceSettings {
   int width_px = 320;
   int height_px = 180;
-  int samples_per_pixel = 128;  // 1 to 65536
-  int max_bounces = 32;         // scattering events along a path, 0 (emitters and sky seen directly) to 1024
-  uint32_t seed = 1;            // with the pixel, sample and dimension, keys every random number
-  double time_s = 0.0;          // camera time (CameraPath)
+  int samples_per_pixel = 128;        // 1 to 65536
+  int max_bounces = 32;               // scattering events along a path, 0 (emitters and sky seen directly) to 1024
+  uint32_t seed = 1;                  // with the pixel, sample and dimension, keys every random number
+  double time_s = 0.0;                // camera time (CameraPath)
   bool next_event_estimation = true;  // off: emitters are found by BSDF sampling only (same mean, more noise)
 };
 
@@ -37,10 +37,10 @@ void validate(const PathTraceSettings& settings);
 void check_path_trace_frame_bytes(const vk::Context& context, int width_px, int height_px);
 
 struct PathTraceResult {
-  Image image;            // RGB, linear light: the mean of samples_per_pixel samples
-  double gpu_ms = 0.0;    // every batch's dispatch (0 when the queue has no timestamps)
-  uint64_t samples = 0;   // width x height x samples_per_pixel
-  int batches = 0;        // dispatches, each its own submission
+  Image image;           // RGB, linear light: the mean of samples_per_pixel samples
+  double gpu_ms = 0.0;   // every batch's dispatch (0 when the queue has no timestamps)
+  uint64_t samples = 0;  // width x height x samples_per_pixel
+  int batches = 0;       // dispatches, each its own submission
 };
 
 // The rate of `samples` traced in `milliseconds` (GPU or wall clock), per second; 0 when no time was

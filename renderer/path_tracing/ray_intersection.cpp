@@ -37,8 +37,8 @@ glm::vec3 safe_inverse(const glm::vec3& d) {
 
 void consider(const PathScene& scene, uint32_t triangle, const Ray& ray, std::optional<TriangleHit>& best,
               float& max_distance) {
-  const std::optional<float> t =
-      intersect_triangle(ray, vertex(scene, triangle, 0), vertex(scene, triangle, 1), vertex(scene, triangle, 2), max_distance);
+  const std::optional<float> t = intersect_triangle(ray, vertex(scene, triangle, 0), vertex(scene, triangle, 1),
+                                                    vertex(scene, triangle, 2), max_distance);
   if (t && (!best || *t < best->distance || (*t == best->distance && triangle < best->triangle))) {
     best = TriangleHit{*t, triangle};
     max_distance = std::nextafter(*t, INFINITY);  // keep equal distances for the tie rule
@@ -77,7 +77,8 @@ std::optional<TriangleHit> intersect_bvh(const PathScene& scene, const Bvh& bvh,
   const glm::vec3 inverse = safe_inverse(ray.direction);
   uint32_t stack[kBvhMaxDepth + 1];
   int size = 0;
-  if (box_entry(bvh.nodes[0].bounds_min, bvh.nodes[0].bounds_max, ray.origin, inverse, max_distance) == INFINITY) return best;
+  if (box_entry(bvh.nodes[0].bounds_min, bvh.nodes[0].bounds_max, ray.origin, inverse, max_distance) == INFINITY)
+    return best;
   uint32_t node = 0;
   for (;;) {
     const BvhNode& n = bvh.nodes[node];
@@ -86,8 +87,10 @@ std::optional<TriangleHit> intersect_bvh(const PathScene& scene, const Bvh& bvh,
         consider(scene, bvh.triangle_order[i], ray, best, max_distance);
     } else {
       const uint32_t left = n.left_or_first, right = left + 1;
-      float near_t = box_entry(bvh.nodes[left].bounds_min, bvh.nodes[left].bounds_max, ray.origin, inverse, max_distance);
-      float far_t = box_entry(bvh.nodes[right].bounds_min, bvh.nodes[right].bounds_max, ray.origin, inverse, max_distance);
+      float near_t =
+          box_entry(bvh.nodes[left].bounds_min, bvh.nodes[left].bounds_max, ray.origin, inverse, max_distance);
+      float far_t =
+          box_entry(bvh.nodes[right].bounds_min, bvh.nodes[right].bounds_max, ray.origin, inverse, max_distance);
       uint32_t near_node = left, far_node = right;
       if (far_t < near_t) {
         std::swap(near_t, far_t);
@@ -103,7 +106,8 @@ std::optional<TriangleHit> intersect_bvh(const PathScene& scene, const Bvh& bvh,
     bool found = false;
     while (size > 0) {
       node = stack[--size];
-      if (box_entry(bvh.nodes[node].bounds_min, bvh.nodes[node].bounds_max, ray.origin, inverse, max_distance) != INFINITY) {
+      if (box_entry(bvh.nodes[node].bounds_min, bvh.nodes[node].bounds_max, ray.origin, inverse, max_distance) !=
+          INFINITY) {
         found = true;
         break;
       }

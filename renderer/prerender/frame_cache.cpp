@@ -39,7 +39,8 @@ bool is_frame_of(const Image& image, const PathTraceSequence& sequence) {
 
 // A .sha256 is one sha256sum line: 64 hex digits, two spaces and the frame's name.
 constexpr uint64_t kMaxHashFileBytes = 4096;
-constexpr const char* kFrameExpected = "a frame of the pre-render cache (an EXR fovlab prerender wrote; delete it to render it again)";
+constexpr const char* kFrameExpected =
+    "a frame of the pre-render cache (an EXR fovlab prerender wrote; delete it to render it again)";
 
 // The most a frame's file may hold: its pixels as 32-bit floats, RGBA, twice over (OpenEXR's
 // compression never doubles them), and 1 MiB for its header and offset tables.
@@ -51,7 +52,8 @@ enum class HashVerdict { missing, not_a_hash_file, differs, matches };
 
 // The frame's bytes against its .sha256. No path that is there is "missing" (a FIFO, a device, a link
 // to one, or a file larger than one line is not a hash file), and no more than its cap is read.
-HashVerdict check_hash(std::string_view frame_bytes, const std::filesystem::path& file, const std::filesystem::path& hash) {
+HashVerdict check_hash(std::string_view frame_bytes, const std::filesystem::path& file,
+                       const std::filesystem::path& hash) {
   std::error_code error;
   if (!std::filesystem::exists(std::filesystem::symlink_status(hash, error))) return HashVerdict::missing;
   const std::optional<std::string> line = read_file_if_regular(hash, kMaxHashFileBytes);
@@ -68,11 +70,16 @@ bool is_there(const std::filesystem::path& path) {
 
 const char* frame_status_text(FrameStatus status) {
   switch (status) {
-    case FrameStatus::missing: return "missing";
-    case FrameStatus::unreadable: return "not a whole EXR of the sequence's size";
-    case FrameStatus::unhashed: return "no .sha256 beside it";
-    case FrameStatus::altered: return "its bytes differ from its .sha256";
-    case FrameStatus::whole: return "whole";
+    case FrameStatus::missing:
+      return "missing";
+    case FrameStatus::unreadable:
+      return "not a whole EXR of the sequence's size";
+    case FrameStatus::unhashed:
+      return "no .sha256 beside it";
+    case FrameStatus::altered:
+      return "its bytes differ from its .sha256";
+    case FrameStatus::whole:
+      return "whole";
   }
   return "?";
 }
@@ -89,8 +96,8 @@ PathTraceSettings PathTraceSequence::settings(int frame) const {
 }
 
 std::string PathTraceSequence::description() const {
-  return "scene=" + scene + ";size=" + size_text(width_px, height_px) + ";samples_per_pixel=" +
-         std::to_string(samples_per_pixel) + ";max_bounces=" + std::to_string(max_bounces) +
+  return "scene=" + scene + ";size=" + size_text(width_px, height_px) +
+         ";samples_per_pixel=" + std::to_string(samples_per_pixel) + ";max_bounces=" + std::to_string(max_bounces) +
          ";seed=" + std::to_string(seed) + ";frames_per_second=" + format_number(frames_per_second, 17) +
          ";camera_start_s=" + format_number(camera_start_s, 17);
 }
@@ -116,16 +123,18 @@ std::filesystem::path FrameCache::folder(const PathTraceSequence& sequence) {
   const std::string key = ContentHash().add(kCacheFormat).add(scene_hash).add(description).hex();
   const std::filesystem::path folder = root_ / key;
   const std::filesystem::path manifest = folder / "cache.json";
-  const nlohmann::json expected = {{"format", kCacheFormat}, {"scene_content_hash", scene_hash},
-                                   {"sequence", description}};
+  const nlohmann::json expected = {
+      {"format", kCacheFormat}, {"scene_content_hash", scene_hash}, {"sequence", description}};
   std::error_code error;
   if (std::filesystem::exists(manifest, error)) {
     nlohmann::json found;
     try {
       found = nlohmann::json::parse(read_input_file(
-          manifest, "the pre-render cache's description (cache.json; delete the folder to render it again)", kMaxManifestBytes));
+          manifest, "the pre-render cache's description (cache.json; delete the folder to render it again)",
+          kMaxManifestBytes));
     } catch (const nlohmann::json::exception&) {
-      throw InputError(manifest.string() + ": not JSON; expected the pre-render cache's description (delete the folder)");
+      throw InputError(manifest.string() +
+                       ": not JSON; expected the pre-render cache's description (delete the folder)");
     }
     if (found != expected) {
       const bool has_sequence = found.is_object() && found.contains("sequence") && found["sequence"].is_string();
@@ -164,10 +173,13 @@ FrameStatus FrameCache::frame_status(const PathTraceSequence& sequence, int fram
     return FrameStatus::unreadable;
   }
   switch (check_hash(*bytes, file, hash_file(sequence, frame))) {
-    case HashVerdict::missing: return FrameStatus::unhashed;
-    case HashVerdict::matches: return FrameStatus::whole;
+    case HashVerdict::missing:
+      return FrameStatus::unhashed;
+    case HashVerdict::matches:
+      return FrameStatus::whole;
     case HashVerdict::not_a_hash_file:
-    case HashVerdict::differs: return FrameStatus::altered;
+    case HashVerdict::differs:
+      return FrameStatus::altered;
   }
   return FrameStatus::altered;
 }
@@ -207,13 +219,16 @@ Image FrameCache::frame(const PathTraceSequence& sequence, int frame) {
                      std::to_string(image.channels) + " channels; expected a " +
                      size_text(sequence.width_px, sequence.height_px) + " RGB frame of the pre-render cache");
   switch (check_hash(bytes, file, hash)) {
-    case HashVerdict::matches: return image;
-    case HashVerdict::missing: return render_frame(sequence, frame).image;  // removed since the check above
+    case HashVerdict::matches:
+      return image;
+    case HashVerdict::missing:
+      return render_frame(sequence, frame).image;  // removed since the check above
     case HashVerdict::not_a_hash_file:
       throw InputError(hash.string() + ": not a regular file of at most " + byte_size_text(kMaxHashFileBytes) +
                        ": expected the sha256sum line of " + file.filename().string() +
                        " (delete both files to render the frame again)");
-    case HashVerdict::differs: break;
+    case HashVerdict::differs:
+      break;
   }
 
   throw InputError(file.string() + ": its bytes differ from " + hash.filename().string() +

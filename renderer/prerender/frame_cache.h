@@ -1,5 +1,5 @@
 #pragma once
-// The pre-render cache of path-traced frames (seed 001: reference frames too slow to render live are
+// The pre-render cache of path-traced frames (Polychronakis et al. 2021: reference frames too slow to render live are
 // rendered once, then shown at display rate). A sequence (scene, size, samples, bounces, seed,
 // camera timing) owns one folder, stimuli/cache/<key>/, named by a content hash of the scene's
 // content and every setting that changes a pixel; it holds cache.json (what the folder was made

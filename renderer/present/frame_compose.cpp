@@ -33,7 +33,8 @@ FramePlacement place_frame(int frame_width, int frame_height, int image_width, i
 }
 
 FrameComposer::FrameComposer(const vk::Context& context)
-    : pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::frame_compose_spirv, 2, sizeof(ComposeParams))) {}
+    : pipeline_(
+          std::make_unique<vk::ComputePipeline>(context, shaders::frame_compose_spirv, 2, sizeof(ComposeParams))) {}
 
 FrameComposer::~FrameComposer() = default;
 

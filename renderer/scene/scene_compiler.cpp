@@ -73,8 +73,8 @@ std::string first_error_line(const std::string& log) {
   }
   for (const CompileMessage& message : parse_errors(log)) {
     if (message.source_name == consumer.name) {
-      throw InputError(scene_label + ": does not fit the scene interface (docs/scenes.md): " + message.text +
-                       " [" + std::string(consumer.name) + ":" + std::to_string(message.line) + "]");
+      throw InputError(scene_label + ": does not fit the scene interface (docs/scenes.md): " + message.text + " [" +
+                       std::string(consumer.name) + ":" + std::to_string(message.line) + "]");
     }
   }
   throw InputError(scene_label + ": " + first_error_line(log));
@@ -145,7 +145,8 @@ std::string scene_shader_cache_key(const SceneSource& scene, const SceneConsumer
 
 CompiledShader compile_scene_shader(const SceneSource& scene, const SceneConsumerShader& consumer) {
   CompiledShader compiled;
-  compiled.cache_file = shader_cache_directory() / (scene.name + "-" + scene_shader_cache_key(scene, consumer) + ".spv");
+  compiled.cache_file =
+      shader_cache_directory() / (scene.name + "-" + scene_shader_cache_key(scene, consumer) + ".spv");
   compiled.spirv = read_cached_spirv(compiled.cache_file);
   if (!compiled.spirv.empty()) {
     compiled.from_cache = true;
@@ -155,11 +156,9 @@ CompiledShader compile_scene_shader(const SceneSource& scene, const SceneConsume
   // The cache is an optimisation: a cache folder we cannot write only costs a compile next time.
   try {
     create_output_folder(compiled.cache_file.parent_path(), "");  // never inside a participant's folder
-    write_text_atomically(compiled.cache_file,
-                          std::string_view(reinterpret_cast<const char*>(compiled.spirv.data()),
-                                           compiled.spirv.size() * sizeof(uint32_t)));
-  } catch (const std::exception&) {
-  }
+    write_text_atomically(compiled.cache_file, std::string_view(reinterpret_cast<const char*>(compiled.spirv.data()),
+                                                                compiled.spirv.size() * sizeof(uint32_t)));
+  } catch (const std::exception&) {}
   return compiled;
 }
 

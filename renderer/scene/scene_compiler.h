@@ -22,7 +22,7 @@ struct CompiledShader {
 // The renderer shader that consumes a scene: its text follows the scene's in the compiled unit. It
 // may #include the headers given (shaders::shared_headers), and nothing else.
 struct SceneConsumerShader {
-  std::string_view name;    // e.g. "sphere_trace.comp.glsl", shown in messages about it
+  std::string_view name;  // e.g. "sphere_trace.comp.glsl", shown in messages about it
   std::string_view source;
   std::span<const shaders::ShaderHeader> headers;
 };

@@ -9,9 +9,7 @@
 
 namespace fovlab {
 
-std::filesystem::path builtin_scenes_directory() {
-  return stimuli_subdirectory("FOVLAB_SCENES_DIR", "scenes");
-}
+std::filesystem::path builtin_scenes_directory() { return stimuli_subdirectory("FOVLAB_SCENES_DIR", "scenes"); }
 
 std::vector<std::string> builtin_scene_names() {
   std::vector<std::string> names;

@@ -8,8 +8,8 @@
 namespace fovlab {
 
 struct SceneSource {
-  std::string name;             // file stem, e.g. "primitives"
-  std::filesystem::path path;   // the file read, as shown in error messages
+  std::string name;            // file stem, e.g. "primitives"
+  std::filesystem::path path;  // the file read, as shown in error messages
   std::string text;
 };
 

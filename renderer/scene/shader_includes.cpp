@@ -18,10 +18,11 @@ glslang::TShader::Includer::IncludeResult* refusal(const std::string& header_nam
 }  // namespace
 
 glslang::TShader::Includer::IncludeResult* SharedHeaderIncluder::includeLocal(const char* header_name,
-                                                                               const char* includer_name, size_t) {
+                                                                              const char* includer_name, size_t) {
   const std::string includer(includer_name ? includer_name : "");
   const size_t slash = includer.rfind('/');
-  const std::string relative = (slash == std::string::npos ? std::string() : includer.substr(0, slash + 1)) + header_name;
+  const std::string relative =
+      (slash == std::string::npos ? std::string() : includer.substr(0, slash + 1)) + header_name;
   for (const std::string& name : {relative, std::string(header_name)}) {
     for (const shaders::ShaderHeader& header : headers_) {
       if (header.name == name) return new IncludeResult(name, header.text.data(), header.text.size(), nullptr);
@@ -31,7 +32,7 @@ glslang::TShader::Includer::IncludeResult* SharedHeaderIncluder::includeLocal(co
 }
 
 glslang::TShader::Includer::IncludeResult* SharedHeaderIncluder::includeSystem(const char* header_name, const char*,
-                                                                                size_t) {
+                                                                               size_t) {
   return refusal(header_name);  // also after includeLocal refused a quoted name
 }
 

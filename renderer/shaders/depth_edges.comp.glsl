@@ -1,5 +1,5 @@
 #version 460
-// FIPR pass 2 (seed 000 section 3.2.2): Sobel edges of the low-resolution depth. A pixel is an edge
+// FIPR pass 2 (Polychronakis et al. 2023 section 3.2.2): Sobel edges of the low-resolution depth. A pixel is an edge
 // (1) when the Sobel gradient magnitude of the depth, relative to the pixel's own depth, exceeds
 // relative_threshold; else 0. Relative, so the same threshold serves near and far geometry: a depth
 // step of s * depth between neighbours gives a magnitude of about 4 s (docs/foveation.md).

@@ -1,5 +1,5 @@
 #version 460
-// FIPR pass 4, reconstruction of the pixels outside the mask (seed 000 section 3.2.4) when they take
+// FIPR pass 4, reconstruction of the pixels outside the mask (Polychronakis et al. 2023 section 3.2.4) when they take
 // the mid level's colour (periphery_steps 0): a pixel that is due for a refresh gets the mid level's
 // colour, interpolated by Catmull-Rom over the 4x4 mid pixels around it (catmull_rom 1, when all 16
 // are fresh) or bilinearly; in the bilinear form, mid pixels not shaded within the refresh period

@@ -1,5 +1,5 @@
 #version 460
-// FIPR pass 3 (seed 000 section 3.2.3): the binary foveation mask. One invocation per pixel of the
+// FIPR pass 3 (Polychronakis et al. 2023 section 3.2.3): the binary foveation mask. One invocation per pixel of the
 // mid level; it decides its 2x2 full-resolution children. For each child: exact eccentricity from
 // the gaze (the angle at the eye, as foveation/display_geometry.cpp), the acuity
 // probability (acuity_model.cpp), combined with the upscaled edge flag (foveation_mask.cpp), then

@@ -1,5 +1,5 @@
 #version 460
-// FIPR pass 5 (seed 000 section 3.2.5): Gaussian blur guided by the foveation mask. Pixels rendered
+// FIPR pass 5 (Polychronakis et al. 2023 section 3.2.5): Gaussian blur guided by the foveation mask. Pixels rendered
 // at the top level keep their value; a pixel filled from the mid level is blurred (5x5 Gaussian,
 // sigma 1 pixel, weights normalised at the frame's borders) when a top-level pixel lies within its
 // 5x5 window, i.e. in the transition between high- and low-fidelity pixels. Elsewhere it is copied.

@@ -1,5 +1,5 @@
 #version 460
-// Neighbourhood minimum of a depth level (inverted pyramid, seed 000 section 3.2.4): each output
+// Neighbourhood minimum of a depth level (inverted pyramid, Polychronakis et al. 2023 section 3.2.4): each output
 // pixel holds the smallest depth among the (2 * radius + 1)^2 input pixels around it, clamped at the
 // borders. The next level starts its rays at this depth, so a ray next to a nearer surface starts
 // in front of it instead of behind it.

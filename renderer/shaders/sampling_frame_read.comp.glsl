@@ -1,5 +1,5 @@
 #version 460
-// Pass 1b of the sampling models (seed 002) on pre-rendered path-traced frames: each listed sample
+// Pass 1b of the sampling models (Ye et al. 2022) on pre-rendered path-traced frames: each listed sample
 // takes the frame's mean over its footprint, the square of side footprint_px centred on its
 // position, every frame pixel weighted by the area it shares with the square (clipped to the
 // screen). It is what a path tracer gives a sample whose paths are spread over that footprint, as

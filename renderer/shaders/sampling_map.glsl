@@ -1,4 +1,4 @@
-// The four sampling models of seed 002 in the shaders: their parameters (one storage buffer at
+// The four sampling models of Ye et al. 2022 in the shaders: their parameters (one storage buffer at
 // binding 0, filled by renderer/foveated_sampling/sampling_passes.cpp from the CPU model) and their
 // maps. foveation/sampling_map.{h,cpp} and foveation/rectangular_mapping.cpp are the references;
 // the equations are in docs/foveation.md ("Sampling models"). Needs eccentricity.glsl.

@@ -1,5 +1,5 @@
 #version 460
-// Pass 1a of the sampling models (seed 002): where this frame's samples lie on the screen. One
+// Pass 1a of the sampling models (Ye et al. 2022): where this frame's samples lie on the screen. One
 // invocation per entry of the model's sample buffer (the reduced buffer of RMFR and KFR, the three
 // layers of the hyperbolic model, the screen's pixels for the linear model); an entry that is
 // shaded appends (x, y, footprint, entry) to the sample list, which the sphere tracer traces

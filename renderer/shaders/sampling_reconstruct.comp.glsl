@@ -1,5 +1,5 @@
 #version 460
-// Pass 2 of the sampling models (seed 002): each screen pixel from the shaded samples.
+// Pass 2 of the sampling models (Ye et al. 2022): each screen pixel from the shaded samples.
 //   - RMFR: the forward map gives the pixel's place in the reduced buffer, read bilinearly (or with
 //     Lanczos-2, the parameters' resample_filter);
 //   - KFR: the same in the log-polar buffer (its angle wraps around);

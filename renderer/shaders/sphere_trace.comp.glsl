@@ -6,7 +6,7 @@
 //     distance it reached (depth) and its step count;
 //   - the top level traces samples_per_pixel rays per pixel, shades them and writes colour and steps.
 // A level with a start buffer begins each ray at the (min-filtered) depth of its parent pixel.
-// FIPR (seed 000 section 3.2.4) adds two variants, both steered by the foveation mask:
+// FIPR (Polychronakis et al. 2023 section 3.2.4) adds two variants, both steered by the foveation mask:
 //   - the mid level (FLAG_FOVEATED_MID) traces the pixels fipr_mid_list.comp.glsl listed: those
 //     whose depth the top level needs (a masked pixel within the min filter's radius) or whose
 //     unmasked children are due for a refresh, and shades them (one sample) in the second case; that
@@ -25,7 +25,7 @@
 //     without it a depth level traces the ray through its pixel's centre (the paper's);
 //   - FLAG_START_SAME_SIZE: the start buffer has this level's size (the full-resolution depth level
 //     below the shaded samples), so each pixel starts from its own entry rather than its parent's.
-// The sampling models of seed 002 (FLAG_SAMPLE_LIST) trace and shade one list of screen positions
+// The sampling models of Ye et al. 2022 (FLAG_SAMPLE_LIST) trace and shade one list of screen positions
 // (sampling_positions.comp.glsl) with spp samples each, spread and filtered over the samples'
 // spacing (their footprint) as a pyramid level's scale does.
 

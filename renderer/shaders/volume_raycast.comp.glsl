@@ -1,5 +1,5 @@
 #version 460
-// The volume raycaster (seed 003; docs/volume-rendering.md): one ray per pixel (the full frame) or
+// The volume raycaster (Bruder et al. 2019; docs/volume-rendering.md): one ray per pixel (the full frame) or
 // per site of the Voronoi sampling mask (the foveated frame). Along the ray through the volume's box:
 // trilinear samples of the 16-bit voxels, post-classified by the 1-D transfer function (a table,
 // read linearly), Phong-shaded with a headlight from central-difference gradients, composited front

@@ -1,5 +1,5 @@
 #version 460
-// The foveated volume frame rebuilt from its sites (seed 003 section 4.3): every screen pixel takes
+// The foveated volume frame rebuilt from its sites (Bruder et al. 2019 section 4.3): every screen pixel takes
 // the Sibson-weighted sum of its natural neighbours' colours, read from the precomputed weights of
 // its mask pixel (foveation/voronoi_reconstruction.h; the mask is the screen shifted by whole
 // pixels with the gaze). Then the temporal smoothing (section 4.4): the output is the mean of this

@@ -1,5 +1,5 @@
 #version 460
-// The gaze-contingent three-zone blend of the emulated foveated path tracer (seed 001 section 3.2),
+// The gaze-contingent three-zone blend of the emulated foveated path tracer (Polychronakis et al. 2021 section 3.2),
 // in linear light, every pixel of the frame: each mixes the full-resolution (foveal), upsampled 1/4
 // (middle) and upsampled 1/16 (outer) buffers by its exact eccentricity from the gaze
 // (zone_weights.glsl), all four channels in float (previews, tests). What a session shows is the

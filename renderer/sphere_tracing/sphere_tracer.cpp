@@ -51,33 +51,41 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
     const int scale = layout.scale(i);
     const uint64_t pixels = uint64_t(ceil_div(settings.width, scale)) * uint64_t(ceil_div(settings.height, scale));
     level_pixels.push_back(pixels);
-    bytes += pixels * 2 * sizeof(uint32_t);                                   // steps, and read back
+    bytes += pixels * 2 * sizeof(uint32_t);                                         // steps, and read back
     if (i + 1 < level_count) bytes += pixels * sizeof(float) * (filtered ? 2 : 1);  // depth, start_for_next
   }
   bytes += frame_pixels * 4 * sizeof(float) * 2;  // colour, and read back
   bytes += frame_pixels * 4;                      // display_srgb8
   if (foveated && level_count >= 3) {
-    bytes += level_pixels[0] * sizeof(uint32_t);                                     // edges
-    bytes += frame_pixels * sizeof(uint32_t) * 4;                                    // mask, its readback, two lists
-    bytes += level_pixels[size_t(level_count - 2)] * (2 * sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, list, colour
-    bytes += frame_pixels * 4 * sizeof(float);                                       // blurred
+    bytes += level_pixels[0] * sizeof(uint32_t);   // edges
+    bytes += frame_pixels * sizeof(uint32_t) * 4;  // mask, its readback, two lists
+    bytes +=
+        level_pixels[size_t(level_count - 2)] * (2 * sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, list, colour
+    bytes += frame_pixels * 4 * sizeof(float);                                               // blurred
   }
-  if (settings.one_step_floor) bytes += frame_pixels * uint64_t(settings.samples_per_pixel) * sizeof(float);  // sample_depth
+  if (settings.one_step_floor)
+    bytes += frame_pixels * uint64_t(settings.samples_per_pixel) * sizeof(float);            // sample_depth
   if (settings.outputs != TraceOutputs::display) bytes += frame_pixels * 3 * sizeof(float);  // result: colour_linear
-  if (settings.outputs == TraceOutputs::all) bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
+  if (settings.outputs == TraceOutputs::all)
+    bytes += frame_pixels * sizeof(float) * (foveated ? 2 : 1);  // steps image, mask
   // Sampling models: the sample list and its read-back, colours, steps and their read-back, with
   // room for 1.3 samples a pixel (the hyperbolic layers' overlap, up to about 1.26; the linear
   // model's pull-push levels, 1.33 colours a pixel).
-  if (settings.method == TraceMethod::sampling_model) bytes += frame_pixels * 13 / 10 * (4 * 4 * 2 + 4 * 4 + 4 * 2) + frame_pixels * 4 * 4 / 3;
+  if (settings.method == TraceMethod::sampling_model)
+    bytes += frame_pixels * 13 / 10 * (4 * 4 * 2 + 4 * 4 + 4 * 2) + frame_pixels * 4 * 4 / 3;
   return bytes;
 }
 
 const char* method_name(TraceMethod method) {
   switch (method) {
-    case TraceMethod::ground_truth: return "gt";
-    case TraceMethod::inverted_pyramid: return "ipr";
-    case TraceMethod::foveated_pyramid: return "fipr";
-    case TraceMethod::sampling_model: return "sampling";
+    case TraceMethod::ground_truth:
+      return "gt";
+    case TraceMethod::inverted_pyramid:
+      return "ipr";
+    case TraceMethod::foveated_pyramid:
+      return "fipr";
+    case TraceMethod::sampling_model:
+      return "sampling";
   }
   return "gt";
 }
@@ -85,9 +93,12 @@ const char* method_name(TraceMethod method) {
 const char* coarse_test_name(CoarseTest test) { return test == CoarseTest::cone ? "cone" : "ray"; }
 const char* periphery_reconstruction_name(PeripheryReconstruction reconstruction) {
   switch (reconstruction) {
-    case PeripheryReconstruction::mid_footprint_bilinear: return "mid-footprint-bilinear";
-    case PeripheryReconstruction::bilinear: return "bilinear";
-    case PeripheryReconstruction::catmull_rom: return "catmull-rom";
+    case PeripheryReconstruction::mid_footprint_bilinear:
+      return "mid-footprint-bilinear";
+    case PeripheryReconstruction::bilinear:
+      return "bilinear";
+    case PeripheryReconstruction::catmull_rom:
+      return "catmull-rom";
   }
   return "?";
 }
@@ -121,23 +132,25 @@ static void validate_foveation(const SphereTraceSettings& settings) {
                                              ": FIPR needs at least 3 pyramid levels (low, mid and top)");
   }
   if (f.display.width_px != settings.width || f.display.height_px != settings.height) {
-    throw InputError("FIPR display of " + std::to_string(f.display.width_px) + "x" + std::to_string(f.display.height_px) +
-                     " pixels: expected the frame's " + std::to_string(settings.width) + "x" +
-                     std::to_string(settings.height));
+    throw InputError("FIPR display of " + std::to_string(f.display.width_px) + "x" +
+                     std::to_string(f.display.height_px) + " pixels: expected the frame's " +
+                     std::to_string(settings.width) + "x" + std::to_string(settings.height));
   }
   const auto positive = [](double value) { return std::isfinite(value) && value > 0.0; };
   if (!positive(f.display.width_mm) || !positive(f.display.height_mm) || !positive(f.display.viewing_distance_mm)) {
     throw InputError("FIPR display: expected a positive finite width, height and viewing distance in mm");
   }
-  if (!(std::isfinite(f.acuity.fovea_radius_deg) && f.acuity.fovea_radius_deg >= 0.0 && f.acuity.fovea_radius_deg <= 180.0)) {
+  if (!(std::isfinite(f.acuity.fovea_radius_deg) && f.acuity.fovea_radius_deg >= 0.0 &&
+        f.acuity.fovea_radius_deg <= 180.0)) {
     throw SettingError("fovea_radius_deg", ": expected an eccentricity from 0 to 180 degrees");
   }
-  if (std::isnan(f.acuity.outer_periphery_radius_deg) || f.acuity.outer_periphery_radius_deg < f.acuity.fovea_radius_deg) {
+  if (std::isnan(f.acuity.outer_periphery_radius_deg) ||
+      f.acuity.outer_periphery_radius_deg < f.acuity.fovea_radius_deg) {
     throw SettingError("outer_periphery_radius_deg", ": expected an eccentricity at least the fovea's");
   }
   if (f.periphery_refresh != 1 && f.periphery_refresh != 2 && f.periphery_refresh != 4) {
-    throw SettingError("periphery_refresh",
-                       " " + std::to_string(f.periphery_refresh) + ": expected 1, 2 or 4 (frames between periphery updates)");
+    throw SettingError("periphery_refresh", " " + std::to_string(f.periphery_refresh) +
+                                                ": expected 1, 2 or 4 (frames between periphery updates)");
   }
   if (f.periphery_steps < 0 || f.periphery_steps > 100000) {
     throw SettingError("periphery_steps", " " + std::to_string(f.periphery_steps) + ": expected 0 to 100000");
@@ -150,7 +163,8 @@ static void validate_foveation(const SphereTraceSettings& settings) {
 void validate(const SphereTraceSettings& settings) {
   auto check_side = [](int value, const char* field) {
     if (value <= 0 || value > kMaxFrameSide)
-      throw SettingError(field, " " + std::to_string(value) + ": expected 1 to " + std::to_string(kMaxFrameSide) + " pixels");
+      throw SettingError(field,
+                         " " + std::to_string(value) + ": expected 1 to " + std::to_string(kMaxFrameSide) + " pixels");
   };
   check_side(settings.width, "width");
   check_side(settings.height, "height");
@@ -164,7 +178,8 @@ void validate(const SphereTraceSettings& settings) {
                                                   std::to_string(kMaxSphereTraceSamplesPerFrame));
   }
   if (settings.pyramid_levels < 2 || settings.pyramid_levels > 5) {
-    throw SettingError("pyramid_levels", " " + std::to_string(settings.pyramid_levels) + ": expected 2 to 5 pyramid levels");
+    throw SettingError("pyramid_levels",
+                       " " + std::to_string(settings.pyramid_levels) + ": expected 2 to 5 pyramid levels");
   }
   const int filter = settings.min_filter_size;
   if (filter != 1 && filter != 3 && filter != 5) {
@@ -182,26 +197,29 @@ void validate(const SphereTraceSettings& settings) {
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
   if (settings.method == TraceMethod::sampling_model) {
     if (!settings.sampling) throw SettingError("sampling", ": expected a sampling model's map");
-    if (screen_width_px(*settings.sampling) != settings.width || screen_height_px(*settings.sampling) != settings.height)
+    if (screen_width_px(*settings.sampling) != settings.width ||
+        screen_height_px(*settings.sampling) != settings.height)
       throw InputError("sampling map of " + std::to_string(screen_width_px(*settings.sampling)) + "x" +
                        std::to_string(screen_height_px(*settings.sampling)) + " pixels: expected the frame's " +
                        std::to_string(settings.width) + "x" + std::to_string(settings.height));
   }
 }
 
-
 SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
-  CompiledShader trace = compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers});
+  CompiledShader trace =
+      compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers});
   shader_from_cache_ = trace.from_cache;
   trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 10, sizeof(TraceParams));
-  min_filter_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2,
-                                                               sizeof(MinFilterParams));
+  min_filter_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2, sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
   mask_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::foveation_mask_spirv, 6, sizeof(MaskParams));
-  list_dispatch_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(ListParams));
-  mid_list_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_mid_list_spirv, 6, sizeof(MidListParams));
-  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4,
-                                                                sizeof(FiprReconstructParams));
+  list_dispatch_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::list_dispatch_spirv, 2, sizeof(ListParams));
+  mid_list_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::fipr_mid_list_spirv, 6, sizeof(MidListParams));
+  reconstruct_pipeline_ =
+      std::make_unique<vk::ComputePipeline>(context, shaders::fipr_reconstruct_spirv, 4, sizeof(FiprReconstructParams));
   blur_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::masked_blur_spirv, 3, sizeof(BlurParams));
   encoder_ = std::make_unique<Srgb8Encoder>(context);
 }
@@ -216,10 +234,10 @@ std::string history_key_of(const SphereTraceSettings& s) {
   std::ostringstream key;
   key.precision(17);
   key << s.samples_per_pixel << ' ' << s.pyramid_levels << ' ' << s.min_filter_size << ' '
-      << coarse_test_name(s.coarse_test) << ' ' << s.max_steps << ' '
-      << s.hit_threshold << ' ' << f.display.width_mm << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm
-      << ' ' << f.acuity.fovea_radius_deg << ' ' << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine)
-      << ' ' << f.edge_threshold << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
+      << coarse_test_name(s.coarse_test) << ' ' << s.max_steps << ' ' << s.hit_threshold << ' ' << f.display.width_mm
+      << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm << ' ' << f.acuity.fovea_radius_deg << ' '
+      << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine) << ' ' << f.edge_threshold
+      << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
       << periphery_reconstruction_name(f.reconstruction) << ' ' << near_misses_name(f.near_misses);
   return key.str();
 }
@@ -264,8 +282,9 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
 
   vk::OneTimeCommands commands(context_);
   vk::PassTimer timer(context_, static_cast<uint32_t>(2 * level_count + 10));
-  FrameRecording f{settings, frame, commands.handle(), timer, foveated, level_count, level_count - 2,
-                   settings.min_filter_size / 2, all_due, near_misses};
+  FrameRecording f{settings, frame,       commands.handle(), timer,
+                   foveated, level_count, level_count - 2,   settings.min_filter_size / 2,
+                   all_due,  near_misses};
   clear_counters(f);
 
   // The depth levels, coarsest first, each starting from the one below (IPR, FIPR; GT has none).
@@ -409,8 +428,16 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   params.level_scale = 1;
   params.flags = gpu::FLAG_SHADE | gpu::FLAG_SAMPLE_LIST;
   const VkBuffer unused = frame.unused.handle();
-  const VkBuffer trace_buffers[] = {unused, unused, sampling.sample_steps(), sampling.sample_colours(), frame.counters.handle(),
-                                    sampling.sample_list(), unused, unused, unused, unused};
+  const VkBuffer trace_buffers[] = {unused,
+                                    unused,
+                                    sampling.sample_steps(),
+                                    sampling.sample_colours(),
+                                    frame.counters.handle(),
+                                    sampling.sample_list(),
+                                    unused,
+                                    unused,
+                                    unused,
+                                    unused};
   timer.begin(cmd, "trace_samples");
   trace_pipeline_->dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
   timer.end(cmd);

@@ -1,10 +1,10 @@
 #pragma once
 // Sphere tracing of an SDF scene: ground truth (GT, every sample traced from the camera), the
-// inverted pyramid (IPR, seed 000 section 3.1/3.2.4: each level starts its rays at the min-filtered
+// inverted pyramid (IPR, Polychronakis et al. 2023 section 3.1/3.2.4: each level starts its rays at the min-filtered
 // depth of the level below; only the top level shades) and its foveated form (FIPR, section 3.2:
 // Sobel edges of the low level and the acuity model choose the pixels traced at the top level; the
 // rest take the mid level's colour, or one traced ray, refreshed every 1st, 2nd or 4th frame;
-// optional masked blur). docs/foveation.md. The sampling models of seed 002 (RMFR, hyperbolic, linear,
+// optional masked blur). docs/foveation.md. The sampling models of Ye et al. 2022 (RMFR, hyperbolic, linear,
 // KFR: foveation/sampling_map.h) shade only their samples (renderer/foveated_sampling/).
 #include <cstdint>
 #include <memory>
@@ -49,20 +49,20 @@ std::optional<NearMisses> parse_near_misses(const std::string& name);
 // FIPR's inputs beyond IPR's (docs/foveation.md). The display's pixel counts must equal the frame's.
 struct FoveationSettings {
   DisplayGeometry display;
-  double gaze_x_px = 0.0;       // gaze in frame pixels; non-finite: no gaze, every pixel traced in full
+  double gaze_x_px = 0.0;  // gaze in frame pixels; non-finite: no gaze, every pixel traced in full
   double gaze_y_px = 0.0;
-  AcuityModel acuity;           // fovea (eccentricity, degrees) and outer periphery
+  AcuityModel acuity;  // fovea (eccentricity, degrees) and outer periphery
   MaskCombine combine = MaskCombine::max;
   float edge_threshold = 0.4f;  // Sobel magnitude of the low-level depth relative to the depth
   int periphery_refresh = 1;    // unmasked pixels get a new colour every 1st, 2nd or 4th frame
   int periphery_steps = 0;      // unmasked pixels: 0: the mid level's colour, interpolated as
-                                // `reconstruction` says (seed 000's reading); N > 0: traced (1 sample) from the mid depth with
-                                // a budget of min(N, max_steps) steps and shaded at full resolution
+      // `reconstruction` says (Polychronakis et al. 2023's reading); N > 0: traced (1 sample) from the mid depth with
+      // a budget of min(N, max_steps) steps and shaded at full resolution
   PeripheryReconstruction reconstruction = PeripheryReconstruction::bilinear;  // periphery_steps 0
   NearMisses near_misses = NearMisses::promote;
-  bool blur = false;            // pass 5: masked Gaussian blur
-  uint32_t seed = 0;            // of the per-pixel thresholds
-  uint32_t frame_index = 0;     // frame of a sequence; 0 starts one (every pixel refreshed)
+  bool blur = false;         // pass 5: masked Gaussian blur
+  uint32_t seed = 0;         // of the per-pixel thresholds
+  uint32_t frame_index = 0;  // frame of a sequence; 0 starts one (every pixel refreshed)
 };
 
 // What render() gives besides the statistics and the pass times.
@@ -80,16 +80,16 @@ struct SphereTraceSettings {
   TraceMethod method = TraceMethod::ground_truth;
   int width = 640;
   int height = 360;
-  int samples_per_pixel = 1;   // 1, 4 or 16 (docs/scenes.md: sample patterns)
+  int samples_per_pixel = 1;  // 1, 4 or 16 (docs/scenes.md: sample patterns)
   float time_s = 0.0f;
-  int pyramid_levels = 3;      // IPR: 2..5 levels, each with 1/4 the pixels of the one above
-  int min_filter_size = 3;     // IPR: 1, 3 or 5
+  int pyramid_levels = 3;                           // IPR: 2..5 levels, each with 1/4 the pixels of the one above
+  int min_filter_size = 3;                          // IPR: 1, 3 or 5
   CoarseTest coarse_test = CoarseTest::centre_ray;  // IPR and FIPR: the depth levels' stopping rule
   bool full_resolution_depth = false;  // IPR: one depth ray per pixel (a level of the frame's size, started
                                        // from the level below and min-filtered like it) before the shaded
                                        // samples, which then start from it instead of from the half-size level
-  int max_steps = 256;         // step cap of one ray at one level
-  float hit_threshold = 0.25f;  // hit when distance < t * pixel angle * level scale * hit_threshold
+  int max_steps = 256;                 // step cap of one ray at one level
+  float hit_threshold = 0.25f;         // hit when distance < t * pixel angle * level scale * hit_threshold
   // GT only, `fovlab bench`'s floor: an untimed GT pass records where each sample's trace stopped,
   // then every sample starts there and takes one step and its shading, the least a sphere tracer
   // can spend on this frame. The result's passes (and gpu_ms) are that second pass alone.
@@ -125,10 +125,10 @@ void check_sphere_trace_frame_bytes(const vk::Context& context, int width, int h
 struct PyramidLevelStats {
   int width = 0;
   int height = 0;
-  int scale = 1;              // full-resolution pixels per level pixel along each axis
-  uint64_t steps = 0;         // all steps of all rays of this level
-  uint64_t traced_pixels = 0; // level pixels whose ray was traced this frame (all but in FIPR's mid and top)
-  uint64_t shaded_pixels = 0; // level pixels shaded this frame (the top level; FIPR's mid level too)
+  int scale = 1;               // full-resolution pixels per level pixel along each axis
+  uint64_t steps = 0;          // all steps of all rays of this level
+  uint64_t traced_pixels = 0;  // level pixels whose ray was traced this frame (all but in FIPR's mid and top)
+  uint64_t shaded_pixels = 0;  // level pixels shaded this frame (the top level; FIPR's mid level too)
 
   double traced_share() const { return double(traced_pixels) / (double(width) * double(height)); }
 };
@@ -141,19 +141,19 @@ struct FoveationStats {
 };
 
 struct SphereTraceResult {
-  Image colour_linear;        // RGB, linear light (empty: TraceOutputs::display)
-  Image steps_per_pixel;      // 1 channel: the pixel's own steps plus its share of the levels below (TraceOutputs::all)
-  DeviceRgba8Frame display;   // TraceOutputs::display: the frame on the device, valid until the next render
+  Image colour_linear;       // RGB, linear light (empty: TraceOutputs::display)
+  Image steps_per_pixel;     // 1 channel: the pixel's own steps plus its share of the levels below (TraceOutputs::all)
+  DeviceRgba8Frame display;  // TraceOutputs::display: the frame on the device, valid until the next render
   uint64_t total_steps = 0;
-  uint64_t capped_rays = 0;     // rays stopped by max_steps before a hit or leaving the bounds
-  uint64_t restarted_rays = 0;  // IPR rays whose start depth was inside geometry, restarted at the bounds
+  uint64_t capped_rays = 0;               // rays stopped by max_steps before a hit or leaving the bounds
+  uint64_t restarted_rays = 0;            // IPR rays whose start depth was inside geometry, restarted at the bounds
   std::vector<PyramidLevelStats> levels;  // bottom (coarsest) first; GT and the sampling models have one
   FoveationStats foveation;               // FIPR only
   Image mask;                             // FIPR, TraceOutputs::all: 1 channel, 1 where traced at the top level;
                                           // sampling models: the samples shaded in each pixel
   uint64_t shaded_samples = 0;            // sampling models: samples traced and shaded this frame
   std::vector<vk::PassTime> passes;
-  double gpu_ms = 0.0;        // sum of the passes
+  double gpu_ms = 0.0;  // sum of the passes
 
   // All steps over the full-resolution pixel count (with spp samples the floor is about spp).
   double mean_steps_per_pixel() const { return double(total_steps) / double(colour_linear.pixel_count()); }
@@ -171,18 +171,18 @@ class SphereTracer {
   SphereTraceResult render(const SphereTraceSettings& settings);
 
  private:
-  struct FrameBuffers;    // the buffers of one frame layout (sphere_tracer_frame.h)
-  struct FrameRecording;  // one render being recorded
-  struct DepthStart;      // where a level's rays start
+  struct FrameBuffers;                                      // the buffers of one frame layout (sphere_tracer_frame.h)
+  struct FrameRecording;                                    // one render being recorded
+  struct DepthStart;                                        // where a level's rays start
   void prepare_frame(const SphereTraceSettings& settings);  // the buffers of its frame layout, kept if they fit
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   // render()'s passes (sphere_tracer_passes.cpp), in the order a frame records them.
   void clear_counters(FrameRecording& f);  // and FIPR's mid colours when it has no history
   void trace_level(FrameRecording& f, int level_index, const DepthStart& start);  // GT, IPR, FIPR's depth levels
-  void fipr_edges(FrameRecording& f);                                // Sobel edges of the low level's depth
-  void fipr_mask(FrameRecording& f);                                 // the foveation mask and its lists
-  void fipr_trace_mid_level(FrameRecording& f, const DepthStart& start);  // from its list; lists the top's
-  DepthStart start_of_next_level(FrameRecording& f, int level_index);     // min-filtered depth
+  void fipr_edges(FrameRecording& f);                                         // Sobel edges of the low level's depth
+  void fipr_mask(FrameRecording& f);                                          // the foveation mask and its lists
+  void fipr_trace_mid_level(FrameRecording& f, const DepthStart& start);      // from its list; lists the top's
+  DepthStart start_of_next_level(FrameRecording& f, int level_index);         // min-filtered depth
   void trace_ground_truth_floor(FrameRecording& f, const DepthStart& start);  // GT, then one step from there
   void fipr_trace_masked(FrameRecording& f, const DepthStart& start);         // the top level's masked pixels
   void fipr_trace_periphery(FrameRecording& f, const DepthStart& start);      // periphery_steps > 0
@@ -202,7 +202,7 @@ class SphereTracer {
   std::unique_ptr<vk::ComputePipeline> blur_pipeline_;
   std::unique_ptr<Srgb8Encoder> encoder_;
   std::unique_ptr<SamplingPasses> sampling_;  // made on the first sampled frame
-  std::unique_ptr<FrameBuffers> frame_;  // buffers of the last frame layout rendered (FIPR: its history)
+  std::unique_ptr<FrameBuffers> frame_;       // buffers of the last frame layout rendered (FIPR: its history)
 };
 
 }  // namespace fovlab

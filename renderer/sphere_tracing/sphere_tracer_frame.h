@@ -20,7 +20,15 @@ namespace fovlab {
 
 // Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
 enum Counter : uint32_t {
-  capped, restarted, masked, mid_traced, mid_shaded, refreshed, refresh_listed, mid_listed, counter_count
+  capped,
+  restarted,
+  masked,
+  mid_traced,
+  mid_shaded,
+  refreshed,
+  refresh_listed,
+  mid_listed,
+  counter_count
 };
 
 struct LevelBuffers {
@@ -47,8 +55,7 @@ struct LevelLayout {
 
 inline LevelLayout level_layout(const SphereTraceSettings& settings) {
   if (settings.method == TraceMethod::ground_truth || settings.method == TraceMethod::sampling_model) return {};
-  return {settings.pyramid_levels,
-          settings.method == TraceMethod::inverted_pyramid && settings.full_resolution_depth};
+  return {settings.pyramid_levels, settings.method == TraceMethod::inverted_pyramid && settings.full_resolution_depth};
 }
 
 // Every buffer of one frame layout; kept between renders of the same layout, so repeated frames
@@ -70,24 +77,28 @@ struct SphereTracer::FrameBuffers {
   vk::Buffer display_srgb8;  // TraceOutputs::display: the shown colour, packed sRGB8
   vk::Buffer counters;
   vk::Buffer counters_readback;
-  vk::Buffer unused;  // bound where a pass has no such buffer
+  vk::Buffer unused;        // bound where a pass has no such buffer
   vk::Buffer sample_depth;  // GT's one-step floor: where each sample's trace stopped (made when first needed)
   // FIPR only.
-  vk::Buffer edges;           // low level: 0 or 1
-  vk::Buffer mask;            // full resolution: 0 or 1
+  vk::Buffer edges;  // low level: 0 or 1
+  vk::Buffer mask;   // full resolution: 0 or 1
   vk::Buffer mask_readback;
-  vk::Buffer masked_list;     // full-resolution pixel indices of the masked pixels (the first counters[masked])
-  vk::Buffer refresh_list;    // and of the unmasked pixels due for a refresh, when the periphery is traced
-  vk::Buffer list_dispatch;   // workgroup counts of the top level's passes over the two lists
-  vk::Buffer mid_list;        // mid level: the pixels traced (fipr_mid_list.comp.glsl's entries)
+  vk::Buffer masked_list;        // full-resolution pixel indices of the masked pixels (the first counters[masked])
+  vk::Buffer refresh_list;       // and of the unmasked pixels due for a refresh, when the periphery is traced
+  vk::Buffer list_dispatch;      // workgroup counts of the top level's passes over the two lists
+  vk::Buffer mid_list;           // mid level: the pixels traced (fipr_mid_list.comp.glsl's entries)
   vk::Buffer mid_list_dispatch;  // workgroup counts of the mid level's pass over its list
-  vk::Buffer mid_flags;       // mid level: masked children | children << 4
-  vk::Buffer mid_colour;      // mid level: shaded colour of pixels due for a refresh
-  vk::Buffer blurred;         // full resolution: pass 5's output
+  vk::Buffer mid_flags;          // mid level: masked children | children << 4
+  vk::Buffer mid_colour;         // mid level: shaded colour of pixels due for a refresh
+  vk::Buffer blurred;            // full resolution: pass 5's output
 
   FrameBuffers(const vk::Context& context, int width_px, int height_px, LevelLayout level_layout, bool with_filter,
                bool with_foveation)
-      : width(width_px), height(height_px), layout(level_layout), filtered(with_filter), foveated(with_foveation),
+      : width(width_px),
+        height(height_px),
+        layout(level_layout),
+        filtered(with_filter),
+        foveated(with_foveation),
         levels(static_cast<size_t>(level_layout.count())) {
     const int level_count = layout.count();
     for (int i = 0; i < level_count; ++i) {
@@ -112,7 +123,9 @@ struct SphereTracer::FrameBuffers {
     counters_readback = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::host_readback);
     unused = vk::Buffer(context, 16, vk::MemoryUse::device_local);
     if (!foveated) return;
-    const auto pixels_of = [](const PyramidLevelStats& level) { return VkDeviceSize(level.width) * VkDeviceSize(level.height); };
+    const auto pixels_of = [](const PyramidLevelStats& level) {
+      return VkDeviceSize(level.width) * VkDeviceSize(level.height);
+    };
     const VkDeviceSize frame_pixels = VkDeviceSize(width) * VkDeviceSize(height);
     const VkDeviceSize mid_pixels = pixels_of(levels[size_t(level_count - 2)].stats);
     edges = vk::Buffer(context, pixels_of(levels[0].stats) * sizeof(uint32_t), vk::MemoryUse::device_local);
@@ -154,7 +167,8 @@ struct SphereTracer::FrameBuffers {
 
   // After the submit: the frame (on the device, or its linear colour read back) into `result`, and
   // the counters' values.
-  std::array<uint32_t, counter_count> read_outputs(vk::Context& context, bool on_device, SphereTraceResult& result) const {
+  std::array<uint32_t, counter_count> read_outputs(vk::Context& context, bool on_device,
+                                                   SphereTraceResult& result) const {
     if (on_device) {
       result.display = DeviceRgba8Frame{&context, display_srgb8.handle(), width, height};
     } else {
@@ -192,7 +206,7 @@ struct SphereTracer::FrameRecording {
   FrameBuffers& frame;
   VkCommandBuffer cmd;
   vk::PassTimer& timer;
-  bool foveated;      // FIPR
+  bool foveated;  // FIPR
   int level_count;
   int mid_index;      // FIPR's mid level, the one below the top
   int filter_radius;  // the min filter's between levels; 0: none

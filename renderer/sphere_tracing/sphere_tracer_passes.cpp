@@ -128,8 +128,10 @@ std::array<VkBuffer, 10> SphereTracer::FrameRecording::trace_bindings(int level_
 void SphereTracer::clear_counters(FrameRecording& f) {
   f.timer.reset(f.cmd);
   vkCmdFillBuffer(f.cmd, f.frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
-  if (f.foveated && f.all_due) vkCmdFillBuffer(f.cmd, f.frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
-  if (f.foveated) vkCmdFillBuffer(f.cmd, f.frame.levels.back().steps.handle(), 0, VK_WHOLE_SIZE, 0);  // pixels not traced: 0
+  if (f.foveated && f.all_due)
+    vkCmdFillBuffer(f.cmd, f.frame.mid_colour.handle(), 0, VK_WHOLE_SIZE, 0);  // alpha 0: not shaded yet
+  if (f.foveated)
+    vkCmdFillBuffer(f.cmd, f.frame.levels.back().steps.handle(), 0, VK_WHOLE_SIZE, 0);  // pixels not traced: 0
   vk::memory_barrier(f.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
@@ -184,8 +186,8 @@ void SphereTracer::trace_ground_truth_floor(FrameRecording& f, const DepthStart&
   vk::compute_to_compute_barrier(f.cmd);
 }
 
-void SphereTracer::dispatch_list_sizes(FrameRecording& f, const char* pass, const vk::Buffer& counts, uint32_t first_counter,
-                                       uint32_t second_counter, uint32_t list_count) {
+void SphereTracer::dispatch_list_sizes(FrameRecording& f, const char* pass, const vk::Buffer& counts,
+                                       uint32_t first_counter, uint32_t second_counter, uint32_t list_count) {
   const ListParams lists{{first_counter, second_counter}, list_count};
   const VkBuffer dispatch_buffers[] = {f.frame.counters.handle(), counts.handle()};
   f.timer.begin(f.cmd, pass);
@@ -210,7 +212,7 @@ void SphereTracer::fipr_mask(FrameRecording& f) {
   FrameBuffers& frame = f.frame;
   const MaskParams params =
       mask_params(f.settings, frame.levels.front().stats, frame.levels[size_t(f.mid_index)].stats, f.all_due);
-  const VkBuffer mask_buffers[] = {frame.edges.handle(), frame.mask.handle(), frame.mid_flags.handle(),
+  const VkBuffer mask_buffers[] = {frame.edges.handle(),    frame.mask.handle(),        frame.mid_flags.handle(),
                                    frame.counters.handle(), frame.masked_list.handle(), frame.refresh_list.handle()};
   f.timer.begin(f.cmd, "foveation_mask");
   mask_pipeline_->dispatch_2d(f.cmd, mask_buffers, &params, params.mid_size[0], params.mid_size[1]);
@@ -224,9 +226,11 @@ void SphereTracer::fipr_trace_mid_level(FrameRecording& f, const DepthStart& sta
   const TraceParams params = f.trace_params(f.mid_index, start);
   // The pixels to trace, listed (the others take their start depth there), then traced densely.
   const MidListParams list_params{{params.level_size[0], params.level_size[1]},
-                                  {params.start_size[0], params.start_size[1]}, f.filter_radius, mid_listed};
-  const VkBuffer list_buffers[] = {frame.mid_flags.handle(), start.depth->handle(), level.depth.handle(),
-                                   level.steps.handle(), frame.counters.handle(), frame.mid_list.handle()};
+                                  {params.start_size[0], params.start_size[1]},
+                                  f.filter_radius,
+                                  mid_listed};
+  const VkBuffer list_buffers[] = {frame.mid_flags.handle(), start.depth->handle(),   level.depth.handle(),
+                                   level.steps.handle(),     frame.counters.handle(), frame.mid_list.handle()};
   f.timer.begin(f.cmd, "mid_list");
   mid_list_pipeline_->dispatch_2d(f.cmd, list_buffers, &list_params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
@@ -274,7 +278,8 @@ void SphereTracer::fipr_reconstruct_periphery(FrameRecording& f) {
   const FoveationSettings& fov = f.settings.foveation;
   FiprReconstructParams reconstruct{{uint32_t(top.width), uint32_t(top.height)},
                                     {uint32_t(mid.width), uint32_t(mid.height)},
-                                    static_cast<uint32_t>(fov.periphery_refresh), fov.frame_index,
+                                    static_cast<uint32_t>(fov.periphery_refresh),
+                                    fov.frame_index,
                                     fov.reconstruction == PeripheryReconstruction::catmull_rom ? 1u : 0u};
   const VkBuffer reconstruct_buffers[] = {frame.mask.handle(), frame.mid_flags.handle(), frame.mid_colour.handle(),
                                           frame.colour.handle()};

@@ -8,8 +8,8 @@ namespace fovlab {
 
 namespace {
 // Blue -> cyan -> green -> yellow -> red, sRGB-encoded control points at equal spacing.
-constexpr std::array<std::array<float, 3>, 5> kRamp = {{
-    {0.0f, 0.0f, 1.0f}, {0.0f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.0f}, {1.0f, 1.0f, 0.0f}, {1.0f, 0.0f, 0.0f}}};
+constexpr std::array<std::array<float, 3>, 5> kRamp = {
+    {{0.0f, 0.0f, 1.0f}, {0.0f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.0f}, {1.0f, 1.0f, 0.0f}, {1.0f, 0.0f, 0.0f}}};
 }  // namespace
 
 Image step_heatmap(const Image& steps_per_pixel, int samples_per_pixel, int max_steps) {

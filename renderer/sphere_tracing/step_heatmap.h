@@ -1,5 +1,5 @@
 #pragma once
-// Step-count heat maps as in seed 000 Fig. 4: blue for 1 step, red for the step cap, on a log scale,
+// Step-count heat maps as in Polychronakis et al. 2023 Fig. 4: blue for 1 step, red for the step cap, on a log scale,
 // so GT and IPR frames of any spp are drawn on one scale (steps per sample).
 #include "core/image.h"
 

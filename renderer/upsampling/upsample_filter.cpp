@@ -22,9 +22,12 @@ int kernel_radius(UpsampleFilter filter) { return filter == UpsampleFilter::lanc
 
 const char* upsample_filter_name(UpsampleFilter filter) {
   switch (filter) {
-    case UpsampleFilter::lanczos3: return "lanczos3";
-    case UpsampleFilter::bilinear: return "bilinear";
-    case UpsampleFilter::nearest: return "nearest";
+    case UpsampleFilter::lanczos3:
+      return "lanczos3";
+    case UpsampleFilter::bilinear:
+      return "bilinear";
+    case UpsampleFilter::nearest:
+      return "nearest";
   }
   return "lanczos3";
 }
@@ -37,9 +40,12 @@ std::optional<UpsampleFilter> parse_upsample_filter(const std::string& name) {
 
 double upsample_kernel(UpsampleFilter filter, double t) {
   switch (filter) {
-    case UpsampleFilter::lanczos3: return std::fabs(t) < 3.0 ? sinc(t) * sinc(t / 3.0) : 0.0;
-    case UpsampleFilter::bilinear: return std::max(0.0, 1.0 - std::fabs(t));
-    case UpsampleFilter::nearest: return (t >= -0.5 && t < 0.5) ? 1.0 : 0.0;
+    case UpsampleFilter::lanczos3:
+      return std::fabs(t) < 3.0 ? sinc(t) * sinc(t / 3.0) : 0.0;
+    case UpsampleFilter::bilinear:
+      return std::max(0.0, 1.0 - std::fabs(t));
+    case UpsampleFilter::nearest:
+      return (t >= -0.5 && t < 0.5) ? 1.0 : 0.0;
   }
   return 0.0;
 }
@@ -57,7 +63,8 @@ std::vector<float> upsample_cell_weights(UpsampleFilter filter, int factor) {
     for (int k = 1 - radius; k <= radius; ++k) sum += upsample_kernel(filter, fraction - k);
     for (int k = 1 - radius; k <= radius; ++k) {
       const int slot = int(floor_u) + k + 3;  // input pixel c + floor(u) + k
-      weights[size_t(phase) * kUpsampleCellTaps + size_t(slot)] = static_cast<float>(upsample_kernel(filter, fraction - k) / sum);
+      weights[size_t(phase) * kUpsampleCellTaps + size_t(slot)] =
+          static_cast<float>(upsample_kernel(filter, fraction - k) / sum);
     }
   }
   return weights;

@@ -1,5 +1,5 @@
 #pragma once
-// Upsampling of the emulated foveated path tracer's zone buffers (seed 001 section 3.1): a buffer
+// Upsampling of the emulated foveated path tracer's zone buffers (Polychronakis et al. 2021 section 3.1): a buffer
 // of 1/4 or 1/16 the pixel count, made by nearest-neighbour decimation, is brought back to full
 // size by an integer factor per axis. This file holds the filters and the double-precision CPU
 // reference; renderer/upsampling/upsampler.h runs the same filter on the GPU. Definitions in

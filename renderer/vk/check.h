@@ -13,8 +13,8 @@ const char* result_name(VkResult result);
 
 }  // namespace fovlab::vk
 
-#define VK_CHECK(call)                                                             \
-  do {                                                                             \
-    VkResult vk_check_result_ = (call);                                            \
+#define VK_CHECK(call)                                                                             \
+  do {                                                                                             \
+    VkResult vk_check_result_ = (call);                                                            \
     if (vk_check_result_ != VK_SUCCESS) ::fovlab::vk::throw_vulkan_error(#call, vk_check_result_); \
   } while (false)

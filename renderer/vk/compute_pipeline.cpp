@@ -12,8 +12,8 @@ namespace {
 constexpr uint32_t kWorkgroupSize = 8;  // local_size_x and local_size_y of every 2-D compute shader
 }
 
-ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_t> spirv,
-                                 uint32_t storage_buffer_count, uint32_t push_constant_bytes)
+ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
+                                 uint32_t push_constant_bytes)
     : context_(context), storage_buffer_count_(storage_buffer_count), push_constant_bytes_(push_constant_bytes) {
   VkDevice device = context.device;
   VkShaderModule module = VK_NULL_HANDLE;
@@ -95,11 +95,13 @@ void ComputePipeline::bind(VkCommandBuffer commands, std::span<const VkBuffer> b
 void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
                                   const void* push_constants, uint32_t width, uint32_t height) const {
   bind(commands, buffers, push_constants);
-  vkCmdDispatch(commands, (width + kWorkgroupSize - 1) / kWorkgroupSize, (height + kWorkgroupSize - 1) / kWorkgroupSize, 1);
+  vkCmdDispatch(commands, (width + kWorkgroupSize - 1) / kWorkgroupSize, (height + kWorkgroupSize - 1) / kWorkgroupSize,
+                1);
 }
 
 void ComputePipeline::dispatch_groups(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
-                                      const void* push_constants, uint32_t group_count_x, uint32_t group_count_y) const {
+                                      const void* push_constants, uint32_t group_count_x,
+                                      uint32_t group_count_y) const {
   bind(commands, buffers, push_constants);
   vkCmdDispatch(commands, group_count_x, group_count_y, 1);
 }

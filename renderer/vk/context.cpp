@@ -15,17 +15,22 @@ constexpr uint32_t kApiVersion = VK_API_VERSION_1_1;          // the least a dev
 constexpr uint32_t kInstanceApiVersion = VK_API_VERSION_1_3;  // the most fovlab uses (driver properties)
 
 std::string version_string(uint32_t version) {
-  return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) +
-         "." + std::to_string(VK_API_VERSION_PATCH(version));
+  return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) + "." +
+         std::to_string(VK_API_VERSION_PATCH(version));
 }
 
 std::string type_name(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return "CPU";
+    default:
+      return "other";
   }
 }
 
@@ -35,7 +40,8 @@ int compute_queue_family(VkPhysicalDevice device, VkSurfaceKHR surface) {
   for (uint32_t i = 0; i < families.size(); ++i) {
     if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
     VkBool32 presents = VK_TRUE;
-    if (surface && vkGetPhysicalDeviceSurfaceSupportKHR(device, i, surface, &presents) != VK_SUCCESS) presents = VK_FALSE;
+    if (surface && vkGetPhysicalDeviceSurfaceSupportKHR(device, i, surface, &presents) != VK_SUCCESS)
+      presents = VK_FALSE;
     if (presents) return static_cast<int>(i);
   }
   return -1;
@@ -97,8 +103,9 @@ VkInstance create_instance(bool validation, const std::vector<const char*>& wind
     throw InputError("no Vulkan driver found; expected a GPU driver or Mesa lavapipe (mesa-vulkan-drivers)");
   }
   if (result == VK_ERROR_EXTENSION_NOT_PRESENT && !window_extensions.empty()) {
-    throw InputError("window: no Vulkan driver can present to a window (VK_ERROR_EXTENSION_NOT_PRESENT); expected a "
-                     "GPU driver or Mesa lavapipe (mesa-vulkan-drivers)");
+    throw InputError(
+        "window: no Vulkan driver can present to a window (VK_ERROR_EXTENSION_NOT_PRESENT); expected a "
+        "GPU driver or Mesa lavapipe (mesa-vulkan-drivers)");
   }
   VK_CHECK(result);
   return instance;
@@ -106,7 +113,8 @@ VkInstance create_instance(bool validation, const std::vector<const char*>& wind
 
 // Descriptions of every device, in enumeration order; throws InputError when there is none.
 std::vector<DeviceDescription> describe_all(const std::vector<VkPhysicalDevice>& devices,
-                                            const SurfaceRequest* present_to = nullptr, VkSurfaceKHR surface = VK_NULL_HANDLE) {
+                                            const SurfaceRequest* present_to = nullptr,
+                                            VkSurfaceKHR surface = VK_NULL_HANDLE) {
   std::vector<DeviceDescription> descriptions;
   for (uint32_t i = 0; i < devices.size(); ++i) descriptions.push_back(describe(devices[i], i, present_to, surface));
   if (descriptions.empty()) {
@@ -126,7 +134,8 @@ DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, co
   if (!selector.empty()) {
     for (const DeviceDescription& d : descriptions) {
       if (!device_selector_matches(selector, d.index, d.name)) continue;
-      if (!d.usable) throw InputError(flag + " " + selector + ": '" + d.name + "' cannot be used: " + d.unusable_reason);
+      if (!d.usable)
+        throw InputError(flag + " " + selector + ": '" + d.name + "' cannot be used: " + d.unusable_reason);
       return d;
     }
     throw InputError(flag + " " + selector + ": no such device; expected an index or part of a name among " + names);
@@ -135,8 +144,10 @@ DeviceDescription choose_device(const std::vector<VkPhysicalDevice>& devices, co
   for (const DeviceDescription& d : descriptions) {
     if (d.usable && (!best || d.preference > best->preference)) best = &d;
   }
-  if (!best && surface) throw InputError("window: no Vulkan device can render and present to the window among " + names);
-  if (!best) throw InputError("no usable Vulkan device among " + names + "; fovlab needs compute and VK_KHR_push_descriptor");
+  if (!best && surface)
+    throw InputError("window: no Vulkan device can render and present to the window among " + names);
+  if (!best)
+    throw InputError("no usable Vulkan device among " + names + "; fovlab needs compute and VK_KHR_push_descriptor");
   return *best;
 }
 
@@ -169,10 +180,10 @@ bool is_preferred_device(const DeviceDescription& device) {
   return true;
 }
 
-Context::Context(const ContextOptions& options)
-    : validation_log_(std::make_unique<ValidationLog>("")) {
+Context::Context(const ContextOptions& options) : validation_log_(std::make_unique<ValidationLog>("")) {
   const SurfaceRequest* present_to = options.present_to ? &*options.present_to : nullptr;
-  instance = create_instance(options.validation, present_to ? present_to->instance_extensions : std::vector<const char*>{});
+  instance =
+      create_instance(options.validation, present_to ? present_to->instance_extensions : std::vector<const char*>{});
   try {
     if (options.validation) {
       messenger_ = create_validation_messenger(instance, validation_messenger_info(validation_log_.get()));

@@ -20,13 +20,13 @@
 namespace fovlab::vk {
 
 struct DeviceDescription {
-  uint32_t index = 0;        // position in vkEnumeratePhysicalDevices
+  uint32_t index = 0;  // position in vkEnumeratePhysicalDevices
   std::string name;
-  std::string type;          // "discrete GPU", "integrated GPU", "virtual GPU", "CPU", "other"
-  int preference = 0;        // automatic choice takes the highest: discrete > integrated > virtual > CPU
-  std::string api_version;   // e.g. "1.3.230"
-  std::string driver;        // driver name and info, when the device reports them
-  bool usable = false;       // has a compute queue and the features fovlab needs
+  std::string type;         // "discrete GPU", "integrated GPU", "virtual GPU", "CPU", "other"
+  int preference = 0;       // automatic choice takes the highest: discrete > integrated > virtual > CPU
+  std::string api_version;  // e.g. "1.3.230"
+  std::string driver;       // driver name and info, when the device reports them
+  bool usable = false;      // has a compute queue and the features fovlab needs
   std::string unusable_reason;
 };
 
@@ -35,7 +35,7 @@ struct DeviceDescription {
 // both computes and presents to that surface (and VK_KHR_swapchain) is usable; that family is the
 // context's one queue, so frames go from the renderer's buffers to the swapchain on one device.
 struct SurfaceRequest {
-  std::vector<const char*> instance_extensions;           // e.g. glfwGetRequiredInstanceExtensions
+  std::vector<const char*> instance_extensions;            // e.g. glfwGetRequiredInstanceExtensions
   std::function<VkSurfaceKHR(VkInstance)> create_surface;  // the context owns and destroys the result
   // Further needs of the presenter on a candidate device: empty when met, else why not (e.g. "no
   // 8-bit RGBA/BGRA surface format"), shown in the device error.

@@ -57,7 +57,8 @@ void enable_validation(std::vector<const char*>& layers, std::vector<const char*
 
 VkDebugUtilsMessengerCreateInfoEXT validation_messenger_info(ValidationLog* log) {
   VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
   info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   info.pfnUserCallback = on_validation_message;
@@ -98,7 +99,8 @@ std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device) {
   return families;
 }
 
-VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, const std::vector<const char*>& extensions) {
+VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family,
+                       const std::vector<const char*>& extensions) {
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queue_info.queueFamilyIndex = queue_family;
@@ -125,11 +127,16 @@ VkCommandPool create_command_pool(VkDevice device, uint32_t queue_family) {
 
 int device_type_preference(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return 1;
+    default:
+      return 0;
   }
 }
 
@@ -141,7 +148,8 @@ std::string lower_case(std::string text) {
 
 bool device_selector_matches(const std::string& selector, uint32_t index, const std::string& name) {
   const bool is_index = std::all_of(selector.begin(), selector.end(), [](unsigned char c) { return std::isdigit(c); });
-  return is_index ? std::to_string(index) == selector : lower_case(name).find(lower_case(selector)) != std::string::npos;
+  return is_index ? std::to_string(index) == selector
+                  : lower_case(name).find(lower_case(selector)) != std::string::npos;
 }
 
 }  // namespace fovlab::vk

@@ -29,14 +29,16 @@ void enable_validation(std::vector<const char*>& layers, std::vector<const char*
 
 // Warnings and errors of every type, reported to `log` (which must outlive the messenger).
 VkDebugUtilsMessengerCreateInfoEXT validation_messenger_info(ValidationLog* log);
-VkDebugUtilsMessengerEXT create_validation_messenger(VkInstance instance, const VkDebugUtilsMessengerCreateInfoEXT& info);
+VkDebugUtilsMessengerEXT create_validation_messenger(VkInstance instance,
+                                                     const VkDebugUtilsMessengerCreateInfoEXT& info);
 void destroy_validation_messenger(VkInstance instance, VkDebugUtilsMessengerEXT messenger);
 
 std::vector<VkPhysicalDevice> physical_devices(VkInstance instance);
 std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device);
 
 // A logical device with one queue (priority 1) of `queue_family` and the given device extensions.
-VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family, const std::vector<const char*>& extensions);
+VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family,
+                       const std::vector<const char*>& extensions);
 // A command pool on `queue_family` whose buffers can be reset one by one.
 VkCommandPool create_command_pool(VkDevice device, uint32_t queue_family);
 

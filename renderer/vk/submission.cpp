@@ -73,7 +73,8 @@ void PassTimer::begin(VkCommandBuffer commands, std::string name) {
   if (pool_) {
     // BOTTOM_OF_PIPE: written once earlier commands have finished, so a pass does not absorb the
     // tail of the one before it on a GPU that overlaps them.
-    vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, 2 * static_cast<uint32_t>(names_.size()));
+    vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_,
+                        2 * static_cast<uint32_t>(names_.size()));
   }
   names_.push_back(std::move(name));
 }
@@ -95,10 +96,10 @@ std::vector<PassTime> PassTimer::results() const {
                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   }
   for (size_t i = 0; i < names_.size(); ++i) {
-    const uint64_t mask = context_.timestamp_valid_bits >= 64 ? ~uint64_t{0}
-                                                              : (uint64_t{1} << context_.timestamp_valid_bits) - 1;
-    const double elapsed_ticks = pool_ ? static_cast<double>(((ticks[2 * i + 1] & mask) - (ticks[2 * i] & mask)) & mask)
-                                       : 0.0;
+    const uint64_t mask =
+        context_.timestamp_valid_bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << context_.timestamp_valid_bits) - 1;
+    const double elapsed_ticks =
+        pool_ ? static_cast<double>(((ticks[2 * i + 1] & mask) - (ticks[2 * i] & mask)) & mask) : 0.0;
     passes.push_back({names_[i], elapsed_ticks * context_.timestamp_period_ns * 1e-6});
   }
   return passes;

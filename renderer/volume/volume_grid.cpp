@@ -25,7 +25,6 @@
 namespace fovlab {
 namespace {
 
-
 uint16_t quantise(double value) {
   if (!(value > 0.0)) return 0;  // NaN too
   if (value >= 1.0) return 65535;
@@ -63,8 +62,9 @@ double value_noise(uint64_t seed, double x, double y, double z) {
 double combustion(uint64_t seed, double x, double y, double z) {
   double turbulence = 0.0, amplitude = 0.5, frequency = 3.0;
   for (int octave = 0; octave < 5; ++octave) {
-    turbulence += amplitude * std::abs(2.0 * value_noise(seed + uint64_t(octave), x * frequency, (y - 0.3 * octave) * frequency,
-                                                         z * frequency) - 1.0);
+    turbulence += amplitude * std::abs(2.0 * value_noise(seed + uint64_t(octave), x * frequency,
+                                                         (y - 0.3 * octave) * frequency, z * frequency) -
+                                       1.0);
     amplitude *= 0.5;
     frequency *= 2.0;
   }
@@ -83,11 +83,11 @@ struct Ellipsoid {
 // The 3-D Shepp-Logan phantom's ten ellipsoids with the modified (higher-contrast) intensities; the
 // two tilted ones turn about the z axis only.
 constexpr Ellipsoid kSheppLogan[] = {
-    {1.0, 0.6900, 0.920, 0.810, 0.0, 0.0, 0.0, 0.0},       {-0.8, 0.6624, 0.874, 0.780, 0.0, -0.0184, 0.0, 0.0},
-    {-0.2, 0.1100, 0.310, 0.220, 0.22, 0.0, 0.0, -18.0},   {-0.2, 0.1600, 0.410, 0.280, -0.22, 0.0, 0.0, 18.0},
-    {0.1, 0.2100, 0.250, 0.410, 0.0, 0.35, -0.15, 0.0},    {0.1, 0.0460, 0.046, 0.050, 0.0, 0.1, 0.25, 0.0},
-    {0.1, 0.0460, 0.046, 0.050, 0.0, -0.1, 0.25, 0.0},     {0.1, 0.0460, 0.023, 0.050, -0.08, -0.605, 0.0, 0.0},
-    {0.1, 0.0230, 0.023, 0.020, 0.0, -0.606, 0.0, 0.0},    {0.1, 0.0230, 0.046, 0.020, 0.06, -0.605, 0.0, 0.0},
+    {1.0, 0.6900, 0.920, 0.810, 0.0, 0.0, 0.0, 0.0},     {-0.8, 0.6624, 0.874, 0.780, 0.0, -0.0184, 0.0, 0.0},
+    {-0.2, 0.1100, 0.310, 0.220, 0.22, 0.0, 0.0, -18.0}, {-0.2, 0.1600, 0.410, 0.280, -0.22, 0.0, 0.0, 18.0},
+    {0.1, 0.2100, 0.250, 0.410, 0.0, 0.35, -0.15, 0.0},  {0.1, 0.0460, 0.046, 0.050, 0.0, 0.1, 0.25, 0.0},
+    {0.1, 0.0460, 0.046, 0.050, 0.0, -0.1, 0.25, 0.0},   {0.1, 0.0460, 0.023, 0.050, -0.08, -0.605, 0.0, 0.0},
+    {0.1, 0.0230, 0.023, 0.020, 0.0, -0.606, 0.0, 0.0},  {0.1, 0.0230, 0.046, 0.020, 0.06, -0.605, 0.0, 0.0},
 };
 
 }  // namespace
@@ -113,25 +113,30 @@ double shepp_logan(double x, double y, double z) {
 void check_volume_size(const std::array<int64_t, 3>& size, const VolumeLimits& limits, const std::string& what) {
   for (int64_t side : size)
     if (side < 1 || side > limits.max_side_voxels)
-      throw InputError(what + ": " + size_text(size) + " voxels: expected 1 to " + std::to_string(limits.max_side_voxels) +
-                       " voxels a side (this device's largest 3-D image)");
+      throw InputError(what + ": " + size_text(size) + " voxels: expected 1 to " +
+                       std::to_string(limits.max_side_voxels) + " voxels a side (this device's largest 3-D image)");
   const uint64_t bytes = uint64_t(size[0]) * uint64_t(size[1]) * uint64_t(size[2]) * 2;
   if (bytes > limits.max_bytes)
-    throw InputError(what + ": " + size_text(size) + " voxels: " + std::to_string(bytes) + " bytes at 16 bits a voxel: expected at most " +
-                     std::to_string(limits.max_bytes) + " bytes (this device's largest buffer and the memory available)");
+    throw InputError(what + ": " + size_text(size) + " voxels: " + std::to_string(bytes) +
+                     " bytes at 16 bits a voxel: expected at most " + std::to_string(limits.max_bytes) +
+                     " bytes (this device's largest buffer and the memory available)");
 }
 
 std::optional<GeneratedVolume> find_generated_volume(std::string_view name) {
-  for (GeneratedVolume kind : {GeneratedVolume::marschner_lobb, GeneratedVolume::combustion, GeneratedVolume::shepp_logan})
+  for (GeneratedVolume kind :
+       {GeneratedVolume::marschner_lobb, GeneratedVolume::combustion, GeneratedVolume::shepp_logan})
     if (generated_volume_name(kind) == name) return kind;
   return std::nullopt;
 }
 
 std::string_view generated_volume_name(GeneratedVolume kind) {
   switch (kind) {
-    case GeneratedVolume::marschner_lobb: return "marschner-lobb";
-    case GeneratedVolume::combustion: return "combustion";
-    case GeneratedVolume::shepp_logan: return "shepp-logan";
+    case GeneratedVolume::marschner_lobb:
+      return "marschner-lobb";
+    case GeneratedVolume::combustion:
+      return "combustion";
+    case GeneratedVolume::shepp_logan:
+      return "shepp-logan";
   }
   return "?";
 }
@@ -151,10 +156,16 @@ VolumeGrid generate_volume(GeneratedVolume kind, int side, uint64_t seed, const 
         const double px = coordinate(x), py = coordinate(y), pz = coordinate(z);
         double value = 0.0;
         switch (kind) {
-          case GeneratedVolume::marschner_lobb: value = marschner_lobb(px, py, pz); break;
+          case GeneratedVolume::marschner_lobb:
+            value = marschner_lobb(px, py, pz);
+            break;
           // y grows downwards in the grid as on the screen: the flame rises towards -y.
-          case GeneratedVolume::combustion: value = combustion(seed, px, -py, pz); break;
-          case GeneratedVolume::shepp_logan: value = shepp_logan(px, -py, pz); break;
+          case GeneratedVolume::combustion:
+            value = combustion(seed, px, -py, pz);
+            break;
+          case GeneratedVolume::shepp_logan:
+            value = shepp_logan(px, -py, pz);
+            break;
         }
         grid.values[index++] = quantise(value);
       }
@@ -243,11 +254,13 @@ NrrdHeader read_nrrd_header(const OpenInputFile& file) {
     text.append(buffer, size_t(count));
     for (const char* blank : {"\n\n", "\n\r\n"}) {
       const size_t at = text.find(blank, searched_from);
-      if (at != std::string::npos && (end == std::string::npos || at + std::strlen(blank) - 1 < end)) end = at + std::strlen(blank) - 1;
+      if (at != std::string::npos && (end == std::string::npos || at + std::strlen(blank) - 1 < end))
+        end = at + std::strlen(blank) - 1;
     }
     if (end == std::string::npos && text.size() > kMaxNrrdHeaderBytes)
-      throw InputError(file.name() + ": no blank line in its first " + byte_size_text(kMaxNrrdHeaderBytes) + ": expected " +
-                       kNrrdExpected + " whose header is at most " + byte_size_text(kMaxNrrdHeaderBytes));
+      throw InputError(file.name() + ": no blank line in its first " + byte_size_text(kMaxNrrdHeaderBytes) +
+                       ": expected " + kNrrdExpected + " whose header is at most " +
+                       byte_size_text(kMaxNrrdHeaderBytes));
   }
   NrrdHeader header;
   header.data_offset = end == std::string::npos ? text.size() : end + 1;
@@ -269,10 +282,10 @@ NrrdHeader read_nrrd_header(const OpenInputFile& file) {
 // min, max, step and an optional sub-dimension; or LIST with an optional sub-dimension, the names on
 // the lines after it), resolved against the header's folder.
 struct NrrdDataFiles {
-  size_t field_line = 0;           // index in NrrdHeader::lines; 0: no data file field (attached data)
-  bool single = true;              // the one-file form
-  bool list = false;               // the LIST form
-  std::string subdimension;        // as written after the template's numbers or LIST, "" for none
+  size_t field_line = 0;     // index in NrrdHeader::lines; 0: no data file field (attached data)
+  bool single = true;        // the one-file form
+  bool list = false;         // the LIST form
+  std::string subdimension;  // as written after the template's numbers or LIST, "" for none
   std::vector<std::filesystem::path> paths;
 };
 
@@ -297,12 +310,13 @@ std::vector<std::string> template_names(const std::filesystem::path& header_path
   const size_t percent = pattern.find('%');
   size_t digits_end = percent + 1;
   while (digits_end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[digits_end]))) ++digits_end;
-  if (digits_end >= pattern.size() || pattern[digits_end] != 'd' || pattern.find('%', digits_end) != std::string::npos ||
-      digits_end - percent - 1 > 2)
+  if (digits_end >= pattern.size() || pattern[digits_end] != 'd' ||
+      pattern.find('%', digits_end) != std::string::npos || digits_end - percent - 1 > 2)
     fail("expected one %d conversion (with an optional 0 and width) in the name");
   if (min < INT32_MIN || min > INT32_MAX || max < INT32_MIN || max > INT32_MAX || step == 0 || (max - min) / step < 0 ||
       (max - min) / step >= (long long)kMaxNrrdDataFiles)
-    fail("expected a step that reaches the last number from the first in at most " + std::to_string(kMaxNrrdDataFiles) + " files");
+    fail("expected a step that reaches the last number from the first in at most " + std::to_string(kMaxNrrdDataFiles) +
+         " files");
   // The conversion alone, checked above to be %d with at most two flag or width digits, is safe to
   // give snprintf.
   const std::string conversion = pattern.substr(percent, digits_end - percent) + "lld";
@@ -351,7 +365,8 @@ NrrdDataFiles nrrd_data_files(const std::filesystem::path& header_path, const Nr
   const std::filesystem::path folder = header_path.parent_path();  // empty: the working directory
   for (const std::string& name : names) {
     if (name == "-")
-      throw InputError(header_path.string() + ": data file \"-\" (standard input): expected a data file, a regular file "
+      throw InputError(header_path.string() +
+                       ": data file \"-\" (standard input): expected a data file, a regular file "
                        "beside the header or at a path");
     const std::filesystem::path path(name);
     files.paths.push_back(path.is_absolute() ? path : folder / path);
@@ -365,10 +380,10 @@ NrrdDataFiles nrrd_data_files(const std::filesystem::path& header_path, const Nr
 uint64_t max_data_file_bytes(const Nrrd& nrrd, const NrrdIoState& io, size_t file_count) {
   const uint64_t values = uint64_t(nrrdElementNumber(&nrrd)) / file_count;
   const uint64_t bytes = values * uint64_t(nrrdElementSize(&nrrd));
-  uint64_t encoded = bytes;                                               // raw
-  if (io.encoding == nrrdEncodingAscii) encoded = 64 * values;            // a number and its separator
-  else if (io.encoding == nrrdEncodingHex) encoded = 3 * bytes;           // two digits a byte, and line breaks
-  else if (io.encoding != nrrdEncodingRaw) encoded = 2 * bytes;           // compressed (gzip, bzip2, zrl)
+  uint64_t encoded = bytes;                                      // raw
+  if (io.encoding == nrrdEncodingAscii) encoded = 64 * values;   // a number and its separator
+  else if (io.encoding == nrrdEncodingHex) encoded = 3 * bytes;  // two digits a byte, and line breaks
+  else if (io.encoding != nrrdEncodingRaw) encoded = 2 * bytes;  // compressed (gzip, bzip2, zrl)
   return encoded + (uint64_t(1) << 20);
 }
 
@@ -388,8 +403,8 @@ using FilePointer = std::unique_ptr<FILE, TeemDeleters>;
 
 // One read by teem of the header text (detached data, through /proc/self/fd) or of the header file's
 // descriptor from its start (attached data).
-void teem_read(Nrrd* nrrd, NrrdIoState* io, const std::string& header_text, const OpenInputFile& header_file, bool attached,
-               const std::filesystem::path& path) {
+void teem_read(Nrrd* nrrd, NrrdIoState* io, const std::string& header_text, const OpenInputFile& header_file,
+               bool attached, const std::filesystem::path& path) {
   FilePointer file;
   if (attached) {
     const int copy = ::dup(header_file.fd());
@@ -407,7 +422,8 @@ void teem_read(Nrrd* nrrd, NrrdIoState* io, const std::string& header_text, cons
   if (nrrdRead(nrrd, file.get(), io)) throw InputError(teem_error(path));
 }
 
-VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<ValueRange>& range, const VolumeLimits& limits) {
+VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<ValueRange>& range,
+                     const VolumeLimits& limits) {
   std::error_code error;
   if (!std::filesystem::exists(path, error))
     throw InputError(path.string() + ": no such file: expected " + kNrrdExpected);
@@ -436,7 +452,8 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
     if (named.single) {
       header_text += "data file: " + descriptor(*data_files.front()) + "\n";
     } else {
-      header_text += std::string("data file: ") + NRRD_LIST_FLAG + (named.subdimension.empty() ? "" : " " + named.subdimension) + "\n";
+      header_text += std::string("data file: ") + NRRD_LIST_FLAG +
+                     (named.subdimension.empty() ? "" : " " + named.subdimension) + "\n";
       for (const auto& file : data_files) header_text += descriptor(*file) + "\n";
     }
   }
@@ -448,13 +465,21 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
   io->skipData = AIR_TRUE;
   teem_read(nrrd_header.get(), io.get(), header_text, header_file, attached, path);
   if (nrrd_header->dim != 3)
-    throw InputError(path.string() + ": " + std::to_string(nrrd_header->dim) + " axes: expected a 3-D scalar volume (3 axes)");
+    throw InputError(path.string() + ": " + std::to_string(nrrd_header->dim) +
+                     " axes: expected a 3-D scalar volume (3 axes)");
   const std::array<int64_t, 3> size{int64_t(nrrd_header->axis[0].size), int64_t(nrrd_header->axis[1].size),
                                     int64_t(nrrd_header->axis[2].size)};
   check_volume_size(size, limits, path.string());
   switch (nrrd_header->type) {
-    case nrrdTypeChar: case nrrdTypeUChar: case nrrdTypeShort: case nrrdTypeUShort: case nrrdTypeInt:
-    case nrrdTypeUInt: case nrrdTypeFloat: case nrrdTypeDouble: break;
+    case nrrdTypeChar:
+    case nrrdTypeUChar:
+    case nrrdTypeShort:
+    case nrrdTypeUShort:
+    case nrrdTypeInt:
+    case nrrdTypeUInt:
+    case nrrdTypeFloat:
+    case nrrdTypeDouble:
+      break;
     default:
       throw InputError(path.string() + ": type " + std::string(airEnumStr(nrrdType, nrrd_header->type)) +
                        ": expected (un)signed 8-, 16- or 32-bit integers, float or double");
@@ -463,10 +488,12 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
   const uint64_t cap = max_data_file_bytes(*nrrd_header, *io, file_count);
   const auto check_size = [&](const std::string& name, uint64_t bytes) {
     if (bytes > cap)
-      throw InputError(name + ": " + std::to_string(bytes) + " bytes of data: expected at most " + std::to_string(cap) + " for " +
-                       encoding_text(*nrrd_header, *io, file_count) + " and 1 MiB skipped (NRRD volume " + path.string() + ")");
+      throw InputError(name + ": " + std::to_string(bytes) + " bytes of data: expected at most " + std::to_string(cap) +
+                       " for " + encoding_text(*nrrd_header, *io, file_count) + " and 1 MiB skipped (NRRD volume " +
+                       path.string() + ")");
   };
-  if (attached) check_size(path.string(), header_file.size_bytes() - std::min(header_file.size_bytes(), header.data_offset));
+  if (attached)
+    check_size(path.string(), header_file.size_bytes() - std::min(header_file.size_bytes(), header.data_offset));
   for (const auto& file : data_files) check_size(file->name(), file->size_bytes());
 
   NrrdPointer nrrd(nrrdNew());
@@ -482,7 +509,8 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
     double spacing = nrrd->axis[axis].spacing;
     if (!(std::isfinite(spacing) && spacing > 0.0)) {  // else from the space directions, else 1
       double length = 0.0;
-      for (unsigned d = 0; d < nrrd->spaceDim; ++d) length += nrrd->axis[axis].spaceDirection[d] * nrrd->axis[axis].spaceDirection[d];
+      for (unsigned d = 0; d < nrrd->spaceDim; ++d)
+        length += nrrd->axis[axis].spaceDirection[d] * nrrd->axis[axis].spaceDirection[d];
       spacing = std::isfinite(length) && length > 0.0 ? std::sqrt(length) : 1.0;
     }
     grid.spacing[size_t(axis)] = spacing;
@@ -490,27 +518,46 @@ VolumeGrid load_nrrd(const std::filesystem::path& path, const std::optional<Valu
   const double widest = std::max({grid.spacing[0], grid.spacing[1], grid.spacing[2]});
   const double narrowest = std::min({grid.spacing[0], grid.spacing[1], grid.spacing[2]});
   if (!(widest <= 1000.0 * narrowest))
-    throw InputError(path.string() + ": spacings " + exact_number_text(grid.spacing[0]) + " " + exact_number_text(grid.spacing[1]) +
-                     " " + exact_number_text(grid.spacing[2]) + ": expected the largest at most 1000 times the smallest");
+    throw InputError(path.string() + ": spacings " + exact_number_text(grid.spacing[0]) + " " +
+                     exact_number_text(grid.spacing[1]) + " " + exact_number_text(grid.spacing[2]) +
+                     ": expected the largest at most 1000 times the smallest");
   const uint64_t count = grid.voxel_count();
   const void* data = nrrd->data;
   switch (nrrd->type) {
-    case nrrdTypeChar: store_values(static_cast<const int8_t*>(data), count, range, -128, 127, false, grid.values); break;
-    case nrrdTypeUChar: store_values(static_cast<const uint8_t*>(data), count, range, 0, 255, false, grid.values); break;
-    case nrrdTypeShort: store_values(static_cast<const int16_t*>(data), count, range, -32768, 32767, false, grid.values); break;
-    case nrrdTypeUShort: store_values(static_cast<const uint16_t*>(data), count, range, 0, 65535, false, grid.values); break;
-    case nrrdTypeInt: store_values(static_cast<const int32_t*>(data), count, range, -2147483648.0, 2147483647.0, false, grid.values); break;
-    case nrrdTypeUInt: store_values(static_cast<const uint32_t*>(data), count, range, 0, 4294967295.0, false, grid.values); break;
-    case nrrdTypeFloat: store_values(static_cast<const float*>(data), count, range, 0, 1, true, grid.values); break;
-    default: store_values(static_cast<const double*>(data), count, range, 0, 1, true, grid.values); break;
+    case nrrdTypeChar:
+      store_values(static_cast<const int8_t*>(data), count, range, -128, 127, false, grid.values);
+      break;
+    case nrrdTypeUChar:
+      store_values(static_cast<const uint8_t*>(data), count, range, 0, 255, false, grid.values);
+      break;
+    case nrrdTypeShort:
+      store_values(static_cast<const int16_t*>(data), count, range, -32768, 32767, false, grid.values);
+      break;
+    case nrrdTypeUShort:
+      store_values(static_cast<const uint16_t*>(data), count, range, 0, 65535, false, grid.values);
+      break;
+    case nrrdTypeInt:
+      store_values(static_cast<const int32_t*>(data), count, range, -2147483648.0, 2147483647.0, false, grid.values);
+      break;
+    case nrrdTypeUInt:
+      store_values(static_cast<const uint32_t*>(data), count, range, 0, 4294967295.0, false, grid.values);
+      break;
+    case nrrdTypeFloat:
+      store_values(static_cast<const float*>(data), count, range, 0, 1, true, grid.values);
+      break;
+    default:
+      store_values(static_cast<const double*>(data), count, range, 0, 1, true, grid.values);
+      break;
   }
   return grid;
 }
 
-VolumeGrid load_dat(const std::filesystem::path& path, const std::optional<ValueRange>& range, const VolumeLimits& limits) {
+VolumeGrid load_dat(const std::filesystem::path& path, const std::optional<ValueRange>& range,
+                    const VolumeLimits& limits) {
   const std::string expected = "a .dat volume (three little-endian uint16 sides, then uint16 voxels)";
   const std::string bytes = read_input_file(path, expected, limits.max_bytes + 6);
-  if (bytes.size() < 6) throw InputError(path.string() + ": " + std::to_string(bytes.size()) + " bytes: expected " + expected);
+  if (bytes.size() < 6)
+    throw InputError(path.string() + ": " + std::to_string(bytes.size()) + " bytes: expected " + expected);
   const auto u16 = [&bytes](size_t offset) {
     return uint16_t(uint8_t(bytes[offset]) | (uint16_t(uint8_t(bytes[offset + 1])) << 8));
   };
@@ -518,8 +565,8 @@ VolumeGrid load_dat(const std::filesystem::path& path, const std::optional<Value
   check_volume_size(size, limits, path.string());
   const uint64_t count = uint64_t(size[0]) * uint64_t(size[1]) * uint64_t(size[2]);
   if (bytes.size() != 6 + 2 * count)
-    throw InputError(path.string() + ": " + std::to_string(bytes.size()) + " bytes: expected 6 + 2 x " + size_text(size) +
-                     " = " + std::to_string(6 + 2 * count) + " bytes (" + expected + ")");
+    throw InputError(path.string() + ": " + std::to_string(bytes.size()) + " bytes: expected 6 + 2 x " +
+                     size_text(size) + " = " + std::to_string(6 + 2 * count) + " bytes (" + expected + ")");
   std::vector<uint16_t> raw(count);
   uint16_t largest = 0;
   for (uint64_t i = 0; i < count; ++i) {
@@ -534,12 +581,14 @@ VolumeGrid load_dat(const std::filesystem::path& path, const std::optional<Value
 
 }  // namespace
 
-VolumeGrid load_volume_file(const std::filesystem::path& path, const std::optional<ValueRange>& range, const VolumeLimits& limits) {
+VolumeGrid load_volume_file(const std::filesystem::path& path, const std::optional<ValueRange>& range,
+                            const VolumeLimits& limits) {
   if (range && !(std::isfinite(range->low) && std::isfinite(range->high) && range->low < range->high))
-    throw InputError(path.string() + ": value range " + std::to_string(range->low) + " to " + std::to_string(range->high) +
-                     ": expected finite low < high");
+    throw InputError(path.string() + ": value range " + std::to_string(range->low) + " to " +
+                     std::to_string(range->high) + ": expected finite low < high");
   std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   if (extension == ".nrrd" || extension == ".nhdr") return load_nrrd(path, range, limits);
   if (extension == ".dat") return load_dat(path, range, limits);
   throw InputError(path.string() + ": expected a volume file: .nrrd, .nhdr or .dat");

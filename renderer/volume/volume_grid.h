@@ -1,5 +1,5 @@
 #pragma once
-// The scalar volumes the volume raycaster draws (seed 003): a grid of voxels, each a 16-bit value
+// The scalar volumes the volume raycaster draws (Bruder et al. 2019): a grid of voxels, each a 16-bit value
 // on the transfer function's axis (0 to 65535 for 0 to 1), with its voxel spacing. Three are
 // generated at any size, deterministically:
 //   - marschner-lobb: the Marschner-Lobb test signal (Marschner and Lobb 1994, alpha 0.25, f_M 6)
@@ -25,9 +25,12 @@ struct VolumeGrid {
   std::array<double, 3> spacing{1.0, 1.0, 1.0};  // voxel size along x, y, z (any unit; ratios matter)
   std::vector<uint16_t> values;                  // x fastest, then y, then z
 
-  uint64_t voxel_count() const { return uint64_t(size_voxels[0]) * uint64_t(size_voxels[1]) * uint64_t(size_voxels[2]); }
+  uint64_t voxel_count() const {
+    return uint64_t(size_voxels[0]) * uint64_t(size_voxels[1]) * uint64_t(size_voxels[2]);
+  }
   uint16_t at(int x, int y, int z) const {
-    return values[size_t((uint64_t(z) * uint64_t(size_voxels[1]) + uint64_t(y)) * uint64_t(size_voxels[0]) + uint64_t(x))];
+    return values[size_t((uint64_t(z) * uint64_t(size_voxels[1]) + uint64_t(y)) * uint64_t(size_voxels[0]) +
+                         uint64_t(x))];
   }
 };
 

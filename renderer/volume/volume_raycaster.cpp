@@ -56,7 +56,8 @@ void upload(const vk::Context& context, vk::Buffer& target, const void* bytes, V
 
 VolumeLimits volume_limits(const vk::Context& context) {
   VolumeLimits limits;
-  limits.max_side_voxels = int(std::min<uint32_t>(context.max_image_side_3d ? context.max_image_side_3d : 2048, 1u << 15));
+  limits.max_side_voxels =
+      int(std::min<uint32_t>(context.max_image_side_3d ? context.max_image_side_3d : 2048, 1u << 15));
   limits.max_bytes = std::min<uint64_t>(context.max_storage_buffer_bytes, uint64_t(1) << 32);
   if (const std::optional<AvailableMemory> memory = available_memory())
     limits.max_bytes = std::min(limits.max_bytes, memory->bytes / 2);  // the grid on the host and its upload
@@ -134,12 +135,14 @@ VolumeRaycaster::VolumeRaycaster(vk::Context& context, const VolumeScene& scene,
       params_(context, sizeof(VolumeRayParams), vk::MemoryUse::host_upload) {
   const VolumeLimits limits = volume_limits(context);
   check_volume_size({grid.size_voxels[0], grid.size_voxels[1], grid.size_voxels[2]}, limits, "volume of " + scene.name);
-  if (grid.values.size() != grid.voxel_count()) throw std::invalid_argument("VolumeRaycaster: a grid whose values do not match its size");
+  if (grid.values.size() != grid.voxel_count())
+    throw std::invalid_argument("VolumeRaycaster: a grid whose values do not match its size");
   size_voxels_ = grid.size_voxels;
   std::array<double, 3> extent{};
   double longest = 0.0;
   for (int a = 0; a < 3; ++a) {
-    const double spacing = std::isfinite(grid.spacing[size_t(a)]) && grid.spacing[size_t(a)] > 0.0 ? grid.spacing[size_t(a)] : 1.0;
+    const double spacing =
+        std::isfinite(grid.spacing[size_t(a)]) && grid.spacing[size_t(a)] > 0.0 ? grid.spacing[size_t(a)] : 1.0;
     extent[size_t(a)] = spacing * grid.size_voxels[size_t(a)];
     longest = std::max(longest, extent[size_t(a)]);
   }
@@ -151,7 +154,8 @@ VolumeRaycaster::VolumeRaycaster(vk::Context& context, const VolumeScene& scene,
   base_step_world_ = smallest_voxel;  // times step_voxels per frame
   const std::vector<std::array<float, 4>> table = transfer_table(scene.transfer_function, kTransferTableEntries);
   const std::vector<uint32_t> bricks = visible_bricks(grid, table);
-  for (int a = 0; a < 3; ++a) brick_count_[size_t(a)] = (size_voxels_[size_t(a)] + kVolumeBrickSide - 1) / kVolumeBrickSide;
+  for (int a = 0; a < 3; ++a)
+    brick_count_[size_t(a)] = (size_voxels_[size_t(a)] + kVolumeBrickSide - 1) / kVolumeBrickSide;
 
   std::vector<uint16_t> voxels = grid.values;
   if (voxels.size() % 2 == 1) voxels.push_back(0);  // whole words
@@ -187,8 +191,8 @@ void VolumeRaycaster::ensure_frame_buffers(int width_px, int height_px) {
   height_ = height_px;
 }
 
-void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_t mode, const std::array<int, 2>& offset,
-                                   const std::array<float, 2>& gaze, bool foveated) {
+void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_t mode,
+                                   const std::array<int, 2>& offset, const std::array<float, 2>& gaze, bool foveated) {
   if (!(settings.step_voxels >= 0.05 && settings.step_voxels <= 16.0))
     throw SettingError("step_voxels", " " + std::to_string(settings.step_voxels) + ": expected 0.05 to 16 voxels");
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite scene time");
@@ -215,8 +219,9 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
   }
   // Every step and every skipped brick is an iteration: the most a ray through the box can take.
   // Capped (2^24), so no volume's shape can make a ray run for ever.
-  p.voxel_scale[3] = float(std::min(std::ceil(std::sqrt(diagonal) / step_world) + 3.0 * (brick_count_[0] + brick_count_[1] + brick_count_[2]) + 8.0,
-                                    16777216.0));
+  p.voxel_scale[3] = float(std::min(
+      std::ceil(std::sqrt(diagonal) / step_world) + 3.0 * (brick_count_[0] + brick_count_[1] + brick_count_[2]) + 8.0,
+      16777216.0));
   p.background[3] = float(0.5 * base_step_world_);  // the reference step of the transfer function's opacities
   p.volume_size[3] = kVolumeBrickSide;
   p.screen[0] = uint32_t(settings.width_px);
@@ -248,8 +253,8 @@ VolumeFrameResult VolumeRaycaster::finish(vk::OneTimeCommands& commands, vk::Pas
   if (output == Output::display) {
     encoder_->record(cmd, colour_.handle(), display_srgb8_.handle(), width_, height_);
   } else {
-    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_ACCESS_TRANSFER_READ_BIT);
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     const VkBufferCopy region{0, 0, colour_.size_bytes()};
     vkCmdCopyBuffer(cmd, colour_.handle(), readback_.handle(), 1, &region);
     vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
@@ -278,8 +283,8 @@ VolumeFrameResult VolumeRaycaster::run_full(const VolumeRenderSettings& settings
   VkCommandBuffer cmd = commands.handle();
   vk::PassTimer timer(context_, 2);
   timer.reset(cmd);
-  const VkBuffer buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(), bricks_.handle(), sites_.handle(),
-                              colour_.handle(), site_colours_.handle()};
+  const VkBuffer buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(),    bricks_.handle(),
+                              sites_.handle(),  colour_.handle(), site_colours_.handle()};
   timer.begin(cmd, "volume_full");
   raycast_pipeline_->dispatch_2d(cmd, buffers, nullptr, uint32_t(width_), uint32_t(height_));
   timer.end(cmd);
@@ -288,7 +293,9 @@ VolumeFrameResult VolumeRaycaster::run_full(const VolumeRenderSettings& settings
   return finish(commands, timer, output);
 }
 
-VolumeFrameResult VolumeRaycaster::render_full(const VolumeRenderSettings& settings) { return run_full(settings, Output::readback); }
+VolumeFrameResult VolumeRaycaster::render_full(const VolumeRenderSettings& settings) {
+  return run_full(settings, Output::readback);
+}
 
 DeviceRgba8Frame VolumeRaycaster::display_full_on_device(const VolumeRenderSettings& settings) {
   run_full(settings, Output::display);
@@ -296,26 +303,29 @@ DeviceRgba8Frame VolumeRaycaster::display_full_on_device(const VolumeRenderSetti
 }
 
 void VolumeRaycaster::set_reconstruction(const VoronoiReconstruction& reconstruction) {
-  if (reconstruction.mask.sites.empty() || reconstruction.neighbour_sites.size() !=
-      size_t(reconstruction.mask.width_px) * size_t(reconstruction.mask.height_px) * kVoronoiNeighbours)
+  if (reconstruction.mask.sites.empty() ||
+      reconstruction.neighbour_sites.size() !=
+          size_t(reconstruction.mask.width_px) * size_t(reconstruction.mask.height_px) * kVoronoiNeighbours)
     throw std::invalid_argument("VolumeRaycaster::set_reconstruction: an empty or inconsistent mask");
   ensure_frame_buffers(reconstruction.settings.screen_width_px, reconstruction.settings.screen_height_px);
   if (reconstruction.mask.sites.size() >= kMaxMaskSites)
     throw InputError("sampling mask of a " + std::to_string(reconstruction.settings.screen_width_px) + "x" +
-                     std::to_string(reconstruction.settings.screen_height_px) + " frame: " +
-                     std::to_string(reconstruction.mask.sites.size()) + " sites: expected fewer than " +
+                     std::to_string(reconstruction.settings.screen_height_px) +
+                     " frame: " + std::to_string(reconstruction.mask.sites.size()) + " sites: expected fewer than " +
                      std::to_string(kMaxMaskSites) + " (a smaller frame or a larger density_sigma_deg)");
   upload(context_, sites_, reconstruction.mask.sites.data(), reconstruction.mask.sites.size() * sizeof(MaskSite));
   const std::vector<uint32_t> neighbours = pack_neighbours(reconstruction);
   upload(context_, neighbours_, neighbours.data(), neighbours.size() * sizeof(uint32_t));
-  site_colours_ = vk::Buffer(context_, reconstruction.mask.sites.size() * 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
+  site_colours_ =
+      vk::Buffer(context_, reconstruction.mask.sites.size() * 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
   reconstruction_ = reconstruction;
   reconstruction_->neighbour_sites = {};  // on the device now: the host keeps the sites and reach only
   reconstruction_->neighbour_weights = {};
   history_state_ = History{};
 }
 
-std::pair<int, int> VolumeRaycaster::mask_offset(int width_px, int height_px, double gaze_x_px, double gaze_y_px) const {
+std::pair<int, int> VolumeRaycaster::mask_offset(int width_px, int height_px, double gaze_x_px,
+                                                 double gaze_y_px) const {
   const auto whole = [](double gaze, int side) {
     if (!std::isfinite(gaze)) return side / 2;
     return int(std::clamp(std::floor(gaze + 0.5), 0.0, double(side)));
@@ -325,30 +335,37 @@ std::pair<int, int> VolumeRaycaster::mask_offset(int width_px, int height_px, do
 
 void VolumeRaycaster::reset_history() { history_state_ = History{}; }
 
-VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& settings, double gaze_x_px, double gaze_y_px,
-                                               bool smoothing, Output output) {
+VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& settings, double gaze_x_px,
+                                                double gaze_y_px, bool smoothing, Output output) {
   if (!reconstruction_) throw std::logic_error("VolumeRaycaster: no sampling mask set");
-  if (reconstruction_->settings.screen_width_px != settings.width_px || reconstruction_->settings.screen_height_px != settings.height_px)
-    throw std::invalid_argument("VolumeRaycaster: a mask of a " + std::to_string(reconstruction_->settings.screen_width_px) + "x" +
-                                std::to_string(reconstruction_->settings.screen_height_px) + " screen for a " +
-                                std::to_string(settings.width_px) + "x" + std::to_string(settings.height_px) + " frame");
+  if (reconstruction_->settings.screen_width_px != settings.width_px ||
+      reconstruction_->settings.screen_height_px != settings.height_px)
+    throw std::invalid_argument(
+        "VolumeRaycaster: a mask of a " + std::to_string(reconstruction_->settings.screen_width_px) + "x" +
+        std::to_string(reconstruction_->settings.screen_height_px) + " screen for a " +
+        std::to_string(settings.width_px) + "x" + std::to_string(settings.height_px) + " frame");
   ensure_frame_buffers(settings.width_px, settings.height_px);
   const auto [offset_x, offset_y] = mask_offset(width_, height_, gaze_x_px, gaze_y_px);
   const std::array<float, 2> gaze{float(width_ - offset_x), float(height_ - offset_y)};
   write_params(settings, kModeSites, {offset_x, offset_y}, gaze, true);
 
   // The temporal smoothing: a new view clears the history; a frame is stored when the mask moved.
-  VoronoiReconstructParams reconstruct{{uint32_t(width_), uint32_t(height_)},
-                                {uint32_t(reconstruction_->mask.width_px), uint32_t(reconstruction_->mask.height_px)},
-                                {offset_x, offset_y}, 0, kNoSlot};
+  VoronoiReconstructParams reconstruct{
+      {uint32_t(width_), uint32_t(height_)},
+      {uint32_t(reconstruction_->mask.width_px), uint32_t(reconstruction_->mask.height_px)},
+      {offset_x, offset_y},
+      0,
+      kNoSlot};
   if (smoothing) {
     if (history_.handle() == VK_NULL_HANDLE) {
-      history_ = vk::Buffer(context_, VkDeviceSize(width_) * VkDeviceSize(height_) * vk::kRgba32fTexelBytes * kTemporalHistoryFrames,
-                            vk::MemoryUse::device_local);
+      history_ = vk::Buffer(
+          context_, VkDeviceSize(width_) * VkDeviceSize(height_) * vk::kRgba32fTexelBytes * kTemporalHistoryFrames,
+          vk::MemoryUse::device_local);
       history_state_ = History{};
     }
     const VolumeCameraPose view = camera_pose(settings.camera.value_or(scene_.camera), settings.time_s);
-    if (!history_state_.view || !same_view(*history_state_.view, view)) history_state_ = History{view, 0, 0, std::nullopt};
+    if (!history_state_.view || !same_view(*history_state_.view, view))
+      history_state_ = History{view, 0, 0, std::nullopt};
     reconstruct.history_count = uint32_t(history_state_.count);
     const std::pair<int, int> offset{offset_x, offset_y};
     if (history_state_.last_stored_offset != offset) {
@@ -363,15 +380,17 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   VkCommandBuffer cmd = commands.handle();
   vk::PassTimer timer(context_, 3);
   timer.reset(cmd);
-  const VkBuffer ray_buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(), bricks_.handle(), sites_.handle(),
-                                  colour_.handle(), site_colours_.handle()};
+  const VkBuffer ray_buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(),    bricks_.handle(),
+                                  sites_.handle(),  colour_.handle(), site_colours_.handle()};
   const uint32_t sites = uint32_t(reconstruction_->mask.sites.size());
   const uint32_t groups = (sites + 63) / 64;
   timer.begin(cmd, "volume_sites");
-  raycast_pipeline_->dispatch_groups(cmd, ray_buffers, nullptr, std::min<uint32_t>(groups, 65535), (groups + 65534) / 65535);
+  raycast_pipeline_->dispatch_groups(cmd, ray_buffers, nullptr, std::min<uint32_t>(groups, 65535),
+                                     (groups + 65534) / 65535);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
-  const VkBuffer reconstruct_buffers[] = {neighbours_.handle(), site_colours_.handle(), colour_.handle(), history.handle()};
+  const VkBuffer reconstruct_buffers[] = {neighbours_.handle(), site_colours_.handle(), colour_.handle(),
+                                          history.handle()};
   timer.begin(cmd, "voronoi_reconstruct");
   reconstruct_pipeline_->dispatch_2d(cmd, reconstruct_buffers, &reconstruct, uint32_t(width_), uint32_t(height_));
   timer.end(cmd);
@@ -387,8 +406,8 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   return finish(commands, timer, output);
 }
 
-VolumeFrameResult VolumeRaycaster::render_foveated(const VolumeRenderSettings& settings, double gaze_x_px, double gaze_y_px,
-                                                   bool smoothing) {
+VolumeFrameResult VolumeRaycaster::render_foveated(const VolumeRenderSettings& settings, double gaze_x_px,
+                                                   double gaze_y_px, bool smoothing) {
   return run_foveated(settings, gaze_x_px, gaze_y_px, smoothing, Output::readback);
 }
 

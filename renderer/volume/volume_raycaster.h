@@ -1,5 +1,5 @@
 #pragma once
-// The volume raycaster of seed 003 on Vulkan compute (volume_raycast.comp.glsl; the equations are in
+// The volume raycaster of Bruder et al. 2019 on Vulkan compute (volume_raycast.comp.glsl; the equations are in
 // docs/volume-rendering.md): the full frame traces one ray per pixel; the foveated frame traces one
 // ray per site of the Voronoi sampling mask (foveation/voronoi_mask.h) shifted to the gaze by whole
 // pixels, with the foveated step, and rebuilds every pixel from its natural neighbours
@@ -32,7 +32,7 @@ class Srgb8Encoder;
 
 inline constexpr int kVolumeBrickSide = 8;          // voxels a brick side
 inline constexpr int kTransferTableEntries = 1024;  // the transfer function's table
-inline constexpr int kTemporalHistoryFrames = 8;    // seed 003's n
+inline constexpr int kTemporalHistoryFrames = 8;    // Bruder et al. 2019's n
 inline constexpr int kMaxVolumeFrameSidePx = 4096;  // a frame's side (the sampling mask is twice it)
 
 // The limits of a volume on this device (volume_grid.h): its 3-D image side and largest buffer, and
@@ -61,19 +61,19 @@ std::vector<uint32_t> visible_bricks(const VolumeGrid& grid, const std::vector<s
 
 struct VolumeRenderSettings {
   int width_px = 0, height_px = 0;
-  double time_s = 0.0;            // scene time (the camera's orbit)
+  double time_s = 0.0;                 // scene time (the camera's orbit)
   std::optional<VolumeCamera> camera;  // instead of the scene's (benchmarks' random cameras)
-  double step_voxels = 0.5;       // the base step, in voxels (of the smallest voxel side)
-  bool correct_opacity = true;    // foveated: opacity corrected for the longer step
-  bool foveated_step = true;      // foveated: the step grows away from the gaze
+  double step_voxels = 0.5;            // the base step, in voxels (of the smallest voxel side)
+  bool correct_opacity = true;         // foveated: opacity corrected for the longer step
+  bool foveated_step = true;           // foveated: the step grows away from the gaze
   uint32_t jitter_seed = 1;
-  uint32_t frame_index = 0;       // the jitter's frame
+  uint32_t frame_index = 0;  // the jitter's frame
 };
 
 struct VolumeFrameResult {
-  Image colour_linear;            // RGB
-  uint64_t rays = 0;              // rays traced
-  double traced_share = 0.0;      // rays / pixels
+  Image colour_linear;        // RGB
+  uint64_t rays = 0;          // rays traced
+  double traced_share = 0.0;  // rays / pixels
   double gpu_ms = 0.0;
   double reconstruct_gpu_ms = 0.0;
   std::vector<vk::PassTime> passes;
@@ -99,7 +99,8 @@ class VolumeRaycaster {
   // The foveated frame for a gaze (screen pixels; rounded, and clamped to the screen so that the
   // mask covers it; not a number: the centre). `smoothing`: the temporal smoothing, whose history
   // is cleared when the view (the camera at settings.time_s) changes or by reset_history().
-  VolumeFrameResult render_foveated(const VolumeRenderSettings& settings, double gaze_x_px, double gaze_y_px, bool smoothing);
+  VolumeFrameResult render_foveated(const VolumeRenderSettings& settings, double gaze_x_px, double gaze_y_px,
+                                    bool smoothing);
   DeviceRgba8Frame display_foveated_on_device(const VolumeRenderSettings& settings, double gaze_x_px, double gaze_y_px,
                                               bool smoothing);
   void reset_history();

@@ -27,9 +27,7 @@ double number_in(const TomlFields& fields, const std::string& key, double fallba
 
 }  // namespace
 
-std::filesystem::path builtin_volumes_directory() {
-  return stimuli_subdirectory("FOVLAB_VOLUMES_DIR", "volumes");
-}
+std::filesystem::path builtin_volumes_directory() { return stimuli_subdirectory("FOVLAB_VOLUMES_DIR", "volumes"); }
 
 std::vector<std::string> builtin_volume_names() {
   std::vector<std::string> names;
@@ -42,7 +40,8 @@ std::vector<std::string> builtin_volume_names() {
 
 VolumeScene load_volume_scene(const std::string& name_or_file) {
   VolumeScene scene;
-  const bool is_path = name_or_file.find('/') != std::string::npos || std::filesystem::path(name_or_file).extension() == ".toml";
+  const bool is_path =
+      name_or_file.find('/') != std::string::npos || std::filesystem::path(name_or_file).extension() == ".toml";
   if (is_path) {
     scene.path = name_or_file;
   } else {
@@ -69,11 +68,13 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
   const TomlFields fields(root, path, "");
   const TomlFields volume = fields.table("volume");
   const bool has_generator = volume.has("generator"), has_file = volume.has("file");
-  if (has_generator == has_file) volume.fail("", "expected exactly one of generator (" + generated_volume_names() + ") and file");
+  if (has_generator == has_file)
+    volume.fail("", "expected exactly one of generator (" + generated_volume_names() + ") and file");
   if (has_generator) {
     const std::string generator = unshield_toml_hazards(volume.string("generator"));
     scene.generator = find_generated_volume(generator);
-    if (!scene.generator) volume.fail("generator", "expected one of " + generated_volume_names() + ", got \"" + generator + "\"");
+    if (!scene.generator)
+      volume.fail("generator", "expected one of " + generated_volume_names() + ", got \"" + generator + "\"");
     const int64_t size = volume.integer("size_voxels", 128);
     if (size < 1 || size > 2048) volume.fail("size_voxels", "expected 1 to 2048 voxels a side");
     scene.size_voxels = int(size);
@@ -87,7 +88,8 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
     scene.volume_file = file.lexically_normal();
     if (volume.has("value_range")) {
       const std::vector<double> range = volume.numbers("value_range");
-      if (range.size() != 2 || !(range[0] < range[1])) volume.fail("value_range", "expected [low, high] with low < high");
+      if (range.size() != 2 || !(range[0] < range[1]))
+        volume.fail("value_range", "expected [low, high] with low < high");
       scene.value_range = ValueRange{range[0], range[1]};
     }
   }
@@ -96,11 +98,14 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
   if (const toml::table* camera_table = fields.optional_table("camera")) {
     const TomlFields camera(*camera_table, path, "camera");
     VolumeCamera& c = scene.camera;
-    c.distance = number_in(camera, "distance", c.distance, 1e-6, 1e6, "expected 1e-6 to 1e6 (the volume's longest sides)");
+    c.distance =
+        number_in(camera, "distance", c.distance, 1e-6, 1e6, "expected 1e-6 to 1e6 (the volume's longest sides)");
     c.elevation_deg = number_in(camera, "elevation_deg", c.elevation_deg, -89.0, 89.0, "expected -89 to 89 degrees");
     c.azimuth_deg = number_in(camera, "azimuth_deg", c.azimuth_deg, -360.0, 360.0, "expected -360 to 360 degrees");
-    c.orbit_deg_per_s = number_in(camera, "orbit_deg_per_s", c.orbit_deg_per_s, -3600.0, 3600.0, "expected -3600 to 3600 degrees a second");
-    c.vertical_fov_deg = number_in(camera, "vertical_fov_deg", c.vertical_fov_deg, 1.0, 170.0, "expected 1 to 170 degrees (an aperture)");
+    c.orbit_deg_per_s = number_in(camera, "orbit_deg_per_s", c.orbit_deg_per_s, -3600.0, 3600.0,
+                                  "expected -3600 to 3600 degrees a second");
+    c.vertical_fov_deg = number_in(camera, "vertical_fov_deg", c.vertical_fov_deg, 1.0, 170.0,
+                                   "expected 1 to 170 degrees (an aperture)");
     camera.finish();
   }
 
@@ -114,11 +119,13 @@ VolumeScene load_volume_scene(const std::string& name_or_file) {
     if (!scene.transfer_function.empty() && !(point.value > scene.transfer_function.back().value))
       point_fields.fail("value", "expected values that increase from one [[transfer_point]] to the next");
     const std::vector<double> colour = point_fields.numbers("colour");
-    if (colour.size() != 3 || std::any_of(colour.begin(), colour.end(), [](double c) { return !(c >= 0.0 && c <= 1.0); }))
+    if (colour.size() != 3 ||
+        std::any_of(colour.begin(), colour.end(), [](double c) { return !(c >= 0.0 && c <= 1.0); }))
       point_fields.fail("colour", "expected [red, green, blue], each 0 to 1 (linear)");
     point.colour = {colour[0], colour[1], colour[2]};
     point.opacity = point_fields.number("opacity");
-    if (!(point.opacity >= 0.0 && point.opacity <= 1.0)) point_fields.fail("opacity", "expected 0 to 1 (per half voxel)");
+    if (!(point.opacity >= 0.0 && point.opacity <= 1.0))
+      point_fields.fail("opacity", "expected 0 to 1 (per half voxel)");
     point_fields.finish();
     scene.transfer_function.push_back(point);
   }
@@ -160,7 +167,8 @@ std::vector<std::array<float, 4>> transfer_table(const std::vector<TransferPoint
       b = points[upper];
       t = (value - a.value) / (b.value - a.value);
     }
-    for (int c = 0; c < 3; ++c) table[i][size_t(c)] = float(a.colour[size_t(c)] + t * (b.colour[size_t(c)] - a.colour[size_t(c)]));
+    for (int c = 0; c < 3; ++c)
+      table[i][size_t(c)] = float(a.colour[size_t(c)] + t * (b.colour[size_t(c)] - a.colour[size_t(c)]));
     table[i][3] = float(a.opacity + t * (b.opacity - a.opacity));
   }
   return table;

@@ -33,9 +33,9 @@
 namespace fovlab {
 
 struct TransferPoint {
-  double value = 0.0;                    // on the volume's 0..1 axis
+  double value = 0.0;                     // on the volume's 0..1 axis
   std::array<double, 3> colour{0, 0, 0};  // linear RGB
-  double opacity = 0.0;                  // per reference step
+  double opacity = 0.0;                   // per reference step
 };
 
 struct VolumeCamera {
@@ -47,11 +47,11 @@ struct VolumeCamera {
 };
 
 struct VolumeScene {
-  std::string name;                 // the built-in name, or the file's stem
-  std::filesystem::path path;       // the scene file
-  std::string text;                 // its text (the hash of what the scene is)
+  std::string name;            // the built-in name, or the file's stem
+  std::filesystem::path path;  // the scene file
+  std::string text;            // its text (the hash of what the scene is)
   std::optional<GeneratedVolume> generator;
-  int size_voxels = 128;            // generated volumes
+  int size_voxels = 128;  // generated volumes
   uint64_t seed = 1;
   std::filesystem::path volume_file;  // file volumes
   std::optional<ValueRange> value_range;

@@ -115,7 +115,8 @@ std::vector<uint8_t> mapped_bytes(const vk::Buffer& readback) {
 
 void require_colour(int channels, const char* what) {
   if (channels < 3)
-    throw InputError(std::string(what) + ": expected a colour frame (3 or 4 channels), not " + std::to_string(channels));
+    throw InputError(std::string(what) + ": expected a colour frame (3 or 4 channels), not " +
+                     std::to_string(channels));
 }
 
 }  // namespace
@@ -124,7 +125,8 @@ void check_zone_frame_size(const vk::Context& context, int width_px, int height_
   const VkDeviceSize pixels = VkDeviceSize(width_px) * VkDeviceSize(height_px);
   if (3 * vk::kRgba32fTexelBytes * pixels > context.max_storage_buffer_bytes)
     throw InputError("zone buffers of " + std::to_string(width_px) + "x" + std::to_string(height_px) +
-                     " pixels: expected at most " + std::to_string(context.max_storage_buffer_bytes / (3 * vk::kRgba32fTexelBytes)) +
+                     " pixels: expected at most " +
+                     std::to_string(context.max_storage_buffer_bytes / (3 * vk::kRgba32fTexelBytes)) +
                      " pixels (48 bytes a pixel in one buffer of at most " +
                      std::to_string(context.max_storage_buffer_bytes >> 20) + " MiB) on " + context.description.name);
 }
@@ -158,13 +160,16 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   if (frame.width != width_ || frame.height != height_) {  // buffers kept from one animation frame to the next
     zones_ = vk::Buffer(context_, 3 * frame_bytes, vk::MemoryUse::device_local);
     foveal_staging_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::host_upload);
-    half_staging_ = vk::Buffer(context_, zone_side(frame.width, 2) * zone_side(frame.height, 2) * vk::kRgba32fTexelBytes,
-                               vk::MemoryUse::host_upload);
-    quarter_staging_ = vk::Buffer(context_, zone_side(frame.width, 4) * zone_side(frame.height, 4) * vk::kRgba32fTexelBytes,
-                                  vk::MemoryUse::host_upload);
+    half_staging_ =
+        vk::Buffer(context_, zone_side(frame.width, 2) * zone_side(frame.height, 2) * vk::kRgba32fTexelBytes,
+                   vk::MemoryUse::host_upload);
+    quarter_staging_ =
+        vk::Buffer(context_, zone_side(frame.width, 4) * zone_side(frame.height, 4) * vk::kRgba32fTexelBytes,
+                   vk::MemoryUse::host_upload);
     // The x pass of factor 2 (the frame's width x half its height, rounded up): the larger of the two.
-    upsample_scratch_ = vk::Buffer(context_, VkDeviceSize(frame.width) * zone_side(frame.height, 2) * vk::kRgba32fTexelBytes,
-                                   vk::MemoryUse::device_local);
+    upsample_scratch_ =
+        vk::Buffer(context_, VkDeviceSize(frame.width) * zone_side(frame.height, 2) * vk::kRgba32fTexelBytes,
+                   vk::MemoryUse::device_local);
     blended_linear_ = vk::Buffer(context_, frame_bytes, vk::MemoryUse::device_local);
     zones_srgb8_ = vk::Buffer(context_, 3 * VkDeviceSize(frame.pixel_count()) * 4, vk::MemoryUse::device_local);
     band_list_ = vk::Buffer(context_, (1 + VkDeviceSize(frame.pixel_count())) * 4, vk::MemoryUse::device_local);
@@ -189,8 +194,8 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
   copy_whole(cmd, foveal_staging_, zones_);  // the foveal zone: the frame itself, first
   const auto w = uint32_t(frame.width), h = uint32_t(frame.height);
   const auto zone_texels = uint32_t(frame.pixel_count());
-  upsampler_->record(cmd, half_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), (w + 1) / 2,
-                     (h + 1) / 2, 2, UpsampleFilter::lanczos3, &timer, zone_texels, w, h);
+  upsampler_->record(cmd, half_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), (w + 1) / 2, (h + 1) / 2,
+                     2, UpsampleFilter::lanczos3, &timer, zone_texels, w, h);
   vk::compute_to_compute_barrier(cmd);  // the scratch buffer is reused
   upsampler_->record(cmd, quarter_staging_.handle(), upsample_scratch_.handle(), zones_.handle(), (w + 3) / 4,
                      (h + 3) / 4, 4, UpsampleFilter::lanczos3, &timer, 2 * zone_texels, w, h);
@@ -199,7 +204,8 @@ double ZoneBlender::set_frame(const Image& frame, const Image* periphery) {
                        VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_ACCESS_SHADER_READ_BIT);
     timer.begin(cmd, "zones_to_srgb8");
-    encoder_->record(cmd, zones_.handle(), zones_srgb8_.handle(), frame.width, 3 * frame.height);  // one image, three zones high
+    encoder_->record(cmd, zones_.handle(), zones_srgb8_.handle(), frame.width,
+                     3 * frame.height);  // one image, three zones high
     timer.end(cmd);
   }
   commands.submit_and_wait();
@@ -288,10 +294,12 @@ DeviceRgba8Frame ZoneBlender::display_frame_on_device(const DisplayGeometry& dis
 
 std::vector<uint8_t> ZoneBlender::encode_for_display(const Image& frame) {
   require_colour(frame.channels, "display encoding");
-  if (VkDeviceSize(frame.pixel_count()) * vk::kRgba32fTexelBytes > context_.max_storage_buffer_bytes || frame.pixel_count() == 0)
+  if (VkDeviceSize(frame.pixel_count()) * vk::kRgba32fTexelBytes > context_.max_storage_buffer_bytes ||
+      frame.pixel_count() == 0)
     throw InputError("display encoding of a " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                     " frame: expected 1 to " + std::to_string(context_.max_storage_buffer_bytes / vk::kRgba32fTexelBytes) +
-                     " pixels on " + context_.description.name);
+                     " frame: expected 1 to " +
+                     std::to_string(context_.max_storage_buffer_bytes / vk::kRgba32fTexelBytes) + " pixels on " +
+                     context_.description.name);
   const vk::Buffer texels = upload(context_, frame);  // read as the foveal zone, the only one read
   const VkDeviceSize bytes = VkDeviceSize(frame.pixel_count()) * 4;
   const vk::Buffer encoded(context_, bytes, vk::MemoryUse::device_local);

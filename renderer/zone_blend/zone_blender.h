@@ -1,5 +1,5 @@
 #pragma once
-// The emulated foveated path tracer's display-rate work on the GPU (seed 001 section 3.2): a
+// The emulated foveated path tracer's display-rate work on the GPU (Polychronakis et al. 2021 section 3.2): a
 // full-resolution linear-light frame becomes three zone buffers once per animation frame (the frame
 // itself; its nearest-neighbour decimations by 2 and 4, Lanczos-3 upsampled back to full size by
 // renderer/upsampling), then every gaze sample blends them (renderer/shaders/zone_blend.comp.glsl;
@@ -48,7 +48,7 @@ class ZoneBlender {
   ZoneBlender& operator=(const ZoneBlender&) = delete;
 
   // Makes the three zone buffers of a frame (1 to 4 channels). `periphery` (same size), when
-  // given, is the source of the middle and outer buffers instead of the frame: seed 001's pilot
+  // given, is the source of the middle and outer buffers instead of the frame: Polychronakis et al. 2021's pilot
   // variant (section 4.2) whose periphery is path traced with fewer bounces. Width and height: any
   // from 1 to 16384 (InputError otherwise); the middle and outer buffers are rounded up to
   // ceil(side / 2) and ceil(side / 4) and cropped back after upsampling. A colour frame's zones
@@ -108,9 +108,9 @@ class ZoneBlender {
   int width_ = 0;
   int height_ = 0;
   int channels_ = 0;
-  vk::Buffer zones_;                                 // foveal, middle, outer: width x height float RGBA texels each
+  vk::Buffer zones_;  // foveal, middle, outer: width x height float RGBA texels each
   vk::Buffer foveal_staging_, half_staging_, quarter_staging_, upsample_scratch_;  // set_frame's, kept for the next
-  vk::Buffer blended_linear_;                        // float RGBA a pixel
+  vk::Buffer blended_linear_;                                                      // float RGBA a pixel
   vk::Buffer zones_srgb8_;    // the three zones sRGB-encoded, one packed RGBA8 uint a texel (colour frames)
   vk::Buffer band_list_;      // display_frame's band pixels: a count, then x | y << 16 a pixel
   vk::Buffer band_dispatch_;  // the band pass's workgroup counts (vkCmdDispatchIndirect)

@@ -10,7 +10,7 @@ Run it with /usr/bin/python3 (Debian 12: pandas 1.5.3, SciPy 1.10.1, NumPy 1.24.
 for tomllib); the pyenv `python3` on PATH has none of them.
 
 It follows /tmp/fovlab-docs/thresholds.md, statistics.md and psychometric.md (in the repo:
-analysis/study/, analysis/statistics/, analysis/psychometric/):
+analysis/study/, analysis/statistics/, analysis/fitting/):
 
 - every events.jsonl under the folders given (and the logs given), in sorted path order, each read
   whole with `pd.read_json(path, lines=True)`, then concatenated;

@@ -1,10 +1,10 @@
-// fovlab scene "rotating-rod": seed 002's Figure 12 (a), the untextured rotating rod. A long, thin,
+// fovlab scene "rotating-rod": Ye et al. 2022's Figure 12 (a), the untextured rotating rod. A long, thin,
 // bright capsule floats just above a plain dark ground plane and turns about the view axis, which
 // passes through the rod's middle; the camera looks straight down at the plane, so the plane fills
 // the whole frame and the rod crosses most of it.
 //
 // Rotation: the pattern's angle is ROTATING_ROD_DEG_PER_S * time_s degrees, counter-clockwise on
-// screen (time 0..18 s gives 0..180 degrees; seed 002 steps it by 10 degrees, one step a second).
+// screen (time 0..18 s gives 0..180 degrees; Ye et al. 2022 steps it by 10 degrees, one step a second).
 // scene_map may not depend on time, so the camera rolls instead of the rod turning: the tracer
 // takes the camera's right vector from world up, and a camera looking almost straight down
 // (tilted by ROTATING_ROD_TILT_RAD) has its screen up along the horizontal part of its view

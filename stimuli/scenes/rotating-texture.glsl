@@ -1,4 +1,4 @@
-// fovlab scene "rotating-texture": seed 002's Figure 12 (c), the rotating texture. A flat plane with
+// fovlab scene "rotating-texture": Ye et al. 2022's Figure 12 (c), the rotating texture. A flat plane with
 // a fine, high-contrast texture fills the whole frame and turns about the view axis; the camera
 // looks straight down at it. The texture is a plaid: a checkerboard of ROTATING_TEXTURE_CHECKER_CELL
 // squares plus a sinusoidal grating of period ROTATING_TEXTURE_GRATING_PERIOD at
@@ -7,7 +7,7 @@
 // a checker cell is about 16 pixels and the grating's period about 13, at 320x180 about 3 and 2.
 //
 // Rotation: the pattern's angle is ROTATING_TEXTURE_DEG_PER_S * time_s degrees, counter-clockwise
-// on screen (time 0..18 s gives 0..180 degrees; seed 002 steps it by 10 degrees, one step a
+// on screen (time 0..18 s gives 0..180 degrees; Ye et al. 2022 steps it by 10 degrees, one step a
 // second). scene_map may not depend on time, so the camera rolls instead of the plane turning: the
 // tracer takes the camera's right vector from world up, and a camera looking almost straight down
 // (tilted by ROTATING_TEXTURE_TILT_RAD) has its screen up along the horizontal part of its view

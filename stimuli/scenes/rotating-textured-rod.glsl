@@ -1,10 +1,10 @@
-// fovlab scene "rotating-textured-rod": seed 002's Figure 12 (b), the textured rotating rod. The
+// fovlab scene "rotating-textured-rod": Ye et al. 2022's Figure 12 (b), the textured rotating rod. The
 // rod, plane, camera, light and rotation of "rotating-rod", with a fine checkerboard on the rod:
 // cells ROTATING_TEXTURED_ROD_AXIAL_CELL long along the rod and 1/16 of its circumference around it
 // (eight cells across the visible half), light cream against dark red-brown.
 //
 // Rotation: the pattern's angle is ROTATING_TEXTURED_ROD_DEG_PER_S * time_s degrees,
-// counter-clockwise on screen (time 0..18 s gives 0..180 degrees; seed 002 steps it by 10 degrees,
+// counter-clockwise on screen (time 0..18 s gives 0..180 degrees; Ye et al. 2022 steps it by 10 degrees,
 // one step a second). As in "rotating-rod" the camera rolls (scene_map may not depend on time):
 // it looks down at the plane with a tilt of ROTATING_TEXTURED_ROD_TILT_RAD whose direction sets its
 // screen up. The checkerboard is point-symmetric about the rod's centre (cell edges on the top line

@@ -1,5 +1,5 @@
 // fovlab scene "wires": thin geometry in front of a wall, the case a coarse pyramid level can step
-// over (seed 000 section 6 admits its min filter does not guarantee fine detail). A plain wall at
+// over (Polychronakis et al. 2023 section 6 admits its min filter does not guarantee fine detail). A plain wall at
 // z = 4 and a floor at y = 0; in front of the wall, left to right and near to far:
 //   - six horizontal wires across the frame (radii 0.0015 to 0.024, about a twentieth of a pixel to
 //     one pixel at 320x180, a fifth to four pixels at 1280x720) and two slanting ones;

@@ -30,10 +30,12 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
   std::filesystem::path path(file);
   if (path.is_relative()) path = std::filesystem::path(config.source_path).parent_path() / path;
   // A logged config's file is the header's conditions_csv, named so in messages.
-  const std::string name = reading.logged_conditions_csv ? config.source_path + ": conditions_csv" : path.lexically_normal().string();
+  const std::string name =
+      reading.logged_conditions_csv ? config.source_path + ": conditions_csv" : path.lexically_normal().string();
   if (reading.logged_conditions_csv) {
     if (reading.logged_conditions_csv->empty())
-      fields.fail("file", "the log's header holds no conditions_csv (expected the conditions file's text beside the config's)");
+      fields.fail("file",
+                  "the log's header holds no conditions_csv (expected the conditions file's text beside the config's)");
     if (reading.logged_conditions_csv->size() > kMaxConditionsBytes)
       throw InputError(name + ": " + std::to_string(reading.logged_conditions_csv->size()) +
                        " bytes: expected a conditions file of at most " + byte_size_text(kMaxConditionsBytes));
@@ -47,7 +49,8 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
     throw InputError(name + ":" + std::to_string(line) + ": " + what);
   };
   if (rows.size() < 2) fail(rows.empty() ? 1 : rows.front().line, "expected a header row and at least one condition");
-  if (rows.size() - 1 > kMaxConditionsRows) fail(rows[kMaxConditionsRows + 1].line, "expected at most " + std::to_string(kMaxConditionsRows) + " conditions");
+  if (rows.size() - 1 > kMaxConditionsRows)
+    fail(rows[kMaxConditionsRows + 1].line, "expected at most " + std::to_string(kMaxConditionsRows) + " conditions");
   const MethodDescriptor& test = describe(config.stimulus.test.method);
   const std::string& level_key = config.levels.parameter;
   const std::vector<std::string>& header = rows.front().cells;
@@ -57,19 +60,24 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
   std::set<std::string> seen;
   for (size_t column = 0; column < header.size(); ++column) {
     const std::string& key = header[column];
-    if (key.empty()) fail(header_line, "column " + std::to_string(column + 1) + ": expected a column name, got an empty cell");
+    if (key.empty())
+      fail(header_line, "column " + std::to_string(column + 1) + ": expected a column name, got an empty cell");
     if (!seen.insert(key).second) fail(header_line, "column " + quoted_input(key) + " appears twice");
     if (key == "variant") variant_column = int(column);
     else if (!level_key.empty() && key == level_key) level_column = int(column);
     else if (!(parameters[column] = find_parameter(test, key, reading.legacy_keys)))
-      fail(header_line, "column " + quoted_input(key) + ": expected variant" + (level_key.empty() ? "" : ", " + level_key + " (the level)") +
-                  " or a parameter of the test method \"" + std::string(test.name) + "\" (" + parameter_keys(test) + ")");
+      fail(header_line, "column " + quoted_input(key) + ": expected variant" +
+                            (level_key.empty() ? "" : ", " + level_key + " (the level)") +
+                            " or a parameter of the test method \"" + std::string(test.name) + "\" (" +
+                            parameter_keys(test) + ")");
   }
   if (!level_key.empty() && level_column < 0)
     fail(header_line, "expected a column \"" + level_key + "\" ([levels] parameter) holding each condition's level");
-  const bool overrides = std::any_of(parameters.begin(), parameters.end(), [](const ParameterDescriptor* p) { return p; });
+  const bool overrides =
+      std::any_of(parameters.begin(), parameters.end(), [](const ParameterDescriptor* p) { return p; });
   if (variant_column < 0 && (overrides || level_column < 0))
-    fail(header_line, "expected a column \"variant\" naming each condition's variant (without one, only the level column)");
+    fail(header_line,
+         "expected a column \"variant\" naming each condition's variant (without one, only the level column)");
 
   const ParameterDescriptor* level_parameter = level_column >= 0 ? find_parameter(test, level_key) : nullptr;
   // Rows, grouped by variant in order of first appearance.
@@ -78,7 +86,8 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
   for (size_t r = 1; r < rows.size(); ++r) {
     const CsvRow& row = rows[r];
     if (row.cells.size() != header.size())
-      fail(row.line, "expected " + std::to_string(header.size()) + " cells as the header has, got " + std::to_string(row.cells.size()));
+      fail(row.line, "expected " + std::to_string(header.size()) + " cells as the header has, got " +
+                         std::to_string(row.cells.size()));
     const std::string variant_name = variant_column >= 0 ? row.cells[size_t(variant_column)] : std::string();
     if (variant_column >= 0 && !is_safe_name(variant_name))
       fail(row.line, "variant " + quoted_input(variant_name) + ": expected 1-64 letters, digits, '_', '-' or '.'");
@@ -96,7 +105,8 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
       double value = 0.0;
       if (parameter->type == ParameterType::choice) {
         const std::optional<double> index = parse_choice(*parameter, cell);
-        if (!index) fail(row.line, where + "expected " + *check_parameter_value(*parameter, -1) + ", got " + quoted_input(cell));
+        if (!index)
+          fail(row.line, where + "expected " + *check_parameter_value(*parameter, -1) + ", got " + quoted_input(cell));
         value = *index;
       } else {
         const std::optional<double> number = parse_finite_number(cell);
@@ -110,7 +120,8 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
     }
     ParameterLayer level_layer;
     if (level) level_layer[level_key] = *level;
-    if (const auto conflict = parameter_conflict(parameters_with(test.method, {&config.stimulus.test.parameters, &layer, &level_layer})))
+    if (const auto conflict =
+            parameter_conflict(parameters_with(test.method, {&config.stimulus.test.parameters, &layer, &level_layer})))
       fail(row.line, conflict->expected);
     const auto [found, added] = variant_index.emplace(variant_name, config.stimulus.variants.size());
     if (added) {
@@ -120,9 +131,12 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
     VariantConfig& variant = config.stimulus.variants[found->second];
     if (variant.parameters != layer)
       fail(row.line, "variant \"" + variant_name + "\" sets other parameters than on line " +
-                         std::to_string(first_line[found->second]) + " (a variant's rows differ in level only; name another variant)");
+                         std::to_string(first_line[found->second]) +
+                         " (a variant's rows differ in level only; name another variant)");
     if (!level) {
-      if (!added) fail(row.line, "variant \"" + variant_name + "\" is a condition already (line " + std::to_string(first_line[found->second]) + ")");
+      if (!added)
+        fail(row.line, "variant \"" + variant_name + "\" is a condition already (line " +
+                           std::to_string(first_line[found->second]) + ")");
       continue;
     }
     if (std::find(variant.levels.begin(), variant.levels.end(), *level) != variant.levels.end())

@@ -34,7 +34,8 @@ void check_range(const TomlFields& fields, const std::string& key, double value,
 // An optional number field (`fallback` when absent) in [low, high].
 double bounded_number(const TomlFields& fields, const std::string& key, double fallback, double low, double high);
 // An integer field (required when `fallback` is empty) in [low, high].
-int bounded_integer(const TomlFields& fields, const std::string& key, std::optional<int64_t> fallback, int low, int high);
+int bounded_integer(const TomlFields& fields, const std::string& key, std::optional<int64_t> fallback, int low,
+                    int high);
 
 // ---- [display], [gaze], [validation] (display_gaze_config.cpp) ----
 

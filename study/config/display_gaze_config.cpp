@@ -44,7 +44,8 @@ void read_display(const TomlFields& fields, DisplayConfig& display) {
 
 // [gaze] require = "tracker" or ["tracker", "trace"]: the kinds of source a session may use.
 void read_gaze(const TomlFields& fields, GazeConfig& gaze) {
-  const std::string expected = "expected a gaze source kind (tracker, trace, synthetic or mouse) or a non-empty array of them";
+  const std::string expected =
+      "expected a gaze source kind (tracker, trace, synthetic or mouse) or a non-empty array of them";
   if (!fields.has("require")) fields.fail("require", "missing: " + expected + " (or no [gaze] table)");
   const toml::node& node = *fields.raw().get("require");
   gaze.require_line = static_cast<int>(node.source().begin.line);
@@ -86,10 +87,11 @@ void read_validation(const TomlFields& fields, const DisplayConfig& display, Val
   for (const auto& [x_px, y_px] : validation_targets_px(display, validation)) {
     if (x_px - radius_px < 0 || x_px + radius_px > display.width_px || y_px - radius_px < 0 ||
         y_px + radius_px > display.height_px)
-      fields.fail("target_offset_deg", "expected targets on the screen: at " + format_number(validation.target_offset_deg, 6) +
-                                           " deg the outer ones fall off this display (" + std::to_string(display.width_px) +
-                                           "x" + std::to_string(display.height_px) + " px at " +
-                                           format_number(display.viewing_distance_mm, 6) + " mm)");
+      fields.fail("target_offset_deg", "expected targets on the screen: at " +
+                                           format_number(validation.target_offset_deg, 6) +
+                                           " deg the outer ones fall off this display (" +
+                                           std::to_string(display.width_px) + "x" + std::to_string(display.height_px) +
+                                           " px at " + format_number(display.viewing_distance_mm, 6) + " mm)");
   }
   fields.finish();
 }
@@ -104,7 +106,8 @@ double degrees_to_px(const DisplayConfig& display, double degrees, double pitch_
 }
 }  // namespace
 
-std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig& display, const ValidationConfig& validation) {
+std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig& display,
+                                                             const ValidationConfig& validation) {
   const double centre_x = 0.5 * display.width_px, centre_y = 0.5 * display.height_px;
   const double dx = degrees_to_px(display, validation.target_offset_deg, display.width_mm / display.width_px);
   const double dy = degrees_to_px(display, validation.target_offset_deg, display.height_mm / display.height_px);
@@ -122,16 +125,21 @@ double validation_target_radius_px(const DisplayConfig& display, const Validatio
 
 const char* gaze_source_kind_name(GazeSourceKind kind) {
   switch (kind) {
-    case GazeSourceKind::tracker: return "tracker";
-    case GazeSourceKind::trace: return "trace";
-    case GazeSourceKind::synthetic: return "synthetic";
-    case GazeSourceKind::mouse: return "mouse";
+    case GazeSourceKind::tracker:
+      return "tracker";
+    case GazeSourceKind::trace:
+      return "trace";
+    case GazeSourceKind::synthetic:
+      return "synthetic";
+    case GazeSourceKind::mouse:
+      return "mouse";
   }
   return "";
 }
 
 std::optional<GazeSourceKind> parse_gaze_source_kind(const std::string& name) {
-  for (GazeSourceKind kind : {GazeSourceKind::tracker, GazeSourceKind::trace, GazeSourceKind::synthetic, GazeSourceKind::mouse})
+  for (GazeSourceKind kind :
+       {GazeSourceKind::tracker, GazeSourceKind::trace, GazeSourceKind::synthetic, GazeSourceKind::mouse})
     if (name == gaze_source_kind_name(kind)) return kind;
   return std::nullopt;
 }
@@ -159,7 +167,8 @@ std::string GazeConfig::require_text() const {
 }
 
 bool is_gaze_contingent(const StudyConfig& config) {
-  return describe(config.stimulus.reference.method).depends_on_gaze || describe(config.stimulus.test.method).depends_on_gaze;
+  return describe(config.stimulus.reference.method).depends_on_gaze ||
+         describe(config.stimulus.test.method).depends_on_gaze;
 }
 
 }  // namespace fovlab

@@ -5,8 +5,8 @@
 namespace fovlab {
 namespace {
 constexpr std::array<const char*, 19> named_inputs = {
-    "space",   "enter",  "escape", "left",     "right",     "up",     "down",   "pad_a",  "pad_b", "pad_x",
-    "pad_y",   "pad_left", "pad_right", "pad_up", "pad_down", "pad_start", "pad_back", "pad_lb", "pad_rb"};
+    "space", "enter",    "escape",    "left",   "right",    "up",        "down",     "pad_a",  "pad_b", "pad_x",
+    "pad_y", "pad_left", "pad_right", "pad_up", "pad_down", "pad_start", "pad_back", "pad_lb", "pad_rb"};
 }
 
 bool is_input_name(const std::string& name) {

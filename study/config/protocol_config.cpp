@@ -42,13 +42,15 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, const S
     fields.fail("kind", std::string(protocol_name(protocol.kind)) + " needs a [levels] table with at least two values");
   for (const VariantConfig& variant : stimulus.variants)
     if (ladder && variant_levels(levels, &variant).size() < 2)
-      fields.fail("kind", std::string(protocol_name(protocol.kind)) + " needs at least two levels in every variant (\"" +
-                              variant.name + "\" has fewer in the conditions file)");
+      fields.fail("kind", std::string(protocol_name(protocol.kind)) +
+                              " needs at least two levels in every variant (\"" + variant.name +
+                              "\" has fewer in the conditions file)");
   if (protocol.kind == ProtocolKind::two_afc) {
     const std::string question = fields.string("question");
     const std::optional<TwoAfcQuestion> found = find_two_afc_question(question);
     if (!found)
-      fields.fail("question", "expected \"same\" (same/different) or \"better\" (first/second), got \"" + question + "\"");
+      fields.fail("question",
+                  "expected \"same\" (same/different) or \"better\" (first/second), got \"" + question + "\"");
     protocol.two_afc_question = *found;
   }
   protocol.repeats = bounded_integer(fields, "repeats", 1, 1, 1000);
@@ -86,7 +88,8 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, const S
     }
     for (const std::string& key : keys) {
       const auto [where, inserted] = answer_of_key.emplace(key, answer);
-      if (!inserted) fields.fail("keys", "key \"" + key + "\" is bound to both \"" + where->second + "\" and \"" + answer + "\"");
+      if (!inserted)
+        fields.fail("keys", "key \"" + key + "\" is bound to both \"" + where->second + "\" and \"" + answer + "\"");
     }
     protocol.question.answers.emplace_back(answer, std::move(keys));
   }
@@ -95,7 +98,8 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, const S
     for (auto&& [key, node] : *keys_table)
       if (!rules.is_answer(key.str())) {
         std::string expected;
-        for (const ProtocolAnswer& answer : rules.answers) expected += (expected.empty() ? "" : ", ") + std::string(answer.name);
+        for (const ProtocolAnswer& answer : rules.answers)
+          expected += (expected.empty() ? "" : ", ") + std::string(answer.name);
         keys_fields.fail(std::string(key.str()), "not an answer of this protocol (expected " + expected + ")");
       }
   }
@@ -116,7 +120,8 @@ void read_protocol(const TomlFields& fields, const LevelsConfig& levels, const S
 void read_timing(const TomlFields& fields, TimingConfig& timing) {
   timing.black_interval_s = bounded_number(fields, "black_interval_s", timing.black_interval_s, 0.0, 600.0);
   timing.inter_trial_s = bounded_number(fields, "inter_trial_s", timing.inter_trial_s, 0.0, 600.0);
-  timing.rest_between_blocks_s = bounded_number(fields, "rest_between_blocks_s", timing.rest_between_blocks_s, 0.0, 7200.0);
+  timing.rest_between_blocks_s =
+      bounded_number(fields, "rest_between_blocks_s", timing.rest_between_blocks_s, 0.0, 7200.0);
   timing.response_timeout_s = bounded_number(fields, "response_timeout_s", timing.response_timeout_s, 0.0, 3600.0);
   timing.fixation_s = bounded_number(fields, "fixation_s", timing.fixation_s, 0.0, 60.0);
   fields.finish();
@@ -126,8 +131,9 @@ void read_attention(const TomlFields& fields, const ProtocolConfig& protocol, At
   attention.share = fields.number("share");
   check_range(fields, "share", attention.share, 0.0, 0.9);
   if (attention.share > 0 && identical_answer(protocol).empty())
-    fields.fail("share", "attention checks need an answer that means \"identical\" (2afc with question = \"same\", "
-                         "pair or rating)");
+    fields.fail("share",
+                "attention checks need an answer that means \"identical\" (2afc with question = \"same\", "
+                "pair or rating)");
   attention.break_s = bounded_number(fields, "break_s", attention.break_s, 0.0, 3600.0);
   attention.max_errors = bounded_integer(fields, "max_errors", attention.max_errors, 1, 1000);
   attention.excluded_message = fields.string("excluded_message", attention.excluded_message);
@@ -199,8 +205,10 @@ ProcedureConfig read_procedure(const TomlFields& fields, const std::string& name
     quest.stop_interval_width = bounded_number(fields, "stop_interval_width", 0.0, 0.0, 1e300);
     return procedure;
   } else {
-    fields.fail("kind", "expected \"staircase\" (Levitt's transformed up-down), \"weighted\" (Kaernbach's weighted "
-                        "up-down) or \"quest_plus\" (Watson's QUEST+), got \"" + kind + "\"");
+    fields.fail("kind",
+                "expected \"staircase\" (Levitt's transformed up-down), \"weighted\" (Kaernbach's weighted "
+                "up-down) or \"quest_plus\" (Watson's QUEST+), got \"" +
+                    kind + "\"");
   }
   rule.max_trials = bounded_integer(fields, "max_trials", std::nullopt, 1, 10000);
   rule.max_reversals = bounded_integer(fields, "max_reversals", 0, 0, 10000);
@@ -222,11 +230,13 @@ void check_quest_plus_tables(const TomlFields& fields, const StudyConfig& config
   for (int index : used)
     for (const VariantConfig* variant : variants) {
       const std::vector<double> grid = adaptive_grid(config.levels, variant);
-      const QuestPlusRule rule = quest_plus_rule(config.procedures[size_t(index)], config.protocol, config.levels, grid);
+      const QuestPlusRule rule =
+          quest_plus_rule(config.procedures[size_t(index)], config.protocol, config.levels, grid);
       entries += grid.size() * rule.thresholds.size() * rule.slopes.size() * rule.lapses.size();
     }
   if (entries > kQuestPlusMaxTableEntries)
-    fields.table("procedure").table(config.procedures[size_t(*used.rbegin())].name)
+    fields.table("procedure")
+        .table(config.procedures[size_t(*used.rbegin())].name)
         .fail("thresholds", "the QUEST+ tables of every variant and procedure would hold " + std::to_string(entries) +
                                 " entries (levels x grid points); expected at most " +
                                 std::to_string(kQuestPlusMaxTableEntries) + ": fewer levels, grid points or variants");
@@ -238,7 +248,8 @@ void check_procedure(const TomlFields& fields, const StudyConfig& config, const 
   const ProtocolKind kind = config.protocol.kind;
   if (kind != ProtocolKind::two_afc && kind != ProtocolKind::pair)
     fields.fail("", std::string("an adaptive procedure needs answers that see the difference or not (2afc, pair); the "
-                                "protocol is ") + protocol_name(kind));
+                                "protocol is ") +
+                        protocol_name(kind));
   const std::vector<const VariantConfig*> variants = tested_variants(config.stimulus);
   for (const VariantConfig* variant : variants) {
     const std::vector<double> grid = adaptive_grid(config.levels, variant);
@@ -284,13 +295,14 @@ std::vector<double> adaptive_grid(const LevelsConfig& levels, const VariantConfi
   return {grid.rbegin(), grid.rend()};
 }
 
-QuestPlusRule quest_plus_rule(const ProcedureConfig& procedure, const ProtocolConfig& protocol, const LevelsConfig& levels,
-                              const std::vector<double>& grid) {
+QuestPlusRule quest_plus_rule(const ProcedureConfig& procedure, const ProtocolConfig& protocol,
+                              const LevelsConfig& levels, const std::vector<double>& grid) {
   QuestPlusRule rule = procedure.quest;
   // Higher levels more like the reference: the difference is seen less as the level grows.
   rule.rising = !levels.higher_is_better;
   if (rule.guess < 0)
-    rule.guess = protocol.kind == ProtocolKind::two_afc && protocol.two_afc_question == TwoAfcQuestion::better ? 0.5 : 0.05;
+    rule.guess =
+        protocol.kind == ProtocolKind::two_afc && protocol.two_afc_question == TwoAfcQuestion::better ? 0.5 : 0.05;
   if (grid.size() < 2) return rule;
   if (rule.thresholds.empty()) rule.thresholds = default_quest_thresholds(grid, rule.shape);
   if (rule.slopes.empty()) rule.slopes = default_quest_slopes(grid, rule.shape);

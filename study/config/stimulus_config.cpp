@@ -22,8 +22,8 @@ namespace {
 // A parameter's value as a message quotes it: a choice by its name, a number as it was given (the
 // canonical text's 17 digits, 0.10000000000000001, are for logs, not people).
 std::string value_in_message(const ParameterDescriptor& parameter, double value) {
-  const bool named = parameter.type == ParameterType::choice && value >= 0 && value < double(parameter.choices.size()) &&
-                     value == std::floor(value);
+  const bool named = parameter.type == ParameterType::choice && value >= 0 &&
+                     value < double(parameter.choices.size()) && value == std::floor(value);
   return named ? parameter_value_text(parameter, value) : exact_number_text(value);
 }
 
@@ -38,8 +38,8 @@ std::map<std::string, double> read_parameters(const TomlFields& fields, RenderMe
     if (skip.count(name)) continue;
     const ParameterDescriptor* parameter = find_parameter(descriptor, name, reading.legacy_keys);
     if (!parameter)
-      fields.fail(name, "not a parameter of method \"" + std::string(descriptor.name) + "\" (expected one of: " +
-                            parameter_keys(descriptor) + ")");
+      fields.fail(name, "not a parameter of method \"" + std::string(descriptor.name) +
+                            "\" (expected one of: " + parameter_keys(descriptor) + ")");
     double value = 0.0;
     if (parameter->type == ParameterType::choice && !(reading.legacy_keys && node.is_number())) {
       if (!node.is_string())
@@ -69,7 +69,8 @@ MethodConfig read_method(const TomlFields& fields, const Reading& reading) {
   // A default that changed since the log was written is the one it was written with.
   for (const ParameterDescriptor& parameter : describe(config.method).parameters)
     if (default_changed_since(parameter, reading.log_schema_version))
-      config.parameters.emplace(std::string(parameter.key), default_in_log_schema(parameter, reading.log_schema_version));
+      config.parameters.emplace(std::string(parameter.key),
+                                default_in_log_schema(parameter, reading.log_schema_version));
   return config;
 }
 
@@ -85,7 +86,8 @@ std::vector<MethodParameters> stimulus_parameters(const StimulusConfig& stimulus
     for (double value : variant_levels(levels, variant)) level_parameters.push_back({{levels.parameter, value}});
     if (level_parameters.empty()) level_parameters.emplace_back();
     for (const ParameterLayer& level : level_parameters)
-      all.push_back(parameters_with(stimulus.test.method, {&stimulus.test.parameters, variant ? &variant->parameters : &none, &level}));
+      all.push_back(parameters_with(stimulus.test.method,
+                                    {&stimulus.test.parameters, variant ? &variant->parameters : &none, &level}));
   }
   return all;
 }
@@ -105,8 +107,7 @@ void check_parameter_rules(const TomlFields& stimulus_fields, const StimulusConf
   };
   {
     const MethodConfig& reference = stimulus.reference;
-    const auto conflict =
-        parameter_conflict(parameters_with(reference.method, {&reference.parameters}));
+    const auto conflict = parameter_conflict(parameters_with(reference.method, {&reference.parameters}));
     if (conflict) {
       const TomlFields fields = stimulus_fields.table("reference");
       fail_in(fields, reference.parameters, *conflict);
@@ -170,8 +171,9 @@ void read_stimulus(const TomlFields& fields, const DisplayConfig& display, const
   check_range(fields, "frames_per_second", stimulus.frames_per_second, 1e-3, display.refresh_hz);
   const double ratio = display.refresh_hz / stimulus.frames_per_second;
   if (std::abs(ratio - std::round(ratio)) > 1e-6)
-    fields.fail("frames_per_second", "expected the display's refresh rate divided by a whole number (each frame "
-                                     "is held for the same number of refreshes)");
+    fields.fail("frames_per_second",
+                "expected the display's refresh rate divided by a whole number (each frame "
+                "is held for the same number of refreshes)");
   stimulus.camera_start_s = fields.number("camera_start_s", 0.0);
   stimulus.reference = read_method(fields.table("reference"), reading);
   stimulus.test = read_method(fields.table("test"), reading);
@@ -197,14 +199,16 @@ void read_levels(const TomlFields& fields, const MethodConfig& test, const Readi
   if (!parameter || parameter->type == ParameterType::choice) {
     std::string numeric;
     for (const ParameterDescriptor& candidate : method.parameters)
-      if (candidate.type != ParameterType::choice) numeric += (numeric.empty() ? "" : ", ") + std::string(candidate.key);
+      if (candidate.type != ParameterType::choice)
+        numeric += (numeric.empty() ? "" : ", ") + std::string(candidate.key);
     fields.fail("parameter", "not a numeric parameter of the test method \"" + std::string(method.name) +
                                  "\" (expected one of: " + numeric + ")");
   }
   levels.parameter = parameter->key;
   if (from_conditions) {
     if (fields.has("values"))
-      fields.fail("values", "the [conditions] file gives the levels (its \"" + levels.parameter + "\" column); expected no values");
+      fields.fail("values", "the [conditions] file gives the levels (its \"" + levels.parameter +
+                                "\" column); expected no values");
     levels.higher_is_better = fields.boolean("higher_is_better", true);
     fields.finish();
     return;
@@ -213,7 +217,8 @@ void read_levels(const TomlFields& fields, const MethodConfig& test, const Readi
   for (size_t i = 0; i < levels.values.size(); ++i) {
     if (const std::optional<std::string> expected = check_parameter_value(*parameter, levels.values[i]))
       fields.fail("values", "expected " + *expected + ", got " + exact_number_text(levels.values[i]));
-    if (i > 0 && !(levels.values[i] > levels.values[i - 1])) fields.fail("values", "expected strictly ascending values");
+    if (i > 0 && !(levels.values[i] > levels.values[i - 1]))
+      fields.fail("values", "expected strictly ascending values");
   }
   levels.higher_is_better = fields.boolean("higher_is_better", true);
   fields.finish();
@@ -243,14 +248,14 @@ std::string resolve_scene(const TomlFields& fields, const std::string& scene, co
   for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
   if (std::find(names.begin(), names.end(), scene) != names.end()) return scene;
   if (kind != SceneKind::signed_distance) {
-    const std::string& extension = kind == SceneKind::path_traced ? catalog->path_traced_file_extension
-                                                                  : catalog->volume_file_extension;
+    const std::string& extension =
+        kind == SceneKind::path_traced ? catalog->path_traced_file_extension : catalog->volume_file_extension;
     std::string tail = scene.size() >= extension.size() ? scene.substr(scene.size() - extension.size()) : std::string();
     for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (tail != extension)
       fields.fail("scene", std::string("expected a ") + (kind == SceneKind::path_traced ? "path-traced" : "volume") +
-                               " scene (" + known + " or a " + extension + " file) for " + methods_of_kind(kind, "and") +
-                               ", got \"" + scene + "\"");
+                               " scene (" + known + " or a " + extension + " file) for " +
+                               methods_of_kind(kind, "and") + ", got \"" + scene + "\"");
   }
   std::filesystem::path path(scene);
   if (path.is_relative()) path = std::filesystem::path(config_path).parent_path() / path;
@@ -263,9 +268,12 @@ std::string resolve_scene(const TomlFields& fields, const std::string& scene, co
 // "a sphere-traced method", "a path-traced method", "a volume method": for messages.
 std::string kind_of_method(SceneKind kind) {
   switch (kind) {
-    case SceneKind::signed_distance: return "a sphere-traced method";
-    case SceneKind::path_traced: return "a path-traced method";
-    case SceneKind::volume: return "a volume method";
+    case SceneKind::signed_distance:
+      return "a sphere-traced method";
+    case SceneKind::path_traced:
+      return "a path-traced method";
+    case SceneKind::volume:
+      return "a volume method";
   }
   return "a method";
 }

@@ -36,7 +36,8 @@ double bounded_number(const TomlFields& fields, const std::string& key, double f
 
 // An integer field (required when `fallback` is empty) in [low, high]; the range is checked on the
 // 64-bit value, before it is narrowed.
-int bounded_integer(const TomlFields& fields, const std::string& key, std::optional<int64_t> fallback, int low, int high) {
+int bounded_integer(const TomlFields& fields, const std::string& key, std::optional<int64_t> fallback, int low,
+                    int high) {
   const int64_t value = fallback ? fields.integer(key, *fallback) : fields.integer(key);
   if (value < low || value > high)
     fields.fail(key, "expected a value in [" + std::to_string(low) + ", " + std::to_string(high) + "], got " +
@@ -151,7 +152,8 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
   const TomlFields fields(root, path, "");
   const TomlFields study = fields.table("study");
   config.name = study.string("name");
-  if (!is_valid_study_name(config.name)) study.fail("name", "expected 1-64 letters, digits, '_', '-' or '.' (it names a folder)");
+  if (!is_valid_study_name(config.name))
+    study.fail("name", "expected 1-64 letters, digits, '_', '-' or '.' (it names a folder)");
   const int64_t seed = study.integer("seed");
   if (seed < 0) study.fail("seed", "expected a non-negative integer");
   config.seed = static_cast<uint64_t>(seed);
@@ -173,9 +175,11 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     if (!config.stimulus.variants.empty())
       conditions_fields.fail("file", "the conditions file gives the variants; expected no [[stimulus.variant]] tables");
     read_conditions(conditions_fields, reading, config);
-    const std::string separator = std::string(1, '\0') + "conditions_csv " + std::to_string(config.conditions_csv.size()) + '\0';
+    const std::string separator =
+        std::string(1, '\0') + "conditions_csv " + std::to_string(config.conditions_csv.size()) + '\0';
     config.hash = ContentHash().add(text).add(separator).add(config.conditions_csv).hex();
-    config.content_hash = ContentHash().add(canonical_config_content(root)).add(separator).add(config.conditions_csv).hex();
+    config.content_hash =
+        ContentHash().add(canonical_config_content(root)).add(separator).add(config.conditions_csv).hex();
   }
   check_frame_size_rules(fields.table("display"), config.display, config.stimulus, config.levels);
   read_protocol(fields.table("protocol"), config.levels, config.stimulus, config.protocol);
@@ -189,8 +193,10 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     const TomlFields analysis_fields(*analysis, path, "analysis");
     const std::string headline = analysis_fields.string("headline", "estimate");
     if (headline != "estimate" && headline != "paper")
-      analysis_fields.fail("headline", "expected \"estimate\" (the design's estimate, the default) or \"paper\" (the paper's own rule), got \"" +
-                                           headline + "\"");
+      analysis_fields.fail(
+          "headline",
+          "expected \"estimate\" (the design's estimate, the default) or \"paper\" (the paper's own rule), got \"" +
+              headline + "\"");
     config.analysis.headline_is_paper_rule = headline == "paper";
     analysis_fields.finish();
   }
@@ -202,7 +208,9 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
     for (const std::string& name : config.participant_fields) {
       const bool plain = !name.empty() && name.size() <= 32 &&
                          name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
-      if (!plain) participant_fields.fail("fields", "expected names of 1-32 lower-case letters, digits or '_', got \"" + name + "\"");
+      if (!plain)
+        participant_fields.fail("fields",
+                                "expected names of 1-32 lower-case letters, digits or '_', got \"" + name + "\"");
       if (!seen.insert(name).second) participant_fields.fail("fields", "duplicate field \"" + name + "\"");
     }
     if (config.participant_fields.size() > 32) participant_fields.fail("fields", "expected at most 32 fields");
@@ -212,10 +220,11 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
   const SceneKind scene_kind = describe(config.stimulus.reference.method).scene_kind;
   const MethodDescriptor& test = describe(config.stimulus.test.method);
   if (test.scene_kind != scene_kind) {
-    fields.table("stimulus").table("test").fail(
-        "method", "expected " + kind_of_method(scene_kind) + " (" + methods_of_kind(scene_kind, "or") + ") like the reference's \"" +
-                      std::string(describe(config.stimulus.reference.method).name) +
-                      "\" (both render the same scene), got \"" + std::string(test.name) + "\"");
+    fields.table("stimulus")
+        .table("test")
+        .fail("method", "expected " + kind_of_method(scene_kind) + " (" + methods_of_kind(scene_kind, "or") +
+                            ") like the reference's \"" + std::string(describe(config.stimulus.reference.method).name) +
+                            "\" (both render the same scene), got \"" + std::string(test.name) + "\"");
   }
   if (const toml::table* practice = fields.optional_table("practice")) {
     const TomlFields practice_fields(*practice, path, "practice");

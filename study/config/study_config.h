@@ -23,7 +23,7 @@ struct DisplayConfig {
   int width_px = 0;
   int height_px = 0;
   double refresh_hz = 60.0;
-  double width_mm = 0.0;    // physical size of the visible area (given, or from diagonal_in)
+  double width_mm = 0.0;  // physical size of the visible area (given, or from diagonal_in)
   double height_mm = 0.0;
   double viewing_distance_mm = 0.0;
   bool fullscreen = false;
@@ -53,14 +53,14 @@ struct StimulusConfig {
   MethodConfig test;
   std::vector<VariantConfig> variants;  // empty: one unnamed variant
 
-  int frame_count() const;            // round(duration_s * frames_per_second), at least 1
+  int frame_count() const;  // round(duration_s * frames_per_second), at least 1
   int refreshes_per_frame(double refresh_hz) const;
 };
 
 struct LevelsConfig {
-  std::string parameter;        // key of the test parameter each level sets; empty: one condition
-  std::vector<double> values;   // ascending
-  bool higher_is_better = true; // which end of the values looks more like the reference
+  std::string parameter;         // key of the test parameter each level sets; empty: one condition
+  std::vector<double> values;    // ascending
+  bool higher_is_better = true;  // which end of the values looks more like the reference
 };
 
 // The levels a variant is tested at: its own (a conditions file's rows), else every [levels] value.
@@ -94,8 +94,8 @@ struct ProtocolConfig;
 // higher levels look less like the reference, and the guess rate: the procedure's guess_rate, else
 // 1/2 for 2afc "better" (forced choice) and 0.05 for answers that may report a difference where
 // none is (2afc "same", pair).
-QuestPlusRule quest_plus_rule(const ProcedureConfig& procedure, const ProtocolConfig& protocol, const LevelsConfig& levels,
-                              const std::vector<double>& grid);
+QuestPlusRule quest_plus_rule(const ProcedureConfig& procedure, const ProtocolConfig& protocol,
+                              const LevelsConfig& levels, const std::vector<double>& grid);
 
 struct BlockConfig {
   std::string name;
@@ -104,9 +104,10 @@ struct BlockConfig {
 };
 
 struct TimingConfig {
-  double black_interval_s = 0.5;   // between the intervals of a trial (0.5 s seed 001, 0.75 s seed 002)
-  double inter_trial_s = 0.5;      // black screen after a response
-  double rest_between_blocks_s = 0.0;  // minimum rest between blocks (600 s in seed 000)
+  double black_interval_s =
+      0.5;  // between the intervals of a trial (0.5 s Polychronakis et al. 2021, 0.75 s Ye et al. 2022)
+  double inter_trial_s = 0.5;          // black screen after a response
+  double rest_between_blocks_s = 0.0;  // minimum rest between blocks (600 s in Polychronakis et al. 2023)
   double response_timeout_s = 0.0;     // 0: wait for an answer as long as it takes
   double fixation_s = 0.0;             // a fixation cross before each trial's first stimulus; 0: none
 };
@@ -118,9 +119,9 @@ struct QuestionConfig {
 };
 
 struct AttentionConfig {
-  double share = 0.0;      // share of all trials of a block that are attention checks, in [0, 0.9]
-  double break_s = 30.0;   // forced break after a wrong answer
-  int max_errors = 3;      // at this many wrong answers the session ends, participant excluded
+  double share = 0.0;     // share of all trials of a block that are attention checks, in [0, 0.9]
+  double break_s = 30.0;  // forced break after a wrong answer
+  int max_errors = 3;     // at this many wrong answers the session ends, participant excluded
   // Shown to an excluded participant (until a key), so the session does not just stop.
   std::string excluded_message = "The session has ended. Thank you for taking part.";
 };
@@ -129,22 +130,23 @@ struct AttentionConfig {
 // shown one at a time, the gaze measured on each (protocols/gaze/tracker_validation.h), repeated
 // until the mean accuracy and precision are within the limits; every attempt is logged.
 struct ValidationConfig {
-  bool enabled = false;             // the config has a [validation] table
-  int targets = 9;                  // 5 (centre and the grid's corners) or 9 (a 3 x 3 grid)
-  double target_offset_deg = 8.0;   // the outer targets' horizontal and vertical offset from the centre
-  double target_radius_deg = 0.3;   // the drawn disk's radius
-  double target_s = 1.5;            // each target shown this long
-  double settle_s = 0.5;            // the first part of each target not measured (the saccade to it)
-  double max_accuracy_deg = 1.0;    // passes when the targets' mean accuracy is at most this
-  double max_precision_deg = 0.5;   // ... and their mean RMS sample-to-sample precision at most this
-  int max_attempts = 3;             // failed this many times in a row: the session pauses (recalibrate, resume)
-  bool after_breaks = true;         // also after every rest between blocks and attention-check break
+  bool enabled = false;            // the config has a [validation] table
+  int targets = 9;                 // 5 (centre and the grid's corners) or 9 (a 3 x 3 grid)
+  double target_offset_deg = 8.0;  // the outer targets' horizontal and vertical offset from the centre
+  double target_radius_deg = 0.3;  // the drawn disk's radius
+  double target_s = 1.5;           // each target shown this long
+  double settle_s = 0.5;           // the first part of each target not measured (the saccade to it)
+  double max_accuracy_deg = 1.0;   // passes when the targets' mean accuracy is at most this
+  double max_precision_deg = 0.5;  // ... and their mean RMS sample-to-sample precision at most this
+  int max_attempts = 3;            // failed this many times in a row: the session pauses (recalibrate, resume)
+  bool after_breaks = true;        // also after every rest between blocks and attention-check break
 };
 
 // The validation targets' centres in display pixels (origin top left), in reading order: the 3 x 3
 // grid at ±target_offset_deg from the centre along each axis (x = centre + D tan(offset) / pitch),
 // or its centre and 4 corners.
-std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig& display, const ValidationConfig& validation);
+std::vector<std::pair<double, double>> validation_targets_px(const DisplayConfig& display,
+                                                             const ValidationConfig& validation);
 // The target disk's radius in pixels (D tan(radius) / horizontal pitch, at least 2).
 double validation_target_radius_px(const DisplayConfig& display, const ValidationConfig& validation);
 
@@ -186,9 +188,9 @@ struct ProtocolConfig {
   ProtocolKind kind = ProtocolKind::two_afc;
   TwoAfcQuestion two_afc_question = TwoAfcQuestion::same;
   const ProtocolRules& rules() const { return protocol_rules(kind, two_afc_question); }
-  int repeats = 1;                 // presentations of each condition per block (per direction for ramp)
-  bool counterbalance = true;      // reference first in half of the presentations
-  bool randomise_trials = true;    // shuffle trials within a block
+  int repeats = 1;               // presentations of each condition per block (per direction for ramp)
+  bool counterbalance = true;    // reference first in half of the presentations
+  bool randomise_trials = true;  // shuffle trials within a block
   // Block order per participant: as listed; shuffled (seeded by the participant); or counterbalanced
   // by a balanced Latin square (Williams design) whose row is chosen by the participant's number.
   enum class BlockOrder { fixed, random, latin_square };
@@ -205,7 +207,7 @@ struct AnalysisConfig {
 };
 
 struct StudyConfig {
-  std::string name;             // results/<name>/...
+  std::string name;  // results/<name>/...
   uint64_t seed = 0;
   std::string instructions;
   DisplayConfig display;
@@ -230,9 +232,9 @@ struct StudyConfig {
   std::string conditions_path;
   std::string conditions_csv;
 
-  std::string source_path;      // where it was read from (messages)
-  std::string source_text;      // the file's bytes (logged in the header, so a replay needs nothing else)
-  std::string hash;             // content hash of source_text, then conditions_csv when there is one (hex)
+  std::string source_path;  // where it was read from (messages)
+  std::string source_text;  // the file's bytes (logged in the header, so a replay needs nothing else)
+  std::string hash;         // content hash of source_text, then conditions_csv when there is one (hex)
   // The config's version: a content hash of what it says, comments and formatting aside (the
   // canonical text of its parsed TOML, canonical_config_content), then conditions_csv's bytes when
   // there is one. Two configs of one version run the same study; `fovlab run` keeps versions in

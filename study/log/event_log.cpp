@@ -30,11 +30,13 @@ std::string chain_of_text(const std::string& previous_chain, std::string_view te
   return sha256_hex(previous_chain, text);
 }
 
-std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain, int schema_version) {
+std::string event_chain(const std::string& previous_chain, const nlohmann::json& event_without_chain,
+                        int schema_version) {
   return chain_of_text(previous_chain, event_without_chain.dump(), schema_version);
 }
 
-EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key)
+EventLogWriter::EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq,
+                               const LabKey* lab_key)
     : path_(path), chain_(std::move(previous_chain)), next_seq_(next_seq), lab_key_(lab_key) {
   // Read and write: a log replaced under the writer is copied out of this descriptor (check_still_named).
   fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
@@ -159,9 +161,10 @@ void EventLogWriter::check_still_named() {
     reason = copy_open_file(fd_, size_, copy);
     if (reason == EEXIST) continue;
     if (reason == 0)
-      throw InputError(what + ". Every event it wrote is kept in " + copy +
-                       "; run the same command again to resume from it (whatever is then at the log's name is kept beside it as " +
-                       std::string(kSessionLogName) + ".replaced-N)");
+      throw InputError(
+          what + ". Every event it wrote is kept in " + copy +
+          "; run the same command again to resume from it (whatever is then at the log's name is kept beside it as " +
+          std::string(kSessionLogName) + ".replaced-N)");
     break;
   }
   struct stat held {};
@@ -193,11 +196,13 @@ EventLogFile parse_event_log(const std::string& bytes, const std::string& path) 
     const auto seq = event.find(log_keys::seq);
     const auto recorded = event.find(log_keys::chain);
     const auto mac = event.find(log_keys::mac);
-    chain.line(lines, seq != event.end() && seq->is_number_integer() ? std::optional<int64_t>(seq->get<int64_t>()) : std::nullopt,
-               recorded != event.end() && recorded->is_string()
-                   ? std::optional<std::string_view>(recorded->get_ref<const std::string&>())
-                   : std::nullopt,
-               mac != event.end() && mac->is_string(), log.schema_version, &event);
+    chain.line(
+        lines,
+        seq != event.end() && seq->is_number_integer() ? std::optional<int64_t>(seq->get<int64_t>()) : std::nullopt,
+        recorded != event.end() && recorded->is_string()
+            ? std::optional<std::string_view>(recorded->get_ref<const std::string&>())
+            : std::nullopt,
+        mac != event.end() && mac->is_string(), log.schema_version, &event);
     log.events.push_back(std::move(event));
     log.line_numbers.push_back(lines.number());
   }

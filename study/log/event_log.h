@@ -27,8 +27,8 @@ namespace fovlab {
 // default_in_log_schema).
 // 6: FIPR's near_misses is new, default promote; a config that a schema 1-5 log carries reads a
 // missing one as ignore, what those logs showed.
-inline constexpr int log_schema_version = 7;      // what this build writes
-inline constexpr int oldest_log_schema_version = 1; // the oldest it reads (resume needs the current one)
+inline constexpr int log_schema_version = 7;         // what this build writes
+inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read
 // (absent, not an integer, or outside oldest..current: 2^32 + 6 is not read as 6).
@@ -42,7 +42,8 @@ class EventLogWriter {
   // and `next_seq` continue an existing log (resume); a new log starts with "" and 0. `lab_key`
   // (may be null) keys the seals; it must outlive the writer. The caller holds the participant's
   // lock (participant_lock.h), so no second writer exists.
-  EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq, const LabKey* lab_key = nullptr);
+  EventLogWriter(const std::string& path, std::string previous_chain, int64_t next_seq,
+                 const LabKey* lab_key = nullptr);
   ~EventLogWriter();
   EventLogWriter(const EventLogWriter&) = delete;
   EventLogWriter& operator=(const EventLogWriter&) = delete;
@@ -99,14 +100,14 @@ size_t byte_order_mark_length(std::string_view bytes);
 
 struct EventLogFile {
   std::string path;
-  std::vector<nlohmann::json> events;   // every complete, parsed line, in order
-  std::vector<int> line_numbers;        // of each event (1-based)
-  std::optional<std::string> torn_tail; // bytes after the last newline: a write the crash cut short
-  int schema_version = 0;               // of the header (0: none readable); says how the chain is made
-  uint64_t intact_bytes = 0;            // length of the file up to and including the last newline
-  int first_chain_error_line = 0;       // 0 when every seq/chain is consistent
-  std::string last_chain;               // chain of the last event ("" when none)
-  std::string header_chain;             // the session's identity (log_lines.h EventChain::header_chain)
+  std::vector<nlohmann::json> events;    // every complete, parsed line, in order
+  std::vector<int> line_numbers;         // of each event (1-based)
+  std::optional<std::string> torn_tail;  // bytes after the last newline: a write the crash cut short
+  int schema_version = 0;                // of the header (0: none readable); says how the chain is made
+  uint64_t intact_bytes = 0;             // length of the file up to and including the last newline
+  int first_chain_error_line = 0;        // 0 when every seq/chain is consistent
+  std::string last_chain;                // chain of the last event ("" when none)
+  std::string header_chain;              // the session's identity (log_lines.h EventChain::header_chain)
 };
 
 // Reads a log, line by line as the fast scan does (log_lines.h: the same grammar, nesting cap and

@@ -43,9 +43,10 @@ std::optional<LogInconsistency> check(const nlohmann::json& header, const Log& l
 }  // namespace
 
 std::shared_ptr<const StudyConfig> LoggedConfigs::config_of(const nlohmann::json& header, const std::string& path,
-                                                          std::string& error) {
+                                                            std::string& error) {
   const int schema_version = header_schema_version(header);
-  auto key = std::make_tuple(schema_version, header_text(header, k::config_toml), header_text(header, k::conditions_csv));
+  auto key =
+      std::make_tuple(schema_version, header_text(header, k::config_toml), header_text(header, k::conditions_csv));
   const std::string name = path + " (config_toml)";
   {
     const std::lock_guard<std::mutex> lock(mutex_);

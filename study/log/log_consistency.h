@@ -31,7 +31,8 @@ class LoggedConfigs {
  public:
   // The config `header` carries (its config_toml and conditions_csv, read by its schema_version),
   // or null with `error` saying why it cannot be read ("PATH (config_toml):LINE: ...").
-  std::shared_ptr<const StudyConfig> config_of(const nlohmann::json& header, const std::string& path, std::string& error);
+  std::shared_ptr<const StudyConfig> config_of(const nlohmann::json& header, const std::string& path,
+                                               std::string& error);
 
  private:
   struct Parsed {
@@ -39,7 +40,8 @@ class LoggedConfigs {
     std::string error;  // without the path of the log that first carried it
   };
   std::mutex mutex_;
-  std::map<std::tuple<int, std::string, std::string>, Parsed> parsed_;  // by schema version, config_toml, conditions_csv
+  std::map<std::tuple<int, std::string, std::string>, Parsed>
+      parsed_;  // by schema version, config_toml, conditions_csv
 };
 
 // What a header says that its own config contradicts: "study \"A\" but its config_toml names study

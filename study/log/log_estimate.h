@@ -20,7 +20,7 @@
 namespace fovlab {
 
 struct LogSizeEstimate {
-  uint64_t bytes = 0;            // the whole log at most
+  uint64_t bytes = 0;               // the whole log at most
   uint64_t widest_trial_bytes = 0;  // the largest trial's events at most
 };
 

@@ -126,9 +126,7 @@ constexpr auto fields(Of<SessionResumedEvent>) {
   };
 }
 
-constexpr auto fields(Of<InstructionsEvent>) {
-  return std::tuple{field(k::shown_s, &InstructionsEvent::shown_s)};
-}
+constexpr auto fields(Of<InstructionsEvent>) { return std::tuple{field(k::shown_s, &InstructionsEvent::shown_s)}; }
 
 constexpr auto fields(Of<BlockStartEvent>) {
   using E = BlockStartEvent;
@@ -288,7 +286,7 @@ void for_each_field(Visit&& visit) {
 // ---- the line types: how a typed (or kept) field's value is checked on every line ----
 
 enum class LineType {
-  small_int,             // a 32-bit integer
+  small_int,  // a 32-bit integer
   string,
   boolean,
   number_or_null,

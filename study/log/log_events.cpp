@@ -25,7 +25,8 @@ void read_fields(const FieldReader& in, Object& object);
 // Reads the fields of one event of kind `kind_` (see FieldCheck in the header).
 class FieldReader {
  public:
-  FieldReader(const nlohmann::json& json, const char* kind, FieldCheck check) : json_(json), kind_(kind), check_(check) {
+  FieldReader(const nlohmann::json& json, const char* kind, FieldCheck check)
+      : json_(json), kind_(kind), check_(check) {
     if (!json_.is_object()) throw InputError(std::string(kind_) + ": expected a JSON object");
   }
 
@@ -95,7 +96,8 @@ class FieldReader {
     const nlohmann::json* value = find(key);
     if (!value) return;
     T element{};
-    if (!value->is_array() || !std::all_of(value->begin(), value->end(), [&](const nlohmann::json& item) { return accepts(item, element); })) {
+    if (!value->is_array() || !std::all_of(value->begin(), value->end(),
+                                           [&](const nlohmann::json& item) { return accepts(item, element); })) {
       wrong(key, "an array of " + expected(element), *value);
       return;
     }
@@ -127,11 +129,11 @@ class FieldReader {
              item[k::y_px].is_number() && (!item.contains(k::samples) || is_small_int(item[k::samples])) &&
              (!item.contains(k::valid_samples) || is_small_int(item[k::valid_samples])) &&
              number_or_null(item, k::accuracy_deg) && number_or_null(item, k::precision_deg) &&
-             (!item.contains(k::gaze) || (item[k::gaze].is_array() &&
-                                          std::all_of(item[k::gaze].begin(), item[k::gaze].end(), [](const nlohmann::json& p) {
-                                            return p.is_null() || (p.is_array() && p.size() == 2 && p[0].is_number() &&
-                                                                   p[1].is_number());
-                                          })));
+             (!item.contains(k::gaze) ||
+              (item[k::gaze].is_array() &&
+               std::all_of(item[k::gaze].begin(), item[k::gaze].end(), [](const nlohmann::json& p) {
+                 return p.is_null() || (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number());
+               })));
     };
     if (!value->is_array() || !std::all_of(value->begin(), value->end(), entry)) {
       wrong(key, "an array of {x_px, y_px, samples, valid_samples, accuracy_deg, precision_deg, gaze} objects", *value);
@@ -156,8 +158,7 @@ class FieldReader {
     for (const nlohmann::json& position : *value) {
       if (position.is_array() && position.size() == 2 && position[0].is_number() && position[1].is_number())
         out.push_back(std::array<double, 2>{position[0].get<double>(), position[1].get<double>()});
-      else
-        out.push_back(std::nullopt);
+      else out.push_back(std::nullopt);
     }
   }
   void read(const char* key, std::vector<InvalidGaze>& out) const {
@@ -203,7 +204,9 @@ class FieldReader {
   static std::string expected(const std::string&) { return "strings"; }
   static std::string expected(const std::optional<double>&) { return "numbers or nulls"; }
   template <typename T>
-  static T convert(const nlohmann::json& value, const T&) { return value.get<T>(); }
+  static T convert(const nlohmann::json& value, const T&) {
+    return value.get<T>();
+  }
   static std::optional<double> convert(const nlohmann::json& value, const std::optional<double>&) {
     return value.is_null() ? std::nullopt : std::optional<double>(value.get<double>());
   }
@@ -212,7 +215,6 @@ class FieldReader {
   const char* kind_;
   FieldCheck check_;
 };
-
 
 // ---- writing and reading by the tables (log_event_fields.h) ----
 
@@ -252,7 +254,8 @@ nlohmann::json value_json(const std::vector<T>& values) {
 template <typename T>
 bool written(const T& value, Write write) {
   switch (write) {
-    case Write::always: return true;
+    case Write::always:
+      return true;
     case Write::when_set:
       if constexpr (IsOptional<T>::value) return value.has_value();
       break;
@@ -324,13 +327,20 @@ bool has_line_type(const nlohmann::json& value, log_fields::LineType type) {
   using log_fields::LineType;
   const auto number_or_null = [](const nlohmann::json& element) { return element.is_number() || element.is_null(); };
   switch (type) {
-    case LineType::small_int: return is_small_int(value);
-    case LineType::string: return value.is_string();
-    case LineType::boolean: return value.is_boolean();
-    case LineType::number_or_null: return number_or_null(value);
-    case LineType::small_int_array: return value.is_array() && std::all_of(value.begin(), value.end(), is_small_int);
-    case LineType::number_or_null_array: return value.is_array() && std::all_of(value.begin(), value.end(), number_or_null);
-    case LineType::numbers_lenient: return true;  // no type check (Scan::kept)
+    case LineType::small_int:
+      return is_small_int(value);
+    case LineType::string:
+      return value.is_string();
+    case LineType::boolean:
+      return value.is_boolean();
+    case LineType::number_or_null:
+      return number_or_null(value);
+    case LineType::small_int_array:
+      return value.is_array() && std::all_of(value.begin(), value.end(), is_small_int);
+    case LineType::number_or_null_array:
+      return value.is_array() && std::all_of(value.begin(), value.end(), number_or_null);
+    case LineType::numbers_lenient:
+      return true;  // no type check (Scan::kept)
   }
   return true;
 }
@@ -350,15 +360,19 @@ const std::vector<ScannedKey>& scanned_keys() {
         const auto same = [&](const ScannedKey& known) { return known.key == key; };
         const auto known = std::find_if(found.begin(), found.end(), same);
         if (row.scan == Scan::no) {
-          if (known != found.end()) throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is read by the scan in one event, not in another");
+          if (known != found.end())
+            throw std::logic_error(std::string("log_event_fields.h: ") + row.key +
+                                   " is read by the scan in one event, not in another");
           untyped.push_back(key);
           return;
         }
         const std::optional<LineType> type = line_type(row);
-        if (!type) throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is scanned but has no line type");
+        if (!type)
+          throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is scanned but has no line type");
         const ScannedKey scanned{key, *type, row.scan};
         if (std::find(untyped.begin(), untyped.end(), key) != untyped.end())
-          throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " is read by the scan in one event, not in another");
+          throw std::logic_error(std::string("log_event_fields.h: ") + row.key +
+                                 " is read by the scan in one event, not in another");
         if (known == found.end()) found.push_back(scanned);
         else if (known->type != scanned.type || known->scan != scanned.scan)
           throw std::logic_error(std::string("log_event_fields.h: ") + row.key + " has two types in two events");
@@ -379,7 +393,8 @@ int scanned_key_index(std::string_view key) {
   static const std::array<std::vector<int>, 128> by_first_letter = [] {
     std::array<std::vector<int>, 128> buckets;
     const std::vector<ScannedKey>& keys = scanned_keys();
-    for (size_t i = 0; i < keys.size(); ++i) buckets[static_cast<unsigned char>(keys[i].key.front()) % 128].push_back(int(i));
+    for (size_t i = 0; i < keys.size(); ++i)
+      buckets[static_cast<unsigned char>(keys[i].key.front()) % 128].push_back(int(i));
     return buckets;
   }();
   if (key.empty() || static_cast<unsigned char>(key.front()) >= 128) return -1;
@@ -403,7 +418,8 @@ std::optional<GazeSourceKind> logged_gaze_kind(const nlohmann::json& gaze_source
 
 }  // namespace
 
-std::vector<GazeSourceKind> session_gaze_kinds(const nlohmann::json& header, const std::vector<SessionResumedEvent>& resumes) {
+std::vector<GazeSourceKind> session_gaze_kinds(const nlohmann::json& header,
+                                               const std::vector<SessionResumedEvent>& resumes) {
   std::vector<GazeSourceKind> kinds;
   const auto add = [&](std::optional<GazeSourceKind> kind) {
     if (kind && std::find(kinds.begin(), kinds.end(), *kind) == kinds.end()) kinds.push_back(*kind);
@@ -420,7 +436,6 @@ std::string gaze_kinds_text(const std::vector<GazeSourceKind>& kinds) {
   for (GazeSourceKind kind : kinds) text += (text.empty() ? "" : "+") + std::string(gaze_source_kind_name(kind));
   return text;
 }
-
 
 // ---- every event: its table (log_event_fields.h) written and read ----
 
@@ -441,21 +456,49 @@ nlohmann::json to_json(const SessionPausedEvent& event) { return event_json(even
 nlohmann::json to_json(const SessionEndEvent& event) { return event_json(event); }
 nlohmann::json to_json(const SealEvent& event) { return event_json(event); }
 
-SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionHeaderEvent>(json, check); }
-SessionResumedEvent parse_session_resumed(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionResumedEvent>(json, check); }
-InstructionsEvent parse_instructions(const nlohmann::json& json, FieldCheck check) { return parse_event<InstructionsEvent>(json, check); }
-BlockStartEvent parse_block_start(const nlohmann::json& json, FieldCheck check) { return parse_event<BlockStartEvent>(json, check); }
+SessionHeaderEvent parse_session_header(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<SessionHeaderEvent>(json, check);
+}
+SessionResumedEvent parse_session_resumed(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<SessionResumedEvent>(json, check);
+}
+InstructionsEvent parse_instructions(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<InstructionsEvent>(json, check);
+}
+BlockStartEvent parse_block_start(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<BlockStartEvent>(json, check);
+}
 BreakEvent parse_break(const nlohmann::json& json, FieldCheck check) { return parse_event<BreakEvent>(json, check); }
-TrialStartEvent parse_trial_start(const nlohmann::json& json, FieldCheck check) { return parse_event<TrialStartEvent>(json, check); }
-StimulusEvent parse_stimulus(const nlohmann::json& json, FieldCheck check) { return parse_event<StimulusEvent>(json, check); }
-ResponseEvent parse_response(const nlohmann::json& json, FieldCheck check) { return parse_event<ResponseEvent>(json, check); }
-SliderSavedEvent parse_slider_saved(const nlohmann::json& json, FieldCheck check) { return parse_event<SliderSavedEvent>(json, check); }
-AttentionCheckEvent parse_attention_check(const nlohmann::json& json, FieldCheck check) { return parse_event<AttentionCheckEvent>(json, check); }
-TrialEndEvent parse_trial_end(const nlohmann::json& json, FieldCheck check) { return parse_event<TrialEndEvent>(json, check); }
-ExcludedEvent parse_excluded(const nlohmann::json& json, FieldCheck check) { return parse_event<ExcludedEvent>(json, check); }
-TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, FieldCheck check) { return parse_event<TrackerValidationEvent>(json, check); }
-SessionPausedEvent parse_session_paused(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionPausedEvent>(json, check); }
-SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check) { return parse_event<SessionEndEvent>(json, check); }
+TrialStartEvent parse_trial_start(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<TrialStartEvent>(json, check);
+}
+StimulusEvent parse_stimulus(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<StimulusEvent>(json, check);
+}
+ResponseEvent parse_response(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<ResponseEvent>(json, check);
+}
+SliderSavedEvent parse_slider_saved(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<SliderSavedEvent>(json, check);
+}
+AttentionCheckEvent parse_attention_check(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<AttentionCheckEvent>(json, check);
+}
+TrialEndEvent parse_trial_end(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<TrialEndEvent>(json, check);
+}
+ExcludedEvent parse_excluded(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<ExcludedEvent>(json, check);
+}
+TrackerValidationEvent parse_tracker_validation(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<TrackerValidationEvent>(json, check);
+}
+SessionPausedEvent parse_session_paused(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<SessionPausedEvent>(json, check);
+}
+SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check) {
+  return parse_event<SessionEndEvent>(json, check);
+}
 SealEvent parse_seal(const nlohmann::json& json, FieldCheck check) { return parse_event<SealEvent>(json, check); }
 
 nlohmann::json to_json(const LogEvent& event) {

@@ -173,7 +173,8 @@ struct SessionResumedEvent;
 // gaze_source.kind (schema 7) or, in an earlier log, the kind its `gaze` names
 // (study_config.h gaze_source_kind_of_spec: the spec the session ran with, which every schema
 // logs), then each resumed run's. Empty when no run's source can be told.
-std::vector<GazeSourceKind> session_gaze_kinds(const nlohmann::json& header, const std::vector<SessionResumedEvent>& resumes);
+std::vector<GazeSourceKind> session_gaze_kinds(const nlohmann::json& header,
+                                               const std::vector<SessionResumedEvent>& resumes);
 // "tracker", "tracker+mouse" (several runs, several kinds); "" for none.
 std::string gaze_kinds_text(const std::vector<GazeSourceKind>& kinds);
 
@@ -208,8 +209,8 @@ struct BreakEvent {
   static constexpr const char* rest = "rest";
   static constexpr const char* attention_check = "attention_check";
   EventStamp stamp;
-  std::string reason;       // rest, attention_check
-  std::optional<int> trial; // attention-check breaks
+  std::string reason;        // rest, attention_check
+  std::optional<int> trial;  // attention-check breaks
   double start_s = 0.0, duration_s = 0.0;
   bool operator==(const BreakEvent&) const = default;
 };
@@ -226,7 +227,7 @@ struct TrialStartEvent {
   std::optional<bool> reference_first;        // 2afc, pair, rating
   std::optional<bool> ramp_toward_reference;  // ramp
   std::optional<int> slider_start;            // slider
-  bool practice = false;  // a practice trial: shown and logged, never analysed (written only when true)
+  bool practice = false;     // a practice trial: shown and logged, never analysed (written only when true)
   std::optional<int> track;  // an adaptive trial: its track (StudyPlan::tracks)
   bool operator==(const TrialStartEvent&) const = default;
 };
@@ -259,7 +260,7 @@ struct ResponseEvent {
   static constexpr const char* kind = "response";
   EventStamp stamp;
   int trial = 0, step = 0;
-  std::string answer, key;  // answer "" after a timeout
+  std::string answer, key;     // answer "" after a timeout
   std::optional<double> rt_s;  // the writer always writes it; nullopt: a log without it (unknown, not 0)
   bool operator==(const ResponseEvent&) const = default;
 };
@@ -297,9 +298,9 @@ struct ExcludedEvent {
 
 // One target of an eye-tracker validation (protocols/gaze/tracker_validation.h).
 struct ValidationTarget {
-  double x_px = 0.0, y_px = 0.0;   // the target's centre
-  int samples = 0;                 // distinct gaze samples while it was measured (after settle_s)
-  int valid_samples = 0;           // of those, valid ones
+  double x_px = 0.0, y_px = 0.0;  // the target's centre
+  int samples = 0;                // distinct gaze samples while it was measured (after settle_s)
+  int valid_samples = 0;          // of those, valid ones
   // Those samples' positions as measured (rounded to 0.01 px), null for an invalid one: the figures
   // below can be computed again from the log.
   std::vector<std::optional<std::array<double, 2>>> gaze;
@@ -311,13 +312,13 @@ struct ValidationTarget {
 // One attempt at validating the eye tracker: before the first trial of a run, after breaks.
 struct TrackerValidationEvent {
   static constexpr const char* kind = "tracker_validation";
-  static constexpr const char* start = "start";      // before the first trial of a new session
-  static constexpr const char* resumed = "resumed";  // before the first trial of a resumed one
-  static constexpr const char* rest = "rest";        // after a rest between blocks
+  static constexpr const char* start = "start";        // before the first trial of a new session
+  static constexpr const char* resumed = "resumed";    // before the first trial of a resumed one
+  static constexpr const char* rest = "rest";          // after a rest between blocks
   static constexpr const char* after_break = "break";  // after an attention-check break
   EventStamp stamp;
   std::string reason;
-  int attempt = 1;                 // 1, 2, ... until one passes or max_attempts
+  int attempt = 1;  // 1, 2, ... until one passes or max_attempts
   double start_s = 0.0;
   std::vector<ValidationTarget> targets;  // in the order shown
   std::optional<double> accuracy_deg;     // the targets' means; null when a target had too little gaze
@@ -388,10 +389,10 @@ SessionEndEvent parse_session_end(const nlohmann::json& json, FieldCheck check =
 SealEvent parse_seal(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);
 
 // Any event of a log.
-using LogEvent = std::variant<SessionHeaderEvent, SessionResumedEvent, InstructionsEvent, BlockStartEvent, BreakEvent,
-                              TrialStartEvent, StimulusEvent, ResponseEvent, SliderSavedEvent, AttentionCheckEvent,
-                              TrialEndEvent, ExcludedEvent, TrackerValidationEvent, SessionPausedEvent, SessionEndEvent,
-                              SealEvent>;
+using LogEvent =
+    std::variant<SessionHeaderEvent, SessionResumedEvent, InstructionsEvent, BlockStartEvent, BreakEvent,
+                 TrialStartEvent, StimulusEvent, ResponseEvent, SliderSavedEvent, AttentionCheckEvent, TrialEndEvent,
+                 ExcludedEvent, TrackerValidationEvent, SessionPausedEvent, SessionEndEvent, SealEvent>;
 nlohmann::json to_json(const LogEvent& event);
 // By its "event"; an unknown or missing kind is an InputError.
 LogEvent parse_log_event(const nlohmann::json& json, FieldCheck check = FieldCheck::strict);

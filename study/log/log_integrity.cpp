@@ -43,9 +43,12 @@ std::optional<LabKey> read_optional_lab_key(const std::string& path, const std::
 
 const char* log_status_name(LogStatus status) {
   switch (status) {
-    case LogStatus::sealed: return "sealed";
-    case LogStatus::unsealed: return "unsealed";
-    case LogStatus::broken: return "broken";
+    case LogStatus::sealed:
+      return "sealed";
+    case LogStatus::unsealed:
+      return "unsealed";
+    case LogStatus::broken:
+      return "broken";
   }
   return "broken";
 }
@@ -56,10 +59,12 @@ std::string LogIntegrity::describe() const {
   switch (status) {
     case LogStatus::sealed:
       if (!keyed) return "sealed (no lab key: detects accidents and edits, not a forger who rewrites the chain)";
-      return mac_checked ? "sealed (keyed, every MAC verified)" : std::string("sealed (keyed; ") + macs_not_checked_note + ")";
+      return mac_checked ? "sealed (keyed, every MAC verified)"
+                         : std::string("sealed (keyed; ") + macs_not_checked_note + ")";
     case LogStatus::unsealed:
       return "unsealed (" + reason + ")" + (macs_not_checked() ? std::string("; keyed, ") + macs_not_checked_note : "");
-    case LogStatus::broken: return "broken at line " + std::to_string(line) + ": " + reason;
+    case LogStatus::broken:
+      return "broken at line " + std::to_string(line) + ": " + reason;
   }
   return reason;
 }

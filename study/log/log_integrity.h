@@ -36,11 +36,11 @@ const char* log_status_name(LogStatus status);
 
 struct LogIntegrity {
   LogStatus status = LogStatus::unsealed;
-  int line = 0;             // broken: the first line found wrong
-  std::string reason;       // broken or unsealed: why, in words
+  int line = 0;        // broken: the first line found wrong
+  std::string reason;  // broken or unsealed: why, in words
   int schema_version = 0;
-  bool keyed = false;       // the header names a lab key (lab_key_id)
-  bool mac_checked = false; // keyed and the key was given: every event's MAC verified
+  bool keyed = false;        // the header names a lab key (lab_key_id)
+  bool mac_checked = false;  // keyed and the key was given: every event's MAC verified
   // Keyed, but read without the key: what only the key proves is unproven (said so by every reader
   // that calls such a log sealed or unsealed; it stays usable).
   bool macs_not_checked() const;

@@ -115,8 +115,12 @@ void LogLines::check_value(simdjson::ondemand::value value, int depth, nlohmann:
           if (number.get_int64() >= 0) *out = static_cast<uint64_t>(number.get_int64());
           else *out = number.get_int64();
           return;
-        case simdjson::ondemand::number_type::unsigned_integer: *out = number.get_uint64(); return;
-        case simdjson::ondemand::number_type::floating_point_number: *out = number.get_double(); return;
+        case simdjson::ondemand::number_type::unsigned_integer:
+          *out = number.get_uint64();
+          return;
+        case simdjson::ondemand::number_type::floating_point_number:
+          *out = number.get_double();
+          return;
       }
       return;
     }
@@ -172,7 +176,8 @@ void EventChain::line(LogLines& lines, std::optional<int64_t> seq, std::optional
     // Fast: the line's own text with its chain (and mac) cut out, as the writer hashed it.
     std::string expected;
     const std::string_view text = lines.text();
-    if (cut_member(text, chain_member, digits, scratch_) && (!has_mac || cut_member(scratch_, mac_member, 64, scratch_mac_)))
+    if (cut_member(text, chain_member, digits, scratch_) &&
+        (!has_mac || cut_member(scratch_, mac_member, 64, scratch_mac_)))
       expected = chain_of_text(chain_, has_mac ? scratch_mac_ : scratch_, schema_version);
     if (expected != *recorded_chain) {
       // A line not in the writer's canonical form: its canonical text.

@@ -89,7 +89,7 @@ class EventChain {
   void line(LogLines& lines, std::optional<int64_t> seq, std::optional<std::string_view> recorded_chain, bool has_mac,
             int schema_version, const nlohmann::json* event = nullptr);
   int first_error_line() const { return first_error_line_; }  // 0 while every line holds
-  const std::string& last_chain() const { return chain_; }     // of the last line checked ("" before any)
+  const std::string& last_chain() const { return chain_; }    // of the last line checked ("" before any)
   // The header's chain: it commits the header's whole text (study, participant, seeds, config, start
   // time, device...), so it names the session: two logs whose first lines have the same chain are
   // logs of one session. "" when the header's own chain does not hold.

@@ -27,7 +27,8 @@ bool make_real_folder(const fs::path& folder, const std::string& what) {
   struct stat status {};
   if (::lstat(folder.c_str(), &status) != 0) throw FileError(folder.string(), "reading the " + what + " folder", errno);
   if (S_ISLNK(status.st_mode))
-    throw InputError(folder.string() + ": the " + what + " folder is a symbolic link (expected a real folder inside the results folder)");
+    throw InputError(folder.string() + ": the " + what +
+                     " folder is a symbolic link (expected a real folder inside the results folder)");
   if (!S_ISDIR(status.st_mode)) throw InputError(folder.string() + ": not a folder (expected the " + what + " folder)");
   if (made) fsync_directory(folder.parent_path());
   return made;
@@ -67,8 +68,8 @@ void ParticipantLock::acquire(const fs::path& results_dir, const std::string& st
   // (remembered, so that a failed start can take them away again).
   std::vector<fs::path> missing;
   std::error_code error;
-  for (fs::path folder = fs::absolute(results_dir).lexically_normal(); !folder.empty() && !fs::exists(fs::symlink_status(folder, error));
-       folder = folder.parent_path()) {
+  for (fs::path folder = fs::absolute(results_dir).lexically_normal();
+       !folder.empty() && !fs::exists(fs::symlink_status(folder, error)); folder = folder.parent_path()) {
     missing.push_back(folder);
     if (folder == folder.parent_path()) break;
   }
@@ -97,7 +98,8 @@ void ParticipantLock::acquire(const fs::path& results_dir, const std::string& st
                          "); nothing was changed");
       throw FileError(lock_path_.string(), "locking the participant's folder", reason);
     }
-    struct stat opened {}, named {};
+    struct stat opened {
+    }, named{};
     if (::fstat(fd, &opened) == 0 && ::lstat(lock_path_.c_str(), &named) == 0 && opened.st_ino == named.st_ino &&
         opened.st_dev == named.st_dev) {
       fd_ = fd;

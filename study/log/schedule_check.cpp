@@ -27,13 +27,19 @@ const std::string no_answer;
 
 LoggedStart logged_start(const RecordedTrial& trial) {
   const TrialStartEvent& start = trial.start;
-  return {trial.index, trial.line, &start.condition, start.level, &start.sequence, start.attention_check, start.practice,
-          start.track, start.reference_first, trial.responses.empty() ? nullptr : &trial.responses.front().answer};
+  return {trial.index,           trial.line,
+          &start.condition,      start.level,
+          &start.sequence,       start.attention_check,
+          start.practice,        start.track,
+          start.reference_first, trial.responses.empty() ? nullptr : &trial.responses.front().answer};
 }
 
 LoggedStart logged_start(const ScannedTrial& trial) {
-  return {trial.index, trial.line, &trial.condition, trial.level, &trial.sequence, trial.attention_check, trial.practice,
-          trial.track, trial.reference_first, trial.answers.empty() ? nullptr : &trial.answers.front()};
+  return {trial.index,           trial.line,
+          &trial.condition,      trial.level,
+          &trial.sequence,       trial.attention_check,
+          trial.practice,        trial.track,
+          trial.reference_first, trial.answers.empty() ? nullptr : &trial.answers.front()};
 }
 
 ScheduleCheck check_starts(const std::vector<LoggedStart>& logged, const StudyPlan& plan, bool keep_presented) {
@@ -45,7 +51,9 @@ ScheduleCheck check_starts(const std::vector<LoggedStart>& logged, const StudyPl
   };
   // Whether the schedule runs a planned trial now (a trial of constant stimuli always; an adaptive
   // one unless its track has stopped), without copying it.
-  const auto runs = [&](const Trial& planned) { return planned.track < 0 || check.progress.presented(planned).has_value(); };
+  const auto runs = [&](const Trial& planned) {
+    return planned.track < 0 || check.progress.presented(planned).has_value();
+  };
   const int trial_count = static_cast<int>(plan.trials.size());
   int next = 0;  // the next schedule index to account for
   for (const LoggedStart& start : logged) {
@@ -82,10 +90,11 @@ ScheduleCheck check_starts(const std::vector<LoggedStart>& logged, const StudyPl
                          ") is not the schedule's (" + (track ? std::to_string(*track) : "none") + ")");
     if (*start.condition != presented->condition || *start.sequence != presented->sequence || level_differs ||
         start.attention_check != presented->attention_check || start.practice != presented->practice)
-      differs(start, where + ": trial_start (" + *start.condition + ", level " + level_text(start.level) + ", sequence " +
-                         nlohmann::json(*start.sequence).dump() + ") differs from the schedule rebuilt from the header (" +
-                         presented->condition + ", level " + level_text(presented->level) + ", sequence " +
-                         nlohmann::json(presented->sequence).dump() + ")");
+      differs(start, where + ": trial_start (" + *start.condition + ", level " + level_text(start.level) +
+                         ", sequence " + nlohmann::json(*start.sequence).dump() +
+                         ") differs from the schedule rebuilt from the header (" + presented->condition + ", level " +
+                         level_text(presented->level) + ", sequence " + nlohmann::json(presented->sequence).dump() +
+                         ")");
     check.progress.record(planned, start.first_answer ? *start.first_answer : no_answer);
   }
   check.next_trial = next;

@@ -17,14 +17,14 @@ namespace fovlab {
 
 struct ScheduleCheck {
   explicit ScheduleCheck(const StudyPlan& plan) : progress(plan) {}  // nothing checked yet
-  AdaptiveProgress progress;              // every complete trial's answer folded in
-  std::vector<std::string> differences;   // "trial N: what differs", in index order
-  std::vector<int> difference_lines;      // of each difference: the log line of the trial_start it names
-  int trials_checked = 0;                 // the log's complete trials
+  AdaptiveProgress progress;                                         // every complete trial's answer folded in
+  std::vector<std::string> differences;                              // "trial N: what differs", in index order
+  std::vector<int> difference_lines;  // of each difference: the log line of the trial_start it names
+  int trials_checked = 0;             // the log's complete trials
   // Each of the trials as the schedule presents it (its level and sequence chosen); none for a
   // trial outside the schedule or one its track skips. Empty unless asked for (keep_presented).
   std::vector<std::optional<Trial>> presented;
-  int next_trial = 0;                     // after the last complete trial
+  int next_trial = 0;  // after the last complete trial
   // Every trial from next_trial on is skipped (its track has stopped): nothing is left to run.
   bool schedule_done = false;
 };
@@ -33,7 +33,8 @@ struct ScheduleCheck {
 // run nor skipped by its track), a trial of a track that had stopped, and a trial_start
 // whose condition, level, sequence, attention check or practice flag is not the schedule's.
 // `keep_presented`: fill ScheduleCheck::presented (resume and replay use it; a copy of every trial).
-ScheduleCheck check_log_against_schedule(const SessionRecord& record, const StudyPlan& plan, bool keep_presented = true);
+ScheduleCheck check_log_against_schedule(const SessionRecord& record, const StudyPlan& plan,
+                                         bool keep_presented = true);
 ScheduleCheck check_log_against_schedule(const std::vector<ScannedTrial>& trials, const StudyPlan& plan,
                                          bool keep_presented = true);
 

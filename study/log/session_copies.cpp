@@ -17,8 +17,9 @@ bool in_own_folder(const SessionLogIdentity& log) {
 }
 
 size_t common_lines(const std::vector<std::string>& a, const std::vector<std::string>& b) {
-  return static_cast<size_t>(std::mismatch(a.begin(), a.begin() + static_cast<long>(std::min(a.size(), b.size())), b.begin()).first -
-                             a.begin());
+  return static_cast<size_t>(
+      std::mismatch(a.begin(), a.begin() + static_cast<long>(std::min(a.size(), b.size())), b.begin()).first -
+      a.begin());
 }
 
 }  // namespace
@@ -36,8 +37,7 @@ std::vector<SessionCopy> find_session_copies(const std::vector<SessionLogIdentit
     for (size_t index : members) {
       try {
         chains[index] = scan_line_chains(logs[index].path);
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
     std::erase_if(members, [&](size_t index) { return !chains.count(index); });
     if (members.size() < 2) continue;

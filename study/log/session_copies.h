@@ -21,19 +21,20 @@ namespace fovlab {
 // What is compared of each log: its path and what either reader says of it.
 struct SessionLogIdentity {
   std::string path;
-  std::string session;       // the header's chain; "" when it does not hold (compared with none)
-  std::string participant;   // the header's
-  int lines = 0;             // complete lines
+  std::string session;      // the header's chain; "" when it does not hold (compared with none)
+  std::string participant;  // the header's
+  int lines = 0;            // complete lines
   int first_chain_error_line = 0;
 };
 
 struct SessionCopy {
   enum class Kind { copy, diverged };
   Kind kind = Kind::copy;
-  size_t log = 0;       // the log this is about (an index into the logs given)
-  size_t other = 0;     // the log it is a copy of, or parts from
-  int line = 0;         // diverged: the first line where the two differ
-  std::string reason;   // "a copy of OTHER (the same session)"; "the same session as OTHER ..., but the logs part at line N: ..."
+  size_t log = 0;    // the log this is about (an index into the logs given)
+  size_t other = 0;  // the log it is a copy of, or parts from
+  int line = 0;      // diverged: the first line where the two differ
+  std::string
+      reason;  // "a copy of OTHER (the same session)"; "the same session as OTHER ..., but the logs part at line N: ..."
 };
 
 // Every copy and every divergence among `logs`, at most one entry a log (a copy's first). Logs of

@@ -38,7 +38,8 @@ void check_session_header(const nlohmann::json& first_event, const std::string& 
   // untrusted as any file, so they obey the config's rules before any path is made from them.
   const std::string study = text_of(first_event, k::study);
   if (!is_valid_study_name(study))
-    fail("session_header: study \"" + study.substr(0, 80) + "\" is not a study name (expected 1-64 letters, digits, '_', '-' or '.', not starting with '.' or '-')");
+    fail("session_header: study \"" + study.substr(0, 80) +
+         "\" is not a study name (expected 1-64 letters, digits, '_', '-' or '.', not starting with '.' or '-')");
   try {
     check_participant_id(text_of(first_event, k::participant));
   } catch (const InputError& error) {
@@ -77,7 +78,8 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
     if (const std::string wrong = check_log_field_types(log.events[i]); !wrong.empty()) fail(i, wrong);
     const auto mac = log.events[i].find(k::mac);
     integrity.mac(text_of(log.events[i], k::chain),
-                  mac != log.events[i].end() && mac->is_string() ? std::optional<std::string>(mac->get<std::string>()) : std::nullopt,
+                  mac != log.events[i].end() && mac->is_string() ? std::optional<std::string>(mac->get<std::string>())
+                                                                 : std::nullopt,
                   log.line_numbers[i]);
   }
 
@@ -94,8 +96,9 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
     if (const auto t = event.find(k::t); t != event.end() && t->is_number())
       record.last_time_s = std::max(record.last_time_s, t->get<double>());
     const auto trial_field = event.find(k::trial);
-    const std::optional<int> trial_index =
-        trial_field != event.end() && trial_field->is_number_integer() ? std::optional<int>(trial_field->get<int>()) : std::nullopt;
+    const std::optional<int> trial_index = trial_field != event.end() && trial_field->is_number_integer()
+                                               ? std::optional<int>(trial_field->get<int>())
+                                               : std::nullopt;
     if (kind == TrialStartEvent::kind) {
       if (!trial_index) fail(i, "trial_start: trial missing (expected the trial index)");
       RecordedTrial trial;
@@ -117,7 +120,8 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
         record.resumes.push_back(parse_session_resumed(event, FieldCheck::lenient));
       }
       if (kind == BlockStartEvent::kind) record.blocks.push_back(parse_block_start(event, FieldCheck::lenient));
-      if (kind == TrackerValidationEvent::kind) record.validations.push_back(parse_tracker_validation(event, FieldCheck::lenient));
+      if (kind == TrackerValidationEvent::kind)
+        record.validations.push_back(parse_tracker_validation(event, FieldCheck::lenient));
       continue;
     }
     RecordedTrial* open = trials.open_for(trial_index);
@@ -129,7 +133,9 @@ SessionRecord build_session_record(const EventLogFile& log, const LabKey* lab_ke
     if (kind == BreakEvent::kind) open->breaks.push_back(parse_break(event, FieldCheck::lenient));
     if (kind == TrialEndEvent::kind) {
       open->end = parse_trial_end(event, FieldCheck::lenient);
-      if (!trials.end()) fail(i, "trial_end: trial " + std::to_string(*trial_index) + " is complete twice in this log (forged or spliced)");
+      if (!trials.end())
+        fail(i,
+             "trial_end: trial " + std::to_string(*trial_index) + " is complete twice in this log (forged or spliced)");
     }
   }
   record.incomplete_trial = trials.incomplete_index();

@@ -18,31 +18,31 @@ namespace fovlab {
 // (check_log_field_types) are read leniently: a value of the wrong type there is left at its default.
 struct RecordedTrial {
   int index = 0;
-  int line = 0;                            // of its trial_start
+  int line = 0;  // of its trial_start
   TrialStartEvent start;
-  std::vector<StimulusEvent> stimuli;      // in order
-  std::vector<ResponseEvent> responses;    // in order
+  std::vector<StimulusEvent> stimuli;    // in order
+  std::vector<ResponseEvent> responses;  // in order
   std::optional<AttentionCheckEvent> attention_check;
   std::vector<SliderSavedEvent> slider_saved;  // slider trials: one
-  std::vector<BreakEvent> breaks;          // attention-check breaks
+  std::vector<BreakEvent> breaks;              // attention-check breaks
   TrialEndEvent end;
 };
 
 struct SessionRecord {
-  nlohmann::json header;                 // the first event (session_header), as logged
-  std::vector<BlockStartEvent> blocks;   // every block_start, in log order
+  nlohmann::json header;                            // the first event (session_header), as logged
+  std::vector<BlockStartEvent> blocks;              // every block_start, in log order
   std::vector<TrackerValidationEvent> validations;  // every eye-tracker validation attempt, in log order
   std::vector<SessionResumedEvent> resumes;         // every session_resumed, in log order (their gaze sources)
-  std::vector<RecordedTrial> trials;     // complete trials, ordered by index, one per index
-  int attention_errors = 0;              // wrong attention-check answers in complete trials
+  std::vector<RecordedTrial> trials;                // complete trials, ordered by index, one per index
+  int attention_errors = 0;                         // wrong attention-check answers in complete trials
   bool excluded = false;
-  bool ended = false;                    // a session_end event exists
+  bool ended = false;  // a session_end event exists
   std::string end_reason;
-  int end_line = 0;                      // of the last session_end
-  int next_trial = 0;                    // the first trial index with no complete record
-  double last_time_s = 0.0;              // the latest session time in the log
-  int incomplete_trial = -1;             // a trial started but not finished at the end of the log
-  LogIntegrity integrity;                // sealed, unsealed or broken (log_integrity.h)
+  int end_line = 0;           // of the last session_end
+  int next_trial = 0;         // the first trial index with no complete record
+  double last_time_s = 0.0;   // the latest session time in the log
+  int incomplete_trial = -1;  // a trial started but not finished at the end of the log
+  LogIntegrity integrity;     // sealed, unsealed or broken (log_integrity.h)
 };
 
 // Throws InputError "path:LINE: ..." when the first event is not a session header of a schema this

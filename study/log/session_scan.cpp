@@ -29,13 +29,13 @@ namespace lf = log_fields;
 // A value the scan read of a key of log_fields::scanned_keys(), as its line type gives it.
 struct LineValue {
   bool present = false;
-  int integer = 0;                                // small_int
-  bool boolean = false;                           // boolean
-  std::optional<double> number;                   // number_or_null
-  std::string_view text;                          // string
-  std::vector<int> integers;                      // small_int_array
-  std::vector<std::optional<double>> numbers;     // number_or_null_array
-  std::vector<double> doubles;                    // numbers_lenient
+  int integer = 0;                             // small_int
+  bool boolean = false;                        // boolean
+  std::optional<double> number;                // number_or_null
+  std::string_view text;                       // string
+  std::vector<int> integers;                   // small_int_array
+  std::vector<std::optional<double>> numbers;  // number_or_null_array
+  std::vector<double> doubles;                 // numbers_lenient
 };
 
 // What the scan reads of one event: the envelope, and the value of every scanned key (by its
@@ -96,9 +96,15 @@ void read_value(LogLines& lines, simdjson::ondemand::value value, lf::LineType t
   // given twice: the last counts, as in LogLines::whole_event).
   out.present = true;
   switch (type) {
-    case lf::LineType::small_int: out.integer = small_int(value); break;
-    case lf::LineType::string: out.text = value.get_string(); break;
-    case lf::LineType::boolean: out.boolean = value.get_bool(); break;
+    case lf::LineType::small_int:
+      out.integer = small_int(value);
+      break;
+    case lf::LineType::string:
+      out.text = value.get_string();
+      break;
+    case lf::LineType::boolean:
+      out.boolean = value.get_bool();
+      break;
     case lf::LineType::number_or_null:
       out.number.reset();
       if (!value.is_null()) out.number = double(value.get_double());
@@ -142,7 +148,8 @@ void decode(LogLines& lines, EventFields& fields) {
       else lines.check_value(value, 2);
     } else if (key == log_keys::chain || key == log_keys::mac) {
       std::string_view text;  // not a string: left out (the chain, or the MAC, then does not hold)
-      if (value.get_string().get(text) == simdjson::SUCCESS) (key == log_keys::chain ? fields.chain : fields.mac) = text;
+      if (value.get_string().get(text) == simdjson::SUCCESS)
+        (key == log_keys::chain ? fields.chain : fields.mac) = text;
       else lines.check_value(value, 2);
     } else if (const int index = lf::scanned_key_index(key); index >= 0) {
       read_value(lines, value, scanned[index].type, fields.values[index]);
@@ -164,7 +171,9 @@ void assign(std::string& out, LineValue& value) { out = value.text; }
 void assign(std::optional<std::string>& out, LineValue& value) { out = std::string(value.text); }
 void assign(std::vector<int>& out, LineValue& value) { out = std::move(value.integers); }
 void assign(std::vector<double>& out, LineValue& value) { out = std::move(value.doubles); }
-void assign(std::optional<std::vector<std::optional<double>>>& out, LineValue& value) { out = std::move(value.numbers); }
+void assign(std::optional<std::vector<std::optional<double>>>& out, LineValue& value) {
+  out = std::move(value.numbers);
+}
 
 // The event of the line as the scan reads it: the fields its table marks typed or kept (the
 // others at their defaults), as the full reader's parse_* gives them. Once a line: it moves the
@@ -173,16 +182,15 @@ template <typename Event>
 Event scanned_event(EventFields& fields) {
   static const std::vector<int> indices = [] {  // each row's scanned key (-1: not scanned)
     std::vector<int> found;
-    lf::for_each_field<Event>([&](const auto& row) {
-      found.push_back(row.scan == lf::Scan::no ? -1 : lf::scanned_key_index(row.key));
-    });
+    lf::for_each_field<Event>(
+        [&](const auto& row) { found.push_back(row.scan == lf::Scan::no ? -1 : lf::scanned_key_index(row.key)); });
     return found;
   }();
   Event event;
   size_t row_number = 0;
   lf::for_each_field<Event>([&](const auto& row) {
     const int index = indices[row_number++];
-    if constexpr (requires(LineValue& value) { assign(event.*row.member, value); }) {
+    if constexpr (requires(LineValue & value) { assign(event.*row.member, value); }) {
       if (index >= 0 && fields.values[index].present) assign(event.*row.member, fields.values[index]);
     } else {
       if (index >= 0) throw std::logic_error(std::string("session_scan: no reading for the scanned field ") + row.key);
@@ -261,7 +269,8 @@ std::vector<std::string> scan_line_chains(const std::string& path) {
   return chains;
 }
 
-ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages, const LabKey* lab_key) {
+ScannedSession scan_session_bytes(const std::string& bytes, const std::string& path_for_messages,
+                                  const LabKey* lab_key) {
   std::string padded;
   padded.reserve(bytes.size() + simdjson::SIMDJSON_PADDING);
   padded = bytes;
@@ -290,7 +299,8 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     try {
       decode(lines, fields);
     } catch (const simdjson::simdjson_error& error) {
-      const bool wrong_type = error.error() == simdjson::INCORRECT_TYPE || error.error() == simdjson::NUMBER_OUT_OF_RANGE;
+      const bool wrong_type =
+          error.error() == simdjson::INCORRECT_TYPE || error.error() == simdjson::NUMBER_OUT_OF_RANGE;
       if (!wrong_type) lines.not_an_event();
       fail(std::string("an event has a field of the wrong type (") + error.what() + ")");
     }
@@ -381,7 +391,8 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (kind == TrialEndEvent::kind && !trials.end())
       fail("trial_end: trial " + std::to_string(*fields.trial) + " is complete twice in this log (forged or spliced)");
   }
-  if (lines.number() == 0) throw InputError(path + ":1: the log has no complete event (expected a session_header first)");
+  if (lines.number() == 0)
+    throw InputError(path + ":1: the log has no complete event (expected a session_header first)");
   session.line_count = lines.number();
   session.first_chain_error_line = chain.first_error_line();
   session.header_chain = chain.header_chain();

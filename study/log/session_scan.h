@@ -24,13 +24,13 @@ namespace fovlab {
 
 struct ScannedTrial {
   int index = 0;
-  int line = 0;                           // of its trial_start
+  int line = 0;  // of its trial_start
   int block = 0;
   std::string condition;
   std::string variant;
   std::optional<double> level;
   bool attention_check = false;
-  std::optional<bool> reference_first;    // as logged (none: the protocol has no interval order)
+  std::optional<bool> reference_first;  // as logged (none: the protocol has no interval order)
   bool ramp_toward_reference = true;
   bool practice = false;                  // a practice trial (never analysed)
   std::optional<int> track;               // an adaptive trial: its track in the schedule
@@ -52,23 +52,23 @@ struct ScannedTrial {
 
 struct ScannedSession {
   std::string path;
-  nlohmann::json header;                  // the first event, whole
-  std::map<int, std::string> block_names; // block index -> name, or its scene when unnamed
-  std::vector<ScannedTrial> trials;       // complete trials, ordered by index, one per index
-  int attention_errors = 0;               // wrong attention-check answers in complete trials
+  nlohmann::json header;                   // the first event, whole
+  std::map<int, std::string> block_names;  // block index -> name, or its scene when unnamed
+  std::vector<ScannedTrial> trials;        // complete trials, ordered by index, one per index
+  int attention_errors = 0;                // wrong attention-check answers in complete trials
   bool excluded = false;
   bool ended = false;
-  std::string end_reason;                 // of the last session_end ("completed", "excluded")
-  int end_line = 0;                       // its line
-  int incomplete_trial = -1;              // a trial started but not finished at the end of the log
-  size_t torn_tail_bytes = 0;             // bytes after the last newline (never read)
+  std::string end_reason;                           // of the last session_end ("completed", "excluded")
+  int end_line = 0;                                 // its line
+  int incomplete_trial = -1;                        // a trial started but not finished at the end of the log
+  size_t torn_tail_bytes = 0;                       // bytes after the last newline (never read)
   std::vector<TrackerValidationEvent> validations;  // every eye-tracker validation attempt, in log order
   std::vector<SessionResumedEvent> resumes;         // every session_resumed, in log order (their gaze sources)
-  std::vector<std::string> present_clocks; // the stimulus events' present_clock values, first seen first
-  int first_chain_error_line = 0;         // 0 when every seq/chain is consistent
-  int line_count = 0;                     // complete lines
-  std::string header_chain;               // the session's identity (log_lines.h EventChain::header_chain)
-  LogIntegrity integrity;                 // sealed, unsealed or broken (log_integrity.h)
+  std::vector<std::string> present_clocks;          // the stimulus events' present_clock values, first seen first
+  int first_chain_error_line = 0;                   // 0 when every seq/chain is consistent
+  int line_count = 0;                               // complete lines
+  std::string header_chain;                         // the session's identity (log_lines.h EventChain::header_chain)
+  LogIntegrity integrity;                           // sealed, unsealed or broken (log_integrity.h)
 };
 
 // Throws InputError "path:LINE: ..." for what read_event_log and read_session_record reject (a line

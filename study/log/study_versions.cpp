@@ -43,7 +43,8 @@ std::optional<int> study_version_of_folder_name(const std::string& study, const 
   if (!folder_name.starts_with(prefix)) return std::nullopt;
   const std::string digits = folder_name.substr(prefix.size());
   if (digits.empty() || digits.size() > 6 || digits.front() == '0' ||
-      !std::all_of(digits.begin(), digits.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }))
+      !std::all_of(digits.begin(), digits.end(),
+                   [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }))
     return std::nullopt;
   const int version = std::stoi(digits);
   return version >= 2 ? std::optional<int>(version) : std::nullopt;
@@ -55,7 +56,8 @@ std::map<int, std::string> study_version_folders(const fs::path& results_dir, co
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(results_dir, error)) {
     const std::string name = entry.path().filename().string();
-    if (const std::optional<int> version = study_version_of_folder_name(study, name); version && is_real_folder(entry.path()))
+    if (const std::optional<int> version = study_version_of_folder_name(study, name);
+        version && is_real_folder(entry.path()))
       folders.emplace(*version, name);
   }
   return folders;
@@ -97,9 +99,11 @@ std::string choose_study_folder(const fs::path& results_dir, const StudyConfig& 
   std::map<std::string, std::map<std::string, int>> versions_of;  // folder -> its versions
   for (const auto& [version, folder] : folders) {
     versions_of[folder] = study_folder_versions(results_dir / folder, study);
-    if (own_folder.empty() && sessions_of_other_versions(versions_of[folder], config.content_hash) == 0) own_folder = folder;
+    if (own_folder.empty() && sessions_of_other_versions(versions_of[folder], config.content_hash) == 0)
+      own_folder = folder;
   }
-  if (own_folder.empty()) own_folder = study_version_folder_name(study, folders.empty() ? 1 : std::max(2, folders.rbegin()->first + 1));
+  if (own_folder.empty())
+    own_folder = study_version_folder_name(study, folders.empty() ? 1 : std::max(2, folders.rbegin()->first + 1));
 
   const std::string base = study_version_folder_name(study, 1);
   std::string chosen;
@@ -117,7 +121,8 @@ std::string choose_study_folder(const fs::path& results_dir, const StudyConfig& 
                        (results_dir / base).string() +
                        " ran (what it says, comments and formatting aside); a new participant would pool two versions "
                        "of the study: restore the config they ran (their logs carry it), or start a new version with "
-                       "--new-version (its sessions go to " + (results_dir / own_folder).string() + ")");
+                       "--new-version (its sessions go to " +
+                       (results_dir / own_folder).string() + ")");
   }
   // A new participant: its ID names one person in every version of the study.
   for (const auto& [version, folder] : folders)

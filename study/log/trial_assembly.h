@@ -32,7 +32,8 @@ class TrialAssembly {
 
   // The complete trials by index.
   std::vector<Trial> take_complete() {
-    std::stable_sort(complete_.begin(), complete_.end(), [](const Trial& a, const Trial& b) { return a.index < b.index; });
+    std::stable_sort(complete_.begin(), complete_.end(),
+                     [](const Trial& a, const Trial& b) { return a.index < b.index; });
     return std::move(complete_);
   }
 

@@ -108,7 +108,8 @@ std::optional<bool> ProtocolRules::in_favour_of_test(std::string_view answer, bo
       if (answer == rating_1 || answer == rating_2) return false;
       return std::nullopt;
     case ProtocolKind::ramp:
-    case ProtocolKind::slider: return std::nullopt;
+    case ProtocolKind::slider:
+      return std::nullopt;
   }
   return std::nullopt;
 }

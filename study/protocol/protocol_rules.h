@@ -28,7 +28,7 @@ inline constexpr std::string_view reference = "reference";  // slider: show the 
 inline constexpr std::string_view save = "save";            // slider: keep the current level
 inline constexpr std::string_view rating_1 = "1";
 inline constexpr std::string_view rating_2 = "2";
-inline constexpr std::string_view rating_3 = "3";           // rating: identical to the reference
+inline constexpr std::string_view rating_3 = "3";  // rating: identical to the reference
 // A ramp step's right answer: the ramp's direction (toward the reference: the quality increased).
 inline std::string_view ramp_correct_answer(bool toward_reference) { return toward_reference ? increased : decreased; }
 }  // namespace answers
@@ -50,7 +50,7 @@ struct ProtocolRules {
   // The answers judge the test against the reference (2afc, pair, rating): an exact binomial test of
   // the share judged like the reference, per condition (docs/analysis.md).
   bool judges_against_reference = false;
-  // pair: either interval may be picked, so the false-alarm rate counts half (seed 001, 4.7).
+  // pair: either interval may be picked, so the false-alarm rate counts half (Polychronakis et al. 2021, 4.7).
   double guess_rate_scale = 1.0;
   std::string_view judged_words;          // "judged identical", ...
   std::string_view threshold_definition;  // where the threshold's definition comes from

@@ -12,8 +12,8 @@ struct SeeProbabilities {
 };
 
 struct ReportProbabilities {
-  double report = 0.0;     // p_report(level)
-  double not_report = 1.0; // 1 - p_report(level) = lapse + (1 - guess - lapse) * (1 - p_see)
+  double report = 0.0;      // p_report(level)
+  double not_report = 1.0;  // 1 - p_report(level) = lapse + (1 - guess - lapse) * (1 - p_see)
 };
 
 SeeProbabilities see_probabilities(const PsychometricModel& model, double level);

@@ -8,9 +8,12 @@ namespace fovlab {
 
 const char* shape_name(PsychometricShape shape) {
   switch (shape) {
-    case PsychometricShape::logistic: return "logistic";
-    case PsychometricShape::weibull: return "weibull";
-    case PsychometricShape::cumulative_normal: return "cumulative_normal";
+    case PsychometricShape::logistic:
+      return "logistic";
+    case PsychometricShape::weibull:
+      return "weibull";
+    case PsychometricShape::cumulative_normal:
+      return "cumulative_normal";
   }
   return "unknown";
 }
@@ -73,13 +76,9 @@ ReportProbabilities report_probabilities(const PsychometricModel& model, double 
 
 }  // namespace detail
 
-double PsychometricModel::p_see(double level) const {
-  return detail::see_probabilities(*this, level).see;
-}
+double PsychometricModel::p_see(double level) const { return detail::see_probabilities(*this, level).see; }
 
-double PsychometricModel::p_report(double level) const {
-  return detail::report_probabilities(*this, level).report;
-}
+double PsychometricModel::p_report(double level) const { return detail::report_probabilities(*this, level).report; }
 
 double visible_degradation(double see_logit) {
   const double a = see_logit;

@@ -30,7 +30,7 @@ struct PsychometricParameters {
 struct PsychometricModel {
   PsychometricShape shape = PsychometricShape::logistic;
   bool rising = true;
-  double guess = 0.0;      // fixed: the rate of reporting a difference where none can be seen
+  double guess = 0.0;  // fixed: the rate of reporting a difference where none can be seen
   PsychometricParameters parameters;
 
   double p_see(double level) const;     // in [0, 1]; Weibull at level <= 0: the limit (0 rising, 1 falling)

@@ -37,7 +37,8 @@ std::optional<Trial> AdaptiveProgress::presented(const Trial& planned) const {
   trial.level = track.grid.at(at);
   trial.condition = condition_name(trial.variant, trial.level);
   const int test = track.grid_stimuli.at(at);
-  trial.sequence = trial.reference_first ? std::vector<int>{trial.reference, test} : std::vector<int>{test, trial.reference};
+  trial.sequence =
+      trial.reference_first ? std::vector<int>{trial.reference, test} : std::vector<int>{test, trial.reference};
   return trial;
 }
 
@@ -47,7 +48,8 @@ void AdaptiveProgress::record(const Trial& planned, const std::string& answer) {
   const AdaptiveTrack& track = plan_->tracks.at(at);
   const bool seen = difference_seen(plan_->config.protocol, answer, planned.reference_first);
   if (const QuestPlus* rule = quests_[at].get()) quest_states_[at] = rule->next(std::move(quest_states_[at]), seen);
-  else staircases_[at] = next_staircase_state(track.staircase, staircases_[at], seen, static_cast<int>(track.grid.size()));
+  else
+    staircases_[at] = next_staircase_state(track.staircase, staircases_[at], seen, static_cast<int>(track.grid.size()));
 }
 
 bool difference_seen(const ProtocolConfig& protocol, const std::string& answer, bool reference_first) {

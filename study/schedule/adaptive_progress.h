@@ -37,10 +37,10 @@ class AdaptiveProgress {
   const QuestPlus* quest(int track) const { return quests_.at(static_cast<size_t>(track)).get(); }
 
  private:
-  const StudyPlan* plan_;  // a pointer: a progress is assignable
-  std::vector<StaircaseState> staircases_;             // per track (unused for QUEST+)
+  const StudyPlan* plan_;                                 // a pointer: a progress is assignable
+  std::vector<StaircaseState> staircases_;                // per track (unused for QUEST+)
   std::vector<std::shared_ptr<const QuestPlus>> quests_;  // per track (null for a staircase); shared by copies
-  std::vector<QuestPlusState> quest_states_;           // per track (unused for a staircase)
+  std::vector<QuestPlusState> quest_states_;              // per track (unused for a staircase)
 };
 
 // Whether a comparison answer says the difference was seen: the answer is against the test

@@ -15,7 +15,8 @@ std::vector<double> spaced(double low, double high, int count, bool logarithmic)
   std::vector<double> values;
   for (int i = 0; i < count; ++i) {
     const double t = count > 1 ? double(i) / double(count - 1) : 0.0;
-    values.push_back(logarithmic ? std::exp(std::log(low) + t * (std::log(high) - std::log(low))) : low + t * (high - low));
+    values.push_back(logarithmic ? std::exp(std::log(low) + t * (std::log(high) - std::log(low)))
+                                 : low + t * (high - low));
   }
   return values;
 }
@@ -56,7 +57,8 @@ std::vector<double> default_quest_slopes(const std::vector<double>& levels, Psyc
   const auto [low, high] = std::minmax_element(levels.begin(), levels.end());
   const double range = *high - *low;
   // The 10 %-90 % transition of p_see is 2 ln 9 / slope (logistic) or 2 * 1.2816 / slope (normal).
-  const double width_times_slope = shape == PsychometricShape::logistic ? 2.0 * std::log(9.0) : 2.0 * 1.2815515655446004;
+  const double width_times_slope =
+      shape == PsychometricShape::logistic ? 2.0 * std::log(9.0) : 2.0 * 1.2815515655446004;
   return spaced(width_times_slope / range, width_times_slope * 20.0 / range, 8, true);
 }
 
@@ -65,7 +67,8 @@ std::vector<double> default_quest_lapses() { return {0.0, 0.02, 0.04}; }
 std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, const std::vector<double>& levels) {
   if (levels.size() < 2) return "levels: expected at least two levels for QUEST+";
   if (levels.size() > kQuestPlusMaxLevels)
-    return "levels: expected at most " + std::to_string(kQuestPlusMaxLevels) + " levels for QUEST+, got " + std::to_string(levels.size());
+    return "levels: expected at most " + std::to_string(kQuestPlusMaxLevels) + " levels for QUEST+, got " +
+           std::to_string(levels.size());
   if (rule.shape == PsychometricShape::weibull && *std::min_element(levels.begin(), levels.end()) <= 0)
     return "shape: a Weibull function needs levels above 0";
   const auto grid_error = [](const char* key, const std::vector<double>& values) -> std::optional<std::string> {
@@ -86,7 +89,8 @@ std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, cons
            format_number(*highest + reach, 6) + " (the levels' range, " + exact_number_text(*lowest) + " to " +
            exact_number_text(*highest) + ", widened by " + format_number(kQuestPlusThresholdReach, 6) +
            " times its span on each side), got " +
-           exact_number_text(rule.thresholds.front() < *lowest - reach ? rule.thresholds.front() : rule.thresholds.back());
+           exact_number_text(rule.thresholds.front() < *lowest - reach ? rule.thresholds.front()
+                                                                       : rule.thresholds.back());
   if (rule.slopes.front() <= 0) return "slopes: expected values above 0";
   if (rule.shape == PsychometricShape::weibull && rule.thresholds.front() <= 0)
     return "thresholds: expected values above 0 (a Weibull function)";
@@ -97,9 +101,10 @@ std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, cons
   if (rule.prior_sd > 0) {
     const std::vector<double> weights = threshold_prior(rule);
     if (*std::max_element(weights.begin(), weights.end()) < 1e-12)
-      return "prior_mean: expected a prior with mass on the threshold grid (" + format_number(rule.thresholds.front(), 6) +
-             " to " + format_number(rule.thresholds.back(), 6) + "); a normal of mean " + format_number(rule.prior_mean, 6) +
-             " and SD " + format_number(rule.prior_sd, 6) + " has none there";
+      return "prior_mean: expected a prior with mass on the threshold grid (" +
+             format_number(rule.thresholds.front(), 6) + " to " + format_number(rule.thresholds.back(), 6) +
+             "); a normal of mean " + format_number(rule.prior_mean, 6) + " and SD " + format_number(rule.prior_sd, 6) +
+             " has none there";
   }
   if (rule.max_trials < 1) return "max_trials: expected 1 or more";
   const double max_entropy_bits = std::log2(double(parameters));
@@ -113,7 +118,8 @@ std::optional<std::string> quest_plus_rule_error(const QuestPlusRule& rule, cons
   return std::nullopt;
 }
 
-QuestPlus::QuestPlus(QuestPlusRule rule, std::vector<double> levels) : rule_(std::move(rule)), levels_(std::move(levels)) {
+QuestPlus::QuestPlus(QuestPlusRule rule, std::vector<double> levels)
+    : rule_(std::move(rule)), levels_(std::move(levels)) {
   parameters_ = rule_.thresholds.size() * rule_.slopes.size() * rule_.lapses.size();
   seen_.resize(levels_.size() * parameters_);
   log_seen_.resize(seen_.size());

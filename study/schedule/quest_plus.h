@@ -24,9 +24,9 @@ namespace fovlab {
 
 struct QuestPlusRule {
   PsychometricShape shape = PsychometricShape::logistic;
-  bool rising = true;               // p_see grows with the level value
-  double guess = 0.0;               // p_report where nothing is seen (the protocol's chance rate)
-  std::vector<double> thresholds;   // the parameter grid, each ascending
+  bool rising = true;              // p_see grows with the level value
+  double guess = 0.0;              // p_report where nothing is seen (the protocol's chance rate)
+  std::vector<double> thresholds;  // the parameter grid, each ascending
   std::vector<double> slopes;
   std::vector<double> lapses;
   // The prior over thresholds: uniform, or (prior_sd > 0) a normal of this mean and SD; uniform
@@ -34,8 +34,9 @@ struct QuestPlusRule {
   double prior_mean = 0.0;
   double prior_sd = 0.0;
   int max_trials = 40;
-  double stop_entropy_bits = 0.0;   // stops once the posterior's entropy is at most this (0: never)
-  double stop_interval_width = 0.0; // stops once the threshold's 95 % credible interval is at most this wide (0: never)
+  double stop_entropy_bits = 0.0;  // stops once the posterior's entropy is at most this (0: never)
+  double stop_interval_width =
+      0.0;  // stops once the threshold's 95 % credible interval is at most this wide (0: never)
   bool operator==(const QuestPlusRule&) const = default;
 };
 
@@ -72,12 +73,12 @@ struct QuestPlusState {
 };
 
 struct QuestPlusEstimate {
-  double threshold_mean = 0.0;    // posterior mean
-  double threshold_lower = 0.0;   // 95 % equal-tailed credible interval on the threshold grid
+  double threshold_mean = 0.0;   // posterior mean
+  double threshold_lower = 0.0;  // 95 % equal-tailed credible interval on the threshold grid
   double threshold_upper = 0.0;
   double slope_mean = 0.0;
   double lapse_mean = 0.0;
-  double entropy_bits = 0.0;      // of the whole posterior
+  double entropy_bits = 0.0;  // of the whole posterior
 };
 
 // A rule tabulated on a level grid: p_report of every (level, parameters) pair.

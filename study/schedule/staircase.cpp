@@ -14,7 +14,8 @@ std::optional<std::string> staircase_rule_error(const StaircaseRule& rule, int g
     if (rule.step_sizes.empty()) return "step_sizes: expected at least one step size";
     for (int step : rule.step_sizes)
       if (step < 1 || step >= grid_size)
-        return "step_sizes: expected grid steps from 1 to " + std::to_string(grid_size - 1) + ", got " + std::to_string(step);
+        return "step_sizes: expected grid steps from 1 to " + std::to_string(grid_size - 1) + ", got " +
+               std::to_string(step);
   } else {
     if (rule.harder_steps < 1 || rule.harder_steps >= grid_size)
       return "harder_steps: expected grid steps from 1 to " + std::to_string(grid_size - 1);

@@ -37,7 +37,8 @@ class PlanBuilder {
     const ParameterLayer none;
     ParameterLayer level_layer;
     if (level) level_layer[config_.levels.parameter] = *level;
-    spec.parameters = parameters_with(method.method, {&method.parameters, variant ? &variant->parameters : &none, &level_layer});
+    spec.parameters =
+        parameters_with(method.method, {&method.parameters, variant ? &variant->parameters : &none, &level_layer});
     fill_display_parameters(spec, method, variant, level.has_value());
     spec.frame_count = config_.stimulus.frame_count();
     spec.frames_per_second = config_.stimulus.frames_per_second;
@@ -65,7 +66,8 @@ class PlanBuilder {
     };
     StimulusDisplay* stimulus_display = display_of(spec.parameters);
     if (!stimulus_display) return;
-    if (!given("display_width_mm")) stimulus_display->display_width_mm = display.width_mm * spec.width_px / display.width_px;
+    if (!given("display_width_mm"))
+      stimulus_display->display_width_mm = display.width_mm * spec.width_px / display.width_px;
     if (!given("display_height_mm"))
       stimulus_display->display_height_mm = display.height_mm * spec.height_px / display.height_px;
     if (!given("viewing_distance_mm")) stimulus_display->viewing_distance_mm = display.viewing_distance_mm;
@@ -92,12 +94,14 @@ class PlanBuilder {
       if (protocol.kind == ProtocolKind::ramp || protocol.kind == ProtocolKind::slider) {
         // The ladder from the level least like the reference to the one most like it.
         std::vector<int> ladder;
-        for (const auto& level : levels) ladder.push_back(add_stimulus(block.scene, stimulus.test, variant, level, false));
+        for (const auto& level : levels)
+          ladder.push_back(add_stimulus(block.scene, stimulus.test, variant, level, false));
         if (!config_.levels.higher_is_better) std::reverse(ladder.begin(), ladder.end());
         for (int repeat = 0; repeat < protocol.repeats; ++repeat) {
           if (protocol.kind == ProtocolKind::slider) {
             Trial trial = base_trial(variant);
-            trial.condition = (trial.variant.empty() ? "" : trial.variant + "/") + std::string(protocol_name(ProtocolKind::slider));
+            trial.condition =
+                (trial.variant.empty() ? "" : trial.variant + "/") + std::string(protocol_name(ProtocolKind::slider));
             trial.sequence = ladder;
             const std::vector<double>& values = variant_levels(config_.levels, variant);
             const auto start = std::find(values.begin(), values.end(), protocol.slider.start_level) - values.begin();
@@ -124,7 +128,8 @@ class PlanBuilder {
           trial.level = level;
           trial.condition = condition_name(trial.variant, level);
           trial.reference_first = protocol.counterbalance ? repeat % 2 == 0 : random.below(2) == 0;
-          trial.sequence = trial.reference_first ? std::vector<int>{reference, test} : std::vector<int>{test, reference};
+          trial.sequence =
+              trial.reference_first ? std::vector<int>{reference, test} : std::vector<int>{test, reference};
           trials.push_back(std::move(trial));
         }
       }
@@ -150,7 +155,8 @@ class PlanBuilder {
       track.kind = procedure.kind;
       track.variant = variant ? variant->name : "";
       track.grid = adaptive_grid(config_.levels, variant);
-      for (double level : track.grid) track.grid_stimuli.push_back(add_stimulus(block.scene, stimulus.test, variant, level, false));
+      for (double level : track.grid)
+        track.grid_stimuli.push_back(add_stimulus(block.scene, stimulus.test, variant, level, false));
       std::vector<int> starts = {0};
       if (procedure.kind == ProcedureConfig::Kind::quest_plus) {
         track.quest = quest_plus_rule(procedure, config_.protocol, config_.levels, track.grid);
@@ -158,7 +164,8 @@ class PlanBuilder {
         track.staircase = procedure.staircase;
         if (!procedure.starts.empty()) starts.clear();
         for (double start : procedure.starts)
-          starts.push_back(static_cast<int>(std::find(track.grid.begin(), track.grid.end(), start) - track.grid.begin()));
+          starts.push_back(
+              static_cast<int>(std::find(track.grid.begin(), track.grid.end(), start) - track.grid.begin()));
       }
       for (int start : starts) {
         track.staircase.start_index = start;
@@ -183,8 +190,8 @@ class PlanBuilder {
     std::vector<int> seen(plan_.tracks.size(), 0);
     for (Trial& trial : trials)
       if (trial.track >= 0)
-        trial.reference_first = config_.protocol.counterbalance ? seen[static_cast<size_t>(trial.track)]++ % 2 == 0
-                                                                : random.below(2) == 0;
+        trial.reference_first =
+            config_.protocol.counterbalance ? seen[static_cast<size_t>(trial.track)]++ % 2 == 0 : random.below(2) == 0;
     return trials;
   }
 
@@ -258,18 +265,19 @@ void check_plan_size(const StudyConfig& config) {
                      " trials planned a participant (a log of them could not be read back); expected fewer blocks, "
                      "variants, levels or [protocol] repeats");
   if (entries > kMaxPlannedSequenceEntries)
-    throw InputError(config.source_path + ": more than " + std::to_string(kMaxPlannedSequenceEntries) +
-                     " presentations planned a participant; expected fewer blocks, variants, levels or [protocol] repeats");
+    throw InputError(
+        config.source_path + ": more than " + std::to_string(kMaxPlannedSequenceEntries) +
+        " presentations planned a participant; expected fewer blocks, variants, levels or [protocol] repeats");
 }
 
 }  // namespace
 
 void check_participant_id(const std::string& participant) {
-  const bool ok = !participant.empty() && participant.size() <= 64 && participant[0] != '-' &&
-                  std::all_of(participant.begin(), participant.end(), [](char c) {
-                    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-                           c == '-';
-                  });
+  const bool ok =
+      !participant.empty() && participant.size() <= 64 && participant[0] != '-' &&
+      std::all_of(participant.begin(), participant.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+      });
   if (!ok)
     throw InputError("--participant: expected 1-64 letters, digits, '_' or '-' (it names a folder), got \"" +
                      participant + "\"");
@@ -347,11 +355,13 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
     const std::vector<std::vector<int>> square = balanced_latin_square(static_cast<int>(block_order.size()));
     const std::optional<int> number = participant_number(participant);
     if (!number)
-      throw InputError("participant \"" + participant + "\": block_order = \"latin_square\" picks each participant's row "
+      throw InputError("participant \"" + participant +
+                       "\": block_order = \"latin_square\" picks each participant's row "
                        "by the number the ID ends with (P001, P002, ...); expected an ID ending in a number");
     block_order = square[static_cast<size_t>((*number + int(square.size()) - 1) % int(square.size()))];
   }
-  const auto add_block = [&plan](const std::string& name, const std::string& scene, std::vector<Trial> trials, bool practice) {
+  const auto add_block = [&plan](const std::string& name, const std::string& scene, std::vector<Trial> trials,
+                                 bool practice) {
     PlannedBlock planned{name, scene, static_cast<int>(plan.trials.size()), static_cast<int>(trials.size()), practice};
     for (Trial& trial : trials) {
       trial.index = static_cast<int>(plan.trials.size());
@@ -371,7 +381,8 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
         if (variant.levels.empty()) continue;
         std::vector<double> kept;
         for (double level : variant.levels)
-          if (std::find(config.practice.levels.begin(), config.practice.levels.end(), level) != config.practice.levels.end())
+          if (std::find(config.practice.levels.begin(), config.practice.levels.end(), level) !=
+              config.practice.levels.end())
             kept.push_back(level);
         if (kept.empty()) kept = {config.levels.higher_is_better ? variant.levels.front() : variant.levels.back()};
         variant.levels = kept;
@@ -382,9 +393,10 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
     int per_repeat = 0;
     const std::vector<const VariantConfig*> variants = tested_variants(practice.stimulus);
     for (const VariantConfig* variant : variants)
-      per_repeat += config.protocol.kind == ProtocolKind::ramp     ? 2
-                    : config.protocol.kind == ProtocolKind::slider ? 1
-                    : std::max<int>(1, static_cast<int>(variant_levels(practice.levels, variant).size()));
+      per_repeat += config.protocol.kind == ProtocolKind::ramp ? 2
+                    : config.protocol.kind == ProtocolKind::slider
+                        ? 1
+                        : std::max<int>(1, static_cast<int>(variant_levels(practice.levels, variant).size()));
     practice.protocol.repeats = (config.practice.trials + per_repeat - 1) / per_repeat;
     practice.protocol.randomise_trials = true;
     BlockConfig block{"practice", config.practice.scene};
@@ -398,7 +410,8 @@ StudyPlan make_study_plan(const StudyConfig& config, const std::string& particip
   for (int position = 0; position < static_cast<int>(block_order.size()); ++position) {
     const BlockConfig& block = config.blocks[static_cast<size_t>(block_order[static_cast<size_t>(position)])];
     Pcg32 random(derive_seed(plan.session_seed, "trials:" + block.name));
-    add_block(block.name, block.scene, builder.block_trials(static_cast<int>(plan.blocks.size()), block, random), false);
+    add_block(block.name, block.scene, builder.block_trials(static_cast<int>(plan.blocks.size()), block, random),
+              false);
   }
   return plan;
 }
@@ -421,7 +434,8 @@ double StudyPlan::expected_duration_s(double response_s) const {
   }
   // Rests come between the study's blocks (not after the practice block); an eye-tracker
   // validation (each target, plus a key press) at the start and after each rest.
-  const auto study_blocks = std::count_if(blocks.begin(), blocks.end(), [](const PlannedBlock& block) { return !block.practice; });
+  const auto study_blocks =
+      std::count_if(blocks.begin(), blocks.end(), [](const PlannedBlock& block) { return !block.practice; });
   const double rests = study_blocks > 0 ? double(study_blocks - 1) : 0.0;
   total += rests * timing.rest_between_blocks_s;
   if (config.validation.enabled) {

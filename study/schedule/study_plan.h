@@ -15,23 +15,23 @@ namespace fovlab {
 struct PlannedStimulus {
   StimulusSpec spec;
   bool is_reference = false;
-  std::string variant;               // test stimuli: the variant name ("" when there are none)
-  std::optional<double> level;       // test stimuli: the level value (none without [levels])
+  std::string variant;          // test stimuli: the variant name ("" when there are none)
+  std::optional<double> level;  // test stimuli: the level value (none without [levels])
 };
 
 struct Trial {
-  int index = 0;                     // position in the session, from 0
-  int block = 0;                     // index into StudyPlan::blocks (session order)
-  std::string condition;             // "level=32", "blur/level=7.5", "ramp_up", "attention_check"...
+  int index = 0;          // position in the session, from 0
+  int block = 0;          // index into StudyPlan::blocks (session order)
+  std::string condition;  // "level=32", "blur/level=7.5", "ramp_up", "attention_check"...
   std::string variant;
-  std::optional<double> level;       // the test level of comparison trials
-  bool attention_check = false;      // both intervals show the reference
-  bool reference_first = true;       // comparison trials: the reference is the first interval
-  bool ramp_toward_reference = true; // ramp: quality increases along the sequence
-  std::vector<int> sequence;         // stimulus ids in presentation order (slider: the level ladder)
-  int reference = -1;                // the block's reference stimulus id
-  int slider_start = 0;              // slider: index into sequence where adjustment starts
-  bool practice = false;             // a [practice] trial (never analysed)
+  std::optional<double> level;        // the test level of comparison trials
+  bool attention_check = false;       // both intervals show the reference
+  bool reference_first = true;        // comparison trials: the reference is the first interval
+  bool ramp_toward_reference = true;  // ramp: quality increases along the sequence
+  std::vector<int> sequence;          // stimulus ids in presentation order (slider: the level ladder)
+  int reference = -1;                 // the block's reference stimulus id
+  int slider_start = 0;               // slider: index into sequence where adjustment starts
+  bool practice = false;              // a [practice] trial (never analysed)
   // An adaptive trial: its track (index into StudyPlan::tracks). The schedule leaves its level,
   // test stimulus and condition open (sequence empty); AdaptiveProgress::presented fills them in
   // from the answers before it (study/schedule/adaptive_progress.h).
@@ -43,20 +43,20 @@ struct PlannedBlock {
   std::string scene;
   int first_trial = 0;
   int trial_count = 0;
-  bool practice = false;             // the [practice] trials' block: first, named "practice"
+  bool practice = false;  // the [practice] trials' block: first, named "practice"
 };
 
 // One track of an adaptive block: a staircase of a variant from one of its procedure's starts, or
 // the variant's QUEST+.
 struct AdaptiveTrack {
-  int block = 0;                      // index into StudyPlan::blocks
-  int procedure = 0;                  // index into StudyConfig::procedures
+  int block = 0;      // index into StudyPlan::blocks
+  int procedure = 0;  // index into StudyConfig::procedures
   ProcedureConfig::Kind kind = ProcedureConfig::Kind::staircase;
   std::string variant;
-  StaircaseRule staircase;            // a staircase: start_index is this track's start on the grid
-  QuestPlusRule quest;                // QUEST+ (quest_plus_rule: the grids for this variant's levels)
-  std::vector<double> grid;           // level values, easiest first (adaptive_grid)
-  std::vector<int> grid_stimuli;      // the test stimulus id of each grid level
+  StaircaseRule staircase;        // a staircase: start_index is this track's start on the grid
+  QuestPlusRule quest;            // QUEST+ (quest_plus_rule: the grids for this variant's levels)
+  std::vector<double> grid;       // level values, easiest first (adaptive_grid)
+  std::vector<int> grid_stimuli;  // the test stimulus id of each grid level
   int max_trials() const { return kind == ProcedureConfig::Kind::staircase ? staircase.max_trials : quest.max_trials; }
 };
 

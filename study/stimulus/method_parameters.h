@@ -22,7 +22,7 @@ enum class RenderMethod {
   foveated_pyramid,
   path_traced,
   foveated_path_traced,
-  rectangular_mapping,  // seed 002's sampling models (foveation/sampling_map.h), on the sphere tracer
+  rectangular_mapping,  // Ye et al. 2022's sampling models (foveation/sampling_map.h), on the sphere tracer
   hyperbolic_layers,
   linear_falloff,
   kernel_log_polar,
@@ -30,8 +30,8 @@ enum class RenderMethod {
   path_traced_hyperbolic_layers,
   path_traced_linear_falloff,
   path_traced_kernel_log_polar,
-  volume_raycast,            // seed 003's volume raycaster: every pixel traced
-  foveated_volume_raycast,   // the same, rays at the Voronoi mask's sites around the gaze
+  volume_raycast,           // Bruder et al. 2019's volume raycaster: every pixel traced
+  foveated_volume_raycast,  // the same, rays at the Voronoi mask's sites around the gaze
 };
 
 // The choices (MaskCombine, CoarseTest, PeripheryReconstruction, NearMisses, ResampleFilter) are
@@ -52,7 +52,7 @@ struct GroundTruthParameters {
   double hit_threshold;
 };
 
-// The inverted pyramid (IPR, seed 000 section 3.1).
+// The inverted pyramid (IPR, Polychronakis et al. 2023 section 3.1).
 struct InvertedPyramidParameters {
   int samples_per_pixel;
   int max_steps;
@@ -67,7 +67,7 @@ struct InvertedPyramidParameters {
 // renderer's is then infinite (protocols/stimuli/stimulus_settings.cpp).
 inline constexpr double kNoOuterPeripheryRadiusDeg = 180.0;
 
-// The foveated inverted pyramid (FIPR, seed 000 section 3.2).
+// The foveated inverted pyramid (FIPR, Polychronakis et al. 2023 section 3.2).
 struct FoveatedPyramidParameters {
   int samples_per_pixel;
   int max_steps;
@@ -88,14 +88,14 @@ struct FoveatedPyramidParameters {
   StimulusDisplay display;
 };
 
-// Path tracing (seed 001's reference), shown from pre-rendered frames.
+// Path tracing (Polychronakis et al. 2021's reference), shown from pre-rendered frames.
 struct PathTracedParameters {
   int samples_per_pixel;
   int max_bounces;
   uint32_t path_seed;
 };
 
-// The emulated foveated path tracer (seed 001 section 3.2): three pre-rendered zone buffers blended
+// The emulated foveated path tracer (Polychronakis et al. 2021 section 3.2): three pre-rendered zone buffers blended
 // by the gaze of each refresh.
 struct FoveatedPathTracedParameters {
   int samples_per_pixel;
@@ -143,13 +143,13 @@ struct RectangularMappingModel {
 // The hyperbolic model: layers of pixel size 1, 2 (middle_pixel_size_px) and s3 out to r1, r2 and
 // the whole screen, blended over blend_band_deg at each border.
 struct HyperbolicLayersModel {
-  double inner_radius_deg;   // r1, an eccentricity (radius)
-  double outer_radius_deg;   // r2
+  double inner_radius_deg;  // r1, an eccentricity (radius)
+  double outer_radius_deg;  // r2
   double middle_pixel_size_px;
   double outer_pixel_size_px;
   double blend_band_deg;
-  bool equalise;             // s3 solved (gaze at the centre) so that the mean density is 1 / sigma^2
-  double sigma;              // the target of equalise
+  bool equalise;  // s3 solved (gaze at the centre) so that the mean density is 1 / sigma^2
+  double sigma;   // the target of equalise
   ResampleFilter resample;
   StimulusDisplay display;
 };
@@ -160,7 +160,7 @@ struct LinearFalloffModel {
   double outer_radius_deg;
   double min_probability;
   uint32_t sample_seed;
-  bool equalise;             // p_min solved (gaze at the centre) so that the mean density is 1 / sigma^2
+  bool equalise;  // p_min solved (gaze at the centre) so that the mean density is 1 / sigma^2
   double sigma;
   StimulusDisplay display;
 };
@@ -182,12 +182,12 @@ struct SampledParameters {
 };
 
 // The method of each (source, model) pair: kSampledMethods[source][model].
-inline constexpr RenderMethod kSampledMethods[std::variant_size_v<SampleSource>]
-                                             [std::variant_size_v<SamplingModelParameters>] = {
-    {RenderMethod::rectangular_mapping, RenderMethod::hyperbolic_layers, RenderMethod::linear_falloff,
-     RenderMethod::kernel_log_polar},
-    {RenderMethod::path_traced_rectangular_mapping, RenderMethod::path_traced_hyperbolic_layers,
-     RenderMethod::path_traced_linear_falloff, RenderMethod::path_traced_kernel_log_polar},
+inline constexpr RenderMethod
+    kSampledMethods[std::variant_size_v<SampleSource>][std::variant_size_v<SamplingModelParameters>] = {
+        {RenderMethod::rectangular_mapping, RenderMethod::hyperbolic_layers, RenderMethod::linear_falloff,
+         RenderMethod::kernel_log_polar},
+        {RenderMethod::path_traced_rectangular_mapping, RenderMethod::path_traced_hyperbolic_layers,
+         RenderMethod::path_traced_linear_falloff, RenderMethod::path_traced_kernel_log_polar},
 };
 
 // The source and model indices of a sampling-model method; false for the other methods.
@@ -198,9 +198,9 @@ inline bool sampled_method_parts(RenderMethod method, size_t& source, size_t& mo
   return false;
 }
 
-// Seed 003's volume raycaster (docs/volume-rendering.md) on a volume scene, every pixel traced.
+// Bruder et al. 2019's volume raycaster (docs/volume-rendering.md) on a volume scene, every pixel traced.
 struct VolumeRaycastParameters {
-  double step_voxels;   // the base step along a ray
+  double step_voxels;  // the base step along a ray
   uint32_t jitter_seed;
 };
 
@@ -216,18 +216,17 @@ struct FoveatedVolumeRaycastParameters {
   StimulusDisplay display;
 };
 
-using MethodParameters =
-    std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters, PathTracedParameters,
-                 FoveatedPathTracedParameters, SampledParameters, VolumeRaycastParameters,
-                 FoveatedVolumeRaycastParameters>;
+using MethodParameters = std::variant<GroundTruthParameters, InvertedPyramidParameters, FoveatedPyramidParameters,
+                                      PathTracedParameters, FoveatedPathTracedParameters, SampledParameters,
+                                      VolumeRaycastParameters, FoveatedVolumeRaycastParameters>;
 
 inline RenderMethod method_of(const MethodParameters& parameters) {
   if (const auto* sampled = std::get_if<SampledParameters>(&parameters))
     return kSampledMethods[sampled->source.index()][sampled->model.index()];
-  constexpr RenderMethod kByAlternative[] = {
-      RenderMethod::ground_truth,         RenderMethod::inverted_pyramid,    RenderMethod::foveated_pyramid,
-      RenderMethod::path_traced,          RenderMethod::foveated_path_traced, RenderMethod::rectangular_mapping,
-      RenderMethod::volume_raycast,       RenderMethod::foveated_volume_raycast};
+  constexpr RenderMethod kByAlternative[] = {RenderMethod::ground_truth,         RenderMethod::inverted_pyramid,
+                                             RenderMethod::foveated_pyramid,     RenderMethod::path_traced,
+                                             RenderMethod::foveated_path_traced, RenderMethod::rectangular_mapping,
+                                             RenderMethod::volume_raycast,       RenderMethod::foveated_volume_raycast};
   static_assert(std::size(kByAlternative) == std::variant_size_v<MethodParameters>);
   return kByAlternative[parameters.index()];
 }

@@ -34,8 +34,7 @@ auto& part_of(Parameters& parameters) {
     return std::get<Part>(std::get<SampledParameters>(parameters).source);
   else if constexpr (is_alternative_of<Part, SamplingModelParameters>)
     return std::get<Part>(std::get<SampledParameters>(parameters).model);
-  else
-    return std::get<Part>(parameters);
+  else return std::get<Part>(parameters);
 }
 
 template <auto Member>
@@ -44,8 +43,7 @@ double read_member(const MethodParameters& parameters) {
   const auto value = part_of<typename Traits::object>(parameters).*Member;
   if constexpr (std::is_enum_v<typename Traits::value>)
     return static_cast<double>(static_cast<std::underlying_type_t<typename Traits::value>>(value));
-  else
-    return static_cast<double>(value);
+  else return static_cast<double>(value);
 }
 
 template <auto Member>
@@ -53,12 +51,9 @@ void write_member(MethodParameters& parameters, double value) {
   using Traits = MemberOf<decltype(Member)>;
   using Value = typename Traits::value;
   auto& member = part_of<typename Traits::object>(parameters).*Member;
-  if constexpr (std::is_enum_v<Value>)
-    member = static_cast<Value>(static_cast<std::underlying_type_t<Value>>(value));
-  else if constexpr (std::is_same_v<Value, bool>)
-    member = value != 0.0;
-  else
-    member = static_cast<Value>(value);
+  if constexpr (std::is_enum_v<Value>) member = static_cast<Value>(static_cast<std::underlying_type_t<Value>>(value));
+  else if constexpr (std::is_same_v<Value, bool>) member = value != 0.0;
+  else member = static_cast<Value>(value);
 }
 
 template <auto Member>
@@ -121,8 +116,9 @@ std::vector<ParameterDescriptor> sphere_trace_parameters() {
 
 template <class Struct>
 void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int min_levels) {
-  parameters.push_back(parameter<&Struct::pyramid_levels>("pyramid_levels", "", ParameterType::integer, 3, min_levels,
-                                                          5, "levels, each with 1/4 the pixels of the one above (FIPR: low, mid and top at least)"));
+  parameters.push_back(parameter<&Struct::pyramid_levels>(
+      "pyramid_levels", "", ParameterType::integer, 3, min_levels, 5,
+      "levels, each with 1/4 the pixels of the one above (FIPR: low, mid and top at least)"));
   parameters.push_back(with_allowed(parameter<&Struct::min_filter_size>("min_filter_size", "px", ParameterType::integer,
                                                                         3, 1, 5, "side of the depth min filter"),
                                     {1, 3, 5}));
@@ -173,8 +169,8 @@ MethodDescriptor ground_truth() {
 }
 
 MethodDescriptor inverted_pyramid() {
-  MethodDescriptor method{RenderMethod::inverted_pyramid, "ipr", "the inverted pyramid (Polychronakis et al. 2023, section 3.1)",
-                          SceneKind::signed_distance};
+  MethodDescriptor method{RenderMethod::inverted_pyramid, "ipr",
+                          "the inverted pyramid (Polychronakis et al. 2023, section 3.1)", SceneKind::signed_distance};
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   method.parameters = sphere_trace_parameters<InvertedPyramidParameters>();
   add_pyramid_parameters<InvertedPyramidParameters>(method.parameters, 2);
@@ -189,7 +185,8 @@ MethodDescriptor inverted_pyramid() {
 MethodDescriptor foveated_pyramid() {
   using P = FoveatedPyramidParameters;
   MethodDescriptor method{RenderMethod::foveated_pyramid, "fipr",
-                          "the foveated inverted pyramid (Polychronakis et al. 2023, section 3.2)", SceneKind::signed_distance};
+                          "the foveated inverted pyramid (Polychronakis et al. 2023, section 3.2)",
+                          SceneKind::signed_distance};
   method.depends_on_gaze = true;
   method.needs_display = true;
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
@@ -197,19 +194,25 @@ MethodDescriptor foveated_pyramid() {
   add_pyramid_parameters<P>(method.parameters, 3);
   auto& list = method.parameters;
   list.push_back(with_legacy_key(
-      parameter<&P::fovea_radius_deg>("fovea_radius_deg", "deg", ParameterType::real, 7.5, 0, 180,
-                                      "radius (eccentricity from the gaze, not an aperture) within which every pixel is traced at the top level"),
+      parameter<&P::fovea_radius_deg>(
+          "fovea_radius_deg", "deg", ParameterType::real, 7.5, 0, 180,
+          "radius (eccentricity from the gaze, not an aperture) within which every pixel is traced at the top level"),
       "fovea_deg"));
-  list.push_back(with_legacy_key(
-      parameter<&P::outer_periphery_radius_deg>("outer_periphery_radius_deg", "deg", ParameterType::real,
-                                                kNoOuterPeripheryRadiusDeg, 0, kNoOuterPeripheryRadiusDeg,
-                                                "radius (eccentricity) beyond which no pixel is traced at the top level for acuity (edges still are with combine max); 180: none; at least fovea_radius_deg"),
-      "outer_periphery_deg"));
-  list.push_back(with_allowed(parameter<&P::periphery_refresh>("periphery_refresh", "frames", ParameterType::integer,
-                                                               1, 1, 4, "pixels the mask leaves out get a new colour every 1st, 2nd or 4th image, else keep the previous image's"),
-                              {1, 2, 4}));
-  list.push_back(parameter<&P::periphery_steps>("periphery_steps", "steps", ParameterType::integer, 0, 0, 4096,
-                                                "how a pixel the mask leaves out gets its new colour: 0 the mid level's colour, interpolated (the paper's reading); N traced at full resolution from the mid level's depth with at most N steps (and max_steps)"));
+  list.push_back(with_legacy_key(parameter<&P::outer_periphery_radius_deg>(
+                                     "outer_periphery_radius_deg", "deg", ParameterType::real,
+                                     kNoOuterPeripheryRadiusDeg, 0, kNoOuterPeripheryRadiusDeg,
+                                     "radius (eccentricity) beyond which no pixel is traced at the top level for "
+                                     "acuity (edges still are with combine max); 180: none; at least fovea_radius_deg"),
+                                 "outer_periphery_deg"));
+  list.push_back(with_allowed(
+      parameter<&P::periphery_refresh>(
+          "periphery_refresh", "frames", ParameterType::integer, 1, 1, 4,
+          "pixels the mask leaves out get a new colour every 1st, 2nd or 4th image, else keep the previous image's"),
+      {1, 2, 4}));
+  list.push_back(parameter<&P::periphery_steps>(
+      "periphery_steps", "steps", ParameterType::integer, 0, 0, 4096,
+      "how a pixel the mask leaves out gets its new colour: 0 the mid level's colour, interpolated (the paper's "
+      "reading); N traced at full resolution from the mid level's depth with at most N steps (and max_steps)"));
   // Added in log schema 5, defaulting to bilinear; every earlier log's FIPR was mid-footprint-bilinear.
   ParameterDescriptor reconstruction = parameter<&P::periphery_reconstruction>(
       "periphery_reconstruction", "", ParameterType::choice, 1, 0, 2,
@@ -228,15 +231,19 @@ MethodDescriptor foveated_pyramid() {
       "before schema 6); docs/foveation.md");
   near_misses.choices = {"ignore", "promote"};
   list.push_back(omitted_at_default(with_changed_default(near_misses, 6, 0)));
-  ParameterDescriptor blur = parameter<&P::blur>("blur", "", ParameterType::choice, 0, 0, 1, "pass 5, the masked Gaussian blur of the transition zones");
+  ParameterDescriptor blur = parameter<&P::blur>("blur", "", ParameterType::choice, 0, 0, 1,
+                                                 "pass 5, the masked Gaussian blur of the transition zones");
   blur.choices = {"off", "on"};
   list.push_back(blur);
-  ParameterDescriptor combine = parameter<&P::combine>("combine", "", ParameterType::choice, 0, 0, 3,
-                                                       "how acuity and edges make a pixel's probability: max (fovea, every peripheral edge, the rest by acuity), fovea-or-product, product (the paper's words), acuity (edges ignored); docs/foveation.md");
+  ParameterDescriptor combine = parameter<&P::combine>(
+      "combine", "", ParameterType::choice, 0, 0, 3,
+      "how acuity and edges make a pixel's probability: max (fovea, every peripheral edge, the rest by acuity), "
+      "fovea-or-product, product (the paper's words), acuity (edges ignored); docs/foveation.md");
   combine.choices = {"max", "fovea-or-product", "product", "acuity"};
   list.push_back(combine);
-  list.push_back(parameter<&P::edge_threshold>("edge_threshold", "", ParameterType::real, 0.4, 1e-4, 1000,
-                                               "Sobel magnitude of the low level's depth, relative to the depth, that makes an edge"));
+  list.push_back(parameter<&P::edge_threshold>(
+      "edge_threshold", "", ParameterType::real, 0.4, 1e-4, 1000,
+      "Sobel magnitude of the low level's depth, relative to the depth, that makes an edge"));
   list.push_back(parameter<&P::mask_seed>("mask_seed", "", ParameterType::integer, 0, 0, kSeedMax,
                                           "seed of the per-pixel thresholds of the mask"));
   add_display_parameters<P>(list);
@@ -250,14 +257,13 @@ std::vector<ParameterDescriptor> path_trace_parameters() {
                                             "samples of each pre-rendered frame"),
       parameter<&Struct::max_bounces>("max_bounces", "", ParameterType::integer, 32, 0, 1024,
                                       "scattering events a path may have (docs/path-tracing.md)"),
-      parameter<&Struct::path_seed>("path_seed", "", ParameterType::integer, 1, 0, kSeedMax,
-                                    "the path tracer's seed"),
+      parameter<&Struct::path_seed>("path_seed", "", ParameterType::integer, 1, 0, kSeedMax, "the path tracer's seed"),
   };
 }
 
 MethodDescriptor path_traced() {
-  MethodDescriptor method{RenderMethod::path_traced, "pt", "path tracing, pre-rendered (Polychronakis et al. 2021's reference)",
-                          SceneKind::path_traced};
+  MethodDescriptor method{RenderMethod::path_traced, "pt",
+                          "path tracing, pre-rendered (Polychronakis et al. 2021's reference)", SceneKind::path_traced};
   method.parameters = path_trace_parameters<PathTracedParameters>();
   return method;
 }
@@ -265,7 +271,8 @@ MethodDescriptor path_traced() {
 MethodDescriptor foveated_path_traced() {
   using P = FoveatedPathTracedParameters;
   MethodDescriptor method{RenderMethod::foveated_path_traced, "fpt",
-                          "the emulated foveated path tracer (Polychronakis et al. 2021, section 3.2)", SceneKind::path_traced};
+                          "the emulated foveated path tracer (Polychronakis et al. 2021, section 3.2)",
+                          SceneKind::path_traced};
   method.depends_on_gaze = true;
   method.needs_display = true;
   method.parameters = path_trace_parameters<P>();
@@ -275,16 +282,19 @@ MethodDescriptor foveated_path_traced() {
                                          "the foveal zone's full aperture (eccentricity up to half of it)"),
       "foveal_deg"));
   list.push_back(with_legacy_key(
-      parameter<&P::middle_minus_foveal_aperture_deg>("middle_minus_foveal_aperture_deg", "deg", ParameterType::real,
-                                                      52.5, 0, 360,
-                                                      "how much wider the middle zone's aperture is than the foveal one's (Polychronakis et al. 2021's 5 to 30)"),
+      parameter<&P::middle_minus_foveal_aperture_deg>(
+          "middle_minus_foveal_aperture_deg", "deg", ParameterType::real, 52.5, 0, 360,
+          "how much wider the middle zone's aperture is than the foveal one's (Polychronakis et al. 2021's 5 to 30)"),
       "middle_over_foveal_deg"));
-  list.push_back(with_legacy_key(
-      parameter<&P::band_width_deg>("band_width_deg", "deg", ParameterType::real, 1.0, 0, 90,
-                                    "width, in degrees of eccentricity, of the linear band at each zone boundary; 0 a hard edge"),
-      "band_deg"));
-  list.push_back(parameter<&P::periphery_bounces>("periphery_bounces", "", ParameterType::integer, -1, -1, 1024,
-                                                  "-1: the middle and outer zones come from the same frames; else from frames path traced with this many bounces (the pilot of Polychronakis et al. 2021, section 4.2)"));
+  list.push_back(
+      with_legacy_key(parameter<&P::band_width_deg>(
+                          "band_width_deg", "deg", ParameterType::real, 1.0, 0, 90,
+                          "width, in degrees of eccentricity, of the linear band at each zone boundary; 0 a hard edge"),
+                      "band_deg"));
+  list.push_back(parameter<&P::periphery_bounces>(
+      "periphery_bounces", "", ParameterType::integer, -1, -1, 1024,
+      "-1: the middle and outer zones come from the same frames; else from frames path traced with this many bounces "
+      "(the pilot of Polychronakis et al. 2021, section 4.2)"));
   add_display_parameters<P>(list);
   return method;
 }
@@ -320,9 +330,10 @@ ParameterDescriptor sigma_parameter(std::string_view help) {
 
 template <class Struct>
 void add_resample(std::vector<ParameterDescriptor>& list) {
-  ParameterDescriptor resample = parameter<&Struct::resample>(
-      "resample", "", ParameterType::choice, 0, 0, 1,
-      "how each pixel reads the samples around its place in the buffer: bilinear (2x2, the paper's) or lanczos (Lanczos-2, 4x4: sharper, with ringing)");
+  ParameterDescriptor resample =
+      parameter<&Struct::resample>("resample", "", ParameterType::choice, 0, 0, 1,
+                                   "how each pixel reads the samples around its place in the buffer: bilinear (2x2, "
+                                   "the paper's) or lanczos (Lanczos-2, 4x4: sharper, with ringing)");
   resample.choices = {"bilinear", "lanczos"};
   list.push_back(resample);
 }
@@ -331,15 +342,14 @@ template <class Struct>
 void add_radii(std::vector<ParameterDescriptor>& list) {
   list.push_back(parameter<&Struct::inner_radius_deg>("inner_radius_deg", "deg", ParameterType::real, 10.0, 0, 90,
                                                       "r1: radius (eccentricity) of the full-resolution zone"));
-  list.push_back(parameter<&Struct::outer_radius_deg>("outer_radius_deg", "deg", ParameterType::real, 20.0, 0, 90,
-                                                      "r2: radius (eccentricity) where the fall-off ends; at least inner_radius_deg"));
+  list.push_back(parameter<&Struct::outer_radius_deg>(
+      "outer_radius_deg", "deg", ParameterType::real, 20.0, 0, 90,
+      "r2: radius (eccentricity) where the fall-off ends; at least inner_radius_deg"));
 }
 
 template <class Struct>
 void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solved) {
-  ParameterDescriptor equalise = parameter<&Struct::equalise>(
-      "equalise", "", ParameterType::choice, 0, 0, 1,
-      solved);
+  ParameterDescriptor equalise = parameter<&Struct::equalise>("equalise", "", ParameterType::choice, 0, 0, 1, solved);
   equalise.choices = {"off", "on"};
   list.push_back(equalise);
   list.push_back(sigma_parameter<Struct>("with equalise on: the mean density sought is 1 / sigma^2"));
@@ -347,11 +357,12 @@ void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solve
 
 MethodDescriptor rectangular_mapping(MethodDescriptor method) {
   using P = RectangularMappingModel;
-  method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis: sigma^2 is the theoretical speed-up"));
-  method.parameters.push_back(parameter<&P::focal_share_x>("focal_share_x", "", ParameterType::real, 0.3, kMinFocalShare,
-                                                           kMaxFocalShare, "f_x as a share of the width"));
-  method.parameters.push_back(parameter<&P::focal_share_y>("focal_share_y", "", ParameterType::real, 0.3, kMinFocalShare,
-                                                           kMaxFocalShare, "f_y as a share of the height"));
+  method.parameters.push_back(
+      sigma_parameter<P>("screen over buffer size per axis: sigma^2 is the theoretical speed-up"));
+  method.parameters.push_back(parameter<&P::focal_share_x>(
+      "focal_share_x", "", ParameterType::real, 0.3, kMinFocalShare, kMaxFocalShare, "f_x as a share of the width"));
+  method.parameters.push_back(parameter<&P::focal_share_y>(
+      "focal_share_y", "", ParameterType::real, 0.3, kMinFocalShare, kMaxFocalShare, "f_y as a share of the height"));
   add_resample<P>(method.parameters);
   return method;
 }
@@ -365,9 +376,12 @@ MethodDescriptor hyperbolic_layers(MethodDescriptor method) {
                                                      "s2: the middle layer's pixel size in screen pixels"));
   list.push_back(parameter<&P::outer_pixel_size_px>("outer_pixel_size_px", "px", ParameterType::real, 12.35, 1, 256,
                                                     "s3: the outer layer's pixel size; at least middle_pixel_size_px"));
-  list.push_back(parameter<&P::blend_band_deg>("blend_band_deg", "deg", ParameterType::real, 1.0, 0, 90,
-                                               "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
-  add_equalise<P>(list, "on: outer_pixel_size_px is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
+  list.push_back(parameter<&P::blend_band_deg>(
+      "blend_band_deg", "deg", ParameterType::real, 1.0, 0, 90,
+      "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
+  add_equalise<P>(
+      list,
+      "on: outer_pixel_size_px is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
   add_resample<P>(list);
   add_display_parameters<P>(list);
   return method;
@@ -382,7 +396,8 @@ MethodDescriptor linear_falloff(MethodDescriptor method) {
                                                 "p_min: the probability beyond outer_radius_deg"));
   list.push_back(parameter<&P::sample_seed>("sample_seed", "", ParameterType::integer, 0, 0, kSeedMax,
                                             "seed of the per-pixel thresholds"));
-  add_equalise<P>(list, "on: min_probability is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
+  add_equalise<P>(
+      list, "on: min_probability is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
   add_display_parameters<P>(list);
   return method;
 }
@@ -397,9 +412,12 @@ MethodDescriptor kernel_log_polar(MethodDescriptor method) {
 }
 
 constexpr std::string_view kRmfrSummary = "rectangular mapping-based foveated rendering (Ye et al. 2022, section 3)";
-constexpr std::string_view kHyperbolicSummary = "three layers of falling resolution (Guenter et al.; Ye et al. 2022, section 5.1)";
-constexpr std::string_view kLinearSummary = "linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)";
-constexpr std::string_view kKfrSummary = "kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)";
+constexpr std::string_view kHyperbolicSummary =
+    "three layers of falling resolution (Guenter et al.; Ye et al. 2022, section 5.1)";
+constexpr std::string_view kLinearSummary =
+    "linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)";
+constexpr std::string_view kKfrSummary =
+    "kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)";
 
 // The sampling models, in the order of SamplingModelParameters: the config's names and summaries on
 // each source (kSampledMethods' rows) and the model's parameters.
@@ -413,7 +431,9 @@ const SamplingModelDescriptor kSamplingModels[] = {
     {{"hyperbolic", "pt-hyperbolic"},
      {kHyperbolicSummary, "hyperbolic on pre-rendered path-traced frames (emulated)"},
      &hyperbolic_layers},
-    {{"linear", "pt-linear"}, {kLinearSummary, "linear on pre-rendered path-traced frames (emulated)"}, &linear_falloff},
+    {{"linear", "pt-linear"},
+     {kLinearSummary, "linear on pre-rendered path-traced frames (emulated)"},
+     &linear_falloff},
     {{"kfr", "pt-kfr"}, {kKfrSummary, "kfr on pre-rendered path-traced frames (emulated)"}, &kernel_log_polar},
 };
 static_assert(std::size(kSamplingModels) == std::variant_size_v<SamplingModelParameters>);
@@ -433,7 +453,7 @@ std::vector<MethodDescriptor> sampling_models() {
   return list;
 }
 
-// Seed 003's volume raycaster, full and Voronoi-foveated (docs/volume-rendering.md).
+// Bruder et al. 2019's volume raycaster, full and Voronoi-foveated (docs/volume-rendering.md).
 template <class P>
 std::vector<ParameterDescriptor> volume_parameters() {
   return {
@@ -445,8 +465,8 @@ std::vector<ParameterDescriptor> volume_parameters() {
 }
 
 MethodDescriptor volume_raycast() {
-  MethodDescriptor method{RenderMethod::volume_raycast, "volume", "volume raycasting, every pixel traced (Bruder et al. 2019's reference)",
-                          SceneKind::volume};
+  MethodDescriptor method{RenderMethod::volume_raycast, "volume",
+                          "volume raycasting, every pixel traced (Bruder et al. 2019's reference)", SceneKind::volume};
   method.parameters = volume_parameters<VolumeRaycastParameters>();
   return method;
 }
@@ -459,8 +479,9 @@ MethodDescriptor foveated_volume_raycast() {
   method.needs_display = true;
   method.parameters = volume_parameters<P>();
   auto& list = method.parameters;
-  list.push_back(parameter<&P::density_sigma_deg>("density_sigma_deg", "deg", ParameterType::real, 2.5, 0.1, 90.0,
-                                                  "s: radius (eccentricity) of the sampling density's Gaussian, at the display's centre"));
+  list.push_back(parameter<&P::density_sigma_deg>(
+      "density_sigma_deg", "deg", ParameterType::real, 2.5, 0.1, 90.0,
+      "s: radius (eccentricity) of the sampling density's Gaussian, at the display's centre"));
   ParameterDescriptor correction = parameter<&P::opacity_correction>(
       "opacity_correction", "", ParameterType::choice, 1, 0, 1,
       "on: the opacity is corrected for the longer peripheral step; off: as the authors' code (too transparent)");
@@ -485,7 +506,8 @@ const std::vector<MethodDescriptor>& methods() {
     list.push_back(volume_raycast());
     list.push_back(foveated_volume_raycast());
     for (size_t i = 0; i < list.size(); ++i)  // describe() indexes by RenderMethod
-      if (list[i].method != static_cast<RenderMethod>(i)) throw std::logic_error("methods(): out of RenderMethod's order");
+      if (list[i].method != static_cast<RenderMethod>(i))
+        throw std::logic_error("methods(): out of RenderMethod's order");
     return list;
   }();
   return all;
@@ -549,7 +571,8 @@ std::optional<std::string> check_parameter_value(const ParameterDescriptor& para
     return values;
   }
   if (!(value >= parameter.min_value && value <= parameter.max_value))
-    return "a value in [" + exact_number_text(parameter.min_value) + ", " + exact_number_text(parameter.max_value) + "]";
+    return "a value in [" + exact_number_text(parameter.min_value) + ", " + exact_number_text(parameter.max_value) +
+           "]";
   if (parameter.type == ParameterType::integer && std::floor(value) != value) return "a whole number";
   return std::nullopt;
 }
@@ -601,17 +624,33 @@ MethodParameters default_parameters(RenderMethod method) {
   MethodParameters parameters;
   size_t source = 0, model = 0;
   if (sampled_method_parts(method, source, model)) {
-    parameters = SampledParameters{alternative_at<SampleSource>(source), alternative_at<SamplingModelParameters>(model)};
+    parameters =
+        SampledParameters{alternative_at<SampleSource>(source), alternative_at<SamplingModelParameters>(model)};
   } else {
     switch (method) {
-      case RenderMethod::ground_truth: parameters = GroundTruthParameters{}; break;
-      case RenderMethod::inverted_pyramid: parameters = InvertedPyramidParameters{}; break;
-      case RenderMethod::foveated_pyramid: parameters = FoveatedPyramidParameters{}; break;
-      case RenderMethod::path_traced: parameters = PathTracedParameters{}; break;
-      case RenderMethod::foveated_path_traced: parameters = FoveatedPathTracedParameters{}; break;
-      case RenderMethod::volume_raycast: parameters = VolumeRaycastParameters{}; break;
-      case RenderMethod::foveated_volume_raycast: parameters = FoveatedVolumeRaycastParameters{}; break;
-      default: throw std::logic_error("default_parameters: a sampling model not in kSampledMethods");
+      case RenderMethod::ground_truth:
+        parameters = GroundTruthParameters{};
+        break;
+      case RenderMethod::inverted_pyramid:
+        parameters = InvertedPyramidParameters{};
+        break;
+      case RenderMethod::foveated_pyramid:
+        parameters = FoveatedPyramidParameters{};
+        break;
+      case RenderMethod::path_traced:
+        parameters = PathTracedParameters{};
+        break;
+      case RenderMethod::foveated_path_traced:
+        parameters = FoveatedPathTracedParameters{};
+        break;
+      case RenderMethod::volume_raycast:
+        parameters = VolumeRaycastParameters{};
+        break;
+      case RenderMethod::foveated_volume_raycast:
+        parameters = FoveatedVolumeRaycastParameters{};
+        break;
+      default:
+        throw std::logic_error("default_parameters: a sampling model not in kSampledMethods");
     }
   }
   for (const ParameterDescriptor& parameter : describe(method).parameters)
@@ -636,12 +675,13 @@ std::optional<ParameterConflict> parameter_conflict(const MethodParameters& para
   const auto at_least = [](std::string_view larger, double larger_value, std::string_view smaller,
                            double smaller_value) -> std::optional<ParameterConflict> {
     if (larger_value >= smaller_value) return std::nullopt;
-    return ParameterConflict{{smaller, larger}, "expected " + std::string(larger) + " (" + format_number(larger_value, 6) +
-                                                    ") >= " + std::string(smaller) + " (" +
-                                                    format_number(smaller_value, 6) + ")"};
+    return ParameterConflict{{smaller, larger},
+                             "expected " + std::string(larger) + " (" + format_number(larger_value, 6) +
+                                 ") >= " + std::string(smaller) + " (" + format_number(smaller_value, 6) + ")"};
   };
   const auto hyperbolic = [&](const auto& layers) {
-    if (auto conflict = at_least("outer_radius_deg", layers.outer_radius_deg, "inner_radius_deg", layers.inner_radius_deg))
+    if (auto conflict =
+            at_least("outer_radius_deg", layers.outer_radius_deg, "inner_radius_deg", layers.inner_radius_deg))
       return conflict;
     if (auto conflict = at_least("outer_pixel_size_px", layers.outer_pixel_size_px, "middle_pixel_size_px",
                                  layers.middle_pixel_size_px))
@@ -659,8 +699,9 @@ std::optional<ParameterConflict> parameter_conflict(const MethodParameters& para
   const auto* fipr = std::get_if<FoveatedPyramidParameters>(&parameters);
   if (!fipr || fipr->outer_periphery_radius_deg >= fipr->fovea_radius_deg) return std::nullopt;
   return ParameterConflict{{"fovea_radius_deg", "outer_periphery_radius_deg"},
-                           "expected outer_periphery_radius_deg (" + format_number(fipr->outer_periphery_radius_deg, 6) +
-                               ") >= fovea_radius_deg (" + format_number(fipr->fovea_radius_deg, 6) +
+                           "expected outer_periphery_radius_deg (" +
+                               format_number(fipr->outer_periphery_radius_deg, 6) + ") >= fovea_radius_deg (" +
+                               format_number(fipr->fovea_radius_deg, 6) +
                                "): the outer periphery starts beyond the fovea"};
 }
 
@@ -682,8 +723,9 @@ std::string methods_markdown() {
     text += "### `method = \"" + std::string(method.name) + "\"`: " + std::string(method.summary) + "\n\n";
     text += std::string("Scenes: ") +
             (method.scene_kind == SceneKind::signed_distance ? "SDF (built-in names or .glsl files)"
-             : method.scene_kind == SceneKind::path_traced   ? "path-traced (courtyard or .obj files)"
-                                                             : "volume scenes (built-in names or .toml files; docs/volume-rendering.md)") +
+             : method.scene_kind == SceneKind::path_traced
+                 ? "path-traced (courtyard or .obj files)"
+                 : "volume scenes (built-in names or .toml files; docs/volume-rendering.md)") +
             ". Frames " + (method.depends_on_gaze ? "follow the gaze of each refresh" : "do not depend on the gaze");
     if (method.max_samples_per_frame > 0)
       text += "; width_px x height_px x samples_per_pixel at most " + std::to_string(method.max_samples_per_frame);
@@ -707,9 +749,10 @@ std::string methods_markdown() {
         return parameter.type == ParameterType::choice ? "`\"" + parameter_value_text(parameter, value) + "\"`"
                                                        : shortest_number(value);
       };
-      std::string default_text = parameter.type != ParameterType::choice && parameter.default_value < parameter.min_value
-                                     ? "from `[display]`"
-                                     : value_text(parameter.default_value);
+      std::string default_text =
+          parameter.type != ParameterType::choice && parameter.default_value < parameter.min_value
+              ? "from `[display]`"
+              : value_text(parameter.default_value);
       if (parameter.default_since_log_schema > 0)
         default_text += " (" + value_text(parameter.earlier_default) + " in logs before schema " +
                         std::to_string(parameter.default_since_log_schema) + ")";

@@ -65,8 +65,8 @@ struct MethodDescriptor {
   std::string_view name;  // "gt", "ipr", "fipr", "pt", "fpt": the config's `method`
   std::string_view summary;
   SceneKind scene_kind = SceneKind::signed_distance;
-  bool depends_on_gaze = false;     // frames follow the gaze sample (cannot be prepared ahead)
-  bool needs_display = false;       // reads display_width_mm, display_height_mm, viewing_distance_mm
+  bool depends_on_gaze = false;  // frames follow the gaze sample (cannot be prepared ahead)
+  bool needs_display = false;    // reads display_width_mm, display_height_mm, viewing_distance_mm
   // Samples a frame may hold at most (width x height x samples_per_pixel); 0: no such limit.
   uint64_t max_samples_per_frame = 0;
   std::vector<ParameterDescriptor> parameters;

@@ -58,8 +58,7 @@ nlohmann::json to_json(const StimulusSpec& spec) {
     const double value = parameter->read(spec.parameters);
     if (parameter->type == ParameterType::choice)
       parameters[std::string(parameter->key)] = parameter_value_text(*parameter, value);
-    else
-      parameters[std::string(parameter->key)] = value;
+    else parameters[std::string(parameter->key)] = value;
   }
   return {{"scene", spec.scene},
           {"method", spec.method_name()},

@@ -12,13 +12,13 @@
 namespace fovlab {
 
 struct StimulusSpec {
-  std::string scene;              // built-in scene name or path to a scene file
-  MethodParameters parameters;    // the method is the alternative held (method_of)
+  std::string scene;            // built-in scene name or path to a scene file
+  MethodParameters parameters;  // the method is the alternative held (method_of)
   int width_px = 0;
   int height_px = 0;
   int frame_count = 1;
   double frames_per_second = 1.0;
-  double camera_start_s = 0.0;    // scene time of frame 0
+  double camera_start_s = 0.0;  // scene time of frame 0
 
   RenderMethod method() const { return method_of(parameters); }
   std::string_view method_name() const { return describe(method()).name; }

@@ -1,4 +1,4 @@
-// fovlab binomial: seed 002's Table 2 checked from its counts (the stars match a one-sided test),
+// fovlab binomial: Ye et al. 2022's Table 2 checked from its counts (the stars match a one-sided test),
 // and bad counts as one-line errors.
 #include <gtest/gtest.h>
 
@@ -18,9 +18,9 @@ void expect_output(const std::string& arguments, const std::string& expected_lin
   EXPECT_NE(result.out.find(expected_line), std::string::npos) << arguments << ":\n" << result.out;
 }
 
-// Table 2 of seed 002: 49, 47, 50 and 35 of 72 votes for RMFR. 47 of 72 is ** one-sided
+// Table 2 of Ye et al. 2022: 49, 47, 50 and 35 of 72 votes for RMFR. 47 of 72 is ** one-sided
 // (p = 0.0064) but only * two-sided (0.0128): the paper's stars are one-sided.
-TEST(BinomialCli, TableTwoOfSeed002FromItsCounts) {
+TEST(BinomialCli, TableTwoOfYe2022FromItsCounts) {
   expect_output("47 72", "exact binomial p = 0.006387 **");
   expect_output("47 72", "47 of 72 (65.3 %), H0: p = 0.5, alternative greater");
   expect_output("47 72 --alternative two-sided", "exact binomial p = 0.01277 *");
@@ -35,7 +35,8 @@ TEST(BinomialCli, TableTwoOfSeed002FromItsCounts) {
 TEST(BinomialCli, UnderflowingPValuesSayHowSmall) {
   expect_output("0 1000000 --alternative two-sided", "exact binomial p = < 1e-300 (log10 p = -301029.7) ***");
   expect_output("0 1000000000 --alternative two-sided", "exact binomial p = < 1e-300 (log10 p = -301029995.4) ***");
-  expect_output("0 1000000000000 --alternative two-sided", "exact binomial p = < 1e-300 (log10 p = -301029995663.7) ***");
+  expect_output("0 1000000000000 --alternative two-sided",
+                "exact binomial p = < 1e-300 (log10 p = -301029995663.7) ***");
 }
 
 TEST(BinomialCli, BadCountsAreOneLineErrors) {

@@ -32,15 +32,17 @@ TEST(BlendCli, WritesTheBlendOfTheZoneBuffersAndTheZonePicture) {
   const fs::path frame = frame_file();
   const fs::path out = scratch() / "blend.exr";
   const fs::path zones = scratch() / "zones.png";
-  const auto result = run("blend --frame " + frame.string() + " --gaze 12,20 --foveal-deg 20 --middle-deg 50 --band-deg 2"
-                          " --size-mm 240x160 --distance-mm 300 --repeats 2 --out " + out.string() +
-                          " --zones-out " + zones.string());
+  const auto result = run("blend --frame " + frame.string() +
+                          " --gaze 12,20 --foveal-deg 20 --middle-deg 50 --band-deg 2"
+                          " --size-mm 240x160 --distance-mm 300 --repeats 2 --out " +
+                          out.string() + " --zones-out " + zones.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("x the copy shader"), std::string::npos) << result.out;
   const fovlab::Image source = fovlab::read_image(frame);
   const fovlab::DisplayGeometry display = fovlab::display_from_size(48, 32, 240.0, 160.0, 300.0);
   const auto up = [&](int factor) {
-    return fovlab::upsample_reference(fovlab::decimate_nearest(source, factor), factor, fovlab::UpsampleFilter::lanczos3);
+    return fovlab::upsample_reference(fovlab::decimate_nearest(source, factor), factor,
+                                      fovlab::UpsampleFilter::lanczos3);
   };
   const fovlab::Image expected =
       fovlab::blend_zones_reference(display, 12.0, 20.0, {20.0, 50.0, 2.0}, source, up(2), up(4));
@@ -60,8 +62,8 @@ TEST(BlendCli, BadInputIsOneLineAndWritesNothing) {
   expect_one_line_error(run(head + " --foveal-deg 10"), "--gaze");
   expect_one_line_error(run(head + " --gaze 5,5 --foveal-deg -3"), "foveal_deg");
   expect_one_line_error(run(head + " --gaze 5,5 --foveal-deg 10 --distance-mm 0"), "--distance-mm");
-  expect_one_line_error(run("blend --frame " + (scratch() / "missing.exr").string() + " --gaze 5,5 --foveal-deg 10 --out " +
-                            out.string()),
+  expect_one_line_error(run("blend --frame " + (scratch() / "missing.exr").string() +
+                            " --gaze 5,5 --foveal-deg 10 --out " + out.string()),
                         "missing.exr");
   EXPECT_FALSE(fs::exists(out));
 }

@@ -25,8 +25,9 @@ TEST(Cli, RenderWritesImageHeatMapAndStats) {
   const auto image = scratch() / "frame.png";
   const auto steps = scratch() / "steps.png";
   const auto stats = scratch() / "stats.json";
-  const CommandResult result = run("render --scene primitives --method ipr" + kSmall + "--spp 4 --time 1.5 --out " +
-                                   image.string() + " --steps-out " + steps.string() + " --stats-json " + stats.string());
+  const CommandResult result =
+      run("render --scene primitives --method ipr" + kSmall + "--spp 4 --time 1.5 --out " + image.string() +
+          " --steps-out " + steps.string() + " --stats-json " + stats.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_TRUE(std::filesystem::exists(image));
   EXPECT_TRUE(std::filesystem::exists(steps));
@@ -70,12 +71,11 @@ TEST(Cli, CompareIdenticalAndDifferentImages) {
   EXPECT_NE(centred_json["flip_pixels_per_degree"].get<double>(), 67.0);
   ASSERT_TRUE(centred_json["fpsnr_db"].is_number()) << centred.out;
   EXPECT_GE(centred_json["fpsnr_db"].get<double>(), 0.0);
-  const CommandResult cornered =
-      run("compare " + gt.string() + " " + ipr.string() + display + " --gaze 0,0 --json");
+  const CommandResult cornered = run("compare " + gt.string() + " " + ipr.string() + display + " --gaze 0,0 --json");
   ASSERT_EQ(cornered.exit_code, 0) << cornered.err;
   const nlohmann::json cornered_json = nlohmann::json::parse(cornered.out);
   EXPECT_EQ(cornered_json["gaze"], nlohmann::json::array({0.0, 0.0}));
-  EXPECT_EQ(cornered_json["psnr_db"], centred_json["psnr_db"]);     // the gaze changes FPSNR only
+  EXPECT_EQ(cornered_json["psnr_db"], centred_json["psnr_db"]);  // the gaze changes FPSNR only
   EXPECT_EQ(cornered_json["flip"], centred_json["flip"]);
   expect_one_line_error(run("compare " + gt.string() + " " + ipr.string() + " --gaze 3,4"), "--gaze");
   expect_one_line_error(run("compare " + gt.string() + " " + ipr.string() + " --diagonal-in 27"), "--distance-mm");
@@ -127,8 +127,9 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   expect_one_line_error(run(render + kSmall + "--steps-out " + (scratch() / "steps.foo").string()), "steps.foo");
   expect_one_line_error(run("render --scene primitives" + kSmall + "--out /nonexistent-folder/x.png"),
                         "/nonexistent-folder");
-  expect_one_line_error(run(render + kSmall, "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json"),
-                        "no Vulkan");
+  expect_one_line_error(
+      run(render + kSmall, "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json"),
+      "no Vulkan");
   expect_one_line_error(run("compare " + out.string() + " " + out.string()), "never.png");
   EXPECT_FALSE(std::filesystem::exists(out));
 }

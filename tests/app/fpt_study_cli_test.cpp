@@ -1,4 +1,4 @@
-// Path-traced studies end to end (seed 001): tiny pair, ramp and slider studies of the pre-rendered
+// Path-traced studies end to end (Polychronakis et al. 2021): tiny pair, ramp and slider studies of the pre-rendered
 // reference (pt) against the emulated foveated path tracer (fpt) run headless with the simulated
 // observer, replay --verify and analyze (also at a size whose sides are not multiples of 4); and bad
 // input as one line with exit code 2 and no results written: a pt reference with a sphere-traced
@@ -54,7 +54,6 @@ std::string fpt_config(const std::string& name, const std::string& protocol, con
          "\n\n[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n"
          "[[block]]\nscene = \"courtyard\"\n";
 }
-
 
 std::vector<fs::path> cache_frames(const fs::path& dir) {
   std::vector<fs::path> frames;
@@ -121,7 +120,8 @@ void run_replay_analyze(const std::string& name, const std::string& protocol, co
   ASSERT_EQ(second.exit_code, 0) << second.out << second.err;
   EXPECT_TRUE(fs::is_regular_file(dir / "results" / name / "P002" / "events.jsonl"));
   ASSERT_EQ(cache_frames(dir), frames_before);
-  for (size_t i = 0; i < frames_before.size(); ++i) EXPECT_TRUE(read_all(frames_before[i]) == frame_bytes[i]) << frames_before[i] << " rewritten";
+  for (size_t i = 0; i < frames_before.size(); ++i)
+    EXPECT_TRUE(read_all(frames_before[i]) == frame_bytes[i]) << frames_before[i] << " rewritten";
 }
 
 TEST(FptStudyCli, PairRunsReplaysAndAnalyzes) {
@@ -136,7 +136,7 @@ TEST(FptStudyCli, SliderRunsReplaysAndAnalyzes) {
   run_replay_analyze("tiny_fpt_slider", "kind = \"slider\"\nrepeats = 1\nstart_level = 10", "[5, 10, 20]");
 }
 
-// Seed 002's sampling models on the same pre-rendered frames, live per gaze sample: a pair study of
+// Ye et al. 2022's sampling models on the same pre-rendered frames, live per gaze sample: a pair study of
 // pt against pt-rmfr over sigma, and one against pt-hyperbolic with equalise over sigma, on a frame
 // no sigma divides (any size works).
 TEST(FptStudyCli, PathTracedSamplingModelsRunReplayAndAnalyze) {
@@ -191,10 +191,12 @@ TEST(FptStudyCli, ValidateEstimatesThePrerenderOfTheFramesNotYetCached) {
   write_file(dir / "study.toml", fpt_config("validate_prerender", "kind = \"pair\"\nrepeats = 1"));
   const CommandResult first = run_in(dir, "validate study.toml");
   ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
-  EXPECT_NE(first.out.find("courtyard                2 path-traced frames not yet cached: about "), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("courtyard                2 path-traced frames not yet cached: about "), std::string::npos)
+      << first.out;
   EXPECT_NE(first.out.find("one rendered and cached: "), std::string::npos) << first.out;
   EXPECT_NE(first.out.find("including the pre-render of 2 of 2 path-traced frames not yet in stimuli/cache: about "),
-            std::string::npos) << first.out;
+            std::string::npos)
+      << first.out;
   EXPECT_NE(first.out.find(" on disk (fovlab prerender renders them ahead"), std::string::npos) << first.out;
   EXPECT_EQ(cache_frames(dir).size(), 1u);  // the timed frame is kept
   const CommandResult second = run_in(dir, "validate study.toml");
@@ -243,8 +245,9 @@ TEST(FptStudyCli, EqualiseWithoutASolutionIsRefusedAtValidate) {
   replace(text, "parameter = \"foveal_aperture_deg\"", "parameter = \"sigma\"");
   replace(text, "higher_is_better = true", "higher_is_better = false");
   write_file(dir / "equalise.toml", text);
-  for (const std::string command : {"validate equalise.toml",
-                                    "run equalise.toml --participant P1 --headless --observer simulated --results results"}) {
+  for (const std::string command :
+       {"validate equalise.toml",
+        "run equalise.toml --participant P1 --headless --observer simulated --results results"}) {
     const CommandResult result = run_in(dir, command);
     expect_one_line_error(result, "equalise.toml: stimulus.test at level 4 (method \"pt-hyperbolic\"): equalise:");
     EXPECT_NE(result.err.find("sigma"), std::string::npos) << result.err;
@@ -263,7 +266,8 @@ TEST(FptStudyCli, PtReferenceWithAGtTestMessageNamesTheTestMethod) {
   write_file(dir / "mixed.toml", text);
   const CommandResult result = run_in(dir, "validate mixed.toml");
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.err.find("\"gt\""), std::string::npos) << "the message should say what the test's method is: " << result.err;
+  EXPECT_NE(result.err.find("\"gt\""), std::string::npos)
+      << "the message should say what the test's method is: " << result.err;
 }
 
 TEST(FptStudyCli, FptOnASphereTracedSceneIsRefused) {
@@ -386,7 +390,10 @@ TEST(FptStudyCli, AForgedCacheIsFoundByAReplayFromAnEmptyCache) {
   swap_frame_files(frames[0], frames[1]);
   ASSERT_FALSE(::testing::Test::HasFatalFailure());
   rehash_frames(frames);
-  ASSERT_EQ(run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results").exit_code, 0);
+  ASSERT_EQ(
+      run_in(dir, "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results")
+          .exit_code,
+      0);
   const std::string log = (dir / "results" / name / "P1/events.jsonl").string();
   EXPECT_EQ(run_in(dir, "replay --verify " + log).exit_code, 0) << "the same forged cache: nothing differs";
   const CommandResult fresh = run_in(dir, "replay --verify --cache stimuli/cache/fresh " + log);
@@ -429,7 +436,8 @@ TEST(FptStudyCli, CacheFilesThatAreFifosOrDeviceLinksAreRefusedWithoutHanging) {
   ASSERT_EQ(run_in(dir, "prerender study.toml").exit_code, 0);
   const auto frames = cache_frames(dir);
   ASSERT_EQ(frames.size(), 2u);
-  const std::string run_args = "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results";
+  const std::string run_args =
+      "run study.toml --participant P1 --headless --observer simulated:threshold=15 --results results";
   const auto expect_refused = [&](const fs::path& file, const std::string& what) {
     SCOPED_TRACE(file.string() + " " + what);
     expect_one_line_error(run_in(dir, run_args, 300), file.filename().string() + ": not a regular file" + what);
@@ -468,7 +476,8 @@ TEST(FptStudyCli, UnreadableFptOnlyFrameIsRefusedBeforeTheSessionStarts) {
   const std::string name = "tiny_fpt_corrupt_periphery";
   const fs::path dir = working_dir("corrupt-periphery");
   std::string text = fpt_config(name, "kind = \"pair\"\nrepeats = 2");
-  replace(text, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]", "parameter = \"periphery_bounces\"\nvalues = [1]");
+  replace(text, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]",
+          "parameter = \"periphery_bounces\"\nvalues = [1]");
   replace(text, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2",
           "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\nfoveal_aperture_deg = 5");
   write_file(dir / "study.toml", text);
@@ -478,7 +487,8 @@ TEST(FptStudyCli, UnreadableFptOnlyFrameIsRefusedBeforeTheSessionStarts) {
   ASSERT_EQ(frames.size(), 4u);
   fs::path periphery_frame;
   for (const fs::path& frame : frames)
-    if (read_all(frame.parent_path() / "cache.json").find("max_bounces=1;") != std::string::npos) periphery_frame = frame;
+    if (read_all(frame.parent_path() / "cache.json").find("max_bounces=1;") != std::string::npos)
+      periphery_frame = frame;
   ASSERT_FALSE(periphery_frame.empty());
   truncate_frame(periphery_frame);
 

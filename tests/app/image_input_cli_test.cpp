@@ -60,14 +60,16 @@ TEST(ImageInputCli, HeaderBombsAreRefusedFromTheHeaderBeforeAllocating) {
   for (const auto& [width, height] : std::array<std::pair<uint32_t, uint32_t>, 2>{{{30000, 30000}, {65535, 65535}}}) {
     const std::string size = std::to_string(width) + "x" + std::to_string(height);
     SCOPED_TRACE(size);
-    const fs::path bomb = fovlab::cli_test::write_file(scratch() / ("bomb-" + size + ".png"), png_header_bomb(width, height));
+    const fs::path bomb =
+        fovlab::cli_test::write_file(scratch() / ("bomb-" + size + ".png"), png_header_bomb(width, height));
     ASSERT_LT(fs::file_size(bomb), 100u);
-    const std::string expected = bomb.string() + ": " + size + " pixels in its header: expected 1 to 16384 pixels a side";
+    const std::string expected =
+        bomb.string() + ": " + size + " pixels in its header: expected 1 to 16384 pixels a side";
     expect_one_line_error(run_bounded("compare " + bomb.string() + " " + small.string()), expected);
     expect_one_line_error(run_bounded("compare " + small.string() + " " + bomb.string()), expected);
     expect_one_line_error(run_bounded("upsample " + bomb.string() + " --factor 2 --out " + out.string()), expected);
-    expect_one_line_error(run_bounded("blend --frame " + bomb.string() + " --gaze 5,5 --foveal-deg 10 --out " + out.string()),
-                          expected);
+    expect_one_line_error(
+        run_bounded("blend --frame " + bomb.string() + " --gaze 5,5 --foveal-deg 10 --out " + out.string()), expected);
   }
   EXPECT_FALSE(fs::exists(out));
 }
@@ -83,8 +85,9 @@ TEST(ImageInputCli, AFifoOrALinkToADeviceIsRefusedWithoutReadingIt) {
   const fs::path zero = scratch() / "zero.exr";
   fs::remove(zero);
   fs::create_symlink("/dev/zero", zero);
-  expect_one_line_error(run_bounded("upsample " + zero.string() + " --factor 2 --out " + (scratch() / "never.exr").string()),
-                        zero.string() + ": not a regular file (a character device)");
+  expect_one_line_error(
+      run_bounded("upsample " + zero.string() + " --factor 2 --out " + (scratch() / "never.exr").string()),
+      zero.string() + ": not a regular file (a character device)");
   expect_one_line_error(run_bounded("blend --frame " + zero.string() + " --gaze 5,5 --foveal-deg 10 --out " +
                                     (scratch() / "never.png").string()),
                         zero.string() + ": not a regular file (a character device)");

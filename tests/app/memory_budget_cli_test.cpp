@@ -52,8 +52,8 @@ TEST(MemoryBudgetCli, ValidateRefusesAStudyWhosePreparedFramesDoNotFit) {
 
 TEST(MemoryBudgetCli, SessionIsRefusedBeforeAnythingIsWritten) {
   const fs::path results = scratch("run") / "results";
-  const std::string run = "run " + tiny_2afc() + " --participant P001 --headless --observer simulated --results " +
-                          results.string();
+  const std::string run =
+      "run " + tiny_2afc() + " --participant P001 --headless --observer simulated --results " + results.string();
   expect_refused(fovlab_with_limit(run, "1000"), {"stimulus.frames_per_second", "display.width_px"});
   EXPECT_FALSE(fs::exists(results / "tiny_2afc" / "P001" / "events.jsonl")) << "a log was written";
   const CommandResult unlimited = fovlab_with_limit(run, "");
@@ -67,8 +67,8 @@ TEST(MemoryBudgetCli, RenderAndBenchRefuseFramesThatDoNotFit) {
   const std::string render = "render --scene primitives --width 64 --height 48 --out " + image.string();
   expect_refused(fovlab_with_limit(render, "1000"), {"--width", "--height", "64x48"});
   EXPECT_FALSE(fs::exists(image));
-  const std::string bench = "bench --scenes primitives --spp 1 --width 64 --height 48 --repeats 1 --json " +
-                            (folder / "bench.json").string();
+  const std::string bench =
+      "bench --scenes primitives --spp 1 --width 64 --height 48 --repeats 1 --json " + (folder / "bench.json").string();
   expect_refused(fovlab_with_limit(bench, "1000"), {"--width", "--height", "64x48"});
   EXPECT_FALSE(fs::exists(folder / "bench.json"));
   // A huge frame against a realistic limit (1 GiB): 8192x8192 holds several GiB.

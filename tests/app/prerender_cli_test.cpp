@@ -43,7 +43,8 @@ fs::path working_dir(const std::string& name) {
 
 // A pair study of pt against fpt on the courtyard: 3 frames (0.15 s at 20 frames a second) of 32x20,
 // 2 samples a pixel, 2 bounces. `test_extra` and `levels` replace the test's extra keys and levels.
-std::string pair_config(const std::string& name, const std::string& levels = "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]",
+std::string pair_config(const std::string& name,
+                        const std::string& levels = "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]",
                         const std::string& test_extra = "") {
   return "[study]\nname = \"" + name +
          "\"\nseed = 11\n\n"
@@ -51,14 +52,12 @@ std::string pair_config(const std::string& name, const std::string& levels = "pa
          "[stimulus]\nduration_s = 0.15\nframes_per_second = 20\ncamera_start_s = 2.0\n\n"
          "[stimulus.reference]\nmethod = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n\n"
          "[stimulus.test]\nmethod = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2\n" +
-         test_extra +
-         "\n[levels]\n" + levels +
+         test_extra + "\n[levels]\n" + levels +
          "\nhigher_is_better = true\n\n"
          "[protocol]\nkind = \"pair\"\nrepeats = 2\n\n"
          "[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n"
          "[[block]]\nscene = \"courtyard\"\n";
 }
-
 
 fs::path cache_root(const fs::path& dir) { return dir / "stimuli" / "cache"; }
 
@@ -88,17 +87,18 @@ std::vector<std::string> rendered_files(const std::string& out) {
 // A frame's pixels.
 std::vector<float> pixels(const fs::path& frame) { return fovlab::read_image(frame).pixels; }
 
-const std::set<std::string> kThreeFrames = {"cache.json",          "frame_000000.exr", "frame_000000.sha256",
-                                            "frame_000001.exr",    "frame_000001.sha256",
-                                            "frame_000002.exr",    "frame_000002.sha256"};
+const std::set<std::string> kThreeFrames = {"cache.json",         "frame_000000.exr",    "frame_000000.sha256",
+                                            "frame_000001.exr",   "frame_000001.sha256", "frame_000002.exr",
+                                            "frame_000002.sha256"};
 
 TEST(PrerenderCli, RendersEveryFrameThenNothingOnASecondRun) {
   const fs::path dir = working_dir("all");
   write_file(dir / "study.toml", pair_config("tiny_fpt_pair"));
   const CommandResult first = run_in(dir, "prerender study.toml");
   ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
-  EXPECT_NE(first.out.find("study.toml: 3 frames in all, shard 0/1 holds 3: 0 cached, 3 to render (cache stimuli/cache)"),
-            std::string::npos)
+  EXPECT_NE(
+      first.out.find("study.toml: 3 frames in all, shard 0/1 holds 3: 0 cached, 3 to render (cache stimuli/cache)"),
+      std::string::npos)
       << first.out;
   EXPECT_NE(first.out.find("rendered 3 frames in "), std::string::npos) << first.out;
   const auto contents = cache_contents(dir);
@@ -108,7 +108,8 @@ TEST(PrerenderCli, RendersEveryFrameThenNothingOnASecondRun) {
   const std::vector<std::string> files = rendered_files(first.out);
   ASSERT_EQ(files.size(), 3u) << first.out;
   for (int i = 0; i < 3; ++i) {
-    EXPECT_EQ(files[size_t(i)], "stimuli/cache/" + contents.begin()->first + "/frame_00000" + std::to_string(i) + ".exr");
+    EXPECT_EQ(files[size_t(i)],
+              "stimuli/cache/" + contents.begin()->first + "/frame_00000" + std::to_string(i) + ".exr");
     EXPECT_TRUE(fs::is_regular_file(dir / files[size_t(i)]));
   }
 
@@ -117,7 +118,8 @@ TEST(PrerenderCli, RendersEveryFrameThenNothingOnASecondRun) {
     times[file.path().filename().string()] = fs::last_write_time(file.path());
   const CommandResult second = run_in(dir, "prerender study.toml");
   ASSERT_EQ(second.exit_code, 0) << second.out << second.err;
-  EXPECT_NE(second.out.find("3 frames in all, shard 0/1 holds 3: 3 cached, 0 to render"), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("3 frames in all, shard 0/1 holds 3: 3 cached, 0 to render"), std::string::npos)
+      << second.out;
   EXPECT_EQ(second.out.find("rendered "), std::string::npos) << second.out;
   EXPECT_TRUE(rendered_files(second.out).empty()) << second.out;
   for (const auto& file : fs::directory_iterator(cache_root(dir) / contents.begin()->first))
@@ -130,7 +132,8 @@ TEST(PrerenderCli, ShardsTogetherRenderEveryFrameExactlyOnce) {
   write_file(dir / "study.toml", pair_config("tiny_fpt_shards"));
   const CommandResult shard0 = run_in(dir, "prerender study.toml --shard 0/2");
   ASSERT_EQ(shard0.exit_code, 0) << shard0.out << shard0.err;
-  EXPECT_NE(shard0.out.find("3 frames in all, shard 0/2 holds 2: 0 cached, 2 to render"), std::string::npos) << shard0.out;
+  EXPECT_NE(shard0.out.find("3 frames in all, shard 0/2 holds 2: 0 cached, 2 to render"), std::string::npos)
+      << shard0.out;
   auto contents = cache_contents(dir);
   ASSERT_EQ(contents.size(), 1u);
   EXPECT_EQ(contents.begin()->second, (std::set<std::string>{"cache.json", "frame_000000.exr", "frame_000000.sha256",
@@ -138,7 +141,8 @@ TEST(PrerenderCli, ShardsTogetherRenderEveryFrameExactlyOnce) {
 
   const CommandResult shard1 = run_in(dir, "prerender study.toml --shard 1/2");
   ASSERT_EQ(shard1.exit_code, 0) << shard1.out << shard1.err;
-  EXPECT_NE(shard1.out.find("3 frames in all, shard 1/2 holds 1: 0 cached, 1 to render"), std::string::npos) << shard1.out;
+  EXPECT_NE(shard1.out.find("3 frames in all, shard 1/2 holds 1: 0 cached, 1 to render"), std::string::npos)
+      << shard1.out;
   contents = cache_contents(dir);
   ASSERT_EQ(contents.size(), 1u);
   EXPECT_EQ(contents.begin()->second, kThreeFrames);
@@ -193,7 +197,8 @@ TEST(PrerenderCli, ADeletedFrameIsRenderedAgainAndNothingElse) {
 
   const CommandResult again = run_in(dir, "prerender study.toml");
   ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
-  EXPECT_NE(again.out.find("3 frames in all, shard 0/1 holds 3: 2 cached, 1 to render"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("3 frames in all, shard 0/1 holds 3: 2 cached, 1 to render"), std::string::npos)
+      << again.out;
   EXPECT_EQ(rendered_files(again.out),
             std::vector<std::string>{"stimuli/cache/" + contents.begin()->first + "/frame_000001.exr"})
       << again.out;
@@ -341,7 +346,8 @@ TEST(PrerenderCli, PeripheryBouncesAddASecondSequence) {
                                              "foveal_aperture_deg = 15\n"));
   const CommandResult result = run_in(dir, "prerender study.toml");
   ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
-  EXPECT_NE(result.out.find("6 frames in all, shard 0/1 holds 6: 0 cached, 6 to render"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("6 frames in all, shard 0/1 holds 6: 0 cached, 6 to render"), std::string::npos)
+      << result.out;
   const auto contents = cache_contents(dir);
   ASSERT_EQ(contents.size(), 2u);
   std::set<std::string> descriptions;
@@ -372,12 +378,14 @@ TEST(PrerenderCli, VerifyListsFramesThatAreNotWholeAndARerunRepairsThem) {
   const fs::path folder = cache_root(dir) / contents.begin()->first;
   for (int frame = 0; frame < 3; ++frame) {
     const std::string name = "frame_00000" + std::to_string(frame);
-    EXPECT_EQ(read_all(folder / (name + ".sha256")), fovlab::sha256_hex(read_all(folder / (name + ".exr"))) + "  " + name + ".exr\n");
+    EXPECT_EQ(read_all(folder / (name + ".sha256")),
+              fovlab::sha256_hex(read_all(folder / (name + ".exr"))) + "  " + name + ".exr\n");
   }
   const CommandResult clean = run_in(dir, "prerender study.toml --verify");
   EXPECT_EQ(clean.exit_code, 0) << clean.out << clean.err;
-  EXPECT_NE(clean.out.find("3 frames in all, shard 0/1 holds 3 in 1 sequences: 3 whole and matching their .sha256, 0 not"),
-            std::string::npos)
+  EXPECT_NE(
+      clean.out.find("3 frames in all, shard 0/1 holds 3 in 1 sequences: 3 whole and matching their .sha256, 0 not"),
+      std::string::npos)
       << clean.out;
   const std::string frame1 = read_all(folder / "frame_000001.exr");
 
@@ -388,17 +396,19 @@ TEST(PrerenderCli, VerifyListsFramesThatAreNotWholeAndARerunRepairsThem) {
   const CommandResult broken = run_in(dir, "prerender study.toml --verify");
   EXPECT_EQ(broken.exit_code, 1) << broken.err;
   const std::string prefix = "stimuli/cache/" + contents.begin()->first + "/";
-  for (const std::string& line : std::vector<std::string>{prefix + "frame_000000.exr: its bytes differ from its .sha256\n",
-                                 prefix + "frame_000001.exr: no .sha256 beside it\n",
-                                 prefix + "frame_000002.exr: missing\n", std::string("0 whole and matching their .sha256, 3 not")})
+  for (const std::string& line : std::vector<std::string>{
+           prefix + "frame_000000.exr: its bytes differ from its .sha256\n",
+           prefix + "frame_000001.exr: no .sha256 beside it\n", prefix + "frame_000002.exr: missing\n",
+           std::string("0 whole and matching their .sha256, 3 not")})
     EXPECT_NE(broken.out.find(line), std::string::npos) << line << "\n" << broken.out;
   EXPECT_FALSE(fs::exists(folder / "frame_000002.exr")) << "--verify renders nothing";
 
   const CommandResult repaired = run_in(dir, "prerender study.toml");
   ASSERT_EQ(repaired.exit_code, 0) << repaired.out << repaired.err;
-  EXPECT_NE(repaired.out.find("1 frames had no .sha256 beside them (left so by an older fovlab, or replaced and their hash "
-                              "deleted): rendered again"),
-            std::string::npos)
+  EXPECT_NE(
+      repaired.out.find("1 frames had no .sha256 beside them (left so by an older fovlab, or replaced and their hash "
+                        "deleted): rendered again"),
+      std::string::npos)
       << repaired.out;
   EXPECT_NE(repaired.out.find("1 frames differ from their .sha256: rendered again"), std::string::npos) << repaired.out;
   EXPECT_EQ(rendered_files(repaired.out).size(), 3u) << "the unhashed frame is rendered again, not hashed as it is\n"
@@ -446,7 +456,8 @@ TEST(PrerenderCli, ConfigsWithoutPathTracedStimuliAreRefused) {
   };
   replace(sphere, "method = \"pt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"gt\"");
   replace(sphere, "method = \"fpt\"\nsamples_per_pixel = 2\nmax_bounces = 2", "method = \"ipr\"");
-  replace(sphere, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]", "parameter = \"max_steps\"\nvalues = [2, 8]");
+  replace(sphere, "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]",
+          "parameter = \"max_steps\"\nvalues = [2, 8]");
   replace(sphere, "scene = \"courtyard\"", "scene = \"primitives\"");
   write_file(dir / "sphere.toml", sphere);
   const CommandResult result = run_in(dir, "prerender sphere.toml");

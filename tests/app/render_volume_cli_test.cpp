@@ -1,4 +1,4 @@
-// fovlab render --method volume|fvolume: seed 003's raycaster from the command line, full and
+// fovlab render --method volume|fvolume: Bruder et al. 2019's raycaster from the command line, full and
 // foveated, the mask's cache under the working directory, and bad input as one line and exit code 2
 // with nothing written.
 #include <gtest/gtest.h>
@@ -29,8 +29,9 @@ TEST(RenderVolumeCli, RendersFullAndFoveatedFrames) {
   const auto full = run_in(dir, "render --method volume --scene shepp-logan --width 48 --height 40 --out full.png");
   ASSERT_EQ(full.exit_code, 0) << full.err;
   EXPECT_NE(full.out.find("shepp-logan volume 48x40"), std::string::npos) << full.out;
-  const auto foveated = run_in(dir, "render --method fvolume --scene shepp-logan --width 48 --height 40 --sigma-deg 0.5 "
-                                    "--gaze 25%,50% --frames 2 --out fov.png --mask-out sites.png --stats-json stats.json");
+  const auto foveated = run_in(dir,
+                               "render --method fvolume --scene shepp-logan --width 48 --height 40 --sigma-deg 0.5 "
+                               "--gaze 25%,50% --frames 2 --out fov.png --mask-out sites.png --stats-json stats.json");
   ASSERT_EQ(foveated.exit_code, 0) << foveated.err;
   EXPECT_NE(foveated.out.find("of the pixels"), std::string::npos) << foveated.out;
   const fovlab::Image image = fovlab::read_image(dir / "fov.png"), sites = fovlab::read_image(dir / "sites.png");
@@ -43,7 +44,8 @@ TEST(RenderVolumeCli, RendersFullAndFoveatedFrames) {
   EXPECT_LT(stats["traced_share"].get<double>(), 1.0);
   EXPECT_EQ(stats["gpu_ms_per_frame"].size(), 2u);
   int cached = 0;
-  for (const auto& entry : fs::directory_iterator(dir / "stimuli" / "cache" / "voronoi")) cached += entry.path().extension() == ".bin";
+  for (const auto& entry : fs::directory_iterator(dir / "stimuli" / "cache" / "voronoi"))
+    cached += entry.path().extension() == ".bin";
   EXPECT_EQ(cached, 1) << "the mask and its weights, kept for the next run";
 }
 
@@ -52,13 +54,16 @@ TEST(RenderVolumeCli, BadInputIsOneLineAndWritesNothing) {
   const std::string tail = " --width 32 --height 32 --out " + out.string();
   expect_one_line_error(run("render --method volume --scene nebula" + tail), "volume scene \"nebula\": unknown");
   expect_one_line_error(run("render --method volume --scene shepp-logan --spp 4" + tail), "--spp: the sphere tracer's");
-  expect_one_line_error(run("render --method volume --scene shepp-logan --sigma-deg 2" + tail), "--sigma-deg: only fvolume");
-  expect_one_line_error(run("render --method volume --scene shepp-logan --mask-out " + (scratch() / "m.png").string() + tail),
-                        "--mask-out: only fvolume");
+  expect_one_line_error(run("render --method volume --scene shepp-logan --sigma-deg 2" + tail),
+                        "--sigma-deg: only fvolume");
+  expect_one_line_error(
+      run("render --method volume --scene shepp-logan --mask-out " + (scratch() / "m.png").string() + tail),
+      "--mask-out: only fvolume");
   expect_one_line_error(run("render --method fvolume --scene shepp-logan --sigma-deg -1" + tail), "--sigma-deg");
   expect_one_line_error(run("render --method volume --scene shepp-logan --step-voxels 0" + tail), "--step-voxels");
   const fs::path bad_scene = fovlab::cli_test::write_file(scratch() / "bad.toml", "[volume]\ngenerator = \"x\"\n");
-  expect_one_line_error(run("render --method volume --scene " + bad_scene.string() + tail), "bad.toml:2: volume.generator");
+  expect_one_line_error(run("render --method volume --scene " + bad_scene.string() + tail),
+                        "bad.toml:2: volume.generator");
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -68,7 +73,8 @@ TEST(RenderVolumeCli, BadInputIsOneLineAndWritesNothing) {
 // regression fails instead of hanging.
 TEST(RenderVolumeCli, AMaskCacheThatIsAFifoOrLargerThanAnyMaskIsMadeAnew) {
   const fs::path dir = fovlab::cli_test::fresh_folder(scratch(), "mask-cache");
-  const std::string args = "render --method fvolume --scene shepp-logan --width 24 --height 20 --sigma-deg 0.5 --out fov.png";
+  const std::string args =
+      "render --method fvolume --scene shepp-logan --width 24 --height 20 --sigma-deg 0.5 --out fov.png";
   const auto first = run_in(dir, args, 300);
   ASSERT_EQ(first.exit_code, 0) << first.err;
   fs::path cache;
@@ -97,12 +103,15 @@ TEST(RenderVolumeCli, AMaskCacheThatIsAFifoOrLargerThanAnyMaskIsMadeAnew) {
 // /dev/urandom were accepted (a volume of noise), "-" read the terminal, and a FIFO hung the command.
 TEST(RenderVolumeCli, NrrdDataFilesThatAreNotRegularFilesAreRefused) {
   const fs::path dir = fovlab::cli_test::fresh_folder(scratch(), "nrrd-data-files");
-  const std::string points = "[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\nopacity = 0\n"
-                             "[[transfer_point]]\nvalue = 1.0\ncolour = [1, 1, 1]\nopacity = 1\n";
+  const std::string points =
+      "[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\nopacity = 0\n"
+      "[[transfer_point]]\nvalue = 1.0\ncolour = [1, 1, 1]\nopacity = 1\n";
   fovlab::cli_test::write_file(dir / "scene.toml", "[volume]\nfile = \"v.nhdr\"\n" + points);
   const auto header = [&](const std::string& data_file) {
-    fovlab::cli_test::write_file(dir / "v.nhdr", "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n"
-                                                 "data file: " + data_file + "\n");
+    fovlab::cli_test::write_file(dir / "v.nhdr",
+                                 "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n"
+                                 "data file: " +
+                                     data_file + "\n");
   };
   const std::string args = "render --method volume --scene scene.toml --width 16 --height 16 --out v.png";
   const std::string from = ": expected the data file of NRRD volume v.nhdr";  // as the scene names it

@@ -1,4 +1,4 @@
-// fovlab resample: the offline preview of seed 002's sampling models on a pre-rendered frame (what
+// fovlab resample: the offline preview of Ye et al. 2022's sampling models on a pre-rendered frame (what
 // pt-rmfr, pt-hyperbolic, pt-linear and pt-kfr show for one gaze sample) through the command line,
 // and bad input as one line and exit code 2 with nothing written.
 #include <gtest/gtest.h>
@@ -60,7 +60,8 @@ TEST(ResampleCli, EveryModelWritesTheResampledFrame) {
     ASSERT_EQ(written.height, 29);
     // Where the gaze rests the samples lie about a pixel apart (KFR's innermost ring, with alpha 3,
     // about 2.6 px out), and the frame's red changes by up to 0.08 a pixel.
-    EXPECT_NEAR(written.at(20, 15, 0), source.at(20, 15, 0), c.model == "kfr" ? 0.15 : 0.04) << c.model << " at the gaze";
+    EXPECT_NEAR(written.at(20, 15, 0), source.at(20, 15, 0), c.model == "kfr" ? 0.15 : 0.04)
+        << c.model << " at the gaze";
     EXPECT_TRUE(fs::exists(mask) && fs::exists(density)) << c.model;
   }
 }
@@ -75,9 +76,9 @@ TEST(ResampleCli, BadInputIsOneLineAndWritesNothing) {
   expect_one_line_error(run(head + " --method kfr --gaze 1,x"), "--gaze");
   expect_one_line_error(run(head + " --method rmfr --repeats 0"), "--repeats");
   expect_one_line_error(run(head + " --method hyperbolic --equalise --sigma 8"), "equalise");
-  expect_one_line_error(run("resample --frame " + (scratch() / "missing.exr").string() + " --method rmfr --out " +
-                            out.string()),
-                        "missing.exr");
+  expect_one_line_error(
+      run("resample --frame " + (scratch() / "missing.exr").string() + " --method rmfr --out " + out.string()),
+      "missing.exr");
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -40,8 +40,8 @@ fs::path working_dir(const std::string& name) {
   const fs::path dir = fovlab::cli_test::scratch("fovlab-slurm-cli") / name;
   // A cluster an earlier run left behind (killed by ctest's timeout) is stopped before its folder goes.
   if (fs::exists(dir / "slurm-daemons" / "run"))
-    std::system(("'" + std::string(FOVLAB_SOURCE_DIR) + "/scripts/local-slurm' stop '" + (dir / "slurm-daemons").string() +
-                 "' 2>/dev/null")
+    std::system(("'" + std::string(FOVLAB_SOURCE_DIR) + "/scripts/local-slurm' stop '" +
+                 (dir / "slurm-daemons").string() + "' 2>/dev/null")
                     .c_str());
   return fovlab::cli_test::fresh_folder(dir.parent_path(), name);
 }
@@ -52,11 +52,18 @@ std::string study(const std::string& name, int frames, int samples) {
   const std::string spp = std::to_string(samples);
   std::ostringstream duration;
   duration << frames / 20.0;
-  return "[study]\nname = \"" + name + "\"\nseed = 11\n\n"
+  return "[study]\nname = \"" + name +
+         "\"\nseed = 11\n\n"
          "[display]\nwidth_px = 32\nheight_px = 20\nrefresh_hz = 60\ndiagonal_in = 27\nviewing_distance_mm = 500\n\n"
-         "[stimulus]\nduration_s = " + duration.str() + "\nframes_per_second = 20\ncamera_start_s = 2.0\n\n"
-         "[stimulus.reference]\nmethod = \"pt\"\nsamples_per_pixel = " + spp + "\nmax_bounces = 2\n\n"
-         "[stimulus.test]\nmethod = \"fpt\"\nsamples_per_pixel = " + spp + "\nmax_bounces = 2\n"
+         "[stimulus]\nduration_s = " +
+         duration.str() +
+         "\nframes_per_second = 20\ncamera_start_s = 2.0\n\n"
+         "[stimulus.reference]\nmethod = \"pt\"\nsamples_per_pixel = " +
+         spp +
+         "\nmax_bounces = 2\n\n"
+         "[stimulus.test]\nmethod = \"fpt\"\nsamples_per_pixel = " +
+         spp +
+         "\nmax_bounces = 2\n"
          "\n[levels]\nparameter = \"foveal_aperture_deg\"\nvalues = [5, 20]\nhigher_is_better = true\n\n"
          "[protocol]\nkind = \"pair\"\nrepeats = 2\n\n"
          "[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n"
@@ -67,8 +74,9 @@ std::string study(const std::string& name, int frames, int samples) {
 CommandResult shell_in(const fs::path& dir, const std::string& command, const std::string& slurm_conf = "") {
   const fs::path out = dir / ".shell.stdout";
   const fs::path err = dir / ".shell.stderr";
-  const std::string line = "cd '" + dir.string() + "' && " + (slurm_conf.empty() ? "" : "SLURM_CONF='" + slurm_conf + "' ") +
-                           command + " >'" + out.string() + "' 2>'" + err.string() + "'";
+  const std::string line = "cd '" + dir.string() + "' && " +
+                           (slurm_conf.empty() ? "" : "SLURM_CONF='" + slurm_conf + "' ") + command + " >'" +
+                           out.string() + "' 2>'" + err.string() + "'";
   const int status = std::system(("bash -c \"" + line + "\"").c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(out), read_all(err)};
 }
@@ -90,7 +98,8 @@ class LocalSlurm {
   }
   ~LocalSlurm() {
     if (running_)
-      std::system(("'" + std::string(FOVLAB_SOURCE_DIR) + "/scripts/local-slurm' stop '" + dir_.string() + "'").c_str());
+      std::system(
+          ("'" + std::string(FOVLAB_SOURCE_DIR) + "/scripts/local-slurm' stop '" + dir_.string() + "'").c_str());
   }
   LocalSlurm(const LocalSlurm&) = delete;
   LocalSlurm& operator=(const LocalSlurm&) = delete;
@@ -163,7 +172,8 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
   // with four tasks on two cores, so task 1 is killed while it renders frame 5.
   write_file(dir / "study.toml", study("slurm_prerender", 8, 384));
   const CommandResult written = shell_in(
-      dir, std::string(FOVLAB_BINARY) + " slurm prerender study.toml --tasks 4 --allow-lavapipe --max-requeue 2 --submit",
+      dir,
+      std::string(FOVLAB_BINARY) + " slurm prerender study.toml --tasks 4 --allow-lavapipe --max-requeue 2 --submit",
       slurm.conf());
   ASSERT_EQ(written.exit_code, 0) << written.out << written.err;
   const fs::path folder = dir / "slurm" / "study-prerender";
@@ -177,7 +187,8 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
   while (!frame1 && std::chrono::steady_clock::now() < deadline) {
     if (fs::exists(cache))
       for (const auto& sequence : fs::directory_iterator(cache))
-        if (fs::exists(sequence.path() / "frame_000001.exr")) frame1 = sequence.path() / "frame_000001.exr";  // its hash first
+        if (fs::exists(sequence.path() / "frame_000001.exr"))
+          frame1 = sequence.path() / "frame_000001.exr";  // its hash first
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   ASSERT_TRUE(frame1) << "task 1 rendered nothing in 180 s: " << read_all(slurm.dir() / "log" / "slurmd.log");
@@ -203,8 +214,9 @@ TEST(SlurmCli, KilledTaskRequeuesAndTheMergedCacheIsOneMachinesByteForByte) {
       << task1_log;
   EXPECT_EQ(fs::last_write_time(*frame1), frame1_time) << "frame 1 was rendered again";
   const std::string merge_log = read_all(folder / "logs" / ("merge-" + merge + ".log"));
-  EXPECT_NE(merge_log.find("8 frames in all, shard 0/1 holds 8 in 1 sequences: 8 whole and matching their .sha256, 0 not"),
-            std::string::npos)
+  EXPECT_NE(
+      merge_log.find("8 frames in all, shard 0/1 holds 8 in 1 sequences: 8 whole and matching their .sha256, 0 not"),
+      std::string::npos)
       << merge_log;
 
   // One machine, the same study: the same files, byte for byte (frames, hashes, cache.json).
@@ -263,15 +275,16 @@ TEST(SlurmCli, WritesReadableScriptsAndRefusesBadFlags) {
   const fs::path dir = working_dir("scripts");
   write_file(dir / "study.toml", study("slurm_scripts", 3, 2));
   const CommandResult written = shell_in(
-      dir, std::string(FOVLAB_BINARY) +
-               " slurm prerender study.toml --tasks 3 --partition gpu --gpus-per-task a100:1 --time-limit 2:00:00 --mem 8G");
+      dir,
+      std::string(FOVLAB_BINARY) +
+          " slurm prerender study.toml --tasks 3 --partition gpu --gpus-per-task a100:1 --time-limit 2:00:00 --mem 8G");
   ASSERT_EQ(written.exit_code, 0) << written.err;
   const fs::path folder = dir / "slurm" / "study-prerender";
   const std::string array = read_all(folder / "array.sbatch");
-  for (const std::string& line : std::vector<std::string>{"#SBATCH --array=0-2", "#SBATCH --requeue", "#SBATCH --partition=gpu",
-                                 "#SBATCH --gpus-per-task=a100:1", "#SBATCH --time=2:00:00", "#SBATCH --mem=8G",
-                                 "#SBATCH --chdir=" + dir.string(), "--shard \"${task}/3\" --require-gpu",
-                                 "scontrol requeue", "-lt 3 ]"})
+  for (const std::string& line : std::vector<std::string>{
+           "#SBATCH --array=0-2", "#SBATCH --requeue", "#SBATCH --partition=gpu", "#SBATCH --gpus-per-task=a100:1",
+           "#SBATCH --time=2:00:00", "#SBATCH --mem=8G", "#SBATCH --chdir=" + dir.string(),
+           "--shard \"${task}/3\" --require-gpu", "scontrol requeue", "-lt 3 ]"})
     EXPECT_NE(array.find(line), std::string::npos) << line << "\n" << array;
   const std::string merge = read_all(folder / "merge.sbatch");
   EXPECT_NE(merge.find("prerender " + (dir / "study.toml").string() + " --cache " +
@@ -285,8 +298,8 @@ TEST(SlurmCli, WritesReadableScriptsAndRefusesBadFlags) {
     EXPECT_EQ(shell_in(folder, std::string("bash -n ") + script).exit_code, 0) << script;
 
   // Bench flags are passed on quoted, and checked as bench checks them.
-  const CommandResult bench = shell_in(dir, std::string(FOVLAB_BINARY) +
-                                                " slurm bench --tasks 2 --scenes primitives --spp 1,4 --width 64 --height 36");
+  const CommandResult bench = shell_in(
+      dir, std::string(FOVLAB_BINARY) + " slurm bench --tasks 2 --scenes primitives --spp 1,4 --width 64 --height 36");
   ASSERT_EQ(bench.exit_code, 0) << bench.err;
   const std::string bench_array = read_all(dir / "slurm" / "bench" / "array.sbatch");
   EXPECT_NE(bench_array.find("bench --scenes primitives --spp 1,4 --width 64 --height 36 --cells \"${task}/2\""),
@@ -315,8 +328,9 @@ TEST(SlurmCli, WritesReadableScriptsAndRefusesBadFlags) {
   refused("slurm bench --tasks 1 --spp 0", "spp");
   refused("slurm bench --tasks 1 --no-such-flag", "--no-such-flag");
   // --submit where sbatch is not on PATH: one line saying so, scripts kept.
-  expect_one_line_error(shell_in(dir, "PATH=/nonexistent " + fovlab + "slurm prerender study.toml --tasks 2 --submit --out nopath"),
-                        "sbatch is not on PATH");
+  expect_one_line_error(
+      shell_in(dir, "PATH=/nonexistent " + fovlab + "slurm prerender study.toml --tasks 2 --submit --out nopath"),
+      "sbatch is not on PATH");
   EXPECT_TRUE(fs::exists(dir / "nopath" / "submit.sh"));
 }
 

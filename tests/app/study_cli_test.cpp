@@ -46,13 +46,16 @@ fs::path write_config(const std::string& name, const std::string& from, const st
 TEST(StudyCli, ValidatePrintsTheSchedule) {
   const CommandResult result = run("validate " + fixture("tiny_2afc"));
   EXPECT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("trials 40 (8 attention checks, 0 practice), conditions 4, stimuli 10 x 2 frames"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("trials 40 (8 attention checks, 0 practice), conditions 4, stimuli 10 x 2 frames"),
+            std::string::npos)
+      << result.out;
   EXPECT_NE(result.out.find("block sphere"), std::string::npos) << result.out;
 }
 
 TEST(StudyCli, RunNextParticipantThenReplayAndExport) {
   const fs::path results = scratch() / "results-next";
-  const std::string common = fixture("rating") + " --participant next --observer simulated --results " + results.string();
+  const std::string common =
+      fixture("rating") + " --participant next --observer simulated --results " + results.string();
   const CommandResult first = run("run " + common);
   ASSERT_EQ(first.exit_code, 0) << first.err;
   EXPECT_NE(first.out.find("(headless, virtual clock)"), std::string::npos) << first.out;
@@ -93,22 +96,24 @@ TEST(StudyCli, BadInputIsOneLineWithExitCode2AndWritesNothing) {
   expect_one_line_error(run("run " + write_config("unknown_key", "[display]", "[display]\nwidht_px = 3").string() +
                             " --participant P1" + tail),
                         ".toml:7: display.widht_px: unknown key");
-  expect_one_line_error(run("run " + write_config("bad_type", "repeats = 4", "repeats = \"four\"").string() +
-                            " --participant P1" + tail),
-                        "protocol.repeats: expected an integer, got a string");
-  expect_one_line_error(run("run " + write_config("range", "refresh_hz = 60", "refresh_hz = 0").string() +
-                            " --participant P1" + tail),
-                        "display.refresh_hz: expected a value in [1, 1000], got 0");
-  expect_one_line_error(run("run " + write_config("scene", "scene = \"primitives\"", "scene = \"no_such_scene\"").string() +
-                            " --participant P1" + tail),
-                        "block[2].scene: no built-in scene or file \"no_such_scene\"");
+  expect_one_line_error(
+      run("run " + write_config("bad_type", "repeats = 4", "repeats = \"four\"").string() + " --participant P1" + tail),
+      "protocol.repeats: expected an integer, got a string");
+  expect_one_line_error(
+      run("run " + write_config("range", "refresh_hz = 60", "refresh_hz = 0").string() + " --participant P1" + tail),
+      "display.refresh_hz: expected a value in [1, 1000], got 0");
+  expect_one_line_error(
+      run("run " + write_config("scene", "scene = \"primitives\"", "scene = \"no_such_scene\"").string() +
+          " --participant P1" + tail),
+      "block[2].scene: no built-in scene or file \"no_such_scene\"");
   expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant ../P1" + tail), "--participant: expected");
   expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --headless --present-device 0" + tail),
                         "--present-device 0: a headless session presents nothing");
   expect_one_line_error(run("run /no/such/study.toml --participant P1" + tail), "/no/such/study.toml: cannot open");
-  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --gaze eyes" + tail), "--gaze: expected");
-  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --observer simulated:slope=-1 --results " +
-                            results.string()),
+  expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --gaze eyes" + tail),
+                        "--gaze: expected");
+  expect_one_line_error(run("run " + fixture("tiny_2afc") +
+                            " --participant P1 --observer simulated:slope=-1 --results " + results.string()),
                         "--observer: slope=-1");
   expect_one_line_error(run("run " + fixture("tiny_2afc") + " --participant P1 --results " + results.string()),
                         "no display");
@@ -128,8 +133,9 @@ TEST(StudyCli, AGazeContingentStudyInAWindowNeedsItsGazeSourceNamed) {
   const std::string tail = " --results " + results.string();
   const fs::path fipr = write_config("gaze_fipr", "method = \"ipr\"", "method = \"fipr\"");
   const CommandResult refused = run("run " + fipr.string() + " --participant next" + tail);
-  expect_one_line_error(refused, fipr.string() + ": a gaze-contingent study (fipr follows the gaze) in a window needs its "
-                                                 "gaze source named");
+  expect_one_line_error(refused, fipr.string() +
+                                     ": a gaze-contingent study (fipr follows the gaze) in a window needs its "
+                                     "gaze source named");
   EXPECT_NE(refused.err.find("give --gaze pupil[:HOST[:PORT]] for the eye tracker, or --gaze mouse for a rehearsal"),
             std::string::npos)
       << refused.err;
@@ -140,25 +146,29 @@ TEST(StudyCli, AGazeContingentStudyInAWindowNeedsItsGazeSourceNamed) {
   // [gaze] require = "tracker": any other kind refused, in a window and headless, naming the line.
   const fs::path tracker = write_config("gaze_tracker", "[[block]]", "[gaze]\nrequire = \"tracker\"\n\n[[block]]");
   const std::string text = read_all(tracker);
-  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find("require")), '\n'));
+  const int line = 1 + static_cast<int>(std::count(
+                           text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find("require")), '\n'));
   const std::string named = tracker.string() + ":" + std::to_string(line) + ": gaze.require = tracker";
   expect_one_line_error(run("run " + tracker.string() + " --participant P1 --gaze mouse" + tail),
                         "--gaze mouse: " + named + ": expected a source of that kind, got a mouse");
   expect_one_line_error(run("run " + tracker.string() + " --participant P1" + tail),
                         named + ": a session in a window needs its gaze source named; give --gaze pupil");
   const std::string simulated = " --participant P1 --headless --observer simulated" + tail;
-  expect_one_line_error(run("run " + tracker.string() + simulated), named + ": a headless session's default gaze is synthetic");
+  expect_one_line_error(run("run " + tracker.string() + simulated),
+                        named + ": a headless session's default gaze is synthetic");
   expect_one_line_error(run("run " + tracker.string() + simulated + " --gaze synthetic"), "got a synthetic");
   EXPECT_FALSE(fs::exists(results)) << "a refused run wrote " << results;
   // validate says so beforehand.
   const CommandResult validated = run("validate " + fipr.string());
-  EXPECT_NE(validated.out.find("gaze: gaze-contingent: a session in a window needs --gaze"), std::string::npos) << validated.out;
+  EXPECT_NE(validated.out.find("gaze: gaze-contingent: a session in a window needs --gaze"), std::string::npos)
+      << validated.out;
   const CommandResult validated_tracker = run("validate " + tracker.string());
   EXPECT_NE(validated_tracker.out.find("gaze: [gaze] require = tracker"), std::string::npos) << validated_tracker.out;
 
   // require = ["synthetic"]: a headless pilot runs, its header names the source and its validation,
   // and trials.csv says which source each trial's session had.
-  const fs::path synthetic = write_config("gaze_synthetic", "[[block]]", "[gaze]\nrequire = [\"synthetic\"]\n\n[[block]]");
+  const fs::path synthetic =
+      write_config("gaze_synthetic", "[[block]]", "[gaze]\nrequire = [\"synthetic\"]\n\n[[block]]");
   const CommandResult pilot = run("run " + synthetic.string() + simulated);
   ASSERT_EQ(pilot.exit_code, 0) << pilot.err;
   const fs::path log = results / "simulated" / "tiny_2afc" / "P1" / "events.jsonl";
@@ -194,12 +204,14 @@ TEST(StudyCli, ValidateRefusesWhatCannotBeAConfigInOneLine) {
 // A study config of `kind` with a small display, 0.5 s stimuli at 60 Hz, three levels, and attention
 // checks: the sessions of every protocol, quick.
 std::string protocol_config(const std::string& kind) {
-  return "[study]\nname = \"log_" + kind + "\"\nseed = 5\n\n"
+  return "[study]\nname = \"log_" + kind +
+         "\"\nseed = 5\n\n"
          "[display]\nwidth_px = 16\nheight_px = 12\nrefresh_hz = 60\ndiagonal_in = 27\nviewing_distance_mm = 500\n\n"
          "[stimulus]\nduration_s = 0.5\nframes_per_second = 10\n\n"
          "[stimulus.reference]\nmethod = \"gt\"\n\n[stimulus.test]\nmethod = \"ipr\"\n\n"
          "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16]\n\n"
-         "[protocol]\nkind = \"" + kind + "\"\n" + (kind == "2afc" ? "question = \"same\"\n" : "") + "repeats = 2\n\n" +
+         "[protocol]\nkind = \"" +
+         kind + "\"\n" + (kind == "2afc" ? "question = \"same\"\n" : "") + "repeats = 2\n\n" +
          (kind == "ramp" || kind == "slider" ? "" : "[attention]\nshare = 0.3\nbreak_s = 1\nmax_errors = 3\n\n") +
          "[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n[[block]]\nscene = \"primitives\"\n";
 }
@@ -214,11 +226,14 @@ TEST(StudyCli, LogsOfEveryProtocolStayWithinTheEstimate) {
     SCOPED_TRACE(kind);
     const fs::path config_path = fovlab::cli_test::write_file(dir / (kind + ".toml"), protocol_config(kind));
     const CommandResult session =
-        fovlab::cli_test::run_in(dir, "run " + kind + ".toml --participant P1 --headless --observer simulated --results results "
-                                      "--lab-key " + key.string());
+        fovlab::cli_test::run_in(dir, "run " + kind +
+                                          ".toml --participant P1 --headless --observer simulated --results results "
+                                          "--lab-key " +
+                                          key.string());
     ASSERT_EQ(session.exit_code, 0) << session.out << session.err;
     const uint64_t logged = fs::file_size(dir / "results" / ("log_" + kind) / "P1" / "events.jsonl");
-    const fovlab::StudyConfig config = fovlab::parse_study_config_file(config_path.string(), fovlab::renderer_scene_catalog());
+    const fovlab::StudyConfig config =
+        fovlab::parse_study_config_file(config_path.string(), fovlab::renderer_scene_catalog());
     const fovlab::LogSizeEstimate estimate = fovlab::estimate_log_size(fovlab::make_study_plan(config, "P1"));
     EXPECT_GE(estimate.bytes, logged);
     EXPECT_LE(estimate.bytes, 4 * logged) << "logged " << logged;
@@ -234,16 +249,18 @@ TEST(StudyCli, ValidateRefusesAStudyWhoseLogWouldPassTheReadersCap) {
   const std::string repeats = "repeats = 2\n", duration = "duration_s = 0.5\n";
   text.replace(text.find(repeats), repeats.size(), "repeats = 1000\n");
   text.replace(text.find(duration), duration.size(), "duration_s = 4.0\n");  // 240 refreshes a presentation
-  for (int block = 2; block <= 6; ++block) text += "[[block]]\nname = \"b" + std::to_string(block) + "\"\nscene = \"primitives\"\n";
+  for (int block = 2; block <= 6; ++block)
+    text += "[[block]]\nname = \"b" + std::to_string(block) + "\"\nscene = \"primitives\"\n";
   const fs::path config = fovlab::cli_test::write_file(dir / "huge.toml", text);
   const CommandResult refused = run("validate " + config.string() + " --no-render-timing");
   expect_one_line_error(refused, config.string() + ": 25716 trials: a session's log would take up to ");
   EXPECT_NE(refused.err.find("bytes (estimated from the plan, up to "), std::string::npos) << refused.err;
-  EXPECT_NE(refused.err.find("more than the 1073741824 bytes (1024 MiB) the log readers take"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("more than the 1073741824 bytes (1024 MiB) the log readers take"), std::string::npos)
+      << refused.err;
   // A session of it is refused the same way before it writes anything.
   const fs::path results = dir / "results";
-  const CommandResult run_refused =
-      run("run " + config.string() + " --participant P001 --observer simulated --headless --results " + results.string());
+  const CommandResult run_refused = run(
+      "run " + config.string() + " --participant P001 --observer simulated --headless --results " + results.string());
   expect_one_line_error(run_refused, config.string() + ": 25716 trials: a session's log would take up to ");
   EXPECT_FALSE(fs::exists(results / "log_2afc")) << "the refused session left a folder";
   text.replace(text.find("repeats = 1000\n"), std::string("repeats = 1000\n").size(), "repeats = 100\n");
@@ -259,7 +276,8 @@ TEST(StudyCli, ValidateOfFiveThousandVariants) {
   const fs::path dir = fovlab::cli_test::fresh_folder(scratch(), "many-variants");
   std::string text = protocol_config("2afc");
   const std::string levels = "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16]\n";
-  text.replace(text.find(levels), levels.size(), "[levels]\nparameter = \"max_steps\"\n\n[conditions]\nfile = \"conditions.csv\"\n");
+  text.replace(text.find(levels), levels.size(),
+               "[levels]\nparameter = \"max_steps\"\n\n[conditions]\nfile = \"conditions.csv\"\n");
   std::string csv = "variant,max_steps,hit_threshold\n";
   for (int variant = 0; variant < 5000; ++variant) {
     char row[64];

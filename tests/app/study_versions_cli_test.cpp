@@ -54,7 +54,8 @@ TEST(StudyVersionsCli, AnEditedConfigRunsOnlyAsANewVersionAndAnalyzeNamesBoth) {
 
   // A new participant under the edited config: refused in one line, nothing made.
   const CommandResult refused = run("run " + edited + " --participant P003" + tail);
-  expect_one_line_error(refused, edited + ": differs from the config 2 session(s) in " + (results / "tiny_rating").string());
+  expect_one_line_error(refused,
+                        edited + ": differs from the config 2 session(s) in " + (results / "tiny_rating").string());
   EXPECT_NE(refused.err.find("--new-version"), std::string::npos) << refused.err;
   EXPECT_NE(refused.err.find((results / "tiny_rating@v2").string()), std::string::npos) << refused.err;
   EXPECT_FALSE(fs::exists(results / "tiny_rating/P003"));
@@ -63,14 +64,16 @@ TEST(StudyVersionsCli, AnEditedConfigRunsOnlyAsANewVersionAndAnalyzeNamesBoth) {
   // Told: the versioned folder, and the next participant of that version joins it.
   const CommandResult versioned = run("run " + edited + " --participant P003 --new-version" + tail);
   ASSERT_EQ(versioned.exit_code, 0) << versioned.err;
-  EXPECT_NE(versioned.out.find((results / "tiny_rating@v2/P003/events.jsonl").string()), std::string::npos) << versioned.out;
+  EXPECT_NE(versioned.out.find((results / "tiny_rating@v2/P003/events.jsonl").string()), std::string::npos)
+      << versioned.out;
   const CommandResult next = run("run " + edited + " --participant next --new-version" + tail);
   ASSERT_EQ(next.exit_code, 0) << next.err;
   EXPECT_TRUE(fs::exists(results / "tiny_rating@v2/P004/events.jsonl"));  // IDs unique across versions
   // The original config with --new-version stays in the first folder; an ID of another version is refused.
   ASSERT_EQ(run("run " + original + " --participant P005 --new-version" + tail).exit_code, 0);
   EXPECT_TRUE(fs::exists(results / "tiny_rating/P005/events.jsonl"));
-  expect_one_line_error(run("run " + original + " --participant P003" + tail), "--participant P003: already has a session in");
+  expect_one_line_error(run("run " + original + " --participant P003" + tail),
+                        "--participant P003: already has a session in");
   // An existing participant is resumed (here: found finished) exactly as before.
   expect_one_line_error(run("run " + original + " --participant P001" + tail), "already finished this study");
 
@@ -80,8 +83,10 @@ TEST(StudyVersionsCli, AnEditedConfigRunsOnlyAsANewVersionAndAnalyzeNamesBoth) {
   const CommandResult both = run("analyze " + results.string() + " --out " + out.string() + " --bootstrap 0");
   ASSERT_EQ(both.exit_code, 0) << both.err;
   EXPECT_NE(both.out.find("config versions found: 2, one analysed"), std::string::npos) << both.out;
-  EXPECT_NE(both.out.find("3 session(s) in " + (results / "tiny_rating").string() + ", analysed"), std::string::npos) << both.out;
-  EXPECT_NE(both.out.find("2 session(s) in " + (results / "tiny_rating@v2").string() + ", not analysed"), std::string::npos)
+  EXPECT_NE(both.out.find("3 session(s) in " + (results / "tiny_rating").string() + ", analysed"), std::string::npos)
+      << both.out;
+  EXPECT_NE(both.out.find("2 session(s) in " + (results / "tiny_rating@v2").string() + ", not analysed"),
+            std::string::npos)
       << both.out;
   const nlohmann::json thresholds = nlohmann::json::parse(read_all(out / "thresholds.json"));
   ASSERT_EQ(thresholds.at("config_versions").size(), 2u);

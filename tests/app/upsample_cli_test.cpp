@@ -51,8 +51,9 @@ TEST(UpsampleCli, BadInputIsOneLineAndWritesNothing) {
   const fs::path in = zone_buffer();
   const fs::path out = scratch() / "never.exr";
   expect_one_line_error(run("upsample " + in.string() + " --factor 3 --out " + out.string()), "--factor 3");
-  expect_one_line_error(run("upsample " + in.string() + " --factor 2 --filter bilinear --against-oiio --out " + out.string()),
-                        "--against-oiio");
+  expect_one_line_error(
+      run("upsample " + in.string() + " --factor 2 --filter bilinear --against-oiio --out " + out.string()),
+      "--against-oiio");
   expect_one_line_error(run("upsample " + in.string() + " --factor 2 --repeats 0 --out " + out.string()), "--repeats");
   expect_one_line_error(run("upsample " + (scratch() / "missing.exr").string() + " --factor 2 --out " + out.string()),
                         "missing.exr");

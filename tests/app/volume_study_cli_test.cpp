@@ -1,4 +1,4 @@
-// Volume studies end to end (seed 003): a tiny 2AFC study of the full raycast (volume) against the
+// Volume studies end to end (Bruder et al. 2019): a tiny 2AFC study of the full raycast (volume) against the
 // Voronoi-foveated one (fvolume) over the sampling density's radius runs headless with the simulated
 // observer, with attention checks, replays --verify (fvolume's images depend on each refresh's gaze
 // and on the temporal smoothing's history), also with a forged Voronoi cache beside it, and analyzes; bad input is one line with exit code 2: an
@@ -35,12 +35,15 @@ std::string volume_config(const std::string& name, const std::string& scene = "s
          "[display]\nwidth_px = 40\nheight_px = 30\nrefresh_hz = 60\ndiagonal_in = 27\nviewing_distance_mm = 500\n\n"
          "[stimulus]\nduration_s = 0.1\nframes_per_second = 20\n\n"
          "[stimulus.reference]\nmethod = \"volume\"\n\n"
-         "[stimulus.test]\nmethod = \"" + test_method + "\"\n\n"
+         "[stimulus.test]\nmethod = \"" +
+         test_method +
+         "\"\n\n"
          "[levels]\nparameter = \"density_sigma_deg\"\nvalues = [0.5, 3.0]\nhigher_is_better = true\n\n"
          "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 2\n\n"
          "[attention]\nshare = 0.3\nbreak_s = 1\nmax_errors = 3\n\n"
          "[timing]\nblack_interval_s = 0.05\ninter_trial_s = 0.05\n\n"
-         "[[block]]\nscene = \"" + scene + "\"\n";
+         "[[block]]\nscene = \"" +
+         scene + "\"\n";
 }
 
 TEST(VolumeStudyCli, FoveatedVolumeStudyRunsReplaysAndAnalyzes) {

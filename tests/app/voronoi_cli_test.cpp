@@ -1,4 +1,4 @@
-// fovlab voronoi: seed 003's sampling mask drawn for a screen (Figure 1), and bad input as one line
+// fovlab voronoi: Bruder et al. 2019's sampling mask drawn for a screen (Figure 1), and bad input as one line
 // and exit code 2 with nothing written.
 #include <gtest/gtest.h>
 
@@ -19,8 +19,8 @@ fs::path scratch() { return fovlab::cli_test::scratch("fovlab-voronoi-cli-test")
 
 TEST(VoronoiCli, DrawsTheSitesAndCellsOfAMaskTwiceTheScreen) {
   const fs::path sites = scratch() / "sites.png", cells = scratch() / "cells.png";
-  const auto result = run("voronoi --width 64 --height 36 --sigma-px 6 --out-sites " + sites.string() + " --out-cells " +
-                          cells.string());
+  const auto result = run("voronoi --width 64 --height 36 --sigma-px 6 --out-sites " + sites.string() +
+                          " --out-cells " + cells.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("mask 128x72 for a 64x36 screen"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("converged"), std::string::npos) << result.out;

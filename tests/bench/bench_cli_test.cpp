@@ -34,7 +34,8 @@ TEST(BenchCli, FiprSweepWritesEveryCellWithSpeedUpsAndParetoCharts) {
   const CommandResult result = run(kTiny + "--methods gt,ipr,fipr --refresh 1,2 --fovea-deg 5,7.5 --json " +
                                    json_path.string() + " --out-dir " + out_dir.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("| primitives | 0 | 1 | fipr | 2 | 7.5 |"), std::string::npos) << result.out;  // scene time 0
+  EXPECT_NE(result.out.find("| primitives | 0 | 1 | fipr | 2 | 7.5 |"), std::string::npos)
+      << result.out;  // scene time 0
   EXPECT_NE(result.out.find("FIPR at a fovea of 7.5 degrees"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("| primitives | 1 | 2 |"), std::string::npos) << result.out;  // the 7.5-degree table
 
@@ -81,7 +82,8 @@ TEST(BenchCli, FiprSweepWritesEveryCellWithSpeedUpsAndParetoCharts) {
     EXPECT_EQ(cell["warmup_frames"], refresh);
     EXPECT_EQ(cell["timed_frame_indices"][0], refresh);
     const std::string command = cell["command"].get<std::string>();
-    EXPECT_NE(command.find("--methods gt,fipr --refresh " + std::to_string(refresh) + " --fovea-deg "), std::string::npos)
+    EXPECT_NE(command.find("--methods gt,fipr --refresh " + std::to_string(refresh) + " --fovea-deg "),
+              std::string::npos)
         << command;
     EXPECT_TRUE(fs::exists(out_dir / ("primitives_spp1_fipr_r" + std::to_string(refresh) + "_fovea" +
                                       (fovea == 5.0 ? "5" : "7.5") + "_mask.png")));
@@ -115,14 +117,17 @@ TEST(BenchCli, FiprSweepWritesEveryCellWithSpeedUpsAndParetoCharts) {
   EXPECT_TRUE(fs::exists(out_dir / "bench.json"));
 }
 
-// Seed 002's sampling models over several scene times (Figure 12's rotating patterns): a cell per
+// Ye et al. 2022's sampling models over several scene times (Figure 12's rotating patterns): a cell per
 // time and model with its sampling figures, the models ranked by mean FPSNR.
 TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
   const fs::path json_path = scratch() / "models.json";
-  const CommandResult result = run("bench --scenes rotating-rod --spp 1 --width 64 --height 36 --repeats 1 --times 0,9 "
-                                   "--methods gt,rmfr,kfr --json " + json_path.string());
+  const CommandResult result =
+      run("bench --scenes rotating-rod --spp 1 --width 64 --height 36 --repeats 1 --times 0,9 "
+          "--methods gt,rmfr,kfr --json " +
+          json_path.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_NE(result.out.find("Sampling models ranked by mean FPSNR over the scene times"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("Sampling models ranked by mean FPSNR over the scene times"), std::string::npos)
+      << result.out;
   EXPECT_NE(result.out.find("| rotating-rod | 1 | 1 |"), std::string::npos) << result.out;  // rank 1
   const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
   EXPECT_EQ(json["times_s"], nlohmann::json::array({0.0, 9.0}));
@@ -132,9 +137,11 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
     seen.emplace(cell["time_s"].get<double>(), cell["method"].get<std::string>());
     if (cell["method"] == "gt") continue;
     const nlohmann::json& sampling = cell["sampling"];
-    EXPECT_NEAR(sampling["theoretical_speedup"].get<double>(), 64.0 * 36 / (25.0 * 14), 1e-9);  // round(64/2.6) x round(36/2.6)
+    EXPECT_NEAR(sampling["theoretical_speedup"].get<double>(), 64.0 * 36 / (25.0 * 14),
+                1e-9);  // round(64/2.6) x round(36/2.6)
     EXPECT_GT(sampling["shaded_samples"].get<double>(), 0.0);
-    EXPECT_NE(cell["command"].get<std::string>().find("--methods gt," + cell["method"].get<std::string>()), std::string::npos);
+    EXPECT_NE(cell["command"].get<std::string>().find("--methods gt," + cell["method"].get<std::string>()),
+              std::string::npos);
     EXPECT_NE(cell["command"].get<std::string>().find("--time " + std::to_string(int(cell["time_s"].get<double>()))),
               std::string::npos);
   }
@@ -152,15 +159,15 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
   EXPECT_EQ(again_json["command"], json["command"]);
   ASSERT_EQ(again_json["cells"].size(), json["cells"].size());
   for (size_t i = 0; i < json["cells"].size(); ++i)
-    for (const char* key : {"method", "time_s", "spp", "scene"}) EXPECT_EQ(again_json["cells"][i][key], json["cells"][i][key]) << i;
+    for (const char* key : {"method", "time_s", "spp", "scene"})
+      EXPECT_EQ(again_json["cells"][i][key], json["cells"][i][key]) << i;
 }
 
 // Figure 6: RMFR over a grid of focal shares, a cell a pair, heat maps and the best pair.
 TEST(BenchCli, RmfrFocalSweepWritesHeatMapsAndTheBestPair) {
   const fs::path out_dir = scratch() / "focal";
   fs::remove_all(out_dir);
-  const CommandResult result =
-      run(kTiny + "--methods gt,rmfr --fx 0.05,0.55 --fy 0.3 --out-dir " + out_dir.string());
+  const CommandResult result = run(kTiny + "--methods gt,rmfr --fx 0.05,0.55 --fy 0.3 --out-dir " + out_dir.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("RMFR's best f_x, f_y"), std::string::npos) << result.out;
   const nlohmann::json json = nlohmann::json::parse(read_all(out_dir / "bench.json"));
@@ -168,7 +175,8 @@ TEST(BenchCli, RmfrFocalSweepWritesHeatMapsAndTheBestPair) {
   for (const nlohmann::json& cell : json["cells"])
     if (cell["method"] == "rmfr") {
       pairs.emplace(cell["focal_share_x"].get<double>(), cell["focal_share_y"].get<double>());
-      EXPECT_NE(cell["command"].get<std::string>().find("--fx " + std::string(cell["focal_share_x"] == 0.05 ? "0.05" : "0.55")),
+      EXPECT_NE(cell["command"].get<std::string>().find("--fx " +
+                                                        std::string(cell["focal_share_x"] == 0.05 ? "0.05" : "0.55")),
                 std::string::npos);
     }
   EXPECT_EQ(pairs, (std::set<std::pair<double, double>>{{0.05, 0.3}, {0.55, 0.3}}));
@@ -186,7 +194,8 @@ bool timed(const std::string& key) {
 }
 
 // `a` and `b` equal but for timed keys; the first difference's path in `where`.
-bool equal_but_times(const nlohmann::json& a, const nlohmann::json& b, std::string& where, const std::string& path = "") {
+bool equal_but_times(const nlohmann::json& a, const nlohmann::json& b, std::string& where,
+                     const std::string& path = "") {
   if (a.is_object() && b.is_object()) {
     for (const auto& [key, value] : a.items()) {
       if (timed(key)) continue;
@@ -218,16 +227,19 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   fs::create_directories(dir);
   // A scene time of more digits than 6: each part's command must give it back exactly for the merge
   // to rebuild the part's cells.
-  const std::string sweep = "bench --scenes primitives --spp 1,4 --width 64 --height 48 --repeats 1 --methods gt,ipr,fipr "
-                            "--refresh 1 --fovea-deg 7.5 --time 0.123456789";
-  const CommandResult whole = run(sweep + " --json " + (dir / "whole.json").string() + " --out-dir " + (dir / "whole").string());
+  const std::string sweep =
+      "bench --scenes primitives --spp 1,4 --width 64 --height 48 --repeats 1 --methods gt,ipr,fipr "
+      "--refresh 1 --fovea-deg 7.5 --time 0.123456789";
+  const CommandResult whole =
+      run(sweep + " --json " + (dir / "whole.json").string() + " --out-dir " + (dir / "whole").string());
   ASSERT_EQ(whole.exit_code, 0) << whole.err;
   std::string parts;
   for (int index = 0; index < 3; ++index) {
     const fs::path part = dir / ("part-" + std::to_string(index) + ".json");
     const CommandResult result = run(sweep + " --cells " + std::to_string(index) + "/3 --json " + part.string());
     ASSERT_EQ(result.exit_code, 0) << result.err;
-    EXPECT_NE(result.out.find("part " + std::to_string(index) + "/3: " + (index < 2 ? "1" : "0") + " of 2 (scene, time, spp) units"),
+    EXPECT_NE(result.out.find("part " + std::to_string(index) + "/3: " + (index < 2 ? "1" : "0") +
+                              " of 2 (scene, time, spp) units"),
               std::string::npos)
         << result.out;
     parts = " " + part.string() + parts;  // given in reverse order
@@ -235,7 +247,8 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   const CommandResult merged = run("bench-merge" + parts + " --json " + (dir / "merged.json").string() + " --out-dir " +
                                    (dir / "merged").string());
   ASSERT_EQ(merged.exit_code, 0) << merged.err;
-  EXPECT_NE(merged.out.find("fovlab bench-merge: 3 parts, 2 (scene, time, spp) units, 6 cells"), std::string::npos) << merged.out;
+  EXPECT_NE(merged.out.find("fovlab bench-merge: 3 parts, 2 (scene, time, spp) units, 6 cells"), std::string::npos)
+      << merged.out;
   EXPECT_NE(merged.out.find("FIPR at a fovea of 7.5 degrees"), std::string::npos) << merged.out;
   const nlohmann::json one = nlohmann::json::parse(read_all(dir / "whole.json"));
   const nlohmann::json joined = nlohmann::json::parse(read_all(dir / "merged.json"));
@@ -256,7 +269,8 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
     part["cells"] = nlohmann::json::array();
     for (size_t unit = size_t(index); unit < one["rows"].size(); unit += 2) {
       part["rows"].push_back(one["rows"][unit]);
-      for (size_t cell = unit * cells_per_unit.get<size_t>(); cell < (unit + 1) * cells_per_unit.get<size_t>(); ++cell) {
+      for (size_t cell = unit * cells_per_unit.get<size_t>(); cell < (unit + 1) * cells_per_unit.get<size_t>();
+           ++cell) {
         nlohmann::json value = one["cells"][cell];
         value.erase("pareto_flip");  // made again by the merge
         value.erase("pareto_one_minus_ssim");
@@ -274,8 +288,8 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
     EXPECT_TRUE(read_all(dir / "cut" / file) == read_all(dir / "whole" / file)) << file << " differs from one run's";
 
   // A part missing: one line naming it, nothing written.
-  const CommandResult missing = run("bench-merge " + (dir / "part-0.json").string() + " " + (dir / "part-2.json").string() +
-                                    " --json " + (dir / "never.json").string());
+  const CommandResult missing = run("bench-merge " + (dir / "part-0.json").string() + " " +
+                                    (dir / "part-2.json").string() + " --json " + (dir / "never.json").string());
   expect_one_line_error(missing, "part 1/3 missing");
   EXPECT_FALSE(fs::exists(dir / "never.json"));
   expect_one_line_error(run("bench-merge " + (dir / "whole.json").string()), "not a part of a sweep");
@@ -292,20 +306,26 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   const auto merge = [&](const std::string& a, const std::string& b, const std::string& c) {
     return run("bench-merge " + a + " " + b + " " + c + " --json " + (dir / "never.json").string());
   };
-  const std::string relabelled_0 = edited("relabelled", [](nlohmann::json& p) { p["part"]["index"] = 1; }, 0);
-  const std::string relabelled_1 = edited("relabelled", [](nlohmann::json& p) { p["part"]["index"] = 0; }, 1);
+  const std::string relabelled_0 = edited(
+      "relabelled", [](nlohmann::json& p) { p["part"]["index"] = 1; }, 0);
+  const std::string relabelled_1 = edited(
+      "relabelled", [](nlohmann::json& p) { p["part"]["index"] = 0; }, 1);
   expect_one_line_error(merge(relabelled_0, relabelled_1, part_2),
                         "relabelled-1.json: rows[0].spp is 4; expected 1 (unit 0 of the sweep");
   const std::string part_1 = (dir / "part-1.json").string();
-  expect_one_line_error(merge(edited("xyz", [](nlohmann::json& p) { p["cells"][1]["method"] = "xyz"; }, 0), part_1, part_2),
-                        "xyz-0.json: cells[1].method is \"xyz\"; expected \"ipr\" (cell 2 of every unit's 3: gt, ipr, fipr");
-  expect_one_line_error(merge(edited("slow", [](nlohmann::json& p) { p["cells"][2]["median_gpu_ms"] = -1.5; }, 0), part_1,
-                              part_2),
+  expect_one_line_error(
+      merge(edited(
+                "xyz", [](nlohmann::json& p) { p["cells"][1]["method"] = "xyz"; }, 0),
+            part_1, part_2),
+      "xyz-0.json: cells[1].method is \"xyz\"; expected \"ipr\" (cell 2 of every unit's 3: gt, ipr, fipr");
+  expect_one_line_error(merge(edited(
+                                  "slow", [](nlohmann::json& p) { p["cells"][2]["median_gpu_ms"] = -1.5; }, 0),
+                              part_1, part_2),
                         "slow-0.json: cells[2].median_gpu_ms is -1.5; expected a GPU time in milliseconds from 0 to");
   const auto other_command = [](nlohmann::json& p) { p["command"] = "rm -rf /"; };
-  expect_one_line_error(merge(edited("other", other_command, 0), edited("other", other_command, 1),
-                              edited("other", other_command, 2)),
-                        "other-0.json: \"command\": expected \"fovlab bench\" and the sweep's flags, got \"rm -rf /\"");
+  expect_one_line_error(
+      merge(edited("other", other_command, 0), edited("other", other_command, 1), edited("other", other_command, 2)),
+      "other-0.json: \"command\": expected \"fovlab bench\" and the sweep's flags, got \"rm -rf /\"");
   const auto more_spps = [](nlohmann::json& p) {
     std::string command = p["command"];
     command.replace(command.find("--spp 1,4"), 9, "--spp 1,4,16");
@@ -317,8 +337,9 @@ TEST(BenchCli, CellsInPartsMergeIntoTheWholeSweepsReport) {
   expect_one_line_error(run("bench-merge " + (dir / "nothing.json").string()), "nothing.json");
   // --cells needs --json, and leaves --out-dir to bench-merge.
   expect_one_line_error(run(kTiny + "--cells 0/2"), "--cells 0/2: needs --json");
-  expect_one_line_error(run(kTiny + "--cells 0/2 --json " + (dir / "x.json").string() + " --out-dir " + (dir / "x").string()),
-                        "--out-dir");
+  expect_one_line_error(
+      run(kTiny + "--cells 0/2 --json " + (dir / "x.json").string() + " --out-dir " + (dir / "x").string()),
+      "--out-dir");
   expect_one_line_error(run(kTiny + "--cells 2/2 --json " + (dir / "x.json").string()), "--cells");
   EXPECT_FALSE(fs::exists(dir / "x.json"));
 }

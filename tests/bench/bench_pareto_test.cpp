@@ -20,14 +20,14 @@ using fovlab::bench::TradeOff;
 TEST(BenchPareto, FrontKeepsThePointsNothingBeatsInBoth) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<TradeOff> points = {
-      {1.0, 0.0},    // GT: slowest, exact
-      {2.0, 0.10},   // beaten by {3.0, 0.05}
-      {1.5, 0.20},   // beaten by both of the above
-      {3.0, 0.05},   // front
-      {3.0, 0.05},   // the same again: equal points do not dominate each other
-      {8.0, 0.30},   // fastest: front
-      {8.0, 0.31},   // as fast, more error: beaten
-      {nan, 0.0},    // not a measurement: never on the front, beats nothing
+      {1.0, 0.0},   // GT: slowest, exact
+      {2.0, 0.10},  // beaten by {3.0, 0.05}
+      {1.5, 0.20},  // beaten by both of the above
+      {3.0, 0.05},  // front
+      {3.0, 0.05},  // the same again: equal points do not dominate each other
+      {8.0, 0.30},  // fastest: front
+      {8.0, 0.31},  // as fast, more error: beaten
+      {nan, 0.0},   // not a measurement: never on the front, beats nothing
       {9.0, nan},
   };
   const std::vector<bool> expected = {true, false, false, true, true, true, false, false, false};

@@ -31,13 +31,20 @@ SweepLayout layout_of(int scenes, std::vector<int> spps = {1}) {
 
 // The report one run of `layout`'s sweep would write, with the unit's number in each row and cell.
 nlohmann::json whole_sweep(const SweepLayout& layout) {
-  nlohmann::json report = {{"device", "test device"}, {"width", 64},           {"height", 36},
-                           {"repeats", 1},            {"times_s", {0.0}},     {"command", "fovlab bench ..."},
+  nlohmann::json report = {{"device", "test device"},
+                           {"width", 64},
+                           {"height", 36},
+                           {"repeats", 1},
+                           {"times_s", {0.0}},
+                           {"command", "fovlab bench ..."},
                            {"metrics", {{"flip_pixels_per_degree", 1.3}}}};
-  const nlohmann::json runs = {{"median_gpu_ms", 2.0}, {"steps_per_pixel", 9.5}, {"capped_rays", 0},
+  const nlohmann::json runs = {{"median_gpu_ms", 2.0},
+                               {"steps_per_pixel", 9.5},
+                               {"capped_rays", 0},
                                {"median_pass_gpu_ms", {{"trace_level0", 2.0}}}};
   for (const PlannedCell& planned : layout.unit_cells)
-    if (planned.method == BenchMethod::fipr) report["fipr"] = {{"refresh", {*planned.refresh}}, {"fovea_deg", {*planned.fovea_deg}}};
+    if (planned.method == BenchMethod::fipr)
+      report["fipr"] = {{"refresh", {*planned.refresh}}, {"fovea_deg", {*planned.fovea_deg}}};
   if (!layout.focal_shares_x.empty())
     report["sampling_focal_shares"] = {{"x", layout.focal_shares_x}, {"y", layout.focal_shares_y}};
   report["rows"] = nlohmann::json::array();
@@ -59,8 +66,14 @@ nlohmann::json whole_sweep(const SweepLayout& layout) {
       if (planned.focal_share_x)
         cell.update({{"focal_share_x", *planned.focal_share_x}, {"focal_share_y", *planned.focal_share_y}});
       cell.update(runs);
-      cell.update({{"gt_median_gpu_ms", 2.0}, {"speedup", 1.0}, {"top_level_share", 1.0}, {"refreshed_share", 0.0},
-                   {"ssim", 0.99}, {"flip", 0.01}, {"psnr_db", nullptr}, {"fpsnr_db", 40.0}});
+      cell.update({{"gt_median_gpu_ms", 2.0},
+                   {"speedup", 1.0},
+                   {"top_level_share", 1.0},
+                   {"refreshed_share", 0.0},
+                   {"ssim", 0.99},
+                   {"flip", 0.01},
+                   {"psnr_db", nullptr},
+                   {"fpsnr_db", 40.0}});
       report["cells"].push_back(cell);
     }
   }
@@ -128,11 +141,13 @@ TEST(BenchParts, MissingRepeatedOrForeignPartsAreRefusedNamingThem) {
   EXPECT_NE(error_of({p0, p1, again, p2}).find("copy.json: part 1/3 again (also part-1.json)"), std::string::npos)
       << error_of({p0, p1, again, p2});
   // Parts of a sweep cut into another count, or of another sweep or device.
-  EXPECT_NE(error_of({p0, part_of(whole, 1, 2), p2}).find("part-1.json: part 1/2 of 5 units, but part-0.json is of 3 parts"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of({p0, part_of(whole, 1, 2), p2}).find("part-1.json: part 1/2 of 5 units, but part-0.json is of 3 parts"),
+      std::string::npos);
   PartReport other_device = p2;
   other_device.report["device"] = "another GPU";
-  EXPECT_NE(error_of({p0, p1, other_device}).find("part-2.json: \"device\" differs from part-0.json's"), std::string::npos)
+  EXPECT_NE(error_of({p0, p1, other_device}).find("part-2.json: \"device\" differs from part-0.json's"),
+            std::string::npos)
       << error_of({p0, p1, other_device});
   PartReport extra_key = p1;
   extra_key.report["height"] = 48;
@@ -169,7 +184,8 @@ TEST(BenchParts, MissingRepeatedOrForeignPartsAreRefusedNamingThem) {
   // A unit's fields the tables read: missing or of the wrong kind, named.
   PartReport no_ssim = p1;
   no_ssim.report["cells"][1].erase("ssim");
-  EXPECT_NE(error_of({p0, no_ssim, p2}).find("part-1.json: cells[1].ssim is missing or not a number"), std::string::npos)
+  EXPECT_NE(error_of({p0, no_ssim, p2}).find("part-1.json: cells[1].ssim is missing or not a number"),
+            std::string::npos)
       << error_of({p0, no_ssim, p2});
   PartReport text_ms = p1;
   text_ms.report["rows"][0]["gt"]["median_gpu_ms"] = "fast";
@@ -192,8 +208,9 @@ TEST(BenchParts, APartsUnitsAreThoseOfItsIndexInThePlannedSweep) {
   const nlohmann::json whole = whole_sweep(two_spps);
   PartReport p0 = part_of(whole, 0, 2), p1 = part_of(whole, 1, 2);
   std::swap(p0.report["part"], p1.report["part"]);  // part-0.json now says it is 1/2, part-1.json 0/2
-  EXPECT_NE(error_of({p0, p1}, two_spps).find("part-1.json: rows[0].spp is 4; expected 1 (unit 0 of the sweep: part 0/2 "
-                                               "holds units 0, 0 + 2, ..."),
+  EXPECT_NE(error_of({p0, p1}, two_spps)
+                .find("part-1.json: rows[0].spp is 4; expected 1 (unit 0 of the sweep: part 0/2 "
+                      "holds units 0, 0 + 2, ..."),
             std::string::npos)
       << error_of({p0, p1}, two_spps);
 
@@ -225,8 +242,9 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
   const PartReport p0 = part_of(whole, 0, 2), p1 = part_of(whole, 1, 2);
   PartReport xyz = p1;
   xyz.report["cells"][1]["method"] = "xyz";
-  EXPECT_NE(error_of({p0, xyz}, layout).find("part-1.json: cells[1].method is \"xyz\"; expected \"ipr\" (cell 2 of "
-                                             "every unit's 2: gt, ipr"),
+  EXPECT_NE(error_of({p0, xyz}, layout)
+                .find("part-1.json: cells[1].method is \"xyz\"; expected \"ipr\" (cell 2 of "
+                      "every unit's 2: gt, ipr"),
             std::string::npos)
       << error_of({p0, xyz}, layout);
   PartReport swapped = p0;
@@ -234,7 +252,8 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
   EXPECT_NE(error_of({swapped, p1}, layout).find("cells[0].method is \"ipr\"; expected \"gt\""), std::string::npos);
 
   SweepLayout variants = layout;
-  variants.unit_cells = {{BenchMethod::gt}, {BenchMethod::fipr, 2, 7.5, std::nullopt, std::nullopt},
+  variants.unit_cells = {{BenchMethod::gt},
+                         {BenchMethod::fipr, 2, 7.5, std::nullopt, std::nullopt},
                          {BenchMethod::rmfr, std::nullopt, std::nullopt, 0.3, 0.55}};
   variants.focal_shares_x = {0.3};
   variants.focal_shares_y = {0.55};
@@ -243,7 +262,8 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
   // What the tables group cells by is the plan's too: scene times, FIPR, RMFR's pairs.
   PartReport other_times = part_of(variant_whole, 0, 1);
   other_times.report["times_s"] = {0.0, 9.0};
-  EXPECT_NE(error_of({other_times}, variants).find("part-0.json: times_s is [0.0,9.0]; expected [0.0]"), std::string::npos)
+  EXPECT_NE(error_of({other_times}, variants).find("part-0.json: times_s is [0.0,9.0]; expected [0.0]"),
+            std::string::npos)
       << error_of({other_times}, variants);
   PartReport no_fipr = part_of(variant_whole, 0, 1);
   no_fipr.report.erase("fipr");
@@ -251,13 +271,15 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
       << error_of({no_fipr}, variants);
   PartReport text_shares = part_of(variant_whole, 0, 1);
   text_shares.report["sampling_focal_shares"] = "0.3";
-  EXPECT_NE(error_of({text_shares}, variants).find("part-0.json: sampling_focal_shares is \"0.3\"; expected {\"x\":[0.3],"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of({text_shares}, variants).find("part-0.json: sampling_focal_shares is \"0.3\"; expected {\"x\":[0.3],"),
+      std::string::npos)
       << error_of({text_shares}, variants);
   PartReport other_fovea = part_of(variant_whole, 0, 1);
   other_fovea.report["cells"][4]["fovea_deg"] = 5.0;
-  EXPECT_NE(error_of({other_fovea}, variants).find("part-0.json: cells[4].fovea_deg is 5.0; expected 7.5 (cell 2 of "
-                                                   "every unit's 3: gt, fipr, rmfr"),
+  EXPECT_NE(error_of({other_fovea}, variants)
+                .find("part-0.json: cells[4].fovea_deg is 5.0; expected 7.5 (cell 2 of "
+                      "every unit's 3: gt, fipr, rmfr"),
             std::string::npos)
       << error_of({other_fovea}, variants);
   PartReport other_pair = part_of(variant_whole, 0, 1);
@@ -277,25 +299,32 @@ TEST(BenchParts, TimesOutOfRangeAndHugeNumbersAreRefusedAsWritten) {
                            const std::string& expected) {
     PartReport edited = p1;
     edited.report[at] = value;
-    EXPECT_NE(error_of({p0, edited}, layout).find(expected), std::string::npos) << what << ": " << error_of({p0, edited}, layout);
+    EXPECT_NE(error_of({p0, edited}, layout).find(expected), std::string::npos)
+        << what << ": " << error_of({p0, edited}, layout);
   };
   const std::string time = "; expected a GPU time in milliseconds from 0 to 86400000 (a day)";
-  refused("negative", "/cells/1/median_gpu_ms"_json_pointer, -5.0, "part-1.json: cells[1].median_gpu_ms is -5.0" + time);
-  refused("huge", "/rows/0/gt/median_gpu_ms"_json_pointer, 1e308, "part-1.json: rows[0].gt.median_gpu_ms is 1e+308" + time);
-  refused("GT's in a cell", "/cells/0/gt_median_gpu_ms"_json_pointer, 1e308, "cells[0].gt_median_gpu_ms is 1e+308" + time);
+  refused("negative", "/cells/1/median_gpu_ms"_json_pointer, -5.0,
+          "part-1.json: cells[1].median_gpu_ms is -5.0" + time);
+  refused("huge", "/rows/0/gt/median_gpu_ms"_json_pointer, 1e308,
+          "part-1.json: rows[0].gt.median_gpu_ms is 1e+308" + time);
+  refused("GT's in a cell", "/cells/0/gt_median_gpu_ms"_json_pointer, 1e308,
+          "cells[0].gt_median_gpu_ms is 1e+308" + time);
   refused("a pass", "/rows/0/ipr/median_pass_gpu_ms/trace_level0"_json_pointer, -1,
           "rows[0].ipr.median_pass_gpu_ms.trace_level0 is -1" + time);
   refused("a cell's pass", "/cells/1/median_pass_gpu_ms/trace_level0"_json_pointer, 1e300,
           "cells[1].median_pass_gpu_ms.trace_level0 is 1e+300" + time);
-  refused("the floor", "/rows/0/floor/median_gpu_ms"_json_pointer, 86400000.5, "rows[0].floor.median_gpu_ms is 86400000.5" + time);
-  refused("a speed-up", "/cells/1/speedup"_json_pointer, -2.0, "cells[1].speedup is -2.0; expected a finite number of at least 0");
+  refused("the floor", "/rows/0/floor/median_gpu_ms"_json_pointer, 86400000.5,
+          "rows[0].floor.median_gpu_ms is 86400000.5" + time);
+  refused("a speed-up", "/cells/1/speedup"_json_pointer, -2.0,
+          "cells[1].speedup is -2.0; expected a finite number of at least 0");
   refused("capped rays", "/rows/0/gt/capped_rays"_json_pointer, -1,
           "rows[0].gt.capped_rays is -1; expected a whole number of rays, at least 0");
   // 10^18 is quoted as written, never narrowed to a negative int.
   PartReport far = p0;
   far.report["part"]["index"] = 1000000000000000000;
-  EXPECT_NE(error_of({far, p1}, layout).find("part-0.json: \"part\" 1000000000000000000/2 of 3 units; expected 0 <= index"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of({far, p1}, layout).find("part-0.json: \"part\" 1000000000000000000/2 of 3 units; expected 0 <= index"),
+      std::string::npos)
       << error_of({far, p1}, layout);
   far.report["part"]["index"] = 18446744073709551615u;
   EXPECT_NE(error_of({far, p1}, layout).find("\"part\" 18446744073709551615/2 of 3 units"), std::string::npos)

@@ -50,8 +50,9 @@ void expect_rows(const nlohmann::json& json, const std::string& presenter) {
 
 TEST(BenchPresentCli, HeadlessTinyRunWritesTheJson) {
   const fs::path json_path = scratch() / "present.json";
-  const CommandResult result = run("bench-present --presenter headless --width 64 --height 48 --refreshes 3 --json " +
-                                   json_path.string(), "env -u DISPLAY -u WAYLAND_DISPLAY");
+  const CommandResult result =
+      run("bench-present --presenter headless --width 64 --height 48 --refreshes 3 --json " + json_path.string(),
+          "env -u DISPLAY -u WAYLAND_DISPLAY");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("| headless | none | 64x48 |"), std::string::npos) << result.out;
   const nlohmann::json json = nlohmann::json::parse(read_all(json_path));

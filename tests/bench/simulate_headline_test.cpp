@@ -12,8 +12,9 @@ namespace fovlab {
 namespace {
 
 void expect_every_headline_holds_its_aim(const std::string& experiment, const std::string& observer) {
-  const auto result = cli_test::run("simulate " + std::string(FOVLAB_SOURCE_DIR) + "/experiments/" + experiment +
-                                    " --participants 20 --threads 2" + (observer.empty() ? "" : " --observer " + observer));
+  const auto result =
+      cli_test::run("simulate " + std::string(FOVLAB_SOURCE_DIR) + "/experiments/" + experiment +
+                    " --participants 20 --threads 2" + (observer.empty() ? "" : " --observer " + observer));
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const size_t table = result.out.find("headline per group");
   ASSERT_NE(table, std::string::npos) << result.out;
@@ -24,15 +25,20 @@ void expect_every_headline_holds_its_aim(const std::string& experiment, const st
   EXPECT_EQ(headlines.find("not estimable"), std::string::npos) << headlines;
 }
 
-TEST(SimulateHeadline, QuestPlusPilot) { expect_every_headline_holds_its_aim("pilot_simulated_quest.toml", "simulated:threshold=14,slope=0.4"); }
-TEST(SimulateHeadline, StaircasePilot) { expect_every_headline_holds_its_aim("pilot_simulated_staircase.toml", "simulated:threshold=14,slope=0.4"); }
+TEST(SimulateHeadline, QuestPlusPilot) {
+  expect_every_headline_holds_its_aim("pilot_simulated_quest.toml", "simulated:threshold=14,slope=0.4");
+}
+TEST(SimulateHeadline, StaircasePilot) {
+  expect_every_headline_holds_its_aim("pilot_simulated_staircase.toml", "simulated:threshold=14,slope=0.4");
+}
 TEST(SimulateHeadline, RampPilot) { expect_every_headline_holds_its_aim("fpt_ramp.toml", ""); }
 TEST(SimulateHeadline, SliderPilot) { expect_every_headline_holds_its_aim("fpt_slider.toml", ""); }
 
 // A design whose levels cannot reach the observers' threshold says so instead of giving a number.
 TEST(SimulateHeadline, UnreachableLevelsAreNotEstimable) {
-  const auto result = cli_test::run("simulate " + std::string(FOVLAB_SOURCE_DIR) +
-                                    "/experiments/fpt_pair.toml --participants 10 --threads 2 --observer simulated:threshold=80,slope=1");
+  const auto result = cli_test::run(
+      "simulate " + std::string(FOVLAB_SOURCE_DIR) +
+      "/experiments/fpt_pair.toml --participants 10 --threads 2 --observer simulated:threshold=80,slope=1");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("not estimable"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("lies outside the tested levels"), std::string::npos) << result.out;

@@ -27,7 +27,9 @@ namespace {
 using testing::names_in;
 using testing::pid_of_a_finished_process;
 
-std::filesystem::path fresh_folder(const std::string& name) { return testing::fresh_scratch_folder("fovlab-test-" + name); }
+std::filesystem::path fresh_folder(const std::string& name) {
+  return testing::fresh_scratch_folder("fovlab-test-" + name);
+}
 
 std::string read_all(const std::filesystem::path& path) {
   std::ifstream in(path);
@@ -192,7 +194,8 @@ TEST(AtomicFolder, TemporariesOfKilledWritersAreCleanedUp) {
   std::filesystem::create_directories(aside);
   write_set(target, true, "new");
   EXPECT_EQ(read_all(target / "a.txt"), "new");
-  EXPECT_EQ(names_in(folder), (std::vector<std::string>{"out", "out.tmp-" + alive + "-0123456789abcdef", "out.tmp-notes"}));
+  EXPECT_EQ(names_in(folder),
+            (std::vector<std::string>{"out", "out.tmp-" + alive + "-0123456789abcdef", "out.tmp-notes"}));
 }
 
 TEST(ImageIo, PngRoundTripAndErrorsNameThePath) {

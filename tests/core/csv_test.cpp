@@ -25,13 +25,15 @@ std::string error_of(const std::string& text) {
 TEST(CsvReader, ReadsQuotedCellsLineEndsAndBlankLines) {
   using Rows = std::vector<std::vector<std::string>>;
   EXPECT_EQ(cells_of("a,b\n1,2\n"), (Rows{{"a", "b"}, {"1", "2"}}));
-  EXPECT_EQ(cells_of("\xEF\xBB\xBF" "a,b\r\n1,2"), (Rows{{"a", "b"}, {"1", "2"}}));  // BOM, CRLF, no last line end
+  EXPECT_EQ(cells_of("\xEF\xBB\xBF"
+                     "a,b\r\n1,2"),
+            (Rows{{"a", "b"}, {"1", "2"}}));  // BOM, CRLF, no last line end
   EXPECT_EQ(cells_of("a\n\n\nb\n"), (Rows{{"a"}, {"b"}}));
   EXPECT_EQ(cells_of("\"park, \"\"north\"\"\",x\n"), (Rows{{"park, \"north\"", "x"}}));
   EXPECT_EQ(cells_of("\"two\nlines\",y\nz,\n"), (Rows{{"two\nlines", "y"}, {"z", ""}}));
   EXPECT_EQ(cells_of("x,\"\",\n"), (Rows{{"x", "", ""}}));
-  EXPECT_EQ(cells_of(" a , b \n"), (Rows{{" a ", " b "}}));  // spaces are kept
-  EXPECT_EQ(cells_of("a,b\r1,2\r"), (Rows{{"a", "b"}, {"1", "2"}}));  // lone CRs (old Mac spreadsheets)
+  EXPECT_EQ(cells_of(" a , b \n"), (Rows{{" a ", " b "}}));                        // spaces are kept
+  EXPECT_EQ(cells_of("a,b\r1,2\r"), (Rows{{"a", "b"}, {"1", "2"}}));               // lone CRs (old Mac spreadsheets)
   EXPECT_EQ(cells_of("a,b\n1,\"2\"\r\n,,\n,\n"), (Rows{{"a", "b"}, {"1", "2"}}));  // rows of empty cells are blank
   // The line a record starts on, for messages (the quoted line break counts).
   const std::vector<CsvRow> rows = read_csv_rows("h\n\"x\ny\"\n\nz\n", "c.csv");
@@ -42,7 +44,8 @@ TEST(CsvReader, ReadsQuotedCellsLineEndsAndBlankLines) {
 }
 
 TEST(CsvReader, AnUnclosedQuoteOrTextAfterOneIsAnErrorNamingTheLine) {
-  EXPECT_EQ(error_of("a,b\n1,\"open\n2,3\n").rfind("c.csv:2: a quoted cell is never closed", 0), 0u) << error_of("a,b\n1,\"open\n2,3\n");
+  EXPECT_EQ(error_of("a,b\n1,\"open\n2,3\n").rfind("c.csv:2: a quoted cell is never closed", 0), 0u)
+      << error_of("a,b\n1,\"open\n2,3\n");
   EXPECT_EQ(error_of("a\n\"x\"y\n").rfind("c.csv:2: text after a quoted cell's closing quote", 0), 0u);
 }
 

@@ -37,7 +37,9 @@ Folders participant_folder(const std::string& name) {
   return folders;
 }
 
-std::string refusal(const fs::path& path, const OutputTarget& target) { return output_target_refusal(path, "--out", target); }
+std::string refusal(const fs::path& path, const OutputTarget& target) {
+  return output_target_refusal(path, "--out", target);
+}
 
 TEST(OutputGuard, EverySessionFileIsRefusedWhateverTheKindAndWhereverItIs) {
   const Folders folders = participant_folder("session-files");
@@ -58,7 +60,8 @@ TEST(OutputGuard, EverySessionFileIsRefusedWhateverTheKindAndWhereverItIs) {
 
 TEST(OutputGuard, NothingInsideAParticipantsFolderButTheNamesACommandOwnsThere) {
   const Folders folders = participant_folder("inside");
-  EXPECT_NE(refusal(folders.participant / "bench.json", kFile).find("inside the participant's folder"), std::string::npos);
+  EXPECT_NE(refusal(folders.participant / "bench.json", kFile).find("inside the participant's folder"),
+            std::string::npos);
   EXPECT_NE(refusal(folders.participant / "frames" / "x.png", kImage), "");  // at any depth
   EXPECT_NE(refusal(folders.participant, kFolder).find("a participant's folder"), std::string::npos);
   EXPECT_NE(refusal(folders.participant / "analysis", kFolder), "");
@@ -76,7 +79,8 @@ TEST(OutputGuard, NothingInsideAParticipantsFolderButTheNamesACommandOwnsThere) 
   // session: the lock goes at the session's end, events.jsonl.recovered-1 stays).
   fs::remove(folders.participant / kSessionLockName);
   std::ofstream(set_aside_path(folders.log, SetAside::recovered, 1)) << "{}\n";
-  EXPECT_NE(refusal(folders.participant / "x.json", kFile).find("it holds events.jsonl.recovered-1"), std::string::npos);
+  EXPECT_NE(refusal(folders.participant / "x.json", kFile).find("it holds events.jsonl.recovered-1"),
+            std::string::npos);
   EXPECT_NE(refusal(folders.participant, kFolder), "");
   // The study folder beside participants is no participant's.
   EXPECT_EQ(refusal(folders.root / "results" / "study" / "trials.csv", kFile), "");
@@ -100,7 +104,8 @@ TEST(OutputGuard, SymbolicLinksAreFollowedToWhereAWriteWouldLand) {
   // participant's folder when l is a link to a folder beside it, whatever the text says.
   fs::create_directories(folders.root / "results" / "study" / "other");
   fs::create_directory_symlink(folders.root / "results" / "study" / "other", outside / "l");
-  EXPECT_NE(refusal(outside / "l" / ".." / "P001", kFolder).find("resolves to " + folders.participant.string()), std::string::npos)
+  EXPECT_NE(refusal(outside / "l" / ".." / "P001", kFolder).find("resolves to " + folders.participant.string()),
+            std::string::npos)
       << refusal(outside / "l" / ".." / "P001", kFolder);
   EXPECT_NE(refusal(outside / "l" / ".." / "P001" / "x.json", kFile), "");
   EXPECT_NE(refusal(outside / "l" / ".." / "P001" / "sub" / "..", kFolder), "");

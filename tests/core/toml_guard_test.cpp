@@ -48,7 +48,8 @@ TEST(ProtocolsTomlGuard, NonAsciiTextInStringsParsesExactly) {
 }
 
 TEST(ProtocolsTomlGuard, HazardsOutsideStringsAreErrorsWithTheirLine) {
-  for (const std::string& bad : {std::string("namé = 3\n"), std::string("\xcc\xaa\n"), std::string("x = \"\"\"a\\\n\u00a7\"\"\"\n")}) {
+  for (const std::string& bad :
+       {std::string("namé = 3\n"), std::string("\xcc\xaa\n"), std::string("x = \"\"\"a\\\n\u00a7\"\"\"\n")}) {
     try {
       parse_study_config_text("# first line\n" + bad, "bad.toml", renderer_scene_catalog());
       ADD_FAILURE() << "accepted: " << bad;
@@ -121,7 +122,8 @@ TEST(ProtocolsTomlGuard, DeepArraysAndInlineTablesAreRefusedWithTheirLine) {
   EXPECT_NO_THROW(check_toml_nesting("[[" + repeated("t", limit - 1, ".") + "]]\n", "deep.toml", limit));
   EXPECT_THROW(check_toml_nesting("[[" + repeated("t", limit, ".") + "]]\n", "deep.toml", limit), InputError);
   // A config at the limit is no error of the guard's (an inline table deep in a key's array).
-  EXPECT_EQ(config_error(demo_text() + "[protocol.keys]\nsame = " + repeated("[", limit - 3) + repeated("]", limit - 3) + "\n")
+  EXPECT_EQ(config_error(demo_text() + "[protocol.keys]\nsame = " + repeated("[", limit - 3) +
+                         repeated("]", limit - 3) + "\n")
                 .find("nested deeper"),
             std::string::npos);
 }

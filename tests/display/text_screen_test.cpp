@@ -9,7 +9,8 @@ namespace fovlab {
 namespace {
 
 bool is_black(const Rgba8Frame& frame, int x, int y) {
-  const uint8_t* p = frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(frame.width) + static_cast<size_t>(x)) * 4;
+  const uint8_t* p =
+      frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(frame.width) + static_cast<size_t>(x)) * 4;
   return p[0] == 0 && p[1] == 0 && p[2] == 0;
 }
 

@@ -29,12 +29,12 @@ bool has_display() {
   return display && *display;
 }
 
-#define REQUIRE_DISPLAY()                                                                              \
-  do {                                                                                                 \
-    if (!has_display()) {                                                                              \
+#define REQUIRE_DISPLAY()                                                                               \
+  do {                                                                                                  \
+    if (!has_display()) {                                                                               \
       if (std::getenv("FOVLAB_REQUIRE_DISPLAY")) FAIL() << "FOVLAB_REQUIRE_DISPLAY set but no DISPLAY"; \
       GTEST_SKIP() << "no DISPLAY: window tests run under xvfb-run (CTest: WindowPresenterUnderXvfb)";  \
-    }                                                                                                  \
+    }                                                                                                   \
   } while (false)
 
 WindowPresenterOptions small_window() {
@@ -47,7 +47,8 @@ WindowPresenterOptions small_window() {
 }
 
 void set_pixel(Rgba8Frame& frame, int x, int y, uint8_t r, uint8_t g, uint8_t b) {
-  uint8_t* p = frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(frame.width) + static_cast<size_t>(x)) * 4;
+  uint8_t* p =
+      frame.rgba.data() + (static_cast<size_t>(y) * static_cast<size_t>(frame.width) + static_cast<size_t>(x)) * 4;
   p[0] = r;
   p[1] = g;
   p[2] = b;
@@ -84,8 +85,8 @@ Rgba8Frame quadrant_pattern(int width, int height) {
   }
   if (differences == 0) return ::testing::AssertionSuccess();
   const size_t pixel = first / 4;
-  return ::testing::AssertionFailure() << differences << " bytes differ; first at pixel (" << pixel % actual.width << ", "
-                                       << pixel / actual.width << ") channel " << first % 4 << ": "
+  return ::testing::AssertionFailure() << differences << " bytes differ; first at pixel (" << pixel % actual.width
+                                       << ", " << pixel / actual.width << ") channel " << first % 4 << ": "
                                        << int(actual.rgba[first]) << " vs " << int(expected.rgba[first]);
 }
 
@@ -218,7 +219,8 @@ TEST(WindowPresenter, FullscreenCentresAndLetterboxes) {
   Rgba8Frame expected(width, height);
   for (int y = 0; y < 200 * scale; ++y) {
     for (int x = 0; x < 300 * scale; ++x) {
-      const uint8_t* p = frame.rgba.data() + (static_cast<size_t>(y / scale) * 300 + static_cast<size_t>(x / scale)) * 4;
+      const uint8_t* p =
+          frame.rgba.data() + (static_cast<size_t>(y / scale) * 300 + static_cast<size_t>(x / scale)) * 4;
       set_pixel(expected, x + left, y + top, p[0], p[1], p[2]);
     }
   }

@@ -1,4 +1,4 @@
-// foveation/acuity_model.h: seed 001 eq. 1-2 with the outer periphery.
+// foveation/acuity_model.h: Polychronakis et al. 2021 eq. 1-2 with the outer periphery.
 #include <gtest/gtest.h>
 
 #include <cmath>

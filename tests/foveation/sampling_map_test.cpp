@@ -1,4 +1,4 @@
-// The four foveation sampling models of seed 002 section 5.1 (foveation/sampling_map.h), tested
+// The four foveation sampling models of Ye et al. 2022 section 5.1 (foveation/sampling_map.h), tested
 // against the header's definitions on small screens:
 //   - KFR: round trips to 1e-4 px, monotone radius, v in [0, h), the analytic density against the
 //     map's Jacobian and its integral against the samples that land on the screen;
@@ -50,8 +50,8 @@ std::string gaze_text(double x, double y) { return "gaze " + std::to_string(x) +
 // Gazes at the centre, the four corners, the four edges' midpoints and one odd point.
 std::vector<std::pair<double, double>> gazes_on(int width, int height) {
   const double w = width, h = height;
-  return {{0.5 * w, 0.5 * h}, {0, 0}, {w, 0}, {0, h}, {w, h},
-          {0.5 * w, 0}, {0, 0.5 * h}, {w, 0.5 * h}, {0.5 * w, h}, {0.31 * w, 0.77 * h}};
+  return {{0.5 * w, 0.5 * h}, {0, 0},       {w, 0},       {0, h},       {w, h},
+          {0.5 * w, 0},       {0, 0.5 * h}, {w, 0.5 * h}, {0.5 * w, h}, {0.31 * w, 0.77 * h}};
 }
 
 // Fewer gazes where a test loops over layers and taps: the centre, two corners, two edges, one odd point.
@@ -66,8 +66,8 @@ struct KfrCase {
   int width, height;
   double sigma, alpha;
 };
-const KfrCase kKfrCases[] = {{160, 90, 2.6, 4.0}, {128, 72, 3.0, 4.0}, {96, 96, 2.6, 2.0},
-                             {97, 61, 2.6, 0.25}, {160, 90, 1.7, 8.0}};
+const KfrCase kKfrCases[] = {
+    {160, 90, 2.6, 4.0}, {128, 72, 3.0, 4.0}, {96, 96, 2.6, 2.0}, {97, 61, 2.6, 0.25}, {160, 90, 1.7, 8.0}};
 
 std::string describe(const KernelLogPolarMapping& m) {
   return std::to_string(m.screen_width_px) + "x" + std::to_string(m.screen_height_px) + " buffer " +
@@ -77,7 +77,7 @@ std::string describe(const KernelLogPolarMapping& m) {
 
 TEST(SamplingMapKfr, BufferIsTheRoundedScreenOverSigma) {
   const KernelLogPolarMapping m = make_kernel_log_polar_mapping(160, 90, 2.6, 4.0, 80, 45);
-  EXPECT_EQ(m.buffer_width_px, 62);  // 61.54
+  EXPECT_EQ(m.buffer_width_px, 62);   // 61.54
   EXPECT_EQ(m.buffer_height_px, 35);  // 34.62
   EXPECT_NEAR(m.log_max_radius, std::log(std::hypot(80.0, 45.0)), 1e-12);
   const KernelLogPolarMapping corner = make_kernel_log_polar_mapping(160, 90, 2.6, 4.0, 0, 0);
@@ -113,7 +113,8 @@ TEST(SamplingMapKfr, RoundTripsEveryPointAwayFromTheGaze) {
           const auto [u, v] = m.to_buffer_px(x, y);
           if (!(u >= 0.0 && u <= m.buffer_width_px && v >= 0.0 && v < m.buffer_height_px)) {
             if (outside_range++ == 0)
-              outside_at = std::to_string(x) + "," + std::to_string(y) + " -> " + std::to_string(u) + "," + std::to_string(v);
+              outside_at =
+                  std::to_string(x) + "," + std::to_string(y) + " -> " + std::to_string(u) + "," + std::to_string(v);
           }
           const auto [x_again, y_again] = m.to_screen_px(u, v);
           const double error = std::hypot(x_again - x, y_again - y);
@@ -264,7 +265,8 @@ TEST(SamplingMapKfr, DensityIntegratesToTheSamplesOnTheScreen) {
 // tangential 2 pi r / h.
 TEST(SamplingMapKfr, SampleSpacingsAreThoseOfBothDirections) {
   for (const KfrCase& c : kKfrCases) {
-    const KernelLogPolarMapping m = make_kernel_log_polar_mapping(c.width, c.height, c.sigma, c.alpha, 0.4 * c.width, 0.6 * c.height);
+    const KernelLogPolarMapping m =
+        make_kernel_log_polar_mapping(c.width, c.height, c.sigma, c.alpha, 0.4 * c.width, 0.6 * c.height);
     for (int u = 0; u < m.buffer_width_px; ++u) {
       const double centre = u + 0.5, h = 1e-4;
       const auto radius_at = [&](double column) {
@@ -275,7 +277,8 @@ TEST(SamplingMapKfr, SampleSpacingsAreThoseOfBothDirections) {
       const double tangential = kTwoPi * radius_at(centre) / m.buffer_height_px;
       const auto [radial_spacing, tangential_spacing] = m.sample_spacings_px(centre);
       EXPECT_TRUE(std::isfinite(radial_spacing) && radial_spacing > 0.0) << describe(m) << " u " << u;
-      EXPECT_NEAR(radial_spacing, dr_du, 1e-5 * dr_du + 1e-9) << describe(m) << " u " << u;  // (differences of tiny radii)
+      EXPECT_NEAR(radial_spacing, dr_du, 1e-5 * dr_du + 1e-9)
+          << describe(m) << " u " << u;  // (differences of tiny radii)
       EXPECT_NEAR(tangential_spacing, tangential, 1e-9 * tangential) << describe(m) << " u " << u;
     }
   }
@@ -310,7 +313,8 @@ TEST(SamplingMapKfr, EveryBilinearTapOfAScreenPixelIsShaded) {
                 first = "pixel " + std::to_string(x) + "," + std::to_string(y) + " (u " + std::to_string(u) + " v " +
                         std::to_string(v) + "): tap " + std::to_string(cu) + "," + std::to_string(rv) + " at " +
                         std::to_string(sx) + "," + std::to_string(sy) + ", margin " +
-                        std::to_string(m.sample_spacings_px(cu + 0.5).first + m.sample_spacings_px(cu + 0.5).second) + " px, tangential spacing " +
+                        std::to_string(m.sample_spacings_px(cu + 0.5).first + m.sample_spacings_px(cu + 0.5).second) +
+                        " px, tangential spacing " +
                         std::to_string(kTwoPi * std::hypot(sx - m.gaze_x_px, sy - m.gaze_y_px) / h) + " px";
             }
         }
@@ -364,7 +368,8 @@ std::string describe(const HyperbolicLayers& m) {
   return text;
 }
 
-HyperbolicLayers make_hyperbolic(const SamplingSettings& settings, const DisplayGeometry& display, double gx, double gy) {
+HyperbolicLayers make_hyperbolic(const SamplingSettings& settings, const DisplayGeometry& display, double gx,
+                                 double gy) {
   const SamplingMap map = make_sampling_map(settings, display, gx, gy);
   EXPECT_EQ(model_of(map), SamplingModel::hyperbolic);
   return std::get<HyperbolicLayers>(map);
@@ -423,8 +428,8 @@ TEST(SamplingMapHyperbolic, WeightsAndDensityFollowTheEccentricity) {
       std::string first;
       const auto fail = [&](const std::string& what, double x, double y, double e, const std::array<double, 3>& w) {
         if (failures++ == 0)
-          first = what + " at " + std::to_string(x) + "," + std::to_string(y) + " e " + std::to_string(e) + " weights " +
-                  std::to_string(w[0]) + "," + std::to_string(w[1]) + "," + std::to_string(w[2]);
+          first = what + " at " + std::to_string(x) + "," + std::to_string(y) + " e " + std::to_string(e) +
+                  " weights " + std::to_string(w[0]) + "," + std::to_string(w[1]) + "," + std::to_string(w[2]);
       };
       for (int y = 0; y < 90; ++y)
         for (int x = 0; x < 160; ++x) {
@@ -440,7 +445,8 @@ TEST(SamplingMapHyperbolic, WeightsAndDensityFollowTheEccentricity) {
           if (e >= r2 + 1e-9 && w[2] != 1.0) fail("outer alone", px, py, e, w);
           if (band > 0 && e > r1 - band + 1e-9 && e < r1 - 1e-9 && !(w[0] > 0 && w[1] > 0 && w[2] == 0))
             fail("inner-middle band", px, py, e, w);
-          if (band > 0 && e > r2 - band + 1e-9 && e < r2 - 1e-9 && e > r1 + 1e-9 && !(w[0] == 0 && w[1] > 0 && w[2] > 0))
+          if (band > 0 && e > r2 - band + 1e-9 && e < r2 - 1e-9 && e > r1 + 1e-9 &&
+              !(w[0] == 0 && w[1] > 0 && w[2] > 0))
             fail("middle-outer band", px, py, e, w);
           // Each layer's weight lies where the layer says it has weight.
           for (int layer = 0; layer < 3; ++layer)
@@ -462,9 +468,11 @@ TEST(SamplingMapHyperbolic, WeightsAndDensityFollowTheEccentricity) {
           const double angle = kTwoPi * (ray + 0.3) / 8;
           std::array<double, 3> previous = m.weights(m.gaze_x_px, m.gaze_y_px);
           for (double r = 0.05; r < 200.0; r += 0.05) {
-            const std::array<double, 3> w = m.weights(m.gaze_x_px + r * std::cos(angle), m.gaze_y_px + r * std::sin(angle));
+            const std::array<double, 3> w =
+                m.weights(m.gaze_x_px + r * std::cos(angle), m.gaze_y_px + r * std::sin(angle));
             for (size_t layer = 0; layer < 3; ++layer)
-              ASSERT_LE(std::abs(w[layer] - previous[layer]), 0.05 / band) << describe(m) << " ray " << ray << " r " << r;
+              ASSERT_LE(std::abs(w[layer] - previous[layer]), 0.05 / band)
+                  << describe(m) << " ray " << ray << " r " << r;
             previous = w;
           }
         }
@@ -479,8 +487,8 @@ TEST(SamplingMapHyperbolic, EveryBilinearTapOfAWeightedPixelIsShaded) {
   struct Variant {
     double r1, r2, s2, s3, band;
   };
-  const Variant variants[] = {{10, 20, 2, 12.35, 1}, {10, 20, 2, 12.35, 0}, {5, 8, 3, 5.5, 3}, {10, 10, 2, 7, 2},
-                              {2, 30, 4, 9, 2}};
+  const Variant variants[] = {
+      {10, 20, 2, 12.35, 1}, {10, 20, 2, 12.35, 0}, {5, 8, 3, 5.5, 3}, {10, 10, 2, 7, 2}, {2, 30, 4, 9, 2}};
   for (const DisplayGeometry& display : {display_600(), display_128x72_300()})
     for (const Variant& variant : variants)
       for (const auto& [gx, gy] : tap_gazes_on(display.width_px, display.height_px)) {
@@ -533,11 +541,12 @@ TEST(SamplingMapHyperbolic, EveryBilinearTapOfAWeightedPixelIsShaded) {
                   const int c = std::clamp(column, 0, grid.columns - 1), r = std::clamp(row, 0, grid.rows - 1);
                   if (c != column || r != row) {
                     const auto [mx, my] = m.sample_centre_px(int(layer), column, row);
-                    const bool beyond_screen = (column < 0 && mx < 0) || (column >= grid.columns && mx > display.width_px) ||
+                    const bool beyond_screen = (column < 0 && mx < 0) ||
+                                               (column >= grid.columns && mx > display.width_px) ||
                                                (row < 0 && my < 0) || (row >= grid.rows && my > display.height_px);
                     if (!beyond_screen && failures++ == 0)
-                      first = where + ": tap " + std::to_string(column) + "," + std::to_string(row) +
-                              " (centre " + std::to_string(mx) + "," + std::to_string(my) + ") outside the grid, on the screen";
+                      first = where + ": tap " + std::to_string(column) + "," + std::to_string(row) + " (centre " +
+                              std::to_string(mx) + "," + std::to_string(my) + ") outside the grid, on the screen";
                   }
                   if (!needed[layer][size_t(r) * size_t(grid.columns) + size_t(c)] && failures++ == 0) {
                     const auto [sx, sy] = m.sample_centre_px(int(layer), c, r);
@@ -686,8 +695,7 @@ TEST(SamplingMapLinear, SampledPixelsFollowTheProbability) {
           SamplingSettings settings = settings_of(SamplingModel::linear);
           settings.seed = seed;
           settings.min_probability = p_min;
-          const SamplingMap map =
-              make_sampling_map(settings, display, gx * display.width_px, gy * display.height_px);
+          const SamplingMap map = make_sampling_map(settings, display, gx * display.width_px, gy * display.height_px);
           const auto& m = std::get<LinearFalloff>(map);
           uint64_t count = 0;
           double expected = 0.0, variance = 0.0;
@@ -769,7 +777,8 @@ TEST(SamplingMapLinear, EqualiseReportsWhenImpossible) {
     DisplayGeometry display;
     double sigma;
   };
-  const Case cases[] = {{display_600(), 8.0}, {display_600(), 2.6}, {display_from_size(96, 96, 100.0, 100.0, 600.0), 2.6}};
+  const Case cases[] = {
+      {display_600(), 8.0}, {display_600(), 2.6}, {display_from_size(96, 96, 100.0, 100.0, 600.0), 2.6}};
   for (const Case& c : cases) {
     SamplingSettings settings = settings_of(SamplingModel::linear);
     settings.sigma = c.sigma;
@@ -853,8 +862,8 @@ TEST(SamplingMapSettings, OutOfRangeFieldsNameTheField) {
     }
   }
   // A screen without pixels, every model.
-  for (const SamplingModel model :
-       {SamplingModel::rectangular, SamplingModel::kernel_log_polar, SamplingModel::hyperbolic, SamplingModel::linear}) {
+  for (const SamplingModel model : {SamplingModel::rectangular, SamplingModel::kernel_log_polar,
+                                    SamplingModel::hyperbolic, SamplingModel::linear}) {
     DisplayGeometry empty = display_600();
     empty.width_px = 0;
     EXPECT_THROW(make_sampling_map(settings_of(model), empty, 0, 0), SettingError) << sampling_model_name(model);
@@ -917,8 +926,8 @@ std::pair<double, double> gaze_held(const SamplingMap& map) {
 }
 
 TEST(SamplingMapSettings, NaNGazeIsTheCentreAndFarGazeIsClamped) {
-  for (const SamplingModel model :
-       {SamplingModel::rectangular, SamplingModel::kernel_log_polar, SamplingModel::hyperbolic, SamplingModel::linear}) {
+  for (const SamplingModel model : {SamplingModel::rectangular, SamplingModel::kernel_log_polar,
+                                    SamplingModel::hyperbolic, SamplingModel::linear}) {
     const SamplingMap centre = make_sampling_map(settings_of(model), display_600(), kNaN, kNaN);
     const auto [cx, cy] = gaze_held(centre);
     EXPECT_NEAR(cx, 80.0, 1e-9) << sampling_model_name(model);
@@ -951,18 +960,17 @@ TEST(SamplingMapStress, EveryValueIsFinite) {
   for (const DisplayGeometry& display : displays) {
     std::vector<std::pair<double, double>> gazes = gazes_on(display.width_px, display.height_px);
     gazes.insert(gazes.end(), {{kNaN, kNaN}, {kNaN, 3.0}, {-50.0, 1e6}, {1e12, -1e12}});
-    for (const SamplingModel model :
-         {SamplingModel::rectangular, SamplingModel::kernel_log_polar, SamplingModel::hyperbolic, SamplingModel::linear})
+    for (const SamplingModel model : {SamplingModel::rectangular, SamplingModel::kernel_log_polar,
+                                      SamplingModel::hyperbolic, SamplingModel::linear})
       for (const double sigma : {1.0, 8.0})
         for (const bool equalise : {false, true})
           for (const auto& [gx, gy] : gazes) {
             SamplingSettings settings = settings_of(model);
             settings.sigma = sigma;
             settings.equalise = equalise;
-            const std::string where = std::string(sampling_model_name(model)) + " " +
-                                      std::to_string(display.width_px) + "x" + std::to_string(display.height_px) +
-                                      " sigma " + std::to_string(sigma) + (equalise ? " equalised " : " ") +
-                                      gaze_text(gx, gy);
+            const std::string where = std::string(sampling_model_name(model)) + " " + std::to_string(display.width_px) +
+                                      "x" + std::to_string(display.height_px) + " sigma " + std::to_string(sigma) +
+                                      (equalise ? " equalised " : " ") + gaze_text(gx, gy);
             SamplingMap map;
             try {
               map = make_sampling_map(settings, display, gx, gy);
@@ -988,7 +996,8 @@ TEST(SamplingMapStress, EveryValueIsFinite) {
             for (const auto& [x, y] : points) {
               const double d = density(map, x, y);
               check(d, "density", x, y);
-              if (!(d >= 0.0) && bad++ == 0) first = "negative density at " + std::to_string(x) + "," + std::to_string(y);
+              if (!(d >= 0.0) && bad++ == 0)
+                first = "negative density at " + std::to_string(x) + "," + std::to_string(y);
               if (const auto* k = std::get_if<KernelLogPolarMapping>(&map)) {
                 const auto [u, v] = k->to_buffer_px(x, y);
                 check(u, "u", x, y);

@@ -1,4 +1,4 @@
-// Seed 003's sampling mask (foveation/voronoi_mask.h): the weighted LBG reaches the equilibrium the
+// Bruder et al. 2019's sampling mask (foveation/voronoi_mask.h): the weighted LBG reaches the equilibrium the
 // authors' code reaches (for a 256x256 screen with s = 23 px: about 5,900 sites, under 5 % of the
 // screen's pixels traced with the gaze at the centre, about 1.5 px between sites in the fovea and
 // 7.5 px in the periphery), deterministically, in Morton order; its nearest-site cells are exact.
@@ -86,7 +86,8 @@ TEST(VoronoiMask, IsDeterministicAndSeeded) {
     ASSERT_TRUE(site.x_px >= 0 && site.x_px < 192 && site.y_px >= 0 && site.y_px < 128);
     if (i > 0) {
       const MaskSite& before = c.sites[i - 1];
-      EXPECT_LE(morton_code(uint32_t(before.x_px), uint32_t(before.y_px)), morton_code(uint32_t(site.x_px), uint32_t(site.y_px)));
+      EXPECT_LE(morton_code(uint32_t(before.x_px), uint32_t(before.y_px)),
+                morton_code(uint32_t(site.x_px), uint32_t(site.y_px)));
     }
   }
 }

@@ -104,8 +104,8 @@ TEST(VoronoiReconstruction, CacheGivesBackWhatWasMadeAndRemakesADamagedFile) {
   testing::TempDir dir;
   bool made = false;
   double last_progress = -1.0;
-  const VoronoiReconstruction first =
-      cached_voronoi_reconstruction(small_settings(), dir.path(), [&](double share) { last_progress = share; }, &made);
+  const VoronoiReconstruction first = cached_voronoi_reconstruction(
+      small_settings(), dir.path(), [&](double share) { last_progress = share; }, &made);
   EXPECT_TRUE(made);
   EXPECT_EQ(last_progress, 1.0);
   const VoronoiReconstruction second = cached_voronoi_reconstruction(small_settings(), dir.path(), {}, &made);

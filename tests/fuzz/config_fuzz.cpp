@@ -17,7 +17,6 @@
 
 namespace {
 
-
 // "A StudyConfig that exists is a runnable study": a few invariants the parser promises.
 void expect(bool condition, const char* what) {
   if (condition) return;
@@ -32,8 +31,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     // Scene names are checked against a fixed catalog (the harness links no renderer); files are not
     // looked for.
-    static const fovlab::SceneCatalog scenes{
-        {"primitives", "columns", "temple"}, {"courtyard"}, ".obj", false, {"marschner-lobb", "combustion", "shepp-logan"}, ".toml"};
+    static const fovlab::SceneCatalog scenes{{"primitives", "columns", "temple"},
+                                             {"courtyard"},
+                                             ".obj",
+                                             false,
+                                             {"marschner-lobb", "combustion", "shepp-logan"},
+                                             ".toml"};
     const fovlab::StudyConfig config = fovlab::parse_study_config_text(text, "fuzz.toml", scenes);
     expect(config.source_text == text, "source_text is the input");
     expect(!config.blocks.empty(), "at least one block");

@@ -34,8 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const fovlab::InputError& error) {
     const std::string message = error.what();
     expect(message.rfind("fuzz.csv:", 0) == 0, "an error starts with the name");
-    expect(message.find('\n') == std::string::npos && message.find('\r') == std::string::npos,
-           "an error is one line");
+    expect(message.find('\n') == std::string::npos && message.find('\r') == std::string::npos, "an error is one line");
     return 0;
   }
   expect(!samples.empty(), "at least one sample");

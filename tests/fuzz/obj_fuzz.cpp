@@ -34,7 +34,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool has_library = split != std::string::npos;
   const std::string mtl = has_library ? input.substr(split + separator.size()) : std::string();
   const auto read_library = [&](const std::string& library) -> std::string {
-    if (!has_library) throw fovlab::InputError(library + ": cannot open (no library in this input): expected an MTL material library");
+    if (!has_library)
+      throw fovlab::InputError(library + ": cannot open (no library in this input): expected an MTL material library");
     return mtl;
   };
   fovlab::ObjLoadReport report;

@@ -134,7 +134,7 @@ TEST(Fpsnr, RejectsBadInput) {
   const Image a = constant(400, 1, 3, 0.4f);
   EXPECT_THROW(fpsnr(a, constant(399, 1, 3, 0.4f), d, 200, 0.5), std::invalid_argument);  // sizes differ
   EXPECT_THROW(fpsnr(constant(200, 2, 3, 0.4f), constant(200, 2, 3, 0.4f), d, 200, 0.5),
-               std::invalid_argument);  // not the display's size
+               std::invalid_argument);                                                    // not the display's size
   EXPECT_THROW(fpsnr(a, constant(400, 1, 1, 0.4f), d, 200, 0.5), std::invalid_argument);  // grey vs colour
   EXPECT_THROW(fpsnr(a, constant(400, 1, 2, 0.4f), d, 200, 0.5), std::invalid_argument);
   EXPECT_THROW(fpsnr(a, a, d, std::numeric_limits<double>::quiet_NaN(), 0.5), std::invalid_argument);

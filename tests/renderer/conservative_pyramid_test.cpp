@@ -25,7 +25,7 @@ SphereTraceSettings frame_320x180(TraceMethod method, int spp) {
 }
 
 double ssim(const SphereTraceResult& reference, const SphereTraceResult& test) {
-  return analysis::ssim(encode_srgb(reference.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
+  return metrics::ssim(encode_srgb(reference.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
 }
 
 // The scene of sub-pixel wires, rods, rings and an edge-on plate in front of a wall: the centre

@@ -1,4 +1,4 @@
-// FIPR (seed 000 section 3.2) at small sizes: the GPU mask against the CPU reference, the fallbacks
+// FIPR (Polychronakis et al. 2023 section 3.2) at small sizes: the GPU mask against the CPU reference, the fallbacks
 // for missing or far gaze, the periphery refresh and reconstruction, the blur, the statistics and the
 // bad settings.
 #include <gtest/gtest.h>
@@ -62,7 +62,7 @@ SphereTraceResult ground_truth(SphereTracer& tracer, SphereTraceSettings setting
   return tracer.render(settings);
 }
 double ssim_against(const SphereTraceResult& gt, const SphereTraceResult& test) {
-  return analysis::ssim(encode_srgb(gt.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
+  return metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
 }
 
 double mask_sum(const SphereTraceResult& result) {
@@ -187,14 +187,14 @@ TEST_F(VulkanTest, GazeSweepKeepsEveryPixelFinite) {
 // neighbourhood is foveal; the frame stays finite; eccentricity 0 at the gaze pixel itself.
 TEST_F(VulkanTest, ExtremeDisplaysKeepTheFoveaAtTheGazeAndEveryPixelFinite) {
   SphereTracer tracer(context(), load_scene("primitives"));
-  for (const DisplayGeometry& display : {display_from_size(96, 64, 240.0, 160.0, 1e-3),
-                                         display_from_size(96, 64, 1e7, 6.667e6, 600.0),
-                                         display_from_size(96, 64, 1e-3, 6.67e-4, 600.0)}) {
+  for (const DisplayGeometry& display :
+       {display_from_size(96, 64, 240.0, 160.0, 1e-3), display_from_size(96, 64, 1e7, 6.667e6, 600.0),
+        display_from_size(96, 64, 1e-3, 6.67e-4, 600.0)}) {
     SphereTraceSettings settings = fipr_frame();
     settings.foveation.display = display;
     settings.foveation.combine = MaskCombine::acuity;
     settings.foveation.near_misses = NearMisses::ignore;  // acuity alone decides (promotion only adds: below)
-    settings.foveation.gaze_x_px = 10.5;  // the centre of pixel (10, 20)
+    settings.foveation.gaze_x_px = 10.5;                  // the centre of pixel (10, 20)
     settings.foveation.gaze_y_px = 20.5;
     const SphereTraceResult result = tracer.render(settings);
     ASSERT_TRUE(all_finite(result.colour_linear)) << display.viewing_distance_mm;
@@ -290,7 +290,8 @@ TEST_F(VulkanTest, PeripheryTexturedAtThePixelsFootprintIsCloserToGroundTruth) {
   settings.foveation.reconstruction = PeripheryReconstruction::mid_footprint_bilinear;
   const SphereTraceResult first_built = tracer.render(settings);
   std::vector<float> bilinear_colours;
-  for (const PeripheryReconstruction reconstruction : {PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom}) {
+  for (const PeripheryReconstruction reconstruction :
+       {PeripheryReconstruction::bilinear, PeripheryReconstruction::catmull_rom}) {
     SCOPED_TRACE(periphery_reconstruction_name(reconstruction));
     settings.foveation.reconstruction = reconstruction;
     const SphereTraceResult result = tracer.render(settings);
@@ -302,17 +303,20 @@ TEST_F(VulkanTest, PeripheryTexturedAtThePixelsFootprintIsCloserToGroundTruth) {
       for (int x = 0; x < settings.width; ++x) {
         if (result.mask.at(x, y, 0) != 0.0f) {
           ++masked;
-          for (int c = 0; c < 3; ++c) ASSERT_EQ(result.colour_linear.at(x, y, c), first_built.colour_linear.at(x, y, c));
+          for (int c = 0; c < 3; ++c)
+            ASSERT_EQ(result.colour_linear.at(x, y, c), first_built.colour_linear.at(x, y, c));
         } else {
           unmasked_changed += colour_differs(result.colour_linear, first_built.colour_linear, x, y);
         }
       }
     }
     EXPECT_GT(masked, 0u);
-    EXPECT_GT(unmasked_changed, uint64_t(settings.width * settings.height) / 4) << "the floor is a quarter of the frame";
+    EXPECT_GT(unmasked_changed, uint64_t(settings.width * settings.height) / 4)
+        << "the floor is a quarter of the frame";
     EXPECT_GT(ssim(result), ssim(first_built) + 0.01);
     ASSERT_TRUE(all_finite(result.colour_linear));
-    for (float value : result.colour_linear.pixels) ASSERT_GE(value, 0.0f) << "Catmull-Rom's negative lobes are clamped";
+    for (float value : result.colour_linear.pixels)
+      ASSERT_GE(value, 0.0f) << "Catmull-Rom's negative lobes are clamped";
   }
 }
 
@@ -379,7 +383,8 @@ TEST_F(VulkanTest, MaskedBlurTouchesOnlyTransitionPixels) {
       for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
           const int nx = x + dx, ny = y + dy;
-          if (nx >= 0 && ny >= 0 && nx < settings.width && ny < settings.height) near_top = near_top || sharp.mask.at(nx, ny, 0) != 0.0f;
+          if (nx >= 0 && ny >= 0 && nx < settings.width && ny < settings.height)
+            near_top = near_top || sharp.mask.at(nx, ny, 0) != 0.0f;
         }
       ASSERT_TRUE(near_top) << x << "," << y;
     }
@@ -491,13 +496,26 @@ TEST(FoveationSettingsValidation, BadSettingsNameTheirField) {
   // The renderer names the field of its settings (the CLI words it as its flag, a study as its key).
   EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.pyramid_levels = 2; }),
             "pyramid_levels 2: FIPR needs at least 3 pyramid levels (low, mid and top)");
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.periphery_refresh = 3; }).rfind("periphery_refresh 3:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_radius_deg = -1; }).rfind("fovea_radius_deg:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.fovea_radius_deg = kNaN; }).rfind("fovea_radius_deg:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.acuity.outer_periphery_radius_deg = 1.0; }).rfind("outer_periphery_radius_deg:", 0),
+  EXPECT_EQ(
+      message_for([](SphereTraceSettings& s) { s.foveation.periphery_refresh = 3; }).rfind("periphery_refresh 3:", 0),
+      0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) {
+              s.foveation.acuity.fovea_radius_deg = -1;
+            }).rfind("fovea_radius_deg:", 0),
             0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.edge_threshold = 0.0f; }).rfind("edge_threshold:", 0), 0u);
-  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.periphery_steps = -1; }).rfind("periphery_steps -1:", 0), 0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) {
+              s.foveation.acuity.fovea_radius_deg = kNaN;
+            }).rfind("fovea_radius_deg:", 0),
+            0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) {
+              s.foveation.acuity.outer_periphery_radius_deg = 1.0;
+            }).rfind("outer_periphery_radius_deg:", 0),
+            0u);
+  EXPECT_EQ(message_for([](SphereTraceSettings& s) { s.foveation.edge_threshold = 0.0f; }).rfind("edge_threshold:", 0),
+            0u);
+  EXPECT_EQ(
+      message_for([](SphereTraceSettings& s) { s.foveation.periphery_steps = -1; }).rfind("periphery_steps -1:", 0),
+      0u);
   try {
     SphereTraceSettings bad = fipr_frame();
     bad.max_steps = 0;
@@ -518,7 +536,8 @@ TEST(FoveationMask, CombinationsAndThresholds) {
   EXPECT_EQ(mask_probability(MaskCombine::fovea_or_product, 1.0, true, false), 1.0);
   EXPECT_EQ(mask_probability(MaskCombine::fovea_or_product, 0.05, false, true), 0.05);
   EXPECT_EQ(mask_probability(MaskCombine::acuity, 0.05, false, true), 0.05);
-  for (MaskCombine combine : {MaskCombine::max, MaskCombine::fovea_or_product, MaskCombine::product, MaskCombine::acuity})
+  for (MaskCombine combine :
+       {MaskCombine::max, MaskCombine::fovea_or_product, MaskCombine::product, MaskCombine::acuity})
     EXPECT_EQ(parse_mask_combine(mask_combine_name(combine)), combine);
   EXPECT_FALSE(parse_mask_combine("sum").has_value());
   // Thresholds are uniform on [0, 1): the mean and the share below 0.1 of 200,000 pixels.

@@ -343,8 +343,8 @@ TEST_F(FrameCacheTest, CacheJsonOfAnotherShapeIsRefusedNamingIt) {
     folder = cache.folder(sequence);
   }
   const fs::path manifest = folder / "cache.json";
-  for (const std::string& text : {std::string("[1, 2, 3]"), std::string("\"text\""), std::string("42"),
-                                  std::string("{\"sequence\": 5}")}) {
+  for (const std::string& text :
+       {std::string("[1, 2, 3]"), std::string("\"text\""), std::string("42"), std::string("{\"sequence\": 5}")}) {
     SCOPED_TRACE(text);
     write_text(manifest, text);
     FrameCache cache(context(), root_);
@@ -376,7 +376,8 @@ TEST_F(FrameCacheTest, SameSequenceRenderedTwiceGivesIdenticalBits) {
   EXPECT_EQ(read_image(FrameCache(context(), root_ / "a").frame_file(sequence, 0)).pixels, first);
   // Byte for byte, hash included: an EXR holds no write time, so two machines' caches compare equal.
   for (const char* name : {"frame_000000.exr", "frame_000000.sha256"})
-    EXPECT_EQ(read_text(cache.folder(sequence) / name), read_text(FrameCache(root_ / "a").folder(sequence) / name)) << name;
+    EXPECT_EQ(read_text(cache.folder(sequence) / name), read_text(FrameCache(root_ / "a").folder(sequence) / name))
+        << name;
   // render_frame again into the same cache: the same bits on disk.
   cache.render_frame(sequence, 0);
   EXPECT_EQ(read_image(cache.frame_file(sequence, 0)).pixels, first);
@@ -413,7 +414,8 @@ TEST_F(FrameCacheTest, AHashFileIsReadNoFurtherThanOneLine) {
   EXPECT_LT(read, uint64_t(1) << 20) << "read " << read << " bytes to check a 32x20 frame";
   FrameCache cache(context(), root_);
   const std::string message = input_error_of([&] { cache.frame(sequence, 0); });
-  EXPECT_NE(message.find("frame_000000.sha256: not a regular file of at most 4096 bytes"), std::string::npos) << message;
+  EXPECT_NE(message.find("frame_000000.sha256: not a regular file of at most 4096 bytes"), std::string::npos)
+      << message;
 }
 
 TEST_F(FrameCacheTest, BadSequenceSettingsAreInputErrors) {

@@ -77,8 +77,8 @@ TEST_F(FrameSamplerTest, EachSampleReadsTheReferenceMeanOverItsFootprint) {
   sampler.set_frame(frame);
   for (SamplingModel model : kModels) {
     for (const Gaze& gaze : kGazes) {
-      const std::string where = std::string(sampling_model_name(model)) + " gaze " + std::to_string(gaze.x) + "," +
-                                std::to_string(gaze.y);
+      const std::string where =
+          std::string(sampling_model_name(model)) + " gaze " + std::to_string(gaze.x) + "," + std::to_string(gaze.y);
       const SamplingMap map = map_of(model, gaze.x, gaze.y);
       const FrameSamplingResult result = sampler.resample(map, ResampleFilter::bilinear, true);
       const double expected = double(shaded_samples(map));
@@ -89,7 +89,8 @@ TEST_F(FrameSamplerTest, EachSampleReadsTheReferenceMeanOverItsFootprint) {
         const std::array<float, 3> reference = footprint_mean(frame, sample);
         ASSERT_EQ(colours[size_t(sample.entry) * 4 + 3], 1.0f) << where << ": a listed sample left unread";
         for (int c = 0; c < 3; ++c)
-          worst = std::max(worst, double(std::abs(colours[size_t(sample.entry) * 4 + size_t(c)] - reference[size_t(c)])));
+          worst =
+              std::max(worst, double(std::abs(colours[size_t(sample.entry) * 4 + size_t(c)] - reference[size_t(c)])));
         if (sample.footprint_px > 2.0f) ++wide_footprints;
       }
       EXPECT_LT(worst, 1e-4) << where;
@@ -108,12 +109,12 @@ TEST(FootprintMean, IsTheAreaWeightedMean) {
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 4; ++x) frame.at(x, y, 0) = float(10 * y + x);
   EXPECT_FLOAT_EQ(footprint_mean(frame, {2.5f, 1.5f, 1.0f, 0})[0], 12.0f);
-  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.75f, 1.5f, 1.0f, 0})[0], 12.25f);    // bilinear in x
-  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.0f, 1.5f, 2.0f, 0})[0], 11.5f);      // columns 1 and 2 of row 1
-  EXPECT_FLOAT_EQ(footprint_mean(frame, {0.0f, 0.0f, 2.0f, 0})[0], 0.0f);       // clipped to pixel (0, 0)
-  EXPECT_FLOAT_EQ(footprint_mean(frame, {-5.0f, 8.0f, 1.0f, 0})[0], 20.0f);     // off the frame: the nearest pixel
-  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.0f, 1.5f, 100.0f, 0})[0], 11.5f);    // the whole frame's mean
-  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.5f, 1.5f, 0.25f, 0})[0], 12.0f);     // footprints under a pixel: one pixel
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.75f, 1.5f, 1.0f, 0})[0], 12.25f);  // bilinear in x
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.0f, 1.5f, 2.0f, 0})[0], 11.5f);    // columns 1 and 2 of row 1
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {0.0f, 0.0f, 2.0f, 0})[0], 0.0f);     // clipped to pixel (0, 0)
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {-5.0f, 8.0f, 1.0f, 0})[0], 20.0f);   // off the frame: the nearest pixel
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.0f, 1.5f, 100.0f, 0})[0], 11.5f);  // the whole frame's mean
+  EXPECT_FLOAT_EQ(footprint_mean(frame, {2.5f, 1.5f, 0.25f, 0})[0], 12.0f);   // footprints under a pixel: one pixel
   // Not numbers (no map makes them): the first pixel, a one-pixel footprint; never a NaN colour.
   const float nan = std::nanf("");
   EXPECT_FLOAT_EQ(footprint_mean(frame, {nan, nan, nan, 0})[0], 0.0f);
@@ -158,8 +159,9 @@ TEST_F(FrameSamplerTest, DisplayFrameIsTheEncodedLinearFrame) {
         int worst = 0;
         for (int p = 0; p < kWidth * kHeight; ++p) {
           for (int c = 0; c < 3; ++c)
-            worst = std::max(worst, std::abs(int(shown.rgba[size_t(p) * 4 + size_t(c)]) -
-                                             int(std::lround(255.0f * encode_srgb(linear.pixels[size_t(p) * 3 + size_t(c)])))));
+            worst = std::max(
+                worst, std::abs(int(shown.rgba[size_t(p) * 4 + size_t(c)]) -
+                                int(std::lround(255.0f * encode_srgb(linear.pixels[size_t(p) * 3 + size_t(c)])))));
           ASSERT_EQ(shown.rgba[size_t(p) * 4 + 3], 255);
         }
         EXPECT_LE(worst, 1) << sampling_model_name(model) << " " << resample_filter_name(filter);
@@ -174,7 +176,8 @@ TEST_F(FrameSamplerTest, RefusesAMapOfAnotherScreen) {
   sampler.set_frame(noise_frame());
   SamplingSettings settings;
   DisplayGeometry other = display_from_size(kWidth + 1, kHeight, 250.0, 141.7, 400.0);
-  EXPECT_THROW(sampler.resample(make_sampling_map(settings, other, 10, 10), ResampleFilter::bilinear), std::invalid_argument);
+  EXPECT_THROW(sampler.resample(make_sampling_map(settings, other, 10, 10), ResampleFilter::bilinear),
+               std::invalid_argument);
   EXPECT_THROW(sampler.set_frame(Image(0, 0, 3)), InputError);
 }
 

@@ -38,14 +38,17 @@ struct MemberLayout {
 struct StructLayout {
   std::string header;  // as GLSL includes it
   std::string name;
-  Block block;         // how the shaders read it (arrays of a struct: a storage buffer)
+  Block block;  // how the shaders read it (arrays of a struct: a storage buffer)
   size_t size;
   std::vector<MemberLayout> members;
 };
 
-#define MEMBER(type, member) MemberLayout{#member, offsetof(gpu::type, member)}
-#define STRUCT(header, type, block, ...) \
-  StructLayout{"shared/" header, #type, Block::block, sizeof(gpu::type), {__VA_ARGS__}}
+#define MEMBER(type, member) \
+  MemberLayout { #member, offsetof(gpu::type, member) }
+#define STRUCT(header, type, block, ...)                                      \
+  StructLayout {                                                              \
+    "shared/" header, #type, Block::block, sizeof(gpu::type), { __VA_ARGS__ } \
+  }
 
 const std::vector<StructLayout>& shared_structs() {
   static const std::vector<StructLayout> table = {
@@ -102,8 +105,9 @@ const std::vector<StructLayout>& shared_structs() {
              MEMBER(FrameReadParams, counter_index)),
       STRUCT("path_trace_params.h", PathTraceParams, push_constant, MEMBER(PathTraceParams, eye),
              MEMBER(PathTraceParams, right), MEMBER(PathTraceParams, up), MEMBER(PathTraceParams, forward),
-             MEMBER(PathTraceParams, sky_radiance), MEMBER(PathTraceParams, size), MEMBER(PathTraceParams, sample_begin),
-             MEMBER(PathTraceParams, sample_count), MEMBER(PathTraceParams, max_bounces), MEMBER(PathTraceParams, seed),
+             MEMBER(PathTraceParams, sky_radiance), MEMBER(PathTraceParams, size),
+             MEMBER(PathTraceParams, sample_begin), MEMBER(PathTraceParams, sample_count),
+             MEMBER(PathTraceParams, max_bounces), MEMBER(PathTraceParams, seed),
              MEMBER(PathTraceParams, emitter_count), MEMBER(PathTraceParams, flags)),
       STRUCT("path_trace_params.h", BvhNode, storage_buffer, MEMBER(BvhNode, bounds_min),
              MEMBER(BvhNode, left_or_first), MEMBER(BvhNode, bounds_max), MEMBER(BvhNode, triangle_count)),
@@ -121,13 +125,13 @@ const std::vector<StructLayout>& shared_structs() {
       STRUCT("volume_params.h", VolumeRayParams, storage_buffer, MEMBER(VolumeRayParams, eye),
              MEMBER(VolumeRayParams, forward), MEMBER(VolumeRayParams, right), MEMBER(VolumeRayParams, down),
              MEMBER(VolumeRayParams, box_half), MEMBER(VolumeRayParams, voxel_scale),
-             MEMBER(VolumeRayParams, volume_size), MEMBER(VolumeRayParams, brick_count), MEMBER(VolumeRayParams, screen),
-             MEMBER(VolumeRayParams, mask_offset), MEMBER(VolumeRayParams, gaze), MEMBER(VolumeRayParams, background),
-             MEMBER(VolumeRayParams, shading), MEMBER(VolumeRayParams, sites_window)),
-      STRUCT("volume_params.h", VoronoiReconstructParams, push_constant,
-             MEMBER(VoronoiReconstructParams, screen_size), MEMBER(VoronoiReconstructParams, mask_size),
-             MEMBER(VoronoiReconstructParams, mask_offset), MEMBER(VoronoiReconstructParams, history_count),
-             MEMBER(VoronoiReconstructParams, store_slot)),
+             MEMBER(VolumeRayParams, volume_size), MEMBER(VolumeRayParams, brick_count),
+             MEMBER(VolumeRayParams, screen), MEMBER(VolumeRayParams, mask_offset), MEMBER(VolumeRayParams, gaze),
+             MEMBER(VolumeRayParams, background), MEMBER(VolumeRayParams, shading),
+             MEMBER(VolumeRayParams, sites_window)),
+      STRUCT("volume_params.h", VoronoiReconstructParams, push_constant, MEMBER(VoronoiReconstructParams, screen_size),
+             MEMBER(VoronoiReconstructParams, mask_size), MEMBER(VoronoiReconstructParams, mask_offset),
+             MEMBER(VoronoiReconstructParams, history_count), MEMBER(VoronoiReconstructParams, store_slot)),
   };
   return table;
 }
@@ -147,10 +151,11 @@ GlslLayout reflect(const StructLayout& layout) {
   static const bool initialised = glslang::InitializeProcess();
   (void)initialised;
   const std::string block = layout.block == Block::push_constant ? "layout(push_constant) uniform Probe"
-                                                                  : "layout(std430, binding = 0) buffer Probe";
+                                                                 : "layout(std430, binding = 0) buffer Probe";
   const std::string source = "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"" +
                              layout.header + "\"\nlayout(local_size_x = 1) in;\n" + block + " { " + layout.name +
-                             " probe; };\nvoid main() { " + layout.name + " copy = probe; }\n";  // the block in use: reflected
+                             " probe; };\nvoid main() { " + layout.name +
+                             " copy = probe; }\n";  // the block in use: reflected
   const char* text = source.c_str();
   const char* name = "probe.comp.glsl";
   const int length = int(source.size());
@@ -168,14 +173,16 @@ GlslLayout reflect(const StructLayout& layout) {
   }
   glslang::TProgram program;
   program.addShader(&shader);
-  if (!program.link(messages) || !program.buildReflection(EShReflectionAllBlockVariables | EShReflectionSeparateBuffers)) {
+  if (!program.link(messages) ||
+      !program.buildReflection(EShReflectionAllBlockVariables | EShReflectionSeparateBuffers)) {
     result.log = program.getInfoLog();
     return result;
   }
   const std::string prefix = "probe.";
   const auto add = [&](const glslang::TObjectReflection& variable) {
     if (variable.name.rfind(prefix, 0) != 0) return;
-    const std::string member = variable.name.substr(prefix.size(), variable.name.find_first_of(".[", prefix.size()) - prefix.size());
+    const std::string member =
+        variable.name.substr(prefix.size(), variable.name.find_first_of(".[", prefix.size()) - prefix.size());
     const auto [entry, added] = result.offsets.emplace(member, size_t(variable.offset));
     if (!added) entry->second = std::min(entry->second, size_t(variable.offset));
   };

@@ -35,8 +35,8 @@ std::string case_name(const ::testing::TestParamInfo<StressCase>& info) {
 
 TEST_P(NumericalStress, FramesStayFiniteCappedRaysAreCountedAndIprMatchesGt) {
   const StressCase& stress = GetParam();
-  SphereTracer tracer(context(), load_scene(std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/" +
-                                            stress.scene_file));
+  SphereTracer tracer(context(),
+                      load_scene(std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/" + stress.scene_file));
   SphereTraceSettings settings;
   settings.width = 96;
   settings.height = 64;
@@ -58,7 +58,7 @@ TEST_P(NumericalStress, FramesStayFiniteCappedRaysAreCountedAndIprMatchesGt) {
   const auto pixels_at_cap = uint64_t(std::count(steps.begin(), steps.end(), float(settings.max_steps)));
   EXPECT_LE(gt.capped_rays, pixels_at_cap);
 
-  const double ssim = analysis::ssim(encode_srgb(gt.colour_linear), encode_srgb(ipr.colour_linear)).mean_ssim;
+  const double ssim = metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(ipr.colour_linear)).mean_ssim;
   EXPECT_GE(ssim, 0.995) << stress.scene_file << " at 10^" << stress.log10_distance;
 }
 

@@ -32,7 +32,7 @@ TEST_F(VulkanTest, OneStepFloorTakesOneStepASampleAndShowsGroundTruthsFrame) {
   ASSERT_EQ(floor.passes.size(), 1u);
   EXPECT_EQ(floor.passes[0].name, "one_step_floor");
   // GT but for the refining step onto the surface (0.997 at this size).
-  EXPECT_GE(analysis::ssim(encode_srgb(gt.colour_linear), encode_srgb(floor.colour_linear)).mean_ssim, 0.99);
+  EXPECT_GE(metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(floor.colour_linear)).mean_ssim, 0.99);
 
   // The buffer of sample depths follows the sample count: at 16 spp every sample still starts at
   // its own depth (a mix-up would start samples at other samples' depths, far from GT's frame).
@@ -41,7 +41,7 @@ TEST_F(VulkanTest, OneStepFloorTakesOneStepASampleAndShowsGroundTruthsFrame) {
   settings.one_step_floor = false;
   const SphereTraceResult gt_16 = tracer.render(settings);
   EXPECT_EQ(floor_16.restarted_rays, 0u);
-  EXPECT_GE(analysis::ssim(encode_srgb(gt_16.colour_linear), encode_srgb(floor_16.colour_linear)).mean_ssim, 0.99);
+  EXPECT_GE(metrics::ssim(encode_srgb(gt_16.colour_linear), encode_srgb(floor_16.colour_linear)).mean_ssim, 0.99);
 }
 
 TEST(OneStepFloorValidation, IsMeasuredOnGroundTruthOnly) {

@@ -1,4 +1,4 @@
-// The path tracer of seed 001 (sections 3.1-3.2, 4): scene validation, camera path, BVH against
+// The path tracer of Polychronakis et al. 2021 (sections 3.1-3.2, 4): scene validation, camera path, BVH against
 // brute force, emitter table, OBJ loading, and GPU renders against values known in closed form
 // (emitters and a diffuse plane seen directly, a glass slab's transmittance, a clear glass object
 // under a uniform sky), next-event estimation against BSDF sampling alone, and determinism.
@@ -103,7 +103,8 @@ glm::dvec3 mean_rgb(const Image& image) {
 // Mean squared difference per value between two images of one size.
 double mean_squared_difference(const Image& a, const Image& b) {
   double sum = 0.0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) sum += double(a.pixels[i] - b.pixels[i]) * double(a.pixels[i] - b.pixels[i]);
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    sum += double(a.pixels[i] - b.pixels[i]) * double(a.pixels[i] - b.pixels[i]);
   return sum / double(a.pixels.size());
 }
 
@@ -133,7 +134,8 @@ TEST(PathScene, InvalidScenesAreInputErrors) {
   EXPECT_NE(input_error([&] { validate(bad_glass); }).find("index of refraction"), std::string::npos);
 
   PathScene bad_albedo = plane_under_sky({1.5f, 0.5f, 0.5f}, {1, 1, 1});
-  EXPECT_NE(input_error([&] { validate(bad_albedo); }).find("expected an albedo or tint of at most 1"), std::string::npos);
+  EXPECT_NE(input_error([&] { validate(bad_albedo); }).find("expected an albedo or tint of at most 1"),
+            std::string::npos);
 
   EXPECT_NO_THROW(validate(courtyard_scene()));
 }
@@ -187,7 +189,8 @@ TEST(PathTracingBvh, AgreesWithBruteForceOnRandomRays) {
       const BvhNode& node = bvh.nodes[n];
       if (node.triangle_count > 0) {
         EXPECT_LE(node.triangle_count, 4u);
-        for (uint32_t i = node.left_or_first; i < node.left_or_first + node.triangle_count; ++i) ++seen[bvh.triangle_order[i]];
+        for (uint32_t i = node.left_or_first; i < node.left_or_first + node.triangle_count; ++i)
+          ++seen[bvh.triangle_order[i]];
         continue;
       }
       for (uint32_t child = node.left_or_first; child <= node.left_or_first + 1; ++child) {
@@ -220,8 +223,8 @@ TEST(PathTracingBvh, AgreesWithBruteForceOnRandomRays) {
 TEST(PathTracingBvh, EmitterTableIsANormalisedAreaTimesPowerDistribution) {
   PathScene scene = lit_box();
   const uint32_t dim = add_material(scene, {MaterialKind::emissive, {1.0f, 1.0f, 1.0f}, 1.0f});
-  add_quad_facing(scene, dim, {-0.9f, -0.98f, -0.9f}, {0.9f, -0.98f, -0.9f}, {0.9f, -0.98f, 0.9f}, {-0.9f, -0.98f, 0.9f},
-                  {0, 1, 0});
+  add_quad_facing(scene, dim, {-0.9f, -0.98f, -0.9f}, {0.9f, -0.98f, -0.9f}, {0.9f, -0.98f, 0.9f},
+                  {-0.9f, -0.98f, 0.9f}, {0, 1, 0});
   add_triangle_facing(scene, dim, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0});  // zero area: never picked
   const PackedScene packed = pack_scene(scene, build_bvh(scene));
   ASSERT_EQ(packed.emitters.size(), 4u);
@@ -232,7 +235,8 @@ TEST(PathTracingBvh, EmitterTableIsANormalisedAreaTimesPowerDistribution) {
     EXPECT_GT(emitter.cdf, previous);
     previous = emitter.cdf;
     const GpuTriangle& triangle = packed.triangles[emitter.slot];
-    const double probability = triangle.light_pdf_per_area * 0.5 * glm::length(glm::cross(triangle.edge1, triangle.edge2));
+    const double probability =
+        triangle.light_pdf_per_area * 0.5 * glm::length(glm::cross(triangle.edge1, triangle.edge2));
     total += probability;
     if (triangle.material == 2) bright += probability;
   }
@@ -283,22 +287,26 @@ TEST(ObjScene, ZeroAreaTrianglesAreDroppedAndCounted) {
 
   testing::TempDir dir;
   const std::string only_degenerate = dir.write("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n");
-  EXPECT_NE(input_error([&] { load_obj_scene(only_degenerate); }).find("flat.obj: no triangles (1 of zero area dropped)"),
-            std::string::npos);
+  EXPECT_NE(
+      input_error([&] { load_obj_scene(only_degenerate); }).find("flat.obj: no triangles (1 of zero area dropped)"),
+      std::string::npos);
 }
 
 TEST(ObjScene, BadFilesAreInputErrorsNamingFileAndLine) {
-  EXPECT_NE(input_error([] { load_obj_scene(kMeshes + "non_finite_vertex.obj"); })
-                .find("non_finite_vertex.obj:5: expected three finite vertex coordinates"),
+  EXPECT_NE(input_error([] {
+              load_obj_scene(kMeshes + "non_finite_vertex.obj");
+            }).find("non_finite_vertex.obj:5: expected three finite vertex coordinates"),
             std::string::npos);
-  EXPECT_NE(input_error([] { load_obj_scene(kMeshes + "face_out_of_range.obj"); })
-                .find("face_out_of_range.obj:6: vertex index out of range: expected 1 to 3"),
+  EXPECT_NE(input_error([] {
+              load_obj_scene(kMeshes + "face_out_of_range.obj");
+            }).find("face_out_of_range.obj:6: vertex index out of range: expected 1 to 3"),
             std::string::npos);
   const std::string missing_library = input_error([] { load_obj_scene(kMeshes + "missing_library.obj"); });
   EXPECT_NE(missing_library.find("missing_library.obj:3: material library"), std::string::npos) << missing_library;
   EXPECT_NE(missing_library.find("no_such_library.mtl"), std::string::npos);
-  EXPECT_NE(input_error([] { load_obj_scene(kMeshes + "no_such_mesh.obj"); })
-                .find("no_such_mesh.obj: cannot open (No such file or directory): expected an OBJ mesh"),
+  EXPECT_NE(input_error([] {
+              load_obj_scene(kMeshes + "no_such_mesh.obj");
+            }).find("no_such_mesh.obj: cannot open (No such file or directory): expected an OBJ mesh"),
             std::string::npos);
 }
 
@@ -310,16 +318,17 @@ TEST(ObjScene, OnlyRegularFilesWithinTheCapsAreRead) {
             "/dev/zero: not a regular file (a character device): expected an OBJ mesh");
   // A folder named as the material library was read as an empty library: materials silently lost.
   std::filesystem::create_directories(dir.path() / "library.mtl");
-  const std::string with_folder = dir.write("folder_library.obj", "mtllib library.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string with_folder =
+      dir.write("folder_library.obj", "mtllib library.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   EXPECT_EQ(input_error([&] { load_obj_scene(with_folder); }),
             with_folder + ":1: material library: " + (dir.path() / "library.mtl").string() +
                 ": not a regular file (a directory): expected an MTL material library");
   // One byte over the cap (sparse: nothing is written), refused from its size.
   const std::string big = dir.write("big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   std::filesystem::resize_file(big, kMaxObjBytes + 1);
-  EXPECT_EQ(input_error([&] { load_obj_scene(big); }),
-            big + ": larger than 512 MiB (" + std::to_string(kMaxObjBytes + 1) +
-                " bytes): expected an OBJ mesh of at most 512 MiB");
+  EXPECT_EQ(input_error([&] { load_obj_scene(big); }), big + ": larger than 512 MiB (" +
+                                                           std::to_string(kMaxObjBytes + 1) +
+                                                           " bytes): expected an OBJ mesh of at most 512 MiB");
 }
 
 TEST(ObjScene, AByteOrderMarkIsIgnoredNotTheFirstLineLost) {
@@ -329,8 +338,8 @@ TEST(ObjScene, AByteOrderMarkIsIgnoredNotTheFirstLineLost) {
   const std::string bom = "\xEF\xBB\xBF";
   dir.write("bom.mtl", bom + "newmtl red\nKd 0.9 0.1 0.1\n");  // the same in an MTL file: "newmtl red" was lost
   ObjLoadReport report;
-  const PathScene scene =
-      load_obj_scene(dir.write("bom.obj", bom + "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib bom.mtl\nusemtl red\nf 1 2 3\n"), &report);
+  const PathScene scene = load_obj_scene(
+      dir.write("bom.obj", bom + "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib bom.mtl\nusemtl red\nf 1 2 3\n"), &report);
   ASSERT_EQ(scene.triangle_count(), 1u);
   EXPECT_EQ(scene.positions.at(0), glm::vec3(0.0f));
   EXPECT_EQ(report.triangles_without_material, 0u);
@@ -364,8 +373,10 @@ TEST(ObjScene, ParsesTextWithLibrariesFromTheCaller) {
             "text.obj:1: material library: other.mtl: no such library");
   // What validate() refuses in the scene made names the file too (a bounding box too large for
   // float: the camera's distance is infinite).
-  EXPECT_EQ(input_error([&] { parse_obj_scene("v 3e38 3e38 3e38\nv -3e38 -3e38 3e38\nv 3e38 -3e38 -3e38\nf 1 2 3\n", "huge.obj", library); })
-                .rfind("huge.obj: scene camera", 0),
+  EXPECT_EQ(input_error([&] {
+              parse_obj_scene("v 3e38 3e38 3e38\nv -3e38 -3e38 3e38\nv 3e38 -3e38 -3e38\nf 1 2 3\n", "huge.obj",
+                              library);
+            }).rfind("huge.obj: scene camera", 0),
             0u);
 }
 
@@ -483,7 +494,8 @@ TEST_F(VulkanTest, PathTracerRefusesBadScenesSettingsAndCameras) {
     s.camera.up = {0, 1, 0};
     return s;
   }());
-  EXPECT_NE(input_error([&] { straight_down.render(small(1, 1)); }).find("parallel to the up vector"), std::string::npos);
+  EXPECT_NE(input_error([&] { straight_down.render(small(1, 1)); }).find("parallel to the up vector"),
+            std::string::npos);
 }
 
 TEST_F(VulkanTest, PathTracesAnObjScene) {

@@ -1,4 +1,4 @@
-// Seed 002's Figure 12 patterns (stimuli/scenes/rotating-*.glsl): the rod, the textured rod and the
+// Ye et al. 2022's Figure 12 patterns (stimuli/scenes/rotating-*.glsl): the rod, the textured rod and the
 // texture turn about the view axis by 10 degrees per second of scene time, counter-clockwise on
 // screen; a half turn gives the same frame back; the textures carry fine detail and fill the frame.
 #include <gtest/gtest.h>
@@ -37,10 +37,10 @@ Image render_luma(SphereTracer& tracer, float angle_deg, int width, int height) 
   settings.outputs = TraceOutputs::colour;
   const SphereTraceResult result = tracer.render(settings);
   EXPECT_EQ(result.capped_rays, 0u) << "angle " << angle_deg;
-  return analysis::luma(encode_srgb(result.colour_linear));
+  return metrics::luma(encode_srgb(result.colour_linear));
 }
 
-double psnr_db(const Image& a, const Image& b) { return analysis::psnr(a, b).psnr_db; }
+double psnr_db(const Image& a, const Image& b) { return metrics::psnr(a, b).psnr_db; }
 
 // Luma of the pixel holding the point `distance_px` from the frame's centre in the direction
 // `direction_deg` (counter-clockwise from the right, screen y down).
@@ -98,7 +98,7 @@ double block_deviation(const Image& image, int x0, int y0, int size) {
   return std::sqrt(std::max(sum_squares / count - mean * mean, 0.0));
 }
 
-// Every step of seed 002's sweep, 0..180 degrees by 10: the rod lies along the step's angle
+// Every step of Ye et al. 2022's sweep, 0..180 degrees by 10: the rod lies along the step's angle
 // (bright both ways from the centre) and not across it (the plain plane there).
 TEST_F(VulkanTest, RotatingRodLiesAlongTenDegreesPerSecondCounterClockwise) {
   SphereTracer tracer(context(), load_scene("rotating-rod"));

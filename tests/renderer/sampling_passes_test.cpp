@@ -47,7 +47,7 @@ class SamplingPassesTest : public VulkanTest {
  protected:
   // Runs pass 1a for the map; returns the listed samples.
   std::vector<ListedSample> list_samples(SamplingPasses& passes, const SamplingMap& map,
-                                        ResampleFilter filter = ResampleFilter::bilinear) {
+                                         ResampleFilter filter = ResampleFilter::bilinear) {
     passes.prepare(map, filter);
     vk::Buffer counters(context(), 8 * sizeof(uint32_t), vk::MemoryUse::device_local);
     vk::Buffer counters_readback(context(), 8 * sizeof(uint32_t), vk::MemoryUse::host_readback);
@@ -123,8 +123,8 @@ TEST_F(SamplingPassesTest, ListsTheReferenceSamplesAtTheReferencePositions) {
       const SamplingMap map = map_of(model, gaze.x, gaze.y);
       const std::vector<ListedSample> samples = list_samples(passes, map);
       const uint64_t expected = shaded_samples(map);
-      const std::string where = std::string(sampling_model_name(model)) + " gaze " + std::to_string(gaze.x) + "," +
-                                std::to_string(gaze.y);
+      const std::string where =
+          std::string(sampling_model_name(model)) + " gaze " + std::to_string(gaze.x) + "," + std::to_string(gaze.y);
       EXPECT_NEAR(double(samples.size()), double(expected), 1.0 + 1e-3 * double(expected)) << where;
       std::set<uint32_t> entries;
       double worst_px = 0.0;
@@ -167,35 +167,35 @@ TEST_F(SamplingPassesTest, ListsTheReferenceSamplesAtTheReferencePositions) {
 TEST_F(SamplingPassesTest, ReconstructionReadsEachPixelFromItsOwnNeighbourhood) {
   SamplingPasses passes(context());
   for (ResampleFilter filter : {ResampleFilter::bilinear, ResampleFilter::lanczos2})
-  for (SamplingModel model : kModels) {
-    for (const Gaze& gaze : kGazes) {
-      const SamplingMap map = map_of(model, gaze.x, gaze.y);
-      const Image image = reconstruct_positions(passes, list_samples(passes, map, filter), kWidth, kHeight);
-      const std::string where = std::string(sampling_model_name(model)) + " " + resample_filter_name(filter) +
-                                " gaze " + std::to_string(gaze.x) + "," + std::to_string(gaze.y);
-      double worst_excess_px = -1e9;
-      for (int y = 0; y < kHeight; ++y) {
-        for (int x = 0; x < kWidth; ++x) {
-          const double got_x = image.at(x, y, 0) * kWidth, got_y = image.at(x, y, 1) * kHeight;
-          ASSERT_TRUE(std::isfinite(got_x) && std::isfinite(got_y)) << where;
-          EXPECT_FLOAT_EQ(image.at(x, y, 2), 0.5f) << where << " pixel " << x << "," << y << ": no sample reached it";
-          // The samples' spacing around the pixel: 1 / sqrt(density), at least a pixel; the linear
-          // model's holes are filled from pull-push levels up to a few spacings wide.
-          // (RMFR's spacing differs between the axes: the wider one.)
-          const double d = density(map, x + 0.5, y + 0.5);
-          double spacing = d > 0 ? std::max(1.0, 1.0 / std::sqrt(d)) : 4.0;
-          if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {
-            spacing = std::max({1.0, double(kWidth) / (rmfr->buffer_width_px * rmfr->x.density((x + 0.5) / kWidth)),
-                                double(kHeight) / (rmfr->buffer_height_px * rmfr->y.density((y + 0.5) / kHeight))});
+    for (SamplingModel model : kModels) {
+      for (const Gaze& gaze : kGazes) {
+        const SamplingMap map = map_of(model, gaze.x, gaze.y);
+        const Image image = reconstruct_positions(passes, list_samples(passes, map, filter), kWidth, kHeight);
+        const std::string where = std::string(sampling_model_name(model)) + " " + resample_filter_name(filter) +
+                                  " gaze " + std::to_string(gaze.x) + "," + std::to_string(gaze.y);
+        double worst_excess_px = -1e9;
+        for (int y = 0; y < kHeight; ++y) {
+          for (int x = 0; x < kWidth; ++x) {
+            const double got_x = image.at(x, y, 0) * kWidth, got_y = image.at(x, y, 1) * kHeight;
+            ASSERT_TRUE(std::isfinite(got_x) && std::isfinite(got_y)) << where;
+            EXPECT_FLOAT_EQ(image.at(x, y, 2), 0.5f) << where << " pixel " << x << "," << y << ": no sample reached it";
+            // The samples' spacing around the pixel: 1 / sqrt(density), at least a pixel; the linear
+            // model's holes are filled from pull-push levels up to a few spacings wide.
+            // (RMFR's spacing differs between the axes: the wider one.)
+            const double d = density(map, x + 0.5, y + 0.5);
+            double spacing = d > 0 ? std::max(1.0, 1.0 / std::sqrt(d)) : 4.0;
+            if (const auto* rmfr = std::get_if<RectangularMapping>(&map)) {
+              spacing = std::max({1.0, double(kWidth) / (rmfr->buffer_width_px * rmfr->x.density((x + 0.5) / kWidth)),
+                                  double(kHeight) / (rmfr->buffer_height_px * rmfr->y.density((y + 0.5) / kHeight))});
+            }
+            const double allowed = (model == SamplingModel::linear ? 3.0 : 1.5) * spacing + 0.5;
+            const double off = std::hypot(got_x - (x + 0.5), got_y - (y + 0.5));
+            worst_excess_px = std::max(worst_excess_px, off - allowed);
           }
-          const double allowed = (model == SamplingModel::linear ? 3.0 : 1.5) * spacing + 0.5;
-          const double off = std::hypot(got_x - (x + 0.5), got_y - (y + 0.5));
-          worst_excess_px = std::max(worst_excess_px, off - allowed);
         }
+        EXPECT_LE(worst_excess_px, 0.0) << where;
       }
-      EXPECT_LE(worst_excess_px, 0.0) << where;
     }
-  }
 }
 
 // Whole frames: every model shades the samples its reference counts, its frame stays finite and
@@ -215,10 +215,12 @@ TEST_F(SamplingPassesTest, SphereTracerShadesOnlyTheModelsSamples) {
     const SphereTraceResult result = tracer.render(settings);
     const std::string name = sampling_model_name(model);
     EXPECT_NEAR(double(result.shaded_samples), double(shaded_samples(*settings.sampling)),
-                1.0 + 1e-3 * double(result.shaded_samples)) << name;
+                1.0 + 1e-3 * double(result.shaded_samples))
+        << name;
     EXPECT_LT(result.total_steps, gt.total_steps) << name;
-    EXPECT_TRUE(std::all_of(result.colour_linear.pixels.begin(), result.colour_linear.pixels.end(),
-                            [](float v) { return std::isfinite(v) && v >= 0.0f; })) << name;
+    EXPECT_TRUE(std::all_of(result.colour_linear.pixels.begin(), result.colour_linear.pixels.end(), [](float v) {
+      return std::isfinite(v) && v >= 0.0f;
+    })) << name;
     double mask_sum = 0;
     for (float v : result.mask.pixels) mask_sum += v;
     EXPECT_LE(mask_sum, double(result.shaded_samples)) << name;
@@ -227,7 +229,8 @@ TEST_F(SamplingPassesTest, SphereTracerShadesOnlyTheModelsSamples) {
     int centre_pixels = 0;
     for (int y = 40; y < 50; ++y)
       for (int x = 75; x < 85; ++x, ++centre_pixels)
-        for (int c = 0; c < 3; ++c) centre_error += std::abs(result.colour_linear.at(x, y, c) - gt.colour_linear.at(x, y, c));
+        for (int c = 0; c < 3; ++c)
+          centre_error += std::abs(result.colour_linear.at(x, y, c) - gt.colour_linear.at(x, y, c));
     EXPECT_LT(centre_error / (3.0 * centre_pixels), 0.05) << name;
   }
 }

@@ -19,7 +19,9 @@ namespace {
 
 const SceneConsumerShader kTracer{"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers};
 
-SceneSource fixture_scene() { return load_scene(std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/sphere.glsl"); }
+SceneSource fixture_scene() {
+  return load_scene(std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/sphere.glsl");
+}
 
 std::string compile_error(const SceneSource& scene) {
   try {
@@ -137,10 +139,12 @@ TEST(SceneSource, OnlyARegularFileWithinTheCapIsRead) {
   const testing::TempDir dir;
   const std::string folder = dir.file("folder.glsl");
   std::filesystem::create_directories(folder);
-  EXPECT_EQ(load_error(folder), folder + ": not a regular file (a directory): expected a GLSL scene file (docs/scenes.md)");
+  EXPECT_EQ(load_error(folder),
+            folder + ": not a regular file (a directory): expected a GLSL scene file (docs/scenes.md)");
   const std::string fifo = dir.file("fifo.glsl");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);  // was opened, and waited for a writer for ever
-  EXPECT_EQ(load_error(fifo), fifo + ": not a regular file (a FIFO or pipe): expected a GLSL scene file (docs/scenes.md)");
+  EXPECT_EQ(load_error(fifo),
+            fifo + ": not a regular file (a FIFO or pipe): expected a GLSL scene file (docs/scenes.md)");
   // One byte over the cap (sparse: nothing is written) was read whole and handed to the compiler.
   const std::string big = dir.write("big.glsl", "// big\n");
   std::filesystem::resize_file(big, kMaxSceneBytes + 1);
@@ -158,11 +162,11 @@ TEST(SceneSource, AByteOrderMarkIsLeftOutAndTheSceneCompiles) {
   EXPECT_EQ(compile_error(scene), "");
 }
 
-// The three scenes of seed 000's Fig. 7 and seed 002's three rotating patterns of Figure 12.
+// The three scenes of Polychronakis et al. 2023's Fig. 7 and Ye et al. 2022's three rotating patterns of Figure 12.
 TEST(SceneSource, BuiltInScenesAreThoseOfTheIssues) {
   const std::vector<std::string> names = builtin_scene_names();
-  for (const char* expected : {"primitives", "columns", "temple", "rotating-rod", "rotating-textured-rod",
-                               "rotating-texture"}) {
+  for (const char* expected :
+       {"primitives", "columns", "temple", "rotating-rod", "rotating-textured-rod", "rotating-texture"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
 }

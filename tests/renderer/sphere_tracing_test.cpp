@@ -35,7 +35,7 @@ bool all_finite(const Image& image) {
 
 class BuiltInScene : public VulkanTest, public ::testing::WithParamInterface<const char*> {};
 
-// seed 000 section 4.3: IPR must look like GT while tracing fewer steps. 320x180 at 4 spp: at
+// Polychronakis et al. 2023 section 4.3: IPR must look like GT while tracing fewer steps. 320x180 at 4 spp: at
 // smaller sizes the scenes' detail (flutes, terrain) is sub-pixel and any change of the hit point
 // flips it, GT against GT with another hit threshold included.
 TEST_P(BuiltInScene, InvertedPyramidMatchesGroundTruthWithFewerSteps) {
@@ -46,7 +46,7 @@ TEST_P(BuiltInScene, InvertedPyramidMatchesGroundTruthWithFewerSteps) {
   const SphereTraceResult gt = tracer.render(settings);
   settings.method = TraceMethod::inverted_pyramid;
   const SphereTraceResult ipr = tracer.render(settings);
-  const double ssim = analysis::ssim(encode_srgb(gt.colour_linear), encode_srgb(ipr.colour_linear)).mean_ssim;
+  const double ssim = metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(ipr.colour_linear)).mean_ssim;
   EXPECT_GE(ssim, 0.995) << GetParam();
   EXPECT_LT(ipr.total_steps, gt.total_steps) << GetParam();
   EXPECT_TRUE(all_finite(gt.colour_linear));
@@ -97,9 +97,9 @@ TEST_F(VulkanTest, EveryPyramidAblationSettingRendersAndStaysClose) {
       EXPECT_EQ(ipr.levels.size(), size_t(levels));
       EXPECT_EQ(ipr.passes.size(), size_t(levels + (filter > 1 ? levels - 1 : 0)));
       EXPECT_TRUE(all_finite(ipr.colour_linear));
-      ssim_by_filter[filter] = analysis::ssim(reference, encode_srgb(ipr.colour_linear)).mean_ssim;
+      ssim_by_filter[filter] = metrics::ssim(reference, encode_srgb(ipr.colour_linear)).mean_ssim;
     }
-    // Without the min filter, rays start behind surfaces their coarse parent missed (seed 000
+    // Without the min filter, rays start behind surfaces their coarse parent missed (Polychronakis et al. 2023
     // Fig. 3); with it IPR stays close to GT (160x90 at 1 spp: sub-pixel terrain detail keeps this
     // bound below the 0.995 of the 320x180 test).
     EXPECT_GT(ssim_by_filter[3], ssim_by_filter[1] + 0.05) << levels << " levels";
@@ -114,7 +114,7 @@ TEST_F(VulkanTest, MoreSamplesPerPixelTraceMoreSteps) {
   const SphereTraceResult sixteen = tracer.render(small_frame(TraceMethod::ground_truth, 16));
   EXPECT_GT(sixteen.total_steps, 8 * one.total_steps);
   // Anti-aliasing changes edges only: the frames stay alike.
-  EXPECT_GE(analysis::ssim(encode_srgb(one.colour_linear), encode_srgb(sixteen.colour_linear)).mean_ssim, 0.8);
+  EXPECT_GE(metrics::ssim(encode_srgb(one.colour_linear), encode_srgb(sixteen.colour_linear)).mean_ssim, 0.8);
 }
 
 TEST(SphereTraceSettingsValidation, RejectsWhatCannotBeRendered) {
@@ -127,7 +127,10 @@ TEST(SphereTraceSettingsValidation, RejectsWhatCannotBeRendered) {
   rejects([](SphereTraceSettings& s) { s.height = -5; });
   rejects([](SphereTraceSettings& s) { s.width = 100000; });
   rejects([](SphereTraceSettings& s) { s.samples_per_pixel = 3; });
-  rejects([](SphereTraceSettings& s) { s.width = s.height = 16384; s.samples_per_pixel = 16; });
+  rejects([](SphereTraceSettings& s) {
+    s.width = s.height = 16384;
+    s.samples_per_pixel = 16;
+  });
   rejects([](SphereTraceSettings& s) { s.pyramid_levels = 6; });
   rejects([](SphereTraceSettings& s) { s.min_filter_size = 2; });
   rejects([](SphereTraceSettings& s) { s.max_steps = 0; });

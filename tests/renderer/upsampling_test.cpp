@@ -1,4 +1,4 @@
-// Zone-buffer upsampling (issue 6, seed 001 section 3.1): the filters' kernels, the double-precision
+// Zone-buffer upsampling (issue 6, Polychronakis et al. 2021 section 3.1): the filters' kernels, the double-precision
 // CPU reference, and the GPU passes against it.
 #include <gtest/gtest.h>
 
@@ -23,7 +23,8 @@ Image noisy_image(int width, int height, uint64_t seed) {
   Pcg32 random(seed);
   Image image(width, height, 3);
   for (float& value : image.pixels) value = static_cast<float>(random.uniform()) * 2.0f;
-  for (int i = 0; i < 5; ++i) image.at(int(random.below(uint32_t(width))), int(random.below(uint32_t(height))), 1) = 40.0f;
+  for (int i = 0; i < 5; ++i)
+    image.at(int(random.below(uint32_t(width))), int(random.below(uint32_t(height))), 1) = 40.0f;
   return image;
 }
 
@@ -63,7 +64,8 @@ TEST(UpsampleFilter, ReferenceKeepsConstantsRampsAndPixels) {
   // Normalised Lanczos-3 is not exactly linear-preserving: at quarter-pixel offsets the first moment
   // of its six weights is off by 0.0198 pixel, so a ramp of slope 1 bends by that much (and by
   // nothing at the input's own pixel centres' midpoints).
-  for (int x = 6; x < 10; ++x) EXPECT_NEAR(lanczos.at(x, 0, 0), (x + 0.5) / 2.0 - 0.5, 0.0199) << "nearly linear inside";
+  for (int x = 6; x < 10; ++x)
+    EXPECT_NEAR(lanczos.at(x, 0, 0), (x + 0.5) / 2.0 - 0.5, 0.0199) << "nearly linear inside";
   EXPECT_GT(std::fabs(lanczos.at(6, 0, 0) - 2.75), 0.019);
 }
 
@@ -95,7 +97,8 @@ TEST_F(VulkanTest, GpuUpsamplingMatchesTheReference) {
     if (channels != 3) {
       Image reshaped(37, 23, channels);
       for (size_t p = 0; p < reshaped.pixel_count(); ++p)
-        for (int c = 0; c < channels; ++c) reshaped.pixels[p * size_t(channels) + size_t(c)] = source.pixels[p * 3 + size_t(c % 3)];
+        for (int c = 0; c < channels; ++c)
+          reshaped.pixels[p * size_t(channels) + size_t(c)] = source.pixels[p * 3 + size_t(c % 3)];
       source = reshaped;
     }
     const float range = *std::max_element(source.pixels.begin(), source.pixels.end());
@@ -109,7 +112,8 @@ TEST_F(VulkanTest, GpuUpsamplingMatchesTheReference) {
         double worst = 0.0;
         for (size_t i = 0; i < expected.pixels.size(); ++i)
           worst = std::max(worst, double(std::fabs(gpu.image.pixels[i] - expected.pixels[i])));
-        EXPECT_LT(worst / range, 1e-4) << upsample_filter_name(filter) << " x" << factor << ", " << channels << " channels";
+        EXPECT_LT(worst / range, 1e-4) << upsample_filter_name(filter) << " x" << factor << ", " << channels
+                                       << " channels";
       }
     }
   }

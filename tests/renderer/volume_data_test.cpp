@@ -1,4 +1,4 @@
-// Seed 003's volumes and volume scenes (renderer/volume/volume_grid.h, volume_scene.h): the generated
+// Bruder et al. 2019's volumes and volume scenes (renderer/volume/volume_grid.h, volume_scene.h): the generated
 // fields against their formulas, the file readers (NRRD through libteem, .dat) on files written
 // here, and one-line errors for bad files and scenes, with sizes refused before anything is read.
 #include <gtest/gtest.h>
@@ -72,12 +72,17 @@ TEST(VolumeData, CombustionIsSeededAndDeterministic) {
 }
 
 TEST(VolumeData, SizesAreCheckedBeforeAnythingIsAllocated) {
-  EXPECT_NE(error_of([] { generate_volume(GeneratedVolume::shepp_logan, 0, 1, kLimits); }).find("expected 1 to 256 voxels a side"),
+  EXPECT_NE(error_of([] {
+              generate_volume(GeneratedVolume::shepp_logan, 0, 1, kLimits);
+            }).find("expected 1 to 256 voxels a side"),
             std::string::npos);
   EXPECT_NE(error_of([] { generate_volume(GeneratedVolume::shepp_logan, 300, 1, kLimits); }).find("300x300x300"),
             std::string::npos);
   const VolumeLimits tight{256, 1000};
-  EXPECT_NE(error_of([] { check_volume_size({10, 10, 10}, VolumeLimits{256, 1000}, "v"); }).find("2000 bytes"), std::string::npos);
+  EXPECT_NE(error_of([] {
+              check_volume_size({10, 10, 10}, VolumeLimits{256, 1000}, "v");
+            }).find("2000 bytes"),
+            std::string::npos);
   (void)tight;
 }
 
@@ -93,43 +98,64 @@ TEST(VolumeData, ReadsDatFilesAndRefusesBadOnes) {
   EXPECT_EQ(load_volume_file(path, ValueRange{0, 8190}, kLimits).at(1, 0, 0), uint16_t(std::lround(0.5 * 65535)));
 
   const std::string truncated = dir.write("short.dat", dat_bytes(2, 2, 2, values).substr(0, 10));
-  EXPECT_NE(error_of([&] { load_volume_file(truncated, std::nullopt, kLimits); }).find("expected 6 + 2 x 2x2x2 = 22 bytes"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { load_volume_file(truncated, std::nullopt, kLimits); }).find("expected 6 + 2 x 2x2x2 = 22 bytes"),
+      std::string::npos);
   const std::string huge = dir.write("huge.dat", dat_bytes(4000, 4000, 4000, {}));
   const std::string message = error_of([&] { load_volume_file(huge, std::nullopt, kLimits); });
   EXPECT_NE(message.find("huge.dat: 4000x4000x4000 voxels"), std::string::npos) << message;
-  EXPECT_NE(error_of([&] { load_volume_file(dir.write("v.raw", "x"), std::nullopt, kLimits); }).find("expected a volume file"),
+  EXPECT_NE(error_of([&] {
+              load_volume_file(dir.write("v.raw", "x"), std::nullopt, kLimits);
+            }).find("expected a volume file"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { load_volume_file(path, ValueRange{1, 1}, kLimits); }).find("expected finite low < high"),
+  EXPECT_NE(error_of([&] {
+              load_volume_file(path, ValueRange{1, 1}, kLimits);
+            }).find("expected finite low < high"),
             std::string::npos);
 }
 
-std::string nrrd_file(const std::string& header, const std::string& data) { return "NRRD0004\n" + header + "\n" + data; }
+std::string nrrd_file(const std::string& header, const std::string& data) {
+  return "NRRD0004\n" + header + "\n" + data;
+}
 
 TEST(VolumeData, ReadsNrrdThroughTeem) {
   testing::TempDir dir;
   // Floats with a NaN and infinities: the finite range maps to 0..1, NaN and -inf to 0, +inf to 1.
-  std::vector<float> values{1.0f, 2.0f, 3.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+  std::vector<float> values{1.0f,
+                            2.0f,
+                            3.0f,
+                            std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity(),
                             -std::numeric_limits<float>::infinity()};
   std::string data(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
   const std::string path = dir.write("f.nrrd", nrrd_file("type: float\ndimension: 3\nsizes: 3 2 1\nspacings: 1 2 3\n"
-                                                         "endian: little\nencoding: raw\n", data));
+                                                         "endian: little\nencoding: raw\n",
+                                                         data));
   const VolumeGrid grid = load_volume_file(path, std::nullopt, kLimits);
   EXPECT_EQ(grid.size_voxels, (std::array<int, 3>{3, 2, 1}));
   EXPECT_EQ(grid.spacing, (std::array<double, 3>{1, 2, 3}));
   EXPECT_EQ(grid.values, (std::vector<uint16_t>{0, 32768, 65535, 0, 65535, 0}));
 
-  const std::string flat = dir.write("flat.nrrd", nrrd_file("type: uchar\ndimension: 2\nsizes: 2 2\nencoding: raw\n", "abcd"));
-  EXPECT_NE(error_of([&] { load_volume_file(flat, std::nullopt, kLimits); }).find("2 axes: expected a 3-D scalar volume"),
+  const std::string flat =
+      dir.write("flat.nrrd", nrrd_file("type: uchar\ndimension: 2\nsizes: 2 2\nencoding: raw\n", "abcd"));
+  EXPECT_NE(
+      error_of([&] { load_volume_file(flat, std::nullopt, kLimits); }).find("2 axes: expected a 3-D scalar volume"),
+      std::string::npos);
+  const std::string big =
+      dir.write("big.nrrd", nrrd_file("type: uchar\ndimension: 3\nsizes: 1000 1000 1000\nencoding: raw\n", "a"));
+  EXPECT_NE(error_of([&] { load_volume_file(big, std::nullopt, kLimits); }).find("1000x1000x1000 voxels"),
             std::string::npos);
-  const std::string big = dir.write("big.nrrd", nrrd_file("type: uchar\ndimension: 3\nsizes: 1000 1000 1000\nencoding: raw\n", "a"));
-  EXPECT_NE(error_of([&] { load_volume_file(big, std::nullopt, kLimits); }).find("1000x1000x1000 voxels"), std::string::npos);
-  const std::string thin = dir.write("thin.nrrd", nrrd_file("type: uchar\ndimension: 3\nsizes: 2 1 1\nspacings: 1e-30 1 1\n"
-                                                          "encoding: raw\n", "ab"));
-  EXPECT_NE(error_of([&] { load_volume_file(thin, std::nullopt, kLimits); }).find("expected the largest at most 1000 times"),
-            std::string::npos)
+  const std::string thin =
+      dir.write("thin.nrrd", nrrd_file("type: uchar\ndimension: 3\nsizes: 2 1 1\nspacings: 1e-30 1 1\n"
+                                       "encoding: raw\n",
+                                       "ab"));
+  EXPECT_NE(
+      error_of([&] { load_volume_file(thin, std::nullopt, kLimits); }).find("expected the largest at most 1000 times"),
+      std::string::npos)
       << "a voxel 1e30 times thinner than wide would make the step vanish";
-  EXPECT_NE(error_of([&] { load_volume_file(path, ValueRange{-1e308, 1e308}, kLimits); }).find("expected a finite span"),
+  EXPECT_NE(error_of([&] {
+              load_volume_file(path, ValueRange{-1e308, 1e308}, kLimits);
+            }).find("expected a finite span"),
             std::string::npos);
   const std::string garbage = dir.write("bad.nrrd", "not a nrrd at all");
   const std::string message = error_of([&] { load_volume_file(garbage, std::nullopt, kLimits); });
@@ -153,14 +179,18 @@ TEST(VolumeData, ReadsNrrdDataFilesInEveryFormAndRefusesOversizedOnes) {
   EXPECT_EQ(load_volume_file(single, std::nullopt, kLimits).values, attached.values);
   EXPECT_EQ(load_volume_file(single, std::nullopt, kLimits).spacing, attached.spacing);
 
-  for (int slice = 0; slice < 4; ++slice) dir.write("slice0" + std::to_string(slice + 1) + ".raw", voxels.substr(size_t(6 * slice), 6));
+  for (int slice = 0; slice < 4; ++slice)
+    dir.write("slice0" + std::to_string(slice + 1) + ".raw", voxels.substr(size_t(6 * slice), 6));
   const std::string pattern = dir.write("pattern.nhdr", "NRRD0004\ndata file: slice%02d.raw 1 4 1 2\n" + fields);
-  EXPECT_EQ(load_volume_file(pattern, std::nullopt, kLimits).values, attached.values) << "the field before the sizes, too";
-  const std::string list = dir.write("list.nhdr", "NRRD0004\n" + fields + "data file: LIST 2\nslice01.raw\nslice02.raw\n"
-                                                  "slice03.raw\nslice04.raw\n");
+  EXPECT_EQ(load_volume_file(pattern, std::nullopt, kLimits).values, attached.values)
+      << "the field before the sizes, too";
+  const std::string list = dir.write("list.nhdr", "NRRD0004\n" + fields +
+                                                      "data file: LIST 2\nslice01.raw\nslice02.raw\n"
+                                                      "slice03.raw\nslice04.raw\n");
   EXPECT_EQ(load_volume_file(list, std::nullopt, kLimits).values, attached.values);
 
-  const std::string printf_like = dir.write("printf.nhdr", "NRRD0004\n" + fields + "data file: slice%s%d.raw 1 4 1 2\n");
+  const std::string printf_like =
+      dir.write("printf.nhdr", "NRRD0004\n" + fields + "data file: slice%s%d.raw 1 4 1 2\n");
   EXPECT_NE(error_of([&] { load_volume_file(printf_like, std::nullopt, kLimits); }).find("expected one %d conversion"),
             std::string::npos)
       << "a template is formatted by fovlab, never handed to a printf as the file gives it";
@@ -168,8 +198,9 @@ TEST(VolumeData, ReadsNrrdDataFilesInEveryFormAndRefusesOversizedOnes) {
   dir.write("big.raw", voxels + std::string(size_t(2) << 20, 'x'));
   const std::string big = dir.write("big.nhdr", "NRRD0004\n" + fields + "data file: big.raw\n");
   const std::string message = error_of([&] { load_volume_file(big, std::nullopt, kLimits); });
-  EXPECT_NE(message.find("big.raw: 2097176 bytes of data: expected at most 1048600 for 24 values of unsigned char (raw)"),
-            std::string::npos)
+  EXPECT_NE(
+      message.find("big.raw: 2097176 bytes of data: expected at most 1048600 for 24 values of unsigned char (raw)"),
+      std::string::npos)
       << message;
 }
 
@@ -214,8 +245,9 @@ TEST(VolumeScenes, BuiltInScenesLoad) {
   const std::vector<std::string> names = builtin_volume_names();
   EXPECT_EQ(names, (std::vector<std::string>{"combustion", "marschner-lobb", "shepp-logan"}));
   for (const std::string& name : names) EXPECT_GE(load_volume_scene(name).transfer_function.size(), 2u) << name;
-  EXPECT_NE(error_of([] { load_volume_scene("nebula"); }).find("expected one of combustion, marschner-lobb, shepp-logan"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([] { load_volume_scene("nebula"); }).find("expected one of combustion, marschner-lobb, shepp-logan"),
+      std::string::npos);
 }
 
 TEST(VolumeScenes, BadScenesGetOneLineNamingTheField) {
@@ -223,24 +255,32 @@ TEST(VolumeScenes, BadScenesGetOneLineNamingTheField) {
   const auto message = [&](const std::string& text) {
     return error_of([&] { load_volume_scene(dir.write("bad.toml", text)); });
   };
-  const std::string points = "[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\nopacity = 0\n"
-                             "[[transfer_point]]\nvalue = 1.0\ncolour = [1, 1, 1]\nopacity = 1\n";
-  EXPECT_NE(message("[volume]\ngenerator = \"nebula\"\n" + points).find("volume.generator: expected one of"), std::string::npos);
-  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\nfile = \"x.nrrd\"\n" + points).find("expected exactly one of"),
+  const std::string points =
+      "[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\nopacity = 0\n"
+      "[[transfer_point]]\nvalue = 1.0\ncolour = [1, 1, 1]\nopacity = 1\n";
+  EXPECT_NE(message("[volume]\ngenerator = \"nebula\"\n" + points).find("volume.generator: expected one of"),
             std::string::npos);
-  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\nsize_voxels = 0\n" + points).find("size_voxels: expected 1 to 2048"),
+  EXPECT_NE(
+      message("[volume]\ngenerator = \"combustion\"\nfile = \"x.nrrd\"\n" + points).find("expected exactly one of"),
+      std::string::npos);
+  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\nsize_voxels = 0\n" + points)
+                .find("size_voxels: expected 1 to 2048"),
             std::string::npos);
-  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\nopacity = 0\n")
-                .find("expected 2 to 4096 [[transfer_point]] tables"),
-            std::string::npos);
-  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.5\ncolour = [0, 0, 0]\nopacity = 0\n"
-                    "[[transfer_point]]\nvalue = 0.2\ncolour = [0, 0, 0]\nopacity = 0\n")
-                .find("values that increase"),
-            std::string::npos);
-  EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.0\ncolour = [0, 2, 0]\nopacity = 0\n"
-                    "[[transfer_point]]\nvalue = 1.0\ncolour = [0, 0, 0]\nopacity = 0\n")
-                .find("colour: expected [red, green, blue]"),
-            std::string::npos);
+  EXPECT_NE(
+      message(
+          "[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.0\ncolour = [0, 0, 0]\nopacity = 0\n")
+          .find("expected 2 to 4096 [[transfer_point]] tables"),
+      std::string::npos);
+  EXPECT_NE(
+      message("[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.5\ncolour = [0, 0, 0]\nopacity = 0\n"
+              "[[transfer_point]]\nvalue = 0.2\ncolour = [0, 0, 0]\nopacity = 0\n")
+          .find("values that increase"),
+      std::string::npos);
+  EXPECT_NE(
+      message("[volume]\ngenerator = \"combustion\"\n[[transfer_point]]\nvalue = 0.0\ncolour = [0, 2, 0]\nopacity = 0\n"
+              "[[transfer_point]]\nvalue = 1.0\ncolour = [0, 0, 0]\nopacity = 0\n")
+          .find("colour: expected [red, green, blue]"),
+      std::string::npos);
   EXPECT_NE(message("[volume]\ngenerator = \"combustion\"\ncolor = 1\n" + points).find("color"), std::string::npos)
       << "a misspelt key is refused";
   EXPECT_NE(message("[volume\n").find("(not valid TOML)"), std::string::npos);

@@ -1,4 +1,4 @@
-// Seed 003's volume raycaster (renderer/volume/volume_raycaster.h) on small frames: finite pixels
+// Bruder et al. 2019's volume raycaster (renderer/volume/volume_raycaster.h) on small frames: finite pixels
 // in the numerical stress cases the issue lists (one voxel, all zero, all one, a fully opaque or
 // fully transparent transfer function, the camera inside the volume, very near and 1e5 sides away,
 // gaze off the screen); empty-space skipping changes nothing it skips; the foveated frame of a
@@ -143,11 +143,13 @@ TEST_F(VolumeRaycasterTest, FoveatedFrameOfAUniformVolumeIsUniformAndTracesFewRa
     const VolumeFrameResult result = raycaster.render_foveated(frame_settings(), gaze, gaze, false);
     ASSERT_TRUE(all_finite(result.colour_linear));
     // The sites' colours travel as half floats: equal within their rounding.
-    for (size_t i = 0; i < full.pixels.size(); ++i) ASSERT_NEAR(result.colour_linear.pixels[i], full.pixels[i], 1e-3) << gaze;
+    for (size_t i = 0; i < full.pixels.size(); ++i)
+      ASSERT_NEAR(result.colour_linear.pixels[i], full.pixels[i], 1e-3) << gaze;
     EXPECT_GT(result.rays, 0u);
     EXPECT_LT(result.rays, uint64_t(kSide * kSide));
   }
-  EXPECT_EQ(raycaster.mask_offset(kSide, kSide, -50.0, 1e9), (std::pair<int, int>{kSide, 0})) << "the gaze clamped to the screen";
+  EXPECT_EQ(raycaster.mask_offset(kSide, kSide, -50.0, 1e9), (std::pair<int, int>{kSide, 0}))
+      << "the gaze clamped to the screen";
 }
 
 TEST(VolumeReconstructionPacking, IndexAndWeightShareAWord) {

@@ -1,4 +1,4 @@
-// The emulated foveated path tracer's zones and blend (issue 6, seed 001 section 3.2): the weights,
+// The emulated foveated path tracer's zones and blend (issue 6, Polychronakis et al. 2021 section 3.2): the weights,
 // the nearest-neighbour decimation, and the GPU's zone buffers and blend against the double CPU
 // reference.
 #include <gtest/gtest.h>
@@ -36,7 +36,8 @@ DisplayGeometry small_display() { return display_from_size(64, 48, 320.0, 240.0,
 
 double largest_difference(const Image& a, const Image& b) {
   double largest = 0.0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) largest = std::max(largest, double(std::fabs(a.pixels[i] - b.pixels[i])));
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    largest = std::max(largest, double(std::fabs(a.pixels[i] - b.pixels[i])));
   return largest;
 }
 
@@ -50,7 +51,7 @@ TEST(ZoneLayout, WeightsFollowTheZonesAndBands) {
   };
   expect(0.0, 1, 0, 0);
   expect(3.99, 1, 0, 0);
-  expect(4.5, 0.75, 0.25, 0);   // a quarter into the 4..6 band
+  expect(4.5, 0.75, 0.25, 0);  // a quarter into the 4..6 band
   expect(5.0, 0.5, 0.5, 0);
   expect(6.0, 0, 1, 0);
   expect(20.0, 0, 1, 0);
@@ -110,15 +111,17 @@ Image crop(const Image& image, int width, int height) {
 // session's display frame of such a size blends as at any other.
 TEST_F(VulkanTest, ZoneBuffersOfSidesThatAreNotMultiplesOfFour) {
   ZoneBlender blender(context());
-  for (const auto& [width, height] : {std::pair{61, 35}, std::pair{66, 38}, std::pair{1, 1}, std::pair{3, 7},
-                                      std::pair{5, 2}}) {
+  for (const auto& [width, height] :
+       {std::pair{61, 35}, std::pair{66, 38}, std::pair{1, 1}, std::pair{3, 7}, std::pair{5, 2}}) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height));
     const Image frame = noisy_frame(width, height, 29);
     blender.set_frame(frame);
     EXPECT_EQ(blender.width(), width);
     EXPECT_EQ(largest_difference(blender.zone_buffer(Zone::foveal), frame), 0.0);
-    const Image middle = crop(upsample_reference(decimate_nearest(frame, 2), 2, UpsampleFilter::lanczos3), width, height);
-    const Image outer = crop(upsample_reference(decimate_nearest(frame, 4), 4, UpsampleFilter::lanczos3), width, height);
+    const Image middle =
+        crop(upsample_reference(decimate_nearest(frame, 2), 2, UpsampleFilter::lanczos3), width, height);
+    const Image outer =
+        crop(upsample_reference(decimate_nearest(frame, 4), 4, UpsampleFilter::lanczos3), width, height);
     EXPECT_LT(largest_difference(blender.zone_buffer(Zone::middle), middle), 1e-4 * 3.0);
     EXPECT_LT(largest_difference(blender.zone_buffer(Zone::outer), outer), 1e-4 * 3.0);
     const DisplayGeometry display = display_from_size(width, height, 5.0 * width, 5.0 * height, 250.0);
@@ -144,8 +147,8 @@ TEST_F(VulkanTest, BlendMatchesTheReference) {
   const Image outer = blender.zone_buffer(Zone::outer);
   const double gazes[][2] = {{32.0, 24.0}, {3.5, 44.0}, {-40.0, 10.0}, {-3.0e6, 2.0e6}};
   for (const auto& gaze : gazes)
-    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 40.0, 0.0}, ZoneBounds{10.0, 5.0, 1.0},
-                                    ZoneBounds{20.0, 24.0, 6.0}}) {
+    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 40.0, 0.0},
+                                    ZoneBounds{10.0, 5.0, 1.0}, ZoneBounds{20.0, 24.0, 6.0}}) {
       const Image gpu = blender.blend(display, gaze[0], gaze[1], bounds).image;
       const Image reference = blend_zones_reference(display, gaze[0], gaze[1], bounds, frame, middle, outer);
       int compared = 0;
@@ -158,7 +161,8 @@ TEST_F(VulkanTest, BlendMatchesTheReference) {
           ++compared;
           for (int c = 0; c < 3; ++c)
             ASSERT_NEAR(gpu.at(x, y, c), reference.at(x, y, c), 1e-4 * 3.0)  // 1e-4 of the values' range
-                << "pixel " << x << "," << y << " gaze " << gaze[0] << "," << gaze[1] << " foveal " << bounds.foveal_deg;
+                << "pixel " << x << "," << y << " gaze " << gaze[0] << "," << gaze[1] << " foveal "
+                << bounds.foveal_deg;
         }
       EXPECT_GT(compared, frame.width * frame.height - 8);
     }
@@ -191,8 +195,8 @@ TEST_F(VulkanTest, DisplayFrameIsTheBlendEncodedToEightBitSrgb) {
   };
   const double gazes[][2] = {{20.0, 30.0}, {-40.0, 10.0}, {-3.0e6, 2.0e6}};
   for (const auto& gaze : gazes)
-    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 24.0, 6.0}, ZoneBounds{10.0, 62.5, 0.0},
-                                    ZoneBounds{10.0, 62.5, 400.0}}) {
+    for (const ZoneBounds bounds : {ZoneBounds{10.0, 62.5, 2.0}, ZoneBounds{20.0, 24.0, 6.0},
+                                    ZoneBounds{10.0, 62.5, 0.0}, ZoneBounds{10.0, 62.5, 400.0}}) {
       const Image linear = blender.blend(display, gaze[0], gaze[1], bounds).image;
       expect_encoded(blender.display_frame(display, gaze[0], gaze[1], bounds), linear,
                      "gaze " + std::to_string(gaze[0]) + "," + std::to_string(gaze[1]) + " band " +
@@ -251,9 +255,9 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
   blender.set_frame(frame, &periphery);
   const DisplayGeometry display = small_display();
   const Image blended = blender.blend(display, 32.0, 24.0, {10.0, 40.0, 0.5}).image;
-  EXPECT_NEAR(blended.at(32, 24, 0), 1.0f, 1e-6);   // the gaze point
-  EXPECT_NEAR(blended.at(0, 0, 1), 0.25f, 1e-5);    // a corner, about 34 degrees out: outer zone
-  EXPECT_NEAR(blended.at(32, 8, 2), 0.25f, 1e-5);   // about 17 degrees out: middle zone
+  EXPECT_NEAR(blended.at(32, 24, 0), 1.0f, 1e-6);  // the gaze point
+  EXPECT_NEAR(blended.at(0, 0, 1), 0.25f, 1e-5);   // a corner, about 34 degrees out: outer zone
+  EXPECT_NEAR(blended.at(32, 8, 2), 0.25f, 1e-5);  // about 17 degrees out: middle zone
   const auto costs = bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 0.5}, 2);
   ASSERT_EQ(costs.size(), 2u);
   if (context().timestamp_period_ns > 0.0)
@@ -275,7 +279,8 @@ TEST_F(VulkanTest, PeripheryFrameFeedsTheMiddleAndOuterZones) {
   EXPECT_GT(reference_band_pixels, 40);
   EXPECT_NEAR(double(costs.front().band_pixels), double(reference_band_pixels), 4.0);
   EXPECT_EQ(bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 0.0}, 1).front().band_pixels, 0u);
-  EXPECT_EQ(bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 400.0}, 1).front().band_pixels, 64u * 48u);
+  EXPECT_EQ(bench::measure_blend_cost(blender, display, 32.0, 24.0, {10.0, 40.0, 400.0}, 1).front().band_pixels,
+            64u * 48u);
   // Timing leaves the zones as they were.
   EXPECT_NEAR(blender.blend(display, 32.0, 24.0, {10.0, 40.0, 0.5}).image.at(32, 24, 0), 1.0f, 1e-6);
 }

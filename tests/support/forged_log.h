@@ -25,7 +25,8 @@ inline std::vector<std::string> lines_of(const std::string& text) {
 // `lines` renumbered and re-chained; with `recount_seals` each seal also commits the trials
 // completed before it (trial_end events, a session without resumes), as a forger who deleted or
 // added a trial would make it.
-inline std::string rechained(const std::vector<std::string>& lines, bool strip_keys = false, bool recount_seals = false) {
+inline std::string rechained(const std::vector<std::string>& lines, bool strip_keys = false,
+                             bool recount_seals = false) {
   std::string text, chain;
   int64_t seq = 0;
   int trials_complete = 0;

@@ -8,14 +8,14 @@ FOVLAB_GPU_BEGIN
 
 // min_filter.comp.glsl
 struct MinFilterParams {
-  uvec2 size;   // pixels of the level
-  int radius;   // 0 (filter size 1), 1 (3x3), 2 (5x5)
+  uvec2 size;  // pixels of the level
+  int radius;  // 0 (filter size 1), 1 (3x3), 2 (5x5)
 };
 
 // depth_edges.comp.glsl
 struct EdgeParams {
-  uvec2 size;               // pixels of the low-resolution level
-  float relative_threshold; // edge when |Sobel(depth)| > relative_threshold * depth
+  uvec2 size;                // pixels of the low-resolution level
+  float relative_threshold;  // edge when |Sobel(depth)| > relative_threshold * depth
 };
 
 // foveation_mask.comp.glsl
@@ -24,19 +24,19 @@ const uint FLAG_ALL_DUE = 2u;       // no history yet: every unmasked pixel is d
 const uint FLAG_LIST_REFRESH = 4u;  // the periphery is traced: list the unmasked pixels due (counters[6])
 
 struct MaskParams {
-  uvec2 frame_size;       // full-resolution pixels
-  uvec2 mid_size;         // mid-level pixels
-  uvec2 low_size;         // low-level pixels (the edge map)
-  uint low_scale;         // full-resolution pixels per low-level pixel along each axis
-  uint combine;           // COMBINE_* (MaskCombine)
-  vec2 gaze_px;           // in full-resolution pixels (finite, clamped by the renderer)
+  uvec2 frame_size;  // full-resolution pixels
+  uvec2 mid_size;    // mid-level pixels
+  uvec2 low_size;    // low-level pixels (the edge map)
+  uint low_scale;    // full-resolution pixels per low-level pixel along each axis
+  uint combine;      // COMBINE_* (MaskCombine)
+  vec2 gaze_px;      // in full-resolution pixels (finite, clamped by the renderer)
   vec2 pixel_pitch_mm;
   float viewing_distance_mm;
   float fovea_radius_deg;
   float outer_periphery_radius_deg;  // a huge value when there is none
   uint seed;
   uint frame_index;
-  uint flags;             // FLAG_TRACE_ALL, FLAG_ALL_DUE, FLAG_LIST_REFRESH
+  uint flags;  // FLAG_TRACE_ALL, FLAG_ALL_DUE, FLAG_LIST_REFRESH
   uint refresh_period;
 };
 
@@ -45,10 +45,10 @@ const uint MID_FLAG_DUE = 256u;
 
 // fipr_mid_list.comp.glsl
 struct MidListParams {
-  uvec2 mid_size;          // pixels of the mid level
-  uvec2 start_size;        // pixels of the level below (its filtered depth)
-  int min_filter_radius;   // the top level starts from the minimum over this radius
-  uint list_counter;       // counters[list_counter]: the list's length
+  uvec2 mid_size;         // pixels of the mid level
+  uvec2 start_size;       // pixels of the level below (its filtered depth)
+  int min_filter_radius;  // the top level starts from the minimum over this radius
+  uint list_counter;      // counters[list_counter]: the list's length
 };
 
 // An entry of the mid level's list (fipr_mid_list.comp.glsl writes it, sphere_trace.comp.glsl reads

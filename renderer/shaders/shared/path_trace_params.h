@@ -8,8 +8,8 @@ FOVLAB_GPU_BEGIN
 
 struct PathTraceParams {
   vec4 eye;
-  vec4 right;    // camera right scaled by tan(fov / 2) x aspect
-  vec4 up;       // camera up scaled by tan(fov / 2)
+  vec4 right;  // camera right scaled by tan(fov / 2) x aspect
+  vec4 up;     // camera up scaled by tan(fov / 2)
   vec4 forward;
   vec4 sky_radiance;
   uvec2 size;
@@ -23,7 +23,8 @@ struct PathTraceParams {
 
 struct BvhNode {
   vec3 bounds_min;
-  uint left_or_first;   // interior: index of the left child (the right one follows it); leaf: first slot in triangle_order
+  uint
+      left_or_first;  // interior: index of the left child (the right one follows it); leaf: first slot in triangle_order
   vec3 bounds_max;
   uint triangle_count;  // 0: interior node
 };

@@ -14,9 +14,9 @@ struct ComposeParams {
   uvec2 image_size;
   ivec2 shown_min;  // the image rectangle [shown_min, shown_max) shows the frame
   ivec2 shown_max;
-  ivec2 offset;     // image pixel p shows scaled frame pixel p - offset
+  ivec2 offset;  // image pixel p shows scaled frame pixel p - offset
   uint scale;
-  uint bgra;        // 1: swap R and B (B8G8R8A8 images)
+  uint bgra;  // 1: swap R and B (B8G8R8A8 images)
 };
 
 FOVLAB_GPU_END

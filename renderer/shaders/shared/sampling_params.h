@@ -8,31 +8,31 @@
 FOVLAB_GPU_BEGIN
 
 struct SamplingLayer {
-  vec2 origin_px;      // top left of the layer's grid on the screen
+  vec2 origin_px;  // top left of the layer's grid on the screen
   float pixel_size_px;
-  uint first_sample;   // the layer's first entry in the sample buffer (row-major, `columns` a row)
-  uvec2 grid_size;     // columns, rows
+  uint first_sample;      // the layer's first entry in the sample buffer (row-major, `columns` a row)
+  uvec2 grid_size;        // columns, rows
   vec2 weight_range_deg;  // eccentricities where the layer has weight
 };
 
 struct SamplingParams {
-  uvec2 screen_size;        // W, H in pixels
-  uvec2 buffer_size;        // RMFR, KFR: w, h; hyperbolic: the three layers' samples, 1 row; linear: W, H
-  vec2 gaze_px;             // on the screen (clamped on the CPU)
-  vec2 gaze_share;          // RMFR: c_x, c_y (clamped to [0.01, 0.99])
-  vec2 focal_share;         // RMFR: phi_x, phi_y
-  vec2 pixel_pitch_mm;      // hyperbolic and linear: the display, for eccentricities
-  uint model;               // MODEL_*
-  uint seed;                // linear: the thresholds' seed
-  float alpha;              // KFR
-  float log_max_radius;     // KFR: L
-  float inner_radius_deg;   // hyperbolic and linear: r1
-  float outer_radius_deg;   // r2
-  float blend_band_deg;     // hyperbolic
-  float min_probability;    // linear: p_min
+  uvec2 screen_size;       // W, H in pixels
+  uvec2 buffer_size;       // RMFR, KFR: w, h; hyperbolic: the three layers' samples, 1 row; linear: W, H
+  vec2 gaze_px;            // on the screen (clamped on the CPU)
+  vec2 gaze_share;         // RMFR: c_x, c_y (clamped to [0.01, 0.99])
+  vec2 focal_share;        // RMFR: phi_x, phi_y
+  vec2 pixel_pitch_mm;     // hyperbolic and linear: the display, for eccentricities
+  uint model;              // MODEL_*
+  uint seed;               // linear: the thresholds' seed
+  float alpha;             // KFR
+  float log_max_radius;    // KFR: L
+  float inner_radius_deg;  // hyperbolic and linear: r1
+  float outer_radius_deg;  // r2
+  float blend_band_deg;    // hyperbolic
+  float min_probability;   // linear: p_min
   float viewing_distance_mm;
-  uint sample_capacity;     // entries of the sample buffer
-  uint resample_filter;     // pass 2: FILTER_BILINEAR or FILTER_LANCZOS2 (ResampleFilter)
+  uint sample_capacity;  // entries of the sample buffer
+  uint resample_filter;  // pass 2: FILTER_BILINEAR or FILTER_LANCZOS2 (ResampleFilter)
   uint pad0;
   SamplingLayer layers[3];  // hyperbolic: inner, middle, outer
 };

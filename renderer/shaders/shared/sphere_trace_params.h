@@ -6,35 +6,35 @@
 
 FOVLAB_GPU_BEGIN
 
-const uint FLAG_SHADE = 1u;          // top level: shade and write colour
-const uint FLAG_HAS_START = 2u;      // start rays at start_depth of the parent pixel
-const uint FLAG_FOVEATED_MID = 4u;   // FIPR mid level
-const uint FLAG_FOVEATED_TOP = 8u;   // FIPR top level: the periphery's refresh list in mask_values
-const uint FLAG_CONE = 16u;          // depth levels (and FIPR's mid level) march their pixel's cone
-const uint FLAG_MASKED_LIST = 32u;   // FIPR top level: the masked pixels listed in mask_values
-const uint FLAG_SAMPLE_LIST = 64u;   // sampling models: the samples listed in mask_values, four words each
-                                     // (x, y and footprint in pixels as float bits, then the sample's entry);
-                                     // colour (alpha 1: shaded) and steps go to that entry
-const uint FLAG_START_SAME_SIZE = 128u;  // the start buffer is this level's own size (pixel -> pixel)
-const uint FLAG_NEAR_MISS = 256u;    // FIPR: where a depth level's ray passed a surface within its cone
-                                     // (near_depth); the mid level promotes the children of such a pixel
+const uint FLAG_SHADE = 1u;               // top level: shade and write colour
+const uint FLAG_HAS_START = 2u;           // start rays at start_depth of the parent pixel
+const uint FLAG_FOVEATED_MID = 4u;        // FIPR mid level
+const uint FLAG_FOVEATED_TOP = 8u;        // FIPR top level: the periphery's refresh list in mask_values
+const uint FLAG_CONE = 16u;               // depth levels (and FIPR's mid level) march their pixel's cone
+const uint FLAG_MASKED_LIST = 32u;        // FIPR top level: the masked pixels listed in mask_values
+const uint FLAG_SAMPLE_LIST = 64u;        // sampling models: the samples listed in mask_values, four words each
+                                          // (x, y and footprint in pixels as float bits, then the sample's entry);
+                                          // colour (alpha 1: shaded) and steps go to that entry
+const uint FLAG_START_SAME_SIZE = 128u;   // the start buffer is this level's own size (pixel -> pixel)
+const uint FLAG_NEAR_MISS = 256u;         // FIPR: where a depth level's ray passed a surface within its cone
+                                          // (near_depth); the mid level promotes the children of such a pixel
 const uint FLAG_SAMPLE_DEPTH_OUT = 512u;  // GT before its one-step floor: each sample's stop to level_depth
 const uint FLAG_SAMPLE_DEPTH_IN = 1024u;  // the one-step floor: each sample starts at its entry of start_depth
 
 struct TraceParams {
-  uvec2 level_size;          // pixels of this level
-  uvec2 start_size;          // pixels of the start-depth buffer (the level below); unused without FLAG_HAS_START
-  vec2 frame_size;           // pixels of the full-resolution frame
-  float time_s;              // scene time
-  float hit_threshold;       // a ray hits when distance < t * pixel_angle_rad * level_scale * hit_threshold
-  uint samples_per_pixel;    // 1, 4 or 16 (top level; FIPR's mid level: 4 for a one-pixel texture footprint)
-  uint max_steps;            // step cap of one ray at this level
-  uint level_scale;          // full-resolution pixels per level pixel along each axis (1, 2, 4, ...)
-  uint flags;                // FLAG_*
-  uint frame_index;          // FIPR: frame of the sequence (stamps the mid level's colours)
-  uint periphery_steps;      // FIPR: 0: the mid level shades the pixels its unmasked children take
-                             // (fipr_reconstruct); else those are traced from the mid depth with this
-                             // step budget and shaded (1 sample)
+  uvec2 level_size;        // pixels of this level
+  uvec2 start_size;        // pixels of the start-depth buffer (the level below); unused without FLAG_HAS_START
+  vec2 frame_size;         // pixels of the full-resolution frame
+  float time_s;            // scene time
+  float hit_threshold;     // a ray hits when distance < t * pixel_angle_rad * level_scale * hit_threshold
+  uint samples_per_pixel;  // 1, 4 or 16 (top level; FIPR's mid level: 4 for a one-pixel texture footprint)
+  uint max_steps;          // step cap of one ray at this level
+  uint level_scale;        // full-resolution pixels per level pixel along each axis (1, 2, 4, ...)
+  uint flags;              // FLAG_*
+  uint frame_index;        // FIPR: frame of the sequence (stamps the mid level's colours)
+  uint periphery_steps;    // FIPR: 0: the mid level shades the pixels its unmasked children take
+                           // (fipr_reconstruct); else those are traced from the mid depth with this
+                           // step budget and shaded (1 sample)
 };
 
 FOVLAB_GPU_END

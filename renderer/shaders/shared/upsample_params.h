@@ -11,8 +11,8 @@ struct UpsampleParams {
   uvec2 source_size;
   uvec2 target_size;  // source_size scaled by factor along `axis`, or less (cropped at the far edge)
   uint factor;
-  uint axis;          // 0: x, 1: y
-  uint target_offset; // texels before the target image in its buffer (a zone of ZoneBlender's buffer)
+  uint axis;           // 0: x, 1: y
+  uint target_offset;  // texels before the target image in its buffer (a zone of ZoneBlender's buffer)
 };
 
 FOVLAB_GPU_END

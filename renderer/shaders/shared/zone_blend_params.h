@@ -24,8 +24,8 @@ struct BlendParams {
   // Inside a band the weight of the inner zone is clamp((band_end - e) / band, 0, 1) for the
   // eccentricity e in degrees: band_end = radius + band / 2 of the foveal and the middle boundary.
   vec2 band_end_deg;
-  float band_per_deg;       // 1 / band (bands of 0 degrees have no pixels inside)
-  uint has_middle;          // 0: no middle zone (its radius is not beyond the fovea's)
+  float band_per_deg;  // 1 / band (bands of 0 degrees have no pixels inside)
+  uint has_middle;     // 0: no middle zone (its radius is not beyond the fovea's)
 };
 
 // buffer_copy.comp.glsl

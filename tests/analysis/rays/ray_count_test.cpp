@@ -1,4 +1,4 @@
-// Display geometry (pixel pitch, exact eccentricity) and the three-zone ray count of seed 001
+// Display geometry (pixel pitch, exact eccentricity) and the three-zone ray count of Polychronakis et al. 2021
 // (section 5.1, Table 1): the convention that reproduces Table 1, the sorted table against a
 // brute-force count, boundaries and degenerate zones.
 #include <gtest/gtest.h>
@@ -27,12 +27,12 @@ constexpr double kDegrees = 180.0 / std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Seed 001, Table 1: speed-up for foveal zones (rows) and middle zones (columns), in degrees.
+// Polychronakis et al. 2021, Table 1: speed-up for foveal zones (rows) and middle zones (columns), in degrees.
 const std::vector<double> kFoveal = {5, 10, 15, 20, 25, 30};
 const std::vector<double> kMiddle = {50, 55, 60, 65, 70, 75};
-const double kTable1[6][6] = {
-    {4.98, 4.56, 4.19, 3.95, 3.91, 3.91}, {4.60, 4.23, 3.91, 3.70, 3.67, 3.67}, {4.07, 3.78, 3.52, 3.35, 3.32, 3.32},
-    {3.49, 3.28, 3.08, 2.95, 2.93, 2.93}, {2.95, 2.79, 2.65, 2.55, 2.53, 2.53}, {2.47, 2.36, 2.25, 2.18, 2.17, 2.17}};
+const double kTable1[6][6] = {{4.98, 4.56, 4.19, 3.95, 3.91, 3.91}, {4.60, 4.23, 3.91, 3.70, 3.67, 3.67},
+                              {4.07, 3.78, 3.52, 3.35, 3.32, 3.32}, {3.49, 3.28, 3.08, 2.95, 2.93, 2.93},
+                              {2.95, 2.79, 2.65, 2.55, 2.53, 2.53}, {2.47, 2.36, 2.25, 2.18, 2.17, 2.17}};
 
 // The paper's set-up: 27" full HD at 50 cm, gaze at the centre.
 DisplayGeometry paper_display() { return fovlab::display_from_diagonal(1920, 1080, 27.0, 500.0); }
@@ -227,7 +227,7 @@ TEST(Eccentricity, FarOffScreenApproachesNinetyDegrees) {
 // ---------------------------------------------------------------------------------------------
 // Ray counts
 
-TEST(RayCount, ReproducesTable1OfSeed001) {
+TEST(RayCount, ReproducesTable1OfPolychronakis2021) {
   const std::vector<RayCell> cells = count_ray_grid(paper_display(), 960, 540, kFoveal, kMiddle);
   ASSERT_EQ(cells.size(), 36u);
   double worst = 0;
@@ -284,13 +284,12 @@ TEST(RayCount, SortedTableMatchesBruteForce) {
     DisplayGeometry display;
     double gx, gy;
   };
-  const DisplayGeometry even = fovlab::display_from_size(40, 24, 120, 72, 90);     // 3 mm pixels, wide angles
-  const DisplayGeometry odd = fovlab::display_from_diagonal(37, 23, 4.0, 60);      // odd sizes: a centre pixel
-  const DisplayGeometry oblong = fovlab::display_from_size(31, 16, 40, 50, 35);    // non-square pixels
-  const std::vector<Case> cases = {
-      {even, 20, 12},      {even, 0, 0},    {even, 40, 24},    {even, 17.5, 3.5}, {even, -30, 50},
-      {even, 200, -100},   {odd, 18.5, 11.5}, {odd, 0, 23},    {odd, 60, 11.5},   {oblong, 15.5, 8},
-      {oblong, 31, 0},     {oblong, -5, -5}};
+  const DisplayGeometry even = fovlab::display_from_size(40, 24, 120, 72, 90);   // 3 mm pixels, wide angles
+  const DisplayGeometry odd = fovlab::display_from_diagonal(37, 23, 4.0, 60);    // odd sizes: a centre pixel
+  const DisplayGeometry oblong = fovlab::display_from_size(31, 16, 40, 50, 35);  // non-square pixels
+  const std::vector<Case> cases = {{even, 20, 12},  {even, 0, 0},      {even, 40, 24},    {even, 17.5, 3.5},
+                                   {even, -30, 50}, {even, 200, -100}, {odd, 18.5, 11.5}, {odd, 0, 23},
+                                   {odd, 60, 11.5}, {oblong, 15.5, 8}, {oblong, 31, 0},   {oblong, -5, -5}};
   for (const Case& c : cases) {
     const EccentricityTable table(c.display, c.gx, c.gy);
     ASSERT_EQ(table.pixel_count(), int64_t{c.display.width_px} * c.display.height_px);

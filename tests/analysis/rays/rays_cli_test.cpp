@@ -1,4 +1,4 @@
-// fovlab rays end to end: Table 1 of seed 001 through the command's JSON, the printed table, and
+// fovlab rays end to end: Table 1 of Polychronakis et al. 2021 through the command's JSON, the printed table, and
 // bad input as one line naming the flag, exit code 2 and no JSON written.
 #include <gtest/gtest.h>
 
@@ -25,10 +25,10 @@ fs::path scratch() { return fovlab::cli_test::scratch("fovlab-rays-cli-test"); }
 const std::string kPaperDisplay = "rays --resolution 1920x1080 --diagonal-in 27 --distance-mm 500 ";
 const std::string kTable1Grid = "--foveal-deg 5,10,15,20,25,30 --middle-deg 50,55,60,65,70,75 ";
 
-// Seed 001, Table 1 (rows foveal 5..30, columns middle 50..75 degrees).
-const double kTable1[6][6] = {
-    {4.98, 4.56, 4.19, 3.95, 3.91, 3.91}, {4.60, 4.23, 3.91, 3.70, 3.67, 3.67}, {4.07, 3.78, 3.52, 3.35, 3.32, 3.32},
-    {3.49, 3.28, 3.08, 2.95, 2.93, 2.93}, {2.95, 2.79, 2.65, 2.55, 2.53, 2.53}, {2.47, 2.36, 2.25, 2.18, 2.17, 2.17}};
+// Polychronakis et al. 2021, Table 1 (rows foveal 5..30, columns middle 50..75 degrees).
+const double kTable1[6][6] = {{4.98, 4.56, 4.19, 3.95, 3.91, 3.91}, {4.60, 4.23, 3.91, 3.70, 3.67, 3.67},
+                              {4.07, 3.78, 3.52, 3.35, 3.32, 3.32}, {3.49, 3.28, 3.08, 2.95, 2.93, 2.93},
+                              {2.95, 2.79, 2.65, 2.55, 2.53, 2.53}, {2.47, 2.36, 2.25, 2.18, 2.17, 2.17}};
 
 TEST(RaysCli, ReproducesTable1ThroughJson) {
   const fs::path json_path = scratch() / "table1.json";

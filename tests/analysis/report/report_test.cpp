@@ -168,7 +168,7 @@ AnalysisResult sample_result() {
   result.inputs = {"results/demo/P001/events.jsonl", "results/demo/P002/events.jsonl"};
 
   result.conditions = {condition(park, 5, 12, 3), condition(park, 10, 12, 8), condition(park, 20, 12, 12),
-                       condition(city, 5, 9, 6), condition(city, 10, 12, 6), condition(city, 20, 12, 11)};
+                       condition(city, 5, 9, 6),  condition(city, 10, 12, 6), condition(city, 20, 12, 11)};
   result.conditions[1].p_value = kNaN;  // must come out empty (CSV) and null (JSON)
   ConditionRow no_level = condition(city, 0, 4, 2);
   no_level.condition = "reference";
@@ -277,13 +277,13 @@ TEST(AnalysisReport, ConditionsCsvHasOneQuotedRowPerCondition) {
   EXPECT_NE(text.find("\"park, \"\"north\"\"\""), std::string::npos) << "RFC 4180 quoting";
   const auto rows = parse_csv(text);
   ASSERT_EQ(rows.size(), result.conditions.size() + 1);
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"study", "protocol", "scene", "variant", "method", "condition", "level", "n", "k",
-                                               "proportion", "ci_lower", "ci_upper", "p_value", "p_holm", "stars",
-                                               "alternative", "mean_rating", "sd_rating", "log10_p"}));
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"study", "protocol", "scene", "variant", "method", "condition", "level",
+                                               "n", "k", "proportion", "ci_lower", "ci_upper", "p_value", "p_holm",
+                                               "stars", "alternative", "mean_rating", "sd_rating", "log10_p"}));
   for (const auto& row : rows) ASSERT_EQ(row.size(), 19u);
-  EXPECT_EQ(rows[1], (std::vector<std::string>{"demo <study>", "pair", kParkScene, "blur", "", "level=5", "5", "12", "3",
-                                               "0.25", "0.25", "0.875", "0.0123", "0.0369", "*", "greater", "",
-                                               "", "-1.91"}));
+  EXPECT_EQ(rows[1],
+            (std::vector<std::string>{"demo <study>", "pair", kParkScene, "blur", "", "level=5", "5", "12", "3", "0.25",
+                                      "0.25", "0.875", "0.0123", "0.0369", "*", "greater", "", "", "-1.91"}));
   EXPECT_EQ(rows[2][12], "") << "a NaN p-value is an empty cell";
   EXPECT_EQ(rows[2][9], "0.6666666667") << "10 significant digits";
   EXPECT_EQ(rows[4][2], "city");
@@ -299,30 +299,125 @@ TEST(AnalysisReport, ParticipantsCsvHasARowPerThresholdAndOneWithout) {
   write_analysis_report(result, dir.path().string());
   const auto rows = parse_csv(read_text(dir.path() / "participants.csv"));
   ASSERT_EQ(rows.size(), 4u);
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"participant", "observer", "excluded", "session_ended", "complete_trials",
-                                               "attention_checks", "attention_errors", "scene", "variant",
-                                               "threshold", "note", "log_status", "latency_median_ms",
-                                               "latency_p95_ms", "latency_refreshes", "dropped_frames",
-                                               "present_clock", "practice_trials", "validation_attempts",
-                                               "validations_passed", "validation_accuracy_deg",
-                                               "validation_worst_accuracy_deg", "validation_precision_deg",
-                                               "gaze_source", "refresh_hz", "frame_intervals", "frame_interval_median_ms",
-                                               "frame_interval_sd_ms", "frame_interval_p99_ms", "frame_interval_max_ms",
-                                               "frame_intervals_late", "frame_intervals_late_share"}));
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"participant",
+                                               "observer",
+                                               "excluded",
+                                               "session_ended",
+                                               "complete_trials",
+                                               "attention_checks",
+                                               "attention_errors",
+                                               "scene",
+                                               "variant",
+                                               "threshold",
+                                               "note",
+                                               "log_status",
+                                               "latency_median_ms",
+                                               "latency_p95_ms",
+                                               "latency_refreshes",
+                                               "dropped_frames",
+                                               "present_clock",
+                                               "practice_trials",
+                                               "validation_attempts",
+                                               "validations_passed",
+                                               "validation_accuracy_deg",
+                                               "validation_worst_accuracy_deg",
+                                               "validation_precision_deg",
+                                               "gaze_source",
+                                               "refresh_hz",
+                                               "frame_intervals",
+                                               "frame_interval_median_ms",
+                                               "frame_interval_sd_ms",
+                                               "frame_interval_p99_ms",
+                                               "frame_interval_max_ms",
+                                               "frame_intervals_late",
+                                               "frame_intervals_late_share"}));
   // P001's frame intervals: 16, 16, 16, 17, 34 ms at 60 Hz (34 is beyond 25 ms: late); SD by hand:
   // mean 19.8, squares 3 x 14.44 + 7.84 + 201.64 = 252.8, / 4 = 63.2.
-  const std::vector<std::string> frames = {"60", "5", "16", csv_number_for_test(std::sqrt(63.2)), "34", "34", "1", "0.2"};
-  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", kParkScene, "blur", "10", "", "sealed",
-                                               "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
-                                               "0.5", "0.75", "0.125", "tracker"}) + frames);
-  EXPECT_EQ(rows[2], (std::vector<std::string>{"P001", "human", "false", "true", "120", "6", "0", "city", "", "",
-                                               "every step answered correctly, censored", "sealed",
-                                               "56.5", "73.25", "720", "3", "after_queue_present", "4", "3", "2",
-                                               "0.5", "0.75", "0.125", "tracker"}) + frames);
+  const std::vector<std::string> frames = {"60", "5",  "16", csv_number_for_test(std::sqrt(63.2)),
+                                           "34", "34", "1",  "0.2"};
+  EXPECT_EQ(rows[1], (std::vector<std::string>{"P001",
+                                               "human",
+                                               "false",
+                                               "true",
+                                               "120",
+                                               "6",
+                                               "0",
+                                               kParkScene,
+                                               "blur",
+                                               "10",
+                                               "",
+                                               "sealed",
+                                               "56.5",
+                                               "73.25",
+                                               "720",
+                                               "3",
+                                               "after_queue_present",
+                                               "4",
+                                               "3",
+                                               "2",
+                                               "0.5",
+                                               "0.75",
+                                               "0.125",
+                                               "tracker"}) +
+                         frames);
+  EXPECT_EQ(rows[2], (std::vector<std::string>{"P001",
+                                               "human",
+                                               "false",
+                                               "true",
+                                               "120",
+                                               "6",
+                                               "0",
+                                               "city",
+                                               "",
+                                               "",
+                                               "every step answered correctly, censored",
+                                               "sealed",
+                                               "56.5",
+                                               "73.25",
+                                               "720",
+                                               "3",
+                                               "after_queue_present",
+                                               "4",
+                                               "3",
+                                               "2",
+                                               "0.5",
+                                               "0.75",
+                                               "0.125",
+                                               "tracker"}) +
+                         frames);
   // A study that validates nothing leaves the validation cells empty; no frame interval: empty numbers.
-  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002", "human", "true", "false", "80", "6", "4", "", "", "", "", "sealed",
-                                               "", "", "", "1", "not recorded", "0", "", "", "", "", "",
-                                               "not recorded", "", "0", "", "", "", "", "", ""}));
+  EXPECT_EQ(rows[3], (std::vector<std::string>{"P002",
+                                               "human",
+                                               "true",
+                                               "false",
+                                               "80",
+                                               "6",
+                                               "4",
+                                               "",
+                                               "",
+                                               "",
+                                               "",
+                                               "sealed",
+                                               "",
+                                               "",
+                                               "",
+                                               "1",
+                                               "not recorded",
+                                               "0",
+                                               "",
+                                               "",
+                                               "",
+                                               "",
+                                               "",
+                                               "not recorded",
+                                               "",
+                                               "0",
+                                               "",
+                                               "",
+                                               "",
+                                               "",
+                                               "",
+                                               ""}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
@@ -383,18 +478,25 @@ TEST(AnalysisReport, ThresholdsJsonHoldsTheResultWithNullForMissingNumbers) {
 
   ASSERT_EQ(root["participants"].size(), 2u);
   EXPECT_EQ(root["participants"][0]["thresholds"].size(), 2u);
-  EXPECT_EQ(root["participants"][0]["latency"],
-            json({{"recorded", true}, {"median_ms", 56.5}, {"p95_ms", 73.25}, {"refreshes", 720},
-                  {"dropped_frames", 3}, {"present_clock", "after_queue_present"}}));
-  EXPECT_EQ(root["participants"][1]["latency"],
-            json({{"recorded", false}, {"median_ms", nullptr}, {"p95_ms", nullptr}, {"refreshes", 0},
-                  {"dropped_frames", 1}, {"present_clock", nullptr}}));
+  EXPECT_EQ(root["participants"][0]["latency"], json({{"recorded", true},
+                                                      {"median_ms", 56.5},
+                                                      {"p95_ms", 73.25},
+                                                      {"refreshes", 720},
+                                                      {"dropped_frames", 3},
+                                                      {"present_clock", "after_queue_present"}}));
+  EXPECT_EQ(root["participants"][1]["latency"], json({{"recorded", false},
+                                                      {"median_ms", nullptr},
+                                                      {"p95_ms", nullptr},
+                                                      {"refreshes", 0},
+                                                      {"dropped_frames", 1},
+                                                      {"present_clock", nullptr}}));
   EXPECT_TRUE(root["participants"][0]["thresholds"][1]["level"].is_null());
   EXPECT_EQ(root["participants"][1]["excluded"], true);
   EXPECT_EQ(root["participants"][1]["attention_errors"], 4);
 
-  EXPECT_EQ(root["left_out"],
-            json::array({{{"what", "results/demo/P003/events.jsonl"}, {"reason", "no complete trials (session log torn)"}}}));
+  EXPECT_EQ(
+      root["left_out"],
+      json::array({{{"what", "results/demo/P003/events.jsonl"}, {"reason", "no complete trials (session log torn)"}}}));
 }
 
 TEST(AnalysisReport, RampAndSliderReportsHaveNoBinomialSections) {
@@ -435,8 +537,8 @@ TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {
   EXPECT_EQ(count(html, "<table class=\"headline\">"), 1u);
   EXPECT_EQ(count(html, "<table>"), 5u);
   EXPECT_EQ(count(html, "</table>"), 6u);
-  for (const char* id : {"id=\"thresholds\"", "id=\"fits\"", "id=\"conditions\"", "id=\"participants\"",
-                         "id=\"left-out\""}) {
+  for (const char* id :
+       {"id=\"thresholds\"", "id=\"fits\"", "id=\"conditions\"", "id=\"participants\"", "id=\"left-out\""}) {
     EXPECT_NE(html.find(id), std::string::npos) << id;
   }
   EXPECT_NE(html.find("<th>threshold CI</th>"), std::string::npos);
@@ -476,8 +578,8 @@ TEST(AnalysisReport, PlotsShowTheirData) {
     EXPECT_EQ(lower.find("nan"), std::string::npos);
   }
   const std::string share = read_text(dir.path() / "share_per_level.svg");
-  EXPECT_EQ(count(share, "stroke-dasharray"), 1u);  // the line at 1/2
-  EXPECT_EQ(count(share, "<circle"), 3u + 1u);      // the park group (plus its legend marker)
+  EXPECT_EQ(count(share, "stroke-dasharray"), 1u);   // the line at 1/2
+  EXPECT_EQ(count(share, "<circle"), 3u + 1u);       // the park group (plus its legend marker)
   EXPECT_EQ(count(share, "<rect x"), 1u + 3u + 1u);  // background, city's 3 square markers and its legend marker
   EXPECT_NE(share.find("park, &quot;north&quot;/blur"), std::string::npos);
 
@@ -485,7 +587,7 @@ TEST(AnalysisReport, PlotsShowTheirData) {
   EXPECT_EQ(count(curve, "<polyline"), 1u);             // the logistic
   EXPECT_EQ(count(curve, "fill-opacity=\"0.3\""), 2u);  // threshold band and its legend swatch
   EXPECT_NE(curve.find(">threshold CI (logistic)</text>"), std::string::npos);
-  EXPECT_EQ(count(curve, "<circle"), 3u + 1u);          // 3 levels, legend
+  EXPECT_EQ(count(curve, "<circle"), 3u + 1u);  // 3 levels, legend
 
   const std::string histogram = read_text(dir.path() / "thresholds_histogram.svg");
   // One bar of height 1: P001's threshold (P002 is excluded).
@@ -563,7 +665,8 @@ TEST(AnalysisReport, PlotFileNamesAreSafeAndDistinct) {
   EXPECT_NE(std::find(names.begin(), names.end(), "psychometric_park___north__blur_2.svg"), names.end());
   EXPECT_NE(std::find(names.begin(), names.end(), "psychometric_______etc_x_y.svg"), names.end());
   for (const std::string& name : names) {
-    for (char c : name) EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') << name;
+    for (char c : name)
+      EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') << name;
   }
 }
 
@@ -583,23 +686,67 @@ TEST(AnalysisReport, HeadlineCsvHasOneRowPerGroupAndNoValueWhenNotEstimable) {
   EXPECT_NE(text.find("\"park, \"\"north\"\"\""), std::string::npos) << "RFC 4180 quoting";
   const auto rows = parse_csv(text);
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"scene", "variant", "quantity", "value", "lower", "upper", "status", "reason",
-                                               "method", "aims_at", "flags", "participants", "paper_rule", "paper_value",
-                                               "paper_difference", "paper_rule_is_headline", "pooled_fit",
-                                               "pooled_fit_lower", "pooled_fit_upper", "notes"}));
-  EXPECT_EQ(rows[1], (std::vector<std::string>{kParkScene, "blur", "threshold", "12.5", "11.75", "13.25", "estimated", "",
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"scene",
+                                               "variant",
+                                               "quantity",
+                                               "value",
+                                               "lower",
+                                               "upper",
+                                               "status",
+                                               "reason",
+                                               "method",
+                                               "aims_at",
+                                               "flags",
+                                               "participants",
+                                               "paper_rule",
+                                               "paper_value",
+                                               "paper_difference",
+                                               "paper_rule_is_headline",
+                                               "pooled_fit",
+                                               "pooled_fit_lower",
+                                               "pooled_fit_upper",
+                                               "notes"}));
+  EXPECT_EQ(rows[1], (std::vector<std::string>{kParkScene,
+                                               "blur",
+                                               "threshold",
+                                               "12.5",
+                                               "11.75",
+                                               "13.25",
+                                               "estimated",
+                                               "",
                                                "mean over participants, 95 % Student-t interval",
                                                "the participants' mean threshold",
-                                               "lapse at its bound (0); slope at its bound", "8",
-                                               "Polychronakis et al. 2021, 4.7", "16",
+                                               "lapse at its bound (0); slope at its bound",
+                                               "8",
+                                               "Polychronakis et al. 2021, 4.7",
+                                               "16",
                                                "the walk reports the last level not distinguished, not the crossing",
-                                               "false", "", "", "", "2 participants censored at the best level"}));
+                                               "false",
+                                               "",
+                                               "",
+                                               "",
+                                               "2 participants censored at the best level"}));
   // Not estimable: the value, lower and upper cells are empty although the struct holds numbers.
-  EXPECT_EQ(rows[2], (std::vector<std::string>{"city", "", "threshold", "", "", "", "not estimable",
+  EXPECT_EQ(rows[2], (std::vector<std::string>{"city",
+                                               "",
+                                               "threshold",
+                                               "",
+                                               "",
+                                               "",
+                                               "not estimable",
                                                "the fit's threshold -55.333 lies outside the tested levels 4 to 64",
                                                "logistic fit, 95 % profile-likelihood interval",
-                                               "the level where p_see = 1/2", "", "3", "", "", "", "false", "14.5", "13",
-                                               "16.25", ""}));
+                                               "the level where p_see = 1/2",
+                                               "",
+                                               "3",
+                                               "",
+                                               "",
+                                               "",
+                                               "false",
+                                               "14.5",
+                                               "13",
+                                               "16.25",
+                                               ""}));
 }
 
 TEST(AnalysisReport, ThresholdsJsonHoldsEachHeadlineAndTheFrameIntervals) {

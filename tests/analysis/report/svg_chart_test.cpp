@@ -44,7 +44,8 @@ testing::AssertionResult well_formed_svg(const std::string& svg) {
     const std::size_t end = svg.find('>', i);
     if (end == std::string::npos) return testing::AssertionFailure() << "unterminated tag at " << i;
     const std::string tag = svg.substr(i + 1, end - i - 1);
-    if (std::count(tag.begin(), tag.end(), '"') % 2 != 0) return testing::AssertionFailure() << "odd quotes in <" << tag;
+    if (std::count(tag.begin(), tag.end(), '"') % 2 != 0)
+      return testing::AssertionFailure() << "odd quotes in <" << tag;
     if (tag.find('<') != std::string::npos) return testing::AssertionFailure() << "'<' inside <" << tag;
     if (!tag.empty() && tag[0] == '/') {
       const std::string name = tag.substr(1);
@@ -170,13 +171,13 @@ TEST(XyChart, IsOneWellFormedSvgDocumentWithEveryPart) {
   EXPECT_NE(svg.find(">Share per level</text>"), std::string::npos);
   EXPECT_NE(svg.find(">foveal_deg</text>"), std::string::npos);
   EXPECT_NE(svg.find(">share</text>"), std::string::npos);
-  EXPECT_NE(svg.find(">park</text>"), std::string::npos);          // legend
+  EXPECT_NE(svg.find(">park</text>"), std::string::npos);  // legend
   EXPECT_NE(svg.find(">logistic</text>"), std::string::npos);
   EXPECT_NE(svg.find(">threshold CI</text>"), std::string::npos);
-  EXPECT_EQ(count(svg, "stroke-dasharray"), 1u);                   // the line at 0.5
-  EXPECT_EQ(count(svg, "<polyline"), 1u);                          // the curve
-  EXPECT_EQ(count(svg, "<circle"), 4u + 1u);                       // 4 points + legend marker
-  EXPECT_EQ(count(svg, "fill-opacity=\"0.3\""), 2u);               // band + legend swatch
+  EXPECT_EQ(count(svg, "stroke-dasharray"), 1u);      // the line at 0.5
+  EXPECT_EQ(count(svg, "<polyline"), 1u);             // the curve
+  EXPECT_EQ(count(svg, "<circle"), 4u + 1u);          // 4 points + legend marker
+  EXPECT_EQ(count(svg, "fill-opacity=\"0.3\""), 2u);  // band + legend swatch
   // Error bars: one group of three lines a point.
   EXPECT_EQ(count(svg, "stroke-width=\"1.2\"><line"), 4u);
 }
@@ -380,7 +381,7 @@ TEST(XyChart, ManySeriesCycleColoursAndKeepTheLegendInside) {
   const std::string svg = render_xy_chart_svg(chart);
   EXPECT_TRUE(well_formed_svg(svg));
   EXPECT_NE(svg.find(" more</text>"), std::string::npos);
-  EXPECT_EQ(svg.find("#F0E442"), std::string::npos);  // yellow is never a series colour
+  EXPECT_EQ(svg.find("#F0E442"), std::string::npos);       // yellow is never a series colour
   EXPECT_NE(svg.find("\xE2\x80\xA6"), std::string::npos);  // long labels are cut
 }
 
@@ -432,10 +433,10 @@ TEST(HistogramSvg, OneValueGivesIntegerTicks) {
 
 TEST(HistogramSvg, DegenerateInputsGiveAValidChart) {
   std::vector<Histogram> histograms(5);
-  histograms[1].values = {4, 4, 4};                    // no edges, one value
+  histograms[1].values = {4, 4, 4};  // no edges, one value
   histograms[2].values = {1, 2, 3};
-  histograms[2].bin_edges = {3, 1, 2, 2, kNaN};        // unsorted, repeated, NaN
-  histograms[3].bin_edges = {1, 2};                    // no values
+  histograms[2].bin_edges = {3, 1, 2, 2, kNaN};  // unsorted, repeated, NaN
+  histograms[3].bin_edges = {1, 2};              // no values
   histograms[4].values = {kNaN, -kInf};
   histograms[4].bin_edges = {kInf};
   for (std::size_t i = 0; i < histograms.size(); ++i) {
@@ -544,7 +545,7 @@ TEST(XyChart, ColourOverridesSmallPointsAndVerticalLines) {
   EXPECT_TRUE(well_formed_svg(svg));
   EXPECT_EQ(count(svg, "<circle"), 0u) << "colour 1 draws squares";
   EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.5\""), 3u + 1u);  // the small points and their legend sample
-  EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.18\""), 1u);  // the band, in the series colour
+  EXPECT_EQ(count(svg, "fill=\"#D55E00\" fill-opacity=\"0.18\""), 1u);      // the band, in the series colour
   // Both lines drawn (the one at 9 widens the axis), one with a legend entry (line and sample).
   EXPECT_EQ(count(svg, "stroke-dasharray=\"4 3\""), 3u);
   EXPECT_NE(svg.find(">blur: headline 2</text>"), std::string::npos);

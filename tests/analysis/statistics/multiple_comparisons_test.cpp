@@ -59,11 +59,10 @@ TEST(HolmAdjusted, CapsAtOne) {
 }
 
 TEST(HolmAdjusted, SeedTableTwoOneSidedPValues) {
-  // Seed 002, Table 2: one-sided p-values of 49, 47, 50, 35 of 72 (rounded to 4 digits):
+  // Ye et al. 2022, Table 2: one-sided p-values of 49, 47, 50, 35 of 72 (rounded to 4 digits):
   // 0.001471, 0.006387, 0.0006468, 0.6380. Holm: 4(0.0006468), 3(0.001471), 2(0.006387), 0.6380.
   // After the correction 47/72 is 0.0128 ("*", not the paper's "**").
-  expect_adjusted({0.001471, 0.006387, 0.0006468, 0.6380},
-                  {3 * 0.001471, 2 * 0.006387, 4 * 0.0006468, 0.6380});
+  expect_adjusted({0.001471, 0.006387, 0.0006468, 0.6380}, {3 * 0.001471, 2 * 0.006387, 4 * 0.0006468, 0.6380});
 }
 
 TEST(HolmAdjusted, MonotoneInTheRankOfTheInput) {

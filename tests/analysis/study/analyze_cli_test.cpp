@@ -66,8 +66,8 @@ fs::path write_variant(const fs::path& folder, const std::string& name, const st
 // One simulated session; its log is results/<study>/<participant>/events.jsonl.
 void run_session(const std::string& config, const std::string& participant, const fs::path& results,
                  const std::string& observer = "simulated") {
-  const CommandResult run = fovlab_command("run " + config + " --participant " + participant + " --headless --results " +
-                                           results.string() + " --observer " + observer);
+  const CommandResult run = fovlab_command("run " + config + " --participant " + participant +
+                                           " --headless --results " + results.string() + " --observer " + observer);
   ASSERT_EQ(run.exit_code, 0) << config << " " << participant << ": " << run.err;
 }
 
@@ -130,13 +130,15 @@ void expect_left_out(const fs::path& out, const std::string& what, const std::st
                           [&](const std::string& r) { return r.find(reason) != std::string::npos; }))
       << what << ": " << joined(reasons) << " does not say " << reason;
   const std::string section = html_left_out(out);
-  EXPECT_NE(section.find(what), std::string::npos) << "report.html's Left out does not name " << what << ":\n" << section;
+  EXPECT_NE(section.find(what), std::string::npos) << "report.html's Left out does not name " << what << ":\n"
+                                                   << section;
   bool with_reason = false;
   for (size_t named = section.find(what); named != std::string::npos; named = section.find(what, named + 1)) {
     const size_t item_end = section.find("</li>", named);
     with_reason = with_reason || section.substr(named, item_end - named).find(reason) != std::string::npos;
   }
-  EXPECT_TRUE(with_reason) << "report.html's Left out gives " << what << " no reason with " << reason << ":\n" << section;
+  EXPECT_TRUE(with_reason) << "report.html's Left out gives " << what << " no reason with " << reason << ":\n"
+                           << section;
 }
 
 std::vector<std::string> participants_of(const json& thresholds) {
@@ -430,9 +432,10 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
     std::vector<std::string> participants;
     const char* observers;
     const char* headline;
-  } cases[] = {{"human", {"P002"}, "human", "1 participant(s), "},
-               {"simulated", {"P001", "P003"}, "simulated", "2 participant(s) (simulated observers)"},
-               {"all", {"P001", "P002", "P003"}, "human and simulated", "3 participant(s) (human and simulated observers)"}};
+  } cases[] = {
+      {"human", {"P002"}, "human", "1 participant(s), "},
+      {"simulated", {"P001", "P003"}, "simulated", "2 participant(s) (simulated observers)"},
+      {"all", {"P001", "P002", "P003"}, "human and simulated", "3 participant(s) (human and simulated observers)"}};
   for (const auto& c : cases) {
     const fs::path filtered = scratch("observers") / (std::string("out-") + c.filter);
     const CommandResult result =
@@ -443,7 +446,8 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
     EXPECT_EQ(participants_of(thresholds), c.participants) << c.filter;
     EXPECT_EQ(thresholds.value("observers", ""), c.observers);
     for (const json& participant : thresholds["participants"])
-      EXPECT_EQ(participant.value("observer", ""), participant.value("participant", "") == "P002" ? "human" : "simulated");
+      EXPECT_EQ(participant.value("observer", ""),
+                participant.value("participant", "") == "P002" ? "human" : "simulated");
     const std::string csv = read_all(filtered / "participants.csv");
     EXPECT_EQ(csv.rfind("participant,observer,", 0), 0u) << csv;
     if (std::string(c.filter) == "human") {
@@ -451,8 +455,9 @@ TEST(AnalyzeCli, HumanAndSimulatedSessionsNeverMixSilently) {
       expect_left_out(filtered, log_of(results, "tiny_2afc", "P001").string(), "answered by a simulated observer");
     }
   }
-  expect_one_line_error(analyze(log_of(results, "tiny_2afc", "P001").string() + " --observers human --out " + out.string()),
-                        "no session answered by a human observer");
+  expect_one_line_error(
+      analyze(log_of(results, "tiny_2afc", "P001").string() + " --observers human --out " + out.string()),
+      "no session answered by a human observer");
   EXPECT_FALSE(fs::exists(out));
   // The observers are taken before duplicate IDs are looked at: a human session whose ID a simulated
   // one (first in path order) also has is analysed with --observers human, not left out as a duplicate.
@@ -510,7 +515,8 @@ std::map<std::string, std::string> gaze_sources_of(const fs::path& participants_
 // analysed and says so. The source is a column of participants.csv and trials.csv.
 TEST(AnalyzeCli, MouseSessionsOfAGazeContingentStudyAreKeptApartUnlessAsked) {
   const fs::path folder = scratch("gaze");
-  const fs::path config = write_variant(folder, "fipr", "tiny_2afc", {{"method = \"ipr\"", "method = \"fipr\""}, {"repeats = 4", "repeats = 2"}});
+  const fs::path config = write_variant(folder, "fipr", "tiny_2afc",
+                                        {{"method = \"ipr\"", "method = \"fipr\""}, {"repeats = 4", "repeats = 2"}});
   const fs::path results = folder / "results";
   for (const char* participant : {"P001", "P002", "P003"}) run_session(config.string(), participant, results);
   ASSERT_FALSE(testing::Test::HasFatalFailure());
@@ -524,12 +530,14 @@ TEST(AnalyzeCli, MouseSessionsOfAGazeContingentStudyAreKeptApartUnlessAsked) {
   const fs::path out = folder / "out";
   const CommandResult plain = analyze(study.string() + " --bootstrap 0 --out " + out.string());
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
-  EXPECT_NE(plain.out.find("study tiny_2afc (2afc same): 2 participant(s) (simulated observers), "), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find("study tiny_2afc (2afc same): 2 participant(s) (simulated observers), "), std::string::npos)
+      << plain.out;
   EXPECT_EQ(participants_of(load_json(out / "thresholds.json")), (std::vector<std::string>{"P001", "P002"}));
   expect_left_out(out, mouse_log, "gaze from the mouse (a rehearsal of a gaze-contingent study)");
   expect_left_out(out, mouse_log, "--gaze-sources all pools them");
-  EXPECT_NE(read_all(out / "participants.csv").substr(0, read_all(out / "participants.csv").find('\n')).find(",gaze_source,"),
-            std::string::npos);
+  EXPECT_NE(
+      read_all(out / "participants.csv").substr(0, read_all(out / "participants.csv").find('\n')).find(",gaze_source,"),
+      std::string::npos);
   EXPECT_EQ(gaze_sources_of(out / "participants.csv"),
             (std::map<std::string, std::string>{{"P001", "tracker"}, {"P002", "tracker"}}));
   EXPECT_NE(read_all(out / "report.html").find("gaze source"), std::string::npos);
@@ -538,16 +546,19 @@ TEST(AnalyzeCli, MouseSessionsOfAGazeContingentStudyAreKeptApartUnlessAsked) {
     const char* filter;
     std::vector<std::string> participants;
     const char* study_line;
-  } cases[] = {{"all", {"P001", "P002", "P003"},
-                "3 participant(s) (simulated observers) (mouse gaze pooled with the other sources by --gaze-sources all), "},
-               {"mouse", {"P003"}, "1 participant(s) (simulated observers) (mouse gaze: rehearsals), "},
-               {"tracker,trace", {"P001", "P002"}, "2 participant(s) (simulated observers), "}};
+  } cases[] = {
+      {"all",
+       {"P001", "P002", "P003"},
+       "3 participant(s) (simulated observers) (mouse gaze pooled with the other sources by --gaze-sources all), "},
+      {"mouse", {"P003"}, "1 participant(s) (simulated observers) (mouse gaze: rehearsals), "},
+      {"tracker,trace", {"P001", "P002"}, "2 participant(s) (simulated observers), "}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.filter);
     std::string name = std::string("out-") + c.filter;
     std::replace(name.begin(), name.end(), ',', '_');
     const fs::path filtered = folder / name;
-    const CommandResult result = analyze(study.string() + " --bootstrap 0 --gaze-sources " + c.filter + " --out " + filtered.string());
+    const CommandResult result =
+        analyze(study.string() + " --bootstrap 0 --gaze-sources " + c.filter + " --out " + filtered.string());
     ASSERT_EQ(result.exit_code, 0) << result.err;
     EXPECT_NE(result.out.find(c.study_line), std::string::npos) << result.out;
     EXPECT_EQ(participants_of(load_json(filtered / "thresholds.json")), c.participants);
@@ -557,10 +568,12 @@ TEST(AnalyzeCli, MouseSessionsOfAGazeContingentStudyAreKeptApartUnlessAsked) {
   // Mouse sessions alone: analysed, and the study line says they are rehearsals.
   const CommandResult alone = analyze(mouse_log + " --bootstrap 0 --out " + (folder / "out-alone").string());
   ASSERT_EQ(alone.exit_code, 0) << alone.err;
-  EXPECT_NE(alone.out.find("1 participant(s) (simulated observers) (mouse gaze: rehearsals), "), std::string::npos) << alone.out;
+  EXPECT_NE(alone.out.find("1 participant(s) (simulated observers) (mouse gaze: rehearsals), "), std::string::npos)
+      << alone.out;
   // Bad filters: one line, exit 2, nothing written.
   const fs::path bad = folder / "out-bad";
-  expect_one_line_error(analyze(study.string() + " --gaze-sources eyes --out " + bad.string()), "--gaze-sources: expected all");
+  expect_one_line_error(analyze(study.string() + " --gaze-sources eyes --out " + bad.string()),
+                        "--gaze-sources: expected all");
   expect_one_line_error(analyze(study.string() + " --gaze-sources mouse,mouse --out " + bad.string()), "each once");
   expect_one_line_error(analyze(study.string() + " --gaze-sources synthetic --out " + bad.string()),
                         "no session with gaze from a source of the kinds asked for (--gaze-sources synthetic)");
@@ -629,7 +642,8 @@ TEST(AnalyzeCli, ACopiedParticipantFolderIsOneSessionCountedOnce) {
   const json thresholds = load_json(out / "thresholds.json");
   EXPECT_EQ(participants_of(thresholds), (std::vector<std::string>{"P001", "P002"}));
   EXPECT_EQ(thresholds["conditions"], load_json(out_once / "thresholds.json")["conditions"]);
-  expect_left_out(out, (study / "P001b" / "events.jsonl").string(), "a copy of " + original.string() + " (the same session)");
+  expect_left_out(out, (study / "P001b" / "events.jsonl").string(),
+                  "a copy of " + original.string() + " (the same session)");
   expect_left_out(out, (study / "P001c" / "events.jsonl").string(),
                   "a copy of " + original.string() + " (the same session: its " + std::to_string(lines.size() / 2) +
                       " lines are the first of " + std::to_string(lines.size()) + ")");
@@ -652,8 +666,7 @@ TEST(AnalyzeCli, ACopiedParticipantFolderIsOneSessionCountedOnce) {
 // rebuilt); returns that line's index.
 size_t flip_last_answer(std::vector<std::string>& lines) {
   size_t changed = lines.size();
-  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {
-  }
+  while (lines[--changed].find("\"event\":\"response\"") == std::string::npos) {}
   std::string& line = lines[changed];
   const bool same = line.find("\"answer\":\"same\"") != std::string::npos;
   line.replace(line.find("\"answer\":\""), same ? 15 : 20, same ? "\"answer\":\"different\"" : "\"answer\":\"same\"");
@@ -687,8 +700,10 @@ TEST(AnalyzeCli, TwoLogsOfOneSessionThatPartAreBothBroken) {
   expect_left_out(out, original.string(), "line " + std::to_string(parting) + ": the log is broken (" + parted(copy));
   expect_left_out(out, copy.string(), "line " + std::to_string(parting) + ": the log is broken (" + parted(original));
 
-  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + (scratch("parted") / "t.csv").string());
-  expect_one_line_error(exported, original.string() + ":" + std::to_string(parting) + ": the log is broken (" + parted(copy) + ")");
+  const CommandResult exported =
+      fovlab_command("export " + study.string() + " --out " + (scratch("parted") / "t.csv").string());
+  expect_one_line_error(
+      exported, original.string() + ":" + std::to_string(parting) + ": the log is broken (" + parted(copy) + ")");
 }
 
 // Export owns trials.csv and steps.csv beside the one log it reads, and nowhere else: aimed at
@@ -707,9 +722,9 @@ TEST(AnalyzeCli, ExportWritesIntoAParticipantsFolderOnlyBesideTheOneLogItReads) 
   expect_one_line_error(fovlab_command("export " + p001.string() + " --out " + other.string() + " --force"),
                         "--out " + other.string() + ": inside the participant's folder " + (study / "P002").string() +
                             ", which is not the folder of the one log exported");
-  expect_one_line_error(fovlab_command("export " + study.string() + " --out " + (study / "P001" / "trials.csv").string() +
-                                       " --force"),
-                        "which is not the folder of the one log exported");
+  expect_one_line_error(
+      fovlab_command("export " + study.string() + " --out " + (study / "P001" / "trials.csv").string() + " --force"),
+      "which is not the folder of the one log exported");
   expect_unchanged(before, results);
 }
 
@@ -750,9 +765,9 @@ TEST(AnalyzeCli, AKeyedLogReadWithoutTheKeySaysItsMacsWereNotChecked) {
   const fs::path results = scratch("keyed") / "results";
   const fs::path key = fovlab::cli_test::write_file(scratch("keyed") / "lab.key", "0123456789abcdef0123456789abcdef");
   for (const char* participant : {"P001", "P002"}) {
-    const CommandResult run = fovlab_command("run " + fixture("tiny_2afc") + " --participant " + participant +
-                                             " --headless --results " + results.string() +
-                                             " --observer simulated --lab-key " + key.string());
+    const CommandResult run =
+        fovlab_command("run " + fixture("tiny_2afc") + " --participant " + participant + " --headless --results " +
+                       results.string() + " --observer simulated --lab-key " + key.string());
     ASSERT_EQ(run.exit_code, 0) << run.err;
   }
   const fs::path study = results / "tiny_2afc";
@@ -766,7 +781,8 @@ TEST(AnalyzeCli, AKeyedLogReadWithoutTheKeySaysItsMacsWereNotChecked) {
             std::string::npos)
       << analysed.out;
   EXPECT_NE(read_all(out / "report.html").find(note), std::string::npos);
-  const CommandResult exported = fovlab_command("export " + study.string() + " --out " + (scratch("keyed") / "t.csv").string());
+  const CommandResult exported =
+      fovlab_command("export " + study.string() + " --out " + (scratch("keyed") / "t.csv").string());
   ASSERT_EQ(exported.exit_code, 0) << exported.err;
   EXPECT_NE(exported.err.find(log_of(results, "tiny_2afc", "P002").string() + ": sealed (keyed; " + note + ")"),
             std::string::npos)
@@ -774,7 +790,8 @@ TEST(AnalyzeCli, AKeyedLogReadWithoutTheKeySaysItsMacsWereNotChecked) {
 
   // With the key, every MAC is checked and nothing is said.
   const fs::path keyed_out = scratch("keyed") / "keyed-out";
-  const CommandResult checked = analyze(study.string() + " --bootstrap 0 --lab-key " + key.string() + " --out " + keyed_out.string());
+  const CommandResult checked =
+      analyze(study.string() + " --bootstrap 0 --lab-key " + key.string() + " --out " + keyed_out.string());
   ASSERT_EQ(checked.exit_code, 0) << checked.err;
   EXPECT_EQ(checked.out.find(note), std::string::npos) << checked.out;
   const CommandResult keyed_export = fovlab_command("export " + study.string() + " --force --lab-key " + key.string() +
@@ -1057,7 +1074,8 @@ TEST(AnalyzeCli, OutputIsCompleteAndKilledRunsLeaveNothingBehind) {
   EXPECT_EQ(names_in(parent), (std::vector<std::string>{"analysis", running.filename().string()}))
       << "a killed run's temporary is still there, or a new one was left";
   const std::vector<std::string> files = names_in(out);
-  for (const char* file : {"thresholds.json", "conditions.csv", "participants.csv", "report.html", "share_per_level.svg"})
+  for (const char* file :
+       {"thresholds.json", "conditions.csv", "participants.csv", "report.html", "share_per_level.svg"})
     EXPECT_NE(std::find(files.begin(), files.end(), file), files.end()) << file << " is missing";
   for (const std::string& file : files) {
     EXPECT_NE(file[0], '.') << "hidden temporary left in the output: " << file;

@@ -93,7 +93,8 @@ TEST(FrameIntervals, GatheredFromAHeadlessSessionLog) {
       "[levels]\nparameter = \"max_steps\"\nvalues = [4, 16]\n\n"
       "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 1\n\n"
       "[timing]\nblack_interval_s = 0.1\ninter_trial_s = 0.1\n\n"
-      "[[block]]\nname = \"sphere\"\nscene = \"" + scene + "\"\n");
+      "[[block]]\nname = \"sphere\"\nscene = \"" +
+          scene + "\"\n");
   const fs::path results = folder / "results";
   const auto run = fovlab::cli_test::run("run " + config.string() + " --participant next --headless --results " +
                                              results.string() + " --observer simulated",

@@ -21,10 +21,10 @@ TEST(PilotRecovery, AnalyzeRecoversTheTrueThresholdAndLeavesTheLogsAsTheyWere) {
   const fs::path results = fovlab::cli_test::scratch("fovlab-pilot-recovery");
   const std::string config = std::string(FOVLAB_SOURCE_DIR) + "/experiments/pilot_simulated.toml";
   for (int i = 0; i < 10; ++i) {
-    const CommandResult run = fovlab::cli_test::run(
-        "run " + config + " --participant next --headless --results " + results.string() +
-            " --observer simulated:threshold=14,slope=0.4,guess=0.02,lapse=0.02",
-        "env -u DISPLAY -u WAYLAND_DISPLAY");
+    const CommandResult run =
+        fovlab::cli_test::run("run " + config + " --participant next --headless --results " + results.string() +
+                                  " --observer simulated:threshold=14,slope=0.4,guess=0.02,lapse=0.02",
+                              "env -u DISPLAY -u WAYLAND_DISPLAY");
     ASSERT_EQ(run.exit_code, 0) << run.err;
   }
 
@@ -54,8 +54,8 @@ TEST(PilotRecovery, AnalyzeRecoversTheTrueThresholdAndLeavesTheLogsAsTheyWere) {
   const fs::path log = results / "pilot_simulated" / "P001" / "events.jsonl";
   const std::string before = fovlab::cli_test::read_all(log);
   const fs::path out = fovlab::cli_test::scratch("fovlab-pilot-recovery-out");
-  const CommandResult analyzed =
-      fovlab::cli_test::run("analyze " + (results / "pilot_simulated").string() + " --bootstrap 100 --out " + out.string());
+  const CommandResult analyzed = fovlab::cli_test::run("analyze " + (results / "pilot_simulated").string() +
+                                                       " --bootstrap 100 --out " + out.string());
   ASSERT_EQ(analyzed.exit_code, 0) << analyzed.err;
   for (const char* file : {"thresholds.json", "conditions.csv", "participants.csv", "report.html"})
     EXPECT_TRUE(fs::is_regular_file(out / file)) << file;

@@ -38,23 +38,23 @@ fs::path write_study(const fs::path& folder, const std::string& name, const std:
   const std::string procedure_name =
       procedure.empty() ? "" : procedure.substr(procedure.find('.') + 1, procedure.find(']') - procedure.find('.') - 1);
   const std::string scene = (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/scenes/sphere.glsl").string();
-  const std::string text = "[study]\nname = \"" + name + "\"\nseed = 18\n\n"
+  const std::string text = "[study]\nname = \"" + name +
+                           "\"\nseed = 18\n\n"
                            "[display]\nwidth_px = 64\nheight_px = 36\nrefresh_hz = 60\nwidth_mm = 600\n"
                            "height_mm = 337.5\nviewing_distance_mm = 500\n\n"
                            "[stimulus]\nduration_s = 0.1\nframes_per_second = 20\ncamera_start_s = 0.5\n\n"
                            "[stimulus.reference]\nmethod = \"gt\"\n\n[stimulus.test]\nmethod = \"ipr\"\n\n"
                            "[levels]\nparameter = \"max_steps\"\nvalues = [2, 4, 6, 8, 10, 12, 14, 16, 18, 20]\n\n" +
-                           protocol_block +
-                           "\n[timing]\nblack_interval_s = 0.1\ninter_trial_s = 0.1\n\n" +
-                           procedure + "[[block]]\nname = \"sphere\"\nscene = \"" + scene + "\"\n" +
+                           protocol_block + "\n[timing]\nblack_interval_s = 0.1\ninter_trial_s = 0.1\n\n" + procedure +
+                           "[[block]]\nname = \"sphere\"\nscene = \"" + scene + "\"\n" +
                            (procedure_name.empty() ? "" : "procedure = \"" + procedure_name + "\"\n");
   const fs::path path = folder / (name + ".toml");
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
 
-AnalysisResult run_pilot(const std::string& name, const std::string& protocol_block, const std::string& observer = kObserver,
-                         const std::string& procedure = "") {
+AnalysisResult run_pilot(const std::string& name, const std::string& protocol_block,
+                         const std::string& observer = kObserver, const std::string& procedure = "") {
   const fs::path folder = fovlab::cli_test::scratch("fovlab-recovery-" + name);
   const fs::path config = write_study(folder, name, protocol_block, procedure);
   const fs::path results = folder / "results";
@@ -116,7 +116,8 @@ void expect_mean_recovers(const AnalysisResult& result) {
 }
 
 TEST(ProtocolRecovery, TwoAfcSameFitAndWalk) {
-  const AnalysisResult result = run_pilot("recovery_2afc", "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 3\n");
+  const AnalysisResult result =
+      run_pilot("recovery_2afc", "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 3\n");
   ASSERT_EQ(result.fits.size(), 1u);
   ASSERT_EQ(result.fits[0].fits.size(), 1u);
   const PsychometricFit& fit = result.fits[0].fits[0];
@@ -188,8 +189,9 @@ TEST(ProtocolRecovery, StaircaseMeanOfParticipants) {
 // Levels that cannot reach the threshold: the observer's 40 lies beyond the best level tested (20),
 // so every level is seen and the fit's threshold leaves the tested range.
 TEST(ProtocolRecovery, UnreachableThresholdIsNotEstimable) {
-  const AnalysisResult result = run_pilot("recovery_unreachable", "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 3\n",
-                                          "simulated:threshold=40,slope=2,guess=0.02,lapse=0.02");
+  const AnalysisResult result =
+      run_pilot("recovery_unreachable", "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\nrepeats = 3\n",
+                "simulated:threshold=40,slope=2,guess=0.02,lapse=0.02");
   ASSERT_EQ(result.headlines.size(), 1u);
   const Headline& headline = result.headlines.front();
   std::printf("unreachable: %s: %s\n", headline_status_name(headline.status), headline.reason.c_str());

@@ -1,4 +1,4 @@
-// Seed 002's two analysis outputs (docs/analysis.md, "Seed 002: pilot grid and preference table"):
+// Ye et al. 2022's two analysis outputs (docs/analysis.md, "Ye et al. 2022: pilot grid and preference table"):
 // the pilot's mean score per pair of two grid parameters with the best pair (4.4.1, Figure 9), on
 // hand-made rating studies and one fabricated session log; the grid skipped when the variants form
 // none; and Table 2's rows (votes for the reference, one-sided exact binomial, stars, Clopper-Pearson)
@@ -32,7 +32,9 @@ const std::vector<double> kX = {0.05, 0.3, 0.55};  // focal_share_x
 const std::vector<double> kY = {0.3, 0.8};         // focal_share_y
 const std::vector<double> kSigma = {2.2, 2.8};
 
-std::string variant_name(size_t column, size_t row) { return "x" + std::to_string(column) + "_y" + std::to_string(row); }
+std::string variant_name(size_t column, size_t row) {
+  return "x" + std::to_string(column) + "_y" + std::to_string(row);
+}
 
 // Variants setting focal_share_x and focal_share_y on the 3 x 2 grid, listed y-major on purpose
 // (the grid must not depend on the config's order).
@@ -181,7 +183,7 @@ TEST(RatingGrid, EachParticipantCountsOnceAndOnlyRatingsOfIncludedParticipantsCo
   p1.participant = "P001";
   for (int repeat = 0; repeat < 3; ++repeat) p1.trials.push_back(rating_trial("s", 0, 0, 2.2, "3"));
   p1.trials.push_back(rating_trial("s", 1, 1, 2.2, ""));  // a timeout: not counted
-  StudyTrial check = rating_trial("s", 1, 1, 2.2, "1");  // an attention check: not counted
+  StudyTrial check = rating_trial("s", 1, 1, 2.2, "1");   // an attention check: not counted
   check.attention_check = true;
   check.variant.clear();
   p1.trials.push_back(check);
@@ -213,7 +215,8 @@ TEST(RatingGrid, EachParticipantCountsOnceAndOnlyRatingsOfIncludedParticipantsCo
 }
 
 TEST(RatingGrid, SkippedWhenTheVariantsFormNoGrid) {
-  const auto grid_of = [](const std::vector<VariantConfig>& variants, RenderMethod method = RenderMethod::rectangular_mapping,
+  const auto grid_of = [](const std::vector<VariantConfig>& variants,
+                          RenderMethod method = RenderMethod::rectangular_mapping,
                           const std::string& level_parameter = "sigma") {
     return find_parameter_grid(method, level_parameter, variants);
   };
@@ -291,7 +294,7 @@ TEST(RatingGrid, ReportWritesTheCsvAndOneHeatMapPerBlock) {
   const std::string svg((std::istreambuf_iterator<char>(svg_file)), std::istreambuf_iterator<char>());
   EXPECT_NE(svg.find(">focal_share_x</text>"), std::string::npos);
   EXPECT_NE(svg.find(">focal_share_y</text>"), std::string::npos);
-  EXPECT_NE(svg.find(">3.00</text>"), std::string::npos);  // the best cell's value
+  EXPECT_NE(svg.find(">3.00</text>"), std::string::npos);                           // the best cell's value
   EXPECT_NE(svg.find("stroke=\"#000000\" stroke-width=\"3\""), std::string::npos);  // its outline
   // The colour bar runs over the score's scale 1..3, whatever the data span.
   EXPECT_NE(svg.find(">1</text>"), std::string::npos);
@@ -371,12 +374,21 @@ scene = "primitives"
     EventLogWriter log(path, "", 0);
     nlohmann::json stimuli = nlohmann::json::array();
     for (const PlannedStimulus& stimulus : plan.stimuli)
-      stimuli.push_back({{"is_reference", stimulus.is_reference}, {"method", stimulus.is_reference ? "gt" : "rmfr"},
+      stimuli.push_back({{"is_reference", stimulus.is_reference},
+                         {"method", stimulus.is_reference ? "gt" : "rmfr"},
                          {"level", stimulus.level ? nlohmann::json(*stimulus.level) : nlohmann::json()},
-                         {"scene", "primitives"}, {"variant", stimulus.variant}});
-    log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "grid_log"},
-                {"participant", "P001"}, {"config_hash", parsed.hash}, {"session_seed", plan.session_seed},
-                {"config_toml", config}, {"protocol", "rating"}, {"stimuli", stimuli}, {"observer", "human"},
+                         {"scene", "primitives"},
+                         {"variant", stimulus.variant}});
+    log.append({{"event", "session_header"},
+                {"schema_version", log_schema_version},
+                {"study", "grid_log"},
+                {"participant", "P001"},
+                {"config_hash", parsed.hash},
+                {"session_seed", plan.session_seed},
+                {"config_toml", config},
+                {"protocol", "rating"},
+                {"stimuli", stimuli},
+                {"observer", "human"},
                 {"t", 0.0}});
     log.append({{"event", "block_start"}, {"block", 0}, {"name", "primitives"}, {"scene", "primitives"}, {"t", 0.1}});
     // hi_lo scores 3 at both levels; lo_lo 1 and 2; the others 2.
@@ -388,10 +400,18 @@ scene = "primitives"
       ASSERT_LT(v, variants.size());
       const size_t l = trial.level == 2.2 ? 0 : 1;
       const double t = 1.0 + trial.index;
-      log.append({{"event", "trial_start"}, {"trial", trial.index}, {"block", 0}, {"condition", trial.condition},
-                  {"variant", trial.variant}, {"level", *trial.level}, {"attention_check", false},
-                  {"sequence", trial.sequence}, {"reference_first", trial.reference_first}, {"t", t}});
-      log.append({{"event", "response"}, {"trial", trial.index}, {"step", 0}, {"answer", answers[v][l]}, {"t", t + 0.5}});
+      log.append({{"event", "trial_start"},
+                  {"trial", trial.index},
+                  {"block", 0},
+                  {"condition", trial.condition},
+                  {"variant", trial.variant},
+                  {"level", *trial.level},
+                  {"attention_check", false},
+                  {"sequence", trial.sequence},
+                  {"reference_first", trial.reference_first},
+                  {"t", t}});
+      log.append(
+          {{"event", "response"}, {"trial", trial.index}, {"step", 0}, {"answer", answers[v][l]}, {"t", t + 0.5}});
       log.append({{"event", "trial_end"}, {"trial", trial.index}, {"t", t + 0.6}});
     }
   }
@@ -417,7 +437,7 @@ scene = "primitives"
 // ---- Table 2 ----------------------------------------------------------------------------------
 
 TEST(PreferenceTable, PaperCountsGiveTheStarsOfTable2) {
-  // Seed 002, Table 2: RMFR against hyperbolic, linear, log-polar (KFR) and full resolution, 72 votes
+  // Ye et al. 2022, Table 2: RMFR against hyperbolic, linear, log-polar (KFR) and full resolution, 72 votes
   // each (12 participants x 6 scenes).
   const std::vector<PreferenceCount> counts = {
       {"rmfr_2afc_hyperbolic", {"all", ""}, "test", "rmfr", "hyperbolic", 49, 72},
@@ -502,8 +522,9 @@ TEST(PreferenceTable, IsOneSidedWhateverTheAlternativeAndCountsTheReference) {
   std::string header, line;
   std::getline(csv_file, header);
   std::getline(csv_file, line);
-  EXPECT_EQ(header, "study,scene,variant,condition,reference_method,test_method,n,reference_votes,share,ci_lower,"
-                    "ci_upper,p_value,alternative,stars,log10_p");
+  EXPECT_EQ(header,
+            "study,scene,variant,condition,reference_method,test_method,n,reference_votes,share,ci_lower,"
+            "ci_upper,p_value,alternative,stars,log10_p");
   EXPECT_EQ(line.rfind("rmfr_2afc_linear,temple,,test,rmfr,linear,72,47,0.6527777778,", 0), 0u) << line;
   EXPECT_NE(line.find(",greater,**,-2.19"), std::string::npos) << line;  // log10 0.0064
   std::ifstream html_file(dir.path() / "report.html");

@@ -92,7 +92,7 @@ TEST(StudyAnalysis, AGapAboveTheThresholdIsNotSkipped) {
 }
 
 TEST(StudyAnalysis, LowerIsBetterLevelsWalkTheOtherWay) {
-  // sigma of seed 002: larger is more compressed (worse).
+  // sigma of Ye et al. 2022: larger is more compressed (worse).
   StudyData data = study("2afc", "same", {1.4, 2.0, 2.6}, /*higher_is_better=*/false);
   ParticipantData participant;
   participant.participant = "P001";
@@ -112,7 +112,8 @@ TEST(StudyAnalysis, TooFewTrialsForAnyLevelToBeDistinguishedGiveNoThreshold) {
   StudyData data = study("2afc", "same", {4, 8, 16, 32, 64});
   ParticipantData participant;
   participant.participant = "P001";
-  for (double level : {4.0, 8.0, 16.0, 32.0, 64.0}) add_comparisons(participant, "2afc-same", "s", level, 4, level < 20 ? 0 : 3);
+  for (double level : {4.0, 8.0, 16.0, 32.0, 64.0})
+    add_comparisons(participant, "2afc-same", "s", level, 4, level < 20 ? 0 : 3);
   data.participants.push_back(participant);
   const AnalysisResult result = analyse_study(data, quick_options());
   const GroupThreshold& threshold = threshold_of(result, "s");
@@ -126,7 +127,8 @@ TEST(StudyAnalysis, TooFewTrialsForAnyLevelToBeDistinguishedGiveNoThreshold) {
     StudyData more = study("2afc", "same", {4, 8, 16, 32, 64});
     ParticipantData p;
     p.participant = "P001";
-    for (double level : {4.0, 8.0, 16.0, 32.0, 64.0}) add_comparisons(p, "2afc-same", "s", level, trials, level < 20 ? 0 : trials);
+    for (double level : {4.0, 8.0, 16.0, 32.0, 64.0})
+      add_comparisons(p, "2afc-same", "s", level, trials, level < 20 ? 0 : trials);
     more.participants.push_back(p);
     const GroupThreshold& t = threshold_of(analyse_study(more, quick_options()), "s");
     SCOPED_TRACE(trials);
@@ -159,7 +161,7 @@ TEST(StudyAnalysis, StarsFollowTheHolmAdjustedPAndHolmOnlyPassesAreNamed) {
     EXPECT_EQ(row.stars, significance_stars(row.p_holm));
   }
   ASSERT_EQ(result.conditions.size(), 5u);
-  EXPECT_EQ(result.conditions[1].stars, "");   // level 8: p 0.021 unadjusted, 0.086 adjusted
+  EXPECT_EQ(result.conditions[1].stars, "");    // level 8: p 0.021 unadjusted, 0.086 adjusted
   EXPECT_EQ(result.conditions[0].stars, "**");  // level 4: Holm 0.0098
   const GroupThreshold& threshold = threshold_of(result, "s");
   ASSERT_TRUE(threshold.level);
@@ -179,7 +181,9 @@ TEST(StudyAnalysis, AThresholdTheFitExcludesIsNamedWithTheFit) {
   const PsychometricFit& fit = result.fits.front().fits.front();
   EXPECT_GT(fit.threshold_interval.lower, 8.0);
   EXPECT_NE(threshold.note.find("fit's threshold is"), std::string::npos) << threshold.note;
-  EXPECT_NE(threshold.note.find("outside the walk's bracket (8 to the next more degraded level): less degraded"), std::string::npos) << threshold.note;
+  EXPECT_NE(threshold.note.find("outside the walk's bracket (8 to the next more degraded level): less degraded"),
+            std::string::npos)
+      << threshold.note;
   // Where the fit agrees (a clear step between 16 and 32 with 40 trials a level), no such note.
   StudyData clear = study("2afc", "same", {4, 8, 16, 32, 64});
   ParticipantData p;
@@ -192,7 +196,7 @@ TEST(StudyAnalysis, AThresholdTheFitExcludesIsNamedWithTheFit) {
 }
 
 TEST(StudyAnalysis, PreferenceCountsVotesForTheTestStimulus) {
-  // Seed 002 Table 2: 49 of 72 for the test; one-sided (greater) p = 0.00147 -> "**".
+  // Ye et al. 2022 Table 2: 49 of 72 for the test; one-sided (greater) p = 0.00147 -> "**".
   StudyData data = study("2afc", "better", {1.0});
   ParticipantData participant;
   participant.participant = "P001";
@@ -233,7 +237,8 @@ TEST(StudyAnalysis, PairThresholdPerParticipantThenMeanAndSd) {
   for (const auto& [name, favour] : favour_per_level) {
     ParticipantData participant;
     participant.participant = name;
-    for (size_t i = 0; i < favour.size(); ++i) add_comparisons(participant, "pair", "sponza", data.levels[i], 6, favour[i]);
+    for (size_t i = 0; i < favour.size(); ++i)
+      add_comparisons(participant, "pair", "sponza", data.levels[i], 6, favour[i]);
     data.participants.push_back(participant);
   }
   const AnalysisResult result = analyse_study(data, quick_options());
@@ -291,7 +296,8 @@ TEST(StudyAnalysis, RampThresholdIsTheMostDegradedWronglyAnsweredStepAveragedOve
 
 TEST(StudyAnalysis, SliderThresholdIsTheMeanSavedLevel) {
   StudyData data = study("slider", "", {5, 10, 15, 20});
-  for (const auto& [name, saved] : std::vector<std::pair<std::string, std::vector<double>>>{{"P1", {5, 10, 30}}, {"P2", {20}}}) {
+  for (const auto& [name, saved] :
+       std::vector<std::pair<std::string, std::vector<double>>>{{"P1", {5, 10, 30}}, {"P2", {20}}}) {
     ParticipantData participant;
     participant.participant = name;
     for (double level : saved) {

@@ -52,8 +52,10 @@ double steady_now_s() {
 }
 
 FakePupilPublisher::FakePupilPublisher(double pupil_minus_steady_s, std::string time_answer)
-    : remote_(context_, zmq::socket_type::rep), publisher_(context_, zmq::socket_type::pub),
-      pupil_minus_steady_s_(pupil_minus_steady_s), time_answer_(std::move(time_answer)) {
+    : remote_(context_, zmq::socket_type::rep),
+      publisher_(context_, zmq::socket_type::pub),
+      pupil_minus_steady_s_(pupil_minus_steady_s),
+      time_answer_(std::move(time_answer)) {
   remote_.set(zmq::sockopt::linger, 0);
   remote_.set(zmq::sockopt::rcvtimeo, 10);
   remote_.bind("tcp://127.0.0.1:*");

@@ -35,7 +35,7 @@ class FakePupilPublisher {
 
   int remote_port() const { return remote_port_; }
   int pub_port() const { return pub_port_; }
-  int requests_answered() const { return requests_answered_.load(); }  // SUB_PORT requests
+  int requests_answered() const { return requests_answered_.load(); }            // SUB_PORT requests
   int time_requests_answered() const { return time_requests_answered_.load(); }  // "t" requests
   double pupil_minus_steady_s() const { return pupil_minus_steady_s_; }
   // The fake's Pupil time for a moment of the steady clock (seconds since its epoch).

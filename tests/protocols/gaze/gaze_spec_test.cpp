@@ -70,13 +70,35 @@ TEST(GazeSpecParse, RejectsEverythingElse) {
               "--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
               "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"eyelink\"");
   }
-  for (const char* text : {"", "Mouse", "mouse:", "trace:", "trace", "synthetic:", "synthetic:seed=",
-                           "synthetic:seed=-1", "synthetic:seed=1x", "synthetic:seed=18446744073709551616",
-                           "synthetic:42", "pupil:", "pupil::50020", "pupil:host:", "pupil:host:0",
-                           "pupil:host:65536", "pupil:host:port", "pupil:a:b:1", "pupils", "pupil,",
-                           "pupil,surface=", "pupil,surface=a/b", "pupil,min_confidence=1.5",
-                           "pupil,min_confidence=-0.1", "pupil,min_confidence=x", "pupil,colour=red",
-                           "pupil,surface=a,surface=b", "synthetic,surface=a", "pupils,surface=a"}) {
+  for (const char* text : {"",
+                           "Mouse",
+                           "mouse:",
+                           "trace:",
+                           "trace",
+                           "synthetic:",
+                           "synthetic:seed=",
+                           "synthetic:seed=-1",
+                           "synthetic:seed=1x",
+                           "synthetic:seed=18446744073709551616",
+                           "synthetic:42",
+                           "pupil:",
+                           "pupil::50020",
+                           "pupil:host:",
+                           "pupil:host:0",
+                           "pupil:host:65536",
+                           "pupil:host:port",
+                           "pupil:a:b:1",
+                           "pupils",
+                           "pupil,",
+                           "pupil,surface=",
+                           "pupil,surface=a/b",
+                           "pupil,min_confidence=1.5",
+                           "pupil,min_confidence=-0.1",
+                           "pupil,min_confidence=x",
+                           "pupil,colour=red",
+                           "pupil,surface=a,surface=b",
+                           "synthetic,surface=a",
+                           "pupils,surface=a"}) {
     EXPECT_THROW(parse_gaze_spec(text), InputError) << '"' << text << '"';
   }
 }
@@ -101,9 +123,9 @@ TEST(GazeSpecParse, SyntheticSampleAge) {
   } catch (const InputError& error) {
     EXPECT_EQ(std::string(error.what()), "--gaze: age_ms: expected milliseconds 0..10000, got \"-3\"");
   }
-  for (const char* text : {"synthetic:age_ms=", "synthetic:age_ms=nan", "synthetic:age_ms=inf", "synthetic:age_ms=10001",
-                           "synthetic:age_ms=4x", "synthetic:age_ms=1,age_ms=2", "synthetic:seed=1,seed=2",
-                           "synthetic:seed=1,", "synthetic:,age_ms=1", "synthetic:age=40"}) {
+  for (const char* text : {"synthetic:age_ms=", "synthetic:age_ms=nan", "synthetic:age_ms=inf",
+                           "synthetic:age_ms=10001", "synthetic:age_ms=4x", "synthetic:age_ms=1,age_ms=2",
+                           "synthetic:seed=1,seed=2", "synthetic:seed=1,", "synthetic:,age_ms=1", "synthetic:age=40"}) {
     EXPECT_THROW(parse_gaze_spec(text), InputError) << '"' << text << '"';
   }
 }
@@ -112,11 +134,14 @@ TEST(GazeSpecParse, SyntheticSampleAge) {
 // by where it runs and what the study shows, and the config's [gaze] require, kept strictly.
 TEST(GazeSpecChoose, DefaultsAndTheConfigsRequirement) {
   const auto config = [](const std::string& test_method, const std::string& gaze_table) {
-    const std::string text = "[study]\nname = \"g\"\nseed = 1\n[display]\nwidth_px = 64\nheight_px = 36\nrefresh_hz = 60\n"
-                             "width_mm = 600\nheight_mm = 337.5\nviewing_distance_mm = 500\n[stimulus]\nduration_s = 0.1\n"
-                             "[stimulus.reference]\nmethod = \"gt\"\n[stimulus.test]\nmethod = \"" + test_method + "\"\n"
-                             "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\n" + gaze_table +
-                             "[[block]]\nscene = \"primitives\"\n";
+    const std::string text =
+        "[study]\nname = \"g\"\nseed = 1\n[display]\nwidth_px = 64\nheight_px = 36\nrefresh_hz = 60\n"
+        "width_mm = 600\nheight_mm = 337.5\nviewing_distance_mm = 500\n[stimulus]\nduration_s = 0.1\n"
+        "[stimulus.reference]\nmethod = \"gt\"\n[stimulus.test]\nmethod = \"" +
+        test_method +
+        "\"\n"
+        "[protocol]\nkind = \"2afc\"\nquestion = \"same\"\n" +
+        gaze_table + "[[block]]\nscene = \"primitives\"\n";
     return parse_study_config_text(text, "g.toml", renderer_scene_catalog());
   };
   const auto kind_of = [](const ChosenGaze& chosen) { return source_kind(chosen.spec); };
@@ -144,8 +169,9 @@ TEST(GazeSpecChoose, DefaultsAndTheConfigsRequirement) {
   const StudyConfig tracker = config("fipr", "[gaze]\nrequire = \"tracker\"\n");
   EXPECT_EQ(kind_of(choose_gaze(tracker, "pupil", false)), GazeSourceKind::tracker);
   EXPECT_EQ(kind_of(choose_gaze(tracker, "pupil", true)), GazeSourceKind::tracker);
-  EXPECT_NE(refusal(tracker, "mouse", false).find("--gaze mouse: g.toml:21: gaze.require = tracker: expected a source of that "
-                                                  "kind, got a mouse (give --gaze pupil[:HOST[:PORT]] for the eye tracker)"),
+  EXPECT_NE(refusal(tracker, "mouse", false)
+                .find("--gaze mouse: g.toml:21: gaze.require = tracker: expected a source of that "
+                      "kind, got a mouse (give --gaze pupil[:HOST[:PORT]] for the eye tracker)"),
             std::string::npos)
       << refusal(tracker, "mouse", false);
   EXPECT_NE(refusal(tracker, "trace:x.csv", true).find("got a trace"), std::string::npos);

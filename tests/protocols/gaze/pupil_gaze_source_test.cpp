@@ -49,9 +49,9 @@ void deliver(FakePupilPublisher& fake, PupilGazeSource& source, const std::vecto
     if (now == before) break;
     before = now;
   }
-  ASSERT_TRUE(fake.publish_until("surfaces." + surface, pack_surface_message(surface, entries),
-                                 [&] { return source.messages_received() > before; }))
-      << "the source received nothing within 2 s";
+  ASSERT_TRUE(fake.publish_until("surfaces." + surface, pack_surface_message(surface, entries), [&] {
+    return source.messages_received() > before;
+  })) << "the source received nothing within 2 s";
 }
 
 TEST(GazePupil, ValidGazeMapsToScreenPixels) {
@@ -69,7 +69,8 @@ TEST(GazePupil, ValidGazeMapsToScreenPixels) {
   EXPECT_DOUBLE_EQ(sample.y_px, 270.0);  // y up on the surface, down on the screen
 
   // Of several entries, the one with the latest timestamp counts.
-  deliver(fake, source, {gaze(0.1, 0.1, 0.9, true, 2.0), gaze(0.9, 0.9, 0.9, true, 3.0), gaze(0.5, 0.5, 0.9, true, 1.0)});
+  deliver(fake, source,
+          {gaze(0.1, 0.1, 0.9, true, 2.0), gaze(0.9, 0.9, 0.9, true, 3.0), gaze(0.5, 0.5, 0.9, true, 1.0)});
   sample = source.sample(13.0);
   EXPECT_TRUE(sample.valid);
   EXPECT_DOUBLE_EQ(sample.x_px, 0.9 * width);
@@ -186,8 +187,8 @@ TEST(GazePupil, MadeFromASpec) {
   EXPECT_EQ(fake.requests_answered(), 1);
   // The surface and the confidence floor from the spec reach the source, and the log's description.
   FakePupilPublisher other;
-  const GazeSpec set = parse_gaze_spec("pupil:127.0.0.1:" + std::to_string(other.remote_port()) +
-                                       ",surface=monitor,min_confidence=0.8");
+  const GazeSpec set =
+      parse_gaze_spec("pupil:127.0.0.1:" + std::to_string(other.remote_port()) + ",surface=monitor,min_confidence=0.8");
   EXPECT_EQ(make_gaze_source(set, width, height, 1)->describe(),
             "pupil:127.0.0.1:" + std::to_string(other.remote_port()) + ",surface=monitor,min_confidence=0.8");
 }
@@ -259,8 +260,9 @@ TEST(PupilTimeSync, ABadTimeAnswerIsAnInputError) {
     PupilGazeSource source(options_for(fake), width, height);
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()), "pupil:127.0.0.1:" + std::to_string(fake.remote_port()) +
-                                             ": Pupil Remote answered t with \"not a time\", expected Pupil time in seconds");
+    EXPECT_EQ(std::string(error.what()),
+              "pupil:127.0.0.1:" + std::to_string(fake.remote_port()) +
+                  ": Pupil Remote answered t with \"not a time\", expected Pupil time in seconds");
   }
 }
 

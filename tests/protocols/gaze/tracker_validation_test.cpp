@@ -70,7 +70,8 @@ TEST(TrackerValidation, InvalidSamplesCountButBreakTheSuccessionAndTooFewLeaveNo
   EXPECT_EQ(target.valid_samples, 3);
   ASSERT_TRUE(target.accuracy_deg && target.precision_deg);
   EXPECT_NEAR(*target.precision_deg, eccentricity_deg(display, 960.0, 540.0, 970.0, 540.0), 1e-12);
-  EXPECT_NEAR(*target.accuracy_deg, eccentricity_deg(display, 960.0, 540.0, (900.0 + 960.0 + 970.0) / 3.0, 540.0), 1e-12);
+  EXPECT_NEAR(*target.accuracy_deg, eccentricity_deg(display, 960.0, 540.0, (900.0 + 960.0 + 970.0) / 3.0, 540.0),
+              1e-12);
   // Fewer than half valid: no result.
   const std::vector<GazeSample> mostly_blinks = {at(960.0, 540.0), at(0, 0, false), at(0, 0, false), at(961.0, 540.0),
                                                  at(0, 0, false)};
@@ -115,7 +116,8 @@ TEST(TrackerValidation, ASampleReadAgainCountsOnceAndGazeOffTheScreenStillCounts
   ASSERT_TRUE(edge.accuracy_deg);
   EXPECT_NEAR(*edge.accuracy_deg, eccentricity_deg(display, 3.0, 540.0, -5.0, 540.0), 1e-12);
   // The logged positions are the rounded ones the figures come from; non-finite ones are invalid.
-  const ValidationTarget rounded = measure_validation_target(display, 960.0, 540.0, {at(960.004, 540.0), at(NAN, 1.0), at(961.0, 540.0), at(962.0, 540.0)});
+  const ValidationTarget rounded = measure_validation_target(
+      display, 960.0, 540.0, {at(960.004, 540.0), at(NAN, 1.0), at(961.0, 540.0), at(962.0, 540.0)});
   ASSERT_EQ(rounded.gaze.size(), 4u);
   EXPECT_EQ(rounded.gaze[0], (std::array<double, 2>{960.0, 540.0}));
   EXPECT_FALSE(rounded.gaze[1]);

@@ -41,7 +41,8 @@ method = "gt"
 [stimulus.test]
 method = "gt"
 
-)" + levels + "\n" + protocol + "\n" + attention + R"(
+)" + levels + "\n" + protocol +
+                           "\n" + attention + R"(
 [[block]]
 scene = "primitives"
 )";
@@ -107,8 +108,8 @@ TEST(ProtocolsObserver, PDetectAddsGuessAndLapse) {
   ObserverModel model = model_with(0, 10.0, 2.0, 0.02, 0.02);
   EXPECT_DOUBLE_EQ(model.p_detect(10.0), 0.02 + 0.96 * 0.5);
   EXPECT_DOUBLE_EQ(model.p_detect(std::nullopt), 0.02);  // identical stimuli: false alarms only
-  EXPECT_NEAR(model.p_detect(-1000.0), 0.98, 1e-12);      // plainly visible: all but lapses
-  EXPECT_NEAR(model.p_detect(1000.0), 0.02, 1e-12);       // invisible: guesses only
+  EXPECT_NEAR(model.p_detect(-1000.0), 0.98, 1e-12);     // plainly visible: all but lapses
+  EXPECT_NEAR(model.p_detect(1000.0), 0.02, 1e-12);      // invisible: guesses only
   model.guess = 0.1;
   model.lapse = 0.05;
   EXPECT_DOUBLE_EQ(model.p_detect(10.0), 0.1 + 0.85 * 0.5);
@@ -153,7 +154,8 @@ TEST(ProtocolsObserver, IdenticalStimuliAreMostlySame) {
   const SimulatedObserver observer(model, plan);
   constexpr int n = 5000;
   int different = 0;
-  for (int i = 0; i < n; ++i) different += observer.answer_comparison(comparison(i, std::nullopt, true, true)).answer == "different";
+  for (int i = 0; i < n; ++i)
+    different += observer.answer_comparison(comparison(i, std::nullopt, true, true)).answer == "different";
   // Binomial(5000, 0.02): mean 100, sd 9.9.
   EXPECT_GT(different, 100 - 45);
   EXPECT_LT(different, 100 + 45);
@@ -186,13 +188,14 @@ TEST(ProtocolsObserver, AComparisonWithoutLevelsIsSeenAsAtLevelZero) {
   const SimulatedObserver observer(model, plan);
   constexpr int n = 4000;
   int different = 0;
-  for (int i = 0; i < n; ++i) different += observer.answer_comparison(comparison(i, std::nullopt)).answer == "different";
+  for (int i = 0; i < n; ++i)
+    different += observer.answer_comparison(comparison(i, std::nullopt)).answer == "different";
   EXPECT_NEAR(double(different) / n, 0.5, 4.5 * std::sqrt(0.25 / n));
 }
 
 TEST(ProtocolsObserver, TwoAfcBetterChoosesTheReferenceWhenItSeesADifference) {
-  const StudyPlan plan = make_study_plan(
-      make_config("[protocol]\nkind = \"2afc\"\nquestion = \"better\"\nrepeats = 2\n", kLevels), "p01");
+  const StudyPlan plan =
+      make_study_plan(make_config("[protocol]\nkind = \"2afc\"\nquestion = \"better\"\nrepeats = 2\n", kLevels), "p01");
   // Always seen (guess 0, lapse 0, far below threshold): the reference's interval is chosen.
   const SimulatedObserver sees(model_with(3, 1000.0, 1.0, 0.0, 0.0), plan);
   for (int i = 0; i < 200; ++i) {
@@ -274,10 +277,9 @@ TEST(ProtocolsObserver, ResponseTimes) {
 ObserverModel sharp_model() { return model_with(9, 10.0, 100.0, 0.0, 0.0, /*higher_is_better=*/true); }
 
 TEST(ProtocolsObserver, RampStepAnswers) {
-  const StudyPlan plan = make_study_plan(
-      make_config("[protocol]\nkind = \"ramp\"\ntrial_order = \"fixed\"\n",
-                  "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16, 32]\n"),
-      "p01");
+  const StudyPlan plan = make_study_plan(make_config("[protocol]\nkind = \"ramp\"\ntrial_order = \"fixed\"\n",
+                                                     "[levels]\nparameter = \"max_steps\"\nvalues = [4, 8, 16, 32]\n"),
+                                         "p01");
   ASSERT_EQ(plan.trials.size(), 2u);
   const Trial& up = plan.trials[0];    // 4, 8, 16, 32, reference
   const Trial& down = plan.trials[1];  // reference, 32, 16, 8, 4
@@ -349,8 +351,8 @@ TEST(ProtocolsObserver, SliderActions) {
 TEST(ProtocolsObserver, SpecDefaults) {
   const StudyPlan plan = make_study_plan(make_config(kSame, kLevels), "p01");
   const ObserverModel model = parse_observer_spec("simulated", plan);
-  EXPECT_DOUBLE_EQ(model.threshold, 34.0);      // middle of 4..64
-  EXPECT_DOUBLE_EQ(model.slope, 8.0 / 60.0);    // 8 / range
+  EXPECT_DOUBLE_EQ(model.threshold, 34.0);    // middle of 4..64
+  EXPECT_DOUBLE_EQ(model.slope, 8.0 / 60.0);  // 8 / range
   EXPECT_DOUBLE_EQ(model.guess, 0.02);
   EXPECT_DOUBLE_EQ(model.lapse, 0.02);
   EXPECT_DOUBLE_EQ(model.mean_response_s, 0.8);

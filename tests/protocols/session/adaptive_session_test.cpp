@@ -117,23 +117,27 @@ TEST(AdaptiveSchedule, BadProceduresAreOneLineErrorsNamingTheField) {
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   };
   EXPECT_EQ(config_error(kProcedure), "no error");
-  has(config_error("\n[procedure.stairs]\nkind = \"quest\"\nmax_trials = 10\n"), "procedure.stairs.kind: expected \"staircase\"");
+  has(config_error("\n[procedure.stairs]\nkind = \"quest\"\nmax_trials = 10\n"),
+      "procedure.stairs.kind: expected \"staircase\"");
   has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nstep_sizes = [0]\nmax_trials = 10\n"),
       "procedure.stairs.step_sizes: expected whole numbers of grid steps, 1 or more, got 0");
   has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nstep_sizes = [9]\nmax_trials = 10\n"),
       "procedure.stairs.step_sizes: expected grid steps from 1 to 7, got 9");
   has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nstarts = [5]\nmax_trials = 10\n"),
       "procedure.stairs.starts: expected levels of the grid, got 5");
-  has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nmax_trials = 0\n"), "procedure.stairs.max_trials: expected a value in [1, 10000]");
+  has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nmax_trials = 0\n"),
+      "procedure.stairs.max_trials: expected a value in [1, 10000]");
   has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\n"), "procedure.stairs.max_trials");
   has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nmax_trials = 10\nmax_reversals = 10\n"),
       "procedure.stairs.max_reversals: expected fewer than max_trials (10)");
   has(config_error("\n[procedure.stairs]\nkind = \"staircase\"\nmax_trials = 6\n"),
       "procedure.stairs.reversals_averaged: expected fewer than max_trials (6)");
-  has(config_error("\n[procedure.stairs]\nkind = \"weighted\"\ndown = 2\nmax_trials = 10\n"), "procedure.stairs.down: unknown key");
+  has(config_error("\n[procedure.stairs]\nkind = \"weighted\"\ndown = 2\nmax_trials = 10\n"),
+      "procedure.stairs.down: unknown key");
   has(config_error("\n[procedure.stairs]\nkind = \"weighted\"\neasier_steps = 0\nmax_trials = 10\n"),
       "procedure.stairs.easier_steps: expected a value in [1, 1000]");
-  has(config_error(kProcedure, "steps"), "block[1].procedure: expected the name of a [procedure.NAME] table, got \"steps\"");
+  has(config_error(kProcedure, "steps"),
+      "block[1].procedure: expected the name of a [procedure.NAME] table, got \"steps\"");
   // Answers that are right or wrong: not a rating.
   std::string rating = read_file(study_fixture("rating"));
   rating.replace(rating.find("[[block]]"), 9, "[[block]]\nprocedure = \"stairs\"");
@@ -141,7 +145,8 @@ TEST(AdaptiveSchedule, BadProceduresAreOneLineErrorsNamingTheField) {
     parse_study_config_text(rating + kProcedure, study_fixture("rating").string(), renderer_scene_catalog());
     ADD_FAILURE() << "a rating study took a staircase";
   } catch (const InputError& error) {
-    has(error.what(), "procedure.stairs: an adaptive procedure needs answers that see the difference or not (2afc, pair)");
+    has(error.what(),
+        "procedure.stairs: an adaptive procedure needs answers that see the difference or not (2afc, pair)");
   }
 }
 
@@ -161,7 +166,8 @@ void expect_levels_follow_the_rule(const StudyPlan& plan, const SessionRecord& r
   }
   // Every staircase ran until it stopped (12 trials or 4 reversals).
   for (size_t i = 0; i < answers.size(); ++i) {
-    const StaircaseState state = replay_staircase(plan.tracks[i].staircase, answers[i], int(plan.tracks[i].grid.size()));
+    const StaircaseState state =
+        replay_staircase(plan.tracks[i].staircase, answers[i], int(plan.tracks[i].grid.size()));
     EXPECT_TRUE(state.finished) << "staircase " << i;
   }
 }
@@ -275,7 +281,8 @@ TEST(AdaptiveAnalysis, EachStaircasesThresholdIsTheMeanOfItsLastReversals) {
     if (reversal_levels.size() >= 3) {
       ASSERT_TRUE(tracks[i].threshold);
       const double mean = (reversal_levels[reversal_levels.size() - 1] + reversal_levels[reversal_levels.size() - 2] +
-                           reversal_levels[reversal_levels.size() - 3]) / 3.0;
+                           reversal_levels[reversal_levels.size() - 3]) /
+                          3.0;
       EXPECT_DOUBLE_EQ(*tracks[i].threshold, mean);
     } else {
       EXPECT_FALSE(tracks[i].threshold);
@@ -294,9 +301,9 @@ TEST(AdaptiveSession, QuestPlusChoosesEachLevelFromTheAnswersBeforeItAndAnalyses
   const StudyPlan plan = make_study_plan(config, "P1");
   ASSERT_EQ(plan.tracks.size(), 2u);
   const QuestPlusRule& rule = plan.tracks[0].quest;
-  EXPECT_FALSE(rule.rising);              // higher max_steps look more like the reference
-  EXPECT_EQ(rule.guess, 0.05);            // 2afc "same": the nominal false-alarm rate
-  EXPECT_EQ(rule.thresholds.size(), 41u); // the defaults
+  EXPECT_FALSE(rule.rising);               // higher max_steps look more like the reference
+  EXPECT_EQ(rule.guess, 0.05);             // 2afc "same": the nominal false-alarm rate
+  EXPECT_EQ(rule.thresholds.size(), 41u);  // the defaults
   const fs::path results = fresh_folder("quest");
   const SessionOutcome outcome = run_session(config, simulated(results));
   ASSERT_TRUE(outcome.finished);
@@ -346,7 +353,8 @@ TEST(AdaptiveExport, TrialsCsvNamesEachAdaptiveTrialsTrack) {
   std::string text = adaptive_text(std::string(kProcedure) + kQuestPlus);
   const std::string second = "name = \"primitives\"\nprocedure = \"stairs\"";
   text.replace(text.find(second), second.size(), "name = \"primitives\"\nprocedure = \"quest\"");
-  const StudyConfig config = parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  const StudyConfig config =
+      parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   const fs::path results = fresh_folder("adaptive-export");
   const SessionOutcome outcome = run_session(config, simulated(results));
   ASSERT_TRUE(outcome.finished);
@@ -391,21 +399,29 @@ TEST(AdaptiveExport, TrialsCsvNamesEachAdaptiveTrialsTrack) {
 }
 
 TEST(AdaptiveSchedule, BadQuestPlusProceduresAreOneLineErrorsNamingTheField) {
-  const auto error = [](const std::string& keys) { return config_error("\n[procedure.quest]\nkind = \"quest_plus\"\n" + keys, "quest"); };
+  const auto error = [](const std::string& keys) {
+    return config_error("\n[procedure.quest]\nkind = \"quest_plus\"\n" + keys, "quest");
+  };
   const auto has = [](const std::string& text, const std::string& part) {
     EXPECT_NE(text.find(part), std::string::npos) << text;
     EXPECT_EQ(text.find('\n'), std::string::npos) << text;
   };
   EXPECT_EQ(error("max_trials = 20\n"), "no error");
   has(error("max_trials = 20\nshape = \"probit\"\n"), "procedure.quest.shape: expected \"logistic\"");
-  has(error("max_trials = 20\nthresholds = [4, 2]\n"), "procedure.quest.thresholds: expected one or more values, ascending");
-  has(error("max_trials = 20\nprior_mean = 100\nprior_sd = 0.5\n"), "procedure.quest.prior_mean: expected a prior with mass on the threshold grid");
+  has(error("max_trials = 20\nthresholds = [4, 2]\n"),
+      "procedure.quest.thresholds: expected one or more values, ascending");
+  has(error("max_trials = 20\nprior_mean = 100\nprior_sd = 0.5\n"),
+      "procedure.quest.prior_mean: expected a prior with mass on the threshold grid");
   has(error("max_trials = 20\nprior_mean = 4\n"), "procedure.quest.prior_mean: expected prior_sd too");
-  has(error("max_trials = 20\nstop_entropy_bits = 50\n"), "procedure.quest.stop_entropy_bits: expected 0 (none) or a value in (0,");
-  has(error("max_trials = 20\nstop_interval_width = 20\n"), "procedure.quest.stop_interval_width: expected 0 (none) or a width below");
-  has(error("max_trials = 20\nguess_rate = 0.97\n"), "procedure.quest.lapses: expected values of at least 0 with guess_rate + lapse below 1");
+  has(error("max_trials = 20\nstop_entropy_bits = 50\n"),
+      "procedure.quest.stop_entropy_bits: expected 0 (none) or a value in (0,");
+  has(error("max_trials = 20\nstop_interval_width = 20\n"),
+      "procedure.quest.stop_interval_width: expected 0 (none) or a width below");
+  has(error("max_trials = 20\nguess_rate = 0.97\n"),
+      "procedure.quest.lapses: expected values of at least 0 with guess_rate + lapse below 1");
   has(error("max_trials = 20\nslopes = [0, 1]\n"), "procedure.quest.slopes: expected values above 0");
-  has(error("max_trials = 20\nshape = \"weibull\"\nthresholds = [0, 8]\n"), "procedure.quest.thresholds: expected values above 0");
+  has(error("max_trials = 20\nshape = \"weibull\"\nthresholds = [0, 8]\n"),
+      "procedure.quest.thresholds: expected values above 0");
   has(error("max_trials = 20\nstarts = [1]\n"), "procedure.quest.starts: unknown key");
   has(error(""), "procedure.quest.max_trials");
 }

@@ -82,7 +82,8 @@ scene = "primitives"
 
 StudyConfig fipr_config(const std::string& text = kFiprStudy) {
   // Built-in scenes only: the path is for messages and the log header.
-  return parse_study_config_text(text, (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies/fipr.toml").string(), renderer_scene_catalog());
+  return parse_study_config_text(text, (fs::path(FOVLAB_SOURCE_DIR) / "tests/fixtures/studies/fipr.toml").string(),
+                                 renderer_scene_catalog());
 }
 
 SessionOptions simulated(const fs::path& results, const fs::path& trace) {
@@ -214,7 +215,8 @@ TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
 TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
   const auto frame_hash_differences = [](const ReplayOutcome& replayed) {
     int count = 0;
-    for (const std::string& difference : replayed.differences) count += difference.find("frame hash") != std::string::npos;
+    for (const std::string& difference : replayed.differences)
+      count += difference.find("frame hash") != std::string::npos;
     return count;
   };
   const auto relabelled = [](const std::string& log_path, int schema) {
@@ -239,7 +241,10 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
       {"today's defaults as schema 4", "", 4, {"near_misses"}},
       {"today's reconstruction as schema 4", "near_misses = \"ignore\"\n", 4, {"periphery_reconstruction"}},
       {"today's defaults as schema 5", "", 5, {"near_misses"}},
-      {"schema 4's defaults", "periphery_reconstruction = \"mid-footprint-bilinear\"\nnear_misses = \"ignore\"\n", 4, {}},
+      {"schema 4's defaults",
+       "periphery_reconstruction = \"mid-footprint-bilinear\"\nnear_misses = \"ignore\"\n",
+       4,
+       {}},
       {"schema 5's defaults", "near_misses = \"ignore\"\n", 5, {}},
   };
   for (const Case& c : cases) {
@@ -257,7 +262,8 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     for (const std::string& difference : earlier.differences) {
       if (difference.find("header: stimulus") != 0) continue;
       for (const char* parameter : {"periphery_reconstruction", "near_misses"}) {
-        if (difference.find("parameters." + std::string(parameter) + ": none by this build's reading") != std::string::npos)
+        if (difference.find("parameters." + std::string(parameter) + ": none by this build's reading") !=
+            std::string::npos)
           named.insert(parameter);
       }
     }

@@ -23,13 +23,15 @@ namespace {
 namespace fs = std::filesystem;
 
 struct KillCase {
-  const char* fixture;   // tests/fixtures/studies/<fixture>.toml
-  const char* study;     // its name
+  const char* fixture;  // tests/fixtures/studies/<fixture>.toml
+  const char* study;    // its name
   int kill_attempts;
 };
 
 // How CTest lists a case: the fixture and its kills, not the struct's bytes.
-void PrintTo(const KillCase& study, std::ostream* out) { *out << study.fixture << ", " << study.kill_attempts << " kills"; }
+void PrintTo(const KillCase& study, std::ostream* out) {
+  *out << study.fixture << ", " << study.kill_attempts << " kills";
+}
 
 pid_t start_run(const fs::path& results, const KillCase& study) {
   const std::string config = test::study_fixture(study.fixture).string();
@@ -103,7 +105,8 @@ TEST_P(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials)
     const double delay_s = by_size ? 300.0 : random.uniform(0.0, 0.5 * startup_s);
     std::error_code no_log;
     const uintmax_t now_bytes = fs::exists(log_path) ? fs::file_size(log_path, no_log) : 0;
-    const uintmax_t bytes = by_size ? now_bytes + 1 + static_cast<uintmax_t>(random.uniform() * double(whole_bytes) / 32) : 0;
+    const uintmax_t bytes =
+        by_size ? now_bytes + 1 + static_cast<uintmax_t>(random.uniform() * double(whole_bytes) / 32) : 0;
     const int finished = wait_for(pid, delay_s, log_path, bytes);
     if (finished >= 0) {
       ASSERT_TRUE(WIFEXITED(finished) && WEXITSTATUS(finished) == 0)
@@ -131,7 +134,8 @@ TEST_P(SessionKill, SigkillAtRandomMomentsThenResumeGivesTheUninterruptedTrials)
   ASSERT_TRUE(record.ended) << "the session did not finish within the attempts";
   EXPECT_GE(kills, kill_attempts * 3 / 4);
   std::printf("%d kills, at %zu distinct log sizes\n", kills, log_sizes_at_kill.size());
-  EXPECT_GE(log_sizes_at_kill.size(), static_cast<size_t>(kill_attempts * 2 / 5)) << "kills should land at several points of the session";
+  EXPECT_GE(log_sizes_at_kill.size(), static_cast<size_t>(kill_attempts * 2 / 5))
+      << "kills should land at several points of the session";
   EXPECT_EQ(test::trial_summary(log_path), expected);
 
   ReplayOptions replay;
@@ -144,7 +148,9 @@ INSTANTIATE_TEST_SUITE_P(EveryProtocol, SessionKill,
                          ::testing::Values(KillCase{"pair", "tiny_pair", 20}, KillCase{"tiny_2afc", "tiny_2afc", 8},
                                            KillCase{"ramp", "tiny_ramp", 8}, KillCase{"slider", "tiny_slider", 8},
                                            KillCase{"rating", "tiny_rating", 8}),
-                         [](const ::testing::TestParamInfo<KillCase>& param_info) { return std::string(param_info.param.fixture); });
+                         [](const ::testing::TestParamInfo<KillCase>& param_info) {
+                           return std::string(param_info.param.fixture);
+                         });
 
 }  // namespace
 }  // namespace fovlab

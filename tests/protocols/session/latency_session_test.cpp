@@ -52,7 +52,8 @@ class SessionLatency : public ::testing::Test {
     results_ = new fs::path(fresh_folder("latency"));
     SessionOptions options = simulated(*results_);
     options.gaze = "synthetic:seed=3,age_ms=40";
-    outcome_ = new SessionOutcome(run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), options));
+    outcome_ = new SessionOutcome(
+        run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), options));
   }
   static void TearDownTestSuite() {
     delete outcome_;

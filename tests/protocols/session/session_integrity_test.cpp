@@ -25,8 +25,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_folder;
-using test::simulated;
 using test::read_file;
+using test::simulated;
 using test::study_fixture;
 using testing::forged;
 using testing::lines_of;
@@ -121,7 +121,8 @@ TEST_F(SessionIntegrity, AnEditedAnswerWithTheChainRecomputedFailsTheKeyedSeal) 
   EXPECT_EQ(full_reader(path).status, LogStatus::sealed);
   EXPECT_FALSE(full_reader(path).mac_checked);
   // A key other than the session's is an error, not a verdict.
-  const LabKey other_key = read_lab_key(write_copy(*folder_, "other.key", "another key of sixteen bytes or more").string());
+  const LabKey other_key =
+      read_lab_key(write_copy(*folder_, "other.key", "another key of sixteen bytes or more").string());
   EXPECT_THROW(full_reader(path, &other_key), InputError);
 }
 
@@ -131,7 +132,8 @@ TEST_F(SessionIntegrity, AKeyedLogStrippedOfItsKeyOrCutBeforeItsSealCannotBeRese
   // Every answer flipped, the key id and every MAC removed, the chain made whole again.
   std::vector<std::string> flipped = lines;
   for (std::string& line : flipped)
-    if (const size_t at = line.find("\"answer\":\"same\""); at != std::string::npos) line.replace(at, 15, "\"answer\":\"different\"");
+    if (const size_t at = line.find("\"answer\":\"same\""); at != std::string::npos)
+      line.replace(at, 15, "\"answer\":\"different\"");
   const fs::path stripped = write_copy(*folder_, "keyed-stripped.jsonl", rechained(flipped, /*strip_keys=*/true));
   EXPECT_EQ(full_reader(stripped, &lab_key).status, LogStatus::broken);
   EXPECT_EQ(fast_scan(stripped, &lab_key).status, LogStatus::broken);
@@ -168,7 +170,8 @@ TEST_F(SessionIntegrity, ADroppedSealOrTrailingCutIsUnsealedAndAWrongCountIsBrok
   EXPECT_EQ(full_reader(cut).status, LogStatus::unsealed);
   EXPECT_EQ(fast_scan(cut).status, LogStatus::unsealed);
   // A seal that commits another trial count than the log holds.
-  const std::string wrong = forged(read_file(*unkeyed_log_), "\"event\":\"seal\"", "\"trials_complete\":", "\"trials_complete\":9");
+  const std::string wrong =
+      forged(read_file(*unkeyed_log_), "\"event\":\"seal\"", "\"trials_complete\":", "\"trials_complete\":9");
   const fs::path wrong_path = write_copy(*folder_, "wrong-count.jsonl", wrong);
   EXPECT_EQ(full_reader(wrong_path).status, LogStatus::broken);
   EXPECT_EQ(fast_scan(wrong_path).status, LogStatus::broken);
@@ -228,7 +231,8 @@ TEST_F(SessionIntegrity, ReplayChecksTheHeaderAgainstItsOwnConfig) {
   const std::string hash_edited = forged(original, "session_header", "\"config_hash\":\"", "\"config_hash\":\"00");
   const ReplayOutcome hash = replay(write_copy(*folder_, "config-hash.jsonl", hash_edited));
   EXPECT_TRUE(names(hash, "config_hash")) << hash.difference_count;
-  const std::string study_edited = forged(original, "session_header", "\"study\":\"tiny_2afc\"", "\"study\":\"other_study\"");
+  const std::string study_edited =
+      forged(original, "session_header", "\"study\":\"tiny_2afc\"", "\"study\":\"other_study\"");
   const ReplayOutcome study = replay(write_copy(*folder_, "study.jsonl", study_edited));
   EXPECT_TRUE(names(study, "study")) << study.difference_count;
 }
@@ -237,11 +241,13 @@ TEST_F(SessionIntegrity, AHeaderStudyOrParticipantThatIsNotAFolderNameIsRefused)
   const std::string original = read_file(*unkeyed_log_);
   for (const std::string bad : {"../../x", "/tmp/x", "..", ".hidden", "a/b"}) {
     SCOPED_TRACE(bad);
-    const std::string study = forged(original, "session_header", "\"study\":\"tiny_2afc\"", "\"study\":\"" + bad + "\"");
+    const std::string study =
+        forged(original, "session_header", "\"study\":\"tiny_2afc\"", "\"study\":\"" + bad + "\"");
     const fs::path path = write_copy(*folder_, "bad-study.jsonl", study);
     EXPECT_THROW(read_session_record(read_event_log(path.string())), InputError);
     EXPECT_THROW(scan_session_log(path.string()), InputError);
-    const std::string participant = forged(original, "session_header", "\"participant\":\"Plain\"", "\"participant\":\"" + bad + "\"");
+    const std::string participant =
+        forged(original, "session_header", "\"participant\":\"Plain\"", "\"participant\":\"" + bad + "\"");
     const fs::path participant_path = write_copy(*folder_, "bad-participant.jsonl", participant);
     EXPECT_THROW(scan_session_log(participant_path.string()), InputError);
   }
@@ -313,8 +319,9 @@ TEST_F(SessionIntegrity, HostileLinesAreRefusedWithoutCrashingEitherReader) {
 TEST_F(SessionIntegrity, ALineNestedPastTheCapIsRefusedByEveryReaderAlike) {
   const std::string original = read_file(*unkeyed_log_);
   const auto with_field = [&](int depth) {  // a response with "x" nested `depth` levels (the line's object is 1)
-    return forged(original, "\"event\":\"response\"", "\"event\":\"response\"",
-                  "\"event\":\"response\",\"x\":" + std::string(size_t(depth - 1), '[') + std::string(size_t(depth - 1), ']'));
+    return forged(
+        original, "\"event\":\"response\"", "\"event\":\"response\"",
+        "\"event\":\"response\",\"x\":" + std::string(size_t(depth - 1), '[') + std::string(size_t(depth - 1), ']'));
   };
   const std::string deep = with_field(max_event_nesting + 1);
   const std::vector<std::string> lines = lines_of(deep);
@@ -338,20 +345,27 @@ TEST_F(SessionIntegrity, ALineNestedPastTheCapIsRefusedByEveryReaderAlike) {
       EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
     }
   };
-  expect_refused("full reader", [&] { read_event_log(log.string()); }, refused);
-  expect_refused("fast scan", [&] { scan_session_log(log.string()); }, refused);
-  expect_refused("export", [&] { export_trials_csv({log.string()}); }, refused);
+  expect_refused(
+      "full reader", [&] { read_event_log(log.string()); }, refused);
+  expect_refused(
+      "fast scan", [&] { scan_session_log(log.string()); }, refused);
+  expect_refused(
+      "export", [&] { export_trials_csv({log.string()}); }, refused);
   // Its only log left out, analyze has nothing to analyse and says why.
-  expect_refused("analyze", [&] { analysis::load_study({log.string()}); },
-                 log.string() + ": line " + std::to_string(line) + ": " + reason);
-  expect_refused("replay", [&] { replay(log); }, refused);
-  expect_refused("resume", [&] { run_session(config, simulated(results, "Plain")); }, refused);
+  expect_refused(
+      "analyze", [&] { analysis::load_study({log.string()}); },
+      log.string() + ": line " + std::to_string(line) + ": " + reason);
+  expect_refused(
+      "replay", [&] { replay(log); }, refused);
+  expect_refused(
+      "resume", [&] { run_session(config, simulated(results, "Plain")); }, refused);
   EXPECT_EQ(read_file(log), deep);
 
   const fs::path at_cap = write_copy(*folder_, "at-cap.jsonl", with_field(max_event_nesting));
   EXPECT_EQ(full_reader(at_cap).status, LogStatus::sealed);
   EXPECT_EQ(fast_scan(at_cap).status, LogStatus::sealed);
-  EXPECT_EQ(scan_session_log(at_cap.string()).trials.size(), read_session_record(read_event_log(at_cap.string())).trials.size());
+  EXPECT_EQ(scan_session_log(at_cap.string()).trials.size(),
+            read_session_record(read_event_log(at_cap.string())).trials.size());
 }
 
 // Issue 37: what replay alone checked, export and analyze check too. A trial deleted (in the middle,
@@ -391,7 +405,8 @@ TEST_F(SessionIntegrity, ExportAndAnalyzeCatchATrialDeletedOrAddedOrAnEditedConf
     added.insert(added.begin() + long(end++), copy);
   }
   const std::vector<std::string> middle = without(2), last = without(size_t(count - 1));
-  const std::vector<std::string> hashed = lines_of(forged(read_file(*unkeyed_log_), "session_header", "\"config_hash\":\"", "\"config_hash\":\"00"));
+  const std::vector<std::string> hashed =
+      lines_of(forged(read_file(*unkeyed_log_), "session_header", "\"config_hash\":\"", "\"config_hash\":\"00"));
   const std::string hash = nlohmann::json::parse(lines.front())["config_hash"].get<std::string>();
   struct Case {
     const char* name;
@@ -407,7 +422,8 @@ TEST_F(SessionIntegrity, ExportAndAnalyzeCatchATrialDeletedOrAddedOrAnEditedConf
            std::to_string(count) + " trials and the schedule runs more"},
       {"trial added", added, line_of(added, "\"trial\":" + std::to_string(count)),
        "trial " + std::to_string(count) + ": not in this study's plan (" + std::to_string(count) + " trials)"},
-      {"config_hash edited", hashed, 1, "header: config_hash 00" + hash + " is not the hash of its config_toml (" + hash + ")"}};
+      {"config_hash edited", hashed, 1,
+       "header: config_hash 00" + hash + " is not the hash of its config_toml (" + hash + ")"}};
   for (const Case& forgery : cases) {
     SCOPED_TRACE(forgery.name);
     const fs::path folder = *folder_ / "forged" / forgery.name;
@@ -439,16 +455,18 @@ TEST_F(SessionIntegrity, ExportAndAnalyzeCatchATrialDeletedOrAddedOrAnEditedConf
     analysis::LoadOptions all;
     all.include_broken = true;
     const analysis::StudyData with_broken = analysis::load_study({path.string(), *keyed_log_}, all);
-    EXPECT_TRUE(std::any_of(with_broken.participants.begin(), with_broken.participants.end(), [&](const auto& participant) {
-      return participant.log_path == path.string() && participant.log_status == LogStatus::broken;
-    }));
+    EXPECT_TRUE(
+        std::any_of(with_broken.participants.begin(), with_broken.participants.end(), [&](const auto& participant) {
+          return participant.log_path == path.string() && participant.log_status == LogStatus::broken;
+        }));
   }
 }
 
 // Issue 37: replay read the config a log carries under the name of the config file the session ran
 // with, so a fault in the log's config_toml was reported against that file, which holds none.
 TEST_F(SessionIntegrity, AFaultInALogsConfigTextNamesTheLog) {
-  const std::string edited = forged(read_file(*unkeyed_log_), "session_header", "repeats = 4", "repeats = \\\"four\\\"");
+  const std::string edited =
+      forged(read_file(*unkeyed_log_), "session_header", "repeats = 4", "repeats = \\\"four\\\"");
   const fs::path path = write_copy(*folder_, "bad-config-toml.jsonl", edited);
   try {
     replay(path);
@@ -462,8 +480,9 @@ TEST_F(SessionIntegrity, AFaultInALogsConfigTextNamesTheLog) {
     export_trials_csv({path.string()});
     ADD_FAILURE() << "exported a log whose config_toml cannot be read";
   } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find(path.string() + ":1: the log is broken (header: its config_toml cannot be read (" +
-                                             path.string() + " (config_toml)"),
+    EXPECT_NE(std::string(error.what())
+                  .find(path.string() + ":1: the log is broken (header: its config_toml cannot be read (" +
+                        path.string() + " (config_toml)"),
               std::string::npos)
         << error.what();
   }
@@ -489,7 +508,8 @@ TEST_F(SessionIntegrity, AByteOrderMarkIsReadTheSameByEveryReader) {
   const fs::path path = write_copy(*folder_, "bom.jsonl", "\xEF\xBB\xBF" + read_file(*unkeyed_log_));
   EXPECT_EQ(full_reader(path).status, LogStatus::sealed);
   EXPECT_EQ(fast_scan(path).status, LogStatus::sealed);
-  EXPECT_EQ(scan_session_log(path.string()).trials.size(), read_session_record(read_event_log(path.string())).trials.size());
+  EXPECT_EQ(scan_session_log(path.string()).trials.size(),
+            read_session_record(read_event_log(path.string())).trials.size());
 }
 
 TEST_F(SessionIntegrity, ALabKeyInsideTheResultsFolderOrTooShortIsRefused) {

@@ -176,7 +176,8 @@ struct OutputOptionUse {
   OutputKind kind;
 };
 
-void visit_commands(CLI::App& command, const std::string& words, const std::function<void(CLI::App&, const std::string&)>& each) {
+void visit_commands(CLI::App& command, const std::string& words,
+                    const std::function<void(CLI::App&, const std::string&)>& each) {
   each(command, words);
   for (CLI::App* sub : command.get_subcommands([](CLI::App*) { return true; }))
     visit_commands(*sub, words.empty() ? sub->get_name() : words + " " + sub->get_name(), each);
@@ -186,7 +187,8 @@ std::vector<OutputOptionUse> every_output_option(CLI::App& app) {
   std::vector<OutputOptionUse> uses;
   visit_commands(app, "", [&](CLI::App& command, const std::string& words) {
     for (CLI::Option* option : command.get_options())
-      if (const std::optional<OutputKind> kind = app::output_kind_of(*option)) uses.push_back({words, option->get_name(), *kind});
+      if (const std::optional<OutputKind> kind = app::output_kind_of(*option))
+        uses.push_back({words, option->get_name(), *kind});
   });
   return uses;
 }
@@ -198,20 +200,22 @@ TEST(SessionRace, EveryOptionThatLooksLikeAnOutputIsRegisteredAsOne) {
   app::add_commands(app);
   const std::set<std::string> output_words = {"out", "json", "svg", "csv", "dir", "cache", "screenshots", "results"};
   int outputs = 0;
-  visit_commands(app, "", [&](CLI::App& command, const std::string& words) {
-    for (CLI::Option* option : command.get_options()) {
-      if (option->get_positional() || option->get_expected_min() == 0) continue;  // inputs, and flags
-      std::string help = option->get_description();
-      std::transform(help.begin(), help.end(), help.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-      bool looks = help.find("write") != std::string::npos;
-      std::stringstream name(option->get_name());
-      for (std::string word; std::getline(name, word, '-');) looks = looks || output_words.count(word) > 0;
-      const bool registered = app::output_kind_of(*option).has_value();
-      outputs += registered;
-      EXPECT_TRUE(registered || !looks) << "fovlab " << words << " " << option->get_name()
-                                        << " looks like an output: register it with add_output_option (app/output_options.h)";
-    }
-  });
+  visit_commands(
+      app, "", [&](CLI::App& command, const std::string& words) {
+        for (CLI::Option* option : command.get_options()) {
+          if (option->get_positional() || option->get_expected_min() == 0) continue;  // inputs, and flags
+          std::string help = option->get_description();
+          std::transform(help.begin(), help.end(), help.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+          bool looks = help.find("write") != std::string::npos;
+          std::stringstream name(option->get_name());
+          for (std::string word; std::getline(name, word, '-');) looks = looks || output_words.count(word) > 0;
+          const bool registered = app::output_kind_of(*option).has_value();
+          outputs += registered;
+          EXPECT_TRUE(registered || !looks)
+              << "fovlab " << words << " " << option->get_name()
+              << " looks like an output: register it with add_output_option (app/output_options.h)";
+        }
+      });
   EXPECT_GE(outputs, 30);  // the command line has at least these today
 }
 
@@ -226,7 +230,8 @@ TEST(SessionRace, EveryOutputOptionAimedAtALiveSessionIsRefusedAndTheSessionEnds
   const Child live = start_run(results, "trial_end:2", "live");
   ASSERT_TRUE(wait_until_stopped(live.pid)) << test::read_file(live.output);
   std::map<std::string, std::string> before;
-  for (const auto& entry : fs::directory_iterator(folder)) before[entry.path().filename()] = test::read_file(entry.path());
+  for (const auto& entry : fs::directory_iterator(folder))
+    before[entry.path().filename()] = test::read_file(entry.path());
   ASSERT_TRUE(before.count("events.jsonl"));
 
   // The same files by other names: a link to the log, a link to the folder.
@@ -254,13 +259,15 @@ TEST(SessionRace, EveryOutputOptionAimedAtALiveSessionIsRefusedAndTheSessionEnds
     }
   }
   std::map<std::string, std::string> after;
-  for (const auto& entry : fs::directory_iterator(folder)) after[entry.path().filename()] = test::read_file(entry.path());
+  for (const auto& entry : fs::directory_iterator(folder))
+    after[entry.path().filename()] = test::read_file(entry.path());
   EXPECT_TRUE(before == after) << "a command changed the live session's folder";
 
   kill(live.pid, SIGCONT);
   EXPECT_EQ(exit_code(live.pid), 0) << test::read_file(live.output);
   expect_one_whole_session(log_path);
-  EXPECT_EQ(test::trial_summary(log_path), test::trial_summary(session_log_path((root / "whole").string(), "tiny_pair", "R1")));
+  EXPECT_EQ(test::trial_summary(log_path),
+            test::trial_summary(session_log_path((root / "whole").string(), "tiny_pair", "R1")));
 }
 
 // Issue 37: another program gives the log's name to another file (a rename onto it, as an atomic
@@ -328,7 +335,8 @@ TEST(SessionRace, ALogReplacedOrRemovedUnderARunningSessionIsKeptAndTheNextRunRe
   kill(live.pid, SIGCONT);
   EXPECT_EQ(exit_code(live.pid), 2);
   const std::string said = test::read_file(live.output);
-  EXPECT_NE(said.find(log_path + ": another program wrote into the session log while this session wrote it"), std::string::npos)
+  EXPECT_NE(said.find(log_path + ": another program wrote into the session log while this session wrote it"),
+            std::string::npos)
       << said;
   EXPECT_EQ(test::read_file(log_path).substr(0, foreign.size()), foreign);  // not cut back by the session
 }

@@ -34,9 +34,9 @@ namespace {
 namespace fs = std::filesystem;
 using test::fixture_with;
 using test::fresh_folder;
-using test::simulated;
 using test::read_file;
 using test::resume_after_cut;
+using test::simulated;
 using test::study_fixture;
 using test::trial_summary;
 
@@ -80,7 +80,8 @@ INSTANTIATE_TEST_SUITE_P(Session, EveryProtocol, ::testing::Values("tiny_2afc", 
 TEST(Session, RampAnswersEveryStepAndSliderSavesALevel) {
   const fs::path results = fresh_folder("ramp-slider");
   for (const char* name : {"ramp", "slider"}) {
-    const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture(name).string(), renderer_scene_catalog()), simulated(results));
+    const SessionOutcome outcome = run_session(
+        parse_study_config_file(study_fixture(name).string(), renderer_scene_catalog()), simulated(results));
     const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
     for (const RecordedTrial& trial : record.trials) {
       const size_t steps = trial.start.sequence.size();
@@ -124,7 +125,8 @@ TEST(Session, QuestionScreenPutsEachKeyOnALineOfItsOwn) {
 
 TEST(Session, ParticipantFieldsAreAskedKeptInTheHeaderAndExported) {
   // Issue 18: [participant] fields, given on the command line or asked, in the header and trials.csv.
-  const StudyConfig config = fixture_with("tiny_2afc", "[[block]]", "[participant]\nfields = [\"age\", \"handedness\"]\n\n[[block]]");
+  const StudyConfig config =
+      fixture_with("tiny_2afc", "[[block]]", "[participant]\nfields = [\"age\", \"handedness\"]\n\n[[block]]");
   ASSERT_EQ(config.participant_fields, (std::vector<std::string>{"age", "handedness"}));
   const fs::path results = fresh_folder("fields");
   SessionOptions options = simulated(results);
@@ -142,7 +144,8 @@ TEST(Session, ParticipantFieldsAreAskedKeptInTheHeaderAndExported) {
   const std::string csv = export_trials_csv({outcome.log_path});
   const std::string first_line = csv.substr(0, csv.find('\n'));
   EXPECT_NE(first_line.find(",field_age,field_handedness"), std::string::npos) << first_line;
-  const std::string second_line = csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+  const std::string second_line =
+      csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
   EXPECT_EQ(second_line.substr(second_line.size() - 8), ",31,left") << second_line;
 
   // A field the config does not have, and a value with a control character: refused, nothing written.
@@ -191,7 +194,9 @@ TEST(Session, HeadlessScreenshotsSaveEveryKindOfScreen) {
     hashes[kind] = frame_hash(frame);
   }
   // Four different screens, and the stimulus is the first frame the log says was presented.
-  EXPECT_EQ(std::set<std::string>({hashes["instructions"], hashes["stimulus"], hashes["question"], hashes["end"]}).size(), 4u);
+  EXPECT_EQ(
+      std::set<std::string>({hashes["instructions"], hashes["stimulus"], hashes["question"], hashes["end"]}).size(),
+      4u);
   const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
   ASSERT_FALSE(record.trials.empty());
   ASSERT_FALSE(record.trials.front().stimuli.empty());
@@ -206,12 +211,14 @@ TEST(Session, FixationCountdownBreaksAndTheExcludedParticipantsMessage) {
   // Issue 18: a fixation cross before each trial (timing.fixation_s), breaks that count down and
   // then wait for a key, and a message for an excluded participant (attention.excluded_message).
   std::string text = read_file(study_fixture("tiny_2afc"));
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"inter_trial_s = 0.1", "inter_trial_s = 0.1\nfixation_s = 0.25"},
-                                 {"max_errors = 100", "max_errors = 2\nexcluded_message = \"Thanks: the session ends here.\""}}) {
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"inter_trial_s = 0.1", "inter_trial_s = 0.1\nfixation_s = 0.25"},
+        {"max_errors = 100", "max_errors = 2\nexcluded_message = \"Thanks: the session ends here.\""}}) {
     ASSERT_NE(text.find(from), std::string::npos) << from;
     text.replace(text.find(from), from.size(), to);
   }
-  const StudyConfig config = parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  const StudyConfig config =
+      parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   EXPECT_EQ(config.timing.fixation_s, 0.25);
   EXPECT_EQ(config.attention.excluded_message, "Thanks: the session ends here.");
   const fs::path results = fresh_folder("screens");
@@ -255,7 +262,8 @@ TEST(Session, StoppedAtABreaksKeyTheFailedCheckStaysCounted) {
   const SessionRecord full = read_session_record(read_event_log(reference.log_path));
   const RecordedTrial* failed = nullptr;
   for (const RecordedTrial& trial : full.trials)
-    if (!failed && trial.attention_check && trial.attention_check->correct == false && !trial.breaks.empty()) failed = &trial;
+    if (!failed && trial.attention_check && trial.attention_check->correct == false && !trial.breaks.empty())
+      failed = &trial;
   ASSERT_NE(failed, nullptr) << "no failed attention check with a break";
   const BreakEvent& taken = failed->breaks.front();
   // Halfway through the countdown: the session's next wait is the break's "press a key".
@@ -295,8 +303,12 @@ TEST(Session, ResumesAfterACrashAtAnyEventToTheSameTrials) {
 
   // Cut after 1, 2, 5, ... events, before session_end (the log ends with session_end and its seal),
   // and inside a line (a torn write), then resume until done.
-  const std::vector<size_t> cuts = {line_ends[0], line_ends[1], line_ends[4], line_ends[line_ends.size() / 2] - 7,
-                                    line_ends[line_ends.size() - 3], line_ends[line_ends.size() / 3] + 11};
+  const std::vector<size_t> cuts = {line_ends[0],
+                                    line_ends[1],
+                                    line_ends[4],
+                                    line_ends[line_ends.size() / 2] - 7,
+                                    line_ends[line_ends.size() - 3],
+                                    line_ends[line_ends.size() / 3] + 11};
   for (size_t cut : cuts) {
     SCOPED_TRACE("cut at byte " + std::to_string(cut));
     const auto [resumed, log_path] = resume_after_cut(config, simulated(results), results, whole, cut);
@@ -369,7 +381,8 @@ TEST(Session, ExcludesAfterMaxAttentionErrors) {
 
 TEST(Session, ReplayDetectsAnAlteredResponseOrFrame) {
   const fs::path results = fresh_folder("tamper");
-  const SessionOutcome outcome = run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), simulated(results));
+  const SessionOutcome outcome = run_session(
+      parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), simulated(results));
   const std::string original = read_file(outcome.log_path);
   const auto altered_copy = [&](const std::string& from, const std::string& to) {
     std::string text = original;
@@ -385,7 +398,8 @@ TEST(Session, ReplayDetectsAnAlteredResponseOrFrame) {
   const ReplayOutcome frame = replay(altered_copy("\"hash\":[\"", "\"hash\":[\"0"));
   EXPECT_GE(frame.difference_count, 1);
   bool hash_named = false;
-  for (const std::string& difference : frame.differences) hash_named |= difference.find("frame hash") != std::string::npos;
+  for (const std::string& difference : frame.differences)
+    hash_named |= difference.find("frame hash") != std::string::npos;
   EXPECT_TRUE(hash_named);
 }
 
@@ -576,7 +590,8 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   EXPECT_EQ(typed.gaze_validation, validation);
   SessionOptions named = simulated(fresh_folder("gaze-header-named"));
   named.gaze = "synthetic:seed=5";
-  const SessionOutcome plain = run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), named);
+  const SessionOutcome plain =
+      run_session(parse_study_config_file(study_fixture("tiny_2afc").string(), renderer_scene_catalog()), named);
   const nlohmann::json plain_header = read_session_record(read_event_log(plain.log_path)).header;
   EXPECT_EQ(plain_header.at("gaze_source").value("requested", false), true);
   EXPECT_EQ(plain_header.at("gaze_source").value("spec", ""), "synthetic:seed=5");
@@ -611,7 +626,8 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   EXPECT_EQ(data.participants.front().validation.attempts, 2);
   const std::vector<std::string> earlier_rows = testing::lines_of(export_trials_csv({earlier.string()}));
   ASSERT_EQ(earlier_rows.size(), rows.size());
-  for (size_t i = 1; i < earlier_rows.size(); ++i) EXPECT_TRUE(earlier_rows[i].ends_with(",synthetic")) << earlier_rows[i];
+  for (size_t i = 1; i < earlier_rows.size(); ++i)
+    EXPECT_TRUE(earlier_rows[i].ends_with(",synthetic")) << earlier_rows[i];
   // A log of no schema that names its source in a way this build does not know: "not recorded".
   header["gaze"] = "eyelink:1";
   lines.front() = header.dump();
@@ -720,7 +736,8 @@ TEST(SessionPractice, ACrashInOrRightAfterThePracticeOrAValidationResumesToTheSa
   const std::string from = "inter_trial_s = 0.1";
   text.replace(text.find(from), from.size(), from + "\nrest_between_blocks_s = 1");
   text += "\n[practice]\ntrials = 3\n\n[validation]\ntargets = 5\ntarget_s = 0.3\nsettle_s = 0.1\n";
-  const StudyConfig config = parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
+  const StudyConfig config =
+      parse_study_config_text(text, study_fixture("tiny_2afc").string(), renderer_scene_catalog());
   const fs::path results = fresh_folder("practice-resume");
   SessionOptions options = simulated(results / "whole");
   options.observer = "simulated:guess=0.6,seed=3";  // wrong at some attention checks: breaks
@@ -765,13 +782,16 @@ TEST(SessionPractice, BadPracticeTablesNameTheirKey) {
     }
     return "no error";
   };
-  EXPECT_NE(error_of("tiny_2afc", "trials = 2\nlevels = [3]\n").find("practice.levels: expected levels of [levels] values, got 3"),
+  EXPECT_NE(error_of("tiny_2afc", "trials = 2\nlevels = [3]\n")
+                .find("practice.levels: expected levels of [levels] values, got 3"),
             std::string::npos);
-  EXPECT_NE(error_of("ramp", "trials = 2\nlevels = [2]\n").find("practice.levels: a ramp practice trial shows the whole ladder"),
+  EXPECT_NE(error_of("ramp", "trials = 2\nlevels = [2]\n")
+                .find("practice.levels: a ramp practice trial shows the whole ladder"),
             std::string::npos);
   EXPECT_NE(error_of("tiny_2afc", "trials = -1\n").find("practice.trials"), std::string::npos);
-  EXPECT_NE(error_of("tiny_2afc", "trials = 2\nscene = \"nowhere\"\n").find("practice.scene: no built-in scene or file"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of("tiny_2afc", "trials = 2\nscene = \"nowhere\"\n").find("practice.scene: no built-in scene or file"),
+      std::string::npos);
   EXPECT_EQ(error_of("tiny_2afc", "trials = 2\n"), "no error");
   std::string text = read_file(study_fixture("tiny_2afc"));
   text.replace(text.find("name = \"sphere\""), 15, "name = \"practice\"");
@@ -797,10 +817,12 @@ TEST(SessionConditions, AConditionsFileRunsReplaysFromTheLogAloneAndAnalysesItsO
     text.replace(text.find(from), from.size(), to);
   };
   replace("values = [2, 4, 8, 16]\n", "\n[conditions]\nfile = \"conditions.csv\"\n");
-  replace("\"../scenes/sphere.glsl\"", "\"" + (study_fixture("tiny_2afc").parent_path() / "../scenes/sphere.glsl").lexically_normal().string() + "\"");
+  replace(
+      "\"../scenes/sphere.glsl\"",
+      "\"" + (study_fixture("tiny_2afc").parent_path() / "../scenes/sphere.glsl").lexically_normal().string() + "\"");
   std::ofstream(folder / "study.toml", std::ios::binary) << text;
   std::ofstream(folder / "conditions.csv", std::ios::binary) << "variant,max_steps,min_filter_size\n"
-                                                                 "coarse,2,1\ncoarse,4,1\nfine,8,5\nfine,16,5\n";
+                                                                "coarse,2,1\ncoarse,4,1\nfine,8,5\nfine,16,5\n";
   const StudyConfig config = parse_study_config_file((folder / "study.toml").string(), renderer_scene_catalog());
   const SessionOutcome outcome = run_session(config, simulated(folder / "results"));
   ASSERT_TRUE(outcome.finished);
@@ -821,7 +843,8 @@ TEST(SessionConditions, AConditionsFileRunsReplaysFromTheLogAloneAndAnalysesItsO
   analysis_options.bootstrap_samples = 0;
   const analysis::AnalysisResult result = analysis::analyse_study(data, analysis_options);
   for (const analysis::LeftOut& left : result.left_out)
-    EXPECT_EQ(left.reason.find("no trial of an included participant"), std::string::npos) << left.what << ": " << left.reason;
+    EXPECT_EQ(left.reason.find("no trial of an included participant"), std::string::npos)
+        << left.what << ": " << left.reason;
   std::vector<std::string> rows;
   for (const analysis::ConditionRow& row : result.conditions)
     if (row.level) rows.push_back(row.group.scene + "|" + row.group.variant + "|" + row.condition);

@@ -20,13 +20,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-#define REQUIRE_DISPLAY()                                                                          \
-  do {                                                                                             \
-    const char* display = std::getenv("DISPLAY");                                                  \
-    if (!display || !*display) {                                                                   \
+#define REQUIRE_DISPLAY()                                                                               \
+  do {                                                                                                  \
+    const char* display = std::getenv("DISPLAY");                                                       \
+    if (!display || !*display) {                                                                        \
       if (std::getenv("FOVLAB_REQUIRE_DISPLAY")) FAIL() << "FOVLAB_REQUIRE_DISPLAY set but no DISPLAY"; \
-      GTEST_SKIP() << "no DISPLAY: runs under xvfb-run (CTest: WindowedSessionUnderXvfb)";         \
-    }                                                                                              \
+      GTEST_SKIP() << "no DISPLAY: runs under xvfb-run (CTest: WindowedSessionUnderXvfb)";              \
+    }                                                                                                   \
   } while (false)
 
 // tiny_2afc with FIPR as its test stimulus: rendered live on every refresh with that refresh's gaze.
@@ -160,8 +160,8 @@ TEST(WindowedSession, TheMouseRunsTheEyeTrackerValidationInAWindow) {
   // is what the window showed.
   REQUIRE_DISPLAY();
   const fs::path fixture = test::study_fixture("tiny_2afc");
-  const std::string text = test::read_file(fixture) +
-                           "\n[validation]\ntargets = 5\ntarget_s = 0.3\nsettle_s = 0.1\nmax_attempts = 1\n";
+  const std::string text =
+      test::read_file(fixture) + "\n[validation]\ntargets = 5\ntarget_s = 0.3\nsettle_s = 0.1\nmax_attempts = 1\n";
   const StudyConfig config = parse_study_config_text(text, fixture.string(), renderer_scene_catalog());
   const fs::path results = test::fresh_folder("windowed-validation");
   SessionOptions options;

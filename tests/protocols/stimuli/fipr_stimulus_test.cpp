@@ -45,7 +45,8 @@ viewing_distance_mm = 600
 name = "fipr_unit"
 seed = 3
 
-)" + display + R"(
+)" + display +
+           R"(
 [stimulus]
 duration_s = 0.1
 frames_per_second = 20
@@ -53,7 +54,8 @@ frames_per_second = 20
 [stimulus.reference]
 method = "gt"
 
-)" + test + "\n" + variants + "\n" + levels + R"(
+)" + test + "\n" +
+           variants + "\n" + levels + R"(
 [protocol]
 kind = "2afc"
 question = "same"
@@ -125,11 +127,11 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   const MethodDescriptor& parameters = describe(RenderMethod::foveated_pyramid);
   std::set<std::string> names;
   for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
-  EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels",
-                                          "min_filter_size", "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg",
-                                          "periphery_refresh", "periphery_steps", "periphery_reconstruction", "near_misses", "blur",
-                                          "combine", "edge_threshold",
-                                          "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
+  EXPECT_EQ(names, (std::set<std::string>{
+                       "samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels", "min_filter_size",
+                       "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg", "periphery_refresh",
+                       "periphery_steps", "periphery_reconstruction", "near_misses", "blur", "combine",
+                       "edge_threshold", "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
   EXPECT_EQ(levels.default_value, 3);
   EXPECT_EQ(levels.min_value, 3);  // low, mid and top
@@ -297,7 +299,8 @@ TEST(FiprStimulus, DescriptorsAgreeWithTheRenderer) {
   const ParameterDescriptor& combine = parameter_named(describe(RenderMethod::foveated_pyramid), "combine");
   for (size_t i = 0; i < combine.choices.size(); ++i)
     EXPECT_EQ(combine.choices[i], mask_combine_name(static_cast<MaskCombine>(i)));
-  for (RenderMethod method : {RenderMethod::ground_truth, RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid})
+  for (RenderMethod method :
+       {RenderMethod::ground_truth, RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid})
     EXPECT_EQ(describe(method).max_samples_per_frame, kMaxSphereTraceSamplesPerFrame);
   // The defaults the renderer's own settings start from are the descriptors' (the CLI's render
   // command and the benchmarks construct those settings directly).
@@ -316,7 +319,8 @@ TEST(FiprStimulus, DescriptorsAgreeWithTheRenderer) {
   EXPECT_EQ(parameter_named(fpt, "path_seed").default_value, paths.seed);
   const ZoneBounds zones;
   EXPECT_EQ(parameter_named(fpt, "foveal_aperture_deg").default_value, zones.foveal_deg);
-  EXPECT_EQ(parameter_named(fpt, "middle_minus_foveal_aperture_deg").default_value, zones.middle_deg - zones.foveal_deg);
+  EXPECT_EQ(parameter_named(fpt, "middle_minus_foveal_aperture_deg").default_value,
+            zones.middle_deg - zones.foveal_deg);
   EXPECT_EQ(parameter_named(fpt, "band_width_deg").default_value, zones.band_deg);
 }
 
@@ -347,7 +351,8 @@ viewing_distance_mm = 300
   EXPECT_EQ(config.stimulus.test.parameters.size(), 15u);
   EXPECT_EQ(config.stimulus.test.parameters.at("mask_seed"), 77);
   EXPECT_EQ(config.stimulus.test.parameters.at("combine"), 3);  // its index
-  const auto typed = std::get<FoveatedPyramidParameters>(parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters}));
+  const auto typed = std::get<FoveatedPyramidParameters>(
+      parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters}));
   EXPECT_EQ(typed.combine, MaskCombine::acuity);
   EXPECT_TRUE(typed.blur);
   EXPECT_EQ(typed.outer_periphery_radius_deg, 40);
@@ -432,7 +437,8 @@ TEST(FiprStimulus, OuterPeripheryInsideTheFoveaNamesTheFieldThatSetIt) {
   base = FiprText{};
   base.levels.clear();
   base.variants =
-      "[[stimulus.variant]]\nname = \"wide\"\n\n[[stimulus.variant]]\nname = \"near\"\nouter_periphery_radius_deg = 3\n";
+      "[[stimulus.variant]]\nname = \"wide\"\n\n[[stimulus.variant]]\nname = \"near\"\nouter_periphery_radius_deg = "
+      "3\n";
   text = base.text();
   expect_error(text, line_of(text, "outer_periphery_radius_deg = 3"), "stimulus.variant[2].outer_periphery_radius_deg",
                "expected outer_periphery_radius_deg (3) >= fovea_radius_deg (7.5)");
@@ -485,8 +491,9 @@ TEST(FiprStimulus, TheScheduleFillsTheDisplayFromTheConfig) {
 TEST(FiprStimulus, ADisplayTheConfigSetsIsKeptAndMakesAnotherStimulus) {
   FiprText base;
   base.test += "viewing_distance_mm = 450\n";
-  base.variants = "[[stimulus.variant]]\nname = \"here\"\n\n[[stimulus.variant]]\nname = \"small\"\n"
-                  "display_width_mm = 200\ndisplay_height_mm = 150\n";
+  base.variants =
+      "[[stimulus.variant]]\nname = \"here\"\n\n[[stimulus.variant]]\nname = \"small\"\n"
+      "display_width_mm = 200\ndisplay_height_mm = 150\n";
   const StudyPlan plan = make_study_plan(parse(base.text()), "P1");
   std::set<std::string> canonical;
   int fipr = 0;
@@ -499,7 +506,7 @@ TEST(FiprStimulus, ADisplayTheConfigSetsIsKeptAndMakesAnotherStimulus) {
     EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "display_width_mm"), small ? 200 : 400) << stimulus.variant;
     EXPECT_EQ(*parameter_value(stimulus.spec.parameters, "display_height_mm"), small ? 150 : 300) << stimulus.variant;
   }
-  EXPECT_EQ(fipr, 6);  // 2 variants x 3 levels
+  EXPECT_EQ(fipr, 6);                                // 2 variants x 3 levels
   EXPECT_EQ(canonical.size(), plan.stimuli.size());  // the display tells them apart
 
   // Levels may set a display parameter too (e.g. a viewing distance as the study's variable).

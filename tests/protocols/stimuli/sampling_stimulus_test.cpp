@@ -1,4 +1,4 @@
-// Seed 002's sampling models as stimulus methods: their descriptors agree with the CPU models
+// Ye et al. 2022's sampling models as stimulus methods: their descriptors agree with the CPU models
 // (foveation/sampling_map.h), and a spec becomes the map of each gaze sample.
 #include <cmath>
 #include <string>
@@ -175,7 +175,8 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   layers.inner_radius_deg = 4;  // this small display lies within 20 degrees: smaller zones
   layers.outer_radius_deg = 8;
   layers.sigma = 2.2;
-  const double centre_s3 = std::get<HyperbolicLayers>(sampling_map(layers_spec, std::nan(""), std::nan(""))).layers[2].pixel_size_px;
+  const double centre_s3 =
+      std::get<HyperbolicLayers>(sampling_map(layers_spec, std::nan(""), std::nan(""))).layers[2].pixel_size_px;
   EXPECT_EQ(std::get<HyperbolicLayers>(sampling_map(layers_spec, 96, 0)).layers[2].pixel_size_px, centre_s3);
   linear.sigma = 8.0;  // the full-resolution zone alone is denser than 1/64
   EXPECT_THROW(sampling_map(spec, 48, 27), InputError);

@@ -243,8 +243,8 @@ TEST(ProtocolsConfig, ParsesTheBaseTwoAfcSameConfigFieldByField) {
   EXPECT_EQ(config.protocol.kind, ProtocolKind::two_afc);
   EXPECT_EQ(config.protocol.two_afc_question, TwoAfcQuestion::same);
   EXPECT_EQ(config.protocol.repeats, 2);
-  EXPECT_TRUE(config.protocol.counterbalance);   // default for two-interval protocols
-  EXPECT_TRUE(config.protocol.randomise_trials); // trial_order defaults to random
+  EXPECT_TRUE(config.protocol.counterbalance);                                // default for two-interval protocols
+  EXPECT_TRUE(config.protocol.randomise_trials);                              // trial_order defaults to random
   EXPECT_EQ(config.protocol.block_order, ProtocolConfig::BlockOrder::fixed);  // block_order defaults to fixed
   EXPECT_EQ(config.protocol.question.text, "Was the quality the same in both sequences?");
   EXPECT_EQ(answer_names(config), (std::vector<std::string>{"same", "different"}));
@@ -286,9 +286,11 @@ TEST(ProtocolsConfig, ContentHashIgnoresCommentsAndFormattingNotValues) {
   reformatted = replace_once(reformatted, "name = \"unit\"\n", "name = 'unit'\n");
   reformatted = replace_once(reformatted, "duration_s = 0.5\nframes_per_second = 10\n",
                              "frames_per_second = 10\nduration_s = 0.50\n");
-  reformatted = replace_once(reformatted, "values = [4, 8, 16, 32, 64]", "values = [\n  4, 8, 16,\n  32, 64,  # the ladder\n]");
+  reformatted =
+      replace_once(reformatted, "values = [4, 8, 16, 32, 64]", "values = [\n  4, 8, 16,\n  32, 64,  # the ladder\n]");
   reformatted = replace_once(reformatted, "[stimulus.reference]\nmethod = \"gt\"\n\n", "");
-  reformatted = replace_once(reformatted, "camera_start_s = 1.0\n", "camera_start_s = 1.0\nreference = { method = \"gt\" }\n");
+  reformatted =
+      replace_once(reformatted, "camera_start_s = 1.0\n", "camera_start_s = 1.0\nreference = { method = \"gt\" }\n");
   const StudyConfig same = parse(reformatted);
   EXPECT_NE(same.hash, config.hash);  // other bytes
   EXPECT_EQ(same.content_hash, config.content_hash);
@@ -296,7 +298,8 @@ TEST(ProtocolsConfig, ContentHashIgnoresCommentsAndFormattingNotValues) {
   EXPECT_NE(parse(replace_once(text, "repeats = 2", "repeats = 3")).content_hash, config.content_hash);
   EXPECT_NE(parse(replace_once(text, "values = [4, 8, 16, 32, 64]", "values = [4, 8, 16, 32, 128]")).content_hash,
             config.content_hash);
-  EXPECT_NE(parse(replace_once(text, "instructions = \"Go.\"", "instructions = \"Go!\"")).content_hash, config.content_hash);
+  EXPECT_NE(parse(replace_once(text, "instructions = \"Go.\"", "instructions = \"Go!\"")).content_hash,
+            config.content_hash);
   // A session log's copy of the config is the same version.
   EXPECT_EQ(parse_logged_study_config(text, "x.toml (config_toml)", log_schema_version, nullptr).content_hash,
             config.content_hash);
@@ -334,13 +337,15 @@ TEST(ProtocolsConfig, NoLevelsTableMeansOneCondition) {
 
 TEST(ProtocolsConfig, ParsesTheShippedExperiments) {
   // The shipped configs must stay valid (their contents may change, so only their identity is pinned).
-  const StudyConfig demo = parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/demo.toml", renderer_scene_catalog());
+  const StudyConfig demo =
+      parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/demo.toml", renderer_scene_catalog());
   EXPECT_EQ(demo.name, "demo");
   EXPECT_EQ(demo.source_path, std::string(FOVLAB_SOURCE_DIR) + "/experiments/demo.toml");
   EXPECT_FALSE(demo.blocks.empty());
   EXPECT_EQ(demo.hash, ContentHash().add(demo.source_text).hex());
 
-  const StudyConfig pilot = parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/ipr_pilot.toml", renderer_scene_catalog());
+  const StudyConfig pilot =
+      parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/ipr_pilot.toml", renderer_scene_catalog());
   EXPECT_EQ(pilot.name, "ipr_pilot");
   EXPECT_EQ(describe(pilot.stimulus.test.method).name, "ipr");
   EXPECT_FALSE(pilot.blocks.empty());
@@ -371,7 +376,8 @@ TEST(ProtocolsConfig, ADirectoryIsNotAConfig) {
 
 TEST(ProtocolsConfig, ADeviceIsRefusedBeforeItIsRead) {
   // /dev/zero never ends: reading it whole took 2.2 GB before it failed.
-  EXPECT_EQ(file_error_of("/dev/zero"), "/dev/zero: not a regular file (a character device): expected a study config (.toml)");
+  EXPECT_EQ(file_error_of("/dev/zero"),
+            "/dev/zero: not a regular file (a character device): expected a study config (.toml)");
 }
 
 TEST(ProtocolsConfig, AFileOverTheSizeCapIsRefusedFromItsSize) {
@@ -392,7 +398,8 @@ TEST(ProtocolsConfig, AFileOverTheSizeCapIsRefusedFromItsSize) {
   // At the cap it is read and parsed (the padding is a comment).
   std::string text = ConfigText().text() + "#";
   text.resize(kMaxStudyConfigBytes, ' ');
-  EXPECT_EQ(parse_study_config_file(dir.write("at_cap.toml", text), renderer_scene_catalog()).source_text.size(), kMaxStudyConfigBytes);
+  EXPECT_EQ(parse_study_config_file(dir.write("at_cap.toml", text), renderer_scene_catalog()).source_text.size(),
+            kMaxStudyConfigBytes);
 }
 
 TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
@@ -404,7 +411,8 @@ TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
   EXPECT_EQ(marked.blocks.size(), plain.blocks.size());
   EXPECT_EQ(marked.source_text, "\xEF\xBB\xBF" + text);
   const testing::TempDir dir;
-  EXPECT_EQ(parse_study_config_file(dir.write("bom.toml", "\xEF\xBB\xBF" + text), renderer_scene_catalog()).name, plain.name);
+  EXPECT_EQ(parse_study_config_file(dir.write("bom.toml", "\xEF\xBB\xBF" + text), renderer_scene_catalog()).name,
+            plain.name);
   // Lines are counted as without it, and only the first three bytes may be one.
   expect_error("\xEF\xBB\xBF" + replace_once(text, "seed = 7", "seed = -7"), line_of(text, "seed = 7"), "study.seed",
                "non-negative");
@@ -416,8 +424,9 @@ TEST(ProtocolsConfig, AByteOrderMarkIsAcceptedAndIgnored) {
 TEST(ProtocolsConfig, FptFramesOfAnySizeAreAccepted) {
   // Issue 18: fpt used to need sides that are multiples of 4 (a 1366x768 panel could not run it).
   ConfigText base;
-  base.stimulus = replace_once(replace_once(base.stimulus, "method = \"gt\"\n\n[stimulus.test]", "method = \"pt\"\n\n[stimulus.test]"),
-                               "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"fpt\"");
+  base.stimulus = replace_once(
+      replace_once(base.stimulus, "method = \"gt\"\n\n[stimulus.test]", "method = \"pt\"\n\n[stimulus.test]"),
+      "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"fpt\"");
   base.levels = "";
   base.blocks = "[[block]]\nscene = \"courtyard\"\n";
   for (const auto& [from, to] : {std::pair<std::string, std::string>{"width_px = 320", "width_px = 318"},
@@ -431,14 +440,17 @@ TEST(ProtocolsConfig, FptFramesOfAnySizeAreAccepted) {
 TEST(ProtocolsConfig, SphereTracedSamplesAFrameNamingTheDisplayField) {
   // 16384 x 16384 x 4 samples: refused by the renderer at run as "--width x --height x --spp = ...".
   ConfigText base;
-  base.display = replace_once(replace_once(base.display, "width_px = 320", "width_px = 16384"), "height_px = 180", "height_px = 16384");
-  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"gt\"\nsamples_per_pixel = 4");
+  base.display = replace_once(replace_once(base.display, "width_px = 320", "width_px = 16384"), "height_px = 180",
+                              "height_px = 16384");
+  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"",
+                               "[stimulus.test]\nmethod = \"gt\"\nsamples_per_pixel = 4");
   std::string text = base.text();
   expect_error(text, line_of(text, "width_px = 16384"), "display.width_px",
                "expected width_px x height_px x samples_per_pixel of at most 268435456 samples a frame (gt), got "
                "16384 x 16384 x 4 = 1073741824");
   // Every stimulus counts: here only the level 16 of 8192 x 4096 is too many.
-  base.display = replace_once(replace_once(base.display, "width_px = 16384", "width_px = 8192"), "height_px = 16384", "height_px = 4096");
+  base.display = replace_once(replace_once(base.display, "width_px = 16384", "width_px = 8192"), "height_px = 16384",
+                              "height_px = 4096");
   base.stimulus = replace_once(base.stimulus, "\nsamples_per_pixel = 4", "");
   base.levels = "[levels]\nparameter = \"samples_per_pixel\"\nvalues = [1, 4, 16]\n";
   text = base.text();
@@ -475,8 +487,9 @@ TEST(ProtocolsConfig, TwoAfcNeedsAKnownQuestion) {
 
 TEST(ProtocolsConfig, Pair) {
   ConfigText base;
-  base.protocol = "[protocol]\nkind = \"pair\"\nrepeats = 4\nquestion_text = \"Better?\"\ntrial_order = \"fixed\"\n"
-                  "block_order = \"random\"\n";
+  base.protocol =
+      "[protocol]\nkind = \"pair\"\nrepeats = 4\nquestion_text = \"Better?\"\ntrial_order = \"fixed\"\n"
+      "block_order = \"random\"\n";
   const StudyConfig config = parse(base.text());
   EXPECT_EQ(config.protocol.kind, ProtocolKind::pair);
   EXPECT_EQ(config.protocol.repeats, 4);
@@ -503,7 +516,7 @@ TEST(ProtocolsConfig, Ramp) {
   base.protocol = "[protocol]\nkind = \"ramp\"\nrepeats = 3\n";
   const StudyConfig config = parse(base.text());
   EXPECT_EQ(config.protocol.kind, ProtocolKind::ramp);
-  EXPECT_EQ(config.protocol.repeats, 3);         // odd is fine: no counterbalancing for ramps
+  EXPECT_EQ(config.protocol.repeats, 3);  // odd is fine: no counterbalancing for ramps
   EXPECT_FALSE(config.protocol.counterbalance);
   EXPECT_FALSE(config.levels.higher_is_better);
   EXPECT_EQ(answer_names(config), (std::vector<std::string>{"increased", "decreased", "same"}));
@@ -551,7 +564,8 @@ TEST(ProtocolsConfig, ProtocolNamesAndAnswers) {
   EXPECT_STREQ(protocol_name(ProtocolKind::ramp), "ramp");
   EXPECT_STREQ(protocol_name(ProtocolKind::slider), "slider");
   EXPECT_STREQ(protocol_name(ProtocolKind::rating), "rating");
-  EXPECT_EQ(protocol_answers(ProtocolKind::two_afc, TwoAfcQuestion::same), (std::vector<std::string>{"same", "different"}));
+  EXPECT_EQ(protocol_answers(ProtocolKind::two_afc, TwoAfcQuestion::same),
+            (std::vector<std::string>{"same", "different"}));
   EXPECT_EQ(protocol_answers(ProtocolKind::rating, TwoAfcQuestion::same), (std::vector<std::string>{"1", "2", "3"}));
 }
 
@@ -599,7 +613,8 @@ min_filter_size = 1
 
 TEST(ProtocolsConfig, VariantErrors) {
   ConfigText base;
-  const std::string variants = "\n[[stimulus.variant]]\nname = \"a\"\nmax_steps = 8\n\n[[stimulus.variant]]\nname = \"a\"\n";
+  const std::string variants =
+      "\n[[stimulus.variant]]\nname = \"a\"\nmax_steps = 8\n\n[[stimulus.variant]]\nname = \"a\"\n";
   base.stimulus += variants;
   std::string text = base.text();
   expect_error(text, line_of(text, "name = \"a\"", 2), "stimulus.variant[2].name", "duplicate variant \"a\"");
@@ -851,7 +866,8 @@ TEST(ProtocolsConfig, OutOfRangeNumbersAreQuotedAtThePrecisionGiven) {
   ConfigText base;
   base.attention = replace_once(base.attention, "share = 0.2", "share = 0.9000001");
   std::string text = base.text();
-  expect_error(text, line_of(text, "share = 0.9000001"), "attention.share", "expected a value in [0, 0.9], got 0.9000001");
+  expect_error(text, line_of(text, "share = 0.9000001"), "attention.share",
+               "expected a value in [0, 0.9], got 0.9000001");
 
   base = ConfigText{};
   base.levels = replace_once(base.levels, "parameter = \"max_steps\"\nvalues = [4, 8, 16, 32, 64]",
@@ -872,8 +888,9 @@ TEST(ProtocolsConfig, OutOfRangeNumbersAreQuotedAtThePrecisionGiven) {
 // far past every level is refused naming the key and the range it may take.
 TEST(ProtocolsConfig, AQuestPlusThresholdGridFarPastTheLevelsIsRefused) {
   ConfigText base;
-  base.blocks = "[[block]]\nscene = \"primitives\"\nprocedure = \"q\"\n\n[procedure.q]\nkind = \"quest_plus\"\n"
-                "max_trials = 20\nthresholds = [-1e308, 1e308]\n";
+  base.blocks =
+      "[[block]]\nscene = \"primitives\"\nprocedure = \"q\"\n\n[procedure.q]\nkind = \"quest_plus\"\n"
+      "max_trials = 20\nthresholds = [-1e308, 1e308]\n";
   std::string text = base.text();
   expect_error(text, line_of(text, "thresholds = [-1e308, 1e308]"), "procedure.q.thresholds",
                "expected values from -596 to 664 (the levels' range, 4 to 64, widened by 10 times its span on each "
@@ -901,7 +918,8 @@ TEST(ProtocolsConfig, HugeIntegersAreOutOfRangeNotWrapped) {
   base = ConfigText{};
   base.attention = replace_once(base.attention, "max_errors = 3", "max_errors = -4294967293");  // -2^32 + 3
   text = base.text();
-  expect_error(text, line_of(text, "max_errors = -4294967293"), "attention.max_errors", "expected a value in [1, 1000]");
+  expect_error(text, line_of(text, "max_errors = -4294967293"), "attention.max_errors",
+               "expected a value in [1, 1000]");
 }
 
 TEST(ProtocolsConfig, UnsafeNames) {
@@ -993,7 +1011,8 @@ TEST(ProtocolsConfig, MissingRequiredTable) {
 
 TEST(ProtocolsConfig, DuplicateBlockName) {
   ConfigText base;
-  base.blocks = "[[block]]\nscene = \"primitives\"\n\n[[block]]\nscene = \"columns\"\n\n[[block]]\nscene = \"primitives\"\n";
+  base.blocks =
+      "[[block]]\nscene = \"primitives\"\n\n[[block]]\nscene = \"columns\"\n\n[[block]]\nscene = \"primitives\"\n";
   std::string text = base.text();
   // The third block has no name key: the error points at its [[block]] header.
   expect_error(text, line_of(text, "[[block]]", 3), "block[3].name", "duplicate block \"primitives\"");
@@ -1003,7 +1022,8 @@ TEST(ProtocolsConfig, DuplicateBlockName) {
   expect_error(text, line_of(text, "name = \"x\"", 2), "block[2].name", "duplicate block \"x\"");
 
   // The same scene under two names is fine.
-  base.blocks = "[[block]]\nscene = \"primitives\"\nname = \"p1\"\n\n[[block]]\nscene = \"primitives\"\nname = \"p2\"\n";
+  base.blocks =
+      "[[block]]\nscene = \"primitives\"\nname = \"p1\"\n\n[[block]]\nscene = \"primitives\"\nname = \"p2\"\n";
   const StudyConfig config = parse(base.text());
   ASSERT_EQ(config.blocks.size(), 2u);
   EXPECT_EQ(config.blocks[1].name, "p2");
@@ -1022,8 +1042,9 @@ TEST(ProtocolsConfig, UnknownScene) {
 
 TEST(ProtocolsConfig, SceneFileRelativeToTheConfig) {
   static std::atomic<int> counter{0};
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("fovlab_config_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("fovlab_config_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
   std::filesystem::create_directories(dir / "scenes");
   {
     std::ofstream scene(dir / "scenes" / "my_scene.glsl");
@@ -1043,9 +1064,12 @@ TEST(ProtocolsConfig, SceneFileRelativeToTheConfig) {
 
 TEST(ProtocolsConfig, UnknownMethod) {
   ConfigText base;
-  base.stimulus = replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"foveated\"");
+  base.stimulus =
+      replace_once(base.stimulus, "[stimulus.test]\nmethod = \"gt\"", "[stimulus.test]\nmethod = \"foveated\"");
   const std::string text = base.text();
-  expect_error(text, line_of(text, "method = \"foveated\""), "stimulus.test.method", "expected one of gt, ipr, fipr, pt, fpt, rmfr, hyperbolic, linear, kfr, pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr, volume, fvolume, got \"foveated\"");
+  expect_error(text, line_of(text, "method = \"foveated\""), "stimulus.test.method",
+               "expected one of gt, ipr, fipr, pt, fpt, rmfr, hyperbolic, linear, kfr, pt-rmfr, pt-hyperbolic, "
+               "pt-linear, pt-kfr, volume, fvolume, got \"foveated\"");
 }
 
 TEST(ProtocolsConfig, ParameterNotOfTheMethod) {
@@ -1211,7 +1235,8 @@ namespace {
 TEST(StudyConfigValidation, ReadsTheTableAndPlacesTargetsAtTheGivenAngle) {
   ConfigText config;
   EXPECT_FALSE(parse(config.text()).validation.enabled);
-  config.attention += "\n[validation]\ntargets = 5\ntarget_offset_deg = 4\nmax_accuracy_deg = 0.8\nafter_breaks = false\n";
+  config.attention +=
+      "\n[validation]\ntargets = 5\ntarget_offset_deg = 4\nmax_accuracy_deg = 0.8\nafter_breaks = false\n";
   const StudyConfig parsed = parse(config.text());
   const ValidationConfig& validation = parsed.validation;
   EXPECT_TRUE(validation.enabled);
@@ -1326,14 +1351,17 @@ TEST(StudyConfigConditions, RowsBecomeVariantsWithTheirOwnLevels) {
   std::map<std::string, int> trials;
   for (const Trial& trial : plan.trials)
     if (!trial.attention_check && trial.block == 0) ++trials[trial.condition];
-  EXPECT_EQ(trials, (std::map<std::string, int>{{"coarse/level=2", 2}, {"coarse/level=4", 2}, {"fine/level=16", 2},
-                                                {"fine/level=4", 2}, {"fine/level=64", 2}}));
+  EXPECT_EQ(trials, (std::map<std::string, int>{{"coarse/level=2", 2},
+                                                {"coarse/level=4", 2},
+                                                {"fine/level=16", 2},
+                                                {"fine/level=4", 2},
+                                                {"fine/level=64", 2}}));
   // The hash covers the conditions: the same config with another file is another config.
   const ConditionsStudy other("variant,max_steps\ncoarse,4\ncoarse,2\n");
   EXPECT_NE(other.parse().hash, config.hash);
   // And a log carries them: the logged config parses from the header's text alone.
-  const StudyConfig logged = parse_logged_study_config(config.source_text, "x.toml (config_toml)", log_schema_version, nullptr,
-                                                         config.conditions_csv);
+  const StudyConfig logged = parse_logged_study_config(config.source_text, "x.toml (config_toml)", log_schema_version,
+                                                       nullptr, config.conditions_csv);
   EXPECT_EQ(logged.hash, config.hash);
   EXPECT_EQ(logged.stimulus.variants.size(), 2u);
   EXPECT_THROW(parse_logged_study_config(config.source_text, "x.toml (config_toml)", log_schema_version, nullptr),
@@ -1348,21 +1376,31 @@ TEST(StudyConfigConditions, BadFilesNameTheFileLineAndColumn) {
     const std::string file = (std::filesystem::path(study.config_path).parent_path() / "conditions.csv").string();
     return message.rfind(file + ":", 0) == 0 ? message.substr(file.size() + 1) : message;
   };
-  EXPECT_EQ(error("variant,max_steps,warp\na,4,1\n").rfind("1: column \"warp\": expected variant, max_steps (the level) or a parameter of the test method \"ipr\"", 0), 0u);
-  EXPECT_EQ(error("variant,hit_threshold\na,0.5\n"), "1: expected a column \"max_steps\" ([levels] parameter) holding each condition's level");
+  EXPECT_EQ(
+      error("variant,max_steps,warp\na,4,1\n")
+          .rfind(
+              "1: column \"warp\": expected variant, max_steps (the level) or a parameter of the test method \"ipr\"",
+              0),
+      0u);
+  EXPECT_EQ(error("variant,hit_threshold\na,0.5\n"),
+            "1: expected a column \"max_steps\" ([levels] parameter) holding each condition's level");
   EXPECT_EQ(error("max_steps,hit_threshold\n4,0.5\n").rfind("1: expected a column \"variant\"", 0), 0u);
   EXPECT_EQ(error("variant,max_steps\na,4,5\n"), "2: expected 2 cells as the header has, got 3");
   EXPECT_EQ(error("variant,max_steps\na,four\n"), "2: column \"max_steps\": expected a number, got \"four\"");
   EXPECT_EQ(error("variant,max_steps\na,0\n"), "2: column \"max_steps\": expected a value in [1, 4096], got 0");
-  EXPECT_EQ(error("variant,max_steps\na,\n"), "2: column \"max_steps\": expected the condition's level, got an empty cell");
+  EXPECT_EQ(error("variant,max_steps\na,\n"),
+            "2: column \"max_steps\": expected the condition's level, got an empty cell");
   EXPECT_EQ(error("variant,max_steps\na,4\nb,4\na,4\n"), "4: the condition a at max_steps = 4 appears twice");
-  EXPECT_EQ(error("variant,max_steps,hit_threshold\na,4,0.5\na,8,0.25\n").rfind("3: variant \"a\" sets other parameters than on line 2", 0), 0u);
+  EXPECT_EQ(error("variant,max_steps,hit_threshold\na,4,0.5\na,8,0.25\n")
+                .rfind("3: variant \"a\" sets other parameters than on line 2", 0),
+            0u);
   EXPECT_EQ(error("variant,max_steps\n../x,4\n").rfind("2: variant \"../x\": expected", 0), 0u);
   EXPECT_EQ(error("variant,max_steps\n").rfind("1: expected a header row and at least one condition", 0), 0u);
   EXPECT_EQ(error("variant,variant\na,b\n"), "1: column \"variant\" appears twice");
   // The config's side: values and conditions both, or no file.
   const ConditionsStudy both("variant,max_steps\na,4\n", "[levels]\nparameter = \"max_steps\"\nvalues = [4]\n");
-  EXPECT_NE(both.error().find("levels.values: the [conditions] file gives the levels"), std::string::npos) << both.error();
+  EXPECT_NE(both.error().find("levels.values: the [conditions] file gives the levels"), std::string::npos)
+      << both.error();
   // An empty path names the key: it is not the config's folder, nor a file called "".
   ConditionsStudy empty_path("variant,max_steps\na,4\n");
   std::string config_text;
@@ -1381,7 +1419,8 @@ TEST(StudyConfigConditions, BadFilesNameTheFileLineAndColumn) {
   // Ramp and slider: every variant needs a ladder.
   const ConditionsStudy ramp("variant,max_steps\na,4\na,8\nb,4\n", "[levels]\nparameter = \"max_steps\"\n",
                              "[protocol]\nkind = \"ramp\"\n");
-  EXPECT_NE(ramp.error().find("protocol.kind: ramp needs at least two levels in every variant (\"b\""), std::string::npos)
+  EXPECT_NE(ramp.error().find("protocol.kind: ramp needs at least two levels in every variant (\"b\""),
+            std::string::npos)
       << ramp.error();
 }
 
@@ -1394,7 +1433,8 @@ namespace {
 TEST(ShippedExperiments, EveryConfigInExperimentsParses) {
   // The configs the README and docs point users to must stay valid as the config grows.
   int parsed = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(FOVLAB_SOURCE_DIR) / "experiments")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(FOVLAB_SOURCE_DIR) / "experiments")) {
     if (entry.path().extension() != ".toml") continue;
     SCOPED_TRACE(entry.path().string());
     EXPECT_NO_THROW(parse_study_config_file(entry.path().string(), renderer_scene_catalog()));
@@ -1402,8 +1442,8 @@ TEST(ShippedExperiments, EveryConfigInExperimentsParses) {
   }
   EXPECT_GE(parsed, 19);
   // The lab template uses what a lab expects of a study (issue 18).
-  const StudyConfig lab = parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/lab_study.toml",
-                                                  renderer_scene_catalog());
+  const StudyConfig lab =
+      parse_study_config_file(std::string(FOVLAB_SOURCE_DIR) + "/experiments/lab_study.toml", renderer_scene_catalog());
   EXPECT_TRUE(lab.validation.enabled);
   EXPECT_EQ(lab.practice.trials, 4);
   EXPECT_EQ(lab.stimulus.variants.size(), 2u);
@@ -1423,7 +1463,8 @@ TEST(StudyConfigAnalysis, HeadlineChoosesThePapersRuleAndLeavesOtherConfigsTheir
   EXPECT_NE(chosen.content_hash, plain.content_hash);
   ConfigText commented = config;
   commented.attention += "\n# a comment\n";
-  EXPECT_EQ(parse_study_config_text(commented.text(), kPath, renderer_scene_catalog()).content_hash, plain.content_hash);
+  EXPECT_EQ(parse_study_config_text(commented.text(), kPath, renderer_scene_catalog()).content_hash,
+            plain.content_hash);
   ConfigText bad = config;
   bad.attention += "\n[analysis]\nheadline = \"walk\"\n";
   const std::string text = bad.text();

@@ -55,7 +55,8 @@ std::string join_lines(const std::vector<std::string>& lines) {
 std::string write_three(const TempDir& dir) {
   const std::string path = dir.file("events.jsonl");
   EventLogWriter writer(path, "", 0);
-  writer.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}});
+  writer.append(
+      {{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}});
   writer.append({{"event", "trial_start"}, {"trial", 0}, {"t", 1.5}});
   writer.append({{"event", "trial_end"}, {"trial", 0}, {"t", 2.5}});
   return path;
@@ -181,14 +182,16 @@ TEST(ProtocolsLog, DroppedReorderedAndForgedLinesBreakTheChain) {
   EXPECT_EQ(parse_event_log(lines[0] + "\n" + no_chain.dump() + "\n" + lines[2] + "\n", "x").first_chain_error_line, 2);
   json number_chain = json::parse(lines[1]);
   number_chain["chain"] = 5;
-  EXPECT_EQ(parse_event_log(lines[0] + "\n" + number_chain.dump() + "\n" + lines[2] + "\n", "x").first_chain_error_line, 2);
+  EXPECT_EQ(parse_event_log(lines[0] + "\n" + number_chain.dump() + "\n" + lines[2] + "\n", "x").first_chain_error_line,
+            2);
   // An edit that recomputes its own chain still breaks the chain of the line after it.
   json recomputed = json::parse(lines[1]);
   recomputed["t"] = 9.0;
   recomputed.erase("chain");
   const std::string chain0 = json::parse(lines[0])["chain"];
   recomputed["chain"] = event_chain(chain0, recomputed);
-  EXPECT_EQ(parse_event_log(lines[0] + "\n" + recomputed.dump() + "\n" + lines[2] + "\n", "x").first_chain_error_line, 3);
+  EXPECT_EQ(parse_event_log(lines[0] + "\n" + recomputed.dump() + "\n" + lines[2] + "\n", "x").first_chain_error_line,
+            3);
   // The untouched log is consistent.
   EXPECT_EQ(parse_event_log(join_lines(lines), "x").first_chain_error_line, 0);
 }
@@ -254,7 +257,8 @@ TEST(ProtocolsLog, ContinuingALogKeepsTheChain) {
   const std::string path = dir.file("events.jsonl");
   {
     EventLogWriter writer(path, "", 0);
-    writer.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}});
+    writer.append(
+        {{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}});
     writer.append({{"event", "trial_start"}, {"trial", 0}});
   }
   const EventLogFile first = read_event_log(path);
@@ -332,7 +336,8 @@ json header() {
   return {{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"}};
 }
 
-std::vector<json> trial_events(int trial, double t, const std::string& answer, std::optional<bool> attention = std::nullopt) {
+std::vector<json> trial_events(int trial, double t, const std::string& answer,
+                               std::optional<bool> attention = std::nullopt) {
   std::vector<json> events = {{{"event", "trial_start"}, {"trial", trial}, {"t", t}},
                               {{"event", "stimulus"}, {"trial", trial}, {"t", t + 0.1}, {"interval", 0}},
                               {{"event", "stimulus"}, {"trial", trial}, {"t", t + 0.2}, {"interval", 1}},
@@ -342,7 +347,9 @@ std::vector<json> trial_events(int trial, double t, const std::string& answer, s
   return events;
 }
 
-void append(std::vector<json>& to, const std::vector<json>& events) { to.insert(to.end(), events.begin(), events.end()); }
+void append(std::vector<json>& to, const std::vector<json>& events) {
+  to.insert(to.end(), events.begin(), events.end());
+}
 
 std::string record_error(const EventLogFile& log) {
   try {
@@ -500,7 +507,8 @@ TEST(ProtocolsLog, ContradictoryEventsAreInputErrorsWithTheirLine) {
     EXPECT_NE(message.find("trial_end"), std::string::npos) << message;
   }
   {
-    std::vector<json> events = {header(), {{"event", "trial_start"}, {"trial", 0}}, {{"event", "response"}, {"trial", 1}}};
+    std::vector<json> events = {
+        header(), {{"event", "trial_start"}, {"trial", 0}}, {{"event", "response"}, {"trial", 1}}};
     const std::string message = record_error(make_log(events));
     EXPECT_EQ(message.rfind("results/s/p/events.jsonl:3: ", 0), 0u) << message;
   }

@@ -72,8 +72,8 @@ TEST(LogEvents, EveryEventRoundTrips) {
   expect_round_trip(BreakEvent{stamp(9.0, 3), BreakEvent::rest, std::nullopt, 3.0, 6.0}, parse_break);
   expect_round_trip(BreakEvent{stamp(9.0, 3), BreakEvent::attention_check, 4, 3.0, 6.0}, parse_break);
 
-  TrialStartEvent start{stamp(4.0, 5), 3, 1, "level=32", "foveated", 32.0, false, {2, 0}, 0, true, std::nullopt,
-                        std::nullopt};
+  TrialStartEvent start{stamp(4.0, 5), 3,      1, "level=32", "foveated",   32.0,
+                        false,         {2, 0}, 0, true,       std::nullopt, std::nullopt};
   expect_round_trip(start, parse_trial_start);
   start.level.reset();
   start.reference_first.reset();
@@ -134,10 +134,15 @@ TEST(LogEvents, ToJsonWritesTheBytesTheOldLiteralsWrote) {
   const std::vector<int> sequence = {4, 0};
   for (int kind = 0; kind < 3; ++kind) {
     for (const bool with_level : {false, true}) {
-      TrialStartEvent start{{}, 7, 1, "level=32", "foveated", std::nullopt, true, sequence, 0, std::nullopt,
-                            std::nullopt, std::nullopt};
-      nlohmann::json old = {{"event", "trial_start"}, {"trial", 7}, {"block", 1}, {"condition", "level=32"},
-                            {"variant", "foveated"}, {"attention_check", true}, {"sequence", sequence},
+      TrialStartEvent start{{},   7,        1, "level=32",   "foveated",   std::nullopt,
+                            true, sequence, 0, std::nullopt, std::nullopt, std::nullopt};
+      nlohmann::json old = {{"event", "trial_start"},
+                            {"trial", 7},
+                            {"block", 1},
+                            {"condition", "level=32"},
+                            {"variant", "foveated"},
+                            {"attention_check", true},
+                            {"sequence", sequence},
                             {"reference", 0}};
       if (with_level) {
         start.level = 32.0;
@@ -152,9 +157,8 @@ TEST(LogEvents, ToJsonWritesTheBytesTheOldLiteralsWrote) {
 
   // A stimulus event as present_stimulus built it: arrays, an invalid sample, null latency.
   nlohmann::json present_s = nlohmann::json::array(), frames = nlohmann::json::array(),
-                 hashes = nlohmann::json::array(), gaze = nlohmann::json::array(),
-                 invalid = nlohmann::json::array(), acquired = nlohmann::json::array(),
-                 ages = nlohmann::json::array();
+                 hashes = nlohmann::json::array(), gaze = nlohmann::json::array(), invalid = nlohmann::json::array(),
+                 acquired = nlohmann::json::array(), ages = nlohmann::json::array();
   StimulusEvent stimulus;
   stimulus.trial = 7;
   stimulus.step = 1;
@@ -192,26 +196,42 @@ TEST(LogEvents, ToJsonWritesTheBytesTheOldLiteralsWrote) {
   stimulus.gaze_acquired_s = typed_acquired;
   stimulus.gaze_age_s = typed_ages;
   stimulus.present_clock = "virtual";
-  same(logged(to_json(stimulus), 99.0),
-       logged({{"event", "stimulus"}, {"trial", 7}, {"step", 1}, {"stimulus", 4}, {"onset_s", 2.0 / 3.0}, {"t", t},
-               {"present_s", present_s}, {"frame", frames}, {"hash", hashes}, {"gaze", gaze},
-               {"invalid_gaze", invalid}, {"dropped_frames", 2}, {"gaze_acquired_s", acquired},
-               {"gaze_age_s", ages}, {"present_clock", "virtual"}},
-              99.0));
+  same(logged(to_json(stimulus), 99.0), logged({{"event", "stimulus"},
+                                                {"trial", 7},
+                                                {"step", 1},
+                                                {"stimulus", 4},
+                                                {"onset_s", 2.0 / 3.0},
+                                                {"t", t},
+                                                {"present_s", present_s},
+                                                {"frame", frames},
+                                                {"hash", hashes},
+                                                {"gaze", gaze},
+                                                {"invalid_gaze", invalid},
+                                                {"dropped_frames", 2},
+                                                {"gaze_acquired_s", acquired},
+                                                {"gaze_age_s", ages},
+                                                {"present_clock", "virtual"}},
+                                               99.0));
 
-  same(logged(to_json(ResponseEvent{{t}, 7, 0, "different", "d", 0.6180339887}), 99.0),
-       logged({{"event", "response"}, {"trial", 7}, {"step", 0}, {"answer", "different"}, {"key", "d"},
-               {"rt_s", 0.6180339887}, {"t", t}},
-              99.0));
+  same(logged(to_json(ResponseEvent{{t}, 7, 0, "different", "d", 0.6180339887}), 99.0), logged({{"event", "response"},
+                                                                                                {"trial", 7},
+                                                                                                {"step", 0},
+                                                                                                {"answer", "different"},
+                                                                                                {"key", "d"},
+                                                                                                {"rt_s", 0.6180339887},
+                                                                                                {"t", t}},
+                                                                                               99.0));
   same(logged(to_json(SliderSavedEvent{{}, 7, 2, 5, 0.0}), t),
        logged({{"event", "slider_saved"}, {"trial", 7}, {"ladder_index", 2}, {"stimulus", 5}, {"level", 0.0}}, t));
   same(logged(to_json(AttentionCheckEvent{{}, 7, false, 1}), t),
        logged({{"event", "attention_check"}, {"trial", 7}, {"correct", false}, {"errors", 1}}, t));
-  same(logged(to_json(BreakEvent{{}, BreakEvent::attention_check, 7, 3.25, 30.0}), t),
-       logged({{"event", "break"}, {"trial", 7}, {"reason", "attention_check"}, {"start_s", 3.25}, {"duration_s", 30.0}},
-              t));
+  same(
+      logged(to_json(BreakEvent{{}, BreakEvent::attention_check, 7, 3.25, 30.0}), t),
+      logged({{"event", "break"}, {"trial", 7}, {"reason", "attention_check"}, {"start_s", 3.25}, {"duration_s", 30.0}},
+             t));
   same(logged(to_json(TrialEndEvent{{}, 7}), t), logged({{"event", "trial_end"}, {"trial", 7}}, t));
-  same(logged(to_json(ExcludedEvent{{}, 2, 2}), t), logged({{"event", "excluded"}, {"errors", 2}, {"max_errors", 2}}, t));
+  same(logged(to_json(ExcludedEvent{{}, 2, 2}), t),
+       logged({{"event", "excluded"}, {"errors", 2}, {"max_errors", 2}}, t));
   same(logged(to_json(SessionEndEvent{{}, SessionEndEvent::excluded, 8}), t),
        logged({{"event", "session_end"}, {"reason", "excluded"}, {"completed_trials", 8}}, t));
   const size_t trials = 12;
@@ -224,7 +244,9 @@ TEST(LogEvents, ToJsonWritesTheBytesTheOldLiteralsWrote) {
 
   for (const bool fresh : {true, false}) {
     SessionResumedEvent resumed{{}, 5, std::nullopt, std::nullopt, "synthetic:seed=1", "2026-01-01T00:00:00Z"};
-    nlohmann::json old = {{"event", "session_resumed"}, {"next_trial", 5}, {"started_utc", "2026-01-01T00:00:00Z"},
+    nlohmann::json old = {{"event", "session_resumed"},
+                          {"next_trial", 5},
+                          {"started_utc", "2026-01-01T00:00:00Z"},
                           {"gaze", "synthetic:seed=1"}};
     old["discarded_trial"] = fresh ? nlohmann::json() : nlohmann::json(4);
     old["torn_line_set_aside"] = fresh ? nlohmann::json() : nlohmann::json("events.jsonl.torn-1");
@@ -238,19 +260,33 @@ TEST(LogEvents, ToJsonWritesTheBytesTheOldLiteralsWrote) {
   // The header as make_session_header built it, then run_session's lab_key_id.
   const uint64_t study_seed = 1234567890123ull, session_seed = 18446744073709551557ull;
   const nlohmann::json scenes = {{"sponza", "0011"}, {"/abs/cornell.scene", "2233"}};
-  const nlohmann::json stimuli = nlohmann::json::array({{{"method", "gt"}, {"is_reference", true}, {"level", nullptr}}});
+  const nlohmann::json stimuli =
+      nlohmann::json::array({{{"method", "gt"}, {"is_reference", true}, {"level", nullptr}}});
   const nlohmann::json device = {{"name", "llvmpipe"}, {"type", "cpu"}, {"api_version", "1.3.255"}, {"driver", "mesa"}};
-  const nlohmann::json display = {{"width_px", 640}, {"height_px", 480}, {"refresh_hz", 60.0},
-                                  {"measured_refresh_hz", 59.94}, {"width_mm", 520.0}, {"height_mm", 290.0},
-                                  {"viewing_distance_mm", 600.0}, {"fullscreen", false}};
+  const nlohmann::json display = {
+      {"width_px", 640},   {"height_px", 480},   {"refresh_hz", 60.0},           {"measured_refresh_hz", 59.94},
+      {"width_mm", 520.0}, {"height_mm", 290.0}, {"viewing_distance_mm", 600.0}, {"fullscreen", false}};
   for (const bool keyed : {false, true}) {
-    nlohmann::json old = {{"event", "session_header"}, {"schema_version", 3}, {"fovlab_version", "0.9"},
-                          {"study", "demo"}, {"participant", "P001"}, {"study_seed", study_seed},
-                          {"session_seed", session_seed}, {"config_path", "demo.toml"}, {"config_hash", "abcd"},
-                          {"config_toml", "name = \"demo\"\n[display]\n"}, {"protocol", "2afc"},
-                          {"trial_count", trials}, {"scene_hashes", scenes}, {"device", device},
-                          {"display", display}, {"presenter", "headless"}, {"gaze", "synthetic"},
-                          {"observer", "human"}, {"started_utc", "2026-01-01T00:00:00Z"}, {"t", 0.0}};
+    nlohmann::json old = {{"event", "session_header"},
+                          {"schema_version", 3},
+                          {"fovlab_version", "0.9"},
+                          {"study", "demo"},
+                          {"participant", "P001"},
+                          {"study_seed", study_seed},
+                          {"session_seed", session_seed},
+                          {"config_path", "demo.toml"},
+                          {"config_hash", "abcd"},
+                          {"config_toml", "name = \"demo\"\n[display]\n"},
+                          {"protocol", "2afc"},
+                          {"trial_count", trials},
+                          {"scene_hashes", scenes},
+                          {"device", device},
+                          {"display", display},
+                          {"presenter", "headless"},
+                          {"gaze", "synthetic"},
+                          {"observer", "human"},
+                          {"started_utc", "2026-01-01T00:00:00Z"},
+                          {"t", 0.0}};
     old["stimuli"] = stimuli;
     old["lab_key_id"] = keyed ? nlohmann::json("0123456789abcdef") : nlohmann::json();
     SessionHeaderEvent header;
@@ -293,15 +329,16 @@ TEST(LogEvents, LogsOfAnEarlierFovlabWriteBackTheSameText) {
       event.erase("mac");
       EXPECT_EQ(to_json(typed).dump(), event.dump()) << name;
     }
-    EXPECT_EQ(kinds.size(), 10u) << name;  // header, instructions, block, trial, stimulus, response, check, end, session end, seal
+    EXPECT_EQ(kinds.size(), 10u)
+        << name;  // header, instructions, block, trial, stimulus, response, check, end, session end, seal
   }
   EXPECT_THROW(parse_log_event({{"event", "interval"}}), InputError);
   EXPECT_THROW(parse_log_event({{"trial", 1}}), InputError);
 }
 
 TEST(LogEvents, StrictParseNamesTheFieldLenientKeepsTheDefault) {
-  const nlohmann::json response = {{"event", "response"}, {"trial", 3}, {"step", 0}, {"answer", "same"},
-                                   {"key", "s"}, {"rt_s", "fast"}, {"t", 1.0}, {"seq", 4}};
+  const nlohmann::json response = {{"event", "response"}, {"trial", 3},     {"step", 0}, {"answer", "same"},
+                                   {"key", "s"},          {"rt_s", "fast"}, {"t", 1.0},  {"seq", 4}};
   try {
     parse_response(response);
     FAIL() << "a string rt_s was accepted";
@@ -311,8 +348,8 @@ TEST(LogEvents, StrictParseNamesTheFieldLenientKeepsTheDefault) {
   const ResponseEvent lenient = parse_response(response, FieldCheck::lenient);
   EXPECT_FALSE(lenient.rt_s);  // unknown, never a made-up 0
   // A field the log does not have stays unknown, and is not written back.
-  const ResponseEvent without_rt = parse_response({{"event", "response"}, {"trial", 1}, {"step", 0}, {"answer", "same"},
-                                                   {"key", "s"}, {"t", 1.0}});
+  const ResponseEvent without_rt =
+      parse_response({{"event", "response"}, {"trial", 1}, {"step", 0}, {"answer", "same"}, {"key", "s"}, {"t", 1.0}});
   EXPECT_FALSE(without_rt.rt_s);
   EXPECT_FALSE(to_json(without_rt).contains("rt_s"));
   EXPECT_FALSE(parse_attention_check({{"event", "attention_check"}, {"trial", 2}, {"errors", 0}}).correct);
@@ -328,7 +365,8 @@ TEST(LogEvents, StrictParseNamesTheFieldLenientKeepsTheDefault) {
     parse_stimulus(stimulus);
     FAIL() << "a fractional frame was accepted";
   } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find("stimulus: frame: expected an array of 32-bit integers"), std::string::npos)
+    EXPECT_NE(std::string(error.what()).find("stimulus: frame: expected an array of 32-bit integers"),
+              std::string::npos)
         << error.what();
   }
   EXPECT_TRUE(parse_stimulus(stimulus, FieldCheck::lenient).frame.empty());
@@ -391,7 +429,9 @@ TEST(LogEvents, TheTablesTypedKeysAreTheCheckedOnes) {
   EXPECT_NE(check_log_field_types({{"event", 3}}), "");
   EXPECT_NE(check_log_field_types({{"track", 4294967296ll}}), "");
   EXPECT_EQ(check_log_field_types({{"present_s", "x"}}), "") << "present_s is read leniently, not checked";
-  EXPECT_EQ(check_log_field_types({{"gaze_age_s", {nullptr, 0.5}}, {"correct", true}, {"sequence", nlohmann::json::array()}}), "");
+  EXPECT_EQ(
+      check_log_field_types({{"gaze_age_s", {nullptr, 0.5}}, {"correct", true}, {"sequence", nlohmann::json::array()}}),
+      "");
 }
 
 // Who answered: "human", or "simulated" for a model; anything else (a missing field too) is refused,

@@ -31,34 +31,81 @@ std::string scratch_log(const std::string& name) {
 std::string write_rich_log(const std::string& name) {
   const std::string path = scratch_log(name);
   EventLogWriter log(path, "", 0);
-  log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"},
-              {"t", 0.0}, {"config_toml", "text with \"chain\":\"" + std::string(64, '0') + "\" inside"}});
+  log.append({{"event", "session_header"},
+              {"schema_version", log_schema_version},
+              {"study", "s"},
+              {"participant", "p"},
+              {"t", 0.0},
+              {"config_toml", "text with \"chain\":\"" + std::string(64, '0') + "\" inside"}});
   log.append({{"event", "block_start"}, {"block", 0}, {"name", "courtyard"}, {"scene", "x.glsl"}, {"t", 0.1}});
   log.append({{"event", "block_start"}, {"block", 1}, {"name", ""}, {"scene", "temple"}, {"t", 0.1}});
-  log.append({{"event", "trial_start"}, {"trial", 0}, {"block", 0}, {"condition", "blur/level=7.5"}, {"variant", "blur"},
-              {"level", 7.5}, {"attention_check", false}, {"sequence", {3, 0}}, {"reference_first", false}, {"t", 1.0}});
-  log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"gaze", {{1.5, 2.5}, {3.0, 4.0}}}, {"frame", {0, 1}},
-              {"hash", {"ab", "cd"}}, {"t", 1.1}});
-  log.append({{"event", "response"}, {"trial", 0}, {"step", 1}, {"answer", "same"}, {"key", "s"}, {"rt_s", 0.4}, {"t", 1.2}});
+  log.append({{"event", "trial_start"},
+              {"trial", 0},
+              {"block", 0},
+              {"condition", "blur/level=7.5"},
+              {"variant", "blur"},
+              {"level", 7.5},
+              {"attention_check", false},
+              {"sequence", {3, 0}},
+              {"reference_first", false},
+              {"t", 1.0}});
+  log.append({{"event", "stimulus"},
+              {"trial", 0},
+              {"step", 0},
+              {"gaze", {{1.5, 2.5}, {3.0, 4.0}}},
+              {"frame", {0, 1}},
+              {"hash", {"ab", "cd"}},
+              {"t", 1.1}});
+  log.append(
+      {{"event", "response"}, {"trial", 0}, {"step", 1}, {"answer", "same"}, {"key", "s"}, {"rt_s", 0.4}, {"t", 1.2}});
   log.append({{"event", "trial_end"}, {"trial", 0}, {"t", 1.3}});
-  log.append({{"event", "trial_start"}, {"trial", 1}, {"block", 1}, {"condition", "attention_check"}, {"variant", ""},
-              {"attention_check", true}, {"sequence", {0, 0}}, {"reference_first", true}, {"t", 2.0}});
+  log.append({{"event", "trial_start"},
+              {"trial", 1},
+              {"block", 1},
+              {"condition", "attention_check"},
+              {"variant", ""},
+              {"attention_check", true},
+              {"sequence", {0, 0}},
+              {"reference_first", true},
+              {"t", 2.0}});
   log.append({{"event", "response"}, {"trial", 1}, {"step", 1}, {"answer", "different"}, {"t", 2.1}});
   log.append({{"event", "attention_check"}, {"trial", 1}, {"correct", false}, {"errors", 1}, {"t", 2.1}});
   log.append({{"event", "break"}, {"trial", 1}, {"reason", "attention_check"}, {"t", 2.2}});
   log.append({{"event", "trial_end"}, {"trial", 1}, {"t", 3.0}});
-  log.append({{"event", "trial_start"}, {"trial", 2}, {"block", 1}, {"condition", "slider"}, {"variant", ""},
-              {"attention_check", false}, {"sequence", {1, 2, 3}}, {"slider_start", 0}, {"t", 4.0}});
+  log.append({{"event", "trial_start"},
+              {"trial", 2},
+              {"block", 1},
+              {"condition", "slider"},
+              {"variant", ""},
+              {"attention_check", false},
+              {"sequence", {1, 2, 3}},
+              {"slider_start", 0},
+              {"t", 4.0}});
   log.append({{"event", "response"}, {"trial", 2}, {"step", 0}, {"answer", "up"}, {"t", 4.1}});
   log.append({{"event", "session_resumed"}, {"next_trial", 2}, {"t", 5.0}});  // the crash cut trial 2
-  log.append({{"event", "trial_start"}, {"trial", 2}, {"block", 1}, {"condition", "slider"}, {"variant", ""},
-              {"attention_check", false}, {"sequence", {1, 2, 3}}, {"slider_start", 0}, {"t", 6.0}});
+  log.append({{"event", "trial_start"},
+              {"trial", 2},
+              {"block", 1},
+              {"condition", "slider"},
+              {"variant", ""},
+              {"attention_check", false},
+              {"sequence", {1, 2, 3}},
+              {"slider_start", 0},
+              {"t", 6.0}});
   log.append({{"event", "response"}, {"trial", 2}, {"step", 0}, {"answer", "reference"}, {"t", 6.1}});
   log.append({{"event", "response"}, {"trial", 2}, {"step", 1}, {"answer", "save"}, {"t", 6.2}});
-  log.append({{"event", "slider_saved"}, {"trial", 2}, {"ladder_index", 1}, {"stimulus", 2}, {"level", 15}, {"t", 6.2}});
+  log.append(
+      {{"event", "slider_saved"}, {"trial", 2}, {"ladder_index", 1}, {"stimulus", 2}, {"level", 15}, {"t", 6.2}});
   log.append({{"event", "trial_end"}, {"trial", 2}, {"t", 6.3}});
-  log.append({{"event", "trial_start"}, {"trial", 3}, {"block", 1}, {"condition", "level=5"}, {"variant", ""},
-              {"level", 5}, {"attention_check", false}, {"sequence", {0, 1}}, {"t", 7.0}});
+  log.append({{"event", "trial_start"},
+              {"trial", 3},
+              {"block", 1},
+              {"condition", "level=5"},
+              {"variant", ""},
+              {"level", 5},
+              {"attention_check", false},
+              {"sequence", {0, 1}},
+              {"t", 7.0}});
   log.append({{"event", "excluded"}, {"errors", 3}, {"max_errors", 3}, {"t", 7.5}});
   log.append({{"event", "session_end"}, {"reason", "excluded"}, {"completed_trials", 3}, {"t", 7.6}});
   return path;
@@ -132,7 +179,7 @@ TEST(SessionScan, TellsTheSameStoryAsTheSessionRecord) {
   const std::string path = write_rich_log("rich.jsonl");
   expect_same_story(path);
   const ScannedSession scan = scan_session_log(path);
-  ASSERT_EQ(scan.trials.size(), 3u);           // trial 3 never ended
+  ASSERT_EQ(scan.trials.size(), 3u);  // trial 3 never ended
   EXPECT_EQ(scan.incomplete_trial, 3);
   EXPECT_EQ(scan.trials[2].answers, (std::vector<std::string>{"reference", "save"}));  // the resumed run's
   ASSERT_TRUE(scan.trials[2].saved_level);
@@ -167,7 +214,8 @@ TEST(SessionScan, TornTailsAndEditedLinesAreSeenAsTheFullReaderSeesThem) {
   const size_t line_end = spaced_bytes.find('\n', spaced_bytes.find("\"event\":\"trial_end\""));
   const size_t line_begin = spaced_bytes.rfind('\n', line_end - 1) + 1;
   std::string line = spaced_bytes.substr(line_begin, line_end - line_begin);
-  for (size_t at = line.find("\":"); at != std::string::npos; at = line.find("\":", at + 3)) line.insert(at + 2, 1, ' ');
+  for (size_t at = line.find("\":"); at != std::string::npos; at = line.find("\":", at + 3))
+    line.insert(at + 2, 1, ' ');
   spaced_bytes.replace(line_begin, line_end - line_begin, line);
   std::ofstream(spaced, std::ios::trunc) << spaced_bytes;
   expect_same_story(spaced);
@@ -187,17 +235,25 @@ TEST(SessionScan, RejectsWhatTheFullReaderRejects) {
     // The full reader rejects it too (in its own words where its checks differ).
     EXPECT_THROW(read_session_record(read_event_log(path)), InputError) << name;
   };
-  expect_rejected("not_json.jsonl", "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\nnot json\n", ":2: not a JSON event");
+  expect_rejected(
+      "not_json.jsonl",
+      "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\nnot json\n",
+      ":2: not a JSON event");
   expect_rejected("array.jsonl", "[1,2]\n", ":1: not a JSON event");
   expect_rejected("schema.jsonl", "{\"event\":\"session_header\",\"schema_version\":99}\n", "schema_version 99");
   expect_rejected("no_header.jsonl", "{\"event\":\"trial_end\",\"trial\":0}\n", "expected a session_header");
   expect_rejected("empty.jsonl", "", "no complete event");
-  expect_rejected("orphan.jsonl", "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n{\"event\":\"trial_end\",\"trial\":4}\n",
+  expect_rejected("orphan.jsonl",
+                  "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n{"
+                  "\"event\":\"trial_end\",\"trial\":4}\n",
                   ":2: trial_end: trial does not match");
   expect_rejected("type.jsonl",
-                  "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n{\"event\":\"trial_start\",\"trial\":\"zero\"}\n",
+                  "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n{"
+                  "\"event\":\"trial_start\",\"trial\":\"zero\"}\n",
                   ":2: an event has a field of the wrong type");
-  expect_rejected("deep.jsonl", "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n" + std::string(5000, '[') + "\n",
+  expect_rejected("deep.jsonl",
+                  "{\"event\":\"session_header\",\"schema_version\":1,\"study\":\"s\",\"participant\":\"p\"}\n" +
+                      std::string(5000, '[') + "\n",
                   ":2: not a JSON event");
   EXPECT_THROW(scan_session_log(scratch_log("never_written.jsonl")), InputError);
 }
@@ -209,11 +265,21 @@ TEST(SessionScan, KeepsTheIntervalsBetweenEachStimulusPresentTimes) {
   const std::string path = scratch_log("present_times.jsonl");
   {
     EventLogWriter log(path, "", 0);
-    log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"},
+    log.append({{"event", "session_header"},
+                {"schema_version", log_schema_version},
+                {"study", "s"},
+                {"participant", "p"},
                 {"t", 0.0}});
     log.append({{"event", "block_start"}, {"block", 0}, {"name", "courtyard"}, {"scene", "x.glsl"}, {"t", 0.1}});
-    log.append({{"event", "trial_start"}, {"trial", 0}, {"block", 0}, {"condition", "level=5"}, {"variant", ""},
-                {"level", 5}, {"attention_check", false}, {"sequence", {0, 1}}, {"t", 1.0}});
+    log.append({{"event", "trial_start"},
+                {"trial", 0},
+                {"block", 0},
+                {"condition", "level=5"},
+                {"variant", ""},
+                {"level", 5},
+                {"attention_check", false},
+                {"sequence", {0, 1}},
+                {"t", 1.0}});
     log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", {1.0, 1.25, 1.75}}, {"t", 1.8}});
     log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", {3.0, 3.5}}, {"t", 3.6}});
     log.append({{"event", "stimulus"}, {"trial", 0}, {"step", 0}, {"present_s", {4.0, "x"}}, {"t", 4.1}});
@@ -233,11 +299,21 @@ TEST(SessionScan, ReadsEveryFieldItKeepsAsTheFullReaderReadsIt) {
   const std::string path = scratch_log("kept_fields.jsonl");
   {
     EventLogWriter log(path, "", 0);
-    log.append({{"event", "session_header"}, {"schema_version", log_schema_version}, {"study", "s"}, {"participant", "p"},
+    log.append({{"event", "session_header"},
+                {"schema_version", log_schema_version},
+                {"study", "s"},
+                {"participant", "p"},
                 {"t", 0.0}});
-    log.append(to_json(TrialStartEvent{.stamp = {1.0, {}}, .trial = 0, .block = 2, .condition = "c", .variant = "v",
-                                       .level = 3.5, .sequence = {4, 5}, .ramp_toward_reference = false,
-                                       .practice = true, .track = 1}));
+    log.append(to_json(TrialStartEvent{.stamp = {1.0, {}},
+                                       .trial = 0,
+                                       .block = 2,
+                                       .condition = "c",
+                                       .variant = "v",
+                                       .level = 3.5,
+                                       .sequence = {4, 5},
+                                       .ramp_toward_reference = false,
+                                       .practice = true,
+                                       .track = 1}));
     StimulusEvent stimulus{.stamp = {1.5, {}}, .trial = 0, .step = 0, .stimulus = 4, .onset_s = 1.0};
     stimulus.present_s = {1.0, 1.0125, 1.05};
     stimulus.dropped_frames = 2;
@@ -248,7 +324,8 @@ TEST(SessionScan, ReadsEveryFieldItKeepsAsTheFullReaderReadsIt) {
     stimulus.gaze_age_s = std::vector<std::optional<double>>{};
     stimulus.present_clock = "vsync";
     log.append(to_json(stimulus));
-    log.append(to_json(ResponseEvent{.stamp = {1.6, {}}, .trial = 0, .step = 3, .answer = "up", .key = "u", .rt_s = 0.2}));
+    log.append(
+        to_json(ResponseEvent{.stamp = {1.6, {}}, .trial = 0, .step = 3, .answer = "up", .key = "u", .rt_s = 0.2}));
     log.append(to_json(TrialEndEvent{.stamp = {1.7, {}}, .trial = 0}));
   }
   {  // a trial_start whose sequence is given twice, added by hand and re-chained

@@ -14,12 +14,10 @@ struct Case {
   ProtocolKind kind;
   TwoAfcQuestion question;
 };
-const Case kEveryProtocol[] = {{ProtocolKind::two_afc, TwoAfcQuestion::same},
-                               {ProtocolKind::two_afc, TwoAfcQuestion::better},
-                               {ProtocolKind::pair, TwoAfcQuestion::same},
-                               {ProtocolKind::ramp, TwoAfcQuestion::same},
-                               {ProtocolKind::slider, TwoAfcQuestion::same},
-                               {ProtocolKind::rating, TwoAfcQuestion::same}};
+const Case kEveryProtocol[] = {
+    {ProtocolKind::two_afc, TwoAfcQuestion::same}, {ProtocolKind::two_afc, TwoAfcQuestion::better},
+    {ProtocolKind::pair, TwoAfcQuestion::same},    {ProtocolKind::ramp, TwoAfcQuestion::same},
+    {ProtocolKind::slider, TwoAfcQuestion::same},  {ProtocolKind::rating, TwoAfcQuestion::same}};
 
 TEST(ProtocolRules, NamesReadBackAndAnswersAreDistinct) {
   EXPECT_EQ(known_protocols(), "2afc, pair, ramp, slider, rating");
@@ -32,7 +30,8 @@ TEST(ProtocolRules, NamesReadBackAndAnswersAreDistinct) {
     for (const ProtocolAnswer& answer : rules.answers) {
       EXPECT_TRUE(names.insert(answer.name).second) << answer.name;
       EXPECT_FALSE(answer.default_keys.empty()) << answer.name;
-      for (std::string_view key : answer.default_keys) EXPECT_TRUE(keys.insert(key).second) << "key " << key << " twice";
+      for (std::string_view key : answer.default_keys)
+        EXPECT_TRUE(keys.insert(key).second) << "key " << key << " twice";
     }
     if (!rules.identical.empty()) {
       EXPECT_TRUE(rules.is_answer(rules.identical));

@@ -20,7 +20,7 @@ std::vector<double> numbers(const nlohmann::json& array) { return array.get<std:
 QuestPlusRule rule_of(const nlohmann::json& c) {
   QuestPlusRule rule;
   const std::string shape = c["shape"];
-  rule.shape = shape == "logistic" ? PsychometricShape::logistic
+  rule.shape = shape == "logistic"  ? PsychometricShape::logistic
                : shape == "weibull" ? PsychometricShape::weibull
                                     : PsychometricShape::cumulative_normal;
   rule.rising = c["rising"];
@@ -35,7 +35,8 @@ QuestPlusRule rule_of(const nlohmann::json& c) {
 }
 
 void expect_close(double actual, double expected, const std::string& what) {
-  EXPECT_LE(std::abs(actual - expected), 1e-9 * std::max(1.0, std::abs(expected))) << what << ": " << actual << " vs " << expected;
+  EXPECT_LE(std::abs(actual - expected), 1e-9 * std::max(1.0, std::abs(expected)))
+      << what << ": " << actual << " vs " << expected;
 }
 
 TEST(QuestPlus, EveryChoiceAndPosteriorMatchesABruteForceNumpyReference) {
@@ -57,7 +58,8 @@ TEST(QuestPlus, EveryChoiceAndPosteriorMatchesABruteForceNumpyReference) {
       const std::vector<double> expected = numbers(step["expected_entropies"]);
       const std::vector<double> entropies = quest.expected_entropies(state.posterior);
       ASSERT_EQ(entropies.size(), expected.size());
-      for (size_t x = 0; x < expected.size(); ++x) expect_close(entropies[x], expected[x], at + " E[H] of level " + std::to_string(x));
+      for (size_t x = 0; x < expected.size(); ++x)
+        expect_close(entropies[x], expected[x], at + " E[H] of level " + std::to_string(x));
       ASSERT_EQ(state.index, step["index"].get<int>()) << at;
       ASSERT_FALSE(state.finished) << at;
       const bool seen = step["seen"];
@@ -151,19 +153,42 @@ TEST(QuestPlus, BadRulesAreNamedByTheirKey) {
   };
   EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {2, 1}; }).rfind("thresholds:", 0), 0u);
   EXPECT_EQ(error([](QuestPlusRule& r) { r.slopes = {0, 1}; }).rfind("slopes:", 0), 0u);
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.lapses = {0, 0.6}; r.guess = 0.5; }).rfind("lapses:", 0), 0u);
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.prior_sd = 0.01; r.prior_mean = 100; }).rfind("prior_mean: expected a prior with mass", 0), 0u);
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_entropy_bits = 4; }).rfind("stop_entropy_bits:", 0), 0u);  // log2(16) = 4
+  EXPECT_EQ(error([](QuestPlusRule& r) {
+              r.lapses = {0, 0.6};
+              r.guess = 0.5;
+            }).rfind("lapses:", 0),
+            0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) {
+              r.prior_sd = 0.01;
+              r.prior_mean = 100;
+            }).rfind("prior_mean: expected a prior with mass", 0),
+            0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_entropy_bits = 4; }).rfind("stop_entropy_bits:", 0),
+            0u);  // log2(16) = 4
   EXPECT_EQ(error([](QuestPlusRule& r) { r.stop_interval_width = 3; }).rfind("stop_interval_width:", 0), 0u);
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.shape = PsychometricShape::weibull; r.thresholds = {0, 1}; }).rfind("thresholds:", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) {
+              r.shape = PsychometricShape::weibull;
+              r.thresholds = {0, 1};
+            }).rfind("thresholds:", 0),
+            0u);
   // Thresholds within the levels' range widened by 10 spans (1 to 4: -29 to 34), quoted as given.
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {-1e308, 1e308}; }),
+  EXPECT_EQ(error([](QuestPlusRule& r) {
+              r.thresholds = {-1e308, 1e308};
+            }),
             "thresholds: expected values from -29 to 34 (the levels' range, 1 to 4, widened by 10 times its span on "
             "each side), got -1e+308");
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {1, 34.000001}; }).rfind("thresholds: expected values from -29 to 34", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) {
+              r.thresholds = {1, 34.000001};
+            }).rfind("thresholds: expected values from -29 to 34", 0),
+            0u);
   EXPECT_NE(error([](QuestPlusRule& r) { r.thresholds = {1, 34.000001}; }).find("got 34.000001"), std::string::npos);
   EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = {-29, 34}; }), "no error");
-  EXPECT_EQ(error([](QuestPlusRule& r) { r.thresholds = std::vector<double>(2001, 0); for (size_t i = 0; i < 2001; ++i) r.thresholds[i] = double(i); r.slopes = {1, 2, 3, 4, 5}; }).rfind("thresholds: expected at most 20000", 0), 0u);
+  EXPECT_EQ(error([](QuestPlusRule& r) {
+              r.thresholds = std::vector<double>(2001, 0);
+              for (size_t i = 0; i < 2001; ++i) r.thresholds[i] = double(i);
+              r.slopes = {1, 2, 3, 4, 5};
+            }).rfind("thresholds: expected at most 20000", 0),
+            0u);
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ TEST(Staircase, MovesStopAtTheGridsEndsAndAStopIsFinal) {
   StaircaseState state = start_staircase(rule);
   state = next_staircase_state(rule, state, false, 5);  // 1 - 3: held at 0
   EXPECT_EQ(state.index, 0);
-  state = next_staircase_state(rule, state, true, 5);   // reversal at 0
+  state = next_staircase_state(rule, state, true, 5);  // reversal at 0
   EXPECT_EQ(state.index, 1);
   EXPECT_EQ(state.reversal_indices, (std::vector<int>{0}));
   state = next_staircase_state(rule, state, true, 5);

@@ -232,9 +232,9 @@ TEST(ProtocolsSchedule, AttentionCheckShareIsOfAllTrialsRounded) {
   };
   // checks = round(share / (1 - share) * comparisons): then checks / (checks + comparisons) ~ share.
   const std::vector<Case> cases = {
-      {"0", "[4, 8, 16, 32, 64]", 2, 0},   {"0.2", "[4, 8, 16, 32, 64]", 2, 3},  // 2.5 -> 3 (13 trials)
-      {"0.5", "[4, 8, 16]", 2, 6},         {"0.1", "[4, 8, 16, 32, 64]", 2, 1},  // 1.11 -> 1
-      {"0.25", "[4, 8, 16, 32]", 4, 5},    {"0.9", "[4]", 2, 18},
+      {"0", "[4, 8, 16, 32, 64]", 2, 0}, {"0.2", "[4, 8, 16, 32, 64]", 2, 3},  // 2.5 -> 3 (13 trials)
+      {"0.5", "[4, 8, 16]", 2, 6},       {"0.1", "[4, 8, 16, 32, 64]", 2, 1},  // 1.11 -> 1
+      {"0.25", "[4, 8, 16, 32]", 4, 5},  {"0.9", "[4]", 2, 18},
   };
   for (const Case& c : cases) {
     Sections s;
@@ -331,9 +331,9 @@ TEST(ProtocolsSchedule, FixedTrialOrderIsTheConfigOrder) {
     conditions.push_back(trial.condition);
     first.push_back(trial.reference_first);
   }
-  EXPECT_EQ(conditions, (std::vector<std::string>{"coarse/level=4", "coarse/level=4", "coarse/level=8", "coarse/level=8",
-                                                  "fine/level=4", "fine/level=4", "fine/level=8", "fine/level=8",
-                                                  "attention_check", "attention_check"}));
+  EXPECT_EQ(conditions, (std::vector<std::string>{"coarse/level=4", "coarse/level=4", "coarse/level=8",
+                                                  "coarse/level=8", "fine/level=4", "fine/level=4", "fine/level=8",
+                                                  "fine/level=8", "attention_check", "attention_check"}));
   EXPECT_EQ(std::vector<bool>(first.begin(), first.begin() + 8),
             (std::vector<bool>{true, false, true, false, true, false, true, false}));
   // A fixed order does not depend on the participant.
@@ -356,9 +356,9 @@ void check_ramp(bool higher_is_better) {
   for (const PlannedBlock& block : plan.blocks) EXPECT_EQ(block.trial_count, 12);
   ASSERT_EQ(plan.trials.size(), 24u);
   // The ladder runs from the level least like the reference to the one most like it.
-  const std::vector<std::optional<double>> ladder =
-      higher_is_better ? std::vector<std::optional<double>>{4.0, 8.0, 16.0, 32.0}
-                       : std::vector<std::optional<double>>{32.0, 16.0, 8.0, 4.0};
+  const std::vector<std::optional<double>> ladder = higher_is_better
+                                                        ? std::vector<std::optional<double>>{4.0, 8.0, 16.0, 32.0}
+                                                        : std::vector<std::optional<double>>{32.0, 16.0, 8.0, 4.0};
   std::vector<std::optional<double>> up = ladder;
   up.push_back(std::nullopt);  // the reference last
   std::vector<std::optional<double>> down(up.rbegin(), up.rend());
@@ -372,7 +372,8 @@ void check_ramp(bool higher_is_better) {
       if (!level_of(plan, id)) {
         EXPECT_EQ(id, trial.reference);
       }
-      EXPECT_EQ(plan.stimuli[static_cast<size_t>(id)].variant, plan.stimuli[static_cast<size_t>(id)].is_reference ? "" : trial.variant);
+      EXPECT_EQ(plan.stimuli[static_cast<size_t>(id)].variant,
+                plan.stimuli[static_cast<size_t>(id)].is_reference ? "" : trial.variant);
     }
     const std::string direction = trial.ramp_toward_reference ? "up" : "down";
     EXPECT_EQ(levels, trial.ramp_toward_reference ? up : down) << describe(trial);
@@ -439,7 +440,7 @@ void check_slider(bool higher_is_better, const std::string& start_line, double s
 TEST(ProtocolsSchedule, SliderStartsAtTheConfiguredLevel) {
   check_slider(true, "start_level = 16\n", 16.0);
   check_slider(false, "start_level = 16\n", 16.0);
-  check_slider(true, "", 4.0);   // default: the first level value
+  check_slider(true, "", 4.0);  // default: the first level value
   check_slider(false, "", 4.0);
   check_slider(false, "start_level = 32\n", 32.0);
 }
@@ -522,7 +523,8 @@ TEST(ProtocolsSchedule, BalancedLatinSquareCounterbalancesPositionsAndCarryover)
     EXPECT_EQ(at_position.size(), size_t(n * n));
     if (n > 1) {
       EXPECT_EQ(followed_by.size(), size_t(n * (n - 1)));
-      for (const auto& [pair, count] : followed_by) EXPECT_EQ(count, int(rows.size()) * (n - 1) / (n * (n - 1))) << pair.first << "," << pair.second;
+      for (const auto& [pair, count] : followed_by)
+        EXPECT_EQ(count, int(rows.size()) * (n - 1) / (n * (n - 1))) << pair.first << "," << pair.second;
     }
   }
 }
@@ -586,9 +588,9 @@ TEST(ProtocolsSchedule, StimuliAreDistinctWithOneReferencePerBlock) {
   std::set<std::tuple<std::string, bool, std::string, double>> seen;
   std::map<std::string, int> references_per_scene;
   for (const PlannedStimulus& stimulus : plan.stimuli) {
-    EXPECT_TRUE(seen.insert({stimulus.spec.canonical(), stimulus.is_reference, stimulus.variant,
-                             stimulus.level.value_or(-1.0)})
-                    .second)
+    EXPECT_TRUE(
+        seen.insert({stimulus.spec.canonical(), stimulus.is_reference, stimulus.variant, stimulus.level.value_or(-1.0)})
+            .second)
         << "duplicate " << stimulus.spec.canonical();
     if (stimulus.is_reference) {
       ++references_per_scene[stimulus.spec.scene];
@@ -605,7 +607,8 @@ TEST(ProtocolsSchedule, StimuliAreDistinctWithOneReferencePerBlock) {
     EXPECT_DOUBLE_EQ(stimulus.spec.camera_start_s, 1.0);
     if (!stimulus.is_reference) {
       EXPECT_DOUBLE_EQ(*parameter_value(stimulus.spec.parameters, "max_steps"), *stimulus.level);
-      EXPECT_DOUBLE_EQ(*parameter_value(stimulus.spec.parameters, "hit_threshold"), stimulus.variant == "coarse" ? 1.0 : 0.1);
+      EXPECT_DOUBLE_EQ(*parameter_value(stimulus.spec.parameters, "hit_threshold"),
+                       stimulus.variant == "coarse" ? 1.0 : 0.1);
     } else {
       EXPECT_DOUBLE_EQ(*parameter_value(stimulus.spec.parameters, "max_steps"), 256.0);
       EXPECT_DOUBLE_EQ(*parameter_value(stimulus.spec.parameters, "hit_threshold"), 0.25);
@@ -616,7 +619,8 @@ TEST(ProtocolsSchedule, StimuliAreDistinctWithOneReferencePerBlock) {
   // All trials of a block share its reference.
   for (const PlannedBlock& block : plan.blocks) {
     std::set<int> references;
-    for (int i = 0; i < block.trial_count; ++i) references.insert(plan.trials[static_cast<size_t>(block.first_trial + i)].reference);
+    for (int i = 0; i < block.trial_count; ++i)
+      references.insert(plan.trials[static_cast<size_t>(block.first_trial + i)].reference);
     EXPECT_EQ(references.size(), 1u) << block.name;
   }
 }
@@ -637,7 +641,8 @@ TEST(ProtocolsSchedule, RepeatedTrialsShareTheirStimuli) {
 
 TEST(ProtocolsSchedule, TwoBlocksOnOneSceneShareTheReferenceStimulus) {
   Sections s;
-  s.blocks = "[[block]]\nscene = \"primitives\"\nname = \"first\"\n\n[[block]]\nscene = \"primitives\"\nname = \"second\"\n";
+  s.blocks =
+      "[[block]]\nscene = \"primitives\"\nname = \"first\"\n\n[[block]]\nscene = \"primitives\"\nname = \"second\"\n";
   const StudyPlan plan = make_study_plan(make_config(s), "p01");
   check_structure(plan);
   EXPECT_EQ(plan.stimuli.size(), 6u);
@@ -669,7 +674,8 @@ TEST(ProtocolsSchedule, ATestIdenticalToTheReferenceIsStillATestStimulus) {
 // --- participants -------------------------------------------------------------------------------------
 
 TEST(ProtocolsSchedule, ParticipantIds) {
-  for (const std::string& bad : std::vector<std::string>{"../x", "a/b", "", "-x", std::string(65, 'a'), ".hidden", "a b", "a\\b", "ü", "p:1"}) {
+  for (const std::string& bad :
+       std::vector<std::string>{"../x", "a/b", "", "-x", std::string(65, 'a'), ".hidden", "a b", "a\\b", "ü", "p:1"}) {
     EXPECT_THROW(check_participant_id(bad), InputError) << "\"" << bad << "\"";
     EXPECT_THROW(check_new_participant_id(bad), InputError) << "\"" << bad << "\"";
   }

@@ -35,7 +35,7 @@ TEST(RenderMethod, EveryParameterReadsBackWhatItWrote) {
     // Each parameter set to a value of its own (the top of its range, or its last choice) changes
     // that parameter alone: no two keys share a member.
     for (const ParameterDescriptor& parameter : method.parameters) {
-      const double value = !parameter.allowed.empty() ? parameter.allowed.back()
+      const double value = !parameter.allowed.empty()                ? parameter.allowed.back()
                            : parameter.type == ParameterType::choice ? double(parameter.choices.size() - 1)
                                                                      : parameter.max_value;
       MethodParameters changed = default_parameters(method.method);
@@ -80,7 +80,8 @@ TEST(RenderMethod, ParametersAddedLaterKeepTheCanonicalTextOfOlderStimuli) {
   auto& ipr = std::get<InvertedPyramidParameters>(spec.parameters);
   ipr.coarse_test = CoarseTest::cone;
   ipr.full_resolution_depth = true;
-  EXPECT_NE(spec.canonical().find(";coarse_test=cone;full_resolution_depth=on;"), std::string::npos) << spec.canonical();
+  EXPECT_NE(spec.canonical().find(";coarse_test=cone;full_resolution_depth=on;"), std::string::npos)
+      << spec.canonical();
   EXPECT_EQ(to_json(spec)["parameters"]["coarse_test"], "cone");
   EXPECT_EQ(to_json(spec)["parameters"]["full_resolution_depth"], "on");
 }
@@ -134,8 +135,8 @@ scene = "primitives"
 TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
   const StudyConfig config = parse_logged_study_config(kLegacyConfig, "events.jsonl (config_toml)", 2, &kScenes);
   EXPECT_EQ(config.levels.parameter, "fovea_radius_deg");
-  const auto test = std::get<FoveatedPyramidParameters>(
-      parameters_with(config.stimulus.test.method, {&config.stimulus.test.parameters, &config.stimulus.variants[0].parameters}));
+  const auto test = std::get<FoveatedPyramidParameters>(parameters_with(
+      config.stimulus.test.method, {&config.stimulus.test.parameters, &config.stimulus.variants[0].parameters}));
   EXPECT_EQ(test.outer_periphery_radius_deg, 40);
   EXPECT_EQ(test.combine, MaskCombine::product);
   EXPECT_TRUE(test.blur);
@@ -157,8 +158,10 @@ TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
     parse_study_config_text(without_combine, "old.toml", kScenes);
     FAIL() << "an old key was accepted in a config file";
   } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()).rfind("old.toml:17: stimulus.test.outer_periphery_deg: not a parameter of method "
-                                              "\"fipr\"", 0),
+    EXPECT_EQ(std::string(error.what())
+                  .rfind("old.toml:17: stimulus.test.outer_periphery_deg: not a parameter of method "
+                         "\"fipr\"",
+                         0),
               0u)
         << error.what();
   }
@@ -170,8 +173,10 @@ TEST(RenderMethod, ConfigsOfThePreviousSchemaReadOnlyFromLogs) {
 // mid-footprint-bilinear, so the stimuli of older logs keep theirs.
 TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
   std::string config_text = kLegacyConfig;
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"outer_periphery_deg = 40\ncombine = 2\n", ""}, {"blur = 1", "blur = \"on\""}, {"\"fovea_deg\"", "\"fovea_radius_deg\""}})
+  for (const auto& [from, to] :
+       std::vector<std::pair<std::string, std::string>>{{"outer_periphery_deg = 40\ncombine = 2\n", ""},
+                                                        {"blur = 1", "blur = \"on\""},
+                                                        {"\"fovea_deg\"", "\"fovea_radius_deg\""}})
     config_text.replace(config_text.find(from), from.size(), to);
   const auto test_of = [](const StudyConfig& config, const ParameterLayer* variant) {
     const ParameterLayer none;
@@ -207,8 +212,9 @@ TEST(RenderMethod, ADefaultChangedInASchemaIsTheLogsOwnDefault) {
                       "method = \"fipr\"\nperiphery_reconstruction = \"catmull-rom\"\n");
   EXPECT_EQ(test_of(parse_study_config_text(config_text, "x.toml", kScenes), nullptr).periphery_reconstruction,
             PeripheryReconstruction::catmull_rom);
-  EXPECT_EQ(test_of(parse_logged_study_config(config_text, "events.jsonl", 4, nullptr), nullptr).periphery_reconstruction,
-            PeripheryReconstruction::catmull_rom);
+  EXPECT_EQ(
+      test_of(parse_logged_study_config(config_text, "events.jsonl", 4, nullptr), nullptr).periphery_reconstruction,
+      PeripheryReconstruction::catmull_rom);
 
   StimulusSpec spec;
   spec.scene = "primitives";

@@ -1,8 +1,8 @@
-// Tests of analysis/psychometric: the psychometric functions, the binomial sampler of the
+// Tests of analysis/fitting: the psychometric functions, the binomial sampler of the
 // bootstrap, maximum-likelihood fits (recovery, an independent SciPy reference, edge cases) and the
 // parametric bootstrap (replay, coverage).
-#include "analysis/psychometric/binomial_sampler.h"
-#include "analysis/psychometric/psychometric_fit.h"
+#include "analysis/fitting/binomial_sampler.h"
+#include "analysis/fitting/psychometric_fit.h"
 #include "study/psychometric/psychometric_function.h"
 
 #include <gtest/gtest.h>
@@ -111,14 +111,14 @@ TEST(PsychometricFunction, ClosedForms) {
   EXPECT_NEAR(make_model(PsychometricShape::logistic, false, 0, 1.0, 2.0, 0).p_see(1.0 + x),
               1.0 / (1.0 + std::exp(2.0 * x)), 1e-15);
   // Phi(1) and Phi(-2), from tables.
-  EXPECT_NEAR(make_model(PsychometricShape::cumulative_normal, true, 0, 1.0, 2.0, 0).p_see(1.5),
-              0.8413447460685429, 1e-15);
-  EXPECT_NEAR(make_model(PsychometricShape::cumulative_normal, false, 0, 1.0, 2.0, 0).p_see(2.0),
-              0.0227501319481792, 1e-15);
+  EXPECT_NEAR(make_model(PsychometricShape::cumulative_normal, true, 0, 1.0, 2.0, 0).p_see(1.5), 0.8413447460685429,
+              1e-15);
+  EXPECT_NEAR(make_model(PsychometricShape::cumulative_normal, false, 0, 1.0, 2.0, 0).p_see(2.0), 0.0227501319481792,
+              1e-15);
   EXPECT_NEAR(make_model(PsychometricShape::weibull, true, 0, 2.0, 3.0, 0).p_see(4.0),
               1.0 - std::exp(-std::log(2.0) * 8.0), 1e-15);
-  EXPECT_NEAR(make_model(PsychometricShape::weibull, false, 0, 2.0, 3.0, 0).p_see(1.0),
-              std::exp(-std::log(2.0) / 8.0), 1e-15);
+  EXPECT_NEAR(make_model(PsychometricShape::weibull, false, 0, 2.0, 3.0, 0).p_see(1.0), std::exp(-std::log(2.0) / 8.0),
+              1e-15);
 }
 
 TEST(PsychometricFunction, StableInTheTails) {
@@ -137,8 +137,8 @@ TEST(PsychometricFunction, StableInTheTails) {
   EXPECT_EQ(make_model(PsychometricShape::weibull, true, 0.0, 1.0, 2.0, 0.0).p_see(0.0), 0.0);
   EXPECT_EQ(make_model(PsychometricShape::weibull, false, 0.0, 1.0, 2.0, 0.0).p_see(-3.0), 1.0);
   // A tiny p_see keeps its relative precision (no 1 - (1 - p) cancellation).
-  EXPECT_NEAR(make_model(PsychometricShape::logistic, true, 0.0, 0.0, 1.0, 0.0).p_see(-50.0) / std::exp(-50.0),
-              1.0, 1e-12);
+  EXPECT_NEAR(make_model(PsychometricShape::logistic, true, 0.0, 0.0, 1.0, 0.0).p_see(-50.0) / std::exp(-50.0), 1.0,
+              1e-12);
   EXPECT_NEAR(make_model(PsychometricShape::weibull, true, 0.0, 1.0, 1.0, 0.0).p_see(1e-20) / (std::log(2.0) * 1e-20),
               1.0, 1e-12);
 }
@@ -287,9 +287,9 @@ TEST(PsychometricFit, RecoversKnownModelsFromExpectedCounts) {
 }
 
 TEST(PsychometricFit, MatchesIndependentScipyReference) {
-  // Fixture made by tests/analysis/psychometric/make_scipy_reference.py (SciPy 1.10.1,
+  // Fixture made by tests/analysis/fitting/make_scipy_reference.py (SciPy 1.10.1,
   // NumPy 1.24.2, Python 3.11.2: see the file for the optimiser).
-  std::ifstream in(std::string(FOVLAB_SOURCE_DIR) + "/tests/analysis/psychometric/scipy_reference.json");
+  std::ifstream in(std::string(FOVLAB_SOURCE_DIR) + "/tests/analysis/fitting/scipy_reference.json");
   ASSERT_TRUE(in) << "missing fixture";
   const nlohmann::json reference = nlohmann::json::parse(in);
   ASSERT_EQ(reference.at("cases").size(), 3u);
@@ -297,7 +297,7 @@ TEST(PsychometricFit, MatchesIndependentScipyReference) {
     SCOPED_TRACE(c.at("name").get<std::string>());
     const std::string shape = c.at("shape");
     FitOptions options;
-    options.shape = shape == "logistic"   ? PsychometricShape::logistic
+    options.shape = shape == "logistic"  ? PsychometricShape::logistic
                     : shape == "weibull" ? PsychometricShape::weibull
                                          : PsychometricShape::cumulative_normal;
     options.rising = c.at("rising");
@@ -314,7 +314,8 @@ TEST(PsychometricFit, MatchesIndependentScipyReference) {
     EXPECT_NEAR(fit.log_likelihood, expected.at("log_likelihood").get<double>(), 1e-5);
     const double threshold = expected.at("threshold");
     EXPECT_NEAR(fit.model.parameters.threshold, threshold, 1e-3 * threshold);
-    EXPECT_NEAR(fit.model.parameters.slope, expected.at("slope").get<double>(), 2e-3 * expected.at("slope").get<double>());
+    EXPECT_NEAR(fit.model.parameters.slope, expected.at("slope").get<double>(),
+                2e-3 * expected.at("slope").get<double>());
     EXPECT_NEAR(fit.model.parameters.lapse, expected.at("lapse").get<double>(), 1e-4);
     EXPECT_NEAR(fit.deviance, 2.0 * (saturated_log_likelihood(data) - fit.log_likelihood), 1e-9);
     EXPECT_EQ(fit.degrees_of_freedom, 3);
@@ -347,14 +348,15 @@ TEST(PsychometricProfile, ContainsTheEstimateWhereTheBootstrapDoesNot) {
     EXPECT_GE(fit.threshold_interval.lower, 15.9);
     EXPECT_LE(fit.threshold_interval.upper, 32.1);
     EXPECT_EQ(fit.slope_interval.upper, std::numeric_limits<double>::infinity());
-    EXPECT_NE(fit.note.find("profile-likelihood interval of the slope is unbounded above"), std::string::npos) << fit.note;
+    EXPECT_NE(fit.note.find("profile-likelihood interval of the slope is unbounded above"), std::string::npos)
+        << fit.note;
   }
 }
 
 TEST(PsychometricProfile, EndsSitOnTheLikelihoodRatioCut) {
   // At each end of the interval, the best fit with the threshold held there (an independent grid
   // over slope and lapse, refined) is worse than the fit by chi2(0.95, 1) / 2 = 1.9207 in log L.
-  const std::vector<LevelCounts> data = {{0.5, 30, 2}, {1.0, 30, 4}, {1.5, 30, 9}, {2.0, 30, 12},
+  const std::vector<LevelCounts> data = {{0.5, 30, 2},  {1.0, 30, 4},  {1.5, 30, 9}, {2.0, 30, 12},
                                          {2.5, 30, 21}, {3.0, 30, 17}, {3.5, 30, 28}};
   FitOptions options;
   options.max_lapse = 0.06;
@@ -434,7 +436,8 @@ TEST(PsychometricFit, AllAtFloorOrCeiling) {
       // The fit reproduces the data: p_report near 0 (or 1 - lapse, with the lapse at 0) everywhere.
       for (double level : levels) EXPECT_NEAR(fit.model.p_report(level), ceiling ? 1.0 : 0.0, 1e-3);
       EXPECT_NEAR(fit.deviance, 0.0, 1e-3);
-      EXPECT_TRUE(std::isfinite(fit.bootstrap_threshold_interval.lower) && std::isfinite(fit.bootstrap_threshold_interval.upper));
+      EXPECT_TRUE(std::isfinite(fit.bootstrap_threshold_interval.lower) &&
+                  std::isfinite(fit.bootstrap_threshold_interval.upper));
     }
   }
 }
@@ -546,7 +549,8 @@ TEST(PsychometricBootstrap, ReplaysFromTheSeed) {
   EXPECT_EQ(a.bootstrap_samples + a.bootstrap_failures, 200);
   EXPECT_GE(a.bootstrap_samples, 190);
   for (const auto& [x, y] : {std::pair{a.bootstrap_threshold_interval, b.bootstrap_threshold_interval},
-                             std::pair{a.bootstrap_slope_interval, b.bootstrap_slope_interval}, std::pair{a.bootstrap_lapse_interval, b.bootstrap_lapse_interval}}) {
+                             std::pair{a.bootstrap_slope_interval, b.bootstrap_slope_interval},
+                             std::pair{a.bootstrap_lapse_interval, b.bootstrap_lapse_interval}}) {
     EXPECT_EQ(x.lower, y.lower);
     EXPECT_EQ(x.upper, y.upper);
   }
@@ -587,7 +591,7 @@ TEST(PsychometricBootstrap, ReplicatesFollowTheDocumentedRecipe) {
   // level in increasing level order from the fitted p_report, then an ML fit of its own. The
   // percentile intervals and the deviance p-value must agree with fit_psychometric's (up to the
   // optimiser's tolerance: the replicate fits here start from the grid, not from the ML fit).
-  const std::vector<LevelCounts> data = {{3.0, 30, 17}, {0.5, 30, 2}, {1.0, 30, 4}, {1.5, 30, 9},
+  const std::vector<LevelCounts> data = {{3.0, 30, 17}, {0.5, 30, 2},  {1.0, 30, 4}, {1.5, 30, 9},
                                          {2.5, 30, 21}, {2.0, 30, 12}, {3.5, 30, 28}};  // unsorted on purpose
   FitOptions options;
   options.max_lapse = 0.06;
@@ -604,7 +608,8 @@ TEST(PsychometricBootstrap, ReplicatesFollowTheDocumentedRecipe) {
   for (int b = 0; b < 60; ++b) {
     Pcg32 rng(derive_seed(options.seed, static_cast<uint64_t>(b)));
     std::vector<LevelCounts> replicate;
-    for (const LevelCounts& d : sorted) replicate.push_back({d.level, d.n, draw_binomial(d.n, fit.model.p_report(d.level), rng)});
+    for (const LevelCounts& d : sorted)
+      replicate.push_back({d.level, d.n, draw_binomial(d.n, fit.model.p_report(d.level), rng)});
     const PsychometricFit r = fit_psychometric(replicate, replicate_options);
     thresholds.push_back(r.model.parameters.threshold);
     slopes.push_back(r.model.parameters.slope);
@@ -625,8 +630,8 @@ TEST(PsychometricBootstrap, ReplicatesFollowTheDocumentedRecipe) {
 
 TEST(PsychometricBootstrap, DevianceFlagsAModelThatDoesNotFit) {
   // A non-monotonic data set no sigmoid can follow: the deviance is far above every replicate's.
-  const std::vector<LevelCounts> bad = {{1, 100, 5}, {2, 100, 90}, {3, 100, 10}, {4, 100, 95}, {5, 100, 50},
-                                        {6, 100, 99}};
+  const std::vector<LevelCounts> bad = {{1, 100, 5},  {2, 100, 90}, {3, 100, 10},
+                                        {4, 100, 95}, {5, 100, 50}, {6, 100, 99}};
   FitOptions options;
   options.bootstrap_samples = 100;
   const PsychometricFit fit = fit_psychometric(bad, options);

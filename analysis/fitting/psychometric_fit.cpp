@@ -1,4 +1,4 @@
-#include "analysis/psychometric/psychometric_fit.h"
+#include "analysis/fitting/psychometric_fit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 
 #include <boost/math/distributions/chi_squared.hpp>
 
-#include "analysis/psychometric/binomial_sampler.h"
-#include "analysis/psychometric/nelder_mead.h"
+#include "analysis/fitting/binomial_sampler.h"
+#include "analysis/fitting/nelder_mead.h"
 #include "study/psychometric/psychometric_detail.h"
 #include "core/number_text.h"
 #include "core/prng.h"
@@ -303,8 +303,7 @@ void validate(const std::vector<LevelCounts>& data, const FitOptions& options) {
     throw std::invalid_argument("fit_psychometric: guess must lie in [0, 1)");
   if (!(options.max_lapse >= 0.0 && options.max_lapse < 1.0 - options.guess))
     throw std::invalid_argument("fit_psychometric: max_lapse must lie in [0, 1 - guess)");
-  if (options.bootstrap_samples < 0)
-    throw std::invalid_argument("fit_psychometric: bootstrap_samples must be >= 0");
+  if (options.bootstrap_samples < 0) throw std::invalid_argument("fit_psychometric: bootstrap_samples must be >= 0");
   if (!(options.confidence > 0.0 && options.confidence < 1.0))
     throw std::invalid_argument("fit_psychometric: confidence must lie in (0, 1)");
   for (const LevelCounts& d : data) {
@@ -364,11 +363,13 @@ void add_profile_intervals(const Problem& problem, const Optimum& ml, double con
                               side + " (the data do not limit it)");
   };
   const std::optional<double> t_low = end(0, -1, 0.02), t_high = end(0, +1, 0.02);
-  fit.threshold_interval = {t_low ? threshold_at(*t_low) : (weibull ? 0.0 : -inf), t_high ? threshold_at(*t_high) : inf};
+  fit.threshold_interval = {t_low ? threshold_at(*t_low) : (weibull ? 0.0 : -inf),
+                            t_high ? threshold_at(*t_high) : inf};
   if (!t_low) unbounded("threshold", "below");
   if (!t_high) unbounded("threshold", "above");
   const std::optional<double> s_low = end(1, -1, 0.1), s_high = end(1, +1, 0.1);
-  fit.slope_interval = {s_low ? std::exp(*s_low) / problem.range : 0.0, s_high ? std::exp(*s_high) / problem.range : inf};
+  fit.slope_interval = {s_low ? std::exp(*s_low) / problem.range : 0.0,
+                        s_high ? std::exp(*s_high) / problem.range : inf};
   if (!s_high) unbounded("slope", "above");
   if (problem.dimensions == 3) {
     const std::optional<double> l_low = end(2, -1, 0.5), l_high = end(2, +1, 0.5);
@@ -456,8 +457,8 @@ PsychometricFit fit_psychometric(const std::vector<LevelCounts>& data, const Fit
       fit.bootstrap_threshold_interval = interval(thresholds, options.confidence);
       fit.bootstrap_slope_interval = interval(slopes, options.confidence);
       fit.bootstrap_lapse_interval = interval(lapses, options.confidence);
-      const auto at_least = std::count_if(deviances.begin(), deviances.end(),
-                                          [&](double d) { return d >= fit.deviance; });
+      const auto at_least =
+          std::count_if(deviances.begin(), deviances.end(), [&](double d) { return d >= fit.deviance; });
       fit.deviance_p_value = static_cast<double>(at_least) / static_cast<double>(deviances.size());
     }
     if (fit.bootstrap_failures > 0)

@@ -13,23 +13,23 @@ namespace fovlab::analysis {
 
 struct LevelCounts {
   double level = 0.0;
-  uint64_t n = 0;         // trials at this level (>= 1)
-  uint64_t k = 0;         // trials where a difference was reported (<= n)
+  uint64_t n = 0;  // trials at this level (>= 1)
+  uint64_t k = 0;  // trials where a difference was reported (<= n)
 };
 
 struct FitOptions {
   PsychometricShape shape = PsychometricShape::logistic;
   bool rising = true;
-  double guess = 0.0;             // fixed, in [0, 1)
-  double max_lapse = 0.1;         // lapse is fitted in [0, max_lapse]
-  int bootstrap_samples = 1000;   // 0: no bootstrap (intervals are NaN)
-  uint64_t seed = 0;              // bootstrap replicate b draws from Pcg32(derive_seed(seed, b))
-  double confidence = 0.95;       // of the profile-likelihood and the percentile intervals
+  double guess = 0.0;            // fixed, in [0, 1)
+  double max_lapse = 0.1;        // lapse is fitted in [0, max_lapse]
+  int bootstrap_samples = 1000;  // 0: no bootstrap (intervals are NaN)
+  uint64_t seed = 0;             // bootstrap replicate b draws from Pcg32(derive_seed(seed, b))
+  double confidence = 0.95;      // of the profile-likelihood and the percentile intervals
 };
 
 struct ParameterInterval {
-  double lower = 0.0;             // NaN: not computed (a bootstrap interval without a bootstrap)
-  double upper = 0.0;             // an end the data do not bound is infinite (see the fit's note)
+  double lower = 0.0;  // NaN: not computed (a bootstrap interval without a bootstrap)
+  double upper = 0.0;  // an end the data do not bound is infinite (see the fit's note)
 };
 
 struct PsychometricFit {
@@ -50,10 +50,10 @@ struct PsychometricFit {
   ParameterInterval bootstrap_threshold_interval;
   ParameterInterval bootstrap_slope_interval;
   ParameterInterval bootstrap_lapse_interval;
-  int bootstrap_samples = 0;      // replicates whose fit converged (used for the intervals)
-  int bootstrap_failures = 0;     // replicates whose fit did not converge
+  int bootstrap_samples = 0;   // replicates whose fit converged (used for the intervals)
+  int bootstrap_failures = 0;  // replicates whose fit did not converge
   bool converged = false;
-  std::string note;               // why a fit is unreliable ("all levels at ceiling", ...), or ""
+  std::string note;  // why a fit is unreliable ("all levels at ceiling", ...), or ""
 };
 
 // Throws std::invalid_argument for empty data, n == 0, k > n, non-finite levels, a Weibull with a

@@ -1,4 +1,4 @@
-#include "analysis/psychometric/binomial_sampler.h"
+#include "analysis/fitting/binomial_sampler.h"
 
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/policies/policy.hpp>
@@ -10,8 +10,8 @@ namespace fovlab::analysis {
 
 namespace {
 
-using QuantilePolicy = boost::math::policies::policy<
-    boost::math::policies::discrete_quantile<boost::math::policies::integer_round_up>>;
+using QuantilePolicy =
+    boost::math::policies::policy<boost::math::policies::discrete_quantile<boost::math::policies::integer_round_up>>;
 using BinomialDistribution = boost::math::binomial_distribution<double, QuantilePolicy>;
 
 constexpr uint64_t kBernoulliLimit = 64;

@@ -18,7 +18,7 @@ the inner maximum by Nelder-Mead on (log slope, lapse) from 4 x 3 starts polishe
 and then scipy.optimize.brentq on the crossing.
 
 Run with Debian 12's /usr/bin/python3 (SciPy 1.10.1, NumPy 1.24.2):
-    /usr/bin/python3 tests/analysis/psychometric/make_scipy_reference.py > tests/analysis/psychometric/scipy_reference.json
+    /usr/bin/python3 tests/analysis/fitting/make_scipy_reference.py > tests/analysis/fitting/scipy_reference.json
 """
 import json
 import sys
@@ -163,7 +163,7 @@ CASES = [
 
 def main():
     out = {
-        "generator": "tests/analysis/psychometric/make_scipy_reference.py",
+        "generator": "tests/analysis/fitting/make_scipy_reference.py",
         "python": sys.version.split()[0],
         "scipy": scipy.__version__,
         "numpy": np.__version__,

@@ -18,9 +18,9 @@ using Point = std::array<double, kMaxDimensions>;
 
 struct NelderMeadSettings {
   int dimensions = 3;
-  Point lower{};                  // box (inclusive)
+  Point lower{};  // box (inclusive)
   Point upper{};
-  Point initial_step{};           // edge lengths of the starting simplex
+  Point initial_step{};  // edge lengths of the starting simplex
   int max_iterations = 4000;
   // Converged when, over every vertex, the objective is within f_tolerance * (1 + |f_best|) of the
   // best and `spread(vertex, best)` <= x_tolerance: the simplex has shrunk onto a point.
@@ -38,8 +38,7 @@ struct NelderMeadResult {
 };
 
 template <typename Objective>
-NelderMeadResult nelder_mead(const Objective& objective, const Point& start,
-                             const NelderMeadSettings& settings) {
+NelderMeadResult nelder_mead(const Objective& objective, const Point& start, const NelderMeadSettings& settings) {
   const int d = settings.dimensions;
   const auto inside = [&](const Point& p) {
     for (int j = 0; j < d; ++j)
@@ -90,8 +89,8 @@ NelderMeadResult nelder_mead(const Objective& objective, const Point& start,
     }
     bool small = std::isfinite(f[0]);
     for (int i = 1; i <= d && small; ++i) {
-      small = f[i] - f[0] <= settings.f_tolerance * (1.0 + std::fabs(f[0])) &&
-              distance(x[i], x[0]) <= settings.x_tolerance;
+      small =
+          f[i] - f[0] <= settings.f_tolerance * (1.0 + std::fabs(f[0])) && distance(x[i], x[0]) <= settings.x_tolerance;
     }
     if (small || iteration >= settings.max_iterations) {
       result.x = x[0];
