@@ -9,7 +9,7 @@
 
 #include "metrics/image_metrics.h"
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 namespace {
 
 // Foveation model of Geisler & Perry 1998 as used by Lee, Pattichis, Bovik 2002, restated here so
@@ -149,4 +149,4 @@ TEST(Fpsnr, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics

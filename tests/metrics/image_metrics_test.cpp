@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace fovlab::analysis {
+namespace fovlab::metrics {
 namespace {
 
 // Constants of Wang et al. 2004 for data range L = 1, restated here so the
@@ -358,4 +358,4 @@ TEST(Ssim, RejectsImagesSmallerThanTheWindow) {
 }
 
 }  // namespace
-}  // namespace fovlab::analysis
+}  // namespace fovlab::metrics
