@@ -22,11 +22,6 @@ layout(std430, binding = 3) buffer Counters { uint counters[]; };          // [2
 layout(std430, binding = 4) writeonly buffer MaskedList { uint masked_list[]; };  // their pixel indices
 layout(std430, binding = 5) writeonly buffer RefreshList { uint refresh_list[]; };  // unmasked pixels due now
 
-const uint COMBINE_MAX = 0u;
-const uint COMBINE_FOVEA_OR_PRODUCT = 1u;
-const uint COMBINE_PRODUCT = 2u;
-const uint COMBINE_ACUITY = 3u;
-
 layout(push_constant) uniform MaskParamsBlock { MaskParams params; };
 
 // Whether the unmasked pixels under a mid pixel get a new colour this frame (the mid and

@@ -3,13 +3,7 @@
 // maps. foveation/sampling_map.{h,cpp} and foveation/rectangular_mapping.cpp are the references;
 // the equations are in docs/foveation.md ("Sampling models"). Needs eccentricity.glsl.
 
-const uint MODEL_RECTANGULAR = 0u;
-const uint MODEL_HYPERBOLIC = 1u;
-const uint MODEL_LINEAR = 2u;
-const uint MODEL_KERNEL_LOG_POLAR = 3u;
 const float TWO_PI = 6.28318530718;
-const uint FILTER_BILINEAR = 0u;
-const uint FILTER_LANCZOS2 = 1u;
 
 #include "shared/sampling_params.h"
 

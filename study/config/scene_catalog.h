@@ -1,7 +1,7 @@
 #pragma once
 // The scenes a config may name, by the kind of scene a method renders. The study library knows no
-// renderer: whoever parses a config passes the catalog in (protocols/stimuli/scene_catalog.h makes
-// the renderer's).
+// renderer: whoever parses a config passes the catalog in (renderer_scene_catalog() in
+// protocols/stimuli/stimulus_settings.h makes the renderer's).
 #include <string>
 #include <vector>
 

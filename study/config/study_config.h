@@ -256,7 +256,8 @@ constexpr int kMaxStudyConfigNesting = 32;
 // LINE is the line of the table that should hold it). The file must be a regular file of at most
 // kMaxStudyConfigBytes ("path: not a regular file (a directory): expected a study config (.toml)").
 // A UTF-8 byte-order mark at the start is accepted (and ignored), as by every reader of fovlab.
-// Scene names are checked against `scenes` (the renderer's: protocols/stimuli/scene_catalog.h).
+// Scene names are checked against `scenes` (the renderer's: renderer_scene_catalog(),
+// protocols/stimuli/stimulus_settings.h).
 StudyConfig parse_study_config_file(const std::string& path, const SceneCatalog& scenes);
 StudyConfig parse_study_config_text(const std::string& text, const std::string& path_for_messages,
                                     const SceneCatalog& scenes);

@@ -71,6 +71,20 @@ struct BlurParams {
   uvec2 size;
 };
 
+// MaskParams::combine: core/render_choices.h's MaskCombine.
+const uint COMBINE_MAX = 0u;
+const uint COMBINE_FOVEA_OR_PRODUCT = 1u;
+const uint COMBINE_PRODUCT = 2u;
+const uint COMBINE_ACUITY = 3u;
+
 FOVLAB_GPU_END
+
+#ifdef __cplusplus
+#include "core/render_choices.h"
+static_assert(fovlab::gpu::COMBINE_MAX == uint32_t(fovlab::MaskCombine::max) &&
+              fovlab::gpu::COMBINE_FOVEA_OR_PRODUCT == uint32_t(fovlab::MaskCombine::fovea_or_product) &&
+              fovlab::gpu::COMBINE_PRODUCT == uint32_t(fovlab::MaskCombine::product) &&
+              fovlab::gpu::COMBINE_ACUITY == uint32_t(fovlab::MaskCombine::acuity));
+#endif
 
 #endif

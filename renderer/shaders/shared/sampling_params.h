@@ -62,6 +62,25 @@ struct FrameReadParams {
   uint counter_index;  // counters[counter_index] counts the list
 };
 
+// SamplingParams::model: foveation/sampling_map.h's SamplingModel; resample_filter: ResampleFilter.
+const uint MODEL_RECTANGULAR = 0u;
+const uint MODEL_HYPERBOLIC = 1u;
+const uint MODEL_LINEAR = 2u;
+const uint MODEL_KERNEL_LOG_POLAR = 3u;
+const uint FILTER_BILINEAR = 0u;
+const uint FILTER_LANCZOS2 = 1u;
+
 FOVLAB_GPU_END
+
+#ifdef __cplusplus
+#include "core/render_choices.h"
+#include "foveation/sampling_map.h"
+static_assert(fovlab::gpu::MODEL_RECTANGULAR == uint32_t(fovlab::SamplingModel::rectangular) &&
+              fovlab::gpu::MODEL_HYPERBOLIC == uint32_t(fovlab::SamplingModel::hyperbolic) &&
+              fovlab::gpu::MODEL_LINEAR == uint32_t(fovlab::SamplingModel::linear) &&
+              fovlab::gpu::MODEL_KERNEL_LOG_POLAR == uint32_t(fovlab::SamplingModel::kernel_log_polar));
+static_assert(fovlab::gpu::FILTER_BILINEAR == uint32_t(fovlab::ResampleFilter::bilinear) &&
+              fovlab::gpu::FILTER_LANCZOS2 == uint32_t(fovlab::ResampleFilter::lanczos2));
+#endif
 
 #endif
