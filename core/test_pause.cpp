@@ -11,8 +11,6 @@ namespace fovlab {
 
 #if FOVLAB_TEST_HOOKS
 
-bool test_hooks_built() { return true; }
-
 void test_pause_point(std::string_view point) {
   const char* pause_at = std::getenv("FOVLAB_TEST_PAUSE_AT");
   if (pause_at && point == pause_at) ::raise(SIGSTOP);
@@ -37,7 +35,6 @@ std::optional<double> test_close_at_s() {
 
 #else
 
-bool test_hooks_built() { return false; }
 void test_pause_point(std::string_view) {}
 void test_pause_point(std::string_view, long) {}
 std::optional<double> test_close_at_s() { return std::nullopt; }

@@ -12,9 +12,6 @@
 
 namespace fovlab {
 
-// True in a build with the test hooks (a test that needs them skips without).
-bool test_hooks_built();
-
 void test_pause_point(std::string_view point);
 
 // The same at a counted point: FOVLAB_TEST_PAUSE_AT=trial_end:3 stops a run once its third trial is
