@@ -21,23 +21,6 @@ namespace {
 constexpr int kMinSsimSidePx = 11;  // SSIM's 11x11 window must fit in the frame
 
 template <typename T>
-std::string join(const std::vector<T>& values) {
-  std::ostringstream out;
-  for (size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
-  return out.str();
-}
-
-// As given: a merge rebuilds the sweep's cells from its command (exact_number_text reads back the same).
-std::string join_numbers(const std::vector<double>& values) {
-  std::string text;
-  for (size_t i = 0; i < values.size(); ++i) {
-    if (i) text += ',';
-    text += exact_number_text(values[i]);
-  }
-  return text;
-}
-
-template <typename T>
 void refuse_repeats(const std::vector<T>& values, const std::string& flag, const std::string& text) {
   for (size_t i = 0; i < values.size(); ++i) {
     if (std::find(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(i), values[i]) !=
@@ -49,7 +32,7 @@ void refuse_repeats(const std::vector<T>& values, const std::string& flag, const
 
 // --methods: each word read once into its method (bench/bench_method.h's table).
 std::vector<bench::BenchMethod> parse_methods(const std::vector<std::string>& names) {
-  const std::string text = join(names);
+  const std::string text = bench::comma_joined(names);
   const std::string expected =
       "a comma-separated list of gt, ipr, fipr, rmfr, hyperbolic, linear and kfr that includes gt (the reference)";
   std::vector<bench::BenchMethod> methods;
@@ -65,7 +48,7 @@ std::vector<bench::BenchMethod> parse_methods(const std::vector<std::string>& na
 }
 
 std::vector<int> parse_refreshes(const std::vector<std::string>& texts) {
-  const std::string text = join(texts);
+  const std::string text = bench::comma_joined(texts);
   const std::string expected = "periphery refresh periods from 1, 2 and 4 (frames), comma-separated";
   if (texts.empty()) fail_flag("--refresh", expected, text);
   std::vector<int> refreshes;
@@ -78,7 +61,7 @@ std::vector<int> parse_refreshes(const std::vector<std::string>& texts) {
 }
 
 std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
-  const std::string text = join(texts);
+  const std::string text = bench::comma_joined(texts);
   const std::string expected = "foveal eccentricities in degrees from 0 to 180, comma-separated";
   if (texts.empty()) fail_flag("--fovea-deg", expected, text);
   std::vector<double> degrees;
@@ -92,7 +75,7 @@ std::vector<double> parse_fovea_degs(const std::vector<std::string>& texts) {
 }
 
 std::vector<double> parse_focal_shares(const std::vector<std::string>& texts, const char* flag) {
-  const std::string text = join(texts);
+  const std::string text = bench::comma_joined(texts);
   const std::string expected = "shares of the screen from 0.001 to 1, comma-separated, none twice";
   std::vector<double> shares;
   for (const std::string& value : texts) {
@@ -106,7 +89,7 @@ std::vector<double> parse_focal_shares(const std::vector<std::string>& texts, co
 }
 
 std::vector<float> parse_times(const std::vector<std::string>& texts) {
-  const std::string text = join(texts);
+  const std::string text = bench::comma_joined(texts);
   const std::string expected = "scene times in seconds, finite, comma-separated, none twice";
   std::vector<float> times;
   for (const std::string& value : texts) {
@@ -202,7 +185,7 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
       if (std::find(models.begin(), models.end(), model) == models.end()) models.push_back(model);
     options.sampling_flags = all_sampling_flags_text(
         sampling, models,
-        "--fx " + join_numbers(options.focal_shares_x) + " --fy " + join_numbers(options.focal_shares_y));
+        "--fx " + exact_numbers_text(options.focal_shares_x) + " --fy " + exact_numbers_text(options.focal_shares_y));
   }
   options.scenes = flags.scenes;
   options.spps = flags.spps;

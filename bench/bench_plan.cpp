@@ -12,20 +12,6 @@ namespace fovlab::bench {
 
 namespace {
 
-template <typename T>
-std::string join(const std::vector<T>& values) {
-  std::ostringstream out;
-  for (size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
-  return out.str();
-}
-
-// As given: a merge rebuilds the sweep's cells from its command (exact_number_text reads back the same).
-std::string join_numbers(const std::vector<double>& values) {
-  std::string text;
-  for (size_t i = 0; i < values.size(); ++i) text += (i ? "," : "") + exact_number_text(values[i]);
-  return text;
-}
-
 // The sampling models of a plan, in order, each once (RMFR's several maps, a focal sweep, are one).
 std::vector<SamplingModel> sampling_models(const BenchPlan& plan) {
   std::vector<SamplingModel> models;
@@ -160,13 +146,14 @@ SweepLayout sweep_layout(const BenchPlan& plan) {
 
 std::string sweep_command(const BenchPlan& plan) {
   const BenchOptions& o = plan.options;
-  std::string times;
-  for (size_t i = 0; i < plan.times_s.size(); ++i) times += (i ? "," : "") + exact_number_text(plan.times_s[i]);
+  // As given: a merge rebuilds the sweep's cells from its command (exact_number_text reads back the same).
+  const std::string times = exact_numbers_text(plan.times_s);
   const std::string time_text = o.times_s.empty() ? time_flag(o.settings.time_s) : "--times " + times;
-  std::string text = command_text(o, join(o.scenes), join(o.spps), methods_text(plan, plan.ipr, plan.fipr), time_text);
+  std::string text =
+      command_text(o, comma_joined(o.scenes), comma_joined(o.spps), methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!o.sampling.empty()) text += " " + o.sampling_flags;
   if (!plan.fipr) return text + " " + o.display_flags;
-  return text + " --refresh " + join(o.refreshes) + " --fovea-deg " + join_numbers(o.fovea_degs) + " " +
+  return text + " --refresh " + comma_joined(o.refreshes) + " --fovea-deg " + exact_numbers_text(o.fovea_degs) + " " +
          o.foveation_flags;
 }
 

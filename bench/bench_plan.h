@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,14 @@
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
 namespace fovlab::bench {
+
+// Values as `out << value` writes them, comma-separated: a list flag's text ("primitives,columns").
+template <typename T>
+std::string comma_joined(const std::vector<T>& values) {
+  std::ostringstream out;
+  for (size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
+  return out.str();
+}
 
 // One FIPR variant of the sweep: periphery refresh x fovea.
 struct FiprVariant {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace fovlab {
 
@@ -28,6 +29,17 @@ inline std::string exact_number_text(float value) {
   char text[32];
   const auto result = std::to_chars(text, text + sizeof text, value, std::chars_format::general);
   return std::string(text, result.ptr);
+}
+
+// Numbers as exact_number_text writes them, comma-separated: a list flag as given ("--fx 0.05,0.55").
+template <typename Number>  // double or float
+std::string exact_numbers_text(const std::vector<Number>& values) {
+  std::string text;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i) text += ',';
+    text += exact_number_text(values[i]);
+  }
+  return text;
 }
 
 // An interval as "[lower, upper]", an unbounded end as "(-∞" or "∞)" (UTF-8); "" when either end is

@@ -25,15 +25,6 @@ namespace fovlab {
 
 namespace {
 
-using gpu::BlurParams;
-using gpu::EdgeParams;
-using gpu::FiprReconstructParams;
-using gpu::ListParams;
-using gpu::MaskParams;
-using gpu::MidListParams;
-using gpu::MinFilterParams;
-using gpu::TraceParams;
-
 constexpr int kMaxFrameSide = 16384;
 
 }  // namespace

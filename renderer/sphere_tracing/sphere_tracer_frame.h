@@ -18,6 +18,16 @@
 
 namespace fovlab {
 
+// The passes' push constants (renderer/shaders/shared/), named as both sphere_tracer files use them.
+using gpu::BlurParams;
+using gpu::EdgeParams;
+using gpu::FiprReconstructParams;
+using gpu::ListParams;
+using gpu::MaskParams;
+using gpu::MidListParams;
+using gpu::MinFilterParams;
+using gpu::TraceParams;
+
 // Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
 enum Counter : uint32_t {
   capped,

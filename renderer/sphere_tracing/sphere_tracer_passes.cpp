@@ -18,15 +18,6 @@ namespace fovlab {
 
 namespace {
 
-using gpu::BlurParams;
-using gpu::EdgeParams;
-using gpu::FiprReconstructParams;
-using gpu::ListParams;
-using gpu::MaskParams;
-using gpu::MidListParams;
-using gpu::MinFilterParams;
-using gpu::TraceParams;
-
 constexpr double kGazeLimitPx = 1e7;  // gaze further off the frame is clamped (its eccentricities are ~90 degrees)
 
 // The mask pass's constants: display, gaze and acuity model in the shader's float terms.
