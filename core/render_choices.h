@@ -4,7 +4,11 @@
 // stimulus's choice reaches the renderer as it is, never cast from a mirror by order. A choice's
 // value is the index of its name in the method's descriptor (study/stimulus/render_method.cpp), so
 // the enumerators' order is that of the names the configs and logs carry.
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
+#include <optional>
+#include <string_view>
 
 namespace fovlab {
 
@@ -58,5 +62,30 @@ inline constexpr NearMisses kNearMisses[] = {NearMisses::ignore, NearMisses::pro
 // (4x4 samples, sinc(x) sinc(x/2) per axis, the weights of the shaded samples normalised), sharper
 // but with ringing. The linear model is filled by pull-push either way. Names: "bilinear", "lanczos".
 enum class ResampleFilter : uint32_t { bilinear = 0, lanczos2 = 1 };
+
+// Ye et al. 2022's sampling models: where a frame's samples fall around the gaze (the maps are
+// foveation/sampling_map.h's). A model is one entry here and its name below; the study's methods
+// pair it with each source of samples (study/stimulus/method_parameters.h: "rmfr" on the sphere
+// tracer, "pt-rmfr" on path-traced frames), bench measures it under its name, and the GPU's MODEL_*
+// constant (renderer/shaders/shared/sampling_params.h) is checked against it.
+enum class SamplingModel : uint32_t {
+  rectangular = 0,       // RMFR (Ye et al. 2022, section 3)
+  hyperbolic = 1,        // three layers of falling resolution (Guenter et al.)
+  linear = 2,            // linear fall-off of the sampling probability (Weier et al.)
+  kernel_log_polar = 3,  // KFR (Meng et al.)
+};
+// Each model's name, in the enum's order.
+inline constexpr const char* kSamplingModelNames[] = {"rmfr", "hyperbolic", "linear", "kfr"};
+inline constexpr size_t kSamplingModelCount = std::size(kSamplingModelNames);
+
+inline const char* sampling_model_name(SamplingModel model) {
+  const auto index = static_cast<size_t>(model);
+  return index < kSamplingModelCount ? kSamplingModelNames[index] : "?";
+}
+inline std::optional<SamplingModel> parse_sampling_model(std::string_view name) {
+  for (size_t index = 0; index < kSamplingModelCount; ++index)
+    if (name == kSamplingModelNames[index]) return static_cast<SamplingModel>(index);
+  return std::nullopt;
+}
 
 }  // namespace fovlab

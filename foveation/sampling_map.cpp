@@ -125,29 +125,8 @@ double mean_over_pixels(const SamplingMap& map) {
 
 }  // namespace
 
-const char* sampling_model_name(SamplingModel model) {
-  switch (model) {
-    case SamplingModel::rectangular:
-      return "rmfr";
-    case SamplingModel::hyperbolic:
-      return "hyperbolic";
-    case SamplingModel::linear:
-      return "linear";
-    case SamplingModel::kernel_log_polar:
-      return "kfr";
-  }
-  return "rmfr";
-}
-
 const char* resample_filter_name(ResampleFilter filter) {
   return filter == ResampleFilter::lanczos2 ? "lanczos" : "bilinear";
-}
-
-std::optional<SamplingModel> parse_sampling_model(const std::string& name) {
-  for (SamplingModel model :
-       {SamplingModel::rectangular, SamplingModel::hyperbolic, SamplingModel::linear, SamplingModel::kernel_log_polar})
-    if (name == sampling_model_name(model)) return model;
-  return std::nullopt;
 }
 
 // --- KFR -----------------------------------------------------------------------------------------

@@ -25,10 +25,7 @@
 
 namespace fovlab {
 
-enum class SamplingModel : uint32_t { rectangular = 0, hyperbolic = 1, linear = 2, kernel_log_polar = 3 };
-
-const char* sampling_model_name(SamplingModel model);  // "rmfr", "hyperbolic", "linear", "kfr"
-std::optional<SamplingModel> parse_sampling_model(const std::string& name);
+// SamplingModel, its names and sampling_model_name are core/render_choices.h's.
 
 inline constexpr double kKfrMinAlpha = 0.25;
 inline constexpr double kKfrMaxAlpha = 8.0;

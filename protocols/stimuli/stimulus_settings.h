@@ -40,13 +40,6 @@ VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec);
 // Whether an fvolume spec smooths over time (false for volume).
 bool temporal_smoothing(const StimulusSpec& spec);
 
-// Whether a method is one of Ye et al. 2022's sampling models, on the sphere tracer (rmfr, hyperbolic,
-// linear, kfr) or on pre-rendered path-traced frames (pt-rmfr, pt-hyperbolic, pt-linear, pt-kfr).
-inline bool is_sampling_model(RenderMethod method) {
-  size_t source = 0, model = 0;
-  return sampled_method_parts(method, source, model);
-}
-
 // The sphere-tracer settings of a gt, ipr, fipr or sampling-model spec (frame time of the given
 // frame). FIPR: the display comes from the spec's display parameters and pixel size; the gaze is left
 // non-finite (no gaze: every pixel traced in full) and frame_index 0, for the caller

@@ -16,23 +16,53 @@
 
 namespace fovlab {
 
-enum class RenderMethod {
+// How a method makes its frames. Ye et al. 2022's sampling models are one kind a source of samples
+// (in SampleSource's order), the model itself RenderMethod::model: a new model is a SamplingModel
+// (core/render_choices.h), never a new kind.
+enum class MethodKind : uint8_t {
   ground_truth,
   inverted_pyramid,
   foveated_pyramid,
   path_traced,
   foveated_path_traced,
-  rectangular_mapping,  // Ye et al. 2022's sampling models (foveation/sampling_map.h), on the sphere tracer
-  hyperbolic_layers,
-  linear_falloff,
-  kernel_log_polar,
-  path_traced_rectangular_mapping,  // the same four on pre-rendered path-traced frames
-  path_traced_hyperbolic_layers,
-  path_traced_linear_falloff,
-  path_traced_kernel_log_polar,
+  sphere_traced_sampling,   // a sampling model on the sphere tracer (rmfr, hyperbolic, linear, kfr)
+  path_traced_sampling,     // the same on pre-rendered path-traced frames (pt-rmfr, ...)
   volume_raycast,           // Bruder et al. 2019's volume raycaster: every pixel traced
   foveated_volume_raycast,  // the same, rays at the Voronoi mask's sites around the gaze
 };
+inline constexpr MethodKind kSamplingKinds[] = {MethodKind::sphere_traced_sampling, MethodKind::path_traced_sampling};
+
+// A rendering method: its kind and, for the sampling kinds, its model. The methods that are not
+// sampling models are named constants (RenderMethod::foveated_pyramid); a sampling model is
+// sampled_method(source, model).
+struct RenderMethod {
+  MethodKind kind = MethodKind::ground_truth;
+  SamplingModel model = SamplingModel::rectangular;  // the sampling kinds' own; rectangular for the others
+  auto operator<=>(const RenderMethod&) const = default;
+
+  static const RenderMethod ground_truth, inverted_pyramid, foveated_pyramid, path_traced, foveated_path_traced,
+      volume_raycast, foveated_volume_raycast;
+};
+inline constexpr RenderMethod RenderMethod::ground_truth{MethodKind::ground_truth};
+inline constexpr RenderMethod RenderMethod::inverted_pyramid{MethodKind::inverted_pyramid};
+inline constexpr RenderMethod RenderMethod::foveated_pyramid{MethodKind::foveated_pyramid};
+inline constexpr RenderMethod RenderMethod::path_traced{MethodKind::path_traced};
+inline constexpr RenderMethod RenderMethod::foveated_path_traced{MethodKind::foveated_path_traced};
+inline constexpr RenderMethod RenderMethod::volume_raycast{MethodKind::volume_raycast};
+inline constexpr RenderMethod RenderMethod::foveated_volume_raycast{MethodKind::foveated_volume_raycast};
+
+// Whether a method is one of the sampling models, on either source.
+constexpr bool is_sampling_model(RenderMethod method) {
+  return method.kind == MethodKind::sphere_traced_sampling || method.kind == MethodKind::path_traced_sampling;
+}
+// A sampling model's source: its index in SampleSource (0 the sphere tracer, 1 path-traced frames).
+constexpr size_t sample_source_index(RenderMethod method) {
+  return method.kind == MethodKind::path_traced_sampling ? 1 : 0;
+}
+// The method of a model on a source (SampleSource's index).
+constexpr RenderMethod sampled_method(size_t source, SamplingModel model) {
+  return RenderMethod{kSamplingKinds[source], model};
+}
 
 // The choices (MaskCombine, CoarseTest, PeripheryReconstruction, NearMisses, ResampleFilter) are
 // core/render_choices.h's, the renderer's own: they reach it as they are.
@@ -111,7 +141,7 @@ struct FoveatedPathTracedParameters {
 // A sampling-model stimulus is a source of samples and a model of where they fall (Ye et al. 2022,
 // section 5.1; foveation/sampling_map.h): only the model's samples are made, and the frame is made
 // from them per gaze sample. Each method rmfr, hyperbolic, linear, kfr, pt-rmfr, ... is one pair
-// (kSampledMethods). The source's parameters come first in the descriptor, then the model's, under
+// (sampled_method). The source's parameters come first in the descriptor, then the model's, under
 // the same keys on either source.
 
 // The sphere tracer on the SDF scene: every sample traced from the camera.
@@ -129,8 +159,9 @@ struct PathTracedSamples {
   uint32_t path_seed;
 };
 
-// In the order of kSampledMethods' rows.
+// In the order of kSamplingKinds.
 using SampleSource = std::variant<SphereTracedSamples, PathTracedSamples>;
+static_assert(std::variant_size_v<SampleSource> == std::size(kSamplingKinds));
 
 // RMFR: a buffer sigma times smaller per axis, each axis warped towards the gaze.
 struct RectangularMappingModel {
@@ -172,31 +203,15 @@ struct KernelLogPolarModel {
   ResampleFilter resample;
 };
 
-// In the order of kSampledMethods' columns.
+// In SamplingModel's order (core/render_choices.h).
 using SamplingModelParameters =
     std::variant<RectangularMappingModel, HyperbolicLayersModel, LinearFalloffModel, KernelLogPolarModel>;
+static_assert(std::variant_size_v<SamplingModelParameters> == kSamplingModelCount);
 
 struct SampledParameters {
   SampleSource source;
   SamplingModelParameters model;
 };
-
-// The method of each (source, model) pair: kSampledMethods[source][model].
-inline constexpr RenderMethod
-    kSampledMethods[std::variant_size_v<SampleSource>][std::variant_size_v<SamplingModelParameters>] = {
-        {RenderMethod::rectangular_mapping, RenderMethod::hyperbolic_layers, RenderMethod::linear_falloff,
-         RenderMethod::kernel_log_polar},
-        {RenderMethod::path_traced_rectangular_mapping, RenderMethod::path_traced_hyperbolic_layers,
-         RenderMethod::path_traced_linear_falloff, RenderMethod::path_traced_kernel_log_polar},
-};
-
-// The source and model indices of a sampling-model method; false for the other methods.
-inline bool sampled_method_parts(RenderMethod method, size_t& source, size_t& model) {
-  for (source = 0; source < std::size(kSampledMethods); ++source)
-    for (model = 0; model < std::size(kSampledMethods[source]); ++model)
-      if (kSampledMethods[source][model] == method) return true;
-  return false;
-}
 
 // Bruder et al. 2019's volume raycaster (docs/volume-rendering.md) on a volume scene, every pixel traced.
 struct VolumeRaycastParameters {
@@ -222,13 +237,13 @@ using MethodParameters = std::variant<GroundTruthParameters, InvertedPyramidPara
 
 inline RenderMethod method_of(const MethodParameters& parameters) {
   if (const auto* sampled = std::get_if<SampledParameters>(&parameters))
-    return kSampledMethods[sampled->source.index()][sampled->model.index()];
-  constexpr RenderMethod kByAlternative[] = {RenderMethod::ground_truth,         RenderMethod::inverted_pyramid,
-                                             RenderMethod::foveated_pyramid,     RenderMethod::path_traced,
-                                             RenderMethod::foveated_path_traced, RenderMethod::rectangular_mapping,
-                                             RenderMethod::volume_raycast,       RenderMethod::foveated_volume_raycast};
+    return sampled_method(sampled->source.index(), static_cast<SamplingModel>(sampled->model.index()));
+  constexpr MethodKind kByAlternative[] = {MethodKind::ground_truth,           MethodKind::inverted_pyramid,
+                                           MethodKind::foveated_pyramid,       MethodKind::path_traced,
+                                           MethodKind::foveated_path_traced,   MethodKind::sphere_traced_sampling,
+                                           MethodKind::volume_raycast,         MethodKind::foveated_volume_raycast};
   static_assert(std::size(kByAlternative) == std::variant_size_v<MethodParameters>);
-  return kByAlternative[parameters.index()];
+  return RenderMethod{kByAlternative[parameters.index()]};
 }
 
 // The display of a foveated method's parameters; nullptr for the others.

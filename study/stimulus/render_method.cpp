@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
@@ -411,44 +412,47 @@ MethodDescriptor kernel_log_polar(MethodDescriptor method) {
   return method;
 }
 
-constexpr std::string_view kRmfrSummary = "rectangular mapping-based foveated rendering (Ye et al. 2022, section 3)";
-constexpr std::string_view kHyperbolicSummary =
-    "three layers of falling resolution (Guenter et al.; Ye et al. 2022, section 5.1)";
-constexpr std::string_view kLinearSummary =
-    "linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)";
-constexpr std::string_view kKfrSummary =
-    "kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)";
-
-// The sampling models, in the order of SamplingModelParameters: the config's names and summaries on
-// each source (kSampledMethods' rows) and the model's parameters.
+// The sampling models, in SamplingModel's order: each one's summary and parameters.
 struct SamplingModelDescriptor {
-  std::string_view names[std::variant_size_v<SampleSource>];
-  std::string_view summaries[std::variant_size_v<SampleSource>];
+  std::string_view summary;
   MethodDescriptor (*add_parameters)(MethodDescriptor);
 };
-const SamplingModelDescriptor kSamplingModels[] = {
-    {{"rmfr", "pt-rmfr"}, {kRmfrSummary, "rmfr on pre-rendered path-traced frames (emulated)"}, &rectangular_mapping},
-    {{"hyperbolic", "pt-hyperbolic"},
-     {kHyperbolicSummary, "hyperbolic on pre-rendered path-traced frames (emulated)"},
-     &hyperbolic_layers},
-    {{"linear", "pt-linear"},
-     {kLinearSummary, "linear on pre-rendered path-traced frames (emulated)"},
-     &linear_falloff},
-    {{"kfr", "pt-kfr"}, {kKfrSummary, "kfr on pre-rendered path-traced frames (emulated)"}, &kernel_log_polar},
+const SamplingModelDescriptor kSamplingModelDescriptors[] = {
+    {"rectangular mapping-based foveated rendering (Ye et al. 2022, section 3)", &rectangular_mapping},
+    {"three layers of falling resolution (Guenter et al.; Ye et al. 2022, section 5.1)", &hyperbolic_layers},
+    {"linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)", &linear_falloff},
+    {"kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)", &kernel_log_polar},
 };
-static_assert(std::size(kSamplingModels) == std::variant_size_v<SamplingModelParameters>);
+static_assert(std::size(kSamplingModelDescriptors) == kSamplingModelCount);
 
-// Every (source, model) pair, in RenderMethod's order (source-major).
+// The sources, in SampleSource's order: how a model's name and summary read on it, and its parameters.
+struct SampleSourceDescriptor {
+  std::string_view name_prefix;        // before the model's name: "rmfr", "pt-rmfr"
+  std::string_view own_summary_after;  // empty: the model's own summary; else its name and this
+  MethodDescriptor (*make)(RenderMethod, std::string_view, std::string_view);
+};
+const SampleSourceDescriptor kSampleSourceDescriptors[] = {
+    {"", "", &sphere_traced_samples},
+    {"pt-", " on pre-rendered path-traced frames (emulated)", &path_traced_samples},
+};
+static_assert(std::size(kSampleSourceDescriptors) == std::variant_size_v<SampleSource>);
+
+// Every (source, model) pair, source-major.
 std::vector<MethodDescriptor> sampling_models() {
-  using Source = MethodDescriptor (*)(RenderMethod, std::string_view, std::string_view);
-  const Source sources[] = {&sphere_traced_samples, &path_traced_samples};
-  static_assert(std::size(sources) == std::variant_size_v<SampleSource>);
+  // The names and summaries made here live as long as the descriptors (a deque keeps their places).
+  static std::deque<std::string> texts;
   std::vector<MethodDescriptor> list;
-  for (size_t source = 0; source < std::size(sources); ++source)
-    for (size_t model = 0; model < std::size(kSamplingModels); ++model) {
-      const SamplingModelDescriptor& entry = kSamplingModels[model];
-      list.push_back(entry.add_parameters(
-          sources[source](kSampledMethods[source][model], entry.names[source], entry.summaries[source])));
+  for (size_t source = 0; source < std::size(kSampleSourceDescriptors); ++source)
+    for (size_t model = 0; model < kSamplingModelCount; ++model) {
+      const SampleSourceDescriptor& on = kSampleSourceDescriptors[source];
+      const SamplingModelDescriptor& entry = kSamplingModelDescriptors[model];
+      const std::string_view name = texts.emplace_back(std::string(on.name_prefix) + kSamplingModelNames[model]);
+      const std::string_view summary =
+          on.own_summary_after.empty()
+              ? entry.summary
+              : std::string_view(texts.emplace_back(kSamplingModelNames[model] + std::string(on.own_summary_after)));
+      list.push_back(
+          entry.add_parameters(on.make(sampled_method(source, static_cast<SamplingModel>(model)), name, summary)));
     }
   return list;
 }
@@ -505,9 +509,6 @@ const std::vector<MethodDescriptor>& methods() {
     for (MethodDescriptor& model : sampling_models()) list.push_back(std::move(model));
     list.push_back(volume_raycast());
     list.push_back(foveated_volume_raycast());
-    for (size_t i = 0; i < list.size(); ++i)  // describe() indexes by RenderMethod
-      if (list[i].method != static_cast<RenderMethod>(i))
-        throw std::logic_error("methods(): out of RenderMethod's order");
     return list;
   }();
   return all;
@@ -523,7 +524,11 @@ std::string join(const std::vector<std::string>& items) {
 
 std::span<const MethodDescriptor> all_methods() { return methods(); }
 
-const MethodDescriptor& describe(RenderMethod method) { return methods().at(static_cast<size_t>(method)); }
+const MethodDescriptor& describe(RenderMethod method) {
+  for (const MethodDescriptor& descriptor : methods())
+    if (descriptor.method == method) return descriptor;
+  throw std::logic_error("describe: a method without a descriptor");
+}
 
 std::optional<RenderMethod> find_method(std::string_view name) {
   for (const MethodDescriptor& method : methods())
@@ -622,36 +627,33 @@ Variant alternative_at(size_t index) {
 
 MethodParameters default_parameters(RenderMethod method) {
   MethodParameters parameters;
-  size_t source = 0, model = 0;
-  if (sampled_method_parts(method, source, model)) {
-    parameters =
-        SampledParameters{alternative_at<SampleSource>(source), alternative_at<SamplingModelParameters>(model)};
-  } else {
-    switch (method) {
-      case RenderMethod::ground_truth:
-        parameters = GroundTruthParameters{};
-        break;
-      case RenderMethod::inverted_pyramid:
-        parameters = InvertedPyramidParameters{};
-        break;
-      case RenderMethod::foveated_pyramid:
-        parameters = FoveatedPyramidParameters{};
-        break;
-      case RenderMethod::path_traced:
-        parameters = PathTracedParameters{};
-        break;
-      case RenderMethod::foveated_path_traced:
-        parameters = FoveatedPathTracedParameters{};
-        break;
-      case RenderMethod::volume_raycast:
-        parameters = VolumeRaycastParameters{};
-        break;
-      case RenderMethod::foveated_volume_raycast:
-        parameters = FoveatedVolumeRaycastParameters{};
-        break;
-      default:
-        throw std::logic_error("default_parameters: a sampling model not in kSampledMethods");
-    }
+  switch (method.kind) {
+    case MethodKind::ground_truth:
+      parameters = GroundTruthParameters{};
+      break;
+    case MethodKind::inverted_pyramid:
+      parameters = InvertedPyramidParameters{};
+      break;
+    case MethodKind::foveated_pyramid:
+      parameters = FoveatedPyramidParameters{};
+      break;
+    case MethodKind::path_traced:
+      parameters = PathTracedParameters{};
+      break;
+    case MethodKind::foveated_path_traced:
+      parameters = FoveatedPathTracedParameters{};
+      break;
+    case MethodKind::sphere_traced_sampling:
+    case MethodKind::path_traced_sampling:
+      parameters = SampledParameters{alternative_at<SampleSource>(sample_source_index(method)),
+                                     alternative_at<SamplingModelParameters>(static_cast<size_t>(method.model))};
+      break;
+    case MethodKind::volume_raycast:
+      parameters = VolumeRaycastParameters{};
+      break;
+    case MethodKind::foveated_volume_raycast:
+      parameters = FoveatedVolumeRaycastParameters{};
+      break;
   }
   for (const ParameterDescriptor& parameter : describe(method).parameters)
     parameter.write(parameters, parameter.default_value);

@@ -72,9 +72,14 @@ struct MethodDescriptor {
   std::vector<ParameterDescriptor> parameters;
 };
 
-// Every method, in the order of RenderMethod.
+// Every method: gt, ipr, fipr, pt, fpt, the sampling models on the sphere tracer then on path-traced
+// frames (each in SamplingModel's order), volume, fvolume (docs/config.md's order).
 std::span<const MethodDescriptor> all_methods();
 const MethodDescriptor& describe(RenderMethod method);
+// A method's place in all_methods().
+inline size_t method_index(RenderMethod method) {
+  return static_cast<size_t>(&describe(method) - all_methods().data());
+}
 // The method of a config's `method` name; nullopt when no method has it.
 std::optional<RenderMethod> find_method(std::string_view name);
 // "gt, ipr, fipr, pt, fpt": for messages.

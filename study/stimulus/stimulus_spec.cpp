@@ -24,7 +24,7 @@ const std::vector<const ParameterDescriptor*>& sorted_parameters(RenderMethod me
     }
     return all;
   }();
-  return by_method.at(static_cast<size_t>(method));
+  return by_method.at(method_index(method));
 }
 
 bool left_out(const ParameterDescriptor& parameter, const MethodParameters& parameters) {

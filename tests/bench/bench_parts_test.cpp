@@ -254,7 +254,7 @@ TEST(BenchParts, ACellsMethodAndVariantAreThePlannedOnes) {
   SweepLayout variants = layout;
   variants.unit_cells = {{BenchMethod::gt},
                          {BenchMethod::fipr, 2, 7.5, std::nullopt, std::nullopt},
-                         {BenchMethod::rmfr, std::nullopt, std::nullopt, 0.3, 0.55}};
+                         {bench_method_of(SamplingModel::rectangular), std::nullopt, std::nullopt, 0.3, 0.55}};
   variants.focal_shares_x = {0.3};
   variants.focal_shares_y = {0.55};
   const nlohmann::json variant_whole = whole_sweep(variants);

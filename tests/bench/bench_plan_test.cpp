@@ -14,12 +14,13 @@ TEST(BenchMethod, EveryNameReadsBackAsItsMethod) {
   for (const BenchMethodName& entry : bench_method_names()) {
     EXPECT_EQ(parse_bench_method(entry.name), entry.method) << entry.name;
     EXPECT_STREQ(bench_method_name(entry.method), entry.name);
-    if (entry.sampling_model) {
-      EXPECT_STREQ(sampling_model_name(*entry.sampling_model), entry.name);
-      EXPECT_EQ(bench_method_of(*entry.sampling_model), entry.method);
+    if (const std::optional<SamplingModel> model = sampling_model_of(entry.method)) {
+      EXPECT_STREQ(sampling_model_name(*model), entry.name);
+      EXPECT_EQ(bench_method_of(*model), entry.method);
     }
   }
-  EXPECT_EQ(bench_method_names().size(), 7u);
+  EXPECT_EQ(bench_method_names().size(), 3 + kSamplingModelCount);  // gt, ipr, fipr and each model
+  EXPECT_EQ(parse_bench_method("kfr"), bench_method_of(SamplingModel::kernel_log_polar));
   EXPECT_FALSE(parse_bench_method("rtx"));
   EXPECT_FALSE(parse_bench_method("GT"));
 }

@@ -54,7 +54,7 @@ StudyData pilot_study(std::vector<VariantConfig> variants = grid_variants()) {
   data.levels = kSigma;
   data.higher_is_better = false;
   data.reference_method = RenderMethod::ground_truth;
-  data.test_method = RenderMethod::rectangular_mapping;
+  data.test_method = sampled_method(0, SamplingModel::rectangular);
   data.variants = std::move(variants);
   return data;
 }
@@ -110,7 +110,7 @@ AnalysisOptions quick_options() {
 
 TEST(RatingGrid, FindsTheTwoParametersOfTheVariants) {
   const std::optional<ParameterGrid> grid =
-      find_parameter_grid(RenderMethod::rectangular_mapping, "sigma", grid_variants());
+      find_parameter_grid(sampled_method(0, SamplingModel::rectangular), "sigma", grid_variants());
   ASSERT_TRUE(grid);
   EXPECT_EQ(grid->x_key, "focal_share_x");
   EXPECT_EQ(grid->y_key, "focal_share_y");
@@ -216,7 +216,7 @@ TEST(RatingGrid, EachParticipantCountsOnceAndOnlyRatingsOfIncludedParticipantsCo
 
 TEST(RatingGrid, SkippedWhenTheVariantsFormNoGrid) {
   const auto grid_of = [](const std::vector<VariantConfig>& variants,
-                          RenderMethod method = RenderMethod::rectangular_mapping,
+                          RenderMethod method = sampled_method(0, SamplingModel::rectangular),
                           const std::string& level_parameter = "sigma") {
     return find_parameter_grid(method, level_parameter, variants);
   };
@@ -246,14 +246,14 @@ TEST(RatingGrid, SkippedWhenTheVariantsFormNoGrid) {
   uneven[2].parameters["max_steps"] = 64.0;
   EXPECT_FALSE(grid_of(uneven));
   // The levels' parameter is one of the two.
-  EXPECT_FALSE(grid_of(full, RenderMethod::rectangular_mapping, "focal_share_y"));
+  EXPECT_FALSE(grid_of(full, sampled_method(0, SamplingModel::rectangular), "focal_share_y"));
   // A choice parameter is no numeric axis (hyperbolic: equalise off/on x sigma).
   std::vector<VariantConfig> choice;
   for (double equalise : {0.0, 1.0})
     for (double sigma : {2.0, 2.6}) choice.push_back({"v", {{"equalise", equalise}, {"sigma", sigma}}});
-  EXPECT_FALSE(grid_of(choice, RenderMethod::hyperbolic_layers, ""));
+  EXPECT_FALSE(grid_of(choice, sampled_method(0, SamplingModel::hyperbolic), ""));
   // A key the test method does not have.
-  EXPECT_FALSE(grid_of(full, RenderMethod::hyperbolic_layers));
+  EXPECT_FALSE(grid_of(full, sampled_method(0, SamplingModel::hyperbolic)));
 
   // Through the analysis: no grid, and no rating_grid.csv nor heat map in the report.
   StudyData data = pilot_study(one_axis);
@@ -417,7 +417,7 @@ scene = "primitives"
   }
   const StudyData data = load_study({path});
   ASSERT_EQ(data.participants.size(), 1u) << (data.left_out.empty() ? "" : data.left_out[0].reason);
-  EXPECT_EQ(data.test_method, RenderMethod::rectangular_mapping);
+  EXPECT_EQ(data.test_method, sampled_method(0, SamplingModel::rectangular));
   ASSERT_EQ(data.variants.size(), 4u);
   EXPECT_DOUBLE_EQ(data.variants[2].parameters.at("focal_share_x"), 0.5);
   const std::optional<RatingGrid> grid = rating_grid(data);
@@ -480,8 +480,8 @@ TEST(PreferenceTable, IsOneSidedWhateverTheAlternativeAndCountsTheReference) {
   data.study = "rmfr_2afc_linear";
   data.protocol = ProtocolKind::two_afc;
   data.question = TwoAfcQuestion::better;
-  data.reference_method = RenderMethod::rectangular_mapping;
-  data.test_method = RenderMethod::linear_falloff;
+  data.reference_method = sampled_method(0, SamplingModel::rectangular);
+  data.test_method = sampled_method(0, SamplingModel::linear);
   ParticipantData participant;
   participant.participant = "P001";
   // 72 trials on one scene, 25 won by the test (so 47 by the reference), order alternating.

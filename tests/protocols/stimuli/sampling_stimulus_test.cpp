@@ -32,8 +32,8 @@ StimulusSpec spec_of(RenderMethod method) {
 // study/ may not include foveation/, so the descriptors repeat the models' ranges and defaults.
 TEST(SamplingStimulus, DescriptorsAgreeWithTheModels) {
   const SamplingSettings defaults;
-  for (RenderMethod method : {RenderMethod::rectangular_mapping, RenderMethod::kernel_log_polar,
-                              RenderMethod::hyperbolic_layers, RenderMethod::linear_falloff}) {
+  for (size_t index = 0; index < kSamplingModelCount; ++index) {
+    const RenderMethod method = sampled_method(0, static_cast<SamplingModel>(index));
     const ParameterDescriptor& sigma = parameter_named(method, "sigma");
     EXPECT_EQ(sigma.min_value, kRmfrMinSigma);
     EXPECT_EQ(sigma.max_value, kRmfrMaxSigma);
@@ -41,48 +41,42 @@ TEST(SamplingStimulus, DescriptorsAgreeWithTheModels) {
     EXPECT_TRUE(is_sampling_model(method));
     EXPECT_TRUE(describe(method).depends_on_gaze);
   }
-  const RenderMethod rmfr = RenderMethod::rectangular_mapping;
+  const RenderMethod rmfr = sampled_method(0, SamplingModel::rectangular);
   EXPECT_EQ(parameter_named(rmfr, "focal_share_x").min_value, kRmfrMinFocalShare);
   EXPECT_EQ(parameter_named(rmfr, "focal_share_x").max_value, kRmfrMaxFocalShare);
   EXPECT_EQ(parameter_named(rmfr, "focal_share_x").default_value, defaults.focal_share_x);
   EXPECT_EQ(parameter_named(rmfr, "focal_share_y").default_value, defaults.focal_share_y);
-  const RenderMethod kfr = RenderMethod::kernel_log_polar;
+  const RenderMethod kfr = sampled_method(0, SamplingModel::kernel_log_polar);
   EXPECT_EQ(parameter_named(kfr, "alpha").min_value, kKfrMinAlpha);
   EXPECT_EQ(parameter_named(kfr, "alpha").max_value, kKfrMaxAlpha);
   EXPECT_EQ(parameter_named(kfr, "alpha").default_value, defaults.alpha);
-  const RenderMethod layers = RenderMethod::hyperbolic_layers;
+  const RenderMethod layers = sampled_method(0, SamplingModel::hyperbolic);
   EXPECT_EQ(parameter_named(layers, "inner_radius_deg").default_value, defaults.inner_radius_deg);
   EXPECT_EQ(parameter_named(layers, "outer_radius_deg").default_value, defaults.outer_radius_deg);
   EXPECT_EQ(parameter_named(layers, "middle_pixel_size_px").default_value, defaults.middle_pixel_size_px);
   EXPECT_EQ(parameter_named(layers, "outer_pixel_size_px").default_value, defaults.outer_pixel_size_px);
   EXPECT_EQ(parameter_named(layers, "blend_band_deg").default_value, defaults.blend_band_deg);
-  EXPECT_EQ(parameter_named(RenderMethod::linear_falloff, "min_probability").default_value, defaults.min_probability);
+  EXPECT_EQ(parameter_named(sampled_method(0, SamplingModel::linear), "min_probability").default_value, defaults.min_probability);
   for (RenderMethod method : {rmfr, kfr, layers}) {
     const ParameterDescriptor& resample = parameter_named(method, "resample");
     ASSERT_EQ(resample.choices.size(), 2u);
     EXPECT_EQ(resample.choices[0], resample_filter_name(ResampleFilter::bilinear));
     EXPECT_EQ(resample.choices[1], resample_filter_name(ResampleFilter::lanczos2));
   }
-  EXPECT_EQ(find_parameter(describe(RenderMethod::linear_falloff), "resample"), nullptr);  // pull-push
+  EXPECT_EQ(find_parameter(describe(sampled_method(0, SamplingModel::linear)), "resample"), nullptr);  // pull-push
   EXPECT_TRUE(describe(layers).needs_display);
-  EXPECT_TRUE(describe(RenderMethod::linear_falloff).needs_display);
+  EXPECT_TRUE(describe(sampled_method(0, SamplingModel::linear)).needs_display);
   EXPECT_FALSE(describe(rmfr).needs_display);
 }
 
 TEST(SamplingStimulus, SpecBecomesTheMapOfEachGazeSample) {
-  const struct {
-    RenderMethod method;
-    SamplingModel model;
-  } cases[] = {{RenderMethod::rectangular_mapping, SamplingModel::rectangular},
-               {RenderMethod::kernel_log_polar, SamplingModel::kernel_log_polar},
-               {RenderMethod::hyperbolic_layers, SamplingModel::hyperbolic},
-               {RenderMethod::linear_falloff, SamplingModel::linear}};
-  for (const auto& c : cases) {
-    const StimulusSpec spec = spec_of(c.method);
+  for (size_t index = 0; index < kSamplingModelCount; ++index) {
+    const auto model = static_cast<SamplingModel>(index);
+    const StimulusSpec spec = spec_of(sampled_method(0, model));
     const SphereTraceSettings settings = sphere_trace_settings(spec, 0);
     ASSERT_EQ(settings.method, TraceMethod::sampling_model) << spec.method_name();
     ASSERT_TRUE(settings.sampling.has_value());
-    EXPECT_EQ(model_of(*settings.sampling), c.model);
+    EXPECT_EQ(model_of(*settings.sampling), model);
     EXPECT_NO_THROW(validate(settings)) << spec.method_name();
     EXPECT_EQ(settings.sampling_filter, ResampleFilter::bilinear);
     // Without a gaze the map is the centre's; with one it follows it.
@@ -97,13 +91,11 @@ TEST(SamplingStimulus, SpecBecomesTheMapOfEachGazeSample) {
 // the model parameters of their sphere-traced twins (same keys, ranges, defaults, choices), and the
 // same values make the same map for every gaze.
 TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
-  const struct {
-    RenderMethod sphere_traced, path_traced;
-  } twins[] = {{RenderMethod::rectangular_mapping, RenderMethod::path_traced_rectangular_mapping},
-               {RenderMethod::hyperbolic_layers, RenderMethod::path_traced_hyperbolic_layers},
-               {RenderMethod::linear_falloff, RenderMethod::path_traced_linear_falloff},
-               {RenderMethod::kernel_log_polar, RenderMethod::path_traced_kernel_log_polar}};
-  for (const auto& twin : twins) {
+  for (size_t index = 0; index < kSamplingModelCount; ++index) {
+    const auto model = static_cast<SamplingModel>(index);
+    const struct {
+      RenderMethod sphere_traced, path_traced;
+    } twin = {sampled_method(0, model), sampled_method(1, model)};
     const MethodDescriptor& traced = describe(twin.sphere_traced);
     const MethodDescriptor& path = describe(twin.path_traced);
     EXPECT_EQ(path.name, "pt-" + std::string(traced.name));
@@ -146,7 +138,7 @@ TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
     }
   }
   // The path-traced models have no sphere-tracer settings; their frames are the pt sequence's.
-  const StimulusSpec spec = spec_of(RenderMethod::path_traced_kernel_log_polar);
+  const StimulusSpec spec = spec_of(sampled_method(1, SamplingModel::kernel_log_polar));
   EXPECT_THROW(sphere_trace_settings(spec, 0), std::logic_error);
   const PathTracedFrames frames = path_traced_frames(spec);
   ASSERT_EQ(frames.sequences.size(), 1u);
@@ -154,13 +146,13 @@ TEST(SamplingStimulus, PathTracedModelsMirrorTheirSphereTracedTwins) {
 }
 
 TEST(SamplingStimulus, ResampleChoiceReachesTheRenderer) {
-  StimulusSpec spec = spec_of(RenderMethod::kernel_log_polar);
+  StimulusSpec spec = spec_of(sampled_method(0, SamplingModel::kernel_log_polar));
   std::get<KernelLogPolarModel>(std::get<SampledParameters>(spec.parameters).model).resample = ResampleFilter::lanczos2;
   EXPECT_EQ(sphere_trace_settings(spec, 0).sampling_filter, ResampleFilter::lanczos2);
 }
 
 TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
-  StimulusSpec spec = spec_of(RenderMethod::linear_falloff);
+  StimulusSpec spec = spec_of(sampled_method(0, SamplingModel::linear));
   auto& linear = std::get<LinearFalloffModel>(std::get<SampledParameters>(spec.parameters).model);
   linear.equalise = true;
   linear.sigma = 1.05;  // this small display is mostly within 20 degrees: only a small sigma is reachable
@@ -169,7 +161,7 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   // no gaze can make it unsolvable mid-session).
   const double centre_p_min = std::get<LinearFalloff>(sampling_map(spec, 48, 27)).min_probability;
   EXPECT_EQ(std::get<LinearFalloff>(sampling_map(spec, 0, 0)).min_probability, centre_p_min);
-  StimulusSpec layers_spec = spec_of(RenderMethod::hyperbolic_layers);
+  StimulusSpec layers_spec = spec_of(sampled_method(0, SamplingModel::hyperbolic));
   auto& layers = std::get<HyperbolicLayersModel>(std::get<SampledParameters>(layers_spec.parameters).model);
   layers.equalise = true;
   layers.inner_radius_deg = 4;  // this small display lies within 20 degrees: smaller zones
@@ -180,7 +172,7 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   EXPECT_EQ(std::get<HyperbolicLayers>(sampling_map(layers_spec, 96, 0)).layers[2].pixel_size_px, centre_s3);
   linear.sigma = 8.0;  // the full-resolution zone alone is denser than 1/64
   EXPECT_THROW(sampling_map(spec, 48, 27), InputError);
-  StimulusSpec no_display = spec_of(RenderMethod::hyperbolic_layers);
+  StimulusSpec no_display = spec_of(sampled_method(0, SamplingModel::hyperbolic));
   *display_of(no_display.parameters) = StimulusDisplay{};
   EXPECT_THROW(sampling_map(no_display, 48, 27), InputError);
 }

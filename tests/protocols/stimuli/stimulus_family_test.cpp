@@ -28,9 +28,9 @@ TEST_F(StimulusFamilyTest, EveryMethodHasExactlyOneFamily) {
   }
   // The families as docs/architecture.md names them.
   EXPECT_EQ(stimulus_family(RenderMethod::foveated_pyramid), StimulusFamily::sphere_traced);
-  EXPECT_EQ(stimulus_family(RenderMethod::kernel_log_polar), StimulusFamily::sphere_traced);
+  EXPECT_EQ(stimulus_family(sampled_method(0, SamplingModel::kernel_log_polar)), StimulusFamily::sphere_traced);
   EXPECT_EQ(stimulus_family(RenderMethod::foveated_path_traced), StimulusFamily::path_traced);
-  EXPECT_EQ(stimulus_family(RenderMethod::path_traced_linear_falloff), StimulusFamily::path_traced);
+  EXPECT_EQ(stimulus_family(sampled_method(1, SamplingModel::linear)), StimulusFamily::path_traced);
   EXPECT_EQ(stimulus_family(RenderMethod::foveated_volume_raycast), StimulusFamily::volume);
 }
 

@@ -21,6 +21,27 @@ namespace {
 
 const SceneCatalog kScenes{{"primitives"}, {"courtyard"}, ".obj", false};
 
+// A sampling model is a SamplingModel on each source: one entry in core/render_choices.h makes
+// both of its methods, named after it, each in its place in all_methods().
+TEST(RenderMethod, EverySamplingModelIsAMethodOnEachSource) {
+  size_t sampling_methods = 0;
+  for (size_t index = 0; index < all_methods().size(); ++index) {
+    const MethodDescriptor& method = all_methods()[index];
+    EXPECT_EQ(method_index(method.method), index) << method.name;
+    sampling_methods += is_sampling_model(method.method);
+  }
+  EXPECT_EQ(sampling_methods, 2 * kSamplingModelCount);
+  for (size_t model = 0; model < kSamplingModelCount; ++model) {
+    const auto sampling_model = static_cast<SamplingModel>(model);
+    const std::string name = sampling_model_name(sampling_model);
+    EXPECT_EQ(find_method(name), sampled_method(0, sampling_model)) << name;
+    EXPECT_EQ(find_method("pt-" + name), sampled_method(1, sampling_model)) << name;
+    EXPECT_EQ(describe(sampled_method(0, sampling_model)).scene_kind, SceneKind::signed_distance) << name;
+    EXPECT_EQ(describe(sampled_method(1, sampling_model)).scene_kind, SceneKind::path_traced) << name;
+    EXPECT_NE(sampled_method(0, sampling_model), sampled_method(1, sampling_model));
+  }
+}
+
 TEST(RenderMethod, EveryParameterReadsBackWhatItWrote) {
   for (const MethodDescriptor& method : all_methods()) {
     SCOPED_TRACE(std::string(method.name));
