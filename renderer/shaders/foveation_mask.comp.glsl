@@ -11,6 +11,7 @@
 #include "eccentricity.glsl"
 #include "lowbias32.glsl"
 #include "shared/fipr_params.h"
+#include "shared/sphere_trace_params.h"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -18,7 +19,7 @@ layout(std430, binding = 0) readonly buffer Edges { uint edges[]; };       // lo
 layout(std430, binding = 1) writeonly buffer Mask { uint mask[]; };        // full resolution, 0 or 1
 // Per mid pixel: masked children (bits 0-3) | children (bits 4-7) | due for a refresh (bit 8).
 layout(std430, binding = 2) writeonly buffer MidFlags { uint mid_flags[]; };
-layout(std430, binding = 3) buffer Counters { uint counters[]; };          // [2]: masked pixels
+layout(std430, binding = 3) buffer Counters { uint counters[]; };          // the sphere tracer's (COUNTER_*)
 layout(std430, binding = 4) writeonly buffer MaskedList { uint masked_list[]; };  // their pixel indices
 layout(std430, binding = 5) writeonly buffer RefreshList { uint refresh_list[]; };  // unmasked pixels due now
 
@@ -93,11 +94,11 @@ void main() {
   }
   mid_flags[mid.y * params.mid_size.x + mid.x] = masked | (children << 4) | (due_now ? MID_FLAG_DUE : 0u);
   if (masked > 0u) {
-    uint first = atomicAdd(counters[2], masked);
+    uint first = atomicAdd(counters[COUNTER_MASKED_PIXELS], masked);
     for (uint i = 0u; i < masked; ++i) masked_list[first + i] = masked_indices[i];
   }
   if (due > 0u) {
-    uint first = atomicAdd(counters[6], due);
+    uint first = atomicAdd(counters[COUNTER_REFRESH_LIST_PIXELS], due);
     for (uint i = 0u; i < due; ++i) refresh_list[first + i] = due_indices[i];
   }
 }

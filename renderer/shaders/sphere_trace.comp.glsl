@@ -39,16 +39,7 @@ layout(std430, binding = 0) readonly buffer StartDepth { float start_depth[]; };
 layout(std430, binding = 1) writeonly buffer LevelDepth { float level_depth[]; };
 layout(std430, binding = 2) writeonly buffer LevelSteps { uint level_steps[]; };
 layout(std430, binding = 3) writeonly buffer LevelColour { vec4 level_colour[]; };
-layout(std430, binding = 4) buffer TraceCounters {
-  uint capped_rays;
-  uint restarted_rays;
-  uint masked_pixels;       // written by the mask pass
-  uint mid_traced_pixels;
-  uint mid_shaded_pixels;
-  uint refreshed_pixels;    // unmasked pixels given a new colour this frame
-  uint refresh_list_pixels; // written by the mask pass when the periphery is traced
-  uint mid_list_pixels;     // written by the mid list pass (fipr_mid_list.comp.glsl)
-};
+layout(std430, binding = 4) buffer TraceCounters { uint counters[COUNTER_COUNT]; };  // COUNTER_*
 layout(std430, binding = 5) readonly buffer FoveationMask { uint mask_values[]; };  // FIPR: a pixel list
 // FIPR with FLAG_NEAR_MISS (fovlab_near_miss_depth): each depth level writes where its ray passed a
 // surface (near_depth; NO_NEAR_MISS where none), read by the level above (parent_near_depth); the mid
@@ -154,7 +145,7 @@ void fovlab_refine_hit(Ray ray, inout TraceResult result, uint step_cap) {
 // meets earlier) shows as a negative distance at the first step; the ray then restarts where it
 // enters the bounds. That first evaluation doubles as the first step of the march.
 // step_cap: params.max_steps, or FIPR's budget for peripheral pixels; count_capped: whether a ray
-// stopped by it counts in capped_rays (not FIPR's peripheral rays: stopping early is their purpose).
+// stopped by it counts in COUNTER_CAPPED_RAYS (not FIPR's peripheral rays: stopping early is their purpose).
 // near_per_unit_t > 0 (FIPR's depth levels, FLAG_NEAR_MISS): the radius per unit t of a cone around
 // the ray, the coarse pixel's; a step whose distance is below it has a surface within the cone, and a
 // later step clear of it again means the ray passed that surface without hitting it (a wire between
@@ -188,7 +179,7 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
       if (sample_.x < 0.0) {
         t = interval.x;
         result.t_clear = t;
-        atomicAdd(restarted_rays, 1u);
+        atomicAdd(counters[COUNTER_RESTARTED_RAYS], 1u);
         continue;
       }
     }
@@ -220,7 +211,7 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
   vec2 final_sample = scene_map(ray.origin + t * ray.direction);
   result.distance = final_sample.x;
   result.material_id = final_sample.y;
-  if (count_capped) atomicAdd(capped_rays, 1u);
+  if (count_capped) atomicAdd(counters[COUNTER_CAPPED_RAYS], 1u);
   return result;
 }
 
@@ -265,7 +256,7 @@ TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, flo
       check_start = false;
       if (sample_.x < 0.0) {
         t = interval.x;
-        atomicAdd(restarted_rays, 1u);
+        atomicAdd(counters[COUNTER_RESTARTED_RAYS], 1u);
         continue;
       }
     }
@@ -281,7 +272,7 @@ TraceResult fovlab_cone_trace(Ray ray, float t_start, float cone_per_unit_t, flo
   }
   result.t = t;
   result.outcome = OUTCOME_CAPPED;
-  atomicAdd(capped_rays, 1u);
+  atomicAdd(counters[COUNTER_CAPPED_RAYS], 1u);
   return result;
 }
 
@@ -393,7 +384,7 @@ uint fovlab_promote_children(uint index) {
     }
   }
   if (count == 0u) return 0u;
-  uint first = atomicAdd(masked_pixels, count);
+  uint first = atomicAdd(counters[COUNTER_MASKED_PIXELS], count);
   for (uint i = 0u; i < count; ++i) promoted_list[first + i] = children[i] | fovlab_promoted_entry;
   return count;
 }
@@ -408,7 +399,7 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
   float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
   TraceResult result = fovlab_depth_trace(ray, t_start, pixel_angle_rad, scale);
   level_depth[index] = fovlab_depth_to_pass_on(result);
-  atomicAdd(mid_traced_pixels, 1u);
+  atomicAdd(counters[COUNTER_MID_TRACED_PIXELS], 1u);
   uint promoted = 0u;
   uint probe_steps = 0u;
   if (need_shade) {
@@ -436,9 +427,9 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
     fovlab_refine_hit(ray, result, params.max_steps);
     // Alpha stamps the frame (+1; 0: never shaded), so the reconstruction can tell stale taps.
     level_colour[index] = vec4(fovlab_shade(ray, result, epsilon_per_unit_t), float(params.frame_index + 1u));
-    atomicAdd(mid_shaded_pixels, 1u);
+    atomicAdd(counters[COUNTER_MID_SHADED_PIXELS], 1u);
   }
-  if (refresh_children) atomicAdd(refreshed_pixels, unmasked_children - promoted);
+  if (refresh_children) atomicAdd(counters[COUNTER_REFRESHED_PIXELS], unmasked_children - promoted);
   level_steps[index] = result.steps + probe_steps;
 }
 
@@ -476,7 +467,7 @@ void main() {
   uint index;
   uint list_slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
   if ((params.flags & FLAG_SAMPLE_LIST) != 0u) {
-    if (list_slot >= masked_pixels) return;
+    if (list_slot >= counters[COUNTER_MASKED_PIXELS]) return;
     uvec4 entry = uvec4(mask_values[4u * list_slot], mask_values[4u * list_slot + 1u], mask_values[4u * list_slot + 2u],
                         mask_values[4u * list_slot + 3u]);
     fovlab_shade_samples(entry.w, 0.0, uintBitsToFloat(entry.xy), uintBitsToFloat(entry.z));
@@ -484,9 +475,9 @@ void main() {
   }
   uint mid_entry = 0u;
   if ((params.flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP | FLAG_FOVEATED_MID)) != 0u) {
-    uint list_length = (params.flags & FLAG_MASKED_LIST) != 0u   ? masked_pixels
-                       : (params.flags & FLAG_FOVEATED_TOP) != 0u ? refresh_list_pixels
-                                                                  : mid_list_pixels;
+    uint list_length = (params.flags & FLAG_MASKED_LIST) != 0u   ? counters[COUNTER_MASKED_PIXELS]
+                       : (params.flags & FLAG_FOVEATED_TOP) != 0u ? counters[COUNTER_REFRESH_LIST_PIXELS]
+                                                                  : counters[COUNTER_MID_LIST_PIXELS];
     if (list_slot >= list_length) return;
     mid_entry = mask_values[list_slot];
     index = mid_entry & fovlab_mid_entry_index_mask;  // (the pixel lists hold bare indices, under 2^28)

@@ -322,18 +322,18 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   SphereTraceResult result;
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
-  const std::array<uint32_t, counter_count> counter_values = frame.read_outputs(context_, on_device, result);
+  const CounterValues counter_values = frame.read_outputs(context_, on_device, result);
   if (foveated) f.read_fipr_outputs(counter_values, result);
   f.read_level_stats(counter_values, result);
   return result;
 }
 
-void SphereTracer::FrameRecording::read_fipr_outputs(const std::array<uint32_t, counter_count>& counters,
-                                                     SphereTraceResult& result) const {
+void SphereTracer::FrameRecording::read_fipr_outputs(const CounterValues& counters, SphereTraceResult& result) const {
   const uint64_t frame_pixels = uint64_t(settings.width) * uint64_t(settings.height);
-  result.foveation.masked_pixels = counters[masked];
-  result.foveation.refreshed_pixels = counters[refreshed];
-  result.foveation.kept_pixels = frame_pixels - counters[masked] - counters[refreshed];
+  result.foveation.masked_pixels = counters[gpu::COUNTER_MASKED_PIXELS];
+  result.foveation.refreshed_pixels = counters[gpu::COUNTER_REFRESHED_PIXELS];
+  result.foveation.kept_pixels =
+      frame_pixels - counters[gpu::COUNTER_MASKED_PIXELS] - counters[gpu::COUNTER_REFRESHED_PIXELS];
   if (settings.outputs != TraceOutputs::all) return;
   frame.mask_readback.invalidate();
   const auto* mask = static_cast<const uint32_t*>(frame.mask_readback.mapped());
@@ -343,8 +343,7 @@ void SphereTracer::FrameRecording::read_fipr_outputs(const std::array<uint32_t, 
 
 // Every level pixel's steps are shared equally among the full-resolution pixels it covers, so the
 // per-pixel image sums to total_steps.
-void SphereTracer::FrameRecording::read_level_stats(const std::array<uint32_t, counter_count>& counters,
-                                                    SphereTraceResult& result) const {
+void SphereTracer::FrameRecording::read_level_stats(const CounterValues& counters, SphereTraceResult& result) const {
   const FoveationSettings& fov = settings.foveation;
   if (settings.outputs == TraceOutputs::all) result.steps_per_pixel = Image(settings.width, settings.height, 1);
   for (int i = 0; i < level_count; ++i) {
@@ -357,11 +356,12 @@ void SphereTracer::FrameRecording::read_level_stats(const std::array<uint32_t, c
     stats.shaded_pixels = top ? level_pixels : 0;
     if (foveated && top) {  // the masked pixels, and the periphery's refresh list when it is traced
       stats.traced_pixels = stats.shaded_pixels =
-          counters[masked] + (fov.periphery_steps > 0 ? counters[refresh_listed] : 0u);
+          counters[gpu::COUNTER_MASKED_PIXELS] +
+          (fov.periphery_steps > 0 ? counters[gpu::COUNTER_REFRESH_LIST_PIXELS] : 0u);
     }
     if (foveated && i == mid_index) {
-      stats.traced_pixels = counters[mid_traced];
-      stats.shaded_pixels = counters[mid_shaded];
+      stats.traced_pixels = counters[gpu::COUNTER_MID_TRACED_PIXELS];
+      stats.shaded_pixels = counters[gpu::COUNTER_MID_SHADED_PIXELS];
     }
     if (settings.outputs != TraceOutputs::all) {
       result.levels.push_back(stats);
@@ -405,7 +405,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   vkCmdFillBuffer(cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  sampling.record_positions(cmd, timer, frame.counters.handle(), masked);
+  sampling.record_positions(cmd, timer, frame.counters.handle(), gpu::COUNTER_MASKED_PIXELS);
 
   TraceParams params{};
   params.level_size[0] = static_cast<uint32_t>(settings.width);
@@ -444,8 +444,8 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   SphereTraceResult result;
   result.passes = timer.results();
   for (const vk::PassTime& pass : result.passes) result.gpu_ms += pass.gpu_ms;
-  const std::array<uint32_t, counter_count> counter_values = frame.read_outputs(context_, on_device, result);
-  result.shaded_samples = counter_values[masked];
+  const CounterValues counter_values = frame.read_outputs(context_, on_device, result);
+  result.shaded_samples = counter_values[gpu::COUNTER_MASKED_PIXELS];
 
   PyramidLevelStats stats;
   stats.width = settings.width;
@@ -458,7 +458,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
     // Each sample's steps and count go to the pixel that holds its position.
     result.steps_per_pixel = Image(settings.width, settings.height, 1);
     result.mask = Image(settings.width, settings.height, 1);
-    for (const ListedSample& sample : sampling.listed_samples(counter_values[masked])) {
+    for (const ListedSample& sample : sampling.listed_samples(counter_values[gpu::COUNTER_MASKED_PIXELS])) {
       const int x = int(std::floor(sample.x_px)), y = int(std::floor(sample.y_px));
       if (x < 0 || y < 0 || x >= settings.width || y >= settings.height) continue;  // a tap just off the screen
       result.steps_per_pixel.at(x, y, 0) += float(entry_steps[sample.entry]);

@@ -28,18 +28,8 @@ using gpu::MidListParams;
 using gpu::MinFilterParams;
 using gpu::TraceParams;
 
-// Indices into the counters buffer (TraceCounters in sphere_trace.comp.glsl).
-enum Counter : uint32_t {
-  capped,
-  restarted,
-  masked,
-  mid_traced,
-  mid_shaded,
-  refreshed,
-  refresh_listed,
-  mid_listed,
-  counter_count
-};
+// The counters buffer read back: one word per gpu::COUNTER_* (sphere_trace_params.h).
+using CounterValues = std::array<uint32_t, gpu::COUNTER_COUNT>;
 
 struct LevelBuffers {
   PyramidLevelStats stats;    // size and scale; steps are counted per render
@@ -93,7 +83,7 @@ struct SphereTracer::FrameBuffers {
   vk::Buffer edges;  // low level: 0 or 1
   vk::Buffer mask;   // full resolution: 0 or 1
   vk::Buffer mask_readback;
-  vk::Buffer masked_list;        // full-resolution pixel indices of the masked pixels (the first counters[masked])
+  vk::Buffer masked_list;        // full-resolution pixel indices of the masked pixels (COUNTER_MASKED_PIXELS of them)
   vk::Buffer refresh_list;       // and of the unmasked pixels due for a refresh, when the periphery is traced
   vk::Buffer list_dispatch;      // workgroup counts of the top level's passes over the two lists
   vk::Buffer mid_list;           // mid level: the pixels traced (fipr_mid_list.comp.glsl's entries)
@@ -129,8 +119,8 @@ struct SphereTracer::FrameBuffers {
     colour = vk::Buffer(context, colour_bytes, vk::MemoryUse::device_local);
     colour_readback = vk::Buffer(context, colour_bytes, vk::MemoryUse::host_readback);
     display_srgb8 = vk::Buffer(context, VkDeviceSize(width) * VkDeviceSize(height) * 4, vk::MemoryUse::device_local);
-    counters = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::device_local);
-    counters_readback = vk::Buffer(context, counter_count * sizeof(uint32_t), vk::MemoryUse::host_readback);
+    counters = vk::Buffer(context, gpu::COUNTER_COUNT * sizeof(uint32_t), vk::MemoryUse::device_local);
+    counters_readback = vk::Buffer(context, gpu::COUNTER_COUNT * sizeof(uint32_t), vk::MemoryUse::host_readback);
     unused = vk::Buffer(context, 16, vk::MemoryUse::device_local);
     if (!foveated) return;
     const auto pixels_of = [](const PyramidLevelStats& level) {
@@ -177,8 +167,7 @@ struct SphereTracer::FrameBuffers {
 
   // After the submit: the frame (on the device, or its linear colour read back) into `result`, and
   // the counters' values.
-  std::array<uint32_t, counter_count> read_outputs(vk::Context& context, bool on_device,
-                                                   SphereTraceResult& result) const {
+  CounterValues read_outputs(vk::Context& context, bool on_device, SphereTraceResult& result) const {
     if (on_device) {
       result.display = DeviceRgba8Frame{&context, display_srgb8.handle(), width, height};
     } else {
@@ -190,10 +179,10 @@ struct SphereTracer::FrameBuffers {
         for (int c = 0; c < 3; ++c) result.colour_linear.pixels[p * 3 + uint64_t(c)] = rgba[p * 4 + uint64_t(c)];
     }
     counters_readback.invalidate();
-    std::array<uint32_t, counter_count> values;
-    std::memcpy(values.data(), counters_readback.mapped(), sizeof(uint32_t) * counter_count);
-    result.capped_rays = values[capped];
-    result.restarted_rays = values[restarted];
+    CounterValues values;
+    std::memcpy(values.data(), counters_readback.mapped(), sizeof(uint32_t) * gpu::COUNTER_COUNT);
+    result.capped_rays = values[gpu::COUNTER_CAPPED_RAYS];
+    result.restarted_rays = values[gpu::COUNTER_RESTARTED_RAYS];
     return values;
   }
 
@@ -227,8 +216,8 @@ struct SphereTracer::FrameRecording {
   gpu::TraceParams trace_params(int level_index, const DepthStart& start) const;
   std::array<VkBuffer, 10> trace_bindings(int level_index, const DepthStart& start) const;
   // After the submit, into `result`: FIPR's counts and mask, and every level's stats and steps.
-  void read_fipr_outputs(const std::array<uint32_t, counter_count>& counters, SphereTraceResult& result) const;
-  void read_level_stats(const std::array<uint32_t, counter_count>& counters, SphereTraceResult& result) const;
+  void read_fipr_outputs(const CounterValues& counters, SphereTraceResult& result) const;
+  void read_level_stats(const CounterValues& counters, SphereTraceResult& result) const;
 };
 
 }  // namespace fovlab

@@ -219,21 +219,22 @@ void SphereTracer::fipr_trace_mid_level(FrameRecording& f, const DepthStart& sta
   const MidListParams list_params{{params.level_size[0], params.level_size[1]},
                                   {params.start_size[0], params.start_size[1]},
                                   f.filter_radius,
-                                  mid_listed};
+                                  gpu::COUNTER_MID_LIST_PIXELS};
   const VkBuffer list_buffers[] = {frame.mid_flags.handle(), start.depth->handle(),   level.depth.handle(),
                                    level.steps.handle(),     frame.counters.handle(), frame.mid_list.handle()};
   f.timer.begin(f.cmd, "mid_list");
   mid_list_pipeline_->dispatch_2d(f.cmd, list_buffers, &list_params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
   vk::compute_to_compute_barrier(f.cmd);
-  dispatch_list_sizes(f, "mid_list_dispatch", frame.mid_list_dispatch, mid_listed, 0, 1);
+  dispatch_list_sizes(f, "mid_list_dispatch", frame.mid_list_dispatch, gpu::COUNTER_MID_LIST_PIXELS, 0, 1);
   f.timer.begin(f.cmd, "trace_level" + std::to_string(f.mid_index));
   trace_pipeline_->dispatch_indirect(f.cmd, f.trace_bindings(f.mid_index, start), &params,
                                      frame.mid_list_dispatch.handle(), 0);
   f.timer.end(f.cmd);
   // The top level's lists are complete now: the mask pass's, and the children this level promoted.
   vk::compute_to_compute_barrier(f.cmd);
-  dispatch_list_sizes(f, "list_dispatch", frame.list_dispatch, masked, refresh_listed, 2);
+  dispatch_list_sizes(f, "list_dispatch", frame.list_dispatch, gpu::COUNTER_MASKED_PIXELS,
+                      gpu::COUNTER_REFRESH_LIST_PIXELS, 2);
   vk::compute_to_compute_barrier(f.cmd);
 }
 

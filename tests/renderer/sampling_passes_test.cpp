@@ -12,6 +12,7 @@
 #include "foveation/display_geometry.h"
 #include "metrics/image_metrics.h"
 #include "renderer/foveated_sampling/sampling_passes.h"
+#include "renderer/shaders/shared/sphere_trace_params.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/context.h"
@@ -49,15 +50,15 @@ class SamplingPassesTest : public VulkanTest {
   std::vector<ListedSample> list_samples(SamplingPasses& passes, const SamplingMap& map,
                                          ResampleFilter filter = ResampleFilter::bilinear) {
     passes.prepare(map, filter);
-    vk::Buffer counters(context(), 8 * sizeof(uint32_t), vk::MemoryUse::device_local);
-    vk::Buffer counters_readback(context(), 8 * sizeof(uint32_t), vk::MemoryUse::host_readback);
+    vk::Buffer counters(context(), gpu::COUNTER_COUNT * sizeof(uint32_t), vk::MemoryUse::device_local);
+    vk::Buffer counters_readback(context(), gpu::COUNTER_COUNT * sizeof(uint32_t), vk::MemoryUse::host_readback);
     vk::OneTimeCommands commands(context());
     vk::PassTimer timer(context(), SamplingPasses::kMaxTimedPasses);
     timer.reset(commands.handle());
     vkCmdFillBuffer(commands.handle(), counters.handle(), 0, VK_WHOLE_SIZE, 0);
     vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    passes.record_positions(commands.handle(), timer, counters.handle(), 2);
+    passes.record_positions(commands.handle(), timer, counters.handle(), gpu::COUNTER_MASKED_PIXELS);
     vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     VkBufferCopy region{0, 0, counters.size_bytes()};
@@ -67,9 +68,9 @@ class SamplingPassesTest : public VulkanTest {
                        VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     commands.submit_and_wait();
     counters_readback.invalidate();
-    uint32_t count[8];
+    uint32_t count[gpu::COUNTER_COUNT];
     std::memcpy(count, counters_readback.mapped(), sizeof(count));
-    return passes.listed_samples(count[2]);
+    return passes.listed_samples(count[gpu::COUNTER_MASKED_PIXELS]);
   }
 
   // Gives each listed sample the colour (x / W, y / H, 0.5) of its position and runs pass 2: a

@@ -21,7 +21,8 @@ struct EdgeParams {
 // foveation_mask.comp.glsl
 const uint FLAG_TRACE_ALL = 1u;     // no usable gaze: every pixel is traced in full
 const uint FLAG_ALL_DUE = 2u;       // no history yet: every unmasked pixel is due for a refresh
-const uint FLAG_LIST_REFRESH = 4u;  // the periphery is traced: list the unmasked pixels due (counters[6])
+const uint FLAG_LIST_REFRESH = 4u;  // the periphery is traced: list the unmasked pixels due
+                                    // (COUNTER_REFRESH_LIST_PIXELS, sphere_trace_params.h)
 
 struct MaskParams {
   uvec2 frame_size;  // full-resolution pixels

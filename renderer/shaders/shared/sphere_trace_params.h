@@ -1,7 +1,7 @@
 #ifndef FOVLAB_SPHERE_TRACE_PARAMS_H
 #define FOVLAB_SPHERE_TRACE_PARAMS_H
-// sphere_trace.comp.glsl's push constants and flags; SphereTracer fills them
-// (renderer/sphere_tracing/).
+// sphere_trace.comp.glsl's push constants and flags, and the indices of its counters; SphereTracer
+// fills them (renderer/sphere_tracing/).
 #include "gpu_types.h"
 
 FOVLAB_GPU_BEGIN
@@ -36,6 +36,20 @@ struct TraceParams {
                            // (fipr_reconstruct); else those are traced from the mid depth with this
                            // step budget and shaded (1 sample)
 };
+
+// The sphere tracer's counters buffer (COUNTER_COUNT words, zeroed before a frame): the index of each
+// count. The passes around the tracer add to them too: foveation_mask.comp.glsl lists the masked
+// pixels and the periphery's refresh list, fipr_mid_list.comp.glsl the mid level's list, and
+// sampling_positions.comp.glsl the sampling models' samples (in COUNTER_MASKED_PIXELS).
+const uint COUNTER_CAPPED_RAYS = 0u;          // rays stopped by their step cap
+const uint COUNTER_RESTARTED_RAYS = 1u;       // IPR rays whose start depth was inside geometry
+const uint COUNTER_MASKED_PIXELS = 2u;        // the masked pixels' list (or the listed samples)
+const uint COUNTER_MID_TRACED_PIXELS = 3u;    // FIPR's mid level: its pixels traced
+const uint COUNTER_MID_SHADED_PIXELS = 4u;    // and shaded
+const uint COUNTER_REFRESHED_PIXELS = 5u;     // unmasked pixels given a new colour this frame
+const uint COUNTER_REFRESH_LIST_PIXELS = 6u;  // the periphery's refresh list, when the periphery is traced
+const uint COUNTER_MID_LIST_PIXELS = 7u;      // the mid level's list
+const uint COUNTER_COUNT = 8u;                // words of the buffer
 
 FOVLAB_GPU_END
 
