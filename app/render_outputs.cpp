@@ -7,6 +7,7 @@
 
 #include "core/colour.h"
 #include "core/image_io.h"
+#include "renderer/sphere_tracing/foveation_json.h"
 #include "renderer/sphere_tracing/step_heatmap.h"
 
 namespace fovlab::app {
@@ -78,33 +79,8 @@ nlohmann::json stats_json(const std::string& scene_name, const SphereTraceSettin
       stats["full_resolution_depth"] = settings.full_resolution_depth;
   }
   if (settings.method == TraceMethod::foveated_pyramid) {
-    const FoveationSettings& f = settings.foveation;
-    const double pixels = double(settings.width) * double(settings.height);
-    const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
-    stats["foveation"] = {
-        {"gaze_px", has_gaze ? nlohmann::json::array({f.gaze_x_px, f.gaze_y_px}) : nlohmann::json(nullptr)},
-        {"fovea_deg", f.acuity.fovea_radius_deg},
-        {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_radius_deg)
-                                    ? nlohmann::json(f.acuity.outer_periphery_radius_deg)
-                                    : nlohmann::json(nullptr)},
-        {"combine", mask_combine_name(f.combine)},
-        {"edge_threshold", f.edge_threshold},
-        {"periphery_refresh", f.periphery_refresh},
-        {"periphery_steps", f.periphery_steps},
-        {"periphery_reconstruction", periphery_reconstruction_name(f.reconstruction)},
-        {"near_misses", near_misses_name(f.near_misses)},
-        {"blur", f.blur},
-        {"seed", f.seed},
-        {"frame_index", f.frame_index},
-        {"display",
-         {{"width_mm", f.display.width_mm},
-          {"height_mm", f.display.height_mm},
-          {"viewing_distance_mm", f.display.viewing_distance_mm},
-          {"pixels_per_degree_at_centre", f.display.pixels_per_degree_at_centre()}}},
-        {"top_level_share", double(result.foveation.masked_pixels) / pixels},
-        {"refreshed_share", double(result.foveation.refreshed_pixels) / pixels},
-        {"kept_share", double(result.foveation.kept_pixels) / pixels},
-    };
+    stats["foveation"] = foveation_json(settings.foveation, result.foveation,
+                                        double(settings.width) * double(settings.height));
   }
   return stats;
 }

@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "foveation/foveation_mask.h"
+#include "renderer/sphere_tracing/foveation_json.h"
 
 namespace fovlab::bench {
 
@@ -31,39 +32,6 @@ nlohmann::json errors_json(const FrameErrors& errors) {
           {"psnr_db", optional_json(errors.psnr_db)},
           {"flip", errors.flip},
           {"fpsnr_db", optional_json(errors.fpsnr_db)}};
-}
-
-nlohmann::json display_json(const DisplayGeometry& display) {
-  return {{"width_mm", display.width_mm},
-          {"height_mm", display.height_mm},
-          {"viewing_distance_mm", display.viewing_distance_mm},
-          {"pixels_per_degree_at_centre", display.pixels_per_degree_at_centre()}};
-}
-
-// Every FIPR setting of the measured frame and its shares, as fovlab render --stats-json writes them.
-nlohmann::json foveation_json(const FiprCellResult& fipr) {
-  const FoveationSettings& f = fipr.foveation;
-  const bool has_gaze = std::isfinite(f.gaze_x_px) && std::isfinite(f.gaze_y_px);
-  return {
-      {"gaze_px", has_gaze ? nlohmann::json::array({f.gaze_x_px, f.gaze_y_px}) : nlohmann::json(nullptr)},
-      {"fovea_deg", f.acuity.fovea_radius_deg},
-      {"outer_periphery_deg", std::isfinite(f.acuity.outer_periphery_radius_deg)
-                                  ? nlohmann::json(f.acuity.outer_periphery_radius_deg)
-                                  : nlohmann::json(nullptr)},
-      {"combine", mask_combine_name(f.combine)},
-      {"edge_threshold", f.edge_threshold},
-      {"periphery_refresh", f.periphery_refresh},
-      {"periphery_steps", f.periphery_steps},
-      {"periphery_reconstruction", periphery_reconstruction_name(f.reconstruction)},
-      {"near_misses", near_misses_name(f.near_misses)},
-      {"blur", f.blur},
-      {"seed", f.seed},
-      {"frame_index", f.frame_index},
-      {"display", display_json(f.display)},
-      {"top_level_share", double(fipr.stats.masked_pixels) / fipr.pixels},
-      {"refreshed_share", double(fipr.stats.refreshed_pixels) / fipr.pixels},
-      {"kept_share", double(fipr.stats.kept_pixels) / fipr.pixels},
-  };
 }
 
 nlohmann::json sampling_json(const SamplingCellResult& sampling) {
@@ -103,7 +71,7 @@ nlohmann::json cell_json(const CellResult& cell) {
     json["refresh"] = cell.fipr->refresh;
     json["fovea_deg"] = cell.fipr->fovea_deg;
     json["kept_share"] = cell.fipr->kept_share;
-    json["foveation"] = foveation_json(*cell.fipr);
+    json["foveation"] = foveation_json(cell.fipr->foveation, cell.fipr->stats, cell.fipr->pixels);
     json["warmup_frames"] = cell.fipr->warmup_frames;
     json["timed_frame_indices"] = {cell.fipr->first_timed_frame, cell.fipr->last_timed_frame};
     json["measured_frame_index"] = cell.fipr->last_timed_frame;
