@@ -145,7 +145,9 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
     EXPECT_EQ(sampling["reference_shaded_samples"], 25 * 14);
     EXPECT_DOUBLE_EQ(sampling["shaded_over_reference"].get<double>(),
                      sampling["shaded_samples"].get<double>() / (25.0 * 14));
-    if (cell["method"] == "rmfr") EXPECT_EQ(sampling["shaded_over_reference"].get<double>(), 1.0);
+    if (cell["method"] == "rmfr") {
+      EXPECT_EQ(sampling["shaded_over_reference"].get<double>(), 1.0);
+    }
     EXPECT_NE(cell["command"].get<std::string>().find("--methods gt," + cell["method"].get<std::string>()),
               std::string::npos);
     EXPECT_NE(cell["command"].get<std::string>().find("--time " + std::to_string(int(cell["time_s"].get<double>()))),
