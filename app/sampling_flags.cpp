@@ -58,8 +58,8 @@ void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool foca
           [&settings](const std::string& name) {
             settings.equalise = name == "density" ? Equalise::density : Equalise::samples;
           },
-          "Sampling: solve hyperbolic s3 / linear p_min / kfr's buffer sigma (gaze at the centre) to match rmfr at "
-          "--sigma: alone or 'samples': as many shaded samples; 'density' (hyperbolic, linear): mean density 1/sigma^2")
+          "Sampling: solve hyperbolic s3 / linear p_min / kfr's buffer sigma to match rmfr at --sigma on this display: "
+          "alone or 'samples': as many shaded samples; 'density' (hyperbolic, linear): mean density 1/sigma^2")
       ->expected(0, 1)
       ->default_str("samples")
       ->check(CLI::IsMember({"samples", "density"}));
