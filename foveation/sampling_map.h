@@ -132,7 +132,7 @@ double effective_speedup(const SamplingMap& map);
 uint64_t rmfr_shaded_samples(int screen_width_px, int screen_height_px, double sigma);
 
 // What make_sampling_map equalises a model to, against RMFR at the same sigma on the same display,
-// with the gaze where the map is made (docs/foveation.md, "Equalise"):
+// with the gaze where the map is made (docs/foveation.md, "Equal work"):
 //   - samples: RMFR's shaded samples (rmfr_shaded_samples), counted as shaded_samples counts them
 //     (what the GPU pass shades): hyperbolic s3, linear p_min, KFR its buffer's sigma solved;
 //   - density: the theoretical mean density 1 / sigma^2: hyperbolic s3 and linear p_min solved,

@@ -349,7 +349,7 @@ void add_radii(std::vector<ParameterDescriptor>& list) {
 }
 
 // The sampling models' equalise (EqualiseChoice's order). "on" meant the theoretical density in logs
-// before schema 8 and means samples since (docs/foveation.md, "Equalise"); a config of such a log
+// before schema 8 and means samples since (docs/foveation.md, "Equal work"); a config of such a log
 // keeps the choice "on", so its stimuli keep their canonical text.
 template <class Struct>
 ParameterDescriptor equalise_parameter(std::string_view solved) {
