@@ -161,6 +161,7 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
       options.display, has_display(flags.foveation.display) ? "" : "FIPR's default, a 24-inch display at 600 mm");
   options.display_flags = display_flags_text(flags.foveation.display);
   SamplingSettings sampling = flags.sampling;
+  options.sigma = sampling.sigma;
   options.sampling_filter = sampling.filter;
   options.focal_shares_x = parse_focal_shares(flags.focal_shares_x, "--fx");
   options.focal_shares_y = parse_focal_shares(flags.focal_shares_y, "--fy");

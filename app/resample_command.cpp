@@ -70,7 +70,8 @@ void run_resample(ResampleOptions options) {
   FoveationSettings centre = where;
   centre.gaze_x_px = centre.gaze_y_px = std::nan("");
   SamplingSettings settings = options.sampling;
-  if (settings.equalise) settings = with_solved_equalise(settings, parse_sampling(*model, settings, centre));
+  if (settings.equalise != Equalise::off)
+    settings = with_solved_equalise(settings, parse_sampling(*model, settings, centre));
   const SamplingMap map = parse_sampling(*model, settings, where);
 
   vk::Context context(context_options(options.device));

@@ -28,7 +28,7 @@ constexpr FieldFlag kFieldFlags[] = {{"sigma", "--sigma"},
 
 void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool focal_shares) {
   command.add_option("--sigma", settings.sigma,
-                     "Sampling: screen over buffer size per axis (rmfr, kfr); --equalise's target density 1/sigma^2");
+                     "Sampling: screen over buffer size per axis (rmfr, kfr); --equalise's target: rmfr at this sigma");
   if (focal_shares) {
     command.add_option("--fx", settings.focal_share_x, "Sampling: rmfr's f_x as a share of the width (0.001 to 1)");
     command.add_option("--fy", settings.focal_share_y, "Sampling: rmfr's f_y as a share of the height (0.001 to 1)");
@@ -52,8 +52,17 @@ void add_sampling_flags(CLI::App& command, SamplingSettings& settings, bool foca
           },
           "Sampling: how pass 2 reads the samples (rmfr, kfr, hyperbolic): bilinear or lanczos")
       ->check(CLI::IsMember({"bilinear", "lanczos"}));
-  command.add_flag("--equalise", settings.equalise,
-                   "Sampling: solve hyperbolic s3 / linear p_min so the mean density over the display is 1/sigma^2");
+  command
+      .add_option_function<std::string>(
+          "--equalise",
+          [&settings](const std::string& name) {
+            settings.equalise = name == "density" ? Equalise::density : Equalise::samples;
+          },
+          "Sampling: solve hyperbolic s3 / linear p_min / kfr's buffer sigma to match rmfr at --sigma on this display: "
+          "alone or 'samples': as many shaded samples; 'density' (hyperbolic, linear): mean density 1/sigma^2")
+      ->expected(0, 1)
+      ->default_str("samples")
+      ->check(CLI::IsMember({"samples", "density"}));
 }
 
 std::vector<std::string> given_sampling_only_flags(const CLI::App& command) {
@@ -76,9 +85,14 @@ std::vector<M> users_of(const std::string& flag) {
   if (flag == "--middle-pixel-size" || flag == "--outer-pixel-size" || flag == "--blend-band-deg")
     return {M::hyperbolic};
   if (flag == "--min-probability" || flag == "--sample-seed") return {M::linear};
-  if (flag == "--equalise") return {M::hyperbolic, M::linear};
+  if (flag == "--equalise") return {M::hyperbolic, M::linear, M::kernel_log_polar};
   if (flag == "--resample") return {M::rectangular, M::hyperbolic, M::kernel_log_polar};
   return {M::rectangular, M::hyperbolic, M::linear, M::kernel_log_polar};  // --sigma
+}
+
+// " --equalise" (samples) or " --equalise density".
+std::string equalise_flag_text(Equalise equalise) {
+  return equalise == Equalise::density ? " --equalise density" : " --equalise";
 }
 
 bool used_by_any(const std::string& flag, const std::vector<M>& models) {
@@ -133,7 +147,7 @@ std::string sampling_flags_text(SamplingModel model, const SamplingSettings& s) 
               std::to_string(s.seed);
       break;
   }
-  if (s.equalise && (model == SamplingModel::hyperbolic || model == SamplingModel::linear)) text += " --equalise";
+  if (s.equalise != Equalise::off && model != SamplingModel::rectangular) text += equalise_flag_text(s.equalise);
   if (s.filter != ResampleFilter::bilinear && model != SamplingModel::linear)
     text += std::string(" --resample ") + resample_filter_name(s.filter);
   return text;
@@ -155,7 +169,7 @@ std::string all_sampling_flags_text(const SamplingSettings& s, const std::vector
             number(s.outer_pixel_size_px) + " --blend-band-deg " + number(s.blend_band_deg);
   if (used("--min-probability"))
     text += " --min-probability " + number(s.min_probability) + " --sample-seed " + std::to_string(s.seed);
-  if (s.equalise && used("--equalise")) text += " --equalise";
+  if (s.equalise != Equalise::off && used("--equalise")) text += equalise_flag_text(s.equalise);
   if (used("--resample")) text += std::string(" --resample ") + resample_filter_name(s.filter);
   return text;
 }

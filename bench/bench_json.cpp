@@ -1,10 +1,12 @@
 #include "bench/bench_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/number_text.h"
 #include "foveation/foveation_mask.h"
 #include "renderer/sphere_tracing/foveation_json.h"
 
@@ -37,7 +39,11 @@ nlohmann::json errors_json(const FrameErrors& errors) {
 nlohmann::json sampling_json(const SamplingCellResult& sampling) {
   return {{"model", sampling_model_name(sampling.model)},    {"shaded_samples", sampling.shaded_samples},
           {"shaded_share", sampling.shaded_share},           {"theoretical_speedup", sampling.theoretical_speedup},
-          {"effective_speedup", sampling.effective_speedup}, {"mean_density", sampling.mean_density}};
+          {"effective_speedup", sampling.effective_speedup}, {"mean_density", sampling.mean_density},
+          {"reference", "rmfr sigma " + format_number(sampling.reference_sigma, 6)},
+          {"reference_shaded_samples", sampling.reference_shaded_samples},
+          {"shaded_over_reference",
+           double(sampling.shaded_samples) / double(std::max<uint64_t>(1, sampling.reference_shaded_samples))}};
 }
 
 }  // namespace

@@ -55,6 +55,8 @@ std::vector<ChartCell> chart_cells(const nlohmann::json& cells, const std::strin
       point.refresh = cell["refresh"].get<int>();
       point.fovea_deg = cell["fovea_deg"].get<double>();
     }
+    if (cell.contains("sampling") && cell["sampling"].contains("shaded_over_reference"))
+      point.shaded_over_reference = cell["sampling"]["shaded_over_reference"].get<double>();
     point.trade_off = {cell["speedup"].get<double>(),
                        flip ? cell["flip"].get<double>() : 1.0 - cell["ssim"].get<double>()};
     point.on_front = cell[flip ? "pareto_flip" : "pareto_one_minus_ssim"].get<bool>();

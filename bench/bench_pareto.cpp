@@ -41,7 +41,12 @@ std::string cell_label(const ChartCell& cell) {
     return std::to_string(cell.spp) + "/" + std::to_string(cell.refresh) + "/" + format_number(cell.fovea_deg, 6);
   }
   if (cell.method == "ipr") return "ipr " + std::to_string(cell.spp);
-  if (cell.method != "gt") return cell.method + " " + std::to_string(cell.spp);  // a sampling model
+  if (cell.method != "gt") {  // a sampling model
+    std::string label = cell.method + " " + std::to_string(cell.spp);
+    if (cell.shaded_over_reference > 0)
+      label += " (" + format_number(cell.shaded_over_reference, 3) + "x rmfr's samples)";
+    return label;
+  }
   return cell.method;
 }
 

@@ -24,9 +24,11 @@ struct ChartCell {
   double fovea_deg = 0.0;  // FIPR only
   TradeOff trade_off;
   bool on_front = false;
+  double shaded_over_reference = 0.0;  // sampling models: shaded samples over RMFR's (0: not known)
 };
 
-// "4/2/7.5" (spp/refresh/fovea degrees) for FIPR, "ipr 4" for IPR, "gt" for GT.
+// "4/2/7.5" (spp/refresh/fovea degrees) for FIPR, "ipr 4" for IPR, "gt" for GT, "kfr 1 (0.99x
+// rmfr's samples)" for a sampling model (its work against RMFR's at the same sigma).
 std::string cell_label(const ChartCell& cell);
 
 // The chart of one scene: GT once (its cells all sit at speed-up 1, error 0), IPR, FIPR one series

@@ -58,6 +58,7 @@ struct BenchOptions {
   std::vector<FiprVariant> variants;
   // The sampling models in the order given, each with its maps (RMFR: f_y-major over the pairs).
   std::vector<SamplingVariant> sampling;
+  double sigma = 2.6;  // --sigma: each sampling cell's reference is RMFR's shaded samples at it
   std::vector<double> focal_shares_x, focal_shares_y;  // RMFR's --fx and --fy, as given
   ResampleFilter sampling_filter = ResampleFilter::bilinear;
   // The display and gaze the metrics assume (FLIP at its pixels per degree, FPSNR), and FIPR's.

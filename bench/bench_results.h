@@ -52,6 +52,10 @@ struct SamplingCellResult {
   double effective_speedup = 1.0;
   double mean_density = 1.0;
   std::optional<double> focal_share_x, focal_share_y;  // RMFR's pair
+  // The reference: RMFR's shaded samples at the run's sigma on this frame (its buffer, whether or not
+  // RMFR is in the run), what --equalise matches.
+  double reference_sigma = 0.0;
+  uint64_t reference_shaded_samples = 0;
 };
 
 struct CellResult {

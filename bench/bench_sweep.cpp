@@ -172,6 +172,8 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
                 image_stem +=
                     "_fx" + format_number(rmfr->x.focal_share, 6) + "_fy" + format_number(rmfr->y.focal_share, 6);
             }
+            sampling.reference_sigma = options.sigma;
+            sampling.reference_shaded_samples = rmfr_shaded_samples(width, height, options.sigma);
             cell.top_level_share = sampling.shaded_share;
             cell.refreshed_share = 0.0;
             cell.sampling = sampling;

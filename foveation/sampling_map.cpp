@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "core/input_error.h"
 #include "core/number_text.h"
@@ -115,6 +116,32 @@ BandAreas band_areas(const DisplayGeometry& display, double gaze_x, double gaze_
   return areas;
 }
 
+uint64_t needed_samples(const HyperbolicLayers& layers, int layer) {
+  uint64_t count = 0;
+  for (int row = 0; row < layers.layers[size_t(layer)].rows; ++row)
+    for (int column = 0; column < layers.layers[size_t(layer)].columns; ++column)
+      count += layers.sample_needed(layer, column, row);
+  return count;
+}
+
+// Equalise's solve for equal shaded samples: the parameter value in [low, high] whose count is
+// nearest `target`, the count falling as the value rises (not strictly: counts are whole, and a
+// buffer's size is rounded). Bisects for the crossing, then takes the nearer of its two ends.
+template <class Count>
+double nearest_to_target(double low, double high, uint64_t target, Count&& count) {
+  for (int step = 0; step < 48; ++step) {
+    const double middle = 0.5 * (low + high);
+    (count(middle) >= target ? low : high) = middle;
+  }
+  const auto off_by = [&](double value) {
+    const uint64_t n = count(value);
+    return n > target ? n - target : target - n;
+  };
+  return off_by(low) <= off_by(high) ? low : high;
+}
+
+std::string samples_text(uint64_t count) { return std::to_string(count) + " shaded samples"; }
+
 double mean_over_pixels(const SamplingMap& map) {
   const int width = screen_width_px(map), height = screen_height_px(map);
   double sum = 0.0;
@@ -181,6 +208,7 @@ KernelLogPolarMapping make_kernel_log_polar_mapping(int screen_width_px, int scr
   mapping.screen_height_px = screen_height_px;
   mapping.buffer_width_px = reduced_buffer_px(screen_width_px, sigma);
   mapping.buffer_height_px = reduced_buffer_px(screen_height_px, sigma);
+  mapping.sigma = sigma;
   mapping.alpha = alpha;
   mapping.gaze_x_px = gaze_on_screen(gaze_x_px, screen_width_px);
   mapping.gaze_y_px = gaze_on_screen(gaze_y_px, screen_height_px);
@@ -229,7 +257,10 @@ bool HyperbolicLayers::sample_needed(int layer, int column, int row) const {
 // --- Linear ---------------------------------------------------------------------------------------
 
 double LinearFalloff::probability(double x_px, double y_px) const {
-  const double e = eccentricity_deg(display, gaze_x_px, gaze_y_px, x_px, y_px);
+  return probability_at(eccentricity_deg(display, gaze_x_px, gaze_y_px, x_px, y_px));
+}
+
+double LinearFalloff::probability_at(double e) const {
   if (e <= inner_radius_deg) return 1.0;
   if (e >= outer_radius_deg) return min_probability;
   return 1.0 - (1.0 - min_probability) * (e - inner_radius_deg) / (outer_radius_deg - inner_radius_deg);
@@ -284,12 +315,7 @@ uint64_t shaded_samples(const SamplingMap& map) {
     }
     case SamplingModel::hyperbolic: {
       const auto& layers = std::get<HyperbolicLayers>(map);
-      uint64_t count = 0;
-      for (int layer = 0; layer < 3; ++layer)
-        for (int row = 0; row < layers.layers[size_t(layer)].rows; ++row)
-          for (int column = 0; column < layers.layers[size_t(layer)].columns; ++column)
-            count += layers.sample_needed(layer, column, row);
-      return count;
+      return needed_samples(layers, 0) + needed_samples(layers, 1) + needed_samples(layers, 2);
     }
     case SamplingModel::linear: {
       const auto& linear = std::get<LinearFalloff>(map);
@@ -315,6 +341,74 @@ double effective_speedup(const SamplingMap& map) {
   return screen / double(std::max<uint64_t>(1, shaded_samples(map)));
 }
 
+uint64_t rmfr_shaded_samples(int screen_width_px, int screen_height_px, double sigma) {
+  return uint64_t(reduced_buffer_px(screen_width_px, sigma)) * uint64_t(reduced_buffer_px(screen_height_px, sigma));
+}
+
+const char* equalise_name(Equalise equalise) {
+  switch (equalise) {
+    case Equalise::off:
+      return "off";
+    case Equalise::samples:
+      return "samples";
+    case Equalise::density:
+      return "density";
+  }
+  return "off";
+}
+
+namespace {
+
+// KFR with its buffer's sigma solved so that it shades as many samples as RMFR at `sigma`: KFR's
+// buffer is RMFR's size, but the part of it that falls off the screen is not shaded, so the solved
+// sigma is smaller (Ye et al. 2022 compare the models at one sigma; the buffers, not the samples).
+KernelLogPolarMapping kfr_with_equal_samples(const DisplayGeometry& display, double sigma, double alpha,
+                                             double gaze_x_px, double gaze_y_px) {
+  const uint64_t target = rmfr_shaded_samples(display.width_px, display.height_px, sigma);
+  const auto make = [&](double buffer_sigma) {
+    return make_kernel_log_polar_mapping(display.width_px, display.height_px, buffer_sigma, alpha, gaze_x_px,
+                                         gaze_y_px);
+  };
+  const auto count = [&](double buffer_sigma) { return shaded_samples(SamplingMap(make(buffer_sigma))); };
+  if (const uint64_t most = count(kRmfrMinSigma); most < target)
+    throw InputError("equalise: the kfr model cannot reach RMFR's " + samples_text(target) + " at sigma " +
+                     format_number(sigma, 4) + " on this display: with a buffer as large as the screen it shades " +
+                     std::to_string(most) + " (raise sigma)");
+  return make(nearest_to_target(kRmfrMinSigma, sigma, target, count));
+}
+
+// The linear model's p_min for as many shaded pixels as RMFR's samples at sigma: each pixel beyond
+// r1 is shaded when its threshold lies below its probability, which rises with p_min, so the count
+// does; the pixels' eccentricities and thresholds are taken once.
+double linear_min_probability_for_samples(LinearFalloff linear, double sigma) {
+  const DisplayGeometry& display = linear.display;
+  const uint64_t target = rmfr_shaded_samples(display.width_px, display.height_px, sigma);
+  uint64_t always = 0;  // within r1: probability 1, above every threshold
+  std::vector<std::pair<double, double>> outside;  // (eccentricity, threshold) beyond r1
+  for (int y = 0; y < display.height_px; ++y)
+    for (int x = 0; x < display.width_px; ++x) {
+      const double e = eccentricity_deg(display, linear.gaze_x_px, linear.gaze_y_px, x + 0.5, y + 0.5);
+      if (e <= linear.inner_radius_deg) ++always;
+      else outside.emplace_back(e, mask_threshold(linear.seed, 0, uint32_t(x), uint32_t(y)));
+    }
+  const auto count = [&](double p_min) {
+    linear.min_probability = p_min;
+    uint64_t n = always;
+    for (const auto& [e, threshold] : outside) n += threshold < linear.probability_at(e);
+    return n;
+  };
+  // The count rises with p_min: the solve's count falls as its value rises, so it runs on 1 - p_min.
+  const auto count_of_complement = [&](double complement) { return count(1.0 - complement); };
+  if (const uint64_t fewest = count(0.0); fewest > target)
+    throw InputError("equalise: the linear model cannot reach RMFR's " + samples_text(target) + " at sigma " +
+                     format_number(sigma, 4) + " on this display: with p_min 0 it shades " + std::to_string(fewest) +
+                     " within " + format_number(linear.outer_radius_deg, 4) +
+                     " deg alone (lower sigma, or the radii, or view the display from nearer)");
+  return 1.0 - nearest_to_target(0.0, 1.0, target, count_of_complement);
+}
+
+}  // namespace
+
 SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeometry& display, double gaze_x_px,
                               double gaze_y_px) {
   switch (settings.model) {
@@ -322,6 +416,12 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
       return make_rectangular_mapping(display.width_px, display.height_px, settings.sigma, settings.focal_share_x,
                                       settings.focal_share_y, gaze_x_px, gaze_y_px);
     case SamplingModel::kernel_log_polar:
+      if (settings.equalise == Equalise::samples) {
+        check_screen_size(display.width_px, display.height_px);
+        check_setting_range("sigma", settings.sigma, kRmfrMinSigma, kRmfrMaxSigma);
+        check_setting_range("alpha", settings.alpha, kKfrMinAlpha, kKfrMaxAlpha);
+        return kfr_with_equal_samples(display, settings.sigma, settings.alpha, gaze_x_px, gaze_y_px);
+      }
       return make_kernel_log_polar_mapping(display.width_px, display.height_px, settings.sigma, settings.alpha,
                                            gaze_x_px, gaze_y_px);
     case SamplingModel::hyperbolic:
@@ -343,13 +443,15 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
 
   if (settings.model == SamplingModel::linear) {
     check_setting_range("min_probability", settings.min_probability, 0.0, 1.0);
-    if (settings.inner_radius_deg == 0.0 && settings.min_probability == 0.0 && !settings.equalise)
+    if (settings.inner_radius_deg == 0.0 && settings.min_probability == 0.0 && settings.equalise == Equalise::off)
       throw SettingError("min_probability",
                          " 0: expected more than 0 when inner_radius_deg is 0 (no pixel would be shaded)");
     LinearFalloff linear{
         display,      gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg, settings.min_probability,
         settings.seed};
-    if (settings.equalise) {
+    if (settings.equalise == Equalise::samples) {
+      linear.min_probability = linear_min_probability_for_samples(linear, settings.sigma);
+    } else if (settings.equalise == Equalise::density) {
       // mean p = (inside + between - ramp + (ramp + outside) p_min) / pixels: linear in p_min.
       const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);
       const double fixed = areas.inside_inner + areas.between - areas.between_ramp;
@@ -368,11 +470,11 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
   }
 
   check_setting_range("middle_pixel_size_px", settings.middle_pixel_size_px, 1.0, 64.0);
-  if (!settings.equalise)  // else solved below
+  if (settings.equalise == Equalise::off)  // else solved below
     check_setting_range("outer_pixel_size_px", settings.outer_pixel_size_px, settings.middle_pixel_size_px, 256.0);
   check_setting_range("blend_band_deg", settings.blend_band_deg, 0.0, settings.inner_radius_deg);
   double outer_pixel_size_px = settings.outer_pixel_size_px;
-  if (settings.equalise) {
+  if (settings.equalise == Equalise::density) {
     const BandAreas areas = band_areas(display, gaze_x, gaze_y, settings.inner_radius_deg, settings.outer_radius_deg);
     const double fixed =
         areas.inside_inner + areas.between / (settings.middle_pixel_size_px * settings.middle_pixel_size_px);
@@ -408,19 +510,51 @@ SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeo
   const Box middle_box =
       eccentricity_box(display, gaze_x, gaze_y, settings.outer_radius_deg, 2.0 * settings.middle_pixel_size_px);
   const Box screen{0.0, 0.0, double(display.width_px), double(display.height_px)};
+  const auto outer_layer = [&](double pixel_size_px) {
+    return layer_over(screen, pixel_size_px, settings.outer_radius_deg - band, 180.0);
+  };
   layers.layers = {layer_over(inner_box, 1.0, 0.0, settings.inner_radius_deg),
                    layer_over(middle_box, settings.middle_pixel_size_px, settings.inner_radius_deg - band,
                               settings.outer_radius_deg),
-                   layer_over(screen, outer_pixel_size_px, settings.outer_radius_deg - band, 180.0)};
+                   outer_layer(outer_pixel_size_px)};
+  if (settings.equalise == Equalise::samples) {
+    // The inner and middle layers' samples are fixed; the outer layer's fall as s3 grows.
+    const uint64_t target = rmfr_shaded_samples(display.width_px, display.height_px, settings.sigma);
+    const uint64_t fixed = needed_samples(layers, 0) + needed_samples(layers, 1);
+    const auto count = [&](double pixel_size_px) {
+      layers.layers[2] = outer_layer(pixel_size_px);
+      return fixed + needed_samples(layers, 2);
+    };
+    const double finest = settings.middle_pixel_size_px, coarsest = 256.0;
+    const uint64_t most = count(finest), fewest = count(coarsest);
+    if (most < target || fewest > target) {
+      std::string why;
+      if (most == fewest)
+        why = "no part of it lies beyond outer_radius_deg, so the outer pixel size changes nothing (lower "
+              "outer_radius_deg)";
+      else if (most < target)
+        why = "even an outer pixel as fine as the middle layer's (" + format_number(finest, 4) + " px) shades " +
+              std::to_string(most) + " (raise sigma or middle_pixel_size_px)";
+      else if (fixed >= target)
+        why = "its inner and middle layers alone shade " + std::to_string(fixed) +
+              " (lower sigma, or the radii, or view the display from nearer)";
+      else
+        why = "an outer pixel of 256 px still shades " + std::to_string(fewest) + " (lower sigma)";
+      throw InputError("equalise: the hyperbolic model cannot reach RMFR's " + samples_text(target) + " at sigma " +
+                       format_number(settings.sigma, 4) + " on this display: " + why);
+    }
+    layers.layers[2] = outer_layer(nearest_to_target(finest, coarsest, target, count));
+  }
   return layers;
 }
 
 SamplingSettings with_solved_equalise(SamplingSettings settings, const SamplingMap& solved) {
-  if (!settings.equalise) return settings;
+  if (settings.equalise == Equalise::off) return settings;
   if (const auto* layers = std::get_if<HyperbolicLayers>(&solved))
     settings.outer_pixel_size_px = layers->layers[2].pixel_size_px;
   if (const auto* linear = std::get_if<LinearFalloff>(&solved)) settings.min_probability = linear->min_probability;
-  settings.equalise = false;
+  if (const auto* kfr = std::get_if<KernelLogPolarMapping>(&solved)) settings.sigma = kfr->sigma;
+  settings.equalise = Equalise::off;
   return settings;
 }
 

@@ -39,6 +39,7 @@ struct KernelLogPolarMapping {
   int screen_width_px = 0, screen_height_px = 0;
   int buffer_width_px = 0, buffer_height_px = 0;  // round(screen / sigma)
   double gaze_x_px = 0.0, gaze_y_px = 0.0;        // on the screen (clamped; NaN: the centre)
+  double sigma = 2.6;                             // what the buffer was made with (equalise: solved)
   double alpha = 4.0;
   double log_max_radius = 1.0;  // L
 
@@ -97,6 +98,8 @@ struct LinearFalloff {
   uint32_t seed = 0;
 
   double probability(double x_px, double y_px) const;
+  // The probability at a pixel centre of eccentricity `eccentricity` (what probability() computes).
+  double probability_at(double eccentricity_deg) const;
   // Pixel (x, y) is shaded when its threshold (foveation_mask.h mask_threshold(seed, 0, x, y)) is
   // below the probability at its centre.
   bool sampled(int x, int y) const;
@@ -124,10 +127,23 @@ double theoretical_speedup(const SamplingMap& map);
 // Screen pixels over shaded samples: what the shading pass really saves.
 double effective_speedup(const SamplingMap& map);
 
+// RMFR's shaded samples at `sigma` on a screen of that size: its buffer, round(W / sigma) x
+// round(H / sigma). Equalise's target for the other models, and bench's reference.
+uint64_t rmfr_shaded_samples(int screen_width_px, int screen_height_px, double sigma);
+
+// What make_sampling_map equalises a model to, against RMFR at the same sigma on the same display,
+// with the gaze where the map is made (docs/foveation.md, "Equal work"):
+//   - samples: RMFR's shaded samples (rmfr_shaded_samples), counted as shaded_samples counts them
+//     (what the GPU pass shades): hyperbolic s3, linear p_min, KFR its buffer's sigma solved;
+//   - density: the theoretical mean density 1 / sigma^2: hyperbolic s3 and linear p_min solved,
+//     KFR as given (its buffer is RMFR's by construction). What `equalise` was before log schema 8.
+enum class Equalise : uint8_t { off, samples, density };
+const char* equalise_name(Equalise equalise);  // "off", "samples", "density"
+
 // Every model's parameters; each model reads its own. Ranges are checked by make_sampling_map.
 struct SamplingSettings {
   SamplingModel model = SamplingModel::rectangular;
-  double sigma = 2.6;                  // RMFR, KFR: screen over buffer size per axis; --equalise's target 1/sigma^2
+  double sigma = 2.6;                  // RMFR, KFR: screen over buffer size per axis; equalise: RMFR's, the target
   double focal_share_x = 0.3;          // RMFR: f_x / W
   double focal_share_y = 0.3;          // RMFR: f_y / H
   double alpha = 4.0;                  // KFR: the kernel's exponent
@@ -138,22 +154,23 @@ struct SamplingSettings {
   double blend_band_deg = 1.0;         // hyperbolic: width of the fade at each layer's border
   double min_probability = 0.047;      // linear: p_min
   uint32_t seed = 0;                   // linear: the thresholds' seed
-  // Hyperbolic: s3, linear: p_min solved so that the mean density over this display and gaze is
-  // 1 / sigma^2 (the other parameters as given). RMFR and KFR are at sigma^2 by construction.
-  bool equalise = false;
+  // Hyperbolic: s3, linear: p_min, KFR (samples only): its buffer's sigma solved on this display
+  // and gaze (the other parameters as given), as Equalise says. RMFR is the reference.
+  Equalise equalise = Equalise::off;
   // Not the map's: how pass 2 reads its samples (RMFR, KFR, hyperbolic).
   ResampleFilter filter = ResampleFilter::bilinear;
 };
 
 // The map of one frame. `display` gives the pixel counts (always) and the physical size and
 // viewing distance (hyperbolic and linear: their radii are eccentricities). SettingError naming the
-// field and the range expected; InputError when equalising cannot reach 1 / sigma^2 (says why).
+// field and the range expected; InputError when equalising cannot reach its target (says why).
 SamplingMap make_sampling_map(const SamplingSettings& settings, const DisplayGeometry& display, double gaze_x_px,
                               double gaze_y_px);
 
 // `settings` with equalise's solution in `solved` (a map made from them with equalise on, e.g. with
-// the gaze at the centre) fixed: its s3 (hyperbolic) or p_min (linear) taken and equalise off, so
-// that the maps of other gazes sample alike. Settings without equalise come back unchanged.
+// the gaze at the centre) fixed: its s3 (hyperbolic), p_min (linear) or sigma (KFR) taken and
+// equalise off, so that the maps of other gazes sample alike. Settings without equalise come back
+// unchanged.
 SamplingSettings with_solved_equalise(SamplingSettings settings, const SamplingMap& solved);
 
 }  // namespace fovlab

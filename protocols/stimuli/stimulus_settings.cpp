@@ -117,6 +117,20 @@ namespace {
 
 // A sampling model's settings from its parameters, the same on either source. Returns whether the
 // model needs the spec's display.
+// The equalisation a stimulus's choice asks for: "on" in a log before schema 8 the density.
+Equalise equalise_of(EqualiseChoice choice) {
+  switch (choice) {
+    case EqualiseChoice::off:
+      return Equalise::off;
+    case EqualiseChoice::samples:
+      return Equalise::samples;
+    case EqualiseChoice::on_before_log_schema_8:
+    case EqualiseChoice::density:
+      return Equalise::density;
+  }
+  return Equalise::off;
+}
+
 bool read_model(const SamplingModelParameters& model, SamplingSettings& settings) {
   return std::visit(Overloaded{
                         [&](const RectangularMappingModel& p) {
@@ -130,6 +144,7 @@ bool read_model(const SamplingModelParameters& model, SamplingSettings& settings
                           settings.model = SamplingModel::kernel_log_polar;
                           settings.sigma = p.sigma;
                           settings.alpha = p.alpha;
+                          settings.equalise = equalise_of(p.equalise);
                           return false;
                         },
                         [&](const HyperbolicLayersModel& p) {
@@ -139,7 +154,7 @@ bool read_model(const SamplingModelParameters& model, SamplingSettings& settings
                           settings.middle_pixel_size_px = p.middle_pixel_size_px;
                           settings.outer_pixel_size_px = p.outer_pixel_size_px;
                           settings.blend_band_deg = p.blend_band_deg;
-                          settings.equalise = p.equalise;
+                          settings.equalise = equalise_of(p.equalise);
                           settings.sigma = p.sigma;
                           return true;
                         },
@@ -149,7 +164,7 @@ bool read_model(const SamplingModelParameters& model, SamplingSettings& settings
                           settings.outer_radius_deg = p.outer_radius_deg;
                           settings.min_probability = p.min_probability;
                           settings.seed = p.sample_seed;
-                          settings.equalise = p.equalise;
+                          settings.equalise = equalise_of(p.equalise);
                           settings.sigma = p.sigma;
                           return true;
                         },
@@ -175,7 +190,7 @@ SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze
   display.height_px = spec.height_px;
   const bool needs_display = read_model(sampled.model, settings);
   if (needs_display) display = stimulus_display(spec);
-  if (settings.equalise) {
+  if (settings.equalise != Equalise::off) {
     // Solved once for the stimulus, with the gaze at the centre; the map then follows each gaze
     // sample with that s3 or p_min. Every refresh samples alike (a re-solved s3 would re-pitch the
     // outer layer, a re-solved p_min flip peripheral pixels), and no gaze can make it unsolvable

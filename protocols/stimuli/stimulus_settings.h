@@ -55,9 +55,9 @@ DisplayGeometry stimulus_display(const StimulusSpec& spec);
 
 // The sampling model of a sampling-model spec (is_sampling_model) for one gaze sample (NaN: the
 // centre): the map SphereTraceSettings::sampling and FrameSampler take. rmfr and kfr need only the frame's pixels;
-// hyperbolic and linear the spec's display. With equalise on, s3 or p_min is solved with the gaze
-// at the centre and kept for every gaze (one stimulus samples alike); InputError when that cannot
-// reach 1 / sigma^2; std::logic_error for other methods.
+// hyperbolic and linear the spec's display. With equalise, s3, p_min or KFR's sigma is solved with
+// the gaze at the centre and kept for every gaze (one stimulus samples alike); InputError when that
+// cannot reach its target; std::logic_error for other methods.
 // `centre`: this spec's map at the centre (sphere_trace_settings' settings.sampling), whose solved s3
 // or p_min is taken instead of solving again: a session builds one map per refresh, not three.
 SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px,

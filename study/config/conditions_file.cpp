@@ -104,7 +104,7 @@ void read_conditions(const TomlFields& fields, const Reading& reading, StudyConf
       }
       double value = 0.0;
       if (parameter->type == ParameterType::choice) {
-        const std::optional<double> index = parse_choice(*parameter, cell);
+        const std::optional<double> index = parse_choice(*parameter, cell, reading.log_schema_version);
         if (!index)
           fail(row.line, where + "expected " + *check_parameter_value(*parameter, -1) + ", got " + quoted_input(cell));
         value = *index;

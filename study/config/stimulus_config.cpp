@@ -46,7 +46,7 @@ std::map<std::string, double> read_parameters(const TomlFields& fields, RenderMe
         fields.fail(name, "expected " + *check_parameter_value(*parameter, -1) + " (a name), got " +
                               (node.is_number() ? exact_number_text(fields.number(name)) : "another type"));
       const std::string choice = fields.string(name);
-      const std::optional<double> index = parse_choice(*parameter, choice);
+      const std::optional<double> index = parse_choice(*parameter, choice, reading.log_schema_version);
       if (!index) fields.fail(name, "expected " + *check_parameter_value(*parameter, -1) + ", got \"" + choice + "\"");
       value = *index;
     } else {

@@ -27,7 +27,10 @@ namespace fovlab {
 // default_in_log_schema).
 // 6: FIPR's near_misses is new, default promote; a config that a schema 1-5 log carries reads a
 // missing one as ignore, what those logs showed.
-inline constexpr int log_schema_version = 7;         // what this build writes
+// 8: the sampling models' equalise "on" means equal shaded samples to RMFR's (and kfr has
+// equalise); a config that a schema 1-7 log carries reads "on" as the theoretical density, what those
+// logs showed (render_method.h ParameterDescriptor::choice_alias).
+inline constexpr int log_schema_version = 8;         // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read

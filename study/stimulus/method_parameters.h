@@ -163,6 +163,12 @@ struct PathTracedSamples {
 using SampleSource = std::variant<SphereTracedSamples, PathTracedSamples>;
 static_assert(std::variant_size_v<SampleSource> == std::size(kSamplingKinds));
 
+// The sampling models' `equalise`, by its choice's index (render_method.cpp names them; Equalise in
+// foveation/sampling_map.h says what each solves): off; on as logs before schema 8 recorded it, the
+// theoretical density (a config read now, or from a log of schema 8 or later, reads "on" as
+// samples); samples; density.
+enum class EqualiseChoice : uint8_t { off, on_before_log_schema_8, samples, density };
+
 // RMFR: a buffer sigma times smaller per axis, each axis warped towards the gaze.
 struct RectangularMappingModel {
   double sigma;
@@ -179,8 +185,8 @@ struct HyperbolicLayersModel {
   double middle_pixel_size_px;
   double outer_pixel_size_px;
   double blend_band_deg;
-  bool equalise;  // s3 solved (gaze at the centre) so that the mean density is 1 / sigma^2
-  double sigma;   // the target of equalise
+  EqualiseChoice equalise;  // s3 solved (gaze at the centre) to match RMFR at sigma
+  double sigma;             // the target of equalise
   ResampleFilter resample;
   StimulusDisplay display;
 };
@@ -191,7 +197,7 @@ struct LinearFalloffModel {
   double outer_radius_deg;
   double min_probability;
   uint32_t sample_seed;
-  bool equalise;  // p_min solved (gaze at the centre) so that the mean density is 1 / sigma^2
+  EqualiseChoice equalise;  // p_min solved (gaze at the centre) to match RMFR at sigma
   double sigma;
   StimulusDisplay display;
 };
@@ -200,6 +206,7 @@ struct LinearFalloffModel {
 struct KernelLogPolarModel {
   double sigma;
   double alpha;
+  EqualiseChoice equalise;  // samples: the buffer's sigma solved (gaze at the centre) to match RMFR at sigma
   ResampleFilter resample;
 };
 

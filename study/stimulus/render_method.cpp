@@ -348,12 +348,21 @@ void add_radii(std::vector<ParameterDescriptor>& list) {
       "r2: radius (eccentricity) where the fall-off ends; at least inner_radius_deg"));
 }
 
+// The sampling models' equalise (EqualiseChoice's order). "on" meant the theoretical density in logs
+// before schema 8 and means samples since (docs/foveation.md, "Equal work"); a config of such a log
+// keeps the choice "on", so its stimuli keep their canonical text.
+template <class Struct>
+ParameterDescriptor equalise_parameter(std::string_view solved) {
+  ParameterDescriptor equalise = parameter<&Struct::equalise>("equalise", "", ParameterType::choice, 0, 0, 3, solved);
+  equalise.choices = {"off", "on", "samples", "density"};
+  equalise.choice_alias = ParameterDescriptor::ChoiceAlias{"on", "samples", 8};
+  return equalise;
+}
+
 template <class Struct>
 void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solved) {
-  ParameterDescriptor equalise = parameter<&Struct::equalise>("equalise", "", ParameterType::choice, 0, 0, 1, solved);
-  equalise.choices = {"off", "on"};
-  list.push_back(equalise);
-  list.push_back(sigma_parameter<Struct>("with equalise on: the mean density sought is 1 / sigma^2"));
+  list.push_back(equalise_parameter<Struct>(solved));
+  list.push_back(sigma_parameter<Struct>("equalise's target: RMFR at this sigma on the same display"));
 }
 
 MethodDescriptor rectangular_mapping(MethodDescriptor method) {
@@ -382,7 +391,8 @@ MethodDescriptor hyperbolic_layers(MethodDescriptor method) {
       "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
   add_equalise<P>(
       list,
-      "on: outer_pixel_size_px is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
+      "outer_pixel_size_px solved once, with the gaze at the centre: samples (\"on\"): as many shaded samples as "
+      "RMFR's; density: mean density 1 / sigma^2 (what \"on\" meant in logs before schema 8)");
   add_resample<P>(list);
   add_display_parameters<P>(list);
   return method;
@@ -398,16 +408,22 @@ MethodDescriptor linear_falloff(MethodDescriptor method) {
   list.push_back(parameter<&P::sample_seed>("sample_seed", "", ParameterType::integer, 0, 0, kSeedMax,
                                             "seed of the per-pixel thresholds"));
   add_equalise<P>(
-      list, "on: min_probability is solved once, with the gaze at the centre, so that the mean density is 1 / sigma^2");
+      list,
+      "min_probability solved once, with the gaze at the centre: samples (\"on\"): as many shaded samples as RMFR's; "
+      "density: mean density 1 / sigma^2 (what \"on\" meant in logs before schema 8)");
   add_display_parameters<P>(list);
   return method;
 }
 
 MethodDescriptor kernel_log_polar(MethodDescriptor method) {
   using P = KernelLogPolarModel;
-  method.parameters.push_back(sigma_parameter<P>("screen over buffer size per axis"));
+  method.parameters.push_back(
+      sigma_parameter<P>("screen over buffer size per axis; with equalise samples: RMFR's, the target"));
   method.parameters.push_back(parameter<&P::alpha>("alpha", "", ParameterType::real, 4.0, kMinAlpha, kMaxAlpha,
                                                    "the kernel's exponent: u = w (ln r / L)^alpha"));
+  method.parameters.push_back(omitted_at_default(equalise_parameter<P>(
+      "samples (\"on\"): the buffer's sigma solved once, with the gaze at the centre, so that it shades as many "
+      "samples as RMFR at sigma; density: as off (the buffer is RMFR's)")));
   add_resample<P>(method.parameters);
   return method;
 }
@@ -588,7 +604,11 @@ std::string parameter_value_text(const ParameterDescriptor& parameter, double va
   return format_number(value, 17);
 }
 
-std::optional<double> parse_choice(const ParameterDescriptor& parameter, std::string_view name) {
+std::optional<double> parse_choice(const ParameterDescriptor& parameter, std::string_view name,
+                                   int log_schema_version) {
+  if (const auto& alias = parameter.choice_alias;
+      alias && name == alias->name && (log_schema_version == 0 || log_schema_version >= alias->since_log_schema))
+    name = alias->read_as;
   for (size_t i = 0; i < parameter.choices.size(); ++i)
     if (parameter.choices[i] == name) return double(i);
   return std::nullopt;

@@ -50,6 +50,16 @@ struct ParameterDescriptor {
   // parameter: a second would need the earlier defaults by schema.)
   int default_since_log_schema = 0;
   double earlier_default = 0.0;
+  // A choice name whose meaning changed in log schema `since_log_schema` (equalise "on": the
+  // theoretical density before schema 8, equal shaded samples since): a config read now, or one that
+  // a log of that schema or later carries, reads `name` as the choice `read_as`; one that an earlier
+  // log carries reads it as the choice of that name, so its stimuli (their canonical text, JSON and
+  // frames) stay those it recorded.
+  struct ChoiceAlias {
+    std::string_view name, read_as;
+    int since_log_schema = 0;
+  };
+  std::optional<ChoiceAlias> choice_alias;
   double (*read)(const MethodParameters&) = nullptr;
   void (*write)(MethodParameters&, double) = nullptr;
 };
@@ -94,8 +104,10 @@ std::string parameter_keys(const MethodDescriptor& method);
 std::optional<std::string> check_parameter_value(const ParameterDescriptor& parameter, double value);
 // A value as the edges show it: a choice by its name, a number as the shortest text that reads back.
 std::string parameter_value_text(const ParameterDescriptor& parameter, double value);
-// The index of a choice's name; nullopt when the parameter has no such choice.
-std::optional<double> parse_choice(const ParameterDescriptor& parameter, std::string_view name);
+// The index of a choice's name in a config that a log of `log_schema_version` carries (0: a config
+// read now), choice_alias applied; nullopt when the parameter has no such choice.
+std::optional<double> parse_choice(const ParameterDescriptor& parameter, std::string_view name,
+                                   int log_schema_version = 0);
 
 // The value of a parameter by key (a choice as its index); nullopt when the method has none.
 std::optional<double> parameter_value(const MethodParameters& parameters, std::string_view key);

@@ -140,12 +140,21 @@ TEST(BenchCli, SamplingModelsOverSceneTimesAreRankedByFpsnr) {
     EXPECT_NEAR(sampling["theoretical_speedup"].get<double>(), 64.0 * 36 / (25.0 * 14),
                 1e-9);  // round(64/2.6) x round(36/2.6)
     EXPECT_GT(sampling["shaded_samples"].get<double>(), 0.0);
+    // The reference is RMFR's buffer at the run's sigma, in the run or not; RMFR's own ratio is 1.
+    EXPECT_EQ(sampling["reference"], "rmfr sigma 2.6");
+    EXPECT_EQ(sampling["reference_shaded_samples"], 25 * 14);
+    EXPECT_DOUBLE_EQ(sampling["shaded_over_reference"].get<double>(),
+                     sampling["shaded_samples"].get<double>() / (25.0 * 14));
+    if (cell["method"] == "rmfr") {
+      EXPECT_EQ(sampling["shaded_over_reference"].get<double>(), 1.0);
+    }
     EXPECT_NE(cell["command"].get<std::string>().find("--methods gt," + cell["method"].get<std::string>()),
               std::string::npos);
     EXPECT_NE(cell["command"].get<std::string>().find("--time " + std::to_string(int(cell["time_s"].get<double>()))),
               std::string::npos);
   }
   EXPECT_EQ(seen.size(), 6u);
+  EXPECT_NE(result.out.find("| samples / rmfr's |"), std::string::npos) << result.out;
   EXPECT_NE(json["command"].get<std::string>().find("--times 0,9"), std::string::npos);
 
   // The sweep's command runs as written (it holds only the flags its models use: bench refuses the
@@ -367,6 +376,8 @@ TEST(BenchCli, BadFlagsExitTwoWithOneLineNamingTheFlagAndWriteNothing) {
       {kTiny + "--methods gt,rmfr --fy 0.3,0.3", "--fy"},
       {kTiny + "--methods gt,kfr --fx 0.2", "--fx"},  // RMFR's flag, no RMFR
       {kTiny + "--methods gt,rmfr --equalise", "--equalise"},
+      {kTiny + "--methods gt,kfr --equalise bogus", "--equalise"},
+      {kTiny + "--methods gt,kfr --equalise --sigma 1", "equalise"},  // KFR shades less than the screen
       {kTiny + "--methods gt,linear --equalise --sigma 8", "equalise"},  // 1/64 below the fovea's own density
       {kTiny + "--methods gt,linear --inner-radius-deg 0 --min-probability 0", "--min-probability"},  // nothing shaded
       {kTiny + "--methods gt --time 1 --times 0,1", "--times"},

@@ -47,6 +47,11 @@ TEST(BenchPareto, ChartLabelsEveryCellAndMarksTheFront) {
   EXPECT_EQ(cell_label(cells[4]), "16/4/12.5");
   EXPECT_EQ(cell_label(cells[2]), "ipr 4");
   EXPECT_EQ(cell_label(cells[0]), "gt");
+  // A sampling model's label carries its shaded samples over RMFR's when the cell has them.
+  ChartCell kfr{"kfr", 1, 1, 0.0, {1.2, 0.02}, false};
+  EXPECT_EQ(cell_label(kfr), "kfr 1");
+  kfr.shaded_over_reference = 0.8734;
+  EXPECT_EQ(cell_label(kfr), "kfr 1 (0.873x rmfr's samples)");
 
   const std::string svg = pareto_chart_svg("primitives <test>", "FLIP against GT", cells);
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);

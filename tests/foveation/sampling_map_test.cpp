@@ -595,7 +595,7 @@ TEST(SamplingMapHyperbolic, EqualiseSolvesTheOuterPixelSize) {
     for (const auto& [gx, gy] : gazes_on(c.display.width_px, c.display.height_px)) {
       SamplingSettings settings = settings_of(SamplingModel::hyperbolic);
       settings.sigma = c.sigma;
-      settings.equalise = true;
+      settings.equalise = Equalise::density;
       SamplingMap map;
       try {
         map = make_sampling_map(settings, c.display, gx, gy);
@@ -628,7 +628,7 @@ TEST(SamplingMapHyperbolic, EqualiseReportsWhenImpossible) {
   for (const Case& c : cases) {
     SamplingSettings settings = settings_of(SamplingModel::hyperbolic);
     settings.sigma = c.sigma;
-    settings.equalise = true;
+    settings.equalise = Equalise::density;
     try {
       make_sampling_map(settings, c.display, 0.5 * c.display.width_px, 0.5 * c.display.height_px);
       ADD_FAILURE() << "no error: " << c.why;
@@ -732,7 +732,7 @@ TEST(SamplingMapLinear, EqualiseSolvesPMin) {
     for (const auto& [gx, gy] : gazes_on(c.display.width_px, c.display.height_px)) {
       SamplingSettings settings = settings_of(SamplingModel::linear);
       settings.sigma = c.sigma;
-      settings.equalise = true;
+      settings.equalise = Equalise::density;
       SamplingMap map;
       try {
         map = make_sampling_map(settings, c.display, gx, gy);
@@ -750,7 +750,7 @@ TEST(SamplingMapLinear, EqualiseSolvesPMin) {
   // near the paper's value (a sanity check of the solve's direction, loose).
   SamplingSettings settings = settings_of(SamplingModel::linear);
   settings.sigma = 2.6;
-  settings.equalise = true;
+  settings.equalise = Equalise::density;
   const LinearFalloff m = make_linear(settings, display_300(), 80, 45);
   EXPECT_GT(m.min_probability, 0.0);
   EXPECT_LT(m.min_probability, 0.2) << describe(m);
@@ -761,7 +761,7 @@ TEST(SamplingMapLinear, EqualiseAtSigmaOneShadesEverything) {
   for (const auto& [gx, gy] : gazes_on(160, 90)) {
     SamplingSettings settings = settings_of(SamplingModel::linear);
     settings.sigma = 1.0;
-    settings.equalise = true;
+    settings.equalise = Equalise::density;
     try {
       const SamplingMap map = make_sampling_map(settings, display_300(), gx, gy);
       EXPECT_NEAR(std::get<LinearFalloff>(map).min_probability, 1.0, 1e-9) << gaze_text(gx, gy);
@@ -782,7 +782,7 @@ TEST(SamplingMapLinear, EqualiseReportsWhenImpossible) {
   for (const Case& c : cases) {
     SamplingSettings settings = settings_of(SamplingModel::linear);
     settings.sigma = c.sigma;
-    settings.equalise = true;
+    settings.equalise = Equalise::density;
     try {
       make_sampling_map(settings, c.display, 0.5 * c.display.width_px, 0.5 * c.display.height_px);
       ADD_FAILURE() << "no error at sigma " << c.sigma;
@@ -963,14 +963,14 @@ TEST(SamplingMapStress, EveryValueIsFinite) {
     for (const SamplingModel model : {SamplingModel::rectangular, SamplingModel::kernel_log_polar,
                                       SamplingModel::hyperbolic, SamplingModel::linear})
       for (const double sigma : {1.0, 8.0})
-        for (const bool equalise : {false, true})
+        for (const Equalise equalise : {Equalise::off, Equalise::samples, Equalise::density})
           for (const auto& [gx, gy] : gazes) {
             SamplingSettings settings = settings_of(model);
             settings.sigma = sigma;
             settings.equalise = equalise;
             const std::string where = std::string(sampling_model_name(model)) + " " + std::to_string(display.width_px) +
                                       "x" + std::to_string(display.height_px) + " sigma " + std::to_string(sigma) +
-                                      (equalise ? " equalised " : " ") + gaze_text(gx, gy);
+                                      " equalise " + equalise_name(equalise) + " " + gaze_text(gx, gy);
             SamplingMap map;
             try {
               map = make_sampling_map(settings, display, gx, gy);
@@ -978,7 +978,7 @@ TEST(SamplingMapStress, EveryValueIsFinite) {
               ADD_FAILURE() << where << ": " << error.what();
               continue;
             } catch (const InputError&) {
-              EXPECT_TRUE(equalise) << where;  // only equalising may be impossible
+              EXPECT_NE(equalise, Equalise::off) << where;  // only equalising may be impossible
               continue;
             }
             int bad = 0;

@@ -181,5 +181,35 @@ TEST_F(FrameSamplerTest, RefusesAMapOfAnotherScreen) {
   EXPECT_THROW(sampler.set_frame(Image(0, 0, 3)), InputError);
 }
 
+// Equalised for equal shaded samples on a headset-like (Ye et al. 2022's 238x264 mm at 100 mm, at
+// 180x200) and a desktop geometry (24 inches at 300 mm, 160x90): the GPU shades the samples the CPU
+// count (shaded_samples) says for every model, so the count tests/foveation/equal_samples_test.cpp
+// equalises is the renderer's.
+TEST_F(FrameSamplerTest, EqualisedMapsShadeTheSamplesTheCpuCounts) {
+  FrameSampler sampler(context());
+  for (const DisplayGeometry& display :
+       {display_from_size(180, 200, 238.0, 264.0, 100.0), display_from_diagonal(160, 90, 24.0, 300.0)}) {
+    Pcg32 random(20261205);
+    Image frame(display.width_px, display.height_px, 3);
+    for (float& value : frame.pixels) value = float(random.uniform(0.0, 1.0));
+    sampler.set_frame(frame);
+    uint64_t rmfr_shaded = 0;
+    for (SamplingModel model : kModels) {
+      SamplingSettings settings;
+      settings.model = model;
+      settings.equalise = Equalise::samples;
+      const SamplingMap map = make_sampling_map(settings, display, std::nan(""), std::nan(""));
+      const std::string where = std::string(sampling_model_name(model)) + " " + std::to_string(display.width_px) +
+                                "x" + std::to_string(display.height_px);
+      const uint64_t shaded = sampler.resample(map, ResampleFilter::bilinear).shaded_samples;
+      const double expected = double(shaded_samples(map));
+      EXPECT_NEAR(double(shaded), expected, 1.0 + 1e-3 * expected) << where;
+      if (model == SamplingModel::rectangular) rmfr_shaded = shaded;
+      // At these sizes one column of a layer or buffer is over 1 % of the samples: within 3 %.
+      EXPECT_NEAR(double(shaded) / double(rmfr_shaded), 1.0, 0.03) << where;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fovlab

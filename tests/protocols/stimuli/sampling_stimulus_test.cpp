@@ -4,6 +4,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "core/input_error.h"
 #include "foveation/sampling_map.h"
@@ -154,7 +155,7 @@ TEST(SamplingStimulus, ResampleChoiceReachesTheRenderer) {
 TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   StimulusSpec spec = spec_of(sampled_method(0, SamplingModel::linear));
   auto& linear = std::get<LinearFalloffModel>(std::get<SampledParameters>(spec.parameters).model);
-  linear.equalise = true;
+  linear.equalise = EqualiseChoice::on_before_log_schema_8;  // a log's "on" before schema 8: the density
   linear.sigma = 1.05;  // this small display is mostly within 20 degrees: only a small sigma is reachable
   EXPECT_NEAR(mean_density(sampling_map(spec, 48, 27)), 1.0 / (1.05 * 1.05), 1e-9);
   // Solved at the centre and kept: a gaze in a corner samples with the same p_min (no flicker, and
@@ -163,7 +164,7 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   EXPECT_EQ(std::get<LinearFalloff>(sampling_map(spec, 0, 0)).min_probability, centre_p_min);
   StimulusSpec layers_spec = spec_of(sampled_method(0, SamplingModel::hyperbolic));
   auto& layers = std::get<HyperbolicLayersModel>(std::get<SampledParameters>(layers_spec.parameters).model);
-  layers.equalise = true;
+  layers.equalise = EqualiseChoice::density;
   layers.inner_radius_deg = 4;  // this small display lies within 20 degrees: smaller zones
   layers.outer_radius_deg = 8;
   layers.sigma = 2.2;
@@ -175,6 +176,69 @@ TEST(SamplingStimulus, EqualiseAndItsFailureComeFromTheSpec) {
   StimulusSpec no_display = spec_of(sampled_method(0, SamplingModel::hyperbolic));
   *display_of(no_display.parameters) = StimulusDisplay{};
   EXPECT_THROW(sampling_map(no_display, 48, 27), InputError);
+}
+
+// equalise's names: "on" read now (or from a log of schema 8 or later) is "samples"; from a log of
+// an earlier schema it is the choice "on", the density, whose name the stimuli keep; a name it
+// does not have is refused with the names it has. KFR has equalise now, left out of its canonical
+// text at "off" so its older stimuli keep theirs.
+TEST(SamplingStimulus, EqualiseNamesByLogSchema) {
+  for (SamplingModel model : {SamplingModel::hyperbolic, SamplingModel::linear, SamplingModel::kernel_log_polar})
+    for (int source = 0; source < 2; ++source) {
+      const ParameterDescriptor& equalise = parameter_named(sampled_method(source, model), "equalise");
+      const std::string where = sampling_model_name(model);
+      EXPECT_EQ(parse_choice(equalise, "off"), double(EqualiseChoice::off)) << where;
+      EXPECT_EQ(parse_choice(equalise, "on"), double(EqualiseChoice::samples)) << where;
+      EXPECT_EQ(parse_choice(equalise, "on", 8), double(EqualiseChoice::samples)) << where;
+      EXPECT_EQ(parse_choice(equalise, "on", 7), double(EqualiseChoice::on_before_log_schema_8)) << where;
+      EXPECT_EQ(parse_choice(equalise, "on", 1), double(EqualiseChoice::on_before_log_schema_8)) << where;
+      EXPECT_EQ(parse_choice(equalise, "samples"), double(EqualiseChoice::samples)) << where;
+      EXPECT_EQ(parse_choice(equalise, "density", 7), double(EqualiseChoice::density)) << where;
+      EXPECT_FALSE(parse_choice(equalise, "bogus")) << where;
+      EXPECT_EQ(check_parameter_value(equalise, -1), "one of \"off\", \"on\", \"samples\", \"density\"") << where;
+      EXPECT_EQ(parameter_value_text(equalise, double(EqualiseChoice::on_before_log_schema_8)), "on") << where;
+      EXPECT_EQ(parameter_value_text(equalise, double(EqualiseChoice::samples)), "samples") << where;
+    }
+  StimulusSpec kfr = spec_of(sampled_method(0, SamplingModel::kernel_log_polar));
+  EXPECT_EQ(kfr.canonical().find("equalise"), std::string::npos) << kfr.canonical();
+  std::get<KernelLogPolarModel>(std::get<SampledParameters>(kfr.parameters).model).equalise = EqualiseChoice::samples;
+  EXPECT_NE(kfr.canonical().find(";equalise=samples;"), std::string::npos) << kfr.canonical();
+  StimulusSpec layers = spec_of(sampled_method(0, SamplingModel::hyperbolic));
+  auto& model = std::get<HyperbolicLayersModel>(std::get<SampledParameters>(layers.parameters).model);
+  model.equalise = EqualiseChoice::on_before_log_schema_8;
+  EXPECT_NE(layers.canonical().find(";equalise=on;"), std::string::npos) << layers.canonical();
+  EXPECT_EQ(to_json(layers)["parameters"]["equalise"], "on");
+}
+
+// Each choice reaches the map: "on" of an earlier log and "density" solve the density, "samples"
+// (today's "on") RMFR's shaded samples; KFR by its buffer's sigma.
+TEST(SamplingStimulus, EqualiseChoicesReachTheMap) {
+  StimulusSpec spec = spec_of(sampled_method(0, SamplingModel::hyperbolic));
+  auto& layers = std::get<HyperbolicLayersModel>(std::get<SampledParameters>(spec.parameters).model);
+  layers.inner_radius_deg = 4;  // this small display lies within 20 degrees: smaller zones
+  layers.outer_radius_deg = 8;
+  layers.sigma = 2.2;
+  const auto s3 = [&](EqualiseChoice choice) {
+    layers.equalise = choice;
+    return std::get<HyperbolicLayers>(sampling_map(spec, std::nan(""), std::nan(""))).layers[2].pixel_size_px;
+  };
+  EXPECT_EQ(s3(EqualiseChoice::on_before_log_schema_8), s3(EqualiseChoice::density));
+  EXPECT_NE(s3(EqualiseChoice::samples), s3(EqualiseChoice::density));
+  layers.equalise = EqualiseChoice::samples;
+  const double rmfr = double(rmfr_shaded_samples(spec.width_px, spec.height_px, 2.2));
+  EXPECT_NEAR(double(shaded_samples(sampling_map(spec, std::nan(""), std::nan("")))) / rmfr, 1.0, 0.01);
+
+  StimulusSpec kfr_spec = spec_of(sampled_method(1, SamplingModel::kernel_log_polar));
+  auto& kfr = std::get<KernelLogPolarModel>(std::get<SampledParameters>(kfr_spec.parameters).model);
+  kfr.equalise = EqualiseChoice::samples;
+  const SamplingMap centre = sampling_map(kfr_spec, std::nan(""), std::nan(""));
+  EXPECT_LT(std::get<KernelLogPolarMapping>(centre).sigma, kfr.sigma);
+  // Kept for another gaze: the same buffer.
+  const SamplingMap corner = sampling_map(kfr_spec, 0, 0);
+  EXPECT_EQ(std::get<KernelLogPolarMapping>(corner).buffer_width_px,
+            std::get<KernelLogPolarMapping>(centre).buffer_width_px);
+  kfr.equalise = EqualiseChoice::density;  // KFR's buffer is RMFR's: as off
+  EXPECT_EQ(std::get<KernelLogPolarMapping>(sampling_map(kfr_spec, 0, 0)).sigma, kfr.sigma);
 }
 
 }  // namespace

@@ -1471,5 +1471,28 @@ TEST(StudyConfigAnalysis, HeadlineChoosesThePapersRuleAndLeavesOtherConfigsTheir
   expect_error(text, line_of(text, "headline = \"walk\""), "analysis.headline", "expected \"estimate\"");
 }
 
+// The sampling models' equalise by name: "on" is "samples" in a config read now and in one that a
+// schema 8 log carries, and the choice "on" (the density, what those sessions showed) in one that an
+// earlier log carries; the config's version is its text either way. Other names are refused with the
+// names allowed.
+TEST(StudyConfigEqualise, OnIsReadByTheLogsSchema) {
+  ConfigText config;
+  config.stimulus = replace_once(config.stimulus, "[stimulus.test]\nmethod = \"gt\"\n",
+                                 "[stimulus.test]\nmethod = \"hyperbolic\"\nequalise = \"on\"\n");
+  config.levels = "[levels]\nparameter = \"sigma\"\nvalues = [2, 2.6]\nhigher_is_better = false\n";
+  const std::string text = config.text();
+  const StudyConfig now = parse_study_config_text(text, kPath, renderer_scene_catalog());
+  EXPECT_EQ(now.stimulus.test.parameters.at("equalise"), 2.0);  // samples
+  EXPECT_EQ(parse_logged_study_config(text, kPath, 8, nullptr).stimulus.test.parameters.at("equalise"), 2.0);
+  const StudyConfig earlier = parse_logged_study_config(text, kPath, 7, nullptr);
+  EXPECT_EQ(earlier.stimulus.test.parameters.at("equalise"), 1.0);  // "on", the density
+  EXPECT_EQ(earlier.content_hash, now.content_hash);
+  const std::string density = replace_once(text, "equalise = \"on\"", "equalise = \"density\"");
+  EXPECT_EQ(parse_logged_study_config(density, kPath, 7, nullptr).stimulus.test.parameters.at("equalise"), 3.0);
+  const std::string bad = replace_once(text, "equalise = \"on\"", "equalise = \"equal\"");
+  expect_error(bad, line_of(bad, "equalise = "), "stimulus.test.equalise",
+               "expected one of \"off\", \"on\", \"samples\", \"density\", got \"equal\"");
+}
+
 }  // namespace
 }  // namespace fovlab
