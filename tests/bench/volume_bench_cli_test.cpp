@@ -29,11 +29,8 @@ fs::path scratch() { return fovlab::cli_test::scratch("fovlab-bench-volume-cli-t
 
 // A 24-inch 16:9 screen of 1920x1080 pixels at 600 mm: 531.3 mm wide, a pitch of 0.2767 mm, 37.84
 // pixels a degree at its centre, so s = 2.5 degrees is 94.6 pixels, whatever part of it a frame covers.
-double bruder_sigma_px() {
-  const double width_mm = 24.0 * 25.4 * 16.0 / std::sqrt(16.0 * 16.0 + 9.0 * 9.0);
-  const double pitch_mm = width_mm / 1920.0;
-  return 2.5 * 600.0 * std::numbers::pi / 180.0 / pitch_mm;
-}
+double bruder_pitch_mm() { return 24.0 * 25.4 * 16.0 / std::sqrt(16.0 * 16.0 + 9.0 * 9.0) / 1920.0; }
+double bruder_sigma_px() { return 2.5 * 600.0 * std::numbers::pi / 180.0 / bruder_pitch_mm(); }
 
 TEST(VolumeBenchDisplay, FrameTakesTheDisplaysPitch) {
   const fovlab::DisplayGeometry screen = fovlab::display_from_diagonal(1920, 1080, 24.0, 600.0);
@@ -41,7 +38,8 @@ TEST(VolumeBenchDisplay, FrameTakesTheDisplaysPitch) {
     const fovlab::DisplayGeometry frame = fovlab::bench::frame_on_display(screen, side, side);
     EXPECT_EQ(frame.width_px, side);
     EXPECT_NEAR(frame.pixel_pitch_x_mm(), screen.pixel_pitch_x_mm(), 1e-12);
-    EXPECT_NEAR(frame.width_mm, side * 531.3 / 1920.0, 0.01 * side / 1920.0 + 1e-3);
+    EXPECT_NEAR(frame.width_mm, side * bruder_pitch_mm(), 1e-9);
+    EXPECT_NEAR(frame.height_mm, side * bruder_pitch_mm(), 1e-9);
     EXPECT_NEAR(fovlab::density_sigma_px(frame, 2.5), bruder_sigma_px(), 1e-9) << side;
     EXPECT_NEAR(fovlab::density_sigma_px(frame, 2.5), 94.6, 0.05) << side;
   }
