@@ -201,11 +201,12 @@ nlohmann::json volume_bench_json(const VolumeBenchPlan& plan, const std::vector<
                          {"sigma_deg", plan.sigma_deg}, {"correct_opacity", plan.correct_opacity}};
   // Added fields (the earlier ones keep their names and meaning).
   json["trace_read_sites_only"] = plan.trace_read_sites_only;
-  json["display"] = {{"width_px", plan.screen.width_px},
-                     {"height_px", plan.screen.height_px},
-                     {"width_mm", plan.screen.width_mm},
-                     {"height_mm", plan.screen.height_mm},
-                     {"viewing_distance_mm", plan.screen.viewing_distance_mm},
+  const DisplayGeometry& screen = plan.screen.width_px > 0 ? plan.screen : plan.display;  // unset: the frame's own
+  json["display"] = {{"width_px", screen.width_px},
+                     {"height_px", screen.height_px},
+                     {"width_mm", screen.width_mm},
+                     {"height_mm", screen.height_mm},
+                     {"viewing_distance_mm", screen.viewing_distance_mm},
                      {"frame_width_mm", plan.display.width_mm},
                      {"frame_height_mm", plan.display.height_mm},
                      {"pixels_per_degree_at_centre", plan.display.pixels_per_degree_at_centre()}};

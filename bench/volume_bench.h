@@ -29,7 +29,7 @@ struct VolumeBenchPlan {
   double sigma_deg = 2.5;  // the sampling density's Gaussian radius
   bool correct_opacity = true;
   DisplayGeometry display;  // the frame's: its pixels at the display's pitch (frame_on_display)
-  DisplayGeometry screen;   // the whole display the frame is centred on, for the record
+  DisplayGeometry screen;   // the whole display the frame is centred on, for the record (width_px 0: display)
   bool trace_read_sites_only = true;  // false: the earlier rule, every site within one global reach
   std::string voronoi_cache;          // folder of the masks' cache
 };
