@@ -9,6 +9,7 @@
 #include "analysis/report/svg_chart.h"
 #include "bench/bench_runs.h"
 #include "core/colour.h"
+#include "core/input_error.h"
 #include "core/prng.h"
 #include "foveation/voronoi_reconstruction.h"
 #include "renderer/volume/volume_raycaster.h"
@@ -40,6 +41,19 @@ std::string text(const char* format, double value) {
 
 }  // namespace
 
+DisplayGeometry frame_on_display(const DisplayGeometry& screen, int frame_width_px, int frame_height_px) {
+  if (frame_width_px > screen.width_px || frame_height_px > screen.height_px)
+    throw InputError("--width, --height: a frame of " + std::to_string(frame_width_px) + "x" +
+                     std::to_string(frame_height_px) + " pixels does not fit on the display's " +
+                     std::to_string(screen.width_px) + "x" + std::to_string(screen.height_px));
+  DisplayGeometry frame = screen;
+  frame.width_px = frame_width_px;
+  frame.height_px = frame_height_px;
+  frame.width_mm = screen.pixel_pitch_x_mm() * frame_width_px;
+  frame.height_mm = screen.pixel_pitch_y_mm() * frame_height_px;
+  return frame;
+}
+
 std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const VolumeBenchPlan& plan,
                                                 void (*progress)(const std::string& line)) {
   VoronoiMaskSettings mask_settings =
@@ -55,6 +69,7 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
     result.scene = scene.name;
     result.volume_voxels = {grid.size_voxels[0], grid.size_voxels[1], grid.size_voxels[2]};
     result.sites = mask.mask.sites.size();
+    result.fovea_sigma_px = mask_settings.density_sigma_px;
     // One stream a scene, so adding a scene changes no other scene's cameras and gazes.
     Pcg32 random(derive_seed(plan.seed, scene_name));
     for (int c = 0; c < plan.cameras; ++c) {
@@ -65,6 +80,7 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
       settings.width_px = plan.width_px;
       settings.height_px = plan.height_px;
       settings.correct_opacity = plan.correct_opacity;
+      settings.trace_read_sites_only = plan.trace_read_sites_only;
       VolumeCamera view = scene.camera;
       view.azimuth_deg = camera.azimuth_deg;
       view.elevation_deg = camera.elevation_deg;
@@ -80,7 +96,7 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
         if (f == 0) full = std::move(frame.colour_linear);
       }
       camera.full_ms = median(full_ms);
-      std::vector<double> foveated_ms, reconstruct_ms, shares, ssims, flips, fpsnrs;
+      std::vector<double> foveated_ms, reconstruct_ms, shares, on_screen, rays, ssims, flips, fpsnrs;
       for (int g = 0; g < plan.gazes; ++g) {
         const double gaze_x = random.uniform(0.0, plan.width_px), gaze_y = random.uniform(0.0, plan.height_px);
         settings.frame_index = 0;
@@ -95,6 +111,8 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
           if (f == 0) {
             foveated = std::move(frame.colour_linear);
             shares.push_back(frame.traced_share);
+            on_screen.push_back(double(frame.sites_on_screen));
+            rays.push_back(double(frame.rays));
           }
         }
         foveated_ms.push_back(median(frame_ms));
@@ -111,6 +129,8 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
       camera.foveated_ms = median(foveated_ms);
       camera.reconstruct_ms = median(reconstruct_ms);
       camera.traced_share = mean(shares);
+      camera.sites_on_screen = mean(on_screen);
+      camera.traced_rays = mean(rays);
       camera.speed_up = camera.full_ms / camera.foveated_ms;
       camera.ssim = mean(ssims);
       camera.flip = mean(flips);
@@ -121,13 +141,15 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
                  text("%.1f", camera.full_ms) + " ms, foveated " + text("%.1f", camera.foveated_ms) + " ms, " +
                  text("%.2fx", camera.speed_up));
     }
-    std::vector<double> speed_ups, full, foveated, reconstruct, shares, ssims, flips, fpsnrs;
+    std::vector<double> speed_ups, full, foveated, reconstruct, shares, on_screen, rays, ssims, flips, fpsnrs;
     for (const VolumeBenchCamera& camera : result.cameras) {
       speed_ups.push_back(camera.speed_up);
       full.push_back(camera.full_ms);
       foveated.push_back(camera.foveated_ms);
       reconstruct.push_back(camera.reconstruct_ms);
       shares.push_back(camera.traced_share);
+      on_screen.push_back(camera.sites_on_screen);
+      rays.push_back(camera.traced_rays);
       ssims.push_back(camera.ssim);
       flips.push_back(camera.flip);
       fpsnrs.push_back(camera.fpsnr_db);
@@ -141,6 +163,8 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
     result.foveated_ms = median(foveated);
     result.reconstruct_ms = median(reconstruct);
     result.traced_share = median(shares);
+    result.sites_on_screen = median(on_screen);
+    result.traced_rays = median(rays);
     result.ssim = median(ssims);
     result.flip = median(flips);
     result.fpsnr_db = median(fpsnrs);
@@ -151,15 +175,19 @@ std::vector<VolumeBenchResult> run_volume_bench(vk::Context& context, const Volu
 
 std::string volume_bench_markdown(const std::vector<VolumeBenchResult>& results) {
   std::string table =
-      "| volume | voxels | full ms | foveated ms | speed-up median [quartiles] (min-max) | traced | reconstruction ms "
-      "(share of foveated) | SSIM | FLIP | FPSNR dB |\n"
-      "|---|---|---:|---:|---|---:|---:|---:|---:|---:|\n";
+      "| volume | voxels | full ms | foveated ms | speed-up median [quartiles] (min-max) | fovea s px | traced | "
+      "on-screen sites | traced rays (per on-screen site) | reconstruction ms (share of foveated) | SSIM | FLIP | "
+      "FPSNR dB |\n"
+      "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const VolumeBenchResult& r : results) {
     table += "| " + r.scene + " | " + std::to_string(r.volume_voxels[0]) + "x" + std::to_string(r.volume_voxels[1]) +
              "x" + std::to_string(r.volume_voxels[2]) + " | " + text("%.1f", r.full_ms) + " | " +
              text("%.1f", r.foveated_ms) + " | " + text("%.2fx", r.speed_up_median) + " [" +
              text("%.2f", r.speed_up_q1) + ", " + text("%.2f", r.speed_up_q3) + "] (" + text("%.2f", r.speed_up_min) +
-             "-" + text("%.2f", r.speed_up_max) + ") | " + text("%.2f %%", 100.0 * r.traced_share) + " | " +
+             "-" + text("%.2f", r.speed_up_max) + ") | " + text("%.1f", r.fovea_sigma_px) + " | " +
+             text("%.2f %%", 100.0 * r.traced_share) + " | " + text("%.0f", r.sites_on_screen) + " | " +
+             text("%.0f", r.traced_rays) + " (" +
+             text("%.2fx", r.sites_on_screen > 0 ? r.traced_rays / r.sites_on_screen : 0.0) + ") | " +
              text("%.2f", r.reconstruct_ms) + " (" + text("%.1f %%", 100.0 * r.reconstruct_ms / r.foveated_ms) +
              ") | " + text("%.4f", r.ssim) + " | " + text("%.4f", r.flip) + " | " + text("%.2f", r.fpsnr_db) + " |\n";
   }
@@ -171,6 +199,18 @@ nlohmann::json volume_bench_json(const VolumeBenchPlan& plan, const std::vector<
                          {"cameras", plan.cameras},     {"gazes", plan.gazes},
                          {"frames", plan.frames},       {"seed", plan.seed},
                          {"sigma_deg", plan.sigma_deg}, {"correct_opacity", plan.correct_opacity}};
+  // Added fields (the earlier ones keep their names and meaning).
+  json["trace_read_sites_only"] = plan.trace_read_sites_only;
+  const DisplayGeometry& screen = plan.screen.width_px > 0 ? plan.screen : plan.display;  // unset: the frame's own
+  json["display"] = {{"width_px", screen.width_px},
+                     {"height_px", screen.height_px},
+                     {"width_mm", screen.width_mm},
+                     {"height_mm", screen.height_mm},
+                     {"viewing_distance_mm", screen.viewing_distance_mm},
+                     {"frame_width_mm", plan.display.width_mm},
+                     {"frame_height_mm", plan.display.height_mm},
+                     {"pixels_per_degree_at_centre", plan.display.pixels_per_degree_at_centre()}};
+  json["fovea_sigma_px"] = density_sigma_px(plan.display, plan.sigma_deg);
   nlohmann::json volumes = nlohmann::json::array();
   for (const VolumeBenchResult& r : results) {
     nlohmann::json cameras = nlohmann::json::array();
@@ -184,7 +224,9 @@ nlohmann::json volume_bench_json(const VolumeBenchPlan& plan, const std::vector<
                          {"speed_up", c.speed_up},
                          {"ssim", c.ssim},
                          {"flip", c.flip},
-                         {"fpsnr_db", c.fpsnr_db}});
+                         {"fpsnr_db", c.fpsnr_db},
+                         {"sites_on_screen", c.sites_on_screen},
+                         {"traced_rays", c.traced_rays}});
     volumes.push_back({{"scene", r.scene},
                        {"volume_voxels", r.volume_voxels},
                        {"sites", r.sites},
@@ -201,7 +243,10 @@ nlohmann::json volume_bench_json(const VolumeBenchPlan& plan, const std::vector<
                        {"ssim", r.ssim},
                        {"flip", r.flip},
                        {"fpsnr_db", r.fpsnr_db},
-                       {"cameras", cameras}});
+                       {"cameras", cameras},
+                       {"fovea_sigma_px", r.fovea_sigma_px},
+                       {"sites_on_screen", r.sites_on_screen},
+                       {"traced_rays", r.traced_rays}});
   }
   json["volumes"] = volumes;
   return json;

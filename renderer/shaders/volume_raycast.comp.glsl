@@ -22,7 +22,9 @@ layout(std430, binding = 0) readonly buffer VolumeRayParamsBuffer { VolumeRayPar
 layout(std430, binding = 1) readonly buffer Voxels { uint voxels[]; };         // two 16-bit voxels a word, x fastest
 layout(std430, binding = 2) readonly buffer Transfer { vec4 transfer[]; };     // RGBA over 0..1
 layout(std430, binding = 3) readonly buffer Bricks { uint brick_visible[]; };  // 1: some sample in it may be seen
-layout(std430, binding = 4) readonly buffer Sites { vec2 sites[]; };           // mask positions (MODE_SITES)
+// Mask positions (MODE_SITES), then per site its readers' box as two vec2 (lowest mask pixel, highest
+// plus one): the mask pixels that read its colour, and its own pixel.
+layout(std430, binding = 4) readonly buffer Sites { vec2 sites[]; };
 layout(std430, binding = 5) writeonly buffer Colours { vec4 colours[]; };      // per pixel (MODE_FULL)
 layout(std430, binding = 6) writeonly buffer SiteColours { uvec2 site_colours[]; };  // per site (MODE_SITES): RGB as half floats
 
@@ -137,6 +139,11 @@ void main() {
   vec2 position = sites[site] - vec2(params.mask_offset.xy);
   // Sites beyond every screen pixel's neighbours are not traced (their colour is never read).
   if (any(lessThan(position, params.sites_window.xy)) || any(greaterThan(position, params.sites_window.zw))) return;
+  if (params.brick_count.w == 1u) {  // only the sites some screen pixel reads, and those on the screen
+    vec2 low = sites[params.screen.w + 2u * site] - vec2(params.mask_offset.xy);
+    vec2 high = sites[params.screen.w + 2u * site + 1u] - vec2(params.mask_offset.xy);
+    if (any(greaterThanEqual(low, vec2(params.screen.xy))) || any(lessThanEqual(high, vec2(0.0)))) return;
+  }
   uvec2 pixel = uvec2(clamp(floor(position), vec2(0.0), vec2(params.screen.xy) - 1.0));
   uint hash = pixel.x + lowbias32(pixel.y + lowbias32(uint(params.mask_offset.w) + lowbias32(uint(params.mask_offset.z))));
   vec3 colour = trace(position, hash);

@@ -125,6 +125,34 @@ std::vector<uint32_t> pack_neighbours(const VoronoiReconstruction& reconstructio
   return packed;
 }
 
+std::vector<std::array<float, 4>> site_reader_boxes(const std::vector<uint32_t>& packed_neighbours,
+                                                    const VoronoiMask& mask) {
+  constexpr float kNone = 3.0e38f;
+  std::vector<std::array<float, 4>> boxes(mask.sites.size(), {kNone, kNone, -kNone, -kNone});
+  const auto widen = [&](size_t site, int x, int y) {
+    std::array<float, 4>& box = boxes[site];
+    box[0] = std::min(box[0], float(x));
+    box[1] = std::min(box[1], float(y));
+    box[2] = std::max(box[2], float(x + 1));
+    box[3] = std::max(box[3], float(y + 1));
+  };
+  for (size_t site = 0; site < mask.sites.size(); ++site)
+    widen(site, int(std::floor(mask.sites[site].x_px)), int(std::floor(mask.sites[site].y_px)));
+  if (packed_neighbours.size() != size_t(mask.width_px) * size_t(mask.height_px) * kVoronoiNeighbours)
+    throw std::invalid_argument("site_reader_boxes: neighbours of another mask");
+  for (int y = 0; y < mask.height_px; ++y)
+    for (int x = 0; x < mask.width_px; ++x) {
+      const size_t base = (size_t(y) * size_t(mask.width_px) + size_t(x)) * kVoronoiNeighbours;
+      for (size_t k = 0; k < size_t(kVoronoiNeighbours); ++k) {
+        const uint32_t entry = packed_neighbours[base + k];
+        if ((entry >> 20) == 0) break;  // as the reconstruction pass reads them
+        const size_t site = entry & (kMaxMaskSites - 1);
+        if (site < boxes.size()) widen(site, x, y);
+      }
+    }
+  return boxes;
+}
+
 VolumeRaycaster::VolumeRaycaster(vk::Context& context, const VolumeScene& scene, const VolumeGrid& grid)
     : context_(context),
       scene_(scene),
@@ -243,6 +271,7 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
     p.sites_window[1] = -reach;
     p.sites_window[2] = float(settings.width_px) + reach;
     p.sites_window[3] = float(settings.height_px) + reach;
+    p.brick_count[3] = settings.trace_read_sites_only ? 1u : 0u;
   }
   std::memcpy(params_.mapped(), &p, sizeof p);
   params_.flush();
@@ -268,6 +297,7 @@ VolumeFrameResult VolumeRaycaster::finish(vk::OneTimeCommands& commands, vk::Pas
     if (pass.name == "voronoi_reconstruct") result.reconstruct_gpu_ms += pass.gpu_ms;
   }
   result.rays = last_rays_;
+  result.sites_on_screen = last_sites_on_screen_;
   result.traced_share = double(last_rays_) / (double(width_) * double(height_));
   if (output == Output::readback) {
     readback_.invalidate();
@@ -290,6 +320,7 @@ VolumeFrameResult VolumeRaycaster::run_full(const VolumeRenderSettings& settings
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
   last_rays_ = uint64_t(width_) * uint64_t(height_);
+  last_sites_on_screen_ = 0;
   return finish(commands, timer, output);
 }
 
@@ -313,8 +344,14 @@ void VolumeRaycaster::set_reconstruction(const VoronoiReconstruction& reconstruc
                      std::to_string(reconstruction.settings.screen_height_px) +
                      " frame: " + std::to_string(reconstruction.mask.sites.size()) + " sites: expected fewer than " +
                      std::to_string(kMaxMaskSites) + " (a smaller frame or a larger density_sigma_deg)");
-  upload(context_, sites_, reconstruction.mask.sites.data(), reconstruction.mask.sites.size() * sizeof(MaskSite));
   const std::vector<uint32_t> neighbours = pack_neighbours(reconstruction);
+  site_reader_boxes_ = site_reader_boxes(neighbours, reconstruction.mask);
+  // The sites' positions, then their readers' boxes (the shader reads both from one buffer).
+  std::vector<float> sites;
+  sites.reserve(reconstruction.mask.sites.size() * 6);
+  for (const MaskSite& site : reconstruction.mask.sites) sites.insert(sites.end(), {site.x_px, site.y_px});
+  for (const std::array<float, 4>& box : site_reader_boxes_) sites.insert(sites.end(), box.begin(), box.end());
+  upload(context_, sites_, sites.data(), sites.size() * sizeof(float));
   upload(context_, neighbours_, neighbours.data(), neighbours.size() * sizeof(uint32_t));
   site_colours_ =
       vk::Buffer(context_, reconstruction.mask.sites.size() * 2 * sizeof(uint32_t), vk::MemoryUse::device_local);
@@ -395,14 +432,25 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   reconstruct_pipeline_->dispatch_2d(cmd, reconstruct_buffers, &reconstruct, uint32_t(width_), uint32_t(height_));
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
-  // The rays: the sites the shader traces (inside the window).
+  // The rays: the sites the shader traces (inside the window, and with their readers' box meeting
+  // the screen), in the same float arithmetic.
   const float reach = reconstruction_->neighbour_reach_px + 1.0f;
-  uint64_t rays = 0;
-  for (const MaskSite& site : reconstruction_->mask.sites) {
+  uint64_t rays = 0, on_screen = 0;
+  for (size_t i = 0; i < reconstruction_->mask.sites.size(); ++i) {
+    const MaskSite& site = reconstruction_->mask.sites[i];
     const float x = site.x_px - float(offset_x), y = site.y_px - float(offset_y);
-    if (x >= -reach && y >= -reach && x <= float(width_) + reach && y <= float(height_) + reach) ++rays;
+    if (x >= 0.0f && y >= 0.0f && x < float(width_) && y < float(height_)) ++on_screen;
+    if (!(x >= -reach && y >= -reach && x <= float(width_) + reach && y <= float(height_) + reach)) continue;
+    if (settings.trace_read_sites_only) {
+      const std::array<float, 4>& box = site_reader_boxes_[i];
+      if (box[0] - float(offset_x) >= float(width_) || box[1] - float(offset_y) >= float(height_) ||
+          box[2] - float(offset_x) <= 0.0f || box[3] - float(offset_y) <= 0.0f)
+        continue;
+    }
+    ++rays;
   }
   last_rays_ = rays;
+  last_sites_on_screen_ = on_screen;
   return finish(commands, timer, output);
 }
 

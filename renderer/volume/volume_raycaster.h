@@ -59,6 +59,15 @@ std::vector<uint32_t> pack_neighbours(const VoronoiReconstruction& reconstructio
 // trilinear reads touch (one voxel beyond each face), else 0. The CPU side of empty-space skipping.
 std::vector<uint32_t> visible_bricks(const VolumeGrid& grid, const std::vector<std::array<float, 4>>& table);
 
+// Which sites each reads, turned round: per site, the box of the mask pixels whose packed neighbours
+// (pack_neighbours, what the reconstruction pass reads) name it, widened to the site's own pixel, as
+// {lowest x, lowest y, highest x + 1, highest y + 1} in mask pixels; a site that no pixel reads and
+// that lies in no pixel (none does: each lies in its own) would get an empty box. A foveated frame
+// traces a site when its box, shifted with the gaze, meets the screen: every site a screen pixel
+// reads, and every site on the screen.
+std::vector<std::array<float, 4>> site_reader_boxes(const std::vector<uint32_t>& packed_neighbours,
+                                                    const VoronoiMask& mask);
+
 struct VolumeRenderSettings {
   int width_px = 0, height_px = 0;
   double time_s = 0.0;                 // scene time (the camera's orbit)
@@ -68,11 +77,16 @@ struct VolumeRenderSettings {
   bool foveated_step = true;           // foveated: the step grows away from the gaze
   uint32_t jitter_seed = 1;
   uint32_t frame_index = 0;  // the jitter's frame
+  // Foveated: trace only the sites a screen pixel reads or that lie on the screen (site_reader_boxes);
+  // false: every site within the mask's one neighbour reach of the screen (the earlier rule, for
+  // comparison: the same frame, more rays).
+  bool trace_read_sites_only = true;
 };
 
 struct VolumeFrameResult {
   Image colour_linear;        // RGB
   uint64_t rays = 0;          // rays traced
+  uint64_t sites_on_screen = 0;  // foveated: the mask's sites that lie on the screen (at this gaze)
   double traced_share = 0.0;  // rays / pixels
   double gpu_ms = 0.0;
   double reconstruct_gpu_ms = 0.0;
@@ -129,6 +143,7 @@ class VolumeRaycaster {
   vk::Buffer params_, voxels_, transfer_, bricks_;
   // Foveated frames.
   std::optional<VoronoiReconstruction> reconstruction_;
+  std::vector<std::array<float, 4>> site_reader_boxes_;
   vk::Buffer sites_, neighbours_, site_colours_, history_;
   // The frame.
   int width_ = 0, height_ = 0;
@@ -139,7 +154,7 @@ class VolumeRaycaster {
     int count = 0, next_slot = 0;
     std::optional<std::pair<int, int>> last_stored_offset;
   } history_state_;
-  uint64_t last_rays_ = 0;
+  uint64_t last_rays_ = 0, last_sites_on_screen_ = 0;
 };
 
 }  // namespace fovlab

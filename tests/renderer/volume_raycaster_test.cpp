@@ -2,7 +2,8 @@
 // in the numerical stress cases the issue lists (one voxel, all zero, all one, a fully opaque or
 // fully transparent transfer function, the camera inside the volume, very near and 1e5 sides away,
 // gaze off the screen); empty-space skipping changes nothing it skips; the foveated frame of a
-// uniform volume is uniform; the temporal smoothing follows its rules.
+// uniform volume is uniform; the temporal smoothing follows its rules; tracing only the sites the
+// reconstruction reads draws the frame that the one global reach draws.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -150,6 +151,61 @@ TEST_F(VolumeRaycasterTest, FoveatedFrameOfAUniformVolumeIsUniformAndTracesFewRa
   }
   EXPECT_EQ(raycaster.mask_offset(kSide, kSide, -50.0, 1e9), (std::pair<int, int>{kSide, 0}))
       << "the gaze clamped to the screen";
+}
+
+TEST_F(VolumeRaycasterTest, TracingTheReadSitesOnlyDrawsTheSameFrameWithFewerRays) {
+  // The same frames as the one global reach gives, bit for bit: every site a screen pixel reads is
+  // traced. The site colours left from another view (another scene time and gaze) would show where
+  // a read site was skipped, so the foveated raycaster renders that view first.
+  const VolumeGrid phantom = generate_volume(GeneratedVolume::shepp_logan, 24, 1, kLimits);
+  VolumeScene scene = ramp_scene();
+  scene.camera.orbit_deg_per_s = 40.0;
+  const VoronoiReconstruction mask = small_mask();
+  VolumeRaycaster read_only(context(), scene, phantom), global(context(), scene, phantom);
+  read_only.set_reconstruction(mask);
+  global.set_reconstruction(mask);
+  VolumeRenderSettings other_view = frame_settings();
+  other_view.time_s = 2.0;
+  other_view.trace_read_sites_only = false;
+  read_only.render_foveated(other_view, 31.0, 0.0, false);
+  VolumeRenderSettings per_site = frame_settings(), reach = frame_settings();
+  reach.trace_read_sites_only = false;
+  uint64_t fewer = 0;
+  for (const auto& [gx, gy] : std::vector<std::pair<double, double>>{{16, 16}, {0, 0}, {32, 5}, {-50, 40}, {7, 25}}) {
+    const VolumeFrameResult a = read_only.render_foveated(per_site, gx, gy, false);
+    const VolumeFrameResult b = global.render_foveated(reach, gx, gy, false);
+    ASSERT_EQ(a.colour_linear.pixels, b.colour_linear.pixels) << gx << "," << gy;
+    EXPECT_LE(a.rays, b.rays) << gx << "," << gy;
+    EXPECT_GE(a.rays, a.sites_on_screen) << gx << "," << gy;
+    EXPECT_EQ(a.sites_on_screen, b.sites_on_screen);
+    EXPECT_GT(a.sites_on_screen, 0u);
+    fewer += a.rays < b.rays ? 1 : 0;
+  }
+  EXPECT_GT(fewer, 0u) << "the global reach traces sites no screen pixel reads";
+}
+
+TEST(VolumeSiteReaders, BoxHoldsTheReadingPixelsAndTheSitesOwn) {
+  // A 4x2 mask with three sites: site 0 read by pixels (0, 0) and (1, 1), site 1 by (3, 0) only
+  // after a weight that rounded to 0 ends the list, site 2 by none (its own pixel only).
+  VoronoiMask mask;
+  mask.width_px = 4;
+  mask.height_px = 2;
+  mask.sites = {{0.5f, 0.5f}, {2.25f, 1.75f}, {3.5f, 0.5f}};
+  std::vector<uint32_t> packed(size_t(4 * 2 * kVoronoiNeighbours), 0u);
+  const auto put = [&](int x, int y, int k, uint32_t site, uint32_t weight) {
+    packed[(size_t(y) * 4 + size_t(x)) * kVoronoiNeighbours + size_t(k)] = site | (weight << 20);
+  };
+  put(0, 0, 0, 0, 4095);
+  put(1, 1, 0, 0, 3000);
+  put(1, 1, 1, 1, 0);  // unused: ends the list, so site 2 after it is not read
+  put(1, 1, 2, 2, 1000);
+  put(3, 0, 0, 1, 4095);
+  const std::vector<std::array<float, 4>> boxes = site_reader_boxes(packed, mask);
+  ASSERT_EQ(boxes.size(), 3u);
+  EXPECT_EQ(boxes[0], (std::array<float, 4>{0, 0, 2, 2}));
+  EXPECT_EQ(boxes[1], (std::array<float, 4>{2, 0, 4, 2})) << "its own pixel (2, 1) and its reader (3, 0)";
+  EXPECT_EQ(boxes[2], (std::array<float, 4>{3, 0, 4, 1})) << "its own pixel only";
+  EXPECT_THROW(site_reader_boxes(std::vector<uint32_t>(8, 0u), mask), std::invalid_argument);
 }
 
 TEST(VolumeReconstructionPacking, IndexAndWeightShareAWord) {
