@@ -32,6 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::read_file;
+using test::relabelled_schema;
 using test::VulkanTest;
 
 // 2AFC, GT against FIPR with the periphery refreshed every 2nd image and taken from the mid level
@@ -220,19 +221,14 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     return count;
   };
   const auto relabelled = [](const std::string& log_path, int schema) {
-    std::string text = read_file(log_path);
-    const std::string today = "\"schema_version\":" + std::to_string(log_schema_version);
-    const size_t at = text.find(today);
-    EXPECT_NE(at, std::string::npos);
-    text.replace(at, today.size(), "\"schema_version\":" + std::to_string(schema));
     const fs::path path = fs::path(log_path).parent_path() / ("schema" + std::to_string(schema) + ".jsonl");
-    std::ofstream(path, std::ios::binary) << text;
+    std::ofstream(path, std::ios::binary) << relabelled_schema(read_file(log_path), schema);
     return path.string();
   };
   struct Case {
     const char* name;
     std::string config_lines;  // added to the test stimulus
-    int relabelled_schema;
+    int claimed_schema;
     // What replay reads otherwise than the header recorded: it names a stimulus's first difference,
     // in key order.
     std::set<std::string> parameters_named;
@@ -255,7 +251,7 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     const SessionOutcome outcome = run_session(fipr_config(text), simulated(results, still_trace(results)));
     ASSERT_TRUE(outcome.finished);
     EXPECT_EQ(replay(outcome.log_path).difference_count, 0);
-    const ReplayOutcome earlier = replay(relabelled(outcome.log_path, c.relabelled_schema));
+    const ReplayOutcome earlier = replay(relabelled(outcome.log_path, c.claimed_schema));
     EXPECT_GT(earlier.difference_count, 0) << "the chain no longer holds";
     // Replay also compares the stimuli it makes of config_toml with those the header recorded.
     std::set<std::string> named;

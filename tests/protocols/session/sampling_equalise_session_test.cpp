@@ -20,6 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::read_file;
+using test::relabelled_schema;
 
 // 2AFC, GT against the hyperbolic model over sigma, its zones small enough for this display.
 const std::string kStudy = R"([study]
@@ -113,8 +114,7 @@ std::string replaced_all(std::string text, const std::string& from, const std::s
 std::string as_schema(const std::string& log_text, int schema) {
   std::string text = replaced_all(log_text, "equalise = \\\"density\\\"", "equalise = \\\"on\\\"");
   text = replaced_all(text, "\"equalise\":\"density\"", "\"equalise\":\"on\"");
-  return replaced_all(text, "\"schema_version\":" + std::to_string(log_schema_version),
-                      "\"schema_version\":" + std::to_string(schema));
+  return relabelled_schema(text, schema);
 }
 
 TEST(SamplingEqualiseSession, ALogBeforeSchema8ReadsOnAsTheDensity) {

@@ -14,6 +14,8 @@
 #include "protocols/session/session.h"
 #include "tests/support/temp_dir.h"
 
+#include <gtest/gtest.h>
+
 namespace fovlab::test {
 
 inline std::filesystem::path study_fixture(const std::string& name) {
@@ -25,6 +27,16 @@ inline std::string read_file(const std::filesystem::path& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// A log's text as an earlier build would have labelled it: the header's schema_version (this
+// build's) replaced by `schema`. The edit breaks the hash chain, which replay also reports.
+inline std::string relabelled_schema(std::string log_text, int schema) {
+  const std::string today = "\"schema_version\":" + std::to_string(log_schema_version);
+  const size_t at = log_text.find(today);
+  EXPECT_NE(at, std::string::npos) << "no " << today << " in the log";
+  if (at != std::string::npos) log_text.replace(at, today.size(), "\"schema_version\":" + std::to_string(schema));
+  return log_text;
 }
 
 // A fixture config with some text replaced (still resolved relative to the fixtures folder).
