@@ -8,11 +8,14 @@ set(allowed_metrics core foveation metrics)
 set(allowed_renderer core foveation renderer)
 set(allowed_study core study)
 set(allowed_display core renderer display)
-set(allowed_protocols core foveation metrics renderer study display protocols)
+# display/openxr, the headset's OpenXR side, is a layer of its own beside the desktop display: it may use
+# what display/ may (and display/'s interface), display/'s other files never include it.
+set(allowed_display/openxr core renderer display display/openxr)
+set(allowed_protocols core foveation metrics renderer study display display/openxr protocols)
 set(allowed_analysis core foveation metrics study analysis)
-set(allowed_bench core foveation metrics renderer study display protocols analysis bench)
-set(allowed_app core foveation metrics renderer study display protocols analysis bench app)
-set(folders core foveation metrics renderer study display protocols analysis bench app)
+set(allowed_bench core foveation metrics renderer study display display/openxr protocols analysis bench)
+set(allowed_app core foveation metrics renderer study display display/openxr protocols analysis bench app)
+set(folders core foveation metrics renderer study display display/openxr protocols analysis bench app)
 # bench is a library of its own: app/ includes only its interface headers, never the internals
 # behind them (the plan's cells, the timing loops, the JSON and tables).
 set(bench_interface_for_app bench/bench.h bench/fpt_timing.h bench/volume_bench.h bench/procedure_simulation.h
@@ -21,10 +24,16 @@ set(bench_interface_for_app bench/bench.h bench/fpt_timing.h bench/volume_bench.
 set(violations "")
 foreach(folder ${folders})
   file(GLOB_RECURSE sources "${SOURCE_DIR}/${folder}/*.h" "${SOURCE_DIR}/${folder}/*.cpp" "${SOURCE_DIR}/${folder}/*.glsl")
+  if(folder STREQUAL "display")
+    list(FILTER sources EXCLUDE REGEX "/display/openxr/")  # checked as a layer of its own
+  endif()
   foreach(source ${sources})
     file(STRINGS "${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]+\"[a-z_]+/")
     foreach(line ${includes})
       string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]+\"([a-z_]+)/.*$" "\\1" target "${line}")
+      if(line MATCHES "^[ \t]*#[ \t]*include[ \t]+\"display/openxr/")
+        set(target display/openxr)
+      endif()
       if(NOT target IN_LIST folders)
         continue()  # e.g. "generated" shaders or a third-party path
       endif()
