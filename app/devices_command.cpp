@@ -10,7 +10,8 @@
 namespace fovlab::app {
 
 void add_devices_command(CLI::App& app) {
-  CLI::App* command = app.add_subcommand("devices", "List Vulkan devices (index, name, type) and the active OpenXR runtime");
+  CLI::App* command =
+      app.add_subcommand("devices", "List Vulkan devices (index, name, type) and the active OpenXR runtime");
   command->callback([] {
     for (const vk::DeviceDescription& d : vk::list_devices()) {
       std::printf("%u  %-40s %-15s Vulkan %-9s %s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.api_version.c_str(),

@@ -50,8 +50,7 @@ std::string openxr_result_name(XrResult result) {
     return #name;
     XR_LIST_ENUM_XrResult(FOVLAB_OPENXR_RESULT_NAME)
 #undef FOVLAB_OPENXR_RESULT_NAME
-    default:
-      break;
+        default : break;
   }
   // The specification's fallback: the number as it is, so a failure's keeps its minus sign.
   return (XR_SUCCEEDED(result) ? "XR_UNKNOWN_SUCCESS_" : "XR_UNKNOWN_FAILURE_") + std::to_string(result);

@@ -73,8 +73,8 @@ void read_stereo_views(OpenXrRuntimeInfo& info, XrInstance instance, XrSystemId 
     return;
   views.resize(count);
   for (const XrViewConfigurationView& view : views) {
-    info.stereo_eyes.push_back({view.recommendedImageRectWidth, view.recommendedImageRectHeight,
-                                view.maxImageRectWidth, view.maxImageRectHeight});
+    info.stereo_eyes.push_back({view.recommendedImageRectWidth, view.recommendedImageRectHeight, view.maxImageRectWidth,
+                                view.maxImageRectHeight});
   }
 }
 
@@ -115,8 +115,8 @@ std::vector<std::string> describe_openxr_runtime(const OpenXrRuntimeInfo& info) 
   std::vector<std::string> lines{"OpenXR runtime: " + info.runtime_name + " " + info.runtime_version};
   if (!has_openxr_headset(info)) {
     const bool unplugged = info.headset_result == "XR_ERROR_FORM_FACTOR_UNAVAILABLE";
-    lines.push_back(std::string("  headset: ") + (unplugged ? "none connected" : "none") + " (" +
-                    info.headset_result + ")");
+    lines.push_back(std::string("  headset: ") + (unplugged ? "none connected" : "none") + " (" + info.headset_result +
+                    ")");
   } else {
     std::string eyes;
     for (const OpenXrEyeImageSize& eye : info.stereo_eyes) {

@@ -136,18 +136,17 @@ XrResult XRAPI_CALL result_to_string(XrInstance instance, XrResult value, char b
   }
   if (buffer == nullptr) return XR_ERROR_VALIDATION_FAILURE;
   switch (value) {
-#define FOVLAB_TEST_XR_RESULT(name, number)                   \
-  case name:                                                  \
-    copy_text(buffer, XR_MAX_RESULT_STRING_SIZE, #name);      \
+#define FOVLAB_TEST_XR_RESULT(name, number)              \
+  case name:                                             \
+    copy_text(buffer, XR_MAX_RESULT_STRING_SIZE, #name); \
     return XR_SUCCESS;
     XR_LIST_ENUM_XrResult(FOVLAB_TEST_XR_RESULT)
 #undef FOVLAB_TEST_XR_RESULT
-    default:
-      break;
+        default : break;
   }
   // The specification's text for a value it does not name: the number as it is.
-  const std::string unknown = (XR_SUCCEEDED(value) ? "XR_UNKNOWN_SUCCESS_" : "XR_UNKNOWN_FAILURE_") +
-                              std::to_string(value);
+  const std::string unknown =
+      (XR_SUCCEEDED(value) ? "XR_UNKNOWN_SUCCESS_" : "XR_UNKNOWN_FAILURE_") + std::to_string(value);
   copy_text(buffer, XR_MAX_RESULT_STRING_SIZE, unknown);
   return XR_SUCCESS;
 }
@@ -161,14 +160,13 @@ XrResult XRAPI_CALL structure_type_to_string(XrInstance instance, XrStructureTyp
   }
   if (buffer == nullptr) return XR_ERROR_VALIDATION_FAILURE;
   switch (value) {
-#define FOVLAB_TEST_XR_STRUCTURE(name, number)               \
-  case name:                                                 \
-    copy_text(buffer, XR_MAX_STRUCTURE_NAME_SIZE, #name);    \
+#define FOVLAB_TEST_XR_STRUCTURE(name, number)            \
+  case name:                                              \
+    copy_text(buffer, XR_MAX_STRUCTURE_NAME_SIZE, #name); \
     return XR_SUCCESS;
     XR_LIST_ENUM_XrStructureType(FOVLAB_TEST_XR_STRUCTURE)
 #undef FOVLAB_TEST_XR_STRUCTURE
-    default:
-      break;
+        default : break;
   }
   copy_text(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "XR_UNKNOWN_STRUCTURE_TYPE_" + std::to_string(value));
   return XR_SUCCESS;
@@ -211,7 +209,8 @@ XrResult XRAPI_CALL get_system_properties(XrInstance instance, XrSystemId system
   properties->trackingProperties.positionTracking = XR_TRUE;
   // Structures chained on `next` that the runtime knows, from the extensions the instance enabled;
   // any other is left alone, as the specification asks.
-  for (auto* chained = static_cast<XrBaseOutStructure*>(properties->next); chained != nullptr; chained = chained->next) {
+  for (auto* chained = static_cast<XrBaseOutStructure*>(properties->next); chained != nullptr;
+       chained = chained->next) {
     if (chained->type == XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT &&
         extension_enabled(*object, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME)) {
       reinterpret_cast<XrSystemEyeGazeInteractionPropertiesEXT*>(chained)->supportsEyeGazeInteraction = XR_TRUE;

@@ -66,7 +66,8 @@ XrResult XRAPI_CALL get_instance_proc_addr(XrInstance instance, const char* name
   }
   if (instance == XR_NULL_HANDLE) {
     // Before an instance, only the global functions: anything else needs a valid instance.
-    if (entry == nullptr || !entry->global) return entry == nullptr ? XR_ERROR_FUNCTION_UNSUPPORTED : XR_ERROR_HANDLE_INVALID;
+    if (entry == nullptr || !entry->global)
+      return entry == nullptr ? XR_ERROR_FUNCTION_UNSUPPORTED : XR_ERROR_HANDLE_INVALID;
   } else {
     HandleTable& table = handle_table();
     std::lock_guard lock(table.mutex);
@@ -75,7 +76,8 @@ XrResult XRAPI_CALL get_instance_proc_addr(XrInstance instance, const char* name
     if (entry == nullptr) return XR_ERROR_FUNCTION_UNSUPPORTED;
     if (!entry->extension.empty()) {
       bool enabled = false;
-      for (const std::string& extension : object->enabled_extensions) enabled = enabled || extension == entry->extension;
+      for (const std::string& extension : object->enabled_extensions)
+        enabled = enabled || extension == entry->extension;
       if (!enabled) return XR_ERROR_FUNCTION_UNSUPPORTED;
     }
   }
@@ -89,8 +91,8 @@ XrResult XRAPI_CALL get_instance_proc_addr(XrInstance instance, const char* name
 // The negotiation (the loader specification): the loader says which interface and API versions it
 // speaks; the runtime picks its own within them and hands over its xrGetInstanceProcAddr. Both
 // structures are checked field by field as the specification requires.
-extern "C" __attribute__((visibility("default"))) XrResult XRAPI_CALL
-xrNegotiateLoaderRuntimeInterface(const XrNegotiateLoaderInfo* loader_info, XrNegotiateRuntimeRequest* runtime_request) {
+extern "C" __attribute__((visibility("default"))) XrResult XRAPI_CALL xrNegotiateLoaderRuntimeInterface(
+    const XrNegotiateLoaderInfo* loader_info, XrNegotiateRuntimeRequest* runtime_request) {
   using fovlab::test_xr::kApiVersion;
   if (loader_info == nullptr || runtime_request == nullptr) return XR_ERROR_INITIALIZATION_FAILED;
   if (loader_info->structType != XR_LOADER_INTERFACE_STRUCT_LOADER_INFO ||

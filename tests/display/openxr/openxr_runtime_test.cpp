@@ -149,8 +149,8 @@ TEST_F(OpenXrTestRuntime, KeepsTheTwoCallIdiomThroughTheLoader) {
                                               1, &count, views.data()),
             XR_ERROR_SIZE_INSUFFICIENT);
   EXPECT_EQ(count, 2u);
-  EXPECT_EQ(xrEnumerateViewConfigurationViews(plain.instance.handle, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO,
-                                              0, &count, nullptr),
+  EXPECT_EQ(xrEnumerateViewConfigurationViews(plain.instance.handle, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO, 0,
+                                              &count, nullptr),
             XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
   plain = OpenXrInstanceResult{};  // the loader holds one instance at a time
 
@@ -181,12 +181,16 @@ TEST(OpenXrTestRuntimeWithoutLoader, NegotiatesAndDispatchesAsTheSpecificationSa
   const auto negotiate =
       reinterpret_cast<PFN_xrNegotiateLoaderRuntimeInterface>(dlsym(library, "xrNegotiateLoaderRuntimeInterface"));
   ASSERT_NE(negotiate, nullptr);
-  const XrNegotiateLoaderInfo loader{XR_LOADER_INTERFACE_STRUCT_LOADER_INFO, XR_LOADER_INFO_STRUCT_VERSION,
-                                     sizeof(XrNegotiateLoaderInfo),          1,
-                                     XR_CURRENT_LOADER_RUNTIME_VERSION,      XR_MAKE_VERSION(1, 0, 0),
-                                     XR_CURRENT_API_VERSION};
-  const XrNegotiateRuntimeRequest blank{XR_LOADER_INTERFACE_STRUCT_RUNTIME_REQUEST, XR_RUNTIME_INFO_STRUCT_VERSION,
-                                        sizeof(XrNegotiateRuntimeRequest)};
+  const XrNegotiateLoaderInfo loader{.structType = XR_LOADER_INTERFACE_STRUCT_LOADER_INFO,
+                                     .structVersion = XR_LOADER_INFO_STRUCT_VERSION,
+                                     .structSize = sizeof(XrNegotiateLoaderInfo),
+                                     .minInterfaceVersion = 1,
+                                     .maxInterfaceVersion = XR_CURRENT_LOADER_RUNTIME_VERSION,
+                                     .minApiVersion = XR_MAKE_VERSION(1, 0, 0),
+                                     .maxApiVersion = XR_CURRENT_API_VERSION};
+  const XrNegotiateRuntimeRequest blank{.structType = XR_LOADER_INTERFACE_STRUCT_RUNTIME_REQUEST,
+                                        .structVersion = XR_RUNTIME_INFO_STRUCT_VERSION,
+                                        .structSize = sizeof(XrNegotiateRuntimeRequest)};
   XrNegotiateRuntimeRequest request = blank;
   request.structSize = sizeof(XrNegotiateRuntimeRequest) - 1;
   EXPECT_EQ(negotiate(&loader, &request), XR_ERROR_INITIALIZATION_FAILED);
@@ -212,8 +216,8 @@ TEST(OpenXrTestRuntimeWithoutLoader, NegotiatesAndDispatchesAsTheSpecificationSa
 
   // Before an instance: the global functions only.
   EXPECT_EQ(proc(XR_NULL_HANDLE, "xrGetSystem").first, XR_ERROR_HANDLE_INVALID);
-  const auto enumerate_extensions =
-      reinterpret_cast<PFN_xrEnumerateInstanceExtensionProperties>(proc(XR_NULL_HANDLE, "xrEnumerateInstanceExtensionProperties").second);
+  const auto enumerate_extensions = reinterpret_cast<PFN_xrEnumerateInstanceExtensionProperties>(
+      proc(XR_NULL_HANDLE, "xrEnumerateInstanceExtensionProperties").second);
   const auto create = reinterpret_cast<PFN_xrCreateInstance>(proc(XR_NULL_HANDLE, "xrCreateInstance").second);
   ASSERT_NE(enumerate_extensions, nullptr);
   ASSERT_NE(create, nullptr);
