@@ -1,9 +1,9 @@
 cmake_minimum_required(VERSION 3.25)
 # The libraries that read studies and logs link no GPU, window or eye-tracker library: the link line
 # of each binary given (CMake's link.txt) and the shared libraries it needs (readelf -d) name none of
-# Vulkan, glslang, SPIR-V, GLFW or ZeroMQ.
+# Vulkan, glslang, SPIR-V, GLFW, ZeroMQ or the OpenXR loader.
 # cmake -DBINARIES="a;b" -DLINK_FILES="a.txt;b.txt" -DREADELF=... -P check_links.cmake
-set(forbidden "vulkan|glslang|SPIRV|glfw|zmq")
+set(forbidden "vulkan|glslang|SPIRV|glfw|zmq|openxr")
 set(failures "")
 foreach(link_file ${LINK_FILES})
   file(READ "${link_file}" link_line)
@@ -26,4 +26,4 @@ endforeach()
 if(failures)
   message(FATAL_ERROR "a study or analysis binary links a GPU, window or eye-tracker library:\n${failures}")
 endif()
-message(STATUS "no Vulkan, glslang, GLFW or ZeroMQ in: ${BINARIES}")
+message(STATUS "no Vulkan, glslang, GLFW, ZeroMQ or OpenXR in: ${BINARIES}")
