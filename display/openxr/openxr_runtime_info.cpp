@@ -59,10 +59,7 @@ void read_stereo_views(OpenXrRuntimeInfo& info, XrInstance instance, XrSystemId 
   bool has_stereo = false;
   for (XrViewConfigurationType configuration : configurations)
     has_stereo = has_stereo || configuration == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
-  if (!has_stereo) {
-    info.query_failure = "no primary stereo view configuration";
-    return;
-  }
+  if (!has_stereo) return;  // no stereo views to list: stereo_eyes stays empty
   const XrViewConfigurationType stereo = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
   if (!succeeded(info, "xrEnumerateViewConfigurationViews",
                  xrEnumerateViewConfigurationViews(instance, system, stereo, 0, &count, nullptr)))
@@ -123,8 +120,9 @@ std::vector<std::string> describe_openxr_runtime(const OpenXrRuntimeInfo& info) 
       eyes += (eyes.empty() ? "" : ", ") + std::to_string(eye.recommended_width_px) + "x" +
               std::to_string(eye.recommended_height_px);
     }
-    lines.push_back("  headset: " + info.system_name + ", stereo views " + (eyes.empty() ? "none" : eyes) +
-                    " px (recommended)");
+    lines.push_back(
+        "  headset: " + info.system_name + ", " +
+        (eyes.empty() ? "no primary stereo view configuration" : "stereo views " + eyes + " px (recommended)"));
   }
   auto yes_no = [](bool offered) { return offered ? "yes" : "no"; };
   lines.push_back(std::string("  XR_KHR_vulkan_enable2: ") + yes_no(info.offers_vulkan_enable2) +

@@ -25,8 +25,10 @@ struct OpenXrRuntimeInfo {
   // xrGetSystem for a head-mounted display: "XR_SUCCESS", or "XR_ERROR_FORM_FACTOR_UNAVAILABLE" when
   // the runtime has no headset connected now (any other failure by its name too).
   std::string headset_result;
-  std::string system_name;                      // xrGetSystemProperties, when a headset is there
-  std::vector<OpenXrEyeImageSize> stereo_eyes;  // the primary stereo configuration's views, left then right
+  std::string system_name;  // xrGetSystemProperties, when a headset is there
+  // The primary stereo configuration's views, left then right; empty when the system has no such
+  // configuration.
+  std::vector<OpenXrEyeImageSize> stereo_eyes;
   // The instance extensions the headset display builds on (xrEnumerateInstanceExtensionProperties).
   bool offers_vulkan_enable2 = false;        // XR_KHR_vulkan_enable2: Vulkan from the runtime
   bool offers_eye_gaze_interaction = false;  // XR_EXT_eye_gaze_interaction: the headset's eye tracker
