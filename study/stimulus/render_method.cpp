@@ -353,6 +353,7 @@ MethodParameters default_parameters(RenderMethod method) {
       break;
     case MethodKind::sphere_traced_sampling:
     case MethodKind::path_traced_sampling:
+    case MethodKind::image_sampling:
       parameters = SampledParameters{alternative_at<SampleSource>(sample_source_index(method)),
                                      alternative_at<SamplingModelParameters>(static_cast<size_t>(method.model))};
       break;
@@ -435,7 +436,9 @@ std::string methods_markdown() {
             (method.scene_kind == SceneKind::signed_distance ? "SDF (built-in names or .glsl files)"
              : method.scene_kind == SceneKind::path_traced
                  ? "path-traced (courtyard or .obj files)"
-                 : "volume scenes (built-in names or .toml files; docs/volume-rendering.md)") +
+             : method.scene_kind == SceneKind::volume
+                 ? "volume scenes (built-in names or .toml files; docs/volume-rendering.md)"
+                 : "a folder of .png or .exr images, each the display's size (frame i: image i; one image: a still)") +
             ". Frames " + (method.depends_on_gaze ? "follow the gaze of each refresh" : "do not depend on the gaze");
     if (method.max_samples_per_frame > 0)
       text += "; width_px x height_px x samples_per_pixel at most " + std::to_string(method.max_samples_per_frame);

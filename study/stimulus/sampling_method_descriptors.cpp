@@ -18,7 +18,8 @@ constexpr double kMinFocalShare = 1e-3, kMaxFocalShare = 1.0;
 constexpr double kMinAlpha = 0.25, kMaxAlpha = 8.0;
 
 // The sampling models' sources (Ye et al. 2022): on the sphere tracer, its parameters; on
-// pre-rendered path-traced frames, the path tracer's. The model's follow (the same keys on both).
+// pre-rendered path-traced frames, the path tracer's; on a folder of images, none. The model's
+// follow (the same keys on every source).
 MethodDescriptor sphere_traced_samples(RenderMethod method, std::string_view name, std::string_view summary) {
   MethodDescriptor descriptor{method, name, summary, SceneKind::signed_distance};
   descriptor.depends_on_gaze = true;
@@ -32,6 +33,13 @@ MethodDescriptor path_traced_samples(RenderMethod method, std::string_view name,
   MethodDescriptor descriptor{method, name, summary, SceneKind::path_traced};
   descriptor.depends_on_gaze = true;
   descriptor.parameters = path_trace_parameters<PathTracedSamples>();
+  return descriptor;
+}
+
+// The lab's own images (protocols/stimuli/image_sequence.h): the images are what they are.
+MethodDescriptor image_samples(RenderMethod method, std::string_view name, std::string_view summary) {
+  MethodDescriptor descriptor{method, name, summary, SceneKind::image_sequence};
+  descriptor.depends_on_gaze = true;
   return descriptor;
 }
 
@@ -161,6 +169,7 @@ struct SampleSourceDescriptor {
 const SampleSourceDescriptor kSampleSourceDescriptors[] = {
     {"", "", &sphere_traced_samples},
     {"pt-", " on pre-rendered path-traced frames (emulated)", &path_traced_samples},
+    {"img-", " on a folder of images (PNG or EXR)", &image_samples},
 };
 static_assert(std::size(kSampleSourceDescriptors) == std::variant_size_v<SampleSource>);
 

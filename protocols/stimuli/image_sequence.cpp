@@ -1,0 +1,156 @@
+#include "protocols/stimuli/image_sequence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <system_error>
+
+#include "core/digest.h"
+#include "core/image_io.h"
+#include "core/input_error.h"
+#include "core/input_file.h"
+
+namespace fovlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool is_sequence_image(const fs::path& file) {
+  const std::string extension = lower_extension(file);
+  return extension == ".png" || extension == ".exr";
+}
+
+// IEC 61966-2-1's sRGB decoding of one value (the inverse of core/colour.h encode_srgb).
+float decode_srgb(float encoded) {
+  const float value = std::clamp(encoded, 0.0f, 1.0f);
+  return value <= 0.04045f ? value / 12.92f : std::pow((value + 0.055f) / 1.055f, 2.4f);
+}
+
+// The folders of a plan's image stimuli, each once, with a stimulus that shows it (its size and
+// the most frames any of them shows).
+struct ImageFolder {
+  int width_px = 0, height_px = 0, frame_count = 0;
+};
+std::map<std::string, ImageFolder> image_folders(const StudyPlan& plan) {
+  std::map<std::string, ImageFolder> folders;
+  for (const PlannedStimulus& stimulus : plan.stimuli) {
+    const StimulusSpec& spec = stimulus.spec;
+    if (describe(spec.method()).scene_kind != SceneKind::image_sequence) continue;
+    ImageFolder& folder = folders[spec.scene];
+    folder.width_px = spec.width_px;
+    folder.height_px = spec.height_px;
+    folder.frame_count = std::max(folder.frame_count, spec.frame_count);
+  }
+  return folders;
+}
+
+}  // namespace
+
+std::vector<fs::path> image_sequence_files(const fs::path& folder) {
+  std::error_code error;
+  if (!fs::is_directory(folder, error))
+    throw InputError(folder.string() + ": no such folder: expected " + kImageSequenceExpected);
+  std::vector<fs::path> files;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error))
+    if (is_sequence_image(entry->path())) files.push_back(entry->path());
+  if (error)
+    throw InputError(folder.string() + ": cannot list (" + error.message() + "): expected " + kImageSequenceExpected);
+  if (files.empty()) throw InputError(folder.string() + ": no .png or .exr image in it: expected " +
+                                      kImageSequenceExpected);
+  std::sort(files.begin(), files.end(),
+            [](const fs::path& a, const fs::path& b) { return a.filename().string() < b.filename().string(); });
+  return files;
+}
+
+SequenceImage read_sequence_image(const fs::path& file) {
+  const std::string bytes = read_input_file(file, kImageFileExpected, kMaxImageFileBytes);
+  SequenceImage image{file.filename().string(), sha256_hex(bytes), decode_image(bytes, file.string())};
+  if (lower_extension(file) == ".png") {  // sRGB-encoded colour; alpha (a 2nd or 4th channel) is linear
+    const int channels = image.linear.channels;
+    const int colour = channels == 2 || channels == 4 ? channels - 1 : channels;
+    for (size_t i = 0; i < image.linear.pixels.size(); ++i)
+      if (static_cast<int>(i % static_cast<size_t>(channels)) < colour)
+        image.linear.pixels[i] = decode_srgb(image.linear.pixels[i]);
+  }
+  return image;
+}
+
+std::vector<SequenceImage> read_image_sequence(const fs::path& folder, int width_px, int height_px, int frame_count) {
+  const std::vector<fs::path> files = image_sequence_files(folder);
+  if (files.size() != 1 && files.size() < static_cast<size_t>(std::max(frame_count, 1)))
+    throw InputError(folder.string() + ": " + std::to_string(files.size()) + " images: expected one (a still) or " +
+                     std::to_string(frame_count) +
+                     " or more, one a frame (stimulus.duration_s x stimulus.frames_per_second)");
+  std::vector<SequenceImage> images;
+  for (const fs::path& file : files) {
+    SequenceImage image = read_sequence_image(file);
+    if (image.linear.width != width_px || image.linear.height != height_px)
+      throw InputError(file.string() + ": " + std::to_string(image.linear.width) + "x" +
+                       std::to_string(image.linear.height) + " pixels: expected " + std::to_string(width_px) + "x" +
+                       std::to_string(height_px) +
+                       " (display.width_px x display.height_px), the size of every image of the sequence");
+    if (image.linear.channels != 3 && image.linear.channels != 4 && image.linear.channels != 1)
+      throw InputError(file.string() + ": " + std::to_string(image.linear.channels) +
+                       " channels: expected grey, RGB or RGBA");
+    images.push_back(std::move(image));
+  }
+  return images;
+}
+
+size_t sequence_image_index(size_t image_count, int frame) {
+  return image_count <= 1 ? 0 : std::min(image_count - 1, static_cast<size_t>(std::max(frame, 0)));
+}
+
+nlohmann::json image_sequence_hashes(const fs::path& folder) {
+  nlohmann::json hashes = nlohmann::json::object();
+  for (const fs::path& file : image_sequence_files(folder))
+    hashes[file.filename().string()] = sha256_hex(read_input_file(file, kImageFileExpected, kMaxImageFileBytes));
+  return hashes;
+}
+
+nlohmann::json plan_image_hashes(const StudyPlan& plan) {
+  nlohmann::json hashes = nlohmann::json::object();
+  for (const auto& [folder, shown] : image_folders(plan)) hashes[folder] = image_sequence_hashes(folder);
+  return hashes;
+}
+
+void check_image_hashes(const nlohmann::json& recorded, const StudyPlan& plan, const std::string& source) {
+  const auto refuse = [&](const std::string& what) { throw InputError(source + ": " + what); };
+  for (const auto& [folder, shown] : image_folders(plan)) {
+    const nlohmann::json* logged =
+        recorded.is_object() && recorded.contains(folder) ? &recorded.at(folder) : nullptr;
+    if (!logged || !logged->is_object())
+      refuse("image_hashes records no images of " + folder + ": expected the SHA-256 of each image the session showed");
+    std::error_code error;
+    std::set<std::string> now;
+    if (fs::is_directory(folder, error))
+      for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error))
+        if (is_sequence_image(entry->path())) now.insert(entry->path().filename().string());
+    for (const auto& [name, hash] : logged->items()) {
+      const fs::path file = fs::path(folder) / name;
+      if (!now.count(name))
+        refuse(file.string() + ": missing: the session showed it (SHA-256 " + hash.dump() + " in image_hashes)");
+      const std::string bytes = read_input_file(file, kImageFileExpected, kMaxImageFileBytes);
+      if (!hash.is_string() || sha256_hex(bytes) != hash.get<std::string>())
+        refuse(file.string() + ": changed since the session (SHA-256 " + sha256_hex(bytes) + ", image_hashes " +
+               hash.dump() + "): expected the image the session showed");
+    }
+    for (const std::string& name : now)
+      if (!logged->contains(name))
+        refuse((fs::path(folder) / name).string() +
+               ": not one of the session's images (image_hashes): expected the folder as the session showed it");
+  }
+}
+
+void check_image_sequences(const StudyPlan& plan, const std::string& source) {
+  for (const auto& [folder, shown] : image_folders(plan)) {
+    try {
+      read_image_sequence(folder, shown.width_px, shown.height_px, shown.frame_count);
+    } catch (const InputError& error) {
+      throw InputError(source + ": " + error.what());
+    }
+  }
+}
+
+}  // namespace fovlab
