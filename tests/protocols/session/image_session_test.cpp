@@ -8,7 +8,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -125,15 +124,6 @@ ReplayOutcome replay(const std::string& log_path) {
   options.log_path = log_path;
   options.validation = true;
   return replay_session(options);
-}
-
-std::string input_error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "(no InputError)";
 }
 
 // A PNG is sRGB-encoded and read in linear light; an EXR is read as it is.
