@@ -65,14 +65,17 @@ std::vector<fs::path> image_sequence_files(const fs::path& folder) {
 
 SequenceImage read_sequence_image(const fs::path& file) {
   const std::string bytes = read_input_file(file, kImageFileExpected, kMaxImageFileBytes);
-  SequenceImage image{file.filename().string(), sha256_hex(bytes), decode_image(bytes, file.string())};
-  if (lower_extension(file) == ".png") {  // sRGB-encoded colour; alpha (a 2nd or 4th channel) is linear
-    const int channels = image.linear.channels;
-    const int colour = channels == 2 || channels == 4 ? channels - 1 : channels;
-    for (size_t i = 0; i < image.linear.pixels.size(); ++i)
-      if (static_cast<int>(i % static_cast<size_t>(channels)) < colour)
-        image.linear.pixels[i] = decode_srgb(image.linear.pixels[i]);
-  }
+  const Image decoded = decode_image(bytes, file.string());
+  // RGB in linear light: grey (with or without alpha) repeated in each channel, alpha left out; a
+  // PNG's values are sRGB-encoded, an EXR's linear.
+  const bool srgb = lower_extension(file) == ".png";
+  SequenceImage image{file.filename().string(), sha256_hex(bytes), Image(decoded.width, decoded.height, 3)};
+  for (int y = 0; y < decoded.height; ++y)
+    for (int x = 0; x < decoded.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float value = decoded.at(x, y, decoded.channels >= 3 ? c : 0);
+        image.linear.at(x, y, c) = srgb ? decode_srgb(value) : value;
+      }
   return image;
 }
 
@@ -90,9 +93,6 @@ std::vector<SequenceImage> read_image_sequence(const fs::path& folder, int width
                        std::to_string(image.linear.height) + " pixels: expected " + std::to_string(width_px) + "x" +
                        std::to_string(height_px) +
                        " (display.width_px x display.height_px), the size of every image of the sequence");
-    if (image.linear.channels != 3 && image.linear.channels != 4 && image.linear.channels != 1)
-      throw InputError(file.string() + ": " + std::to_string(image.linear.channels) +
-                       " channels: expected grey, RGB or RGBA");
     images.push_back(std::move(image));
   }
   return images;

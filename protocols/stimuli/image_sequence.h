@@ -28,7 +28,7 @@ std::vector<std::filesystem::path> image_sequence_files(const std::filesystem::p
 struct SequenceImage {
   std::string name;    // the file's name in its folder
   std::string sha256;  // of the file's bytes (lower-case hex)
-  Image linear;        // linear light, the file's channels (a PNG's colour decoded from sRGB, alpha as it is)
+  Image linear;        // RGB in linear light (a PNG decoded from sRGB; grey repeated; alpha left out)
 };
 
 // One image file read, hashed and decoded; InputError naming the file when it cannot be read or decoded.

@@ -140,10 +140,17 @@ TEST(ImageSequence, PngIsDecodedFromSrgbAndExrIsLinear) {
   EXPECT_EQ(exr.linear.at(1, 0, 2), 0.5f);
   EXPECT_EQ(png.sha256, sha256_hex(read_file(folder / "grey.png")));
   EXPECT_EQ(png.name, "grey.png");
+  // Grey is repeated in R, G and B (the frame sampler reads three channels).
+  Image one_channel(2, 1, 1);
+  for (float& value : one_channel.pixels) value = 0.5f;
+  write_image(folder / "grey1.png", one_channel);
+  const SequenceImage grey_png = read_sequence_image(folder / "grey1.png");
+  ASSERT_EQ(grey_png.linear.channels, 3);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(grey_png.linear.at(0, 0, c), 0.2158605f, 1e-5f) << c;
   // Sorted by name; other files are no images; frame i is image i, or the only one.
   std::ofstream(folder / "notes.txt") << "not an image";
   const std::vector<fs::path> files = image_sequence_files(folder);
-  ASSERT_EQ(files.size(), 2u);
+  ASSERT_EQ(files.size(), 3u);
   EXPECT_EQ(files[0].filename(), "grey.exr");
   EXPECT_EQ(sequence_image_index(3, 1), 1u);
   EXPECT_EQ(sequence_image_index(1, 2), 0u);
