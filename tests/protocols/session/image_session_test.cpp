@@ -156,6 +156,24 @@ TEST(ImageSequence, PngIsDecodedFromSrgbAndExrIsLinear) {
   EXPECT_EQ(sequence_image_index(1, 2), 0u);
 }
 
+// The models on images take no parameters of their own, then exactly those of their sphere-traced
+// twins (the first three of which are the sphere tracer's).
+TEST(ImageSequence, ModelsOnImagesTakeTheirTwinsModelParameters) {
+  for (size_t model = 0; model < kSamplingModelCount; ++model) {
+    const MethodDescriptor& traced = describe(sampled_method(0, static_cast<SamplingModel>(model)));
+    const MethodDescriptor& images = describe(sampled_method(2, static_cast<SamplingModel>(model)));
+    EXPECT_EQ(images.name, "img-" + std::string(traced.name));
+    EXPECT_EQ(images.scene_kind, SceneKind::image_sequence);
+    EXPECT_TRUE(images.depends_on_gaze);
+    EXPECT_EQ(images.needs_display, traced.needs_display);
+    ASSERT_EQ(images.parameters.size() + 3, traced.parameters.size()) << images.name;
+    for (size_t i = 0; i < images.parameters.size(); ++i) {
+      EXPECT_EQ(images.parameters[i].key, traced.parameters[i + 3].key);
+      EXPECT_EQ(images.parameters[i].default_value, traced.parameters[i + 3].default_value);
+    }
+  }
+}
+
 class ImageStimulusTest : public test::VulkanTest {};
 
 // Every model renders the images: the same gaze gives the same bytes, another gaze other bytes,
