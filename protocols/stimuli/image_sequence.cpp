@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <set>
 #include <system_error>
@@ -10,6 +11,7 @@
 #include "core/image_io.h"
 #include "core/input_error.h"
 #include "core/input_file.h"
+#include "core/memory_budget.h"
 
 namespace fovlab {
 namespace {
@@ -85,8 +87,17 @@ std::vector<SequenceImage> read_image_sequence(const fs::path& folder, int width
     throw InputError(folder.string() + ": " + std::to_string(files.size()) + " images: expected one (a still) or " +
                      std::to_string(frame_count) +
                      " or more, one a frame (stimulus.duration_s x stimulus.frames_per_second)");
+  // Only the images the frames show are read (the others are hashed, not decoded), each held as
+  // linear RGB floats for the whole session: refused now if they cannot fit in memory.
+  const size_t shown = std::min(files.size(), static_cast<size_t>(std::max(frame_count, 1)));
+  check_memory_fits(uint64_t(shown) * uint64_t(std::max(width_px, 0)) * uint64_t(std::max(height_px, 0)) * 3 *
+                        sizeof(float),
+                    folder.string() + ": " + std::to_string(shown) + " images of " + std::to_string(width_px) + "x" +
+                        std::to_string(height_px) + " px as linear RGB floats",
+                    "shorten stimulus.duration_s, lower stimulus.frames_per_second or the display size");
   std::vector<SequenceImage> images;
-  for (const fs::path& file : files) {
+  for (size_t i = 0; i < shown; ++i) {
+    const fs::path& file = files[i];
     SequenceImage image = read_sequence_image(file);
     if (image.linear.width != width_px || image.linear.height != height_px)
       throw InputError(file.string() + ": " + std::to_string(image.linear.width) + "x" +

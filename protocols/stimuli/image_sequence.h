@@ -34,9 +34,9 @@ struct SequenceImage {
 // One image file read, hashed and decoded; InputError naming the file when it cannot be read or decoded.
 SequenceImage read_sequence_image(const std::filesystem::path& file);
 
-// A stimulus's whole sequence read and checked: every image decodes, each is width_px x height_px,
-// and the folder holds frame_count images or more, or one. InputError naming the file (or the
-// folder) and what was expected.
+// The images a stimulus shows read and checked: the folder holds frame_count images or more, or
+// one; each of the first frame_count decodes and is width_px x height_px (the others are not read);
+// they fit in the memory available. InputError naming the file (or the folder) and what was expected.
 std::vector<SequenceImage> read_image_sequence(const std::filesystem::path& folder, int width_px, int height_px,
                                                int frame_count);
 

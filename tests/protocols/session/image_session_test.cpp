@@ -288,6 +288,10 @@ TEST(ImageSession, BadFoldersAreRefusedNamingTheFile) {
   fs::remove(folder / "images" / "frame_001.exr");
   const cli_test::CommandResult still = validate();
   EXPECT_EQ(still.exit_code, 0) << still.err;
+  // The images shown are held in memory: more than there is is refused before the first trial.
+  cli_test::expect_one_line_error(
+      cli_test::run("validate " + study.string(), "FOVLAB_MEMORY_LIMIT_BYTES=5000"),
+      "images: 1 images of 32x24 px as linear RGB floats: needs about");
 }
 
 }  // namespace
