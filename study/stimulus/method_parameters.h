@@ -144,9 +144,9 @@ struct FoveatedPathTracedParameters {
 
 // A sampling-model stimulus is a source of samples and a model of where they fall (Ye et al. 2022,
 // section 5.1; foveation/sampling_map.h): only the model's samples are made, and the frame is made
-// from them per gaze sample. Each method rmfr, hyperbolic, linear, kfr, pt-rmfr, ... is one pair
-// (sampled_method). The source's parameters come first in the descriptor, then the model's, under
-// the same keys on either source.
+// from them per gaze sample. Each method rmfr, hyperbolic, linear, kfr, pt-rmfr, ..., img-rmfr, ... is
+// one pair (sampled_method). The source's parameters come first in the descriptor, then the
+// model's, under the same keys on every source.
 
 // The sphere tracer on the SDF scene: every sample traced from the camera.
 struct SphereTracedSamples {

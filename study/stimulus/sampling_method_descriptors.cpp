@@ -1,6 +1,6 @@
 // The sampling models' descriptors (Ye et al. 2022): one row per source of samples
 // (kSampleSourceDescriptors) times one row per model (kSamplingModelDescriptors), each pair one
-// method (rmfr, pt-rmfr, ...). render_method.cpp lists them among the other methods.
+// method (rmfr, pt-rmfr, img-rmfr, ...). render_method.cpp lists them among the other methods.
 #include <deque>
 #include <string>
 #include <string_view>
