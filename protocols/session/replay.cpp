@@ -17,6 +17,7 @@
 #include "study/schedule/study_plan.h"
 #include "study/log/schedule_check.h"
 #include "protocols/session/session_header.h"
+#include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
@@ -131,6 +132,8 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   // holds (the same checks as export and analyze, log_consistency.h).
   for (const std::string& difference : header_differences(record.header, config)) differences.add("header", difference);
   const StudyPlan plan = make_study_plan(config, header.participant);
+  // A session of the lab's images replays only on the images it showed: each one's SHA-256 (schema 9).
+  check_image_hashes(header.image_hashes, plan, options.log_path + ":1: image_hashes");
   // What no session could have rendered is refused before the device is opened, as run refuses it.
   check_plan_renderable(plan, options.log_path + ":1: config_toml (of " + header.config_path + ")", PlanUse::replay);
   // The stimuli this build makes of config_toml must be those the session recorded: a parameter read

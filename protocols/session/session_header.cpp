@@ -6,6 +6,7 @@
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "study/log/event_log.h"
+#include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
@@ -78,6 +79,9 @@ nlohmann::json scene_hashes(const StudyPlan& plan) {
       case SceneKind::signed_distance:
         hashes[scene] = ContentHash().add(load_scene(scene).text).hex();
         break;
+      case SceneKind::image_sequence:  // of its images' names and SHA-256s (each in image_hashes)
+        hashes[scene] = ContentHash().add(image_sequence_hashes(scene).dump()).hex();
+        break;
     }
   }
   return hashes;
@@ -102,6 +106,7 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.protocol = protocol_name(config.protocol.kind);
   header.trial_count = static_cast<int64_t>(plan.trials.size());
   header.scene_hashes = scene_hashes(plan);
+  header.image_hashes = plan_image_hashes(plan);
   header.device = {{"name", inputs.device->name},
                    {"type", inputs.device->type},
                    {"api_version", inputs.device->api_version},

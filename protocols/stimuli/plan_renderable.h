@@ -19,7 +19,9 @@ enum class PlanUse {
 // InputError (one line, starting with `source`, the config's path or the log's config_toml) when:
 // - session: the prepared frames would not fit in the memory available (check_prepared_frames_fit);
 // - every use: a sampling model cannot make its map (check_sampling_maps: equalise with no
-//   solution on this display).
+//   solution on this display);
+// - every use: an image stimulus's folder is missing or empty, or an image does not decode, is not
+//   the display's size, or there are too few (check_image_sequences).
 void check_plan_renderable(const StudyPlan& plan, const std::string& source, PlanUse use);
 
 }  // namespace fovlab

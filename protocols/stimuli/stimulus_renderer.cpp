@@ -12,6 +12,8 @@ const char* stimulus_family_name(StimulusFamily family) {
       return "path-traced";
     case StimulusFamily::volume:
       return "volume";
+    case StimulusFamily::image_sequence:
+      return "image-sequence";
   }
   return "?";
 }
@@ -24,6 +26,8 @@ StimulusFamily stimulus_family(RenderMethod method) {
       return StimulusFamily::path_traced;
     case SceneKind::volume:
       return StimulusFamily::volume;
+    case SceneKind::image_sequence:
+      return StimulusFamily::image_sequence;
   }
   throw std::logic_error("stimulus_family: a method of no scene kind");
 }
@@ -37,6 +41,8 @@ std::unique_ptr<StimulusRenderer> make_stimulus_renderer(StimulusFamily family, 
       return make_path_traced_renderer(context, cache_root);
     case StimulusFamily::volume:
       return make_volume_renderer(context);
+    case StimulusFamily::image_sequence:
+      return make_image_renderer(context);
   }
   throw std::logic_error("make_stimulus_renderer: no such family");
 }

@@ -7,7 +7,8 @@
 // - sphere-traced SDF scenes: gt, ipr, fipr and the sampling models on the sphere tracer;
 // - pre-rendered path-traced frames (renderer/prerender/frame_cache.h), shown as they are (pt),
 //   blended by zone (fpt, Polychronakis et al. 2021) or sampled by a model (pt-rmfr, ...);
-// - volume scenes: volume and fvolume (Bruder et al. 2019).
+// - volume scenes: volume and fvolume (Bruder et al. 2019);
+// - a folder of the lab's own images (image_sequence.h), sampled by a model (img-rmfr, ...).
 #include <functional>
 #include <memory>
 #include <string>
@@ -16,10 +17,11 @@
 
 namespace fovlab {
 
-enum class StimulusFamily { sphere_traced, path_traced, volume };
+enum class StimulusFamily { sphere_traced, path_traced, volume, image_sequence };
 inline constexpr StimulusFamily kStimulusFamilies[] = {StimulusFamily::sphere_traced, StimulusFamily::path_traced,
-                                                       StimulusFamily::volume};
-const char* stimulus_family_name(StimulusFamily family);  // "sphere-traced", "path-traced", "volume"
+                                                       StimulusFamily::volume, StimulusFamily::image_sequence};
+// "sphere-traced", "path-traced", "volume", "image-sequence"
+const char* stimulus_family_name(StimulusFamily family);
 
 // The family whose renderer draws the method: its descriptor's scene kind.
 StimulusFamily stimulus_family(RenderMethod method);
@@ -56,11 +58,13 @@ struct LastImage {
 // directly follows image k - 1 of the same spec (`last` is what was rendered before).
 void check_image_sequence(const LastImage& last, const std::string& canonical, const StimulusImage& image);
 
-// Each family's renderer (sphere_traced_stimuli.cpp, path_traced_stimuli.cpp, volume_stimuli.cpp).
+// Each family's renderer (sphere_traced_stimuli.cpp, path_traced_stimuli.cpp, volume_stimuli.cpp,
+// image_stimuli.cpp).
 std::unique_ptr<StimulusRenderer> make_sphere_traced_renderer(vk::Context& context);
 std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context,
                                                             const std::filesystem::path& cache_root);
 std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context);
+std::unique_ptr<StimulusRenderer> make_image_renderer(vk::Context& context);
 
 // The study config's frame size in messages: "display.width_px x display.height_px = WxH".
 extern const char* const kConfigFrameSize;

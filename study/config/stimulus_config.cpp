@@ -241,6 +241,17 @@ std::string methods_of_kind(SceneKind kind, const char* conjunction) {
 std::string resolve_scene(const TomlFields& fields, const std::string& scene, const std::string& config_path,
                           const SceneCatalog* catalog, SceneKind kind) {
   if (!catalog) return scene;
+  if (kind == SceneKind::image_sequence) {  // a folder of images, relative to the config
+    std::filesystem::path folder(scene);
+    if (folder.is_relative()) folder = std::filesystem::path(config_path).parent_path() / folder;
+    std::error_code error;
+    if (catalog->check_files && !std::filesystem::is_directory(folder, error))
+      fields.fail("scene", "expected a folder of .png or .exr images (relative to the config) for " +
+                               methods_of_kind(kind, "and") + ", got \"" + scene + "\": no such folder");
+    folder = folder.lexically_normal();
+    if (folder.filename().empty() && folder.has_parent_path()) folder = folder.parent_path();  // "images/"
+    return folder.string();
+  }
   const std::vector<std::string>& names = kind == SceneKind::path_traced ? catalog->path_traced_names
                                           : kind == SceneKind::volume    ? catalog->volume_names
                                                                          : catalog->signed_distance_names;
@@ -274,6 +285,8 @@ std::string kind_of_method(SceneKind kind) {
       return "a path-traced method";
     case SceneKind::volume:
       return "a volume method";
+    case SceneKind::image_sequence:
+      return "an image method";
   }
   return "a method";
 }

@@ -30,7 +30,9 @@ namespace fovlab {
 // 8: the sampling models' equalise "on" means equal shaded samples to RMFR's (and kfr has
 // equalise); a config that a schema 1-7 log carries reads "on" as the theoretical density, what those
 // logs showed (render_method.h ParameterDescriptor::choice_alias).
-inline constexpr int log_schema_version = 8;         // what this build writes
+// 9: the sampling models on a folder of the lab's images (img-rmfr, ...); the header of a session
+// that shows them records each image's SHA-256 (image_hashes), which replay checks.
+inline constexpr int log_schema_version = 9;         // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read

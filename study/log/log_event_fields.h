@@ -111,6 +111,8 @@ constexpr auto fields(Of<SessionHeaderEvent>) {
       // Schema 7; absent from a header of an earlier schema, which then writes back its own bytes.
       field(k::gaze_source, &E::gaze_source, Write::when_not_null),
       field(k::gaze_validation, &E::gaze_validation, Write::when_not_null),
+      // Schema 9; only when the session shows images (img-rmfr, ...).
+      field(k::image_hashes, &E::image_hashes, Write::when_not_empty),
   };
 }
 

@@ -53,6 +53,7 @@ inline constexpr const char* config_toml = "config_toml";
 inline constexpr const char* protocol = "protocol";
 inline constexpr const char* trial_count = "trial_count";
 inline constexpr const char* scene_hashes = "scene_hashes";
+inline constexpr const char* image_hashes = "image_hashes";
 inline constexpr const char* stimuli = "stimuli";
 inline constexpr const char* device = "device";
 inline constexpr const char* display = "display";
@@ -160,6 +161,9 @@ struct SessionHeaderEvent {
   // the [validation] settings}); docs/log-schema.md.
   nlohmann::json gaze_source;
   nlohmann::json gaze_validation;
+  // Schema 9, only in a session of image stimuli (img-rmfr, ...; empty, and then not written, in
+  // every other): each image folder's images, folder -> {image file name -> SHA-256 of its bytes}.
+  nlohmann::json image_hashes = nlohmann::json::object();
   bool operator==(const SessionHeaderEvent&) const = default;
 };
 

@@ -29,8 +29,10 @@ enum class MethodKind : uint8_t {
   path_traced_sampling,     // the same on pre-rendered path-traced frames (pt-rmfr, ...)
   volume_raycast,           // Bruder et al. 2019's volume raycaster: every pixel traced
   foveated_volume_raycast,  // the same, rays at the Voronoi mask's sites around the gaze
+  image_sampling,           // a sampling model on a folder of the lab's own images (img-rmfr, ...)
 };
-inline constexpr MethodKind kSamplingKinds[] = {MethodKind::sphere_traced_sampling, MethodKind::path_traced_sampling};
+inline constexpr MethodKind kSamplingKinds[] = {MethodKind::sphere_traced_sampling, MethodKind::path_traced_sampling,
+                                                MethodKind::image_sampling};
 
 // A rendering method: its kind and, for the sampling kinds, its model. The methods that are not
 // sampling models are named constants (RenderMethod::foveated_pyramid); a sampling model is
@@ -51,13 +53,15 @@ inline constexpr RenderMethod RenderMethod::foveated_path_traced{MethodKind::fov
 inline constexpr RenderMethod RenderMethod::volume_raycast{MethodKind::volume_raycast};
 inline constexpr RenderMethod RenderMethod::foveated_volume_raycast{MethodKind::foveated_volume_raycast};
 
-// Whether a method is one of the sampling models, on either source.
+// Whether a method is one of the sampling models, on any source.
 constexpr bool is_sampling_model(RenderMethod method) {
-  return method.kind == MethodKind::sphere_traced_sampling || method.kind == MethodKind::path_traced_sampling;
+  return method.kind == MethodKind::sphere_traced_sampling || method.kind == MethodKind::path_traced_sampling ||
+         method.kind == MethodKind::image_sampling;
 }
-// A sampling model's source: its index in SampleSource (0 the sphere tracer, 1 path-traced frames).
+// A sampling model's source: its index in SampleSource (0 the sphere tracer, 1 path-traced frames,
+// 2 a folder of images).
 constexpr size_t sample_source_index(RenderMethod method) {
-  return method.kind == MethodKind::path_traced_sampling ? 1 : 0;
+  return method.kind == MethodKind::path_traced_sampling ? 1 : method.kind == MethodKind::image_sampling ? 2 : 0;
 }
 // The method of a model on a source (SampleSource's index).
 constexpr RenderMethod sampled_method(size_t source, SamplingModel model) {
@@ -140,9 +144,9 @@ struct FoveatedPathTracedParameters {
 
 // A sampling-model stimulus is a source of samples and a model of where they fall (Ye et al. 2022,
 // section 5.1; foveation/sampling_map.h): only the model's samples are made, and the frame is made
-// from them per gaze sample. Each method rmfr, hyperbolic, linear, kfr, pt-rmfr, ... is one pair
-// (sampled_method). The source's parameters come first in the descriptor, then the model's, under
-// the same keys on either source.
+// from them per gaze sample. Each method rmfr, hyperbolic, linear, kfr, pt-rmfr, ..., img-rmfr, ... is
+// one pair (sampled_method). The source's parameters come first in the descriptor, then the
+// model's, under the same keys on every source.
 
 // The sphere tracer on the SDF scene: every sample traced from the camera.
 struct SphereTracedSamples {
@@ -159,8 +163,13 @@ struct PathTracedSamples {
   uint32_t path_seed;
 };
 
+// A folder of the lab's own images (PNG or EXR, the block's scene), frame i of a presentation
+// image i of the sorted folder (a folder of one image: a still); each sample takes the image's mean
+// over its footprint, as on pre-rendered frames. No parameters: the images are what they are.
+struct ImageSamples {};
+
 // In the order of kSamplingKinds.
-using SampleSource = std::variant<SphereTracedSamples, PathTracedSamples>;
+using SampleSource = std::variant<SphereTracedSamples, PathTracedSamples, ImageSamples>;
 static_assert(std::variant_size_v<SampleSource> == std::size(kSamplingKinds));
 
 // The sampling models' `equalise`, by its choice's index (render_method.cpp names them; Equalise in

@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
@@ -10,110 +9,13 @@
 #include <variant>
 
 #include "core/number_text.h"
+#include "study/stimulus/descriptor_builders.h"
 
 namespace fovlab {
 namespace {
 
-// Reading and writing one member of one method's struct as a double (the edges' number).
-template <class>
-struct MemberOf;
-template <class Struct, class Value>
-struct MemberOf<Value Struct::*> {
-  using object = Struct;
-  using value = Value;
-};
-
-template <class Part, class Variant>
-constexpr bool is_alternative_of = false;
-template <class Part, class... Alternatives>
-constexpr bool is_alternative_of<Part, std::variant<Alternatives...>> = (std::is_same_v<Part, Alternatives> || ...);
-
-// The struct a member belongs to: a method's, or a sampling-model method's source or model.
-template <class Part, class Parameters>
-auto& part_of(Parameters& parameters) {
-  if constexpr (is_alternative_of<Part, SampleSource>)
-    return std::get<Part>(std::get<SampledParameters>(parameters).source);
-  else if constexpr (is_alternative_of<Part, SamplingModelParameters>)
-    return std::get<Part>(std::get<SampledParameters>(parameters).model);
-  else return std::get<Part>(parameters);
-}
-
-template <auto Member>
-double read_member(const MethodParameters& parameters) {
-  using Traits = MemberOf<decltype(Member)>;
-  const auto value = part_of<typename Traits::object>(parameters).*Member;
-  if constexpr (std::is_enum_v<typename Traits::value>)
-    return static_cast<double>(static_cast<std::underlying_type_t<typename Traits::value>>(value));
-  else return static_cast<double>(value);
-}
-
-template <auto Member>
-void write_member(MethodParameters& parameters, double value) {
-  using Traits = MemberOf<decltype(Member)>;
-  using Value = typename Traits::value;
-  auto& member = part_of<typename Traits::object>(parameters).*Member;
-  if constexpr (std::is_enum_v<Value>) member = static_cast<Value>(static_cast<std::underlying_type_t<Value>>(value));
-  else if constexpr (std::is_same_v<Value, bool>) member = value != 0.0;
-  else member = static_cast<Value>(value);
-}
-
-template <auto Member>
-ParameterDescriptor parameter(std::string_view key, std::string_view unit, ParameterType type, double default_value,
-                              double min_value, double max_value, std::string_view help) {
-  ParameterDescriptor descriptor;
-  descriptor.key = key;
-  descriptor.unit = unit;
-  descriptor.help = help;
-  descriptor.type = type;
-  descriptor.default_value = default_value;
-  descriptor.min_value = min_value;
-  descriptor.max_value = max_value;
-  descriptor.read = &read_member<Member>;
-  descriptor.write = &write_member<Member>;
-  return descriptor;
-}
-
-ParameterDescriptor with_allowed(ParameterDescriptor descriptor, std::vector<double> allowed) {
-  descriptor.allowed = std::move(allowed);
-  return descriptor;
-}
-
-ParameterDescriptor omitted_at_default(ParameterDescriptor descriptor) {
-  descriptor.omitted_at_default = true;
-  return descriptor;
-}
-
-// Since log schema `since_log_schema`, configs that leave this parameter out mean its default; in
-// logs of earlier schemas they meant `earlier_default`.
-ParameterDescriptor with_changed_default(ParameterDescriptor descriptor, int since_log_schema, double earlier_default) {
-  descriptor.default_since_log_schema = since_log_schema;
-  descriptor.earlier_default = earlier_default;
-  return descriptor;
-}
-
-ParameterDescriptor with_legacy_key(ParameterDescriptor descriptor, std::string_view legacy_key) {
-  descriptor.legacy_key = legacy_key;
-  return descriptor;
-}
-
-constexpr double kSeedMax = double(std::numeric_limits<uint32_t>::max());
-// The sphere tracer's samples of one frame live in one buffer indexed by 32-bit words
-// (renderer/sphere_tracing/sphere_tracer.h kMaxSphereTraceSamplesPerFrame; protocols/stimuli checks).
-constexpr uint64_t kSphereTraceSamplesPerFrame = uint64_t{1} << 28;
-
-// The parameters GT, IPR and FIPR share, then IPR's and FIPR's pyramid.
-template <class Struct>
-std::vector<ParameterDescriptor> sphere_trace_parameters() {
-  return {
-      with_allowed(parameter<&Struct::samples_per_pixel>("samples_per_pixel", "", ParameterType::integer, 1, 1, 16,
-                                                         "samples a pixel (fixed sample patterns, docs/scenes.md)"),
-                   {1, 4, 16}),
-      parameter<&Struct::max_steps>("max_steps", "steps", ParameterType::integer, 256, 1, 4096,
-                                    "step cap of one ray at one level"),
-      parameter<&Struct::hit_threshold>("hit_threshold", "", ParameterType::real, 0.25, 1e-4, 8.0,
-                                        "a ray hits when its distance is below t x pixel angle x level scale x this"),
-  };
-}
+// The builders (parameter<>, sphere_trace_parameters<>, ...) and the sampling models' descriptors.
+using namespace descriptor_builders;
 
 template <class Struct>
 void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int min_levels) {
@@ -129,36 +31,6 @@ void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int mi
       "cone (the coarse pixel's whole cone: never starts a finer ray behind a surface it would hit)");
   coarse_test.choices = {"ray", "cone"};
   parameters.push_back(omitted_at_default(coarse_test));
-}
-
-template <class Struct>
-void add_display_parameters(std::vector<ParameterDescriptor>& parameters) {
-  const auto display = [](std::string_view key, std::string_view help, double (*read)(const MethodParameters&),
-                          void (*write)(MethodParameters&, double)) {
-    ParameterDescriptor descriptor;
-    descriptor.key = key;
-    descriptor.unit = "mm";
-    descriptor.help = help;
-    descriptor.type = ParameterType::real;
-    descriptor.default_value = 0.0;  // not given: the schedule fills it from [display]
-    descriptor.min_value = 1.0;
-    descriptor.max_value = 1e6;
-    descriptor.read = read;
-    descriptor.write = write;
-    return descriptor;
-  };
-  parameters.push_back(display(
-      "display_width_mm", "physical width of the stimulus image (default: from [display])",
-      [](const MethodParameters& p) { return display_of(p)->display_width_mm; },
-      [](MethodParameters& p, double value) { display_of(p)->display_width_mm = value; }));
-  parameters.push_back(display(
-      "display_height_mm", "physical height of the stimulus image (default: from [display])",
-      [](const MethodParameters& p) { return display_of(p)->display_height_mm; },
-      [](MethodParameters& p, double value) { display_of(p)->display_height_mm = value; }));
-  parameters.push_back(display(
-      "viewing_distance_mm", "eye to screen (default: from [display])",
-      [](const MethodParameters& p) { return display_of(p)->viewing_distance_mm; },
-      [](MethodParameters& p, double value) { display_of(p)->viewing_distance_mm = value; }));
 }
 
 MethodDescriptor ground_truth() {
@@ -251,17 +123,6 @@ MethodDescriptor foveated_pyramid() {
   return method;
 }
 
-template <class Struct>
-std::vector<ParameterDescriptor> path_trace_parameters() {
-  return {
-      parameter<&Struct::samples_per_pixel>("samples_per_pixel", "", ParameterType::integer, 128, 1, 65536,
-                                            "samples of each pre-rendered frame"),
-      parameter<&Struct::max_bounces>("max_bounces", "", ParameterType::integer, 32, 0, 1024,
-                                      "scattering events a path may have (docs/path-tracing.md)"),
-      parameter<&Struct::path_seed>("path_seed", "", ParameterType::integer, 1, 0, kSeedMax, "the path tracer's seed"),
-  };
-}
-
 MethodDescriptor path_traced() {
   MethodDescriptor method{RenderMethod::path_traced, "pt",
                           "path tracing, pre-rendered (Polychronakis et al. 2021's reference)", SceneKind::path_traced};
@@ -298,179 +159,6 @@ MethodDescriptor foveated_path_traced() {
       "(the pilot of Polychronakis et al. 2021, section 4.2)"));
   add_display_parameters<P>(list);
   return method;
-}
-
-// The ranges foveation/sampling_map.h checks (study/ uses core only; protocols/stimuli's tests keep
-// the two in step).
-constexpr double kMinSigma = 1.0, kMaxSigma = 8.0;
-constexpr double kMinFocalShare = 1e-3, kMaxFocalShare = 1.0;
-constexpr double kMinAlpha = 0.25, kMaxAlpha = 8.0;
-
-// The sampling models' sources (Ye et al. 2022): on the sphere tracer, its parameters; on
-// pre-rendered path-traced frames, the path tracer's. The model's follow (the same keys on both).
-MethodDescriptor sphere_traced_samples(RenderMethod method, std::string_view name, std::string_view summary) {
-  MethodDescriptor descriptor{method, name, summary, SceneKind::signed_distance};
-  descriptor.depends_on_gaze = true;
-  descriptor.max_samples_per_frame = kSphereTraceSamplesPerFrame;
-  descriptor.parameters = sphere_trace_parameters<SphereTracedSamples>();
-  descriptor.parameters[0].help = "rays a sample, spread over the sample's footprint on the screen";
-  return descriptor;
-}
-
-MethodDescriptor path_traced_samples(RenderMethod method, std::string_view name, std::string_view summary) {
-  MethodDescriptor descriptor{method, name, summary, SceneKind::path_traced};
-  descriptor.depends_on_gaze = true;
-  descriptor.parameters = path_trace_parameters<PathTracedSamples>();
-  return descriptor;
-}
-
-template <class Struct>
-ParameterDescriptor sigma_parameter(std::string_view help) {
-  return parameter<&Struct::sigma>("sigma", "", ParameterType::real, 2.6, kMinSigma, kMaxSigma, help);
-}
-
-template <class Struct>
-void add_resample(std::vector<ParameterDescriptor>& list) {
-  ParameterDescriptor resample =
-      parameter<&Struct::resample>("resample", "", ParameterType::choice, 0, 0, 1,
-                                   "how each pixel reads the samples around its place in the buffer: bilinear (2x2, "
-                                   "the paper's) or lanczos (Lanczos-2, 4x4: sharper, with ringing)");
-  resample.choices = {"bilinear", "lanczos"};
-  list.push_back(resample);
-}
-
-template <class Struct>
-void add_radii(std::vector<ParameterDescriptor>& list) {
-  list.push_back(parameter<&Struct::inner_radius_deg>("inner_radius_deg", "deg", ParameterType::real, 10.0, 0, 90,
-                                                      "r1: radius (eccentricity) of the full-resolution zone"));
-  list.push_back(parameter<&Struct::outer_radius_deg>(
-      "outer_radius_deg", "deg", ParameterType::real, 20.0, 0, 90,
-      "r2: radius (eccentricity) where the fall-off ends; at least inner_radius_deg"));
-}
-
-// The sampling models' equalise (EqualiseChoice's order). "on" meant the theoretical density in logs
-// before schema 8 and means samples since (docs/foveation.md, "Equal work"); a config of such a log
-// keeps the choice "on", so its stimuli keep their canonical text.
-template <class Struct>
-ParameterDescriptor equalise_parameter(std::string_view solved) {
-  ParameterDescriptor equalise = parameter<&Struct::equalise>("equalise", "", ParameterType::choice, 0, 0, 3, solved);
-  equalise.choices = {"off", "on", "samples", "density"};
-  equalise.choice_alias = ParameterDescriptor::ChoiceAlias{"on", "samples", 8};
-  return equalise;
-}
-
-template <class Struct>
-void add_equalise(std::vector<ParameterDescriptor>& list, std::string_view solved) {
-  list.push_back(equalise_parameter<Struct>(solved));
-  list.push_back(sigma_parameter<Struct>("equalise's target: RMFR at this sigma on the same display"));
-}
-
-MethodDescriptor rectangular_mapping(MethodDescriptor method) {
-  using P = RectangularMappingModel;
-  method.parameters.push_back(
-      sigma_parameter<P>("screen over buffer size per axis: sigma^2 is the theoretical speed-up"));
-  method.parameters.push_back(parameter<&P::focal_share_x>(
-      "focal_share_x", "", ParameterType::real, 0.3, kMinFocalShare, kMaxFocalShare, "f_x as a share of the width"));
-  method.parameters.push_back(parameter<&P::focal_share_y>(
-      "focal_share_y", "", ParameterType::real, 0.3, kMinFocalShare, kMaxFocalShare, "f_y as a share of the height"));
-  add_resample<P>(method.parameters);
-  return method;
-}
-
-MethodDescriptor hyperbolic_layers(MethodDescriptor method) {
-  using P = HyperbolicLayersModel;
-  method.needs_display = true;
-  auto& list = method.parameters;
-  add_radii<P>(list);
-  list.push_back(parameter<&P::middle_pixel_size_px>("middle_pixel_size_px", "px", ParameterType::real, 2.0, 1, 64,
-                                                     "s2: the middle layer's pixel size in screen pixels"));
-  list.push_back(parameter<&P::outer_pixel_size_px>("outer_pixel_size_px", "px", ParameterType::real, 12.35, 1, 256,
-                                                    "s3: the outer layer's pixel size; at least middle_pixel_size_px"));
-  list.push_back(parameter<&P::blend_band_deg>(
-      "blend_band_deg", "deg", ParameterType::real, 1.0, 0, 90,
-      "each layer fades out over this much eccentricity inside its radius; at most inner_radius_deg"));
-  add_equalise<P>(
-      list,
-      "outer_pixel_size_px solved once, with the gaze at the centre: samples (\"on\"): as many shaded samples as "
-      "RMFR's; density: mean density 1 / sigma^2 (what \"on\" meant in logs before schema 8)");
-  add_resample<P>(list);
-  add_display_parameters<P>(list);
-  return method;
-}
-
-MethodDescriptor linear_falloff(MethodDescriptor method) {
-  using P = LinearFalloffModel;
-  method.needs_display = true;
-  auto& list = method.parameters;
-  add_radii<P>(list);
-  list.push_back(parameter<&P::min_probability>("min_probability", "", ParameterType::real, 0.047, 0, 1,
-                                                "p_min: the probability beyond outer_radius_deg"));
-  list.push_back(parameter<&P::sample_seed>("sample_seed", "", ParameterType::integer, 0, 0, kSeedMax,
-                                            "seed of the per-pixel thresholds"));
-  add_equalise<P>(
-      list,
-      "min_probability solved once, with the gaze at the centre: samples (\"on\"): as many shaded samples as RMFR's; "
-      "density: mean density 1 / sigma^2 (what \"on\" meant in logs before schema 8)");
-  add_display_parameters<P>(list);
-  return method;
-}
-
-MethodDescriptor kernel_log_polar(MethodDescriptor method) {
-  using P = KernelLogPolarModel;
-  method.parameters.push_back(
-      sigma_parameter<P>("screen over buffer size per axis; with equalise samples: RMFR's, the target"));
-  method.parameters.push_back(parameter<&P::alpha>("alpha", "", ParameterType::real, 4.0, kMinAlpha, kMaxAlpha,
-                                                   "the kernel's exponent: u = w (ln r / L)^alpha"));
-  method.parameters.push_back(omitted_at_default(equalise_parameter<P>(
-      "samples (\"on\"): the buffer's sigma solved once, with the gaze at the centre, so that it shades as many "
-      "samples as RMFR at sigma; density: as off (the buffer is RMFR's)")));
-  add_resample<P>(method.parameters);
-  return method;
-}
-
-// The sampling models, in SamplingModel's order: each one's summary and parameters.
-struct SamplingModelDescriptor {
-  std::string_view summary;
-  MethodDescriptor (*add_parameters)(MethodDescriptor);
-};
-const SamplingModelDescriptor kSamplingModelDescriptors[] = {
-    {"rectangular mapping-based foveated rendering (Ye et al. 2022, section 3)", &rectangular_mapping},
-    {"three layers of falling resolution (Guenter et al.; Ye et al. 2022, section 5.1)", &hyperbolic_layers},
-    {"linear fall-off of the sampling probability (Weier et al.; Ye et al. 2022, section 5.1)", &linear_falloff},
-    {"kernel log-polar foveated rendering (Meng et al.; Ye et al. 2022, section 5.1)", &kernel_log_polar},
-};
-static_assert(std::size(kSamplingModelDescriptors) == kSamplingModelCount);
-
-// The sources, in SampleSource's order: how a model's name and summary read on it, and its parameters.
-struct SampleSourceDescriptor {
-  std::string_view name_prefix;        // before the model's name: "rmfr", "pt-rmfr"
-  std::string_view own_summary_after;  // empty: the model's own summary; else its name and this
-  MethodDescriptor (*make)(RenderMethod, std::string_view, std::string_view);
-};
-const SampleSourceDescriptor kSampleSourceDescriptors[] = {
-    {"", "", &sphere_traced_samples},
-    {"pt-", " on pre-rendered path-traced frames (emulated)", &path_traced_samples},
-};
-static_assert(std::size(kSampleSourceDescriptors) == std::variant_size_v<SampleSource>);
-
-// Every (source, model) pair, source-major.
-std::vector<MethodDescriptor> sampling_models() {
-  // The names and summaries made here live as long as the descriptors (a deque keeps their places).
-  static std::deque<std::string> texts;
-  std::vector<MethodDescriptor> list;
-  for (size_t source = 0; source < std::size(kSampleSourceDescriptors); ++source)
-    for (size_t model = 0; model < kSamplingModelCount; ++model) {
-      const SampleSourceDescriptor& on = kSampleSourceDescriptors[source];
-      const SamplingModelDescriptor& entry = kSamplingModelDescriptors[model];
-      const std::string_view name = texts.emplace_back(std::string(on.name_prefix) + kSamplingModelNames[model]);
-      const std::string_view summary =
-          on.own_summary_after.empty()
-              ? entry.summary
-              : std::string_view(texts.emplace_back(kSamplingModelNames[model] + std::string(on.own_summary_after)));
-      list.push_back(
-          entry.add_parameters(on.make(sampled_method(source, static_cast<SamplingModel>(model)), name, summary)));
-    }
-  return list;
 }
 
 // Bruder et al. 2019's volume raycaster, full and Voronoi-foveated (docs/volume-rendering.md).
@@ -665,6 +353,7 @@ MethodParameters default_parameters(RenderMethod method) {
       break;
     case MethodKind::sphere_traced_sampling:
     case MethodKind::path_traced_sampling:
+    case MethodKind::image_sampling:
       parameters = SampledParameters{alternative_at<SampleSource>(sample_source_index(method)),
                                      alternative_at<SamplingModelParameters>(static_cast<size_t>(method.model))};
       break;
@@ -747,7 +436,9 @@ std::string methods_markdown() {
             (method.scene_kind == SceneKind::signed_distance ? "SDF (built-in names or .glsl files)"
              : method.scene_kind == SceneKind::path_traced
                  ? "path-traced (courtyard or .obj files)"
-                 : "volume scenes (built-in names or .toml files; docs/volume-rendering.md)") +
+             : method.scene_kind == SceneKind::volume
+                 ? "volume scenes (built-in names or .toml files; docs/volume-rendering.md)"
+                 : "a folder of .png or .exr images, each the display's size (frame i: image i; one image: a still)") +
             ". Frames " + (method.depends_on_gaze ? "follow the gaze of each refresh" : "do not depend on the gaze");
     if (method.max_samples_per_frame > 0)
       text += "; width_px x height_px x samples_per_pixel at most " + std::to_string(method.max_samples_per_frame);

@@ -20,8 +20,9 @@ namespace fovlab {
 
 // The scenes a method renders: SDF scenes (GLSL) for the sphere tracers, path-traced scenes (the
 // built-in courtyard or OBJ files) for the path tracer and its emulation, volume scenes (built-in or
-// .toml files naming a volume) for the volume raycaster.
-enum class SceneKind { signed_distance, path_traced, volume };
+// .toml files naming a volume) for the volume raycaster, a folder of PNG or EXR images for the
+// sampling models on images (img-rmfr, ...).
+enum class SceneKind { signed_distance, path_traced, volume, image_sequence };
 
 enum class ParameterType { integer, real, choice };
 
@@ -82,8 +83,8 @@ struct MethodDescriptor {
   std::vector<ParameterDescriptor> parameters;
 };
 
-// Every method: gt, ipr, fipr, pt, fpt, the sampling models on the sphere tracer then on path-traced
-// frames (each in SamplingModel's order), volume, fvolume (docs/config.md's order).
+// Every method: gt, ipr, fipr, pt, fpt, the sampling models on the sphere tracer, on path-traced
+// frames, then on images (each in SamplingModel's order), volume, fvolume (docs/config.md's order).
 std::span<const MethodDescriptor> all_methods();
 const MethodDescriptor& describe(RenderMethod method);
 // A method's place in all_methods().

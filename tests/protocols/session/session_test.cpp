@@ -568,7 +568,7 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   const SessionOutcome outcome = run_session(config, simulated(results));
   ASSERT_TRUE(outcome.finished);
   const SessionRecord record = read_session_record(read_event_log(outcome.log_path));
-  EXPECT_EQ(record.header.value("schema_version", 0), 8);
+  EXPECT_EQ(record.header.value("schema_version", 0), 9);
   const nlohmann::json& source = record.header.at("gaze_source");
   EXPECT_EQ(source.value("kind", ""), "synthetic");
   EXPECT_EQ(source.value("spec", ""), record.header.value("gaze", "-"));

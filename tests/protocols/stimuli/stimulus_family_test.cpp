@@ -32,6 +32,7 @@ TEST_F(StimulusFamilyTest, EveryMethodHasExactlyOneFamily) {
   EXPECT_EQ(stimulus_family(RenderMethod::foveated_path_traced), StimulusFamily::path_traced);
   EXPECT_EQ(stimulus_family(sampled_method(1, SamplingModel::linear)), StimulusFamily::path_traced);
   EXPECT_EQ(stimulus_family(RenderMethod::foveated_volume_raycast), StimulusFamily::volume);
+  EXPECT_EQ(stimulus_family(sampled_method(2, SamplingModel::rectangular)), StimulusFamily::image_sequence);
 }
 
 }  // namespace

@@ -1069,7 +1069,7 @@ TEST(ProtocolsConfig, UnknownMethod) {
   const std::string text = base.text();
   expect_error(text, line_of(text, "method = \"foveated\""), "stimulus.test.method",
                "expected one of gt, ipr, fipr, pt, fpt, rmfr, hyperbolic, linear, kfr, pt-rmfr, pt-hyperbolic, "
-               "pt-linear, pt-kfr, volume, fvolume, got \"foveated\"");
+               "pt-linear, pt-kfr, img-rmfr, img-hyperbolic, img-linear, img-kfr, volume, fvolume, got \"foveated\"");
 }
 
 TEST(ProtocolsConfig, ParameterNotOfTheMethod) {

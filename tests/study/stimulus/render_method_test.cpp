@@ -30,7 +30,7 @@ TEST(RenderMethod, EverySamplingModelIsAMethodOnEachSource) {
     EXPECT_EQ(method_index(method.method), index) << method.name;
     sampling_methods += is_sampling_model(method.method);
   }
-  EXPECT_EQ(sampling_methods, 2 * kSamplingModelCount);
+  EXPECT_EQ(sampling_methods, std::size(kSamplingKinds) * kSamplingModelCount);
   for (size_t model = 0; model < kSamplingModelCount; ++model) {
     const auto sampling_model = static_cast<SamplingModel>(model);
     const std::string name = sampling_model_name(sampling_model);
@@ -39,6 +39,9 @@ TEST(RenderMethod, EverySamplingModelIsAMethodOnEachSource) {
     EXPECT_EQ(describe(sampled_method(0, sampling_model)).scene_kind, SceneKind::signed_distance) << name;
     EXPECT_EQ(describe(sampled_method(1, sampling_model)).scene_kind, SceneKind::path_traced) << name;
     EXPECT_NE(sampled_method(0, sampling_model), sampled_method(1, sampling_model));
+    EXPECT_EQ(find_method("img-" + name), sampled_method(2, sampling_model)) << name;
+    EXPECT_EQ(describe(sampled_method(2, sampling_model)).scene_kind, SceneKind::image_sequence) << name;
+    EXPECT_EQ(method_of(default_parameters(sampled_method(2, sampling_model))), sampled_method(2, sampling_model));
   }
 }
 
