@@ -8,7 +8,7 @@
 namespace fovlab {
 namespace {
 
-void check(XrResult result, const char* call) {
+void check_frame_call(XrResult result, const char* call) {
   if (XR_FAILED(result)) throw std::runtime_error(std::string("openxr: ") + call + ": " + openxr_result_name(result));
 }
 
@@ -44,11 +44,11 @@ void copy_into(const vk::Context& context, const DeviceRgba8Frame& frame, VkImag
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {static_cast<uint32_t>(frame.width), static_cast<uint32_t>(frame.height), 1};
   vkCmdCopyBufferToImage(commands.handle(), frame.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-  const VkImageMemoryBarrier back =
-      layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                    VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
-  vkCmdPipelineBarrier(commands.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &back);
+  // Back for the runtime; the wait for the submission below orders its later use.
+  const VkImageMemoryBarrier back = layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, 0);
+  vkCmdPipelineBarrier(commands.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &back);
   commands.submit_and_wait();
 }
 
@@ -56,12 +56,12 @@ void copy_into(const vk::Context& context, const DeviceRgba8Frame& frame, VkImag
 
 OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame) {
   XrFrameState frame_state{XR_TYPE_FRAME_STATE};
-  check(xrWaitFrame(session.session, nullptr, &frame_state), "xrWaitFrame");
+  check_frame_call(xrWaitFrame(session.session, nullptr, &frame_state), "xrWaitFrame");
   OpenXrFrame frame;
   frame.predicted_display_time = frame_state.predictedDisplayTime;
   frame.predicted_display_period = frame_state.predictedDisplayPeriod;
   const XrResult begun = xrBeginFrame(session.session, nullptr);
-  check(begun, "xrBeginFrame");
+  check_frame_call(begun, "xrBeginFrame");
   frame.discarded = begun == XR_FRAME_DISCARDED;
 
   XrFrameEndInfo end_info{XR_TYPE_FRAME_END_INFO};
@@ -78,7 +78,7 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
     XrViewState view_state{XR_TYPE_VIEW_STATE};
     frame.views.fill(XrView{XR_TYPE_VIEW});
     uint32_t view_count = 0;
-    check(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, frame.views.data()), "xrLocateViews");
+    check_frame_call(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, frame.views.data()), "xrLocateViews");
     if (view_count != 2) throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
     for (uint32_t eye = 0; eye < 2; ++eye) {
       const DeviceRgba8Frame image = eye_frame(eye, frame.views[eye]);
@@ -90,12 +90,12 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
                                     " on the session's");
       const OpenXrEyeSwapchain& swapchain = session.eyes[eye];
       uint32_t index = 0;
-      check(xrAcquireSwapchainImage(swapchain.handle, nullptr, &index), "xrAcquireSwapchainImage");
+      check_frame_call(xrAcquireSwapchainImage(swapchain.handle, nullptr, &index), "xrAcquireSwapchainImage");
       XrSwapchainImageWaitInfo wait{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
       wait.timeout = XR_INFINITE_DURATION;
-      check(xrWaitSwapchainImage(swapchain.handle, &wait), "xrWaitSwapchainImage");
+      check_frame_call(xrWaitSwapchainImage(swapchain.handle, &wait), "xrWaitSwapchainImage");
       copy_into(*session.vulkan, image, swapchain.images.at(index));
-      check(xrReleaseSwapchainImage(swapchain.handle, nullptr), "xrReleaseSwapchainImage");
+      check_frame_call(xrReleaseSwapchainImage(swapchain.handle, nullptr), "xrReleaseSwapchainImage");
       frame.image_index[eye] = index;
 
       XrCompositionLayerProjectionView& view = projection_views[eye];
@@ -113,7 +113,7 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
     end_info.layers = layers;
     frame.rendered = true;
   }
-  check(xrEndFrame(session.session, &end_info), "xrEndFrame");
+  check_frame_call(xrEndFrame(session.session, &end_info), "xrEndFrame");
   return frame;
 }
 

@@ -42,7 +42,7 @@ bool runtime_offers(const char* extension) {
   });
 }
 
-std::string version_text(XrVersion version) {
+std::string vulkan_version_text(XrVersion version) {
   return std::to_string(XR_VERSION_MAJOR(version)) + "." + std::to_string(XR_VERSION_MINOR(version));
 }
 
@@ -132,8 +132,8 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     refuse_unless(requirements(instance.handle, system, &required), "xrGetVulkanGraphicsRequirements2KHR");
     if (XR_VERSION_MAJOR(required.minApiVersionSupported) > 1 ||
         (XR_VERSION_MAJOR(required.maxApiVersionSupported) == 1 && XR_VERSION_MINOR(required.maxApiVersionSupported) < 1))
-      throw InputError("openxr: the runtime takes Vulkan " + version_text(required.minApiVersionSupported) + " to " +
-                       version_text(required.maxApiVersionSupported) + "; fovlab needs 1.1 or later");
+      throw InputError("openxr: the runtime takes Vulkan " + vulkan_version_text(required.minApiVersionSupported) + " to " +
+                       vulkan_version_text(required.maxApiVersionSupported) + "; fovlab needs 1.1 or later");
 
     vk::ContextOptions context_options;
     context_options.validation = options.validation;
