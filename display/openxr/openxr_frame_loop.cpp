@@ -45,8 +45,9 @@ void copy_into(const vk::Context& context, const DeviceRgba8Frame& frame, VkImag
   region.imageExtent = {static_cast<uint32_t>(frame.width), static_cast<uint32_t>(frame.height), 1};
   vkCmdCopyBufferToImage(commands.handle(), frame.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
   // Back for the runtime; the wait for the submission below orders its later use.
-  const VkImageMemoryBarrier back = layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                                                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, 0);
+  const VkImageMemoryBarrier back =
+      layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                    VK_ACCESS_TRANSFER_WRITE_BIT, 0);
   vkCmdPipelineBarrier(commands.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
                        nullptr, 0, nullptr, 1, &back);
   commands.submit_and_wait();
@@ -78,16 +79,18 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
     XrViewState view_state{XR_TYPE_VIEW_STATE};
     frame.views.fill(XrView{XR_TYPE_VIEW});
     uint32_t view_count = 0;
-    check_frame_call(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, frame.views.data()), "xrLocateViews");
-    if (view_count != 2) throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
+    check_frame_call(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, frame.views.data()),
+                     "xrLocateViews");
+    if (view_count != 2)
+      throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
     for (uint32_t eye = 0; eye < 2; ++eye) {
       const DeviceRgba8Frame image = eye_frame(eye, frame.views[eye]);
       if (!image || image.context != session.vulkan.get() || image.width != static_cast<int>(session.eye_width_px) ||
           image.height != static_cast<int>(session.eye_height_px))
-        throw std::invalid_argument("openxr: eye " + std::to_string(eye) + "'s frame is " + std::to_string(image.width) +
-                                    "x" + std::to_string(image.height) + " on its device; expected " +
-                                    std::to_string(session.eye_width_px) + "x" + std::to_string(session.eye_height_px) +
-                                    " on the session's");
+        throw std::invalid_argument("openxr: eye " + std::to_string(eye) + "'s frame is " +
+                                    std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                    " on its device; expected " + std::to_string(session.eye_width_px) + "x" +
+                                    std::to_string(session.eye_height_px) + " on the session's");
       const OpenXrEyeSwapchain& swapchain = session.eyes[eye];
       uint32_t index = 0;
       check_frame_call(xrAcquireSwapchainImage(swapchain.handle, nullptr, &index), "xrAcquireSwapchainImage");

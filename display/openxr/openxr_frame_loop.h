@@ -19,9 +19,9 @@ using OpenXrEyeFrameSource = std::function<DeviceRgba8Frame(uint32_t eye, const 
 struct OpenXrFrame {
   XrTime predicted_display_time = 0;
   XrDuration predicted_display_period = 0;
-  bool rendered = false;  // the eyes were drawn and a projection layer submitted
-  bool discarded = false;  // xrBeginFrame said the previous frame was discarded (XR_FRAME_DISCARDED)
-  std::array<XrView, 2> views{};  // as xrLocateViews gave them (when rendered)
+  bool rendered = false;                  // the eyes were drawn and a projection layer submitted
+  bool discarded = false;                 // xrBeginFrame said the previous frame was discarded (XR_FRAME_DISCARDED)
+  std::array<XrView, 2> views{};          // as xrLocateViews gave them (when rendered)
   std::array<uint32_t, 2> image_index{};  // each eye's swapchain image the frame went into
 };
 

@@ -48,8 +48,7 @@ std::string vulkan_version_text(XrVersion version) {
 
 // fovlab's context, with its instance and device created by the runtime (XR_KHR_vulkan_enable2).
 vk::VulkanCreator creator_through_runtime(XrInstance instance, XrSystemId system) {
-  const auto create_instance =
-      extension_function<PFN_xrCreateVulkanInstanceKHR>(instance, "xrCreateVulkanInstanceKHR");
+  const auto create_instance = extension_function<PFN_xrCreateVulkanInstanceKHR>(instance, "xrCreateVulkanInstanceKHR");
   const auto graphics_device =
       extension_function<PFN_xrGetVulkanGraphicsDevice2KHR>(instance, "xrGetVulkanGraphicsDevice2KHR");
   const auto create_device = extension_function<PFN_xrCreateVulkanDeviceKHR>(instance, "xrCreateVulkanDeviceKHR");
@@ -111,11 +110,12 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     refuse_unless(xrEnumerateViewConfigurationViews(instance.handle, system, kStereo, 0, &view_count, nullptr),
                   "no stereo views (xrEnumerateViewConfigurationViews)");
     std::vector<XrViewConfigurationView> views(view_count, XrViewConfigurationView{XR_TYPE_VIEW_CONFIGURATION_VIEW});
-    refuse_unless(xrEnumerateViewConfigurationViews(instance.handle, system, kStereo, view_count, &view_count,
-                                                    views.data()),
-                  "xrEnumerateViewConfigurationViews");
-    if (view_count != 2) throw InputError("openxr: the headset's stereo configuration has " +
-                                          std::to_string(view_count) + " views; expected 2");
+    refuse_unless(
+        xrEnumerateViewConfigurationViews(instance.handle, system, kStereo, view_count, &view_count, views.data()),
+        "xrEnumerateViewConfigurationViews");
+    if (view_count != 2)
+      throw InputError("openxr: the headset's stereo configuration has " + std::to_string(view_count) +
+                       " views; expected 2");
     eye_width_px = options.eye_width_px != 0 ? options.eye_width_px : views[0].recommendedImageRectWidth;
     eye_height_px = options.eye_height_px != 0 ? options.eye_height_px : views[0].recommendedImageRectHeight;
     for (const XrViewConfigurationView& view : views) {
@@ -131,9 +131,10 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     XrGraphicsRequirementsVulkan2KHR required{XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR};
     refuse_unless(requirements(instance.handle, system, &required), "xrGetVulkanGraphicsRequirements2KHR");
     if (XR_VERSION_MAJOR(required.minApiVersionSupported) > 1 ||
-        (XR_VERSION_MAJOR(required.maxApiVersionSupported) == 1 && XR_VERSION_MINOR(required.maxApiVersionSupported) < 1))
-      throw InputError("openxr: the runtime takes Vulkan " + vulkan_version_text(required.minApiVersionSupported) + " to " +
-                       vulkan_version_text(required.maxApiVersionSupported) + "; fovlab needs 1.1 or later");
+        (XR_VERSION_MAJOR(required.maxApiVersionSupported) == 1 &&
+         XR_VERSION_MINOR(required.maxApiVersionSupported) < 1))
+      throw InputError("openxr: the runtime takes Vulkan " + vulkan_version_text(required.minApiVersionSupported) +
+                       " to " + vulkan_version_text(required.maxApiVersionSupported) + "; fovlab needs 1.1 or later");
 
     vk::ContextOptions context_options;
     context_options.validation = options.validation;
@@ -164,7 +165,8 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     check(xrEnumerateSwapchainFormats(session, format_count, &format_count, formats.data()),
           "xrEnumerateSwapchainFormats");
     if (std::find(formats.begin(), formats.end(), int64_t{VK_FORMAT_R8G8B8A8_SRGB}) == formats.end())
-      throw InputError("openxr: the runtime offers no VK_FORMAT_R8G8B8A8_SRGB swapchain; fovlab's frames are 8-bit sRGB RGBA");
+      throw InputError(
+          "openxr: the runtime offers no VK_FORMAT_R8G8B8A8_SRGB swapchain; fovlab's frames are 8-bit sRGB RGBA");
     for (OpenXrEyeSwapchain& eye : eyes) {
       XrSwapchainCreateInfo swapchain_info{XR_TYPE_SWAPCHAIN_CREATE_INFO};
       swapchain_info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
@@ -179,7 +181,7 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
       uint32_t image_count = 0;
       check(xrEnumerateSwapchainImages(eye.handle, 0, &image_count, nullptr), "xrEnumerateSwapchainImages");
       std::vector<XrSwapchainImageVulkan2KHR> images(image_count,
-                                                      XrSwapchainImageVulkan2KHR{XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR});
+                                                     XrSwapchainImageVulkan2KHR{XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR});
       check(xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
                                        reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())),
             "xrEnumerateSwapchainImages");
@@ -253,8 +255,7 @@ const char* openxr_session_state_name(XrSessionState state) {
     return #name;
     XR_LIST_ENUM_XrSessionState(FOVLAB_OPENXR_STATE_NAME)
 #undef FOVLAB_OPENXR_STATE_NAME
-    default:
-      return "XR_SESSION_STATE_UNKNOWN";
+        default : return "XR_SESSION_STATE_UNKNOWN";
   }
 }
 

@@ -29,9 +29,7 @@ XrTime monotonic_now_ns() {
 }
 
 // The predicted display time of the session's frame `n` (1 for the first xrWaitFrame).
-XrTime frame_time(const SessionObject& session, int64_t n) {
-  return session.start_time + n * 1000000000 / kRefreshHz;
-}
+XrTime frame_time(const SessionObject& session, int64_t n) { return session.start_time + n * 1000000000 / kRefreshHz; }
 
 XrTime current_time(const SessionObject& session) { return frame_time(session, session.waited_frames); }
 
@@ -264,8 +262,8 @@ XrResult XRAPI_CALL create_reference_space(XrSession session, const XrReferenceS
   }
   if (!pose_is_valid(create_info->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
   const uint64_t handle = table.next_handle++;
-  table.objects.emplace(
-      handle, Object{handle_value(session), SpaceObject{create_info->referenceSpaceType, create_info->poseInReferenceSpace}});
+  table.objects.emplace(handle, Object{handle_value(session), SpaceObject{create_info->referenceSpaceType,
+                                                                          create_info->poseInReferenceSpace}});
   *space = reinterpret_cast<XrSpace>(handle);
   return XR_SUCCESS;
 }

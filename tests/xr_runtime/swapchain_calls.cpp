@@ -48,9 +48,8 @@ XrResult XRAPI_CALL create_swapchain(XrSession session, const XrSwapchainCreateI
   for (const VkFormat format : kFormats) offered = offered || info.format == format;
   if (!offered) return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
   // Colour formats only: a depth usage, storage (not on sRGB) or a mutable format is not offered.
-  if (info.usageFlags &
-      (XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT |
-       XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT))
+  if (info.usageFlags & (XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT |
+                         XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT))
     return XR_ERROR_FEATURE_UNSUPPORTED;
   if (info.sampleCount != 1 || info.faceCount == 6) return XR_ERROR_FEATURE_UNSUPPORTED;
   const InstanceObject* instance = instance_of(table, handle_value(session));

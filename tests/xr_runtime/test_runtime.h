@@ -76,13 +76,16 @@ struct InstanceObject {
 
 // The device functions the runtime calls on the application's VkDevice (vulkan_calls.cpp).
 struct DeviceFunctions {
-#define FOVLAB_TEST_XR_DEVICE_FUNCTIONS(X)                                                                             \
-  X(vkGetDeviceQueue)                                                                                                 \
-  X(vkCreateImage) X(vkDestroyImage) X(vkGetImageMemoryRequirements) X(vkBindImageMemory) X(vkAllocateMemory)        \
-  X(vkFreeMemory) X(vkCreateBuffer) X(vkDestroyBuffer) X(vkGetBufferMemoryRequirements) X(vkBindBufferMemory)        \
-  X(vkMapMemory) X(vkUnmapMemory) X(vkCreateCommandPool) X(vkDestroyCommandPool) X(vkAllocateCommandBuffers)         \
-  X(vkBeginCommandBuffer) X(vkEndCommandBuffer) X(vkCmdPipelineBarrier) X(vkCmdCopyImageToBuffer) X(vkQueueSubmit)  \
-  X(vkCreateFence) X(vkDestroyFence) X(vkWaitForFences) X(vkFreeCommandBuffers)
+// clang-format off
+#define FOVLAB_TEST_XR_DEVICE_FUNCTIONS(X) \
+  X(vkGetDeviceQueue) X(vkCreateImage) X(vkDestroyImage) X(vkGetImageMemoryRequirements) \
+  X(vkBindImageMemory) X(vkAllocateMemory) X(vkFreeMemory) X(vkCreateBuffer) \
+  X(vkDestroyBuffer) X(vkGetBufferMemoryRequirements) X(vkBindBufferMemory) X(vkMapMemory) \
+  X(vkUnmapMemory) X(vkCreateCommandPool) X(vkDestroyCommandPool) X(vkAllocateCommandBuffers) \
+  X(vkBeginCommandBuffer) X(vkEndCommandBuffer) X(vkCmdPipelineBarrier) X(vkCmdCopyImageToBuffer) \
+  X(vkQueueSubmit) X(vkCreateFence) X(vkDestroyFence) X(vkWaitForFences) \
+  X(vkFreeCommandBuffers)
+  // clang-format on
 #define FOVLAB_TEST_XR_MEMBER(name) PFN_##name name = nullptr;
   FOVLAB_TEST_XR_DEVICE_FUNCTIONS(FOVLAB_TEST_XR_MEMBER)
 #undef FOVLAB_TEST_XR_MEMBER
@@ -191,8 +194,8 @@ XrResult bind_session_vulkan(const InstanceVulkan& instance, const XrGraphicsBin
 XrResult create_swapchain_images(const SessionVulkan& vulkan, SwapchainObject& swapchain, VkImageUsageFlags usage,
                                  uint32_t count);
 // xrEndFrame's compositor: copies the rect of each view's last released image to the host.
-XrResult read_projection_views(HandleTable& table, SessionObject& session,
-                               const XrCompositionLayerProjection& layer, std::vector<SubmittedView>& views);
+XrResult read_projection_views(HandleTable& table, SessionObject& session, const XrCompositionLayerProjection& layer,
+                               std::vector<SubmittedView>& views);
 
 // One row of the dispatch table. `global`: callable with XR_NULL_HANDLE as the instance (the three
 // functions the specification allows before an instance exists). `extension`: empty for the core

@@ -24,8 +24,8 @@ std::vector<const char*> merged_names(const char* const* application, uint32_t c
                                       std::span<const char* const> runtime) {
   std::vector<const char*> names(application, application + count);
   for (const char* name : runtime) {
-    const bool named = std::any_of(names.begin(), names.end(),
-                                   [&](const char* other) { return std::string_view(other) == name; });
+    const bool named =
+        std::any_of(names.begin(), names.end(), [&](const char* other) { return std::string_view(other) == name; });
     if (!named) names.push_back(name);
   }
   return names;
@@ -173,8 +173,9 @@ XrResult XRAPI_CALL get_vulkan_graphics_device2(XrInstance instance, const XrVul
     families(device, &family_count, nullptr);
     std::vector<VkQueueFamilyProperties> family_properties(family_count);
     families(device, &family_count, family_properties.data());
-    const bool graphics = std::any_of(family_properties.begin(), family_properties.end(),
-                                      [](const VkQueueFamilyProperties& f) { return f.queueFlags & VK_QUEUE_GRAPHICS_BIT; });
+    const bool graphics =
+        std::any_of(family_properties.begin(), family_properties.end(),
+                    [](const VkQueueFamilyProperties& f) { return f.queueFlags & VK_QUEUE_GRAPHICS_BIT; });
     if (!graphics) continue;
     VkPhysicalDeviceProperties device_properties{};
     properties(device, &device_properties);
@@ -212,7 +213,8 @@ XrResult XRAPI_CALL create_vulkan_device(XrInstance instance, const XrVulkanDevi
       merged_names(info.ppEnabledExtensionNames, info.enabledExtensionCount, kRuntimeDeviceExtensions);
   info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
-  *vulkan_result = vk_create_device(create_info->vulkanPhysicalDevice, &info, create_info->vulkanAllocator, vulkan_device);
+  *vulkan_result =
+      vk_create_device(create_info->vulkanPhysicalDevice, &info, create_info->vulkanAllocator, vulkan_device);
   if (*vulkan_result != VK_SUCCESS) return XR_ERROR_RUNTIME_FAILURE;
   object->vulkan.device = *vulkan_device;
   return XR_SUCCESS;
@@ -223,13 +225,13 @@ XrResult XRAPI_CALL create_vulkan_device(XrInstance instance, const XrVulkanDevi
 XrResult bind_session_vulkan(const InstanceVulkan& instance, const XrGraphicsBindingVulkanKHR& binding,
                              SessionVulkan& vulkan) {
   const auto get_device_proc_addr = instance_function<PFN_vkGetDeviceProcAddr>(instance, "vkGetDeviceProcAddr");
-  const auto memory_properties = instance_function<PFN_vkGetPhysicalDeviceMemoryProperties>(
-      instance, "vkGetPhysicalDeviceMemoryProperties");
+  const auto memory_properties =
+      instance_function<PFN_vkGetPhysicalDeviceMemoryProperties>(instance, "vkGetPhysicalDeviceMemoryProperties");
   if (get_device_proc_addr == nullptr || memory_properties == nullptr) return XR_ERROR_RUNTIME_FAILURE;
   vulkan.device = binding.device;
   vulkan.queue_family = binding.queueFamilyIndex;
   DeviceFunctions& vk = vulkan.functions;
-#define FOVLAB_TEST_XR_LOAD(name)                                                         \
+#define FOVLAB_TEST_XR_LOAD(name)                                                      \
   vk.name = reinterpret_cast<PFN_##name>(get_device_proc_addr(binding.device, #name)); \
   if (vk.name == nullptr) return XR_ERROR_RUNTIME_FAILURE;
   FOVLAB_TEST_XR_DEVICE_FUNCTIONS(FOVLAB_TEST_XR_LOAD)
@@ -339,9 +341,8 @@ XrResult read_projection_views(HandleTable& table, SessionObject& session, const
     vk.vkGetBufferMemoryRequirements(vulkan.device, buffer, &requirements);
     VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     allocate.allocationSize = requirements.size;
-    allocate.memoryTypeIndex =
-        memory_type(vk.memory_properties, requirements.memoryTypeBits,
-                    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    allocate.memoryTypeIndex = memory_type(vk.memory_properties, requirements.memoryTypeBits,
+                                           VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     VkDeviceMemory memory = VK_NULL_HANDLE;
     bool done = allocate.memoryTypeIndex != UINT32_MAX &&
                 vk.vkAllocateMemory(vulkan.device, &allocate, nullptr, &memory) == VK_SUCCESS &&
@@ -357,9 +358,9 @@ XrResult read_projection_views(HandleTable& table, SessionObject& session, const
              region.imageOffset = {rect.offset.x, rect.offset.y, 0};
              region.imageExtent = {submitted.width, submitted.height, 1};
              vk.vkCmdCopyImageToBuffer(commands, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &region);
-             const VkImageMemoryBarrier back = layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                                             VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                                                             VK_ACCESS_TRANSFER_READ_BIT, 0);
+             const VkImageMemoryBarrier back =
+                 layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                               VK_ACCESS_TRANSFER_READ_BIT, 0);
              vk.vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0,
                                      nullptr, 0, nullptr, 1, &back);
            });

@@ -59,7 +59,8 @@ std::vector<std::string> names(const std::vector<XrSessionState>& states) {
 TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
   void* runtime_library = dlopen(FOVLAB_TEST_XR_RUNTIME_LIBRARY, RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(runtime_library, nullptr) << dlerror();
-  const auto read_view = reinterpret_cast<LastProjectionView>(dlsym(runtime_library, "fovlab_test_xr_last_projection_view"));
+  const auto read_view =
+      reinterpret_cast<LastProjectionView>(dlsym(runtime_library, "fovlab_test_xr_last_projection_view"));
   ASSERT_NE(read_view, nullptr);
   int64_t frames_before = 0;
   uint32_t unused_size = 0;
