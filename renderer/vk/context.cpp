@@ -82,7 +82,8 @@ DeviceDescription describe(VkPhysicalDevice device, uint32_t index, const Surfac
   return description;
 }
 
-VkInstance create_instance(bool validation, const std::vector<const char*>& window_extensions = {}) {
+VkInstance create_instance(bool validation, const std::vector<const char*>& window_extensions = {},
+                           const VulkanCreator* creator = nullptr) {
   VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   application.pApplicationName = "fovlab";
   application.apiVersion = kInstanceApiVersion;
@@ -97,6 +98,7 @@ VkInstance create_instance(bool validation, const std::vector<const char*>& wind
   info.ppEnabledLayerNames = layers.data();
   info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
+  if (creator != nullptr) return creator->create_instance(info);
   VkInstance instance = VK_NULL_HANDLE;
   VkResult result = vkCreateInstance(&info, nullptr, &instance);
   if (result == VK_ERROR_INCOMPATIBLE_DRIVER) {
@@ -182,8 +184,9 @@ bool is_preferred_device(const DeviceDescription& device) {
 
 Context::Context(const ContextOptions& options) : validation_log_(std::make_unique<ValidationLog>("")) {
   const SurfaceRequest* present_to = options.present_to ? &*options.present_to : nullptr;
-  instance =
-      create_instance(options.validation, present_to ? present_to->instance_extensions : std::vector<const char*>{});
+  const VulkanCreator* creator = options.created_by ? &*options.created_by : nullptr;
+  instance = create_instance(options.validation,
+                             present_to ? present_to->instance_extensions : std::vector<const char*>{}, creator);
   try {
     if (options.validation) {
       messenger_ = create_validation_messenger(instance, validation_messenger_info(validation_log_.get()));
@@ -191,7 +194,18 @@ Context::Context(const ContextOptions& options) : validation_log_(std::make_uniq
     if (present_to) surface = present_to->create_surface(instance);
 
     std::vector<VkPhysicalDevice> devices = physical_devices(instance);
-    description = choose_device(devices, options.device_selector, options.device_flag, present_to, surface);
+    if (creator != nullptr) {
+      const VkPhysicalDevice given = creator->choose_physical_device(instance);
+      uint32_t index = 0;
+      while (index < devices.size() && devices[index] != given) ++index;
+      if (index == devices.size()) throw InputError("the Vulkan device chosen for fovlab is not one of its instance's");
+      description = describe(given, index, present_to, surface);
+      if (!description.usable)
+        throw InputError("the Vulkan device chosen for fovlab, '" + description.name + "', cannot be used: " +
+                         description.unusable_reason);
+    } else {
+      description = choose_device(devices, options.device_selector, options.device_flag, present_to, surface);
+    }
     if (options.require_gpu && description.type == "CPU")
       throw InputError("--require-gpu: the Vulkan device chosen, '" + description.name +
                        "', renders on the CPU; expected a GPU (run on a GPU node, or leave out --require-gpu to "
@@ -209,7 +223,8 @@ Context::Context(const ContextOptions& options) : validation_log_(std::make_uniq
 
     std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
     if (surface) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-    device = create_device(physical_device, queue_family, extensions);
+    device = create_device(physical_device, queue_family, extensions,
+                           creator != nullptr ? creator->create_device : nullptr);
     vkGetDeviceQueue(device, queue_family, 0, &queue);
     cmd_push_descriptor_set =
         reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR"));

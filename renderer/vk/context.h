@@ -42,6 +42,17 @@ struct SurfaceRequest {
   std::function<std::string(VkPhysicalDevice, VkSurfaceKHR)> unmet_need;
 };
 
+// Vulkan created by someone else from the context's own create infos: the OpenXR runtime, through
+// XR_KHR_vulkan_enable2 (display/openxr/openxr_session.h). The context builds its instance and
+// device create infos as it always does (the validation layer included) and hands them to these in
+// place of vkCreateInstance and vkCreateDevice; the physical device is the creator's choice, and
+// must be usable. The context owns what they return and destroys it as its own.
+struct VulkanCreator {
+  std::function<VkInstance(const VkInstanceCreateInfo&)> create_instance;
+  std::function<VkPhysicalDevice(VkInstance)> choose_physical_device;
+  std::function<VkDevice(VkPhysicalDevice, const VkDeviceCreateInfo&)> create_device;
+};
+
 struct ContextOptions {
   std::string device_selector;  // empty: automatic; an index ("0") or part of a name ("llvmpipe")
   bool validation = false;
@@ -50,6 +61,7 @@ struct ContextOptions {
   // Refuse a CPU renderer (lavapipe) with InputError naming --require-gpu: a cluster task meant for
   // a GPU node does not quietly render a hundred times slower on a node without one.
   bool require_gpu = false;
+  std::optional<VulkanCreator> created_by;  // none: the context creates its own instance and device
 };
 
 // Validation on by default in Debug builds; FOVLAB_VALIDATION=0/1 overrides either way.

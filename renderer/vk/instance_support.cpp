@@ -100,7 +100,8 @@ std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device) {
 }
 
 VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family,
-                       const std::vector<const char*>& extensions) {
+                       const std::vector<const char*>& extensions,
+                       const std::function<VkDevice(VkPhysicalDevice, const VkDeviceCreateInfo&)>& create) {
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queue_info.queueFamilyIndex = queue_family;
@@ -111,6 +112,7 @@ VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family,
   device_info.pQueueCreateInfos = &queue_info;
   device_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   device_info.ppEnabledExtensionNames = extensions.data();
+  if (create) return create(physical_device, device_info);
   VkDevice device = VK_NULL_HANDLE;
   VK_CHECK(vkCreateDevice(physical_device, &device_info, nullptr, &device));
   return device;

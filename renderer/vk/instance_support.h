@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,9 +37,11 @@ void destroy_validation_messenger(VkInstance instance, VkDebugUtilsMessengerEXT 
 std::vector<VkPhysicalDevice> physical_devices(VkInstance instance);
 std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice device);
 
-// A logical device with one queue (priority 1) of `queue_family` and the given device extensions.
+// A logical device with one queue (priority 1) of `queue_family` and the given device extensions;
+// made by `create` from that create info when it is given (context.h: VulkanCreator).
 VkDevice create_device(VkPhysicalDevice physical_device, uint32_t queue_family,
-                       const std::vector<const char*>& extensions);
+                       const std::vector<const char*>& extensions,
+                       const std::function<VkDevice(VkPhysicalDevice, const VkDeviceCreateInfo&)>& create = nullptr);
 // A command pool on `queue_family` whose buffers can be reset one by one.
 VkCommandPool create_command_pool(VkDevice device, uint32_t queue_family);
 

@@ -40,13 +40,6 @@ bool system_is_valid(const InstanceObject& instance, XrSystemId system_id) {
   return instance.headset.connected && system_id == kHeadsetSystemId;
 }
 
-bool extension_enabled(const InstanceObject& instance, std::string_view name) {
-  for (const std::string& extension : instance.enabled_extensions) {
-    if (extension == name) return true;
-  }
-  return false;
-}
-
 SimulatedHeadset headset_from_environment() {
   SimulatedHeadset headset;
   const char* setting = std::getenv("FOVLAB_TEST_XR_HEADSET");
@@ -55,6 +48,13 @@ SimulatedHeadset headset_from_environment() {
 }
 
 }  // namespace
+
+bool extension_enabled(const InstanceObject& instance, std::string_view name) {
+  for (const std::string& extension : instance.enabled_extensions) {
+    if (extension == name) return true;
+  }
+  return false;
+}
 
 XrResult XRAPI_CALL enumerate_instance_extension_properties(const char* layer_name, uint32_t capacity,
                                                             uint32_t* count_output, XrExtensionProperties* properties) {
@@ -107,14 +107,9 @@ XrResult XRAPI_CALL destroy_instance(XrInstance instance) {
   std::lock_guard lock(table.mutex);
   const uint64_t handle = handle_value(instance);
   if (find_object<InstanceObject>(table, handle) == nullptr) return XR_ERROR_HANDLE_INVALID;
-  // Destroying a handle destroys its children, and theirs.
-  std::vector<uint64_t> doomed{handle};
-  for (size_t i = 0; i < doomed.size(); ++i) {
-    for (const auto& [child, object] : table.objects) {
-      if (object.parent == doomed[i]) doomed.push_back(child);
-    }
-  }
-  for (uint64_t gone : doomed) table.objects.erase(gone);
+  // Destroying a handle destroys its children, and theirs. The Vulkan instance and device that
+  // XR_KHR_vulkan_enable2 made are the application's to destroy.
+  destroy_with_children(table, handle);
   return XR_SUCCESS;
 }
 

@@ -3,7 +3,9 @@
 #include "tests/xr_runtime/test_runtime.h"
 
 #include <array>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
 
 #include "tests/xr_runtime/loader_negotiation.h"
 
@@ -25,17 +27,44 @@ HandleTable& handle_table() {
   return table;
 }
 
+// FOVLAB_TEST_XR_VULKAN=absent in the environment takes XR_KHR_vulkan_enable2 off the list: a
+// runtime that cannot hand Vulkan to the application.
 std::span<const ExtensionEntry> offered_extensions() {
   static const std::array<ExtensionEntry, 3> extensions{{
       {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_vulkan_enable2_SPEC_VERSION},
       {XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME, XR_EXT_eye_gaze_interaction_SPEC_VERSION},
       {XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME, XR_KHR_convert_timespec_time_SPEC_VERSION},
   }};
+  const char* vulkan = std::getenv("FOVLAB_TEST_XR_VULKAN");
+  if (vulkan != nullptr && std::string_view(vulkan) == "absent") return std::span(extensions).subspan(1);
   return extensions;
 }
 
+void destroy_with_children(HandleTable& table, uint64_t handle) {
+  std::vector<uint64_t> doomed{handle};
+  for (size_t i = 0; i < doomed.size(); ++i) {
+    for (const auto& [child, object] : table.objects) {
+      if (object.parent == doomed[i]) doomed.push_back(child);
+    }
+  }
+  // Children first: a swapchain's images go before the session that holds the device's queue.
+  for (auto gone = doomed.rbegin(); gone != doomed.rend(); ++gone) {
+    const auto found = table.objects.find(*gone);
+    if (found == table.objects.end()) continue;
+    release_vulkan_objects(table, found->second);
+    if (std::holds_alternative<SessionObject>(found->second.state)) {
+      if (InstanceObject* instance = find_object<InstanceObject>(table, found->second.parent)) {
+        instance->session = 0;
+        std::erase_if(instance->events, [&](const QueuedStateChange& event) { return event.session == *gone; });
+      }
+    }
+    table.objects.erase(found);
+  }
+}
+
 std::span<const DispatchEntry> dispatch_table() {
-  static const std::array<DispatchEntry, 14> table{{
+  constexpr std::string_view kVulkan2 = XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME;
+  static const std::array<DispatchEntry, 38> table{{
       {"xrGetInstanceProcAddr", void_function(&get_instance_proc_addr), "", false},
       {"xrEnumerateInstanceExtensionProperties", void_function(&enumerate_instance_extension_properties), "", true},
       {"xrCreateInstance", void_function(&create_instance), "", true},
@@ -51,6 +80,30 @@ std::span<const DispatchEntry> dispatch_table() {
        XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME, false},
       {"xrConvertTimeToTimespecTimeKHR", void_function(&convert_time_to_timespec_time),
        XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME, false},
+      {"xrGetVulkanGraphicsRequirements2KHR", void_function(&get_vulkan_graphics_requirements2), kVulkan2, false},
+      {"xrCreateVulkanInstanceKHR", void_function(&create_vulkan_instance), kVulkan2, false},
+      {"xrGetVulkanGraphicsDevice2KHR", void_function(&get_vulkan_graphics_device2), kVulkan2, false},
+      {"xrCreateVulkanDeviceKHR", void_function(&create_vulkan_device), kVulkan2, false},
+      {"xrCreateSession", void_function(&create_session), "", false},
+      {"xrDestroySession", void_function(&destroy_session), "", false},
+      {"xrPollEvent", void_function(&poll_event), "", false},
+      {"xrBeginSession", void_function(&begin_session), "", false},
+      {"xrEndSession", void_function(&end_session), "", false},
+      {"xrRequestExitSession", void_function(&request_exit_session), "", false},
+      {"xrEnumerateReferenceSpaces", void_function(&enumerate_reference_spaces), "", false},
+      {"xrCreateReferenceSpace", void_function(&create_reference_space), "", false},
+      {"xrDestroySpace", void_function(&destroy_space), "", false},
+      {"xrLocateViews", void_function(&locate_views), "", false},
+      {"xrWaitFrame", void_function(&wait_frame), "", false},
+      {"xrBeginFrame", void_function(&begin_frame), "", false},
+      {"xrEndFrame", void_function(&end_frame), "", false},
+      {"xrEnumerateSwapchainFormats", void_function(&enumerate_swapchain_formats), "", false},
+      {"xrCreateSwapchain", void_function(&create_swapchain), "", false},
+      {"xrDestroySwapchain", void_function(&destroy_swapchain), "", false},
+      {"xrEnumerateSwapchainImages", void_function(&enumerate_swapchain_images), "", false},
+      {"xrAcquireSwapchainImage", void_function(&acquire_swapchain_image), "", false},
+      {"xrWaitSwapchainImage", void_function(&wait_swapchain_image), "", false},
+      {"xrReleaseSwapchainImage", void_function(&release_swapchain_image), "", false},
       // xrEnumerateApiLayerProperties is the loader's own: a runtime has no layers to list.
       {"xrEnumerateApiLayerProperties", nullptr, "", true},
   }};
@@ -114,5 +167,26 @@ extern "C" __attribute__((visibility("default"))) XrResult XRAPI_CALL xrNegotiat
   runtime_request->runtimeInterfaceVersion = XR_CURRENT_LOADER_RUNTIME_VERSION;
   runtime_request->runtimeApiVersion = kApiVersion;
   runtime_request->getInstanceProcAddr = &fovlab::test_xr::get_instance_proc_addr;
+  return XR_SUCCESS;
+}
+
+// Test-only: the last projection layer xrEndFrame accepted, one view at a time, as the compositor
+// read it from the swapchain image. Returns XR_ERROR_VALIDATION_FAILURE for a view it does not have
+// and XR_ERROR_SIZE_INSUFFICIENT (with the sizes written) when `capacity` is under the view's bytes;
+// `frames` gets how many projection layers have been submitted since the library was loaded.
+extern "C" __attribute__((visibility("default"))) XrResult fovlab_test_xr_last_projection_view(
+    uint32_t view, uint32_t* width, uint32_t* height, int64_t* format, uint8_t* bytes, uint64_t capacity,
+    int64_t* frames) {
+  fovlab::test_xr::HandleTable& table = fovlab::test_xr::handle_table();
+  std::lock_guard lock(table.mutex);
+  if (frames != nullptr) *frames = table.projection_layers_submitted;
+  if (view >= table.last_projection.size() || width == nullptr || height == nullptr || format == nullptr)
+    return XR_ERROR_VALIDATION_FAILURE;
+  const fovlab::test_xr::SubmittedView& submitted = table.last_projection[view];
+  *width = submitted.width;
+  *height = submitted.height;
+  *format = submitted.format;
+  if (bytes == nullptr || capacity < submitted.bytes.size()) return XR_ERROR_SIZE_INSUFFICIENT;
+  std::memcpy(bytes, submitted.bytes.data(), submitted.bytes.size());
   return XR_SUCCESS;
 }

@@ -4,10 +4,9 @@
 // specification says a runtime must (handles checked, structure types checked, the two-call idiom
 // with XR_ERROR_SIZE_INSUFFICIENT), so that what passes here is what an independent runtime expects.
 //
-// The shape the later stages fill in: every object lives in one handle table (an instance now;
-// sessions, spaces, swapchains, action sets and actions later, each with its parent), and every
-// call is one row of one dispatch table (name, function, the extension that brings it), which
-// xrGetInstanceProcAddr reads.
+// Every object lives in one handle table (instances, sessions, spaces, swapchains; action sets and
+// actions later, each with its parent), and every call is one row of one dispatch table (name,
+// function, the extension that brings it), which xrGetInstanceProcAddr reads.
 #define XR_USE_TIMESPEC
 #define XR_USE_GRAPHICS_API_VULKAN
 #include <time.h>
@@ -16,7 +15,9 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include <array>
 #include <cstdint>
+#include <deque>
 #include <mutex>
 #include <span>
 #include <string>
@@ -42,15 +43,111 @@ struct SimulatedHeadset {
 // The one system an instance has, when its headset is connected.
 constexpr XrSystemId kHeadsetSystemId = 1;
 
+// The headset's refresh: 90 Hz (the Vive Pro Eye of Polychronakis et al. 2023). Frame n of a
+// session is predicted for its start time plus n * 10^9 / 90 ns, rounded down, so the virtual clock
+// does not drift.
+constexpr int64_t kRefreshHz = 90;
+constexpr XrDuration kDisplayPeriodNs = 1000000000 / kRefreshHz;
+
+// What XR_KHR_vulkan_enable2 made for an instance: the application's Vulkan instance and device,
+// created by the runtime, and the physical device it chose (the headset's GPU).
+struct InstanceVulkan {
+  bool requirements_queried = false;  // xrGetVulkanGraphicsRequirements2KHR was called (before a session)
+  PFN_vkGetInstanceProcAddr get_instance_proc_addr = nullptr;
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+};
+
+// A state change waiting in the instance's event queue.
+struct QueuedStateChange {
+  uint64_t session = 0;
+  XrSessionState state = XR_SESSION_STATE_UNKNOWN;
+  XrTime time = 0;
+};
+
 struct InstanceObject {
   std::vector<std::string> enabled_extensions;
   SimulatedHeadset headset;
+  InstanceVulkan vulkan;
+  std::deque<QueuedStateChange> events;
+  uint64_t session = 0;  // the instance's one session, 0 when it has none
 };
 
-// One handle's object. A variant of one alternative now; the later stages add theirs.
+// The device functions the runtime calls on the application's VkDevice (vulkan_calls.cpp).
+struct DeviceFunctions {
+// clang-format off
+#define FOVLAB_TEST_XR_DEVICE_FUNCTIONS(X) \
+  X(vkGetDeviceQueue) X(vkCreateImage) X(vkDestroyImage) X(vkGetImageMemoryRequirements) \
+  X(vkBindImageMemory) X(vkAllocateMemory) X(vkFreeMemory) X(vkCreateBuffer) \
+  X(vkDestroyBuffer) X(vkGetBufferMemoryRequirements) X(vkBindBufferMemory) X(vkMapMemory) \
+  X(vkUnmapMemory) X(vkCreateCommandPool) X(vkDestroyCommandPool) X(vkAllocateCommandBuffers) \
+  X(vkBeginCommandBuffer) X(vkEndCommandBuffer) X(vkCmdPipelineBarrier) X(vkCmdCopyImageToBuffer) \
+  X(vkQueueSubmit) X(vkCreateFence) X(vkDestroyFence) X(vkWaitForFences) \
+  X(vkFreeCommandBuffers)
+  // clang-format on
+#define FOVLAB_TEST_XR_MEMBER(name) PFN_##name name = nullptr;
+  FOVLAB_TEST_XR_DEVICE_FUNCTIONS(FOVLAB_TEST_XR_MEMBER)
+#undef FOVLAB_TEST_XR_MEMBER
+  VkPhysicalDeviceMemoryProperties memory_properties{};
+};
+
+// The session's graphics binding (XrGraphicsBindingVulkan2KHR) and what the runtime needs of it.
+struct SessionVulkan {
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t queue_family = 0;
+  VkCommandPool command_pool = VK_NULL_HANDLE;  // the runtime's own, for its layout changes and copies
+  DeviceFunctions functions;
+};
+
+// One view of the last projection layer xrEndFrame accepted, as the compositor read it.
+struct SubmittedView {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  int64_t format = 0;          // the swapchain's VkFormat
+  std::vector<uint8_t> bytes;  // the image rect's texels, row-major, top row first
+  XrPosef pose{};
+  XrFovf fov{};
+};
+
+struct SessionObject {
+  SessionVulkan vulkan;
+  XrSessionState state = XR_SESSION_STATE_UNKNOWN;         // as the application has seen it (xrPollEvent)
+  XrSessionState queued_state = XR_SESSION_STATE_UNKNOWN;  // the last one queued
+  bool running = false;                                    // between xrBeginSession and xrEndSession
+  bool exit_requested = false;
+  XrTime start_time = 0;      // the virtual clock's origin
+  int64_t waited_frames = 0;  // xrWaitFrame calls so far
+  bool frame_waited = false;  // an xrWaitFrame not yet followed by xrBeginFrame
+  bool frame_begun = false;   // an xrBeginFrame not yet followed by xrEndFrame
+  int64_t ended_frames = 0;
+};
+
+struct SpaceObject {
+  XrReferenceSpaceType type = XR_REFERENCE_SPACE_TYPE_VIEW;
+  XrPosef pose_in_reference{};
+};
+
+struct SwapchainImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+};
+
+struct SwapchainObject {
+  XrSwapchainCreateInfo info{};  // next cleared
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  std::vector<SwapchainImage> images;
+  std::deque<uint32_t> acquired;  // acquired, not yet waited, oldest first
+  std::deque<uint32_t> waited;    // waited, not yet released, oldest first
+  uint32_t next_index = 0;        // the next image to acquire
+  int64_t last_released = -1;     // the image a layer may show; -1 before the first release
+};
+
+// One handle's object, each kind with its parent.
 struct Object {
   uint64_t parent = 0;  // the handle this one was made from; 0 for an instance
-  std::variant<InstanceObject> state;
+  std::variant<InstanceObject, SessionObject, SpaceObject, SwapchainObject> state;
 };
 
 // Every live handle of every kind. Handles are never reused, so a stale one is always invalid.
@@ -58,6 +155,8 @@ struct HandleTable {
   std::mutex mutex;
   uint64_t next_handle = 1;
   std::unordered_map<uint64_t, Object> objects;
+  std::vector<SubmittedView> last_projection;  // fovlab_test_xr_last_projection_view reads it
+  int64_t projection_layers_submitted = 0;
 };
 
 HandleTable& handle_table();
@@ -69,7 +168,34 @@ Kind* find_object(HandleTable& table, uint64_t handle) {
   return found == table.objects.end() ? nullptr : std::get_if<Kind>(&found->second.state);
 }
 
-inline uint64_t handle_value(XrInstance instance) { return reinterpret_cast<uint64_t>(instance); }
+template <typename Handle>
+uint64_t handle_value(Handle handle) {
+  return reinterpret_cast<uint64_t>(handle);
+}
+
+// The handle's object and every descendant's, released (a swapchain's images freed on the
+// application's device) and erased. Hold the table's mutex.
+void destroy_with_children(HandleTable& table, uint64_t handle);
+// A swapchain's images, freed: called for each object destroy_with_children erases.
+void release_vulkan_objects(HandleTable& table, Object& object);
+
+// The session's instance; nullptr when `session` is not a live session. Hold the table's mutex.
+InstanceObject* instance_of(HandleTable& table, uint64_t session);
+bool extension_enabled(const InstanceObject& instance, std::string_view name);
+// Queues a state change of `session` on its instance; it takes effect for the application when
+// xrPollEvent hands it over.
+void queue_state(HandleTable& table, uint64_t session, XrSessionState state);
+// The session's view of the application's device (XrGraphicsBindingVulkan2KHR): queue, the
+// runtime's command pool, the device functions (vulkan_calls.cpp).
+XrResult bind_session_vulkan(const InstanceVulkan& instance, const XrGraphicsBindingVulkanKHR& binding,
+                             SessionVulkan& vulkan);
+// `count` images of the swapchain's format and size on the application's device, in
+// VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL.
+XrResult create_swapchain_images(const SessionVulkan& vulkan, SwapchainObject& swapchain, VkImageUsageFlags usage,
+                                 uint32_t count);
+// xrEndFrame's compositor: copies the rect of each view's last released image to the host.
+XrResult read_projection_views(HandleTable& table, SessionObject& session, const XrCompositionLayerProjection& layer,
+                               std::vector<SubmittedView>& views);
 
 // One row of the dispatch table. `global`: callable with XR_NULL_HANDLE as the instance (the three
 // functions the specification allows before an instance exists). `extension`: empty for the core
@@ -127,5 +253,51 @@ XrResult XRAPI_CALL enumerate_view_configuration_views(XrInstance instance, XrSy
 XrResult XRAPI_CALL convert_timespec_time_to_time(XrInstance instance, const struct timespec* timespec_time,
                                                   XrTime* time);
 XrResult XRAPI_CALL convert_time_to_timespec_time(XrInstance instance, XrTime time, struct timespec* timespec_time);
+
+// XR_KHR_vulkan_enable2 (vulkan_calls.cpp).
+XrResult XRAPI_CALL get_vulkan_graphics_requirements2(XrInstance instance, XrSystemId system_id,
+                                                      XrGraphicsRequirementsVulkanKHR* requirements);
+XrResult XRAPI_CALL create_vulkan_instance(XrInstance instance, const XrVulkanInstanceCreateInfoKHR* create_info,
+                                           VkInstance* vulkan_instance, VkResult* vulkan_result);
+XrResult XRAPI_CALL get_vulkan_graphics_device2(XrInstance instance, const XrVulkanGraphicsDeviceGetInfoKHR* get_info,
+                                                VkPhysicalDevice* physical_device);
+XrResult XRAPI_CALL create_vulkan_device(XrInstance instance, const XrVulkanDeviceCreateInfoKHR* create_info,
+                                         VkDevice* vulkan_device, VkResult* vulkan_result);
+
+// Sessions, events, spaces, views and the frame loop (session_calls.cpp).
+XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessionCreateInfo* create_info, XrSession* session);
+XrResult XRAPI_CALL destroy_session(XrSession session);
+XrResult XRAPI_CALL poll_event(XrInstance instance, XrEventDataBuffer* event);
+XrResult XRAPI_CALL begin_session(XrSession session, const XrSessionBeginInfo* begin_info);
+XrResult XRAPI_CALL end_session(XrSession session);
+XrResult XRAPI_CALL request_exit_session(XrSession session);
+XrResult XRAPI_CALL enumerate_reference_spaces(XrSession session, uint32_t capacity, uint32_t* count_output,
+                                               XrReferenceSpaceType* spaces);
+XrResult XRAPI_CALL create_reference_space(XrSession session, const XrReferenceSpaceCreateInfo* create_info,
+                                           XrSpace* space);
+XrResult XRAPI_CALL destroy_space(XrSpace space);
+XrResult XRAPI_CALL locate_views(XrSession session, const XrViewLocateInfo* locate_info, XrViewState* view_state,
+                                 uint32_t capacity, uint32_t* count_output, XrView* views);
+XrResult XRAPI_CALL wait_frame(XrSession session, const XrFrameWaitInfo* wait_info, XrFrameState* frame_state);
+XrResult XRAPI_CALL begin_frame(XrSession session, const XrFrameBeginInfo* begin_info);
+XrResult XRAPI_CALL end_frame(XrSession session, const XrFrameEndInfo* end_info);
+
+// Swapchains (swapchain_calls.cpp).
+XrResult XRAPI_CALL enumerate_swapchain_formats(XrSession session, uint32_t capacity, uint32_t* count_output,
+                                                int64_t* formats);
+XrResult XRAPI_CALL create_swapchain(XrSession session, const XrSwapchainCreateInfo* create_info,
+                                     XrSwapchain* swapchain);
+XrResult XRAPI_CALL destroy_swapchain(XrSwapchain swapchain);
+XrResult XRAPI_CALL enumerate_swapchain_images(XrSwapchain swapchain, uint32_t capacity, uint32_t* count_output,
+                                               XrSwapchainImageBaseHeader* images);
+XrResult XRAPI_CALL acquire_swapchain_image(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo* acquire_info,
+                                            uint32_t* index);
+XrResult XRAPI_CALL wait_swapchain_image(XrSwapchain swapchain, const XrSwapchainImageWaitInfo* wait_info);
+XrResult XRAPI_CALL release_swapchain_image(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo* release_info);
+
+// The simulated headset's views (session_calls.cpp): the eyes at -+IPD/2 along x of the head, each
+// with its asymmetric field of view (the angles are stated in docs/hmd.md).
+constexpr float kInterpupillaryDistanceM = 0.063f;
+XrFovf eye_field_of_view(uint32_t eye);
 
 }  // namespace fovlab::test_xr

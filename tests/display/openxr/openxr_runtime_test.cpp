@@ -24,61 +24,15 @@
 #include "display/openxr/openxr_runtime_info.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/support/temp_dir.h"
+#include "tests/display/openxr/openxr_test_support.h"
 #include "tests/xr_runtime/loader_negotiation.h"
 
 namespace fovlab {
 namespace {
 
-// Sets an environment variable for the life of the object, then puts back what was there.
-class ScopedEnvironment {
- public:
-  ScopedEnvironment(std::string name, const std::string& value) : name_(std::move(name)) {
-    if (const char* old = std::getenv(name_.c_str())) old_ = old;
-    setenv(name_.c_str(), value.c_str(), 1);
-  }
-  ~ScopedEnvironment() {
-    if (old_) {
-      setenv(name_.c_str(), old_->c_str(), 1);
-    } else {
-      unsetenv(name_.c_str());
-    }
-  }
-  ScopedEnvironment(const ScopedEnvironment&) = delete;
-  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
-
- private:
-  std::string name_;
-  std::optional<std::string> old_;
-};
-
-constexpr char kValidationLayer[] = "XR_APILAYER_LUNARG_core_validation";
-
-// The test runtime and the validation layer, for one test; what the layer wrote is checked at the end.
-class OpenXrTest : public ::testing::Test {
- protected:
-  void TearDown() override {
-    const std::string report = cli_test::read_all(validation_file_);
-    if (expect_no_validation_messages_) {
-      EXPECT_EQ(report, "") << "the OpenXR core validation layer reported";
-    }
-  }
-
-  std::string validation_report() const { return cli_test::read_all(validation_file_); }
-
-  // For `fovlab devices` in a child process: the same environment as a command prefix.
-  std::string child_environment(const std::string& runtime_json) const {
-    return "env XR_RUNTIME_JSON=" + runtime_json + " XR_ENABLE_API_LAYERS=" + kValidationLayer +
-           " XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME=" + validation_file_.string();
-  }
-
-  testing::TempDir scratch_{"openxr"};
-  std::filesystem::path validation_file_ = scratch_.path() / "core_validation.txt";
-  bool expect_no_validation_messages_ = true;
-  ScopedEnvironment runtime_{"XR_RUNTIME_JSON", FOVLAB_TEST_XR_RUNTIME_JSON};
-  ScopedEnvironment layers_{"XR_ENABLE_API_LAYERS", kValidationLayer};
-  ScopedEnvironment export_type_{"XR_CORE_VALIDATION_EXPORT_TYPE", "text"};
-  ScopedEnvironment export_file_{"XR_CORE_VALIDATION_FILE_NAME", validation_file_.string()};
-};
+using test::kValidationLayer;
+using test::OpenXrTest;
+using test::ScopedEnvironment;
 
 using OpenXrTestRuntime = OpenXrTest;
 using OpenXrValidationLayer = OpenXrTest;
@@ -244,7 +198,8 @@ TEST(OpenXrTestRuntimeWithoutLoader, NegotiatesAndDispatchesAsTheSpecificationSa
 
   // The instance has no extension enabled: no extension functions; nor what no row serves.
   EXPECT_EQ(proc(instance, "xrConvertTimespecTimeToTimeKHR").first, XR_ERROR_FUNCTION_UNSUPPORTED);
-  EXPECT_EQ(proc(instance, "xrBeginSession").first, XR_ERROR_FUNCTION_UNSUPPORTED);
+  EXPECT_EQ(proc(instance, "xrCreateActionSet").first, XR_ERROR_FUNCTION_UNSUPPORTED);
+  EXPECT_EQ(proc(instance, "xrCreateVulkanInstanceKHR").first, XR_ERROR_FUNCTION_UNSUPPORTED);
   const auto get_system = reinterpret_cast<PFN_xrGetSystem>(proc(instance, "xrGetSystem").second);
   const auto destroy = reinterpret_cast<PFN_xrDestroyInstance>(proc(instance, "xrDestroyInstance").second);
   ASSERT_NE(get_system, nullptr);

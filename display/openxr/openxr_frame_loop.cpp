@@ -1,0 +1,123 @@
+#include "display/openxr/openxr_frame_loop.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "renderer/vk/submission.h"
+
+namespace fovlab {
+namespace {
+
+void check_frame_call(XrResult result, const char* call) {
+  if (XR_FAILED(result)) throw std::runtime_error(std::string("openxr: ") + call + ": " + openxr_result_name(result));
+}
+
+VkImageMemoryBarrier layout_change(VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
+                                   VkAccessFlags dst_access) {
+  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  barrier.srcAccessMask = src_access;
+  barrier.dstAccessMask = dst_access;
+  barrier.oldLayout = from;
+  barrier.newLayout = to;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  return barrier;
+}
+
+// The frame's bytes into the swapchain image, which XR_KHR_vulkan_enable2 hands over and takes back
+// in VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL: to a transfer destination, one buffer-to-image copy,
+// and back. The frame's RGBA8 bytes land as they are in the R8G8B8A8_SRGB image.
+void copy_into(const vk::Context& context, const DeviceRgba8Frame& frame, VkImage image) {
+  vk::OneTimeCommands commands(context);
+  // The renderer's writes of the frame (compute or transfer) before the copy reads it.
+  vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_TRANSFER_READ_BIT);
+  const VkImageMemoryBarrier to_destination =
+      layout_change(image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                    VK_ACCESS_TRANSFER_WRITE_BIT);
+  vkCmdPipelineBarrier(commands.handle(), VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &to_destination);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {static_cast<uint32_t>(frame.width), static_cast<uint32_t>(frame.height), 1};
+  vkCmdCopyBufferToImage(commands.handle(), frame.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  // Back for the runtime; the wait for the submission below orders its later use.
+  const VkImageMemoryBarrier back =
+      layout_change(image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                    VK_ACCESS_TRANSFER_WRITE_BIT, 0);
+  vkCmdPipelineBarrier(commands.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &back);
+  commands.submit_and_wait();
+}
+
+}  // namespace
+
+OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame) {
+  XrFrameState frame_state{XR_TYPE_FRAME_STATE};
+  check_frame_call(xrWaitFrame(session.session, nullptr, &frame_state), "xrWaitFrame");
+  OpenXrFrame frame;
+  frame.predicted_display_time = frame_state.predictedDisplayTime;
+  frame.predicted_display_period = frame_state.predictedDisplayPeriod;
+  const XrResult begun = xrBeginFrame(session.session, nullptr);
+  check_frame_call(begun, "xrBeginFrame");
+  frame.discarded = begun == XR_FRAME_DISCARDED;
+
+  XrFrameEndInfo end_info{XR_TYPE_FRAME_END_INFO};
+  end_info.displayTime = frame_state.predictedDisplayTime;
+  end_info.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  std::array<XrCompositionLayerProjectionView, 2> projection_views{};
+  XrCompositionLayerProjection layer{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
+  const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
+  if (frame_state.shouldRender) {
+    XrViewLocateInfo locate{XR_TYPE_VIEW_LOCATE_INFO};
+    locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    locate.displayTime = frame_state.predictedDisplayTime;
+    locate.space = session.local_space;
+    XrViewState view_state{XR_TYPE_VIEW_STATE};
+    frame.views.fill(XrView{XR_TYPE_VIEW});
+    uint32_t view_count = 0;
+    check_frame_call(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, frame.views.data()),
+                     "xrLocateViews");
+    if (view_count != 2)
+      throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
+    for (uint32_t eye = 0; eye < 2; ++eye) {
+      const DeviceRgba8Frame image = eye_frame(eye, frame.views[eye]);
+      if (!image || image.context != session.vulkan.get() || image.width != static_cast<int>(session.eye_width_px) ||
+          image.height != static_cast<int>(session.eye_height_px))
+        throw std::invalid_argument("openxr: eye " + std::to_string(eye) + "'s frame is " +
+                                    std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                    " on its device; expected " + std::to_string(session.eye_width_px) + "x" +
+                                    std::to_string(session.eye_height_px) + " on the session's");
+      const OpenXrEyeSwapchain& swapchain = session.eyes[eye];
+      uint32_t index = 0;
+      check_frame_call(xrAcquireSwapchainImage(swapchain.handle, nullptr, &index), "xrAcquireSwapchainImage");
+      XrSwapchainImageWaitInfo wait{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+      wait.timeout = XR_INFINITE_DURATION;
+      check_frame_call(xrWaitSwapchainImage(swapchain.handle, &wait), "xrWaitSwapchainImage");
+      copy_into(*session.vulkan, image, swapchain.images.at(index));
+      check_frame_call(xrReleaseSwapchainImage(swapchain.handle, nullptr), "xrReleaseSwapchainImage");
+      frame.image_index[eye] = index;
+
+      XrCompositionLayerProjectionView& view = projection_views[eye];
+      view = XrCompositionLayerProjectionView{XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW};
+      view.pose = frame.views[eye].pose;
+      view.fov = frame.views[eye].fov;
+      view.subImage.swapchain = swapchain.handle;
+      view.subImage.imageRect.extent = {static_cast<int32_t>(session.eye_width_px),
+                                        static_cast<int32_t>(session.eye_height_px)};
+    }
+    layer.space = session.local_space;
+    layer.viewCount = 2;
+    layer.views = projection_views.data();
+    end_info.layerCount = 1;
+    end_info.layers = layers;
+    frame.rendered = true;
+  }
+  check_frame_call(xrEndFrame(session.session, &end_info), "xrEndFrame");
+  return frame;
+}
+
+}  // namespace fovlab

@@ -1,0 +1,32 @@
+#pragma once
+// One headset frame: xrWaitFrame and xrBeginFrame (paced by the runtime), the two eyes' views from
+// xrLocateViews in the session's LOCAL space, each eye's frame copied into its acquired swapchain
+// image (acquire, wait, copy, release), and xrEndFrame with one projection layer. A frame the
+// runtime says not to render (shouldRender false: not yet visible, or hidden) is ended with no layer.
+#include <array>
+#include <functional>
+
+#include "display/openxr/openxr_session.h"
+#include "renderer/present/device_frame.h"
+
+namespace fovlab {
+
+// An eye's image for one frame: a frame on the session's Vulkan device (OpenXrSession::vulkan) of
+// the eye's size, e.g. the offscreen renderer's display output. Called for eye 0 (left), then 1;
+// the frame need only stay valid until the next call.
+using OpenXrEyeFrameSource = std::function<DeviceRgba8Frame(uint32_t eye, const XrView& view)>;
+
+struct OpenXrFrame {
+  XrTime predicted_display_time = 0;
+  XrDuration predicted_display_period = 0;
+  bool rendered = false;                  // the eyes were drawn and a projection layer submitted
+  bool discarded = false;                 // xrBeginFrame said the previous frame was discarded (XR_FRAME_DISCARDED)
+  std::array<XrView, 2> views{};          // as xrLocateViews gave them (when rendered)
+  std::array<uint32_t, 2> image_index{};  // each eye's swapchain image the frame went into
+};
+
+// Runs one frame of a running session. Throws std::invalid_argument for an eye frame of the wrong
+// size or device, std::runtime_error when a call fails.
+OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame);
+
+}  // namespace fovlab

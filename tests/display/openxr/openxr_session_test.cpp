@@ -1,0 +1,226 @@
+// A headset session on the test runtime (tests/xr_runtime), through the Khronos loader, with the
+// OpenXR core validation layer and the Vulkan validation layer on: fovlab's Vulkan context is made
+// through the runtime (XR_KHR_vulkan_enable2), the session reaches FOCUSED through the runtime's
+// events, each eye's swapchain image as the runtime's compositor read it equals the offscreen
+// frame it was given, byte for byte, and the session ends on xrRequestExitSession.
+#include <dlfcn.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "core/input_error.h"
+#include "display/openxr/openxr_frame_loop.h"
+#include "display/openxr/openxr_session.h"
+#include "renderer/present/device_frame.h"
+#include "renderer/scene/scene_source.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+#include "tests/display/openxr/openxr_test_support.h"
+
+namespace fovlab {
+namespace {
+
+using test::OpenXrTest;
+using test::ScopedEnvironment;
+
+using OpenXrHeadsetSession = OpenXrTest;
+
+// The test runtime's read of the last projection layer (tests/xr_runtime/test_runtime.cpp).
+using LastProjectionView = XrResult (*)(uint32_t, uint32_t*, uint32_t*, int64_t*, uint8_t*, uint64_t, int64_t*);
+
+struct SubmittedView {
+  XrResult result = XR_ERROR_RUNTIME_FAILURE;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  int64_t format = 0;
+  std::vector<uint8_t> bytes;
+  int64_t frames = 0;
+};
+
+SubmittedView last_submitted(LastProjectionView read, uint32_t view) {
+  SubmittedView submitted;
+  read(view, &submitted.width, &submitted.height, &submitted.format, nullptr, 0, &submitted.frames);
+  submitted.bytes.resize(size_t{submitted.width} * submitted.height * 4);
+  submitted.result = read(view, &submitted.width, &submitted.height, &submitted.format, submitted.bytes.data(),
+                          submitted.bytes.size(), &submitted.frames);
+  return submitted;
+}
+
+std::vector<std::string> names(const std::vector<XrSessionState>& states) {
+  std::vector<std::string> named;
+  for (const XrSessionState state : states) named.emplace_back(openxr_session_state_name(state));
+  return named;
+}
+
+TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
+  void* runtime_library = dlopen(FOVLAB_TEST_XR_RUNTIME_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(runtime_library, nullptr) << dlerror();
+  const auto read_view =
+      reinterpret_cast<LastProjectionView>(dlsym(runtime_library, "fovlab_test_xr_last_projection_view"));
+  ASSERT_NE(read_view, nullptr);
+  int64_t frames_before = 0;
+  uint32_t unused_size = 0;
+  int64_t unused_format = 0;
+  read_view(0, &unused_size, &unused_size, &unused_format, nullptr, 0, &frames_before);
+  {
+    OpenXrSessionOptions options;
+    options.eye_width_px = 64;
+    options.eye_height_px = 72;
+    options.validation = true;
+    OpenXrSession session(options);
+    ASSERT_TRUE(session.vulkan->validation_enabled());
+    ASSERT_EQ(session.eyes[0].images.size(), 3u);
+
+    // Each eye is given the offscreen renderer's GT frame of a built-in scene at the eye's size; the
+    // eyes get different moments of the scene so that a swapped or repeated eye would show.
+    SphereTracer tracer(*session.vulkan, load_scene("primitives"));
+    SphereTraceSettings settings;
+    settings.width = 64;
+    settings.height = 72;
+    settings.outputs = TraceOutputs::display;
+    std::array<Rgba8Frame, 2> given;
+    int frame_number = 0;
+    const OpenXrEyeFrameSource eye_frame = [&](uint32_t eye, const XrView&) {
+      settings.time_s = 0.5f * static_cast<float>(frame_number) + (eye == 0 ? 0.0f : 1.25f);
+      settings.method = eye == 0 ? TraceMethod::ground_truth : TraceMethod::inverted_pyramid;
+      const SphereTraceResult result = tracer.render(settings);
+      given[eye] = read_back(result.display);
+      return result.display;
+    };
+
+    std::vector<XrSessionState> seen = poll_openxr_events(session);
+    ASSERT_TRUE(session.running) << "READY begins the session";
+    int frames_to_focus = 0;
+    int64_t layers_submitted = 0;
+    while (session.state != XR_SESSION_STATE_FOCUSED && frames_to_focus < 10) {
+      const OpenXrFrame frame = run_openxr_frame(session, eye_frame);
+      EXPECT_EQ(frame.rendered, session.state == XR_SESSION_STATE_VISIBLE);
+      layers_submitted += frame.rendered ? 1 : 0;
+      const std::vector<XrSessionState> more = poll_openxr_events(session);
+      seen.insert(seen.end(), more.begin(), more.end());
+      ++frames_to_focus;
+    }
+    const std::vector<std::string> to_focus{"XR_SESSION_STATE_IDLE", "XR_SESSION_STATE_READY",
+                                            "XR_SESSION_STATE_SYNCHRONIZED", "XR_SESSION_STATE_VISIBLE",
+                                            "XR_SESSION_STATE_FOCUSED"};
+    ASSERT_EQ(names(seen), to_focus);
+
+    XrTime last_display_time = 0;
+    for (int n = 0; n < 3; ++n) {
+      frame_number = n + 1;
+      const OpenXrFrame frame = run_openxr_frame(session, eye_frame);
+      ASSERT_TRUE(frame.rendered);
+      ++layers_submitted;
+      EXPECT_FALSE(frame.discarded);
+      EXPECT_EQ(frame.predicted_display_period, 11111111);  // 90 Hz
+      if (last_display_time != 0) {
+        EXPECT_GE(frame.predicted_display_time - last_display_time, 11111111);
+        EXPECT_LE(frame.predicted_display_time - last_display_time, 11111112);
+      }
+      last_display_time = frame.predicted_display_time;
+      // The eyes at -+IPD/2 along x, each field of view wider towards its temple.
+      EXPECT_LT(frame.views[0].pose.position.x, 0.0f);
+      EXPECT_NEAR(frame.views[1].pose.position.x - frame.views[0].pose.position.x, 0.063f, 1e-6f);
+      EXPECT_GT(-frame.views[0].fov.angleLeft, frame.views[0].fov.angleRight);
+      EXPECT_GT(frame.views[1].fov.angleRight, -frame.views[1].fov.angleLeft);
+      EXPECT_NE(given[0].rgba, given[1].rgba) << "the two eyes must differ for the check to mean anything";
+      for (uint32_t eye = 0; eye < 2; ++eye) {
+        const SubmittedView submitted = last_submitted(read_view, eye);
+        ASSERT_EQ(submitted.result, XR_SUCCESS);
+        EXPECT_EQ(submitted.frames, frames_before + layers_submitted) << "one projection layer a rendered frame";
+        EXPECT_EQ(submitted.width, 64u);
+        EXPECT_EQ(submitted.height, 72u);
+        EXPECT_EQ(submitted.format, VK_FORMAT_R8G8B8A8_SRGB);
+        EXPECT_TRUE(submitted.bytes == given[eye].rgba) << "eye " << eye << " of frame " << n;
+      }
+    }
+
+    request_openxr_exit(session);
+    const std::vector<std::string> to_exit{"XR_SESSION_STATE_VISIBLE", "XR_SESSION_STATE_SYNCHRONIZED",
+                                           "XR_SESSION_STATE_STOPPING", "XR_SESSION_STATE_IDLE",
+                                           "XR_SESSION_STATE_EXITING"};
+    EXPECT_EQ(names(poll_openxr_events(session)), to_exit);
+    EXPECT_FALSE(session.running);
+    EXPECT_TRUE(session.exiting);
+    EXPECT_EQ(session.vulkan->validation_message_count(), 0u) << "Vulkan validation messages";
+  }
+  dlclose(runtime_library);
+}
+
+// The frame loop's order, as the specification gives it, asked of the runtime through the loader
+// and the validation layer: a frame must be waited for before it begins, begun before it ends; an
+// image acquired before it is waited for, waited for before it is released; a session ends only
+// when it is stopping.
+TEST_F(OpenXrHeadsetSession, CallsOutOfOrderAreRefused) {
+  OpenXrSessionOptions options;
+  options.eye_width_px = 16;
+  options.eye_height_px = 16;
+  options.validation = true;
+  OpenXrSession session(options);
+  XrFrameState frame_state{XR_TYPE_FRAME_STATE};
+  EXPECT_EQ(xrWaitFrame(session.session, nullptr, &frame_state), XR_ERROR_SESSION_NOT_RUNNING);
+  poll_openxr_events(session);  // IDLE, READY: begun
+  ASSERT_TRUE(session.running);
+  EXPECT_EQ(xrBeginFrame(session.session, nullptr), XR_ERROR_CALL_ORDER_INVALID);
+  XrFrameEndInfo end_info{XR_TYPE_FRAME_END_INFO};
+  end_info.displayTime = 1;
+  end_info.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  EXPECT_EQ(xrEndFrame(session.session, &end_info), XR_ERROR_CALL_ORDER_INVALID);
+  XrSwapchainImageWaitInfo wait{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+  wait.timeout = XR_INFINITE_DURATION;
+  const XrSwapchain swapchain = session.eyes[0].handle;
+  EXPECT_EQ(xrWaitSwapchainImage(swapchain, &wait), XR_ERROR_CALL_ORDER_INVALID);
+  EXPECT_EQ(xrReleaseSwapchainImage(swapchain, nullptr), XR_ERROR_CALL_ORDER_INVALID);
+  uint32_t index = 99;
+  ASSERT_EQ(xrAcquireSwapchainImage(swapchain, nullptr, &index), XR_SUCCESS);
+  EXPECT_EQ(index, 0u);
+  EXPECT_EQ(xrReleaseSwapchainImage(swapchain, nullptr), XR_ERROR_CALL_ORDER_INVALID);  // not waited for
+  ASSERT_EQ(xrWaitSwapchainImage(swapchain, &wait), XR_SUCCESS);
+  ASSERT_EQ(xrReleaseSwapchainImage(swapchain, nullptr), XR_SUCCESS);
+  EXPECT_EQ(xrEndSession(session.session), XR_ERROR_SESSION_NOT_STOPPING);
+  // A frame begun twice: the first is discarded.
+  ASSERT_EQ(xrWaitFrame(session.session, nullptr, &frame_state), XR_SUCCESS);
+  ASSERT_EQ(xrBeginFrame(session.session, nullptr), XR_SUCCESS);
+  ASSERT_EQ(xrWaitFrame(session.session, nullptr, &frame_state), XR_SUCCESS);
+  EXPECT_EQ(xrBeginFrame(session.session, nullptr), XR_FRAME_DISCARDED);
+  end_info.displayTime = frame_state.predictedDisplayTime;
+  EXPECT_EQ(xrEndFrame(session.session, &end_info), XR_SUCCESS);
+  EXPECT_EQ(session.vulkan->validation_message_count(), 0u);
+}
+
+// In a child process: the 1.0.20 loader keeps the extension list of the runtime as it first loaded
+// it, so a runtime without the extension would stay without it for the rest of the process.
+TEST_F(OpenXrHeadsetSession, RuntimeWithoutVulkanEnable2IsRefusedInOneLine) {
+  const auto refuse = [] {
+    setenv("FOVLAB_TEST_XR_VULKAN", "absent", 1);
+    try {
+      OpenXrSession session(OpenXrSessionOptions{16, 16, true});
+    } catch (const InputError& error) {
+      const std::string message = error.what();
+      std::fprintf(stderr, "refused: %s\n", message.c_str());
+      std::fflush(stderr);
+      std::_Exit(message.find('\n') == std::string::npos ? 2 : 3);
+    }
+    std::_Exit(0);
+  };
+  GTEST_FLAG_SET(death_test_style, "threadsafe");  // a fresh process: the test binary run again
+  EXPECT_EXIT(refuse(), ::testing::ExitedWithCode(2),
+              "refused: openxr: the OpenXR runtime does not offer XR_KHR_vulkan_enable2; fovlab renders through "
+              "Vulkan, so it cannot run a headset session on this runtime");
+}
+
+TEST_F(OpenXrHeadsetSession, EyeImageOverTheRuntimesMaximumIsRefused) {
+  try {
+    OpenXrSession session(OpenXrSessionOptions{2881, 16, true});
+    FAIL() << "an eye image wider than the runtime's maximum";
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(), "openxr: eye image 2881x16: expected at most the runtime's 2880x3200");
+  }
+}
+
+}  // namespace
+}  // namespace fovlab
