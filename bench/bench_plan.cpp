@@ -152,6 +152,7 @@ std::string sweep_command(const BenchPlan& plan) {
   std::string text =
       command_text(o, comma_joined(o.scenes), comma_joined(o.spps), methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!o.sampling.empty()) text += " " + o.sampling_flags;
+  if (o.step_breakdown) text += " --step-breakdown";
   if (!plan.fipr) return text + " " + o.display_flags;
   return text + " --refresh " + comma_joined(o.refreshes) + " --fovea-deg " + exact_numbers_text(o.fovea_degs) + " " +
          o.foveation_flags;
