@@ -521,7 +521,7 @@ void fovlab_breakdown_begin() {
 
 // A watched sample's steps into the categories (sphere_trace_params.h STEP_CATEGORY_*), after its
 // march (and refining step): `first` the sample of its pixel.
-void fovlab_breakdown_sample(TraceResult result, bool first) {
+void fovlab_breakdown_sample(Ray ray, TraceResult result, float epsilon_per_unit_t, bool first) {
   uint steps[STEP_CATEGORY_COUNT];
   for (uint c = 0u; c < STEP_CATEGORY_COUNT; ++c) steps[c] = 0u;
   uint restart = fovlab_watch_restart_steps;
@@ -537,7 +537,15 @@ void fovlab_breakdown_sample(TraceResult result, bool first) {
     uint run = hit_step + 1u - fovlab_watch_run_start;
     steps[STEP_CATEGORY_APPROACH] = fovlab_watch_first_near - restart;
     steps[STEP_CATEGORY_SILHOUETTE] = fovlab_watch_run_start - fovlab_watch_first_near;
-    steps[run >= STEP_GRAZING_RUN ? STEP_CATEGORY_GRAZING : STEP_CATEGORY_FINAL] = run;
+    uint final_category = STEP_CATEGORY_FINAL;
+    if (run >= STEP_LONG_RUN) {
+      // The angle of the surface to the ray, from the normal fovlab_shade takes there.
+      vec3 p = ray.origin + result.t * ray.direction;
+      vec3 normal = fovlab_normal(p, result.distance, max(epsilon_per_unit_t * result.t, 1e-6));
+      bool grazing = abs(dot(normal, ray.direction)) < STEP_GRAZING_SINE;
+      final_category = grazing ? STEP_CATEGORY_GRAZING : STEP_CATEGORY_SLOW_BOUND;
+    }
+    steps[final_category] = run;
     steps[STEP_CATEGORY_FINAL] += result.steps - hit_step - 1u;
   }
   for (uint c = 0u; c < STEP_CATEGORY_COUNT; ++c) {
@@ -609,7 +617,7 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
       fovlab_refine_hit(ray, result, params.max_steps);
     }
 #ifdef FOVLAB_STEP_BREAKDOWN
-    fovlab_breakdown_sample(result, s == 0u);
+    fovlab_breakdown_sample(ray, result, epsilon_per_unit_t, s == 0u);
 #endif
     steps += result.steps;
     colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);

@@ -9,7 +9,8 @@ static_assert(kStepHistogramBins == int(gpu::STEP_HISTOGRAM_BINS));
 static_assert(gpu::COUNTER_STEP_ONE_SURFACE_LONGEST + 2 == gpu::COUNTER_COUNT);
 
 const char* step_category_name(int category) {
-  static const char* const names[kStepCategoryCount] = {"approach", "silhouette", "grazing", "final", "miss", "other"};
+  static const char* const names[kStepCategoryCount] = {"approach", "silhouette", "grazing", "slow_bound",
+                                                                  "final",    "miss",       "other"};
   return category >= 0 && category < kStepCategoryCount ? names[category] : "?";
 }
 

@@ -9,10 +9,11 @@
 
 namespace fovlab {
 
-inline constexpr int kStepCategoryCount = 6;
+inline constexpr int kStepCategoryCount = 7;
 inline constexpr int kStepHistogramBins = 8;
 
-// In gpu::STEP_CATEGORY_* order: "approach", "silhouette", "grazing", "final", "miss", "other".
+// In gpu::STEP_CATEGORY_* order: "approach", "silhouette", "grazing", "slow_bound", "final", "miss",
+// "other".
 const char* step_category_name(int category);
 // The steps of a histogram bin's samples: "0-1", "2", "3-4", "5-8", "9-16", "17-32", "33-64", "65+".
 const char* step_histogram_bin_name(int bin);

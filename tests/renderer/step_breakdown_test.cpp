@@ -51,15 +51,18 @@ TEST_F(VulkanTest, StepBreakdownSumsToTheTopLevelsStepsAndLeavesTheFrameAlone) {
         }
         // Both scenes show ground and sky: samples approach a surface, and samples miss.
         EXPECT_GT(b.steps[0], 0u) << "approach";
-        EXPECT_GT(b.steps[4], 0u) << "miss";
+        EXPECT_GT(b.steps[5], 0u) << "miss";
         // Every hit ends in a final near run, grazing or not (misses and capped samples are the
         // others; a miss outside the bounds takes no step, a restarted hit has one in `other`).
-        EXPECT_GE(b.samples_with[2] + b.samples_with[3], b.samples - b.samples_with[4] - b.samples_with[5]);
+        EXPECT_GE(b.samples_with[2] + b.samples_with[3] + b.samples_with[4],
+                  b.samples - b.samples_with[5] - b.samples_with[6]);
         EXPECT_LE(b.one_surface_pixels, pixels);
         EXPECT_LE(b.one_surface_steps, b.total_steps());
         EXPECT_LE(b.one_surface_approach_steps, b.steps[0]);
         EXPECT_LE(b.one_surface_longest_approach, b.one_surface_approach_steps);
-        if (spp == 1) EXPECT_EQ(b.one_surface_longest_approach, b.one_surface_approach_steps);
+        if (spp == 1) {
+          EXPECT_EQ(b.one_surface_longest_approach, b.one_surface_approach_steps);
+        }
       }
     }
   }
