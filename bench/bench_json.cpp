@@ -172,6 +172,7 @@ nlohmann::json bench_report_json(const BenchReport& report) {
          "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
          "GPU ms"}};
   }
+  if (s.over_relaxation != 1.0f) json["ipr_over_relaxation"] = s.over_relaxation;  // --over-relax
   if (report.part) json["part"] = part_json(*report.part, report.units);
   return json;
 }

@@ -91,8 +91,10 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
         gt_settings.samples_per_pixel = spp;
         gt_settings.time_s = time_s;
         gt_settings.method = TraceMethod::ground_truth;
+        gt_settings.over_relaxation = 1.0f;  // GT stays the plain reference (--over-relax: IPR's)
         SphereTraceSettings ipr_settings = gt_settings;
         ipr_settings.method = TraceMethod::inverted_pyramid;
+        ipr_settings.over_relaxation = options.settings.over_relaxation;
         SphereTraceSettings floor_settings = gt_settings;
         floor_settings.one_step_floor = true;
 

@@ -173,6 +173,15 @@ void fovlab_watch_step(uint steps_before, float distance, float t) {
 }
 #endif
 
+#ifdef FOVLAB_OVER_RELAX
+// Prototype (issue 41), compiled only into a variant of the tracer (SphereTraceSettings::
+// over_relaxation): the top level's samples step FOVLAB_OVER_RELAX times the distance bound,
+// Keinert et al. 2014's over-relaxed sphere tracing; where the sphere at the new point and the one
+// at the last do not overlap, the step may have passed a surface, and the march goes back to the
+// plain step from the last point and steps plainly from there.
+bool fovlab_relax_on = false;
+#endif
+
 // One step more onto the surface of a hit, within the step cap.
 void fovlab_refine_hit(Ray ray, inout TraceResult result, uint step_cap) {
   if (result.outcome != OUTCOME_HIT || result.steps >= step_cap) return;
@@ -208,6 +217,12 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
   result.t_clear = t;
   bool check_start = t > interval.x;
   bool near_surface = false;
+#ifdef FOVLAB_OVER_RELAX
+  float relax = fovlab_relax_on ? float(FOVLAB_OVER_RELAX) : 1.0;
+  float relax_last_t = t;
+  float relax_last_distance = 0.0;
+  float relax_step = 0.0;
+#endif
   while (result.steps < step_cap) {
     if (t > interval.y) {
       result.t = interval.y;
@@ -228,6 +243,18 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
         continue;
       }
     }
+#ifdef FOVLAB_OVER_RELAX
+    if (relax > 1.0) {
+      if (relax_step > relax_last_distance + abs(sample_.x)) {
+        t = relax_last_t + relax_last_distance;
+        relax = 1.0;
+        relax_step = 0.0;
+        continue;
+      }
+      relax_last_t = t;
+      relax_last_distance = abs(sample_.x);
+    }
+#endif
 #ifdef FOVLAB_STEP_BREAKDOWN
     if (fovlab_watch_on) fovlab_watch_step(result.steps - 1u, sample_.x, t);
 #endif
@@ -252,6 +279,11 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
       if (refine_hit) fovlab_refine_hit(ray, result, step_cap);
       return result;
     }
+#ifdef FOVLAB_OVER_RELAX
+    relax_step = relax * sample_.x;
+    t += relax_step;
+    continue;
+#endif
     t += sample_.x;
   }
   result.t = t;
@@ -607,10 +639,16 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
     fovlab_watch_begin(epsilon_per_unit_t);
     fovlab_watch_on = true;
 #endif
+#ifdef FOVLAB_OVER_RELAX
+    fovlab_relax_on = true;
+#endif
     TraceResult result =
         fovlab_trace(ray, t_sample, epsilon_per_unit_t, !record_depth, params.max_steps, true, 0.0, fovlab_unlimited);
 #ifdef FOVLAB_STEP_BREAKDOWN
     fovlab_watch_on = false;
+#endif
+#ifdef FOVLAB_OVER_RELAX
+    fovlab_relax_on = false;
 #endif
     if (record_depth) {
       level_depth[sample_entry] = fovlab_depth_to_pass_on(result);

@@ -189,6 +189,12 @@ void validate(const SphereTraceSettings& settings) {
                                    settings.method != TraceMethod::inverted_pyramid) ||
                                   settings.one_step_floor))
     throw SettingError("step_breakdown", ": expected the GT or IPR method, without the one-step floor");
+  if (!(settings.over_relaxation >= 1.0f && settings.over_relaxation <= 2.0f))
+    throw SettingError("over_relaxation", ": expected a factor from 1 to 2");
+  if (settings.over_relaxation != 1.0f && ((settings.method != TraceMethod::ground_truth &&
+                                            settings.method != TraceMethod::inverted_pyramid) ||
+                                           settings.one_step_floor))
+    throw SettingError("over_relaxation", ": expected the GT or IPR method (1: off), without the one-step floor");
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
   if (settings.method == TraceMethod::sampling_model) {
     if (!settings.sampling) throw SettingError("sampling", ": expected a sampling model's map");
@@ -221,16 +227,26 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
 
 SphereTracer::~SphereTracer() = default;
 
-// The tracer with FOVLAB_STEP_BREAKDOWN defined: the same code with the counting of
-// SphereTraceSettings::step_breakdown in it (sphere_trace.comp.glsl), cached apart.
-const vk::ComputePipeline& SphereTracer::step_breakdown_pipeline() {
-  if (!step_breakdown_pipeline_) {
-    const std::string source = "#define FOVLAB_STEP_BREAKDOWN 1\n" + std::string(shaders::sphere_trace_source);
-    const CompiledShader trace =
-        compile_scene_shader(scene_, {"sphere_trace.comp.glsl (step breakdown)", source, shaders::shared_headers});
-    step_breakdown_pipeline_ = std::make_unique<vk::ComputePipeline>(context_, trace.spirv, 10, sizeof(TraceParams));
+// The tracer with FOVLAB_STEP_BREAKDOWN defined (the counting of SphereTraceSettings::step_breakdown)
+// or FOVLAB_OVER_RELAX (its over_relaxation): sphere_trace.comp.glsl with that code in it, cached apart.
+const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSettings& settings) {
+  std::string defines;
+  if (settings.step_breakdown) defines += "#define FOVLAB_STEP_BREAKDOWN 1\n";
+  if (settings.over_relaxation != 1.0f) {
+    std::ostringstream factor;
+    factor.precision(9);
+    factor << std::showpoint << settings.over_relaxation;
+    defines += "#define FOVLAB_OVER_RELAX " + factor.str() + "\n";
   }
-  return *step_breakdown_pipeline_;
+  if (defines.empty()) return *trace_pipeline_;
+  std::unique_ptr<vk::ComputePipeline>& pipeline = variant_pipelines_[defines];
+  if (!pipeline) {
+    const std::string source = defines + std::string(shaders::sphere_trace_source);
+    const CompiledShader trace =
+        compile_scene_shader(scene_, {"sphere_trace.comp.glsl (variant)", source, shaders::shared_headers});
+    pipeline = std::make_unique<vk::ComputePipeline>(context_, trace.spirv, 10, sizeof(TraceParams));
+  }
+  return *pipeline;
 }
 
 namespace {

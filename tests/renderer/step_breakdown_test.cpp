@@ -7,7 +7,9 @@
 #include <numeric>
 #include <string>
 
+#include "core/colour.h"
 #include "core/input_error.h"
+#include "metrics/image_metrics.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/sphere_tracing/step_breakdown.h"
 #include "tests/renderer/vulkan_test_fixture.h"
@@ -66,6 +68,46 @@ TEST_F(VulkanTest, StepBreakdownSumsToTheTopLevelsStepsAndLeavesTheFrameAlone) {
       }
     }
   }
+}
+
+// The prototype against the largest share (over-relaxation, Keinert et al. 2014): fewer steps where
+// IPR's samples crawl onto grazing surfaces, the frame still close to GT's, and the breakdown's
+// grazing and slow-bound steps are what falls.
+TEST_F(VulkanTest, OverRelaxationTakesFewerGrazingStepsAndStaysCloseToGroundTruth) {
+  SphereTracer tracer(context(), load_scene("temple"));
+  SphereTraceSettings settings;
+  settings.width = 64;
+  settings.height = 36;
+  settings.step_breakdown = true;
+  const SphereTraceResult gt = tracer.render(settings);
+  settings.method = TraceMethod::inverted_pyramid;
+  const SphereTraceResult plain = tracer.render(settings);
+  settings.over_relaxation = 1.6f;
+  const SphereTraceResult relaxed = tracer.render(settings);
+  ASSERT_TRUE(plain.step_breakdown && relaxed.step_breakdown);
+  EXPECT_EQ(relaxed.step_breakdown->total_steps(), relaxed.levels.back().steps);
+  const auto crawl = [](const StepBreakdown& b) { return b.steps[2] + b.steps[3]; };  // grazing, slow bound
+  EXPECT_LT(crawl(*relaxed.step_breakdown), crawl(*plain.step_breakdown));
+  EXPECT_LT(relaxed.levels.back().steps, plain.levels.back().steps);
+  EXPECT_GE(metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(relaxed.colour_linear)).mean_ssim, 0.98);
+}
+
+TEST(StepBreakdownValidation, OverRelaxationIsAFactorFromOneToTwoForGroundTruthAndIpr) {
+  SphereTraceSettings settings;
+  settings.over_relaxation = 2.5f;
+  const auto field_refused = [](const SphereTraceSettings& s) {
+    try {
+      validate(s);
+    } catch (const SettingError& error) {
+      return error.field;
+    }
+    return std::string();
+  };
+  EXPECT_EQ(field_refused(settings), "over_relaxation");
+  settings.over_relaxation = 1.5f;
+  EXPECT_EQ(field_refused(settings), "");
+  settings.one_step_floor = true;
+  EXPECT_EQ(field_refused(settings), "over_relaxation");
 }
 
 TEST(StepBreakdownValidation, IsCountedForGroundTruthAndIprOnly) {
