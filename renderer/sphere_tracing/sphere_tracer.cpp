@@ -185,15 +185,15 @@ void validate(const SphereTraceSettings& settings) {
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite number of seconds");
   if (settings.one_step_floor && settings.method != TraceMethod::ground_truth)
     throw SettingError("one_step_floor", ": expected the GT method (the floor is measured on GT's frame)");
-  if (settings.step_breakdown && ((settings.method != TraceMethod::ground_truth &&
-                                   settings.method != TraceMethod::inverted_pyramid) ||
-                                  settings.one_step_floor))
+  if (settings.step_breakdown &&
+      ((settings.method != TraceMethod::ground_truth && settings.method != TraceMethod::inverted_pyramid) ||
+       settings.one_step_floor))
     throw SettingError("step_breakdown", ": expected the GT or IPR method, without the one-step floor");
   if (!(settings.over_relaxation >= 1.0f && settings.over_relaxation <= 2.0f))
     throw SettingError("over_relaxation", ": expected a factor from 1 to 2");
-  if (settings.over_relaxation != 1.0f && ((settings.method != TraceMethod::ground_truth &&
-                                            settings.method != TraceMethod::inverted_pyramid) ||
-                                           settings.one_step_floor))
+  if (settings.over_relaxation != 1.0f &&
+      ((settings.method != TraceMethod::ground_truth && settings.method != TraceMethod::inverted_pyramid) ||
+       settings.one_step_floor))
     throw SettingError("over_relaxation", ": expected the GT or IPR method (1: off), without the one-step floor");
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
   if (settings.method == TraceMethod::sampling_model) {

@@ -130,7 +130,8 @@ void SphereTracer::clear_counters(FrameRecording& f) {
 void SphereTracer::trace_level(FrameRecording& f, int level_index, const DepthStart& start) {
   const TraceParams params = f.trace_params(level_index, start);
   const auto buffers = f.trace_bindings(level_index, start);
-  const bool top = level_index + 1 == f.level_count;  // its variants (step breakdown, over-relaxation) serve its samples
+  // The top level's samples may run a variant of the tracer (step breakdown, over-relaxation).
+  const bool top = level_index + 1 == f.level_count;
   const vk::ComputePipeline& pipeline = top ? top_level_pipeline(f.settings) : *trace_pipeline_;
   f.timer.begin(f.cmd, "trace_level" + std::to_string(level_index));
   pipeline.dispatch_2d(f.cmd, buffers, &params, params.level_size[0], params.level_size[1]);

@@ -10,7 +10,7 @@ static_assert(gpu::COUNTER_STEP_ONE_SURFACE_LONGEST + 2 == gpu::COUNTER_COUNT);
 
 const char* step_category_name(int category) {
   static const char* const names[kStepCategoryCount] = {"approach", "silhouette", "grazing", "slow_bound",
-                                                                  "final",    "miss",       "other"};
+                                                        "final",    "miss",       "other"};
   return category >= 0 && category < kStepCategoryCount ? names[category] : "?";
 }
 
@@ -34,7 +34,8 @@ StepBreakdown read_step_breakdown(std::span<const uint32_t> counters, uint64_t p
     breakdown.steps[c] = count_64(gpu::COUNTER_STEP_CATEGORY_STEPS + 2 * c);
     breakdown.samples_with[c] = counters[gpu::COUNTER_STEP_CATEGORY_SAMPLES + c];
   }
-  for (uint32_t b = 0; b < gpu::STEP_HISTOGRAM_BINS; ++b) breakdown.histogram[b] = counters[gpu::COUNTER_STEP_HISTOGRAM + b];
+  for (uint32_t b = 0; b < gpu::STEP_HISTOGRAM_BINS; ++b)
+    breakdown.histogram[b] = counters[gpu::COUNTER_STEP_HISTOGRAM + b];
   breakdown.one_surface_pixels = counters[gpu::COUNTER_STEP_ONE_SURFACE_PIXELS];
   breakdown.one_surface_steps = count_64(gpu::COUNTER_STEP_ONE_SURFACE_STEPS);
   breakdown.one_surface_approach_steps = count_64(gpu::COUNTER_STEP_ONE_SURFACE_APPROACH);
