@@ -196,6 +196,7 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   options.out_dir = flags.out_dir;
   options.device = flags.device;
   options.require_gpu = flags.require_gpu;
+  options.step_breakdown = flags.step_breakdown;
   if (!fipr) return options;
 
   options.refreshes = parse_refreshes(flags.refresh);
@@ -257,6 +258,12 @@ void add_bench_flags(CLI::App& command, BenchFlags& options) {
   command.add_option("--device", options.device, "Vulkan device: index or part of its name (fovlab devices)");
   command.add_flag("--require-gpu", options.require_gpu,
                    "Refuse to run on a CPU Vulkan device (lavapipe): exit 2 on a node without a GPU");
+  command.add_option("--over-relax", options.settings.over_relaxation,
+                     "IPR's top-level samples step this many times the distance bound (Keinert et al. 2014's "
+                     "over-relaxation, 1 to 2; a prototype; default 1: off). GT stays the plain reference");
+  command.add_flag("--step-breakdown", options.step_breakdown,
+                   "Count where GT's and IPR's top-level samples spend their steps (one more untimed frame each): "
+                   "a table, and \"step_breakdown\" in the JSON");
   command.add_option("--cells", options.cells,
                      "I/N: measure only part I of N of the sweep's (scene, time, spp) units, into --json; fovlab "
                      "bench-merge joins the parts into the sweep's report");

@@ -24,6 +24,7 @@ struct BenchFlags {
   std::filesystem::path out_dir;
   std::string device;
   bool require_gpu = false;
+  bool step_breakdown = false;  // --step-breakdown
   std::vector<std::string> methods{"gt", "ipr"};
   // --times: scene times in seconds, comma-separated (e.g. the rotating patterns' angles); empty:
   // --time alone. time_given: --time was on the command line too (refused with --times).

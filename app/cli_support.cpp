@@ -170,6 +170,7 @@ void validate_trace_flags(const SphereTraceSettings& settings) {
       {"min_filter_size", "--min-filter"},
       {"max_steps", "--max-steps"},
       {"hit_threshold", "--hit-threshold"},
+      {"over_relaxation", "--over-relax"},
       {"time_s", "--time"},
       {"fovea_radius_deg", "--fovea-deg"},
       {"outer_periphery_radius_deg", "--outer-periphery-deg"},

@@ -14,14 +14,46 @@ namespace fovlab::bench {
 
 namespace {
 
+// The top level's step breakdown (renderer/sphere_tracing/step_breakdown.h): per category its steps,
+// the samples with a step in it, steps per sample (of all samples) and share of the steps.
+nlohmann::json step_breakdown_json(const StepBreakdown& breakdown) {
+  const double samples = double(std::max<uint64_t>(1, breakdown.samples));
+  const double steps = double(std::max<uint64_t>(1, breakdown.total_steps()));
+  nlohmann::json categories = nlohmann::json::object();
+  for (int c = 0; c < kStepCategoryCount; ++c) {
+    categories[step_category_name(c)] = {{"steps", breakdown.steps[size_t(c)]},
+                                         {"samples", breakdown.samples_with[size_t(c)]},
+                                         {"steps_per_sample", double(breakdown.steps[size_t(c)]) / samples},
+                                         {"share", double(breakdown.steps[size_t(c)]) / steps}};
+  }
+  nlohmann::json histogram = nlohmann::json::object();
+  for (int b = 0; b < kStepHistogramBins; ++b) histogram[step_histogram_bin_name(b)] = breakdown.histogram[size_t(b)];
+  return {{"pixels", breakdown.pixels},
+          {"samples", breakdown.samples},
+          {"total_steps", breakdown.total_steps()},
+          {"steps_per_sample", double(breakdown.total_steps()) / samples},
+          {"categories", categories},
+          {"samples_by_steps", histogram},
+          {"one_surface",
+           {{"pixels", breakdown.one_surface_pixels},
+            {"share", double(breakdown.one_surface_pixels) / double(std::max<uint64_t>(1, breakdown.pixels))},
+            {"steps", breakdown.one_surface_steps},
+            {"approach_steps", breakdown.one_surface_approach_steps},
+            {"longest_approach_steps", breakdown.one_surface_longest_approach},
+            {"shared_approach_share",
+             double(breakdown.one_surface_approach_steps - breakdown.one_surface_longest_approach) / steps}}}};
+}
+
 nlohmann::json runs_json(const RunsResult& runs) {
   nlohmann::json passes = nlohmann::json::object();
   for (const auto& [name, ms] : runs.median_pass_gpu_ms) passes[name] = ms;
-  return {{"median_gpu_ms", runs.median_gpu_ms},       {"median_wall_ms", runs.median_wall_ms},
-          {"gpu_ms_runs", runs.gpu_ms_runs},           {"median_pass_gpu_ms", passes},
-          {"total_steps", runs.total_steps},           {"steps_per_pixel", runs.steps_per_pixel},
-          {"steps_per_sample", runs.steps_per_sample}, {"capped_rays", runs.capped_rays},
-          {"restarted_rays", runs.restarted_rays}};
+  nlohmann::json json = {{"median_gpu_ms", runs.median_gpu_ms},       {"median_wall_ms", runs.median_wall_ms},
+                         {"gpu_ms_runs", runs.gpu_ms_runs},           {"median_pass_gpu_ms", passes},
+                         {"total_steps", runs.total_steps},           {"steps_per_pixel", runs.steps_per_pixel},
+                         {"steps_per_sample", runs.steps_per_sample}, {"capped_rays", runs.capped_rays},
+                         {"restarted_rays", runs.restarted_rays}};
+  if (runs.step_breakdown) json["step_breakdown"] = step_breakdown_json(*runs.step_breakdown);
+  return json;
 }
 
 nlohmann::json optional_json(const std::optional<double>& value) {
@@ -140,6 +172,7 @@ nlohmann::json bench_report_json(const BenchReport& report) {
          "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
          "GPU ms"}};
   }
+  if (s.over_relaxation != 1.0f) json["ipr_over_relaxation"] = s.over_relaxation;  // --over-relax
   if (report.part) json["part"] = part_json(*report.part, report.units);
   return json;
 }

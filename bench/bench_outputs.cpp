@@ -117,6 +117,8 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
     print_now("\nPareto fronts (speed-up against error, per scene):\n" + fronts);
   }
   print_now("\nWhere the time goes (median GPU ms per pass):\n" + passes);
+  const std::string steps = step_breakdown_table(rows);  // bench --step-breakdown
+  if (!steps.empty()) print_now("\nWhere the steps go (the top level's samples; steps per sample, share):\n" + steps);
 
   // Every file made in memory first, then written: nothing is written if making one fails.
   std::vector<std::pair<std::filesystem::path, std::string>> files;
@@ -153,6 +155,7 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
       markdown += "## RMFR's best f_x, f_y (Figure 6's sweep)\n\n" + focal_sweep.table + "\n";
     for (const auto& [file_name, svg] : focal_sweep.heat_maps) files.emplace_back(out_dir / file_name, svg);
     markdown += "## Pareto fronts\n\n" + fronts + "\n## Passes\n\n" + passes;
+    if (!steps.empty()) markdown += "\n## Where the steps go\n\n" + steps;
     files.emplace_back(out_dir / "table.md", markdown);
   }
   for (const auto& [path, text] : files) write_text_atomically(path, text);

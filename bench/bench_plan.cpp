@@ -152,6 +152,8 @@ std::string sweep_command(const BenchPlan& plan) {
   std::string text =
       command_text(o, comma_joined(o.scenes), comma_joined(o.spps), methods_text(plan, plan.ipr, plan.fipr), time_text);
   if (!o.sampling.empty()) text += " " + o.sampling_flags;
+  if (o.step_breakdown) text += " --step-breakdown";
+  if (o.settings.over_relaxation != 1.0f) text += " --over-relax " + exact_number_text(o.settings.over_relaxation);
   if (!plan.fipr) return text + " " + o.display_flags;
   return text + " --refresh " + comma_joined(o.refreshes) + " --fovea-deg " + exact_numbers_text(o.fovea_degs) + " " +
          o.foveation_flags;
@@ -166,8 +168,12 @@ std::string cell_command(const BenchPlan& plan, const std::string& scene, float 
     return command_text(o, scene, spp_text, std::string("gt,") + bench_method_name(cell.method), time_text) + " " +
            plan.sampling_of(cell).flags + " " + o.display_flags;
   }
-  if (cell.method != BenchMethod::fipr)
-    return command_text(o, scene, spp_text, plan.ipr ? "gt,ipr" : "gt", time_text) + " " + o.display_flags;
+  if (cell.method != BenchMethod::fipr) {
+    const std::string relax = o.settings.over_relaxation != 1.0f
+                                  ? " --over-relax " + exact_number_text(o.settings.over_relaxation)
+                                  : std::string();
+    return command_text(o, scene, spp_text, plan.ipr ? "gt,ipr" : "gt", time_text) + relax + " " + o.display_flags;
+  }
   const FiprVariant& variant = plan.variant_of(cell);
   return command_text(o, scene, spp_text, "gt,fipr", time_text) + " --refresh " + std::to_string(variant.refresh) +
          " --fovea-deg " + exact_number_text(variant.fovea_deg) + " " + o.foveation_flags;

@@ -73,6 +73,9 @@ struct BenchOptions {
   std::filesystem::path json, out_dir;
   std::string device;
   bool require_gpu = false;
+  // --step-breakdown: after the timed runs, one untimed frame of GT and of IPR with the step
+  // breakdown (SphereTraceSettings::step_breakdown) into their RunsResult.
+  bool step_breakdown = false;
   // Writes a measured frame's images into out_dir (colour, step heat map, mask or samples), named by `stem`.
   std::function<void(const std::string& stem, const SphereTraceResult& frame, const SphereTraceSettings& settings)>
       write_frame_images;

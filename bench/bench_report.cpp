@@ -11,6 +11,7 @@
 
 #include "analysis/report/svg_chart.h"
 #include "core/number_text.h"
+#include "renderer/sphere_tracing/step_breakdown.h"
 
 namespace fovlab::bench {
 
@@ -85,6 +86,34 @@ std::string pass_table(const nlohmann::json& rows) {
     }
   }
   return out.str();
+}
+
+std::string step_breakdown_table(const nlohmann::json& rows) {
+  std::ostringstream out;
+  bool any = false;
+  for (const nlohmann::json& row : rows) {
+    for (const char* method : {"gt", "ipr"}) {
+      if (!row.contains(method) || !row[method].contains("step_breakdown")) continue;
+      if (!any) {
+        out << "| scene | spp | method | steps/sample |";
+        for (int c = 0; c < kStepCategoryCount; ++c) out << " " << step_category_name(c) << " |";
+        out << " one-surface px | shared approach |\n|---|---:|---|---:|";
+        for (int c = 0; c < kStepCategoryCount; ++c) out << "---:|";
+        out << "---:|---:|\n";
+        any = true;
+      }
+      const nlohmann::json& breakdown = row[method]["step_breakdown"];
+      out << "| " << row["scene"].get<std::string>() << " | " << row["spp"].get<int>() << " | " << method << " | "
+          << number(breakdown["steps_per_sample"], "%.2f") << " |";
+      for (int c = 0; c < kStepCategoryCount; ++c) {
+        const nlohmann::json& category = breakdown["categories"][step_category_name(c)];
+        out << " " << number(category["steps_per_sample"], "%.2f") << " (" << percent(category["share"]) << ") |";
+      }
+      out << " " << percent(breakdown["one_surface"]["share"]) << " | "
+          << percent(breakdown["one_surface"]["shared_approach_share"]) << " |\n";
+    }
+  }
+  return any ? out.str() : std::string();
 }
 
 std::string cell_table_header() {

@@ -17,6 +17,11 @@ std::string gt_ipr_table_row(const nlohmann::json& row);
 // Median GPU ms per pass of GT and IPR, per scene and spp.
 std::string pass_table(const nlohmann::json& rows);
 
+// Where the top level's steps go (bench --step-breakdown): per scene, spp and method (GT, IPR) the
+// steps per sample in each category (and their share), the one-surface pixels' share and the share
+// of the steps a packet of each such pixel's samples would share. Empty when no row has a breakdown.
+std::string step_breakdown_table(const nlohmann::json& rows);
+
 // Every cell (the JSON's "cells": GT, IPR and FIPR), one row each.
 std::string cell_table_header();
 std::string cell_table_row(const nlohmann::json& cell);

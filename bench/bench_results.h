@@ -28,6 +28,7 @@ struct RunsResult {
   double steps_per_sample = 0.0;
   uint64_t capped_rays = 0;
   uint64_t restarted_rays = 0;
+  std::optional<StepBreakdown> step_breakdown;  // --step-breakdown (GT and IPR): the measured frame's
 };
 
 // A FIPR cell's sequence (bench/bench_runs.h time_fipr_sequence) and its last timed frame.

@@ -91,8 +91,10 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
         gt_settings.samples_per_pixel = spp;
         gt_settings.time_s = time_s;
         gt_settings.method = TraceMethod::ground_truth;
+        gt_settings.over_relaxation = 1.0f;  // GT stays the plain reference (--over-relax: IPR's)
         SphereTraceSettings ipr_settings = gt_settings;
         ipr_settings.method = TraceMethod::inverted_pyramid;
+        ipr_settings.over_relaxation = options.settings.over_relaxation;
         SphereTraceSettings floor_settings = gt_settings;
         floor_settings.one_step_floor = true;
 
@@ -104,8 +106,20 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
         if (plan.ipr) methods.emplace_back(ipr_settings, &ipr);
         time_interleaved(tracer, methods, options.repeats);
         const Image gt_image = display_image(gt.frame);
+        // The step breakdown: one more untimed frame of each (the same frame, bit for bit).
+        const auto step_breakdown_of = [&](SphereTraceSettings settings) {
+          settings.step_breakdown = true;
+          settings.outputs = TraceOutputs::colour;
+          return tracer.render(settings).step_breakdown;
+        };
+        std::optional<StepBreakdown> gt_steps, ipr_steps;
+        if (options.step_breakdown) {
+          gt_steps = step_breakdown_of(gt_settings);
+          if (plan.ipr) ipr_steps = step_breakdown_of(ipr_settings);
+        }
 
         UnitResult unit{scene.name, spp, time_s, gt.result(gt_settings), floor_runs.result(floor_settings)};
+        unit.gt.step_breakdown = gt_steps;
         unit.floor_ssim_against_gt = errors_against(gt_image, floor_runs.frame, plan).ssim;
         unit.gt_over_floor = gt.median_gpu_ms() / floor_runs.median_gpu_ms();
         const std::string stem = scene.name + (several_times ? "_t" + format_number(time_s, 6) : std::string()) +
@@ -118,6 +132,7 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
           } else if (planned.method == BenchMethod::ipr) {
             unit.errors = errors_against(gt_image, ipr.frame, plan);
             unit.ipr = ipr.result(ipr_settings);
+            unit.ipr->step_breakdown = ipr_steps;
             unit.speedup = gt.median_gpu_ms() / ipr.median_gpu_ms();
             unit.ipr_over_floor = ipr.median_gpu_ms() / floor_runs.median_gpu_ms();
             cell = measured_cell(BenchMethod::ipr, unit, *unit.ipr, unit.errors);

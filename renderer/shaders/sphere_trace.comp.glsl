@@ -131,6 +131,57 @@ struct TraceResult {
   float t_clear;
 };
 
+#ifdef FOVLAB_STEP_BREAKDOWN
+// The step breakdown (sphere_trace_params.h STEP_*), compiled only into the tracer's step-breakdown
+// variant, so the plain tracer's code is what it was. fovlab_shade_samples watches each shaded
+// sample's march: fovlab_trace reports every step here while fovlab_watch_on is set.
+bool fovlab_watch_on = false;
+float fovlab_watch_near_per_unit_t;  // a step is near a surface below this distance per unit t
+uint fovlab_watch_restart_steps;     // the step that found the start inside geometry (0 or 1)
+uint fovlab_watch_first_near;        // steps before the first near step; fovlab_watch_none: none yet
+uint fovlab_watch_run_start;         // steps before the current run of near steps began
+bool fovlab_watch_in_run;
+uint fovlab_watch_last_step;  // steps before the last step watched
+const uint fovlab_watch_none = 0xffffffffu;
+
+void fovlab_watch_begin(float epsilon_per_unit_t) {
+  fovlab_watch_near_per_unit_t =
+      max(epsilon_per_unit_t, epsilon_per_unit_t / params.hit_threshold * STEP_NEAR_FOOTPRINTS);
+  fovlab_watch_restart_steps = 0u;
+  fovlab_watch_first_near = fovlab_watch_none;
+  fovlab_watch_run_start = 0u;
+  fovlab_watch_in_run = false;
+}
+
+// A start inside geometry: the march begins again at the bounds after `steps` steps.
+void fovlab_watch_restart(uint steps) {
+  fovlab_watch_restart_steps = steps;
+  fovlab_watch_first_near = fovlab_watch_none;
+  fovlab_watch_in_run = false;
+}
+
+// The step after `steps_before` steps found `distance` at t.
+void fovlab_watch_step(uint steps_before, float distance, float t) {
+  fovlab_watch_last_step = steps_before;
+  if (distance < fovlab_watch_near_per_unit_t * t) {
+    if (fovlab_watch_first_near == fovlab_watch_none) fovlab_watch_first_near = steps_before;
+    if (!fovlab_watch_in_run) fovlab_watch_run_start = steps_before;
+    fovlab_watch_in_run = true;
+  } else {
+    fovlab_watch_in_run = false;
+  }
+}
+#endif
+
+#ifdef FOVLAB_OVER_RELAX
+// Prototype (issue 41), compiled only into a variant of the tracer (SphereTraceSettings::
+// over_relaxation): the top level's samples step FOVLAB_OVER_RELAX times the distance bound,
+// Keinert et al. 2014's over-relaxed sphere tracing; where the sphere at the new point and the one
+// at the last do not overlap, the step may have passed a surface, and the march goes back to the
+// plain step from the last point and steps plainly from there.
+bool fovlab_relax_on = false;
+#endif
+
 // One step more onto the surface of a hit, within the step cap.
 void fovlab_refine_hit(Ray ray, inout TraceResult result, uint step_cap) {
   if (result.outcome != OUTCOME_HIT || result.steps >= step_cap) return;
@@ -166,6 +217,12 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
   result.t_clear = t;
   bool check_start = t > interval.x;
   bool near_surface = false;
+#ifdef FOVLAB_OVER_RELAX
+  float relax = fovlab_relax_on ? float(FOVLAB_OVER_RELAX) : 1.0;
+  float relax_last_t = t;
+  float relax_last_distance = 0.0;
+  float relax_step = 0.0;
+#endif
   while (result.steps < step_cap) {
     if (t > interval.y) {
       result.t = interval.y;
@@ -180,9 +237,27 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
         t = interval.x;
         result.t_clear = t;
         atomicAdd(counters[COUNTER_RESTARTED_RAYS], 1u);
+#ifdef FOVLAB_STEP_BREAKDOWN
+        if (fovlab_watch_on) fovlab_watch_restart(result.steps);
+#endif
         continue;
       }
     }
+#ifdef FOVLAB_OVER_RELAX
+    if (relax > 1.0) {
+      if (relax_step > relax_last_distance + abs(sample_.x)) {
+        t = relax_last_t + relax_last_distance;
+        relax = 1.0;
+        relax_step = 0.0;
+        continue;
+      }
+      relax_last_t = t;
+      relax_last_distance = abs(sample_.x);
+    }
+#endif
+#ifdef FOVLAB_STEP_BREAKDOWN
+    if (fovlab_watch_on) fovlab_watch_step(result.steps - 1u, sample_.x, t);
+#endif
     if (near_per_unit_t > 0.0 && !result.passed_surface) {
       if (sample_.x < near_per_unit_t * t) {
         near_surface = true;
@@ -204,6 +279,11 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
       if (refine_hit) fovlab_refine_hit(ray, result, step_cap);
       return result;
     }
+#ifdef FOVLAB_OVER_RELAX
+    relax_step = relax * sample_.x;
+    t += relax_step;
+    continue;
+#endif
     t += sample_.x;
   }
   result.t = t;
@@ -433,6 +513,110 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
   level_steps[index] = result.steps + probe_steps;
 }
 
+#ifdef FOVLAB_STEP_BREAKDOWN
+// Adds to a 64-bit count of the counters buffer (two words, low then high).
+void fovlab_add_64(uint index, uint value) {
+  if (value == 0u) return;
+  uint before = atomicAdd(counters[index], value);
+  if (before + value < before) atomicAdd(counters[index + 1u], 1u);
+}
+
+// One pixel's step breakdown, summed over its samples and added to the counters once.
+struct fovlab_pixel_breakdown {
+  uint steps[STEP_CATEGORY_COUNT];
+  uint samples[STEP_CATEGORY_COUNT];
+  uint histogram[STEP_HISTOGRAM_BINS];
+  bool one_surface;  // every sample so far hit, all with one material
+  float material_id;
+  float nearest_t;
+  float farthest_t;
+  uint all_steps;
+  uint approach_steps;
+  uint longest_approach;
+};
+fovlab_pixel_breakdown fovlab_breakdown;
+
+void fovlab_breakdown_begin() {
+  for (uint c = 0u; c < STEP_CATEGORY_COUNT; ++c) {
+    fovlab_breakdown.steps[c] = 0u;
+    fovlab_breakdown.samples[c] = 0u;
+  }
+  for (uint b = 0u; b < STEP_HISTOGRAM_BINS; ++b) fovlab_breakdown.histogram[b] = 0u;
+  fovlab_breakdown.one_surface = true;
+  fovlab_breakdown.material_id = 0.0;
+  fovlab_breakdown.nearest_t = fovlab_unlimited;
+  fovlab_breakdown.farthest_t = 0.0;
+  fovlab_breakdown.all_steps = 0u;
+  fovlab_breakdown.approach_steps = 0u;
+  fovlab_breakdown.longest_approach = 0u;
+}
+
+// A watched sample's steps into the categories (sphere_trace_params.h STEP_CATEGORY_*), after its
+// march (and refining step): `first` the sample of its pixel.
+void fovlab_breakdown_sample(Ray ray, TraceResult result, float epsilon_per_unit_t, bool first) {
+  uint steps[STEP_CATEGORY_COUNT];
+  for (uint c = 0u; c < STEP_CATEGORY_COUNT; ++c) steps[c] = 0u;
+  uint restart = fovlab_watch_restart_steps;
+  steps[STEP_CATEGORY_OTHER] = restart;
+  if (result.outcome == OUTCOME_MISS) {
+    steps[STEP_CATEGORY_MISS] = result.steps - restart;
+  } else if (result.outcome == OUTCOME_CAPPED) {
+    steps[STEP_CATEGORY_OTHER] = result.steps;
+  } else {
+    // The hit step is the last step watched, and near: it ends the final near run. After it only
+    // the refining step (fovlab_refine_hit), if any.
+    uint hit_step = fovlab_watch_last_step;
+    uint run = hit_step + 1u - fovlab_watch_run_start;
+    steps[STEP_CATEGORY_APPROACH] = fovlab_watch_first_near - restart;
+    steps[STEP_CATEGORY_SILHOUETTE] = fovlab_watch_run_start - fovlab_watch_first_near;
+    uint final_category = STEP_CATEGORY_FINAL;
+    if (run >= STEP_LONG_RUN) {
+      // The angle of the surface to the ray, from the normal fovlab_shade takes there.
+      vec3 p = ray.origin + result.t * ray.direction;
+      vec3 normal = fovlab_normal(p, result.distance, max(epsilon_per_unit_t * result.t, 1e-6));
+      bool grazing = abs(dot(normal, ray.direction)) < STEP_GRAZING_SINE;
+      final_category = grazing ? STEP_CATEGORY_GRAZING : STEP_CATEGORY_SLOW_BOUND;
+    }
+    steps[final_category] = run;
+    steps[STEP_CATEGORY_FINAL] += result.steps - hit_step - 1u;
+  }
+  for (uint c = 0u; c < STEP_CATEGORY_COUNT; ++c) {
+    fovlab_breakdown.steps[c] += steps[c];
+    if (steps[c] > 0u) fovlab_breakdown.samples[c] += 1u;
+  }
+  uint bin = result.steps <= 1u ? 0u : min(uint(findMSB(result.steps - 1u)) + 1u, STEP_HISTOGRAM_BINS - 1u);
+  fovlab_breakdown.histogram[bin] += 1u;
+  fovlab_breakdown.all_steps += result.steps;
+  uint approach = steps[STEP_CATEGORY_APPROACH];
+  fovlab_breakdown.approach_steps += approach;
+  fovlab_breakdown.longest_approach = max(fovlab_breakdown.longest_approach, approach);
+  bool same_surface = result.outcome == OUTCOME_HIT && (first || result.material_id == fovlab_breakdown.material_id);
+  fovlab_breakdown.one_surface = fovlab_breakdown.one_surface && same_surface;
+  fovlab_breakdown.material_id = result.material_id;
+  fovlab_breakdown.nearest_t = min(fovlab_breakdown.nearest_t, result.t);
+  fovlab_breakdown.farthest_t = max(fovlab_breakdown.farthest_t, result.t);
+}
+
+// The pixel's breakdown into the counters. One surface: its samples all hit the same material within
+// STEP_ONE_SURFACE_DEPTH of the nearest one's depth (one surface, no silhouette across the pixel).
+void fovlab_breakdown_end() {
+  for (uint c = 0u; c < STEP_CATEGORY_COUNT; ++c) {
+    fovlab_add_64(COUNTER_STEP_CATEGORY_STEPS + 2u * c, fovlab_breakdown.steps[c]);
+    if (fovlab_breakdown.samples[c] > 0u)
+      atomicAdd(counters[COUNTER_STEP_CATEGORY_SAMPLES + c], fovlab_breakdown.samples[c]);
+  }
+  for (uint b = 0u; b < STEP_HISTOGRAM_BINS; ++b)
+    if (fovlab_breakdown.histogram[b] > 0u) atomicAdd(counters[COUNTER_STEP_HISTOGRAM + b], fovlab_breakdown.histogram[b]);
+  bool one_surface = fovlab_breakdown.one_surface &&
+                  fovlab_breakdown.farthest_t - fovlab_breakdown.nearest_t <= STEP_ONE_SURFACE_DEPTH * fovlab_breakdown.nearest_t;
+  if (!one_surface) return;
+  atomicAdd(counters[COUNTER_STEP_ONE_SURFACE_PIXELS], 1u);
+  fovlab_add_64(COUNTER_STEP_ONE_SURFACE_STEPS, fovlab_breakdown.all_steps);
+  fovlab_add_64(COUNTER_STEP_ONE_SURFACE_APPROACH, fovlab_breakdown.approach_steps);
+  fovlab_add_64(COUNTER_STEP_ONE_SURFACE_LONGEST, fovlab_breakdown.longest_approach);
+}
+#endif
+
 // Shades a pixel's (or a sample's) spp rays around centre_px, spread over `scale` pixels.
 // The one-step floor (`fovlab bench`): GT records where each sample stopped (FLAG_SAMPLE_DEPTH_OUT,
 // before the refining step, so the distance there is not negative), then each sample starts there
@@ -441,6 +625,9 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
   vec3 colour_sum = vec3(0.0);
   uint steps = 0u;
   bool record_depth = (params.flags & FLAG_SAMPLE_DEPTH_OUT) != 0u;
+#ifdef FOVLAB_STEP_BREAKDOWN
+  fovlab_breakdown_begin();
+#endif
   for (uint s = 0u; s < params.samples_per_pixel; ++s) {
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(centre_px + fovlab_sample_offset(s, params.samples_per_pixel) * scale,
@@ -448,17 +635,36 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
     float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
     uint sample_entry = index * params.samples_per_pixel + s;
     float t_sample = (params.flags & FLAG_SAMPLE_DEPTH_IN) != 0u ? start_depth[sample_entry] : t_start;
+#ifdef FOVLAB_STEP_BREAKDOWN
+    fovlab_watch_begin(epsilon_per_unit_t);
+    fovlab_watch_on = true;
+#endif
+#ifdef FOVLAB_OVER_RELAX
+    fovlab_relax_on = true;
+#endif
     TraceResult result =
         fovlab_trace(ray, t_sample, epsilon_per_unit_t, !record_depth, params.max_steps, true, 0.0, fovlab_unlimited);
+#ifdef FOVLAB_STEP_BREAKDOWN
+    fovlab_watch_on = false;
+#endif
+#ifdef FOVLAB_OVER_RELAX
+    fovlab_relax_on = false;
+#endif
     if (record_depth) {
       level_depth[sample_entry] = fovlab_depth_to_pass_on(result);
       fovlab_refine_hit(ray, result, params.max_steps);
     }
+#ifdef FOVLAB_STEP_BREAKDOWN
+    fovlab_breakdown_sample(ray, result, epsilon_per_unit_t, s == 0u);
+#endif
     steps += result.steps;
     colour_sum += fovlab_shade(ray, result, epsilon_per_unit_t);
   }
   level_colour[index] = vec4(colour_sum / float(params.samples_per_pixel), 1.0);
   level_steps[index] = steps;
+#ifdef FOVLAB_STEP_BREAKDOWN
+  fovlab_breakdown_end();
+#endif
 }
 
 void main() {

@@ -185,6 +185,16 @@ void validate(const SphereTraceSettings& settings) {
   if (!std::isfinite(settings.time_s)) throw SettingError("time_s", ": expected a finite number of seconds");
   if (settings.one_step_floor && settings.method != TraceMethod::ground_truth)
     throw SettingError("one_step_floor", ": expected the GT method (the floor is measured on GT's frame)");
+  if (settings.step_breakdown &&
+      ((settings.method != TraceMethod::ground_truth && settings.method != TraceMethod::inverted_pyramid) ||
+       settings.one_step_floor))
+    throw SettingError("step_breakdown", ": expected the GT or IPR method, without the one-step floor");
+  if (!(settings.over_relaxation >= 1.0f && settings.over_relaxation <= 2.0f))
+    throw SettingError("over_relaxation", ": expected a factor from 1 to 2");
+  if (settings.over_relaxation != 1.0f &&
+      ((settings.method != TraceMethod::ground_truth && settings.method != TraceMethod::inverted_pyramid) ||
+       settings.one_step_floor))
+    throw SettingError("over_relaxation", ": expected the GT or IPR method (1: off), without the one-step floor");
   if (settings.method == TraceMethod::foveated_pyramid) validate_foveation(settings);
   if (settings.method == TraceMethod::sampling_model) {
     if (!settings.sampling) throw SettingError("sampling", ": expected a sampling model's map");
@@ -196,7 +206,7 @@ void validate(const SphereTraceSettings& settings) {
   }
 }
 
-SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context) {
+SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : context_(context), scene_(scene) {
   CompiledShader trace =
       compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers});
   shader_from_cache_ = trace.from_cache;
@@ -216,6 +226,28 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
 }
 
 SphereTracer::~SphereTracer() = default;
+
+// The tracer with FOVLAB_STEP_BREAKDOWN defined (the counting of SphereTraceSettings::step_breakdown)
+// or FOVLAB_OVER_RELAX (its over_relaxation): sphere_trace.comp.glsl with that code in it, cached apart.
+const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSettings& settings) {
+  std::string defines;
+  if (settings.step_breakdown) defines += "#define FOVLAB_STEP_BREAKDOWN 1\n";
+  if (settings.over_relaxation != 1.0f) {
+    std::ostringstream factor;
+    factor.precision(9);
+    factor << std::showpoint << settings.over_relaxation;
+    defines += "#define FOVLAB_OVER_RELAX " + factor.str() + "\n";
+  }
+  if (defines.empty()) return *trace_pipeline_;
+  std::unique_ptr<vk::ComputePipeline>& pipeline = variant_pipelines_[defines];
+  if (!pipeline) {
+    const std::string source = defines + std::string(shaders::sphere_trace_source);
+    const CompiledShader trace =
+        compile_scene_shader(scene_, {"sphere_trace.comp.glsl (variant)", source, shaders::shared_headers});
+    pipeline = std::make_unique<vk::ComputePipeline>(context_, trace.spirv, 10, sizeof(TraceParams));
+  }
+  return *pipeline;
+}
 
 namespace {
 
@@ -325,6 +357,9 @@ SphereTraceResult SphereTracer::render(const SphereTraceSettings& settings) {
   const CounterValues counter_values = frame.read_outputs(context_, on_device, result);
   if (foveated) f.read_fipr_outputs(counter_values, result);
   f.read_level_stats(counter_values, result);
+  if (settings.step_breakdown)
+    result.step_breakdown = read_step_breakdown(counter_values, uint64_t(settings.width) * uint64_t(settings.height),
+                                                uint64_t(settings.samples_per_pixel));
   return result;
 }
 

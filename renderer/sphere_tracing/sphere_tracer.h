@@ -7,6 +7,7 @@
 // optional masked blur). docs/foveation.md. The sampling models of Ye et al. 2022 (RMFR, hyperbolic, linear,
 // KFR: foveation/sampling_map.h) shade only their samples (renderer/foveated_sampling/).
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +21,7 @@
 #include "foveation/sampling_map.h"
 #include "renderer/present/device_frame.h"
 #include "renderer/scene/scene_source.h"
+#include "renderer/sphere_tracing/step_breakdown.h"
 #include "renderer/vk/submission.h"
 
 namespace fovlab {
@@ -94,6 +96,14 @@ struct SphereTraceSettings {
   // then every sample starts there and takes one step and its shading, the least a sphere tracer
   // can spend on this frame. The result's passes (and gpu_ms) are that second pass alone.
   bool one_step_floor = false;
+  // GT and IPR, `fovlab bench --step-breakdown`: the top level traced by the tracer's step-breakdown
+  // variant, which counts where its samples' steps go (SphereTraceResult::step_breakdown); the frame
+  // is the same, bit for bit. Off, the plain tracer runs, with no counting compiled in.
+  bool step_breakdown = false;
+  // GT and IPR, a prototype of issue 41 (docs/benchmarks.md "Where the steps go"): the top level's
+  // samples step this many times the distance bound (Keinert et al. 2014's over-relaxation, 1 to 2),
+  // by a variant of the tracer. 1: off, the plain tracer.
+  float over_relaxation = 1.0f;
   FoveationSettings foveation;  // FIPR only
   // TraceMethod::sampling_model: the frame's map, whose screen is width x height. Each sample is
   // traced with samples_per_pixel rays spread over its footprint, from the camera (no pyramid).
@@ -152,6 +162,7 @@ struct SphereTraceResult {
   Image mask;                             // FIPR, TraceOutputs::all: 1 channel, 1 where traced at the top level;
                                           // sampling models: the samples shaded in each pixel
   uint64_t shaded_samples = 0;            // sampling models: samples traced and shaded this frame
+  std::optional<StepBreakdown> step_breakdown;  // SphereTraceSettings::step_breakdown: the top level's
   std::vector<vk::PassTime> passes;
   double gpu_ms = 0.0;  // sum of the passes
 
@@ -175,6 +186,9 @@ class SphereTracer {
   struct FrameRecording;                                    // one render being recorded
   struct DepthStart;                                        // where a level's rays start
   void prepare_frame(const SphereTraceSettings& settings);  // the buffers of its frame layout, kept if they fit
+  // The top level's tracer: the plain one, or a variant (step breakdown, over-relaxation) compiled on
+  // the first frame that asks for it.
+  const vk::ComputePipeline& top_level_pipeline(const SphereTraceSettings& settings);
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   // render()'s passes (sphere_tracer_passes.cpp), in the order a frame records them.
   void clear_counters(FrameRecording& f);  // and FIPR's mid colours when it has no history
@@ -191,8 +205,10 @@ class SphereTracer {
   void dispatch_list_sizes(FrameRecording& f, const char* pass, const vk::Buffer& counts, uint32_t first_counter,
                            uint32_t second_counter, uint32_t list_count);
   vk::Context& context_;
+  SceneSource scene_;  // for the step-breakdown variant
   bool shader_from_cache_ = false;
   std::unique_ptr<vk::ComputePipeline> trace_pipeline_;
+  std::map<std::string, std::unique_ptr<vk::ComputePipeline>> variant_pipelines_;  // by their #defines
   std::unique_ptr<vk::ComputePipeline> min_filter_pipeline_;
   std::unique_ptr<vk::ComputePipeline> edges_pipeline_;
   std::unique_ptr<vk::ComputePipeline> mask_pipeline_;

@@ -130,8 +130,11 @@ void SphereTracer::clear_counters(FrameRecording& f) {
 void SphereTracer::trace_level(FrameRecording& f, int level_index, const DepthStart& start) {
   const TraceParams params = f.trace_params(level_index, start);
   const auto buffers = f.trace_bindings(level_index, start);
+  // The top level's samples may run a variant of the tracer (step breakdown, over-relaxation).
+  const bool top = level_index + 1 == f.level_count;
+  const vk::ComputePipeline& pipeline = top ? top_level_pipeline(f.settings) : *trace_pipeline_;
   f.timer.begin(f.cmd, "trace_level" + std::to_string(level_index));
-  trace_pipeline_->dispatch_2d(f.cmd, buffers, &params, params.level_size[0], params.level_size[1]);
+  pipeline.dispatch_2d(f.cmd, buffers, &params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
   vk::compute_to_compute_barrier(f.cmd);
 }

@@ -49,7 +49,38 @@ const uint COUNTER_MID_SHADED_PIXELS = 4u;    // and shaded
 const uint COUNTER_REFRESHED_PIXELS = 5u;     // unmasked pixels given a new colour this frame
 const uint COUNTER_REFRESH_LIST_PIXELS = 6u;  // the periphery's refresh list, when the periphery is traced
 const uint COUNTER_MID_LIST_PIXELS = 7u;      // the mid level's list
-const uint COUNTER_COUNT = 8u;                // words of the buffer
+// The step breakdown of the top level's shaded samples (SphereTraceSettings::step_breakdown): counted
+// only by the tracer's step-breakdown variant (sphere_trace.comp.glsl compiled with
+// FOVLAB_STEP_BREAKDOWN defined); the plain tracer leaves these words 0. A 64-bit count is two
+// words, low then high. docs/benchmarks.md "Where the steps go (issue 41)" defines the categories.
+const uint COUNTER_STEP_CATEGORY_STEPS = 8u;         // STEP_CATEGORY_COUNT 64-bit counts: steps per category
+const uint COUNTER_STEP_CATEGORY_SAMPLES = 22u;      // STEP_CATEGORY_COUNT words: samples with a step in it
+const uint COUNTER_STEP_HISTOGRAM = 29u;             // STEP_HISTOGRAM_BINS words: samples by their steps
+const uint COUNTER_STEP_ONE_SURFACE_PIXELS = 37u;    // pixels whose samples all hit one surface at one depth
+const uint COUNTER_STEP_ONE_SURFACE_STEPS = 38u;     // 64-bit: all steps of those pixels' samples
+const uint COUNTER_STEP_ONE_SURFACE_APPROACH = 40u;  // 64-bit: their samples' approach steps
+const uint COUNTER_STEP_ONE_SURFACE_LONGEST = 42u;   // 64-bit: each such pixel's longest approach, summed
+const uint COUNTER_COUNT = 44u;                      // words of the buffer
+
+// The step breakdown's categories: every step of a shaded sample's march is in one. A step is near
+// a surface when its distance bound is under STEP_NEAR_FOOTPRINTS pixel footprints at its depth (or
+// under the hit threshold, if that is larger).
+const uint STEP_CATEGORY_APPROACH = 0u;    // a hit: the steps before its first near step
+const uint STEP_CATEGORY_SILHOUETTE = 1u;  // a hit: from its first near step to its final near run
+                                           // (near surfaces it passed, and the free space after them)
+const uint STEP_CATEGORY_GRAZING = 2u;     // a hit: its final near run, when at least STEP_LONG_RUN steps
+                                           // and the surface under STEP_GRAZING_SINE to the ray
+const uint STEP_CATEGORY_SLOW_BOUND = 3u;  // a hit: such a long final near run on a surface facing the ray
+                                           // more steeply (the scene's distance bound under-estimates)
+const uint STEP_CATEGORY_FINAL = 4u;       // a hit: its final near run when shorter, and the refining step
+const uint STEP_CATEGORY_MISS = 5u;        // every step of a sample that leaves the bounds (the background)
+const uint STEP_CATEGORY_OTHER = 6u;       // a sample stopped by the step cap; a start inside geometry
+const uint STEP_CATEGORY_COUNT = 7u;
+const uint STEP_HISTOGRAM_BINS = 8u;  // a sample's steps: 0-1, 2, 3-4, 5-8, 9-16, 17-32, 33-64, 65 or more
+const float STEP_NEAR_FOOTPRINTS = 1.0;
+const uint STEP_LONG_RUN = 4u;              // (an exact distance to a plane takes that many under about 22 degrees)
+const float STEP_GRAZING_SINE = 0.375;      // sine of 22 degrees: |normal . direction| at the hit below it
+const float STEP_ONE_SURFACE_DEPTH = 0.05;  // a one-surface pixel's samples lie within 5 % of the nearest's depth
 
 FOVLAB_GPU_END
 
