@@ -30,6 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::read_file;
+using test::replay;
 using test::resume_after_cut;
 using test::simulated;
 using test::study_fixture;
@@ -66,13 +67,6 @@ std::string config_error(const std::string& procedure, const std::string& block_
     return error.what();
   }
   return "no error";
-}
-
-ReplayOutcome replay(const std::string& log_path) {
-  ReplayOptions options;
-  options.log_path = log_path;
-  options.validation = true;
-  return replay_session(options);
 }
 
 TEST(AdaptiveSchedule, EachBlockPlansItsInterleavedStaircasesToTheirMaxTrials) {

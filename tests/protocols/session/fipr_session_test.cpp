@@ -34,6 +34,8 @@ using test::fresh_folder;
 using test::read_file;
 using test::relabelled_schema;
 using test::VulkanTest;
+using test::replay;
+using test::simulated_on_trace;
 
 // 2AFC, GT against FIPR with the periphery refreshed every 2nd image and taken from the mid level
 // (periphery_steps 0, the paper's reading, so the images depend on the gaze), two fovea sizes, 2 repeats:
@@ -87,24 +89,6 @@ StudyConfig fipr_config(const std::string& text = kFiprStudy) {
                                  renderer_scene_catalog());
 }
 
-SessionOptions simulated(const fs::path& results, const fs::path& trace) {
-  SessionOptions options;
-  options.participant = "P1";
-  options.results_dir = results.string();
-  options.observer = "simulated";
-  options.gaze = "trace:" + trace.string();
-  options.headless = true;
-  options.validation = true;
-  return options;
-}
-
-ReplayOutcome replay(const std::string& log_path) {
-  ReplayOptions options;
-  options.log_path = log_path;
-  options.validation = true;
-  return replay_session(options);
-}
-
 // A gaze trace that moves every refresh (a Lissajous path over the frame) for `seconds`, with a
 // sample that has no position every 5th refresh (the session shows the last valid one instead), so
 // every presentation of 6 refreshes has one.
@@ -143,7 +127,7 @@ std::vector<StimulusEvent> fipr_presentations(const std::string& log_path) {
 TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
   const fs::path results = fresh_folder("fipr-moving");
   const StudyConfig config = fipr_config();
-  const SessionOutcome outcome = run_session(config, simulated(results, moving_trace(results, 60.0)));
+  const SessionOutcome outcome = run_session(config, simulated_on_trace(results, moving_trace(results, 60.0)));
   ASSERT_TRUE(outcome.finished);
   EXPECT_EQ(outcome.trials_completed, 4);
 
@@ -248,7 +232,7 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     std::string text = kFiprStudy;
     text.replace(text.find("mask_seed = 11\n"), 15, "mask_seed = 11\n" + c.config_lines);
     const fs::path results = fresh_folder("fipr-schema-" + std::to_string(&c - cases.data()));
-    const SessionOutcome outcome = run_session(fipr_config(text), simulated(results, still_trace(results)));
+    const SessionOutcome outcome = run_session(fipr_config(text), simulated_on_trace(results, still_trace(results)));
     ASSERT_TRUE(outcome.finished);
     EXPECT_EQ(replay(outcome.log_path).difference_count, 0);
     const ReplayOutcome earlier = replay(relabelled(outcome.log_path, c.claimed_schema));
@@ -273,7 +257,7 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
   // A header that lacks a parameter (as older headers lack one added since, at its default) is not a
   // difference of the stimuli; the frames then decide.
   const fs::path results = fresh_folder("fipr-schema-lacking");
-  const SessionOutcome outcome = run_session(fipr_config(), simulated(results, still_trace(results)));
+  const SessionOutcome outcome = run_session(fipr_config(), simulated_on_trace(results, still_trace(results)));
   ASSERT_TRUE(outcome.finished);
   std::string lacking_text = read_file(outcome.log_path);
   const std::string recorded = "\"periphery_reconstruction\":\"bilinear\",";
@@ -289,7 +273,7 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
 
 TEST(FiprSession, EveryPresentationStartsAfreshSoTheSameGazeGivesTheSameImages) {
   const fs::path results = fresh_folder("fipr-still");
-  const SessionOutcome outcome = run_session(fipr_config(), simulated(results, still_trace(results)));
+  const SessionOutcome outcome = run_session(fipr_config(), simulated_on_trace(results, still_trace(results)));
   ASSERT_TRUE(outcome.finished);
   // Each FIPR stimulus is shown twice (2 repeats), other stimuli in between: the two presentations
   // of a stimulus are image for image the same, though the periphery refresh keeps pixels of the
@@ -311,7 +295,7 @@ TEST(FiprSession, AResumedSessionReplays) {
   const fs::path results = fresh_folder("fipr-resume");
   const StudyConfig config = fipr_config();
   const fs::path trace = moving_trace(results, 60.0);
-  const SessionOutcome whole = run_session(config, simulated(results / "whole", trace));
+  const SessionOutcome whole = run_session(config, simulated_on_trace(results / "whole", trace));
   const std::string text = read_file(whole.log_path);
   // Cut the log inside the third trial's events (after its trial_start), then resume.
   size_t cut = text.find("\"event\":\"trial_start\"");
@@ -321,7 +305,7 @@ TEST(FiprSession, AResumedSessionReplays) {
   const std::string log_path = session_log_path((results / "cut").string(), config.name, "P1");
   fs::create_directories(fs::path(log_path).parent_path());
   std::ofstream(log_path, std::ios::binary) << text.substr(0, cut);
-  const SessionOutcome resumed = run_session(config, simulated(results / "cut", trace));
+  const SessionOutcome resumed = run_session(config, simulated_on_trace(results / "cut", trace));
   EXPECT_TRUE(resumed.resumed);
   EXPECT_TRUE(resumed.finished);
   const ReplayOutcome replayed = replay(resumed.log_path);

@@ -32,6 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::read_file;
+using test::replay;
 
 constexpr int kWidthPx = 32, kHeightPx = 24;
 
@@ -109,21 +110,7 @@ SessionOptions simulated(const fs::path& results) {
   const fs::path trace = results / "gaze.csv";
   fs::create_directories(results);
   std::ofstream(trace) << "time_s,x_px,y_px\n0,8.5,6.25\n0.1,20.5,14.75\n";
-  SessionOptions options;
-  options.participant = "P1";
-  options.results_dir = results.string();
-  options.observer = "simulated";
-  options.gaze = "trace:" + trace.string();
-  options.headless = true;
-  options.validation = true;
-  return options;
-}
-
-ReplayOutcome replay(const std::string& log_path) {
-  ReplayOptions options;
-  options.log_path = log_path;
-  options.validation = true;
-  return replay_session(options);
+  return test::simulated_on_trace(results, trace);
 }
 
 // A PNG is sRGB-encoded and read in linear light; an EXR is read as it is.

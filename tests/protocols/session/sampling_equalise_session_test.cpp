@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::read_file;
 using test::relabelled_schema;
+using test::replay;
 
 // 2AFC, GT against the hyperbolic model over sigma, its zones small enough for this display.
 const std::string kStudy = R"([study]
@@ -77,21 +78,7 @@ SessionOptions simulated(const fs::path& results) {
   const fs::path trace = results / "still.csv";
   fs::create_directories(results);
   std::ofstream(trace) << "time_s,x_px,y_px\n0,20.5,30.25\n";
-  SessionOptions options;
-  options.participant = "P1";
-  options.results_dir = results.string();
-  options.observer = "simulated";
-  options.gaze = "trace:" + trace.string();
-  options.headless = true;
-  options.validation = true;
-  return options;
-}
-
-ReplayOutcome replay(const std::string& log_path) {
-  ReplayOptions options;
-  options.log_path = log_path;
-  options.validation = true;
-  return replay_session(options);
+  return test::simulated_on_trace(results, trace);
 }
 
 int differences_containing(const ReplayOutcome& replayed, const std::string& text) {

@@ -35,17 +35,11 @@ namespace fs = std::filesystem;
 using test::fixture_with;
 using test::fresh_folder;
 using test::read_file;
+using test::replay;
 using test::resume_after_cut;
 using test::simulated;
 using test::study_fixture;
 using test::trial_summary;
-
-ReplayOutcome replay(const std::string& log_path) {
-  ReplayOptions options;
-  options.log_path = log_path;
-  options.validation = true;
-  return replay_session(options);
-}
 
 class EveryProtocol : public ::testing::TestWithParam<const char*> {};
 
@@ -526,8 +520,7 @@ TEST(SessionValidation, FailingEveryAttemptPausesTheSessionAndResumingValidatesF
     out << "time_s,x_px,y_px\n";
     for (int i = 0; i < 120 * 60; ++i) out << i / 120.0 << ",32,18\n";
   }
-  SessionOptions options = simulated(results);
-  options.gaze = "trace:" + trace.string();
+  SessionOptions options = test::simulated_on_trace(results, trace);
   const SessionOutcome paused = run_session(config, options);
   EXPECT_FALSE(paused.finished);
   EXPECT_EQ(paused.trials_completed, 0);

@@ -11,6 +11,7 @@
 #include "protocols/stimuli/stimulus_settings.h"
 #include "study/config/study_config.h"
 #include "study/log/session_record.h"
+#include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "tests/support/temp_dir.h"
 
@@ -58,6 +59,21 @@ inline SessionOptions simulated(const std::filesystem::path& results, const std:
   options.headless = true;
   options.validation = true;
   return options;
+}
+
+// The same, its gaze read from a trace file (time_s,x_px,y_px).
+inline SessionOptions simulated_on_trace(const std::filesystem::path& results, const std::filesystem::path& trace) {
+  SessionOptions options = simulated(results);
+  options.gaze = "trace:" + trace.string();
+  return options;
+}
+
+// Replay of a log, with the validation layer on.
+inline ReplayOutcome replay(const std::string& log_path) {
+  ReplayOptions options;
+  options.log_path = log_path;
+  options.validation = true;
+  return replay_session(options);
 }
 
 // An empty folder for one session test, removed when the test process exits.
