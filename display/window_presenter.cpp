@@ -398,19 +398,9 @@ double WindowPresenter::present_source(const ComposeSource& source, bool recompo
       recompose || composed_extent_.width != extent_.width || composed_extent_.height != extent_.height;
 
   const VkImage image = images_[image_index];
-  const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   auto image_barrier = [&](VkImageLayout from, VkImageLayout to, VkAccessFlags src_access, VkAccessFlags dst_access,
                            VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage) {
-    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    barrier.srcAccessMask = src_access;
-    barrier.dstAccessMask = dst_access;
-    barrier.oldLayout = from;
-    barrier.newLayout = to;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.image = image;
-    barrier.subresourceRange = range;
-    vkCmdPipelineBarrier(command_buffer_, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+    vk::image_layout_barrier(command_buffer_, image, from, to, src_stage, src_access, dst_stage, dst_access);
   };
 
   VK_CHECK(vkResetCommandBuffer(command_buffer_, 0));

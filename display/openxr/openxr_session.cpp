@@ -23,6 +23,13 @@ void refuse_unless(XrResult result, const char* call) {
   if (XR_FAILED(result)) throw InputError(std::string("openxr: ") + call + ": " + openxr_result_name(result));
 }
 
+// The same for a runtime call that made a Vulkan object: both it and the Vulkan creation it made.
+void refuse_unless_made(XrResult result, VkResult vulkan_result, const char* call) {
+  if (XR_FAILED(result) || vulkan_result != VK_SUCCESS)
+    throw InputError(std::string("openxr: ") + call + ": " + openxr_result_name(result) + " (VkResult " +
+                     std::to_string(vulkan_result) + ")");
+}
+
 template <typename Function>
 Function extension_function(XrInstance instance, const char* name) {
   PFN_xrVoidFunction function = nullptr;
@@ -60,10 +67,7 @@ vk::VulkanCreator creator_through_runtime(XrInstance instance, XrSystemId system
     info.vulkanCreateInfo = &vulkan_info;
     VkInstance made = VK_NULL_HANDLE;
     VkResult vulkan_result = VK_SUCCESS;
-    const XrResult result = create_instance(instance, &info, &made, &vulkan_result);
-    if (XR_FAILED(result) || vulkan_result != VK_SUCCESS)
-      throw InputError("openxr: xrCreateVulkanInstanceKHR: " + openxr_result_name(result) + " (VkResult " +
-                       std::to_string(vulkan_result) + ")");
+    refuse_unless_made(create_instance(instance, &info, &made, &vulkan_result), vulkan_result, "xrCreateVulkanInstanceKHR");
     return made;
   };
   creator.choose_physical_device = [=](VkInstance vulkan_instance) {
@@ -82,10 +86,7 @@ vk::VulkanCreator creator_through_runtime(XrInstance instance, XrSystemId system
     info.vulkanCreateInfo = &vulkan_info;
     VkDevice made = VK_NULL_HANDLE;
     VkResult vulkan_result = VK_SUCCESS;
-    const XrResult result = create_device(instance, &info, &made, &vulkan_result);
-    if (XR_FAILED(result) || vulkan_result != VK_SUCCESS)
-      throw InputError("openxr: xrCreateVulkanDeviceKHR: " + openxr_result_name(result) + " (VkResult " +
-                       std::to_string(vulkan_result) + ")");
+    refuse_unless_made(create_device(instance, &info, &made, &vulkan_result), vulkan_result, "xrCreateVulkanDeviceKHR");
     return made;
   };
   return creator;

@@ -5,12 +5,11 @@
 // to the next, so any image can be rendered on its own.
 #include <cmath>
 #include <map>
-#include <optional>
 
 #include "core/input_error.h"
 #include "protocols/stimuli/image_sequence.h"
+#include "protocols/stimuli/sampled_frame_display.h"
 #include "protocols/stimuli/stimulus_renderer.h"
-#include "renderer/foveated_sampling/frame_sampler.h"
 
 namespace fovlab {
 namespace {
@@ -36,20 +35,9 @@ class ImageStimuli final : public StimulusRenderer {
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
     const std::vector<SequenceImage>& sequence = images(spec);
     const size_t index = sequence_image_index(sequence.size(), image.frame);
-    const std::string canonical = spec.canonical();
-    const std::string key = spec.scene + "#" + std::to_string(index);
-    if (key != sampler_frame_) {
-      sampler_frame_.clear();
-      sampler().set_frame(sequence[index].linear);
-      sampler_frame_ = key;
-    }
-    if (canonical != sampler_centre_spec_) {  // equalise's solution, solved once a stimulus
-      sampler_centre_ = sampling_map(spec, std::nan(""), std::nan(""));
-      sampler_centre_spec_ = canonical;
-    }
     PreparedFrame rendered;
-    rendered.on_device = sampler().display_frame_on_device(
-        sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*sampler_centre_), sampling_filter(spec));
+    rendered.on_device = sampled_.show(spec, image, spec.scene + "#" + std::to_string(index),
+                                       [&](FrameSampler& sampler) { sampler.set_frame(sequence[index].linear); });
     return rendered;
   }
 
@@ -64,17 +52,10 @@ class ImageStimuli final : public StimulusRenderer {
                   .first;
     return found->second;
   }
-  FrameSampler& sampler() {
-    if (!sampler_) sampler_ = std::make_unique<FrameSampler>(context_);
-    return *sampler_;
-  }
 
   vk::Context& context_;
   std::map<std::string, std::vector<SequenceImage>> sequences_;  // by folder, size and frame count
-  std::unique_ptr<FrameSampler> sampler_;
-  std::string sampler_frame_;                  // folder and image the sampler holds
-  std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
-  std::string sampler_centre_spec_;            // ... with this canonical text
+  SampledFrameDisplay sampled_{context_};
 };
 
 }  // namespace

@@ -4,11 +4,10 @@
 // pt-linear, pt-kfr: Ye et al. 2022's models on the frames). No state carries from one image to the
 // next, so any image can be rendered on its own.
 #include <cmath>
-#include <optional>
 
 #include "core/input_error.h"
+#include "protocols/stimuli/sampled_frame_display.h"
 #include "protocols/stimuli/stimulus_renderer.h"
-#include "renderer/foveated_sampling/frame_sampler.h"
 #include "renderer/path_tracing/path_tracer.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/zone_blend/zone_blender.h"
@@ -100,38 +99,21 @@ class PathTracedStimuli final : public StimulusRenderer {
   // The sampling models: as fpt, the frame is uploaded when the animation frame changes and the map
   // follows every gaze sample.
   DeviceRgba8Frame sampled(const StimulusSpec& spec, const StimulusImage& image) {
-    const std::string canonical = spec.canonical();
-    const std::string key = canonical + "#" + std::to_string(image.frame);
-    if (key != sampler_frame_) {
-      sampler_frame_.clear();
-      sampler().set_frame(frame_cache_.frame(path_traced_frames(spec).sequences[0], image.frame));
-      sampler_frame_ = key;
-    }
-    if (canonical != sampler_centre_spec_) {  // equalise's solution, solved once a stimulus
-      sampler_centre_ = sampling_map(spec, std::nan(""), std::nan(""));
-      sampler_centre_spec_ = canonical;
-    }
-    return sampler().display_frame_on_device(sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*sampler_centre_),
-                                             sampling_filter(spec));
+    return sampled_.show(spec, image, spec.canonical() + "#" + std::to_string(image.frame), [&](FrameSampler& sampler) {
+      sampler.set_frame(frame_cache_.frame(path_traced_frames(spec).sequences[0], image.frame));
+    });
   }
 
   ZoneBlender& blender() {
     if (!blender_) blender_ = std::make_unique<ZoneBlender>(context_);
     return *blender_;
   }
-  FrameSampler& sampler() {
-    if (!sampler_) sampler_ = std::make_unique<FrameSampler>(context_);
-    return *sampler_;
-  }
 
   vk::Context& context_;
   FrameCache frame_cache_;
   std::unique_ptr<ZoneBlender> blender_;
   std::string blender_frame_;  // spec and frame whose zone buffers the blender holds
-  std::unique_ptr<FrameSampler> sampler_;
-  std::string sampler_frame_;                  // spec and frame the sampler holds
-  std::optional<SamplingMap> sampler_centre_;  // the map with the gaze at the centre of the spec ...
-  std::string sampler_centre_spec_;            // ... with this canonical text
+  SampledFrameDisplay sampled_{context_};
 };
 
 }  // namespace

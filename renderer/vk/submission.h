@@ -32,6 +32,12 @@ class OneTimeCommands {
 void memory_barrier(VkCommandBuffer commands, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
                     VkPipelineStageFlags dst_stage, VkAccessFlags dst_access);
 
+// Moves a colour image (its one mip level and layer) from layout `from` to `to`, after `src_access`
+// in `src_stage` and before `dst_access` in `dst_stage`.
+void image_layout_barrier(VkCommandBuffer commands, VkImage image, VkImageLayout from, VkImageLayout to,
+                          VkPipelineStageFlags src_stage, VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
+                          VkAccessFlags dst_access);
+
 // Shorthand: compute pass -> next compute pass.
 void compute_to_compute_barrier(VkCommandBuffer commands);
 
