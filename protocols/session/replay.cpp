@@ -133,7 +133,15 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   for (const std::string& difference : header_differences(record.header, config)) differences.add("header", difference);
   const StudyPlan plan = make_study_plan(config, header.participant);
   // A session of the lab's images replays only on the images it showed: each one's SHA-256 (schema 9).
-  check_image_hashes(header.image_hashes, plan, options.log_path + ":1: image_hashes");
+  const std::string image_hashes_source = options.log_path + ":1: image_hashes";
+  const nlohmann::json current_images = [&] {
+    try {
+      return plan_image_hashes(plan);
+    } catch (const InputError& error) {
+      throw InputError(image_hashes_source + ": " + error.what());
+    }
+  }();
+  check_image_hashes(header.image_hashes, current_images, image_hashes_source);
   // What no session could have rendered is refused before the device is opened, as run refuses it.
   check_plan_renderable(plan, options.log_path + ":1: config_toml (of " + header.config_path + ")", PlanUse::replay);
   // The stimuli this build makes of config_toml must be those the session recorded: a parameter read
@@ -152,7 +160,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
           differences.add("header", "stimulus " + std::to_string(id) + ": " + difference);
   }
   const nlohmann::json& recorded_scenes = header.scene_hashes;
-  const nlohmann::json current_scenes = scene_hashes(plan);
+  const nlohmann::json current_scenes = scene_hashes(plan, current_images);
   if (recorded_scenes != current_scenes)
     differences.add("header", "scene files changed since the session (scene_hashes " + recorded_scenes.dump() +
                                   " now " + current_scenes.dump() + ")");

@@ -37,6 +37,7 @@
 #include "protocols/session/session_header.h"
 #include "protocols/session/session_run.h"
 #include "protocols/stimuli/plan_renderable.h"
+#include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "renderer/vk/context.h"
 
@@ -269,7 +270,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     if (record->ended && record->integrity.status == LogStatus::sealed)
       throw InputError(outcome.log_path + ": participant \"" + options.participant +
                        "\" already finished this study (" + record->end_reason + "); choose another participant ID");
-    if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan))
+    if (header.value("scene_hashes", nlohmann::json()) != scene_hashes(plan, plan_image_hashes(plan)))
       throw InputError(outcome.log_path +
                        ":1: a scene file changed since this participant started (scene_hashes); "
                        "restore it to resume, or use another participant ID");
@@ -360,6 +361,13 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   outcome.prepare_s =
       library.prepare(all, options.prepare_progress);  // scene errors surface here, before any event is written
   test_pause_point("prepared");
+  // The images the library holds are what the participant sees: a resumed session shows those the
+  // log recorded (an image changed between the check above and their reading is refused here), and a
+  // new one records the hashes of the very bytes it read.
+  const nlohmann::json shown_images = library.image_hashes();
+  if (record)
+    check_image_hashes(record->header.value("image_hashes", nlohmann::json::object()), shown_images,
+                       outcome.log_path + ":1: image_hashes");
   std::unique_ptr<ResponseSource> responses;
   if (observer_model) responses = std::make_unique<ObserverResponses>(*observer_model, plan);
   else responses = std::make_unique<KeyResponses>(config.protocol.question);
@@ -384,7 +392,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
         gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze),
         presenter->refresh_hz(),
         utc_now(),
-        participant_fields};
+        participant_fields,
+        shown_images};
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
   }

@@ -1,12 +1,12 @@
 #include "protocols/session/session_header.h"
 
 #include <map>
+#include <stdexcept>
 #include <set>
 
 #include "core/content_hash.h"
 #include "core/input_error.h"
 #include "study/log/event_log.h"
-#include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/scene_source.h"
@@ -63,7 +63,7 @@ ObserverModel observer_from_json(const nlohmann::json& json) {
   }
 }
 
-nlohmann::json scene_hashes(const StudyPlan& plan) {
+nlohmann::json scene_hashes(const StudyPlan& plan, const nlohmann::json& image_hashes) {
   nlohmann::json hashes = nlohmann::json::object();
   std::map<std::string, SceneKind> scenes;
   for (const PlannedStimulus& stimulus : plan.stimuli)
@@ -80,7 +80,8 @@ nlohmann::json scene_hashes(const StudyPlan& plan) {
         hashes[scene] = ContentHash().add(load_scene(scene).text).hex();
         break;
       case SceneKind::image_sequence:  // of its images' names and SHA-256s (each in image_hashes)
-        hashes[scene] = ContentHash().add(image_sequence_hashes(scene).dump()).hex();
+        if (!image_hashes.contains(scene)) throw std::logic_error("scene_hashes: no image hashes of " + scene);
+        hashes[scene] = ContentHash().add(image_hashes.at(scene).dump()).hex();
         break;
     }
   }
@@ -105,8 +106,8 @@ SessionHeaderEvent make_session_header(const SessionHeaderInputs& inputs) {
   header.conditions_csv = config.conditions_csv;
   header.protocol = protocol_name(config.protocol.kind);
   header.trial_count = static_cast<int64_t>(plan.trials.size());
-  header.scene_hashes = scene_hashes(plan);
-  header.image_hashes = plan_image_hashes(plan);
+  header.scene_hashes = scene_hashes(plan, inputs.image_hashes);
+  header.image_hashes = inputs.image_hashes;
   header.device = {{"name", inputs.device->name},
                    {"type", inputs.device->type},
                    {"api_version", inputs.device->api_version},

@@ -28,6 +28,7 @@ struct SessionHeaderInputs {
   double refresh_hz = 0.0;                  // measured by the presenter
   std::string started_utc;
   std::map<std::string, std::string> participant_fields;  // the config's [participant] fields
+  nlohmann::json image_hashes = nlohmann::json::object();  // StimulusLibrary::image_hashes(): what it showed
 };
 
 // The header event; lab_key_id is left null (run_session sets it for a keyed log).
@@ -45,8 +46,10 @@ nlohmann::json gaze_validation_json(const ValidationConfig& validation);
 nlohmann::json observer_json(const ObserverModel& model);
 ObserverModel observer_from_json(const nlohmann::json& json);  // throws InputError when malformed
 
-// The content hash of every scene file the plan uses, by scene name or path.
-nlohmann::json scene_hashes(const StudyPlan& plan);
+// The content hash of every scene file the plan uses, by scene name or path; an image folder's
+// is of its entry in `image_hashes` (the plan's image folders -> name -> SHA-256: plan_image_hashes,
+// or the images a session loaded).
+nlohmann::json scene_hashes(const StudyPlan& plan, const nlohmann::json& image_hashes);
 
 // The header's `stimuli`: every stimulus of the plan by id, its StimulusSpec's JSON with
 // is_reference, variant and level.

@@ -81,8 +81,11 @@ SequenceImage read_sequence_image(const fs::path& file) {
   return image;
 }
 
-std::vector<SequenceImage> read_image_sequence(const fs::path& folder, int width_px, int height_px, int frame_count) {
-  const std::vector<fs::path> files = image_sequence_files(folder);
+namespace {
+
+// read_image_sequence of a listing made once: the images shown, in order.
+std::vector<SequenceImage> read_listed_sequence(const fs::path& folder, const std::vector<fs::path>& files,
+                                                int width_px, int height_px, int frame_count) {
   if (files.size() != 1 && files.size() < static_cast<size_t>(std::max(frame_count, 1)))
     throw InputError(folder.string() + ": " + std::to_string(files.size()) + " images: expected one (a still) or " +
                      std::to_string(frame_count) +
@@ -109,6 +112,26 @@ std::vector<SequenceImage> read_image_sequence(const fs::path& folder, int width
   return images;
 }
 
+std::string file_sha256(const fs::path& file) {
+  return sha256_hex(read_input_file(file, kImageFileExpected, kMaxImageFileBytes));
+}
+
+}  // namespace
+
+std::vector<SequenceImage> read_image_sequence(const fs::path& folder, int width_px, int height_px, int frame_count) {
+  return read_listed_sequence(folder, image_sequence_files(folder), width_px, height_px, frame_count);
+}
+
+LoadedImageSequence load_image_sequence(const fs::path& folder, int width_px, int height_px, int frame_count) {
+  const std::vector<fs::path> files = image_sequence_files(folder);
+  LoadedImageSequence loaded;
+  loaded.shown = read_listed_sequence(folder, files, width_px, height_px, frame_count);
+  for (const SequenceImage& image : loaded.shown) loaded.hashes[image.name] = image.sha256;
+  for (size_t i = loaded.shown.size(); i < files.size(); ++i)
+    loaded.hashes[files[i].filename().string()] = file_sha256(files[i]);
+  return loaded;
+}
+
 size_t sequence_image_index(size_t image_count, int frame) {
   return image_count <= 1 ? 0 : std::min(image_count - 1, static_cast<size_t>(std::max(frame, 0)));
 }
@@ -116,7 +139,7 @@ size_t sequence_image_index(size_t image_count, int frame) {
 nlohmann::json image_sequence_hashes(const fs::path& folder) {
   nlohmann::json hashes = nlohmann::json::object();
   for (const fs::path& file : image_sequence_files(folder))
-    hashes[file.filename().string()] = sha256_hex(read_input_file(file, kImageFileExpected, kMaxImageFileBytes));
+    hashes[file.filename().string()] = file_sha256(file);
   return hashes;
 }
 
@@ -126,28 +149,22 @@ nlohmann::json plan_image_hashes(const StudyPlan& plan) {
   return hashes;
 }
 
-void check_image_hashes(const nlohmann::json& recorded, const StudyPlan& plan, const std::string& source) {
+void check_image_hashes(const nlohmann::json& recorded, const nlohmann::json& current, const std::string& source) {
   const auto refuse = [&](const std::string& what) { throw InputError(source + ": " + what); };
-  for (const auto& [folder, shown] : image_folders(plan)) {
+  for (const auto& [folder, now] : current.items()) {
     const nlohmann::json* logged =
         recorded.is_object() && recorded.contains(folder) ? &recorded.at(folder) : nullptr;
     if (!logged || !logged->is_object())
       refuse("image_hashes records no images of " + folder + ": expected the SHA-256 of each image the session showed");
-    std::error_code error;
-    std::set<std::string> now;
-    if (fs::is_directory(folder, error))
-      for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error))
-        if (is_sequence_image(entry->path())) now.insert(entry->path().filename().string());
     for (const auto& [name, hash] : logged->items()) {
       const fs::path file = fs::path(folder) / name;
-      if (!now.count(name))
+      if (!now.contains(name))
         refuse(file.string() + ": missing: the session showed it (SHA-256 " + hash.dump() + " in image_hashes)");
-      const std::string bytes = read_input_file(file, kImageFileExpected, kMaxImageFileBytes);
-      if (!hash.is_string() || sha256_hex(bytes) != hash.get<std::string>())
-        refuse(file.string() + ": changed since the session (SHA-256 " + sha256_hex(bytes) + ", image_hashes " +
-               hash.dump() + "): expected the image the session showed");
+      if (now.at(name) != hash)
+        refuse(file.string() + ": changed since the session (SHA-256 " + now.at(name).get<std::string>() +
+               ", image_hashes " + hash.dump() + "): expected the image the session showed");
     }
-    for (const std::string& name : now)
+    for (const auto& [name, hash] : now.items())
       if (!logged->contains(name))
         refuse((fs::path(folder) / name).string() +
                ": not one of the session's images (image_hashes): expected the folder as the session showed it");

@@ -40,6 +40,17 @@ SequenceImage read_sequence_image(const std::filesystem::path& file);
 std::vector<SequenceImage> read_image_sequence(const std::filesystem::path& folder, int width_px, int height_px,
                                                int frame_count);
 
+// What a session shows of a folder and records of it, from one reading of each file: the images
+// the frames show (read_image_sequence) and every image of the folder by name -> SHA-256 (those
+// shown: of the very bytes decoded), as image_sequence_hashes gives it. The session header's
+// image_hashes come from here, so the log names the bytes the participant saw.
+struct LoadedImageSequence {
+  std::vector<SequenceImage> shown;
+  nlohmann::json hashes = nlohmann::json::object();
+};
+LoadedImageSequence load_image_sequence(const std::filesystem::path& folder, int width_px, int height_px,
+                                        int frame_count);
+
 // The image an animation frame shows: image `frame`, or the only one.
 size_t sequence_image_index(size_t image_count, int frame);
 
@@ -49,10 +60,11 @@ nlohmann::json image_sequence_hashes(const std::filesystem::path& folder);
 // Every image folder the plan's stimuli show -> image_sequence_hashes; an empty object when none.
 nlohmann::json plan_image_hashes(const StudyPlan& plan);
 
-// Replay: InputError (one line, starting with `source`, naming the image) when an image the log
-// recorded (`recorded`: its header's image_hashes) is missing or its bytes changed, or the folder
-// now holds an image the log did not record.
-void check_image_hashes(const nlohmann::json& recorded, const StudyPlan& plan, const std::string& source);
+// Replay and resume: InputError (one line, starting with `source`, naming the image) when an image
+// the log recorded (`recorded`: its header's image_hashes) is missing or its bytes changed, or the
+// folder now holds an image the log did not record; `current` is the folders' hashes now
+// (plan_image_hashes, or what a stimulus library loaded).
+void check_image_hashes(const nlohmann::json& recorded, const nlohmann::json& current, const std::string& source);
 
 // Every image stimulus's sequence read and checked (read_image_sequence), each folder once:
 // InputError starting with `source` (the config) before anything is rendered or written.

@@ -33,7 +33,7 @@ class ImageStimuli final : public StimulusRenderer {
   }
 
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
-    const std::vector<SequenceImage>& sequence = images(spec);
+    const std::vector<SequenceImage>& sequence = images(spec).shown;
     const size_t index = sequence_image_index(sequence.size(), image.frame);
     PreparedFrame rendered;
     rendered.on_device = sampled_.show(spec, image, spec.scene + "#" + std::to_string(index),
@@ -41,20 +41,36 @@ class ImageStimuli final : public StimulusRenderer {
     return rendered;
   }
 
+  nlohmann::json image_hashes() const override {
+    nlohmann::json hashes = nlohmann::json::object();
+    for (const auto& [key, loaded] : sequences_) {
+      const std::string& folder = key.folder;
+      if (hashes.contains(folder) && hashes[folder] != loaded.hashes)
+        throw InputError(folder + ": its images changed while the session read them: expected the same bytes each time");
+      hashes[folder] = loaded.hashes;
+    }
+    return hashes;
+  }
+
  private:
-  // The spec's images, read once a folder and size.
-  const std::vector<SequenceImage>& images(const StimulusSpec& spec) {
-    const std::string key = spec.scene + "#" + std::to_string(spec.width_px) + "x" + std::to_string(spec.height_px) +
-                            "#" + std::to_string(spec.frame_count);
+  struct SequenceKey {
+    std::string folder;
+    int width_px = 0, height_px = 0, frame_count = 0;
+    auto operator<=>(const SequenceKey&) const = default;
+  };
+
+  // The spec's images, read once a folder, size and frame count.
+  const LoadedImageSequence& images(const StimulusSpec& spec) {
+    const SequenceKey key{spec.scene, spec.width_px, spec.height_px, spec.frame_count};
     auto found = sequences_.find(key);
     if (found == sequences_.end())
-      found = sequences_.emplace(key, read_image_sequence(spec.scene, spec.width_px, spec.height_px, spec.frame_count))
+      found = sequences_.emplace(key, load_image_sequence(spec.scene, spec.width_px, spec.height_px, spec.frame_count))
                   .first;
     return found->second;
   }
 
   vk::Context& context_;
-  std::map<std::string, std::vector<SequenceImage>> sequences_;  // by folder, size and frame count
+  std::map<SequenceKey, LoadedImageSequence> sequences_;
   SampledFrameDisplay sampled_{context_};
 };
 

@@ -27,6 +27,12 @@ StimulusRenderer& StimulusLibrary::renderer_for(const StimulusSpec& spec) {
   return *renderers_.at(stimulus_family(spec.method()));
 }
 
+nlohmann::json StimulusLibrary::image_hashes() const {
+  nlohmann::json hashes = nlohmann::json::object();
+  for (const auto& [family, renderer] : renderers_) hashes.update(renderer->image_hashes());
+  return hashes;
+}
+
 PreparedFrame StimulusLibrary::render_live(const StimulusSpec& spec, const StimulusImage& image) {
   const auto start = std::chrono::steady_clock::now();
   PreparedFrame rendered = renderer_for(spec).render(spec, image);

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/rgba8_frame.h"
 #include "protocols/gaze/gaze_sample.h"
 #include "protocols/stimuli/stimulus_settings.h"
@@ -93,6 +95,10 @@ class StimulusLibrary {
   // rendered in order, each with its own gaze, and the same gazes give the same images again.
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image);
   double render_seconds() const { return render_seconds_; }
+  // The image folders its stimuli read -> each image's name -> SHA-256 of the bytes read (the
+  // session header's image_hashes: the images shown, not the folder as it is later); an empty object
+  // when no stimulus shows images.
+  nlohmann::json image_hashes() const;
 
  private:
   // The renderer of the spec's family (stimulus_renderer.h), made once each by make_stimulus_renderer.

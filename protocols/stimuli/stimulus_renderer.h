@@ -13,6 +13,8 @@
 #include <memory>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "protocols/stimuli/stimulus_library.h"
 
 namespace fovlab {
@@ -43,6 +45,9 @@ class StimulusRenderer {
   // their hash. Gaze-dependent methods that keep state between images render a presentation's
   // images in order (check_image_sequence).
   virtual PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) = 0;
+  // The image folders this family has read -> each image's name -> SHA-256 of the bytes it read
+  // (image_sequence.h); an empty object for the families that read no images.
+  virtual nlohmann::json image_hashes() const { return nlohmann::json::object(); }
 };
 
 // The renderer of a family; `cache_root`: the pre-render cache's folder (path-traced family).

@@ -16,6 +16,7 @@
 #include "core/digest.h"
 #include "core/image_io.h"
 #include "core/input_error.h"
+#include "core/session_files.h"
 #include "protocols/session/replay.h"
 #include "protocols/session/session.h"
 #include "protocols/stimuli/image_sequence.h"
@@ -25,6 +26,7 @@
 #include "tests/app/cli_test_support.h"
 #include "tests/protocols/session/session_test_support.h"
 #include "tests/renderer/vulkan_test_fixture.h"
+#include "tests/support/fovlab_child.h"
 
 namespace fovlab {
 namespace {
@@ -247,6 +249,37 @@ TEST(ImageSession, RunsReplaysAndAnalyzes) {
   fs::remove(folder / "images" / "frame_002.png");
   write_image(folder / "images" / "frame_001.png", pattern(1));
   cli_test::expect_one_line_error(cli_test::run("replay " + outcome.log_path), "frame_002.png: missing");
+}
+
+// The header records the bytes the session read, not the folder as it is a moment later: an image
+// rewritten after the stimuli were read (the run stopped at its "prepared" pause point) leaves the
+// log naming the image the participant saw, and replay then refuses the rewritten one. Before,
+// the header hashed the folder again after reading it, so the log named an image never shown.
+TEST(ImageSession, TheHeaderRecordsTheImagesTheSessionRead) {
+  const fs::path folder = fresh_folder("image-read-once");
+  write_sequence(folder / "images", 3);
+  const std::string shown_hash = sha256_hex(read_file(folder / "images" / "frame_001.png"));
+  const fs::path results = folder / "results";
+  const SessionOptions options = simulated(results);  // writes the gaze trace
+  const pid_t run = test::start_fovlab({"run", write_study(folder).string(), "--participant", "P1", "--observer",
+                                        "simulated", "--headless", "--results", results.string(), "--gaze",
+                                        options.gaze},
+                                       "prepared", folder / "run-output.txt");
+  ASSERT_TRUE(test::wait_until_stopped(run)) << read_file(folder / "run-output.txt");
+  write_image(folder / "images" / "frame_001.png", pattern(7));
+  ASSERT_NE(sha256_hex(read_file(folder / "images" / "frame_001.png")), shown_hash);
+  kill(run, SIGCONT);
+  ASSERT_EQ(test::exit_code(run), 0) << read_file(folder / "run-output.txt");
+
+  const std::string log_path = session_log_path(results.string(), "image_session", "P1");
+  const SessionRecord record = read_session_record(read_event_log(log_path));
+  const std::string images_folder = (folder / "images").lexically_normal().string();
+  EXPECT_EQ(record.header.at("image_hashes").at(images_folder).at("frame_001.png"), shown_hash);
+  cli_test::expect_one_line_error(cli_test::run("replay " + log_path), "frame_001.png: changed since the session");
+  // The image the session showed, restored: the log replays to its frame hashes.
+  write_image(folder / "images" / "frame_001.png", pattern(1));
+  const ReplayOutcome replayed = replay(log_path);
+  EXPECT_EQ(replayed.difference_count, 0) << (replayed.differences.empty() ? "" : replayed.differences[0]);
 }
 
 // A missing or empty folder, an image that does not decode, images of another size, too few

@@ -24,6 +24,7 @@
 #include "protocols/session/session.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/protocols/session/session_test_support.h"
+#include "tests/support/fovlab_child.h"
 
 namespace fovlab {
 namespace {
@@ -40,40 +41,14 @@ struct Child {
 Child start_run(const fs::path& results, const std::string& pause_at, const std::string& name) {
   Child child;
   child.output = results.parent_path() / (name + "-output.txt");
-  const std::string config = test::study_fixture("pair").string();
-  const std::string results_text = results.string();
-  child.pid = fork();
-  if (child.pid == 0) {
-    if (pause_at.empty()) ::unsetenv("FOVLAB_TEST_PAUSE_AT");
-    else ::setenv("FOVLAB_TEST_PAUSE_AT", pause_at.c_str(), 1);
-    // Both appended (a stdout opened with "w" writes at its own offset, over stderr's lines).
-    std::fclose(std::fopen(child.output.c_str(), "w"));
-    freopen(child.output.c_str(), "a", stdout);
-    freopen(child.output.c_str(), "a", stderr);
-    execl(FOVLAB_BINARY, FOVLAB_BINARY, "run", config.c_str(), "--participant", "R1", "--observer", "simulated",
-          "--headless", "--results", results_text.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
+  child.pid = test::start_fovlab({"run", test::study_fixture("pair").string(), "--participant", "R1", "--observer",
+                                  "simulated", "--headless", "--results", results.string()},
+                                 pause_at, child.output);
   return child;
 }
 
-// Waits until the child has stopped itself at its pause point.
-bool wait_until_stopped(pid_t pid, double limit_s = 300.0) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  while (std::chrono::steady_clock::now() < deadline) {
-    int status = 0;
-    const pid_t got = waitpid(pid, &status, WNOHANG | WUNTRACED);
-    if (got == pid) return WIFSTOPPED(status);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return false;
-}
-
-int exit_code(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using test::exit_code;
+using test::wait_until_stopped;
 
 int count_of(const std::string& text, const std::string& needle) {
   int count = 0;
