@@ -174,6 +174,58 @@ TEST_F(HeadsetStudy, RunOnARuntimeWithEverythingSaysHeadsetSessionsAreNotBuiltYe
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
+// The plan's stimuli are made for the left eye's image; where the right eye's field of view is
+// another size, its sampling maps are checked too: a hyperbolic outer layer beyond a narrow right
+// eye's field is refused naming that eye, and accepted where both eyes are wide.
+TEST_F(HeadsetStudy, ValidateChecksTheRightEyesMapsWhereItsFieldDiffers) {
+  const std::string narrow_right = R"([study]
+name = "eyes"
+seed = 5
+
+[display]
+kind = "openxr"
+eye_width_px = 96
+eye_height_px = 96
+refresh_hz = 90
+left_eye_fov_deg = [-54, 49, 54, -56]
+right_eye_fov_deg = [-20, 20, 20, -20]
+
+[stimulus]
+duration_s = 0.1
+frames_per_second = 30
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "hyperbolic"
+inner_radius_deg = 5
+outer_radius_deg = 30
+equalise = "density"
+
+[levels]
+parameter = "sigma"
+values = [2, 2.6]
+higher_is_better = false
+
+[protocol]
+kind = "2afc"
+question = "same"
+
+[[block]]
+scene = "primitives"
+)";
+  const std::filesystem::path narrow = write("narrow.toml", narrow_right);
+  expect_refusal(cli_test::run("validate " + narrow.string() + " --no-render-timing"),
+                 narrow.string() + " (right eye): stimulus.test at level 2 (method \"hyperbolic\"): equalise: the "
+                                   "hyperbolic model cannot reach 1/sigma^2 = 0.25 on this display: no part of it lies "
+                                   "beyond outer_radius_deg");
+  std::string wide_right = narrow_right;
+  wide_right.replace(wide_right.find("[-20, 20, 20, -20]"), 18, "[-49, 54, 54, -56]");
+  const CommandResult wide = cli_test::run("validate " + write("wide.toml", wide_right).string() + " --no-render-timing");
+  EXPECT_EQ(wide.exit_code, 0) << wide.err;
+}
+
 // The two headset studies in experiments/ pass validate on a machine with no runtime.
 TEST(HeadsetExperimentsCli, ValidateAcceptsTheHeadsetStudies) {
   for (const std::string name : {"fipr_main_hmd", "rmfr_sigma_hmd"}) {
