@@ -47,7 +47,8 @@ void refuse_openxr_run(const StudyConfig& config, const std::string& gaze_option
   if (!has_openxr_headset(runtime))
     throw InputError("openxr: no headset (xrGetSystem: " + runtime.headset_result + ") on the OpenXR runtime " + name +
                      "; connect one to run " + path);
-  if (is_gaze_contingent(config) && !runtime.offers_eye_gaze_interaction && !names_trace_or_synthetic(config, gaze_option))
+  if (is_gaze_contingent(config) && !runtime.offers_eye_gaze_interaction &&
+      !names_trace_or_synthetic(config, gaze_option))
     throw InputError(path + ": a gaze-contingent study (" + method_following_gaze(config) +
                      " follows the gaze) needs the headset's eye gaze, and the OpenXR runtime " + name +
                      " does not offer XR_EXT_eye_gaze_interaction; name a trace or synthetic source ([gaze] require, "

@@ -203,12 +203,12 @@ void print_headset_display(const DisplayConfig& display) {
                   ? "the rendered depth"
                   : ("a point " + format_number(headset.fixation_distance_mm, 6) + " mm along the ray").c_str(),
               headset.ipd_mm);
-  for (const auto& [name, fov] : {std::pair{"left ", headset.left_eye_fov}, std::pair{"right", headset.right_eye_fov}}) {
+  for (const auto& [name, fov] :
+       {std::pair{"left ", headset.left_eye_fov}, std::pair{"right", headset.right_eye_fov}}) {
     const EyeViewGeometry eye = eye_view_geometry(fov, headset.eye_width_px, headset.eye_height_px);
-    std::printf(
-        "  %s eye %s: %.1f x %.1f deg, %.2f x %.2f px/deg at the view's centre (pixel %.1f, %.1f)\n", name,
-        field_of_view_text(fov).c_str(), eye.width_deg, eye.height_deg, eye.pixels_per_degree_x,
-        eye.pixels_per_degree_y, eye.centre_x_px, eye.centre_y_px);
+    std::printf("  %s eye %s: %.1f x %.1f deg, %.2f x %.2f px/deg at the view's centre (pixel %.1f, %.1f)\n", name,
+                field_of_view_text(fov).c_str(), eye.width_deg, eye.height_deg, eye.pixels_per_degree_x,
+                eye.pixels_per_degree_y, eye.centre_x_px, eye.centre_y_px);
   }
 }
 
@@ -233,8 +233,7 @@ void validate(const std::string& config_path, const std::string& participant, bo
   std::printf("study %s, protocol %s, seed %llu; participant \"%s\" (session seed %llu)\n", config.name.c_str(),
               protocol_name(config.protocol.kind), static_cast<unsigned long long>(config.seed), participant.c_str(),
               static_cast<unsigned long long>(plan.session_seed));
-  if (config.display.kind == DisplayKind::openxr)
-    print_headset_display(config.display);
+  if (config.display.kind == DisplayKind::openxr) print_headset_display(config.display);
   else
     std::printf("display %dx%d at %g Hz, %.1f x %.1f mm at %g mm\n", config.display.width_px, config.display.height_px,
                 config.display.refresh_hz, config.display.width_mm, config.display.height_mm,

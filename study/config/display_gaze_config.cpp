@@ -22,8 +22,10 @@ void read_display(const TomlFields& fields, DisplayConfig& display) {
     return;
   }
   if (kind != "window")
-    fields.fail("kind", "expected \"window\" (a desktop window, the default) or \"openxr\" (a headset, docs/hmd.md), "
-                        "got \"" + kind + "\"");
+    fields.fail("kind",
+                "expected \"window\" (a desktop window, the default) or \"openxr\" (a headset, docs/hmd.md), "
+                "got \"" +
+                    kind + "\"");
   refuse_headset_keys(fields);
   display.width_px = bounded_integer(fields, "width_px", std::nullopt, 8, 16384);
   display.height_px = bounded_integer(fields, "height_px", std::nullopt, 8, 16384);

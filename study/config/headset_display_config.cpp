@@ -85,9 +85,9 @@ namespace {
 // The keys of one kind of display, refused with the other.
 constexpr std::array<const char*, 7> kWindowKeys{"width_px",  "height_px",           "diagonal_in", "width_mm",
                                                  "height_mm", "viewing_distance_mm", "fullscreen"};
-constexpr std::array<const char*, 8> kHeadsetKeys{"eye_width_px",     "eye_height_px", "left_eye_fov_deg",
-                                                  "right_eye_fov_deg", "ipd_mm",        "view_model",
-                                                  "gaze_fixation",     "fixation_distance_mm"};
+constexpr std::array<const char*, 8> kHeadsetKeys{
+    "eye_width_px", "eye_height_px", "left_eye_fov_deg", "right_eye_fov_deg",
+    "ipd_mm",       "view_model",    "gaze_fixation",    "fixation_distance_mm"};
 
 // 0 (the runtime's recommendation) or 8..16384, as a window's size.
 int read_eye_size(const TomlFields& fields, const std::string& key) {
@@ -110,8 +110,8 @@ EyeFieldOfView read_field_of_view(const TomlFields& fields, const std::string& k
     fields.fail(key, expected + ", got left " + exact_number_text(fov.left_deg) + " and right " +
                          exact_number_text(fov.right_deg));
   if (!(fov.down_deg < 0.0 && fov.up_deg > 0.0))
-    fields.fail(key, expected + ", got up " + exact_number_text(fov.up_deg) + " and down " +
-                         exact_number_text(fov.down_deg));
+    fields.fail(
+        key, expected + ", got up " + exact_number_text(fov.up_deg) + " and down " + exact_number_text(fov.down_deg));
   return fov;
 }
 
@@ -120,15 +120,17 @@ EyeFieldOfView read_field_of_view(const TomlFields& fields, const std::string& k
 void refuse_headset_keys(const TomlFields& fields) {
   for (const char* key : kHeadsetKeys)
     if (fields.has(key))
-      fields.fail(key, "a key of [display] kind = \"openxr\" (a headset); this [display] is kind \"window\" (the "
-                       "default)");
+      fields.fail(key,
+                  "a key of [display] kind = \"openxr\" (a headset); this [display] is kind \"window\" (the "
+                  "default)");
 }
 
 void read_headset_display(const TomlFields& fields, DisplayConfig& display) {
   for (const char* key : kWindowKeys)
     if (fields.has(key))
-      fields.fail(key, "not a key of [display] kind = \"openxr\": a headset's geometry is each eye's (eye_width_px, "
-                       "eye_height_px, left_eye_fov_deg, right_eye_fov_deg)");
+      fields.fail(key,
+                  "not a key of [display] kind = \"openxr\": a headset's geometry is each eye's (eye_width_px, "
+                  "eye_height_px, left_eye_fov_deg, right_eye_fov_deg)");
   HeadsetDisplayConfig& headset = display.headset;
   headset.eye_width_px = read_eye_size(fields, "eye_width_px");
   headset.eye_height_px = read_eye_size(fields, "eye_height_px");
@@ -153,7 +155,8 @@ void read_headset_display(const TomlFields& fields, DisplayConfig& display) {
   const std::string fixation = fields.string("gaze_fixation", has_distance ? "fixation-distance" : "rendered-depth");
   if (fixation == "fixation-distance") {
     if (!has_distance)
-      fields.fail("gaze_fixation", "\"fixation-distance\" needs fixation_distance_mm (the distance along the gaze ray)");
+      fields.fail("gaze_fixation",
+                  "\"fixation-distance\" needs fixation_distance_mm (the distance along the gaze ray)");
     headset.gaze_fixation = GazeFixation::fixation_distance;
     headset.fixation_distance_mm = bounded_number(fields, "fixation_distance_mm", 0.0, 100.0, 1e6);
   } else if (fixation == "rendered-depth") {
@@ -162,9 +165,10 @@ void read_headset_display(const TomlFields& fields, DisplayConfig& display) {
                   "not with gaze_fixation = \"rendered-depth\" (the gaze meets the scene at its rendered depth); "
                   "drop one");
   } else {
-    fields.fail("gaze_fixation",
-                "expected \"rendered-depth\" (the default) or \"fixation-distance\" (with fixation_distance_mm), got \"" +
-                    fixation + "\"");
+    fields.fail(
+        "gaze_fixation",
+        "expected \"rendered-depth\" (the default) or \"fixation-distance\" (with fixation_distance_mm), got \"" +
+            fixation + "\"");
   }
   // The plan's stimuli: each eye's size, made for the left eye's image plane.
   display.width_px = headset.eye_width_px;

@@ -157,10 +157,10 @@ void check_frame_size_rules(const TomlFields& display_fields, const DisplayConfi
       const std::string width = headset ? "eye_width_px" : "width_px", height = headset ? "eye_height_px" : "height_px";
       if (samples > method.max_samples_per_frame)
         display_fields.fail(width, "expected " + width + " x " + height + " x samples_per_pixel of at most " +
-                                            std::to_string(method.max_samples_per_frame) + " samples a frame (" +
-                                            std::string(method.name) + "), got " + std::to_string(display.width_px) +
-                                            " x " + std::to_string(display.height_px) + " x " + format_number(spp, 6) +
-                                            " = " + std::to_string(samples));
+                                       std::to_string(method.max_samples_per_frame) + " samples a frame (" +
+                                       std::string(method.name) + "), got " + std::to_string(display.width_px) + " x " +
+                                       std::to_string(display.height_px) + " x " + format_number(spp, 6) + " = " +
+                                       std::to_string(samples));
     }
   }
 }

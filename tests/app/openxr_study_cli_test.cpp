@@ -38,7 +38,8 @@ seed = 5
 
 [display]
 kind = "openxr"
-)" + eye_size + R"(
+)" + eye_size +
+         R"(
 refresh_hz = 90
 left_eye_fov_deg = [-54, 49, 54, -56]
 right_eye_fov_deg = [-49, 54, 54, -56]
@@ -82,8 +83,8 @@ class HeadsetStudy : public OpenXrStudyCli {
 };
 
 TEST_F(HeadsetStudy, ValidatePrintsEachEyesGeometry) {
-  const CommandResult result = cli_test::run("validate " + write("a.toml", headset_study()).string() +
-                                             " --no-render-timing");
+  const CommandResult result =
+      cli_test::run("validate " + write("a.toml", headset_study()).string() + " --no-render-timing");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("display openxr: 64x72 px an eye at 90 Hz, head-locked, gaze to each eye through the "
                             "rendered depth, IPD 63 mm\n"),
@@ -106,9 +107,9 @@ TEST_F(HeadsetStudy, ValidateSimulateAndPrerenderNeedEachEyesSize) {
   const std::filesystem::path config = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
   for (const std::string command : {"validate", "simulate", "prerender"}) {
     SCOPED_TRACE(command);
-    expect_refusal(cli_test::run(command + " " + config.string(), "cd " + scratch_.path().string() + " &&"),
-                          config.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab " +
-                              command);
+    expect_refusal(
+        cli_test::run(command + " " + config.string(), "cd " + scratch_.path().string() + " &&"),
+        config.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab " + command);
   }
 }
 
@@ -123,42 +124,42 @@ TEST_F(HeadsetStudy, RunWithoutARuntimeRefusesInOneLine) {
 TEST_F(HeadsetStudy, RunRefusesARuntimeWithoutVulkanOrAHeadset) {
   const std::filesystem::path config = write("a.toml", headset_study());
   expect_refusal(run_study(config, "FOVLAB_TEST_XR_VULKAN=absent"),
-                        "openxr: the OpenXR runtime (fovlab test runtime 0.1.0) does not offer XR_KHR_vulkan_enable2; "
-                        "fovlab renders through Vulkan");
+                 "openxr: the OpenXR runtime (fovlab test runtime 0.1.0) does not offer XR_KHR_vulkan_enable2; "
+                 "fovlab renders through Vulkan");
   expect_refusal(run_study(config, "FOVLAB_TEST_XR_HEADSET=absent"),
-                        "openxr: no headset (xrGetSystem: XR_ERROR_FORM_FACTOR_UNAVAILABLE) on the OpenXR runtime "
-                        "fovlab test runtime 0.1.0");
+                 "openxr: no headset (xrGetSystem: XR_ERROR_FORM_FACTOR_UNAVAILABLE) on the OpenXR runtime "
+                 "fovlab test runtime 0.1.0");
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
 // A gaze-contingent study needs the headset's eye gaze, unless a trace or synthetic source is named.
 TEST_F(HeadsetStudy, RunRefusesAGazeContingentStudyWithoutEyeGazeUnlessTheGazeIsNamed) {
-  const CommandResult devices = cli_test::run("devices", child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) +
-                                                             " FOVLAB_TEST_XR_EYE_GAZE=absent");
+  const CommandResult devices =
+      cli_test::run("devices", child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) + " FOVLAB_TEST_XR_EYE_GAZE=absent");
   ASSERT_EQ(devices.exit_code, 0) << devices.err;
   EXPECT_NE(devices.out.find("XR_KHR_vulkan_enable2: yes, XR_EXT_eye_gaze_interaction: no"), std::string::npos)
       << devices.out;
   const std::filesystem::path config = write("a.toml", headset_study());
   const CommandResult refused = run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent");
-  expect_refusal(refused, config.string() + ": a gaze-contingent study (fipr follows the gaze) needs the "
-                                                   "headset's eye gaze, and the OpenXR runtime fovlab test runtime "
-                                                   "0.1.0 does not offer XR_EXT_eye_gaze_interaction");
+  expect_refusal(refused, config.string() +
+                              ": a gaze-contingent study (fipr follows the gaze) needs the "
+                              "headset's eye gaze, and the OpenXR runtime fovlab test runtime "
+                              "0.1.0 does not offer XR_EXT_eye_gaze_interaction");
   // Named in the config or on the command line: past this refusal, to the last one.
-  const std::filesystem::path synthetic = write("synthetic.toml", headset_study(
-                                                                       "eye_width_px = 64\neye_height_px = 72",
-                                                                       "\n[gaze]\nrequire = \"synthetic\"\n"));
+  const std::filesystem::path synthetic = write(
+      "synthetic.toml", headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n"));
   expect_refusal(run_study(synthetic, "FOVLAB_TEST_XR_EYE_GAZE=absent"), "is not built yet");
-  expect_refusal(run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON,
-                                  " --gaze synthetic:seed=3"),
-                        "is not built yet");
+  expect_refusal(
+      run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3"),
+      "is not built yet");
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
 TEST_F(HeadsetStudy, RunRefusesAnEyeOverTheRuntimesMaximumNamingTheKey) {
   const std::filesystem::path config = write("large.toml", headset_study("eye_width_px = 4000\neye_height_px = 1600"));
   expect_refusal(run_study(config), config.string() +
-                                               ":7: display.eye_width_px: expected an eye image of at most the "
-                                               "runtime's 2880x3200 (fovlab test runtime 0.1.0), got 4000x1600");
+                                        ":7: display.eye_width_px: expected an eye image of at most the "
+                                        "runtime's 2880x3200 (fovlab test runtime 0.1.0), got 4000x1600");
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
@@ -167,8 +168,8 @@ TEST_F(HeadsetStudy, RunRefusesAnEyeOverTheRuntimesMaximumNamingTheKey) {
 TEST_F(HeadsetStudy, RunOnARuntimeWithEverythingSaysHeadsetSessionsAreNotBuiltYet) {
   const std::filesystem::path config = write("a.toml", headset_study());
   expect_refusal(run_study(config), "openxr: " + config.string() +
-                                               ": a headset session opened on fovlab test runtime 0.1.0 (64x72 px an "
-                                               "eye) and closed: running a study in the headset is not built yet");
+                                        ": a headset session opened on fovlab test runtime 0.1.0 (64x72 px an "
+                                        "eye) and closed: running a study in the headset is not built yet");
   const std::filesystem::path recommended = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
   expect_refusal(run_study(recommended), "(1440x1600 px an eye) and closed");
   EXPECT_FALSE(std::filesystem::exists(results_));
@@ -217,12 +218,14 @@ scene = "primitives"
 )";
   const std::filesystem::path narrow = write("narrow.toml", narrow_right);
   expect_refusal(cli_test::run("validate " + narrow.string() + " --no-render-timing"),
-                 narrow.string() + " (right eye): stimulus.test at level 2 (method \"hyperbolic\"): equalise: the "
-                                   "hyperbolic model cannot reach 1/sigma^2 = 0.25 on this display: no part of it lies "
-                                   "beyond outer_radius_deg");
+                 narrow.string() +
+                     " (right eye): stimulus.test at level 2 (method \"hyperbolic\"): equalise: the "
+                     "hyperbolic model cannot reach 1/sigma^2 = 0.25 on this display: no part of it lies "
+                     "beyond outer_radius_deg");
   std::string wide_right = narrow_right;
   wide_right.replace(wide_right.find("[-20, 20, 20, -20]"), 18, "[-49, 54, 54, -56]");
-  const CommandResult wide = cli_test::run("validate " + write("wide.toml", wide_right).string() + " --no-render-timing");
+  const CommandResult wide =
+      cli_test::run("validate " + write("wide.toml", wide_right).string() + " --no-render-timing");
   EXPECT_EQ(wide.exit_code, 0) << wide.err;
 }
 
@@ -230,9 +233,9 @@ scene = "primitives"
 TEST(HeadsetExperimentsCli, ValidateAcceptsTheHeadsetStudies) {
   for (const std::string name : {"fipr_main_hmd", "rmfr_sigma_hmd"}) {
     SCOPED_TRACE(name);
-    const CommandResult result = cli_test::run("validate " + std::string(FOVLAB_SOURCE_DIR) + "/experiments/" + name +
-                                                   ".toml --no-render-timing",
-                                               "env XR_RUNTIME_JSON=/nonexistent.json");
+    const CommandResult result = cli_test::run(
+        "validate " + std::string(FOVLAB_SOURCE_DIR) + "/experiments/" + name + ".toml --no-render-timing",
+        "env XR_RUNTIME_JSON=/nonexistent.json");
     ASSERT_EQ(result.exit_code, 0) << result.err;
     EXPECT_NE(result.out.find(": valid\n"), std::string::npos) << result.out;
     EXPECT_NE(result.out.find("display openxr: 1440x1600 px an eye at 90 Hz"), std::string::npos) << result.out;

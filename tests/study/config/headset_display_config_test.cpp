@@ -131,12 +131,13 @@ TEST(HeadsetDisplayConfig, ReadsEachEyesSizeAndAnglesWithTheDefaults) {
   EXPECT_EQ(headset.view_model, HeadsetViewModel::head_tracked);
   EXPECT_EQ(headset.gaze_fixation, GazeFixation::fixation_distance);  // fixation_distance_mm implies it
   EXPECT_EQ(headset.fixation_distance_mm, 750.0);
-  const std::string both = replaced(chosen, "fixation_distance_mm", "gaze_fixation = \"fixation-distance\"\nfixation_distance_mm");
+  const std::string both =
+      replaced(chosen, "fixation_distance_mm", "gaze_fixation = \"fixation-distance\"\nfixation_distance_mm");
   EXPECT_EQ(parse(config_with(both)).display.headset.gaze_fixation, GazeFixation::fixation_distance);
 
   // The runtime's recommendation: both 0, read (run asks the runtime), refused where a size is needed.
-  const std::string recommended = replaced(replaced(kHeadset, "eye_width_px = 64", "eye_width_px = 0"),
-                                           "eye_height_px = 72", "eye_height_px = 0");
+  const std::string recommended =
+      replaced(replaced(kHeadset, "eye_width_px = 64", "eye_width_px = 0"), "eye_height_px = 72", "eye_height_px = 0");
   const StudyConfig runtime_sized = parse(config_with(recommended));
   EXPECT_EQ(runtime_sized.display.headset.eye_width_px, 0);
   try {
@@ -164,17 +165,16 @@ TEST(HeadsetDisplayConfig, WindowIsTheDefaultKindAndReadsAsBefore) {
 }
 
 TEST(HeadsetDisplayConfig, KeysOfTheOtherKindAreRefusedNamingTheKeyAndTheKind) {
-  for (const std::string headset_key : {"eye_width_px = 64", "left_eye_fov_deg = [-50, 50, 50, -50]", "ipd_mm = 63",
-                                        "view_model = \"head-locked\"", "gaze_fixation = \"rendered-depth\"",
-                                        "fixation_distance_mm = 800"}) {
+  for (const std::string headset_key :
+       {"eye_width_px = 64", "left_eye_fov_deg = [-50, 50, 50, -50]", "ipd_mm = 63", "view_model = \"head-locked\"",
+        "gaze_fixation = \"rendered-depth\"", "fixation_distance_mm = 800"}) {
     const std::string text = config_with(kWindow + headset_key + "\n");
     const std::string key = headset_key.substr(0, headset_key.find(' '));
     expect_error(text, line_of(text, headset_key), "display." + key,
                  "a key of [display] kind = \"openxr\" (a headset); this [display] is kind \"window\"");
   }
-  for (const std::string window_key :
-       {"width_px = 320", "height_px = 180", "width_mm = 600", "height_mm = 340", "diagonal_in = 27",
-        "viewing_distance_mm = 500", "fullscreen = true"}) {
+  for (const std::string window_key : {"width_px = 320", "height_px = 180", "width_mm = 600", "height_mm = 340",
+                                       "diagonal_in = 27", "viewing_distance_mm = 500", "fullscreen = true"}) {
     const std::string text = config_with(kHeadset + window_key + "\n");
     const std::string key = window_key.substr(0, window_key.find(' '));
     expect_error(text, line_of(text, window_key), "display." + key, "not a key of [display] kind = \"openxr\"");
@@ -233,8 +233,8 @@ TEST(HeadsetDisplayConfig, RefusesBadSizesAnglesAndChoicesInOneLine) {
 TEST(HeadsetDisplayConfig, ValidationTargetsMustFitEachEyesFieldOfView) {
   const std::string validation = "\n[validation]\ntarget_offset_deg = 40\n";
   EXPECT_TRUE(parse(config_with(kHeadset, validation)).validation.enabled);  // 40.3 < 49
-  const std::string narrow = replaced(kHeadset, "right_eye_fov_deg = [-49, 54, 54, -56]",
-                                      "right_eye_fov_deg = [-38, 54, 54, -56]");
+  const std::string narrow =
+      replaced(kHeadset, "right_eye_fov_deg = [-49, 54, 54, -56]", "right_eye_fov_deg = [-38, 54, 54, -56]");
   const std::string text = config_with(narrow, validation);
   expect_error(text, line_of(text, "target_offset_deg"), "validation.target_offset_deg",
                "expected targets in each eye's field of view: at 40 deg the outer ones fall outside the right eye's "
