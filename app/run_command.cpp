@@ -11,6 +11,7 @@
 #include "analysis/statistics/percentile.h"
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/openxr_run.h"
 #include "app/output_options.h"
 #include "core/input_error.h"
 #include "protocols/gaze/gaze_spec.h"
@@ -30,6 +31,8 @@ struct RunOptions {
 
 void run(RunOptions options) {
   const StudyConfig config = parse_study_config_file(options.config_path, renderer_scene_catalog());
+  if (config.display.kind == DisplayKind::openxr)  // the runtime's refusals, before any window or folder
+    refuse_openxr_run(config, options.session.gaze, context_options(options.device).validation);
   SessionOptions& session = options.session;
   // A gaze-contingent study in a window needs its gaze source named, and a config's [gaze] require
   // is kept (docs/gaze.md): refused before the display is looked for, any window or any folder.

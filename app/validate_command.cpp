@@ -7,11 +7,13 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/output_options.h"
+#include "core/number_text.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/vk/context.h"
 #include "study/config/study_config.h"
@@ -141,6 +143,7 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
                 key.second.c_str(), group.stimuli, group.frames, 1e3 * frame_s);
   }
   const double refresh_ms = 1e3 / plan.config.display.refresh_hz;
+  const int eyes = plan.config.display.kind == DisplayKind::openxr ? 2 : 1;  // a headset renders both a refresh
   for (const auto& [key, group] : live) {
     const StimulusSpec& spec = group.first->spec;
     const int id = next_id++;
@@ -150,9 +153,10 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
     centre.y_px = 0.5 * spec.height_px;
     library.frame(id, spec, StimulusImage{0, 0, centre});  // the first frame builds what the rest reuse
     const double frame_s = timed_s([&] { library.frame(id, spec, StimulusImage{0, 1, centre}); });
-    std::printf("  %-8s %-24s %3d stimuli rendered live: %.1f ms a frame against a refresh of %.1f ms%s\n",
-                key.first.c_str(), key.second.c_str(), group.stimuli, 1e3 * frame_s, refresh_ms,
-                1e3 * frame_s > refresh_ms ? " (frames will be dropped on this device)" : "");
+    std::printf("  %-8s %-24s %3d stimuli rendered live: %.1f ms a frame%s against a refresh of %.1f ms%s\n",
+                key.first.c_str(), key.second.c_str(), group.stimuli, 1e3 * frame_s,
+                eyes == 2 ? " (an eye: two a refresh)" : "", refresh_ms,
+                eyes * 1e3 * frame_s > refresh_ms ? " (frames will be dropped on this device)" : "");
   }
   // Path-traced frames: those the pre-render cache lacks render before the first trial too.
   const std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan));
@@ -174,12 +178,48 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
               path_traced.c_str());
 }
 
+// A headset's plan is made for its left eye's image; the right eye's is checked too where its field
+// of view has another size (the sampling maps' checks depend on it).
+void check_right_eye_renderable(const StudyConfig& config, const std::string& participant,
+                                const std::string& config_path) {
+  if (config.display.kind != DisplayKind::openxr) return;
+  const FlatDisplayOfEye right = flat_display_of_eye(config.display.headset.right_eye_fov);
+  if (right.width_mm == config.display.width_mm && right.height_mm == config.display.height_mm) return;
+  StudyConfig right_eye = config;
+  right_eye.display.width_mm = right.width_mm;
+  right_eye.display.height_mm = right.height_mm;
+  right_eye.display.viewing_distance_mm = right.viewing_distance_mm;
+  check_plan_renderable(make_study_plan(right_eye, participant), config_path + " (right eye)", PlanUse::session);
+}
+
+// The headset's display: one line for the whole, then one an eye (its angles, angular size and
+// pixels per degree at the view's centre).
+void print_headset_display(const DisplayConfig& display) {
+  const HeadsetDisplayConfig& headset = display.headset;
+  std::printf("display openxr: %dx%d px an eye at %g Hz, %s, gaze to each eye through %s, IPD %g mm\n",
+              headset.eye_width_px, headset.eye_height_px, display.refresh_hz,
+              headset_view_model_name(headset.view_model),
+              headset.gaze_fixation == GazeFixation::rendered_depth
+                  ? "the rendered depth"
+                  : ("a point " + format_number(headset.fixation_distance_mm, 6) + " mm along the ray").c_str(),
+              headset.ipd_mm);
+  for (const auto& [name, fov] :
+       {std::pair{"left ", headset.left_eye_fov}, std::pair{"right", headset.right_eye_fov}}) {
+    const EyeViewGeometry eye = eye_view_geometry(fov, headset.eye_width_px, headset.eye_height_px);
+    std::printf("  %s eye %s: %.1f x %.1f deg, %.2f x %.2f px/deg at the view's centre (pixel %.1f, %.1f)\n", name,
+                field_of_view_text(fov).c_str(), eye.width_deg, eye.height_deg, eye.pixels_per_degree_x,
+                eye.pixels_per_degree_y, eye.centre_x_px, eye.centre_y_px);
+  }
+}
+
 void validate(const std::string& config_path, const std::string& participant, bool time_render,
               const std::string& device, const std::string& cache_dir) {
   check_output_target(cache_dir, "--cache", {OutputKind::folder});  // the default's too: the timed sample may fill it
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
+  require_eye_image_size(config, "validate");
   const StudyPlan plan = make_study_plan(config, participant);
   check_plan_renderable(plan, config_path, PlanUse::session);  // what a session would refuse, refused now
+  check_right_eye_renderable(config, participant, config_path);
   check_log_fits_readers(plan, config_path);                   // what validate accepts, the log readers can read back
   int checks = 0, practice = 0;
   std::set<std::string> conditions;
@@ -193,13 +233,19 @@ void validate(const std::string& config_path, const std::string& participant, bo
   std::printf("study %s, protocol %s, seed %llu; participant \"%s\" (session seed %llu)\n", config.name.c_str(),
               protocol_name(config.protocol.kind), static_cast<unsigned long long>(config.seed), participant.c_str(),
               static_cast<unsigned long long>(plan.session_seed));
-  std::printf("display %dx%d at %g Hz, %.1f x %.1f mm at %g mm\n", config.display.width_px, config.display.height_px,
-              config.display.refresh_hz, config.display.width_mm, config.display.height_mm,
-              config.display.viewing_distance_mm);
+  if (config.display.kind == DisplayKind::openxr) print_headset_display(config.display);
+  else
+    std::printf("display %dx%d at %g Hz, %.1f x %.1f mm at %g mm\n", config.display.width_px, config.display.height_px,
+                config.display.refresh_hz, config.display.width_mm, config.display.height_mm,
+                config.display.viewing_distance_mm);
   // Which gaze sources may run it (docs/gaze.md, "Which source a session may use").
   if (!config.gaze.require.empty())
     std::printf("gaze: [gaze] require = %s (a source of another kind is refused, headless too)\n",
                 config.gaze.require_text().c_str());
+  else if (is_gaze_contingent(config) && config.display.kind == DisplayKind::openxr)
+    std::printf(
+        "gaze: gaze-contingent: a headset session takes the headset's eye gaze (XR_EXT_eye_gaze_interaction); on a "
+        "runtime without it, a trace or synthetic source the config names ([gaze] require)\n");
   else if (is_gaze_contingent(config))
     std::printf(
         "gaze: gaze-contingent: a session in a window needs --gaze (a tracker: pupil[:HOST[:PORT]]; --gaze mouse "

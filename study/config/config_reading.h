@@ -3,6 +3,7 @@
 //   study_config.cpp          the order the tables are read in, [study], [analysis], [participant],
 //                             [[block]], the canonical text behind content_hash, the field helpers
 //   display_gaze_config.cpp   [display], [gaze], [validation] (what the participant sees, where they look)
+//   headset_display_config.cpp  [display] kind = "openxr": a headset's keys and its per-eye checks
 //   stimulus_config.cpp       [stimulus] (methods, variants, parameter rules), [levels], scenes
 //   conditions_file.cpp       [conditions]: the variants and levels as a CSV file's rows
 //   protocol_config.cpp       [protocol], [timing], [attention], [practice], [procedure.NAME]
@@ -42,6 +43,16 @@ int bounded_integer(const TomlFields& fields, const std::string& key, std::optio
 void read_display(const TomlFields& fields, DisplayConfig& display);
 void read_gaze(const TomlFields& fields, GazeConfig& gaze);
 void read_validation(const TomlFields& fields, const DisplayConfig& display, ValidationConfig& validation);
+
+// ---- [display] kind = "openxr" (headset_display_config.cpp) ----
+
+// A window's [display] giving a headset's key: one line naming the key and the kind.
+void refuse_headset_keys(const TomlFields& fields);
+// The rest of [display] once its kind is "openxr" (a window's keys refused, naming the kind).
+void read_headset_display(const TomlFields& fields, DisplayConfig& display);
+// [validation]'s targets and their disks inside each eye's field of view.
+void check_validation_targets_in_each_eye(const TomlFields& fields, const HeadsetDisplayConfig& headset,
+                                          const ValidationConfig& validation);
 
 // ---- [stimulus], [levels], scenes (stimulus_config.cpp) ----
 

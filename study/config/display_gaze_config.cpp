@@ -15,6 +15,18 @@
 namespace fovlab::config_detail {
 
 void read_display(const TomlFields& fields, DisplayConfig& display) {
+  const std::string kind = fields.string("kind", "window");
+  if (kind == "openxr") {
+    display.kind = DisplayKind::openxr;
+    read_headset_display(fields, display);  // headset_display_config.cpp
+    return;
+  }
+  if (kind != "window")
+    fields.fail("kind",
+                "expected \"window\" (a desktop window, the default) or \"openxr\" (a headset, docs/hmd.md), "
+                "got \"" +
+                    kind + "\"");
+  refuse_headset_keys(fields);
   display.width_px = bounded_integer(fields, "width_px", std::nullopt, 8, 16384);
   display.height_px = bounded_integer(fields, "height_px", std::nullopt, 8, 16384);
   display.refresh_hz = fields.number("refresh_hz", 60.0);
@@ -82,6 +94,11 @@ void read_validation(const TomlFields& fields, const DisplayConfig& display, Val
   if (refreshes - first + 1 < 3)
     fields.fail("settle_s", "expected target_s - settle_s to hold at least 3 refreshes at " +
                                 format_number(display.refresh_hz, 6) + " Hz (each target is measured on them)");
+  if (display.kind == DisplayKind::openxr) {
+    check_validation_targets_in_each_eye(fields, display.headset, validation);
+    fields.finish();
+    return;
+  }
   // Every target, disk included, on the screen.
   const double radius_px = validation_target_radius_px(display, validation);
   for (const auto& [x_px, y_px] : validation_targets_px(display, validation)) {

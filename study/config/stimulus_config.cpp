@@ -153,12 +153,14 @@ void check_frame_size_rules(const TomlFields& display_fields, const DisplayConfi
     if (method.max_samples_per_frame > 0 && samples_per_pixel) {
       const double spp = samples_per_pixel->read(parameters);
       const uint64_t samples = uint64_t(display.width_px) * uint64_t(display.height_px) * static_cast<uint64_t>(spp);
+      const bool headset = display.kind == DisplayKind::openxr;  // the size is each eye's
+      const std::string width = headset ? "eye_width_px" : "width_px", height = headset ? "eye_height_px" : "height_px";
       if (samples > method.max_samples_per_frame)
-        display_fields.fail("width_px", "expected width_px x height_px x samples_per_pixel of at most " +
-                                            std::to_string(method.max_samples_per_frame) + " samples a frame (" +
-                                            std::string(method.name) + "), got " + std::to_string(display.width_px) +
-                                            " x " + std::to_string(display.height_px) + " x " + format_number(spp, 6) +
-                                            " = " + std::to_string(samples));
+        display_fields.fail(width, "expected " + width + " x " + height + " x samples_per_pixel of at most " +
+                                       std::to_string(method.max_samples_per_frame) + " samples a frame (" +
+                                       std::string(method.name) + "), got " + std::to_string(display.width_px) + " x " +
+                                       std::to_string(display.height_px) + " x " + format_number(spp, 6) + " = " +
+                                       std::to_string(samples));
     }
   }
 }

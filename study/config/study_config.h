@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "study/config/headset_display.h"
 #include "study/config/scene_catalog.h"
 #include "study/protocol/protocol_rules.h"
 #include "study/schedule/quest_plus.h"
@@ -19,7 +20,11 @@ namespace fovlab {
 // (The rules' names are string literals, so the view is NUL-terminated.)
 inline const char* protocol_name(ProtocolKind kind) { return protocol_rules(kind).name.data(); }
 
+// [display]. A window's fields as given; a headset's (kind openxr) in `headset`, with width_px and
+// height_px each eye's image and the millimetres those of its left eye's flat_display_of_eye (the
+// plan's stimuli are made for them until per-eye rendering).
 struct DisplayConfig {
+  DisplayKind kind = DisplayKind::window;
   int width_px = 0;
   int height_px = 0;
   double refresh_hz = 60.0;
@@ -27,6 +32,7 @@ struct DisplayConfig {
   double height_mm = 0.0;
   double viewing_distance_mm = 0.0;
   bool fullscreen = false;
+  HeadsetDisplayConfig headset;  // kind openxr only
 };
 
 // A rendering method and its parameters (names and ranges in study/stimulus/stimulus_spec.h).
@@ -271,6 +277,11 @@ StudyConfig parse_study_config_text(const std::string& text, const std::string& 
 StudyConfig parse_logged_study_config(const std::string& text, const std::string& path_for_messages,
                                       int log_schema_version, const SceneCatalog* scenes,
                                       const std::string& conditions_csv = {});
+
+// validate, prerender and simulate make the plan's stimuli, so they need each eye's size: a headset
+// config whose eye_width_px and eye_height_px are 0 (the runtime's recommendation, which only `fovlab
+// run` asks for) is refused, one line naming the key and `command`. A window config passes.
+void require_eye_image_size(const StudyConfig& config, const std::string& command);
 
 // A gaze-contingent study: its stimuli follow the gaze (the reference's or the test's method
 // depends_on_gaze: fipr, fpt, the sampling models), so where the gaze comes from decides what the

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
+#include <vector>
 
 #include "tests/xr_runtime/loader_negotiation.h"
 
@@ -28,16 +29,26 @@ HandleTable& handle_table() {
 }
 
 // FOVLAB_TEST_XR_VULKAN=absent in the environment takes XR_KHR_vulkan_enable2 off the list: a
-// runtime that cannot hand Vulkan to the application.
+// runtime that cannot hand Vulkan to the application. FOVLAB_TEST_XR_EYE_GAZE=absent takes
+// XR_EXT_eye_gaze_interaction off: a headset without an eye tracker.
 std::span<const ExtensionEntry> offered_extensions() {
   static const std::array<ExtensionEntry, 3> extensions{{
       {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_vulkan_enable2_SPEC_VERSION},
       {XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME, XR_EXT_eye_gaze_interaction_SPEC_VERSION},
       {XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME, XR_KHR_convert_timespec_time_SPEC_VERSION},
   }};
-  const char* vulkan = std::getenv("FOVLAB_TEST_XR_VULKAN");
-  if (vulkan != nullptr && std::string_view(vulkan) == "absent") return std::span(extensions).subspan(1);
-  return extensions;
+  const auto absent = [](const char* variable) {
+    const char* setting = std::getenv(variable);
+    return setting != nullptr && std::string_view(setting) == "absent";
+  };
+  static std::vector<ExtensionEntry> offered;  // read anew each call, as the environment says now
+  offered.clear();
+  for (const ExtensionEntry& extension : extensions) {
+    if (extension.name == XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME && absent("FOVLAB_TEST_XR_VULKAN")) continue;
+    if (extension.name == XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME && absent("FOVLAB_TEST_XR_EYE_GAZE")) continue;
+    offered.push_back(extension);
+  }
+  return offered;
 }
 
 void destroy_with_children(HandleTable& table, uint64_t handle) {

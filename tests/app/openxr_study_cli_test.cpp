@@ -1,0 +1,248 @@
+// A study config with [display] kind = "openxr" at the command line: validate prints each eye's
+// geometry and needs each eye's size; run refuses in one line (exit 2) what the runtime lacks, and,
+// on a runtime with everything, says that headset sessions are not built yet, all before a results
+// folder exists. The runtime is the test runtime (tests/xr_runtime) in a child process (the loader
+// of OpenXR 1.0.20 keeps one instance a process and caches what it listed), configured by its
+// environment switches, with the OpenXR core validation layer on (its file must stay empty).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "tests/app/cli_test_support.h"
+#include "tests/display/openxr/openxr_test_support.h"
+
+namespace fovlab {
+namespace {
+
+using cli_test::CommandResult;
+using test::OpenXrTest;
+
+// The refusal is one line on stderr; the validation layer's own line at load ("Core Validation
+// output type: text, first time = true", on stderr, once an instance is made) is no message of fovlab's.
+void expect_refusal(CommandResult result, const std::string& must_contain) {
+  const std::string layer_line = "Core Validation output type: ";
+  for (size_t at; (at = result.err.find(layer_line)) != std::string::npos;)
+    result.err.erase(at, result.err.find('\n', at) + 1 - at);
+  cli_test::expect_one_line_error(result, must_contain);
+}
+
+using OpenXrStudyCli = OpenXrTest;
+
+// A FIPR study (gaze-contingent) at 64x72 an eye; `more` is appended ([gaze], ...).
+std::string headset_study(const std::string& eye_size = "eye_width_px = 64\neye_height_px = 72",
+                          const std::string& more = "") {
+  return R"([study]
+name = "headset_cli"
+seed = 5
+
+[display]
+kind = "openxr"
+)" + eye_size +
+         R"(
+refresh_hz = 90
+left_eye_fov_deg = [-54, 49, 54, -56]
+right_eye_fov_deg = [-49, 54, 54, -56]
+
+[stimulus]
+duration_s = 0.1
+frames_per_second = 30
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "fipr"
+
+[levels]
+parameter = "fovea_radius_deg"
+values = [5, 10]
+
+[protocol]
+kind = "2afc"
+question = "same"
+
+[[block]]
+scene = "primitives"
+)" + more;
+}
+
+class HeadsetStudy : public OpenXrStudyCli {
+ protected:
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    return cli_test::write_file(scratch_.path() / name, text);
+  }
+  // fovlab run in the scratch folder with the test runtime (`switches`: its environment switches).
+  CommandResult run_study(const std::filesystem::path& config, const std::string& switches = "",
+                          const std::string& runtime_json = FOVLAB_TEST_XR_RUNTIME_JSON,
+                          const std::string& flags = "") {
+    return cli_test::run("run " + config.string() + " --participant P01 --results " + results_.string() + flags,
+                         child_environment(runtime_json) + " " + switches);
+  }
+  std::filesystem::path results_ = scratch_.path() / "results";
+};
+
+TEST_F(HeadsetStudy, ValidatePrintsEachEyesGeometry) {
+  const CommandResult result =
+      cli_test::run("validate " + write("a.toml", headset_study()).string() + " --no-render-timing");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("display openxr: 64x72 px an eye at 90 Hz, head-locked, gaze to each eye through the "
+                            "rendered depth, IPD 63 mm\n"),
+            std::string::npos)
+      << result.out;
+  // tan 54 + tan 49 = 2.5268 across 64 px: 0.4421 px/deg; tan 54 + tan 56 = 2.8590 down 72 px.
+  EXPECT_NE(result.out.find("  left  eye [-54, 49, 54, -56] deg: 103.0 x 110.0 deg, 0.44 x 0.44 px/deg at the "
+                            "view's centre (pixel 34.9, 34.7)\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("  right eye [-49, 54, 54, -56] deg: 103.0 x 110.0 deg, 0.44 x 0.44 px/deg at the "
+                            "view's centre (pixel 29.1, 34.7)\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("gaze: gaze-contingent: a headset session takes the headset's eye gaze"), std::string::npos)
+      << result.out;
+}
+
+TEST_F(HeadsetStudy, ValidateSimulateAndPrerenderNeedEachEyesSize) {
+  const std::filesystem::path config = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
+  for (const std::string command : {"validate", "simulate", "prerender"}) {
+    SCOPED_TRACE(command);
+    expect_refusal(
+        cli_test::run(command + " " + config.string(), "cd " + scratch_.path().string() + " &&"),
+        config.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab " + command);
+  }
+}
+
+TEST_F(HeadsetStudy, RunWithoutARuntimeRefusesInOneLine) {
+  const CommandResult result =
+      run_study(write("a.toml", headset_study()), "", (scratch_.path() / "missing.json").string());
+  expect_refusal(result, "openxr: no OpenXR runtime (XR_ERROR_RUNTIME_UNAVAILABLE); ");
+  EXPECT_NE(result.err.find("runs in a headset ([display] kind = \"openxr\")"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
+TEST_F(HeadsetStudy, RunRefusesARuntimeWithoutVulkanOrAHeadset) {
+  const std::filesystem::path config = write("a.toml", headset_study());
+  expect_refusal(run_study(config, "FOVLAB_TEST_XR_VULKAN=absent"),
+                 "openxr: the OpenXR runtime (fovlab test runtime 0.1.0) does not offer XR_KHR_vulkan_enable2; "
+                 "fovlab renders through Vulkan");
+  expect_refusal(run_study(config, "FOVLAB_TEST_XR_HEADSET=absent"),
+                 "openxr: no headset (xrGetSystem: XR_ERROR_FORM_FACTOR_UNAVAILABLE) on the OpenXR runtime "
+                 "fovlab test runtime 0.1.0");
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
+// A gaze-contingent study needs the headset's eye gaze, unless a trace or synthetic source is named.
+TEST_F(HeadsetStudy, RunRefusesAGazeContingentStudyWithoutEyeGazeUnlessTheGazeIsNamed) {
+  const CommandResult devices =
+      cli_test::run("devices", child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) + " FOVLAB_TEST_XR_EYE_GAZE=absent");
+  ASSERT_EQ(devices.exit_code, 0) << devices.err;
+  EXPECT_NE(devices.out.find("XR_KHR_vulkan_enable2: yes, XR_EXT_eye_gaze_interaction: no"), std::string::npos)
+      << devices.out;
+  const std::filesystem::path config = write("a.toml", headset_study());
+  const CommandResult refused = run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent");
+  expect_refusal(refused, config.string() +
+                              ": a gaze-contingent study (fipr follows the gaze) needs the "
+                              "headset's eye gaze, and the OpenXR runtime fovlab test runtime "
+                              "0.1.0 does not offer XR_EXT_eye_gaze_interaction");
+  // Named in the config or on the command line: past this refusal, to the last one.
+  const std::filesystem::path synthetic = write(
+      "synthetic.toml", headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n"));
+  expect_refusal(run_study(synthetic, "FOVLAB_TEST_XR_EYE_GAZE=absent"), "is not built yet");
+  expect_refusal(
+      run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3"),
+      "is not built yet");
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
+TEST_F(HeadsetStudy, RunRefusesAnEyeOverTheRuntimesMaximumNamingTheKey) {
+  const std::filesystem::path config = write("large.toml", headset_study("eye_width_px = 4000\neye_height_px = 1600"));
+  expect_refusal(run_study(config), config.string() +
+                                        ":7: display.eye_width_px: expected an eye image of at most the "
+                                        "runtime's 2880x3200 (fovlab test runtime 0.1.0), got 4000x1600");
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
+// A runtime with everything: the headset session opens (Vulkan through the runtime, both eyes'
+// swapchains) and closes, and the refusal says the rest is not built; 0 takes the runtime's size.
+TEST_F(HeadsetStudy, RunOnARuntimeWithEverythingSaysHeadsetSessionsAreNotBuiltYet) {
+  const std::filesystem::path config = write("a.toml", headset_study());
+  expect_refusal(run_study(config), "openxr: " + config.string() +
+                                        ": a headset session opened on fovlab test runtime 0.1.0 (64x72 px an "
+                                        "eye) and closed: running a study in the headset is not built yet");
+  const std::filesystem::path recommended = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
+  expect_refusal(run_study(recommended), "(1440x1600 px an eye) and closed");
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
+// The plan's stimuli are made for the left eye's image; where the right eye's field of view is
+// another size, its sampling maps are checked too: a hyperbolic outer layer beyond a narrow right
+// eye's field is refused naming that eye, and accepted where both eyes are wide.
+TEST_F(HeadsetStudy, ValidateChecksTheRightEyesMapsWhereItsFieldDiffers) {
+  const std::string narrow_right = R"([study]
+name = "eyes"
+seed = 5
+
+[display]
+kind = "openxr"
+eye_width_px = 96
+eye_height_px = 96
+refresh_hz = 90
+left_eye_fov_deg = [-54, 49, 54, -56]
+right_eye_fov_deg = [-20, 20, 20, -20]
+
+[stimulus]
+duration_s = 0.1
+frames_per_second = 30
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "hyperbolic"
+inner_radius_deg = 5
+outer_radius_deg = 30
+equalise = "density"
+
+[levels]
+parameter = "sigma"
+values = [2, 2.6]
+higher_is_better = false
+
+[protocol]
+kind = "2afc"
+question = "same"
+
+[[block]]
+scene = "primitives"
+)";
+  const std::filesystem::path narrow = write("narrow.toml", narrow_right);
+  expect_refusal(cli_test::run("validate " + narrow.string() + " --no-render-timing"),
+                 narrow.string() +
+                     " (right eye): stimulus.test at level 2 (method \"hyperbolic\"): equalise: the "
+                     "hyperbolic model cannot reach 1/sigma^2 = 0.25 on this display: no part of it lies "
+                     "beyond outer_radius_deg");
+  std::string wide_right = narrow_right;
+  wide_right.replace(wide_right.find("[-20, 20, 20, -20]"), 18, "[-49, 54, 54, -56]");
+  const CommandResult wide =
+      cli_test::run("validate " + write("wide.toml", wide_right).string() + " --no-render-timing");
+  EXPECT_EQ(wide.exit_code, 0) << wide.err;
+}
+
+// The two headset studies in experiments/ pass validate on a machine with no runtime.
+TEST(HeadsetExperimentsCli, ValidateAcceptsTheHeadsetStudies) {
+  for (const std::string name : {"fipr_main_hmd", "rmfr_sigma_hmd"}) {
+    SCOPED_TRACE(name);
+    const CommandResult result = cli_test::run(
+        "validate " + std::string(FOVLAB_SOURCE_DIR) + "/experiments/" + name + ".toml --no-render-timing",
+        "env XR_RUNTIME_JSON=/nonexistent.json");
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.out.find(": valid\n"), std::string::npos) << result.out;
+    EXPECT_NE(result.out.find("display openxr: 1440x1600 px an eye at 90 Hz"), std::string::npos) << result.out;
+    EXPECT_NE(result.out.find("  left  eye [-54, 49, 54, -56] deg: 103.0 x 110.0 deg"), std::string::npos)
+        << result.out;
+  }
+}
+
+}  // namespace
+}  // namespace fovlab
