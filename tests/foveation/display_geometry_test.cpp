@@ -91,8 +91,9 @@ TEST(OffAxisDisplay, PixelsPerDegreeAtThePrincipalPoint) {
   // That many pixels right of the principal point lie atan(pi / 180) radians out.
   const double px = d.principal_point_x_px(), py = d.principal_point_y_px();
   EXPECT_NEAR(eccentricity_deg(d, px, py, px + ppd, py), std::atan(1.0 / kDegrees) * kDegrees, 1e-10);
-  // 1440 pixels over tan(54) + tan(49) of the plane's distance: about 8.9 pixels a degree there.
+  // 1440 pixels over tan(54) + tan(49) of the plane's distance: 9.95 pixels a degree there.
   EXPECT_NEAR(ppd, 1440.0 / (std::tan(radians(54.0)) + std::tan(radians(49.0))) / kDegrees, 1e-9);
+  EXPECT_NEAR(ppd, 9.9467, 1e-4);
 }
 
 TEST(OffAxisDisplay, SymmetricFieldOfViewIsTheSquareOnDisplay) {

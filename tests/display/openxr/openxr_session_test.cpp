@@ -10,13 +10,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/input_error.h"
 #include "display/openxr/openxr_eye_view.h"
 #include "display/openxr/openxr_frame_loop.h"
 #include "display/openxr/openxr_session.h"
+#include "foveation/sampling_map.h"
 #include "renderer/present/device_frame.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -155,7 +158,8 @@ TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
 // Each eye rendered from the view the runtime located for it, relative to the head (the head-locked
 // view model: eye_view_from_openxr), with its asymmetric angles: each eye's swapchain image, as the
 // runtime's compositor read it, equals the renderer's offscreen frame of that eye's view, method and
-// gaze byte for byte, for GT, IPR and FIPR (its fovea on the eye's off-axis image plane), with both
+// gaze byte for byte, for GT, IPR, FIPR and the sampling models (FIPR's fovea and the models' maps on
+// the eye's off-axis image plane), with both
 // validation layers silent. The test runtime's eyes sit at -+31.5 mm along x, the left one 54 degrees
 // to the temple, 49 to the nose, 54 up and 56 down, the right one mirrored (docs/hmd.md).
 TEST_F(OpenXrHeadsetSession, EachEyesImageIsTheOffscreenFrameOfItsView) {
@@ -171,7 +175,9 @@ TEST_F(OpenXrHeadsetSession, EachEyesImageIsTheOffscreenFrameOfItsView) {
     options.validation = true;
     OpenXrSession session(options);
     SphereTracer tracer(*session.vulkan, load_scene("primitives"));
-    const auto eye_settings = [](TraceMethod method, const EyeView& view) {
+    // The sampling models (Ye et al. 2022) too, their maps made on the eye's off-axis image plane.
+    std::optional<SamplingModel> sampling_model;
+    const auto eye_settings = [&sampling_model](TraceMethod method, const EyeView& view) {
       SphereTraceSettings settings;
       settings.method = method;
       settings.width = 64;
@@ -184,6 +190,14 @@ TEST_F(OpenXrHeadsetSession, EachEyesImageIsTheOffscreenFrameOfItsView) {
         settings.foveation.gaze_x_px = 24.0;
         settings.foveation.gaze_y_px = 40.0;
         settings.foveation.acuity.fovea_radius_deg = 8.0;
+      }
+      if (method == TraceMethod::sampling_model) {
+        SamplingSettings sampling;
+        sampling.model = *sampling_model;
+        sampling.inner_radius_deg = 8.0;
+        sampling.outer_radius_deg = 20.0;
+        sampling.outer_pixel_size_px = 4.0;
+        settings.sampling = make_sampling_map(sampling, eye_display(view, 64, 72), 24.0, 40.0);
       }
       return settings;
     };
@@ -201,14 +215,23 @@ TEST_F(OpenXrHeadsetSession, EachEyesImageIsTheOffscreenFrameOfItsView) {
     ASSERT_EQ(session.state, XR_SESSION_STATE_FOCUSED);
 
     const double degree = std::acos(-1.0) / 180.0;
-    for (const TraceMethod frame_method :
-         {TraceMethod::ground_truth, TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid}) {
+    const std::vector<std::pair<TraceMethod, std::optional<SamplingModel>>> cases = {
+        {TraceMethod::ground_truth, std::nullopt},
+        {TraceMethod::inverted_pyramid, std::nullopt},
+        {TraceMethod::foveated_pyramid, std::nullopt},
+        {TraceMethod::sampling_model, SamplingModel::rectangular},
+        {TraceMethod::sampling_model, SamplingModel::hyperbolic},
+        {TraceMethod::sampling_model, SamplingModel::linear},
+        {TraceMethod::sampling_model, SamplingModel::kernel_log_polar}};
+    for (const auto& [frame_method, frame_model] : cases) {
       method = frame_method;
+      sampling_model = frame_model;
+      const std::string name = frame_model ? sampling_model_name(*frame_model) : method_name(method);
       const OpenXrFrame frame = run_openxr_frame(session, eye_frame);
       ASSERT_TRUE(frame.rendered);
       std::array<std::vector<uint8_t>, 2> submitted_bytes;
       for (uint32_t eye = 0; eye < 2; ++eye) {
-        const std::string where = std::string(method_name(method)) + " eye " + std::to_string(eye);
+        const std::string where = name + " eye " + std::to_string(eye);
         // The view the eye was rendered from is the runtime's: the eye in the head, its four angles.
         const EyeView& view = rendered_views[eye];
         EXPECT_NEAR(view.position_in_head[0], eye == 0 ? -0.0315 : 0.0315, 1e-6) << where;
@@ -233,7 +256,7 @@ TEST_F(OpenXrHeadsetSession, EachEyesImageIsTheOffscreenFrameOfItsView) {
           desktop.foveation.display = display_from_size(64, 72, 64.0, 72.0, 100.0);
         EXPECT_FALSE(read_back(tracer.render(desktop).display).rgba == offscreen.rgba) << where;
       }
-      EXPECT_NE(submitted_bytes[0], submitted_bytes[1]) << method_name(method) << ": the eyes see different views";
+      EXPECT_NE(submitted_bytes[0], submitted_bytes[1]) << name << ": the eyes see different views";
     }
     request_openxr_exit(session);
     poll_openxr_events(session);
