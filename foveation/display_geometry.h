@@ -47,6 +47,7 @@ struct EyeFieldOfView {
   double angle_right_rad = 0.0;
   double angle_up_rad = 0.0;
   double angle_down_rad = 0.0;
+  bool operator==(const EyeFieldOfView&) const = default;
 };
 
 // A display of the given diagonal (inches) with square pixels. Throws InputError when a value is

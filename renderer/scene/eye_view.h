@@ -19,6 +19,7 @@ struct EyeView {
   std::array<double, 3> position_in_head{0.0, 0.0, 0.0};          // scene units
   std::array<double, 4> orientation_in_head{0.0, 0.0, 0.0, 1.0};  // unit quaternion x, y, z, w
   EyeFieldOfView field_of_view;                                   // radians, as XrFovf
+  bool operator==(const EyeView&) const = default;
 };
 
 // The eye's image plane of width_px x height_px pixels (display_from_field_of_view): for the
