@@ -57,16 +57,20 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
     XrViewLocateInfo locate{XR_TYPE_VIEW_LOCATE_INFO};
     locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
     locate.displayTime = frame_state.predictedDisplayTime;
-    locate.space = session.local_space;
-    XrViewState view_state{XR_TYPE_VIEW_STATE};
-    frame.views.fill(XrView{XR_TYPE_VIEW});
-    uint32_t view_count = 0;
-    check_frame_call(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, frame.views.data()),
-                     "xrLocateViews");
-    if (view_count != 2)
-      throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
+    const auto locate_in = [&](XrSpace space, std::array<XrView, 2>& views) {
+      locate.space = space;
+      XrViewState view_state{XR_TYPE_VIEW_STATE};
+      views.fill(XrView{XR_TYPE_VIEW});
+      uint32_t view_count = 0;
+      check_frame_call(xrLocateViews(session.session, &locate, &view_state, 2, &view_count, views.data()),
+                       "xrLocateViews");
+      if (view_count != 2)
+        throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
+    };
+    locate_in(session.local_space, frame.views);
+    locate_in(session.view_space, frame.views_in_head);
     for (uint32_t eye = 0; eye < 2; ++eye) {
-      const DeviceRgba8Frame image = eye_frame(eye, frame.views[eye]);
+      const DeviceRgba8Frame image = eye_frame(eye, OpenXrEyeView{frame.views[eye], frame.views_in_head[eye]});
       if (!image || image.context != session.vulkan.get() || image.width != static_cast<int>(session.eye_width_px) ||
           image.height != static_cast<int>(session.eye_height_px))
         throw std::invalid_argument("openxr: eye " + std::to_string(eye) + "'s frame is " +

@@ -1,6 +1,7 @@
 #pragma once
 // One headset frame: xrWaitFrame and xrBeginFrame (paced by the runtime), the two eyes' views from
-// xrLocateViews in the session's LOCAL space, each eye's frame copied into its acquired swapchain
+// xrLocateViews in the session's LOCAL space (for the projection layer) and in its VIEW space (each
+// eye relative to the head, what the renderer's head-locked eye view takes), each eye's frame copied into its acquired swapchain
 // image (acquire, wait, copy, release), and xrEndFrame with one projection layer. A frame the
 // runtime says not to render (shouldRender false: not yet visible, or hidden) is ended with no layer.
 #include <array>
@@ -11,17 +12,25 @@
 
 namespace fovlab {
 
+// An eye's view as the runtime located it for the frame's predicted display time: in the LOCAL
+// space (the projection layer's) and in the VIEW space (relative to the head: eye_view_from_openxr).
+struct OpenXrEyeView {
+  XrView in_local{XR_TYPE_VIEW};
+  XrView in_head{XR_TYPE_VIEW};
+};
+
 // An eye's image for one frame: a frame on the session's Vulkan device (OpenXrSession::vulkan) of
-// the eye's size, e.g. the offscreen renderer's display output. Called for eye 0 (left), then 1;
-// the frame need only stay valid until the next call.
-using OpenXrEyeFrameSource = std::function<DeviceRgba8Frame(uint32_t eye, const XrView& view)>;
+// the eye's size, e.g. the offscreen renderer's display output for that eye's view. Called for eye 0
+// (left), then 1; the frame need only stay valid until the next call.
+using OpenXrEyeFrameSource = std::function<DeviceRgba8Frame(uint32_t eye, const OpenXrEyeView& view)>;
 
 struct OpenXrFrame {
   XrTime predicted_display_time = 0;
   XrDuration predicted_display_period = 0;
   bool rendered = false;                  // the eyes were drawn and a projection layer submitted
   bool discarded = false;                 // xrBeginFrame said the previous frame was discarded (XR_FRAME_DISCARDED)
-  std::array<XrView, 2> views{};          // as xrLocateViews gave them (when rendered)
+  std::array<XrView, 2> views{};          // as xrLocateViews gave them in LOCAL space (when rendered)
+  std::array<XrView, 2> views_in_head{};  // and in VIEW space
   std::array<uint32_t, 2> image_index{};  // each eye's swapchain image the frame went into
 };
 

@@ -157,6 +157,9 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
     space_info.poseInReferenceSpace.orientation.w = 1.0f;
     check(xrCreateReferenceSpace(session, &space_info, &local_space), "xrCreateReferenceSpace");
+    // The head: the eyes located in it are the head-locked view model's eyes (openxr_eye_view.h).
+    space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    check(xrCreateReferenceSpace(session, &space_info, &view_space), "xrCreateReferenceSpace");
 
     // The eyes' frames are sRGB-encoded bytes: an sRGB format keeps them as they are and tells the
     // compositor to decode them.
@@ -202,6 +205,8 @@ void OpenXrSession::release() {
     if (eye.handle != XR_NULL_HANDLE) xrDestroySwapchain(eye.handle);
     eye = OpenXrEyeSwapchain{};
   }
+  if (view_space != XR_NULL_HANDLE) xrDestroySpace(view_space);
+  view_space = XR_NULL_HANDLE;
   if (local_space != XR_NULL_HANDLE) xrDestroySpace(local_space);
   local_space = XR_NULL_HANDLE;
   if (session != XR_NULL_HANDLE) xrDestroySession(session);

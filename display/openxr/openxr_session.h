@@ -2,7 +2,7 @@
 // A headset session: the OpenXR instance with XR_KHR_vulkan_enable2, fovlab's Vulkan context made
 // THROUGH the runtime (the runtime creates the VkInstance and VkDevice from the context's own create
 // infos, so the renderer runs on the headset's GPU, validation layer and all), the XrSession on
-// that device, a LOCAL reference space, and one swapchain an eye (8-bit sRGB RGBA, the images on
+// that device, a LOCAL and a VIEW reference space, and one swapchain an eye (8-bit sRGB RGBA, the images on
 // the context's device). Destroyed in the order the specification asks: swapchains, space,
 // session, then the Vulkan device and instance, then the XrInstance.
 //
@@ -50,6 +50,7 @@ struct OpenXrSession {
   std::unique_ptr<vk::Context> vulkan;  // made through the runtime (XR_KHR_vulkan_enable2)
   XrSession session = XR_NULL_HANDLE;
   XrSpace local_space = XR_NULL_HANDLE;
+  XrSpace view_space = XR_NULL_HANDLE;  // VIEW: the head, where each eye's view is located for rendering
   uint32_t eye_width_px = 0;
   uint32_t eye_height_px = 0;
   std::array<OpenXrEyeSwapchain, 2> eyes;

@@ -29,6 +29,8 @@ void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double
   params.gaze_px[1] = float(gaze_y_px);
   params.pixel_pitch_mm[0] = float(display.pixel_pitch_x_mm());
   params.pixel_pitch_mm[1] = float(display.pixel_pitch_y_mm());
+  params.principal_point_px[0] = float(display.principal_point_x_px());
+  params.principal_point_px[1] = float(display.principal_point_y_px());
   params.viewing_distance_mm = float(display.viewing_distance_mm);
   params.inner_radius_deg = float(inner_radius_deg);
   params.outer_radius_deg = float(outer_radius_deg);

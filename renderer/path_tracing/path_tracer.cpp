@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "core/input_error.h"
@@ -130,6 +131,23 @@ PathTraceResult PathTracer::render(const PathTraceSettings& settings) {
   copy3(params.right, right * (tan_half * aspect));
   copy3(params.up, up * tan_half);
   copy3(params.forward, forward);
+  if (settings.eye) {
+    // The camera is the head; the eye sits at its position along the head's right, up and backward
+    // axes, turned by its orientation, and its frustum's centre tan-angles go into `forward`, their
+    // half spans into `right` and `up` (the shader's ray: forward + ndc.x right + ndc.y up).
+    const EyeViewShaderValues eye = eye_view_shader_values(*settings.eye);
+    const glm::mat3 head(right, up, -forward);
+    const glm::vec3 q(eye.orientation[0], eye.orientation[1], eye.orientation[2]);
+    const float w = eye.orientation[3];
+    glm::mat3 turn(1.0f);
+    for (int axis = 0; axis < 3; ++axis) turn[axis] += 2.0f * glm::cross(q, glm::cross(q, turn[axis]) + w * turn[axis]);
+    const glm::vec3 eye_right = head * turn[0], eye_up = head * turn[1], eye_forward = -(head * turn[2]);
+    const auto& t = eye.tan_angles;  // left, right, up, down
+    copy3(params.eye, pose.eye + head * glm::vec3(eye.position[0], eye.position[1], eye.position[2]));
+    copy3(params.right, eye_right * (0.5f * (t[1] - t[0])));
+    copy3(params.up, eye_up * (0.5f * (t[2] - t[3])));
+    copy3(params.forward, eye_forward + eye_right * (0.5f * (t[0] + t[1])) + eye_up * (0.5f * (t[2] + t[3])));
+  }
   copy3(params.sky_radiance, sky_radiance_);
   params.size[0] = width;
   params.size[1] = height;

@@ -6,9 +6,11 @@
 // sampling by multiple importance sampling (power heuristic). docs/path-tracing.md.
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "core/image.h"
 #include "renderer/path_tracing/path_scene.h"
+#include "renderer/scene/eye_view.h"
 
 namespace fovlab {
 
@@ -26,6 +28,9 @@ struct PathTraceSettings {
   uint32_t seed = 1;                  // with the pixel, sample and dimension, keys every random number
   double time_s = 0.0;                // camera time (CameraPath)
   bool next_event_estimation = true;  // off: emitters are found by BSDF sampling only (same mean, more noise)
+  // A headset eye's view (renderer/scene/eye_view.h): the camera path is the head, the frame the
+  // eye's asymmetric frustum. None: the camera's symmetric frustum.
+  std::optional<EyeView> eye;
 };
 
 // Throws InputError naming the setting and what was expected: sizes 1 to 16384 pixels, samples and

@@ -40,8 +40,9 @@ bool refresh_due(uvec2 mid_pixel) {
 float mask_threshold(uvec2 pixel) { return pixel_threshold(params.seed, params.frame_index, pixel); }
 
 float eccentricity_deg(vec2 point_px) {
-  vec3 gaze_ray = ray_from_eye(params.gaze_px, params.frame_size, params.pixel_pitch_mm, params.viewing_distance_mm);
-  return eccentricity_between_deg(gaze_ray, ray_from_eye(point_px, params.frame_size, params.pixel_pitch_mm,
+  vec3 gaze_ray =
+      ray_from_eye(params.gaze_px, params.principal_point_px, params.pixel_pitch_mm, params.viewing_distance_mm);
+  return eccentricity_between_deg(gaze_ray, ray_from_eye(point_px, params.principal_point_px, params.pixel_pitch_mm,
                                                          params.viewing_distance_mm));
 }
 

@@ -10,9 +10,9 @@ const float TWO_PI = 6.28318530718;
 layout(std430, binding = 0) readonly buffer SamplingParamsBuffer { SamplingParams sampling; };
 
 float sampling_eccentricity_deg(vec2 point_px) {
-  vec3 gaze_ray = ray_from_eye(sampling.gaze_px, sampling.screen_size, sampling.pixel_pitch_mm,
+  vec3 gaze_ray = ray_from_eye(sampling.gaze_px, sampling.principal_point_px, sampling.pixel_pitch_mm,
                                sampling.viewing_distance_mm);
-  return eccentricity_between_deg(gaze_ray, ray_from_eye(point_px, sampling.screen_size, sampling.pixel_pitch_mm,
+  return eccentricity_between_deg(gaze_ray, ray_from_eye(point_px, sampling.principal_point_px, sampling.pixel_pitch_mm,
                                                          sampling.viewing_distance_mm));
 }
 

@@ -87,11 +87,41 @@ void fovlab_set_camera() {
   fovlab_camera.right = normalize(cross(fovlab_camera.forward, vec3(0.0, 1.0, 0.0)));
   fovlab_camera.up = cross(fovlab_camera.right, fovlab_camera.forward);
   fovlab_camera.tan_half_fov = tan(radians(vertical_fov_deg) * 0.5);
+#ifdef FOVLAB_EYE_VIEW
+  if (params.eye_view != 0u) {
+    // A headset eye (TraceParams::eye_view): the scene's camera is the head; the eye sits at
+    // eye_position along the head's right, up and backward axes and looks along them turned by
+    // eye_orientation (v' = v + 2 q.xyz x (q.xyz x v + q.w v)).
+    mat3 head = mat3(fovlab_camera.right, fovlab_camera.up, -fovlab_camera.forward);
+    fovlab_camera.eye += head * params.eye_position;
+    vec4 q = params.eye_orientation;
+    mat3 turn = mat3(1.0);
+    for (int axis = 0; axis < 3; ++axis) turn[axis] += 2.0 * cross(q.xyz, cross(q.xyz, turn[axis]) + q.w * turn[axis]);
+    fovlab_camera.right = head * turn[0];
+    fovlab_camera.up = head * turn[1];
+    fovlab_camera.forward = -(head * turn[2]);
+  }
+#endif
 }
 
 // fovlab_camera_basis ray through a point of the full-resolution frame, in pixels (y down). Also returns the
 // angle one full-resolution pixel subtends at the image centre, in radians.
 Ray fovlab_camera_ray(vec2 frame_point_px, out float pixel_angle_rad) {
+#ifdef FOVLAB_EYE_VIEW
+  if (params.eye_view != 0u) {
+    // The eye's asymmetric frustum: tan-angles lerp(left, right) across and lerp(up, down) down the
+    // frame; the pixel's angle is the one at the principal point (where the tan-angles are 0).
+    vec4 tan_angles = params.eye_tan_angles;
+    vec2 share = frame_point_px / params.frame_size;
+    vec2 tan_point = vec2(mix(tan_angles.x, tan_angles.y, share.x), mix(tan_angles.z, tan_angles.w, share.y));
+    pixel_angle_rad = (tan_angles.z - tan_angles.w) / params.frame_size.y;
+    Ray eye_ray;
+    eye_ray.origin = fovlab_camera.eye;
+    eye_ray.direction =
+        normalize(fovlab_camera.forward + tan_point.x * fovlab_camera.right + tan_point.y * fovlab_camera.up);
+    return eye_ray;
+  }
+#endif
   vec2 ndc = (frame_point_px - 0.5 * params.frame_size) / (0.5 * params.frame_size.y);
   pixel_angle_rad = 2.0 * fovlab_camera.tan_half_fov / params.frame_size.y;
   Ray ray;

@@ -159,6 +159,7 @@ void validate(const SphereTraceSettings& settings) {
   };
   check_side(settings.width, "width");
   check_side(settings.height, "height");
+  if (settings.eye) eye_view_shader_values(*settings.eye);  // InputError naming the view's field
   const int spp = settings.samples_per_pixel;
   if (spp != 1 && spp != 4 && spp != 16) {
     throw SettingError("samples_per_pixel", " " + std::to_string(spp) + ": expected 1, 4 or 16 samples per pixel");
@@ -230,7 +231,7 @@ SphereTracer::~SphereTracer() = default;
 // The tracer with FOVLAB_STEP_BREAKDOWN defined (the counting of SphereTraceSettings::step_breakdown)
 // or FOVLAB_OVER_RELAX (its over_relaxation): sphere_trace.comp.glsl with that code in it, cached apart.
 const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSettings& settings) {
-  std::string defines;
+  std::string defines = settings.eye ? "#define FOVLAB_EYE_VIEW 1\n" : "";
   if (settings.step_breakdown) defines += "#define FOVLAB_STEP_BREAKDOWN 1\n";
   if (settings.over_relaxation != 1.0f) {
     std::ostringstream factor;
@@ -238,6 +239,14 @@ const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSet
     factor << std::showpoint << settings.over_relaxation;
     defines += "#define FOVLAB_OVER_RELAX " + factor.str() + "\n";
   }
+  return variant_pipeline(defines);
+}
+
+const vk::ComputePipeline& SphereTracer::trace_pipeline(const SphereTraceSettings& settings) {
+  return variant_pipeline(settings.eye ? "#define FOVLAB_EYE_VIEW 1\n" : "");
+}
+
+const vk::ComputePipeline& SphereTracer::variant_pipeline(const std::string& defines) {
   if (defines.empty()) return *trace_pipeline_;
   std::unique_ptr<vk::ComputePipeline>& pipeline = variant_pipelines_[defines];
   if (!pipeline) {
@@ -262,6 +271,14 @@ std::string history_key_of(const SphereTraceSettings& s) {
       << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine) << ' ' << f.edge_threshold
       << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
       << periphery_reconstruction_name(f.reconstruction) << ' ' << near_misses_name(f.near_misses);
+  if (s.eye) {  // each eye its own history
+    key << " eye";
+    for (double v : s.eye->position_in_head) key << ' ' << v;
+    for (double v : s.eye->orientation_in_head) key << ' ' << v;
+    const EyeFieldOfView& fov = s.eye->field_of_view;
+    key << ' ' << fov.angle_left_rad << ' ' << fov.angle_right_rad << ' ' << fov.angle_up_rad << ' '
+        << fov.angle_down_rad;
+  }
   return key.str();
 }
 
@@ -453,6 +470,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
   params.max_steps = static_cast<uint32_t>(settings.max_steps);
   params.level_scale = 1;
   params.flags = gpu::FLAG_SHADE | gpu::FLAG_SAMPLE_LIST;
+  set_eye_view(params, settings.eye);
   const VkBuffer unused = frame.unused.handle();
   const VkBuffer trace_buffers[] = {unused,
                                     unused,
@@ -465,7 +483,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
                                     unused,
                                     unused};
   timer.begin(cmd, "trace_samples");
-  trace_pipeline_->dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
+  trace_pipeline(settings).dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
   sampling.record_reconstruct(cmd, timer, frame.colour.handle());

@@ -20,6 +20,7 @@
 #include "foveation/foveation_mask.h"
 #include "foveation/sampling_map.h"
 #include "renderer/present/device_frame.h"
+#include "renderer/scene/eye_view.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/step_breakdown.h"
 #include "renderer/vk/submission.h"
@@ -105,6 +106,10 @@ struct SphereTraceSettings {
   // by a variant of the tracer. 1: off, the plain tracer.
   float over_relaxation = 1.0f;
   FoveationSettings foveation;  // FIPR only
+  // A headset eye's view (renderer/scene/eye_view.h): the scene's camera is the head, the frame the
+  // eye's asymmetric frustum. None: the scene camera's symmetric frustum. FIPR and the sampling
+  // models take their display from it (eye_display), which the caller sets.
+  std::optional<EyeView> eye;
   // TraceMethod::sampling_model: the frame's map, whose screen is width x height. Each sample is
   // traced with samples_per_pixel rays spread over its footprint, from the camera (no pyramid).
   std::optional<SamplingMap> sampling;
@@ -189,6 +194,11 @@ class SphereTracer {
   // The top level's tracer: the plain one, or a variant (step breakdown, over-relaxation) compiled on
   // the first frame that asks for it.
   const vk::ComputePipeline& top_level_pipeline(const SphereTraceSettings& settings);
+  // The tracer of the levels below the top (and of the sampling models' samples): the plain one, or
+  // with a headset eye's view the variant compiled with FOVLAB_EYE_VIEW (so the plain tracer's code,
+  // and its frames, stay what they were).
+  const vk::ComputePipeline& trace_pipeline(const SphereTraceSettings& settings);
+  const vk::ComputePipeline& variant_pipeline(const std::string& defines);
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   // render()'s passes (sphere_tracer_passes.cpp), in the order a frame records them.
   void clear_counters(FrameRecording& f);  // and FIPR's mid colours when it has no history

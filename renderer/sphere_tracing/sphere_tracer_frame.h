@@ -40,6 +40,16 @@ struct LevelBuffers {
   vk::Buffer steps_readback;
 };
 
+// A headset eye's view into the tracer's push constants (eye_view 0 without one).
+inline void set_eye_view(TraceParams& params, const std::optional<EyeView>& eye) {
+  if (!eye) return;
+  const EyeViewShaderValues values = eye_view_shader_values(*eye);
+  for (int i = 0; i < 4; ++i) params.eye_tan_angles[i] = values.tan_angles[size_t(i)];
+  for (int i = 0; i < 4; ++i) params.eye_orientation[i] = values.orientation[size_t(i)];
+  params.eye_position = {values.position[0], values.position[1], values.position[2]};
+  params.eye_view = 1u;
+}
+
 inline uint32_t ceil_div(int value, int divisor) { return static_cast<uint32_t>((value + divisor - 1) / divisor); }
 
 // The levels a frame traces, bottom first: the pyramid's (scales ..., 4, 2, 1), and with a

@@ -237,6 +237,46 @@ void VolumeRaycaster::write_params(const VolumeRenderSettings& settings, uint32_
   put3(p.forward, pose.forward, pose.tan_half_fov);
   put3(p.right, pose.right, double(settings.width_px) / double(settings.height_px));
   put3(p.down, pose.down, 0.0);
+  if (settings.eye) {
+    // The camera is the head (x right, y up = -down, z backwards = -forward); the eye sits at its
+    // position in it, turned by its orientation. The shader's ray is forward + ndc.x tan_half aspect
+    // right + ndc.y tan_half down: with tan_half and aspect 1, the frustum's centre tan-angles go
+    // into forward and its half spans into right and down.
+    const EyeViewShaderValues eye = eye_view_shader_values(*settings.eye);
+    const std::array<double, 3> up{-pose.down[0], -pose.down[1], -pose.down[2]};
+    const std::array<double, 3> back{-pose.forward[0], -pose.forward[1], -pose.forward[2]};
+    const auto in_world = [&](const std::array<double, 3>& v) {
+      std::array<double, 3> w{};
+      for (int a = 0; a < 3; ++a)
+        w[size_t(a)] = pose.right[size_t(a)] * v[0] + up[size_t(a)] * v[1] + back[size_t(a)] * v[2];
+      return w;
+    };
+    const std::array<double, 3> q{eye.orientation[0], eye.orientation[1], eye.orientation[2]};
+    const double qw = eye.orientation[3];
+    const auto turned = [&](const std::array<double, 3>& v) {  // v + 2 q x (q x v + w v)
+      const std::array<double, 3> c = cross(q, v);
+      const std::array<double, 3> t = cross(q, {c[0] + qw * v[0], c[1] + qw * v[1], c[2] + qw * v[2]});
+      return in_world({v[0] + 2.0 * t[0], v[1] + 2.0 * t[1], v[2] + 2.0 * t[2]});
+    };
+    const std::array<double, 3> right = turned({1.0, 0.0, 0.0}), eye_up = turned({0.0, 1.0, 0.0});
+    const std::array<double, 3> forward_axis = turned({0.0, 0.0, -1.0});
+    const std::array<double, 3> eye_offset = in_world({eye.position[0], eye.position[1], eye.position[2]});
+    const auto& t = eye.tan_angles;  // left, right, up, down
+    const double mid_x = 0.5 * (double(t[0]) + t[1]), half_x = 0.5 * (double(t[1]) - t[0]);
+    const double mid_up = 0.5 * (double(t[2]) + t[3]), half_y = 0.5 * (double(t[2]) - t[3]);
+    std::array<double, 3> eye_position{}, forward{}, right_span{}, down_span{};
+    for (int a = 0; a < 3; ++a) {
+      const size_t i = size_t(a);
+      eye_position[i] = pose.eye[i] + eye_offset[i];
+      forward[i] = forward_axis[i] + mid_x * right[i] + mid_up * eye_up[i];
+      right_span[i] = half_x * right[i];
+      down_span[i] = -half_y * eye_up[i];
+    }
+    put3(p.eye, eye_position, 0.0);
+    put3(p.forward, forward, 1.0);
+    put3(p.right, right_span, 1.0);
+    put3(p.down, down_span, 0.0);
+  }
   put3(p.box_half, box_half_, step_world);
   double diagonal = 0.0;
   for (int a = 0; a < 3; ++a) {
@@ -401,8 +441,8 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
       history_state_ = History{};
     }
     const VolumeCameraPose view = camera_pose(settings.camera.value_or(scene_.camera), settings.time_s);
-    if (!history_state_.view || !same_view(*history_state_.view, view))
-      history_state_ = History{view, 0, 0, std::nullopt};
+    if (!history_state_.view || !same_view(*history_state_.view, view) || history_state_.eye != settings.eye)
+      history_state_ = History{view, settings.eye, 0, 0, std::nullopt};
     reconstruct.history_count = uint32_t(history_state_.count);
     const std::pair<int, int> offset{offset_x, offset_y};
     if (history_state_.last_stored_offset != offset) {

@@ -16,6 +16,7 @@
 
 #include "core/image.h"
 #include "foveation/voronoi_reconstruction.h"
+#include "renderer/scene/eye_view.h"
 #include "renderer/present/device_frame.h"
 #include "renderer/vk/buffer.h"
 #include "renderer/vk/submission.h"
@@ -81,6 +82,9 @@ struct VolumeRenderSettings {
   // false: every site within the mask's one neighbour reach of the screen (the earlier rule, for
   // comparison: the same frame, more rays).
   bool trace_read_sites_only = true;
+  // A headset eye's view (renderer/scene/eye_view.h): the camera is the head, the frame the eye's
+  // asymmetric frustum (and, foveated, the mask's sites on it). None: the camera's symmetric frustum.
+  std::optional<EyeView> eye;
 };
 
 struct VolumeFrameResult {
@@ -151,6 +155,7 @@ class VolumeRaycaster {
   // The temporal smoothing's state.
   struct History {
     std::optional<VolumeCameraPose> view;
+    std::optional<EyeView> eye;  // the eye in it, if any: each eye its own history
     int count = 0, next_slot = 0;
     std::optional<std::pair<int, int>> last_stored_offset;
   } history_state_;

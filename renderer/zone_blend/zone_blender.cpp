@@ -51,10 +51,13 @@ BlendParams blend_params(int width, int height, const DisplayGeometry& display, 
   const double pitch_x = display.pixel_pitch_x_mm(), pitch_y = display.pixel_pitch_y_mm();
   params.pixel_pitch_mm[0] = static_cast<float>(pitch_x);
   params.pixel_pitch_mm[1] = static_cast<float>(pitch_y);
-  params.first_pixel_mm[0] = static_cast<float>((0.5 - 0.5 * width) * pitch_x);
-  params.first_pixel_mm[1] = static_cast<float>((0.5 - 0.5 * height) * pitch_y);
+  // Relative to the principal point (width / 2, height / 2 on a display viewed square-on).
+  const double principal_x_px = 0.5 * width + display.principal_offset_x_px;
+  const double principal_y_px = 0.5 * height + display.principal_offset_y_px;
+  params.first_pixel_mm[0] = static_cast<float>((0.5 - principal_x_px) * pitch_x);
+  params.first_pixel_mm[1] = static_cast<float>((0.5 - principal_y_px) * pitch_y);
   params.viewing_distance_mm = static_cast<float>(display.viewing_distance_mm);
-  glm::dvec3 gaze{(gaze_x_px - 0.5 * width) * pitch_x, (gaze_y_px - 0.5 * height) * pitch_y,
+  glm::dvec3 gaze{(gaze_x_px - principal_x_px) * pitch_x, (gaze_y_px - principal_y_px) * pitch_y,
                   display.viewing_distance_mm};
   gaze = glm::normalize(gaze / std::max({std::fabs(gaze.x), std::fabs(gaze.y), gaze.z}));
   for (int i = 0; i < 3; ++i) params.gaze_direction[i] = static_cast<float>(gaze[i]);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <vector>
 
@@ -105,6 +106,39 @@ TEST_F(VulkanTest, FoveationMaskMatchesTheCpuReference) {
     EXPECT_GT(masked, 0);
     EXPECT_LT(masked, compared) << "the periphery is not traced in full";
     EXPECT_EQ(result.foveation.masked_pixels, uint64_t(mask_sum(result)));
+  }
+}
+
+// The same on an off-axis display (a headset eye's asymmetric view: display_from_field_of_view), whose
+// principal point is off the frame's centre.
+TEST_F(VulkanTest, FoveationMaskOfAnOffAxisDisplayMatchesTheCpuReference) {
+  SphereTracer tracer(context(), load_scene("primitives"));
+  const double degree = std::numbers::pi / 180.0;
+  for (const auto& [gaze_x, gaze_y] : {std::pair{48.0, 32.0}, {70.0, 12.0}, {-40.0, 10.0}}) {
+    SphereTraceSettings settings = fipr_frame();
+    settings.foveation.display =
+        display_from_field_of_view(96, 64, {-30 * degree, 14 * degree, 12 * degree, -20 * degree});
+    settings.foveation.combine = MaskCombine::acuity;
+    settings.foveation.near_misses = NearMisses::ignore;
+    settings.foveation.gaze_x_px = gaze_x;
+    settings.foveation.gaze_y_px = gaze_y;
+    settings.foveation.seed = 17;
+    settings.foveation.frame_index = 3;
+    const SphereTraceResult result = tracer.render(settings);
+    int compared = 0, masked = 0;
+    for (int y = 0; y < settings.height; ++y) {
+      for (int x = 0; x < settings.width; ++x) {
+        const double p = acuity_probability(settings, x, y);
+        const double xi = mask_threshold(17, 3, uint32_t(x), uint32_t(y));
+        if (std::fabs(p - xi) < 1e-5) continue;
+        ++compared;
+        masked += xi < p;
+        ASSERT_EQ(result.mask.at(x, y, 0), xi < p ? 1.0f : 0.0f) << "pixel " << x << "," << y << " gaze " << gaze_x;
+      }
+    }
+    EXPECT_GT(compared, settings.width * settings.height - 10);
+    EXPECT_GT(masked, 0);
+    EXPECT_LT(masked, compared);
   }
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <set>
 
 #include "core/colour.h"
@@ -159,6 +160,32 @@ TEST_F(SamplingPassesTest, ListsTheReferenceSamplesAtTheReferencePositions) {
       }
       EXPECT_LT(worst_px, 1e-3) << where;
     }
+  }
+}
+
+// On an off-axis display (a headset eye's asymmetric view: display_from_field_of_view) the models
+// that work in eccentricity (hyperbolic, linear) take it from the principal point on the GPU as the
+// CPU reference does: the same samples listed (within the float-versus-double ties above), and not
+// the square-on display's.
+TEST_F(SamplingPassesTest, OffAxisDisplayListsTheReferenceSamples) {
+  SamplingPasses passes(context());
+  const double degree = std::numbers::pi / 180.0;
+  const DisplayGeometry off_axis =
+      display_from_field_of_view(kWidth, kHeight, {-20 * degree, 8 * degree, 5 * degree, -10 * degree});
+  const DisplayGeometry square_on =
+      display_from_size(kWidth, kHeight, off_axis.width_mm, off_axis.height_mm, off_axis.viewing_distance_mm);
+  for (SamplingModel model : {SamplingModel::hyperbolic, SamplingModel::linear}) {
+    SamplingSettings settings;
+    settings.model = model;
+    settings.outer_pixel_size_px = 6.0;
+    settings.inner_radius_deg = 3.0;
+    settings.outer_radius_deg = 8.0;
+    const SamplingMap map = make_sampling_map(settings, off_axis, 30.0, 20.0);
+    const uint64_t expected = shaded_samples(map);
+    const std::vector<ListedSample> samples = list_samples(passes, map);
+    EXPECT_NEAR(double(samples.size()), double(expected), 1.0 + 1e-3 * double(expected)) << sampling_model_name(model);
+    EXPECT_NE(expected, shaded_samples(make_sampling_map(settings, square_on, 30.0, 20.0)))
+        << sampling_model_name(model);
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -166,6 +167,32 @@ TEST_F(VulkanTest, BlendMatchesTheReference) {
         }
       EXPECT_GT(compared, frame.width * frame.height - 8);
     }
+}
+
+// The same on an off-axis display (a headset eye's asymmetric view: display_from_field_of_view): the
+// rays are taken from its principal point, off the frame's centre.
+TEST_F(VulkanTest, BlendOfAnOffAxisDisplayMatchesTheReference) {
+  const Image frame = noisy_frame(64, 48, 11);
+  const double degree = std::numbers::pi / 180.0;
+  const DisplayGeometry display =
+      display_from_field_of_view(64, 48, {-40 * degree, 25 * degree, 20 * degree, -35 * degree});
+  ZoneBlender blender(context());
+  blender.set_frame(frame);
+  const Image middle = blender.zone_buffer(Zone::middle);
+  const Image outer = blender.zone_buffer(Zone::outer);
+  for (const auto& [gaze_x, gaze_y] : {std::pair{32.0, 24.0}, {50.0, 10.0}, {-40.0, 10.0}}) {
+    const ZoneBounds bounds{20.0, 50.0, 4.0};
+    const Image gpu = blender.blend(display, gaze_x, gaze_y, bounds).image;
+    const Image reference = blend_zones_reference(display, gaze_x, gaze_y, bounds, frame, middle, outer);
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(gpu.at(x, y, c), reference.at(x, y, c), 1e-4 * 3.0) << "pixel " << x << "," << y;
+    // The principal point matters here: the square-on display of the same size blends otherwise.
+    const DisplayGeometry square_on =
+        display_from_size(64, 48, display.width_mm, display.height_mm, display.viewing_distance_mm);
+    EXPECT_NE(blend_zones_reference(square_on, gaze_x, gaze_y, bounds, frame, middle, outer).pixels, reference.pixels);
+  }
 }
 
 // What a session shows: the same blend, sRGB-encoded to 8 bits on the GPU (two passes: the pixels

@@ -32,6 +32,7 @@ struct MaskParams {
   uint combine;      // COMBINE_* (MaskCombine)
   vec2 gaze_px;      // in full-resolution pixels (finite, clamped by the renderer)
   vec2 pixel_pitch_mm;
+  vec2 principal_point_px;  // where the eye's perpendicular meets the frame (eccentricity.glsl)
   float viewing_distance_mm;
   float fovea_radius_deg;
   float outer_periphery_radius_deg;  // a huge value when there is none

@@ -22,6 +22,7 @@ struct SamplingParams {
   vec2 gaze_share;         // RMFR: c_x, c_y (clamped to [0.01, 0.99])
   vec2 focal_share;        // RMFR: phi_x, phi_y
   vec2 pixel_pitch_mm;     // hyperbolic and linear: the display, for eccentricities
+  vec2 principal_point_px;  // where the eye's perpendicular meets the screen (eccentricity.glsl)
   uint model;              // MODEL_*
   uint seed;               // linear: the thresholds' seed
   float alpha;             // KFR

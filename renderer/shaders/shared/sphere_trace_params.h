@@ -35,6 +35,14 @@ struct TraceParams {
   uint periphery_steps;    // FIPR: 0: the mid level shades the pixels its unmasked children take
                            // (fipr_reconstruct); else those are traced from the mid depth with this
                            // step budget and shaded (1 sample)
+  // A headset eye's view (renderer/scene/eye_view.h), when eye_view is 1: the camera ray from the
+  // eye's four tan-angles (left, right, up, down) and the eye at eye_position in the head's frame
+  // (the scene's camera; x right, y up, z backwards), turned by the quaternion eye_orientation.
+  // 0: the scene camera's symmetric frustum.
+  vec4 eye_tan_angles;
+  vec4 eye_orientation;
+  vec3 eye_position;
+  uint eye_view;
 };
 
 // The sphere tracer's counters buffer (COUNTER_COUNT words, zeroed before a frame): the index of each

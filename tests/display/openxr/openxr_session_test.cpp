@@ -10,12 +10,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/input_error.h"
+#include "display/openxr/openxr_eye_view.h"
 #include "display/openxr/openxr_frame_loop.h"
 #include "display/openxr/openxr_session.h"
+#include "foveation/sampling_map.h"
 #include "renderer/present/device_frame.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -84,7 +88,7 @@ TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
     settings.outputs = TraceOutputs::display;
     std::array<Rgba8Frame, 2> given;
     int frame_number = 0;
-    const OpenXrEyeFrameSource eye_frame = [&](uint32_t eye, const XrView&) {
+    const OpenXrEyeFrameSource eye_frame = [&](uint32_t eye, const OpenXrEyeView&) {
       settings.time_s = 0.5f * static_cast<float>(frame_number) + (eye == 0 ? 0.0f : 1.25f);
       settings.method = eye == 0 ? TraceMethod::ground_truth : TraceMethod::inverted_pyramid;
       const SphereTraceResult result = tracer.render(settings);
@@ -149,6 +153,135 @@ TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
     EXPECT_EQ(session.vulkan->validation_message_count(), 0u) << "Vulkan validation messages";
   }
   dlclose(runtime_library);
+}
+
+// Each eye rendered from the view the runtime located for it, relative to the head (the head-locked
+// view model: eye_view_from_openxr), with its asymmetric angles: each eye's swapchain image, as the
+// runtime's compositor read it, equals the renderer's offscreen frame of that eye's view, method and
+// gaze byte for byte, for GT, IPR, FIPR and the sampling models (FIPR's fovea and the models' maps on
+// the eye's off-axis image plane), with both
+// validation layers silent. The test runtime's eyes sit at -+31.5 mm along x, the left one 54 degrees
+// to the temple, 49 to the nose, 54 up and 56 down, the right one mirrored (docs/hmd.md).
+TEST_F(OpenXrHeadsetSession, EachEyesImageIsTheOffscreenFrameOfItsView) {
+  void* runtime_library = dlopen(FOVLAB_TEST_XR_RUNTIME_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(runtime_library, nullptr) << dlerror();
+  const auto read_view =
+      reinterpret_cast<LastProjectionView>(dlsym(runtime_library, "fovlab_test_xr_last_projection_view"));
+  ASSERT_NE(read_view, nullptr);
+  {
+    OpenXrSessionOptions options;
+    options.eye_width_px = 64;
+    options.eye_height_px = 72;
+    options.validation = true;
+    OpenXrSession session(options);
+    SphereTracer tracer(*session.vulkan, load_scene("primitives"));
+    // The sampling models (Ye et al. 2022) too, their maps made on the eye's off-axis image plane.
+    std::optional<SamplingModel> sampling_model;
+    const auto eye_settings = [&sampling_model](TraceMethod method, const EyeView& view) {
+      SphereTraceSettings settings;
+      settings.method = method;
+      settings.width = 64;
+      settings.height = 72;
+      settings.time_s = 2.0f;
+      settings.outputs = TraceOutputs::display;
+      settings.eye = view;
+      if (method == TraceMethod::foveated_pyramid) {
+        settings.foveation.display = eye_display(view, 64, 72);
+        settings.foveation.gaze_x_px = 24.0;
+        settings.foveation.gaze_y_px = 40.0;
+        settings.foveation.acuity.fovea_radius_deg = 8.0;
+      }
+      if (method == TraceMethod::sampling_model) {
+        SamplingSettings sampling;
+        sampling.model = *sampling_model;
+        sampling.inner_radius_deg = 8.0;
+        sampling.outer_radius_deg = 20.0;
+        sampling.outer_pixel_size_px = 4.0;
+        settings.sampling = make_sampling_map(sampling, eye_display(view, 64, 72), 24.0, 40.0);
+      }
+      return settings;
+    };
+    TraceMethod method = TraceMethod::ground_truth;
+    std::array<EyeView, 2> rendered_views;
+    const OpenXrEyeFrameSource eye_frame = [&](uint32_t eye, const OpenXrEyeView& view) {
+      rendered_views[eye] = eye_view_from_openxr(view.in_head);
+      return tracer.render(eye_settings(method, rendered_views[eye])).display;
+    };
+    poll_openxr_events(session);
+    for (int frames = 0; session.state != XR_SESSION_STATE_FOCUSED && frames < 10; ++frames) {
+      run_openxr_frame(session, eye_frame);
+      poll_openxr_events(session);
+    }
+    ASSERT_EQ(session.state, XR_SESSION_STATE_FOCUSED);
+
+    const double degree = std::acos(-1.0) / 180.0;
+    const std::vector<std::pair<TraceMethod, std::optional<SamplingModel>>> cases = {
+        {TraceMethod::ground_truth, std::nullopt},
+        {TraceMethod::inverted_pyramid, std::nullopt},
+        {TraceMethod::foveated_pyramid, std::nullopt},
+        {TraceMethod::sampling_model, SamplingModel::rectangular},
+        {TraceMethod::sampling_model, SamplingModel::hyperbolic},
+        {TraceMethod::sampling_model, SamplingModel::linear},
+        {TraceMethod::sampling_model, SamplingModel::kernel_log_polar}};
+    for (const auto& [frame_method, frame_model] : cases) {
+      method = frame_method;
+      sampling_model = frame_model;
+      const std::string name = frame_model ? sampling_model_name(*frame_model) : method_name(method);
+      const OpenXrFrame frame = run_openxr_frame(session, eye_frame);
+      ASSERT_TRUE(frame.rendered);
+      std::array<std::vector<uint8_t>, 2> submitted_bytes;
+      for (uint32_t eye = 0; eye < 2; ++eye) {
+        const std::string where = name + " eye " + std::to_string(eye);
+        // The view the eye was rendered from is the runtime's: the eye in the head, its four angles.
+        const EyeView& view = rendered_views[eye];
+        EXPECT_NEAR(view.position_in_head[0], eye == 0 ? -0.0315 : 0.0315, 1e-6) << where;
+        EXPECT_EQ(view.position_in_head[1], 0.0) << where;
+        EXPECT_EQ(view.orientation_in_head[3], 1.0) << where;
+        EXPECT_NEAR(view.field_of_view.angle_left_rad, (eye == 0 ? -54.0 : -49.0) * degree, 1e-6) << where;
+        EXPECT_NEAR(view.field_of_view.angle_right_rad, (eye == 0 ? 49.0 : 54.0) * degree, 1e-6) << where;
+        EXPECT_NEAR(view.field_of_view.angle_up_rad, 54.0 * degree, 1e-6) << where;
+        EXPECT_NEAR(view.field_of_view.angle_down_rad, -56.0 * degree, 1e-6) << where;
+        EXPECT_EQ(frame.views_in_head[eye].pose.position.x, frame.views[eye].pose.position.x)
+            << "the head does not move";
+
+        const SubmittedView submitted = last_submitted(read_view, eye);
+        ASSERT_EQ(submitted.result, XR_SUCCESS) << where;
+        const Rgba8Frame offscreen = read_back(tracer.render(eye_settings(method, view)).display);
+        EXPECT_TRUE(submitted.bytes == offscreen.rgba) << where;
+        submitted_bytes[eye] = submitted.bytes;
+        // The eye's own view matters: the scene camera's symmetric frame of the same size differs.
+        SphereTraceSettings desktop = eye_settings(method, view);
+        desktop.eye.reset();
+        if (method == TraceMethod::foveated_pyramid)
+          desktop.foveation.display = display_from_size(64, 72, 64.0, 72.0, 100.0);
+        EXPECT_FALSE(read_back(tracer.render(desktop).display).rgba == offscreen.rgba) << where;
+      }
+      EXPECT_NE(submitted_bytes[0], submitted_bytes[1]) << name << ": the eyes see different views";
+    }
+    request_openxr_exit(session);
+    poll_openxr_events(session);
+    EXPECT_EQ(session.vulkan->validation_message_count(), 0u) << "Vulkan validation messages";
+  }
+  dlclose(runtime_library);
+}
+
+// A view in the head's frame becomes the eye view as it is: the position scaled to scene units, the
+// orientation and the four angles unchanged.
+TEST(OpenXrEyeView, PoseAndAnglesBecomeTheEyeView) {
+  XrView view{XR_TYPE_VIEW};
+  view.pose.position = {-0.032f, 0.01f, -0.005f};
+  view.pose.orientation = {0.0f, 0.0871557f, 0.0f, 0.9961947f};  // 10 degrees about y
+  view.fov = {-0.9f, 0.8f, 0.85f, -0.95f};
+  const EyeView eye = eye_view_from_openxr(view, 100.0);
+  EXPECT_FLOAT_EQ(float(eye.position_in_head[0]), -3.2f);
+  EXPECT_FLOAT_EQ(float(eye.position_in_head[1]), 1.0f);
+  EXPECT_FLOAT_EQ(float(eye.position_in_head[2]), -0.5f);
+  EXPECT_EQ(eye.orientation_in_head[1], double(0.0871557f));
+  EXPECT_EQ(eye.orientation_in_head[3], double(0.9961947f));
+  EXPECT_EQ(eye.field_of_view.angle_left_rad, double(-0.9f));
+  EXPECT_EQ(eye.field_of_view.angle_right_rad, double(0.8f));
+  EXPECT_EQ(eye.field_of_view.angle_up_rad, double(0.85f));
+  EXPECT_EQ(eye.field_of_view.angle_down_rad, double(-0.95f));
 }
 
 // The frame loop's order, as the specification gives it, asked of the runtime through the loader
