@@ -13,6 +13,8 @@
 // and to that point.
 #include <string>
 
+#include "core/eye_field_of_view.h"
+
 namespace fovlab {
 
 struct DisplayGeometry {
@@ -39,16 +41,6 @@ struct DisplayGeometry {
   double pixels_per_degree_at_centre() const;
 };
 
-// An eye's asymmetric field of view, as OpenXR's XrFovf gives it: the angles in radians from the
-// eye's forward axis to the left, right, upper and lower edges of its image (left and down are
-// negative when the axis lies inside the image, as in a headset).
-struct EyeFieldOfView {
-  double angle_left_rad = 0.0;
-  double angle_right_rad = 0.0;
-  double angle_up_rad = 0.0;
-  double angle_down_rad = 0.0;
-  bool operator==(const EyeFieldOfView&) const = default;
-};
 
 // A display of the given diagonal (inches) with square pixels. Throws InputError when a value is
 // not positive and finite.
@@ -60,7 +52,6 @@ DisplayGeometry display_from_size(int width_px, int height_px, double width_mm, 
 // the angles matter), pixel column x at tan-angle lerp(tan(left), tan(right), x / width_px), row y at
 // lerp(tan(up), tan(down), y / height_px) (y down), the principal point where the tan-angles are 0.
 // Throws InputError unless -90 < left < right < 90 and -90 < down < up < 90 degrees (finite).
-inline constexpr double kFieldOfViewPlaneDistanceMm = 1000.0;
 DisplayGeometry display_from_field_of_view(int width_px, int height_px, const EyeFieldOfView& field_of_view);
 
 // Eccentricity in degrees of the point (x_px, y_px) (pixel coordinates, as above) when the gaze

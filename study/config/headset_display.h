@@ -5,20 +5,14 @@
 #include <string>
 #include <utility>
 
+#include "core/eye_field_of_view.h"
+
 namespace fovlab {
 
 // Where a study is shown: a desktop window (the default) or a headset through OpenXR.
 enum class DisplayKind { window, openxr };
 const char* display_kind_name(DisplayKind kind);  // "window", "openxr"
 
-// One eye's field of view as OpenXR gives a view's (XrFovf), in degrees: signed angles from the
-// eye's forward direction, left < 0 < right and down < 0 < up, each within (-90, 90).
-struct EyeFieldOfView {
-  double left_deg = 0.0;
-  double right_deg = 0.0;
-  double up_deg = 0.0;
-  double down_deg = 0.0;
-};
 
 // What the scene shows each eye: the studies' camera paths seen from each eye, the head ignored
 // (the papers' sequences were), or the camera moved by the tracked head (poses logged per frame).
@@ -34,7 +28,7 @@ struct HeadsetDisplayConfig {
   // learns (validate, prerender and simulate refuse it: require_eye_image_size).
   int eye_width_px = 0;
   int eye_height_px = 0;
-  EyeFieldOfView left_eye_fov;
+  EyeFieldOfView left_eye_fov;   // read from left_eye_fov_deg (degrees in the config)
   EyeFieldOfView right_eye_fov;
   double ipd_mm = 63.0;  // the eyes' separation where no runtime gives the views
   HeadsetViewModel view_model = HeadsetViewModel::head_locked;
@@ -44,7 +38,7 @@ struct HeadsetDisplayConfig {
 };
 
 // One eye's image in angles, from its field of view and size: the image plane at unit distance
-// spans tan(left_deg)..tan(right_deg) across and tan(down_deg)..tan(up_deg) up, the forward
+// spans tan(left)..tan(right) across and tan(down)..tan(up) up, the forward
 // direction meets it at centre_*_px, and a degree there covers pixels_per_degree_* pixels.
 // (A stand-in of our own until foveation/'s off-axis display_from_field_of_view serves it.)
 struct EyeViewGeometry {
@@ -67,9 +61,8 @@ std::pair<double, double> eye_pixel_of_direction(const EyeViewGeometry& eye, dou
                                                  double vertical_deg);
 
 // The flat display a plan's stimuli are made for, in [display]'s terms, from one eye: its image
-// plane at kHeadsetImagePlaneDistanceMm (angles are what count, so the distance is a convention)
+// plane at kFieldOfViewPlaneDistanceMm (angles are what count, so the distance is a convention)
 // with the eye before its centre. Per-eye off-axis geometry replaces it with per-eye rendering.
-constexpr double kHeadsetImagePlaneDistanceMm = 1000.0;
 struct FlatDisplayOfEye {
   double width_mm = 0.0;
   double height_mm = 0.0;

@@ -20,6 +20,7 @@ namespace fovlab {
 namespace {
 
 double tan_deg(double degrees) { return std::tan(degrees * std::numbers::pi / 180.0); }
+double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
 
 }  // namespace
 
@@ -33,10 +34,10 @@ EyeViewGeometry eye_view_geometry(const EyeFieldOfView& fov, int width_px, int h
   EyeViewGeometry eye;
   eye.width_px = width_px;
   eye.height_px = height_px;
-  eye.tan_left = tan_deg(fov.left_deg);
-  eye.tan_right = tan_deg(fov.right_deg);
-  eye.tan_up = tan_deg(fov.up_deg);
-  eye.tan_down = tan_deg(fov.down_deg);
+  eye.tan_left = std::tan(fov.angle_left_rad);
+  eye.tan_right = std::tan(fov.angle_right_rad);
+  eye.tan_up = std::tan(fov.angle_up_rad);
+  eye.tan_down = std::tan(fov.angle_down_rad);
   const double plane_width = eye.tan_right - eye.tan_left, plane_height = eye.tan_up - eye.tan_down;
   eye.centre_x_px = -eye.tan_left / plane_width * width_px;
   eye.centre_y_px = eye.tan_up / plane_height * height_px;
@@ -44,8 +45,8 @@ EyeViewGeometry eye_view_geometry(const EyeFieldOfView& fov, int width_px, int h
   const double radians_per_degree = std::numbers::pi / 180.0;
   eye.pixels_per_degree_x = width_px / plane_width * radians_per_degree;
   eye.pixels_per_degree_y = height_px / plane_height * radians_per_degree;
-  eye.width_deg = fov.right_deg - fov.left_deg;
-  eye.height_deg = fov.up_deg - fov.down_deg;
+  eye.width_deg = degrees(fov.angle_right_rad - fov.angle_left_rad);
+  eye.height_deg = degrees(fov.angle_up_rad - fov.angle_down_rad);
   return eye;
 }
 
@@ -56,14 +57,15 @@ std::pair<double, double> eye_pixel_of_direction(const EyeViewGeometry& eye, dou
 }
 
 FlatDisplayOfEye flat_display_of_eye(const EyeFieldOfView& fov) {
-  const double distance_mm = kHeadsetImagePlaneDistanceMm;
-  return {distance_mm * (tan_deg(fov.right_deg) - tan_deg(fov.left_deg)),
-          distance_mm * (tan_deg(fov.up_deg) - tan_deg(fov.down_deg)), distance_mm};
+  const double distance_mm = kFieldOfViewPlaneDistanceMm;
+  return {distance_mm * (std::tan(fov.angle_right_rad) - std::tan(fov.angle_left_rad)),
+          distance_mm * (std::tan(fov.angle_up_rad) - std::tan(fov.angle_down_rad)), distance_mm};
 }
 
 std::string field_of_view_text(const EyeFieldOfView& fov) {
-  return "[" + format_number(fov.left_deg, 6) + ", " + format_number(fov.right_deg, 6) + ", " +
-         format_number(fov.up_deg, 6) + ", " + format_number(fov.down_deg, 6) + "] deg";
+  return "[" + format_number(degrees(fov.angle_left_rad), 6) + ", " + format_number(degrees(fov.angle_right_rad), 6) +
+         ", " + format_number(degrees(fov.angle_up_rad), 6) + ", " + format_number(degrees(fov.angle_down_rad), 6) +
+         "] deg";
 }
 
 void require_eye_image_size(const StudyConfig& config, const std::string& command) {
@@ -105,14 +107,13 @@ EyeFieldOfView read_field_of_view(const TomlFields& fields, const std::string& k
   if (angles.size() != 4) fields.fail(key, expected + ", got " + std::to_string(angles.size()) + " numbers");
   for (double angle : angles)
     if (!(angle > -90.0 && angle < 90.0)) fields.fail(key, expected + ", got " + exact_number_text(angle));
-  const EyeFieldOfView fov{angles[0], angles[1], angles[2], angles[3]};
-  if (!(fov.left_deg < 0.0 && fov.right_deg > 0.0))
-    fields.fail(key, expected + ", got left " + exact_number_text(fov.left_deg) + " and right " +
-                         exact_number_text(fov.right_deg));
-  if (!(fov.down_deg < 0.0 && fov.up_deg > 0.0))
-    fields.fail(
-        key, expected + ", got up " + exact_number_text(fov.up_deg) + " and down " + exact_number_text(fov.down_deg));
-  return fov;
+  const double left_deg = angles[0], right_deg = angles[1], up_deg = angles[2], down_deg = angles[3];
+  if (!(left_deg < 0.0 && right_deg > 0.0))
+    fields.fail(key, expected + ", got left " + exact_number_text(left_deg) + " and right " +
+                         exact_number_text(right_deg));
+  if (!(down_deg < 0.0 && up_deg > 0.0))
+    fields.fail(key, expected + ", got up " + exact_number_text(up_deg) + " and down " + exact_number_text(down_deg));
+  return field_of_view_from_deg(left_deg, right_deg, up_deg, down_deg);
 }
 
 }  // namespace
@@ -186,7 +187,8 @@ void check_validation_targets_in_each_eye(const TomlFields& fields, const Headse
   // so both eyes see it at the same angles), its disk inside every eye's field of view.
   const double reach_deg = validation.target_offset_deg + validation.target_radius_deg;
   for (const auto& [name, fov] : {std::pair{"left", headset.left_eye_fov}, std::pair{"right", headset.right_eye_fov}}) {
-    if (reach_deg < -fov.left_deg && reach_deg < fov.right_deg && reach_deg < fov.up_deg && reach_deg < -fov.down_deg)
+    if (reach_deg < -degrees(fov.angle_left_rad) && reach_deg < degrees(fov.angle_right_rad) &&
+        reach_deg < degrees(fov.angle_up_rad) && reach_deg < -degrees(fov.angle_down_rad))
       continue;
     fields.fail("target_offset_deg", "expected targets in each eye's field of view: at " +
                                          format_number(validation.target_offset_deg, 6) +

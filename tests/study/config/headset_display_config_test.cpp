@@ -106,12 +106,8 @@ TEST(HeadsetDisplayConfig, ReadsEachEyesSizeAndAnglesWithTheDefaults) {
   EXPECT_EQ(display.headset.eye_height_px, 72);
   EXPECT_EQ(display.headset.eye_size_line, line_of(config_with(kHeadset), "eye_width_px"));
   EXPECT_EQ(display.refresh_hz, 90.0);
-  EXPECT_EQ(display.headset.left_eye_fov.left_deg, -54.0);
-  EXPECT_EQ(display.headset.left_eye_fov.right_deg, 49.0);
-  EXPECT_EQ(display.headset.left_eye_fov.up_deg, 54.0);
-  EXPECT_EQ(display.headset.left_eye_fov.down_deg, -56.0);
-  EXPECT_EQ(display.headset.right_eye_fov.left_deg, -49.0);
-  EXPECT_EQ(display.headset.right_eye_fov.right_deg, 54.0);
+  EXPECT_EQ(display.headset.left_eye_fov, field_of_view_from_deg(-54.0, 49.0, 54.0, -56.0));
+  EXPECT_EQ(display.headset.right_eye_fov, field_of_view_from_deg(-49.0, 54.0, 54.0, -56.0));
   EXPECT_EQ(display.headset.ipd_mm, 63.0);
   EXPECT_EQ(display.headset.view_model, HeadsetViewModel::head_locked);
   EXPECT_EQ(display.headset.gaze_fixation, GazeFixation::rendered_depth);
