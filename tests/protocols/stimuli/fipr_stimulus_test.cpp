@@ -131,7 +131,8 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
                        "samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels", "min_filter_size",
                        "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg", "periphery_refresh",
                        "periphery_steps", "periphery_reconstruction", "near_misses", "blur", "combine",
-                       "edge_threshold", "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
+                       "edge_threshold", "edge_depth", "mask_seed", "display_width_mm", "display_height_mm",
+                       "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
   EXPECT_EQ(levels.default_value, 3);
   EXPECT_EQ(levels.min_value, 3);  // low, mid and top
@@ -178,6 +179,29 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
     EXPECT_EQ(parameter_named(parameters, display).default_value, 0) << display << ": 0 means from [display]";
   EXPECT_EQ(parameter_named(parameters, "coarse_test").choices, (std::vector<std::string_view>{"ray", "cone"}));
   EXPECT_TRUE(parameter_named(parameters, "coarse_test").omitted_at_default);
+  // The cone since log schema 10 (IPR's and FIPR's), ray in logs of schema 1-9; IPR's min filter 1
+  // since (the cone makes it redundant), FIPR's 3 as before.
+  for (const RenderMethod method : {RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid}) {
+    const ParameterDescriptor& coarse_test = parameter_named(describe(method), "coarse_test");
+    EXPECT_EQ(coarse_test.default_value, 1);
+    EXPECT_EQ(coarse_test.default_since_log_schema, 10);
+    EXPECT_EQ(coarse_test.earlier_default, 0);
+  }
+  const ParameterDescriptor& ipr_min_filter = parameter_named(describe(RenderMethod::inverted_pyramid), "min_filter_size");
+  EXPECT_EQ(ipr_min_filter.default_value, 1);
+  EXPECT_EQ(ipr_min_filter.default_since_log_schema, 10);
+  EXPECT_EQ(ipr_min_filter.earlier_default, 3);
+  EXPECT_EQ(parameter_named(parameters, "min_filter_size").default_value, 3);
+  EXPECT_EQ(parameter_named(parameters, "min_filter_size").default_since_log_schema, 0);
+  const auto& edge_depth = parameter_named(parameters, "edge_depth");
+  EXPECT_EQ(edge_depth.choices, (std::vector<std::string_view>{"level", "centre-ray"}));
+  EXPECT_EQ(edge_depth.default_value, 1);  // centre-ray, the renderer's default too
+  EXPECT_EQ(FoveationSettings{}.edge_depth, EdgeDepth::centre_ray);
+  EXPECT_EQ(edge_depth.default_since_log_schema, 10);
+  EXPECT_EQ(edge_depth.earlier_default, 0);  // level in logs of schema 1-9
+  for (size_t i = 0; i < edge_depth.choices.size(); ++i)
+    EXPECT_EQ(parse_edge_depth(std::string(edge_depth.choices[i])), static_cast<EdgeDepth>(i));
+  EXPECT_TRUE(edge_depth.omitted_at_default);
   // IPR's parameters are FIPR's first six, and the full-resolution depth level (IPR's alone).
   for (const ParameterDescriptor& parameter : describe(RenderMethod::inverted_pyramid).parameters)
     EXPECT_EQ(names.count(std::string(parameter.key)), parameter.key == "full_resolution_depth" ? 0u : 1u);
@@ -222,6 +246,12 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
     const std::string name = to_json(spec)["parameters"].value("near_misses", "ignore");
     EXPECT_EQ(near_misses_name(sphere_trace_settings(spec, 0).foveation.near_misses), name);
   }
+  EXPECT_EQ(f.edge_depth, r.edge_depth);
+  for (const EdgeDepth choice : kEdgeDepths) {
+    fipr.edge_depth = choice;
+    const std::string name = to_json(spec)["parameters"].value("edge_depth", "level");
+    EXPECT_EQ(edge_depth_name(sphere_trace_settings(spec, 0).foveation.edge_depth), name);
+  }
 }
 
 TEST(FiprStimulus, SettingsForTheRenderer) {
@@ -256,10 +286,10 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(f.combine, MaskCombine::max);
   EXPECT_FLOAT_EQ(f.edge_threshold, 0.4f);
   EXPECT_EQ(f.seed, 0u);
-  EXPECT_EQ(settings.coarse_test, CoarseTest::centre_ray);
+  EXPECT_EQ(settings.coarse_test, CoarseTest::cone);
   EXPECT_NO_THROW(validate(settings));
 
-  fipr.coarse_test = CoarseTest::cone;
+  fipr.coarse_test = CoarseTest::centre_ray;
   fipr.fovea_radius_deg = 12.5;
   fipr.outer_periphery_radius_deg = 40;
   fipr.periphery_refresh = 4;
@@ -277,7 +307,7 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(settings.foveation.combine, MaskCombine::product);
   EXPECT_FLOAT_EQ(settings.foveation.edge_threshold, 0.1f);
   EXPECT_EQ(settings.foveation.seed, 4294967295u);
-  EXPECT_EQ(settings.coarse_test, CoarseTest::cone);
+  EXPECT_EQ(settings.coarse_test, CoarseTest::centre_ray);
   EXPECT_NO_THROW(validate(settings));
 }
 
