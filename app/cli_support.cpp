@@ -94,7 +94,7 @@ void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
   command.add_option("--time", settings.time_s, "Scene time in seconds (camera path, moving lights)");
   command.add_option("--levels", settings.pyramid_levels, "IPR pyramid levels, 2 to 5 (3: 1/16, 1/4, full)");
   command.add_option("--min-filter", settings.min_filter_size,
-                     "IPR/FIPR min-filter size: 1, 3 or 5 (default: each method's own, IPR 1, FIPR 3)");
+                     "IPR/FIPR min-filter size: 1, 3 or 5 (default: each method's own, 1)");
   static const std::map<std::string, CoarseTest> coarse_tests = {
       {coarse_test_name(CoarseTest::centre_ray), CoarseTest::centre_ray},
       {coarse_test_name(CoarseTest::cone), CoarseTest::cone}};

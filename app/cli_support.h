@@ -59,8 +59,8 @@ struct PyramidFlagsGiven {
 };
 PyramidFlagsGiven given_pyramid_flags(const CLI::App& command);
 // `settings` (the flags' values) for `method`: its min_filter_size and coarse_test where a flag did
-// not give them are the method's descriptor defaults (IPR: the cone, no min filter; FIPR: the cone,
-// 3x3: log schema 10's; study/stimulus/render_method.cpp). Other methods' settings are returned as given.
+// not give them are the method's descriptor defaults (log schema 10's: the cone, no min filter;
+// study/stimulus/render_method.cpp). Other methods' settings are returned as given.
 SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
                                                  const PyramidFlagsGiven& given);
 

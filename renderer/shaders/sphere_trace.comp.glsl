@@ -51,7 +51,7 @@ layout(std430, binding = 8) readonly buffer ParentNearDepth { float parent_near_
 layout(std430, binding = 9) writeonly buffer NearDepth { float near_depth[]; };
 // FLAG_EDGE_DEPTH (fovlab_edge_depth): FIPR's low level under the cone writes its centre ray's depth,
 // which its Sobel edges read (depth_edges.comp.glsl).
-layout(std430, binding = 10) writeonly buffer EdgeDepth { float edge_depth[]; };
+layout(std430, binding = 10) writeonly buffer CentreRayDepth { float edge_depth[]; };
 const float NO_NEAR_MISS = -1.0;
 
 // An entry of the masked pixels' list that the mid level promoted (it starts from the mid level's

@@ -19,8 +19,9 @@ using namespace descriptor_builders;
 
 // The pyramid's depth levels. Since log schema 10 they stop by the cone (thin geometry kept,
 // docs/scenes.md "Coarse test"), and the min filter, which the cone makes redundant, defaults to
-// `min_filter_size` (IPR: 1); logs of earlier schemas ran the paper's centre ray with a 3x3 filter
-// (Polychronakis et al. 2023), which a config they carry reads where it names none.
+// `min_filter_size` (1: IPR and FIPR alike, docs/benchmarks.md "Thin geometry with the new
+// defaults"); logs of earlier schemas ran the paper's centre ray with a 3x3 filter (Polychronakis
+// et al. 2023), which a config they carry reads where it names none.
 template <class Struct>
 void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int min_levels, int min_filter_size) {
   parameters.push_back(parameter<&Struct::pyramid_levels>(
@@ -70,7 +71,7 @@ MethodDescriptor foveated_pyramid() {
   method.needs_display = true;
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   method.parameters = sphere_trace_parameters<P>();
-  add_pyramid_parameters<P>(method.parameters, 3, 3);
+  add_pyramid_parameters<P>(method.parameters, 3, 1);
   auto& list = method.parameters;
   list.push_back(with_legacy_key(
       parameter<&P::fovea_radius_deg>(

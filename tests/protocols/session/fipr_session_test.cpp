@@ -219,12 +219,13 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     // in key order.
     std::set<std::string> parameters_named;
   };
-  // Schema 9's pyramid, named (ray; its edges then read the centre ray's depth either way).
-  const std::string ray = "coarse_test = \"ray\"\nedge_depth = \"level\"\n";
+  // Schema 9's pyramid, named (ray, 3x3; its edges then read the centre ray's depth either way).
+  const std::string ray = "coarse_test = \"ray\"\nmin_filter_size = 3\nedge_depth = \"level\"\n";
   const std::vector<Case> cases = {
       {"today's defaults as schema 9", "", 9, {"coarse_test"}},
-      {"today's cone with schema 9's edges as schema 9", "edge_depth = \"level\"\n", 9, {"coarse_test"}},
-      {"schema 9's cone as schema 9", "coarse_test = \"cone\"\nedge_depth = \"level\"\n", 9, {}},
+      {"today's cone with schema 9's edges as schema 9", "min_filter_size = 3\nedge_depth = \"level\"\n", 9,
+       {"coarse_test"}},
+      {"schema 9's cone as schema 9", "coarse_test = \"cone\"\nmin_filter_size = 3\nedge_depth = \"level\"\n", 9, {}},
       {"today's defaults but the pyramid as schema 4", ray, 4, {"near_misses"}},
       {"today's reconstruction as schema 4", ray + "near_misses = \"ignore\"\n", 4, {"periphery_reconstruction"}},
       {"today's defaults but the pyramid as schema 5", ray, 5, {"near_misses"}},

@@ -179,20 +179,18 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
     EXPECT_EQ(parameter_named(parameters, display).default_value, 0) << display << ": 0 means from [display]";
   EXPECT_EQ(parameter_named(parameters, "coarse_test").choices, (std::vector<std::string_view>{"ray", "cone"}));
   EXPECT_TRUE(parameter_named(parameters, "coarse_test").omitted_at_default);
-  // The cone since log schema 10 (IPR's and FIPR's), ray in logs of schema 1-9; IPR's min filter 1
-  // since (the cone makes it redundant), FIPR's 3 as before.
+  // The cone since log schema 10 (IPR's and FIPR's), ray in logs of schema 1-9; the min filter 1
+  // since (the cone makes it redundant), 3 before.
   for (const RenderMethod method : {RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid}) {
     const ParameterDescriptor& coarse_test = parameter_named(describe(method), "coarse_test");
     EXPECT_EQ(coarse_test.default_value, 1);
     EXPECT_EQ(coarse_test.default_since_log_schema, 10);
     EXPECT_EQ(coarse_test.earlier_default, 0);
+    const ParameterDescriptor& min_filter = parameter_named(describe(method), "min_filter_size");
+    EXPECT_EQ(min_filter.default_value, 1);
+    EXPECT_EQ(min_filter.default_since_log_schema, 10);
+    EXPECT_EQ(min_filter.earlier_default, 3);
   }
-  const ParameterDescriptor& ipr_min_filter = parameter_named(describe(RenderMethod::inverted_pyramid), "min_filter_size");
-  EXPECT_EQ(ipr_min_filter.default_value, 1);
-  EXPECT_EQ(ipr_min_filter.default_since_log_schema, 10);
-  EXPECT_EQ(ipr_min_filter.earlier_default, 3);
-  EXPECT_EQ(parameter_named(parameters, "min_filter_size").default_value, 3);
-  EXPECT_EQ(parameter_named(parameters, "min_filter_size").default_since_log_schema, 0);
   const auto& edge_depth = parameter_named(parameters, "edge_depth");
   EXPECT_EQ(edge_depth.choices, (std::vector<std::string_view>{"level", "centre-ray"}));
   EXPECT_EQ(edge_depth.default_value, 1);  // centre-ray, the renderer's default too
@@ -340,7 +338,11 @@ TEST(FiprStimulus, DescriptorsAgreeWithTheRenderer) {
   EXPECT_EQ(parameter_named(fipr, "samples_per_pixel").default_value, trace.samples_per_pixel);
   EXPECT_FLOAT_EQ(float(parameter_named(fipr, "hit_threshold").default_value), trace.hit_threshold);
   EXPECT_EQ(parameter_named(fipr, "pyramid_levels").default_value, trace.pyramid_levels);
-  EXPECT_EQ(parameter_named(fipr, "min_filter_size").default_value, trace.min_filter_size);
+  // The pyramid's min filter and coarse test: the renderer's own settings are the paper's pyramid (3x3,
+  // ray); a method's defaults (the cone, 1x1 since log schema 10) reach it through its spec
+  // (sphere_trace_settings) and the command line's with_method_pyramid_defaults.
+  EXPECT_EQ(parameter_named(fipr, "min_filter_size").earlier_default, trace.min_filter_size);
+  EXPECT_EQ(parameter_named(fipr, "coarse_test").earlier_default, double(static_cast<uint32_t>(trace.coarse_test)));
   EXPECT_FLOAT_EQ(float(parameter_named(fipr, "edge_threshold").default_value), trace.foveation.edge_threshold);
   const PathTraceSettings paths;
   const MethodDescriptor& fpt = describe(RenderMethod::foveated_path_traced);
