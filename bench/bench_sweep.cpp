@@ -221,8 +221,8 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   report.settings = options.settings;
   report.min_filter_given = options.min_filter_given;
   report.coarse_test_given = options.coarse_test_given;
-  for (const auto& [run, method] : {std::pair{plan.ipr, TraceMethod::inverted_pyramid},
-                                    std::pair{plan.fipr, TraceMethod::foveated_pyramid}}) {
+  for (const auto& [run, method] :
+       {std::pair{plan.ipr, TraceMethod::inverted_pyramid}, std::pair{plan.fipr, TraceMethod::foveated_pyramid}}) {
     if (!run) continue;
     SphereTraceSettings settings = options.settings;
     settings.method = method;

@@ -66,7 +66,7 @@ struct FoveationSettings {
       // a budget of min(N, max_steps) steps and shaded at full resolution
   PeripheryReconstruction reconstruction = PeripheryReconstruction::bilinear;  // periphery_steps 0
   NearMisses near_misses = NearMisses::promote;
-  EdgeDepth edge_depth = EdgeDepth::centre_ray;  // the low level's depth the Sobel edges read (the cone's, or its centre ray's)
+  EdgeDepth edge_depth = EdgeDepth::centre_ray;  // the low level's depth its Sobel edges read (EdgeDepth)
   bool blur = false;         // pass 5: masked Gaussian blur
   uint32_t seed = 0;         // of the per-pixel thresholds
   uint32_t frame_index = 0;  // frame of a sequence; 0 starts one (every pixel refreshed)

@@ -86,7 +86,8 @@ TraceParams SphereTracer::FrameRecording::trace_params(int level_index, const De
                  (foveated_mid ? gpu::FLAG_FOVEATED_MID : 0u) | (foveated_top ? gpu::FLAG_FOVEATED_TOP : 0u) |
                  (settings.coarse_test == CoarseTest::cone ? gpu::FLAG_CONE : 0u) |
                  (has_start && start.stats.scale == level.stats.scale ? gpu::FLAG_START_SAME_SIZE : 0u) |
-                 (near_misses ? gpu::FLAG_NEAR_MISS : 0u) | (edge_depth_of_centre_ray(level_index) ? gpu::FLAG_EDGE_DEPTH : 0u);
+                 (near_misses ? gpu::FLAG_NEAR_MISS : 0u) |
+                 (edge_depth_of_centre_ray(level_index) ? gpu::FLAG_EDGE_DEPTH : 0u);
   params.frame_index = fov.frame_index;
   params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
   return params;

@@ -27,10 +27,10 @@ void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int mi
   parameters.push_back(parameter<&Struct::pyramid_levels>(
       "pyramid_levels", "", ParameterType::integer, 3, min_levels, 5,
       "levels, each with 1/4 the pixels of the one above (FIPR: low, mid and top at least)"));
-  ParameterDescriptor min_filter = with_allowed(parameter<&Struct::min_filter_size>(
-                                                    "min_filter_size", "px", ParameterType::integer, min_filter_size,
-                                                    1, 5, "side of the depth min filter"),
-                                                {1, 3, 5});
+  ParameterDescriptor min_filter =
+      with_allowed(parameter<&Struct::min_filter_size>("min_filter_size", "px", ParameterType::integer, min_filter_size,
+                                                       1, 5, "side of the depth min filter"),
+                   {1, 3, 5});
   parameters.push_back(min_filter_size == 3 ? min_filter : with_changed_default(min_filter, 10, 3));
   ParameterDescriptor coarse_test = parameter<&Struct::coarse_test>(
       "coarse_test", "", ParameterType::choice, 1, 0, 1,

@@ -16,9 +16,8 @@ namespace fovlab {
 namespace {
 
 bench::BenchPlan plan_of(std::vector<std::string> extra) {
-  std::vector<std::string> words = {"--scenes", "primitives", "--spp",   "1",   "--width",    "64",
-                                    "--height", "36",         "--methods", "gt,ipr,fipr", "--refresh", "1",
-                                    "--fovea-deg", "7.5"};
+  std::vector<std::string> words = {"--scenes",  "primitives",  "--spp",     "1", "--width",     "64", "--height", "36",
+                                    "--methods", "gt,ipr,fipr", "--refresh", "1", "--fovea-deg", "7.5"};
   words.insert(words.end(), extra.begin(), extra.end());
   return app::plan_bench(app::parse_bench_flags(words, "the flags"));
 }

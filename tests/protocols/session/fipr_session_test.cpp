@@ -223,7 +223,9 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
   const std::string ray = "coarse_test = \"ray\"\nmin_filter_size = 3\nedge_depth = \"level\"\n";
   const std::vector<Case> cases = {
       {"today's defaults as schema 9", "", 9, {"coarse_test"}},
-      {"today's cone with schema 9's edges as schema 9", "min_filter_size = 3\nedge_depth = \"level\"\n", 9,
+      {"today's cone with schema 9's edges as schema 9",
+       "min_filter_size = 3\nedge_depth = \"level\"\n",
+       9,
        {"coarse_test"}},
       {"schema 9's cone as schema 9", "coarse_test = \"cone\"\nmin_filter_size = 3\nedge_depth = \"level\"\n", 9, {}},
       {"today's defaults but the pyramid as schema 4", ray, 4, {"near_misses"}},

@@ -75,7 +75,8 @@ scene = "wires"
 
 int frame_hash_differences(const ReplayOutcome& replayed) {
   int count = 0;
-  for (const std::string& difference : replayed.differences) count += difference.find("frame hash") != std::string::npos;
+  for (const std::string& difference : replayed.differences)
+    count += difference.find("frame hash") != std::string::npos;
   return count;
 }
 

@@ -127,12 +127,26 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   const MethodDescriptor& parameters = describe(RenderMethod::foveated_pyramid);
   std::set<std::string> names;
   for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
-  EXPECT_EQ(names, (std::set<std::string>{
-                       "samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels", "min_filter_size",
-                       "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg", "periphery_refresh",
-                       "periphery_steps", "periphery_reconstruction", "near_misses", "blur", "combine",
-                       "edge_threshold", "edge_depth", "mask_seed", "display_width_mm", "display_height_mm",
-                       "viewing_distance_mm"}));
+  EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel",
+                                          "max_steps",
+                                          "hit_threshold",
+                                          "pyramid_levels",
+                                          "min_filter_size",
+                                          "coarse_test",
+                                          "fovea_radius_deg",
+                                          "outer_periphery_radius_deg",
+                                          "periphery_refresh",
+                                          "periphery_steps",
+                                          "periphery_reconstruction",
+                                          "near_misses",
+                                          "blur",
+                                          "combine",
+                                          "edge_threshold",
+                                          "edge_depth",
+                                          "mask_seed",
+                                          "display_width_mm",
+                                          "display_height_mm",
+                                          "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
   EXPECT_EQ(levels.default_value, 3);
   EXPECT_EQ(levels.min_value, 3);  // low, mid and top
