@@ -12,7 +12,7 @@
 // twentieth of a pixel wide shows where a sample happens to pass within the hit band, and which
 // samples do depends on where each march's steps land (GT's own frame is not stable at that level,
 // docs/benchmarks.md), so a frame may miss one in 500 of GT's; the paper's pyramid misses 1.5-2 %
-// (measured: IPR 44 and FIPR 32 of 2134; the defaults 1 and 0). 160x90, 1 spp, FIPR gazing at the
+// (measured: IPR 44 and FIPR 32 of 2135; the defaults 1 and 0). 160x90, 1 spp, FIPR gazing at the
 // centre on the bench's display (238x134 mm at 100 mm, docs/benchmarks.md), so most of the frame is
 // periphery.
 #include <gtest/gtest.h>

@@ -221,7 +221,8 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
 }
 
 // One default per setting: a FIPR spec at its descriptor's defaults gives the renderer's own
-// defaults (SphereTraceSettings{}), which the command line's flags start from too.
+// defaults (SphereTraceSettings{}), which the command line's flags start from too, but for the
+// pyramid's min filter and coarse test (below).
 TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   StimulusSpec spec = default_fipr_spec();
   std::get<FoveatedPyramidParameters>(spec.parameters).display = {400, 300, 600};
@@ -231,7 +232,11 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   EXPECT_EQ(from_spec.max_steps, renderer.max_steps);
   EXPECT_EQ(from_spec.hit_threshold, renderer.hit_threshold);
   EXPECT_EQ(from_spec.pyramid_levels, renderer.pyramid_levels);
-  EXPECT_EQ(from_spec.min_filter_size, renderer.min_filter_size);
+  // The pyramid is the method's (the cone without the min filter since log schema 10); the
+  // renderer's own settings stay the paper's pyramid, and the command line applies the method's
+  // defaults to them (app/cli_support.h with_method_pyramid_defaults).
+  EXPECT_EQ(from_spec.min_filter_size, 1);
+  EXPECT_EQ(from_spec.coarse_test, CoarseTest::cone);
   const FoveationSettings& f = from_spec.foveation;
   const FoveationSettings& r = renderer.foveation;
   EXPECT_EQ(f.acuity.fovea_radius_deg, r.acuity.fovea_radius_deg);
