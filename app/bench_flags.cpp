@@ -191,6 +191,13 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   options.scenes = flags.scenes;
   options.spps = flags.spps;
   options.settings = flags.settings;
+  options.min_filter_given = flags.pyramid_flags_given.min_filter;
+  options.coarse_test_given = flags.pyramid_flags_given.coarse_test;
+  for (TraceMethod method : {TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid}) {
+    const SphereTraceSettings own = with_method_pyramid_defaults(flags.settings, method, flags.pyramid_flags_given);
+    (method == TraceMethod::inverted_pyramid ? options.ipr_pyramid : options.fipr_pyramid) =
+        bench::PyramidChoices{own.min_filter_size, own.coarse_test};
+  }
   options.repeats = flags.repeats;
   options.json = flags.json;
   options.out_dir = flags.out_dir;
@@ -213,7 +220,7 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
         check.samples_per_pixel = spp;
         check.method = TraceMethod::foveated_pyramid;
         check.foveation = variant.foveation;
-        validate_trace_flags(check);
+        validate_trace_flags(bench::settings_of(options, check));
       }
       options.variants.push_back(variant);
     }
@@ -299,6 +306,7 @@ void note_given_bench_flags(CLI::App& command, BenchFlags& options) {
   options.fipr_flags_given = given_fipr_only_flags(command);
   options.sampling_flags_given = given_sampling_only_flags(command);
   options.time_given = command.count("--time") > 0;
+  options.pyramid_flags_given = given_pyramid_flags(command);
 }
 
 }  // namespace fovlab::app

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/cli_support.h"
 #include "app/foveation_flags.h"
 #include "bench/bench.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
@@ -34,6 +35,7 @@ struct BenchFlags {
   std::vector<std::string> refresh{"1", "2", "4"};
   std::vector<std::string> fovea_deg{"2.5", "5", "7.5", "10", "12.5", "15"};
   FoveationFlags foveation;  // display, gaze and the other FIPR flags; its fovea_deg and refresh are unused
+  PyramidFlagsGiven pyramid_flags_given;  // --min-filter, --coarse-test: else each method's own defaults
   // FIPR-only flags the user gave (e.g. "--refresh"): refused unless fipr is among the methods.
   std::vector<std::string> fipr_flags_given;
   SamplingSettings sampling;  // Ye et al. 2022's sampling models (rmfr, hyperbolic, linear, kfr in --methods)

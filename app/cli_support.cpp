@@ -93,23 +93,39 @@ void fail_on_validation_messages(const vk::Context& context) {
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings) {
   command.add_option("--time", settings.time_s, "Scene time in seconds (camera path, moving lights)");
   command.add_option("--levels", settings.pyramid_levels, "IPR pyramid levels, 2 to 5 (3: 1/16, 1/4, full)");
-  command.add_option("--min-filter", settings.min_filter_size, "IPR min-filter size: 1, 3 or 5");
+  command.add_option("--min-filter", settings.min_filter_size,
+                     "IPR/FIPR min-filter size: 1, 3 or 5 (default: each method's own, 1)");
   static const std::map<std::string, CoarseTest> coarse_tests = {
       {coarse_test_name(CoarseTest::centre_ray), CoarseTest::centre_ray},
       {coarse_test_name(CoarseTest::cone), CoarseTest::cone}};
   command
       .add_option(
           "--coarse-test", settings.coarse_test,
-          "IPR/FIPR depth levels: ray (the paper's centre ray) or cone (the pixel's whole cone: no finer ray starts "
-          "behind a surface it would hit)")
+          "IPR/FIPR depth levels: cone (the pixel's whole cone: no finer ray starts behind a surface it would hit) "
+          "or ray (the paper's centre ray)")
       ->transform(CLI::CheckedTransformer(coarse_tests))
-      ->default_str(coarse_test_name(settings.coarse_test));
+      ->default_str("cone");
   command.add_flag(
       "--full-depth", settings.full_resolution_depth,
       "IPR: a full-resolution depth level (one ray a pixel) before the shaded samples, which start from it");
   command.add_option("--max-steps", settings.max_steps, "Step cap of one ray at one level");
   command.add_option("--hit-threshold", settings.hit_threshold,
                      "Hit when distance < t x pixel angle x this (pixel-footprint epsilon)");
+}
+
+PyramidFlagsGiven given_pyramid_flags(const CLI::App& command) {
+  return {command.get_option("--min-filter")->count() > 0, command.get_option("--coarse-test")->count() > 0};
+}
+
+SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
+                                                 const PyramidFlagsGiven& given) {
+  if (method != TraceMethod::inverted_pyramid && method != TraceMethod::foveated_pyramid) return settings;
+  const MethodDescriptor& descriptor = describe(
+      method == TraceMethod::inverted_pyramid ? RenderMethod::inverted_pyramid : RenderMethod::foveated_pyramid);
+  if (!given.min_filter) settings.min_filter_size = int(find_parameter(descriptor, "min_filter_size")->default_value);
+  if (!given.coarse_test)
+    settings.coarse_test = static_cast<CoarseTest>(int(find_parameter(descriptor, "coarse_test")->default_value));
+  return settings;
 }
 
 namespace {

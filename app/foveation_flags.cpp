@@ -44,6 +44,14 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
       ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
   command.add_option("--edge-threshold", flags.edge_threshold,
                      "FIPR: Sobel magnitude of the low-level depth, relative to the depth, that makes an edge");
+  std::vector<std::string> edge_depths;
+  for (EdgeDepth value : kEdgeDepths) edge_depths.emplace_back(edge_depth_name(value));
+  command
+      .add_option("--edge-depth", flags.edge_depth,
+                  "FIPR: the low level's depth the edges are found in: centre-ray (where its centre ray hits; with "
+                  "--coarse-test cone marched on from the cone's stop), level (the depth passed on: the cone's stop; "
+                  "every FIPR frame before log schema 10)")
+      ->check(CLI::IsMember(edge_depths));
   command.add_option("--seed", flags.seed, "FIPR: seed of the per-pixel thresholds");
 }
 
@@ -81,6 +89,7 @@ FoveationSettings parse_foveation(const FoveationFlags& flags, int width_px, int
   settings.blur = flags.blur == "on";
   settings.combine = parse_mask_combine(flags.combine).value_or(MaskCombine::max);
   settings.edge_threshold = flags.edge_threshold;
+  settings.edge_depth = parse_edge_depth(flags.edge_depth).value_or(FoveationSettings{}.edge_depth);
   settings.seed = flags.seed;
   return settings;
 }
@@ -114,6 +123,8 @@ std::string foveation_flags_text(const FoveationFlags& flags) {
   add("--blur", flags.blur);
   add("--combine", flags.combine);
   add("--edge-threshold", format_number(flags.edge_threshold, 6));
+  // Only where it is not the default (the reports of earlier builds had no such flag).
+  if (flags.edge_depth != edge_depth_name(FoveationSettings{}.edge_depth)) add("--edge-depth", flags.edge_depth);
   add("--seed", std::to_string(flags.seed));
   return text;
 }

@@ -26,6 +26,7 @@ struct FoveationFlags {
   std::string blur = "off";
   std::string combine = "max";
   float edge_threshold = FoveationSettings{}.edge_threshold;
+  std::string edge_depth = edge_depth_name(FoveationSettings{}.edge_depth);
   uint32_t seed = 0;
 };
 

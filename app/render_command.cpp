@@ -41,6 +41,7 @@ struct RenderOptions {
   std::vector<std::string> sampling_flags_given;
   FoveationFlags foveation;
   std::vector<std::string> fipr_flags_given;
+  PyramidFlagsGiven pyramid_flags_given;  // --min-filter, --coarse-test: else the method's own defaults
   int frames = 1;
   double frame_rate_hz = 60.0;
   VolumeRenderOptions volume;  // --method volume, fvolume: the volume-only flags
@@ -84,6 +85,7 @@ void run_render(const RenderOptions& options) {
   const std::optional<SamplingModel> model = parse_sampling_model(options.method);
   settings.method =
       model ? TraceMethod::sampling_model : parse_trace_method(options.method).value_or(TraceMethod::ground_truth);
+  settings = with_method_pyramid_defaults(settings, settings.method, options.pyramid_flags_given);
   const bool foveated = settings.method == TraceMethod::foveated_pyramid;
   if (foveated || model) settings.foveation = parse_foveation(options.foveation, settings.width, settings.height);
   if (!foveated && !options.fipr_flags_given.empty())
@@ -213,6 +215,7 @@ void add_render_command(CLI::App& app) {
   command->callback([options, command] {
     options->fipr_flags_given = given_fipr_only_flags(*command);
     options->sampling_flags_given = given_sampling_only_flags(*command);
+    options->pyramid_flags_given = given_pyramid_flags(*command);
     if (options->method == "volume" || options->method == "fvolume") return run_volume_render(*options, *command);
     run_render(*options);
   });

@@ -78,6 +78,22 @@ nlohmann::json sampling_json(const SamplingCellResult& sampling) {
            double(sampling.shaded_samples) / double(std::max<uint64_t>(1, sampling.reference_shaded_samples))}};
 }
 
+// --min-filter and --coarse-test as given; a flag not given: each pyramid method's own value
+// ({"ipr": 1, "fipr": 3}), or the settings' where neither runs.
+nlohmann::json min_filter_json(const BenchReport& report) {
+  if (report.min_filter_given || report.pyramids.empty()) return report.settings.min_filter_size;
+  nlohmann::json by_method = nlohmann::json::object();
+  for (const auto& [method, pyramid] : report.pyramids) by_method[bench_method_name(method)] = pyramid.min_filter_size;
+  return by_method;
+}
+nlohmann::json coarse_test_json(const BenchReport& report) {
+  if (report.coarse_test_given || report.pyramids.empty()) return coarse_test_name(report.settings.coarse_test);
+  nlohmann::json by_method = nlohmann::json::object();
+  for (const auto& [method, pyramid] : report.pyramids)
+    by_method[bench_method_name(method)] = coarse_test_name(pyramid.coarse_test);
+  return by_method;
+}
+
 }  // namespace
 
 nlohmann::json unit_json(const UnitResult& unit) {
@@ -138,8 +154,8 @@ nlohmann::json bench_report_json(const BenchReport& report) {
                          {"height", s.height},
                          {"repeats", report.repeats},
                          {"pyramid_levels", s.pyramid_levels},
-                         {"min_filter_size", s.min_filter_size},
-                         {"coarse_test", coarse_test_name(s.coarse_test)},
+                         {"min_filter_size", min_filter_json(report)},
+                         {"coarse_test", coarse_test_json(report)},
                          {"full_resolution_depth", s.full_resolution_depth},
                          {"max_steps", s.max_steps},
                          {"hit_threshold", s.hit_threshold},

@@ -44,9 +44,11 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
   const SphereTraceSettings& s = options.settings;
   std::ostringstream out;
   out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps << " --width " << s.width << " --height "
-      << s.height << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels
-      << " --min-filter " << s.min_filter_size << " --coarse-test " << coarse_test_name(s.coarse_test)
-      << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
+      << s.height << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels;
+  // A flag not given stays out: each method takes its own default again.
+  if (options.min_filter_given) out << " --min-filter " << s.min_filter_size;
+  if (options.coarse_test_given) out << " --coarse-test " << coarse_test_name(s.coarse_test);
+  out << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
       << exact_number_text(s.hit_threshold) << " --methods " << methods;
   return out.str();
 }
@@ -69,11 +71,11 @@ uint64_t bench_memory_bytes(const BenchPlan& plan) {
   methods.push_back(settings);
   settings.one_step_floor = false;
   settings.method = TraceMethod::inverted_pyramid;
-  if (plan.ipr) methods.push_back(settings);
+  if (plan.ipr) methods.push_back(settings_of(plan.options, settings));
   if (plan.fipr && !plan.options.variants.empty()) {
     settings.method = TraceMethod::foveated_pyramid;
     settings.foveation = plan.options.variants.front().foveation;
-    methods.push_back(settings);
+    methods.push_back(settings_of(plan.options, settings));
   }
   for (const SphereTraceSettings& method : methods) {
     layout_bytes = std::max(layout_bytes, render_memory_bytes(method));
@@ -83,6 +85,18 @@ uint64_t bench_memory_bytes(const BenchPlan& plan) {
 }
 
 }  // namespace
+
+SphereTraceSettings settings_of(const BenchOptions& options, SphereTraceSettings settings) {
+  const std::optional<PyramidChoices>& pyramid = settings.method == TraceMethod::inverted_pyramid ? options.ipr_pyramid
+                                                 : settings.method == TraceMethod::foveated_pyramid
+                                                     ? options.fipr_pyramid
+                                                     : std::nullopt;
+  if (pyramid) {
+    settings.min_filter_size = pyramid->min_filter_size;
+    settings.coarse_test = pyramid->coarse_test;
+  }
+  return settings;
+}
 
 BenchPlan plan_bench(BenchOptions options) {
   BenchPlan plan;

@@ -13,6 +13,7 @@
 
 #include "bench/bench_method.h"
 #include "bench/bench_parts.h"
+#include "bench/bench_results.h"
 #include "core/number_text.h"
 #include "foveation/display_geometry.h"
 #include "foveation/sampling_map.h"
@@ -49,6 +50,11 @@ struct BenchOptions {
   std::vector<std::string> scenes;  // names or .glsl paths
   std::vector<int> spps;
   SphereTraceSettings settings;  // the trace flags; time_s: --time
+  // --min-filter and --coarse-test serve IPR and FIPR alike where given (settings' values); a flag not
+  // given leaves each method its own default (its descriptor's), which the flags' reader writes here
+  // (unset: settings' values). settings_of applies them.
+  bool min_filter_given = true, coarse_test_given = true;
+  std::optional<PyramidChoices> ipr_pyramid, fipr_pyramid;
   int repeats = 5;
   std::vector<BenchMethod> methods;  // as given: gt among them, each once
   std::vector<float> times_s;        // --times; empty: --time alone
@@ -101,6 +107,9 @@ struct BenchPlan {
   const FiprVariant& variant_of(const BenchCell& cell) const { return options.variants[cell.variant]; }
   const SamplingVariant& sampling_of(const BenchCell& cell) const { return options.sampling[cell.variant]; }
 };
+
+// `settings` (of the sweep, with its method set) with that method's depth levels (BenchOptions::ipr_pyramid, fipr_pyramid).
+SphereTraceSettings settings_of(const BenchOptions& options, SphereTraceSettings settings);
 
 // The plan of `options` (checked by the flags' reader; nothing here refuses them).
 BenchPlan plan_bench(BenchOptions options);

@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/bench_method.h"
@@ -91,10 +92,20 @@ struct UnitResult {
 };
 
 // A sweep's (or with --cells a part's) results and the settings they were measured with.
+// One method's depth levels (IPR, FIPR): --min-filter and --coarse-test where given, else the
+// method's own defaults.
+struct PyramidChoices {
+  int min_filter_size = 3;
+  CoarseTest coarse_test = CoarseTest::centre_ray;
+};
+
 struct BenchReport {
   std::string device;
   bool timestamps = false;
   SphereTraceSettings settings;  // the trace flags (time_s: --time)
+  // A flag of the two not given: the JSON gives each pyramid method's own value (ipr, fipr as run).
+  bool min_filter_given = true, coarse_test_given = true;
+  std::vector<std::pair<BenchMethod, PyramidChoices>> pyramids;
   int repeats = 0;
   std::vector<float> times_s;
   std::string command;               // the sweep's

@@ -94,6 +94,7 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
         gt_settings.over_relaxation = 1.0f;  // GT stays the plain reference (--over-relax: IPR's)
         SphereTraceSettings ipr_settings = gt_settings;
         ipr_settings.method = TraceMethod::inverted_pyramid;
+        ipr_settings = settings_of(options, ipr_settings);
         ipr_settings.over_relaxation = options.settings.over_relaxation;
         SphereTraceSettings floor_settings = gt_settings;
         floor_settings.one_step_floor = true;
@@ -141,6 +142,7 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
             SphereTraceSettings fipr_settings = gt_settings;
             fipr_settings.method = TraceMethod::foveated_pyramid;
             fipr_settings.foveation = variant.foveation;
+            fipr_settings = settings_of(options, fipr_settings);
             const FiprSequence sequence = time_fipr_sequence(tracer, fipr_settings, options.repeats);
             const SphereTraceResult& frame = sequence.runs.frame;
             cell = measured_cell(BenchMethod::fipr, unit, sequence.runs.result(fipr_settings),
@@ -217,6 +219,17 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   report.device = context.description.name;
   report.timestamps = context.timestamp_period_ns > 0;
   report.settings = options.settings;
+  report.min_filter_given = options.min_filter_given;
+  report.coarse_test_given = options.coarse_test_given;
+  for (const auto& [run, method] :
+       {std::pair{plan.ipr, TraceMethod::inverted_pyramid}, std::pair{plan.fipr, TraceMethod::foveated_pyramid}}) {
+    if (!run) continue;
+    SphereTraceSettings settings = options.settings;
+    settings.method = method;
+    settings = settings_of(options, settings);
+    report.pyramids.push_back({method == TraceMethod::inverted_pyramid ? BenchMethod::ipr : BenchMethod::fipr,
+                               {settings.min_filter_size, settings.coarse_test}});
+  }
   report.repeats = options.repeats;
   report.times_s = plan.times_s;
   report.command = sweep_command(plan);

@@ -57,6 +57,16 @@ enum class NearMisses : uint32_t {
 };
 inline constexpr NearMisses kNearMisses[] = {NearMisses::ignore, NearMisses::promote};
 
+// Which depth of FIPR's low level its Sobel edges are found in (docs/foveation.md, "Edges under the
+// cone"). With coarse_test ray both are the centre ray's depth. Names: "level", "centre-ray".
+enum class EdgeDepth : uint32_t {
+  level = 0,       // the depth the low level passes on; with the cone, where its cone stopped, up to 1.5 cone
+                   // radii in front of what may enter it (every FIPR stimulus of logs before schema 10)
+  centre_ray = 1,  // the depth where the ray through the low pixel's centre hits (with the cone: marched on
+                   // from where the cone stopped), the paper's pyramid's; the depth passed on stays the cone's
+};
+inline constexpr EdgeDepth kEdgeDepths[] = {EdgeDepth::level, EdgeDepth::centre_ray};
+
 // How the sampling models' pass 2 reads the reduced buffers (RMFR, KFR, the hyperbolic layers; Ye et
 // al. 2022) at a pixel's forward-mapped position: bilinear (2x2 samples, the paper's), or Lanczos-2
 // (4x4 samples, sinc(x) sinc(x/2) per axis, the weights of the shaded samples normalised), sharper

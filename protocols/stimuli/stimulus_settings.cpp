@@ -65,6 +65,7 @@ void set_foveation(SphereTraceSettings& settings, const FoveatedPyramidParameter
   foveation.periphery_steps = fipr.periphery_steps;
   foveation.reconstruction = fipr.periphery_reconstruction;
   foveation.near_misses = fipr.near_misses;
+  foveation.edge_depth = fipr.edge_depth;
   foveation.blur = fipr.blur;
   foveation.combine = fipr.combine;
   foveation.edge_threshold = static_cast<float>(fipr.edge_threshold);

@@ -49,6 +49,9 @@ layout(std430, binding = 6) buffer PromotedMask { uint promoted_mask[]; };
 layout(std430, binding = 7) writeonly buffer PromotedList { uint promoted_list[]; };
 layout(std430, binding = 8) readonly buffer ParentNearDepth { float parent_near_depth[]; };
 layout(std430, binding = 9) writeonly buffer NearDepth { float near_depth[]; };
+// FLAG_EDGE_DEPTH (fovlab_edge_depth): FIPR's low level under the cone writes its centre ray's depth,
+// which its Sobel edges read (depth_edges.comp.glsl).
+layout(std430, binding = 10) writeonly buffer CentreRayDepth { float edge_depth[]; };
 const float NO_NEAR_MISS = -1.0;
 
 // An entry of the masked pixels' list that the mid level promoted (it starts from the mid level's
@@ -446,6 +449,20 @@ float fovlab_depth_to_pass_on(TraceResult result) {
   return result.outcome == OUTCOME_MISS ? MISS_DEPTH : result.t;
 }
 
+// FLAG_EDGE_DEPTH: the depth at which the ray through the low pixel's centre meets the surface (the
+// paper's pyramid's depth), for FIPR's Sobel edges. The cone stops up to 1.5 cone radii in front of
+// whatever may enter it, so its depths move and smear the steps at silhouettes that the edges are
+// found at, and the mask loses what those edges held. The centre ray lies inside the cone, so it
+// marches on from where the cone stopped (its steps are added to `steps`); the depth passed on to
+// the level above stays the cone's.
+float fovlab_edge_depth(Ray ray, TraceResult cone, float pixel_angle_rad, float scale, inout uint steps) {
+  if (cone.outcome != OUTCOME_HIT || cone.steps >= params.max_steps) return fovlab_depth_to_pass_on(cone);
+  TraceResult centre = fovlab_trace(ray, cone.t, pixel_angle_rad * scale * params.hit_threshold, false,
+                                    params.max_steps - cone.steps, false, 0.0, fovlab_unlimited);
+  steps += centre.steps;
+  return fovlab_depth_to_pass_on(centre);
+}
+
 // FLAG_NEAR_MISS: where this depth level's ray passed a surface within its pixel's cone, the depth
 // before it (TraceResult.t_clear), else NO_NEAR_MISS. The level's own ray (`traced`, from the
 // filtered depth t_start, exactly IPR's) shows a surface it passed; where the parent's ray passed one
@@ -758,6 +775,8 @@ void main() {
     uint steps = result.steps;
     if ((params.flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS)
       near_depth[index] = fovlab_near_miss_depth(ray, t_start, result, pixel, pixel_angle_rad, scale, steps);
+    if ((params.flags & FLAG_EDGE_DEPTH) != 0u)
+      edge_depth[index] = fovlab_edge_depth(ray, result, pixel_angle_rad, scale, steps);
     level_steps[index] = steps;
     return;
   }

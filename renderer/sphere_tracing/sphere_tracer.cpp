@@ -48,7 +48,7 @@ uint64_t render_memory_bytes(const SphereTraceSettings& settings) {
   bytes += frame_pixels * 4 * sizeof(float) * 2;  // colour, and read back
   bytes += frame_pixels * 4;                      // display_srgb8
   if (foveated && level_count >= 3) {
-    bytes += level_pixels[0] * sizeof(uint32_t);   // edges
+    bytes += level_pixels[0] * (sizeof(uint32_t) + sizeof(float));  // edges, edge depth
     bytes += frame_pixels * sizeof(uint32_t) * 4;  // mask, its readback, two lists
     bytes +=
         level_pixels[size_t(level_count - 2)] * (2 * sizeof(uint32_t) + 4 * sizeof(float));  // mid flags, list, colour
@@ -107,6 +107,16 @@ const char* near_misses_name(NearMisses near_misses) {
 std::optional<NearMisses> parse_near_misses(const std::string& name) {
   for (NearMisses near_misses : kNearMisses)
     if (name == near_misses_name(near_misses)) return near_misses;
+  return std::nullopt;
+}
+
+const char* edge_depth_name(EdgeDepth edge_depth) {
+  return edge_depth == EdgeDepth::centre_ray ? "centre-ray" : "level";
+}
+
+std::optional<EdgeDepth> parse_edge_depth(const std::string& name) {
+  for (EdgeDepth edge_depth : kEdgeDepths)
+    if (name == edge_depth_name(edge_depth)) return edge_depth;
   return std::nullopt;
 }
 
@@ -211,7 +221,7 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
   CompiledShader trace =
       compile_scene_shader(scene, {"sphere_trace.comp.glsl", shaders::sphere_trace_source, shaders::shared_headers});
   shader_from_cache_ = trace.from_cache;
-  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 10, sizeof(TraceParams));
+  trace_pipeline_ = std::make_unique<vk::ComputePipeline>(context, trace.spirv, 11, sizeof(TraceParams));
   min_filter_pipeline_ =
       std::make_unique<vk::ComputePipeline>(context, shaders::min_filter_spirv, 2, sizeof(MinFilterParams));
   edges_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::depth_edges_spirv, 2, sizeof(EdgeParams));
@@ -253,7 +263,7 @@ const vk::ComputePipeline& SphereTracer::variant_pipeline(const std::string& def
     const std::string source = defines + std::string(shaders::sphere_trace_source);
     const CompiledShader trace =
         compile_scene_shader(scene_, {"sphere_trace.comp.glsl (variant)", source, shaders::shared_headers});
-    pipeline = std::make_unique<vk::ComputePipeline>(context_, trace.spirv, 10, sizeof(TraceParams));
+    pipeline = std::make_unique<vk::ComputePipeline>(context_, trace.spirv, 11, sizeof(TraceParams));
   }
   return *pipeline;
 }
@@ -270,7 +280,8 @@ std::string history_key_of(const SphereTraceSettings& s) {
       << ' ' << f.display.height_mm << ' ' << f.display.viewing_distance_mm << ' ' << f.acuity.fovea_radius_deg << ' '
       << f.acuity.outer_periphery_radius_deg << ' ' << static_cast<uint32_t>(f.combine) << ' ' << f.edge_threshold
       << ' ' << f.periphery_refresh << ' ' << f.periphery_steps << ' ' << f.seed << ' '
-      << periphery_reconstruction_name(f.reconstruction) << ' ' << near_misses_name(f.near_misses);
+      << periphery_reconstruction_name(f.reconstruction) << ' ' << near_misses_name(f.near_misses) << ' '
+      << edge_depth_name(f.edge_depth);
   if (s.eye) {  // each eye its own history
     key << " eye";
     for (double v : s.eye->position_in_head) key << ' ' << v;
@@ -478,6 +489,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
                                     sampling.sample_colours(),
                                     frame.counters.handle(),
                                     sampling.sample_list(),
+                                    unused,
                                     unused,
                                     unused,
                                     unused,

@@ -49,6 +49,10 @@ std::optional<PeripheryReconstruction> parse_periphery_reconstruction(const std:
 const char* near_misses_name(NearMisses near_misses);
 std::optional<NearMisses> parse_near_misses(const std::string& name);
 
+// The names of core/render_choices.h's EdgeDepth: "level", "centre-ray" (the CLI's and the config's words).
+const char* edge_depth_name(EdgeDepth edge_depth);
+std::optional<EdgeDepth> parse_edge_depth(const std::string& name);
+
 // FIPR's inputs beyond IPR's (docs/foveation.md). The display's pixel counts must equal the frame's.
 struct FoveationSettings {
   DisplayGeometry display;
@@ -63,6 +67,7 @@ struct FoveationSettings {
       // a budget of min(N, max_steps) steps and shaded at full resolution
   PeripheryReconstruction reconstruction = PeripheryReconstruction::bilinear;  // periphery_steps 0
   NearMisses near_misses = NearMisses::promote;
+  EdgeDepth edge_depth = EdgeDepth::centre_ray;  // the low level's depth its Sobel edges read (EdgeDepth)
   bool blur = false;         // pass 5: masked Gaussian blur
   uint32_t seed = 0;         // of the per-pixel thresholds
   uint32_t frame_index = 0;  // frame of a sequence; 0 starts one (every pixel refreshed)

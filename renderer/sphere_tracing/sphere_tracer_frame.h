@@ -91,6 +91,7 @@ struct SphereTracer::FrameBuffers {
   vk::Buffer sample_depth;  // GT's one-step floor: where each sample's trace stopped (made when first needed)
   // FIPR only.
   vk::Buffer edges;  // low level: 0 or 1
+  vk::Buffer edge_depth;  // low level: its centre ray's depth, which the edges read under the cone (EdgeDepth)
   vk::Buffer mask;   // full resolution: 0 or 1
   vk::Buffer mask_readback;
   vk::Buffer masked_list;        // full-resolution pixel indices of the masked pixels (COUNTER_MASKED_PIXELS of them)
@@ -139,6 +140,7 @@ struct SphereTracer::FrameBuffers {
     const VkDeviceSize frame_pixels = VkDeviceSize(width) * VkDeviceSize(height);
     const VkDeviceSize mid_pixels = pixels_of(levels[size_t(level_count - 2)].stats);
     edges = vk::Buffer(context, pixels_of(levels[0].stats) * sizeof(uint32_t), vk::MemoryUse::device_local);
+    edge_depth = vk::Buffer(context, pixels_of(levels[0].stats) * sizeof(float), vk::MemoryUse::device_local);
     mask = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
     mask_readback = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::host_readback);
     masked_list = vk::Buffer(context, frame_pixels * sizeof(uint32_t), vk::MemoryUse::device_local);
@@ -224,7 +226,8 @@ struct SphereTracer::FrameRecording {
 
   // Level `level_index`'s trace: its push constants and its buffers (sphere_trace.comp.glsl's bindings).
   gpu::TraceParams trace_params(int level_index, const DepthStart& start) const;
-  std::array<VkBuffer, 10> trace_bindings(int level_index, const DepthStart& start) const;
+  std::array<VkBuffer, 11> trace_bindings(int level_index, const DepthStart& start) const;
+  bool edge_depth_of_centre_ray(int level_index) const;  // FIPR's low level marches its centre ray for the edges
   // After the submit, into `result`: FIPR's counts and mask, and every level's stats and steps.
   void read_fipr_outputs(const CounterValues& counters, SphereTraceResult& result) const;
   void read_level_stats(const CounterValues& counters, SphereTraceResult& result) const;

@@ -54,7 +54,7 @@ MaskParams mask_params(const SphereTraceSettings& settings, const PyramidLevelSt
   return params;
 }
 
-std::array<VkBuffer, 10> with_binding(std::array<VkBuffer, 10> buffers, size_t binding, VkBuffer buffer) {
+std::array<VkBuffer, 11> with_binding(std::array<VkBuffer, 11> buffers, size_t binding, VkBuffer buffer) {
   buffers[binding] = buffer;
   return buffers;
 }
@@ -88,14 +88,22 @@ TraceParams SphereTracer::FrameRecording::trace_params(int level_index, const De
                  (foveated_mid ? gpu::FLAG_FOVEATED_MID : 0u) | (foveated_top ? gpu::FLAG_FOVEATED_TOP : 0u) |
                  (settings.coarse_test == CoarseTest::cone ? gpu::FLAG_CONE : 0u) |
                  (has_start && start.stats.scale == level.stats.scale ? gpu::FLAG_START_SAME_SIZE : 0u) |
-                 (near_misses ? gpu::FLAG_NEAR_MISS : 0u);
+                 (near_misses ? gpu::FLAG_NEAR_MISS : 0u) |
+                 (edge_depth_of_centre_ray(level_index) ? gpu::FLAG_EDGE_DEPTH : 0u);
   params.frame_index = fov.frame_index;
   params.periphery_steps = static_cast<uint32_t>(std::min(fov.periphery_steps, settings.max_steps));
   set_eye_view(params, settings.eye);
   return params;
 }
 
-std::array<VkBuffer, 10> SphereTracer::FrameRecording::trace_bindings(int level_index, const DepthStart& start) const {
+// FIPR's low level under the cone, with the edges read from its centre ray (EdgeDepth::centre_ray):
+// it also marches that ray on from where the cone stopped, into frame.edge_depth (binding 10).
+bool SphereTracer::FrameRecording::edge_depth_of_centre_ray(int level_index) const {
+  return foveated && level_index == 0 && settings.coarse_test == CoarseTest::cone &&
+         settings.foveation.edge_depth == EdgeDepth::centre_ray;
+}
+
+std::array<VkBuffer, 11> SphereTracer::FrameRecording::trace_bindings(int level_index, const DepthStart& start) const {
   const LevelBuffers& level = frame.levels[size_t(level_index)];
   const bool top = level_index + 1 == level_count;
   const bool foveated_mid = foveated && level_index == mid_index;
@@ -116,7 +124,8 @@ std::array<VkBuffer, 10> SphereTracer::FrameRecording::trace_bindings(int level_
           promotes ? frame.mask.handle() : unused,
           promotes ? frame.masked_list.handle() : unused,
           near_misses && level_index > 0 ? frame.levels[size_t(level_index - 1)].near_depth.handle() : unused,
-          near_misses && !top ? level.near_depth.handle() : unused};
+          near_misses && !top ? level.near_depth.handle() : unused,
+          edge_depth_of_centre_ray(level_index) ? frame.edge_depth.handle() : unused};
 }
 
 void SphereTracer::clear_counters(FrameRecording& f) {
@@ -199,7 +208,8 @@ void SphereTracer::dispatch_list_sizes(FrameRecording& f, const char* pass, cons
 void SphereTracer::fipr_edges(FrameRecording& f) {
   const LevelBuffers& low = f.frame.levels.front();
   EdgeParams edge_params{{uint32_t(low.stats.width), uint32_t(low.stats.height)}, f.settings.foveation.edge_threshold};
-  const VkBuffer edge_buffers[] = {low.depth.handle(), f.frame.edges.handle()};
+  const VkBuffer edge_depth = f.edge_depth_of_centre_ray(0) ? f.frame.edge_depth.handle() : low.depth.handle();
+  const VkBuffer edge_buffers[] = {edge_depth, f.frame.edges.handle()};
   f.timer.begin(f.cmd, "sobel_edges");
   edges_pipeline_->dispatch_2d(f.cmd, edge_buffers, &edge_params, edge_params.size[0], edge_params.size[1]);
   f.timer.end(f.cmd);

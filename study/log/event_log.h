@@ -32,7 +32,10 @@ namespace fovlab {
 // logs showed (render_method.h ParameterDescriptor::choice_alias).
 // 9: the sampling models on a folder of the lab's images (img-rmfr, ...); the header of a session
 // that shows them records each image's SHA-256 (image_hashes), which replay checks.
-inline constexpr int log_schema_version = 9;         // what this build writes
+// 10: IPR's and FIPR's coarse_test defaults to cone (thin geometry kept), their min_filter_size to 1
+// (the cone makes it redundant), FIPR's edge_depth (new) to centre-ray; a config that a schema 1-9
+// log carries reads a missing one as ray, 3 and level, what those logs showed.
+inline constexpr int log_schema_version = 10;        // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read

@@ -118,6 +118,7 @@ struct FoveatedPyramidParameters {
   bool blur;
   MaskCombine combine;
   double edge_threshold;
+  EdgeDepth edge_depth;
   uint32_t mask_seed;
   StimulusDisplay display;
 };

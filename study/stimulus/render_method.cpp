@@ -17,20 +17,27 @@ namespace {
 // The builders (parameter<>, sphere_trace_parameters<>, ...) and the sampling models' descriptors.
 using namespace descriptor_builders;
 
+// The pyramid's depth levels. Since log schema 10 they stop by the cone (thin geometry kept,
+// docs/scenes.md "Coarse test"), and the min filter, which the cone makes redundant, defaults to
+// `min_filter_size` (1: IPR and FIPR alike, docs/benchmarks.md "Thin geometry with the new
+// defaults"); logs of earlier schemas ran the paper's centre ray with a 3x3 filter (Polychronakis
+// et al. 2023), which a config they carry reads where it names none.
 template <class Struct>
-void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int min_levels) {
+void add_pyramid_parameters(std::vector<ParameterDescriptor>& parameters, int min_levels, int min_filter_size) {
   parameters.push_back(parameter<&Struct::pyramid_levels>(
       "pyramid_levels", "", ParameterType::integer, 3, min_levels, 5,
       "levels, each with 1/4 the pixels of the one above (FIPR: low, mid and top at least)"));
-  parameters.push_back(with_allowed(parameter<&Struct::min_filter_size>("min_filter_size", "px", ParameterType::integer,
-                                                                        3, 1, 5, "side of the depth min filter"),
-                                    {1, 3, 5}));
+  ParameterDescriptor min_filter =
+      with_allowed(parameter<&Struct::min_filter_size>("min_filter_size", "px", ParameterType::integer, min_filter_size,
+                                                       1, 5, "side of the depth min filter"),
+                   {1, 3, 5});
+  parameters.push_back(min_filter_size == 3 ? min_filter : with_changed_default(min_filter, 10, 3));
   ParameterDescriptor coarse_test = parameter<&Struct::coarse_test>(
-      "coarse_test", "", ParameterType::choice, 0, 0, 1,
-      "how the depth levels stop: ray (the paper's centre ray; may step over geometry thinner than a coarse pixel) or "
-      "cone (the coarse pixel's whole cone: never starts a finer ray behind a surface it would hit)");
+      "coarse_test", "", ParameterType::choice, 1, 0, 1,
+      "how the depth levels stop: cone (the coarse pixel's whole cone: never starts a finer ray behind a surface it "
+      "would hit) or ray (the paper's centre ray; may step over geometry thinner than a coarse pixel)");
   coarse_test.choices = {"ray", "cone"};
-  parameters.push_back(omitted_at_default(coarse_test));
+  parameters.push_back(omitted_at_default(with_changed_default(coarse_test, 10, 0)));
 }
 
 MethodDescriptor ground_truth() {
@@ -46,7 +53,7 @@ MethodDescriptor inverted_pyramid() {
                           "the inverted pyramid (Polychronakis et al. 2023, section 3.1)", SceneKind::signed_distance};
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   method.parameters = sphere_trace_parameters<InvertedPyramidParameters>();
-  add_pyramid_parameters<InvertedPyramidParameters>(method.parameters, 2);
+  add_pyramid_parameters<InvertedPyramidParameters>(method.parameters, 2, 1);
   ParameterDescriptor full_depth = parameter<&InvertedPyramidParameters::full_resolution_depth>(
       "full_resolution_depth", "", ParameterType::choice, 0, 0, 1,
       "on: one depth ray a pixel at full resolution before the shaded samples, which start from it");
@@ -64,7 +71,7 @@ MethodDescriptor foveated_pyramid() {
   method.needs_display = true;
   method.max_samples_per_frame = kSphereTraceSamplesPerFrame;
   method.parameters = sphere_trace_parameters<P>();
-  add_pyramid_parameters<P>(method.parameters, 3);
+  add_pyramid_parameters<P>(method.parameters, 3, 1);
   auto& list = method.parameters;
   list.push_back(with_legacy_key(
       parameter<&P::fovea_radius_deg>(
@@ -117,6 +124,15 @@ MethodDescriptor foveated_pyramid() {
   list.push_back(parameter<&P::edge_threshold>(
       "edge_threshold", "", ParameterType::real, 0.4, 1e-4, 1000,
       "Sobel magnitude of the low level's depth, relative to the depth, that makes an edge"));
+  // Added in log schema 10, defaulting to centre-ray; every earlier log's FIPR read the level's depth.
+  ParameterDescriptor edge_depth = parameter<&P::edge_depth>(
+      "edge_depth", "", ParameterType::choice, 1, 0, 1,
+      "which depth of the low level the edges are found in: centre-ray (where the ray through the pixel's centre "
+      "hits, the paper's pyramid's; with coarse_test cone marched on from where the cone stopped) or level (the "
+      "depth passed on: with the cone, where it stopped, in front of the surface; every FIPR stimulus of logs "
+      "before schema 10); the same with coarse_test ray; docs/foveation.md");
+  edge_depth.choices = {"level", "centre-ray"};
+  list.push_back(omitted_at_default(with_changed_default(edge_depth, 10, 0)));
   list.push_back(parameter<&P::mask_seed>("mask_seed", "", ParameterType::integer, 0, 0, kSeedMax,
                                           "seed of the per-pixel thresholds of the mask"));
   add_display_parameters<P>(list);

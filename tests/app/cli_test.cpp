@@ -96,7 +96,11 @@ TEST(Cli, BenchPrintsATableAndWritesJson) {
   EXPECT_LE(json["rows"][0]["floor"]["steps_per_sample"].get<double>(), 1.0);
   EXPECT_GT(json["rows"][0]["ipr_over_floor"].get<double>(), 0.0);
   EXPECT_NE(json["command"].get<std::string>().find("fovlab bench --scenes primitives"), std::string::npos);
-  EXPECT_NE(json["command"].get<std::string>().find("--coarse-test ray"), std::string::npos);
+  // No --coarse-test or --min-filter given: IPR takes its own defaults (the cone without the min
+  // filter since log schema 10), the command leaves them out and the JSON gives IPR's.
+  EXPECT_EQ(json["command"].get<std::string>().find("--coarse-test"), std::string::npos);
+  EXPECT_EQ(json["coarse_test"], (nlohmann::json{{"ipr", "cone"}}));
+  EXPECT_EQ(json["min_filter_size"], (nlohmann::json{{"ipr", 1}}));
 }
 
 TEST(Cli, DevicesListsLavapipeOrAGpu) {

@@ -20,6 +20,7 @@ const uint FLAG_NEAR_MISS = 256u;         // FIPR: where a depth level's ray pas
                                           // (near_depth); the mid level promotes the children of such a pixel
 const uint FLAG_SAMPLE_DEPTH_OUT = 512u;  // GT before its one-step floor: each sample's stop to level_depth
 const uint FLAG_SAMPLE_DEPTH_IN = 1024u;  // the one-step floor: each sample starts at its entry of start_depth
+const uint FLAG_EDGE_DEPTH = 2048u;       // FIPR's low level under the cone: its centre ray's depth to edge_depth
 
 struct TraceParams {
   uvec2 level_size;        // pixels of this level

@@ -190,9 +190,11 @@ TEST(FiprSession, MovingGazeRendersLiveAndReplaysToTheSameHashes) {
   EXPECT_TRUE(hash_named) << "a changed gaze changes the FIPR images";
 }
 
-// Log schemas 5 and 6 brought FIPR's periphery_reconstruction (default bilinear) and near_misses
-// (default promote); a config that an earlier log carries is read with what those sessions showed,
-// mid-footprint-bilinear before 5 and ignore before 6 (docs/log-schema.md, "Versions"). Relabelled
+// Log schemas 5, 6 and 10 brought FIPR's periphery_reconstruction (default bilinear), near_misses
+// (default promote), and the cone with its edges from the centre ray (coarse_test cone, edge_depth
+// centre-ray); a config that an earlier log carries is read with what those sessions showed,
+// mid-footprint-bilinear before 5, ignore before 6, ray and level before 10 (docs/log-schema.md,
+// "Versions"). Relabelled
 // an earlier schema (the chain then breaks, which replay also says), a session of today's defaults
 // replays other FIPR images, and replay names the stimulus parameter it reads otherwise than the
 // header recorded; one that showed that schema's defaults replays to its hashes, as every session
@@ -217,15 +219,24 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     // in key order.
     std::set<std::string> parameters_named;
   };
+  // Schema 9's pyramid, named (ray, 3x3; its edges then read the centre ray's depth either way).
+  const std::string ray = "coarse_test = \"ray\"\nmin_filter_size = 3\nedge_depth = \"level\"\n";
   const std::vector<Case> cases = {
-      {"today's defaults as schema 4", "", 4, {"near_misses"}},
-      {"today's reconstruction as schema 4", "near_misses = \"ignore\"\n", 4, {"periphery_reconstruction"}},
-      {"today's defaults as schema 5", "", 5, {"near_misses"}},
+      {"today's defaults as schema 9", "", 9, {"coarse_test"}},
+      {"today's cone with schema 9's edges as schema 9",
+       "min_filter_size = 3\nedge_depth = \"level\"\n",
+       9,
+       {"coarse_test"}},
+      {"schema 9's cone as schema 9", "coarse_test = \"cone\"\nmin_filter_size = 3\nedge_depth = \"level\"\n", 9, {}},
+      {"today's defaults but the pyramid as schema 4", ray, 4, {"near_misses"}},
+      {"today's reconstruction as schema 4", ray + "near_misses = \"ignore\"\n", 4, {"periphery_reconstruction"}},
+      {"today's defaults but the pyramid as schema 5", ray, 5, {"near_misses"}},
       {"schema 4's defaults",
-       "periphery_reconstruction = \"mid-footprint-bilinear\"\nnear_misses = \"ignore\"\n",
+       ray + "periphery_reconstruction = \"mid-footprint-bilinear\"\nnear_misses = \"ignore\"\n",
        4,
        {}},
-      {"schema 5's defaults", "near_misses = \"ignore\"\n", 5, {}},
+      {"schema 5's defaults", ray + "near_misses = \"ignore\"\n", 5, {}},
+      {"schema 9's defaults", ray, 9, {}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -241,7 +252,7 @@ TEST(FiprSession, ALogOfAnEarlierSchemaReplaysWithThatSchemasDefault) {
     std::set<std::string> named;
     for (const std::string& difference : earlier.differences) {
       if (difference.find("header: stimulus") != 0) continue;
-      for (const char* parameter : {"periphery_reconstruction", "near_misses"}) {
+      for (const char* parameter : {"coarse_test", "edge_depth", "periphery_reconstruction", "near_misses"}) {
         if (difference.find("parameters." + std::string(parameter) + ": none by this build's reading") !=
             std::string::npos)
           named.insert(parameter);

@@ -67,7 +67,7 @@ SessionOutcome* SessionLatency::outcome_ = nullptr;
 
 TEST_F(SessionLatency, EveryRefreshLogsItsSampleTimeAndAgeOnTheVirtualClock) {
   const SessionRecord record = read_session_record(read_event_log(outcome_->log_path));
-  EXPECT_EQ(record.header.value("schema_version", 0), 9);
+  EXPECT_EQ(record.header.value("schema_version", 0), log_schema_version);
   EXPECT_EQ(record.header.value("gaze", ""), "synthetic:seed=3,age_ms=40");
   int stimuli = 0;
   size_t refreshes = 0;

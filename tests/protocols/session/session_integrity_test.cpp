@@ -91,7 +91,7 @@ TEST_F(SessionIntegrity, AFinishedSessionIsSealedForEveryReader) {
     const LabKey* given = log == *keyed_log_ ? &lab_key : nullptr;  // a key given for an unkeyed log: broken (below)
     const std::vector<std::string> lines = lines_of(read_file(log));
     EXPECT_EQ(nlohmann::json::parse(lines.back()).value("event", ""), "seal");
-    EXPECT_EQ(nlohmann::json::parse(lines.front()).value("schema_version", 0), 9);
+    EXPECT_EQ(nlohmann::json::parse(lines.front()).value("schema_version", 0), log_schema_version);
     EXPECT_EQ(nlohmann::json::parse(lines.front())["chain"].get<std::string>().size(), 64u);  // SHA-256
     EXPECT_EQ(full_reader(log, given).status, LogStatus::sealed);
     EXPECT_EQ(fast_scan(log, given).status, LogStatus::sealed);

@@ -127,11 +127,26 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
   const MethodDescriptor& parameters = describe(RenderMethod::foveated_pyramid);
   std::set<std::string> names;
   for (const ParameterDescriptor& parameter : parameters.parameters) names.insert(std::string(parameter.key));
-  EXPECT_EQ(names, (std::set<std::string>{
-                       "samples_per_pixel", "max_steps", "hit_threshold", "pyramid_levels", "min_filter_size",
-                       "coarse_test", "fovea_radius_deg", "outer_periphery_radius_deg", "periphery_refresh",
-                       "periphery_steps", "periphery_reconstruction", "near_misses", "blur", "combine",
-                       "edge_threshold", "mask_seed", "display_width_mm", "display_height_mm", "viewing_distance_mm"}));
+  EXPECT_EQ(names, (std::set<std::string>{"samples_per_pixel",
+                                          "max_steps",
+                                          "hit_threshold",
+                                          "pyramid_levels",
+                                          "min_filter_size",
+                                          "coarse_test",
+                                          "fovea_radius_deg",
+                                          "outer_periphery_radius_deg",
+                                          "periphery_refresh",
+                                          "periphery_steps",
+                                          "periphery_reconstruction",
+                                          "near_misses",
+                                          "blur",
+                                          "combine",
+                                          "edge_threshold",
+                                          "edge_depth",
+                                          "mask_seed",
+                                          "display_width_mm",
+                                          "display_height_mm",
+                                          "viewing_distance_mm"}));
   const auto& levels = parameter_named(parameters, "pyramid_levels");
   EXPECT_EQ(levels.default_value, 3);
   EXPECT_EQ(levels.min_value, 3);  // low, mid and top
@@ -178,6 +193,27 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
     EXPECT_EQ(parameter_named(parameters, display).default_value, 0) << display << ": 0 means from [display]";
   EXPECT_EQ(parameter_named(parameters, "coarse_test").choices, (std::vector<std::string_view>{"ray", "cone"}));
   EXPECT_TRUE(parameter_named(parameters, "coarse_test").omitted_at_default);
+  // The cone since log schema 10 (IPR's and FIPR's), ray in logs of schema 1-9; the min filter 1
+  // since (the cone makes it redundant), 3 before.
+  for (const RenderMethod method : {RenderMethod::inverted_pyramid, RenderMethod::foveated_pyramid}) {
+    const ParameterDescriptor& coarse_test = parameter_named(describe(method), "coarse_test");
+    EXPECT_EQ(coarse_test.default_value, 1);
+    EXPECT_EQ(coarse_test.default_since_log_schema, 10);
+    EXPECT_EQ(coarse_test.earlier_default, 0);
+    const ParameterDescriptor& min_filter = parameter_named(describe(method), "min_filter_size");
+    EXPECT_EQ(min_filter.default_value, 1);
+    EXPECT_EQ(min_filter.default_since_log_schema, 10);
+    EXPECT_EQ(min_filter.earlier_default, 3);
+  }
+  const auto& edge_depth = parameter_named(parameters, "edge_depth");
+  EXPECT_EQ(edge_depth.choices, (std::vector<std::string_view>{"level", "centre-ray"}));
+  EXPECT_EQ(edge_depth.default_value, 1);  // centre-ray, the renderer's default too
+  EXPECT_EQ(FoveationSettings{}.edge_depth, EdgeDepth::centre_ray);
+  EXPECT_EQ(edge_depth.default_since_log_schema, 10);
+  EXPECT_EQ(edge_depth.earlier_default, 0);  // level in logs of schema 1-9
+  for (size_t i = 0; i < edge_depth.choices.size(); ++i)
+    EXPECT_EQ(parse_edge_depth(std::string(edge_depth.choices[i])), static_cast<EdgeDepth>(i));
+  EXPECT_TRUE(edge_depth.omitted_at_default);
   // IPR's parameters are FIPR's first six, and the full-resolution depth level (IPR's alone).
   for (const ParameterDescriptor& parameter : describe(RenderMethod::inverted_pyramid).parameters)
     EXPECT_EQ(names.count(std::string(parameter.key)), parameter.key == "full_resolution_depth" ? 0u : 1u);
@@ -185,7 +221,8 @@ TEST(FiprStimulus, ParametersDefaultsRangesAndChoices) {
 }
 
 // One default per setting: a FIPR spec at its descriptor's defaults gives the renderer's own
-// defaults (SphereTraceSettings{}), which the command line's flags start from too.
+// defaults (SphereTraceSettings{}), which the command line's flags start from too, but for the
+// pyramid's min filter and coarse test (below).
 TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   StimulusSpec spec = default_fipr_spec();
   std::get<FoveatedPyramidParameters>(spec.parameters).display = {400, 300, 600};
@@ -195,7 +232,11 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
   EXPECT_EQ(from_spec.max_steps, renderer.max_steps);
   EXPECT_EQ(from_spec.hit_threshold, renderer.hit_threshold);
   EXPECT_EQ(from_spec.pyramid_levels, renderer.pyramid_levels);
-  EXPECT_EQ(from_spec.min_filter_size, renderer.min_filter_size);
+  // The pyramid is the method's (the cone without the min filter since log schema 10); the
+  // renderer's own settings stay the paper's pyramid, and the command line applies the method's
+  // defaults to them (app/cli_support.h with_method_pyramid_defaults).
+  EXPECT_EQ(from_spec.min_filter_size, 1);
+  EXPECT_EQ(from_spec.coarse_test, CoarseTest::cone);
   const FoveationSettings& f = from_spec.foveation;
   const FoveationSettings& r = renderer.foveation;
   EXPECT_EQ(f.acuity.fovea_radius_deg, r.acuity.fovea_radius_deg);
@@ -221,6 +262,12 @@ TEST(FiprStimulus, DescriptorDefaultsAreTheRenderersDefaults) {
     fipr.near_misses = choice;
     const std::string name = to_json(spec)["parameters"].value("near_misses", "ignore");
     EXPECT_EQ(near_misses_name(sphere_trace_settings(spec, 0).foveation.near_misses), name);
+  }
+  EXPECT_EQ(f.edge_depth, r.edge_depth);
+  for (const EdgeDepth choice : kEdgeDepths) {
+    fipr.edge_depth = choice;
+    const std::string name = to_json(spec)["parameters"].value("edge_depth", "level");
+    EXPECT_EQ(edge_depth_name(sphere_trace_settings(spec, 0).foveation.edge_depth), name);
   }
 }
 
@@ -256,10 +303,10 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(f.combine, MaskCombine::max);
   EXPECT_FLOAT_EQ(f.edge_threshold, 0.4f);
   EXPECT_EQ(f.seed, 0u);
-  EXPECT_EQ(settings.coarse_test, CoarseTest::centre_ray);
+  EXPECT_EQ(settings.coarse_test, CoarseTest::cone);
   EXPECT_NO_THROW(validate(settings));
 
-  fipr.coarse_test = CoarseTest::cone;
+  fipr.coarse_test = CoarseTest::centre_ray;
   fipr.fovea_radius_deg = 12.5;
   fipr.outer_periphery_radius_deg = 40;
   fipr.periphery_refresh = 4;
@@ -277,7 +324,7 @@ TEST(FiprStimulus, SettingsForTheRenderer) {
   EXPECT_EQ(settings.foveation.combine, MaskCombine::product);
   EXPECT_FLOAT_EQ(settings.foveation.edge_threshold, 0.1f);
   EXPECT_EQ(settings.foveation.seed, 4294967295u);
-  EXPECT_EQ(settings.coarse_test, CoarseTest::cone);
+  EXPECT_EQ(settings.coarse_test, CoarseTest::centre_ray);
   EXPECT_NO_THROW(validate(settings));
 }
 
@@ -310,7 +357,11 @@ TEST(FiprStimulus, DescriptorsAgreeWithTheRenderer) {
   EXPECT_EQ(parameter_named(fipr, "samples_per_pixel").default_value, trace.samples_per_pixel);
   EXPECT_FLOAT_EQ(float(parameter_named(fipr, "hit_threshold").default_value), trace.hit_threshold);
   EXPECT_EQ(parameter_named(fipr, "pyramid_levels").default_value, trace.pyramid_levels);
-  EXPECT_EQ(parameter_named(fipr, "min_filter_size").default_value, trace.min_filter_size);
+  // The pyramid's min filter and coarse test: the renderer's own settings are the paper's pyramid (3x3,
+  // ray); a method's defaults (the cone, 1x1 since log schema 10) reach it through its spec
+  // (sphere_trace_settings) and the command line's with_method_pyramid_defaults.
+  EXPECT_EQ(parameter_named(fipr, "min_filter_size").earlier_default, trace.min_filter_size);
+  EXPECT_EQ(parameter_named(fipr, "coarse_test").earlier_default, double(static_cast<uint32_t>(trace.coarse_test)));
   EXPECT_FLOAT_EQ(float(parameter_named(fipr, "edge_threshold").default_value), trace.foveation.edge_threshold);
   const PathTraceSettings paths;
   const MethodDescriptor& fpt = describe(RenderMethod::foveated_path_traced);

@@ -90,7 +90,9 @@ TEST(RenderMethod, ChoicesTravelByNameInTheCanonicalTextAndJson) {
 }
 
 // Parameters added after logs were written (the pyramid's coarse_test and full_resolution_depth)
-// leave the canonical text of older stimuli as it was at their defaults, and enter it otherwise.
+// leave the canonical text of older stimuli as it was at the values those logs had, and enter it
+// otherwise: since log schema 10 IPR's defaults are the cone and no min filter, so a default
+// stimulus names the cone; one of the paper's pyramid (ray, 3x3) has the older text.
 TEST(RenderMethod, ParametersAddedLaterKeepTheCanonicalTextOfOlderStimuli) {
   StimulusSpec spec;
   spec.scene = "primitives";
@@ -98,10 +100,15 @@ TEST(RenderMethod, ParametersAddedLaterKeepTheCanonicalTextOfOlderStimuli) {
   spec.height_px = 36;
   spec.parameters = default_parameters(RenderMethod::inverted_pyramid);
   EXPECT_EQ(spec.canonical(),
+            "scene=primitives;method=ipr;coarse_test=cone;hit_threshold=0.25;max_steps=256;min_filter_size=1;"
+            "pyramid_levels=3;samples_per_pixel=1;size=64x36;frames=1@1;camera_start_s=0");
+  auto& ipr = std::get<InvertedPyramidParameters>(spec.parameters);
+  ipr.coarse_test = CoarseTest::centre_ray;  // the older logs' pyramid
+  ipr.min_filter_size = 3;
+  EXPECT_EQ(spec.canonical(),
             "scene=primitives;method=ipr;hit_threshold=0.25;max_steps=256;min_filter_size=3;pyramid_levels=3;"
             "samples_per_pixel=1;size=64x36;frames=1@1;camera_start_s=0");
   EXPECT_FALSE(to_json(spec)["parameters"].contains("coarse_test"));
-  auto& ipr = std::get<InvertedPyramidParameters>(spec.parameters);
   ipr.coarse_test = CoarseTest::cone;
   ipr.full_resolution_depth = true;
   EXPECT_NE(spec.canonical().find(";coarse_test=cone;full_resolution_depth=on;"), std::string::npos)
