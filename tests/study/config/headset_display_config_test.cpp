@@ -244,14 +244,14 @@ TEST(HeadsetDisplayConfig, ValidationTargetsMustFitEachEyesFieldOfView) {
 // Each eye's geometry from its angles: at +-45 deg the image plane spans [-1, 1] at unit distance,
 // so a radian at the centre covers half the image.
 TEST(EyeViewGeometry, PixelsPerDegreeAndCentreFromTheImagePlane) {
-  const EyeViewGeometry square = eye_view_geometry({-45, 45, 45, -45}, 1000, 800);
+  const EyeViewGeometry square = eye_view_geometry(field_of_view_from_deg(-45, 45, 45, -45), 1000, 800);
   EXPECT_NEAR(square.centre_x_px, 500.0, 1e-9);
   EXPECT_NEAR(square.centre_y_px, 400.0, 1e-9);
   EXPECT_NEAR(square.pixels_per_degree_x, 500.0 * std::numbers::pi / 180.0, 1e-9);
   EXPECT_NEAR(square.pixels_per_degree_y, 400.0 * std::numbers::pi / 180.0, 1e-9);
-  EXPECT_EQ(square.width_deg, 90.0);
+  EXPECT_NEAR(square.width_deg, 90.0, 1e-12);
   // Off-axis: [-45, 0+, ...]: the forward direction meets the image near its right edge.
-  const EyeViewGeometry off_axis = eye_view_geometry({-45, 26.565051177077990, 45, -45}, 300, 200);
+  const EyeViewGeometry off_axis = eye_view_geometry(field_of_view_from_deg(-45, 26.565051177077990, 45, -45), 300, 200);
   EXPECT_NEAR(off_axis.centre_x_px, 200.0, 1e-9);  // tan 26.57 deg = 0.5: the plane is [-1, 0.5]
   EXPECT_NEAR(off_axis.pixels_per_degree_x, 200.0 * std::numbers::pi / 180.0, 1e-9);
   EXPECT_NEAR(off_axis.width_deg, 71.565051177077990, 1e-12);
@@ -265,7 +265,7 @@ TEST(EyeViewGeometry, PixelsPerDegreeAndCentreFromTheImagePlane) {
   const auto [forward_x, forward_y] = eye_pixel_of_direction(off_axis, 0, 0);
   EXPECT_NEAR(forward_x, off_axis.centre_x_px, 1e-9);
   EXPECT_NEAR(forward_y, off_axis.centre_y_px, 1e-9);
-  EXPECT_EQ(field_of_view_text({-54, 49, 54, -56.5}), "[-54, 49, 54, -56.5] deg");
+  EXPECT_EQ(field_of_view_text(field_of_view_from_deg(-54, 49, 54, -56.5)), "[-54, 49, 54, -56.5] deg");
 }
 
 // The headset versions of the two headset studies: the Vive Pro Eye's size and rate, the protocol of
