@@ -16,6 +16,7 @@
 #include "protocols/stimuli/stimulus_settings.h"
 #include "core/input_error.h"
 #include "study/config/study_config.h"
+#include "tests/study/config/config_error_test_support.h"
 #include "study/schedule/study_plan.h"
 #include "study/stimulus/stimulus_spec.h"
 #include "renderer/path_tracing/path_tracer.h"
@@ -69,30 +70,11 @@ scene = "primitives"
 
 StudyConfig parse(const std::string& text) { return parse_study_config_text(text, kPath, renderer_scene_catalog()); }
 
-int line_of(const std::string& text, const std::string& needle) {
-  const size_t at = text.find(needle);
-  if (at == std::string::npos) {
-    ADD_FAILURE() << "not found: " << needle;
-    return -1;
-  }
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
+using test::line_of;
 
 // The error must be one line "studies/fipr.toml:LINE: KEY: ..." containing `fragment`.
 void expect_error(const std::string& text, int line, const std::string& key, const std::string& fragment) {
-  std::string message;
-  try {
-    parse(text);
-    ADD_FAILURE() << "no error for:\n" << text;
-    return;
-  } catch (const InputError& error) {
-    message = error.what();
-  }
-  SCOPED_TRACE(message);
-  EXPECT_EQ(message.find('\n'), std::string::npos) << "more than one line";
-  const std::string prefix = kPath + ":" + std::to_string(line) + ": " + key + ": ";
-  EXPECT_EQ(message.rfind(prefix, 0), 0u) << "expected the prefix \"" << prefix << "\"";
-  EXPECT_NE(message.find(fragment), std::string::npos) << "expected to contain \"" << fragment << "\"";
+  test::expect_config_error(text, kPath, line, key, fragment);
 }
 
 const ParameterDescriptor& parameter_named(const MethodDescriptor& method, const std::string& key) {

@@ -12,6 +12,7 @@
 #include "core/input_error.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "study/config/study_config.h"
+#include "tests/study/config/config_error_test_support.h"
 
 namespace fovlab {
 namespace {
@@ -65,29 +66,11 @@ std::string config_with(const std::string& display, const std::string& more = ""
 
 StudyConfig parse(const std::string& text) { return parse_study_config_text(text, kPath, renderer_scene_catalog()); }
 
-int line_of(const std::string& text, const std::string& needle) {
-  const size_t at = text.find(needle);
-  if (at == std::string::npos) {
-    ADD_FAILURE() << "not found: " << needle;
-    return -1;
-  }
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
+using test::line_of;
 
 // One line "studies/headset.toml:LINE: KEY: ..." containing `fragment`.
 void expect_error(const std::string& text, int line, const std::string& key, const std::string& fragment) {
-  std::string message;
-  try {
-    parse(text);
-    ADD_FAILURE() << "no error for:\n" << text;
-    return;
-  } catch (const InputError& error) {
-    message = error.what();
-  }
-  SCOPED_TRACE(message);
-  EXPECT_EQ(message.find('\n'), std::string::npos);
-  EXPECT_EQ(message.rfind(kPath + ":" + std::to_string(line) + ": " + key + ": ", 0), 0u);
-  EXPECT_NE(message.find(fragment), std::string::npos) << "expected \"" << fragment << "\"";
+  test::expect_config_error(text, kPath, line, key, fragment);
 }
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {

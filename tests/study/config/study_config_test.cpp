@@ -23,6 +23,7 @@
 #include "core/input_error.h"
 #include "study/config/study_config.h"
 #include "study/log/event_log.h"
+#include "tests/study/config/config_error_test_support.h"
 #include "tests/support/temp_dir.h"
 
 namespace fovlab {
@@ -99,44 +100,15 @@ std::string replace_once(std::string text, const std::string& from, const std::s
   return text.replace(at, from.size(), to);
 }
 
-// 1-based line of the n-th (from 1) occurrence of `needle`.
-int line_of(const std::string& text, const std::string& needle, int occurrence = 1) {
-  size_t at = std::string::npos;
-  size_t from = 0;
-  for (int i = 0; i < occurrence; ++i) {
-    at = text.find(needle, from);
-    if (at == std::string::npos) {
-      ADD_FAILURE() << "not found: " << needle;
-      return -1;
-    }
-    from = at + 1;
-  }
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
+using test::line_of;
 
-std::string error_of(const std::string& text) {
-  try {
-    parse_study_config_text(text, kPath, renderer_scene_catalog());
-  } catch (const InputError& error) {
-    return error.what();
-  } catch (const std::exception& error) {
-    ADD_FAILURE() << "not an InputError: " << error.what();
-    return "";
-  }
-  ADD_FAILURE() << "no error for:\n" << text;
-  return "";
-}
+std::string error_of(const std::string& text) { return test::config_error_of(text, kPath); }
 
 // The error must be one line "studies/unit.toml:LINE: KEY: ..." containing `fragment`.
 void expect_error(const std::string& text, int line, const std::string& key, const std::string& fragment) {
-  const std::string message = error_of(text);
-  SCOPED_TRACE(message);
-  EXPECT_EQ(message.find('\n'), std::string::npos) << "more than one line";
+  const std::string message = test::expect_config_error(text, kPath, line, key, fragment);
   EXPECT_TRUE(std::regex_match(message, std::regex(R"(studies/unit\.toml:[0-9]+: [A-Za-z0-9_.\[\]]+: .+)")))
-      << "not of the form path:LINE: key: expected";
-  const std::string prefix = kPath + ":" + std::to_string(line) + ": " + key + ": ";
-  EXPECT_EQ(message.rfind(prefix, 0), 0u) << "expected the prefix \"" << prefix << "\"";
-  EXPECT_NE(message.find(fragment), std::string::npos) << "expected to contain \"" << fragment << "\"";
+      << "not of the form path:LINE: key: expected: " << message;
 }
 
 StudyConfig parse(const std::string& text) { return parse_study_config_text(text, kPath, renderer_scene_catalog()); }
