@@ -57,6 +57,8 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
     XrViewLocateInfo locate{XR_TYPE_VIEW_LOCATE_INFO};
     locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
     locate.displayTime = frame_state.predictedDisplayTime;
+    // Whether the runtime vouches for the views' poses (both valid bits; a pose need not be tracked:
+    // a runtime may infer one while tracking is lost, and says so by the tracked bits alone).
     const auto locate_in = [&](XrSpace space, std::array<XrView, 2>& views) {
       locate.space = space;
       XrViewState view_state{XR_TYPE_VIEW_STATE};
@@ -66,9 +68,17 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
                        "xrLocateViews");
       if (view_count != 2)
         throw std::runtime_error("openxr: xrLocateViews gave " + std::to_string(view_count) + " views");
+      constexpr XrViewStateFlags valid = XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT;
+      return (view_state.viewStateFlags & valid) == valid;
     };
-    locate_in(session.local_space, frame.views);
-    locate_in(session.view_space, frame.views_in_head);
+    const bool valid_in_local = locate_in(session.local_space, frame.views);
+    const bool valid_in_head = locate_in(session.view_space, frame.views_in_head);
+    frame.views_valid = valid_in_local && valid_in_head;
+  }
+  // Without valid poses (the runtime has none to give: before tracking starts, or once it has lost
+  // every reference) there is no view to render for: the frame ends with no layer, as one the runtime
+  // said not to render.
+  if (frame_state.shouldRender && frame.views_valid) {
     for (uint32_t eye = 0; eye < 2; ++eye) {
       const DeviceRgba8Frame image = eye_frame(eye, OpenXrEyeView{frame.views[eye], frame.views_in_head[eye]});
       if (!image || image.context != session.vulkan.get() || image.width != static_cast<int>(session.eye_width_px) ||

@@ -3,7 +3,8 @@
 // xrLocateViews in the session's LOCAL space (for the projection layer) and in its VIEW space (each
 // eye relative to the head, what the renderer's head-locked eye view takes), each eye's frame copied into its acquired swapchain
 // image (acquire, wait, copy, release), and xrEndFrame with one projection layer. A frame the
-// runtime says not to render (shouldRender false: not yet visible, or hidden) is ended with no layer.
+// runtime says not to render (shouldRender false: not yet visible, or hidden), or whose views have no
+// valid pose (XrViewState's valid bits), is ended with no layer.
 #include <array>
 #include <functional>
 
@@ -29,6 +30,8 @@ struct OpenXrFrame {
   XrDuration predicted_display_period = 0;
   bool rendered = false;                  // the eyes were drawn and a projection layer submitted
   bool discarded = false;                 // xrBeginFrame said the previous frame was discarded (XR_FRAME_DISCARDED)
+  bool views_valid = false;               // xrLocateViews gave valid orientations and positions in both spaces
+                                          // (only asked when shouldRender); without them nothing is rendered
   std::array<XrView, 2> views{};          // as xrLocateViews gave them in LOCAL space (when rendered)
   std::array<XrView, 2> views_in_head{};  // and in VIEW space
   std::array<uint32_t, 2> image_index{};  // each eye's swapchain image the frame went into

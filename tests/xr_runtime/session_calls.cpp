@@ -9,7 +9,9 @@
 #include <time.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
+#include <string_view>
 #include <vector>
 
 #include "tests/xr_runtime/test_runtime.h"
@@ -294,12 +296,18 @@ XrResult XRAPI_CALL locate_views(XrSession session, const XrViewLocateInfo* loca
   if (space == nullptr || found->second.parent != handle_value(session)) return XR_ERROR_HANDLE_INVALID;
   if (views != nullptr && capacity >= 2 && (views[0].type != XR_TYPE_VIEW || views[1].type != XR_TYPE_VIEW))
     return XR_ERROR_VALIDATION_FAILURE;
-  view_state->viewStateFlags = XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
-                               XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT;
+  // FOVLAB_TEST_XR_TRACKING=lost, read at each call: no valid pose to give (the flags cleared, the
+  // poses identity), as a runtime before its tracking starts.
+  const char* tracking = std::getenv("FOVLAB_TEST_XR_TRACKING");
+  const bool lost = tracking != nullptr && std::string_view(tracking) == "lost";
+  view_state->viewStateFlags =
+      lost ? 0
+           : XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+                 XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT;
   return enumerate(capacity, count_output, views, 2, [&](XrView& view, uint32_t eye) {
     const float x = (eye == 0 ? -0.5f : 0.5f) * kInterpupillaryDistanceM;
     const XrPosef eye_in_head{{0.0f, 0.0f, 0.0f, 1.0f}, {x, 0.0f, 0.0f}};
-    view.pose = relative_to(space->pose_in_reference, eye_in_head);
+    view.pose = lost ? XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}} : relative_to(space->pose_in_reference, eye_in_head);
     view.fov = eye_field_of_view(eye);
     return XR_SUCCESS;
   });

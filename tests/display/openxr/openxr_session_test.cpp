@@ -143,6 +143,26 @@ TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
       }
     }
 
+    // No valid pose (the runtime clears XrViewState's valid bits): no eye is asked for and the frame
+    // ends with no layer; with the poses back, frames are rendered again.
+    int eyes_asked = 0;
+    const OpenXrEyeFrameSource counting_frame = [&](uint32_t eye, const OpenXrEyeView& view) {
+      ++eyes_asked;
+      return eye_frame(eye, view);
+    };
+    ::setenv("FOVLAB_TEST_XR_TRACKING", "lost", 1);
+    const OpenXrFrame without_pose = run_openxr_frame(session, counting_frame);
+    ::unsetenv("FOVLAB_TEST_XR_TRACKING");
+    EXPECT_FALSE(without_pose.views_valid);
+    EXPECT_FALSE(without_pose.rendered);
+    EXPECT_EQ(eyes_asked, 0);
+    EXPECT_EQ(last_submitted(read_view, 0).frames, frames_before + layers_submitted) << "no layer submitted";
+    const OpenXrFrame with_pose = run_openxr_frame(session, counting_frame);
+    EXPECT_TRUE(with_pose.views_valid);
+    EXPECT_TRUE(with_pose.rendered);
+    EXPECT_EQ(eyes_asked, 2);
+    EXPECT_EQ(last_submitted(read_view, 0).frames, frames_before + layers_submitted + 1);
+
     request_openxr_exit(session);
     const std::vector<std::string> to_exit{"XR_SESSION_STATE_VISIBLE", "XR_SESSION_STATE_SYNCHRONIZED",
                                            "XR_SESSION_STATE_STOPPING", "XR_SESSION_STATE_IDLE",
