@@ -2,11 +2,24 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "core/input_error.h"
 #include "core/number_text.h"
 
 namespace fovlab::app {
+namespace {
+
+// The names of every value of a choice (its k* array and *_name function), for CLI::IsMember.
+template <typename Choices, typename NameOf>
+std::vector<std::string> choice_names(const Choices& choices, NameOf name_of) {
+  std::vector<std::string> names;
+  for (const auto& choice : choices) names.emplace_back(name_of(choice));
+  return names;
+}
+
+}  // namespace
 
 void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoint point) {
   add_display_flags(command, flags.display, false);
@@ -19,23 +32,18 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
                      "FIPR: eccentricity beyond which nothing is traced at the top level (default: none)");
   command.add_option("--periphery-steps", flags.periphery_steps,
                      "FIPR: step budget of pixels outside the mask, traced from the mid depth; 0: mid level's colour");
-  std::vector<std::string> reconstructions;
-  for (PeripheryReconstruction reconstruction : kPeripheryReconstructions)
-    reconstructions.emplace_back(periphery_reconstruction_name(reconstruction));
   command
       .add_option("--periphery-reconstruction", flags.periphery_reconstruction,
                   "FIPR: how --periphery-steps 0 fills pixels from the mid level: bilinear (each mid colour textured "
                   "over a pixel's footprint), catmull-rom (so, and Catmull-Rom), mid-footprint-bilinear (over its own "
                   "footprint, bilinear: every FIPR frame before log schema 5)")
-      ->check(CLI::IsMember(reconstructions));
-  std::vector<std::string> near_misses;
-  for (NearMisses value : kNearMisses) near_misses.emplace_back(near_misses_name(value));
+      ->check(CLI::IsMember(choice_names(kPeripheryReconstructions, periphery_reconstruction_name)));
   command
       .add_option("--near-misses", flags.near_misses,
                   "FIPR: where a low or mid ray passed a surface within its pixel's cone: promote (the periphery's "
                   "pixels there traced in full, from in front of it), ignore (the paper's: every FIPR frame before "
                   "log schema 6)")
-      ->check(CLI::IsMember(near_misses));
+      ->check(CLI::IsMember(choice_names(kNearMisses, near_misses_name)));
   command.add_option("--blur", flags.blur, "FIPR: masked Gaussian blur, on or off")
       ->check(CLI::IsMember({"on", "off"}));
   command
@@ -44,14 +52,12 @@ void add_foveation_flags(CLI::App& command, FoveationFlags& flags, FoveationPoin
       ->check(CLI::IsMember({"max", "fovea-or-product", "product", "acuity"}));
   command.add_option("--edge-threshold", flags.edge_threshold,
                      "FIPR: Sobel magnitude of the low-level depth, relative to the depth, that makes an edge");
-  std::vector<std::string> edge_depths;
-  for (EdgeDepth value : kEdgeDepths) edge_depths.emplace_back(edge_depth_name(value));
   command
       .add_option("--edge-depth", flags.edge_depth,
                   "FIPR: the low level's depth the edges are found in: centre-ray (where its centre ray hits; with "
                   "--coarse-test cone marched on from the cone's stop), level (the depth passed on: the cone's stop; "
                   "every FIPR frame before log schema 10)")
-      ->check(CLI::IsMember(edge_depths));
+      ->check(CLI::IsMember(choice_names(kEdgeDepths, edge_depth_name)));
   command.add_option("--seed", flags.seed, "FIPR: seed of the per-pixel thresholds");
 }
 
