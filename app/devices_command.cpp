@@ -1,7 +1,6 @@
 // fovlab devices: the Vulkan devices this machine has, which one fovlab picks by default, and the
 // active OpenXR runtime, if any.
 #include <cstdio>
-#include <cstdlib>
 
 #include "app/commands.h"
 #include "display/openxr/openxr_runtime_info.h"
@@ -19,9 +18,6 @@ void add_devices_command(CLI::App& app) {
     }
     vk::Context context({"", false});
     std::printf("default: %u %s\n", context.description.index, context.description.name.c_str());
-    // The loader writes its own error lines to stderr when it finds no runtime; the one line below
-    // names its result instead. An XR_LOADER_DEBUG the user set is kept.
-    setenv("XR_LOADER_DEBUG", "none", 0);
     for (const std::string& line : describe_openxr_runtime(query_openxr_runtime())) std::printf("%s\n", line.c_str());
   });
 }

@@ -1,6 +1,5 @@
 #include "app/openxr_run.h"
 
-#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -30,9 +29,6 @@ std::string method_following_gaze(const StudyConfig& config) {
 }  // namespace
 
 void refuse_openxr_run(const StudyConfig& config, const std::string& gaze_option, bool validation) {
-  // The loader writes lines of its own to stderr when it finds no runtime; the refusal names its
-  // result in one. An XR_LOADER_DEBUG the user set is kept (as `fovlab devices` does).
-  setenv("XR_LOADER_DEBUG", "none", 0);
   const OpenXrRuntimeInfo runtime = query_openxr_runtime();
   const std::string& path = config.source_path;
   if (!has_openxr_runtime(runtime))

@@ -2,6 +2,7 @@
 
 #include <openxr/openxr.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <string_view>
 #include <vector>
@@ -78,6 +79,9 @@ void read_stereo_views(OpenXrRuntimeInfo& info, XrInstance instance, XrSystemId 
 }  // namespace
 
 OpenXrRuntimeInfo query_openxr_runtime() {
+  // The loader writes its own error lines to stderr when it finds no runtime; the caller names the
+  // result in one line instead. An XR_LOADER_DEBUG the user set is kept (set it to see the reasons).
+  setenv("XR_LOADER_DEBUG", "none", 0);
   OpenXrRuntimeInfo info;
   OpenXrInstanceResult made = create_openxr_instance("fovlab", {});
   info.instance_result = openxr_result_name(made.result);

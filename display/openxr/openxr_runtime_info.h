@@ -42,6 +42,8 @@ inline bool has_openxr_headset(const OpenXrRuntimeInfo& info) { return info.head
 
 // Creates and destroys one XrInstance. Never throws for a missing runtime or headset: the result
 // says so. The loader picks the runtime (XR_RUNTIME_JSON, else the system's active_runtime.json).
+// Sets XR_LOADER_DEBUG=none for the process unless the environment sets it, so the loader's own
+// stderr lines do not follow the caller's one-line answer.
 OpenXrRuntimeInfo query_openxr_runtime();
 
 // The lines `fovlab devices` prints: "OpenXR runtime: none (XR_ERROR_RUNTIME_UNAVAILABLE)" alone, or
