@@ -191,13 +191,7 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   options.scenes = flags.scenes;
   options.spps = flags.spps;
   options.settings = flags.settings;
-  options.min_filter_given = flags.pyramid_flags_given.min_filter;
-  options.coarse_test_given = flags.pyramid_flags_given.coarse_test;
-  for (TraceMethod method : {TraceMethod::inverted_pyramid, TraceMethod::foveated_pyramid}) {
-    const SphereTraceSettings own = with_method_pyramid_defaults(flags.settings, method, flags.pyramid_flags_given);
-    (method == TraceMethod::inverted_pyramid ? options.ipr_pyramid : options.fipr_pyramid) =
-        bench::PyramidChoices{own.min_filter_size, own.coarse_test};
-  }
+  options.pyramid_flags_given = flags.pyramid_flags_given;
   options.repeats = flags.repeats;
   options.json = flags.json;
   options.out_dir = flags.out_dir;

@@ -117,17 +117,6 @@ PyramidFlagsGiven given_pyramid_flags(const CLI::App& command) {
   return {command.get_option("--min-filter")->count() > 0, command.get_option("--coarse-test")->count() > 0};
 }
 
-SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
-                                                 const PyramidFlagsGiven& given) {
-  if (method != TraceMethod::inverted_pyramid && method != TraceMethod::foveated_pyramid) return settings;
-  const MethodDescriptor& descriptor = describe(
-      method == TraceMethod::inverted_pyramid ? RenderMethod::inverted_pyramid : RenderMethod::foveated_pyramid);
-  if (!given.min_filter) settings.min_filter_size = int(find_parameter(descriptor, "min_filter_size")->default_value);
-  if (!given.coarse_test)
-    settings.coarse_test = static_cast<CoarseTest>(int(find_parameter(descriptor, "coarse_test")->default_value));
-  return settings;
-}
-
 namespace {
 
 // The flags that set a method's parameters, checked against its descriptor (study/stimulus/

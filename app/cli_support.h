@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "foveation/voronoi_reconstruction.h"
+#include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/prerender/frame_cache.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/vk/context.h"
@@ -51,18 +52,11 @@ PartOfN parse_part_of_n(const std::string& text, const std::string& flag, const 
 // --time, --levels, --min-filter, --max-steps, --hit-threshold.
 void add_trace_options(CLI::App& command, SphereTraceSettings& settings);
 
-// Which of --min-filter and --coarse-test a parsed command gave. A flag given sets IPR's and FIPR's
-// depth levels alike; one not given leaves each method its own default (method_pyramid_choices).
-struct PyramidFlagsGiven {
-  bool min_filter = false;
-  bool coarse_test = false;
-};
+// Which of --min-filter and --coarse-test a parsed command gave (PyramidFlagsGiven and
+// with_method_pyramid_defaults: protocols/stimuli/stimulus_settings.h).
+using fovlab::PyramidFlagsGiven;
+using fovlab::with_method_pyramid_defaults;
 PyramidFlagsGiven given_pyramid_flags(const CLI::App& command);
-// `settings` (the flags' values) for `method`: its min_filter_size and coarse_test where a flag did
-// not give them are the method's descriptor defaults (log schema 10's: the cone, no min filter;
-// study/stimulus/render_method.cpp). Other methods' settings are returned as given.
-SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
-                                                 const PyramidFlagsGiven& given);
 
 // The flags checked against the method's descriptor first (the ranges and values a study config
 // takes: "--max-steps 5000: expected an integer in 1..4096"), then the sphere tracer's

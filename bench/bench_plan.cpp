@@ -46,8 +46,8 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
   out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps << " --width " << s.width << " --height "
       << s.height << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels;
   // A flag not given stays out: each method takes its own default again.
-  if (options.min_filter_given) out << " --min-filter " << s.min_filter_size;
-  if (options.coarse_test_given) out << " --coarse-test " << coarse_test_name(s.coarse_test);
+  if (options.pyramid_flags_given.min_filter) out << " --min-filter " << s.min_filter_size;
+  if (options.pyramid_flags_given.coarse_test) out << " --coarse-test " << coarse_test_name(s.coarse_test);
   out << (s.full_resolution_depth ? " --full-depth" : "") << " --max-steps " << s.max_steps << " --hit-threshold "
       << exact_number_text(s.hit_threshold) << " --methods " << methods;
   return out.str();
@@ -87,15 +87,7 @@ uint64_t bench_memory_bytes(const BenchPlan& plan) {
 }  // namespace
 
 SphereTraceSettings settings_of(const BenchOptions& options, SphereTraceSettings settings) {
-  const std::optional<PyramidChoices>& pyramid = settings.method == TraceMethod::inverted_pyramid ? options.ipr_pyramid
-                                                 : settings.method == TraceMethod::foveated_pyramid
-                                                     ? options.fipr_pyramid
-                                                     : std::nullopt;
-  if (pyramid) {
-    settings.min_filter_size = pyramid->min_filter_size;
-    settings.coarse_test = pyramid->coarse_test;
-  }
-  return settings;
+  return with_method_pyramid_defaults(settings, settings.method, options.pyramid_flags_given);
 }
 
 BenchPlan plan_bench(BenchOptions options) {

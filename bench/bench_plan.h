@@ -17,6 +17,7 @@
 #include "core/number_text.h"
 #include "foveation/display_geometry.h"
 #include "foveation/sampling_map.h"
+#include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 
@@ -51,10 +52,9 @@ struct BenchOptions {
   std::vector<int> spps;
   SphereTraceSettings settings;  // the trace flags; time_s: --time
   // --min-filter and --coarse-test serve IPR and FIPR alike where given (settings' values); a flag not
-  // given leaves each method its own default (its descriptor's), which the flags' reader writes here
-  // (unset: settings' values). settings_of applies them.
-  bool min_filter_given = true, coarse_test_given = true;
-  std::optional<PyramidChoices> ipr_pyramid, fipr_pyramid;
+  // given leaves each method its own default (its descriptor's: with_method_pyramid_defaults, which
+  // settings_of applies).
+  PyramidFlagsGiven pyramid_flags_given{true, true};
   int repeats = 5;
   std::vector<BenchMethod> methods;  // as given: gt among them, each once
   std::vector<float> times_s;        // --times; empty: --time alone
@@ -108,7 +108,7 @@ struct BenchPlan {
   const SamplingVariant& sampling_of(const BenchCell& cell) const { return options.sampling[cell.variant]; }
 };
 
-// `settings` (of the sweep, with its method set) with that method's depth levels (BenchOptions::ipr_pyramid, fipr_pyramid).
+// `settings` (of the sweep, with its method set) with that method's depth levels (BenchOptions::pyramid_flags_given).
 SphereTraceSettings settings_of(const BenchOptions& options, SphereTraceSettings settings);
 
 // The plan of `options` (checked by the flags' reader; nothing here refuses them).

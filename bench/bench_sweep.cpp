@@ -219,8 +219,8 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   report.device = context.description.name;
   report.timestamps = context.timestamp_period_ns > 0;
   report.settings = options.settings;
-  report.min_filter_given = options.min_filter_given;
-  report.coarse_test_given = options.coarse_test_given;
+  report.min_filter_given = options.pyramid_flags_given.min_filter;
+  report.coarse_test_given = options.pyramid_flags_given.coarse_test;
   for (const auto& [run, method] :
        {std::pair{plan.ipr, TraceMethod::inverted_pyramid}, std::pair{plan.fipr, TraceMethod::foveated_pyramid}}) {
     if (!run) continue;

@@ -327,4 +327,15 @@ ZoneBounds zone_bounds(const StimulusSpec& spec) {
   return bounds;
 }
 
+SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
+                                                 const PyramidFlagsGiven& given) {
+  if (method != TraceMethod::inverted_pyramid && method != TraceMethod::foveated_pyramid) return settings;
+  const MethodDescriptor& descriptor = describe(
+      method == TraceMethod::inverted_pyramid ? RenderMethod::inverted_pyramid : RenderMethod::foveated_pyramid);
+  if (!given.min_filter) settings.min_filter_size = int(find_parameter(descriptor, "min_filter_size")->default_value);
+  if (!given.coarse_test)
+    settings.coarse_test = static_cast<CoarseTest>(int(find_parameter(descriptor, "coarse_test")->default_value));
+  return settings;
+}
+
 }  // namespace fovlab

@@ -49,6 +49,18 @@ bool temporal_smoothing(const StimulusSpec& spec);
 // path-traced methods (pt, fpt, pt-rmfr, ...).
 SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
 
+// The command line's --min-filter and --coarse-test (render, bench): a flag given sets IPR's and
+// FIPR's depth levels alike; one not given leaves each method its own default.
+struct PyramidFlagsGiven {
+  bool min_filter = false;
+  bool coarse_test = false;
+};
+// `settings` (the flags' values) for `method`: its min_filter_size and coarse_test where a flag did
+// not give them are the method's descriptor defaults (log schema 10's: the cone, no min filter;
+// study/stimulus/render_method.cpp). Other methods' settings are returned as given.
+SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
+                                                 const PyramidFlagsGiven& given);
+
 // The display a foveated spec's display parameters describe (fipr, fpt, hyperbolic, linear);
 // InputError when missing.
 DisplayGeometry stimulus_display(const StimulusSpec& spec);
