@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/content_hash.h"
+#include "core/input_error.h"
 #include "core/memory_budget.h"
 #include "protocols/stimuli/stimulus_renderer.h"
 #include "renderer/vk/buffer.h"
@@ -16,15 +17,29 @@ std::string frame_hash(const Rgba8Frame& frame) {
   return ContentHash().add(std::string_view(reinterpret_cast<const char*>(frame.rgba.data()), frame.rgba.size())).hex();
 }
 
-StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root)
-    : context_(context), readback_(std::make_unique<vk::Buffer>()) {
+StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root,
+                                 std::optional<EyeView> eye)
+    : context_(context), eye_(std::move(eye)), readback_(std::make_unique<vk::Buffer>()) {
   for (StimulusFamily family : kStimulusFamilies)
-    renderers_[family] = make_stimulus_renderer(family, context, cache_root);
+    renderers_[family] = make_stimulus_renderer(family, context, cache_root, eye_);
 }
 StimulusLibrary::~StimulusLibrary() = default;
 
 StimulusRenderer& StimulusLibrary::renderer_for(const StimulusSpec& spec) {
-  return *renderers_.at(stimulus_family(spec.method()));
+  StimulusRenderer& renderer = *renderers_.at(stimulus_family(spec.method()));
+  if (eye_ && !renderer.renders_eye_views()) {
+    // The methods an eye's library does show, from the families themselves, so the list stays true.
+    std::string shown;
+    for (const MethodDescriptor& method : all_methods())
+      if (renderers_.at(stimulus_family(method.method))->renders_eye_views())
+        shown += (shown.empty() ? "" : ", ") + std::string(method.name);
+    const char* missing = stimulus_family(spec.method()) == StimulusFamily::path_traced
+                              ? "per-eye pre-rendered frames are not built"
+                              : "per-eye images are not made (a folder of images is one view)";
+    throw InputError(std::string(spec.method_name()) + ": a headset study cannot show it yet: " + missing +
+                     " (issue 42); it shows " + shown);
+  }
+  return renderer;
 }
 
 nlohmann::json StimulusLibrary::image_hashes() const {
@@ -87,7 +102,10 @@ void check_prepared_frames_fit(const std::vector<StimulusSpec>& stimuli, const s
 double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli,
                                 const std::function<void(double)>& progress) {
   const double before = render_seconds_;
-  // What can be refused without rendering is refused before anything is rendered.
+  // What can be refused without rendering is refused before anything is rendered; first, for an
+  // eye, what it cannot show at all (renderer_for).
+  if (eye_)
+    for (const auto& [id, spec] : stimuli) renderer_for(spec);
   std::vector<StimulusSpec> held;
   std::set<int> ids;
   for (const auto& [id, spec] : stimuli)

@@ -10,6 +10,12 @@
 // family's (stimulus_renderer.h: sphere-traced SDF scenes, pre-rendered path-traced frames from the
 // pre-render cache, volume scenes), the one renderer the library asks to validate, prepare and
 // render it.
+//
+// A headset study (issue 42) keeps one library an eye: made with that eye's EyeView, a library
+// renders every spec as the eye sees it (the renderer's view and, for eccentricity, the eye's off-axis
+// display: stimulus_settings.h), so its prepared frames are that eye's and StimulusImage::gaze is a
+// pixel of that eye's image. Only the families that render eye views take an eye (sphere-traced,
+// volume); the library refuses the others' stimuli.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -25,6 +31,7 @@
 #include "protocols/gaze/gaze_sample.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/present/device_frame.h"
+#include "renderer/scene/eye_view.h"
 
 namespace fovlab {
 
@@ -50,7 +57,8 @@ std::string frame_hash(const Rgba8Frame& frame);
 struct StimulusImage {
   int frame = 0;        // animation frame of the stimulus (its scene time)
   int image_index = 0;  // position in this presentation; 0 starts a presentation
-  GazeSample gaze;      // the position used, as logged (an invalid sample holds its substitute)
+  GazeSample gaze;      // the position used, as logged (an invalid sample holds its substitute); an
+                        // eye's library: a position in that eye's image
 };
 
 // The bytes StimulusLibrary::prepare keeps in memory for these stimuli: every frame of each one that
@@ -66,8 +74,10 @@ void check_prepared_frames_fit(const std::vector<StimulusSpec>& stimuli, const s
 
 class StimulusLibrary {
  public:
-  // `cache_root`: the pre-render cache's folder (path-traced methods).
-  explicit StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root = "stimuli/cache");
+  // `cache_root`: the pre-render cache's folder (path-traced methods). `eye`: the headset eye whose
+  // view every stimulus is rendered as; none: the desktop's frames, as ever.
+  explicit StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root = "stimuli/cache",
+                           std::optional<EyeView> eye = std::nullopt);
   ~StimulusLibrary();
 
   // Renders every frame of the given stimuli that can be prepared ahead (ids are the caller's;
@@ -76,6 +86,8 @@ class StimulusLibrary {
   // would not fit in memory are refused before anything is rendered (check_prepared_frames_fit).
   // Returns the seconds spent.
   // `progress` (optional) hears the share done, 0 to 1, after every frame rendered or loaded.
+  // An eye's library refuses first, with one InputError line naming the method, the stimuli whose
+  // family cannot render an eye's view (pre-rendered path-traced frames, image stimuli).
   double prepare(const std::vector<std::pair<int, StimulusSpec>>& stimuli,
                  const std::function<void(double)>& progress = {});
   // The image to show; prepared stimuli answer from memory (by frame), others render now and leave
@@ -95,6 +107,8 @@ class StimulusLibrary {
   // rendered in order, each with its own gaze, and the same gazes give the same images again.
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image);
   double render_seconds() const { return render_seconds_; }
+  // The eye this library renders for; nullopt: the desktop.
+  const std::optional<EyeView>& eye() const { return eye_; }
   // The image folders its stimuli read -> each image's name -> SHA-256 of the bytes read (the
   // session header's image_hashes: the images shown, not the folder as it is later); an empty object
   // when no stimulus shows images.
@@ -102,11 +116,13 @@ class StimulusLibrary {
 
  private:
   // The renderer of the spec's family (stimulus_renderer.h), made once each by make_stimulus_renderer.
+  // An eye's library: InputError for a family that cannot render an eye's view.
   StimulusRenderer& renderer_for(const StimulusSpec& spec);
   // render() without the read-back: most methods leave the frame on the device (no hash yet); pt
   // frames come back as bytes with their hash.
   PreparedFrame render_live(const StimulusSpec& spec, const StimulusImage& image);
   vk::Context& context_;
+  std::optional<EyeView> eye_;
   std::map<StimulusFamily, std::unique_ptr<StimulusRenderer>> renderers_;  // every family
   std::map<int, std::vector<PreparedFrame>> prepared_;                     // by stimulus id
   PreparedFrame live_;                                                     // the last gaze-dependent image

@@ -33,14 +33,15 @@ StimulusFamily stimulus_family(RenderMethod method) {
 }
 
 std::unique_ptr<StimulusRenderer> make_stimulus_renderer(StimulusFamily family, vk::Context& context,
-                                                         const std::filesystem::path& cache_root) {
+                                                         const std::filesystem::path& cache_root,
+                                                         const std::optional<EyeView>& eye) {
   switch (family) {
     case StimulusFamily::sphere_traced:
-      return make_sphere_traced_renderer(context);
+      return make_sphere_traced_renderer(context, eye);
     case StimulusFamily::path_traced:
       return make_path_traced_renderer(context, cache_root);
     case StimulusFamily::volume:
-      return make_volume_renderer(context);
+      return make_volume_renderer(context, eye);
     case StimulusFamily::image_sequence:
       return make_image_renderer(context);
   }

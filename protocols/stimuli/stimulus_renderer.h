@@ -9,8 +9,11 @@
 //   blended by zone (fpt, Polychronakis et al. 2021) or sampled by a model (pt-rmfr, ...);
 // - volume scenes: volume and fvolume (Bruder et al. 2019);
 // - a folder of the lab's own images (image_sequence.h), sampled by a model (img-rmfr, ...).
+// A family that renders eye views (renders_eye_views) is made with the library's eye, if any, and
+// draws every image as that eye sees it (stimulus_settings.h); the others are made without one.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -33,6 +36,10 @@ class StimulusRenderer {
   virtual ~StimulusRenderer() = default;
   // Whether this family draws the method (exactly one family draws each).
   virtual bool renders(RenderMethod method) const = 0;
+  // Whether it can draw a headset eye's view (issue 42): the sphere-traced and volume families,
+  // whose renderers take an EyeView. The path-traced family's frames are pre-rendered for the
+  // desktop camera and the image family's images are one view, so a headset study cannot show them.
+  virtual bool renders_eye_views() const { return false; }
   // Refuses (InputError) what needs no render: the frame size against the device's limits (the
   // study config's display size: errors name its fields), a foveated method's settings.
   virtual void validate(const StimulusSpec& spec) = 0;
@@ -50,9 +57,11 @@ class StimulusRenderer {
   virtual nlohmann::json image_hashes() const { return nlohmann::json::object(); }
 };
 
-// The renderer of a family; `cache_root`: the pre-render cache's folder (path-traced family).
+// The renderer of a family; `cache_root`: the pre-render cache's folder (path-traced family); `eye`:
+// the headset eye it draws for, given to the families that render eye views (none: the desktop).
 std::unique_ptr<StimulusRenderer> make_stimulus_renderer(StimulusFamily family, vk::Context& context,
-                                                         const std::filesystem::path& cache_root);
+                                                         const std::filesystem::path& cache_root,
+                                                         const std::optional<EyeView>& eye = std::nullopt);
 
 // The last image a scene's renderer made, for the sequence check of gaze-dependent methods.
 struct LastImage {
@@ -65,10 +74,10 @@ void check_image_sequence(const LastImage& last, const std::string& canonical, c
 
 // Each family's renderer (sphere_traced_stimuli.cpp, path_traced_stimuli.cpp, volume_stimuli.cpp,
 // image_stimuli.cpp).
-std::unique_ptr<StimulusRenderer> make_sphere_traced_renderer(vk::Context& context);
+std::unique_ptr<StimulusRenderer> make_sphere_traced_renderer(vk::Context& context, const std::optional<EyeView>& eye);
 std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context,
                                                             const std::filesystem::path& cache_root);
-std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context);
+std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context, const std::optional<EyeView>& eye);
 std::unique_ptr<StimulusRenderer> make_image_renderer(vk::Context& context);
 
 // The study config's frame size in messages: "display.width_px x display.height_px = WxH".

@@ -52,9 +52,10 @@ void set_trace(SphereTraceSettings& settings, const Trace& trace) {
   settings.hit_threshold = static_cast<float>(trace.hit_threshold);
 }
 
-void set_foveation(SphereTraceSettings& settings, const FoveatedPyramidParameters& fipr, const StimulusSpec& spec) {
+void set_foveation(SphereTraceSettings& settings, const FoveatedPyramidParameters& fipr, const StimulusSpec& spec,
+                   const std::optional<EyeView>& eye) {
   FoveationSettings& foveation = settings.foveation;
-  foveation.display = stimulus_display(spec);
+  foveation.display = stimulus_display(spec, eye);
   foveation.gaze_x_px = std::numeric_limits<double>::quiet_NaN();
   foveation.gaze_y_px = std::numeric_limits<double>::quiet_NaN();
   foveation.acuity.fovea_radius_deg = fipr.fovea_radius_deg;
@@ -75,11 +76,12 @@ void set_foveation(SphereTraceSettings& settings, const FoveatedPyramidParameter
 
 }  // namespace
 
-SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
+SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame, const std::optional<EyeView>& eye) {
   SphereTraceSettings settings;
   settings.width = spec.width_px;
   settings.height = spec.height_px;
   settings.time_s = static_cast<float>(spec.frame_time_s(frame));
+  settings.eye = eye;
   const auto not_sphere_traced = [&] {
     throw std::logic_error("sphere_trace_settings: not a sphere-tracing method: " + std::string(spec.method_name()));
   };
@@ -98,14 +100,14 @@ SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame) {
                    settings.method = TraceMethod::foveated_pyramid;
                    set_trace(settings, fipr);
                    set_pyramid(settings, fipr);
-                   set_foveation(settings, fipr, spec);
+                   set_foveation(settings, fipr, spec, eye);
                  },
                  [&](const SampledParameters& sampled) {
                    const auto* samples = std::get_if<SphereTracedSamples>(&sampled.source);
                    if (!samples) not_sphere_traced();
                    settings.method = TraceMethod::sampling_model;
                    set_trace(settings, *samples);
-                   settings.sampling = sampling_map(spec, std::nan(""), std::nan(""));
+                   settings.sampling = sampling_map(spec, std::nan(""), std::nan(""), nullptr, eye);
                    settings.sampling_filter = sampling_filter(spec);
                  },
                  [&](const auto&) { not_sphere_traced(); },
@@ -183,14 +185,15 @@ const SampledParameters& sampled_parameters(const StimulusSpec& spec, const char
 
 }  // namespace
 
-SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px, const SamplingMap* centre) {
+SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px, const SamplingMap* centre,
+                         const std::optional<EyeView>& eye) {
   const SampledParameters& sampled = sampled_parameters(spec, "sampling_map");
   SamplingSettings settings;
   DisplayGeometry display;
   display.width_px = spec.width_px;
   display.height_px = spec.height_px;
   const bool needs_display = read_model(sampled.model, settings);
-  if (needs_display) display = stimulus_display(spec);
+  if (needs_display) display = stimulus_display(spec, eye);
   if (settings.equalise != Equalise::off) {
     // Solved once for the stimulus, with the gaze at the centre; the map then follows each gaze
     // sample with that s3 or p_min. Every refresh samples alike (a re-solved s3 would re-pitch the
@@ -205,11 +208,12 @@ SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze
   return make_sampling_map(settings, display, gaze_x_px, gaze_y_px);
 }
 
-void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std::string& source) {
+void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std::string& source,
+                         const std::optional<EyeView>& eye) {
   for (const PlannedStimulus& stimulus : stimuli) {
     if (!is_sampling_model(stimulus.spec.method())) continue;
     try {
-      sampling_map(stimulus.spec, std::nan(""), std::nan(""));
+      sampling_map(stimulus.spec, std::nan(""), std::nan(""), nullptr, eye);
     } catch (const InputError& error) {
       std::string where = source + ": " + (stimulus.is_reference ? "stimulus.reference" : "stimulus.test");
       if (!stimulus.variant.empty()) where += " variant " + stimulus.variant;
@@ -229,8 +233,9 @@ ResampleFilter sampling_filter(const StimulusSpec& spec) {
       sampled_parameters(spec, "sampling_filter").model);
 }
 
-VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame) {
+VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame, const std::optional<EyeView>& eye) {
   VolumeRenderSettings settings;
+  settings.eye = eye;
   settings.width_px = spec.width_px;
   settings.height_px = spec.height_px;
   settings.time_s = spec.frame_time_s(frame);
@@ -247,11 +252,11 @@ VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame)
   return settings;
 }
 
-VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec) {
+VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec, const std::optional<EyeView>& eye) {
   const auto* foveated = std::get_if<FoveatedVolumeRaycastParameters>(&spec.parameters);
   if (!foveated) throw std::logic_error("voronoi_mask_settings: not fvolume: " + std::string(spec.method_name()));
   VoronoiMaskSettings settings =
-      voronoi_mask_settings(spec.width_px, spec.height_px, stimulus_display(spec), foveated->density_sigma_deg);
+      voronoi_mask_settings(spec.width_px, spec.height_px, stimulus_display(spec, eye), foveated->density_sigma_deg);
   settings.seed = foveated->mask_seed;
   return settings;
 }
@@ -261,7 +266,10 @@ bool temporal_smoothing(const StimulusSpec& spec) {
   return foveated && foveated->temporal_smoothing;
 }
 
-DisplayGeometry stimulus_display(const StimulusSpec& spec) {
+DisplayGeometry stimulus_display(const StimulusSpec& spec, const std::optional<EyeView>& eye) {
+  // The spec's display parameters are the flat stand-in a headset study is planned on; the eye's own
+  // off-axis plane is what its pixels' eccentricities are on.
+  if (eye) return eye_display(*eye, spec.width_px, spec.height_px);
   const DisplaySize size = stimulus_display_size(spec);
   return display_from_size(spec.width_px, spec.height_px, size.width_mm, size.height_mm, size.viewing_distance_mm);
 }

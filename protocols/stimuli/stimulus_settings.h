@@ -4,6 +4,13 @@
 // volume_render_settings), each a std::visit or a lookup of its own alternatives. A sampling model
 // is converted once (sampling_map), whatever its source. Adding a rendering method adds its
 // conversion here.
+//
+// A headset study (issue 42) renders each spec as one eye sees it: the functions taking an optional
+// EyeView put it into the renderer's settings, and take the display geometry for eccentricity from
+// the eye's off-axis image plane (eye_display) instead of the spec's display parameters, which
+// describe the flat stand-in the study was planned on. stimulus_display is the one place that
+// chooses; without an eye every result is the desktop's, unchanged.
+#include <optional>
 #include <vector>
 
 #include "foveation/display_geometry.h"
@@ -11,6 +18,7 @@
 #include "foveation/voronoi_mask.h"
 #include "foveation/zone_layout.h"
 #include "renderer/prerender/frame_cache.h"
+#include "renderer/scene/eye_view.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/volume/volume_raycaster.h"
 #include "study/config/scene_catalog.h"
@@ -32,11 +40,13 @@ inline bool is_path_traced(RenderMethod method) { return describe(method).scene_
 inline bool is_volume(RenderMethod method) { return describe(method).scene_kind == SceneKind::volume; }
 
 // The raycaster's settings of a volume or fvolume spec at an animation frame (the jitter's frame is
-// left 0, for the caller to set); std::logic_error for other methods.
-VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame);
-// The sampling mask of an fvolume spec: its frame size, display and density_sigma_deg, mask_seed.
-// InputError when the display parameters are missing; std::logic_error for other methods.
-VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec);
+// left 0, for the caller to set), as `eye` sees it when given; std::logic_error for other methods.
+VolumeRenderSettings volume_render_settings(const StimulusSpec& spec, int frame,
+                                            const std::optional<EyeView>& eye = std::nullopt);
+// The sampling mask of an fvolume spec: its frame size, display (stimulus_display: the eye's when
+// given) and density_sigma_deg, mask_seed. InputError when the display parameters are missing;
+// std::logic_error for other methods.
+VoronoiMaskSettings voronoi_mask_settings(const StimulusSpec& spec, const std::optional<EyeView>& eye = std::nullopt);
 // Whether an fvolume spec smooths over time (false for volume).
 bool temporal_smoothing(const StimulusSpec& spec);
 
@@ -45,9 +55,11 @@ bool temporal_smoothing(const StimulusSpec& spec);
 // non-finite (no gaze: every pixel traced in full) and frame_index 0, for the caller
 // (StimulusLibrary) to set. Sampling models: the map of a gaze at the centre, for the caller to
 // replace with each gaze sample's (sampling_map).
-// Throws InputError when a FIPR spec lacks its display parameters; std::logic_error for the
-// path-traced methods (pt, fpt, pt-rmfr, ...).
-SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame);
+// With `eye`: the settings' eye, and FIPR's display and the sampling map the eye's (stimulus_display).
+// Throws InputError when a FIPR spec lacks its display parameters (and no eye gives one);
+// std::logic_error for the path-traced methods (pt, fpt, pt-rmfr, ...).
+SphereTraceSettings sphere_trace_settings(const StimulusSpec& spec, int frame,
+                                          const std::optional<EyeView>& eye = std::nullopt);
 
 // The command line's --min-filter and --coarse-test (render, bench): a flag given sets IPR's and
 // FIPR's depth levels alike; one not given leaves each method its own default.
@@ -61,24 +73,27 @@ struct PyramidFlagsGiven {
 SphereTraceSettings with_method_pyramid_defaults(SphereTraceSettings settings, TraceMethod method,
                                                  const PyramidFlagsGiven& given);
 
-// The display a foveated spec's display parameters describe (fipr, fpt, hyperbolic, linear);
-// InputError when missing.
-DisplayGeometry stimulus_display(const StimulusSpec& spec);
+// The display for the eccentricity of a foveated spec's pixels (fipr, fpt, fvolume, hyperbolic,
+// linear): with `eye`, the eye's off-axis image plane of the spec's size (eye_display; InputError for
+// a field of view that is not one), its display parameters ignored; without, the flat display they
+// describe (InputError when missing).
+DisplayGeometry stimulus_display(const StimulusSpec& spec, const std::optional<EyeView>& eye = std::nullopt);
 
 // The sampling model of a sampling-model spec (is_sampling_model) for one gaze sample (NaN: the
 // centre): the map SphereTraceSettings::sampling and FrameSampler take. rmfr and kfr need only the frame's pixels;
-// hyperbolic and linear the spec's display. With equalise, s3, p_min or KFR's sigma is solved with
+// hyperbolic and linear the spec's display (stimulus_display: the eye's when given). With equalise, s3, p_min or KFR's sigma is solved with
 // the gaze at the centre and kept for every gaze (one stimulus samples alike); InputError when that
 // cannot reach its target; std::logic_error for other methods.
 // `centre`: this spec's map at the centre (sphere_trace_settings' settings.sampling), whose solved s3
 // or p_min is taken instead of solving again: a session builds one map per refresh, not three.
 SamplingMap sampling_map(const StimulusSpec& spec, double gaze_x_px, double gaze_y_px,
-                         const SamplingMap* centre = nullptr);
+                         const SamplingMap* centre = nullptr, const std::optional<EyeView>& eye = std::nullopt);
 // Refuses (InputError, one line) planned stimuli whose sampling model cannot make its map (equalise
 // with no solution on this display), naming `source` (the config), the stimulus (stimulus.reference
 // or stimulus.test, with its level), its method and why: `validate` says it, and a session before
-// anything is written.
-void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std::string& source);
+// anything is written. With `eye`, the maps on that eye's display (a headset study checks each eye).
+void check_sampling_maps(const std::vector<PlannedStimulus>& stimuli, const std::string& source,
+                         const std::optional<EyeView>& eye = std::nullopt);
 // How a sampling-model spec's pass 2 reads its samples (bilinear for the linear model, which fills
 // by pull-push); std::logic_error for other methods.
 ResampleFilter sampling_filter(const StimulusSpec& spec);

@@ -2,7 +2,8 @@
 // volume-rendering.md), every pixel traced (volume) or rays at the sites of a Voronoi sampling mask
 // around each gaze sample (fvolume). fvolume's mask and weights are made before the first trial,
 // never read from the Voronoi cache (foveation/voronoi_reconstruction.h: a cache file can be forged
-// past its own checks).
+// past its own checks). With an eye, every image is that eye's view and fvolume's mask is made on
+// the eye's display (volume_render_settings, voronoi_mask_settings).
 #include <map>
 #include <optional>
 
@@ -16,9 +17,10 @@ namespace {
 
 class VolumeStimuli final : public StimulusRenderer {
  public:
-  explicit VolumeStimuli(vk::Context& context) : context_(context) {}
+  VolumeStimuli(vk::Context& context, const std::optional<EyeView>& eye) : context_(context), eye_(eye) {}
 
   bool renders(RenderMethod method) const override { return describe(method).scene_kind == SceneKind::volume; }
+  bool renders_eye_views() const override { return true; }
 
   void validate(const StimulusSpec& spec) override {
     if (spec.width_px < 1 || spec.height_px < 1 || spec.width_px > kMaxVolumeFrameSidePx ||
@@ -32,7 +34,7 @@ class VolumeStimuli final : public StimulusRenderer {
 
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
     VolumeRaycaster& raycaster = raycaster_for(spec);
-    VolumeRenderSettings settings = volume_render_settings(spec, image.frame);
+    VolumeRenderSettings settings = volume_render_settings(spec, image.frame, eye_);
     LastImage& last = last_image_[spec.scene];
     PreparedFrame rendered;
     if (spec.method() == RenderMethod::volume_raycast) {
@@ -61,7 +63,7 @@ class VolumeStimuli final : public StimulusRenderer {
   VolumeRaycaster& raycaster_for(const StimulusSpec& spec) {
     const bool foveated = spec.method() == RenderMethod::foveated_volume_raycast;
     const std::optional<VoronoiMaskSettings> mask =
-        foveated ? std::optional(voronoi_mask_settings(spec)) : std::nullopt;
+        foveated ? std::optional(voronoi_mask_settings(spec, eye_)) : std::nullopt;
     const std::string key = mask ? spec.scene + "#" + voronoi_settings_key(*mask) : spec.scene;
     auto found = raycasters_.find(key);
     if (found != raycasters_.end()) return *found->second;
@@ -81,6 +83,7 @@ class VolumeStimuli final : public StimulusRenderer {
   }
 
   vk::Context& context_;
+  std::optional<EyeView> eye_;
   std::map<std::string, std::unique_ptr<VolumeRaycaster>> raycasters_;  // by volume scene (and mask)
   std::map<std::string, std::pair<VolumeScene, VolumeGrid>> volumes_;   // by volume scene
   std::map<std::string, LastImage> last_image_;                         // by scene
@@ -88,8 +91,8 @@ class VolumeStimuli final : public StimulusRenderer {
 
 }  // namespace
 
-std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context) {
-  return std::make_unique<VolumeStimuli>(context);
+std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context, const std::optional<EyeView>& eye) {
+  return std::make_unique<VolumeStimuli>(context, eye);
 }
 
 }  // namespace fovlab

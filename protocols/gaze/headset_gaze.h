@@ -1,0 +1,67 @@
+#pragma once
+// A headset's gaze in each eye's image (issue 42): the geometry that turns one gaze into a pixel of
+// the left eye's image and one of the right eye's, so that each eye's stimulus library
+// (protocols/stimuli/stimulus_library.h) gets a gaze in its own image.
+//
+// Units and frames: metres in the head's frame, whose axes are OpenXR's VIEW space (x right, y up,
+// z backwards; the origin between the eyes); the EyeViews' positions are in metres too (a scene unit
+// a metre), their orientations turn the head's axes into the eye's. Pixels are those of the
+// renderer's EyeView and of GazeSample: continuous coordinates with the origin at the image's top
+// left corner, x right, y down, pixel (x, y) covering [x, x + 1) x [y, y + 1), so its centre
+// (x + 0.5, y + 0.5) looks along lerp(tan(left), tan(right), (x + 0.5) / width) across and
+// lerp(tan(up), tan(down), (y + 0.5) / height) up (renderer/scene/eye_view.h). Positions are not
+// rounded and may lie off the image: a session sanitizes each eye's sample (sanitize_gaze), which
+// rounds it and marks one off its eye's image off_screen.
+#include <array>
+#include <optional>
+#include <utility>
+
+#include "protocols/gaze/gaze_sample.h"
+#include "renderer/scene/eye_view.h"
+
+namespace fovlab {
+
+// Where a point appears in the eye's width_px x height_px image: the image position its ray from the
+// eye passes through. nullopt when the point is not in front of the eye (on or behind the plane
+// through the eye perpendicular to its forward axis) or a coordinate is not finite.
+// std::invalid_argument for a size under 1 pixel.
+std::optional<std::pair<double, double>> eye_pixel_of_point(const EyeView& eye, int width_px, int height_px,
+                                                            const std::array<double, 3>& point_in_head_m);
+
+// The unit direction, in the head's frame, from the eye through the image position (x_px, y_px) of
+// its width_px x height_px image (positions off the image extend the same plane).
+// std::invalid_argument for a size under 1 pixel.
+std::array<double, 3> direction_of_eye_pixel(const EyeView& eye, int width_px, int height_px, double x_px,
+                                             double y_px);
+
+// Both eyes' views ([0] left, [1] right), their images' size (the two eyes' images are alike in
+// size) and how far away the gaze rests when nothing else says (metres).
+struct HeadsetGazeGeometry {
+  std::array<EyeView, 2> eyes;
+  int width_px = 0;
+  int height_px = 0;
+  double fixation_distance_m = 1.0;
+};
+
+// A tracker's combined gaze ray (origin in the head, metres; direction, any length) as a sample in
+// each eye's image: the fixation point origin + fixation_distance_m * the unit direction, where each
+// eye sees it. Each sample is `template_sample` (its time fields) with that position. Both are
+// invalid, their positions the template's, when the template is invalid (its reason kept), when the
+// ray is not finite or has no direction ("not_finite"), or when the point is not in front of both
+// eyes ("off_screen"). std::invalid_argument for a fixation distance that is not positive and
+// finite.
+std::array<GazeSample, 2> eye_gaze_from_ray(const HeadsetGazeGeometry& geometry, const std::array<double, 3>& origin_m,
+                                            const std::array<double, 3>& direction,
+                                            const GazeSample& template_sample);
+
+// A gaze source that gives pixels (trace, synthetic, mouse) gives the left eye's: the left sample is
+// `left` as it is, and the right eye's is where the fixation point appears to it. The fixation point
+// is where the left eye's ray through that pixel meets the plane fixation_distance_m in front of
+// the head's origin (z = -fixation_distance_m: the plane facing the head, so a point straight ahead
+// of the head is the same point eye_gaze_from_ray makes from the head's origin). An invalid `left`
+// gives two invalid samples (the right one a copy of it); a ray that does not reach the plane in
+// front of the eye, or a point not in front of the right eye, gives two invalid "off_screen" ones.
+// std::invalid_argument for a fixation distance that is not positive and finite.
+std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel(const HeadsetGazeGeometry& geometry, const GazeSample& left);
+
+}  // namespace fovlab

@@ -1,0 +1,253 @@
+// A stimulus library for a headset eye (protocols/stimuli/stimulus_library.h, issue 42): its frames
+// are exactly the renderer's own per-eye frames for that view and gaze (computed here through the
+// renderers directly, the eye put in by hand), not the desktop's, and not the other eye's; the eye's
+// off-axis display reaches every conversion that takes a display; the families that cannot render
+// an eye's view are refused by prepare with one line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/input_error.h"
+#include "foveation/voronoi_reconstruction.h"
+#include "protocols/stimuli/stimulus_library.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "renderer/scene/eye_view.h"
+#include "renderer/scene/scene_source.h"
+#include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/volume/volume_raycaster.h"
+#include "renderer/volume/volume_scene.h"
+#include "tests/renderer/vulkan_test_fixture.h"
+
+namespace fovlab {
+namespace {
+
+constexpr int kWidthPx = 48, kHeightPx = 40;
+
+// A headset's eyes, 63 mm apart (a scene unit a metre), with mirrored asymmetric fields of view.
+EyeView eye_of(int side) {
+  EyeView eye;
+  eye.position_in_head = {side == 0 ? -0.0315 : 0.0315, 0.0, 0.0};
+  eye.field_of_view = side == 0 ? field_of_view_from_deg(-30.0, 22.0, 24.0, -27.0)
+                                : field_of_view_from_deg(-22.0, 30.0, 24.0, -27.0);
+  return eye;
+}
+
+// A spec at the test's size; foveated ones carry the flat stand-in display a headset study is planned
+// on (which an eye's library ignores).
+StimulusSpec spec_of(RenderMethod method, const std::string& scene) {
+  StimulusSpec spec;
+  spec.scene = scene;
+  spec.parameters = default_parameters(method);
+  spec.width_px = kWidthPx;
+  spec.height_px = kHeightPx;
+  spec.frame_count = 1;
+  spec.camera_start_s = 1.5;
+  if (StimulusDisplay* display = display_of(spec.parameters)) *display = StimulusDisplay{300.0, 250.0, 400.0};
+  return spec;
+}
+
+StimulusImage image_at(double gaze_x_px, double gaze_y_px) {
+  StimulusImage image;
+  image.gaze.x_px = gaze_x_px;
+  image.gaze.y_px = gaze_y_px;
+  return image;
+}
+
+// The sphere tracer's own frame of the spec for the eye: the desktop conversion, then the eye put in
+// as the tracer takes it (its view, and FIPR's display for eccentricity the eye's image plane).
+std::vector<uint8_t> sphere_traced_for_eye(vk::Context& context, const StimulusSpec& spec, const EyeView& eye,
+                                           const StimulusImage& image) {
+  SphereTracer tracer(context, load_scene(spec.scene));
+  SphereTraceSettings settings = sphere_trace_settings(spec, image.frame);
+  settings.eye = eye;
+  settings.outputs = TraceOutputs::display;
+  if (describe(spec.method()).depends_on_gaze) {
+    settings.foveation.display = eye_display(eye, spec.width_px, spec.height_px);
+    settings.foveation.gaze_x_px = image.gaze.x_px;
+    settings.foveation.gaze_y_px = image.gaze.y_px;
+    settings.foveation.frame_index = uint32_t(image.image_index);
+    // rmfr's map is in pixels alone: the same on any display.
+    if (settings.sampling) settings.sampling = sampling_map(spec, image.gaze.x_px, image.gaze.y_px);
+  }
+  return read_back(tracer.render(settings).display).rgba;
+}
+
+// The volume raycaster's own frame for the eye; fvolume's mask made on the eye's image plane.
+std::vector<uint8_t> volume_for_eye(vk::Context& context, const StimulusSpec& spec, const EyeView& eye,
+                                    const StimulusImage& image) {
+  const VolumeScene scene = load_volume_scene(spec.scene);
+  const VolumeGrid grid = load_scene_volume(scene, volume_limits(context));
+  VolumeRaycaster raycaster(context, scene, grid);
+  VolumeRenderSettings settings = volume_render_settings(spec, image.frame);
+  settings.eye = eye;
+  const auto* foveated = std::get_if<FoveatedVolumeRaycastParameters>(&spec.parameters);
+  if (!foveated) {
+    settings.frame_index = uint32_t(image.frame);
+    return read_back(raycaster.display_full_on_device(settings)).rgba;
+  }
+  VoronoiMaskSettings mask = voronoi_mask_settings(spec.width_px, spec.height_px,
+                                                   eye_display(eye, spec.width_px, spec.height_px),
+                                                   foveated->density_sigma_deg);
+  mask.seed = foveated->mask_seed;
+  raycaster.set_reconstruction(make_voronoi_reconstruction(mask));
+  settings.frame_index = uint32_t(image.image_index);
+  return read_back(raycaster.display_foveated_on_device(settings, image.gaze.x_px, image.gaze.y_px,
+                                                        foveated->temporal_smoothing))
+      .rgba;
+}
+
+class EyeStimulusLibrary : public test::VulkanTest {
+ protected:
+  // Each eye's library's frame equals the renderer's for that eye, and differs from the desktop's
+  // and from the other eye's.
+  template <class Expected>
+  void expect_eye_frames(const StimulusSpec& spec, const StimulusImage& image, Expected expected) {
+    StimulusLibrary desktop(context());
+    const std::vector<uint8_t> desktop_bytes = desktop.render(spec, image).image.rgba;
+    std::vector<uint8_t> eye_bytes[2];
+    for (int side = 0; side < 2; ++side) {
+      StimulusLibrary library(context(), "stimuli/cache", eye_of(side));
+      ASSERT_EQ(library.eye(), eye_of(side));
+      const PreparedFrame frame = library.render(spec, image);
+      eye_bytes[side] = frame.image.rgba;
+      ASSERT_EQ(eye_bytes[side].size(), size_t(kWidthPx * kHeightPx * 4)) << spec.method_name();
+      EXPECT_EQ(frame.hash, frame_hash(frame.image));
+      EXPECT_TRUE(eye_bytes[side] == expected(context(), spec, eye_of(side), image))
+          << spec.method_name() << ", eye " << side << ": not the renderer's own frame for the eye";
+      EXPECT_NE(eye_bytes[side], desktop_bytes) << spec.method_name() << ", eye " << side;
+    }
+    EXPECT_NE(eye_bytes[0], eye_bytes[1]) << spec.method_name() << ": both eyes alike";
+  }
+};
+
+TEST_F(EyeStimulusLibrary, SphereTracedFramesAreTheTracersOwnForTheEye) {
+  const StimulusImage centre = image_at(24.0, 20.0);
+  for (RenderMethod method : {RenderMethod::ground_truth, RenderMethod::inverted_pyramid})
+    expect_eye_frames(spec_of(method, "primitives"), StimulusImage{}, sphere_traced_for_eye);
+  // Gaze-dependent: at a gaze off the centre, where the eye's off-axis display and the stand-in's
+  // eccentricities differ.
+  for (RenderMethod method : {RenderMethod::foveated_pyramid, sampled_method(0, SamplingModel::rectangular)}) {
+    StimulusSpec spec = spec_of(method, "primitives");
+    if (auto* fipr = std::get_if<FoveatedPyramidParameters>(&spec.parameters)) fipr->fovea_radius_deg = 5.0;
+    expect_eye_frames(spec, image_at(9.5, 31.25), sphere_traced_for_eye);
+    expect_eye_frames(spec, centre, sphere_traced_for_eye);
+  }
+}
+
+// FIPR on the eye's display, not on the stand-in's: the tracer given the stand-in's display with the
+// eye's view makes another frame (so the check above can fail on the display alone).
+TEST_F(EyeStimulusLibrary, FiprTakesTheEyesDisplayNotTheStandIns) {
+  StimulusSpec spec = spec_of(RenderMethod::foveated_pyramid, "primitives");
+  std::get<FoveatedPyramidParameters>(spec.parameters).fovea_radius_deg = 5.0;
+  const StimulusImage image = image_at(9.5, 31.25);
+  StimulusLibrary library(context(), "stimuli/cache", eye_of(0));
+  SphereTracer tracer(context(), load_scene(spec.scene));
+  SphereTraceSettings stand_in = sphere_trace_settings(spec, 0);  // the stand-in's display
+  stand_in.eye = eye_of(0);
+  stand_in.outputs = TraceOutputs::display;
+  stand_in.foveation.gaze_x_px = image.gaze.x_px;
+  stand_in.foveation.gaze_y_px = image.gaze.y_px;
+  EXPECT_NE(library.render(spec, image).image.rgba, read_back(tracer.render(stand_in).display).rgba);
+}
+
+TEST_F(EyeStimulusLibrary, VolumeFramesAreTheRaycastersOwnForTheEye) {
+  expect_eye_frames(spec_of(RenderMethod::volume_raycast, "marschner-lobb"), StimulusImage{}, volume_for_eye);
+  expect_eye_frames(spec_of(RenderMethod::foveated_volume_raycast, "marschner-lobb"), image_at(30.5, 12.0),
+                    volume_for_eye);
+}
+
+// Prepared (gaze-independent) frames are the library's own: each eye's library holds its eye's.
+TEST_F(EyeStimulusLibrary, PreparedFramesAreEachEyesOwn) {
+  const StimulusSpec gt = spec_of(RenderMethod::ground_truth, "primitives");
+  StimulusLibrary left(context(), "stimuli/cache", eye_of(0)), right(context(), "stimuli/cache", eye_of(1));
+  left.prepare({{7, gt}});
+  right.prepare({{7, gt}});
+  const Rgba8Frame& left_frame = left.frame(7, gt, StimulusImage{}).image;
+  const Rgba8Frame& right_frame = right.frame(7, gt, StimulusImage{}).image;
+  EXPECT_TRUE(left_frame.rgba == sphere_traced_for_eye(context(), gt, eye_of(0), StimulusImage{}));
+  EXPECT_TRUE(right_frame.rgba == sphere_traced_for_eye(context(), gt, eye_of(1), StimulusImage{}));
+  EXPECT_NE(left_frame.rgba, right_frame.rgba);
+}
+
+TEST_F(EyeStimulusLibrary, FamiliesWithoutEyeViewsAreRefusedByPrepareInOneLine) {
+  StimulusLibrary library(context(), "stimuli/cache", eye_of(0));
+  const std::string shown = "it shows gt, ipr, fipr, ";
+  const auto refusal = [&](const StimulusSpec& spec) -> std::string {
+    try {
+      library.prepare({{0, spec_of(RenderMethod::ground_truth, "primitives")}, {1, spec}});
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "";
+  };
+  const std::string pt = refusal(spec_of(RenderMethod::path_traced, "courtyard"));
+  EXPECT_EQ(pt.rfind("pt: a headset study cannot show it yet: per-eye pre-rendered frames are not built (issue 42); "
+                     "it shows gt, ipr, fipr, ",
+                     0),
+            0u)
+      << pt;
+  EXPECT_NE(pt.find(", volume, fvolume"), std::string::npos) << pt;
+  EXPECT_EQ(pt.find('\n'), std::string::npos);
+  for (const char* not_shown : {" pt,", " fpt,", " pt-rmfr", " img-rmfr"})
+    EXPECT_EQ(pt.find(not_shown), std::string::npos) << pt;
+  EXPECT_NE(pt.find(std::string(describe(sampled_method(0, SamplingModel::rectangular)).name)), std::string::npos);
+  EXPECT_EQ(refusal(spec_of(RenderMethod::foveated_path_traced, "courtyard")).rfind("fpt: a headset study", 0), 0u);
+  const StimulusSpec pt_rmfr = spec_of(sampled_method(1, SamplingModel::rectangular), "courtyard");
+  EXPECT_NE(refusal(pt_rmfr).find(std::string(pt_rmfr.method_name()) + ": a headset study cannot show it yet"),
+            std::string::npos);
+  const StimulusSpec images = spec_of(sampled_method(2, SamplingModel::rectangular), "stimuli/no-such-folder");
+  const std::string image_refusal = refusal(images);
+  EXPECT_EQ(image_refusal.rfind(std::string(images.method_name()) + ": a headset study cannot show it yet: per-eye "
+                                                                     "images are not made",
+                                0),
+            0u)
+      << image_refusal;
+  // Refused before anything was rendered (the gt stimulus listed first included).
+  EXPECT_EQ(library.render_seconds(), 0.0);
+  // render() refuses them too (a replay renders without prepare).
+  EXPECT_THROW(library.render(spec_of(RenderMethod::path_traced, "courtyard"), StimulusImage{}), InputError);
+}
+
+// The conversions that take a display take the eye's when given (stimulus_settings.h), and the
+// desktop's are unchanged without one.
+TEST(EyeStimulusSettings, EveryDisplayIsTheEyesImagePlane) {
+  const EyeView eye = eye_of(0);
+  const DisplayGeometry eye_plane = eye_display(eye, kWidthPx, kHeightPx);
+  ASSERT_NE(eye_plane.principal_offset_x_px, 0.0);
+  const StimulusSpec fipr = spec_of(RenderMethod::foveated_pyramid, "primitives");
+  const DisplayGeometry stand_in = stimulus_display(fipr);
+  EXPECT_EQ(stand_in.width_mm, 300.0);
+  EXPECT_EQ(stand_in.principal_offset_x_px, 0.0);
+  const DisplayGeometry seen = stimulus_display(fipr, eye);
+  EXPECT_EQ(seen.principal_offset_x_px, eye_plane.principal_offset_x_px);
+  EXPECT_EQ(seen.width_mm, eye_plane.width_mm);
+  EXPECT_EQ(seen.viewing_distance_mm, eye_plane.viewing_distance_mm);
+
+  const SphereTraceSettings traced = sphere_trace_settings(fipr, 0, eye);
+  EXPECT_EQ(traced.eye, eye);
+  EXPECT_EQ(traced.foveation.display.principal_offset_y_px, eye_plane.principal_offset_y_px);
+  EXPECT_FALSE(sphere_trace_settings(fipr, 0).eye);
+  EXPECT_EQ(sphere_trace_settings(spec_of(RenderMethod::ground_truth, "primitives"), 0, eye).eye, eye);
+
+  const StimulusSpec fvolume = spec_of(RenderMethod::foveated_volume_raycast, "marschner-lobb");
+  const double sigma_deg = std::get<FoveatedVolumeRaycastParameters>(fvolume.parameters).density_sigma_deg;
+  EXPECT_EQ(voronoi_mask_settings(fvolume, eye).density_sigma_px, density_sigma_px(eye_plane, sigma_deg));
+  EXPECT_NE(voronoi_mask_settings(fvolume, eye).density_sigma_px, voronoi_mask_settings(fvolume).density_sigma_px);
+  EXPECT_EQ(volume_render_settings(fvolume, 0, eye).eye, eye);
+  EXPECT_FALSE(volume_render_settings(fvolume, 0).eye);
+
+  // A model on a display (the hyperbolic layers, equalised): its map, the equalise solution
+  // included, on the eye's plane.
+  StimulusSpec layers = spec_of(sampled_method(0, SamplingModel::hyperbolic), "primitives");
+  const SamplingMap on_eye = sampling_map(layers, 10.0, 12.0, nullptr, eye);
+  const SamplingMap on_stand_in = sampling_map(layers, 10.0, 12.0);
+  EXPECT_NE(density(on_eye, 40.0, 30.0), density(on_stand_in, 40.0, 30.0));
+  const SamplingMap centre = sampling_map(layers, std::nan(""), std::nan(""), nullptr, eye);
+  EXPECT_EQ(density(sampling_map(layers, 10.0, 12.0, &centre, eye), 40.0, 30.0), density(on_eye, 40.0, 30.0));
+  EXPECT_EQ(density(*sphere_trace_settings(layers, 0, eye).sampling, 40.0, 30.0), density(centre, 40.0, 30.0));
+}
+
+}  // namespace
+}  // namespace fovlab
