@@ -12,6 +12,8 @@ namespace fovlab {
 namespace {
 
 constexpr XrViewConfigurationType kStereo = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+// openxr_platform.h names it only with XR_USE_TIMESPEC, which this file does not need otherwise.
+constexpr char kConvertTimespecTime[] = "XR_KHR_convert_timespec_time";
 
 // A call that should not fail once the session exists: a failure is the runtime's, not the user's.
 void check(XrResult result, const char* call) {
@@ -100,7 +102,12 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
       throw InputError(
           "openxr: the OpenXR runtime does not offer XR_KHR_vulkan_enable2; fovlab renders through Vulkan, so it "
           "cannot run a headset session on this runtime");
-    OpenXrInstanceResult made = create_openxr_instance("fovlab", {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME});
+    std::vector<std::string> extensions{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME};
+    eye_gaze_enabled = runtime_offers(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+    if (eye_gaze_enabled) extensions.emplace_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+    convert_timespec_enabled = runtime_offers(kConvertTimespecTime);
+    if (convert_timespec_enabled) extensions.emplace_back(kConvertTimespecTime);
+    OpenXrInstanceResult made = create_openxr_instance("fovlab", extensions);
     refuse_unless(made.result, "xrCreateInstance");
     instance = std::move(made.instance);
 

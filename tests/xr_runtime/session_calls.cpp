@@ -30,12 +30,17 @@ XrTime monotonic_now_ns() {
   return XrTime{now.tv_sec} * 1000000000 + now.tv_nsec;
 }
 
-// The predicted display time of the session's frame `n` (1 for the first xrWaitFrame).
+}  // namespace
+
 XrTime frame_time(const SessionObject& session, int64_t n) { return session.start_time + n * 1000000000 / kRefreshHz; }
+
+namespace {
 
 XrTime current_time(const SessionObject& session) { return frame_time(session, session.waited_frames); }
 
 constexpr float radians(float degrees) { return degrees * std::numbers::pi_v<float> / 180.0f; }
+
+}  // namespace
 
 XrQuaternionf multiply(const XrQuaternionf& a, const XrQuaternionf& b) {
   return {a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
@@ -49,7 +54,6 @@ XrVector3f rotate(const XrQuaternionf& q, const XrVector3f& v) {
   return {r.x, r.y, r.z};
 }
 
-// `pose` (in the reference space) seen from a space whose origin is `origin` in that reference space.
 XrPosef relative_to(const XrPosef& origin, const XrPosef& pose) {
   const XrQuaternionf inverse{-origin.orientation.x, -origin.orientation.y, -origin.orientation.z,
                               origin.orientation.w};
@@ -64,6 +68,8 @@ bool pose_is_valid(const XrPosef& pose) {
   return std::isfinite(norm) && std::fabs(norm - 1.0f) < 1e-3f && std::isfinite(pose.position.x) &&
          std::isfinite(pose.position.y) && std::isfinite(pose.position.z);
 }
+
+namespace {
 
 bool is_view_configuration_type(XrViewConfigurationType type) {
   return type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO || type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO ||
@@ -151,6 +157,9 @@ XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessionCreateInf
   if (object->session != 0) return XR_ERROR_LIMIT_REACHED;  // one session an instance
 
   SessionObject made;
+  // The scripted controller and gaze: a test that names a malformed script learns it here, not by
+  // presses that never come.
+  if (!read_simulated_input(made.input)) return XR_ERROR_RUNTIME_FAILURE;
   if (const XrResult result = bind_session_vulkan(object->vulkan, *binding, made.vulkan); XR_FAILED(result))
     return result;
   made.start_time = monotonic_now_ns();

@@ -75,7 +75,7 @@ void destroy_with_children(HandleTable& table, uint64_t handle) {
 
 std::span<const DispatchEntry> dispatch_table() {
   constexpr std::string_view kVulkan2 = XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME;
-  static const std::array<DispatchEntry, 38> table{{
+  static const std::array<DispatchEntry, 52> table{{
       {"xrGetInstanceProcAddr", void_function(&get_instance_proc_addr), "", false},
       {"xrEnumerateInstanceExtensionProperties", void_function(&enumerate_instance_extension_properties), "", true},
       {"xrCreateInstance", void_function(&create_instance), "", true},
@@ -115,6 +115,20 @@ std::span<const DispatchEntry> dispatch_table() {
       {"xrAcquireSwapchainImage", void_function(&acquire_swapchain_image), "", false},
       {"xrWaitSwapchainImage", void_function(&wait_swapchain_image), "", false},
       {"xrReleaseSwapchainImage", void_function(&release_swapchain_image), "", false},
+      {"xrStringToPath", void_function(&string_to_path), "", false},
+      {"xrPathToString", void_function(&path_to_string), "", false},
+      {"xrCreateActionSet", void_function(&create_action_set), "", false},
+      {"xrDestroyActionSet", void_function(&destroy_action_set), "", false},
+      {"xrCreateAction", void_function(&create_action), "", false},
+      {"xrDestroyAction", void_function(&destroy_action), "", false},
+      {"xrSuggestInteractionProfileBindings", void_function(&suggest_interaction_profile_bindings), "", false},
+      {"xrAttachSessionActionSets", void_function(&attach_session_action_sets), "", false},
+      {"xrGetCurrentInteractionProfile", void_function(&get_current_interaction_profile), "", false},
+      {"xrSyncActions", void_function(&sync_actions), "", false},
+      {"xrGetActionStateBoolean", void_function(&get_action_state_boolean), "", false},
+      {"xrGetActionStatePose", void_function(&get_action_state_pose), "", false},
+      {"xrCreateActionSpace", void_function(&create_action_space), "", false},
+      {"xrLocateSpace", void_function(&locate_space), "", false},
       // xrEnumerateApiLayerProperties is the loader's own: a runtime has no layers to list.
       {"xrEnumerateApiLayerProperties", nullptr, "", true},
   }};

@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <mutex>
 #include <span>
 #include <string>
@@ -66,12 +67,22 @@ struct QueuedStateChange {
   XrTime time = 0;
 };
 
+// One suggested binding of an interaction profile (xrSuggestInteractionProfileBindings).
+struct SuggestedBinding {
+  uint64_t action = 0;
+  XrPath binding = XR_NULL_PATH;
+};
+
 struct InstanceObject {
   std::vector<std::string> enabled_extensions;
   SimulatedHeadset headset;
   InstanceVulkan vulkan;
   std::deque<QueuedStateChange> events;
   uint64_t session = 0;  // the instance's one session, 0 when it has none
+  // The instance's paths: XrPath n is paths[n - 1] (xrStringToPath hands out each string once).
+  std::vector<std::string> paths;
+  // The latest suggestion for each interaction profile, by the profile's path.
+  std::map<XrPath, std::vector<SuggestedBinding>> suggested_bindings;
 };
 
 // The device functions the runtime calls on the application's VkDevice (vulkan_calls.cpp).
@@ -111,8 +122,40 @@ struct SubmittedView {
   XrFovf fov{};
 };
 
+// The controller the test runtime's headset has "connected" (FOVLAB_TEST_XR_CONTROLLER), by its
+// interaction profile.
+enum class SimulatedController { xbox, vive, simple };
+
+// An input pressed during one frame of the session (FOVLAB_TEST_XR_INPUT, fovlab_test_xr_press).
+struct ScriptedPress {
+  int64_t frame = 0;  // the session's n-th xrWaitFrame
+  std::string input;  // e.g. "/user/gamepad/input/a/click"
+};
+
+// What the session's scripted devices do, read from the environment when the session is created
+// (input_script.cpp).
+struct SimulatedInput {
+  SimulatedController controller = SimulatedController::xbox;
+  std::vector<ScriptedPress> presses;
+  double gaze_yaw_deg = 0.0;  // right positive
+  double gaze_pitch_deg = 0.0;  // up positive
+};
+
+// An action's state as of the session's last xrSyncActions.
+struct ActionState {
+  bool active = false;
+  bool current = false;  // boolean actions: pressed
+  bool changed = false;  // since the sync before
+  XrTime last_change_time = 0;
+};
+
 struct SessionObject {
   SessionVulkan vulkan;
+  SimulatedInput input;
+  std::vector<uint64_t> attached_action_sets;  // empty until xrAttachSessionActionSets
+  bool action_sets_attached = false;
+  std::map<uint64_t, ActionState> action_states;  // by action, for the attached sets' actions
+  int64_t last_synced_frame = 0;                   // waited_frames at the last xrSyncActions
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;         // as the application has seen it (xrPollEvent)
   XrSessionState queued_state = XR_SESSION_STATE_UNKNOWN;  // the last one queued
   bool running = false;                                    // between xrBeginSession and xrEndSession
@@ -126,7 +169,23 @@ struct SessionObject {
 
 struct SpaceObject {
   XrReferenceSpaceType type = XR_REFERENCE_SPACE_TYPE_VIEW;
-  XrPosef pose_in_reference{};
+  XrPosef pose_in_reference{};  // for an action space: poseInActionSpace
+  uint64_t action = 0;          // an action space's pose action; 0 for a reference space
+  XrPath subaction_path = XR_NULL_PATH;
+};
+
+struct ActionSetObject {
+  std::string name;
+  std::string localized_name;
+  uint32_t priority = 0;
+  bool attached = false;  // to a session: from then on the set and its actions are immutable
+};
+
+struct ActionObject {
+  std::string name;
+  std::string localized_name;
+  XrActionType type = XR_ACTION_TYPE_BOOLEAN_INPUT;
+  std::vector<XrPath> subaction_paths;
 };
 
 struct SwapchainImage {
@@ -147,7 +206,7 @@ struct SwapchainObject {
 // One handle's object, each kind with its parent.
 struct Object {
   uint64_t parent = 0;  // the handle this one was made from; 0 for an instance
-  std::variant<InstanceObject, SessionObject, SpaceObject, SwapchainObject> state;
+  std::variant<InstanceObject, SessionObject, SpaceObject, SwapchainObject, ActionSetObject, ActionObject> state;
 };
 
 // Every live handle of every kind. Handles are never reused, so a stale one is always invalid.
@@ -294,6 +353,61 @@ XrResult XRAPI_CALL acquire_swapchain_image(XrSwapchain swapchain, const XrSwapc
                                             uint32_t* index);
 XrResult XRAPI_CALL wait_swapchain_image(XrSwapchain swapchain, const XrSwapchainImageWaitInfo* wait_info);
 XrResult XRAPI_CALL release_swapchain_image(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo* release_info);
+
+// Paths, actions, bindings, action states and spaces located relative to each other (action_calls.cpp).
+XrResult XRAPI_CALL string_to_path(XrInstance instance, const char* path_string, XrPath* path);
+XrResult XRAPI_CALL path_to_string(XrInstance instance, XrPath path, uint32_t capacity, uint32_t* count_output,
+                                   char* buffer);
+XrResult XRAPI_CALL create_action_set(XrInstance instance, const XrActionSetCreateInfo* create_info,
+                                      XrActionSet* action_set);
+XrResult XRAPI_CALL destroy_action_set(XrActionSet action_set);
+XrResult XRAPI_CALL create_action(XrActionSet action_set, const XrActionCreateInfo* create_info, XrAction* action);
+XrResult XRAPI_CALL destroy_action(XrAction action);
+XrResult XRAPI_CALL suggest_interaction_profile_bindings(XrInstance instance,
+                                                         const XrInteractionProfileSuggestedBinding* suggested);
+XrResult XRAPI_CALL attach_session_action_sets(XrSession session, const XrSessionActionSetsAttachInfo* attach_info);
+XrResult XRAPI_CALL get_current_interaction_profile(XrSession session, XrPath top_level_user_path,
+                                                    XrInteractionProfileState* profile);
+XrResult XRAPI_CALL sync_actions(XrSession session, const XrActionsSyncInfo* sync_info);
+XrResult XRAPI_CALL get_action_state_boolean(XrSession session, const XrActionStateGetInfo* get_info,
+                                             XrActionStateBoolean* state);
+XrResult XRAPI_CALL get_action_state_pose(XrSession session, const XrActionStateGetInfo* get_info,
+                                          XrActionStatePose* state);
+XrResult XRAPI_CALL create_action_space(XrSession session, const XrActionSpaceCreateInfo* create_info,
+                                        XrSpace* space);
+XrResult XRAPI_CALL locate_space(XrSpace space, XrSpace base_space, XrTime time, XrSpaceLocation* location);
+
+// An interaction profile the runtime knows, with its allowlist (the specification's "Interaction
+// Profile Paths"): the top-level /user paths and the input and output subpaths each of them has.
+struct InteractionProfile {
+  std::string_view path;
+  std::span<const std::string_view> user_paths;
+  std::span<const std::string_view> components;  // "/input/a/click", "/output/haptic"
+  std::string_view extension;                    // empty for a core profile
+};
+// nullptr for a profile the runtime does not know.
+const InteractionProfile* find_interaction_profile(std::string_view path);
+// Whether `binding` (a /user path plus a subpath) is in the profile's allowlist, either whole or as
+// an identifier without its component ("/user/hand/left/input/trigger"), which the specification
+// lets the runtime resolve.
+bool profile_has_binding(const InteractionProfile& profile, std::string_view binding);
+
+// The session's scripted controller and gaze from the environment (input_script.cpp): false, with
+// the reason written to stderr, when a setting or a line of the input file is malformed.
+bool read_simulated_input(SimulatedInput& input);
+// Whether `input` is a button (a .../click input) of the controller's interaction profile.
+bool is_controller_button(SimulatedController controller, std::string_view input);
+// "/interaction_profiles/microsoft/xbox_controller" for xbox, and so on.
+std::string_view controller_profile(SimulatedController controller);
+
+// Pose arithmetic shared by the view and space calls (session_calls.cpp).
+XrQuaternionf multiply(const XrQuaternionf& a, const XrQuaternionf& b);
+XrVector3f rotate(const XrQuaternionf& q, const XrVector3f& v);
+// `pose` (in the reference space) seen from a space whose origin is `origin` in that reference space.
+XrPosef relative_to(const XrPosef& origin, const XrPosef& pose);
+bool pose_is_valid(const XrPosef& pose);
+// The predicted display time of the session's frame `n` (1 for the first xrWaitFrame).
+XrTime frame_time(const SessionObject& session, int64_t n);
 
 // The simulated headset's views (session_calls.cpp): the eyes at -+IPD/2 along x of the head, each
 // with its asymmetric field of view (the angles are stated in docs/hmd.md).

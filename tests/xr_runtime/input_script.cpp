@@ -1,0 +1,169 @@
+// The test runtime's input devices: the interaction profiles it knows (the allowlists bindings are
+// checked against) and the scripted controller and eye tracker of a session, read from the
+// environment when the session is created:
+//   FOVLAB_TEST_XR_CONTROLLER = xbox (default) | vive | simple: the connected controller's profile;
+//   FOVLAB_TEST_XR_INPUT = a file of lines "<frame> <input path>": that button is pressed during the
+//     session's frame-th xrWaitFrame and released after it (blank lines and lines starting with '#'
+//     are skipped);
+//   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0").
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "tests/xr_runtime/test_runtime.h"
+
+namespace fovlab::test_xr {
+namespace {
+
+constexpr std::array<std::string_view, 2> kHands{"/user/hand/left", "/user/hand/right"};
+constexpr std::array<std::string_view, 1> kGamepad{"/user/gamepad"};
+constexpr std::array<std::string_view, 1> kEyes{"/user/eyes_ext"};
+
+// The allowlists of the OpenXR 1.0 specification for the profiles fovlab suggests bindings for.
+constexpr std::array<std::string_view, 5> kSimpleControllerComponents{
+    "/input/select/click", "/input/menu/click", "/input/grip/pose", "/input/aim/pose", "/output/haptic"};
+constexpr std::array<std::string_view, 12> kViveControllerComponents{
+    "/input/system/click",   "/input/squeeze/click",  "/input/menu/click",     "/input/trigger/click",
+    "/input/trigger/value",  "/input/trackpad/x",     "/input/trackpad/y",     "/input/trackpad/click",
+    "/input/trackpad/touch", "/input/grip/pose",      "/input/aim/pose",       "/output/haptic"};
+constexpr std::array<std::string_view, 24> kXboxControllerComponents{
+    "/input/menu/click",           "/input/view/click",           "/input/a/click",
+    "/input/b/click",              "/input/x/click",              "/input/y/click",
+    "/input/dpad_down/click",      "/input/dpad_right/click",     "/input/dpad_up/click",
+    "/input/dpad_left/click",      "/input/shoulder_left/click",  "/input/shoulder_right/click",
+    "/input/thumbstick_left/click", "/input/thumbstick_right/click", "/input/trigger_left/value",
+    "/input/trigger_right/value",  "/input/thumbstick_left/x",    "/input/thumbstick_left/y",
+    "/input/thumbstick_right/x",   "/input/thumbstick_right/y",   "/output/haptic_left",
+    "/output/haptic_right",        "/output/haptic_left_trigger", "/output/haptic_right_trigger"};
+constexpr std::array<std::string_view, 1> kEyeGazeComponents{"/input/gaze_ext/pose"};
+
+const std::array<InteractionProfile, 4>& interaction_profiles() {
+  static const std::array<InteractionProfile, 4> profiles{{
+      {"/interaction_profiles/khr/simple_controller", kHands, kSimpleControllerComponents, ""},
+      {"/interaction_profiles/htc/vive_controller", kHands, kViveControllerComponents, ""},
+      {"/interaction_profiles/microsoft/xbox_controller", kGamepad, kXboxControllerComponents, ""},
+      {"/interaction_profiles/ext/eye_gaze_interaction", kEyes, kEyeGazeComponents,
+       XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME},
+  }};
+  return profiles;
+}
+
+void log_malformed(const std::string& what) {
+  std::fprintf(stderr, "fovlab test runtime: %s\n", what.c_str());
+  std::fflush(stderr);
+}
+
+bool read_controller(SimulatedController& controller) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_CONTROLLER");
+  const std::string_view name = setting == nullptr ? "" : setting;
+  if (name.empty() || name == "xbox") {
+    controller = SimulatedController::xbox;
+  } else if (name == "vive") {
+    controller = SimulatedController::vive;
+  } else if (name == "simple") {
+    controller = SimulatedController::simple;
+  } else {
+    log_malformed("FOVLAB_TEST_XR_CONTROLLER=" + std::string(name) + ": expected xbox, vive or simple");
+    return false;
+  }
+  return true;
+}
+
+bool read_presses(SimulatedInput& input) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_INPUT");
+  if (setting == nullptr || *setting == '\0') return true;
+  std::ifstream file(setting);
+  if (!file) {
+    log_malformed(std::string("FOVLAB_TEST_XR_INPUT: cannot read ") + setting);
+    return false;
+  }
+  std::string line;
+  for (int line_number = 1; std::getline(file, line); ++line_number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    std::istringstream fields(line);
+    ScriptedPress press;
+    std::string extra;
+    const bool parsed = static_cast<bool>(fields >> press.frame >> press.input) && !(fields >> extra);
+    const std::string where = std::string(setting) + ":" + std::to_string(line_number) + ": ";
+    if (!parsed || press.frame < 1) {
+      log_malformed(where + "expected \"<frame> <input path>\" with a frame of 1 or more, got \"" + line + "\"");
+      return false;
+    }
+    if (!is_controller_button(input.controller, press.input)) {
+      log_malformed(where + press.input + " is not a button of " + std::string(controller_profile(input.controller)));
+      return false;
+    }
+    input.presses.push_back(press);
+  }
+  return true;
+}
+
+bool read_gaze(SimulatedInput& input) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_GAZE");
+  if (setting == nullptr || *setting == '\0') return true;
+  char* end = nullptr;
+  const double yaw = std::strtod(setting, &end);
+  const bool has_comma = end != setting && *end == ',';
+  const char* pitch_text = has_comma ? end + 1 : end;
+  const double pitch = std::strtod(pitch_text, &end);
+  if (!has_comma || end == pitch_text || *end != '\0' || !std::isfinite(yaw) || !std::isfinite(pitch) ||
+      std::fabs(yaw) > 90.0 || std::fabs(pitch) > 90.0) {
+    log_malformed(std::string("FOVLAB_TEST_XR_GAZE=") + setting +
+                  ": expected \"yaw_deg,pitch_deg\", each between -90 and 90");
+    return false;
+  }
+  input.gaze_yaw_deg = yaw;
+  input.gaze_pitch_deg = pitch;
+  return true;
+}
+
+}  // namespace
+
+const InteractionProfile* find_interaction_profile(std::string_view path) {
+  for (const InteractionProfile& profile : interaction_profiles()) {
+    if (profile.path == path) return &profile;
+  }
+  return nullptr;
+}
+
+bool profile_has_binding(const InteractionProfile& profile, std::string_view binding) {
+  for (const std::string_view user_path : profile.user_paths) {
+    if (!binding.starts_with(user_path)) continue;
+    const std::string_view subpath = binding.substr(user_path.size());
+    for (const std::string_view component : profile.components) {
+      if (component == subpath) return true;
+      // An identifier without its component: "/input/trigger" of "/input/trigger/click".
+      if (subpath.size() > 1 && component.starts_with(subpath) && component[subpath.size()] == '/') return true;
+    }
+  }
+  return false;
+}
+
+std::string_view controller_profile(SimulatedController controller) {
+  switch (controller) {
+    case SimulatedController::vive:
+      return "/interaction_profiles/htc/vive_controller";
+    case SimulatedController::simple:
+      return "/interaction_profiles/khr/simple_controller";
+    case SimulatedController::xbox:
+      break;
+  }
+  return "/interaction_profiles/microsoft/xbox_controller";
+}
+
+bool is_controller_button(SimulatedController controller, std::string_view input) {
+  const InteractionProfile* profile = find_interaction_profile(controller_profile(controller));
+  return profile != nullptr && input.ends_with("/click") && input.find("/input/") != std::string_view::npos &&
+         profile_has_binding(*profile, input);
+}
+
+bool read_simulated_input(SimulatedInput& input) {
+  return read_controller(input.controller) && read_presses(input) && read_gaze(input);
+}
+
+}  // namespace fovlab::test_xr
