@@ -5,7 +5,6 @@
 
 #include "core/input_error.h"
 #include "display/openxr/openxr_runtime_info.h"
-#include "display/openxr/openxr_session.h"
 #include "study/stimulus/render_method.h"
 
 namespace fovlab::app {
@@ -28,7 +27,7 @@ std::string method_following_gaze(const StudyConfig& config) {
 
 }  // namespace
 
-void refuse_openxr_run(const StudyConfig& config, const std::string& gaze_option, bool validation) {
+void check_openxr_runtime_for(const StudyConfig& config, const std::string& gaze_option) {
   const OpenXrRuntimeInfo runtime = query_openxr_runtime();
   const std::string& path = config.source_path;
   if (!has_openxr_runtime(runtime))
@@ -59,18 +58,6 @@ void refuse_openxr_run(const StudyConfig& config, const std::string& gaze_option
                        std::to_string(eye.max_height_px) + " (" + name + "), got " +
                        std::to_string(headset.eye_width_px) + "x" + std::to_string(headset.eye_height_px));
   }
-  // The session as the next stage will open it: Vulkan through the runtime, the session and each
-  // eye's swapchain, with the session's own refusals (Vulkan versions, the swapchain format).
-  uint32_t eye_width_px = 0, eye_height_px = 0;
-  {
-    OpenXrSession session({uint32_t(headset.eye_width_px), uint32_t(headset.eye_height_px), validation});
-    eye_width_px = session.eye_width_px;
-    eye_height_px = session.eye_height_px;
-  }
-  throw InputError("openxr: " + path + ": a headset session opened on " + name + " (" + std::to_string(eye_width_px) +
-                   "x" + std::to_string(eye_height_px) +
-                   " px an eye) and closed: running a study in the headset is not built yet (the next stage of issue "
-                   "42, docs/hmd.md); validate, simulate or prerender this config, or run the study's desktop version");
 }
 
 }  // namespace fovlab::app

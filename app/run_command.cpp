@@ -31,15 +31,21 @@ struct RunOptions {
 
 void run(RunOptions options) {
   const StudyConfig config = parse_study_config_file(options.config_path, renderer_scene_catalog());
-  if (config.display.kind == DisplayKind::openxr)  // the runtime's refusals, before any window or folder
-    refuse_openxr_run(config, options.session.gaze, context_options(options.device).validation);
   SessionOptions& session = options.session;
+  const bool in_headset = config.display.kind == DisplayKind::openxr;
+  if (in_headset) {  // the runtime's refusals, before any folder
+    if (session.headless)
+      throw InputError("--headless: " + config.source_path +
+                       " runs in a headset ([display] kind = \"openxr\"); drop --headless (a pilot without one: "
+                       "fovlab simulate)");
+    check_openxr_runtime_for(config, session.gaze);
+  }
   // A gaze-contingent study in a window needs its gaze source named, and a config's [gaze] require
   // is kept (docs/gaze.md): refused before the display is looked for, any window or any folder.
-  // A simulated observer without a display runs headless (below).
+  // A simulated observer without a display runs headless (below). A headset is its own display.
   const bool in_window = !session.headless && (session.observer.empty() || display_available());
-  choose_gaze(config, session.gaze, !in_window);
-  if (!session.headless && !display_available()) {
+  if (!in_headset) choose_gaze(config, session.gaze, !in_window);
+  if (!in_headset && !session.headless && !display_available()) {
     if (session.observer.empty())
       throw InputError(
           "run: no display to open a window on (DISPLAY is not set); a human participant needs one "

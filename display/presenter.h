@@ -3,6 +3,8 @@
 // refresh period per present; no window) and a GLFW window with a Vulkan swapchain (real clock,
 // vsync). The session state machine only talks to this interface.
 #include <optional>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,12 @@ struct InputEvent {
   std::string key;
 };
 
+// One view's image for present_views: its bytes on the host, or a frame held on a device.
+struct ViewFrame {
+  const Rgba8Frame* host = nullptr;  // used when `device` is empty
+  DeviceRgba8Frame device;
+};
+
 class Presenter {
  public:
   virtual ~Presenter() = default;
@@ -30,6 +38,15 @@ class Presenter {
   // The same for a frame held on a device (a live stimulus as the renderer left it); a window on
   // that device shows it without a copy through the host.
   virtual double present(const DeviceRgba8Frame& frame) = 0;
+  // How many views a stimulus is drawn for: 1 on a screen, 2 in a headset (left eye, then right).
+  // present() shows one image in every view (a text screen); present_views() gives each its own.
+  virtual int view_count() const { return 1; }
+  // Shows each view its own frame (view_count() of them) at the next refresh; returns the session
+  // time it was presented, as present() does.
+  virtual double present_views(std::span<const ViewFrame> frames) {
+    if (frames.size() != 1) throw std::logic_error("present_views: a presenter with one view was given several");
+    return frames[0].device ? present(frames[0].device) : present(*frames[0].host);
+  }
   // Key and button presses since the last call, oldest first.
   virtual std::vector<InputEvent> poll_input() = 0;
   // Waits (real clock) or advances (virtual clock) until time_s, keeping the last frame on screen.
@@ -44,7 +61,8 @@ class Presenter {
   virtual bool is_headless() const = 0;
   // What the times present() returns measure, as the log names it: "virtual" (the headless clock),
   // "present_wait" (VK_KHR_present_wait said the image was presented), "after_queue_present" (the
-  // time after vkQueuePresentKHR returned and the frame's copy completed; no display feedback).
+  // time after vkQueuePresentKHR returned and the frame's copy completed; no display feedback),
+  // "openxr_predicted_display" (the display time the headset's runtime predicted for the frame).
   virtual std::string present_clock() const = 0;
 };
 

@@ -18,8 +18,8 @@ namespace {
 
 [[noreturn]] void bad_spec(const std::string& text) {
   throw InputError(
-      "--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
-      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"" +
+      "--gaze: expected mouse, trace:FILE, synthetic[:seed=N], "
+      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] or openxr, got \"" +
       text + "\"");
 }
 
@@ -123,6 +123,7 @@ GazeSourceKind source_kind(const GazeSpec& spec) {
     case GazeSpec::Kind::synthetic:
       return GazeSourceKind::synthetic;
     case GazeSpec::Kind::pupil:
+    case GazeSpec::Kind::openxr:
       return GazeSourceKind::tracker;
   }
   return GazeSourceKind::mouse;
@@ -131,6 +132,7 @@ GazeSourceKind source_kind(const GazeSpec& spec) {
 ChosenGaze choose_gaze(const StudyConfig& config, const std::string& option, bool headless) {
   const GazeConfig& require = config.gaze;
   ChosenGaze chosen;
+  const bool in_headset = config.display.kind == DisplayKind::openxr;
   if (!option.empty()) {
     chosen.spec = parse_gaze_spec(option);
     chosen.requested = true;
@@ -138,12 +140,20 @@ ChosenGaze choose_gaze(const StudyConfig& config, const std::string& option, boo
     if (!require.require.empty() && !require.allows(kind))
       throw InputError("--gaze " + option + ": " + require_named(config) + ": expected a source of that kind, got a " +
                        gaze_source_kind_name(kind) + " (give " + how_to_give(require.require) + ")");
+    if (chosen.spec.kind == GazeSpec::Kind::openxr && !in_headset)
+      throw InputError("--gaze openxr: the headset's eye tracker gives the gaze of a study in a headset ([display] "
+                       "kind = \"openxr\"); " + config.source_path + " is not one");
     return chosen;
   }
-  if (headless) {
+  if (in_headset && (require.require.empty() || require.allows(GazeSourceKind::tracker))) {
+    chosen.spec = parse_gaze_spec("openxr");
+    return chosen;
+  }
+  if (headless || in_headset) {
     chosen.spec = parse_gaze_spec("synthetic");
     if (!require.require.empty() && !require.allows(GazeSourceKind::synthetic))
-      throw InputError(require_named(config) + ": a headless session's default gaze is synthetic; give " +
+      throw InputError(require_named(config) + ": a " + (in_headset ? "headset" : "headless") +
+                       " session's default gaze is synthetic; give " +
                        how_to_give(require.require));
     return chosen;
   }
@@ -189,6 +199,8 @@ GazeSpec parse_gaze_spec(const std::string& text) {
   } else if (const auto options = after("synthetic:")) {
     parse_synthetic_options(text, *options, spec);
     spec.kind = GazeSpec::Kind::synthetic;
+  } else if (view == "openxr") {
+    spec.kind = GazeSpec::Kind::openxr;
   } else if (view == "pupil") {
     spec.kind = GazeSpec::Kind::pupil;
   } else if (const auto address = after("pupil:")) {
@@ -209,7 +221,9 @@ std::unique_ptr<GazeSource> make_gaze_source(const GazeSpec& spec, int width_px,
                                              SessionClock session_clock) {
   switch (spec.kind) {
     case GazeSpec::Kind::mouse:
-      throw std::logic_error("make_gaze_source: the mouse gaze source is made by the session from its presenter");
+    case GazeSpec::Kind::openxr:
+      throw std::logic_error("make_gaze_source: the mouse and headset gaze sources are made by the session from its "
+                             "presenter");
     case GazeSpec::Kind::trace:
       return std::make_unique<TraceGazeSource>(spec.trace_path);
     case GazeSpec::Kind::synthetic: {

@@ -22,7 +22,7 @@
 namespace fovlab {
 
 struct GazeSpec {
-  enum class Kind { mouse, trace, synthetic, pupil };
+  enum class Kind { mouse, trace, synthetic, pupil, openxr };  // openxr: a headset's eye tracker
   Kind kind = Kind::mouse;
   std::string trace_path;          // trace
   std::string host = "127.0.0.1";  // pupil
@@ -44,7 +44,9 @@ struct ChosenGaze {
 };
 
 // The source of --gaze `option` ("" for the default) for a session of `config`, headless or in a
-// window (docs/gaze.md, "Which source a session may use"). Headless, the default is synthetic. In a
+// window (docs/gaze.md, "Which source a session may use"). In a headset ([display] kind = "openxr")
+// the default is its eye tracker (openxr), or synthetic where [gaze] require leaves trackers out, and
+// `openxr` names it in no other session. Headless, the default is synthetic. In a
 // window it is the mouse, except for a gaze-contingent study (is_gaze_contingent) or a config whose
 // [gaze] require leaves the mouse out: those need --gaze (a tracker: pupil...; the mouse only by
 // name, --gaze mouse, a rehearsal), and without it are refused. A source of a kind the config's
@@ -55,8 +57,8 @@ ChosenGaze choose_gaze(const StudyConfig& config, const std::string& option, boo
 // onto it at start-up. Empty: a monotonic clock of the process (fine for sources that need none).
 using SessionClock = std::function<double()>;
 
-// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or pupil[:HOST[:PORT]][,surface=NAME]
-// [,min_confidence=C], got \"...\"");
+// InputError("--gaze: expected mouse, trace:FILE, synthetic[:seed=N], pupil[:HOST[:PORT]][,surface=NAME]
+// [,min_confidence=C] or openxr, got \"...\"");
 // InputError("--gaze: age_ms: expected milliseconds 0..10000, got \"...\"") for a bad age.
 GazeSpec parse_gaze_spec(const std::string& text);
 

@@ -16,6 +16,7 @@
 #include "protocols/observer/simulated_observer.h"
 #include "study/schedule/study_plan.h"
 #include "study/log/schedule_check.h"
+#include "protocols/session/headset_views.h"
 #include "protocols/session/session_header.h"
 #include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/plan_renderable.h"
@@ -27,15 +28,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string frame_file_name(int stimulus, int frame) {
-  return "stimulus" + std::to_string(stimulus) + "_frame" + std::to_string(frame) + ".png";
+// A headset session's right eye's frames carry "_right" before the extension; the left eye's, and a
+// desktop session's, none.
+std::string eye_suffix(size_t eye) { return eye == 0 ? "" : "_right"; }
+
+std::string frame_file_name(int stimulus, int frame, size_t eye) {
+  return "stimulus" + std::to_string(stimulus) + "_frame" + std::to_string(frame) + eye_suffix(eye) + ".png";
 }
 
 // A gaze-dependent stimulus has an image per refresh of each presentation; (trial, step) names
 // the presentation (slider steps count every showing).
-std::string image_file_name(int trial, int step, int stimulus, int image) {
+std::string image_file_name(int trial, int step, int stimulus, int image, size_t eye) {
   return "trial" + std::to_string(trial) + "_step" + std::to_string(step) + "_stimulus" + std::to_string(stimulus) +
-         "_image" + std::to_string(image) + ".png";
+         "_image" + std::to_string(image) + eye_suffix(eye) + ".png";
 }
 
 class Differences {
@@ -177,23 +182,35 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
   outcome.comparison = by_ssim ? "ssim" : "hash";
   if (!options.frames_out.empty()) fs::create_directories(options.frames_out);
 
-  StimulusLibrary library(context, options.cache_dir);
-  // Frames of gaze-independent stimuli are rendered once, by (stimulus, frame). Every image of a
-  // gaze-dependent stimulus (fipr) is rendered again, in the order of its presentation, with its
+  // One view on a desktop; in a headset (schema 11) the two eyes, each rendered from its logged view.
+  // Frames of gaze-independent stimuli are rendered once a view, by (stimulus, frame). Every image of
+  // a gaze-dependent stimulus (fipr) is rendered again, in the order of its presentation, with its
   // logged gaze and its position in the stimulus event's arrays as the presentation's image index
   // (SessionRun::present_stimulus), so the periphery refresh reuses the same previous images.
-  std::map<std::pair<int, int>, PreparedFrame> rendered;
-  PreparedFrame live;
-  const auto image_for = [&](int stimulus, const StimulusImage& image,
+  struct ViewReplay {
+    StimulusLibrary library;
+    std::map<std::pair<int, int>, PreparedFrame> rendered;
+    PreparedFrame live;
+  };
+  std::vector<std::unique_ptr<ViewReplay>> views;
+  if (header.headset.is_null()) {
+    views.emplace_back(new ViewReplay{StimulusLibrary(context, options.cache_dir), {}, {}});
+  } else {
+    const HeadsetViews headset = headset_views_from_json(header.headset, options.log_path + ":1");
+    for (const EyeView& eye : headset.eyes)
+      views.emplace_back(new ViewReplay{StimulusLibrary(context, options.cache_dir, eye), {}, {}});
+  }
+  const auto image_for = [&](size_t view, int stimulus, const StimulusImage& image,
                              const std::string& file_name) -> const PreparedFrame& {
+    ViewReplay& replaying = *views[view];
     const StimulusSpec& spec = plan.stimuli[static_cast<size_t>(stimulus)].spec;
     const bool gaze_dependent = describe(spec.method()).depends_on_gaze;
     const auto key = std::make_pair(stimulus, image.frame);
     if (!gaze_dependent) {
-      const auto found = rendered.find(key);
-      if (found != rendered.end()) return found->second;
+      const auto found = replaying.rendered.find(key);
+      if (found != replaying.rendered.end()) return found->second;
     }
-    PreparedFrame made = library.render(spec, image);
+    PreparedFrame made = replaying.library.render(spec, image);
     ++outcome.frames_rendered;
     if (!options.frames_out.empty()) write_frame_image(fs::path(options.frames_out) / file_name, made.image);
     if (by_ssim) {
@@ -205,10 +222,10 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
                         "SSIM " + std::to_string(value) + " below " + std::to_string(options.min_ssim));
     }
     if (gaze_dependent) {
-      live = std::move(made);
-      return live;
+      replaying.live = std::move(made);
+      return replaying.live;
     }
-    return rendered.emplace(key, std::move(made)).first->second;
+    return replaying.rendered.emplace(key, std::move(made)).first->second;
   };
 
   std::map<std::string, std::string> reference_hashes;  // by file name
@@ -282,45 +299,65 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
         continue;
       }
       const std::vector<int>& frames = shown.frame;
-      const std::vector<std::string>& hashes = shown.hash;
-      const std::vector<std::array<double, 2>>& gaze = shown.gaze;
-      if (frames.size() != hashes.size() || frames.size() != gaze.size()) {
+      // Each view's hashes and gaze: the event's own, and in a headset the right eye's beside them.
+      const bool headset_event = shown.right_eye_hash || shown.right_eye_gaze;
+      if (headset_event != (views.size() == 2)) {
+        differences.add(where + " (" + line + ")", views.size() == 2
+                                                       ? "a headset session's stimulus without the right eye's hashes"
+                                                       : "right_eye_hash or right_eye_gaze in a session of one view");
+        continue;
+      }
+      const std::vector<std::string> no_hashes;
+      const std::vector<std::array<double, 2>> no_gaze;
+      const std::array<const std::vector<std::string>*, 2> view_hashes{
+          &shown.hash, shown.right_eye_hash ? &*shown.right_eye_hash : &no_hashes};
+      const std::array<const std::vector<std::array<double, 2>>*, 2> view_gaze{
+          &shown.gaze, shown.right_eye_gaze ? &*shown.right_eye_gaze : &no_gaze};
+      bool lengths_agree = true;
+      for (size_t view = 0; view < views.size(); ++view)
+        lengths_agree =
+            lengths_agree && frames.size() == view_hashes[view]->size() && frames.size() == view_gaze[view]->size();
+      if (!lengths_agree) {
         differences.add(where + " (" + line + ")", "frame, hash and gaze arrays differ in length");
         continue;
       }
       const bool gaze_dependent = describe(plan.stimuli[static_cast<size_t>(stimulus)].spec.method()).depends_on_gaze;
       for (size_t i = 0; i < frames.size(); ++i) {
-        StimulusImage image;
-        image.image_index = static_cast<int>(i);
-        image.gaze.x_px = gaze[i][0];
-        image.gaze.y_px = gaze[i][1];
-        image.frame = frames[i];
-        const int frame = image.frame;
+        const int frame = frames[i];
         if (frame < 0 || frame >= plan.stimuli[static_cast<size_t>(stimulus)].spec.frame_count) {
           differences.add(where + " (" + line + ")", "frame " + std::to_string(frame) + " out of range");
           break;
         }
-        const std::string file_name = gaze_dependent
-                                          ? image_file_name(recorded.index, shown.step, stimulus, image.image_index)
-                                          : frame_file_name(stimulus, frame);
-        const PreparedFrame& again = image_for(stimulus, image, file_name);
-        ++outcome.presents_checked;
-        const std::string what = where + " (" + line + ") stimulus " + std::to_string(stimulus) + " frame " +
-                                 std::to_string(frame) + (gaze_dependent ? " image " + std::to_string(i) : "");
-        if (by_ssim && reference_hash(file_name) != hashes[i])
-          differences.add(what, "the reference frame's hash is not the logged one (frames from another session?)");
-        if (!by_ssim && again.hash != hashes[i])
-          differences.add(what, "frame hash " + hashes[i] + " logged, " + again.hash + " rendered" +
-                                    (!outcome.same_device ? " (recorded on another device: use --reference-frames)"
-                                     : header.schema_version < 4
-                                         ? " (a schema " + std::to_string(header.schema_version) +
-                                               " log: its sphere-traced frames were sRGB-encoded on the CPU, which "
-                                               "may round a channel the other way; use --reference-frames)"
-                                         : ""));
+        for (size_t view = 0; view < views.size(); ++view) {
+          const std::vector<std::string>& hashes = *view_hashes[view];
+          StimulusImage image;
+          image.image_index = static_cast<int>(i);
+          image.gaze.x_px = (*view_gaze[view])[i][0];
+          image.gaze.y_px = (*view_gaze[view])[i][1];
+          image.frame = frame;
+          const std::string file_name =
+              gaze_dependent ? image_file_name(recorded.index, shown.step, stimulus, image.image_index, view)
+                             : frame_file_name(stimulus, frame, view);
+          const PreparedFrame& again = image_for(view, stimulus, image, file_name);
+          ++outcome.presents_checked;
+          const std::string what = where + " (" + line + ") stimulus " + std::to_string(stimulus) + " frame " +
+                                   std::to_string(frame) + (gaze_dependent ? " image " + std::to_string(i) : "") +
+                                   (views.size() == 2 ? (view == 0 ? " left eye" : " right eye") : "");
+          if (by_ssim && reference_hash(file_name) != hashes[i])
+            differences.add(what, "the reference frame's hash is not the logged one (frames from another session?)");
+          if (!by_ssim && again.hash != hashes[i])
+            differences.add(what, "frame hash " + hashes[i] + " logged, " + again.hash + " rendered" +
+                                      (!outcome.same_device ? " (recorded on another device: use --reference-frames)"
+                                       : header.schema_version < 4
+                                           ? " (a schema " + std::to_string(header.schema_version) +
+                                                 " log: its sphere-traced frames were sRGB-encoded on the CPU, which "
+                                                 "may round a channel the other way; use --reference-frames)"
+                                           : ""));
+        }
       }
     }
   }
-  outcome.render_s = library.render_seconds();
+  for (const auto& view : views) outcome.render_s += view->library.render_seconds();
   outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (context.validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported messages during replay (see stderr)");

@@ -15,7 +15,8 @@ namespace fovlab {
 struct ReplayOptions {
   std::string log_path;
   std::string frames_out;        // write every re-rendered frame here (PNG): stimulusS_frameF.png, and for
-                                 // gaze-dependent stimuli one image a refresh, trialT_stepP_stimulusS_imageI.png
+                                 // gaze-dependent stimuli one image a refresh, trialT_stepP_stimulusS_imageI.png;
+                                 // a headset session's right eye's with "_right" before ".png"
   std::string reference_frames;  // compare by SSIM with frames another device wrote with frames_out
   double min_ssim = 0.999;
   std::string device_selector;
@@ -29,7 +30,7 @@ struct ReplayOutcome {
   int trials = 0;
   bool session_ended = false;  // the log has its session_end (completed or excluded)
   LogIntegrity integrity;      // sealed, unsealed or broken
-  int presents_checked = 0;    // logged presents whose frame was compared
+  int presents_checked = 0;    // logged presents whose frame was compared (in a headset, each eye's)
   int frames_rendered = 0;     // distinct frames rendered again
   bool same_device = true;
   std::string comparison;                // "hash" or "ssim"

@@ -21,6 +21,7 @@
 #include "protocols/gaze/gaze_source.h"
 #include "protocols/gaze/gaze_spec.h"
 #include "protocols/gaze/mouse_gaze_source.h"
+#include "protocols/gaze/openxr_gaze_source.h"
 #include "study/log/event_log.h"
 #include "study/log/log_events.h"
 #include "study/log/log_integrity.h"
@@ -29,10 +30,13 @@
 #include "study/log/schedule_check.h"
 #include "study/log/study_versions.h"
 #include "display/headless_presenter.h"
+#include "display/openxr/openxr_eye_view.h"
+#include "display/openxr/openxr_presenter.h"
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
 #include "study/log/log_estimate.h"
 #include "study/schedule/study_plan.h"
+#include "protocols/session/headset_views.h"
 #include "protocols/session/response_source.h"
 #include "protocols/session/session_header.h"
 #include "protocols/session/session_run.h"
@@ -162,6 +166,53 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
   return text;
 }
 
+// What a headset session cannot do yet (issue 42, docs/hmd.md), refused before anything is opened
+// or written: the runtime's recommended eye size (the plan needs one), head-tracked views, the gaze
+// meeting the rendered depth.
+void check_headset_session_buildable(const StudyConfig& config) {
+  require_eye_image_size(config, "run");
+  const HeadsetDisplayConfig& headset = config.display.headset;
+  const std::string& path = config.source_path;
+  if (headset.view_model == HeadsetViewModel::head_tracked)
+    throw InputError(path +
+                     ": display.view_model: \"head-tracked\" sessions are not built yet (issue 42); run it "
+                     "\"head-locked\"");
+  if (headset.gaze_fixation == GazeFixation::rendered_depth)
+    throw InputError(path +
+                     ": display.gaze_fixation: \"rendered-depth\" is not built yet in a headset session "
+                     "(issue 42); set gaze_fixation = \"fixation-distance\" with fixation_distance_mm");
+}
+
+// The runtime's name and version, as the header records it.
+std::string openxr_runtime_name(const OpenXrSession& session) {
+  XrInstanceProperties properties{XR_TYPE_INSTANCE_PROPERTIES};
+  if (XR_FAILED(xrGetInstanceProperties(session.instance.handle, &properties))) return "unknown";
+  return std::string(properties.runtimeName) + " " + std::to_string(XR_VERSION_MAJOR(properties.runtimeVersion)) + "." +
+         std::to_string(XR_VERSION_MINOR(properties.runtimeVersion)) + "." +
+         std::to_string(XR_VERSION_PATCH(properties.runtimeVersion));
+}
+
+// Each eye's view as the runtime locates it in the head (frames run until it gives valid poses,
+// at most a second), with the config's view model and fixation.
+HeadsetViews headset_views_at_start(OpenXrPresenter& headset, const StudyConfig& config) {
+  const int patience_frames = static_cast<int>(std::ceil(headset.refresh_hz()));
+  for (int frame = 0; !headset.last_frame().views_valid; ++frame) {
+    if (frame >= patience_frames || headset.close_requested())
+      throw InputError("openxr: the headset gave no valid eye poses in " + std::to_string(patience_frames) +
+                       " frames (is it tracked?); " + config.source_path + " was not started");
+    headset.wait_until(headset.now_s() + 1.0 / headset.refresh_hz());
+  }
+  HeadsetViews views;
+  views.runtime = openxr_runtime_name(headset.session());
+  views.eye_width_px = static_cast<int>(headset.session().eye_width_px);
+  views.eye_height_px = static_cast<int>(headset.session().eye_height_px);
+  for (size_t eye = 0; eye < 2; ++eye)
+    views.eyes[eye] = eye_view_from_openxr(headset.last_frame().views_in_head[eye], 1.0);  // a scene unit a metre
+  views.view_model = config.display.headset.view_model;
+  views.fixation_distance_mm = config.display.headset.fixation_distance_mm;
+  return views;
+}
+
 }  // namespace
 
 std::string session_log_path(const std::string& results_dir, const std::string& study, const std::string& participant) {
@@ -198,11 +249,14 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (!options.observer.empty()) observer_model = parse_observer_spec(options.observer, plan);
   // The config's [gaze] require, and in a window a gaze-contingent study's need of a named source
   // (docs/gaze.md): refused here, before any window or folder.
+  const bool in_headset = config.display.kind == DisplayKind::openxr;
+  if (in_headset) check_headset_session_buildable(config);
   const ChosenGaze chosen_gaze = choose_gaze(config, options.gaze, options.headless);
   const GazeSpec& gaze_spec = chosen_gaze.spec;
-  if (gaze_spec.kind == GazeSpec::Kind::mouse && options.headless)
-    throw InputError("--gaze mouse: a headless session has no pointer (use synthetic, trace:FILE or pupil:HOST:PORT)");
-  if (!observer_model && options.headless)
+  if (gaze_spec.kind == GazeSpec::Kind::mouse && (options.headless || in_headset))
+    throw InputError(std::string("--gaze mouse: a ") + (in_headset ? "headset" : "headless") +
+                     " session has no pointer (use synthetic, trace:FILE or pupil:HOST:PORT)");
+  if (!observer_model && options.headless && !in_headset)
     throw InputError("--headless: a headless session has no keyboard (add --observer simulated)");
 
   const std::optional<LabKey> lab_key = read_optional_lab_key(options.lab_key_path, options.results_dir);
@@ -313,7 +367,38 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   const bool own_present_device =
       !options.present_device_selector.empty() && options.present_device_selector != options.device_selector;
   std::unique_ptr<Presenter> presenter;
-  if (options.headless) {
+  OpenXrPresenter* headset = nullptr;
+  std::optional<HeadsetViews> headset_views;
+  if (in_headset) {
+    OpenXrPresenterOptions headset_options;
+    headset_options.session.eye_width_px = static_cast<uint32_t>(config.display.headset.eye_width_px);
+    headset_options.session.eye_height_px = static_cast<uint32_t>(config.display.headset.eye_height_px);
+    headset_options.session.validation = options.validation;
+    auto opened = std::make_unique<OpenXrPresenter>(headset_options);
+    headset = opened.get();
+    presenter = std::move(opened);
+    find_font_path();
+    if (std::abs(headset->refresh_hz() - config.display.refresh_hz) > 0.01 * config.display.refresh_hz)
+      throw InputError(config.source_path + ": display.refresh_hz is " + std::to_string(config.display.refresh_hz) +
+                       " but the headset runs at " + std::to_string(headset->refresh_hz()) +
+                       " Hz (stimulus durations would be wrong); set the config to match");
+    // A resumed session keeps the views it started with (its header's), so that all its frames, and
+    // its replay, are rendered alike; a new one takes the runtime's, made for the config's angles.
+    if (record) {
+      headset_views =
+          headset_views_from_json(record->header.value("headset", nlohmann::json()), outcome.log_path + ":1");
+      if (headset_views->eye_width_px != static_cast<int>(headset->session().eye_width_px) ||
+          headset_views->eye_height_px != static_cast<int>(headset->session().eye_height_px))
+        throw InputError(outcome.log_path + ":1: headset: the session started with eyes of " +
+                         std::to_string(headset_views->eye_width_px) + "x" +
+                         std::to_string(headset_views->eye_height_px) + " pixels, the headset now gives " +
+                         std::to_string(headset->session().eye_width_px) + "x" +
+                         std::to_string(headset->session().eye_height_px) + "; not resuming");
+    } else {
+      headset_views = headset_views_at_start(*headset, config);
+      check_runtime_fields_of_view(*headset_views, config);
+    }
+  } else if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
     if (!options.screenshots_dir.empty()) find_font_path();  // headless screenshots draw the text screens
   } else {
@@ -337,29 +422,50 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // The session clock continues a resumed log's last time; a tracker's clock is mapped onto it.
   const double time_base_s = record ? record->last_time_s : 0.0;
   std::unique_ptr<GazeSource> gaze;
-  if (gaze_spec.kind == GazeSpec::Kind::mouse) gaze = std::make_unique<MouseGazeSource>(*presenter);
-  else
+  if (gaze_spec.kind == GazeSpec::Kind::mouse) {
+    gaze = std::make_unique<MouseGazeSource>(*presenter);
+  } else if (gaze_spec.kind == GazeSpec::Kind::openxr) {
+    if (!headset->input().has_eye_gaze())
+      throw InputError(config.source_path + ": the headset gives no eye gaze (its runtime " + headset_views->runtime +
+                       " has no XR_EXT_eye_gaze_interaction, or its system no eye tracker); give --gaze synthetic or "
+                       "--gaze trace:FILE (docs/gaze.md)");
+    gaze = std::make_unique<OpenXrGazeSource>(*headset, headset_gaze_geometry(*headset_views), time_base_s);
+  } else
     gaze = make_gaze_source(gaze_spec, config.display.width_px, config.display.height_px, plan.session_seed,
                             [&presenter, time_base_s] { return time_base_s + presenter->now_s(); });
 
   // One device renders and presents unless --present-device names another (or, chosen
   // automatically, the preferred rendering device cannot present to the window).
+  // A headset renders on the device its runtime chose (XR_KHR_vulkan_enable2).
   auto* window = dynamic_cast<WindowPresenter*>(presenter.get());
   std::unique_ptr<vk::Context> render_context;
-  if (!window || own_present_device ||
-      (options.device_selector.empty() && !vk::is_preferred_device(window->context().description))) {
+  if (!headset && (!window || own_present_device ||
+                   (options.device_selector.empty() && !vk::is_preferred_device(window->context().description)))) {
     render_context = std::make_unique<vk::Context>(vk::ContextOptions{options.device_selector, options.validation});
   }
-  vk::Context& context = render_context ? *render_context : window->context();
-  outcome.frame_path = !window ? "none" : render_context ? "via_host" : "on_device";
+  vk::Context& context = headset ? headset->context() : render_context ? *render_context : window->context();
+  outcome.frame_path = headset ? "on_device" : !window ? "none" : render_context ? "via_host" : "on_device";
   if (outcome.frame_path == "via_host")
     std::fprintf(stderr, "fovlab: rendering on '%s', presenting on '%s': frames are copied through the host\n",
                  context.description.name.c_str(), window->device_name().c_str());
-  StimulusLibrary library(context, options.cache_dir);
+  // In a headset, one library an eye, each rendering every stimulus from its eye's view.
+  StimulusLibrary library(context, options.cache_dir,
+                          headset_views ? std::optional<EyeView>(headset_views->eyes[0]) : std::nullopt);
+  std::optional<StimulusLibrary> right_library;
+  if (headset_views) right_library.emplace(context, options.cache_dir, headset_views->eyes[1]);
   std::vector<std::pair<int, StimulusSpec>> all;
   for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
-  outcome.prepare_s =
-      library.prepare(all, options.prepare_progress);  // scene errors surface here, before any event is written
+  // Scene errors surface here, before any event is written.
+  if (!right_library) {
+    outcome.prepare_s = library.prepare(all, options.prepare_progress);
+  } else {
+    const auto half = [&](double offset) {
+      return [&, offset](double share) {
+        if (options.prepare_progress) options.prepare_progress(offset + 0.5 * share);
+      };
+    };
+    outcome.prepare_s = library.prepare(all, half(0.0)) + right_library->prepare(all, half(0.5));
+  }
   test_pause_point("prepared");
   // The images the library holds are what the participant sees: a resumed session shows those the
   // log recorded (an image changed between the check above and their reading is refused here), and a
@@ -385,7 +491,9 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
         &plan,
         &context.description,
         observer_model ? &*observer_model : nullptr,
-        presenter->is_headless() ? "headless" : (config.display.fullscreen ? "fullscreen" : "window"),
+        headset                    ? "openxr"
+        : presenter->is_headless() ? "headless"
+                                   : (config.display.fullscreen ? "fullscreen" : "window"),
         window ? window->device_name() : "",
         outcome.frame_path,
         gaze->describe(),
@@ -396,10 +504,14 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
         shown_images};
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
+    if (headset_views) header->headset = headset_views_json(*headset_views);
   }
   EventLogWriter writer(outcome.log_path, record ? existing->last_chain : std::string(),
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
-  SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s);
+  std::optional<RightEyeStimuli> right_eye;
+  if (right_library) right_eye = RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views)};
+  SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s,
+                 right_eye ? &*right_eye : nullptr);
   if (header) {
     run.log(to_json(*header));
   } else {

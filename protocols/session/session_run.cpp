@@ -46,7 +46,8 @@ class FixationTargetScope {
 }  // namespace
 
 SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Presenter& presenter, GazeSource& gaze,
-                       ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s)
+                       ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s,
+                       const RightEyeStimuli* right_eye)
     : plan_(plan),
       options_(options),
       presenter_(presenter),
@@ -54,7 +55,11 @@ SessionRun::SessionRun(const StudyPlan& plan, const SessionOptions& options, Pre
       responses_(responses),
       library_(library),
       log_(log),
-      time_base_s_(time_base_s) {}
+      time_base_s_(time_base_s),
+      right_eye_(right_eye) {
+  if ((presenter.view_count() == 2) != (right_eye != nullptr))
+    throw std::logic_error("SessionRun: a headset presenter needs the right eye's stimuli, and only it");
+}
 
 void SessionRun::log(nlohmann::json event) {
   if (!event.contains("t")) event["t"] = t();
@@ -132,6 +137,8 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   event.stimulus = stimulus_id;
   event.onset_s = t();
   std::vector<std::optional<double>> acquired, ages;
+  std::vector<std::string> right_hashes;
+  std::vector<std::array<double, 2>> right_gaze;
   int dropped = 0;
   double previous = -1.0;
   for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
@@ -144,8 +151,24 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       // a gaze-dependent stimulus (fipr) renders it now with this refresh's gaze (replay does the same).
       const StimulusImage image{frame, frame * refreshes + refresh, sample};
       const PreparedFrame& shown = library_.frame(stimulus_id, stimulus.spec, image);
-      const double shown_at =
-          time_base_s_ + (shown.on_device ? presenter_.present(shown.on_device) : presenter_.present(shown.image));
+      double shown_at = 0.0;
+      if (!right_eye_) {
+        shown_at =
+            time_base_s_ + (shown.on_device ? presenter_.present(shown.on_device) : presenter_.present(shown.image));
+      } else {
+        // The right eye's pixel of the same gaze, rounded and substituted as the left's.
+        const GazeSample right_sample =
+            sanitize_gaze(eye_gaze_from_left_eye_pixel(right_eye_->gaze_geometry, sample)[1], stimulus.spec.width_px,
+                          stimulus.spec.height_px, last_valid_right_gaze_ ? &*last_valid_right_gaze_ : nullptr);
+        if (right_sample.valid) last_valid_right_gaze_ = right_sample;
+        const PreparedFrame& right = right_eye_->library->frame(
+            stimulus_id, stimulus.spec, StimulusImage{image.frame, image.image_index, right_sample});
+        const std::array<ViewFrame, 2> eyes{ViewFrame{&shown.image, shown.on_device},
+                                            ViewFrame{&right.image, right.on_device}};
+        shown_at = time_base_s_ + presenter_.present_views(eyes);
+        right_hashes.push_back(right_eye_->library->hash(right));
+        right_gaze.push_back({right_sample.x_px, right_sample.y_px});
+      }
       if (previous >= 0) {
         const long periods = std::lround((shown_at - previous) * presenter_.refresh_hz());
         if (periods > 1) dropped += static_cast<int>(periods - 1);
@@ -177,6 +200,10 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   event.gaze_acquired_s = std::move(acquired);
   event.gaze_age_s = std::move(ages);
   event.present_clock = presenter_.present_clock();
+  if (right_eye_) {
+    event.right_eye_hash = std::move(right_hashes);
+    event.right_eye_gaze = std::move(right_gaze);
+  }
   log(to_json(event));
   dropped_frames_ += dropped;
 }

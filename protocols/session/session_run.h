@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "protocols/gaze/gaze_source.h"
+#include "protocols/gaze/headset_gaze.h"
 #include "study/log/event_log.h"
 #include "display/presenter.h"
 #include "study/schedule/adaptive_progress.h"
@@ -26,11 +27,21 @@ namespace fovlab {
 // keys on one line ran together (issue 18).
 std::string question_screen_text(const QuestionConfig& question);
 
+// A headset session's right eye (the session's library renders the left): the library that renders
+// each stimulus as the right eye sees it, and the geometry that turns the gaze source's pixel (the
+// left eye's) into the right eye's (protocols/session/headset_views.h).
+struct RightEyeStimuli {
+  StimulusLibrary* library = nullptr;
+  HeadsetGazeGeometry gaze_geometry;
+};
+
 class SessionRun {
  public:
   // time_base_s: the session time at which this run starts (the last logged time when resuming).
+  // right_eye: a headset session's (presenter.view_count() == 2), else nullptr.
   SessionRun(const StudyPlan& plan, const SessionOptions& options, Presenter& presenter, GazeSource& gaze,
-             ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s);
+             ResponseSource& responses, StimulusLibrary& library, EventLogWriter& log, double time_base_s,
+             const RightEyeStimuli* right_eye = nullptr);
 
   // Session time now.
   double t() { return time_base_s_ + presenter_.now_s(); }
@@ -72,7 +83,8 @@ class SessionRun {
   bool wants_screenshot(const std::string& kind) const;
   void save_screenshot(const std::string& kind, const Rgba8Frame& frame);
   // Shows every frame of a stimulus, each for its refreshes, with the gaze of each refresh; a
-  // gaze-dependent stimulus renders one image a refresh, the presentation's images in order.
+  // gaze-dependent stimulus renders one image a refresh, the presentation's images in order. In a
+  // headset, each eye its own image, rendered from its view with its gaze.
   void present_stimulus(const Trial& trial, int step, int stimulus_id);
   // The eye-tracker validation of [validation] (nothing without one): the targets one at a time,
   // the centre first, the others in a seeded order; attempts until one passes, each logged (a
@@ -93,7 +105,9 @@ class SessionRun {
   StimulusLibrary& library_;
   EventLogWriter& log_;
   double time_base_s_;
+  const RightEyeStimuli* right_eye_;
   std::optional<GazeSample> last_valid_gaze_;
+  std::optional<GazeSample> last_valid_right_gaze_;
   std::set<std::string> screenshots_taken_;
   bool excluded_logged_ = false;
   int events_written_ = 0;

@@ -168,7 +168,7 @@ std::optional<GazeSourceKind> gaze_source_kind_of_spec(const std::string& spec) 
   if (spec == "mouse") return GazeSourceKind::mouse;
   if (spec.rfind("trace:", 0) == 0) return GazeSourceKind::trace;
   if (named("synthetic")) return GazeSourceKind::synthetic;
-  if (named("pupil")) return GazeSourceKind::tracker;
+  if (named("pupil") || spec == "openxr") return GazeSourceKind::tracker;
   return std::nullopt;
 }
 

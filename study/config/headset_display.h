@@ -24,8 +24,8 @@ const char* headset_view_model_name(HeadsetViewModel model);  // "head-locked", 
 enum class GazeFixation { rendered_depth, fixation_distance };
 
 struct HeadsetDisplayConfig {
-  // Each eye's image in pixels; both 0: the runtime's recommended size, which only `fovlab run`
-  // learns (validate, prerender and simulate refuse it: require_eye_image_size).
+  // Each eye's image in pixels; both 0: the runtime's recommended size, which the commands that
+  // make stimuli refuse for now (require_eye_image_size; `fovlab run` too).
   int eye_width_px = 0;
   int eye_height_px = 0;
   EyeFieldOfView left_eye_fov;   // read from left_eye_fov_deg (degrees in the config)

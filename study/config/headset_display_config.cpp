@@ -74,8 +74,8 @@ void require_eye_image_size(const StudyConfig& config, const std::string& comman
   const int line = display.headset.eye_size_line;
   throw InputError(config.source_path + (line > 0 ? ":" + std::to_string(line) : "") +
                    ": display.eye_width_px: expected each eye's size in pixels for fovlab " + command +
-                   ", which makes the stimuli; 0 (the runtime's recommended size) is for fovlab run alone, which "
-                   "asks the runtime");
+                   ", which makes the stimuli (0, the runtime's recommended size, is not built yet; fovlab devices "
+                   "prints it)");
 }
 
 }  // namespace fovlab

@@ -35,7 +35,11 @@ namespace fovlab {
 // 10: IPR's and FIPR's coarse_test defaults to cone (thin geometry kept), their min_filter_size to 1
 // (the cone makes it redundant), FIPR's edge_depth (new) to centre-ray; a config that a schema 1-9
 // log carries reads a missing one as ray, 3 and level, what those logs showed.
-inline constexpr int log_schema_version = 10;        // what this build writes
+// 11: a session in a headset ([display] kind = "openxr"): the header's `headset` (the runtime, each
+// eye's size and view, the gaze's fixation) and each stimulus event's right_eye_hash and
+// right_eye_gaze beside the left eye's hash and gaze. Nothing else changed: a desktop log of schema
+// 11 reads as one of 10.
+inline constexpr int log_schema_version = 11;        // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read

@@ -113,6 +113,8 @@ constexpr auto fields(Of<SessionHeaderEvent>) {
       field(k::gaze_validation, &E::gaze_validation, Write::when_not_null),
       // Schema 9; only when the session shows images (img-rmfr, ...).
       field(k::image_hashes, &E::image_hashes, Write::when_not_empty),
+      // Schema 11; only in a headset session.
+      field(k::headset, &E::headset, Write::when_not_null),
   };
 }
 
@@ -192,6 +194,9 @@ constexpr auto fields(Of<StimulusEvent>) {
       typed<Read::when_given>(k::gaze_acquired_s, &E::gaze_acquired_s, Write::when_set),
       typed<Read::when_given>(k::gaze_age_s, &E::gaze_age_s, Write::when_set),
       typed<Read::when_given>(k::present_clock, &E::present_clock, Write::when_set),
+      // Schema 11; only in a headset session.
+      field(k::right_eye_hash, &E::right_eye_hash, Write::when_set),
+      field(k::right_eye_gaze, &E::right_eye_gaze, Write::when_set),
   };
 }
 

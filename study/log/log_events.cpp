@@ -91,32 +91,47 @@ class FieldReader {
     read(key, inner);  // the scalar's own check and words (strict: throws when not accepted)
     if (accepted) out = inner;
   }
+  // The arrays say whether they read one (false: absent, or refused as wrong).
   template <typename T>
-  void read(const char* key, std::vector<T>& out) const {
+  bool read(const char* key, std::vector<T>& out) const {
     const nlohmann::json* value = find(key);
-    if (!value) return;
+    if (!value) return false;
     T element{};
     if (!value->is_array() || !std::all_of(value->begin(), value->end(),
                                            [&](const nlohmann::json& item) { return accepts(item, element); })) {
       wrong(key, "an array of " + expected(element), *value);
-      return;
+      return false;
     }
     std::vector<T> result;
     for (const nlohmann::json& item : *value) result.push_back(convert(item, element));
     out = std::move(result);
+    return true;
   }
-  void read(const char* key, std::vector<std::array<double, 2>>& out) const {
+  bool read(const char* key, std::vector<std::array<double, 2>>& out) const {
     const nlohmann::json* value = find(key);
-    if (!value) return;
+    if (!value) return false;
     const auto pair = [](const nlohmann::json& item) {
       return item.is_array() && item.size() == 2 && item[0].is_number() && item[1].is_number();
     };
     if (!value->is_array() || !std::all_of(value->begin(), value->end(), pair)) {
       wrong(key, "an array of [x, y] pairs of numbers", *value);
-      return;
+      return false;
     }
     out.clear();
     for (const nlohmann::json& item : *value) out.push_back({item[0].get<double>(), item[1].get<double>()});
+    return true;
+  }
+  // Schema 11's right eye's arrays: absent or null is nullopt, else the array as read.
+  void read(const char* key, std::optional<std::vector<std::string>>& out) const { read_optional_array(key, out); }
+  void read(const char* key, std::optional<std::vector<std::array<double, 2>>>& out) const {
+    read_optional_array(key, out);
+  }
+  template <typename T>
+  void read_optional_array(const char* key, std::optional<std::vector<T>>& out) const {
+    const nlohmann::json* value = find(key);
+    if (!value || value->is_null()) return;
+    std::vector<T> inner;
+    if (read(key, inner)) out = std::move(inner);
   }
   void read(const char* key, std::vector<ValidationTarget>& out) const {
     const nlohmann::json* value = find(key);

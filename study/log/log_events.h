@@ -54,6 +54,7 @@ inline constexpr const char* protocol = "protocol";
 inline constexpr const char* trial_count = "trial_count";
 inline constexpr const char* scene_hashes = "scene_hashes";
 inline constexpr const char* image_hashes = "image_hashes";
+inline constexpr const char* headset = "headset";
 inline constexpr const char* stimuli = "stimuli";
 inline constexpr const char* device = "device";
 inline constexpr const char* display = "display";
@@ -100,6 +101,8 @@ inline constexpr const char* dropped_frames = "dropped_frames";
 inline constexpr const char* gaze_acquired_s = "gaze_acquired_s";
 inline constexpr const char* gaze_age_s = "gaze_age_s";
 inline constexpr const char* present_clock = "present_clock";
+inline constexpr const char* right_eye_hash = "right_eye_hash";
+inline constexpr const char* right_eye_gaze = "right_eye_gaze";
 inline constexpr const char* answer = "answer";
 inline constexpr const char* key = "key";
 inline constexpr const char* rt_s = "rt_s";
@@ -164,6 +167,10 @@ struct SessionHeaderEvent {
   // Schema 9, only in a session of image stimuli (img-rmfr, ...; empty, and then not written, in
   // every other): each image folder's images, folder -> {image file name -> SHA-256 of its bytes}.
   nlohmann::json image_hashes = nlohmann::json::object();
+  // Schema 11, only in a headset session (null, and then not written, in every other): the OpenXR
+  // runtime, each eye's image size and view as the renderer took it, the view model and how the gaze
+  // became each eye's pixel (protocols/session/headset_views.h, docs/log-schema.md).
+  nlohmann::json headset;
   bool operator==(const SessionHeaderEvent&) const = default;
 };
 
@@ -257,6 +264,10 @@ struct StimulusEvent {
   // Schema 3 (absent in older logs): null entries where the tracker had no sample.
   std::optional<std::vector<std::optional<double>>> gaze_acquired_s, gaze_age_s;
   std::optional<std::string> present_clock;
+  // Schema 11, only in a headset session: `hash` and `gaze` are the left eye's, these the right
+  // eye's, one entry a refresh as theirs.
+  std::optional<std::vector<std::string>> right_eye_hash;
+  std::optional<std::vector<std::array<double, 2>>> right_eye_gaze;
   bool operator==(const StimulusEvent&) const = default;
 };
 

@@ -1,16 +1,23 @@
 // A study config with [display] kind = "openxr" at the command line: validate prints each eye's
-// geometry and needs each eye's size; run refuses in one line (exit 2) what the runtime lacks, and,
-// on a runtime with everything, says that headset sessions are not built yet, all before a results
-// folder exists. The runtime is the test runtime (tests/xr_runtime) in a child process (the loader
+// geometry and needs each eye's size; run refuses in one line (exit 2) what the runtime lacks and
+// what headset sessions cannot do yet, before a results folder exists, and on a runtime with
+// everything runs the study in the headset, both eyes logged and replayed. The runtime is the test runtime (tests/xr_runtime) in a child process (the loader
 // of OpenXR 1.0.20 keeps one instance a process and caches what it listed), configured by its
 // environment switches, with the OpenXR core validation layer on (its file must stay empty).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "tests/app/cli_test_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
+#include "tests/support/fovlab_child.h"
 
 namespace fovlab {
 namespace {
@@ -148,10 +155,11 @@ TEST_F(HeadsetStudy, RunRefusesAGazeContingentStudyWithoutEyeGazeUnlessTheGazeIs
   // Named in the config or on the command line: past this refusal, to the last one.
   const std::filesystem::path synthetic = write(
       "synthetic.toml", headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n"));
-  expect_refusal(run_study(synthetic, "FOVLAB_TEST_XR_EYE_GAZE=absent"), "is not built yet");
+  const std::string next_refusal = "display.gaze_fixation: \"rendered-depth\" is not built yet";
+  expect_refusal(run_study(synthetic, "FOVLAB_TEST_XR_EYE_GAZE=absent"), next_refusal);
   expect_refusal(
       run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3"),
-      "is not built yet");
+      next_refusal);
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
@@ -163,16 +171,146 @@ TEST_F(HeadsetStudy, RunRefusesAnEyeOverTheRuntimesMaximumNamingTheKey) {
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
-// A runtime with everything: the headset session opens (Vulkan through the runtime, both eyes'
-// swapchains) and closes, and the refusal says the rest is not built; 0 takes the runtime's size.
-TEST_F(HeadsetStudy, RunOnARuntimeWithEverythingSaysHeadsetSessionsAreNotBuiltYet) {
-  const std::filesystem::path config = write("a.toml", headset_study());
-  expect_refusal(run_study(config), "openxr: " + config.string() +
-                                        ": a headset session opened on fovlab test runtime 0.1.0 (64x72 px an "
-                                        "eye) and closed: running a study in the headset is not built yet");
+// What headset sessions cannot do yet is refused in one line before a results folder exists: the
+// runtime's recommended size (0), the gaze meeting the rendered depth, a field of view that is not
+// the runtime's, the headset's eye gaze from a runtime without it.
+TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
+  const std::string synthetic = " --observer simulated --gaze synthetic:seed=3";
   const std::filesystem::path recommended = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
-  expect_refusal(run_study(recommended), "(1440x1600 px an eye) and closed");
-  EXPECT_FALSE(std::filesystem::exists(results_));
+  expect_refusal(run_study(recommended, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
+                 recommended.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab run");
+  const std::filesystem::path depth = write("depth.toml", headset_study());
+  expect_refusal(run_study(depth, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
+                 depth.string() + ": display.gaze_fixation: \"rendered-depth\" is not built yet in a headset session");
+  const std::string at_distance =
+      "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
+  const std::filesystem::path no_tracker = write("no_tracker.toml", headset_study(at_distance));
+  expect_refusal(run_study(no_tracker, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON,
+                           " --observer simulated --gaze openxr"),
+                 "does not offer XR_EXT_eye_gaze_interaction");
+  std::string other_angles = headset_study(at_distance);
+  other_angles.replace(other_angles.find("[-49, 54, 54, -56]"), 18, "[-49, 54, 54, -55]");
+  const std::filesystem::path angles = write("angles.toml", other_angles);
+  expect_refusal(run_study(angles, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
+                 angles.string() + ": display.right_eye_fov_deg: the headset's runtime (fovlab test runtime 0.1.0) "
+                                   "gives this eye [-49, 54, 54, -56] deg, the config [-49, 54, 54, -55] deg");
+  EXPECT_FALSE(std::filesystem::exists(results_ / "headset_cli" / "P01" / "events.jsonl"));
+}
+
+// A simulated observer runs a FIPR study in the test runtime's headset, each eye rendered from its
+// own view with its own gaze; the log holds both eyes, replays to their hashes, and analyzes.
+TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes) {
+  const std::filesystem::path config = write(
+      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
+                              "fixation_distance_mm = 1500"));
+  const CommandResult ran =
+      run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  std::ifstream lines(log);
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  const nlohmann::json header = nlohmann::json::parse(line);
+  EXPECT_EQ(header.value("presenter", ""), "openxr");
+  ASSERT_TRUE(header.contains("headset")) << line;
+  const nlohmann::json& headset = header["headset"];
+  EXPECT_EQ(headset.value("runtime", ""), "fovlab test runtime 0.1.0");
+  EXPECT_EQ(headset["eyes"].size(), 2u);
+  EXPECT_NEAR(headset["eyes"][1]["position_m"][0].get<double>() - headset["eyes"][0]["position_m"][0].get<double>(),
+              0.063, 1e-6);
+  int stimuli = 0, eyes_differ = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ++stimuli;
+    ASSERT_TRUE(event.contains("right_eye_hash")) << line;
+    ASSERT_EQ(event["right_eye_hash"].size(), event["hash"].size());
+    ASSERT_EQ(event["right_eye_gaze"].size(), event["gaze"].size());
+    EXPECT_EQ(event.value("present_clock", ""), "openxr_predicted_display");
+    if (event["right_eye_hash"] != event["hash"]) ++eyes_differ;
+    // The same fixation point is seen from two places: the right eye's pixel lies left of the left's
+    // (a point at 1.5 m in front of the head).
+    EXPECT_LT(event["right_eye_gaze"][0][0].get<double>(), event["gaze"][0][0].get<double>() + 10.0) << line;
+  }
+  EXPECT_EQ(stimuli, 4);  // 2 trials of 2 stimuli
+  EXPECT_EQ(eyes_differ, stimuli) << "each eye sees the scene from its own place";
+
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  const CommandResult analyzed =
+      cli_test::run("analyze " + (results_ / "headset_cli").string() + " --out " + (scratch_.path() / "report").string());
+  EXPECT_EQ(analyzed.exit_code, 0) << analyzed.err;
+}
+
+// Without --gaze, a headset session takes the headset's eye gaze: the test runtime's ray, 10 degrees
+// right and 5 up of straight ahead, rests on the plane 1.5 m in front of the head, and each eye's
+// logged pixel is where that point appears to it (computed here from the logged views).
+TEST_F(HeadsetStudy, TheHeadsetsEyeGazeGivesEachEyeThePixelOfTheFixationPoint) {
+  const std::filesystem::path config = write(
+      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
+                              "fixation_distance_mm = 1500"));
+  const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_GAZE=10,5", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  std::ifstream lines(results_ / "headset_cli" / "P01" / "events.jsonl");
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  const nlohmann::json header = nlohmann::json::parse(line);
+  EXPECT_EQ(header.value("gaze", ""), "openxr");
+  EXPECT_EQ(header["gaze_source"].value("kind", ""), "tracker");
+  const double pi = std::acos(-1.0);
+  const std::array<double, 3> point{1.5 * std::tan(10.0 * pi / 180.0), 1.5 * std::tan(5.0 * pi / 180.0) /
+                                                                            std::cos(10.0 * pi / 180.0), -1.5};
+  std::array<std::array<double, 2>, 2> expected{};
+  for (size_t eye = 0; eye < 2; ++eye) {
+    // Each eye looks straight ahead (the test runtime's orientation is the head's).
+    const nlohmann::json& view = header["headset"]["eyes"][eye];
+    const double tan_x = (point[0] - view["position_m"][0].get<double>()) / -point[2];
+    const double tan_y = (point[1] - view["position_m"][1].get<double>()) / -point[2];
+    const std::array<double, 4> fov = view["fov_rad"].get<std::array<double, 4>>();
+    expected[eye] = {64 * (tan_x - std::tan(fov[0])) / (std::tan(fov[1]) - std::tan(fov[0])),
+                     72 * (std::tan(fov[2]) - tan_y) / (std::tan(fov[2]) - std::tan(fov[3]))};
+  }
+  int stimuli = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ++stimuli;
+    EXPECT_FALSE(event.contains("invalid_gaze") && !event["invalid_gaze"].empty()) << line;
+    for (size_t i = 0; i < event["gaze"].size(); ++i) {
+      EXPECT_NEAR(event["gaze"][i][0].get<double>(), expected[0][0], 0.006) << line;
+      EXPECT_NEAR(event["gaze"][i][1].get<double>(), expected[0][1], 0.006) << line;
+      EXPECT_NEAR(event["right_eye_gaze"][i][0].get<double>(), expected[1][0], 0.006) << line;
+      EXPECT_NEAR(event["right_eye_gaze"][i][1].get<double>(), expected[1][1], 0.006) << line;
+    }
+  }
+  EXPECT_EQ(stimuli, 4);
+  EXPECT_GT(expected[0][0] - expected[1][0], 1.0) << "the near point appears further left to the right eye";
+}
+
+// A headset session killed (SIGKILL) after its first trial resumes after that trial, as a desktop
+// one does, with the views it started with; the finished log replays both eyes to their hashes.
+TEST_F(HeadsetStudy, AHeadsetSessionKilledAfterATrialResumesAndReplays) {
+  const std::filesystem::path config = write(
+      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
+                              "fixation_distance_mm = 1500"));
+  const std::filesystem::path output = scratch_.path() / "killed.txt";
+  const pid_t pid = test::start_fovlab({"run", config.string(), "--participant", "P01", "--results", results_.string(),
+                                        "--observer", "simulated", "--gaze", "synthetic:seed=3"},
+                                       "trial_end:1", output);
+  ASSERT_TRUE(test::wait_until_stopped(pid)) << (std::stringstream() << std::ifstream(output).rdbuf()).str();
+  kill(pid, SIGKILL);
+  test::exit_code(pid);
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  ASSERT_TRUE(std::filesystem::exists(log));
+
+  const CommandResult resumed =
+      run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resumed, 2 of 2 trials complete"), std::string::npos) << resumed.out;
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
 }
 
 // The plan's stimuli are made for the left eye's image; where the right eye's field of view is

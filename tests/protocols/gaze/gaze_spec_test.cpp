@@ -67,8 +67,8 @@ TEST(GazeSpecParse, RejectsEverythingElse) {
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
     EXPECT_EQ(std::string(error.what()),
-              "--gaze: expected mouse, trace:FILE, synthetic[:seed=N] or "
-              "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C], got \"eyelink\"");
+              "--gaze: expected mouse, trace:FILE, synthetic[:seed=N], "
+              "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] or openxr, got \"eyelink\"");
   }
   for (const char* text : {"",
                            "Mouse",

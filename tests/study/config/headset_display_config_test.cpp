@@ -126,7 +126,7 @@ TEST(HeadsetDisplayConfig, ReadsEachEyesSizeAndAnglesWithTheDefaults) {
     EXPECT_EQ(std::string(error.what()),
               kPath + ":" + std::to_string(line_of(config_with(recommended), "eye_width_px")) +
                   ": display.eye_width_px: expected each eye's size in pixels for fovlab validate, which makes the "
-                  "stimuli; 0 (the runtime's recommended size) is for fovlab run alone, which asks the runtime");
+                  "stimuli (0, the runtime's recommended size, is not built yet; fovlab devices prints it)");
   }
   EXPECT_NO_THROW(require_eye_image_size(parse(config_with(kHeadset)), "simulate"));
   EXPECT_NO_THROW(require_eye_image_size(parse(config_with(kWindow)), "simulate"));

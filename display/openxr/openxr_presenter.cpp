@@ -1,0 +1,165 @@
+#include "display/openxr/openxr_presenter.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+
+#include "core/input_error.h"
+#include "renderer/vk/submission.h"
+
+namespace fovlab {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The reason a session that was focused asks to close, as the log's session_paused event says it.
+std::string unfocused_reason(const OpenXrSession& session) {
+  if (session.exiting) return "the headset session ended (the OpenXR runtime is exiting or lost the headset)";
+  return std::string("the headset session lost focus (") + openxr_session_state_name(session.state) +
+         "): the headset was taken off, or another application took it";
+}
+
+}  // namespace
+
+OpenXrPresenter::OpenXrPresenter(const OpenXrPresenterOptions& options) : session_(options.session) {
+  input_ = std::make_unique<OpenXrInput>(session_);
+  const VkDeviceSize eye_bytes = VkDeviceSize{session_.eye_width_px} * session_.eye_height_px * 4;
+  for (vk::Buffer& held : held_) {
+    held = vk::Buffer(*session_.vulkan, eye_bytes, vk::MemoryUse::host_upload);
+    // Black, opaque: what the eyes see until the first screen.
+    auto* pixels = static_cast<uint32_t*>(held.mapped());
+    std::fill(pixels, pixels + eye_bytes / 4, 0xff000000u);
+    held.flush();
+  }
+  // The runtime takes the session through READY (begun by poll_openxr_events), SYNCHRONIZED and
+  // VISIBLE to FOCUSED as frames are submitted; on a headset, FOCUSED may wait for the participant.
+  const Clock::time_point start = Clock::now();
+  poll_openxr_events(session_);
+  while (session_.state != XR_SESSION_STATE_FOCUSED) {
+    if (session_.exiting)
+      throw InputError("openxr: the runtime ended the headset session before it was focused (" +
+                       std::string(openxr_session_state_name(session_.state)) + ")");
+    if (seconds_since(start) > options.focus_timeout_s)
+      throw InputError("openxr: the headset session was not focused within " +
+                       std::to_string(static_cast<int>(options.focus_timeout_s)) + " s (it is " +
+                       openxr_session_state_name(session_.state) +
+                       "): put the headset on, and close other applications using it");
+    if (session_.running) {
+      run_frame();
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    poll_openxr_events(session_);
+  }
+  presses_.clear();  // nothing pressed before the study starts counts
+  frames_not_rendered_ = 0;
+  focused_ = true;
+}
+
+OpenXrPresenter::~OpenXrPresenter() {
+  // The specification's way down: request the exit, keep submitting frames until the runtime says
+  // STOPPING (poll_openxr_events then ends the session), then wait for EXITING.
+  try {
+    input_.reset();
+    if (!session_.running) return;
+    request_openxr_exit(session_);
+    const Clock::time_point start = Clock::now();
+    while (session_.running && seconds_since(start) < 5.0) {
+      run_openxr_frame(session_, [this](uint32_t eye, const OpenXrEyeView&) {
+        return DeviceRgba8Frame{session_.vulkan.get(), held_[eye].handle(), int(session_.eye_width_px),
+                                int(session_.eye_height_px)};
+      });
+      poll_openxr_events(session_);
+    }
+  } catch (const std::exception&) {
+    // The session, its swapchains and the instance are destroyed by OpenXrSession regardless.
+  }
+}
+
+void OpenXrPresenter::hold(uint32_t eye, const ViewFrame& frame) {
+  const int width = static_cast<int>(session_.eye_width_px), height = static_cast<int>(session_.eye_height_px);
+  const int frame_width = frame.device ? frame.device.width : frame.host ? frame.host->width : 0;
+  const int frame_height = frame.device ? frame.device.height : frame.host ? frame.host->height : 0;
+  if (frame_width != width || frame_height != height)
+    throw std::invalid_argument("openxr: a " + std::to_string(frame_width) + "x" + std::to_string(frame_height) +
+                                " frame for a headset of " + std::to_string(width) + "x" + std::to_string(height) +
+                                " pixels an eye");
+  vk::Buffer& held = held_[eye];
+  if (!frame.device) {
+    std::memcpy(held.mapped(), frame.host->rgba.data(), held.size_bytes());
+    held.flush();
+    return;
+  }
+  if (frame.device.context != session_.vulkan.get())
+    throw std::invalid_argument("openxr: an eye's frame on another device than the headset session's");
+  vk::OneTimeCommands commands(*session_.vulkan);
+  vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{0, 0, held.size_bytes()};
+  vkCmdCopyBuffer(commands.handle(), frame.device.buffer, held.handle(), 1, &region);
+  commands.submit_and_wait();
+}
+
+double OpenXrPresenter::run_frame() {
+  const OpenXrEyeFrameSource held_frame = [this](uint32_t eye, const OpenXrEyeView&) {
+    return DeviceRgba8Frame{session_.vulkan.get(), held_[eye].handle(), static_cast<int>(session_.eye_width_px),
+                            static_cast<int>(session_.eye_height_px)};
+  };
+  last_frame_ = run_openxr_frame(session_, held_frame);
+  if (clock_zero_ == 0) {
+    clock_zero_ = last_frame_.predicted_display_time;
+    refresh_hz_ = 1e9 / static_cast<double>(last_frame_.predicted_display_period);
+  }
+  if (!last_frame_.rendered) ++frames_not_rendered_;
+  now_s_ = session_time_s(last_frame_.predicted_display_time);
+  follow_session_state();
+  for (const OpenXrButtonPress& press : input_->sync()) presses_.push_back({session_time_s(press.time), press.key});
+  return now_s_;
+}
+
+void OpenXrPresenter::follow_session_state() {
+  poll_openxr_events(session_);
+  if (close_reason_.empty() && focused_ && (session_.exiting || session_.state != XR_SESSION_STATE_FOCUSED))
+    close_reason_ = unfocused_reason(session_);
+}
+
+double OpenXrPresenter::present(const Rgba8Frame& frame) {
+  const ViewFrame both{&frame, {}};
+  return present_views(std::array{both, both});
+}
+
+double OpenXrPresenter::present(const DeviceRgba8Frame& frame) {
+  const ViewFrame both{nullptr, frame};
+  return present_views(std::array{both, both});
+}
+
+double OpenXrPresenter::present_views(std::span<const ViewFrame> frames) {
+  if (frames.size() != 2) throw std::logic_error("openxr: present_views takes the two eyes' frames");
+  for (uint32_t eye = 0; eye < 2; ++eye) hold(eye, frames[eye]);
+  // A session that is no longer running (the runtime stopped it) has no frame to show it in; the
+  // session asks close_requested() after each present and pauses.
+  if (!session_.running) return now_s_;
+  return run_frame();
+}
+
+std::vector<InputEvent> OpenXrPresenter::poll_input() {
+  // Presses arrive with the frames (run_frame); a session waiting on an answer keeps them coming
+  // (wait_until).
+  std::vector<InputEvent> presses;
+  presses.swap(presses_);
+  return presses;
+}
+
+void OpenXrPresenter::wait_until(double time_s) {
+  // Whole refreshes, as the headless presenter: frames repeating the held images until the one
+  // displayed at or after time_s.
+  const double half_period_s = 0.5 / refresh_hz_;
+  while (session_.running && now_s_ + half_period_s < time_s) run_frame();
+}
+
+}  // namespace fovlab

@@ -1,0 +1,92 @@
+#pragma once
+// A headset as a session's presenter (display/presenter.h): the OpenXR session, paced by the runtime
+// (xrWaitFrame), showing each eye the frame it was given, and repeating the last ones while the
+// session waits (a headset's compositor needs a frame every refresh). The session clock is the
+// runtime's: a frame is presented at the display time the runtime predicted for it, counted from
+// the first frame's; now_s() is the last frame's. Text screens (present) show the same image in both
+// eyes; stimuli (present_views) each eye its own. Answers come from the controller's actions and
+// the gaze ray from XR_EXT_eye_gaze_interaction (openxr_input.h). A session that leaves FOCUSED (the
+// headset taken off, another application in front, the runtime stopping) asks to close: the study
+// pauses, as when a window is closed, and running it again resumes it. docs/hmd.md.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "display/openxr/openxr_frame_loop.h"
+#include "display/openxr/openxr_input.h"
+#include "display/openxr/openxr_session.h"
+#include "display/presenter.h"
+#include "renderer/vk/buffer.h"
+
+namespace fovlab {
+
+struct OpenXrPresenterOptions {
+  OpenXrSessionOptions session;
+  // Wall seconds to wait for the runtime to focus the session (the participant putting the headset
+  // on) before refusing to start.
+  double focus_timeout_s = 60.0;
+};
+
+class OpenXrPresenter final : public Presenter {
+ public:
+  // Opens the session and runs black frames until the runtime focuses it. Throws InputError when
+  // no session can be had (OpenXrSession's refusals) or it is not focused in time.
+  explicit OpenXrPresenter(const OpenXrPresenterOptions& options);
+  // Asks the runtime to end the session and runs frames until it has (at most a few seconds).
+  ~OpenXrPresenter() override;
+  OpenXrPresenter(const OpenXrPresenter&) = delete;
+  OpenXrPresenter& operator=(const OpenXrPresenter&) = delete;
+
+  OpenXrSession& session() { return session_; }
+  vk::Context& context() { return *session_.vulkan; }
+  OpenXrInput& input() { return *input_; }
+
+  double now_s() override { return now_s_; }
+  double present(const Rgba8Frame& frame) override;
+  double present(const DeviceRgba8Frame& frame) override;
+  int view_count() const override { return 2; }
+  double present_views(std::span<const ViewFrame> frames) override;
+  std::vector<InputEvent> poll_input() override;
+  void wait_until(double time_s) override;
+  std::optional<std::pair<double, double>> cursor_px() override { return std::nullopt; }
+  bool close_requested() override { return !close_reason_.empty(); }
+  std::string close_reason() const override { return close_reason_; }
+  double refresh_hz() const override { return refresh_hz_; }
+  bool is_headless() const override { return false; }
+  std::string present_clock() const override { return "openxr_predicted_display"; }
+
+  // The session time of an XrTime of this runtime (a gaze sample's, a button press's).
+  double session_time_s(XrTime time) const { return static_cast<double>(time - clock_zero_) * 1e-9; }
+  XrTime runtime_time(double session_time_s) const {
+    return clock_zero_ + static_cast<XrTime>(std::llround(session_time_s * 1e9));
+  }
+  // The last frame run, with the views the runtime located for it.
+  const OpenXrFrame& last_frame() const { return last_frame_; }
+  // Frames the runtime said not to render or gave no valid views for, since the session was focused.
+  int frames_not_rendered() const { return frames_not_rendered_; }
+
+ private:
+  // Copies `frame` (eye size, on the host or the session's device) into the eye's own buffer, which
+  // the frame loop copies into the eye's swapchain image at every frame until the next one.
+  void hold(uint32_t eye, const ViewFrame& frame);
+  // One frame showing what the eyes hold; then the runtime's events and the controller's presses.
+  // Returns the frame's predicted display time on the session clock.
+  double run_frame();
+  // The runtime's events: a session no longer FOCUSED asks to close.
+  void follow_session_state();
+
+  OpenXrSession session_;
+  std::unique_ptr<OpenXrInput> input_;
+  std::array<vk::Buffer, 2> held_;  // each eye's frame, host-visible (RGBA8, eye size)
+  XrTime clock_zero_ = 0;           // the predicted display time of the first frame
+  double now_s_ = 0.0;
+  double refresh_hz_ = 0.0;
+  OpenXrFrame last_frame_;
+  int frames_not_rendered_ = 0;
+  bool focused_ = false;  // the runtime has focused the session (the constructor's end)
+  std::vector<InputEvent> presses_;
+  std::string close_reason_;
+};
+
+}  // namespace fovlab
