@@ -41,16 +41,18 @@ constexpr ButtonBinding kXboxController[] = {
 // trigger as the main answer, the trackpad's press as the second, the grip as the third, the menu
 // button as start. Either hand gives the same keys.
 constexpr ButtonBinding kViveController[] = {
-    {"pad_a", "/user/hand/left/input/trigger/click"},   {"pad_a", "/user/hand/right/input/trigger/click"},
-    {"pad_b", "/user/hand/left/input/trackpad/click"},  {"pad_b", "/user/hand/right/input/trackpad/click"},
-    {"pad_x", "/user/hand/left/input/squeeze/click"},   {"pad_x", "/user/hand/right/input/squeeze/click"},
-    {"pad_start", "/user/hand/left/input/menu/click"},  {"pad_start", "/user/hand/right/input/menu/click"},
+    {"pad_a", "/user/hand/left/input/trigger/click"},  {"pad_a", "/user/hand/right/input/trigger/click"},
+    {"pad_b", "/user/hand/left/input/trackpad/click"}, {"pad_b", "/user/hand/right/input/trackpad/click"},
+    {"pad_x", "/user/hand/left/input/squeeze/click"},  {"pad_x", "/user/hand/right/input/squeeze/click"},
+    {"pad_start", "/user/hand/left/input/menu/click"}, {"pad_start", "/user/hand/right/input/menu/click"},
 };
 
 // Khronos's simple controller has two buttons: select answers, menu is start.
 constexpr ButtonBinding kSimpleController[] = {
-    {"pad_a", "/user/hand/left/input/select/click"},   {"pad_a", "/user/hand/right/input/select/click"},
-    {"pad_start", "/user/hand/left/input/menu/click"}, {"pad_start", "/user/hand/right/input/menu/click"},
+    {"pad_a", "/user/hand/left/input/select/click"},
+    {"pad_a", "/user/hand/right/input/select/click"},
+    {"pad_start", "/user/hand/left/input/menu/click"},
+    {"pad_start", "/user/hand/right/input/menu/click"},
 };
 
 struct ProfileBindings {
@@ -92,15 +94,16 @@ XrAction create_action(XrActionSet action_set, XrActionType type, const std::str
 bool system_supports_eye_gaze(const OpenXrSession& session) {
   XrSystemEyeGazeInteractionPropertiesEXT eye_gaze{XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT};
   XrSystemProperties properties{XR_TYPE_SYSTEM_PROPERTIES, &eye_gaze};
-  check_input_call(xrGetSystemProperties(session.instance.handle, session.system, &properties), "xrGetSystemProperties");
+  check_input_call(xrGetSystemProperties(session.instance.handle, session.system, &properties),
+                   "xrGetSystemProperties");
   return eye_gaze.supportsEyeGazeInteraction == XR_TRUE;
 }
 
 }  // namespace
 
 const std::vector<std::string>& openxr_answer_keys() {
-  static const std::vector<std::string> keys{"pad_a",     "pad_b",     "pad_x",  "pad_y",    "pad_left", "pad_right",
-                                             "pad_up",    "pad_down",  "pad_start", "pad_back", "pad_lb", "pad_rb"};
+  static const std::vector<std::string> keys{"pad_a",  "pad_b",    "pad_x",     "pad_y",    "pad_left", "pad_right",
+                                             "pad_up", "pad_down", "pad_start", "pad_back", "pad_lb",   "pad_rb"};
   return keys;
 }
 
@@ -125,7 +128,8 @@ OpenXrInput::OpenXrInput(OpenXrSession& session) : session_(session) {
       suggested.interactionProfile = to_path(instance, profile.profile);
       suggested.countSuggestedBindings = static_cast<uint32_t>(bindings.size());
       suggested.suggestedBindings = bindings.data();
-      check_input_call(xrSuggestInteractionProfileBindings(instance, &suggested), "xrSuggestInteractionProfileBindings");
+      check_input_call(xrSuggestInteractionProfileBindings(instance, &suggested),
+                       "xrSuggestInteractionProfileBindings");
     }
 
     // The eye tracker's profile exists only on an instance with the extension; a system may still
@@ -137,7 +141,8 @@ OpenXrInput::OpenXrInput(OpenXrSession& session) : session_(session) {
       suggested.interactionProfile = to_path(instance, "/interaction_profiles/ext/eye_gaze_interaction");
       suggested.countSuggestedBindings = 1;
       suggested.suggestedBindings = &binding;
-      check_input_call(xrSuggestInteractionProfileBindings(instance, &suggested), "xrSuggestInteractionProfileBindings");
+      check_input_call(xrSuggestInteractionProfileBindings(instance, &suggested),
+                       "xrSuggestInteractionProfileBindings");
     }
 
     XrSessionActionSetsAttachInfo attach{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};

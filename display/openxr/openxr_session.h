@@ -48,7 +48,7 @@ struct OpenXrSession {
   OpenXrInstance instance;
   // Optional instance extensions, enabled when the runtime offers them: the eye tracker's gaze
   // (openxr_input.h) and XrTime from and to CLOCK_MONOTONIC.
-  bool eye_gaze_enabled = false;         // XR_EXT_eye_gaze_interaction
+  bool eye_gaze_enabled = false;          // XR_EXT_eye_gaze_interaction
   bool convert_timespec_enabled = false;  // XR_KHR_convert_timespec_time
   XrSystemId system = XR_NULL_SYSTEM_ID;
   std::unique_ptr<vk::Context> vulkan;  // made through the runtime (XR_KHR_vulkan_enable2)

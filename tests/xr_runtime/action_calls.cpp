@@ -175,7 +175,8 @@ XrPosef gaze_in_head(const SimulatedInput& input) {
   const double pitch = input.gaze_pitch_deg * std::numbers::pi / 180.0;
   // Turning right is a negative rotation about +Y; looking up a positive one about +X.
   const XrQuaternionf turn{0.0f, static_cast<float>(std::sin(-yaw / 2)), 0.0f, static_cast<float>(std::cos(-yaw / 2))};
-  const XrQuaternionf tilt{static_cast<float>(std::sin(pitch / 2)), 0.0f, 0.0f, static_cast<float>(std::cos(pitch / 2))};
+  const XrQuaternionf tilt{static_cast<float>(std::sin(pitch / 2)), 0.0f, 0.0f,
+                           static_cast<float>(std::cos(pitch / 2))};
   return {multiply(turn, tilt), {0.0f, 0.0f, 0.0f}};
 }
 
@@ -439,8 +440,7 @@ XrResult XRAPI_CALL sync_actions(XrSession session, const XrActionsSyncInfo* syn
     const XrActiveActionSet& active = sync_info->activeActionSets[i];
     if (find_object<ActionSetObject>(table, handle_value(active.actionSet)) == nullptr) return XR_ERROR_HANDLE_INVALID;
     if (!attached_to(*object, handle_value(active.actionSet))) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (const XrResult result = check_subaction_path(*instance, active.subactionPath); XR_FAILED(result))
-      return result;
+    if (const XrResult result = check_subaction_path(*instance, active.subactionPath); XR_FAILED(result)) return result;
   }
   // An unfocused session gets no input: every action inactive.
   if (object->state != XR_SESSION_STATE_FOCUSED) {
@@ -482,8 +482,7 @@ XrResult XRAPI_CALL sync_actions(XrSession session, const XrActionsSyncInfo* syn
     if (state.changed) {
       // The state began at the earliest frame since the last sync from which it has held.
       int64_t since = now;
-      while (since - 1 > object->last_synced_frame && pressed_at(*object, buttons, since - 1) == state.current)
-        --since;
+      while (since - 1 > object->last_synced_frame && pressed_at(*object, buttons, since - 1) == state.current) --since;
       state.last_change_time = frame_time(*object, since);
     } else if (!before.active) {
       state.last_change_time = 0;
@@ -528,8 +527,7 @@ XrResult XRAPI_CALL get_action_state_pose(XrSession session, const XrActionState
 
 // An action space may be made before its set is attached (the specification's own examples do);
 // it is located only while its action is active.
-XrResult XRAPI_CALL create_action_space(XrSession session, const XrActionSpaceCreateInfo* create_info,
-                                        XrSpace* space) {
+XrResult XRAPI_CALL create_action_space(XrSession session, const XrActionSpaceCreateInfo* create_info, XrSpace* space) {
   HandleTable& table = handle_table();
   std::lock_guard lock(table.mutex);
   if (find_object<SessionObject>(table, handle_value(session)) == nullptr) return XR_ERROR_HANDLE_INVALID;
@@ -580,8 +578,7 @@ XrResult XRAPI_CALL locate_space(XrSpace space, XrSpace base_space, XrTime time,
   // keep their (fixed) relation.
   const bool same_kind = located->action == 0 && base->action == 0 && located->type == base->type;
   const bool tracked = space_pose(table, *instance, *session, *located, space_in_local) &&
-                       space_pose(table, *instance, *session, *base, base_in_local) &&
-                       (same_kind || !tracking_lost());
+                       space_pose(table, *instance, *session, *base, base_in_local) && (same_kind || !tracking_lost());
   if (tracked) {
     location->pose = relative_to(base_in_local, space_in_local);
     location->locationFlags = XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
@@ -592,8 +589,7 @@ XrResult XRAPI_CALL locate_space(XrSpace space, XrSpace base_space, XrTime time,
   }
   // Structures chained on `next` that the runtime knows; any other is left alone.
   const bool gaze = located->action != 0 || base->action != 0;
-  for (auto* chained = static_cast<XrBaseOutStructure*>(location->next); chained != nullptr;
-       chained = chained->next) {
+  for (auto* chained = static_cast<XrBaseOutStructure*>(location->next); chained != nullptr; chained = chained->next) {
     if (chained->type == XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT &&
         extension_enabled(*instance, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME)) {
       // The simulated tracker has a sample for any time asked; 0 when there is none.

@@ -28,18 +28,33 @@ constexpr std::array<std::string_view, 1> kEyes{"/user/eyes_ext"};
 constexpr std::array<std::string_view, 5> kSimpleControllerComponents{
     "/input/select/click", "/input/menu/click", "/input/grip/pose", "/input/aim/pose", "/output/haptic"};
 constexpr std::array<std::string_view, 12> kViveControllerComponents{
-    "/input/system/click",   "/input/squeeze/click",  "/input/menu/click",     "/input/trigger/click",
-    "/input/trigger/value",  "/input/trackpad/x",     "/input/trackpad/y",     "/input/trackpad/click",
-    "/input/trackpad/touch", "/input/grip/pose",      "/input/aim/pose",       "/output/haptic"};
-constexpr std::array<std::string_view, 24> kXboxControllerComponents{
-    "/input/menu/click",           "/input/view/click",           "/input/a/click",
-    "/input/b/click",              "/input/x/click",              "/input/y/click",
-    "/input/dpad_down/click",      "/input/dpad_right/click",     "/input/dpad_up/click",
-    "/input/dpad_left/click",      "/input/shoulder_left/click",  "/input/shoulder_right/click",
-    "/input/thumbstick_left/click", "/input/thumbstick_right/click", "/input/trigger_left/value",
-    "/input/trigger_right/value",  "/input/thumbstick_left/x",    "/input/thumbstick_left/y",
-    "/input/thumbstick_right/x",   "/input/thumbstick_right/y",   "/output/haptic_left",
-    "/output/haptic_right",        "/output/haptic_left_trigger", "/output/haptic_right_trigger"};
+    "/input/system/click",   "/input/squeeze/click", "/input/menu/click", "/input/trigger/click",
+    "/input/trigger/value",  "/input/trackpad/x",    "/input/trackpad/y", "/input/trackpad/click",
+    "/input/trackpad/touch", "/input/grip/pose",     "/input/aim/pose",   "/output/haptic"};
+constexpr std::array<std::string_view, 24> kXboxControllerComponents{"/input/menu/click",
+                                                                     "/input/view/click",
+                                                                     "/input/a/click",
+                                                                     "/input/b/click",
+                                                                     "/input/x/click",
+                                                                     "/input/y/click",
+                                                                     "/input/dpad_down/click",
+                                                                     "/input/dpad_right/click",
+                                                                     "/input/dpad_up/click",
+                                                                     "/input/dpad_left/click",
+                                                                     "/input/shoulder_left/click",
+                                                                     "/input/shoulder_right/click",
+                                                                     "/input/thumbstick_left/click",
+                                                                     "/input/thumbstick_right/click",
+                                                                     "/input/trigger_left/value",
+                                                                     "/input/trigger_right/value",
+                                                                     "/input/thumbstick_left/x",
+                                                                     "/input/thumbstick_left/y",
+                                                                     "/input/thumbstick_right/x",
+                                                                     "/input/thumbstick_right/y",
+                                                                     "/output/haptic_left",
+                                                                     "/output/haptic_right",
+                                                                     "/output/haptic_left_trigger",
+                                                                     "/output/haptic_right_trigger"};
 constexpr std::array<std::string_view, 1> kEyeGazeComponents{"/input/gaze_ext/pose"};
 
 const std::array<InteractionProfile, 4>& interaction_profiles() {

@@ -4,8 +4,8 @@
 // specification says a runtime must (handles checked, structure types checked, the two-call idiom
 // with XR_ERROR_SIZE_INSUFFICIENT), so that what passes here is what an independent runtime expects.
 //
-// Every object lives in one handle table (instances, sessions, spaces, swapchains; action sets and
-// actions later, each with its parent), and every call is one row of one dispatch table (name,
+// Every object lives in one handle table (instances, sessions, spaces, swapchains, action sets and
+// actions, each with its parent), and every call is one row of one dispatch table (name,
 // function, the extension that brings it), which xrGetInstanceProcAddr reads.
 #define XR_USE_TIMESPEC
 #define XR_USE_GRAPHICS_API_VULKAN
@@ -137,7 +137,7 @@ struct ScriptedPress {
 struct SimulatedInput {
   SimulatedController controller = SimulatedController::xbox;
   std::vector<ScriptedPress> presses;
-  double gaze_yaw_deg = 0.0;  // right positive
+  double gaze_yaw_deg = 0.0;    // right positive
   double gaze_pitch_deg = 0.0;  // up positive
 };
 
@@ -154,8 +154,8 @@ struct SessionObject {
   SimulatedInput input;
   std::vector<uint64_t> attached_action_sets;  // empty until xrAttachSessionActionSets
   bool action_sets_attached = false;
-  std::map<uint64_t, ActionState> action_states;  // by action, for the attached sets' actions
-  int64_t last_synced_frame = 0;                   // waited_frames at the last xrSyncActions
+  std::map<uint64_t, ActionState> action_states;           // by action, for the attached sets' actions
+  int64_t last_synced_frame = 0;                           // waited_frames at the last xrSyncActions
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;         // as the application has seen it (xrPollEvent)
   XrSessionState queued_state = XR_SESSION_STATE_UNKNOWN;  // the last one queued
   bool running = false;                                    // between xrBeginSession and xrEndSession
@@ -373,8 +373,7 @@ XrResult XRAPI_CALL get_action_state_boolean(XrSession session, const XrActionSt
                                              XrActionStateBoolean* state);
 XrResult XRAPI_CALL get_action_state_pose(XrSession session, const XrActionStateGetInfo* get_info,
                                           XrActionStatePose* state);
-XrResult XRAPI_CALL create_action_space(XrSession session, const XrActionSpaceCreateInfo* create_info,
-                                        XrSpace* space);
+XrResult XRAPI_CALL create_action_space(XrSession session, const XrActionSpaceCreateInfo* create_info, XrSpace* space);
 XrResult XRAPI_CALL locate_space(XrSpace space, XrSpace base_space, XrTime time, XrSpaceLocation* location);
 
 // An interaction profile the runtime knows, with its allowlist (the specification's "Interaction
