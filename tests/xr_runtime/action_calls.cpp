@@ -478,7 +478,9 @@ XrResult XRAPI_CALL sync_actions(XrSession session, const XrActionsSyncInfo* syn
     }
     state.active = true;
     state.current = pressed_at(*object, buttons, now);
-    state.changed = before.active && before.current != state.current;
+    // Against the state the last sync gave, inactive (released) included: a button already down
+    // when the session gains focus is a press the application has not seen.
+    state.changed = before.current != state.current;
     if (state.changed) {
       // The state began at the earliest frame since the last sync from which it has held.
       int64_t since = now;
