@@ -6,12 +6,14 @@
 // environment switches, with the OpenXR core validation layer on (its file must stay empty).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -311,6 +313,35 @@ TEST_F(HeadsetStudy, AHeadsetSessionKilledAfterATrialResumesAndReplays) {
   const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
   EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
   EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+}
+
+// The headset losing the focus mid-session (the test runtime's VISIBLE at frame 400, as a headset
+// taken off) pauses the study as a closed window does: session_paused with the reason, the log
+// sealed; the next run resumes it to the end, and the log replays.
+TEST_F(HeadsetStudy, LosingTheFocusPausesTheSessionAndTheNextRunResumesIt) {
+  const std::filesystem::path config = write(
+      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
+                              "fixation_distance_mm = 1500"));
+  const std::string flags = " --observer simulated --gaze synthetic:seed=3";
+  const CommandResult paused =
+      run_study(config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400", FOVLAB_TEST_XR_RUNTIME_JSON, flags);
+  ASSERT_EQ(paused.exit_code, 0) << paused.err;
+  EXPECT_NE(paused.out.find("(stopped: the headset session lost focus (XR_SESSION_STATE_VISIBLE)"), std::string::npos)
+      << paused.out;
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  std::ifstream lines(log);
+  std::vector<std::string> kinds;
+  for (std::string line; std::getline(lines, line);) kinds.push_back(nlohmann::json::parse(line).value("event", ""));
+  ASSERT_GE(kinds.size(), 3u);
+  EXPECT_EQ(kinds[kinds.size() - 2], "session_paused");
+  EXPECT_EQ(kinds.back(), "seal");
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 0);
+
+  const CommandResult resumed = run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, flags);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resumed, 2 of 2 trials complete"), std::string::npos) << resumed.out;
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
 }
 
 // The plan's stimuli are made for the left eye's image; where the right eye's field of view is

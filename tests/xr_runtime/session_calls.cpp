@@ -3,7 +3,8 @@
 // frame loop on a virtual clock (90 Hz), as the OpenXR 1.0 specification describes them.
 //
 // States: xrCreateSession queues IDLE then READY; the first xrWaitFrame of a running session queues
-// SYNCHRONIZED; the first xrEndFrame after it queues VISIBLE then FOCUSED. xrRequestExitSession
+// SYNCHRONIZED; the first xrEndFrame after it queues VISIBLE then FOCUSED; with
+// FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=N the Nth xrWaitFrame queues VISIBLE (focus lost). xrRequestExitSession
 // queues the way down to STOPPING (VISIBLE, SYNCHRONIZED, STOPPING); xrEndSession then queues IDLE
 // and EXITING. A call that needs a state checks the one the application has been handed.
 #include <time.h>
@@ -343,6 +344,12 @@ XrResult XRAPI_CALL wait_frame(XrSession session, const XrFrameWaitInfo* wait_in
       object->state == XR_SESSION_STATE_VISIBLE || object->state == XR_SESSION_STATE_FOCUSED ? XR_TRUE : XR_FALSE;
   if (object->queued_state == XR_SESSION_STATE_READY && !object->exit_requested)
     queue_state(table, handle_value(session), XR_SESSION_STATE_SYNCHRONIZED);
+  // FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=N: at the session's Nth xrWaitFrame a focused session loses the
+  // focus (VISIBLE), as when the headset is taken off or another application takes it; it stays so.
+  if (const char* unfocus_at = std::getenv("FOVLAB_TEST_XR_UNFOCUS_AT_FRAME");
+      unfocus_at != nullptr && std::strtoll(unfocus_at, nullptr, 10) == object->waited_frames &&
+      object->queued_state == XR_SESSION_STATE_FOCUSED)
+    queue_state(table, handle_value(session), XR_SESSION_STATE_VISIBLE);
   return XR_SUCCESS;
 }
 
