@@ -315,6 +315,38 @@ TEST_F(HeadsetStudy, AHeadsetSessionKilledAfterATrialResumesAndReplays) {
   EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
 }
 
+// A participant answers on the controller: the test runtime's Xbox controller presses A and B in
+// turn every 30 frames, the presses reach the protocol as its pad_a ("same") and pad_b
+// ("different") keys, and the session logs them as the answers, with their times.
+TEST_F(HeadsetStudy, AParticipantAnswersOnTheController) {
+  const std::filesystem::path config = write(
+      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
+                              "fixation_distance_mm = 1500"));
+  std::string script;
+  for (int frame = 30, n = 0; frame <= 6000; frame += 30, ++n)
+    script += std::to_string(frame) + (n % 2 == 0 ? " /user/gamepad/input/a/click\n" : " /user/gamepad/input/b/click\n");
+  const std::filesystem::path presses = write("presses.txt", script);
+  const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_INPUT=" + presses.string() + " </dev/null",
+                                      FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_NE(ran.out.find("new session, 2 of 2 trials complete"), std::string::npos) << ran.out;
+  std::ifstream lines(results_ / "headset_cli" / "P01" / "events.jsonl");
+  int responses = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") == "instructions") {
+      EXPECT_GT(event.value("shown_s", 0.0), 0.0) << line;
+    }
+    if (event.value("event", "") != "response") continue;
+    ++responses;
+    const std::string key = event.value("key", "");
+    EXPECT_TRUE(key == "pad_a" || key == "pad_b") << line;
+    EXPECT_EQ(event.value("answer", ""), key == "pad_a" ? "same" : "different") << line;
+    EXPECT_GT(event.value("rt_s", 0.0), 0.0) << line;
+  }
+  EXPECT_EQ(responses, 2);
+}
+
 // The headset losing the focus mid-session (the test runtime's VISIBLE at frame 400, as a headset
 // taken off) pauses the study as a closed window does: session_paused with the reason, the log
 // sealed; the next run resumes it to the end, and the log replays.
