@@ -59,8 +59,9 @@ std::array<GazeSample, 2> eye_gaze_from_ray(const HeadsetGazeGeometry& geometry,
 // is where the left eye's ray through that pixel meets the plane fixation_distance_m in front of
 // the head's origin (z = -fixation_distance_m: the plane facing the head, so a point straight ahead
 // of the head is the same point eye_gaze_from_ray makes from the head's origin). An invalid `left`
-// gives two invalid samples (the right one a copy of it); a ray that does not reach the plane in
-// front of the eye, or a point not in front of the right eye, gives two invalid "off_screen" ones.
+// gives two invalid samples (the right one a copy of it); a position that is not finite two invalid
+// "not_finite" ones; a ray that does not reach the plane in front of the eye, or a point not in
+// front of the right eye, two invalid "off_screen" ones.
 // std::invalid_argument for a fixation distance that is not positive and finite.
 std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel(const HeadsetGazeGeometry& geometry, const GazeSample& left);
 
