@@ -38,6 +38,12 @@ void run(RunOptions options) {
       throw InputError("--headless: " + config.source_path +
                        " runs in a headset ([display] kind = \"openxr\"); drop --headless (a pilot without one: "
                        "fovlab simulate)");
+    // The runtime chooses the GPU the headset's images come from (XR_KHR_vulkan_enable2).
+    for (const auto& [flag, value] : {std::pair{"--device", options.device},
+                                      std::pair{"--present-device", session.present_device_selector}})
+      if (!value.empty())
+        throw InputError(std::string(flag) + " " + value + ": " + config.source_path +
+                         " runs in a headset, which renders on the GPU its OpenXR runtime chooses; drop " + flag);
     check_openxr_runtime_for(config, session.gaze);
   }
   // A gaze-contingent study in a window needs its gaze source named, and a config's [gaze] require

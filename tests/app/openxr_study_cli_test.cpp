@@ -196,6 +196,10 @@ TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
   expect_refusal(run_study(angles, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
                  angles.string() + ": display.right_eye_fov_deg: the headset's runtime (fovlab test runtime 0.1.0) "
                                    "gives this eye [-49, 54, 54, -56] deg, the config [-49, 54, 54, -55] deg");
+  for (const std::string flag : {"--headless", "--device 0", "--present-device 0"})
+    expect_refusal(run_study(depth, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic + " " + flag),
+                   flag.substr(0, flag.find(' ')) + (flag == "--headless" ? ": " : flag.substr(flag.find(' ')) + ": ") +
+                       depth.string() + " runs in a headset");
   EXPECT_FALSE(std::filesystem::exists(results_ / "headset_cli" / "P01" / "events.jsonl"));
 }
 
