@@ -73,7 +73,7 @@ std::vector<PathTraceFrameJob> prerender_frame_jobs(const std::string& config_pa
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
   check_plan_renderable(plan, config_path,
                         PlanUse::prerender);  // a config no session could run is refused before rendering
-  std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan));
+  std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan), study_frame_views(config.display));
   if (jobs.empty())
     throw InputError(config_path +
                      ": no path-traced stimuli (method pt, fpt, pt-rmfr, pt-hyperbolic, pt-linear or pt-kfr); nothing "

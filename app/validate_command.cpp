@@ -159,7 +159,8 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
                 eyes * 1e3 * frame_s > refresh_ms ? " (frames will be dropped on this device)" : "");
   }
   // Path-traced frames: those the pre-render cache lacks render before the first trial too.
-  const std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs(planned_specs(plan));
+  const std::vector<PathTraceFrameJob> jobs =
+      path_traced_frame_jobs(planned_specs(plan), study_frame_views(plan.config.display));
   FrameCache cache(context, cache_dir);
   std::vector<const PathTraceFrameJob*> missing;
   for (const PathTraceFrameJob& job : jobs)
@@ -220,7 +221,7 @@ void validate(const std::string& config_path, const std::string& participant, bo
   const StudyPlan plan = make_study_plan(config, participant);
   check_plan_renderable(plan, config_path, PlanUse::session);  // what a session would refuse, refused now
   check_right_eye_renderable(config, participant, config_path);
-  check_log_fits_readers(plan, config_path);                   // what validate accepts, the log readers can read back
+  check_log_fits_readers(plan, config_path);  // what validate accepts, the log readers can read back
   int checks = 0, practice = 0;
   std::set<std::string> conditions;
   for (const Trial& trial : plan.trials) {

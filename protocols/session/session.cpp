@@ -43,6 +43,7 @@
 #include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/stimulus_library.h"
+#include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/vk/context.h"
 
 namespace fovlab {
@@ -192,8 +193,11 @@ std::string openxr_runtime_name(const OpenXrSession& session) {
          std::to_string(XR_VERSION_PATCH(properties.runtimeVersion));
 }
 
-// Each eye's view as the runtime locates it in the head (frames run until it gives valid poses,
-// at most a second), with the config's view model and fixation.
+// The views a new headset session renders from: the config's (headset_eye_views), the ones its plan
+// and its pre-rendered frames were made for, after checking them against the views the runtime
+// locates in the head (frames run until it gives valid poses, at most a second): each eye's field
+// of view must be the config's (check_runtime_fields_of_view); an IPD other than the config's is
+// said on stderr (the study shows every participant the config's).
 HeadsetViews headset_views_at_start(OpenXrPresenter& headset, const StudyConfig& config) {
   const int patience_frames = static_cast<int>(std::ceil(headset.refresh_hz()));
   for (int frame = 0; !headset.last_frame().views_valid; ++frame) {
@@ -208,6 +212,15 @@ HeadsetViews headset_views_at_start(OpenXrPresenter& headset, const StudyConfig&
   views.eye_height_px = static_cast<int>(headset.session().eye_height_px);
   for (size_t eye = 0; eye < 2; ++eye)
     views.eyes[eye] = eye_view_from_openxr(headset.last_frame().views_in_head[eye], 1.0);  // a scene unit a metre
+  check_runtime_fields_of_view(views, config);
+  const double runtime_ipd_mm =
+      1000.0 * std::hypot(views.eyes[1].position_in_head[0] - views.eyes[0].position_in_head[0],
+                          views.eyes[1].position_in_head[1] - views.eyes[0].position_in_head[1],
+                          views.eyes[1].position_in_head[2] - views.eyes[0].position_in_head[2]);
+  if (std::abs(runtime_ipd_mm - config.display.headset.ipd_mm) > 0.5)
+    std::fprintf(stderr, "fovlab: the headset's IPD is %.1f mm, the config's %.1f mm: the study renders with %s's\n",
+                 runtime_ipd_mm, config.display.headset.ipd_mm, config.source_path.c_str());
+  views.eyes = headset_eye_views(config.display.headset);
   views.view_model = config.display.headset.view_model;
   views.fixation_distance_mm = config.display.headset.fixation_distance_mm;
   return views;
@@ -396,7 +409,6 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                          std::to_string(headset->session().eye_height_px) + "; not resuming");
     } else {
       headset_views = headset_views_at_start(*headset, config);
-      check_runtime_fields_of_view(*headset_views, config);
     }
   } else if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);

@@ -17,10 +17,10 @@ DeviceRgba8Frame SampledFrameDisplay::show(const StimulusSpec& spec, const Stimu
   }
   const std::string canonical = spec.canonical();
   if (canonical != centre_map_spec_) {  // equalise's solution, solved once a stimulus
-    centre_map_ = sampling_map(spec, std::nan(""), std::nan(""));
+    centre_map_ = sampling_map(spec, std::nan(""), std::nan(""), nullptr, eye_);
     centre_map_spec_ = canonical;
   }
-  return sampler_->display_frame_on_device(sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*centre_map_),
+  return sampler_->display_frame_on_device(sampling_map(spec, image.gaze.x_px, image.gaze.y_px, &*centre_map_, eye_),
                                            sampling_filter(spec));
 }
 

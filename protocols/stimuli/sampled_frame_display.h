@@ -16,7 +16,10 @@ namespace fovlab {
 
 class SampledFrameDisplay {
  public:
-  explicit SampledFrameDisplay(vk::Context& context) : context_(context) {}
+  // `eye`: a headset eye's, whose off-axis display the models' eccentricities are on
+  // (stimulus_settings.h sampling_map); none on the desktop.
+  explicit SampledFrameDisplay(vk::Context& context, std::optional<EyeView> eye = std::nullopt)
+      : context_(context), eye_(std::move(eye)) {}
 
   // The display image of `spec` at `image`'s gaze over the frame named `frame_key`; `upload` puts
   // that frame in the sampler, and is called only when the key differs from the last one's.
@@ -25,6 +28,7 @@ class SampledFrameDisplay {
 
  private:
   vk::Context& context_;
+  std::optional<EyeView> eye_;
   std::unique_ptr<FrameSampler> sampler_;
   std::string frame_key_;                      // the frame the sampler holds
   std::optional<SamplingMap> centre_map_;      // the map with the gaze at the centre of the spec ...

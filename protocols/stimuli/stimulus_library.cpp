@@ -33,11 +33,9 @@ StimulusRenderer& StimulusLibrary::renderer_for(const StimulusSpec& spec) {
     for (const MethodDescriptor& method : all_methods())
       if (renderers_.at(stimulus_family(method.method))->renders_eye_views())
         shown += (shown.empty() ? "" : ", ") + std::string(method.name);
-    const char* missing = stimulus_family(spec.method()) == StimulusFamily::path_traced
-                              ? "per-eye pre-rendered frames are not built"
-                              : "per-eye images are not made (a folder of images is one view)";
-    throw InputError(std::string(spec.method_name()) + ": a headset study cannot show it yet: " + missing +
-                     " (issue 42); it shows " + shown);
+    throw InputError(std::string(spec.method_name()) +
+                     ": a headset study cannot show it yet: per-eye images are not made (a folder of images is one "
+                     "view; issue 42); it shows " + shown);
   }
   return renderer;
 }

@@ -39,7 +39,7 @@ std::unique_ptr<StimulusRenderer> make_stimulus_renderer(StimulusFamily family, 
     case StimulusFamily::sphere_traced:
       return make_sphere_traced_renderer(context, eye);
     case StimulusFamily::path_traced:
-      return make_path_traced_renderer(context, cache_root);
+      return make_path_traced_renderer(context, cache_root, eye);
     case StimulusFamily::volume:
       return make_volume_renderer(context, eye);
     case StimulusFamily::image_sequence:

@@ -37,8 +37,9 @@ class StimulusRenderer {
   // Whether this family draws the method (exactly one family draws each).
   virtual bool renders(RenderMethod method) const = 0;
   // Whether it can draw a headset eye's view (issue 42): the sphere-traced and volume families,
-  // whose renderers take an EyeView. The path-traced family's frames are pre-rendered for the
-  // desktop camera and the image family's images are one view, so a headset study cannot show them.
+  // whose renderers take an EyeView, and the path-traced family, whose frames are pre-rendered per
+  // eye (PathTraceSequence::eye). The image family's images are one view, so a headset study
+  // cannot show them.
   virtual bool renders_eye_views() const { return false; }
   // Refuses (InputError) what needs no render: the frame size against the device's limits (the
   // study config's display size: errors name its fields), a foveated method's settings.
@@ -76,7 +77,8 @@ void check_image_sequence(const LastImage& last, const std::string& canonical, c
 // image_stimuli.cpp).
 std::unique_ptr<StimulusRenderer> make_sphere_traced_renderer(vk::Context& context, const std::optional<EyeView>& eye);
 std::unique_ptr<StimulusRenderer> make_path_traced_renderer(vk::Context& context,
-                                                            const std::filesystem::path& cache_root);
+                                                            const std::filesystem::path& cache_root,
+                                                            const std::optional<EyeView>& eye);
 std::unique_ptr<StimulusRenderer> make_volume_renderer(vk::Context& context, const std::optional<EyeView>& eye);
 std::unique_ptr<StimulusRenderer> make_image_renderer(vk::Context& context);
 

@@ -274,28 +274,47 @@ DisplayGeometry stimulus_display(const StimulusSpec& spec, const std::optional<E
   return display_from_size(spec.width_px, spec.height_px, size.width_mm, size.height_mm, size.viewing_distance_mm);
 }
 
-std::vector<PathTraceFrameJob> path_traced_frame_jobs(const std::vector<StimulusSpec>& stimuli) {
+std::vector<PathTraceFrameJob> path_traced_frame_jobs(const std::vector<StimulusSpec>& stimuli,
+                                                      const std::vector<std::optional<EyeView>>& eyes) {
   std::vector<PathTraceSequence> sequences;
-  for (const StimulusSpec& spec : stimuli) {
-    if (!is_path_traced(spec.method())) continue;
-    for (const PathTraceSequence& sequence : path_traced_frames(spec).sequences) {
-      bool known = false;
-      for (PathTraceSequence& other : sequences)
-        if (other.description() == sequence.description()) {
-          other.frame_count = std::max(other.frame_count, sequence.frame_count);
-          known = true;
-        }
-      if (!known) sequences.push_back(sequence);
+  for (const std::optional<EyeView>& eye : eyes)
+    for (const StimulusSpec& spec : stimuli) {
+      if (!is_path_traced(spec.method())) continue;
+      for (const PathTraceSequence& sequence : path_traced_frames(spec, eye).sequences) {
+        bool known = false;
+        for (PathTraceSequence& other : sequences)
+          if (other.description() == sequence.description()) {
+            other.frame_count = std::max(other.frame_count, sequence.frame_count);
+            known = true;
+          }
+        if (!known) sequences.push_back(sequence);
+      }
     }
-  }
   std::vector<PathTraceFrameJob> jobs;
   for (const PathTraceSequence& sequence : sequences)
     for (int frame = 0; frame < sequence.frame_count; ++frame) jobs.push_back({sequence, frame});
   return jobs;
 }
 
-PathTracedFrames path_traced_frames(const StimulusSpec& spec) {
+std::array<EyeView, 2> headset_eye_views(const HeadsetDisplayConfig& headset) {
+  const double half_ipd_m = headset.ipd_mm / 2000.0;
+  std::array<EyeView, 2> eyes;
+  eyes[0].position_in_head = {-half_ipd_m, 0.0, 0.0};
+  eyes[0].field_of_view = headset.left_eye_fov;
+  eyes[1].position_in_head = {half_ipd_m, 0.0, 0.0};
+  eyes[1].field_of_view = headset.right_eye_fov;
+  return eyes;
+}
+
+std::vector<std::optional<EyeView>> study_frame_views(const DisplayConfig& display) {
+  if (display.kind != DisplayKind::openxr) return {std::nullopt};
+  const std::array<EyeView, 2> eyes = headset_eye_views(display.headset);
+  return {eyes[0], eyes[1]};
+}
+
+PathTracedFrames path_traced_frames(const StimulusSpec& spec, const std::optional<EyeView>& eye) {
   PathTraceSequence frames;
+  frames.eye = eye;
   frames.scene = spec.scene;
   frames.width_px = spec.width_px;
   frames.height_px = spec.height_px;

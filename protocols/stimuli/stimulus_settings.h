@@ -11,6 +11,8 @@
 // describe the flat stand-in the study was planned on. stimulus_display is the one place that
 // chooses; without an eye every result is the desktop's, unchanged.
 #include <optional>
+#include <array>
+#include <optional>
 #include <vector>
 
 #include "foveation/display_geometry.h"
@@ -104,7 +106,8 @@ ResampleFilter sampling_filter(const StimulusSpec& spec);
 struct PathTracedFrames {
   std::vector<PathTraceSequence> sequences;  // [0]: the frames; [1]: the periphery's, if any
 };
-PathTracedFrames path_traced_frames(const StimulusSpec& spec);
+// With `eye`, each sequence is that headset eye's frames (PathTraceSequence::eye: a folder of its own).
+PathTracedFrames path_traced_frames(const StimulusSpec& spec, const std::optional<EyeView>& eye = std::nullopt);
 
 // Every frame of every path-traced sequence the stimuli need, each once: sequences in the order the
 // stimuli first name them (a sequence named twice keeps the larger frame count), frames in order.
@@ -113,7 +116,17 @@ struct PathTraceFrameJob {
   PathTraceSequence sequence;
   int frame = 0;
 };
-std::vector<PathTraceFrameJob> path_traced_frame_jobs(const std::vector<StimulusSpec>& stimuli);
+// `eyes`: the views the frames are made for, each in turn (a headset study's two eyes:
+// headset_eye_views); the default, one desktop view.
+// The two views a headset study's stimuli are rendered from (left, right), from its config: head-
+// locked, each eye ipd_mm / 2 to its side of the head's origin (metres: a scene unit is a metre),
+// looking straight ahead, with the config's field of view. A session checks the runtime's views
+// against them (protocols/session/session.h); `fovlab prerender` makes each eye's frames for them.
+std::array<EyeView, 2> headset_eye_views(const HeadsetDisplayConfig& headset);
+// The views a study's frames are made for: a headset study's two eyes, else the desktop's one.
+std::vector<std::optional<EyeView>> study_frame_views(const DisplayConfig& display);
+std::vector<PathTraceFrameJob> path_traced_frame_jobs(const std::vector<StimulusSpec>& stimuli,
+                                                      const std::vector<std::optional<EyeView>>& eyes = {std::nullopt});
 
 // The zones of an fpt spec: foveal aperture, middle = foveal + middle_minus_foveal, band width.
 ZoneBounds zone_bounds(const StimulusSpec& spec);

@@ -1,5 +1,7 @@
 #include "renderer/prerender/frame_cache.h"
 
+#include <array>
+
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
@@ -84,6 +86,23 @@ const char* frame_status_text(FrameStatus status) {
   return "?";
 }
 
+namespace {
+
+// An eye's view as the sequence's key writes it: every number exactly (17 significant digits).
+std::string eye_view_text(const EyeView& eye) {
+  const auto numbers = [](const auto& values) {
+    std::string text;
+    for (const double value : values) text += (text.empty() ? "" : ",") + format_number(value, 17);
+    return text;
+  };
+  const EyeFieldOfView& fov = eye.field_of_view;
+  return "position:" + numbers(eye.position_in_head) + ";orientation:" + numbers(eye.orientation_in_head) +
+         ";fov_rad:" +
+         numbers(std::array{fov.angle_left_rad, fov.angle_right_rad, fov.angle_up_rad, fov.angle_down_rad});
+}
+
+}  // namespace
+
 PathTraceSettings PathTraceSequence::settings(int frame) const {
   PathTraceSettings settings;
   settings.width_px = width_px;
@@ -92,6 +111,7 @@ PathTraceSettings PathTraceSequence::settings(int frame) const {
   settings.max_bounces = max_bounces;
   settings.seed = seed;
   settings.time_s = frame_time_s(frame);
+  settings.eye = eye;
   return settings;
 }
 
@@ -99,7 +119,7 @@ std::string PathTraceSequence::description() const {
   return "scene=" + scene + ";size=" + size_text(width_px, height_px) +
          ";samples_per_pixel=" + std::to_string(samples_per_pixel) + ";max_bounces=" + std::to_string(max_bounces) +
          ";seed=" + std::to_string(seed) + ";frames_per_second=" + format_number(frames_per_second, 17) +
-         ";camera_start_s=" + format_number(camera_start_s, 17);
+         ";camera_start_s=" + format_number(camera_start_s, 17) + (eye ? ";eye=" + eye_view_text(*eye) : "");
 }
 
 FrameCache::FrameCache(vk::Context& context, std::filesystem::path root) : context_(&context), root_(std::move(root)) {}

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/image.h"
@@ -40,11 +41,15 @@ struct PathTraceSequence {
   uint32_t seed = 1;
   double frames_per_second = 30.0;
   double camera_start_s = 0.0;
+  // A headset eye's view (issue 42): the frames as that eye sees the camera path; part of the key,
+  // so each eye's frames have a folder of their own. None: the desktop camera's frames.
+  std::optional<EyeView> eye;
   int frame_count = 1;  // not part of the key: a longer sequence extends a shorter one's folder
 
   double frame_time_s(int frame) const { return camera_start_s + frame / frames_per_second; }
   PathTraceSettings settings(int frame) const;
-  // Every setting that changes a pixel, as text ("scene=...;size=...;..."), the scene by name.
+  // Every setting that changes a pixel, as text ("scene=...;size=...;..."), the scene by name; an
+  // eye's view last (";eye=position:...;orientation:...;fov_rad:...", exact), absent without one.
   std::string description() const;
   bool operator==(const PathTraceSequence& other) const {
     return description() == other.description() && frame_count == other.frame_count;

@@ -351,6 +351,94 @@ TEST_F(HeadsetStudy, AParticipantAnswersOnTheController) {
   EXPECT_EQ(responses, 2);
 }
 
+// The emulated foveated path tracer in the headset: `fovlab prerender` makes each eye's frames (a
+// cache folder an eye, none for the desktop's view), the session shows each eye its own, blended
+// by its own gaze, and the log replays both eyes.
+TEST_F(HeadsetStudy, AnFptStudyIsPreRenderedPerEyeAndRunsInTheHeadset) {
+  const std::string config_text = R"([study]
+name = "headset_fpt"
+seed = 21
+
+[display]
+kind = "openxr"
+eye_width_px = 32
+eye_height_px = 36
+refresh_hz = 90
+left_eye_fov_deg = [-54, 49, 54, -56]
+right_eye_fov_deg = [-49, 54, 54, -56]
+gaze_fixation = "fixation-distance"
+fixation_distance_mm = 4000
+
+[stimulus]
+duration_s = 0.0667
+frames_per_second = 30
+camera_start_s = 3.0
+
+[stimulus.reference]
+method = "pt"
+samples_per_pixel = 2
+max_bounces = 2
+
+[stimulus.test]
+method = "fpt"
+samples_per_pixel = 2
+max_bounces = 2
+
+[levels]
+parameter = "foveal_aperture_deg"
+values = [5, 20]
+higher_is_better = true
+
+[protocol]
+kind = "pair"
+repeats = 1
+
+[[block]]
+scene = "courtyard"
+)";
+  const std::filesystem::path config = write("fpt.toml", config_text);
+  const std::filesystem::path cache = scratch_.path() / "cache";
+  const CommandResult prerendered = cli_test::run("prerender " + config.string() + " --cache " + cache.string());
+  ASSERT_EQ(prerendered.exit_code, 0) << prerendered.out << prerendered.err;
+  int folders = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(cache)) {
+    if (!entry.is_directory()) continue;
+    ++folders;
+    std::ifstream manifest(entry.path() / "cache.json");
+    const nlohmann::json described = nlohmann::json::parse(manifest);
+    EXPECT_NE(described.value("sequence", "").find(";eye=position:"), std::string::npos) << described.dump();
+  }
+  EXPECT_EQ(folders, 2) << "one sequence an eye";
+  const auto frame_files = [&] {
+    int count = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(cache))
+      count += entry.path().extension() == ".exr" ? 1 : 0;
+    return count;
+  };
+  const int prerendered_frames = frame_files();
+  EXPECT_EQ(prerendered_frames, 4) << "2 frames an eye";
+
+  const CommandResult ran = run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON,
+                                      " --observer simulated --gaze synthetic:seed=3 --cache " + cache.string());
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_EQ(frame_files(), prerendered_frames) << "the session found each eye's frames in the cache";
+  const std::filesystem::path log = results_ / "headset_fpt" / "P01" / "events.jsonl";
+  std::ifstream lines(log);
+  int stimuli = 0, eyes_differ = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ++stimuli;
+    ASSERT_TRUE(event.contains("right_eye_hash")) << line;
+    if (event["right_eye_hash"] != event["hash"]) ++eyes_differ;
+  }
+  EXPECT_GT(stimuli, 0);
+  EXPECT_EQ(eyes_differ, stimuli);
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify --cache " + cache.string());
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+}
+
 // The headset losing the focus mid-session (the test runtime's VISIBLE at frame 400, as a headset
 // taken off) pauses the study as a closed window does: session_paused with the reason, the log
 // sealed; the next run resumes it to the end, and the log replays.

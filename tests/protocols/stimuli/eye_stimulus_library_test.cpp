@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -13,12 +14,16 @@
 #include "foveation/voronoi_reconstruction.h"
 #include "protocols/stimuli/stimulus_library.h"
 #include "protocols/stimuli/stimulus_settings.h"
+#include "renderer/path_tracing/path_tracer.h"
+#include "renderer/prerender/frame_cache.h"
+#include "renderer/prerender/path_scene_source.h"
 #include "renderer/scene/eye_view.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/volume/volume_raycaster.h"
 #include "renderer/volume/volume_scene.h"
 #include "tests/renderer/vulkan_test_fixture.h"
+#include "tests/support/temp_dir.h"
 
 namespace fovlab {
 namespace {
@@ -179,9 +184,8 @@ TEST_F(EyeStimulusLibrary, PreparedFramesAreEachEyesOwn) {
   EXPECT_NE(left_frame.rgba, right_frame.rgba);
 }
 
-TEST_F(EyeStimulusLibrary, FamiliesWithoutEyeViewsAreRefusedByPrepareInOneLine) {
+TEST_F(EyeStimulusLibrary, ImageStimuliAreRefusedByPrepareInOneLine) {
   StimulusLibrary library(context(), "stimuli/cache", eye_of(0));
-  const std::string shown = "it shows gt, ipr, fipr, ";
   const auto refusal = [&](const StimulusSpec& spec) -> std::string {
     try {
       library.prepare({{0, spec_of(RenderMethod::ground_truth, "primitives")}, {1, spec}});
@@ -190,21 +194,6 @@ TEST_F(EyeStimulusLibrary, FamiliesWithoutEyeViewsAreRefusedByPrepareInOneLine) 
     }
     return "";
   };
-  const std::string pt = refusal(spec_of(RenderMethod::path_traced, "courtyard"));
-  EXPECT_EQ(pt.rfind("pt: a headset study cannot show it yet: per-eye pre-rendered frames are not built (issue 42); "
-                     "it shows gt, ipr, fipr, ",
-                     0),
-            0u)
-      << pt;
-  EXPECT_NE(pt.find(", volume, fvolume"), std::string::npos) << pt;
-  EXPECT_EQ(pt.find('\n'), std::string::npos);
-  for (const char* not_shown : {" pt,", " fpt,", " pt-rmfr", " img-rmfr"})
-    EXPECT_EQ(pt.find(not_shown), std::string::npos) << pt;
-  EXPECT_NE(pt.find(std::string(describe(sampled_method(0, SamplingModel::rectangular)).name)), std::string::npos);
-  EXPECT_EQ(refusal(spec_of(RenderMethod::foveated_path_traced, "courtyard")).rfind("fpt: a headset study", 0), 0u);
-  const StimulusSpec pt_rmfr = spec_of(sampled_method(1, SamplingModel::rectangular), "courtyard");
-  EXPECT_NE(refusal(pt_rmfr).find(std::string(pt_rmfr.method_name()) + ": a headset study cannot show it yet"),
-            std::string::npos);
   const StimulusSpec images = spec_of(sampled_method(2, SamplingModel::rectangular), "stimuli/no-such-folder");
   const std::string image_refusal = refusal(images);
   EXPECT_EQ(image_refusal.rfind(std::string(images.method_name()) + ": a headset study cannot show it yet: per-eye "
@@ -212,10 +201,57 @@ TEST_F(EyeStimulusLibrary, FamiliesWithoutEyeViewsAreRefusedByPrepareInOneLine) 
                                 0),
             0u)
       << image_refusal;
+  EXPECT_EQ(image_refusal.find('\n'), std::string::npos);
+  // The methods it does show, from the families: the path-traced ones among them.
+  for (const char* shown : {"it shows gt, ipr, fipr, ", " pt,", " fpt,", " volume, fvolume"})
+    EXPECT_NE(image_refusal.find(shown), std::string::npos) << image_refusal;
+  EXPECT_EQ(image_refusal.find(" img-rmfr"), std::string::npos) << image_refusal;
   // Refused before anything was rendered (the gt stimulus listed first included).
   EXPECT_EQ(library.render_seconds(), 0.0);
   // render() refuses them too (a replay renders without prepare).
-  EXPECT_THROW(library.render(spec_of(RenderMethod::path_traced, "courtyard"), StimulusImage{}), InputError);
+  EXPECT_THROW(library.render(images, StimulusImage{}), InputError);
+}
+
+// Pre-rendered path-traced frames are made per eye: each eye's sequence (its key names the eye's
+// view) has a folder of its own in the cache, holding the path tracer's frames of that eye's view,
+// and each eye's library shows its own.
+TEST_F(EyeStimulusLibrary, PathTracedFramesArePreRenderedPerEye) {
+  testing::TempDir cache{"eye-prerender"};
+  StimulusSpec pt = spec_of(RenderMethod::path_traced, "courtyard");
+  std::get<PathTracedParameters>(pt.parameters).samples_per_pixel = 2;
+  std::get<PathTracedParameters>(pt.parameters).max_bounces = 2;
+  const PathTraceSequence desktop = path_traced_frames(pt).sequences.at(0);
+  const PathTraceSequence left_sequence = path_traced_frames(pt, eye_of(0)).sequences.at(0);
+  const PathTraceSequence right_sequence = path_traced_frames(pt, eye_of(1)).sequences.at(0);
+  EXPECT_EQ(desktop.description().find(";eye="), std::string::npos) << "the desktop's keys are unchanged";
+  EXPECT_NE(left_sequence.description().find(";eye=position:"), std::string::npos) << left_sequence.description();
+  EXPECT_NE(left_sequence.description(), right_sequence.description());
+  ASSERT_TRUE(left_sequence.settings(0).eye.has_value());
+  EXPECT_EQ(*left_sequence.settings(0).eye, eye_of(0));
+
+  StimulusLibrary left(context(), cache.path(), eye_of(0)), right(context(), cache.path(), eye_of(1));
+  left.prepare({{0, pt}});
+  right.prepare({{0, pt}});
+  const Rgba8Frame left_frame = left.frame(0, pt, StimulusImage{}).image;
+  const Rgba8Frame right_frame = right.frame(0, pt, StimulusImage{}).image;
+  EXPECT_NE(left_frame.rgba, right_frame.rgba);
+  // Each eye's cached frame is the path tracer's own render of that eye's view.
+  FrameCache frames(context(), cache.path());
+  PathTracer tracer(context(), load_path_scene("courtyard").scene);
+  const Image rendered = tracer.render(left_sequence.settings(0)).image;
+  const Image cached = frames.frame(left_sequence, 0);
+  ASSERT_EQ(cached.width, rendered.width);
+  EXPECT_TRUE(cached.pixels == rendered.pixels);
+  EXPECT_NE(frames.folder(left_sequence), frames.folder(right_sequence));
+  // The two folders, and no desktop one.
+  int folders = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(cache.path())) folders += entry.is_directory() ? 1 : 0;
+  EXPECT_EQ(folders, 2);
+  // The jobs fovlab prerender runs for the two eyes: one sequence an eye.
+  const std::vector<PathTraceFrameJob> jobs = path_traced_frame_jobs({pt}, {eye_of(0), eye_of(1)});
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].sequence.description(), left_sequence.description());
+  EXPECT_EQ(jobs[1].sequence.description(), right_sequence.description());
 }
 
 // The conversions that take a display take the eye's when given (stimulus_settings.h), and the
