@@ -140,9 +140,10 @@ void add_run_command(CLI::App& app) {
   command->add_option(
       "--gaze", options->session.gaze,
       "mouse | trace:FILE | synthetic[:seed=N][,age_ms=A] | "
-      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] (default: synthetic headless; in a window the "
-      "mouse, but a gaze-contingent study needs a tracker named, pupil..., or the mouse by name for a "
-      "rehearsal; a config's [gaze] require is kept; the trace format and the options: docs/gaze.md)");
+      "pupil[:HOST[:PORT]][,surface=NAME][,min_confidence=C] | openxr (default: synthetic headless; in a window "
+      "the mouse, but a gaze-contingent study needs a tracker named, pupil..., or the mouse by name for a "
+      "rehearsal; in a headset its eye tracker, openxr; a config's [gaze] require is kept; the trace format and "
+      "the options: docs/gaze.md)");
   CLI::Option* results = add_output_option(
       *command, "--results", options->session.results_dir,
       "Results folder (default: results, and results/simulated for a simulated observer, so that pilots never share a "
