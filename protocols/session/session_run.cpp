@@ -216,7 +216,7 @@ std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const 
   const int width_px = spec.width_px, height_px = spec.height_px;
   GazeSample left_raw = raw;
   std::optional<GazeSample> right_raw;
-  if (on_depth && raw.ray_in_head) {
+  if (on_depth && raw.ray_in_head && (raw.valid || raw.invalid_reason == "off_screen")) {
     // The eye tracker's ray, resting on the surface it meets: both eyes' pixels come from that point
     // (the source's own pixel was the ray's direction at infinity). Off the left image at infinity
     // may be on it at the surface, so its "off_screen" is decided again here.

@@ -370,6 +370,76 @@ TEST_F(HeadsetStudy, TheHeadsetsEyeGazeRestsOnTheRenderedDepth) {
   EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
 }
 
+// A source that gives the left eye's pixels (synthetic) with rendered-depth: the right eye's logged
+// pixel is where it sees the point at which the left eye's ray through the logged left pixel meets
+// gaze_wall.glsl's ball or wall, found here analytically. The march stops short of the surface by
+// at most band x t / cos(incidence) along the ray (SphereTracer::hit_distance): the right eye's pixel
+// lies between those of the analytic point and of the point that much nearer, plus the log's
+// rounding. Grazing samples (cos under 0.2) are only checked to be valid.
+TEST_F(HeadsetStudy, APixelSourcesGazeRestsOnTheRenderedDepthAlongTheLeftEyesRay) {
+  const std::string wall = std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/gaze_wall.glsl";
+  std::string text = headset_study();
+  text.replace(text.find("scene = \"primitives\""), 20, "scene = \"" + wall + "\"");
+  const std::filesystem::path config = write("depth.toml", text);
+  const CommandResult ran =
+      run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  std::ifstream lines(results_ / "headset_cli" / "P01" / "events.jsonl");
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  const nlohmann::json header = nlohmann::json::parse(line);
+  using Vec3 = std::array<double, 3>;
+  std::array<Vec3, 2> position{};
+  std::array<std::array<double, 4>, 2> tan{};  // left, right, up, down
+  for (size_t eye = 0; eye < 2; ++eye) {
+    position[eye] = header["headset"]["eyes"][eye]["position_m"].get<Vec3>();
+    const std::array<double, 4> fov = header["headset"]["eyes"][eye]["fov_rad"].get<std::array<double, 4>>();
+    for (size_t i = 0; i < 4; ++i) tan[eye][i] = std::tan(fov[i]);
+  }
+  // Each eye looks straight ahead (the test runtime's orientation is the head's).
+  const auto pixel_in = [&](size_t eye, const Vec3& p) {
+    const double depth = position[eye][2] - p[2];
+    return std::array<double, 2>{64 * ((p[0] - position[eye][0]) / depth - tan[eye][0]) / (tan[eye][1] - tan[eye][0]),
+                                 72 * (tan[eye][2] - (p[1] - position[eye][1]) / depth) / (tan[eye][2] - tan[eye][3])};
+  };
+  const double band_rad = 0.25 * (tan[0][2] - tan[0][3]) / 72.0;
+  int checked = 0, samples = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ASSERT_FALSE(event.contains("invalid_gaze") && !event["invalid_gaze"].empty()) << line;
+    for (size_t i = 0; i < event["gaze"].size(); ++i, ++samples) {
+      const double x = event["gaze"][i][0].get<double>(), y = event["gaze"][i][1].get<double>();
+      const Vec3 o = position[0];
+      Vec3 d{tan[0][0] + (tan[0][1] - tan[0][0]) * x / 64, tan[0][2] + (tan[0][3] - tan[0][2]) * y / 72, -1.0};
+      const double n = std::hypot(d[0], d[1], d[2]);
+      for (double& v : d) v /= n;
+      // The ball (centre c, radius 0.2) if the ray meets it, else the wall z = -1.
+      const Vec3 c{-0.5, 0.0, -0.7}, oc{o[0] - c[0], o[1] - c[1], o[2] - c[2]};
+      const double b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+      const double disc = b * b - (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - 0.04);
+      double t = (-1.0 - o[2]) / d[2], cos_incidence = -d[2];
+      if (disc >= 0.0 && -b - std::sqrt(disc) > 0.0) {
+        t = -b - std::sqrt(disc);
+        const Vec3 normal{(oc[0] + t * d[0]) / 0.2, (oc[1] + t * d[1]) / 0.2, (oc[2] + t * d[2]) / 0.2};
+        cos_incidence = -(normal[0] * d[0] + normal[1] * d[1] + normal[2] * d[2]);
+      }
+      if (cos_incidence < 0.2) continue;
+      const double short_m = band_rad * t / cos_incidence;
+      const auto far = pixel_in(1, {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]});
+      const auto near = pixel_in(1, {o[0] + (t - short_m) * d[0], o[1] + (t - short_m) * d[1], o[2] + (t - short_m) * d[2]});
+      const double right_x = event["right_eye_gaze"][i][0].get<double>(), right_y = event["right_eye_gaze"][i][1].get<double>();
+      EXPECT_GE(right_x, std::min(far[0], near[0]) - 0.0051) << line;
+      EXPECT_LE(right_x, std::max(far[0], near[0]) + 0.0051) << line;
+      EXPECT_GE(right_y, std::min(far[1], near[1]) - 0.0051) << line;
+      EXPECT_LE(right_y, std::max(far[1], near[1]) + 0.0051) << line;
+      ++checked;
+    }
+  }
+  EXPECT_GT(samples, 0);
+  EXPECT_GT(checked, samples / 2) << "most samples meet the wall or the ball head-on enough";
+}
+
 // experiments/fipr_main_hmd.toml's gaze_fixation ("rendered-depth") is no longer refused: a copy at
 // 64x72 an eye runs in the test runtime, with the headset's eye gaze, through its first trial (then
 // it is stopped: the whole study is hours), both eyes' gaze logged on the built-in scenes.
