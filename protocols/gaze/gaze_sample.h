@@ -1,9 +1,17 @@
 #pragma once
 // One gaze sample in screen pixels (origin top-left, x right, y down) at a session time.
+#include <array>
 #include <optional>
 #include <string>
 
 namespace fovlab {
+
+// A headset eye tracker's combined gaze ray in the head's frame (OpenXR's VIEW space: x right, y up,
+// z backwards; metres), from which its sample's position came.
+struct GazeRay {
+  std::array<double, 3> origin_m{0.0, 0.0, 0.0};
+  std::array<double, 3> direction{0.0, 0.0, -1.0};  // any length
+};
 
 struct GazeSample {
   double time_s = 0.0;  // session clock (virtual in headless sessions)
@@ -16,6 +24,10 @@ struct GazeSample {
   double y_px = 0.0;
   bool valid = true;
   std::string invalid_reason;  // "blink", "off_screen", "not_finite", "no_data", "low_confidence"; empty when valid
+  // The ray the position came from, where the source measures one (the headset's eye tracker), so
+  // that a headset session can rest the gaze where the ray meets the rendered scene (issue 42,
+  // protocols/gaze/headset_gaze.h); nullopt for the sources that give pixels. Never logged.
+  std::optional<GazeRay> ray_in_head;
 };
 
 // Sessions use and log gaze positions rounded to this step (the log's JSON numbers stay short and

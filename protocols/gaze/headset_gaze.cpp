@@ -76,6 +76,14 @@ std::optional<std::pair<double, double>> eye_pixel_of_point(const EyeView& eye, 
   return std::pair{x_px, y_px};
 }
 
+std::optional<std::pair<double, double>> eye_pixel_of_direction(const EyeView& eye, int width_px, int height_px,
+                                                                const Vec3& direction_in_head) {
+  // The point one unit along the direction from the eye itself: the eye sees it along the direction.
+  const Vec3 point{eye.position_in_head[0] + direction_in_head[0], eye.position_in_head[1] + direction_in_head[1],
+                   eye.position_in_head[2] + direction_in_head[2]};
+  return eye_pixel_of_point(eye, width_px, height_px, point);
+}
+
 Vec3 direction_of_eye_pixel(const EyeView& eye, int width_px, int height_px, double x_px, double y_px) {
   require_size(width_px, height_px, "direction_of_eye_pixel");
   const EyeFieldOfView& fov = eye.field_of_view;
@@ -119,6 +127,71 @@ std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel(const HeadsetGazeGeometry
   const auto right = eye_pixel_of_point(geometry.eyes[1], geometry.width_px, geometry.height_px, point);
   if (!right) return both_invalid(left, "off_screen");
   return {left, at(left, *right)};
+}
+
+namespace {
+
+// Where each eye sees the ray's resting point: hit_distance_m along its unit direction, or with no
+// hit its direction at optical infinity. nullopt for a point or direction not in front of an eye.
+std::optional<std::array<std::pair<double, double>, 2>> eye_pixels_at_depth(const HeadsetGazeGeometry& geometry,
+                                                                            const Vec3& origin_m,
+                                                                            const Vec3& unit_direction,
+                                                                            std::optional<double> hit_distance_m) {
+  std::array<std::pair<double, double>, 2> pixels;
+  for (size_t i = 0; i < 2; ++i) {
+    const EyeView& eye = geometry.eyes[i];
+    std::optional<std::pair<double, double>> pixel;
+    if (hit_distance_m) {
+      const Vec3 point{origin_m[0] + *hit_distance_m * unit_direction[0],
+                       origin_m[1] + *hit_distance_m * unit_direction[1],
+                       origin_m[2] + *hit_distance_m * unit_direction[2]};
+      pixel = eye_pixel_of_point(eye, geometry.width_px, geometry.height_px, point);
+    } else {
+      pixel = eye_pixel_of_direction(eye, geometry.width_px, geometry.height_px, unit_direction);
+    }
+    if (!pixel) return std::nullopt;
+    pixels[i] = *pixel;
+  }
+  return pixels;
+}
+
+bool usable_distance(std::optional<double> hit_distance_m) {
+  return !hit_distance_m || (std::isfinite(*hit_distance_m) && *hit_distance_m >= 0.0);
+}
+
+}  // namespace
+
+std::array<GazeSample, 2> eye_gaze_from_ray_at_depth(const HeadsetGazeGeometry& geometry, const Vec3& origin_m,
+                                                     const Vec3& direction, std::optional<double> hit_distance_m,
+                                                     const GazeSample& template_sample) {
+  require_size(geometry.width_px, geometry.height_px, "eye_gaze_from_ray_at_depth");
+  if (!template_sample.valid) return {template_sample, template_sample};
+  const double norm = length(direction);
+  if (!(std::isfinite(norm) && norm > 0.0) || !std::isfinite(length(origin_m)) || !usable_distance(hit_distance_m))
+    return both_invalid(template_sample, "not_finite");
+  const Vec3 unit{direction[0] / norm, direction[1] / norm, direction[2] / norm};
+  const auto pixels = eye_pixels_at_depth(geometry, origin_m, unit, hit_distance_m);
+  if (!pixels) return both_invalid(template_sample, "off_screen");
+  return {at(template_sample, (*pixels)[0]), at(template_sample, (*pixels)[1])};
+}
+
+std::optional<GazeRay> left_eye_ray_of_pixel(const HeadsetGazeGeometry& geometry, double x_px, double y_px) {
+  if (!std::isfinite(x_px) || !std::isfinite(y_px)) return std::nullopt;
+  const EyeView& left_eye = geometry.eyes[0];
+  return GazeRay{left_eye.position_in_head,
+                 direction_of_eye_pixel(left_eye, geometry.width_px, geometry.height_px, x_px, y_px)};
+}
+
+std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel_at_depth(const HeadsetGazeGeometry& geometry,
+                                                                const GazeSample& left,
+                                                                std::optional<double> hit_distance_m) {
+  require_size(geometry.width_px, geometry.height_px, "eye_gaze_from_left_eye_pixel_at_depth");
+  if (!left.valid) return {left, left};
+  const std::optional<GazeRay> ray = left_eye_ray_of_pixel(geometry, left.x_px, left.y_px);
+  if (!ray || !usable_distance(hit_distance_m)) return both_invalid(left, "not_finite");
+  const auto pixels = eye_pixels_at_depth(geometry, ray->origin_m, ray->direction, hit_distance_m);
+  if (!pixels) return both_invalid(left, "off_screen");
+  return {left, at(left, (*pixels)[1])};
 }
 
 }  // namespace fovlab

@@ -28,6 +28,12 @@ namespace fovlab {
 std::optional<std::pair<double, double>> eye_pixel_of_point(const EyeView& eye, int width_px, int height_px,
                                                             const std::array<double, 3>& point_in_head_m);
 
+// Where a direction (in the head's frame, any length) appears in the eye's image: the image position
+// of a point at optical infinity along it, the same direction in every eye. nullopt as
+// eye_pixel_of_point (a direction not in front of the eye, or not finite).
+std::optional<std::pair<double, double>> eye_pixel_of_direction(const EyeView& eye, int width_px, int height_px,
+                                                                const std::array<double, 3>& direction_in_head);
+
 // The unit direction, in the head's frame, from the eye through the image position (x_px, y_px) of
 // its width_px x height_px image (positions off the image extend the same plane).
 // std::invalid_argument for a size under 1 pixel.
@@ -64,5 +70,33 @@ std::array<GazeSample, 2> eye_gaze_from_ray(const HeadsetGazeGeometry& geometry,
 // front of the right eye, two invalid "off_screen" ones.
 // std::invalid_argument for a fixation distance that is not positive and finite.
 std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel(const HeadsetGazeGeometry& geometry, const GazeSample& left);
+
+// The gaze resting on the rendered scene (gaze_fixation = "rendered-depth"): the ray (origin in the
+// head, metres; direction, any length) meets the surface shown hit_distance_m along its unit
+// direction (the stimulus library's surface_distance), and each eye's sample is where that point
+// appears to it; no hit (nullopt: the sky) rests the gaze at optical infinity, the ray's direction
+// in each eye (eye_pixel_of_direction). Each sample is `template_sample` (its time fields) with that
+// position. Both are invalid, as eye_gaze_from_ray says, for an invalid template, a ray that is not
+// finite or has no direction, a distance that is not finite or is negative ("not_finite"), or a
+// point not in front of both eyes ("off_screen"). Needs no fixation distance.
+std::array<GazeSample, 2> eye_gaze_from_ray_at_depth(const HeadsetGazeGeometry& geometry,
+                                                     const std::array<double, 3>& origin_m,
+                                                     const std::array<double, 3>& direction,
+                                                     std::optional<double> hit_distance_m,
+                                                     const GazeSample& template_sample);
+
+// The ray of a source that gives the left eye's pixels (trace, synthetic) for rendered-depth: from
+// the left eye's position through that pixel (direction_of_eye_pixel, unit). nullopt for a position
+// that is not finite.
+std::optional<GazeRay> left_eye_ray_of_pixel(const HeadsetGazeGeometry& geometry, double x_px, double y_px);
+
+// eye_gaze_from_left_eye_pixel resting on the rendered scene: the left sample is `left` as it is, and
+// the right eye's is where the point hit_distance_m along the left eye's ray through it
+// (left_eye_ray_of_pixel) appears to it, or with no hit (nullopt) the ray's direction at optical
+// infinity. Invalid samples as eye_gaze_from_left_eye_pixel (a distance not finite or negative:
+// "not_finite"; a point not in front of the right eye: "off_screen"). Needs no fixation distance.
+std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel_at_depth(const HeadsetGazeGeometry& geometry,
+                                                                const GazeSample& left,
+                                                                std::optional<double> hit_distance_m);
 
 }  // namespace fovlab

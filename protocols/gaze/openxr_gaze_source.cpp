@@ -16,13 +16,19 @@ GazeSample OpenXrGazeSource::sample(double time_s) {
   if (!ray) return invalid("no_data");
   sample.acquired_s =
       ray->sample_time != 0 ? time_base_s_ + headset_.session_time_s(ray->sample_time) : time_s;
-  // Where the ray meets the plane z = -fixation_distance_m (the head looks along -z).
-  const double along = (-geometry_.fixation_distance_m - ray->origin_m[2]) / ray->direction[2];
-  if (!(along > 0.0) || !std::isfinite(along)) return invalid("off_screen");
-  const std::array<double, 3> point{ray->origin_m[0] + along * ray->direction[0],
-                                    ray->origin_m[1] + along * ray->direction[1],
-                                    ray->origin_m[2] + along * ray->direction[2]};
-  const auto left = eye_pixel_of_point(geometry_.eyes[0], geometry_.width_px, geometry_.height_px, point);
+  sample.ray_in_head = GazeRay{ray->origin_m, ray->direction};
+  std::optional<std::pair<double, double>> left;
+  if (geometry_.fixation_distance_m > 0.0) {
+    // Where the ray meets the plane z = -fixation_distance_m (the head looks along -z).
+    const double along = (-geometry_.fixation_distance_m - ray->origin_m[2]) / ray->direction[2];
+    if (!(along > 0.0) || !std::isfinite(along)) return invalid("off_screen");
+    const std::array<double, 3> point{ray->origin_m[0] + along * ray->direction[0],
+                                      ray->origin_m[1] + along * ray->direction[1],
+                                      ray->origin_m[2] + along * ray->direction[2]};
+    left = eye_pixel_of_point(geometry_.eyes[0], geometry_.width_px, geometry_.height_px, point);
+  } else {
+    left = eye_pixel_of_direction(geometry_.eyes[0], geometry_.width_px, geometry_.height_px, ray->direction);
+  }
   if (!left) return invalid("off_screen");
   sample.x_px = left->first;
   sample.y_px = left->second;

@@ -47,7 +47,9 @@ nlohmann::json headset_views_json(const HeadsetViews& views) {
           {"eye_width_px", views.eye_width_px},
           {"eye_height_px", views.eye_height_px},
           {"view_model", headset_view_model_name(views.view_model)},
-          {"gaze_fixation", {{"kind", "fixation-distance"}, {"distance_mm", views.fixation_distance_mm}}},
+          {"gaze_fixation", views.gaze_fixation == GazeFixation::rendered_depth
+                                ? nlohmann::json{{"kind", "rendered-depth"}}
+                                : nlohmann::json{{"kind", "fixation-distance"}, {"distance_mm", views.fixation_distance_mm}}},
           {"eyes", eyes}};
 }
 
@@ -63,11 +65,18 @@ HeadsetViews headset_views_from_json(const nlohmann::json& headset, const std::s
   if (model != headset_view_model_name(HeadsetViewModel::head_locked))
     throw InputError(where + ": headset.view_model: expected \"head-locked\", got \"" + model + "\"");
   const nlohmann::json fixation = headset.value("gaze_fixation", nlohmann::json());
-  if (!fixation.is_object() || fixation.value("kind", "") != "fixation-distance" ||
-      !fixation.value("distance_mm", nlohmann::json()).is_number() || !(fixation["distance_mm"].get<double>() > 0.0))
+  const std::string fixation_kind = fixation.is_object() ? fixation.value("kind", "") : "";
+  if (fixation_kind == "rendered-depth" && fixation.size() == 1) {
+    views.gaze_fixation = GazeFixation::rendered_depth;
+  } else if (fixation_kind == "fixation-distance" && fixation.value("distance_mm", nlohmann::json()).is_number() &&
+             fixation["distance_mm"].get<double>() > 0.0 && std::isfinite(fixation["distance_mm"].get<double>())) {
+    views.gaze_fixation = GazeFixation::fixation_distance;
+    views.fixation_distance_mm = fixation["distance_mm"].get<double>();
+  } else {
     throw InputError(where +
-                     ": headset.gaze_fixation: expected {\"kind\": \"fixation-distance\", \"distance_mm\": > 0}");
-  views.fixation_distance_mm = fixation["distance_mm"].get<double>();
+                     ": headset.gaze_fixation: expected {\"kind\": \"rendered-depth\"} or {\"kind\": "
+                     "\"fixation-distance\", \"distance_mm\": > 0}");
+  }
   const nlohmann::json eyes = headset.value("eyes", nlohmann::json());
   if (!eyes.is_array() || eyes.size() != 2) throw InputError(where + ": headset.eyes: expected the two eyes' views");
   for (size_t i = 0; i < 2; ++i) {

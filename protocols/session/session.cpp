@@ -43,6 +43,7 @@
 #include "protocols/stimuli/plan_renderable.h"
 #include "protocols/stimuli/image_sequence.h"
 #include "protocols/stimuli/stimulus_library.h"
+#include "protocols/stimuli/stimulus_renderer.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/vk/context.h"
 
@@ -168,9 +169,11 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 }
 
 // What a headset session cannot do yet (issue 42, docs/hmd.md), refused before anything is opened
-// or written: the runtime's recommended eye size (the plan needs one), head-tracked views, the gaze
-// meeting the rendered depth.
-void check_headset_session_buildable(const StudyConfig& config) {
+// or written: the runtime's recommended eye size (the plan needs one), head-tracked views; and the
+// gaze resting on the rendered depth of stimuli that show no surface (volume, fvolume: their rays
+// pass through a medium; the config cannot give a fixation distance beside rendered-depth, so they
+// are refused rather than given one).
+void check_headset_session_buildable(const StudyConfig& config, const StudyPlan& plan) {
   require_eye_image_size(config, "run");
   const HeadsetDisplayConfig& headset = config.display.headset;
   const std::string& path = config.source_path;
@@ -178,10 +181,15 @@ void check_headset_session_buildable(const StudyConfig& config) {
     throw InputError(path +
                      ": display.view_model: \"head-tracked\" sessions are not built yet (issue 42); run it "
                      "\"head-locked\"");
-  if (headset.gaze_fixation == GazeFixation::rendered_depth)
-    throw InputError(path +
-                     ": display.gaze_fixation: \"rendered-depth\" is not built yet in a headset session "
-                     "(issue 42); set gaze_fixation = \"fixation-distance\" with fixation_distance_mm");
+  if (headset.gaze_fixation != GazeFixation::rendered_depth) return;
+  for (const PlannedStimulus& stimulus : plan.stimuli) {
+    const StimulusFamily family = stimulus_family(stimulus.spec.method());
+    if (family == StimulusFamily::sphere_traced) continue;
+    throw InputError(path + ": display.gaze_fixation: \"rendered-depth\" rests the gaze on the surface the sphere "
+                     "tracer finds, and method " + std::string(describe(stimulus.spec.method()).name) + " (" +
+                     stimulus_family_name(family) +
+                     ") has no such trace; set gaze_fixation = \"fixation-distance\" with fixation_distance_mm");
+  }
 }
 
 // The runtime's name and version, as the header records it.
@@ -222,6 +230,7 @@ HeadsetViews headset_views_at_start(OpenXrPresenter& headset, const StudyConfig&
                  runtime_ipd_mm, config.display.headset.ipd_mm, config.source_path.c_str());
   views.eyes = headset_eye_views(config.display.headset);
   views.view_model = config.display.headset.view_model;
+  views.gaze_fixation = config.display.headset.gaze_fixation;
   views.fixation_distance_mm = config.display.headset.fixation_distance_mm;
   return views;
 }
@@ -263,7 +272,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   // The config's [gaze] require, and in a window a gaze-contingent study's need of a named source
   // (docs/gaze.md): refused here, before any window or folder.
   const bool in_headset = config.display.kind == DisplayKind::openxr;
-  if (in_headset) check_headset_session_buildable(config);
+  if (in_headset) check_headset_session_buildable(config, plan);
   const ChosenGaze chosen_gaze = choose_gaze(config, options.gaze, options.headless);
   const GazeSpec& gaze_spec = chosen_gaze.spec;
   if (gaze_spec.kind == GazeSpec::Kind::mouse && (options.headless || in_headset))
@@ -521,7 +530,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   EventLogWriter writer(outcome.log_path, record ? existing->last_chain : std::string(),
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
   std::optional<RightEyeStimuli> right_eye;
-  if (right_library) right_eye = RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views)};
+  if (right_library)
+    right_eye = RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views), headset_views->gaze_fixation};
   SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s,
                  right_eye ? &*right_eye : nullptr);
   if (header) {

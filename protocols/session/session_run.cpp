@@ -144,9 +144,15 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
     for (int refresh = 0; refresh < refreshes; ++refresh) {
       // Rounded to kGazeStepPx by sanitize_gaze: what is logged is exactly what is used.
-      const GazeSample sample = sanitize_gaze(gaze_.sample(t()), stimulus.spec.width_px, stimulus.spec.height_px,
-                                              last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
-      if (sample.valid) last_valid_gaze_ = sample;
+      std::array<GazeSample, 2> eye_samples;
+      if (right_eye_) {
+        eye_samples = headset_gaze(gaze_.sample(t()), stimulus.spec, frame);
+      } else {
+        eye_samples[0] = sanitize_gaze(gaze_.sample(t()), stimulus.spec.width_px, stimulus.spec.height_px,
+                                       last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
+        if (eye_samples[0].valid) last_valid_gaze_ = eye_samples[0];
+      }
+      const GazeSample& sample = eye_samples[0];
       // Image `frame * refreshes + refresh` of this presentation, its position in the logged arrays:
       // a gaze-dependent stimulus (fipr) renders it now with this refresh's gaze (replay does the same).
       const StimulusImage image{frame, frame * refreshes + refresh, sample};
@@ -156,11 +162,7 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         shown_at =
             time_base_s_ + (shown.on_device ? presenter_.present(shown.on_device) : presenter_.present(shown.image));
       } else {
-        // The right eye's pixel of the same gaze, rounded and substituted as the left's.
-        const GazeSample right_sample =
-            sanitize_gaze(eye_gaze_from_left_eye_pixel(right_eye_->gaze_geometry, sample)[1], stimulus.spec.width_px,
-                          stimulus.spec.height_px, last_valid_right_gaze_ ? &*last_valid_right_gaze_ : nullptr);
-        if (right_sample.valid) last_valid_right_gaze_ = right_sample;
+        const GazeSample& right_sample = eye_samples[1];
         const PreparedFrame& right = right_eye_->library->frame(
             stimulus_id, stimulus.spec, StimulusImage{image.frame, image.image_index, right_sample});
         const std::array<ViewFrame, 2> eyes{ViewFrame{&shown.image, shown.on_device},
@@ -206,6 +208,54 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   }
   log(to_json(event));
   dropped_frames_ += dropped;
+}
+
+std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame) {
+  const HeadsetGazeGeometry& geometry = right_eye_->gaze_geometry;
+  const bool on_depth = right_eye_->gaze_fixation == GazeFixation::rendered_depth;
+  const int width_px = spec.width_px, height_px = spec.height_px;
+  GazeSample left_raw = raw;
+  std::optional<GazeSample> right_raw;
+  if (on_depth && raw.ray_in_head && (raw.valid || raw.invalid_reason == "off_screen")) {
+    // The eye tracker's ray, resting on the surface it meets: both eyes' pixels come from that point
+    // (the source's own pixel was the ray's direction at infinity). Off the left image at infinity
+    // may be on it at the surface, so its "off_screen" is decided again here.
+    GazeSample ray_template = raw;
+    ray_template.valid = true;
+    ray_template.invalid_reason.clear();
+    const GazeRay& ray = *raw.ray_in_head;
+    // A ray that is none (not finite, no direction) is traced nowhere: eye_gaze_from_ray_at_depth
+    // makes it "not_finite".
+    const auto finite = [](const std::array<double, 3>& v) {
+      return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    };
+    const bool traceable = finite(ray.origin_m) && finite(ray.direction) &&
+                           (ray.direction[0] != 0.0 || ray.direction[1] != 0.0 || ray.direction[2] != 0.0);
+    const std::optional<double> distance =
+        traceable ? library_.surface_distance(spec, frame, ray.origin_m, ray.direction) : std::nullopt;
+    const auto rested = eye_gaze_from_ray_at_depth(geometry, ray.origin_m, ray.direction, distance, ray_template);
+    left_raw = rested[0];
+    right_raw = rested[1];
+  }
+  const GazeSample left =
+      sanitize_gaze(left_raw, width_px, height_px, last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
+  if (left.valid) last_valid_gaze_ = left;
+  // The right eye's pixel of the same gaze, from the left's as used (rounded; an invalid left gives
+  // an invalid right, which holds the right eye's last position), rounded and substituted as the left's.
+  if (!left.valid) {
+    right_raw = left;
+  } else if (!right_raw && on_depth) {
+    const std::optional<GazeRay> ray = left_eye_ray_of_pixel(geometry, left.x_px, left.y_px);
+    const std::optional<double> distance =
+        ray ? library_.surface_distance(spec, frame, ray->origin_m, ray->direction) : std::nullopt;
+    right_raw = eye_gaze_from_left_eye_pixel_at_depth(geometry, left, distance)[1];
+  } else if (!right_raw) {
+    right_raw = eye_gaze_from_left_eye_pixel(geometry, left)[1];
+  }
+  const GazeSample right =
+      sanitize_gaze(*right_raw, width_px, height_px, last_valid_right_gaze_ ? &*last_valid_right_gaze_ : nullptr);
+  if (right.valid) last_valid_right_gaze_ = right;
+  return {left, right};
 }
 
 void SessionRun::validate_tracker(const char* reason) {

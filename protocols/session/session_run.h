@@ -2,6 +2,7 @@
 // The state machine of one run of a session: instructions, then the plan's trials from a given
 // index (block rests, stimuli, questions, attention checks and breaks), then the end; every step is
 // logged as it happens. run_session (session.h) sets it up: plan, presenter, gaze, answers, log.
+#include <array>
 #include <functional>
 #include <optional>
 #include <set>
@@ -12,6 +13,7 @@
 
 #include "protocols/gaze/gaze_source.h"
 #include "protocols/gaze/headset_gaze.h"
+#include "study/config/headset_display.h"
 #include "study/log/event_log.h"
 #include "display/presenter.h"
 #include "study/schedule/adaptive_progress.h"
@@ -28,11 +30,16 @@ namespace fovlab {
 std::string question_screen_text(const QuestionConfig& question);
 
 // A headset session's right eye (the session's library renders the left): the library that renders
-// each stimulus as the right eye sees it, and the geometry that turns the gaze source's pixel (the
-// left eye's) into the right eye's (protocols/session/headset_views.h).
+// each stimulus as the right eye sees it, the geometry that turns the gaze source's pixel (the
+// left eye's) into the right eye's (protocols/session/headset_views.h), and where the gaze rests.
+// With rendered-depth, each refresh's gaze ray (the eye tracker's, or the left eye's ray through a
+// source's pixel) rests where it meets the stimulus's scene at that frame's time, traced by GT with
+// the left eye's library's tracer (StimulusLibrary::surface_distance); both eyes' pixels are those
+// of that point, or of the ray's direction at optical infinity where it meets nothing.
 struct RightEyeStimuli {
   StimulusLibrary* library = nullptr;
   HeadsetGazeGeometry gaze_geometry;
+  GazeFixation gaze_fixation = GazeFixation::fixation_distance;
 };
 
 class SessionRun {
@@ -86,6 +93,10 @@ class SessionRun {
   // gaze-dependent stimulus renders one image a refresh, the presentation's images in order. In a
   // headset, each eye its own image, rendered from its view with its gaze.
   void present_stimulus(const Trial& trial, int step, int stimulus_id);
+  // A headset's gaze in each eye's image at one refresh, sanitized (rounded, invalid ones held):
+  // the left eye's first. `raw`: the source's sample; `spec` and `frame`: what is shown (the scene
+  // a rendered-depth gaze rests on).
+  std::array<GazeSample, 2> headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame);
   // The eye-tracker validation of [validation] (nothing without one): the targets one at a time,
   // the centre first, the others in a seeded order; attempts until one passes, each logged (a
   // tracker_validation event) and printed on stderr for the operator. After max_attempts failures

@@ -1,6 +1,8 @@
 // The sphere-traced family: SDF scenes drawn by the sphere tracer (gt, ipr, fipr, and the sampling
 // models of Ye et al. 2022 on it). One tracer a scene; gaze-dependent images render in order. With an
 // eye, every image is that eye's view (sphere_trace_settings).
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 
@@ -54,6 +56,29 @@ class SphereTracedStimuli final : public StimulusRenderer {
     return rendered;
   }
 
+  // GT's march at the scene time of `frame`, with the spec's step cap and its hit threshold at the
+  // eye's pixel angle (tan(up) - tan(down) over the image's height, as the tracer's frames take it).
+  std::optional<double> surface_distance(const StimulusSpec& spec, int frame, const EyeView& eye,
+                                         const std::array<double, 3>& origin_in_head,
+                                         const std::array<double, 3>& direction_in_head) override {
+    // The step cap and threshold of the spec (its settings made once: a sampling model's solve a refresh
+    // would cost far more than the ray).
+    auto march = march_of_.find(spec.canonical());
+    if (march == march_of_.end()) {
+      const SphereTraceSettings settings = sphere_trace_settings(spec, frame, eye);
+      march = march_of_.emplace(spec.canonical(), std::pair{settings.max_steps, double(settings.hit_threshold)}).first;
+    }
+    const EyeFieldOfView& fov = eye.field_of_view;
+    const double pixel_angle_rad = (std::tan(fov.angle_up_rad) - std::tan(fov.angle_down_rad)) / spec.height_px;
+    SurfaceRay ray;
+    ray.time_s = static_cast<float>(spec.frame_time_s(frame));  // as sphere_trace_settings' time_s
+    ray.origin_in_head = origin_in_head;
+    ray.direction_in_head = direction_in_head;
+    ray.hit_angle_rad = std::min(pixel_angle_rad * march->second.second, 1.0);  // (hit_distance's limit)
+    ray.max_steps = march->second.first;
+    return tracer_for(spec.scene).hit_distance(ray);
+  }
+
  private:
   SphereTracer& tracer_for(const std::string& scene) {
     auto found = tracers_.find(scene);
@@ -66,6 +91,7 @@ class SphereTracedStimuli final : public StimulusRenderer {
   std::optional<EyeView> eye_;
   std::map<std::string, std::unique_ptr<SphereTracer>> tracers_;  // by scene
   std::map<std::string, LastImage> last_image_;                   // by scene
+  std::map<std::string, std::pair<int, double>> march_of_;        // by spec: max_steps, hit_threshold
 };
 
 }  // namespace

@@ -53,6 +53,17 @@ PreparedFrame StimulusLibrary::render_live(const StimulusSpec& spec, const Stimu
   return rendered;
 }
 
+std::optional<double> StimulusLibrary::surface_distance(const StimulusSpec& spec, int frame,
+                                                        const std::array<double, 3>& origin_in_head,
+                                                        const std::array<double, 3>& direction_in_head) {
+  if (!eye_) throw std::logic_error("StimulusLibrary::surface_distance: a library without an eye's view");
+  const StimulusFamily family = stimulus_family(spec.method());
+  if (family != StimulusFamily::sphere_traced)
+    throw InputError("method " + std::string(describe(spec.method()).name) + ": a " + stimulus_family_name(family) +
+                     " stimulus shows no surface for the gaze to rest on");
+  return renderer_for(spec).surface_distance(spec, frame, *eye_, origin_in_head, direction_in_head);
+}
+
 PreparedFrame StimulusLibrary::render(const StimulusSpec& spec, const StimulusImage& image) {
   PreparedFrame rendered = render_live(spec, image);
   if (rendered.on_device) {

@@ -16,6 +16,7 @@
 // display: stimulus_settings.h), so its prepared frames are that eye's and StimulusImage::gaze is a
 // pixel of that eye's image. Only the families that render eye views take an eye (sphere-traced,
 // volume); the library refuses the others' stimuli.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -107,6 +108,17 @@ class StimulusLibrary {
   // rendered in order, each with its own gaze, and the same gazes give the same images again.
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image);
   double render_seconds() const { return render_seconds_; }
+  // Where a ray of the head (origin in the head, scene units, a metre each in a headset; direction,
+  // any length but 0) meets the surface this eye's library shows for the spec at animation frame
+  // `frame` (its scene time): the distance along the unit direction, traced by GT whatever the
+  // spec's method, with the spec's step cap and its hit threshold at one pixel of this eye's image
+  // (SphereTracer::hit_distance says how exact), by the tracer that renders the spec's scene (no
+  // second compile). nullopt: the ray meets nothing (the sky). A headset session's gaze resting on
+  // the rendered depth (issue 42). std::logic_error for a library without an eye; InputError for a
+  // spec whose family shows no surface (volume: a session refuses those first).
+  std::optional<double> surface_distance(const StimulusSpec& spec, int frame,
+                                         const std::array<double, 3>& origin_in_head,
+                                         const std::array<double, 3>& direction_in_head);
   // The eye this library renders for; nullopt: the desktop.
   const std::optional<EyeView>& eye() const { return eye_; }
   // The image folders its stimuli read -> each image's name -> SHA-256 of the bytes read (the

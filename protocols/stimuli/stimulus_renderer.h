@@ -11,6 +11,7 @@
 // - a folder of the lab's own images (image_sequence.h), sampled by a model (img-rmfr, ...).
 // A family that renders eye views (renders_eye_views) is made with the library's eye, if any, and
 // draws every image as that eye sees it (stimulus_settings.h); the others are made without one.
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -56,6 +57,14 @@ class StimulusRenderer {
   // The image folders this family has read -> each image's name -> SHA-256 of the bytes it read
   // (image_sequence.h); an empty object for the families that read no images.
   virtual nlohmann::json image_hashes() const { return nlohmann::json::object(); }
+  // StimulusLibrary::surface_distance for this family: the sphere-traced family traces the spec's
+  // scene; the others have no surface to meet (nullopt here; the library refuses them first).
+  virtual std::optional<double> surface_distance(const StimulusSpec& spec, int frame, const EyeView& eye,
+                                                 const std::array<double, 3>& origin_in_head,
+                                                 const std::array<double, 3>& direction_in_head) {
+    (void)spec, (void)frame, (void)eye, (void)origin_in_head, (void)direction_in_head;
+    return std::nullopt;
+  }
 };
 
 // The renderer of a family; `cache_root`: the pre-render cache's folder (path-traced family); `eye`:

@@ -236,7 +236,88 @@ SphereTracer::SphereTracer(vk::Context& context, const SceneSource& scene) : con
   encoder_ = std::make_unique<Srgb8Encoder>(context);
 }
 
+// hit_distance's frame: one pixel's depth, steps and (unwritten) colour, the counters and a stand-in
+// for the bindings it does not use, all host-visible so the pixel's depth is read where it lands.
+struct SphereTracer::HitBuffers {
+  vk::Buffer depth, steps, colour, counters, unused;
+  explicit HitBuffers(const vk::Context& context)
+      : depth(context, sizeof(float), vk::MemoryUse::host_readback),
+        steps(context, sizeof(uint32_t), vk::MemoryUse::host_readback),
+        colour(context, 4 * sizeof(float), vk::MemoryUse::host_readback),
+        counters(context, gpu::COUNTER_COUNT * sizeof(uint32_t), vk::MemoryUse::host_readback),
+        unused(context, 4 * sizeof(float), vk::MemoryUse::device_local) {}
+};
+
 SphereTracer::~SphereTracer() = default;
+
+namespace {
+
+// The eye turned so that its forward axis (-z) points along `direction` (unit): the shortest turn
+// from -z, or half a turn about y when the direction is +z itself.
+std::array<double, 4> orientation_looking_along(const std::array<double, 3>& direction) {
+  const double w = 1.0 - direction[2];  // 1 + (-z . direction)
+  if (w < 1e-12) return {0.0, 1.0, 0.0, 0.0};
+  const std::array<double, 4> q{direction[1], -direction[0], 0.0, w};  // (-z x direction, w)
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[3] * q[3]);
+  return {q[0] / norm, q[1] / norm, 0.0, q[3] / norm};
+}
+
+}  // namespace
+
+std::optional<double> SphereTracer::hit_distance(const SurfaceRay& ray) {
+  const auto& d = ray.direction_in_head;
+  const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(std::isfinite(length) && length > 0.0))
+    throw SettingError("direction_in_head", ": expected a finite direction that is not zero");
+  for (double v : ray.origin_in_head)
+    if (!std::isfinite(v)) throw SettingError("origin_in_head", ": expected a finite point");
+  if (!(ray.hit_angle_rad > 0.0 && ray.hit_angle_rad <= 1.0))
+    throw SettingError("hit_angle_rad", ": expected an angle in (0, 1] radians");
+  if (ray.max_steps < 1 || ray.max_steps > 100000)
+    throw SettingError("max_steps", " " + std::to_string(ray.max_steps) + ": expected 1 to 100000");
+  if (!std::isfinite(ray.time_s)) throw SettingError("time_s", ": expected a finite number of seconds");
+
+  // A one-pixel eye at the origin looking along the ray: its pixel centre's ray is the ray itself,
+  // and its pixel angle (tan(up) - tan(down)) is the hit band asked for.
+  EyeView eye;
+  eye.position_in_head = ray.origin_in_head;
+  eye.orientation_in_head = orientation_looking_along({d[0] / length, d[1] / length, d[2] / length});
+  const double half_angle_rad = std::atan(0.5 * ray.hit_angle_rad);
+  eye.field_of_view = {-half_angle_rad, half_angle_rad, half_angle_rad, -half_angle_rad};
+
+  TraceParams params{};
+  params.level_size[0] = params.level_size[1] = 1;
+  params.start_size[0] = params.start_size[1] = 1;
+  params.frame_size[0] = params.frame_size[1] = 1.0f;
+  params.time_s = ray.time_s;
+  params.hit_threshold = 1.0f;  // the band is all in the pixel angle
+  params.samples_per_pixel = 1;
+  params.max_steps = static_cast<uint32_t>(ray.max_steps);
+  params.level_scale = 1;
+  params.flags = 0;  // a depth level's ray: GT's march from the eye, unrefined, no cone
+  set_eye_view(params, eye);
+
+  if (!hit_) hit_ = std::make_unique<HitBuffers>(context_);
+  HitBuffers& hit = *hit_;
+  vk::OneTimeCommands commands(context_);
+  const VkCommandBuffer cmd = commands.handle();
+  vkCmdFillBuffer(cmd, hit.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  const VkBuffer unused = hit.unused.handle();
+  const VkBuffer buffers[] = {unused, hit.depth.handle(), hit.steps.handle(), hit.colour.handle(),
+                              hit.counters.handle(), unused, unused, unused, unused, unused, unused};
+  variant_pipeline("#define FOVLAB_EYE_VIEW 1\n").dispatch_2d(cmd, buffers, &params, 1, 1);
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                     VK_ACCESS_HOST_READ_BIT);
+  commands.submit_and_wait();
+  hit.depth.invalidate();
+  float depth = 0.0f;
+  std::memcpy(&depth, hit.depth.mapped(), sizeof depth);
+  // The shader's MISS_DEPTH (1e18) marks a ray that left the bounds; any surface is far nearer.
+  if (!std::isfinite(depth) || depth >= 1e17f) return std::nullopt;
+  return double(depth);
+}
 
 // The tracer with FOVLAB_STEP_BREAKDOWN defined (the counting of SphereTraceSettings::step_breakdown)
 // or FOVLAB_OVER_RELAX (its over_relaxation): sphere_trace.comp.glsl with that code in it, cached apart.

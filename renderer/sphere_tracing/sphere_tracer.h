@@ -6,6 +6,7 @@
 // rest take the mid level's colour, or one traced ray, refreshed every 1st, 2nd or 4th frame;
 // optional masked blur). docs/foveation.md. The sampling models of Ye et al. 2022 (RMFR, hyperbolic, linear,
 // KFR: foveation/sampling_map.h) shade only their samples (renderer/foveated_sampling/).
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -180,6 +181,20 @@ struct SphereTraceResult {
   double mean_steps_per_pixel() const { return double(total_steps) / double(colour_linear.pixel_count()); }
 };
 
+// One ray to the scene's first surface (issue 42: a headset's gaze resting on the rendered depth).
+// The ray starts at origin_in_head and runs along direction_in_head in the head's frame, the frame
+// of renderer/scene/eye_view.h (the scene camera at time_s is the head: x right, y up, z backwards;
+// scene units).
+struct SurfaceRay {
+  float time_s = 0.0f;                                 // scene time, as SphereTraceSettings::time_s
+  std::array<double, 3> origin_in_head{0.0, 0.0, 0.0};
+  std::array<double, 3> direction_in_head{0.0, 0.0, -1.0};  // any length but 0
+  // The march's hit band: it stops where the scene's distance is under hit_angle_rad x t. A GT frame
+  // uses its pixel angle x SphereTraceSettings::hit_threshold; give the same to meet its surfaces.
+  double hit_angle_rad = 1e-3;
+  int max_steps = 256;  // as SphereTraceSettings::max_steps
+};
+
 // Compiles a scene's tracer once (or takes it from the shader cache) and renders frames of it.
 class SphereTracer {
  public:
@@ -190,6 +205,18 @@ class SphereTracer {
 
   bool shader_from_cache() const { return shader_from_cache_; }
   SphereTraceResult render(const SphereTraceSettings& settings);
+  // The distance along the ray (unit direction, scene units) to where it meets the scene: GT's own
+  // march (the shader's, through a one-pixel frame whose eye sits at the ray's origin and looks
+  // along it, its pixel hit_angle_rad wide), read back. nullopt: the ray leaves the scene's bounds
+  // without meeting a surface (the sky). A ray stopped by max_steps gives where it stopped, as a GT
+  // frame shades that point as the surface. How exact: the march stops at the first point whose
+  // distance bound is under hit_angle_rad x t, before GT's refining step, so with a scene whose
+  // distance is exact (a true SDF) it is never beyond the surface and short of it by at most
+  // hit_angle_rad x t / cos(incidence) (the angle between the ray and the surface's normal), plus
+  // the shader's float rounding (about 1e-6 of t). SettingError for a direction that is not finite
+  // and non-zero, an origin that is not finite, a hit_angle_rad not in (0, 1] or max_steps not in
+  // 1..100000.
+  std::optional<double> hit_distance(const SurfaceRay& ray);
 
  private:
   struct FrameBuffers;                                      // the buffers of one frame layout (sphere_tracer_frame.h)
@@ -234,6 +261,8 @@ class SphereTracer {
   std::unique_ptr<Srgb8Encoder> encoder_;
   std::unique_ptr<SamplingPasses> sampling_;  // made on the first sampled frame
   std::unique_ptr<FrameBuffers> frame_;       // buffers of the last frame layout rendered (FIPR: its history)
+  struct HitBuffers;                          // hit_distance's one-pixel frame, made on its first call
+  std::unique_ptr<HitBuffers> hit_;
 };
 
 }  // namespace fovlab

@@ -154,13 +154,19 @@ TEST_F(HeadsetStudy, RunRefusesAGazeContingentStudyWithoutEyeGazeUnlessTheGazeIs
                               ": a gaze-contingent study (fipr follows the gaze) needs the "
                               "headset's eye gaze, and the OpenXR runtime fovlab test runtime "
                               "0.1.0 does not offer XR_EXT_eye_gaze_interaction");
-  // Named in the config or on the command line: past this refusal, to the last one.
-  const std::filesystem::path synthetic = write(
-      "synthetic.toml", headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n"));
-  const std::string next_refusal = "display.gaze_fixation: \"rendered-depth\" is not built yet";
+  // Named in the config or on the command line: past this refusal, to the next one (the right eye's
+  // angles, made to differ from the runtime's so that the session stops there).
+  const auto other_angles = [](std::string text) {
+    return text.replace(text.find("[-49, 54, 54, -56]"), 18, "[-49, 54, 54, -55]");
+  };
+  const std::filesystem::path synthetic =
+      write("synthetic.toml",
+            other_angles(headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n")));
+  const std::filesystem::path angles = write("angles.toml", other_angles(headset_study()));
+  const std::string next_refusal = "display.right_eye_fov_deg: the headset's runtime";
   expect_refusal(run_study(synthetic, "FOVLAB_TEST_XR_EYE_GAZE=absent"), next_refusal);
   expect_refusal(
-      run_study(config, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3"),
+      run_study(angles, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3"),
       next_refusal);
   EXPECT_FALSE(std::filesystem::exists(results_));
 }
@@ -174,16 +180,23 @@ TEST_F(HeadsetStudy, RunRefusesAnEyeOverTheRuntimesMaximumNamingTheKey) {
 }
 
 // What headset sessions cannot do yet is refused in one line before a results folder exists: the
-// runtime's recommended size (0), the gaze meeting the rendered depth, a field of view that is not
-// the runtime's, the headset's eye gaze from a runtime without it.
+// runtime's recommended size (0), the gaze resting on the rendered depth of volume stimuli (no
+// surface), a field of view that is not the runtime's, the headset's eye gaze from a runtime without it.
 TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
   const std::string synthetic = " --observer simulated --gaze synthetic:seed=3";
   const std::filesystem::path recommended = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
   expect_refusal(run_study(recommended, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
                  recommended.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab run");
-  const std::filesystem::path depth = write("depth.toml", headset_study());
+  std::string volumes = headset_study();
+  volumes.replace(volumes.find("method = \"gt\""), 13, "method = \"volume\"");
+  volumes.replace(volumes.find("method = \"fipr\""), 15, "method = \"fvolume\"");
+  volumes.replace(volumes.find("fovea_radius_deg"), 16, "density_sigma_deg");
+  volumes.replace(volumes.find("values = [5, 10]"), 16, "values = [0.5, 3.0]");
+  volumes.replace(volumes.find("scene = \"primitives\""), 20, "scene = \"shepp-logan\"");
+  const std::filesystem::path depth = write("volume_depth.toml", volumes);
   expect_refusal(run_study(depth, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
-                 depth.string() + ": display.gaze_fixation: \"rendered-depth\" is not built yet in a headset session");
+                 depth.string() + ": display.gaze_fixation: \"rendered-depth\" rests the gaze on a surface, and "
+                                  "method ");
   const std::string at_distance =
       "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
   const std::filesystem::path no_tracker = write("no_tracker.toml", headset_study(at_distance));
@@ -292,6 +305,177 @@ TEST_F(HeadsetStudy, TheHeadsetsEyeGazeGivesEachEyeThePixelOfTheFixationPoint) {
   }
   EXPECT_EQ(stimuli, 4);
   EXPECT_GT(expected[0][0] - expected[1][0], 1.0) << "the near point appears further left to the right eye";
+}
+
+// With gaze_fixation = "rendered-depth" (the default), the headset's eye gaze rests where its ray
+// meets the scene shown: the test runtime's ray, 10 degrees right and 5 up from the head's origin,
+// meets the wall of tests/fixtures/scenes/gaze_wall.glsl (the plane z = -1 of the head, the camera
+// still) at the analytic point, and each eye's logged pixel is where that point appears to it.
+TEST_F(HeadsetStudy, TheHeadsetsEyeGazeRestsOnTheRenderedDepth) {
+  const std::string wall = std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/gaze_wall.glsl";
+  std::string text = headset_study();
+  text.replace(text.find("scene = \"primitives\""), 20, "scene = \"" + wall + "\"");
+  const std::filesystem::path config = write("depth.toml", text);
+  const CommandResult ran =
+      run_study(config, "FOVLAB_TEST_XR_GAZE=10,5", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  std::ifstream lines(log);
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  const nlohmann::json header = nlohmann::json::parse(line);
+  EXPECT_EQ(header["headset"]["gaze_fixation"], nlohmann::json({{"kind", "rendered-depth"}})) << line;
+  const double pi = std::acos(-1.0);
+  const double deg = pi / 180.0;
+  // The ray's direction scaled to reach z = -1: the analytic hit point.
+  const std::array<double, 3> point{std::tan(10.0 * deg), std::tan(5.0 * deg) / std::cos(10.0 * deg), -1.0};
+  const double hit_m = std::hypot(point[0], point[1], point[2]);
+  // The tolerance: the march stops short of the wall by at most hit band x t / cos(incidence) along
+  // the ray (SphereTracer::hit_distance), the band being GT's hit_threshold (0.25) x the left eye's
+  // pixel angle ((tan 54 + tan 56) / 72 px); so the point is at most band x t nearer in depth. An
+  // eye e metres off the ray's origin sees it moved by e x that / depth^2 in tan-angle (plus the
+  // second order), times its pixels per tan-angle; the log rounds to 0.01 px.
+  const double band_rad = 0.25 * (std::tan(54.0 * deg) + std::tan(56.0 * deg)) / 72.0;
+  const double depth_short_m = band_rad * hit_m;
+  std::array<std::array<double, 2>, 2> expected{}, tolerance{};
+  for (size_t eye = 0; eye < 2; ++eye) {
+    // Each eye looks straight ahead (the test runtime's orientation is the head's).
+    const nlohmann::json& view = header["headset"]["eyes"][eye];
+    const std::array<double, 3> position = view["position_m"].get<std::array<double, 3>>();
+    const double tan_x = (point[0] - position[0]) / (position[2] - point[2]);
+    const double tan_y = (point[1] - position[1]) / (position[2] - point[2]);
+    const std::array<double, 4> fov = view["fov_rad"].get<std::array<double, 4>>();
+    const double px_per_tan_x = 64 / (std::tan(fov[1]) - std::tan(fov[0]));
+    const double px_per_tan_y = 72 / (std::tan(fov[2]) - std::tan(fov[3]));
+    expected[eye] = {px_per_tan_x * (tan_x - std::tan(fov[0])), px_per_tan_y * (std::tan(fov[2]) - tan_y)};
+    const double shift_per_offset = depth_short_m / (1.0 - depth_short_m);  // 1/(1 - d) - 1 at depth 1
+    tolerance[eye] = {px_per_tan_x * std::abs(point[0] - position[0]) * shift_per_offset + 0.005 + 1e-9,
+                      px_per_tan_y * std::abs(point[1] - position[1]) * shift_per_offset + 0.005 + 1e-9};
+  }
+  int stimuli = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ++stimuli;
+    EXPECT_FALSE(event.contains("invalid_gaze") && !event["invalid_gaze"].empty()) << line;
+    for (size_t i = 0; i < event["gaze"].size(); ++i) {
+      EXPECT_NEAR(event["gaze"][i][0].get<double>(), expected[0][0], tolerance[0][0]) << line;
+      EXPECT_NEAR(event["gaze"][i][1].get<double>(), expected[0][1], tolerance[0][1]) << line;
+      EXPECT_NEAR(event["right_eye_gaze"][i][0].get<double>(), expected[1][0], tolerance[1][0]) << line;
+      EXPECT_NEAR(event["right_eye_gaze"][i][1].get<double>(), expected[1][1], tolerance[1][1]) << line;
+    }
+  }
+  EXPECT_EQ(stimuli, 4);
+  // The wall's 1 m from the gaze at optical infinity: the eyes' pixels would differ by the IPD over
+  // 1 m, about 1.6 px, far beyond the tolerance.
+  EXPECT_LT(tolerance[1][0], 0.05);
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+}
+
+// A source that gives the left eye's pixels (synthetic) with rendered-depth: the right eye's logged
+// pixel is where it sees the point at which the left eye's ray through the logged left pixel meets
+// gaze_wall.glsl's ball or wall, found here analytically. The march stops short of the surface by
+// at most band x t / cos(incidence) along the ray (SphereTracer::hit_distance): the right eye's pixel
+// lies between those of the analytic point and of the point that much nearer, plus the log's
+// rounding. Grazing samples (cos under 0.2) are only checked to be valid.
+TEST_F(HeadsetStudy, APixelSourcesGazeRestsOnTheRenderedDepthAlongTheLeftEyesRay) {
+  const std::string wall = std::string(FOVLAB_SOURCE_DIR) + "/tests/fixtures/scenes/gaze_wall.glsl";
+  std::string text = headset_study();
+  text.replace(text.find("scene = \"primitives\""), 20, "scene = \"" + wall + "\"");
+  const std::filesystem::path config = write("depth.toml", text);
+  const CommandResult ran =
+      run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  std::ifstream lines(results_ / "headset_cli" / "P01" / "events.jsonl");
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  const nlohmann::json header = nlohmann::json::parse(line);
+  using Vec3 = std::array<double, 3>;
+  std::array<Vec3, 2> position{};
+  std::array<std::array<double, 4>, 2> tan{};  // left, right, up, down
+  for (size_t eye = 0; eye < 2; ++eye) {
+    position[eye] = header["headset"]["eyes"][eye]["position_m"].get<Vec3>();
+    const std::array<double, 4> fov = header["headset"]["eyes"][eye]["fov_rad"].get<std::array<double, 4>>();
+    for (size_t i = 0; i < 4; ++i) tan[eye][i] = std::tan(fov[i]);
+  }
+  // Each eye looks straight ahead (the test runtime's orientation is the head's).
+  const auto pixel_in = [&](size_t eye, const Vec3& p) {
+    const double depth = position[eye][2] - p[2];
+    return std::array<double, 2>{64 * ((p[0] - position[eye][0]) / depth - tan[eye][0]) / (tan[eye][1] - tan[eye][0]),
+                                 72 * (tan[eye][2] - (p[1] - position[eye][1]) / depth) / (tan[eye][2] - tan[eye][3])};
+  };
+  const double band_rad = 0.25 * (tan[0][2] - tan[0][3]) / 72.0;
+  int checked = 0, samples = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ASSERT_FALSE(event.contains("invalid_gaze") && !event["invalid_gaze"].empty()) << line;
+    for (size_t i = 0; i < event["gaze"].size(); ++i, ++samples) {
+      const double x = event["gaze"][i][0].get<double>(), y = event["gaze"][i][1].get<double>();
+      const Vec3 o = position[0];
+      Vec3 d{tan[0][0] + (tan[0][1] - tan[0][0]) * x / 64, tan[0][2] + (tan[0][3] - tan[0][2]) * y / 72, -1.0};
+      const double n = std::hypot(d[0], d[1], d[2]);
+      for (double& v : d) v /= n;
+      // The ball (centre c, radius 0.2) if the ray meets it, else the wall z = -1.
+      const Vec3 c{-0.5, 0.0, -0.7}, oc{o[0] - c[0], o[1] - c[1], o[2] - c[2]};
+      const double b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+      const double disc = b * b - (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - 0.04);
+      double t = (-1.0 - o[2]) / d[2], cos_incidence = -d[2];
+      if (disc >= 0.0 && -b - std::sqrt(disc) > 0.0) {
+        t = -b - std::sqrt(disc);
+        const Vec3 normal{(oc[0] + t * d[0]) / 0.2, (oc[1] + t * d[1]) / 0.2, (oc[2] + t * d[2]) / 0.2};
+        cos_incidence = -(normal[0] * d[0] + normal[1] * d[1] + normal[2] * d[2]);
+      }
+      if (cos_incidence < 0.2) continue;
+      const double short_m = band_rad * t / cos_incidence;
+      const auto far = pixel_in(1, {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]});
+      const auto near = pixel_in(1, {o[0] + (t - short_m) * d[0], o[1] + (t - short_m) * d[1], o[2] + (t - short_m) * d[2]});
+      const double right_x = event["right_eye_gaze"][i][0].get<double>(), right_y = event["right_eye_gaze"][i][1].get<double>();
+      EXPECT_GE(right_x, std::min(far[0], near[0]) - 0.0051) << line;
+      EXPECT_LE(right_x, std::max(far[0], near[0]) + 0.0051) << line;
+      EXPECT_GE(right_y, std::min(far[1], near[1]) - 0.0051) << line;
+      EXPECT_LE(right_y, std::max(far[1], near[1]) + 0.0051) << line;
+      ++checked;
+    }
+  }
+  EXPECT_GT(samples, 0);
+  EXPECT_GT(checked, samples / 2) << "most samples meet the wall or the ball head-on enough";
+}
+
+// experiments/fipr_main_hmd.toml's gaze_fixation ("rendered-depth") is no longer refused: a copy at
+// 64x72 an eye runs in the test runtime, with the headset's eye gaze, through its first trial (then
+// it is stopped: the whole study is hours), both eyes' gaze logged on the built-in scenes.
+TEST_F(HeadsetStudy, TheFiprMainHeadsetStudyRunsWithTheGazeOnTheRenderedDepth) {
+  std::ifstream experiment(std::string(FOVLAB_SOURCE_DIR) + "/experiments/fipr_main_hmd.toml");
+  std::string text = (std::stringstream() << experiment.rdbuf()).str();
+  ASSERT_NE(text.find("gaze_fixation = \"rendered-depth\""), std::string::npos);
+  text.replace(text.find("eye_width_px = 1440"), 19, "eye_width_px = 64");
+  text.replace(text.find("eye_height_px = 1600"), 20, "eye_height_px = 72");
+  const std::filesystem::path config = write("fipr_main_hmd.toml", text);
+  const std::filesystem::path output = scratch_.path() / "first_trial.txt";
+  const pid_t pid = test::start_fovlab(
+      {"run", config.string(), "--participant", "P01", "--results", results_.string(), "--observer", "simulated"},
+      "trial_end:1", output);
+  ASSERT_TRUE(test::wait_until_stopped(pid)) << (std::stringstream() << std::ifstream(output).rdbuf()).str();
+  kill(pid, SIGKILL);
+  test::exit_code(pid);
+  std::ifstream lines(results_ / "fipr_main_hmd" / "P01" / "events.jsonl");
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line)) << (std::stringstream() << std::ifstream(output).rdbuf()).str();
+  const nlohmann::json header = nlohmann::json::parse(line);
+  EXPECT_EQ(header["headset"]["gaze_fixation"], nlohmann::json({{"kind", "rendered-depth"}})) << line;
+  EXPECT_EQ(header.value("gaze", ""), "openxr");
+  int stimuli = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    ++stimuli;
+    ASSERT_EQ(event["right_eye_gaze"].size(), event["gaze"].size()) << line;
+    EXPECT_FALSE(event.contains("invalid_gaze") && !event["invalid_gaze"].empty()) << line;
+  }
+  EXPECT_EQ(stimuli, 2) << "the first trial's two sequences";
 }
 
 // A headset session killed (SIGKILL) after its first trial resumes after that trial, as a desktop

@@ -226,5 +226,95 @@ TEST(HeadsetGaze, TheLeftEyesPixelGivesTheRightEyesThroughTheFixationPlane) {
   EXPECT_EQ(both[1].invalid_reason, "no_data");
 }
 
+// Rendered depth (gaze_fixation "rendered-depth"): the ray rests hit_distance_m along its unit
+// direction, each eye's pixel that point's; no hit rests it at optical infinity, where both eyes see
+// the ray's direction; no fixation distance is needed.
+TEST(HeadsetGaze, ARayRestingOnTheRenderedDepthGivesEachEyeThePixelOfTheHitPoint) {
+  const HeadsetGazeGeometry headset = geometry(0.0);  // rendered-depth: no fixation distance
+  GazeSample template_sample;
+  template_sample.time_s = 3.0;
+  const std::array<double, 3> origin{0.01, -0.02, 0.0}, direction{0.6, -0.3, -2.0};
+  const double n = std::hypot(direction[0], direction[1], direction[2]);
+  const double hit_m = 0.8;
+  const auto samples = eye_gaze_from_ray_at_depth(headset, origin, direction, hit_m, template_sample);
+  const std::array<double, 3> point{origin[0] + hit_m * direction[0] / n, origin[1] + hit_m * direction[1] / n,
+                                    origin[2] + hit_m * direction[2] / n};
+  for (size_t e = 0; e < 2; ++e) {
+    const auto expected = eye_pixel_of_point(headset.eyes[e], kWidthPx, kHeightPx, point);
+    ASSERT_TRUE(expected);
+    EXPECT_TRUE(samples[e].valid);
+    EXPECT_EQ(samples[e].time_s, 3.0);
+    EXPECT_NEAR(samples[e].x_px, expected->first, 1e-9);
+    EXPECT_NEAR(samples[e].y_px, expected->second, 1e-9);
+  }
+  // The same as the fixation plane through that point, from the head's origin straight ahead.
+  HeadsetGazeGeometry at_plane = geometry(0.8);
+  const auto ahead = eye_gaze_from_ray_at_depth(headset, {0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, 0.8, template_sample);
+  const auto plane = eye_gaze_from_ray(at_plane, {0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, template_sample);
+  for (size_t e = 0; e < 2; ++e) EXPECT_NEAR(ahead[e].x_px, plane[e].x_px, 1e-9);
+  // The sky: the direction in each eye, the eyes' disparity gone (mirrored eyes: mirrored pixels).
+  const auto sky = eye_gaze_from_ray_at_depth(headset, origin, {0.0, 0.0, -1.0}, std::nullopt, template_sample);
+  ASSERT_TRUE(sky[0].valid && sky[1].valid);
+  EXPECT_NEAR(sky[0].x_px, kWidthPx - sky[1].x_px, 1e-9);
+  EXPECT_NEAR(sky[0].y_px, sky[1].y_px, 1e-9);
+  const auto left_of_direction = eye_pixel_of_direction(headset.eyes[0], kWidthPx, kHeightPx, {0.0, 0.0, -1.0});
+  ASSERT_TRUE(left_of_direction);
+  EXPECT_NEAR(sky[0].x_px, left_of_direction->first, 1e-12);
+  EXPECT_GT(samples[0].x_px - samples[1].x_px,
+            eye_gaze_from_ray_at_depth(headset, origin, direction, std::nullopt, template_sample)[0].x_px -
+                eye_gaze_from_ray_at_depth(headset, origin, direction, std::nullopt, template_sample)[1].x_px + 1.0)
+      << "a near hit has more disparity than the sky";
+  // Invalid: a distance that is not one, a ray behind the eyes at infinity, a hit at an eye's place.
+  EXPECT_EQ(eye_gaze_from_ray_at_depth(headset, origin, direction, NAN, template_sample)[1].invalid_reason,
+            "not_finite");
+  EXPECT_EQ(eye_gaze_from_ray_at_depth(headset, origin, direction, -0.1, template_sample)[0].invalid_reason,
+            "not_finite");
+  EXPECT_EQ(eye_gaze_from_ray_at_depth(headset, origin, {0.0, 0.0, 1.0}, std::nullopt, template_sample)[0].invalid_reason,
+            "off_screen");
+  GazeSample blink = template_sample;
+  blink.valid = false;
+  blink.invalid_reason = "blink";
+  EXPECT_EQ(eye_gaze_from_ray_at_depth(headset, origin, direction, hit_m, blink)[1].invalid_reason, "blink");
+}
+
+TEST(HeadsetGaze, TheLeftEyesPixelGivesTheRightEyesThroughTheRenderedDepth) {
+  const HeadsetGazeGeometry headset = geometry(0.0);
+  GazeSample left;
+  left.time_s = 1.0;
+  left.x_px = 31.25;
+  left.y_px = 12.5;
+  const std::optional<GazeRay> ray = left_eye_ray_of_pixel(headset, left.x_px, left.y_px);
+  ASSERT_TRUE(ray);
+  EXPECT_EQ(ray->origin_m, headset.eyes[0].position_in_head);
+  const auto samples = eye_gaze_from_left_eye_pixel_at_depth(headset, left, 1.25);
+  EXPECT_TRUE(samples[0].valid && samples[1].valid);
+  EXPECT_EQ(samples[0].x_px, 31.25);  // the left eye's as given
+  EXPECT_EQ(samples[0].y_px, 12.5);
+  // The right eye's pixel looks at the point 1.25 along the left eye's ray.
+  const std::array<double, 3> point{ray->origin_m[0] + 1.25 * ray->direction[0],
+                                    ray->origin_m[1] + 1.25 * ray->direction[1],
+                                    ray->origin_m[2] + 1.25 * ray->direction[2]};
+  const auto expected = eye_pixel_of_point(headset.eyes[1], kWidthPx, kHeightPx, point);
+  ASSERT_TRUE(expected);
+  EXPECT_NEAR(samples[1].x_px, expected->first, 1e-9);
+  EXPECT_NEAR(samples[1].y_px, expected->second, 1e-9);
+  // The left eye sees that point at its own pixel again.
+  const auto back = eye_pixel_of_point(headset.eyes[0], kWidthPx, kHeightPx, point);
+  EXPECT_NEAR(back->first, 31.25, 1e-9);
+  // No hit: the right eye sees the left eye's direction.
+  const auto sky = eye_gaze_from_left_eye_pixel_at_depth(headset, left, std::nullopt);
+  const auto direction_pixel = eye_pixel_of_direction(headset.eyes[1], kWidthPx, kHeightPx, ray->direction);
+  EXPECT_NEAR(sky[1].x_px, direction_pixel->first, 1e-9);
+  EXPECT_NEAR(sky[1].y_px, direction_pixel->second, 1e-9);
+  GazeSample lost = left;
+  lost.valid = false;
+  lost.invalid_reason = "no_data";
+  EXPECT_EQ(eye_gaze_from_left_eye_pixel_at_depth(headset, lost, 1.0)[1].invalid_reason, "no_data");
+  GazeSample nowhere = left;
+  nowhere.x_px = INFINITY;
+  EXPECT_EQ(eye_gaze_from_left_eye_pixel_at_depth(headset, nowhere, 1.0)[1].invalid_reason, "not_finite");
+  EXPECT_FALSE(left_eye_ray_of_pixel(headset, NAN, 1.0));
+}
+
 }  // namespace
 }  // namespace fovlab
