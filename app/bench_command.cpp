@@ -42,8 +42,8 @@ void run_bench(const BenchFlags& flags) {
   std::vector<bench::BenchPlan> plans;
   std::vector<std::vector<SceneSource>> scenes;  // each eye's, all checked before anything is measured
   for (bench::BenchOptions& options : eyes) {
-    const std::filesystem::path out_dir = both_eyes && !flags.out_dir.empty() ? flags.out_dir / options.eye_name
-                                                                              : flags.out_dir;
+    const std::filesystem::path out_dir =
+        both_eyes && !flags.out_dir.empty() ? flags.out_dir / options.eye_name : flags.out_dir;
     options.out_dir = out_dir;
     options.write_frame_images = [out_dir](const std::string& stem, const SphereTraceResult& frame,
                                            const SphereTraceSettings& settings) {
@@ -67,7 +67,8 @@ void run_bench(const BenchFlags& flags) {
     bench::finish_sweep(json, true, both_eyes ? std::filesystem::path() : flags.json, plan.options.out_dir);
     per_eye.push_back(std::move(json));
   }
-  if (both_eyes && !flags.json.empty()) write_text_atomically(flags.json, nlohmann::json{{"eyes", per_eye}}.dump(2) + "\n");
+  if (both_eyes && !flags.json.empty())
+    write_text_atomically(flags.json, nlohmann::json{{"eyes", per_eye}}.dump(2) + "\n");
 }
 
 }  // namespace

@@ -129,8 +129,7 @@ bench::BenchOptions read_bench_flags_for(const BenchFlags& flags, const HeadsetE
 
 bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   const std::vector<bench::BenchOptions> eyes = read_bench_flags_per_eye(flags);
-  if (eyes.size() != 1)
-    throw InputError("--eye " + flags.eye + ": expected left or right here (one sweep, one eye)");
+  if (eyes.size() != 1) throw InputError("--eye " + flags.eye + ": expected left or right here (one sweep, one eye)");
   return eyes.front();
 }
 
@@ -140,10 +139,12 @@ std::vector<bench::BenchOptions> read_bench_flags_per_eye(const BenchFlags& flag
     return {read_bench_flags_for(flags, nullptr)};
   }
   if (!flags.headset_flags_given.empty())
-    throw InputError(flags.headset_flags_given.front() + ": not with --headset (its config gives each eye's size and view)");
+    throw InputError(flags.headset_flags_given.front() +
+                     ": not with --headset (its config gives each eye's size and view)");
   if (!flags.cells.empty())
     throw InputError("--cells " + flags.cells + ": not with --headset (an eye's sweep runs whole)");
-  if (flags.eye != "left" && flags.eye != "right" && flags.eye != "both") fail_flag("--eye", "left, right or both", flags.eye);
+  if (flags.eye != "left" && flags.eye != "right" && flags.eye != "both")
+    fail_flag("--eye", "left, right or both", flags.eye);
   const StudyConfig config = parse_study_config_file(flags.headset, renderer_scene_catalog());
   if (config.display.kind != DisplayKind::openxr)
     throw InputError("--headset " + flags.headset + ": [display] kind is \"" + display_kind_name(config.display.kind) +
@@ -237,14 +238,14 @@ bench::BenchOptions read_bench_flags_for(const BenchFlags& flags, const HeadsetE
   if (eye) {
     options.eye_name = eye->name;
     options.headset_flags = eye->headset_flag;
-    options.display_flags = "--eye " + eye->name +
-                            (flags.foveation.display.gaze.empty() ? "" : " --gaze " + flags.foveation.display.gaze);
-    options.display_line = eye->name + " eye " + std::to_string(width) + "x" + std::to_string(height) + " px, " +
-                           field_of_view_text(eye->view.field_of_view) + ", at " +
-                           format_number(eye->view.position_in_head[0], 6) + " m along the head's x; " +
-                           format_number(options.display.pixels_per_degree_at_principal_point(), 4) +
-                           " px/deg at its principal point (" + format_number(options.display.principal_point_x_px(), 6) +
-                           ", " + format_number(options.display.principal_point_y_px(), 6) + ")";
+    options.display_flags =
+        "--eye " + eye->name + (flags.foveation.display.gaze.empty() ? "" : " --gaze " + flags.foveation.display.gaze);
+    options.display_line =
+        eye->name + " eye " + std::to_string(width) + "x" + std::to_string(height) + " px, " +
+        field_of_view_text(eye->view.field_of_view) + ", at " + format_number(eye->view.position_in_head[0], 6) +
+        " m along the head's x; " + format_number(options.display.pixels_per_degree_at_principal_point(), 4) +
+        " px/deg at its principal point (" + format_number(options.display.principal_point_x_px(), 6) + ", " +
+        format_number(options.display.principal_point_y_px(), 6) + ")";
   }
   SamplingSettings sampling = flags.sampling;
   options.sigma = sampling.sigma;

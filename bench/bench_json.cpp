@@ -192,14 +192,14 @@ nlohmann::json bench_report_json(const BenchReport& report) {
   if (s.eye) {  // --headset: which eye, its image's size and its view in the head (metres, degrees)
     const EyeFieldOfView& fov = s.eye->field_of_view;
     const double deg = 180.0 / std::numbers::pi;
-    json["eye"] = {{"name", report.eye_name},
-                   {"width_px", s.width},
-                   {"height_px", s.height},
-                   {"position_m", s.eye->position_in_head},
-                   {"orientation", s.eye->orientation_in_head},
-                   {"fov_deg",
-                    {fov.angle_left_rad * deg, fov.angle_right_rad * deg, fov.angle_up_rad * deg,
-                     fov.angle_down_rad * deg}}};
+    json["eye"] = {
+        {"name", report.eye_name},
+        {"width_px", s.width},
+        {"height_px", s.height},
+        {"position_m", s.eye->position_in_head},
+        {"orientation", s.eye->orientation_in_head},
+        {"fov_deg",
+         {fov.angle_left_rad * deg, fov.angle_right_rad * deg, fov.angle_up_rad * deg, fov.angle_down_rad * deg}}};
   }
   if (s.over_relaxation != 1.0f) json["ipr_over_relaxation"] = s.over_relaxation;  // --over-relax
   if (report.part) json["part"] = part_json(*report.part, report.units);

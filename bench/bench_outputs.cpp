@@ -144,8 +144,8 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
     const std::string eye = report.contains("eye") ? report["eye"]["name"].get<std::string>() + " eye " : "";
     std::string markdown = "# fovlab bench\n\nCommand: `" + command +
                            "`\n\nDevice: " + report["device"].get<std::string>() + "; " + eye + std::to_string(width) +
-                           "x" + std::to_string(height) + "; median of " + std::to_string(report["repeats"].get<int>()) +
-                           " runs.\n\n";
+                           "x" + std::to_string(height) + "; median of " +
+                           std::to_string(report["repeats"].get<int>()) + " runs.\n\n";
     if (ipr || !has_cells) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
     if (has_cells) markdown += "## Every cell\n\n" + cell_table + "\n";
     if (fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";

@@ -44,10 +44,8 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
   const SphereTraceSettings& s = options.settings;
   std::ostringstream out;
   out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps;
-  if (options.headset_flags.empty())
-    out << " --width " << s.width << " --height " << s.height;
-  else
-    out << " " << options.headset_flags;
+  if (options.headset_flags.empty()) out << " --width " << s.width << " --height " << s.height;
+  else out << " " << options.headset_flags;
   out << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels;
   // A flag not given stays out: each method takes its own default again.
   if (options.pyramid_flags_given.min_filter) out << " --min-filter " << s.min_filter_size;

@@ -57,8 +57,8 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   std::printf(
       "fovlab bench on %s, %s, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
       "%.1f px\n%s\n%s",
-      context.description.name.c_str(), frame_text.c_str(), options.repeats, plan.flip_pixels_per_degree, options.gaze_x_px,
-      options.gaze_y_px, options.display_line.c_str(),
+      context.description.name.c_str(), frame_text.c_str(), options.repeats, plan.flip_pixels_per_degree,
+      options.gaze_x_px, options.gaze_y_px, options.display_line.c_str(),
       plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
   std::fflush(stdout);
 

@@ -59,8 +59,7 @@ int pixels_differing(const Image& a, const Image& b) {
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {
       bool differs = false;
-      for (int c = 0; c < 3; ++c)
-        differs |= std::lround(a.at(x, y, c) * 255.0f) != std::lround(b.at(x, y, c) * 255.0f);
+      for (int c = 0; c < 3; ++c) differs |= std::lround(a.at(x, y, c) * 255.0f) != std::lround(b.at(x, y, c) * 255.0f);
       differing += differs ? 1 : 0;
     }
   return differing;
@@ -117,9 +116,9 @@ TEST_F(BenchHeadset, EachEyesGroundTruthIsTheTracersFrameOfThatEyesView) {
 
 TEST(BenchHeadsetCli, OneEyeIsOneSweepOfThatEye) {
   const fs::path json_path = scratch() / "right.json";
-  const CommandResult result = run("bench --headset " + small_headset_config().string() +
-                                   " --eye right --scenes primitives --spp 1 --repeats 1 --methods gt --json " +
-                                   json_path.string());
+  const CommandResult result =
+      run("bench --headset " + small_headset_config().string() +
+          " --eye right --scenes primitives --spp 1 --repeats 1 --methods gt --json " + json_path.string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const nlohmann::json json = nlohmann::json::parse(read_all(json_path));
   EXPECT_FALSE(json.contains("eyes"));
@@ -133,14 +132,15 @@ TEST(BenchHeadsetCli, RefusesAWindowConfigAndFlagsTheHeadsetDecides) {
   const std::string tiny = "bench --scenes primitives --spp 1 --repeats 1 --methods gt ";
   expect_one_line_error(run(tiny + "--headset " + std::string(FOVLAB_SOURCE_DIR) + "/experiments/fipr_main.toml"),
                         "expected a headset's config");
-  for (const std::string flag : {"--width 64", "--height 48", "--diagonal-in 24", "--size-mm 500x300",
-                                 "--distance-mm 600"}) {
+  for (const std::string flag :
+       {"--width 64", "--height 48", "--diagonal-in 24", "--size-mm 500x300", "--distance-mm 600"}) {
     const std::string name = flag.substr(0, flag.find(' '));
     expect_one_line_error(run(tiny + "--headset " + config + " " + flag), name + ": not with --headset");
   }
   expect_one_line_error(run(tiny + "--eye left"), "--eye left: only with --headset");
   expect_one_line_error(run(tiny + "--headset " + config + " --eye middle"), "--eye");
-  expect_one_line_error(run(tiny + "--headset " + config + " --cells 1/2 --json x.json"), "--cells 1/2: not with --headset");
+  expect_one_line_error(run(tiny + "--headset " + config + " --cells 1/2 --json x.json"),
+                        "--cells 1/2: not with --headset");
 }
 
 }  // namespace
