@@ -19,6 +19,7 @@
 #include "app/output_options.h"
 #include "app/render_outputs.h"
 #include "bench/bench.h"
+#include "core/atomic_file.h"
 #include "core/image_io.h"
 
 namespace fovlab::app {
@@ -34,21 +35,40 @@ void write_frame_images(const std::filesystem::path& out_dir, const std::string&
 }
 
 void run_bench(const BenchFlags& flags) {
-  bench::BenchOptions options = read_bench_flags(flags);
-  options.write_frame_images = [out_dir = flags.out_dir](const std::string& stem, const SphereTraceResult& frame,
-                                                         const SphereTraceSettings& settings) {
-    write_frame_images(out_dir, stem, frame, settings);
-  };
-  const bench::BenchPlan plan = bench::plan_bench(std::move(options));
-  const std::vector<SceneSource> scenes = bench::load_bench_scenes(plan);
-  if (!flags.out_dir.empty()) create_output_folder(flags.out_dir, "--out-dir");
-  const bench::BenchReport report = bench::run_bench(plan, scenes, step_progress("bench", bench::units_measured(plan)));
-  if (report.part) {  // a part's Pareto fronts and tables are the whole sweep's, made by bench-merge
-    bench::write_bench_part(report, flags.json);
-    return;
+  // One sweep, or with --headset one an eye (left first). Both eyes: each eye's images, tables and
+  // charts in --out-dir's left/ and right/, and --json holds {"eyes": [the left's, the right's]}.
+  std::vector<bench::BenchOptions> eyes = read_bench_flags_per_eye(flags);
+  const bool both_eyes = eyes.size() > 1;
+  std::vector<bench::BenchPlan> plans;
+  std::vector<std::vector<SceneSource>> scenes;  // each eye's, all checked before anything is measured
+  for (bench::BenchOptions& options : eyes) {
+    const std::filesystem::path out_dir =
+        both_eyes && !flags.out_dir.empty() ? flags.out_dir / options.eye_name : flags.out_dir;
+    options.out_dir = out_dir;
+    options.write_frame_images = [out_dir](const std::string& stem, const SphereTraceResult& frame,
+                                           const SphereTraceSettings& settings) {
+      write_frame_images(out_dir, stem, frame, settings);
+    };
+    plans.push_back(bench::plan_bench(std::move(options)));
+    scenes.push_back(bench::load_bench_scenes(plans.back()));
   }
-  nlohmann::json json = bench::bench_report_json(report);
-  bench::finish_sweep(json, true, flags.json, flags.out_dir);
+  if (!flags.out_dir.empty()) create_output_folder(flags.out_dir, "--out-dir");
+  nlohmann::json per_eye = nlohmann::json::array();
+  for (size_t index = 0; index < plans.size(); ++index) {
+    const bench::BenchPlan& plan = plans[index];
+    if (both_eyes && !plan.options.out_dir.empty()) std::filesystem::create_directories(plan.options.out_dir);
+    const bench::BenchReport report =
+        bench::run_bench(plan, scenes[index], step_progress("bench", bench::units_measured(plan)));
+    if (report.part) {  // a part's Pareto fronts and tables are the whole sweep's, made by bench-merge
+      bench::write_bench_part(report, flags.json);
+      return;
+    }
+    nlohmann::json json = bench::bench_report_json(report);
+    bench::finish_sweep(json, true, both_eyes ? std::filesystem::path() : flags.json, plan.options.out_dir);
+    per_eye.push_back(std::move(json));
+  }
+  if (both_eyes && !flags.json.empty())
+    write_text_atomically(flags.json, nlohmann::json{{"eyes", per_eye}}.dump(2) + "\n");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "app/cli_support.h"
 #include "app/display_flags.h"
@@ -12,7 +13,10 @@
 #include "app/sampling_flags.h"
 #include "core/input_error.h"
 #include "core/number_text.h"
+#include "protocols/stimuli/stimulus_settings.h"
+#include "renderer/scene/eye_view.h"
 #include "renderer/scene/scene_source.h"
+#include "study/config/study_config.h"
 
 namespace fovlab::app {
 
@@ -102,9 +106,68 @@ std::vector<float> parse_times(const std::vector<std::string>& texts) {
   return times;
 }
 
+// One eye of --headset: its name, its head-locked view and the flag naming the config.
+struct HeadsetEye {
+  std::string name;  // "left", "right"
+  EyeView view;
+  std::string headset_flag;  // "--headset CONFIG"
+};
+
+// The head-locked view of one eye of a headset's config where no runtime gives the views: the eye
+// at -/+ ipd_mm / 2 along the head's x (in metres, as a scene unit is a metre: docs/hmd.md), looking
+// along the head's axes, through the config's asymmetric angles.
+EyeView head_locked_eye_view(const HeadsetDisplayConfig& headset, bool left) {
+  EyeView view;
+  view.position_in_head = {(left ? -0.5 : 0.5) * headset.ipd_mm * 1e-3, 0.0, 0.0};
+  view.field_of_view = left ? headset.left_eye_fov : headset.right_eye_fov;
+  return view;
+}
+
+bench::BenchOptions read_bench_flags_for(const BenchFlags& flags, const HeadsetEye* eye);
+
 }  // namespace
 
 bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
+  const std::vector<bench::BenchOptions> eyes = read_bench_flags_per_eye(flags);
+  if (eyes.size() != 1) throw InputError("--eye " + flags.eye + ": expected left or right here (one sweep, one eye)");
+  return eyes.front();
+}
+
+std::vector<bench::BenchOptions> read_bench_flags_per_eye(const BenchFlags& flags) {
+  if (flags.headset.empty()) {
+    if (flags.eye_given) throw InputError("--eye " + flags.eye + ": only with --headset CONFIG (a headset's eyes)");
+    return {read_bench_flags_for(flags, nullptr)};
+  }
+  if (!flags.headset_flags_given.empty())
+    throw InputError(flags.headset_flags_given.front() +
+                     ": not with --headset (its config gives each eye's size and view)");
+  if (!flags.cells.empty())
+    throw InputError("--cells " + flags.cells + ": not with --headset (an eye's sweep runs whole)");
+  if (flags.eye != "left" && flags.eye != "right" && flags.eye != "both")
+    fail_flag("--eye", "left, right or both", flags.eye);
+  const StudyConfig config = parse_study_config_file(flags.headset, renderer_scene_catalog());
+  if (config.display.kind != DisplayKind::openxr)
+    throw InputError("--headset " + flags.headset + ": [display] kind is \"" + display_kind_name(config.display.kind) +
+                     "\"; expected a headset's config ([display] kind = \"openxr\")");
+  require_eye_image_size(config, "bench --headset");
+  const HeadsetDisplayConfig& headset = config.display.headset;
+  std::vector<bench::BenchOptions> eyes;
+  for (const bool left : {true, false}) {
+    const std::string name = left ? "left" : "right";
+    if (flags.eye != "both" && flags.eye != name) continue;
+    const HeadsetEye eye{name, head_locked_eye_view(headset, left), "--headset " + flags.headset};
+    BenchFlags eye_flags = flags;
+    eye_flags.settings.width = headset.eye_width_px;
+    eye_flags.settings.height = headset.eye_height_px;
+    eye_flags.settings.eye = eye.view;
+    eyes.push_back(read_bench_flags_for(eye_flags, &eye));
+  }
+  return eyes;
+}
+
+namespace {
+
+bench::BenchOptions read_bench_flags_for(const BenchFlags& flags, const HeadsetEye* eye) {
   bench::BenchOptions options;
   if (!flags.cells.empty()) {
     const PartOfN given = parse_part_of_n(flags.cells, "--cells", "e.g. 1/4: units 1, 5, 9, ... of the sweep");
@@ -153,13 +216,37 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
     throw InputError("--time, --times: expected one of them (one scene time, or a comma-separated list)");
   }
   if (!flags.times.empty()) options.times_s = parse_times(flags.times);
-  const FoveationSettings base = parse_foveation(flags.foveation, width, height);
+  // With an eye, eccentricity is the eye's: its off-axis image plane, the gaze at its principal
+  // point unless --gaze gives one (in its pixels), whatever display the flags would assume.
+  const auto foveation_of = [&](const FoveationFlags& given) {
+    FoveationSettings settings = parse_foveation(given, width, height);
+    if (!eye) return settings;
+    settings.display = eye_display(eye->view, width, height);
+    settings.gaze_x_px = settings.display.principal_point_x_px();
+    settings.gaze_y_px = settings.display.principal_point_y_px();
+    if (!given.display.gaze.empty())
+      std::tie(settings.gaze_x_px, settings.gaze_y_px) = parse_gaze(given.display.gaze, width, height);
+    return settings;
+  };
+  const FoveationSettings base = foveation_of(flags.foveation);
   options.display = base.display;
   options.gaze_x_px = base.gaze_x_px;
   options.gaze_y_px = base.gaze_y_px;
   options.display_line = display_line(
       options.display, has_display(flags.foveation.display) ? "" : "FIPR's default, a 24-inch display at 600 mm");
   options.display_flags = display_flags_text(flags.foveation.display);
+  if (eye) {
+    options.eye_name = eye->name;
+    options.headset_flags = eye->headset_flag;
+    options.display_flags =
+        "--eye " + eye->name + (flags.foveation.display.gaze.empty() ? "" : " --gaze " + flags.foveation.display.gaze);
+    options.display_line =
+        eye->name + " eye " + std::to_string(width) + "x" + std::to_string(height) + " px, " +
+        field_of_view_text(eye->view.field_of_view) + ", at " + format_number(eye->view.position_in_head[0], 6) +
+        " m along the head's x; " + format_number(options.display.pixels_per_degree_at_principal_point(), 4) +
+        " px/deg at its principal point (" + format_number(options.display.principal_point_x_px(), 6) + ", " +
+        format_number(options.display.principal_point_y_px(), 6) + ")";
+  }
   SamplingSettings sampling = flags.sampling;
   options.sigma = sampling.sigma;
   options.sampling_filter = sampling.filter;
@@ -203,12 +290,15 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   options.refreshes = parse_refreshes(flags.refresh);
   options.fovea_degs = parse_fovea_degs(flags.fovea_deg);
   options.foveation_flags = foveation_flags_text(flags.foveation);
+  if (eye)  // the headset's eye in place of the flat display's flags
+    options.foveation_flags =
+        options.display_flags + options.foveation_flags.substr(display_flags_text(flags.foveation.display).size());
   for (int refresh : options.refreshes) {
     for (double fovea_deg : options.fovea_degs) {
       FoveationFlags variant_flags = flags.foveation;
       variant_flags.refresh = refresh;
       variant_flags.fovea_deg = fovea_deg;
-      bench::FiprVariant variant{refresh, fovea_deg, parse_foveation(variant_flags, width, height)};
+      bench::FiprVariant variant{refresh, fovea_deg, foveation_of(variant_flags)};
       for (int spp : flags.spps) {
         SphereTraceSettings check = flags.settings;
         check.samples_per_pixel = spp;
@@ -221,6 +311,8 @@ bench::BenchOptions read_bench_flags(const BenchFlags& flags) {
   }
   return options;
 }
+
+}  // namespace
 
 bench::BenchPlan plan_bench(const BenchFlags& flags) { return bench::plan_bench(read_bench_flags(flags)); }
 
@@ -251,6 +343,10 @@ void add_bench_flags(CLI::App& command, BenchFlags& options) {
   command.add_option("--width", options.settings.width, "Frame width in pixels");
   command.add_option("--height", options.settings.height, "Frame height in pixels");
   command.add_option("--repeats", options.repeats, "Timed runs per method and cell (median reported)");
+  command.add_option("--headset", options.headset,
+                     "A headset's study config ([display] kind = \"openxr\"): each eye at its size from its "
+                     "head-locked view, FIPR's and the sampling models' eccentricity on its off-axis display");
+  command.add_option("--eye", options.eye, "With --headset: left, right or both (a sweep an eye; default both)");
   add_output_option(command, "--json", options.json, "Write the full results as JSON",
                     {{OutputKind::file}, kReplacesAFile});
   add_output_option(command, "--out-dir", options.out_dir,
@@ -300,6 +396,10 @@ void note_given_bench_flags(CLI::App& command, BenchFlags& options) {
   options.fipr_flags_given = given_fipr_only_flags(command);
   options.sampling_flags_given = given_sampling_only_flags(command);
   options.time_given = command.count("--time") > 0;
+  options.eye_given = command.count("--eye") > 0;
+  options.headset_flags_given.clear();
+  for (const char* flag : {"--width", "--height", "--diagonal-in", "--size-mm", "--distance-mm"})
+    if (command.count(flag) > 0) options.headset_flags_given.push_back(flag);
   options.pyramid_flags_given = given_pyramid_flags(command);
 }
 

@@ -45,6 +45,14 @@ struct BenchFlags {
   std::vector<std::string> sampling_flags_given;
   // --cells I/N: measure only part I of N of the sweep's units (bench/bench_parts.h); empty: all.
   std::string cells;
+  // --headset CONFIG (issue 42): a study config with [display] kind = "openxr"; each eye is measured
+  // at its size from its head-locked view. --eye left, right or both (a sweep an eye, left first).
+  std::string headset;
+  std::string eye = "both";
+  // The flags given that the headset's config decides (--width, --height, the display's size and
+  // distance), and whether --eye was given: refused with --headset, and --eye without it.
+  std::vector<std::string> headset_flags_given;
+  bool eye_given = false;
 };
 
 // Registers bench's flags on `command` (fovlab bench, and fovlab slurm bench's check of the flags it
@@ -67,5 +75,15 @@ BenchFlags parse_sweep_command(const std::string& command);
 bench::BenchOptions read_bench_flags(const BenchFlags& flags);
 // read_bench_flags, planned (bench::plan_bench).
 bench::BenchPlan plan_bench(const BenchFlags& flags);
+
+// read_bench_flags for each eye --eye names (left first): with --headset CONFIG, the eye's size,
+// its head-locked view (at -/+ ipd_mm / 2 along the head's x, in metres: a scene unit is a metre,
+// docs/hmd.md; the config's asymmetric angles) in settings.eye, the display the eye's off-axis image
+// plane (eye_display) for FIPR, the sampling models and the metrics, the gaze at its principal point
+// unless --gaze gives one in that eye's pixels. Without --headset, read_bench_flags alone. InputError
+// (one line) for a config that is not a headset's or lacks the eyes' size, an --eye other than left,
+// right or both, --eye without --headset, and --width, --height, --diagonal-in, --size-mm,
+// --distance-mm or --cells with --headset.
+std::vector<bench::BenchOptions> read_bench_flags_per_eye(const BenchFlags& flags);
 
 }  // namespace fovlab::app

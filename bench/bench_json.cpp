@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "core/atomic_file.h"
@@ -187,6 +188,18 @@ nlohmann::json bench_report_json(const BenchReport& report) {
         {"speedup",
          "GT median GPU ms of the same scene and spp (timed just before, interleaved with IPR) / FIPR median "
          "GPU ms"}};
+  }
+  if (s.eye) {  // --headset: which eye, its image's size and its view in the head (metres, degrees)
+    const EyeFieldOfView& fov = s.eye->field_of_view;
+    const double deg = 180.0 / std::numbers::pi;
+    json["eye"] = {
+        {"name", report.eye_name},
+        {"width_px", s.width},
+        {"height_px", s.height},
+        {"position_m", s.eye->position_in_head},
+        {"orientation", s.eye->orientation_in_head},
+        {"fov_deg",
+         {fov.angle_left_rad * deg, fov.angle_right_rad * deg, fov.angle_up_rad * deg, fov.angle_down_rad * deg}}};
   }
   if (s.over_relaxation != 1.0f) json["ipr_over_relaxation"] = s.over_relaxation;  // --over-relax
   if (report.part) json["part"] = part_json(*report.part, report.units);

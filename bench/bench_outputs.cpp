@@ -141,10 +141,11 @@ void finish_sweep(nlohmann::json& report, bool rows_printed, const std::filesyst
                          pareto_chart_svg(scene + ", " + size + ": speed-up against 1 - SSIM", "1 - SSIM against GT",
                                           chart_cells(cells, scene, false)));
     }
+    const std::string eye = report.contains("eye") ? report["eye"]["name"].get<std::string>() + " eye " : "";
     std::string markdown = "# fovlab bench\n\nCommand: `" + command +
-                           "`\n\nDevice: " + report["device"].get<std::string>() + "; " + std::to_string(width) + "x" +
-                           std::to_string(height) + "; median of " + std::to_string(report["repeats"].get<int>()) +
-                           " runs.\n\n";
+                           "`\n\nDevice: " + report["device"].get<std::string>() + "; " + eye + std::to_string(width) +
+                           "x" + std::to_string(height) + "; median of " +
+                           std::to_string(report["repeats"].get<int>()) + " runs.\n\n";
     if (ipr || !has_cells) markdown += "## GT against IPR\n\n" + gt_ipr_table + "\n";
     if (has_cells) markdown += "## Every cell\n\n" + cell_table + "\n";
     if (fipr) markdown += "## FIPR at a fovea of 7.5 degrees\n\n" + fovea_7_5 + "\n" + kPaperNote + "\n\n";

@@ -43,8 +43,10 @@ std::string command_text(const BenchOptions& options, const std::string& scenes,
                          const std::string& methods, const std::string& time_text) {
   const SphereTraceSettings& s = options.settings;
   std::ostringstream out;
-  out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps << " --width " << s.width << " --height "
-      << s.height << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels;
+  out << "fovlab bench --scenes " << command_word(scenes) << " --spp " << spps;
+  if (options.headset_flags.empty()) out << " --width " << s.width << " --height " << s.height;
+  else out << " " << options.headset_flags;
+  out << " --repeats " << options.repeats << " " << time_text << " --levels " << s.pyramid_levels;
   // A flag not given stays out: each method takes its own default again.
   if (options.pyramid_flags_given.min_filter) out << " --min-filter " << s.min_filter_size;
   if (options.pyramid_flags_given.coarse_test) out << " --coarse-test " << coarse_test_name(s.coarse_test);
@@ -100,7 +102,7 @@ BenchPlan plan_bench(BenchOptions options) {
   plan.ipr = has(BenchMethod::ipr);
   plan.fipr = has(BenchMethod::fipr);
   plan.times_s = o.times_s.empty() ? std::vector<float>{o.settings.time_s} : o.times_s;
-  plan.flip_pixels_per_degree = o.display.pixels_per_degree_at_centre();
+  plan.flip_pixels_per_degree = o.display.pixels_per_degree_at_principal_point();  // the centre on a flat display
   // As a unit is measured: GT, IPR, every FIPR variant, every sampling model's map.
   plan.unit_cells.push_back({BenchMethod::gt});
   if (plan.ipr) plan.unit_cells.push_back({BenchMethod::ipr});

@@ -75,6 +75,12 @@ struct BenchOptions {
   // The flags that reproduce the display and gaze, the FIPR settings (but --refresh and
   // --fovea-deg), and every sampling model's (with --fx and --fy as swept), as given.
   std::string display_flags, foveation_flags, sampling_flags;
+  // --headset CONFIG (issue 42): the eye this sweep renders, "left" or "right"; its view is
+  // settings.eye, and display and gaze are on that eye's off-axis image plane. Empty: a flat display.
+  std::string eye_name;
+  // "--headset CONFIG": in the commands it stands where --width and --height stand for a flat display
+  // (the config gives the eye's size); display_flags then hold "--eye NAME" and --gaze, if given.
+  std::string headset_flags;
   std::optional<SweepPart> part;  // --cells I/N; none: the whole sweep
   std::filesystem::path json, out_dir;
   std::string device;

@@ -109,6 +109,7 @@ struct BenchReport {
   int repeats = 0;
   std::vector<float> times_s;
   std::string command;               // the sweep's
+  std::string eye_name;              // --headset: "left" or "right" (its view: settings.eye); else empty
   std::vector<BenchMethod> methods;  // as given
   double flip_pixels_per_degree = 0.0;
   DisplayGeometry display;

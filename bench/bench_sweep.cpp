@@ -52,11 +52,13 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   vk::Context context(context_settings);
   const int width = options.settings.width;
   const int height = options.settings.height;
+  const std::string frame_text = (options.eye_name.empty() ? "" : options.eye_name + " eye ") + std::to_string(width) +
+                                 "x" + std::to_string(height);
   std::printf(
-      "fovlab bench on %s, %dx%d, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
+      "fovlab bench on %s, %s, %d repeats (median GPU ms); errors against GT at %.1f px/deg, gaze %.1f, "
       "%.1f px\n%s\n%s",
-      context.description.name.c_str(), width, height, options.repeats, plan.flip_pixels_per_degree, options.gaze_x_px,
-      options.gaze_y_px, options.display_line.c_str(),
+      context.description.name.c_str(), frame_text.c_str(), options.repeats, plan.flip_pixels_per_degree,
+      options.gaze_x_px, options.gaze_y_px, options.display_line.c_str(),
       plan.has_cells() ? cell_table_header().c_str() : gt_ipr_table_header().c_str());
   std::fflush(stdout);
 
@@ -233,6 +235,7 @@ BenchReport run_bench(const BenchPlan& plan, const std::vector<SceneSource>& sce
   report.repeats = options.repeats;
   report.times_s = plan.times_s;
   report.command = sweep_command(plan);
+  report.eye_name = options.eye_name;
   report.methods = options.methods;
   report.flip_pixels_per_degree = plan.flip_pixels_per_degree;
   report.display = options.display;
