@@ -113,16 +113,6 @@ struct HeadsetEye {
   std::string headset_flag;  // "--headset CONFIG"
 };
 
-// The head-locked view of one eye of a headset's config where no runtime gives the views: the eye
-// at -/+ ipd_mm / 2 along the head's x (in metres, as a scene unit is a metre: docs/hmd.md), looking
-// along the head's axes, through the config's asymmetric angles.
-EyeView head_locked_eye_view(const HeadsetDisplayConfig& headset, bool left) {
-  EyeView view;
-  view.position_in_head = {(left ? -0.5 : 0.5) * headset.ipd_mm * 1e-3, 0.0, 0.0};
-  view.field_of_view = left ? headset.left_eye_fov : headset.right_eye_fov;
-  return view;
-}
-
 bench::BenchOptions read_bench_flags_for(const BenchFlags& flags, const HeadsetEye* eye);
 
 }  // namespace
@@ -155,7 +145,8 @@ std::vector<bench::BenchOptions> read_bench_flags_per_eye(const BenchFlags& flag
   for (const bool left : {true, false}) {
     const std::string name = left ? "left" : "right";
     if (flags.eye != "both" && flags.eye != name) continue;
-    const HeadsetEye eye{name, head_locked_eye_view(headset, left), "--headset " + flags.headset};
+    // The views a session renders from and the pre-rendered frames are made for (headset_eye_views).
+    const HeadsetEye eye{name, headset_eye_views(headset)[left ? 0 : 1], "--headset " + flags.headset};
     BenchFlags eye_flags = flags;
     eye_flags.settings.width = headset.eye_width_px;
     eye_flags.settings.height = headset.eye_height_px;

@@ -195,8 +195,8 @@ TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
   volumes.replace(volumes.find("scene = \"primitives\""), 20, "scene = \"shepp-logan\"");
   const std::filesystem::path depth = write("volume_depth.toml", volumes);
   expect_refusal(run_study(depth, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
-                 depth.string() + ": display.gaze_fixation: \"rendered-depth\" rests the gaze on a surface, and "
-                                  "method ");
+                 depth.string() + ": display.gaze_fixation: \"rendered-depth\" rests the gaze on the surface the "
+                                  "sphere tracer finds, and method ");
   const std::string at_distance =
       "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
   const std::filesystem::path no_tracker = write("no_tracker.toml", headset_study(at_distance));
