@@ -76,6 +76,10 @@ scene = "primitives"
 )" + more;
 }
 
+// headset_study's eyes with the gaze resting on the plane 1.5 m in front of the head.
+const std::string kEyesAtDistance =
+    "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
+
 class HeadsetStudy : public OpenXrStudyCli {
  protected:
   std::filesystem::path write(const std::string& name, const std::string& text) {
@@ -159,9 +163,9 @@ TEST_F(HeadsetStudy, RunRefusesAGazeContingentStudyWithoutEyeGazeUnlessTheGazeIs
   const auto other_angles = [](std::string text) {
     return text.replace(text.find("[-49, 54, 54, -56]"), 18, "[-49, 54, 54, -55]");
   };
-  const std::filesystem::path synthetic =
-      write("synthetic.toml",
-            other_angles(headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n")));
+  const std::filesystem::path synthetic = write(
+      "synthetic.toml",
+      other_angles(headset_study("eye_width_px = 64\neye_height_px = 72", "\n[gaze]\nrequire = \"synthetic\"\n")));
   const std::filesystem::path angles = write("angles.toml", other_angles(headset_study()));
   const std::string next_refusal = "display.right_eye_fov_deg: the headset's runtime";
   expect_refusal(run_study(synthetic, "FOVLAB_TEST_XR_EYE_GAZE=absent"), next_refusal);
@@ -195,20 +199,20 @@ TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
   volumes.replace(volumes.find("scene = \"primitives\""), 20, "scene = \"shepp-logan\"");
   const std::filesystem::path depth = write("volume_depth.toml", volumes);
   expect_refusal(run_study(depth, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
-                 depth.string() + ": display.gaze_fixation: \"rendered-depth\" rests the gaze on the surface the "
-                                  "sphere tracer finds, and method ");
-  const std::string at_distance =
-      "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
-  const std::filesystem::path no_tracker = write("no_tracker.toml", headset_study(at_distance));
+                 depth.string() +
+                     ": display.gaze_fixation: \"rendered-depth\" rests the gaze on the surface the "
+                     "sphere tracer finds, and method ");
+  const std::filesystem::path no_tracker = write("no_tracker.toml", headset_study(kEyesAtDistance));
   expect_refusal(run_study(no_tracker, "FOVLAB_TEST_XR_EYE_GAZE=absent", FOVLAB_TEST_XR_RUNTIME_JSON,
                            " --observer simulated --gaze openxr"),
                  "does not offer XR_EXT_eye_gaze_interaction");
-  std::string other_angles = headset_study(at_distance);
+  std::string other_angles = headset_study(kEyesAtDistance);
   other_angles.replace(other_angles.find("[-49, 54, 54, -56]"), 18, "[-49, 54, 54, -55]");
   const std::filesystem::path angles = write("angles.toml", other_angles);
   expect_refusal(run_study(angles, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
-                 angles.string() + ": display.right_eye_fov_deg: the headset's runtime (fovlab test runtime 0.1.0) "
-                                   "gives this eye [-49, 54, 54, -56] deg, the config [-49, 54, 54, -55] deg");
+                 angles.string() +
+                     ": display.right_eye_fov_deg: the headset's runtime (fovlab test runtime 0.1.0) "
+                     "gives this eye [-49, 54, 54, -56] deg, the config [-49, 54, 54, -55] deg");
   for (const std::string flag : {"--headless", "--device 0", "--present-device 0"})
     expect_refusal(run_study(depth, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic + " " + flag),
                    flag.substr(0, flag.find(' ')) + (flag == "--headless" ? ": " : flag.substr(flag.find(' ')) + ": ") +
@@ -219,9 +223,7 @@ TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
 // A simulated observer runs a FIPR study in the test runtime's headset, each eye rendered from its
 // own view with its own gaze; the log holds both eyes, replays to their hashes, and analyzes.
 TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes) {
-  const std::filesystem::path config = write(
-      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
-                              "fixation_distance_mm = 1500"));
+  const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
   const CommandResult ran =
       run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
   ASSERT_EQ(ran.exit_code, 0) << ran.err;
@@ -257,8 +259,8 @@ TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes
   const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
   EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
   EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
-  const CommandResult analyzed =
-      cli_test::run("analyze " + (results_ / "headset_cli").string() + " --out " + (scratch_.path() / "report").string());
+  const CommandResult analyzed = cli_test::run("analyze " + (results_ / "headset_cli").string() + " --out " +
+                                               (scratch_.path() / "report").string());
   EXPECT_EQ(analyzed.exit_code, 0) << analyzed.err;
 }
 
@@ -266,10 +268,9 @@ TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes
 // right and 5 up of straight ahead, rests on the plane 1.5 m in front of the head, and each eye's
 // logged pixel is where that point appears to it (computed here from the logged views).
 TEST_F(HeadsetStudy, TheHeadsetsEyeGazeGivesEachEyeThePixelOfTheFixationPoint) {
-  const std::filesystem::path config = write(
-      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
-                              "fixation_distance_mm = 1500"));
-  const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_GAZE=10,5", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated");
+  const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
+  const CommandResult ran =
+      run_study(config, "FOVLAB_TEST_XR_GAZE=10,5", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated");
   ASSERT_EQ(ran.exit_code, 0) << ran.err;
   std::ifstream lines(results_ / "headset_cli" / "P01" / "events.jsonl");
   std::string line;
@@ -278,8 +279,8 @@ TEST_F(HeadsetStudy, TheHeadsetsEyeGazeGivesEachEyeThePixelOfTheFixationPoint) {
   EXPECT_EQ(header.value("gaze", ""), "openxr");
   EXPECT_EQ(header["gaze_source"].value("kind", ""), "tracker");
   const double pi = std::acos(-1.0);
-  const std::array<double, 3> point{1.5 * std::tan(10.0 * pi / 180.0), 1.5 * std::tan(5.0 * pi / 180.0) /
-                                                                            std::cos(10.0 * pi / 180.0), -1.5};
+  const std::array<double, 3> point{1.5 * std::tan(10.0 * pi / 180.0),
+                                    1.5 * std::tan(5.0 * pi / 180.0) / std::cos(10.0 * pi / 180.0), -1.5};
   std::array<std::array<double, 2>, 2> expected{};
   for (size_t eye = 0; eye < 2; ++eye) {
     // Each eye looks straight ahead (the test runtime's orientation is the head's).
@@ -431,8 +432,10 @@ TEST_F(HeadsetStudy, APixelSourcesGazeRestsOnTheRenderedDepthAlongTheLeftEyesRay
       if (cos_incidence < 0.2) continue;
       const double short_m = band_rad * t / cos_incidence;
       const auto far = pixel_in(1, {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]});
-      const auto near = pixel_in(1, {o[0] + (t - short_m) * d[0], o[1] + (t - short_m) * d[1], o[2] + (t - short_m) * d[2]});
-      const double right_x = event["right_eye_gaze"][i][0].get<double>(), right_y = event["right_eye_gaze"][i][1].get<double>();
+      const auto near =
+          pixel_in(1, {o[0] + (t - short_m) * d[0], o[1] + (t - short_m) * d[1], o[2] + (t - short_m) * d[2]});
+      const double right_x = event["right_eye_gaze"][i][0].get<double>(),
+                   right_y = event["right_eye_gaze"][i][1].get<double>();
       EXPECT_GE(right_x, std::min(far[0], near[0]) - 0.0051) << line;
       EXPECT_LE(right_x, std::max(far[0], near[0]) + 0.0051) << line;
       EXPECT_GE(right_y, std::min(far[1], near[1]) - 0.0051) << line;
@@ -481,9 +484,7 @@ TEST_F(HeadsetStudy, TheFiprMainHeadsetStudyRunsWithTheGazeOnTheRenderedDepth) {
 // A headset session killed (SIGKILL) after its first trial resumes after that trial, as a desktop
 // one does, with the views it started with; the finished log replays both eyes to their hashes.
 TEST_F(HeadsetStudy, AHeadsetSessionKilledAfterATrialResumesAndReplays) {
-  const std::filesystem::path config = write(
-      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
-                              "fixation_distance_mm = 1500"));
+  const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
   const std::filesystem::path output = scratch_.path() / "killed.txt";
   const pid_t pid = test::start_fovlab({"run", config.string(), "--participant", "P01", "--results", results_.string(),
                                         "--observer", "simulated", "--gaze", "synthetic:seed=3"},
@@ -507,12 +508,11 @@ TEST_F(HeadsetStudy, AHeadsetSessionKilledAfterATrialResumesAndReplays) {
 // turn every 30 frames, the presses reach the protocol as its pad_a ("same") and pad_b
 // ("different") keys, and the session logs them as the answers, with their times.
 TEST_F(HeadsetStudy, AParticipantAnswersOnTheController) {
-  const std::filesystem::path config = write(
-      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
-                              "fixation_distance_mm = 1500"));
+  const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
   std::string script;
   for (int frame = 30, n = 0; frame <= 6000; frame += 30, ++n)
-    script += std::to_string(frame) + (n % 2 == 0 ? " /user/gamepad/input/a/click\n" : " /user/gamepad/input/b/click\n");
+    script +=
+        std::to_string(frame) + (n % 2 == 0 ? " /user/gamepad/input/a/click\n" : " /user/gamepad/input/b/click\n");
   const std::filesystem::path presses = write("presses.txt", script);
   const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_INPUT=" + presses.string() + " </dev/null",
                                       FOVLAB_TEST_XR_RUNTIME_JSON, " --gaze synthetic:seed=3");
@@ -627,9 +627,7 @@ scene = "courtyard"
 // taken off) pauses the study as a closed window does: session_paused with the reason, the log
 // sealed; the next run resumes it to the end, and the log replays.
 TEST_F(HeadsetStudy, LosingTheFocusPausesTheSessionAndTheNextRunResumesIt) {
-  const std::filesystem::path config = write(
-      "a.toml", headset_study("eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\n"
-                              "fixation_distance_mm = 1500"));
+  const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
   const std::string flags = " --observer simulated --gaze synthetic:seed=3";
   const CommandResult paused =
       run_study(config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400", FOVLAB_TEST_XR_RUNTIME_JSON, flags);
