@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "core/input_error.h"
-#include "renderer/vk/submission.h"
+#include "renderer/present/device_frame.h"
 
 namespace fovlab {
 namespace {
@@ -56,7 +56,6 @@ OpenXrPresenter::OpenXrPresenter(const OpenXrPresenterOptions& options) : sessio
     poll_openxr_events(session_);
   }
   presses_.clear();  // nothing pressed before the study starts counts
-  frames_not_rendered_ = 0;
   focused_ = true;
 }
 
@@ -69,10 +68,7 @@ OpenXrPresenter::~OpenXrPresenter() {
     request_openxr_exit(session_);
     const Clock::time_point start = Clock::now();
     while (session_.running && seconds_since(start) < 5.0) {
-      run_openxr_frame(session_, [this](uint32_t eye, const OpenXrEyeView&) {
-        return DeviceRgba8Frame{session_.vulkan.get(), held_[eye].handle(), int(session_.eye_width_px),
-                                int(session_.eye_height_px)};
-      });
+      run_openxr_frame(session_, held_frames());
       poll_openxr_events(session_);
     }
   } catch (const std::exception&) {
@@ -96,26 +92,23 @@ void OpenXrPresenter::hold(uint32_t eye, const ViewFrame& frame) {
   }
   if (frame.device.context != session_.vulkan.get())
     throw std::invalid_argument("openxr: an eye's frame on another device than the headset session's");
-  vk::OneTimeCommands commands(*session_.vulkan);
-  vk::memory_barrier(commands.handle(), VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_TRANSFER_READ_BIT);
-  const VkBufferCopy region{0, 0, held.size_bytes()};
-  vkCmdCopyBuffer(commands.handle(), frame.device.buffer, held.handle(), 1, &region);
-  commands.submit_and_wait();
+  // The compositor's copy reads the held buffer on the device, so no host barrier.
+  copy_device_frame(frame.device, held, false);
 }
 
-double OpenXrPresenter::run_frame() {
-  const OpenXrEyeFrameSource held_frame = [this](uint32_t eye, const OpenXrEyeView&) {
+OpenXrEyeFrameSource OpenXrPresenter::held_frames() {
+  return [this](uint32_t eye, const OpenXrEyeView&) {
     return DeviceRgba8Frame{session_.vulkan.get(), held_[eye].handle(), static_cast<int>(session_.eye_width_px),
                             static_cast<int>(session_.eye_height_px)};
   };
-  last_frame_ = run_openxr_frame(session_, held_frame);
+}
+
+double OpenXrPresenter::run_frame() {
+  last_frame_ = run_openxr_frame(session_, held_frames());
   if (clock_zero_ == 0) {
     clock_zero_ = last_frame_.predicted_display_time;
     refresh_hz_ = 1e9 / static_cast<double>(last_frame_.predicted_display_period);
   }
-  if (!last_frame_.rendered) ++frames_not_rendered_;
   now_s_ = session_time_s(last_frame_.predicted_display_time);
   follow_session_state();
   for (const OpenXrButtonPress& press : input_->sync()) presses_.push_back({session_time_s(press.time), press.key});

@@ -63,13 +63,13 @@ class OpenXrPresenter final : public Presenter {
   }
   // The last frame run, with the views the runtime located for it.
   const OpenXrFrame& last_frame() const { return last_frame_; }
-  // Frames the runtime said not to render or gave no valid views for, since the session was focused.
-  int frames_not_rendered() const { return frames_not_rendered_; }
 
  private:
   // Copies `frame` (eye size, on the host or the session's device) into the eye's own buffer, which
   // the frame loop copies into the eye's swapchain image at every frame until the next one.
   void hold(uint32_t eye, const ViewFrame& frame);
+  // What each eye holds, as the frame loop asks for it.
+  OpenXrEyeFrameSource held_frames();
   // One frame showing what the eyes hold; then the runtime's events and the controller's presses.
   // Returns the frame's predicted display time on the session clock.
   double run_frame();
@@ -83,7 +83,6 @@ class OpenXrPresenter final : public Presenter {
   double now_s_ = 0.0;
   double refresh_hz_ = 0.0;
   OpenXrFrame last_frame_;
-  int frames_not_rendered_ = 0;
   bool focused_ = false;  // the runtime has focused the session (the constructor's end)
   std::vector<InputEvent> presses_;
   std::string close_reason_;

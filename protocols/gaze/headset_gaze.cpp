@@ -112,19 +112,23 @@ std::array<GazeSample, 2> eye_gaze_from_ray(const HeadsetGazeGeometry& geometry,
   return {at(template_sample, *left), at(template_sample, *right)};
 }
 
+std::optional<Vec3> point_on_fixation_plane(const Vec3& origin_m, const Vec3& direction, double distance_m) {
+  const double along = (-distance_m - origin_m[2]) / direction[2];
+  if (!(along > 0.0) || !std::isfinite(along)) return std::nullopt;
+  return Vec3{origin_m[0] + along * direction[0], origin_m[1] + along * direction[1],
+              origin_m[2] + along * direction[2]};
+}
+
 std::array<GazeSample, 2> eye_gaze_from_left_eye_pixel(const HeadsetGazeGeometry& geometry, const GazeSample& left) {
   require_distance(geometry.fixation_distance_m, "eye_gaze_from_left_eye_pixel");
   if (!left.valid) return {left, left};
   if (!std::isfinite(left.x_px) || !std::isfinite(left.y_px)) return both_invalid(left, "not_finite");
   const EyeView& left_eye = geometry.eyes[0];
   const Vec3 direction = direction_of_eye_pixel(left_eye, geometry.width_px, geometry.height_px, left.x_px, left.y_px);
-  // Along the ray to the plane z = -fixation_distance_m; only forwards along it.
-  const double along = (-geometry.fixation_distance_m - left_eye.position_in_head[2]) / direction[2];
-  if (!(along > 0.0) || !std::isfinite(along)) return both_invalid(left, "off_screen");
-  const Vec3 point{left_eye.position_in_head[0] + along * direction[0],
-                   left_eye.position_in_head[1] + along * direction[1],
-                   left_eye.position_in_head[2] + along * direction[2]};
-  const auto right = eye_pixel_of_point(geometry.eyes[1], geometry.width_px, geometry.height_px, point);
+  const std::optional<Vec3> point =
+      point_on_fixation_plane(left_eye.position_in_head, direction, geometry.fixation_distance_m);
+  if (!point) return both_invalid(left, "off_screen");
+  const auto right = eye_pixel_of_point(geometry.eyes[1], geometry.width_px, geometry.height_px, *point);
   if (!right) return both_invalid(left, "off_screen");
   return {left, at(left, *right)};
 }

@@ -37,8 +37,7 @@ std::optional<std::pair<double, double>> eye_pixel_of_direction(const EyeView& e
 // The unit direction, in the head's frame, from the eye through the image position (x_px, y_px) of
 // its width_px x height_px image (positions off the image extend the same plane).
 // std::invalid_argument for a size under 1 pixel.
-std::array<double, 3> direction_of_eye_pixel(const EyeView& eye, int width_px, int height_px, double x_px,
-                                             double y_px);
+std::array<double, 3> direction_of_eye_pixel(const EyeView& eye, int width_px, int height_px, double x_px, double y_px);
 
 // Both eyes' views ([0] left, [1] right), their images' size (the two eyes' images are alike in
 // size) and how far away the gaze rests when nothing else says (metres).
@@ -49,6 +48,13 @@ struct HeadsetGazeGeometry {
   double fixation_distance_m = 1.0;
 };
 
+// Where a ray (origin in the head, metres; direction, any length) meets the fixation plane, the
+// fronto-parallel plane distance_m in front of the head (z = -distance_m; the head looks along -z):
+// the point the gaze rests on with gaze_fixation = "fixation-distance". nullopt when the ray does
+// not reach it going forwards, or does not meet it at a finite point.
+std::optional<std::array<double, 3>> point_on_fixation_plane(const std::array<double, 3>& origin_m,
+                                                             const std::array<double, 3>& direction, double distance_m);
+
 // A tracker's combined gaze ray (origin in the head, metres; direction, any length) as a sample in
 // each eye's image: the fixation point origin + fixation_distance_m * the unit direction, where each
 // eye sees it. Each sample is `template_sample` (its time fields) with that position. Both are
@@ -57,8 +63,7 @@ struct HeadsetGazeGeometry {
 // eyes ("off_screen"). std::invalid_argument for a fixation distance that is not positive and
 // finite.
 std::array<GazeSample, 2> eye_gaze_from_ray(const HeadsetGazeGeometry& geometry, const std::array<double, 3>& origin_m,
-                                            const std::array<double, 3>& direction,
-                                            const GazeSample& template_sample);
+                                            const std::array<double, 3>& direction, const GazeSample& template_sample);
 
 // A gaze source that gives pixels (trace, synthetic, mouse) gives the left eye's: the left sample is
 // `left` as it is, and the right eye's is where the fixation point appears to it. The fixation point

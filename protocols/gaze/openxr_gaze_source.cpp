@@ -1,7 +1,5 @@
 #include "protocols/gaze/openxr_gaze_source.h"
 
-#include <cmath>
-
 namespace fovlab {
 
 GazeSample OpenXrGazeSource::sample(double time_s) {
@@ -14,18 +12,13 @@ GazeSample OpenXrGazeSource::sample(double time_s) {
   };
   const std::optional<OpenXrGazeRay> ray = headset_.input().locate_gaze(headset_.runtime_time(time_s - time_base_s_));
   if (!ray) return invalid("no_data");
-  sample.acquired_s =
-      ray->sample_time != 0 ? time_base_s_ + headset_.session_time_s(ray->sample_time) : time_s;
+  sample.acquired_s = ray->sample_time != 0 ? time_base_s_ + headset_.session_time_s(ray->sample_time) : time_s;
   sample.ray_in_head = GazeRay{ray->origin_m, ray->direction};
   std::optional<std::pair<double, double>> left;
   if (geometry_.fixation_distance_m > 0.0) {
-    // Where the ray meets the plane z = -fixation_distance_m (the head looks along -z).
-    const double along = (-geometry_.fixation_distance_m - ray->origin_m[2]) / ray->direction[2];
-    if (!(along > 0.0) || !std::isfinite(along)) return invalid("off_screen");
-    const std::array<double, 3> point{ray->origin_m[0] + along * ray->direction[0],
-                                      ray->origin_m[1] + along * ray->direction[1],
-                                      ray->origin_m[2] + along * ray->direction[2]};
-    left = eye_pixel_of_point(geometry_.eyes[0], geometry_.width_px, geometry_.height_px, point);
+    const auto point = point_on_fixation_plane(ray->origin_m, ray->direction, geometry_.fixation_distance_m);
+    if (!point) return invalid("off_screen");
+    left = eye_pixel_of_point(geometry_.eyes[0], geometry_.width_px, geometry_.height_px, *point);
   } else {
     left = eye_pixel_of_direction(geometry_.eyes[0], geometry_.width_px, geometry_.height_px, ray->direction);
   }

@@ -9,6 +9,21 @@
 
 namespace fovlab {
 
+void copy_device_frame(const DeviceRgba8Frame& frame, const vk::Buffer& to, bool for_host) {
+  vk::OneTimeCommands commands(*frame.context);
+  const VkCommandBuffer cmd = commands.handle();
+  // The renderer's writes of the frame (compute or transfer) before the copy reads it.
+  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{0, 0, VkDeviceSize(frame.width) * VkDeviceSize(frame.height) * 4};
+  vkCmdCopyBuffer(cmd, frame.buffer, to.handle(), 1, &region);
+  if (for_host)
+    vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                       VK_ACCESS_HOST_READ_BIT);
+  commands.submit_and_wait();
+}
+
 Rgba8Frame read_back(const DeviceRgba8Frame& frame) {
   vk::Buffer scratch;
   return read_back(frame, scratch);
@@ -22,16 +37,7 @@ Rgba8Frame read_back(const DeviceRgba8Frame& frame, vk::Buffer& readback) {
     readback = vk::Buffer();
     readback = vk::Buffer(*frame.context, host.rgba.size(), vk::MemoryUse::host_readback);
   }
-  vk::OneTimeCommands commands(*frame.context);
-  const VkCommandBuffer cmd = commands.handle();
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_ACCESS_TRANSFER_READ_BIT);
-  const VkBufferCopy region{0, 0, host.rgba.size()};
-  vkCmdCopyBuffer(cmd, frame.buffer, readback.handle(), 1, &region);
-  vk::memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                     VK_ACCESS_HOST_READ_BIT);
-  commands.submit_and_wait();
+  copy_device_frame(frame, readback, true);
   readback.invalidate();
   std::memcpy(host.rgba.data(), readback.mapped(), host.rgba.size());
   return host;

@@ -23,6 +23,11 @@ struct DeviceRgba8Frame {
   explicit operator bool() const { return buffer != VK_NULL_HANDLE; }
 };
 
+// The frame's bytes copied into `to`, a buffer on the frame's device of at least width * height * 4
+// bytes: one copy submitted on that device and waited for, after the renderer's writes of the frame;
+// `for_host` also makes the copy visible to reads from the host (a read-back).
+void copy_device_frame(const DeviceRgba8Frame& frame, const vk::Buffer& to, bool for_host);
+
 // The frame's bytes on the host: one copy into a host-visible buffer, submitted on the frame's
 // device and waited for. Throws std::invalid_argument for an empty frame.
 Rgba8Frame read_back(const DeviceRgba8Frame& frame);
