@@ -139,7 +139,6 @@ std::vector<bench::BenchOptions> read_bench_flags_per_eye(const BenchFlags& flag
   if (config.display.kind != DisplayKind::openxr)
     throw InputError("--headset " + flags.headset + ": [display] kind is \"" + display_kind_name(config.display.kind) +
                      "\"; expected a headset's config ([display] kind = \"openxr\")");
-  require_eye_image_size(config, "bench --headset");
   const HeadsetDisplayConfig& headset = config.display.headset;
   std::vector<bench::BenchOptions> eyes;
   for (const bool left : {true, false}) {

@@ -69,7 +69,6 @@ void print_progress(bool terminal, int done, int total, double seconds_per_frame
 
 std::vector<PathTraceFrameJob> prerender_frame_jobs(const std::string& config_path) {
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
-  require_eye_image_size(config, "prerender");
   const StudyPlan plan = make_study_plan(config, "prerender");  // the stimuli do not depend on the participant
   check_plan_renderable(plan, config_path,
                         PlanUse::prerender);  // a config no session could run is refused before rendering

@@ -27,7 +27,6 @@ std::string cell(double value, int digits = 4) { return std::isfinite(value) ? f
 
 void simulate(const std::string& config_path, const bench::SimulationOptions& options, const std::string& json_path) {
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
-  require_eye_image_size(config, "simulate");
   const bench::SimulationResult result = bench::simulate_study(config, options);
   std::printf(
       "%s: %d simulated participants (observer threshold %s, slope %s, guess %s, lapse %s), %.1f s on %d threads\n",

@@ -217,7 +217,6 @@ void validate(const std::string& config_path, const std::string& participant, bo
               const std::string& device, const std::string& cache_dir) {
   check_output_target(cache_dir, "--cache", {OutputKind::folder});  // the default's too: the timed sample may fill it
   const StudyConfig config = parse_study_config_file(config_path, renderer_scene_catalog());
-  require_eye_image_size(config, "validate");
   const StudyPlan plan = make_study_plan(config, participant);
   check_plan_renderable(plan, config_path, PlanUse::session);  // what a session would refuse, refused now
   check_right_eye_renderable(config, participant, config_path);

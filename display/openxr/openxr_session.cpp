@@ -124,8 +124,10 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     if (view_count != 2)
       throw InputError("openxr: the headset's stereo configuration has " + std::to_string(view_count) +
                        " views; expected 2");
-    eye_width_px = options.eye_width_px != 0 ? options.eye_width_px : views[0].recommendedImageRectWidth;
-    eye_height_px = options.eye_height_px != 0 ? options.eye_height_px : views[0].recommendedImageRectHeight;
+    recommended_eye_width_px = views[0].recommendedImageRectWidth;
+    recommended_eye_height_px = views[0].recommendedImageRectHeight;
+    eye_width_px = options.eye_width_px != 0 ? options.eye_width_px : recommended_eye_width_px;
+    eye_height_px = options.eye_height_px != 0 ? options.eye_height_px : recommended_eye_height_px;
     for (const XrViewConfigurationView& view : views) {
       if (eye_width_px > view.maxImageRectWidth || eye_height_px > view.maxImageRectHeight)
         throw InputError("openxr: eye image " + std::to_string(eye_width_px) + "x" + std::to_string(eye_height_px) +

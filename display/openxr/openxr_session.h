@@ -57,6 +57,9 @@ struct OpenXrSession {
   XrSpace view_space = XR_NULL_HANDLE;  // VIEW: the head, where each eye's view is located for rendering
   uint32_t eye_width_px = 0;
   uint32_t eye_height_px = 0;
+  // The runtime's recommended size of the first view (its compositor resamples any other size).
+  uint32_t recommended_eye_width_px = 0;
+  uint32_t recommended_eye_height_px = 0;
   std::array<OpenXrEyeSwapchain, 2> eyes;
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;  // the last state the runtime reported
   bool running = false;                             // between xrBeginSession and xrEndSession

@@ -169,12 +169,11 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 }
 
 // What a headset session cannot do yet (issue 42, docs/hmd.md), refused before anything is opened
-// or written: the runtime's recommended eye size (the plan needs one), head-tracked views; and the
+// or written: head-tracked views; and the
 // gaze resting on the rendered depth of stimuli that show no surface (volume, fvolume: their rays
 // pass through a medium; the config cannot give a fixation distance beside rendered-depth, so they
 // are refused rather than given one).
 void check_headset_session_buildable(const StudyConfig& config, const StudyPlan& plan) {
-  require_eye_image_size(config, "run");
   const HeadsetDisplayConfig& headset = config.display.headset;
   const std::string& path = config.source_path;
   if (headset.view_model == HeadsetViewModel::head_tracked)
@@ -419,6 +418,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     } else {
       headset_views = headset_views_at_start(*headset, config);
     }
+    // Not refused: the config fixes the size for every participant, and the compositor resamples.
+    const OpenXrSession& eyes = headset->session();
+    if (eyes.eye_width_px != eyes.recommended_eye_width_px || eyes.eye_height_px != eyes.recommended_eye_height_px)
+      std::fprintf(stderr, "fovlab: each eye renders at %ux%u px (the config's); the runtime %s recommends %ux%u px, "
+                   "so its compositor resamples each eye's image\n", eyes.eye_width_px, eyes.eye_height_px,
+                   headset_views->runtime.c_str(), eyes.recommended_eye_width_px, eyes.recommended_eye_height_px);
   } else if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
     if (!options.screenshots_dir.empty()) find_font_path();  // headless screenshots draw the text screens

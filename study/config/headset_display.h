@@ -24,8 +24,8 @@ const char* headset_view_model_name(HeadsetViewModel model);  // "head-locked", 
 enum class GazeFixation { rendered_depth, fixation_distance };
 
 struct HeadsetDisplayConfig {
-  // Each eye's image in pixels; both 0: the runtime's recommended size, which the commands that
-  // make stimuli refuse for now (require_eye_image_size; `fovlab run` too).
+  // Each eye's image in pixels, 8..16384: fixed by the config (0, "the runtime's recommendation",
+  // is refused when it is read), so that every participant sees stimuli of one size.
   int eye_width_px = 0;
   int eye_height_px = 0;
   EyeFieldOfView left_eye_fov;   // read from left_eye_fov_deg (degrees in the config)

@@ -68,16 +68,6 @@ std::string field_of_view_text(const EyeFieldOfView& fov) {
          "] deg";
 }
 
-void require_eye_image_size(const StudyConfig& config, const std::string& command) {
-  const DisplayConfig& display = config.display;
-  if (display.kind != DisplayKind::openxr || display.headset.eye_width_px > 0) return;
-  const int line = display.headset.eye_size_line;
-  throw InputError(config.source_path + (line > 0 ? ":" + std::to_string(line) : "") +
-                   ": display.eye_width_px: expected each eye's size in pixels for fovlab " + command +
-                   ", which makes the stimuli (0, the runtime's recommended size, is not built yet; fovlab devices "
-                   "prints it)");
-}
-
 }  // namespace fovlab
 
 namespace fovlab::config_detail {
@@ -91,11 +81,14 @@ constexpr std::array<const char*, 8> kHeadsetKeys{
     "eye_width_px", "eye_height_px", "left_eye_fov_deg", "right_eye_fov_deg",
     "ipd_mm",       "view_model",    "gaze_fixation",    "fixation_distance_mm"};
 
-// 0 (the runtime's recommendation) or 8..16384, as a window's size.
+// 8..16384, as a window's size. Never "whatever the runtime recommends": the stimuli, their
+// pre-rendered frames and the thresholds measured on them hold for one size only, so every
+// participant of a study sees that size, whichever headset and runtime they sit at.
 int read_eye_size(const TomlFields& fields, const std::string& key) {
   const int size = bounded_integer(fields, key, std::nullopt, 0, 16384);
-  if (size > 0 && size < 8)
-    fields.fail(key, "expected 8..16384 pixels, or 0 for the runtime's recommended size, got " + std::to_string(size));
+  if (size < 8)
+    fields.fail(key, "expected each eye's size in pixels, 8..16384, one size for every participant of the study "
+                     "(`fovlab devices` prints the runtime's recommended size), got " + std::to_string(size));
   return size;
 }
 
@@ -136,9 +129,6 @@ void read_headset_display(const TomlFields& fields, DisplayConfig& display) {
   headset.eye_width_px = read_eye_size(fields, "eye_width_px");
   headset.eye_height_px = read_eye_size(fields, "eye_height_px");
   headset.eye_size_line = static_cast<int>(fields.raw().get("eye_width_px")->source().begin.line);
-  if ((headset.eye_width_px == 0) != (headset.eye_height_px == 0))
-    fields.fail(headset.eye_width_px == 0 ? "eye_width_px" : "eye_height_px",
-                "expected both eye sizes 0 (the runtime's recommended size) or neither");
   display.refresh_hz = fields.number("refresh_hz");  // required: headsets run at 72 to 144 Hz
   check_range(fields, "refresh_hz", display.refresh_hz, 1.0, 1000.0);
   headset.left_eye_fov = read_field_of_view(fields, "left_eye_fov_deg");

@@ -278,11 +278,6 @@ StudyConfig parse_logged_study_config(const std::string& text, const std::string
                                       int log_schema_version, const SceneCatalog* scenes,
                                       const std::string& conditions_csv = {});
 
-// validate, prerender and simulate make the plan's stimuli, so they need each eye's size: a headset
-// config whose eye_width_px and eye_height_px are 0 (the runtime's recommendation, which only `fovlab
-// run` asks for) is refused, one line naming the key and `command`. A window config passes.
-void require_eye_image_size(const StudyConfig& config, const std::string& command);
-
 // A gaze-contingent study: its stimuli follow the gaze (the reference's or the test's method
 // depends_on_gaze: fipr, fpt, the sampling models), so where the gaze comes from decides what the
 // participant sees.

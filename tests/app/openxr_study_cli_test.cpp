@@ -116,14 +116,21 @@ TEST_F(HeadsetStudy, ValidatePrintsEachEyesGeometry) {
       << result.out;
 }
 
-TEST_F(HeadsetStudy, ValidateSimulateAndPrerenderNeedEachEyesSize) {
+// Each eye's size is the config's for every command, run included: "0, the runtime's recommended
+// size" would give each participant stimuli of their own headset's size.
+TEST_F(HeadsetStudy, EveryCommandRefusesTheRuntimesRecommendedSize) {
   const std::filesystem::path config = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
+  const std::string expected = config.string() +
+                               ":7: display.eye_width_px: expected each eye's size in pixels, 8..16384, one size "
+                               "for every participant of the study (`fovlab devices` prints the runtime's "
+                               "recommended size), got 0";
   for (const std::string command : {"validate", "simulate", "prerender"}) {
     SCOPED_TRACE(command);
-    expect_refusal(
-        cli_test::run(command + " " + config.string(), "cd " + scratch_.path().string() + " &&"),
-        config.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab " + command);
+    expect_refusal(cli_test::run(command + " " + config.string(), "cd " + scratch_.path().string() + " &&"), expected);
   }
+  expect_refusal(run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3"),
+                 expected);
+  EXPECT_FALSE(std::filesystem::exists(results_));
 }
 
 TEST_F(HeadsetStudy, RunWithoutARuntimeRefusesInOneLine) {
@@ -184,13 +191,10 @@ TEST_F(HeadsetStudy, RunRefusesAnEyeOverTheRuntimesMaximumNamingTheKey) {
 }
 
 // What headset sessions cannot do yet is refused in one line before a results folder exists: the
-// runtime's recommended size (0), the gaze resting on the rendered depth of volume stimuli (no
-// surface), a field of view that is not the runtime's, the headset's eye gaze from a runtime without it.
+// gaze resting on the rendered depth of volume stimuli (no surface), a field of view that is not the
+// runtime's, the headset's eye gaze from a runtime without it.
 TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
   const std::string synthetic = " --observer simulated --gaze synthetic:seed=3";
-  const std::filesystem::path recommended = write("zero.toml", headset_study("eye_width_px = 0\neye_height_px = 0"));
-  expect_refusal(run_study(recommended, "", FOVLAB_TEST_XR_RUNTIME_JSON, synthetic),
-                 recommended.string() + ":7: display.eye_width_px: expected each eye's size in pixels for fovlab run");
   std::string volumes = headset_study();
   volumes.replace(volumes.find("method = \"gt\""), 13, "method = \"volume\"");
   volumes.replace(volumes.find("method = \"fipr\""), 15, "method = \"fvolume\"");
@@ -227,6 +231,11 @@ TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes
   const CommandResult ran =
       run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
   ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  // Not the runtime's recommended size: said once, as the session starts (the compositor resamples).
+  const std::string resampled = "fovlab: each eye renders at 64x72 px (the config's); the runtime fovlab test runtime "
+                                "0.1.0 recommends 1440x1600 px, so its compositor resamples each eye's image\n";
+  EXPECT_NE(ran.err.find(resampled), std::string::npos) << ran.err;
+  EXPECT_EQ(ran.err.find(resampled), ran.err.rfind(resampled)) << ran.err;
   const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
   std::ifstream lines(log);
   std::string line;
