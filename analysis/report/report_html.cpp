@@ -1,5 +1,8 @@
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -147,6 +150,59 @@ std::string html_frame_intervals(const AnalysisResult& result, const std::vector
     html += html_figure(frame_plots[i]);
   }
   if (frame_plots.size() > 1) html += "</details>\n";
+  return html;
+}
+
+// "[-54, 49, 54, -56] deg, 0.44 x 0.44 px/deg": an eye's field of view and its pixels per degree
+// at the view's centre (where a radian spans the image plane's unit length).
+std::string eye_text(const std::optional<std::array<double, 4>>& fov_deg, const HeadsetSummary& headset) {
+  if (!fov_deg) return "not recorded";
+  const auto [left, right, up, down] = *fov_deg;
+  const auto tan_deg = [](double degrees) { return std::tan(degrees * std::numbers::pi / 180.0); };
+  const double per_degree = std::numbers::pi / 180.0;
+  const double x_px_per_deg = headset.eye_width_px / (tan_deg(right) - tan_deg(left)) * per_degree;
+  const double y_px_per_deg = headset.eye_height_px / (tan_deg(up) - tan_deg(down)) * per_degree;
+  return "[" + format_number(left, 4) + ", " + format_number(right, 4) + ", " + format_number(up, 4) + ", " +
+         format_number(down, 4) + "] deg, " + format_number(x_px_per_deg, 3) + " x " + format_number(y_px_per_deg, 3) +
+         " px/deg";
+}
+
+// The headset section, for studies with headset sessions: each session's runtime and eyes beside
+// the frame timing and gaze figures, which a headset gives once for both eyes.
+std::string html_headset(const AnalysisResult& result) {
+  std::vector<std::vector<std::string>> rows;
+  for (const ParticipantRow& p : result.participants) {
+    if (!p.headset) continue;
+    const HeadsetSummary& headset = *p.headset;
+    const FrameIntervalSummary& frames = p.frame_intervals;
+    rows.push_back(
+        {p.participant + (p.excluded ? " (excluded)" : ""), headset.runtime,
+         std::to_string(headset.eye_width_px) + " x " + std::to_string(headset.eye_height_px),
+         eye_text(headset.fov_deg[0], headset), eye_text(headset.fov_deg[1], headset), headset.view_model,
+         headset.gaze_fixation +
+             (headset.fixation_distance_mm ? " (" + format_number(*headset.fixation_distance_mm, 6) + " mm)" : ""),
+         p.present_clock.empty() ? "not recorded" : p.present_clock,
+         std::to_string(frames.intervals) + ", median " + html_number(frames.median_ms) + " ms, " +
+             std::to_string(frames.late) + " late",
+         std::to_string(p.dropped_frames),
+         p.latency_recorded ? html_number(p.latency.median_ms) + " / " + html_number(p.latency.p95_ms)
+                            : "not recorded",
+         validation_text(p.validation)});
+  }
+  if (rows.empty()) return {};
+  std::string html = "<h2 id=\"headset\">Headset</h2>\n";
+  html +=
+      "<p>Sessions run in a head-mounted display through OpenXR (docs/hmd.md). Each frame submits both eyes' "
+      "images for one predicted display time (the present clock openxr_predicted_display), so the refresh "
+      "intervals, late intervals and dropped frames are each eye's alike; one gaze sample a refresh places both "
+      "eyes' pixels (the combined gaze ray resting on the gaze fixation), so its age at present time and the "
+      "eye-tracker checks are each eye's alike too. Each eye's field of view is [left, right, up, down] from its "
+      "forward direction, with its pixels per degree at the view's centre; the runtime's compositor corrects the "
+      "lens.</p>\n";
+  html += html_table({"session", "OpenXR runtime", "each eye (px)", "left eye", "right eye", "view model",
+                      "gaze fixation", "present clock", "refresh intervals (both eyes)", "dropped frames",
+                      "gaze-to-present ms, median / p95", "eye-tracker checks passed / tried; accuracy (worst), precision"},
+                     rows);
   return html;
 }
 
@@ -455,6 +511,7 @@ std::string report_html(const AnalysisResult& result, const ReportPlots& report_
   }
 
   html += html_frame_intervals(result, report_plots.frame_intervals);
+  html += html_headset(result);
 
   const bool with_tracks = has_adaptive_tracks(result);
   if (with_tracks) {

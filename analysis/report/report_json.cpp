@@ -108,6 +108,20 @@ json latency_json(const ParticipantRow& participant) {
           {"present_clock", participant.latency_recorded ? json(participant.present_clock) : json(nullptr)}};
 }
 
+// A headset session's eyes (only for one): as its log header gave them, angles in degrees.
+json headset_json(const HeadsetSummary& headset) {
+  json eyes = json::array();
+  for (const std::optional<std::array<double, 4>>& fov : headset.fov_deg)
+    eyes.push_back(fov ? json{{"fov_deg", *fov}} : json{{"fov_deg", nullptr}});
+  return {{"runtime", headset.runtime},
+          {"eye_width_px", headset.eye_width_px},
+          {"eye_height_px", headset.eye_height_px},
+          {"view_model", headset.view_model},
+          {"gaze_fixation", headset.gaze_fixation},
+          {"fixation_distance_mm", json_number(headset.fixation_distance_mm)},
+          {"eyes", eyes}};
+}
+
 json thresholds_json(const AnalysisResult& result) {
   json root;
   root["study"] = result.study;
@@ -292,6 +306,7 @@ json thresholds_json(const AnalysisResult& result) {
                                     {"practice_trials", participant.practice_trials},
                                     {"thresholds", thresholds}});
     if (!participant.tracks.empty()) root["participants"].back()["adaptive_tracks"] = adaptive_tracks_json(participant);
+    if (participant.headset) root["participants"].back()["headset"] = headset_json(*participant.headset);
   }
 
   root["frame_intervals"] = frame_intervals_json(result.frame_intervals);

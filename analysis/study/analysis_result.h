@@ -3,6 +3,7 @@
 // the participants, the thresholds per protocol, the psychometric fits, and what was left out and
 // why. Produced by analyse_study (study_analysis.h); written as thresholds.json, conditions.csv,
 // participants.csv, SVG plots and report.html by analysis/report/.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -88,6 +89,21 @@ struct AdaptiveTrackResult {
   std::string note;
 };
 
+// A headset session's eyes, from its log header's `headset` (docs/log-schema.md): what the report
+// shows beside the frame timing and gaze figures, which in a headset hold for both eyes at once
+// (each frame submits both eyes for one predicted display time; one gaze sample places both eyes'
+// pixels).
+struct HeadsetSummary {
+  std::string runtime;  // the OpenXR runtime's name and version
+  int eye_width_px = 0;
+  int eye_height_px = 0;
+  std::string view_model;     // "head-locked" or "head-tracked"
+  std::string gaze_fixation;  // "rendered-depth" or "fixation-distance"
+  std::optional<double> fixation_distance_mm;
+  // Each eye's field of view [left, right, up, down] in degrees, left eye first (none: not logged).
+  std::array<std::optional<std::array<double, 4>>, 2> fov_deg;
+};
+
 struct ParticipantRow {
   std::string participant;
   std::string log_path;
@@ -113,6 +129,7 @@ struct ParticipantRow {
   // (participants.csv: "not recorded").
   std::string gaze_source;
   std::string present_clock;
+  std::optional<HeadsetSummary> headset;  // a headset session's: none for a window's or headless one
   ValidationSummary validation;
   int practice_trials = 0;  // complete practice trials (never analysed)
   std::vector<ParticipantThreshold> thresholds;

@@ -523,6 +523,7 @@ AnalysisResult analyse_study(const StudyData& data, const AnalysisOptions& optio
     row.frame_intervals = participant.frame_intervals;
     row.gaze_source = participant.gaze_source;
     row.present_clock = participant.present_clock;
+    row.headset = participant.headset;
     row.validation = participant.validation;
     row.practice_trials = participant.practice_trials;
     row.tracks = adaptive_tracks(data, participant);

@@ -7,6 +7,7 @@
 #include <thread>
 #include <cctype>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "core/input_error.h"
@@ -60,6 +61,45 @@ std::optional<double> header_refresh_hz(const nlohmann::json& header) {
   return std::nullopt;
 }
 
+// The header's `headset`, read leniently (a field of another type is left out): the analysis
+// reports it, and replay, not analyze, is where a header is checked whole.
+std::optional<HeadsetSummary> header_headset(const nlohmann::json& header) {
+  const auto found = header.find("headset");
+  if (found == header.end() || !found->is_object()) return std::nullopt;
+  const nlohmann::json& headset = *found;
+  HeadsetSummary summary;
+  const auto text = [](const nlohmann::json& object, const char* key) {
+    const auto value = object.find(key);
+    return value != object.end() && value->is_string() ? value->get<std::string>() : std::string();
+  };
+  const auto whole = [&](const char* key) {
+    const std::optional<double> value = optional_number(headset, key);
+    return value ? static_cast<int>(*value) : 0;
+  };
+  summary.runtime = text(headset, "runtime");
+  summary.eye_width_px = whole("eye_width_px");
+  summary.eye_height_px = whole("eye_height_px");
+  summary.view_model = text(headset, "view_model");
+  if (const auto fixation = headset.find("gaze_fixation"); fixation != headset.end() && fixation->is_object()) {
+    summary.gaze_fixation = text(*fixation, "kind");
+    summary.fixation_distance_mm = optional_number(*fixation, "distance_mm");
+  }
+  if (const auto eyes = headset.find("eyes"); eyes != headset.end() && eyes->is_array()) {
+    for (size_t eye = 0; eye < 2 && eye < eyes->size(); ++eye) {
+      const auto fov = (*eyes)[eye].is_object() ? (*eyes)[eye].find("fov_rad") : (*eyes)[eye].end();
+      if (fov == (*eyes)[eye].end() || !fov->is_array() || fov->size() != 4) continue;
+      std::array<double, 4> degrees{};
+      bool numbers = true;
+      for (size_t side = 0; side < 4; ++side) {
+        numbers = numbers && (*fov)[side].is_number();
+        if (numbers) degrees[side] = (*fov)[side].get<double>() * 180.0 / std::numbers::pi;
+      }
+      if (numbers) summary.fov_deg[eye] = degrees;
+    }
+  }
+  return summary;
+}
+
 ParticipantData participant_of(ScannedSession& session) {
   // The level and method of every stimulus id (level none: a reference), from the header once.
   std::vector<std::optional<double>> level_of_stimulus;
@@ -99,6 +139,7 @@ ParticipantData participant_of(ScannedSession& session) {
   participant.frame_intervals = summarise_frame_intervals(frame_interval_s, header_refresh_hz(session.header));
   for (const std::string& clock : session.present_clocks)
     participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
+  participant.headset = header_headset(session.header);
   for (const TrackerValidationEvent& attempt : session.validations) {
     ValidationSummary& validation = participant.validation;
     ++validation.attempts;

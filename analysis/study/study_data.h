@@ -51,6 +51,7 @@ struct ParticipantData {
   int64_t dropped_frames = 0;              // refresh periods missed in the complete trials (every schema)
   FrameIntervalSummary frame_intervals;    // between the complete trials' presented refreshes (every schema)
   std::string present_clock;               // "virtual", "after_queue_present", "present_wait"; several: joined by "+"
+  std::optional<HeadsetSummary> headset;   // the header's `headset` (a headset session)
   ValidationSummary validation;            // the eye-tracker validations (every attempt in the log)
   std::string gaze_source;                 // gaze_kinds as text (ParticipantRow::gaze_source)
   std::vector<GazeSourceKind> gaze_kinds;  // the gaze sources its runs used, in order (log_events.h session_gaze_kinds)

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -559,6 +560,48 @@ TEST(AnalysisReport, HtmlIsSelfContainedAndSaysEverything) {
   EXPECT_EQ(html.find("<study>"), std::string::npos);
   EXPECT_EQ(html.find("\"north\""), std::string::npos);
   EXPECT_NE(html.find("1 included, 1 excluded"), std::string::npos);
+  EXPECT_EQ(html.find("id=\"headset\""), std::string::npos) << "no headset session, no headset section";
+}
+
+// A headset session (issue 42) gets a section of its own: its runtime, each eye's size, field of
+// view and pixels per degree, beside the present clock, refresh intervals, dropped frames, latency
+// and tracker checks that a headset gives once for both eyes; thresholds.json has the same under
+// the participant's "headset", and a desktop participant has none.
+TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
+  AnalysisResult result = sample_result();
+  HeadsetSummary headset;
+  headset.runtime = "fovlab test runtime 0.1.0";
+  headset.eye_width_px = 64;
+  headset.eye_height_px = 72;
+  headset.view_model = "head-locked";
+  headset.gaze_fixation = "fixation-distance";
+  headset.fixation_distance_mm = 1500.0;
+  headset.fov_deg[0] = std::array<double, 4>{-54.0, 49.0, 54.0, -56.0};
+  headset.fov_deg[1] = std::array<double, 4>{-49.0, 54.0, 54.0, -56.0};
+  result.participants.at(0).headset = headset;
+  result.participants.at(0).present_clock = "openxr_predicted_display";
+  TempDir dir("headset");
+  write_analysis_report(result, dir.path().string());
+  const std::string html = read_text(dir.path() / "report.html");
+  EXPECT_EQ(count(html, "<h2 id=\"headset\">Headset</h2>"), 1u);
+  // tan 49 + tan 54 = 2.5268 across 64 px: 0.442 px/deg at the view's centre.
+  EXPECT_NE(html.find("<tr><td>P001</td><td>fovlab test runtime 0.1.0</td><td>64 x 72</td><td>[-54, 49, 54, -56] "
+                      "deg, 0.442 x "),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td>[-49, 54, 54, -56] deg, 0.442 x "), std::string::npos);
+  EXPECT_NE(html.find("<td>head-locked</td><td>fixation-distance (1500 mm)</td><td>openxr_predicted_display</td>"
+                      "<td>5, median 16 ms, 1 late</td><td>3</td><td>56.5 / 73.25</td>"),
+            std::string::npos)
+      << html;
+  EXPECT_EQ(html.find("<td>P002</td><td>fovlab test runtime"), std::string::npos) << "a desktop session: no row";
+  std::ifstream file(dir.path() / "thresholds.json");
+  const nlohmann::json thresholds = nlohmann::json::parse(file);
+  EXPECT_EQ(thresholds["participants"][0]["headset"],
+            nlohmann::json::parse(R"({"runtime": "fovlab test runtime 0.1.0", "eye_width_px": 64, "eye_height_px": 72,
+                "view_model": "head-locked", "gaze_fixation": "fixation-distance", "fixation_distance_mm": 1500.0,
+                "eyes": [{"fov_deg": [-54.0, 49.0, 54.0, -56.0]}, {"fov_deg": [-49.0, 54.0, 54.0, -56.0]}]})"));
+  EXPECT_FALSE(thresholds["participants"][1].contains("headset"));
 }
 
 TEST(AnalysisReport, PlotsShowTheirData) {
