@@ -442,6 +442,9 @@ XrResult XRAPI_CALL sync_actions(XrSession session, const XrActionsSyncInfo* syn
     if (!attached_to(*object, handle_value(active.actionSet))) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
     if (const XrResult result = check_subaction_path(*instance, active.subactionPath); XR_FAILED(result)) return result;
   }
+  // The test's presses queued since the last sync, for the frame after the latest xrWaitFrame (an
+  // unfocused session's too: the queue is read in order, whatever the session's state).
+  if (!take_queued_presses(object->input, object->waited_frames + 1)) return XR_ERROR_RUNTIME_FAILURE;
   // An unfocused session gets no input: every action inactive.
   if (object->state != XR_SESSION_STATE_FOCUSED) {
     for (auto& [action, state] : object->action_states) state = ActionState{};

@@ -5,6 +5,10 @@
 //   FOVLAB_TEST_XR_INPUT = a file of lines "<frame> <input path>": that button is pressed during the
 //     session's frame-th xrWaitFrame and released after it (blank lines and lines starting with '#'
 //     are skipped);
+//   FOVLAB_TEST_XR_PRESS_QUEUE = a file the test appends lines "<input path>" to while the session
+//     runs: at each xrSyncActions the lines appended since the last are taken, each pressed during
+//     the next xrWaitFrame's frame and released after it (a line not yet ended by a newline waits for
+//     a later sync), so a test can answer what the application shows it, as a participant would;
 //   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0").
 #include <array>
 #include <cmath>
@@ -89,6 +93,13 @@ bool read_controller(SimulatedController& controller) {
   return true;
 }
 
+// A button of the connected controller, or false with `where` and the reason on stderr.
+bool is_pressable(const SimulatedInput& input, const std::string& where, const std::string& path) {
+  if (is_controller_button(input.controller, path)) return true;
+  log_malformed(where + path + " is not a button of " + std::string(controller_profile(input.controller)));
+  return false;
+}
+
 bool read_presses(SimulatedInput& input) {
   const char* setting = std::getenv("FOVLAB_TEST_XR_INPUT");
   if (setting == nullptr || *setting == '\0') return true;
@@ -109,10 +120,7 @@ bool read_presses(SimulatedInput& input) {
       log_malformed(where + "expected \"<frame> <input path>\" with a frame of 1 or more, got \"" + line + "\"");
       return false;
     }
-    if (!is_controller_button(input.controller, press.input)) {
-      log_malformed(where + press.input + " is not a button of " + std::string(controller_profile(input.controller)));
-      return false;
-    }
+    if (!is_pressable(input, where, press.input)) return false;
     input.presses.push_back(press);
   }
   return true;
@@ -178,7 +186,26 @@ bool is_controller_button(SimulatedController controller, std::string_view input
 }
 
 bool read_simulated_input(SimulatedInput& input) {
+  if (const char* queue = std::getenv("FOVLAB_TEST_XR_PRESS_QUEUE")) input.press_queue = queue;
   return read_controller(input.controller) && read_presses(input) && read_gaze(input);
+}
+
+bool take_queued_presses(SimulatedInput& input, int64_t next_frame) {
+  if (input.press_queue.empty()) return true;
+  std::ifstream file(input.press_queue, std::ios::binary);
+  if (!file) return true;  // nothing queued yet
+  file.seekg(static_cast<std::streamoff>(input.press_queue_read));
+  std::string line;
+  // getline sets eof only on a line that the end of the file cut short: one still being written.
+  while (std::getline(file, line) && !file.eof()) {
+    input.press_queue_read += static_cast<int64_t>(line.size()) + 1;
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const std::string path = line.substr(first, line.find_last_not_of(" \t\r") + 1 - first);
+    if (!is_pressable(input, input.press_queue + ": ", path)) return false;
+    input.presses.push_back({next_frame, path});
+  }
+  return true;
 }
 
 }  // namespace fovlab::test_xr

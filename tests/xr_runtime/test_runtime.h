@@ -137,6 +137,8 @@ struct ScriptedPress {
 struct SimulatedInput {
   SimulatedController controller = SimulatedController::xbox;
   std::vector<ScriptedPress> presses;
+  std::string press_queue;      // FOVLAB_TEST_XR_PRESS_QUEUE: a file of presses the test appends to
+  int64_t press_queue_read = 0;  // its bytes taken so far (whole lines)
   double gaze_yaw_deg = 0.0;    // right positive
   double gaze_pitch_deg = 0.0;  // up positive
 };
@@ -394,6 +396,9 @@ bool profile_has_binding(const InteractionProfile& profile, std::string_view bin
 // The session's scripted controller and gaze from the environment (input_script.cpp): false, with
 // the reason written to stderr, when a setting or a line of the input file is malformed.
 bool read_simulated_input(SimulatedInput& input);
+// The lines appended to the press queue since the last call, each pressed during `next_frame`:
+// false, with the reason written to stderr, for a line that names no button of the controller.
+bool take_queued_presses(SimulatedInput& input, int64_t next_frame);
 // Whether `input` is a button (a .../click input) of the controller's interaction profile.
 bool is_controller_button(SimulatedController controller, std::string_view input);
 // "/interaction_profiles/microsoft/xbox_controller" for xbox, and so on.
