@@ -185,8 +185,7 @@ std::string html_headset(const AnalysisResult& result) {
          std::to_string(frames.intervals) + ", median " + html_number(frames.median_ms) + " ms, " +
              std::to_string(frames.late) + " late",
          std::to_string(p.dropped_frames),
-         p.latency_recorded ? html_number(p.latency.median_ms) + " / " + html_number(p.latency.p95_ms)
-                            : "not recorded",
+         p.latency_recorded ? html_number(p.latency.median_ms) + " / " + html_number(p.latency.p95_ms) : "not recorded",
          validation_text(p.validation)});
   }
   if (rows.empty()) return {};
@@ -199,10 +198,11 @@ std::string html_headset(const AnalysisResult& result) {
       "eye-tracker checks are each eye's alike too. Each eye's field of view is [left, right, up, down] from its "
       "forward direction, with its pixels per degree at the view's centre; the runtime's compositor corrects the "
       "lens.</p>\n";
-  html += html_table({"session", "OpenXR runtime", "each eye (px)", "left eye", "right eye", "view model",
-                      "gaze fixation", "present clock", "refresh intervals (both eyes)", "dropped frames",
-                      "gaze-to-present ms, median / p95", "eye-tracker checks passed / tried; accuracy (worst), precision"},
-                     rows);
+  html +=
+      html_table({"session", "OpenXR runtime", "each eye (px)", "left eye", "right eye", "view model", "gaze fixation",
+                  "present clock", "refresh intervals (both eyes)", "dropped frames",
+                  "gaze-to-present ms, median / p95", "eye-tracker checks passed / tried; accuracy (worst), precision"},
+                 rows);
   return html;
 }
 

@@ -421,9 +421,11 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     // Not refused: the config fixes the size for every participant, and the compositor resamples.
     const OpenXrSession& eyes = headset->session();
     if (eyes.eye_width_px != eyes.recommended_eye_width_px || eyes.eye_height_px != eyes.recommended_eye_height_px)
-      std::fprintf(stderr, "fovlab: each eye renders at %ux%u px (the config's); the runtime %s recommends %ux%u px, "
-                   "so its compositor resamples each eye's image\n", eyes.eye_width_px, eyes.eye_height_px,
-                   headset_views->runtime.c_str(), eyes.recommended_eye_width_px, eyes.recommended_eye_height_px);
+      std::fprintf(stderr,
+                   "fovlab: each eye renders at %ux%u px (the config's); the runtime %s recommends %ux%u px, "
+                   "so its compositor resamples each eye's image\n",
+                   eyes.eye_width_px, eyes.eye_height_px, headset_views->runtime.c_str(), eyes.recommended_eye_width_px,
+                   eyes.recommended_eye_height_px);
   } else if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
     if (!options.screenshots_dir.empty()) find_font_path();  // headless screenshots draw the text screens

@@ -87,8 +87,10 @@ constexpr std::array<const char*, 8> kHeadsetKeys{
 int read_eye_size(const TomlFields& fields, const std::string& key) {
   const int size = bounded_integer(fields, key, std::nullopt, 0, 16384);
   if (size < 8)
-    fields.fail(key, "expected each eye's size in pixels, 8..16384, one size for every participant of the study "
-                     "(`fovlab devices` prints the runtime's recommended size), got " + std::to_string(size));
+    fields.fail(key,
+                "expected each eye's size in pixels, 8..16384, one size for every participant of the study "
+                "(`fovlab devices` prints the runtime's recommended size), got " +
+                    std::to_string(size));
   return size;
 }
 

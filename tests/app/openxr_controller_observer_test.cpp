@@ -162,10 +162,11 @@ nlohmann::json analysed_answers(const fs::path& report) {
   std::ifstream file(report / "thresholds.json");
   const nlohmann::json analysis = nlohmann::json::parse(file);
   nlohmann::json kept;
-  for (const char* key : {"headlines", "thresholds", "fits", "not_fitted", "conditions", "rating_grid",
-                          "preference_table"})
+  for (const char* key :
+       {"headlines", "thresholds", "fits", "not_fitted", "conditions", "rating_grid", "preference_table"})
     kept[key] = analysis.value(key, nlohmann::json());
-  for (const nlohmann::json& participant : analysis["participants"]) kept["participants"].push_back(participant["thresholds"]);
+  for (const nlohmann::json& participant : analysis["participants"])
+    kept["participants"].push_back(participant["thresholds"]);
   return kept;
 }
 
@@ -197,9 +198,8 @@ class ControllerObserver : public test::OpenXrTest {
     const fs::path queue = scratch_.path() / "presses.txt";
     std::ofstream(queue).close();
     const test::ScopedEnvironment queued("FOVLAB_TEST_XR_PRESS_QUEUE", queue.string());
-    const pid_t pid =
-        test::start_fovlab({"run", config_path.string(), "--participant", "P01", "--results", results.string()}, "",
-                           output_);
+    const pid_t pid = test::start_fovlab(
+        {"run", config_path.string(), "--participant", "P01", "--results", results.string()}, "", output_);
     LogFollower log(results / config.name / "P01" / "events.jsonl");
     const auto press = [&](const std::string& button) { std::ofstream(queue, std::ios::app) << button << "\n"; };
     using Clock = std::chrono::steady_clock;
@@ -269,7 +269,8 @@ class ControllerObserver : public test::OpenXrTest {
     const CommandResult replayed = cli_test::run("replay " + human_log.string() + " --verify");
     EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
     EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
-    const fs::path human_report = scratch_.path() / "human_report", simulated_report = scratch_.path() / "simulated_report";
+    const fs::path human_report = scratch_.path() / "human_report",
+                   simulated_report = scratch_.path() / "simulated_report";
     const CommandResult analysed =
         cli_test::run("analyze " + (human_results / study).string() + " --out " + human_report.string());
     ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
@@ -295,8 +296,8 @@ TEST_F(ControllerObserver, TheFiprMainHeadsetStudyAnsweredOnTheControllerMatches
 // The RMFR rating study of Ye et al. 2022 in the headset (ratings 1-3 on pad_b, pad_y, pad_a, with
 // its attention checks).
 TEST_F(ControllerObserver, TheRmfrHeadsetStudyAnsweredOnTheControllerMatchesTheSimulatedObserver) {
-  expect_the_controller_answers_as_the_simulated_observer(cut_experiment(
-      "rmfr_sigma_hmd", {"duration_s = 0.2", "frames_per_second = 10", "values = [1.4, 2.8]"}));
+  expect_the_controller_answers_as_the_simulated_observer(
+      cut_experiment("rmfr_sigma_hmd", {"duration_s = 0.2", "frames_per_second = 10", "values = [1.4, 2.8]"}));
 }
 
 }  // namespace

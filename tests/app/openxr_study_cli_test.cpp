@@ -232,8 +232,9 @@ TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes
       run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --gaze synthetic:seed=3");
   ASSERT_EQ(ran.exit_code, 0) << ran.err;
   // Not the runtime's recommended size: said once, as the session starts (the compositor resamples).
-  const std::string resampled = "fovlab: each eye renders at 64x72 px (the config's); the runtime fovlab test runtime "
-                                "0.1.0 recommends 1440x1600 px, so its compositor resamples each eye's image\n";
+  const std::string resampled =
+      "fovlab: each eye renders at 64x72 px (the config's); the runtime fovlab test runtime "
+      "0.1.0 recommends 1440x1600 px, so its compositor resamples each eye's image\n";
   EXPECT_NE(ran.err.find(resampled), std::string::npos) << ran.err;
   EXPECT_EQ(ran.err.find(resampled), ran.err.rfind(resampled)) << ran.err;
   const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";

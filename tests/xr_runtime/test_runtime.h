@@ -137,7 +137,7 @@ struct ScriptedPress {
 struct SimulatedInput {
   SimulatedController controller = SimulatedController::xbox;
   std::vector<ScriptedPress> presses;
-  std::string press_queue;      // FOVLAB_TEST_XR_PRESS_QUEUE: a file of presses the test appends to
+  std::string press_queue;       // FOVLAB_TEST_XR_PRESS_QUEUE: a file of presses the test appends to
   int64_t press_queue_read = 0;  // its bytes taken so far (whole lines)
   double gaze_yaw_deg = 0.0;    // right positive
   double gaze_pitch_deg = 0.0;  // up positive

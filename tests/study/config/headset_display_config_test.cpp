@@ -168,7 +168,8 @@ TEST(HeadsetDisplayConfig, RefusesBadSizesAnglesAndChoicesInOneLine) {
     SCOPED_TRACE(to);
     expect_error(text, line_of(text, key + " ="), "display." + key, fragment);
   };
-  expect_refused("eye_width_px = 64", "eye_width_px = 4", "eye_width_px", "expected each eye's size in pixels, 8..16384");
+  expect_refused("eye_width_px = 64", "eye_width_px = 4", "eye_width_px",
+                 "expected each eye's size in pixels, 8..16384");
   expect_refused("eye_width_px = 64", "eye_width_px = 20000", "eye_width_px", "expected a value in [0, 16384]");
   const std::string fov = "left_eye_fov_deg = [-54, 49, 54, -56]";
   expect_refused(fov, "left_eye_fov_deg = [-54, 49, 54]", "left_eye_fov_deg", "got 3 numbers");
