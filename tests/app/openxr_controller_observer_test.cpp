@@ -257,7 +257,9 @@ class ControllerObserver : public test::OpenXrTest {
     int responses = 0;
     for (const nlohmann::json& event : events) {
       const std::string kind = event.value("event", "");
-      if (kind == "instructions") EXPECT_GT(event.value("shown_s", 0.0), 0.0) << event.dump();
+      if (kind == "instructions") {
+        EXPECT_GT(event.value("shown_s", 0.0), 0.0) << event.dump();
+      }
       if (kind != "response") continue;
       ++responses;
       EXPECT_EQ(event.value("key", "").rfind("pad_", 0), 0u) << event.dump();
