@@ -5,7 +5,9 @@
 //   FOVLAB_TEST_XR_INPUT = a file of lines "<frame> <input path>": that button is pressed during the
 //     session's frame-th xrWaitFrame and released after it (blank lines and lines starting with '#'
 //     are skipped);
-//   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0").
+//   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0");
+//   FOVLAB_TEST_XR_HEAD = "yaw_deg_per_s,x_m_per_s": the head turning right and moving along LOCAL's
+//     x at constant rates on the virtual clock (default "0,0", still).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -137,6 +139,25 @@ bool read_gaze(SimulatedInput& input) {
   return true;
 }
 
+bool read_head(SimulatedInput& input) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_HEAD");
+  if (setting == nullptr || *setting == '\0') return true;
+  char* end = nullptr;
+  const double yaw_rate = std::strtod(setting, &end);
+  const bool has_comma = end != setting && *end == ',';
+  const char* x_text = has_comma ? end + 1 : end;
+  const double x_rate = std::strtod(x_text, &end);
+  if (!has_comma || end == x_text || *end != '\0' || !std::isfinite(yaw_rate) || !std::isfinite(x_rate) ||
+      std::fabs(yaw_rate) > 360.0 || std::fabs(x_rate) > 10.0) {
+    log_malformed(std::string("FOVLAB_TEST_XR_HEAD=") + setting +
+                  ": expected \"yaw_deg_per_s,x_m_per_s\", at most 360 and 10 in size");
+    return false;
+  }
+  input.head_yaw_deg_per_s = yaw_rate;
+  input.head_x_m_per_s = x_rate;
+  return true;
+}
+
 }  // namespace
 
 const InteractionProfile* find_interaction_profile(std::string_view path) {
@@ -178,7 +199,7 @@ bool is_controller_button(SimulatedController controller, std::string_view input
 }
 
 bool read_simulated_input(SimulatedInput& input) {
-  return read_controller(input.controller) && read_presses(input) && read_gaze(input);
+  return read_controller(input.controller) && read_presses(input) && read_gaze(input) && read_head(input);
 }
 
 }  // namespace fovlab::test_xr
