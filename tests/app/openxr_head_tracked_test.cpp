@@ -25,6 +25,7 @@
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "study/config/study_config.h"
+#include "study/log/log_events.h"
 #include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
@@ -84,9 +85,11 @@ question = "same"
 scene = ")" + scene + "\"\n";
 }
 
-constexpr double kYawDegPerS = 90.0;  // the scripted head: turning right, and moving right along LOCAL's x
-constexpr double kXMPerS = 0.5;
-const std::string kMovingHead = "FOVLAB_TEST_XR_HEAD=90,0.5";
+// The scripted head: turning right, and moving right along LOCAL's x (slow enough that a session of a
+// few seconds keeps the scene in view and the turn under half a revolution).
+constexpr double kYawDegPerS = 10.0;
+constexpr double kXMPerS = 0.3;
+const std::string kMovingHead = "FOVLAB_TEST_XR_HEAD=10,0.3";
 
 using Pose = std::array<double, 7>;  // a head_pose entry: x, y, z, qx, qy, qz, qw
 
@@ -387,6 +390,30 @@ TEST(HeadTrackedPose, SanitizingRoundsToTheLogsStepAndHoldsTheLastPose) {
   EXPECT_EQ(sanitize_head_pose(HeadPose{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 2.0}}, nullptr), HeadPose{});
   EXPECT_FALSE(head_pose_of_entry({0, 0, 0, 0, 0, 0, 0.5}, error));
   EXPECT_NE(error, "");
+}
+
+// Schema 12's head_pose: written only when set, read back as written, through the text too; a
+// malformed entry is refused naming the field.
+TEST(HeadTrackedPose, StimulusEventsCarryHeadPosesThroughTheLog) {
+  StimulusEvent event;
+  event.stamp = EventStamp{2.5, 9};
+  event.trial = 1;
+  event.stimulus = 0;
+  event.present_s = {1.0, 1.011111};
+  event.frame = {0, 0};
+  event.hash = {"aa", "bb"};
+  event.gaze = {{1.0, 2.0}, {1.0, 2.0}};
+  event.right_eye_hash = std::vector<std::string>{"cc", "dd"};
+  event.right_eye_gaze = std::vector<std::array<double, 2>>{{0.5, 2.0}, {0.5, 2.0}};
+  EXPECT_FALSE(to_json(event).contains("head_pose")) << "a head-locked event writes none";
+  event.head_pose = std::vector<std::array<double, 7>>{{0, 0, 0, 0, 0, 0, 1}, {0.000123, 0, -0.000001, 0, -0.001, 0, 0.9999995}};
+  const nlohmann::json json = to_json(event);
+  ASSERT_TRUE(json.contains("head_pose"));
+  EXPECT_EQ(parse_stimulus(json), event);
+  EXPECT_EQ(parse_stimulus(nlohmann::json::parse(json.dump())), event);
+  nlohmann::json wrong = json;
+  wrong["head_pose"][1] = {1, 2, 3};
+  EXPECT_THROW(parse_stimulus(wrong), InputError);
 }
 
 }  // namespace
