@@ -44,13 +44,14 @@ nlohmann::json headset_views_json(const HeadsetViews& views) {
                     {"fov_rad", {fov.angle_left_rad, fov.angle_right_rad, fov.angle_up_rad, fov.angle_down_rad}}});
   }
   nlohmann::json json{{"runtime", views.runtime},
-          {"eye_width_px", views.eye_width_px},
-          {"eye_height_px", views.eye_height_px},
-          {"view_model", headset_view_model_name(views.view_model)},
-          {"gaze_fixation", views.gaze_fixation == GazeFixation::rendered_depth
-                                ? nlohmann::json{{"kind", "rendered-depth"}}
-                                : nlohmann::json{{"kind", "fixation-distance"}, {"distance_mm", views.fixation_distance_mm}}},
-          {"eyes", eyes}};
+                      {"eye_width_px", views.eye_width_px},
+                      {"eye_height_px", views.eye_height_px},
+                      {"view_model", headset_view_model_name(views.view_model)},
+                      {"gaze_fixation", views.gaze_fixation == GazeFixation::rendered_depth
+                                            ? nlohmann::json{{"kind", "rendered-depth"}}
+                                            : nlohmann::json{{"kind", "fixation-distance"},
+                                                             {"distance_mm", views.fixation_distance_mm}}},
+                      {"eyes", eyes}};
   if (views.head_reference)
     json["head_reference"] = {{"position_m", views.head_reference->position_m},
                               {"orientation", views.head_reference->orientation}};
@@ -68,11 +69,14 @@ HeadsetViews headset_views_from_json(const nlohmann::json& headset, const std::s
     views.view_model = HeadsetViewModel::head_tracked;
     const nlohmann::json reference = headset.value("head_reference", nlohmann::json());
     if (!reference.is_object())
-      throw InputError(where + ": headset.head_reference: expected {\"position_m\", \"orientation\"} (a head-tracked session's)");
-    views.head_reference = HeadPose{numbers_of<3>(reference.value("position_m", nlohmann::json()), where, "head_reference.position_m"),
-                                    numbers_of<4>(reference.value("orientation", nlohmann::json()), where, "head_reference.orientation")};
+      throw InputError(where +
+                       ": headset.head_reference: expected {\"position_m\", \"orientation\"} (a head-tracked session's)");
+    views.head_reference =
+        HeadPose{numbers_of<3>(reference.value("position_m", nlohmann::json()), where, "head_reference.position_m"),
+                 numbers_of<4>(reference.value("orientation", nlohmann::json()), where, "head_reference.orientation")};
   } else if (model != headset_view_model_name(HeadsetViewModel::head_locked)) {
-    throw InputError(where + ": headset.view_model: expected \"head-locked\" or \"head-tracked\", got \"" + model + "\"");
+    throw InputError(where + ": headset.view_model: expected \"head-locked\" or \"head-tracked\", got \"" + model +
+                     "\"");
   }
   const nlohmann::json fixation = headset.value("gaze_fixation", nlohmann::json());
   const std::string fixation_kind = fixation.is_object() ? fixation.value("kind", "") : "";

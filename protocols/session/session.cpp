@@ -216,7 +216,8 @@ HeadPose head_pose_of_openxr(const XrPosef& pose) {
 // A head-tracked run's reference: the head in LOCAL at the last frame's predicted display time, taken
 // once, when the run starts (the views are valid by then: headset_views_at_start).
 HeadPose head_reference_at_start(OpenXrPresenter& headset, const StudyConfig& config) {
-  const std::optional<XrPosef> pose = locate_head_in_local(headset.session(), headset.last_frame().predicted_display_time);
+  const std::optional<XrPosef> pose =
+      locate_head_in_local(headset.session(), headset.last_frame().predicted_display_time);
   if (!pose)
     throw InputError("openxr: the headset gave no valid head pose in its LOCAL space (is it tracked?); " +
                      config.source_path + " (display.view_model = \"head-tracked\") was not started");
@@ -561,7 +562,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
   std::optional<RightEyeStimuli> right_eye;
   if (right_library)
-    right_eye = RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views), headset_views->gaze_fixation, {}};
+    right_eye =
+        RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views), headset_views->gaze_fixation, {}};
   if (right_eye && head_tracked)
     right_eye->head_pose = [headset, reference = *head_reference]() -> std::optional<HeadPose> {
       // Where the runtime predicts the head at the coming frame's display time (the last one's plus a period).

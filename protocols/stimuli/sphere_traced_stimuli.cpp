@@ -36,7 +36,8 @@ class SphereTracedStimuli final : public StimulusRenderer {
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
     SphereTracer& tracer = tracer_for(spec.scene);
     // Head-tracked: the eye where the head carries it at this refresh (the frame's camera stays the head's start).
-    const std::optional<EyeView> eye = image.head && eye_ ? std::optional(eye_view_in_moved_head(*eye_, *image.head)) : eye_;
+    const std::optional<EyeView> eye =
+        image.head && eye_ ? std::optional(eye_view_in_moved_head(*eye_, *image.head)) : eye_;
     SphereTraceSettings settings = sphere_trace_settings(spec, image.frame, eye);
     settings.outputs = TraceOutputs::display;  // encoded on the device; no step counts or mask
     LastImage& last = last_image_[spec.scene];

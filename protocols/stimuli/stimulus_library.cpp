@@ -19,7 +19,10 @@ std::string frame_hash(const Rgba8Frame& frame) {
 
 StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root,
                                  std::optional<EyeView> eye, bool head_tracked)
-    : context_(context), eye_(std::move(eye)), head_tracked_(head_tracked), readback_(std::make_unique<vk::Buffer>()) {
+    : context_(context),
+      eye_(std::move(eye)),
+      head_tracked_(head_tracked),
+      readback_(std::make_unique<vk::Buffer>()) {
   if (head_tracked_ && !eye_) throw std::logic_error("StimulusLibrary: a head-tracked library needs an eye's view");
   for (StimulusFamily family : kStimulusFamilies)
     renderers_[family] = make_stimulus_renderer(family, context, cache_root, eye_);

@@ -36,7 +36,8 @@ class VolumeStimuli final : public StimulusRenderer {
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
     VolumeRaycaster& raycaster = raycaster_for(spec);
     // Head-tracked: the eye where the head carries it at this refresh.
-    const std::optional<EyeView> eye = image.head && eye_ ? std::optional(eye_view_in_moved_head(*eye_, *image.head)) : eye_;
+    const std::optional<EyeView> eye =
+        image.head && eye_ ? std::optional(eye_view_in_moved_head(*eye_, *image.head)) : eye_;
     VolumeRenderSettings settings = volume_render_settings(spec, image.frame, eye);
     LastImage& last = last_image_[spec.scene];
     PreparedFrame rendered;

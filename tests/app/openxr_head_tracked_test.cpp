@@ -47,7 +47,8 @@ void expect_refusal(CommandResult result, const std::string& must_contain) {
 // GT against IPR at 64x72 an eye, 3 animation frames of 3 refreshes each at 90 Hz; `view_model` and
 // the methods as given.
 std::string tracked_study(const std::string& view_model = "head-tracked", const std::string& reference = "gt",
-                          const std::string& test = "ipr", const std::string& levels = "parameter = \"max_steps\"\nvalues = [4, 8]",
+                          const std::string& test = "ipr",
+                          const std::string& levels = "parameter = \"max_steps\"\nvalues = [4, 8]",
                           const std::string& scene = "primitives") {
   return R"([study]
 name = "head_tracked"
@@ -150,8 +151,10 @@ double yaw_deg(const Pose& pose) { return -2.0 * std::atan2(pose[4], pose[6]) * 
 EyeView eye_carried_by_hand(const nlohmann::json& eye_json, const Pose& head) {
   using Q = std::array<double, 4>;
   const auto times = [](const Q& a, const Q& b) {
-    return Q{a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
-             a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
+    return Q{a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],  //
+             a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],  //
+             a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],  //
+             a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
   };
   const std::array<double, 3> p = eye_json["position_m"].get<std::array<double, 3>>();
   const Q eye_q = eye_json["orientation"].get<Q>();
@@ -200,7 +203,8 @@ TEST_F(HeadTrackedStudy, AMovingHeadIsLoggedEachRefreshRenderedFromAndReplayed) 
       if (i == 0) continue;
       const double elapsed_s = shown.present_s[i] - shown.present_s[i - 1];
       EXPECT_NEAR(yaw - yaw_deg(shown.head_pose[i - 1]), kYawDegPerS * elapsed_s, 1e-3) << "refresh " << i;
-      EXPECT_NE(shown.hash[i], shown.hash[i - 1]) << "the head moved, the frame did not (left eye, refresh " << i << ")";
+      EXPECT_NE(shown.hash[i], shown.hash[i - 1]) << "the head moved, the frame did not (left eye, refresh " << i
+                                                  << ")";
       EXPECT_NE(shown.right_eye_hash[i], shown.right_eye_hash[i - 1]) << "right eye, refresh " << i;
     }
   }
@@ -406,7 +410,8 @@ TEST(HeadTrackedPose, StimulusEventsCarryHeadPosesThroughTheLog) {
   event.right_eye_hash = std::vector<std::string>{"cc", "dd"};
   event.right_eye_gaze = std::vector<std::array<double, 2>>{{0.5, 2.0}, {0.5, 2.0}};
   EXPECT_FALSE(to_json(event).contains("head_pose")) << "a head-locked event writes none";
-  event.head_pose = std::vector<std::array<double, 7>>{{0, 0, 0, 0, 0, 0, 1}, {0.000123, 0, -0.000001, 0, -0.001, 0, 0.9999995}};
+  event.head_pose = std::vector<std::array<double, 7>>{{0, 0, 0, 0, 0, 0, 1},
+                                                       {0.000123, 0, -0.000001, 0, -0.001, 0, 0.9999995}};
   const nlohmann::json json = to_json(event);
   ASSERT_TRUE(json.contains("head_pose"));
   EXPECT_EQ(parse_stimulus(json), event);

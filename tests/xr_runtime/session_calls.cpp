@@ -330,7 +330,8 @@ XrResult XRAPI_CALL locate_views(XrSession session, const XrViewLocateInfo* loca
            : XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
                  XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT;
   const SessionObject& located_session = *find_session(table, session);
-  const bool head_moves = located_session.input.head_yaw_deg_per_s != 0.0 || located_session.input.head_x_m_per_s != 0.0;
+  const bool head_moves =
+      located_session.input.head_yaw_deg_per_s != 0.0 || located_session.input.head_x_m_per_s != 0.0;
   const XrPosef head = head_in_local(located_session, locate_info->displayTime);
   return enumerate(capacity, count_output, views, 2, [&](XrView& view, uint32_t eye) {
     const float x = (eye == 0 ? -0.5f : 0.5f) * kInterpupillaryDistanceM;
@@ -340,7 +341,8 @@ XrResult XRAPI_CALL locate_views(XrSession session, const XrViewLocateInfo* loca
     const XrPosef space_in_local = head_moves && space->type == XR_REFERENCE_SPACE_TYPE_VIEW
                                        ? compose(head, space->pose_in_reference)
                                        : space->pose_in_reference;
-    view.pose = lost ? XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}} : relative_to(space_in_local, eye_in_local);
+    view.pose =
+        lost ? XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}} : relative_to(space_in_local, eye_in_local);
     view.fov = eye_field_of_view(eye);
     return XR_SUCCESS;
   });
