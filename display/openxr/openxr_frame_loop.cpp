@@ -116,4 +116,12 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
   return frame;
 }
 
+std::optional<XrPosef> locate_head_in_local(const OpenXrSession& session, XrTime time) {
+  XrSpaceLocation location{XR_TYPE_SPACE_LOCATION};
+  check_frame_call(xrLocateSpace(session.view_space, session.local_space, time, &location), "xrLocateSpace");
+  constexpr XrSpaceLocationFlags valid = XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT;
+  if ((location.locationFlags & valid) != valid) return std::nullopt;
+  return location.pose;
+}
+
 }  // namespace fovlab

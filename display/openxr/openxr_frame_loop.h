@@ -7,6 +7,7 @@
 // valid pose (XrViewState's valid bits), is ended with no layer.
 #include <array>
 #include <functional>
+#include <optional>
 
 #include "display/openxr/openxr_session.h"
 #include "renderer/present/device_frame.h"
@@ -40,5 +41,10 @@ struct OpenXrFrame {
 // Runs one frame of a running session. Throws std::invalid_argument for an eye frame of the wrong
 // size or device, std::runtime_error when a call fails.
 OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame);
+
+// The head (the session's VIEW space) located in its LOCAL space at `time` (xrLocateSpace), as the
+// runtime predicts it for that time: the head-tracked view model's poses. nullopt when the location
+// lacks the orientation or position valid bit (no pose to give). std::runtime_error when the call fails.
+std::optional<XrPosef> locate_head_in_local(const OpenXrSession& session, XrTime time);
 
 }  // namespace fovlab

@@ -63,6 +63,12 @@ class OpenXrPresenter final : public Presenter {
   }
   // The last frame run, with the views the runtime located for it.
   const OpenXrFrame& last_frame() const { return last_frame_; }
+  // The display time the next frame is expected at: the last frame's predicted display time plus its
+  // predicted period (the next xrWaitFrame's own prediction is not known before that frame is waited
+  // for, and the frame's image must be rendered before). Head-tracked views are located for it.
+  XrTime next_display_time() const {
+    return last_frame_.predicted_display_time + last_frame_.predicted_display_period;
+  }
 
  private:
   // Copies `frame` (eye size, on the host or the session's device) into the eye's own buffer, which

@@ -43,14 +43,19 @@ nlohmann::json headset_views_json(const HeadsetViews& views) {
                     {"orientation", eye.orientation_in_head},
                     {"fov_rad", {fov.angle_left_rad, fov.angle_right_rad, fov.angle_up_rad, fov.angle_down_rad}}});
   }
-  return {{"runtime", views.runtime},
-          {"eye_width_px", views.eye_width_px},
-          {"eye_height_px", views.eye_height_px},
-          {"view_model", headset_view_model_name(views.view_model)},
-          {"gaze_fixation", views.gaze_fixation == GazeFixation::rendered_depth
-                                ? nlohmann::json{{"kind", "rendered-depth"}}
-                                : nlohmann::json{{"kind", "fixation-distance"}, {"distance_mm", views.fixation_distance_mm}}},
-          {"eyes", eyes}};
+  nlohmann::json json{{"runtime", views.runtime},
+                      {"eye_width_px", views.eye_width_px},
+                      {"eye_height_px", views.eye_height_px},
+                      {"view_model", headset_view_model_name(views.view_model)},
+                      {"gaze_fixation", views.gaze_fixation == GazeFixation::rendered_depth
+                                            ? nlohmann::json{{"kind", "rendered-depth"}}
+                                            : nlohmann::json{{"kind", "fixation-distance"},
+                                                             {"distance_mm", views.fixation_distance_mm}}},
+                      {"eyes", eyes}};
+  if (views.head_reference)
+    json["head_reference"] = {{"position_m", views.head_reference->position_m},
+                              {"orientation", views.head_reference->orientation}};
+  return json;
 }
 
 HeadsetViews headset_views_from_json(const nlohmann::json& headset, const std::string& where) {
@@ -60,10 +65,19 @@ HeadsetViews headset_views_from_json(const nlohmann::json& headset, const std::s
   views.eye_width_px = positive_int_of(headset, "eye_width_px", where);
   views.eye_height_px = positive_int_of(headset, "eye_height_px", where);
   const std::string model = headset.value("view_model", "");
-  if (model == headset_view_model_name(HeadsetViewModel::head_tracked))
-    throw InputError(where + ": headset.view_model: \"head-tracked\" sessions are not replayed by this version");
-  if (model != headset_view_model_name(HeadsetViewModel::head_locked))
-    throw InputError(where + ": headset.view_model: expected \"head-locked\", got \"" + model + "\"");
+  if (model == headset_view_model_name(HeadsetViewModel::head_tracked)) {
+    views.view_model = HeadsetViewModel::head_tracked;
+    const nlohmann::json reference = headset.value("head_reference", nlohmann::json());
+    if (!reference.is_object())
+      throw InputError(where +
+                       ": headset.head_reference: expected {\"position_m\", \"orientation\"} (a head-tracked session's)");
+    views.head_reference =
+        HeadPose{numbers_of<3>(reference.value("position_m", nlohmann::json()), where, "head_reference.position_m"),
+                 numbers_of<4>(reference.value("orientation", nlohmann::json()), where, "head_reference.orientation")};
+  } else if (model != headset_view_model_name(HeadsetViewModel::head_locked)) {
+    throw InputError(where + ": headset.view_model: expected \"head-locked\" or \"head-tracked\", got \"" + model +
+                     "\"");
+  }
   const nlohmann::json fixation = headset.value("gaze_fixation", nlohmann::json());
   const std::string fixation_kind = fixation.is_object() ? fixation.value("kind", "") : "";
   if (fixation_kind == "rendered-depth" && fixation.size() == 1) {

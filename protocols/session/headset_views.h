@@ -8,6 +8,7 @@
 // where the left eye's ray through it rests: on the rendered scene (gaze_fixation "rendered-depth")
 // or fixation_distance_m along it (protocols/gaze/headset_gaze.h).
 #include <array>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -28,12 +29,16 @@ struct HeadsetViews {
   HeadsetViewModel view_model = HeadsetViewModel::head_locked;
   GazeFixation gaze_fixation = GazeFixation::fixation_distance;  // where the gaze ray rests
   double fixation_distance_mm = 0.0;  // fixation_distance: along the gaze ray, where both eyes' pixels meet
+  // Head-tracked (schema 12): the head's pose in the runtime's LOCAL space when the session started,
+  // which each refresh's logged head_pose is relative to (a record: replay needs only those).
+  std::optional<HeadPose> head_reference;
   bool operator==(const HeadsetViews&) const = default;
 };
 
 // The header's `headset`: {"runtime", "eye_width_px", "eye_height_px", "view_model",
 // "gaze_fixation": {"kind": "rendered-depth"} or {"kind": "fixation-distance", "distance_mm"}, "eyes": [{"position_m": [x, y, z],
-// "orientation": [x, y, z, w], "fov_rad": [left, right, up, down]}, left then right]}.
+// "orientation": [x, y, z, w], "fov_rad": [left, right, up, down]}, left then right]}; head-tracked
+// also "head_reference": {"position_m": [x, y, z], "orientation": [x, y, z, w]}.
 nlohmann::json headset_views_json(const HeadsetViews& views);
 // Reads it back; InputError naming `where` (the log's header line) and the field for anything else.
 HeadsetViews headset_views_from_json(const nlohmann::json& headset, const std::string& where);

@@ -16,6 +16,7 @@
 #include "protocols/observer/simulated_observer.h"
 #include "study/schedule/study_plan.h"
 #include "study/log/schedule_check.h"
+#include "protocols/session/head_tracking.h"
 #include "protocols/session/headset_views.h"
 #include "protocols/session/session_header.h"
 #include "protocols/stimuli/image_sequence.h"
@@ -193,18 +194,21 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
     PreparedFrame live;
   };
   std::vector<std::unique_ptr<ViewReplay>> views;
+  // Head-tracked (schema 12): every refresh is rendered from its logged head_pose, as the session did.
+  bool head_tracked = false;
   if (header.headset.is_null()) {
     views.emplace_back(new ViewReplay{StimulusLibrary(context, options.cache_dir), {}, {}});
   } else {
     const HeadsetViews headset = headset_views_from_json(header.headset, options.log_path + ":1");
+    head_tracked = headset.view_model == HeadsetViewModel::head_tracked;
     for (const EyeView& eye : headset.eyes)
-      views.emplace_back(new ViewReplay{StimulusLibrary(context, options.cache_dir, eye), {}, {}});
+      views.emplace_back(new ViewReplay{StimulusLibrary(context, options.cache_dir, eye, head_tracked), {}, {}});
   }
   const auto image_for = [&](size_t view, int stimulus, const StimulusImage& image,
                              const std::string& file_name) -> const PreparedFrame& {
     ViewReplay& replaying = *views[view];
     const StimulusSpec& spec = plan.stimuli[static_cast<size_t>(stimulus)].spec;
-    const bool gaze_dependent = describe(spec.method()).depends_on_gaze;
+    const bool gaze_dependent = describe(spec.method()).depends_on_gaze || image.head.has_value();
     const auto key = std::make_pair(stimulus, image.frame);
     if (!gaze_dependent) {
       const auto found = replaying.rendered.find(key);
@@ -321,7 +325,28 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
         differences.add(where + " (" + line + ")", "frame, hash and gaze arrays differ in length");
         continue;
       }
-      const bool gaze_dependent = describe(plan.stimuli[static_cast<size_t>(stimulus)].spec.method()).depends_on_gaze;
+      // Head-tracked: one head pose a refresh, read back as rendered (head_tracking.h).
+      std::vector<HeadPose> head_poses;
+      if (shown.head_pose.has_value() != head_tracked) {
+        differences.add(where + " (" + line + ")", head_tracked ? "a head-tracked session's stimulus without head_pose"
+                                                                : "head_pose in a session that is not head-tracked");
+        continue;
+      }
+      if (head_tracked) {
+        std::string error;
+        for (const std::array<double, 7>& entry : *shown.head_pose) {
+          const std::optional<HeadPose> pose = head_pose_of_entry(entry, error);
+          if (!pose) break;
+          head_poses.push_back(*pose);
+        }
+        if (!error.empty() || head_poses.size() != frames.size()) {
+          differences.add(where + " (" + line + ")",
+                          "head_pose: " + (error.empty() ? "one entry a refresh expected, as frame's" : error));
+          continue;
+        }
+      }
+      const bool gaze_dependent =
+          describe(plan.stimuli[static_cast<size_t>(stimulus)].spec.method()).depends_on_gaze || head_tracked;
       for (size_t i = 0; i < frames.size(); ++i) {
         const int frame = frames[i];
         if (frame < 0 || frame >= plan.stimuli[static_cast<size_t>(stimulus)].spec.frame_count) {
@@ -335,6 +360,7 @@ ReplayOutcome replay_checked(const ReplayOptions& options) {
           image.gaze.x_px = (*view_gaze[view])[i][0];
           image.gaze.y_px = (*view_gaze[view])[i][1];
           image.frame = frame;
+          if (head_tracked) image.head = head_poses[i];
           const std::string file_name =
               gaze_dependent ? image_file_name(recorded.index, shown.step, stimulus, image.image_index, view)
                              : frame_file_name(stimulus, frame, view);

@@ -36,6 +36,7 @@
 #include "display/window_presenter.h"
 #include "study/log/log_estimate.h"
 #include "study/schedule/study_plan.h"
+#include "protocols/session/head_tracking.h"
 #include "protocols/session/headset_views.h"
 #include "protocols/session/response_source.h"
 #include "protocols/session/session_header.h"
@@ -169,17 +170,22 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 }
 
 // What a headset session cannot do yet (issue 42, docs/hmd.md), refused before anything is opened
-// or written: head-tracked views; and the
-// gaze resting on the rendered depth of stimuli that show no surface (volume, fvolume: their rays
-// pass through a medium; the config cannot give a fixation distance beside rendered-depth, so they
-// are refused rather than given one).
+// or written: head-tracked views of stimuli that cannot be rendered anew from each refresh's head
+// pose (pre-rendered path-traced frames and images are made for one view); and the gaze resting on
+// the rendered depth of stimuli that show no surface (volume, fvolume: their rays pass through a
+// medium; the config cannot give a fixation distance beside rendered-depth, so they are refused
+// rather than given one).
 void check_headset_session_buildable(const StudyConfig& config, const StudyPlan& plan) {
   const HeadsetDisplayConfig& headset = config.display.headset;
   const std::string& path = config.source_path;
   if (headset.view_model == HeadsetViewModel::head_tracked)
-    throw InputError(path +
-                     ": display.view_model: \"head-tracked\" sessions are not built yet (issue 42); run it "
-                     "\"head-locked\"");
+    for (const PlannedStimulus& stimulus : plan.stimuli) {
+      const StimulusFamily family = stimulus_family(stimulus.spec.method());
+      if (family == StimulusFamily::sphere_traced || family == StimulusFamily::volume) continue;
+      throw InputError(path + ": display.view_model: \"head-tracked\" renders every refresh anew from the head's pose, "
+                       "and method " + std::string(describe(stimulus.spec.method()).name) + " (" +
+                       stimulus_family_name(family) + ") shows frames made ahead for one view; run it \"head-locked\"");
+    }
   if (headset.gaze_fixation != GazeFixation::rendered_depth) return;
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     const StimulusFamily family = stimulus_family(stimulus.spec.method());
@@ -198,6 +204,23 @@ std::string openxr_runtime_name(const OpenXrSession& session) {
   return std::string(properties.runtimeName) + " " + std::to_string(XR_VERSION_MAJOR(properties.runtimeVersion)) + "." +
          std::to_string(XR_VERSION_MINOR(properties.runtimeVersion)) + "." +
          std::to_string(XR_VERSION_PATCH(properties.runtimeVersion));
+}
+
+// The head's pose (VIEW in LOCAL) as the runtime gives it: the head-tracked reference and poses.
+HeadPose head_pose_of_openxr(const XrPosef& pose) {
+  return {{pose.position.x, pose.position.y, pose.position.z},
+          {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w}};
+}
+
+// A head-tracked run's reference: the head in LOCAL at the last frame's predicted display time, taken
+// once, when the run starts (the views are valid by then: headset_views_at_start).
+HeadPose head_reference_at_start(OpenXrPresenter& headset, const StudyConfig& config) {
+  const std::optional<XrPosef> pose =
+      locate_head_in_local(headset.session(), headset.last_frame().predicted_display_time);
+  if (!pose)
+    throw InputError("openxr: the headset gave no valid head pose in its LOCAL space (is it tracked?); " +
+                     config.source_path + " (display.view_model = \"head-tracked\") was not started");
+  return sanitize_head_pose(head_pose_of_openxr(*pose), nullptr);
 }
 
 // The views a new headset session renders from: the config's (headset_eye_views), the ones its plan
@@ -390,6 +413,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   std::unique_ptr<Presenter> presenter;
   OpenXrPresenter* headset = nullptr;
   std::optional<HeadsetViews> headset_views;
+  std::optional<HeadPose> head_reference;  // head-tracked: this run's (the head in LOCAL as it starts)
   if (in_headset) {
     OpenXrPresenterOptions headset_options;
     headset_options.session.eye_width_px = static_cast<uint32_t>(config.display.headset.eye_width_px);
@@ -426,6 +450,12 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                    "so its compositor resamples each eye's image\n",
                    eyes.eye_width_px, eyes.eye_height_px, headset_views->runtime.c_str(), eyes.recommended_eye_width_px,
                    eyes.recommended_eye_height_px);
+    // Head-tracked: each run's own reference, where the head is as it starts (a resumed run's LOCAL
+    // space is the runtime's anew); the header records the first run's.
+    if (headset_views->view_model == HeadsetViewModel::head_tracked) {
+      head_reference = head_reference_at_start(*headset, config);
+      if (!record) headset_views->head_reference = head_reference;
+    }
   } else if (options.headless) {
     presenter = std::make_unique<HeadlessPresenter>(config.display.refresh_hz);
     if (!options.screenshots_dir.empty()) find_font_path();  // headless screenshots draw the text screens
@@ -477,10 +507,11 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     std::fprintf(stderr, "fovlab: rendering on '%s', presenting on '%s': frames are copied through the host\n",
                  context.description.name.c_str(), window->device_name().c_str());
   // In a headset, one library an eye, each rendering every stimulus from its eye's view.
+  const bool head_tracked = head_reference.has_value();
   StimulusLibrary library(context, options.cache_dir,
-                          headset_views ? std::optional<EyeView>(headset_views->eyes[0]) : std::nullopt);
+                          headset_views ? std::optional<EyeView>(headset_views->eyes[0]) : std::nullopt, head_tracked);
   std::optional<StimulusLibrary> right_library;
-  if (headset_views) right_library.emplace(context, options.cache_dir, headset_views->eyes[1]);
+  if (headset_views) right_library.emplace(context, options.cache_dir, headset_views->eyes[1], head_tracked);
   std::vector<std::pair<int, StimulusSpec>> all;
   for (size_t id = 0; id < plan.stimuli.size(); ++id) all.emplace_back(static_cast<int>(id), plan.stimuli[id].spec);
   // Scene errors surface here, before any event is written.
@@ -538,7 +569,15 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
   std::optional<RightEyeStimuli> right_eye;
   if (right_library)
-    right_eye = RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views), headset_views->gaze_fixation};
+    right_eye =
+        RightEyeStimuli{&*right_library, headset_gaze_geometry(*headset_views), headset_views->gaze_fixation, {}};
+  if (right_eye && head_tracked)
+    right_eye->head_pose = [headset, reference = *head_reference]() -> std::optional<HeadPose> {
+      // Where the runtime predicts the head at the coming frame's display time (the last one's plus a period).
+      const std::optional<XrPosef> pose = locate_head_in_local(headset->session(), headset->next_display_time());
+      if (!pose) return std::nullopt;
+      return head_pose_relative_to(reference, head_pose_of_openxr(*pose));
+    };
   SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s,
                  right_eye ? &*right_eye : nullptr);
   if (header) {

@@ -14,6 +14,7 @@
 #include "display/text_screen.h"
 #include "display/window_presenter.h"
 #include "protocols/gaze/tracker_validation.h"
+#include "protocols/session/head_tracking.h"
 #include "study/log/log_events.h"
 
 namespace fovlab {
@@ -139,14 +140,22 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   std::vector<std::optional<double>> acquired, ages;
   std::vector<std::string> right_hashes;
   std::vector<std::array<double, 2>> right_gaze;
+  std::vector<std::array<double, 7>> head_poses;  // head-tracked: each refresh's, as rendered
   int dropped = 0;
   double previous = -1.0;
   for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
     for (int refresh = 0; refresh < refreshes; ++refresh) {
       // Rounded to kGazeStepPx by sanitize_gaze: what is logged is exactly what is used.
       std::array<GazeSample, 2> eye_samples;
+      // Head-tracked: the head at this refresh, rounded as logged (the last one held when the runtime has none).
+      std::optional<HeadPose> head;
+      if (right_eye_ && right_eye_->head_pose) {
+        head = sanitize_head_pose(right_eye_->head_pose(), last_head_pose_ ? &*last_head_pose_ : nullptr);
+        last_head_pose_ = head;
+        head_poses.push_back(head_pose_entry(*head));
+      }
       if (right_eye_) {
-        eye_samples = headset_gaze(gaze_.sample(t()), stimulus.spec, frame);
+        eye_samples = headset_gaze(gaze_.sample(t()), stimulus.spec, frame, head ? &*head : nullptr);
       } else {
         eye_samples[0] = sanitize_gaze(gaze_.sample(t()), stimulus.spec.width_px, stimulus.spec.height_px,
                                        last_valid_gaze_ ? &*last_valid_gaze_ : nullptr);
@@ -155,7 +164,7 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       const GazeSample& sample = eye_samples[0];
       // Image `frame * refreshes + refresh` of this presentation, its position in the logged arrays:
       // a gaze-dependent stimulus (fipr) renders it now with this refresh's gaze (replay does the same).
-      const StimulusImage image{frame, frame * refreshes + refresh, sample};
+      const StimulusImage image{frame, frame * refreshes + refresh, sample, head};
       const PreparedFrame& shown = library_.frame(stimulus_id, stimulus.spec, image);
       double shown_at = 0.0;
       if (!right_eye_) {
@@ -164,7 +173,7 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
       } else {
         const GazeSample& right_sample = eye_samples[1];
         const PreparedFrame& right = right_eye_->library->frame(
-            stimulus_id, stimulus.spec, StimulusImage{image.frame, image.image_index, right_sample});
+            stimulus_id, stimulus.spec, StimulusImage{image.frame, image.image_index, right_sample, head});
         const std::array<ViewFrame, 2> eyes{ViewFrame{&shown.image, shown.on_device},
                                             ViewFrame{&right.image, right.on_device}};
         shown_at = time_base_s_ + presenter_.present_views(eyes);
@@ -206,12 +215,21 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
     event.right_eye_hash = std::move(right_hashes);
     event.right_eye_gaze = std::move(right_gaze);
   }
+  if (right_eye_ && right_eye_->head_pose) event.head_pose = std::move(head_poses);
   log(to_json(event));
   dropped_frames_ += dropped;
 }
 
-std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame) {
+std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame,
+                                                   const HeadPose* head) {
   const HeadsetGazeGeometry& geometry = right_eye_->gaze_geometry;
+  // The scene's surface along a ray of the head now: traced from where the head is (head-tracked), the
+  // distance along the ray the same in either head's axes.
+  const auto surface_distance = [&](const std::array<double, 3>& origin, const std::array<double, 3>& direction) {
+    if (!head) return library_.surface_distance(spec, frame, origin, direction);
+    return library_.surface_distance(spec, frame, point_in_start_head(*head, origin),
+                                     direction_in_start_head(*head, direction));
+  };
   const bool on_depth = right_eye_->gaze_fixation == GazeFixation::rendered_depth;
   const int width_px = spec.width_px, height_px = spec.height_px;
   GazeSample left_raw = raw;
@@ -232,7 +250,7 @@ std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const 
     const bool traceable = finite(ray.origin_m) && finite(ray.direction) &&
                            (ray.direction[0] != 0.0 || ray.direction[1] != 0.0 || ray.direction[2] != 0.0);
     const std::optional<double> distance =
-        traceable ? library_.surface_distance(spec, frame, ray.origin_m, ray.direction) : std::nullopt;
+        traceable ? surface_distance(ray.origin_m, ray.direction) : std::nullopt;
     const auto rested = eye_gaze_from_ray_at_depth(geometry, ray.origin_m, ray.direction, distance, ray_template);
     left_raw = rested[0];
     right_raw = rested[1];
@@ -247,7 +265,7 @@ std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const 
   } else if (!right_raw && on_depth) {
     const std::optional<GazeRay> ray = left_eye_ray_of_pixel(geometry, left.x_px, left.y_px);
     const std::optional<double> distance =
-        ray ? library_.surface_distance(spec, frame, ray->origin_m, ray->direction) : std::nullopt;
+        ray ? surface_distance(ray->origin_m, ray->direction) : std::nullopt;
     right_raw = eye_gaze_from_left_eye_pixel_at_depth(geometry, left, distance)[1];
   } else if (!right_raw) {
     right_raw = eye_gaze_from_left_eye_pixel(geometry, left)[1];

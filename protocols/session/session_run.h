@@ -40,6 +40,10 @@ struct RightEyeStimuli {
   StimulusLibrary* library = nullptr;
   HeadsetGazeGeometry gaze_geometry;
   GazeFixation gaze_fixation = GazeFixation::fixation_distance;
+  // Head-tracked views (empty: head-locked): the head's pose at the coming refresh's predicted display
+  // time relative to the session's start (protocols/session/head_tracking.h), nullopt when the runtime
+  // gives none. Each refresh renders both eyes from it, sanitized, and logs it (head_pose).
+  std::function<std::optional<HeadPose>()> head_pose;
 };
 
 class SessionRun {
@@ -96,7 +100,10 @@ class SessionRun {
   // A headset's gaze in each eye's image at one refresh, sanitized (rounded, invalid ones held):
   // the left eye's first. `raw`: the source's sample; `spec` and `frame`: what is shown (the scene
   // a rendered-depth gaze rests on).
-  std::array<GazeSample, 2> headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame);
+  // `head`: a head-tracked refresh's head pose (the gaze ray in the head is traced in the scene from where
+  // the head is); nullptr: head-locked.
+  std::array<GazeSample, 2> headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame,
+                                         const HeadPose* head = nullptr);
   // The eye-tracker validation of [validation] (nothing without one): the targets one at a time,
   // the centre first, the others in a seeded order; attempts until one passes, each logged (a
   // tracker_validation event) and printed on stderr for the operator. After max_attempts failures
@@ -119,6 +126,7 @@ class SessionRun {
   const RightEyeStimuli* right_eye_;
   std::optional<GazeSample> last_valid_gaze_;
   std::optional<GazeSample> last_valid_right_gaze_;
+  std::optional<HeadPose> last_head_pose_;  // head-tracked: the last pose rendered from
   std::set<std::string> screenshots_taken_;
   bool excluded_logged_ = false;
   int events_written_ = 0;

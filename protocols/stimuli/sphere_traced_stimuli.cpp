@@ -19,6 +19,7 @@ class SphereTracedStimuli final : public StimulusRenderer {
 
   bool renders(RenderMethod method) const override { return describe(method).scene_kind == SceneKind::signed_distance; }
   bool renders_eye_views() const override { return true; }
+  bool follows_head() const override { return true; }
 
   void validate(const StimulusSpec& spec) override {
     check_sphere_trace_frame_bytes(context_, spec.width_px, spec.height_px, kConfigFrameSize);
@@ -34,7 +35,10 @@ class SphereTracedStimuli final : public StimulusRenderer {
 
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
     SphereTracer& tracer = tracer_for(spec.scene);
-    SphereTraceSettings settings = sphere_trace_settings(spec, image.frame, eye_);
+    // Head-tracked: the eye where the head carries it at this refresh (the frame's camera stays the head's start).
+    const std::optional<EyeView> eye =
+        image.head && eye_ ? std::optional(eye_view_in_moved_head(*eye_, *image.head)) : eye_;
+    SphereTraceSettings settings = sphere_trace_settings(spec, image.frame, eye);
     settings.outputs = TraceOutputs::display;  // encoded on the device; no step counts or mask
     LastImage& last = last_image_[spec.scene];
     const bool sequence = describe(spec.method()).depends_on_gaze;

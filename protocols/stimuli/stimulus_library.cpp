@@ -18,8 +18,12 @@ std::string frame_hash(const Rgba8Frame& frame) {
 }
 
 StimulusLibrary::StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root,
-                                 std::optional<EyeView> eye)
-    : context_(context), eye_(std::move(eye)), readback_(std::make_unique<vk::Buffer>()) {
+                                 std::optional<EyeView> eye, bool head_tracked)
+    : context_(context),
+      eye_(std::move(eye)),
+      head_tracked_(head_tracked),
+      readback_(std::make_unique<vk::Buffer>()) {
+  if (head_tracked_ && !eye_) throw std::logic_error("StimulusLibrary: a head-tracked library needs an eye's view");
   for (StimulusFamily family : kStimulusFamilies)
     renderers_[family] = make_stimulus_renderer(family, context, cache_root, eye_);
 }
@@ -37,6 +41,11 @@ StimulusRenderer& StimulusLibrary::renderer_for(const StimulusSpec& spec) {
                      ": a headset study cannot show it yet: per-eye images are not made (a folder of images is one "
                      "view; issue 42); it shows " + shown);
   }
+  if (head_tracked_ && !renderer.follows_head())
+    throw InputError(std::string(spec.method_name()) +
+                     ": display.view_model: a \"head-tracked\" study re-renders every refresh from the head's pose, and " +
+                     stimulus_family_name(stimulus_family(spec.method())) +
+                     " frames are made ahead for one view (run it \"head-locked\")");
   return renderer;
 }
 
@@ -141,7 +150,7 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
     renderer_for(spec).prepare(spec,
                                [&] { advance(std::max(0.0, std::min(1.0, before_stimulus + units(spec) - done))); });
     render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (describe(spec.method()).depends_on_gaze) {
+    if (describe(spec.method()).depends_on_gaze || head_tracked_) {  // rendered live, a refresh at a time
       advance(std::max(0.0, before_stimulus + units(spec) - done));
       continue;
     }
@@ -162,7 +171,7 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
 
 const PreparedFrame& StimulusLibrary::frame(int id, const StimulusSpec& spec, const StimulusImage& image) {
   const auto found = prepared_.find(id);
-  if (found != prepared_.end()) return found->second.at(static_cast<size_t>(image.frame));
+  if (found != prepared_.end() && !image.head) return found->second.at(static_cast<size_t>(image.frame));
   live_ = render_live(spec, image);
   return live_;
 }

@@ -60,6 +60,10 @@ struct StimulusImage {
   int image_index = 0;  // position in this presentation; 0 starts a presentation
   GazeSample gaze;      // the position used, as logged (an invalid sample holds its substitute); an
                         // eye's library: a position in that eye's image
+  // A head-tracked headset session's head at this refresh, as logged (relative to its start; the
+  // eye's view is eye_view_in_moved_head of it); none: head-locked. An image with a head is always
+  // rendered now, never taken from the prepared frames.
+  std::optional<HeadPose> head;
 };
 
 // The bytes StimulusLibrary::prepare keeps in memory for these stimuli: every frame of each one that
@@ -77,8 +81,11 @@ class StimulusLibrary {
  public:
   // `cache_root`: the pre-render cache's folder (path-traced methods). `eye`: the headset eye whose
   // view every stimulus is rendered as; none: the desktop's frames, as ever.
+  // `head_tracked` (an eye's library only): every image follows the head (StimulusImage::head), so
+  // nothing is rendered ahead, and prepare refuses the families that cannot re-render a frame from a
+  // new pose (follows_head: pre-rendered path-traced frames, images).
   explicit StimulusLibrary(vk::Context& context, const std::filesystem::path& cache_root = "stimuli/cache",
-                           std::optional<EyeView> eye = std::nullopt);
+                           std::optional<EyeView> eye = std::nullopt, bool head_tracked = false);
   ~StimulusLibrary();
 
   // Renders every frame of the given stimuli that can be prepared ahead (ids are the caller's;
@@ -135,6 +142,7 @@ class StimulusLibrary {
   PreparedFrame render_live(const StimulusSpec& spec, const StimulusImage& image);
   vk::Context& context_;
   std::optional<EyeView> eye_;
+  bool head_tracked_ = false;
   std::map<StimulusFamily, std::unique_ptr<StimulusRenderer>> renderers_;  // every family
   std::map<int, std::vector<PreparedFrame>> prepared_;                     // by stimulus id
   PreparedFrame live_;                                                     // the last gaze-dependent image

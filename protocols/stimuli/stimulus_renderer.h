@@ -42,6 +42,10 @@ class StimulusRenderer {
   // eye (PathTraceSequence::eye). The image family's images are one view, so a headset study
   // cannot show them.
   virtual bool renders_eye_views() const { return false; }
+  // Whether it can render an eye's view from a new head pose at every refresh (the head-tracked
+  // view model, StimulusImage::head): the families that render from a scene (sphere-traced, volume);
+  // path-traced frames are pre-rendered from one view, images are one view.
+  virtual bool follows_head() const { return false; }
   // Refuses (InputError) what needs no render: the frame size against the device's limits (the
   // study config's display size: errors name its fields), a foveated method's settings.
   virtual void validate(const StimulusSpec& spec) = 0;

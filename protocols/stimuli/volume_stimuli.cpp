@@ -21,6 +21,7 @@ class VolumeStimuli final : public StimulusRenderer {
 
   bool renders(RenderMethod method) const override { return describe(method).scene_kind == SceneKind::volume; }
   bool renders_eye_views() const override { return true; }
+  bool follows_head() const override { return true; }
 
   void validate(const StimulusSpec& spec) override {
     if (spec.width_px < 1 || spec.height_px < 1 || spec.width_px > kMaxVolumeFrameSidePx ||
@@ -34,7 +35,10 @@ class VolumeStimuli final : public StimulusRenderer {
 
   PreparedFrame render(const StimulusSpec& spec, const StimulusImage& image) override {
     VolumeRaycaster& raycaster = raycaster_for(spec);
-    VolumeRenderSettings settings = volume_render_settings(spec, image.frame, eye_);
+    // Head-tracked: the eye where the head carries it at this refresh.
+    const std::optional<EyeView> eye =
+        image.head && eye_ ? std::optional(eye_view_in_moved_head(*eye_, *image.head)) : eye_;
+    VolumeRenderSettings settings = volume_render_settings(spec, image.frame, eye);
     LastImage& last = last_image_[spec.scene];
     PreparedFrame rendered;
     if (spec.method() == RenderMethod::volume_raycast) {

@@ -30,4 +30,29 @@ EyeViewShaderValues eye_view_shader_values(const EyeView& view) {
   return values;
 }
 
+namespace {
+
+// Hamilton product a * b of quaternions stored x, y, z, w.
+std::array<double, 4> quaternion_product(const std::array<double, 4>& a, const std::array<double, 4>& b) {
+  return {a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+          a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
+}
+
+}  // namespace
+
+EyeView eye_view_in_moved_head(const EyeView& eye, const HeadPose& head) {
+  // The identity is handed back as it is: a still head's frames are the head-locked ones, bit for bit
+  // (a product with the identity could turn -0 into 0 and change the shader's floats).
+  if (head == HeadPose{}) return eye;
+  const std::array<double, 4>& q = head.orientation;
+  const std::array<double, 4> conjugate{-q[0], -q[1], -q[2], q[3]};
+  const std::array<double, 3>& p = eye.position_in_head;
+  const std::array<double, 4> turned = quaternion_product(quaternion_product(q, {p[0], p[1], p[2], 0.0}), conjugate);
+  EyeView moved = eye;
+  moved.position_in_head = {head.position_m[0] + turned[0], head.position_m[1] + turned[1],
+                            head.position_m[2] + turned[2]};
+  moved.orientation_in_head = quaternion_product(q, eye.orientation_in_head);
+  return moved;
+}
+
 }  // namespace fovlab

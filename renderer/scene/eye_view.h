@@ -38,4 +38,22 @@ struct EyeViewShaderValues {
 };
 EyeViewShaderValues eye_view_shader_values(const EyeView& view);
 
+// The head-tracked view model (issue 42, docs/hmd.md): where the head is relative to where it was
+// when the session started (its reference pose in the runtime's LOCAL space), in the head's axes at
+// that start (x right, y up, z backwards; metres, a scene unit each). The scene's camera at the
+// frame's time stands where the head started, so an eye's pose in the scene is
+// camera(t) * head_delta * eye_in_head.
+struct HeadPose {
+  std::array<double, 3> position_m{0.0, 0.0, 0.0};
+  std::array<double, 4> orientation{0.0, 0.0, 0.0, 1.0};  // unit quaternion x, y, z, w
+  bool operator==(const HeadPose&) const = default;
+};
+
+// The eye as the moved head carries it: its orientation head.orientation * eye's, its position the
+// eye's offset turned by the head's orientation first, then moved by the head's position
+// (head.position_m + rotate(head.orientation, eye.position_in_head)); the field of view is the eye's.
+// So it stays an EyeView "in the head" of the scene's camera, and every renderer that takes an eye's
+// view renders it unchanged. The identity pose gives the eye back bit for bit.
+EyeView eye_view_in_moved_head(const EyeView& eye, const HeadPose& head);
+
 }  // namespace fovlab

@@ -197,6 +197,8 @@ constexpr auto fields(Of<StimulusEvent>) {
       // Schema 11; only in a headset session.
       field(k::right_eye_hash, &E::right_eye_hash, Write::when_set),
       field(k::right_eye_gaze, &E::right_eye_gaze, Write::when_set),
+      // Schema 12 (head-tracked views); only in a head-tracked headset session.
+      field(k::head_pose, &E::head_pose, Write::when_set),
   };
 }
 

@@ -126,6 +126,26 @@ class FieldReader {
   void read(const char* key, std::optional<std::vector<std::array<double, 2>>>& out) const {
     read_optional_array(key, out);
   }
+  // Schema 12's head poses (head-tracked views): absent or null is nullopt, else seven numbers an entry.
+  void read(const char* key, std::optional<std::vector<std::array<double, 7>>>& out) const {
+    const nlohmann::json* value = find(key);
+    if (!value || value->is_null()) return;
+    const auto pose = [](const nlohmann::json& item) {
+      return item.is_array() && item.size() == 7 &&
+             std::all_of(item.begin(), item.end(), [](const nlohmann::json& n) { return n.is_number(); });
+    };
+    if (!value->is_array() || !std::all_of(value->begin(), value->end(), pose)) {
+      wrong(key, "an array of [x_m, y_m, z_m, qx, qy, qz, qw] arrays of numbers", *value);
+      return;
+    }
+    std::vector<std::array<double, 7>> poses;
+    for (const nlohmann::json& item : *value) {
+      std::array<double, 7> entry{};
+      for (size_t i = 0; i < 7; ++i) entry[i] = item[i].get<double>();
+      poses.push_back(entry);
+    }
+    out = std::move(poses);
+  }
   template <typename T>
   void read_optional_array(const char* key, std::optional<std::vector<T>>& out) const {
     const nlohmann::json* value = find(key);

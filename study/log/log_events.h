@@ -103,6 +103,7 @@ inline constexpr const char* gaze_age_s = "gaze_age_s";
 inline constexpr const char* present_clock = "present_clock";
 inline constexpr const char* right_eye_hash = "right_eye_hash";
 inline constexpr const char* right_eye_gaze = "right_eye_gaze";
+inline constexpr const char* head_pose = "head_pose";  // schema 12, head-tracked headset sessions
 inline constexpr const char* answer = "answer";
 inline constexpr const char* key = "key";
 inline constexpr const char* rt_s = "rt_s";
@@ -268,6 +269,10 @@ struct StimulusEvent {
   // eye's, one entry a refresh as theirs.
   std::optional<std::vector<std::string>> right_eye_hash;
   std::optional<std::vector<std::array<double, 2>>> right_eye_gaze;
+  // Schema 12 (head-tracked views), only in a head-tracked headset session: the head's pose at each
+  // refresh relative to the session's start, as rendered: [x_m, y_m, z_m, qx, qy, qz, qw], one entry
+  // a refresh as `hash` (docs/log-schema.md).
+  std::optional<std::vector<std::array<double, 7>>> head_pose;
   bool operator==(const StimulusEvent&) const = default;
 };
 

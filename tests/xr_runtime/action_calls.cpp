@@ -185,13 +185,16 @@ bool tracking_lost() {
   return tracking != nullptr && std::string_view(tracking) == "lost";
 }
 
-// Where `space` is in the session's LOCAL frame (the head does not move: VIEW is LOCAL's origin),
-// or false when it has no pose: an action space whose action is not active as of the last sync,
-// or is not bound to the eye tracker, or while tracking is lost.
+// Where `space` is in the session's LOCAL frame at `time` (the VIEW space and the eye tracker ride on
+// the head, head_in_local), or false when it has no pose: an action space whose action is not active
+// as of the last sync, or is not bound to the eye tracker, or while tracking is lost.
 bool space_pose(HandleTable& table, const InstanceObject& instance, const SessionObject& session,
-                const SpaceObject& space, XrPosef& pose) {
+                const SpaceObject& space, XrTime time, XrPosef& pose) {
+  const bool head_moves = session.input.head_yaw_deg_per_s != 0.0 || session.input.head_x_m_per_s != 0.0;
   if (space.action == 0) {
-    pose = space.pose_in_reference;
+    pose = head_moves && space.type == XR_REFERENCE_SPACE_TYPE_VIEW
+               ? compose(head_in_local(session, time), space.pose_in_reference)
+               : space.pose_in_reference;
     return true;
   }
   const auto state = session.action_states.find(space.action);
@@ -204,6 +207,7 @@ bool space_pose(HandleTable& table, const InstanceObject& instance, const Sessio
   const XrVector3f offset = rotate(gaze.orientation, space.pose_in_reference.position);
   pose = {multiply(gaze.orientation, space.pose_in_reference.orientation),
           {gaze.position.x + offset.x, gaze.position.y + offset.y, gaze.position.z + offset.z}};
+  if (head_moves) pose = compose(head_in_local(session, time), pose);
   return true;
 }
 
@@ -582,8 +586,9 @@ XrResult XRAPI_CALL locate_space(XrSpace space, XrSpace base_space, XrTime time,
   // While tracking is lost only a space located against itself, or reference spaces of one type,
   // keep their (fixed) relation.
   const bool same_kind = located->action == 0 && base->action == 0 && located->type == base->type;
-  const bool tracked = space_pose(table, *instance, *session, *located, space_in_local) &&
-                       space_pose(table, *instance, *session, *base, base_in_local) && (same_kind || !tracking_lost());
+  const bool tracked = space_pose(table, *instance, *session, *located, time, space_in_local) &&
+                       space_pose(table, *instance, *session, *base, time, base_in_local) &&
+                       (same_kind || !tracking_lost());
   if (tracked) {
     location->pose = relative_to(base_in_local, space_in_local);
     location->locationFlags = XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |

@@ -9,7 +9,9 @@
 //     runs: at each xrSyncActions the lines appended since the last are taken, each pressed during
 //     the next xrWaitFrame's frame and released after it (a line not yet ended by a newline waits for
 //     a later sync), so a test can answer what the application shows it, as a participant would;
-//   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0").
+//   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0");
+//   FOVLAB_TEST_XR_HEAD = "yaw_deg_per_s,x_m_per_s": the head turning right and moving along LOCAL's
+//     x at constant rates on the virtual clock (default "0,0", still).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -145,6 +147,25 @@ bool read_gaze(SimulatedInput& input) {
   return true;
 }
 
+bool read_head(SimulatedInput& input) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_HEAD");
+  if (setting == nullptr || *setting == '\0') return true;
+  char* end = nullptr;
+  const double yaw_rate = std::strtod(setting, &end);
+  const bool has_comma = end != setting && *end == ',';
+  const char* x_text = has_comma ? end + 1 : end;
+  const double x_rate = std::strtod(x_text, &end);
+  if (!has_comma || end == x_text || *end != '\0' || !std::isfinite(yaw_rate) || !std::isfinite(x_rate) ||
+      std::fabs(yaw_rate) > 360.0 || std::fabs(x_rate) > 10.0) {
+    log_malformed(std::string("FOVLAB_TEST_XR_HEAD=") + setting +
+                  ": expected \"yaw_deg_per_s,x_m_per_s\", at most 360 and 10 in size");
+    return false;
+  }
+  input.head_yaw_deg_per_s = yaw_rate;
+  input.head_x_m_per_s = x_rate;
+  return true;
+}
+
 }  // namespace
 
 const InteractionProfile* find_interaction_profile(std::string_view path) {
@@ -187,7 +208,7 @@ bool is_controller_button(SimulatedController controller, std::string_view input
 
 bool read_simulated_input(SimulatedInput& input) {
   if (const char* queue = std::getenv("FOVLAB_TEST_XR_PRESS_QUEUE")) input.press_queue = queue;
-  return read_controller(input.controller) && read_presses(input) && read_gaze(input);
+  return read_controller(input.controller) && read_presses(input) && read_gaze(input) && read_head(input);
 }
 
 bool take_queued_presses(SimulatedInput& input, int64_t next_frame) {

@@ -63,6 +63,20 @@ XrPosef relative_to(const XrPosef& origin, const XrPosef& pose) {
   return {multiply(inverse, pose.orientation), rotate(inverse, offset)};
 }
 
+XrPosef compose(const XrPosef& origin, const XrPosef& pose) {
+  const XrVector3f offset = rotate(origin.orientation, pose.position);
+  return {multiply(origin.orientation, pose.orientation),
+          {origin.position.x + offset.x, origin.position.y + offset.y, origin.position.z + offset.z}};
+}
+
+XrPosef head_in_local(const SessionObject& session, XrTime time) {
+  const double elapsed_s = static_cast<double>(time - session.start_time) * 1e-9;
+  // Turning right is a negative turn about +y (x right, y up, z backwards).
+  const double half_turn_rad = -0.5 * session.input.head_yaw_deg_per_s * elapsed_s * std::numbers::pi / 180.0;
+  return {{0.0f, static_cast<float>(std::sin(half_turn_rad)), 0.0f, static_cast<float>(std::cos(half_turn_rad))},
+          {static_cast<float>(session.input.head_x_m_per_s * elapsed_s), 0.0f, 0.0f}};
+}
+
 bool pose_is_valid(const XrPosef& pose) {
   const XrQuaternionf& q = pose.orientation;
   const float norm = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
@@ -288,8 +302,9 @@ XrResult XRAPI_CALL destroy_space(XrSpace space) {
   return XR_SUCCESS;
 }
 
-// The head does not move (a head-locked headset on a virtual clock): LOCAL's origin is the head at
-// the session's start, and the VIEW space is the head, so both see the eyes at -+IPD/2 along x.
+// LOCAL's origin is the head at the session's start, and the VIEW space is the head, so a still head
+// (the default) has both see the eyes at -+IPD/2 along x; FOVLAB_TEST_XR_HEAD moves the head in LOCAL
+// at the time asked for (head_in_local), and the views with it.
 XrResult XRAPI_CALL locate_views(XrSession session, const XrViewLocateInfo* locate_info, XrViewState* view_state,
                                  uint32_t capacity, uint32_t* count_output, XrView* views) {
   HandleTable& table = handle_table();
@@ -314,10 +329,20 @@ XrResult XRAPI_CALL locate_views(XrSession session, const XrViewLocateInfo* loca
       lost ? 0
            : XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
                  XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT;
+  const SessionObject& located_session = *find_session(table, session);
+  const bool head_moves =
+      located_session.input.head_yaw_deg_per_s != 0.0 || located_session.input.head_x_m_per_s != 0.0;
+  const XrPosef head = head_in_local(located_session, locate_info->displayTime);
   return enumerate(capacity, count_output, views, 2, [&](XrView& view, uint32_t eye) {
     const float x = (eye == 0 ? -0.5f : 0.5f) * kInterpupillaryDistanceM;
     const XrPosef eye_in_head{{0.0f, 0.0f, 0.0f, 1.0f}, {x, 0.0f, 0.0f}};
-    view.pose = lost ? XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}} : relative_to(space->pose_in_reference, eye_in_head);
+    // The eye and the space, both in LOCAL: a VIEW space rides on the head.
+    const XrPosef eye_in_local = head_moves ? compose(head, eye_in_head) : eye_in_head;
+    const XrPosef space_in_local = head_moves && space->type == XR_REFERENCE_SPACE_TYPE_VIEW
+                                       ? compose(head, space->pose_in_reference)
+                                       : space->pose_in_reference;
+    view.pose =
+        lost ? XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}} : relative_to(space_in_local, eye_in_local);
     view.fov = eye_field_of_view(eye);
     return XR_SUCCESS;
   });

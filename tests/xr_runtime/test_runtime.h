@@ -141,6 +141,10 @@ struct SimulatedInput {
   int64_t press_queue_read = 0;  // its bytes taken so far (whole lines)
   double gaze_yaw_deg = 0.0;    // right positive
   double gaze_pitch_deg = 0.0;  // up positive
+  // FOVLAB_TEST_XR_HEAD: the head turning (right positive) and moving along LOCAL's x at constant
+  // rates on the virtual clock, from LOCAL's origin at the session's start.
+  double head_yaw_deg_per_s = 0.0;
+  double head_x_m_per_s = 0.0;
 };
 
 // An action's state as of the session's last xrSyncActions.
@@ -410,6 +414,11 @@ XrVector3f rotate(const XrQuaternionf& q, const XrVector3f& v);
 // `pose` (in the reference space) seen from a space whose origin is `origin` in that reference space.
 XrPosef relative_to(const XrPosef& origin, const XrPosef& pose);
 bool pose_is_valid(const XrPosef& pose);
+// `pose` given in a space whose origin is `origin` (both in one reference space): origin * pose.
+XrPosef compose(const XrPosef& origin, const XrPosef& pose);
+// The head (the VIEW space's origin) in the session's LOCAL space at `time`: still at LOCAL's origin
+// unless FOVLAB_TEST_XR_HEAD moves it (SimulatedInput), from the session's start.
+XrPosef head_in_local(const SessionObject& session, XrTime time);
 // The predicted display time of the session's frame `n` (1 for the first xrWaitFrame).
 XrTime frame_time(const SessionObject& session, int64_t n);
 
