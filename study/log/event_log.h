@@ -39,7 +39,10 @@ namespace fovlab {
 // eye's size and view, the gaze's fixation) and each stimulus event's right_eye_hash and
 // right_eye_gaze beside the left eye's hash and gaze. Nothing else changed: a desktop log of schema
 // 11 reads as one of 10.
-inline constexpr int log_schema_version = 11;        // what this build writes
+// 12: late frames in a headset: each stimulus event's late_frames (its refreshes whose xrEndFrame
+// came after their predicted display time) and the header's headset.late_frames_measured; a log
+// without them (schema 1-11, or a runtime without XR_KHR_convert_timespec_time) counts none.
+inline constexpr int log_schema_version = 12;        // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read

@@ -197,6 +197,8 @@ constexpr auto fields(Of<StimulusEvent>) {
       // Schema 11; only in a headset session.
       field(k::right_eye_hash, &E::right_eye_hash, Write::when_set),
       field(k::right_eye_gaze, &E::right_eye_gaze, Write::when_set),
+      // Schema 12; only in a headset session whose runtime converts CLOCK_MONOTONIC to its XrTime.
+      field(k::late_frames, &E::late_frames, Write::when_set),
   };
 }
 
