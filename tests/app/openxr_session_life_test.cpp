@@ -263,5 +263,15 @@ TEST_F(HeadsetSessionLife, AHeadsetLogOfSchema11StillReadsAndReplays) {
   EXPECT_EQ(exported.exit_code, 0) << exported.out << exported.err;
 }
 
+// --refocus-timeout takes seconds >= 0: anything else is refused in one line, before the runtime is
+// asked for anything or a results folder exists.
+TEST_F(HeadsetSessionLife, ARefocusTimeoutBelowZeroIsRefusedInOneLine) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  cli_test::expect_one_line_error(
+      run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated + " --refocus-timeout -1"),
+      "--refocus-timeout -1.000000: expected seconds >= 0");
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
 }  // namespace
 }  // namespace fovlab
