@@ -110,8 +110,7 @@ void run(RunOptions options) {
   // Gaze-to-present latency of this run's stimulus refreshes (nearest-rank percentiles).
   const analysis::LatencySummary latency = analysis::summarise_latency(outcome.gaze_age_s);
   // A headset's late frames beside the dropped ones, where its runtime lets them be measured.
-  const std::string late =
-      outcome.late_frames ? ", " + std::to_string(*outcome.late_frames) + " late" : std::string();
+  const std::string late = outcome.late_frames ? ", " + std::to_string(*outcome.late_frames) + " late" : std::string();
   if (latency.median_ms) {
     std::printf(
         "latency: gaze-to-present median %.2f ms, p95 %.2f ms over %zu refreshes (%s clock), %d dropped frames%s\n",

@@ -111,8 +111,8 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     refuse_unless(made.result, "xrCreateInstance");
     instance = std::move(made.instance);
     if (convert_timespec_enabled)
-      convert_timespec_to_time = extension_function<decltype(convert_timespec_to_time)>(
-          instance.handle, "xrConvertTimespecTimeToTimeKHR");
+      convert_timespec_to_time =
+          extension_function<decltype(convert_timespec_to_time)>(instance.handle, "xrConvertTimespecTimeToTimeKHR");
 
     XrSystemGetInfo system_info{XR_TYPE_SYSTEM_GET_INFO};
     system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;

@@ -275,9 +275,9 @@ bool wait_for_refocus(OpenXrPresenter& headset, const StudyConfig& config, const
                "run; the log is sealed, and running the same command again resumes it)\n",
                headset.close_reason().c_str(), options.refocus_timeout_s);
   const OperatorQuitScope quit_scope;
-  const Rgba8Frame screen = render_text_screen(
-      config.display.width_px, config.display.height_px,
-      "Paused: put the headset back on.\n\nThe session resumes where it stopped.");
+  const Rgba8Frame screen =
+      render_text_screen(config.display.width_px, config.display.height_px,
+                         "Paused: put the headset back on.\n\nThe session resumes where it stopped.");
   const bool focused =
       headset.wait_for_focus(screen, options.refocus_timeout_s, [] { return operator_quit_requested != 0; });
   std::fprintf(stderr, "fovlab: %s\n",
@@ -622,8 +622,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   int complete_before = record ? static_cast<int>(record->trials.size()) : 0;
   for (;;) {
     try {
-      const bool kept = run->run_trials(schedule->next_trial, record ? record->attention_errors : 0,
-                                        record.has_value(), complete_before, schedule->progress);
+      const bool kept = run->run_trials(schedule->next_trial, record ? record->attention_errors : 0, record.has_value(),
+                                        complete_before, schedule->progress);
       outcome.finished = true;
       outcome.excluded = !kept;
     } catch (const SessionAborted& aborted) {

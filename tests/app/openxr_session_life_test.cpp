@@ -50,10 +50,13 @@ std::vector<nlohmann::json> complete_trials(const std::vector<nlohmann::json>& e
   for (const nlohmann::json& event : events) {
     const std::string kind = event.value("event", "");
     if (kind == "trial_start") {
-      open = {{"trial", event["trial"]},         {"condition", event["condition"]},
-              {"level", event.value("level", nlohmann::json())}, {"sequence", event["sequence"]},
+      open = {{"trial", event["trial"]},
+              {"condition", event["condition"]},
+              {"level", event.value("level", nlohmann::json())},
+              {"sequence", event["sequence"]},
               {"reference_first", event.value("reference_first", nlohmann::json())},
-              {"stimuli", nlohmann::json::array()}, {"answers", nlohmann::json::array()}};
+              {"stimuli", nlohmann::json::array()},
+              {"answers", nlohmann::json::array()}};
     } else if (kind == "stimulus" && !open.is_null()) {
       open["stimuli"].push_back(event["stimulus"]);
     } else if (kind == "response" && !open.is_null()) {
@@ -81,9 +84,8 @@ using HeadsetSessionLife = test::HeadsetStudy;
 // the log replays both eyes to their hashes.
 TEST_F(HeadsetSessionLife, TheFocusBackWithinTheTimeoutResumesTheSessionInTheSameRun) {
   const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
-  const CommandResult ran = run_study(
-      config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400 FOVLAB_TEST_XR_REFOCUS_AT_FRAME=700", FOVLAB_TEST_XR_RUNTIME_JSON,
-      kSimulated);
+  const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400 FOVLAB_TEST_XR_REFOCUS_AT_FRAME=700",
+                                      FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
   ASSERT_EQ(ran.exit_code, 0) << ran.err;
   EXPECT_NE(ran.out.find("new session, 2 of 2 trials complete"), std::string::npos) << ran.out;
   EXPECT_EQ(ran.out.find("paused after"), std::string::npos) << ran.out;
@@ -132,10 +134,9 @@ TEST_F(HeadsetSessionLife, TheFocusBackWithinTheTimeoutResumesTheSessionInTheSam
 
   // The same participant's session, never interrupted, in another results folder.
   const std::filesystem::path uninterrupted_results = scratch_.path() / "uninterrupted";
-  const CommandResult uninterrupted =
-      cli_test::run("run " + config.string() + " --participant P01 --results " + uninterrupted_results.string() +
-                        kSimulated,
-                    child_environment(FOVLAB_TEST_XR_RUNTIME_JSON));
+  const CommandResult uninterrupted = cli_test::run(
+      "run " + config.string() + " --participant P01 --results " + uninterrupted_results.string() + kSimulated,
+      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON));
   ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.err;
   const std::vector<nlohmann::json> expected =
       complete_trials(read_events(uninterrupted_results / "headset_cli" / "P01" / "events.jsonl"));
@@ -215,8 +216,8 @@ TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) 
   const std::filesystem::path unmeasured_results = scratch_.path() / "unmeasured";
   const CommandResult unmeasured = cli_test::run(
       "run " + config.string() + " --participant P01 --results " + unmeasured_results.string() + kSimulated,
-      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) + " FOVLAB_TEST_XR_CONVERT_TIMESPEC=absent FOVLAB_TEST_XR_LATE_AT_FRAMES=" +
-          late_setting);
+      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) +
+          " FOVLAB_TEST_XR_CONVERT_TIMESPEC=absent FOVLAB_TEST_XR_LATE_AT_FRAMES=" + late_setting);
   ASSERT_EQ(unmeasured.exit_code, 0) << unmeasured.err;
   const std::vector<nlohmann::json> unmeasured_events =
       read_events(unmeasured_results / "headset_cli" / "P01" / "events.jsonl");
@@ -258,8 +259,8 @@ TEST_F(HeadsetSessionLife, AHeadsetLogOfSchema11StillReadsAndReplays) {
   const CommandResult replayed = cli_test::run("replay " + old_log.string() + " --verify");
   EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
   EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
-  const CommandResult exported = cli_test::run("export " + old_log.string() + " --out " +
-                                               (scratch_.path() / "trials.csv").string());
+  const CommandResult exported =
+      cli_test::run("export " + old_log.string() + " --out " + (scratch_.path() / "trials.csv").string());
   EXPECT_EQ(exported.exit_code, 0) << exported.out << exported.err;
 }
 

@@ -26,8 +26,8 @@ namespace fovlab {
 namespace {
 
 using cli_test::CommandResult;
-using test::HeadsetStudy;
 using test::headset_study;
+using test::HeadsetStudy;
 using test::kEyesAtDistance;
 
 // The refusal is one line on stderr; the validation layer's own line at load ("Core Validation

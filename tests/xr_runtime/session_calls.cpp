@@ -54,8 +54,10 @@ bool read_late_frames(std::vector<int64_t>& frames) {
     char* end = nullptr;
     const long long frame = std::strtoll(item.c_str(), &end, 10);
     if (item.empty() || end != item.c_str() + item.size() || frame < 1) {
-      std::fprintf(stderr, "fovlab test runtime: FOVLAB_TEST_XR_LATE_AT_FRAMES: expected frame numbers >= 1 "
-                           "separated by commas, got \"%s\"\n", setting);
+      std::fprintf(stderr,
+                   "fovlab test runtime: FOVLAB_TEST_XR_LATE_AT_FRAMES: expected frame numbers >= 1 "
+                   "separated by commas, got \"%s\"\n",
+                   setting);
       return false;
     }
     frames.push_back(frame);
@@ -402,7 +404,8 @@ XrResult XRAPI_CALL wait_frame(XrSession session, const XrFrameWaitInfo* wait_in
   if (object->frame_waited) return XR_ERROR_CALL_ORDER_INVALID;
   object->waited_frames += 1;
   object->frame_waited = true;
-  object->clock_pins.emplace_back(monotonic_now_ns(), frame_time(*object, object->waited_frames) - kDisplayPeriodNs / 2);
+  object->clock_pins.emplace_back(monotonic_now_ns(),
+                                  frame_time(*object, object->waited_frames) - kDisplayPeriodNs / 2);
   frame_state->predictedDisplayTime = current_time(*object);
   frame_state->predictedDisplayPeriod = kDisplayPeriodNs;
   frame_state->shouldRender =
