@@ -1,5 +1,6 @@
 // fovlab run: one participant's session of a study (new, or resumed after the last complete trial).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -32,6 +33,9 @@ struct RunOptions {
 void run(RunOptions options) {
   const StudyConfig config = parse_study_config_file(options.config_path, renderer_scene_catalog());
   SessionOptions& session = options.session;
+  if (!std::isfinite(session.refocus_timeout_s) || session.refocus_timeout_s < 0)
+    throw InputError("--refocus-timeout " + std::to_string(session.refocus_timeout_s) +
+                     ": expected seconds >= 0 (0: a headset that loses the focus pauses and exits at once)");
   const bool in_headset = config.display.kind == DisplayKind::openxr;
   if (in_headset) {  // the runtime's refusals, before any folder
     if (session.headless)
@@ -105,14 +109,20 @@ void run(RunOptions options) {
       outcome.wall_s);
   // Gaze-to-present latency of this run's stimulus refreshes (nearest-rank percentiles).
   const analysis::LatencySummary latency = analysis::summarise_latency(outcome.gaze_age_s);
+  // A headset's late frames beside the dropped ones, where its runtime lets them be measured.
+  const std::string late = outcome.late_frames ? ", " + std::to_string(*outcome.late_frames) + " late" : std::string();
   if (latency.median_ms) {
     std::printf(
-        "latency: gaze-to-present median %.2f ms, p95 %.2f ms over %zu refreshes (%s clock), %d dropped frames\n",
-        *latency.median_ms, *latency.p95_ms, latency.refreshes, outcome.present_clock.c_str(), outcome.dropped_frames);
+        "latency: gaze-to-present median %.2f ms, p95 %.2f ms over %zu refreshes (%s clock), %d dropped frames%s\n",
+        *latency.median_ms, *latency.p95_ms, latency.refreshes, outcome.present_clock.c_str(), outcome.dropped_frames,
+        late.c_str());
   } else {
-    std::printf("latency: no stimulus refresh with a gaze sample in this run, %d dropped frames\n",
-                outcome.dropped_frames);
+    std::printf("latency: no stimulus refresh with a gaze sample in this run, %d dropped frames%s\n",
+                outcome.dropped_frames, late.c_str());
   }
+  if (outcome.focus_pauses_resumed > 0)
+    std::printf("headset: the focus was lost and came back %d time(s); each pause resumed in this run\n",
+                outcome.focus_pauses_resumed);
   if (outcome.frame_path == "via_host")
     std::printf(
         "presentation: on another device than the renderer's; %d frames copied through the host, %.3f ms each\n",
@@ -165,6 +175,10 @@ void add_run_command(CLI::App& app) {
   command->add_option("--present-device", options->session.present_device_selector,
                       "Present on another device than --device (e.g. the GPU wired to the monitor of a two-GPU "
                       "laptop): frames are then copied through the host, and the copy is timed");
+  command->add_option("--refocus-timeout", options->session.refocus_timeout_s,
+                      "Seconds a headset session that lost the focus (headset taken off) waits, paused and sealed, "
+                      "for it to come back and resume in this run (default 600; 0: exit at once, and run again to "
+                      "resume)");
   command->add_option("--lab-key", options->session.lab_key_path,
                       "Key file (16-4096 bytes, kept outside the results folder): seals the log with an HMAC, so "
                       "a changed log cannot be re-sealed without the key");

@@ -64,6 +64,11 @@ class Presenter {
   // time after vkQueuePresentKHR returned and the frame's copy completed; no display feedback),
   // "openxr_predicted_display" (the display time the headset's runtime predicted for the frame).
   virtual std::string present_clock() const = 0;
+  // Whether the frame of the last present(), present_views() or wait_until() refresh was late: sent
+  // to the display after the time that call returned for it (a headset's xrEndFrame after its
+  // predicted display time). nullopt where the presenter cannot tell (a window, headless, a headset
+  // runtime without XR_KHR_convert_timespec_time).
+  virtual std::optional<bool> last_frame_late() const { return std::nullopt; }
 };
 
 }  // namespace fovlab

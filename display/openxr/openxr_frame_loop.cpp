@@ -112,6 +112,10 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
     end_info.layers = layers;
     frame.rendered = true;
   }
+  // Late: handed to the compositor after the time it was to be displayed (measured last, so that
+  // everything this frame did counts).
+  frame.end_frame_time = openxr_time_now(session);
+  frame.late = frame.end_frame_time && *frame.end_frame_time > frame.predicted_display_time;
   check_frame_call(xrEndFrame(session.session, &end_info), "xrEndFrame");
   return frame;
 }

@@ -36,6 +36,11 @@ struct OpenXrFrame {
   std::array<XrView, 2> views{};          // as xrLocateViews gave them in LOCAL space (when rendered)
   std::array<XrView, 2> views_in_head{};  // and in VIEW space
   std::array<uint32_t, 2> image_index{};  // each eye's swapchain image the frame went into
+  // The runtime's time right before xrEndFrame (openxr_time_now: XR_KHR_convert_timespec_time), and
+  // whether that was after predicted_display_time: the frame reached the compositor too late to be
+  // shown then. Without the extension: no time, and not late (not measured).
+  std::optional<XrTime> end_frame_time;
+  bool late = false;
 };
 
 // Runs one frame of a running session. Throws std::invalid_argument for an eye frame of the wrong

@@ -19,6 +19,7 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 // The reason a session that was focused asks to close, as the log's session_paused event says it.
 std::string unfocused_reason(const OpenXrSession& session) {
   if (session.exiting) return "the headset session ended (the OpenXR runtime is exiting or lost the headset)";
+  if (!session.running) return "the OpenXR runtime stopped the headset session";
   return std::string("the headset session lost focus (") + openxr_session_state_name(session.state) +
          "): the headset was taken off, or another application took it";
 }
@@ -146,6 +147,32 @@ std::vector<InputEvent> OpenXrPresenter::poll_input() {
   std::vector<InputEvent> presses;
   presses.swap(presses_);
   return presses;
+}
+
+std::optional<bool> OpenXrPresenter::last_frame_late() const {
+  if (!measures_late_frames()) return std::nullopt;
+  return last_frame_.rendered && last_frame_.late;
+}
+
+bool OpenXrPresenter::may_regain_focus() const {
+  return session_.running && !session_.exiting &&
+         (session_.state == XR_SESSION_STATE_VISIBLE || session_.state == XR_SESSION_STATE_SYNCHRONIZED);
+}
+
+bool OpenXrPresenter::wait_for_focus(const Rgba8Frame& screen, double timeout_s, const std::function<bool()>& quit) {
+  const ViewFrame both{&screen, {}};
+  for (uint32_t eye = 0; eye < 2; ++eye) hold(eye, both);
+  // The runtime's frames keep coming while nobody looks (a compositor with no frames shows its own
+  // "not responding" screen, and may stop the session); the timeout is counted on their clock.
+  const double until_s = now_s_ + timeout_s;
+  while (may_regain_focus()) {
+    if ((quit && quit()) || now_s_ >= until_s) return false;
+    run_frame();
+  }
+  if (!session_.running || session_.exiting || session_.state != XR_SESSION_STATE_FOCUSED) return false;
+  close_reason_.clear();
+  presses_.clear();  // pressed while the participant was away, or putting the headset on
+  return true;
 }
 
 void OpenXrPresenter::wait_until(double time_s) {

@@ -7,8 +7,11 @@
 // eyes; stimuli (present_views) each eye its own. Answers come from the controller's actions and
 // the gaze ray from XR_EXT_eye_gaze_interaction (openxr_input.h). A session that leaves FOCUSED (the
 // headset taken off, another application in front, the runtime stopping) asks to close: the study
-// pauses, as when a window is closed, and running it again resumes it. docs/hmd.md.
+// pauses, as when a window is closed. While the runtime still runs the session, wait_for_focus keeps
+// its frames coming until the focus returns, and the session goes on in the same run; otherwise
+// running it again resumes it. docs/hmd.md.
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +58,21 @@ class OpenXrPresenter final : public Presenter {
   double refresh_hz() const override { return refresh_hz_; }
   bool is_headless() const override { return false; }
   std::string present_clock() const override { return "openxr_predicted_display"; }
+  // The last frame's xrEndFrame after its predicted display time; measured only with
+  // XR_KHR_convert_timespec_time (measures_late_frames), and only of a frame that showed the eyes.
+  std::optional<bool> last_frame_late() const override;
+  bool measures_late_frames() const { return session_.convert_timespec_to_time != nullptr; }
+
+  // Whether the session left FOCUSED while the runtime still runs it (VISIBLE or SYNCHRONIZED: the
+  // headset taken off, another application in front), so that the focus may come back; false while
+  // it is focused, and once the runtime stops or loses it (STOPPING, LOSS_PENDING, EXITING).
+  bool may_regain_focus() const;
+  // Shows `screen` (the eye size) in both eyes and runs the runtime's frames until it focuses the
+  // session again: then the close request is withdrawn, presses made until then are dropped, and it
+  // returns true. Returns false, the close request kept, when the runtime stops or loses the
+  // session, when `timeout_s` of the session clock (the predicted display times, which follow the
+  // headset's refreshes) have passed, or when `quit()` (asked every frame) says so.
+  bool wait_for_focus(const Rgba8Frame& screen, double timeout_s, const std::function<bool()>& quit);
 
   // The session time of an XrTime of this runtime (a gaze sample's, a button press's).
   double session_time_s(XrTime time) const { return static_cast<double>(time - clock_zero_) * 1e-9; }

@@ -110,6 +110,9 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
     OpenXrInstanceResult made = create_openxr_instance("fovlab", extensions);
     refuse_unless(made.result, "xrCreateInstance");
     instance = std::move(made.instance);
+    if (convert_timespec_enabled)
+      convert_timespec_to_time =
+          extension_function<decltype(convert_timespec_to_time)>(instance.handle, "xrConvertTimespecTimeToTimeKHR");
 
     XrSystemGetInfo system_info{XR_TYPE_SYSTEM_GET_INFO};
     system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
@@ -221,6 +224,7 @@ void OpenXrSession::release() {
   if (session != XR_NULL_HANDLE) xrDestroySession(session);
   session = XR_NULL_HANDLE;
   vulkan.reset();  // the device and instance the runtime made, destroyed by their owner
+  convert_timespec_to_time = nullptr;
   instance = OpenXrInstance{};
 }
 
@@ -261,6 +265,15 @@ std::vector<XrSessionState> poll_openxr_events(OpenXrSession& session) {
 
 void request_openxr_exit(OpenXrSession& session) {
   check(xrRequestExitSession(session.session), "xrRequestExitSession");
+}
+
+std::optional<XrTime> openxr_time_now(const OpenXrSession& session) {
+  if (session.convert_timespec_to_time == nullptr) return std::nullopt;
+  timespec now{};
+  if (clock_gettime(CLOCK_MONOTONIC, &now) != 0) return std::nullopt;
+  XrTime time = 0;
+  if (XR_FAILED(session.convert_timespec_to_time(session.instance.handle, &now, &time))) return std::nullopt;
+  return time;
 }
 
 const char* openxr_session_state_name(XrSessionState state) {

@@ -9,6 +9,7 @@
 // The session's life follows the runtime's events (poll_openxr_events): READY begins it, STOPPING
 // ends it, EXITING (or a loss) ends its use. docs/hmd.md.
 #define XR_USE_GRAPHICS_API_VULKAN
+#include <time.h>
 #include <vulkan/vulkan.h>
 // After Vulkan's types, as openxr_platform.h expects them.
 #include <openxr/openxr.h>
@@ -17,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "display/openxr/openxr_instance.h"
@@ -50,6 +52,9 @@ struct OpenXrSession {
   // (openxr_input.h) and XrTime from and to CLOCK_MONOTONIC.
   bool eye_gaze_enabled = false;          // XR_EXT_eye_gaze_interaction
   bool convert_timespec_enabled = false;  // XR_KHR_convert_timespec_time
+  // xrConvertTimespecTimeToTimeKHR when the extension is enabled (its type spelled here, so that no
+  // includer needs XR_USE_TIMESPEC before openxr_platform.h).
+  XrResult(XRAPI_PTR* convert_timespec_to_time)(XrInstance, const struct timespec*, XrTime*) = nullptr;
   XrSystemId system = XR_NULL_SYSTEM_ID;
   std::unique_ptr<vk::Context> vulkan;  // made through the runtime (XR_KHR_vulkan_enable2)
   XrSession session = XR_NULL_HANDLE;
@@ -76,6 +81,10 @@ std::vector<XrSessionState> poll_openxr_events(OpenXrSession& session);
 
 // xrRequestExitSession: the runtime then takes the session down to STOPPING (poll_openxr_events).
 void request_openxr_exit(OpenXrSession& session);
+
+// The runtime's XrTime now: CLOCK_MONOTONIC converted by XR_KHR_convert_timespec_time; nullopt
+// without the extension (or when the runtime cannot convert it).
+std::optional<XrTime> openxr_time_now(const OpenXrSession& session);
 
 // "XR_SESSION_STATE_FOCUSED".
 const char* openxr_session_state_name(XrSessionState state);

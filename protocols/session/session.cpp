@@ -1,10 +1,12 @@
 #include "protocols/session/session.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <csignal>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -255,6 +257,56 @@ HeadsetViews headset_views_at_start(OpenXrPresenter& headset, const StudyConfig&
   views.gaze_fixation = config.display.headset.gaze_fixation;
   views.fixation_distance_mm = config.display.headset.fixation_distance_mm;
   return views;
+}
+
+// Ctrl-C at the terminal while a paused headset session waits for its focus: the operator ends the
+// wait, and the run exits as a closed window's does (the log is sealed already). Only during the
+// wait: at any other time Ctrl-C stops the program as it always did.
+volatile std::sig_atomic_t operator_quit_requested = 0;
+
+void note_operator_quit(int) { operator_quit_requested = 1; }
+
+class OperatorQuitScope {
+ public:
+  OperatorQuitScope() {
+    operator_quit_requested = 0;
+    struct sigaction action {};
+    action.sa_handler = &note_operator_quit;
+    sigemptyset(&action.sa_mask);
+    installed_ = sigaction(SIGINT, &action, &previous_) == 0;
+  }
+  ~OperatorQuitScope() {
+    if (installed_) sigaction(SIGINT, &previous_, nullptr);
+  }
+  OperatorQuitScope(const OperatorQuitScope&) = delete;
+  OperatorQuitScope& operator=(const OperatorQuitScope&) = delete;
+
+ private:
+  struct sigaction previous_ {};
+  bool installed_ = false;
+};
+
+// A headset session paused for a lost focus (sealed): a "Paused" screen in both eyes while the
+// runtime's frames run, until the focus returns (true: resume in this run) or the runtime stops the
+// session, options.refocus_timeout_s pass, or the operator presses Ctrl-C (false: exit, and a later
+// run resumes).
+bool wait_for_refocus(OpenXrPresenter& headset, const StudyConfig& config, const SessionOptions& options) {
+  if (options.refocus_timeout_s <= 0 || !headset.may_regain_focus()) return false;
+  std::fprintf(stderr,
+               "fovlab: paused (%s); waiting up to %.0f s for the headset to be focused again (Ctrl-C ends the "
+               "run; the log is sealed, and running the same command again resumes it)\n",
+               headset.close_reason().c_str(), options.refocus_timeout_s);
+  const OperatorQuitScope quit_scope;
+  const Rgba8Frame screen =
+      render_text_screen(config.display.width_px, config.display.height_px,
+                         "Paused: put the headset back on.\n\nThe session resumes where it stopped.");
+  const bool focused =
+      headset.wait_for_focus(screen, options.refocus_timeout_s, [] { return operator_quit_requested != 0; });
+  std::fprintf(stderr, "fovlab: %s\n",
+               focused                   ? "the headset is focused again: the session resumes"
+               : operator_quit_requested ? "the wait for the headset was ended at the terminal"
+                                         : "the headset was not focused again; the session stays paused");
+  return focused;
 }
 
 }  // namespace
@@ -564,6 +616,8 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     header = make_session_header(inputs);
     if (lab_key) header->lab_key_id = lab_key->id;
     if (headset_views) header->headset = headset_views_json(*headset_views);
+    // Schema 12: whether stimulus events count late frames (the runtime converts CLOCK_MONOTONIC).
+    if (headset) header->headset[log_keys::late_frames_measured] = headset->measures_late_frames();
   }
   EventLogWriter writer(outcome.log_path, record ? existing->last_chain : std::string(),
                         record ? static_cast<int64_t>(existing->events.size()) : 0, lab_key ? &*lab_key : nullptr);
@@ -578,11 +632,20 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
       if (!pose) return std::nullopt;
       return head_pose_relative_to(reference, head_pose_of_openxr(*pose));
     };
-  SessionRun run(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s,
-                 right_eye ? &*right_eye : nullptr);
-  if (header) {
-    run.log(to_json(*header));
-  } else {
+  // A run of trials from where the log says the session stands: this process's first, and in a
+  // headset each one after the focus came back (resumed as a rerun would resume it).
+  std::optional<SessionRun> run;
+  const auto start_run = [&] {
+    run.emplace(plan, options, *presenter, *gaze, *responses, library, writer, time_base_s,
+                right_eye ? &*right_eye : nullptr);
+  };
+  const auto count_run = [&] {  // what a finished run of trials did, into this process's outcome
+    outcome.events_written += run->events_written();
+    outcome.gaze_age_s.insert(outcome.gaze_age_s.end(), run->gaze_age_s().begin(), run->gaze_age_s().end());
+    outcome.dropped_frames += run->dropped_frames();
+    if (run->late_frames()) outcome.late_frames = outcome.late_frames.value_or(0) + *run->late_frames();
+  };
+  const auto log_resumed = [&] {
     SessionResumedEvent resumed;
     resumed.next_trial = schedule->next_trial;
     resumed.started_utc = utc_now();
@@ -591,24 +654,51 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
         gaze_source_json(source_kind(gaze_spec), gaze->describe(), chosen_gaze.requested, config.gaze);
     if (record->incomplete_trial >= 0) resumed.discarded_trial = record->incomplete_trial;
     if (!torn_aside.empty()) resumed.torn_line_set_aside = torn_aside;
-    run.log(to_json(resumed));
+    run->log(to_json(resumed));
+  };
+  start_run();
+  if (header) {
+    run->log(to_json(*header));
+  } else {
+    log_resumed();
   }
-  if (record) run.set_excluded_logged(record->excluded);
+  if (record) run->set_excluded_logged(record->excluded);
   const auto loop_start = std::chrono::steady_clock::now();
-  try {
-    if (!schedule) schedule.emplace(plan);
-    const bool kept = run.run_trials(schedule->next_trial, record ? record->attention_errors : 0, record.has_value(),
-                                     record ? static_cast<int>(record->trials.size()) : 0, schedule->progress);
-    outcome.finished = true;
-    outcome.excluded = !kept;
-  } catch (const SessionAborted& aborted) {
-    outcome.stop_reason = aborted.reason;
-    run.log(to_json(SessionPausedEvent{{}, aborted.reason}));
+  if (!schedule) schedule.emplace(plan);
+  int complete_before = record ? static_cast<int>(record->trials.size()) : 0;
+  for (;;) {
+    try {
+      const bool kept = run->run_trials(schedule->next_trial, record ? record->attention_errors : 0, record.has_value(),
+                                        complete_before, schedule->progress);
+      outcome.finished = true;
+      outcome.excluded = !kept;
+    } catch (const SessionAborted& aborted) {
+      outcome.stop_reason = aborted.reason;
+      run->log(to_json(SessionPausedEvent{{}, aborted.reason}));
+    }
+    outcome.trials_run += run->trials_completed();
+    outcome.trials_completed = complete_before + run->trials_completed();
+    // The end of this run, sealed: the complete trials and the chain so far (keyed with a lab key).
+    run->log(to_json(SealEvent{{}, outcome.trials_completed, {}}));
+    // A headset that lost the focus while its runtime still runs it may get it back: the paused,
+    // sealed session then resumes in this process as `fovlab run` again would, from the log.
+    if (outcome.finished || !headset || !headset->close_requested() || !wait_for_refocus(*headset, config, options))
+      break;
+    existing = read_event_log(outcome.log_path);
+    record = read_session_record(*existing, lab_key ? &*lab_key : nullptr);
+    if (record->integrity.status == LogStatus::broken)
+      throw InputError(outcome.log_path + ":" + std::to_string(record->integrity.line) + ": " +
+                       record->integrity.reason + "; not resuming");
+    schedule = check_trials_against_plan(*record, plan, outcome.log_path);
+    complete_before = static_cast<int>(record->trials.size());
+    torn_aside.clear();
+    outcome.stop_reason.clear();
+    ++outcome.focus_pauses_resumed;
+    count_run();
+    start_run();
+    log_resumed();
+    run->set_excluded_logged(record->excluded);
   }
-  outcome.trials_run = run.trials_completed();
-  outcome.trials_completed = (record ? static_cast<int>(record->trials.size()) : 0) + outcome.trials_run;
-  // The end of this run, sealed: the complete trials and the chain so far (keyed with a lab key).
-  run.log(to_json(SealEvent{{}, outcome.trials_completed, {}}));
   outcome.trial_loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   if (window && render_context && window->validation_message_count() > 0)
     throw std::runtime_error("the Vulkan validation layer reported " +
@@ -618,9 +708,7 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     outcome.cross_device_frames = window->cross_device_copies().frames;
     outcome.cross_device_copy_s = window->cross_device_copies().seconds;
   }
-  outcome.events_written = run.events_written();
-  outcome.gaze_age_s = run.gaze_age_s();
-  outcome.dropped_frames = run.dropped_frames();
+  count_run();
   outcome.present_clock = presenter->present_clock();
   outcome.log_write_s = writer.seconds_writing();
   outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

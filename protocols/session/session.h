@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct SessionOptions {
   // results/<study> runs in the folder of its version, results/<study>@vN (study/log/study_versions.h),
   // instead of being refused.
   bool new_version = false;
+  // A headset session that loses the focus while its runtime still runs it pauses (session_paused,
+  // the log sealed) and waits this long, in seconds of the session clock, for the focus to return
+  // and resume in the same run; 0: it exits at once, as a closed window does (docs/hmd.md).
+  double refocus_timeout_s = 600.0;
 };
 
 struct SessionOutcome {
@@ -63,6 +68,10 @@ struct SessionOutcome {
   // (refreshes without a sample left out), the refresh periods missed, and the present clock.
   std::vector<double> gaze_age_s;
   int dropped_frames = 0;
+  // A headset's stimulus refreshes whose xrEndFrame came after their predicted display time
+  // (nullopt: not measured, a window or a runtime without XR_KHR_convert_timespec_time).
+  std::optional<int> late_frames;
+  int focus_pauses_resumed = 0;  // a headset's pauses for a lost focus that resumed in this run
   std::string present_clock;
   std::string frame_path;            // "on_device", "via_host", "none" (headless)
   int cross_device_frames = 0;       // via_host: frames copied from the rendering device to the presenting one

@@ -142,6 +142,7 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
   std::vector<std::array<double, 2>> right_gaze;
   std::vector<std::array<double, 7>> head_poses;  // head-tracked: each refresh's, as rendered
   int dropped = 0;
+  std::optional<int> late;  // counted where the presenter can tell (last_frame_late)
   double previous = -1.0;
   for (int frame = 0; frame < stimulus.spec.frame_count; ++frame) {
     for (int refresh = 0; refresh < refreshes; ++refresh) {
@@ -185,6 +186,8 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         if (periods > 1) dropped += static_cast<int>(periods - 1);
       }
       previous = shown_at;
+      if (const std::optional<bool> frame_late = presenter_.last_frame_late())
+        late = late.value_or(0) + (*frame_late ? 1 : 0);
       if (!sample.valid)
         event.invalid_gaze.push_back({static_cast<int>(event.present_s.size()), sample.invalid_reason});
       event.present_s.push_back(shown_at);
@@ -216,8 +219,10 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
     event.right_eye_gaze = std::move(right_gaze);
   }
   if (right_eye_ && right_eye_->head_pose) event.head_pose = std::move(head_poses);
+  event.late_frames = late;
   log(to_json(event));
   dropped_frames_ += dropped;
+  if (late) late_frames_ = late_frames_.value_or(0) + *late;
 }
 
 std::array<GazeSample, 2> SessionRun::headset_gaze(const GazeSample& raw, const StimulusSpec& spec, int frame,

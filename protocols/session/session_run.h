@@ -72,6 +72,9 @@ class SessionRun {
   // and the refresh periods missed.
   const std::vector<double>& gaze_age_s() const { return gaze_age_s_; }
   int dropped_frames() const { return dropped_frames_; }
+  // Of this run's stimulus refreshes, those the presenter says were late (last_frame_late); nullopt
+  // when it cannot tell.
+  std::optional<int> late_frames() const { return late_frames_; }
 
  private:
   // A screen drawn by `draw` (only when it is shown or saved: a headless run without screenshots
@@ -133,6 +136,7 @@ class SessionRun {
   int trials_completed_ = 0;
   std::vector<double> gaze_age_s_;
   int dropped_frames_ = 0;
+  std::optional<int> late_frames_;
 };
 
 }  // namespace fovlab

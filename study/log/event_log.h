@@ -39,10 +39,12 @@ namespace fovlab {
 // eye's size and view, the gaze's fixation) and each stimulus event's right_eye_hash and
 // right_eye_gaze beside the left eye's hash and gaze. Nothing else changed: a desktop log of schema
 // 11 reads as one of 10.
-// 12 (head-tracked views, issue 42): a head-tracked headset session (headset.view_model
-// "head-tracked") logs the header's headset.head_reference (the head's pose in LOCAL at the start)
-// and each stimulus event's head_pose (a refresh's head relative to it, as rendered). Other logs
-// are unchanged.
+// 12 (headset sessions, issue 42): a head-tracked session (headset.view_model "head-tracked") logs
+// the header's headset.head_reference (the head's pose in LOCAL at the start) and each stimulus
+// event's head_pose (a refresh's head relative to it, as rendered); a headset session logs each
+// stimulus event's late_frames (its refreshes whose xrEndFrame came after their predicted display
+// time) and the header's headset.late_frames_measured (a log without them: schema 1-11, or a
+// runtime without XR_KHR_convert_timespec_time, counts none). Desktop logs are unchanged.
 inline constexpr int log_schema_version = 12;        // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 

@@ -199,6 +199,8 @@ constexpr auto fields(Of<StimulusEvent>) {
       field(k::right_eye_gaze, &E::right_eye_gaze, Write::when_set),
       // Schema 12 (head-tracked views); only in a head-tracked headset session.
       field(k::head_pose, &E::head_pose, Write::when_set),
+      // Schema 12; only in a headset session whose runtime converts CLOCK_MONOTONIC to its XrTime.
+      field(k::late_frames, &E::late_frames, Write::when_set),
   };
 }
 

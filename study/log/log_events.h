@@ -104,6 +104,9 @@ inline constexpr const char* present_clock = "present_clock";
 inline constexpr const char* right_eye_hash = "right_eye_hash";
 inline constexpr const char* right_eye_gaze = "right_eye_gaze";
 inline constexpr const char* head_pose = "head_pose";  // schema 12, head-tracked headset sessions
+// Schema 12, late frames in a headset (stimulus events; the header's headset block).
+inline constexpr const char* late_frames = "late_frames";
+inline constexpr const char* late_frames_measured = "late_frames_measured";
 inline constexpr const char* answer = "answer";
 inline constexpr const char* key = "key";
 inline constexpr const char* rt_s = "rt_s";
@@ -273,6 +276,10 @@ struct StimulusEvent {
   // refresh relative to the session's start, as rendered: [x_m, y_m, z_m, qx, qy, qz, qw], one entry
   // a refresh as `hash` (docs/log-schema.md).
   std::optional<std::vector<std::array<double, 7>>> head_pose;
+  // Schema 12, only in a headset session whose runtime has XR_KHR_convert_timespec_time (absent
+  // otherwise, and in older logs: not measured, not 0): how many of this presentation's refreshes
+  // were late, their xrEndFrame after the display time the runtime predicted for them (present_s).
+  std::optional<int> late_frames;
   bool operator==(const StimulusEvent&) const = default;
 };
 

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/app/cli_test_support.h"
+#include "tests/app/headset_study_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
 #include "tests/support/fovlab_child.h"
 
@@ -25,7 +26,9 @@ namespace fovlab {
 namespace {
 
 using cli_test::CommandResult;
-using test::OpenXrTest;
+using test::headset_study;
+using test::HeadsetStudy;
+using test::kEyesAtDistance;
 
 // The refusal is one line on stderr; the validation layer's own line at load ("Core Validation
 // output type: text, first time = true", on stderr, once an instance is made) is no message of fovlab's.
@@ -35,65 +38,6 @@ void expect_refusal(CommandResult result, const std::string& must_contain) {
     result.err.erase(at, result.err.find('\n', at) + 1 - at);
   cli_test::expect_one_line_error(result, must_contain);
 }
-
-using OpenXrStudyCli = OpenXrTest;
-
-// A FIPR study (gaze-contingent) at 64x72 an eye; `more` is appended ([gaze], ...).
-std::string headset_study(const std::string& eye_size = "eye_width_px = 64\neye_height_px = 72",
-                          const std::string& more = "") {
-  return R"([study]
-name = "headset_cli"
-seed = 5
-
-[display]
-kind = "openxr"
-)" + eye_size +
-         R"(
-refresh_hz = 90
-left_eye_fov_deg = [-54, 49, 54, -56]
-right_eye_fov_deg = [-49, 54, 54, -56]
-
-[stimulus]
-duration_s = 0.1
-frames_per_second = 30
-
-[stimulus.reference]
-method = "gt"
-
-[stimulus.test]
-method = "fipr"
-
-[levels]
-parameter = "fovea_radius_deg"
-values = [5, 10]
-
-[protocol]
-kind = "2afc"
-question = "same"
-
-[[block]]
-scene = "primitives"
-)" + more;
-}
-
-// headset_study's eyes with the gaze resting on the plane 1.5 m in front of the head.
-const std::string kEyesAtDistance =
-    "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
-
-class HeadsetStudy : public OpenXrStudyCli {
- protected:
-  std::filesystem::path write(const std::string& name, const std::string& text) {
-    return cli_test::write_file(scratch_.path() / name, text);
-  }
-  // fovlab run in the scratch folder with the test runtime (`switches`: its environment switches).
-  CommandResult run_study(const std::filesystem::path& config, const std::string& switches = "",
-                          const std::string& runtime_json = FOVLAB_TEST_XR_RUNTIME_JSON,
-                          const std::string& flags = "") {
-    return cli_test::run("run " + config.string() + " --participant P01 --results " + results_.string() + flags,
-                         child_environment(runtime_json) + " " + switches);
-  }
-  std::filesystem::path results_ = scratch_.path() / "results";
-};
 
 TEST_F(HeadsetStudy, ValidatePrintsEachEyesGeometry) {
   const CommandResult result =
@@ -635,12 +579,13 @@ scene = "courtyard"
 
 // The headset losing the focus mid-session (the test runtime's VISIBLE at frame 400, as a headset
 // taken off) pauses the study as a closed window does: session_paused with the reason, the log
-// sealed; the next run resumes it to the end, and the log replays.
+// sealed; when the focus does not come back within --refocus-timeout (1 s here), the run exits, the
+// next run resumes it to the end, and the log replays (openxr_session_life_test.cpp: the focus back).
 TEST_F(HeadsetStudy, LosingTheFocusPausesTheSessionAndTheNextRunResumesIt) {
   const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
   const std::string flags = " --observer simulated --gaze synthetic:seed=3";
-  const CommandResult paused =
-      run_study(config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400", FOVLAB_TEST_XR_RUNTIME_JSON, flags);
+  const CommandResult paused = run_study(config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400", FOVLAB_TEST_XR_RUNTIME_JSON,
+                                         flags + " --refocus-timeout 1");
   ASSERT_EQ(paused.exit_code, 0) << paused.err;
   EXPECT_NE(paused.out.find("(stopped: the headset session lost focus (XR_SESSION_STATE_VISIBLE)"), std::string::npos)
       << paused.out;

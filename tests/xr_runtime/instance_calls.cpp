@@ -268,7 +268,12 @@ XrResult XRAPI_CALL convert_timespec_time_to_time(XrInstance instance, const str
   if (timespec_time == nullptr || time == nullptr) return XR_ERROR_VALIDATION_FAILURE;
   const XrTime nanoseconds = XrTime{timespec_time->tv_sec} * 1000000000 + timespec_time->tv_nsec;
   if (nanoseconds <= 0) return XR_ERROR_TIME_INVALID;
-  *time = nanoseconds;
+  HandleTable& table = handle_table();
+  std::lock_guard lock(table.mutex);
+  // On the session's virtual clock while the instance has one (session_calls.cpp).
+  const InstanceObject* object = find_object<InstanceObject>(table, handle_value(instance));
+  const SessionObject* session = object ? find_object<SessionObject>(table, object->session) : nullptr;
+  *time = session ? virtual_time_of_monotonic(*session, nanoseconds) : nanoseconds;
   return XR_SUCCESS;
 }
 
@@ -280,8 +285,16 @@ XrResult XRAPI_CALL convert_time_to_timespec_time(XrInstance instance, XrTime ti
   }
   if (timespec_time == nullptr) return XR_ERROR_VALIDATION_FAILURE;
   if (time <= 0) return XR_ERROR_TIME_INVALID;
-  timespec_time->tv_sec = static_cast<time_t>(time / 1000000000);
-  timespec_time->tv_nsec = static_cast<long>(time % 1000000000);
+  XrTime monotonic_ns = time;
+  {
+    HandleTable& table = handle_table();
+    std::lock_guard lock(table.mutex);
+    const InstanceObject* object = find_object<InstanceObject>(table, handle_value(instance));
+    if (const SessionObject* session = object ? find_object<SessionObject>(table, object->session) : nullptr)
+      monotonic_ns = monotonic_of_virtual_time(*session, time);
+  }
+  timespec_time->tv_sec = static_cast<time_t>(monotonic_ns / 1000000000);
+  timespec_time->tv_nsec = static_cast<long>(monotonic_ns % 1000000000);
   return XR_SUCCESS;
 }
 

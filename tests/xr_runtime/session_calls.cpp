@@ -4,14 +4,31 @@
 //
 // States: xrCreateSession queues IDLE then READY; the first xrWaitFrame of a running session queues
 // SYNCHRONIZED; the first xrEndFrame after it queues VISIBLE then FOCUSED; with
-// FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=N the Nth xrWaitFrame queues VISIBLE (focus lost). xrRequestExitSession
-// queues the way down to STOPPING (VISIBLE, SYNCHRONIZED, STOPPING); xrEndSession then queues IDLE
-// and EXITING. A call that needs a state checks the one the application has been handed.
+// FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=N the Nth xrWaitFrame queues VISIBLE (focus lost), and with
+// FOVLAB_TEST_XR_REFOCUS_AT_FRAME=M the Mth queues FOCUSED again (the headset put back on).
+// xrRequestExitSession queues the way down to STOPPING (VISIBLE, SYNCHRONIZED, STOPPING); xrEndSession
+// then queues IDLE and EXITING. FOVLAB_TEST_XR_STOP_AT_FRAME=N: at the Nth xrWaitFrame the runtime
+// itself queues the way down to STOPPING, as a runtime shutting down; the application must end the
+// session, and xrEndSession then queues IDLE and EXITING. A call that needs a state checks the one
+// the application has been handed.
+//
+// The virtual clock and XR_KHR_convert_timespec_time: frame n is predicted for start + n / 90 s
+// whatever the wall clock does, so "now" cannot be the wall clock's. The runtime pins the clock at
+// each xrWaitFrame: the CLOCK_MONOTONIC instant of that call becomes half a period before the
+// frame's predicted display time (the application has half a period to render and submit), and the
+// virtual clock stands still until the next pin, so every frame is on time however long lavapipe
+// renders it. A frame listed in FOVLAB_TEST_XR_LATE_AT_FRAMES=a,b,c (xrWaitFrame counts) is pinned
+// again at its xrBeginFrame to a quarter period after its predicted display time: converted after
+// that, "now" is past the display time, so the application's xrEndFrame comes late. The pins only
+// go forward (the next frame's is a quarter period later still).
 #include <time.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <numbers>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -25,15 +42,63 @@ SessionObject* find_session(HandleTable& table, XrSession session) {
   return find_object<SessionObject>(table, handle_value(session));
 }
 
+// FOVLAB_TEST_XR_LATE_AT_FRAMES=a,b,c: the frames (xrWaitFrame counts, >= 1) to make late. False,
+// with the reason on stderr, when it is malformed.
+bool read_late_frames(std::vector<int64_t>& frames) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_LATE_AT_FRAMES");
+  if (setting == nullptr) return true;
+  std::string_view text(setting);
+  while (!text.empty()) {
+    const size_t comma = text.find(',');
+    const std::string item(text.substr(0, comma));
+    char* end = nullptr;
+    const long long frame = std::strtoll(item.c_str(), &end, 10);
+    if (item.empty() || end != item.c_str() + item.size() || frame < 1) {
+      std::fprintf(stderr,
+                   "fovlab test runtime: FOVLAB_TEST_XR_LATE_AT_FRAMES: expected frame numbers >= 1 "
+                   "separated by commas, got \"%s\"\n",
+                   setting);
+      return false;
+    }
+    frames.push_back(frame);
+    text = comma == std::string_view::npos ? std::string_view() : text.substr(comma + 1);
+  }
+  return true;
+}
+
+// The frame number an environment variable names (FOVLAB_TEST_XR_*_AT_FRAME), or 0.
+int64_t frame_setting(const char* variable) {
+  const char* setting = std::getenv(variable);
+  return setting == nullptr ? 0 : std::strtoll(setting, nullptr, 10);
+}
+
+}  // namespace
+
 XrTime monotonic_now_ns() {
   timespec now{};
   clock_gettime(CLOCK_MONOTONIC, &now);
   return XrTime{now.tv_sec} * 1000000000 + now.tv_nsec;
 }
 
-}  // namespace
-
 XrTime frame_time(const SessionObject& session, int64_t n) { return session.start_time + n * 1000000000 / kRefreshHz; }
+
+XrTime virtual_time_of_monotonic(const SessionObject& session, XrTime monotonic_ns) {
+  XrTime time = monotonic_ns;
+  for (const auto& [pinned_monotonic_ns, pinned_time] : session.clock_pins) {
+    if (pinned_monotonic_ns > monotonic_ns) break;
+    time = pinned_time;
+  }
+  return time;
+}
+
+XrTime monotonic_of_virtual_time(const SessionObject& session, XrTime time) {
+  XrTime monotonic_ns = time;
+  for (const auto& [pinned_monotonic_ns, pinned_time] : session.clock_pins) {
+    if (pinned_time > time) break;
+    monotonic_ns = pinned_monotonic_ns;
+  }
+  return monotonic_ns;
+}
 
 namespace {
 
@@ -174,7 +239,7 @@ XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessionCreateInf
   SessionObject made;
   // The scripted controller and gaze: a test that names a malformed script learns it here, not by
   // presses that never come.
-  if (!read_simulated_input(made.input)) return XR_ERROR_RUNTIME_FAILURE;
+  if (!read_simulated_input(made.input) || !read_late_frames(made.late_frames)) return XR_ERROR_RUNTIME_FAILURE;
   if (const XrResult result = bind_session_vulkan(object->vulkan, *binding, made.vulkan); XR_FAILED(result))
     return result;
   made.start_time = monotonic_now_ns();
@@ -239,7 +304,8 @@ XrResult XRAPI_CALL end_session(XrSession session) {
   object->running = false;
   object->frame_waited = object->frame_begun = false;
   queue_state(table, handle_value(session), XR_SESSION_STATE_IDLE);
-  if (object->exit_requested) queue_state(table, handle_value(session), XR_SESSION_STATE_EXITING);
+  if (object->exit_requested || object->shutting_down)
+    queue_state(table, handle_value(session), XR_SESSION_STATE_EXITING);
   return XR_SUCCESS;
 }
 
@@ -363,6 +429,8 @@ XrResult XRAPI_CALL wait_frame(XrSession session, const XrFrameWaitInfo* wait_in
   if (object->frame_waited) return XR_ERROR_CALL_ORDER_INVALID;
   object->waited_frames += 1;
   object->frame_waited = true;
+  object->clock_pins.emplace_back(monotonic_now_ns(),
+                                  frame_time(*object, object->waited_frames) - kDisplayPeriodNs / 2);
   frame_state->predictedDisplayTime = current_time(*object);
   frame_state->predictedDisplayPeriod = kDisplayPeriodNs;
   frame_state->shouldRender =
@@ -371,10 +439,22 @@ XrResult XRAPI_CALL wait_frame(XrSession session, const XrFrameWaitInfo* wait_in
     queue_state(table, handle_value(session), XR_SESSION_STATE_SYNCHRONIZED);
   // FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=N: at the session's Nth xrWaitFrame a focused session loses the
   // focus (VISIBLE), as when the headset is taken off or another application takes it; it stays so.
-  if (const char* unfocus_at = std::getenv("FOVLAB_TEST_XR_UNFOCUS_AT_FRAME");
-      unfocus_at != nullptr && std::strtoll(unfocus_at, nullptr, 10) == object->waited_frames &&
+  const uint64_t handle = handle_value(session);
+  if (frame_setting("FOVLAB_TEST_XR_UNFOCUS_AT_FRAME") == object->waited_frames &&
       object->queued_state == XR_SESSION_STATE_FOCUSED)
-    queue_state(table, handle_value(session), XR_SESSION_STATE_VISIBLE);
+    queue_state(table, handle, XR_SESSION_STATE_VISIBLE);
+  // FOVLAB_TEST_XR_REFOCUS_AT_FRAME=M: the focus comes back at the Mth (the headset put back on).
+  if (frame_setting("FOVLAB_TEST_XR_REFOCUS_AT_FRAME") == object->waited_frames &&
+      object->queued_state == XR_SESSION_STATE_VISIBLE && !object->exit_requested && !object->shutting_down)
+    queue_state(table, handle, XR_SESSION_STATE_FOCUSED);
+  // FOVLAB_TEST_XR_STOP_AT_FRAME=N: the runtime shuts down, through each state to STOPPING.
+  if (frame_setting("FOVLAB_TEST_XR_STOP_AT_FRAME") == object->waited_frames && !object->exit_requested &&
+      !object->shutting_down) {
+    object->shutting_down = true;
+    if (object->queued_state == XR_SESSION_STATE_FOCUSED) queue_state(table, handle, XR_SESSION_STATE_VISIBLE);
+    if (object->queued_state == XR_SESSION_STATE_VISIBLE) queue_state(table, handle, XR_SESSION_STATE_SYNCHRONIZED);
+    queue_state(table, handle, XR_SESSION_STATE_STOPPING);
+  }
   return XR_SUCCESS;
 }
 
@@ -387,6 +467,11 @@ XrResult XRAPI_CALL begin_frame(XrSession session, const XrFrameBeginInfo* begin
   if (!object->running) return XR_ERROR_SESSION_NOT_RUNNING;
   if (!object->frame_waited) return XR_ERROR_CALL_ORDER_INVALID;
   object->frame_waited = false;
+  // A frame to make late: the clock jumps past its display time now, before the application renders.
+  if (std::find(object->late_frames.begin(), object->late_frames.end(), object->waited_frames) !=
+      object->late_frames.end())
+    object->clock_pins.emplace_back(monotonic_now_ns(),
+                                    frame_time(*object, object->waited_frames) + kDisplayPeriodNs / 4);
   if (object->frame_begun) return XR_FRAME_DISCARDED;  // the previous frame was never ended
   object->frame_begun = true;
   return XR_SUCCESS;

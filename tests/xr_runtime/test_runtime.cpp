@@ -30,7 +30,8 @@ HandleTable& handle_table() {
 
 // FOVLAB_TEST_XR_VULKAN=absent in the environment takes XR_KHR_vulkan_enable2 off the list: a
 // runtime that cannot hand Vulkan to the application. FOVLAB_TEST_XR_EYE_GAZE=absent takes
-// XR_EXT_eye_gaze_interaction off: a headset without an eye tracker.
+// XR_EXT_eye_gaze_interaction off: a headset without an eye tracker. FOVLAB_TEST_XR_CONVERT_TIMESPEC=absent
+// takes XR_KHR_convert_timespec_time off: a runtime whose XrTime the application cannot read "now" in.
 std::span<const ExtensionEntry> offered_extensions() {
   static const std::array<ExtensionEntry, 3> extensions{{
       {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_vulkan_enable2_SPEC_VERSION},
@@ -46,6 +47,8 @@ std::span<const ExtensionEntry> offered_extensions() {
   for (const ExtensionEntry& extension : extensions) {
     if (extension.name == XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME && absent("FOVLAB_TEST_XR_VULKAN")) continue;
     if (extension.name == XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME && absent("FOVLAB_TEST_XR_EYE_GAZE")) continue;
+    if (extension.name == XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME && absent("FOVLAB_TEST_XR_CONVERT_TIMESPEC"))
+      continue;
     offered.push_back(extension);
   }
   return offered;

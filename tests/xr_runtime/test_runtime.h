@@ -24,6 +24,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -171,6 +172,12 @@ struct SessionObject {
   bool frame_waited = false;  // an xrWaitFrame not yet followed by xrBeginFrame
   bool frame_begun = false;   // an xrBeginFrame not yet followed by xrEndFrame
   int64_t ended_frames = 0;
+  // The virtual clock as XR_KHR_convert_timespec_time converts to it (instance_calls.cpp): each
+  // xrWaitFrame, and each late frame's xrBeginFrame, pins the CLOCK_MONOTONIC instant of the call
+  // to an XrTime; between pins the virtual clock stands still. In order: {monotonic ns, XrTime}.
+  std::vector<std::pair<XrTime, XrTime>> clock_pins;
+  std::vector<int64_t> late_frames;  // FOVLAB_TEST_XR_LATE_AT_FRAMES, read at xrCreateSession
+  bool shutting_down = false;        // FOVLAB_TEST_XR_STOP_AT_FRAME: EXITING follows xrEndSession
 };
 
 struct SpaceObject {
@@ -421,6 +428,14 @@ XrPosef compose(const XrPosef& origin, const XrPosef& pose);
 XrPosef head_in_local(const SessionObject& session, XrTime time);
 // The predicted display time of the session's frame `n` (1 for the first xrWaitFrame).
 XrTime frame_time(const SessionObject& session, int64_t n);
+// The CLOCK_MONOTONIC time in nanoseconds.
+XrTime monotonic_now_ns();
+// XR_KHR_convert_timespec_time on the session's virtual clock: a CLOCK_MONOTONIC time (ns) as the
+// XrTime of the last pin at or before it (clock_pins); before the first pin, itself (the clock
+// starts at CLOCK_MONOTONIC when the session is made). And back: an XrTime as the monotonic instant
+// of the last pin at or before it.
+XrTime virtual_time_of_monotonic(const SessionObject& session, XrTime monotonic_ns);
+XrTime monotonic_of_virtual_time(const SessionObject& session, XrTime time);
 
 // The simulated headset's views (session_calls.cpp): the eyes at -+IPD/2 along x of the head, each
 // with its asymmetric field of view (the angles are stated in docs/hmd.md).

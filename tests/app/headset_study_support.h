@@ -1,0 +1,71 @@
+#pragma once
+// Shared by the headset study tests at the command line (openxr_study_cli_test.cpp,
+// openxr_session_life_test.cpp): a small FIPR study in the headset and a fixture that runs `fovlab
+// run` on it in a child process with the test runtime (tests/xr_runtime) and the OpenXR core
+// validation layer on.
+#include <filesystem>
+#include <string>
+
+#include "tests/app/cli_test_support.h"
+#include "tests/display/openxr/openxr_test_support.h"
+
+namespace fovlab::test {
+
+// A FIPR study (gaze-contingent) at 64x72 an eye; `more` is appended ([gaze], ...).
+inline std::string headset_study(const std::string& eye_size = "eye_width_px = 64\neye_height_px = 72",
+                                 const std::string& more = "") {
+  return R"([study]
+name = "headset_cli"
+seed = 5
+
+[display]
+kind = "openxr"
+)" + eye_size +
+         R"(
+refresh_hz = 90
+left_eye_fov_deg = [-54, 49, 54, -56]
+right_eye_fov_deg = [-49, 54, 54, -56]
+
+[stimulus]
+duration_s = 0.1
+frames_per_second = 30
+
+[stimulus.reference]
+method = "gt"
+
+[stimulus.test]
+method = "fipr"
+
+[levels]
+parameter = "fovea_radius_deg"
+values = [5, 10]
+
+[protocol]
+kind = "2afc"
+question = "same"
+
+[[block]]
+scene = "primitives"
+)" + more;
+}
+
+// headset_study's eyes with the gaze resting on the plane 1.5 m in front of the head.
+inline const std::string kEyesAtDistance =
+    "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
+
+class HeadsetStudy : public OpenXrTest {
+ protected:
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    return cli_test::write_file(scratch_.path() / name, text);
+  }
+  // fovlab run in the scratch folder with the test runtime (`switches`: its environment switches).
+  cli_test::CommandResult run_study(const std::filesystem::path& config, const std::string& switches = "",
+                                    const std::string& runtime_json = FOVLAB_TEST_XR_RUNTIME_JSON,
+                                    const std::string& flags = "") {
+    return cli_test::run("run " + config.string() + " --participant P01 --results " + results_.string() + flags,
+                         child_environment(runtime_json) + " " + switches);
+  }
+  std::filesystem::path results_ = scratch_.path() / "results";
+};
+
+}  // namespace fovlab::test

@@ -1,0 +1,278 @@
+// A headset session's life at the command line (issue 42, docs/hmd.md): the focus lost and given
+// back within one run (the paused, sealed session resumes as a rerun would), the runtime stopping
+// the session (sealed, exits; the next run resumes), late frames counted in the stimulus events they
+// belong to, and a log of schema 11 (before late frames) still read and replayed. The test runtime
+// (tests/xr_runtime) runs in the child process, scripted by its FOVLAB_TEST_XR_* switches, with the
+// OpenXR core validation layer on (its file must stay empty).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "study/log/event_log.h"
+#include "tests/app/cli_test_support.h"
+#include "tests/app/headset_study_support.h"
+
+namespace fovlab {
+namespace {
+
+using cli_test::CommandResult;
+
+const std::string kSimulated = " --observer simulated --gaze synthetic:seed=3";
+
+std::vector<nlohmann::json> read_events(const std::filesystem::path& log) {
+  std::vector<nlohmann::json> events;
+  std::ifstream lines(log);
+  for (std::string line; std::getline(lines, line);) events.push_back(nlohmann::json::parse(line));
+  return events;
+}
+
+std::vector<std::string> kinds_of(const std::vector<nlohmann::json>& events) {
+  std::vector<std::string> kinds;
+  for (const nlohmann::json& event : events) kinds.push_back(event.value("event", ""));
+  return kinds;
+}
+
+// What two runs of the same session must agree on, trial by trial, whatever happened between them:
+// each complete trial's start (condition, level, sequence, order), the stimuli it showed, and the
+// answers given. Times and gaze-dependent frames are left out (the session clock goes on through a
+// pause, and the synthetic gaze follows it).
+std::vector<nlohmann::json> complete_trials(const std::vector<nlohmann::json>& events) {
+  std::vector<nlohmann::json> trials;
+  nlohmann::json open;
+  for (const nlohmann::json& event : events) {
+    const std::string kind = event.value("event", "");
+    if (kind == "trial_start") {
+      open = {{"trial", event["trial"]},
+              {"condition", event["condition"]},
+              {"level", event.value("level", nlohmann::json())},
+              {"sequence", event["sequence"]},
+              {"reference_first", event.value("reference_first", nlohmann::json())},
+              {"stimuli", nlohmann::json::array()},
+              {"answers", nlohmann::json::array()}};
+    } else if (kind == "stimulus" && !open.is_null()) {
+      open["stimuli"].push_back(event["stimulus"]);
+    } else if (kind == "response" && !open.is_null()) {
+      open["answers"].push_back(event["answer"]);
+    } else if (kind == "trial_end" && !open.is_null()) {
+      trials.push_back(open);
+      open = nullptr;
+    } else if (kind == "session_paused") {
+      open = nullptr;  // cut: the resumed session discards it and presents it again
+    }
+  }
+  return trials;
+}
+
+// The frame (the session's xrWaitFrame count) whose predicted display time a present_s of a new
+// session's log is: the first frame is at 0, one frame each 1/90 s.
+int64_t frame_of_present(double present_s) { return std::llround(present_s * 90.0) + 1; }
+
+using HeadsetSessionLife = test::HeadsetStudy;
+
+// The headset taken off at frame 400 and put back on at frame 700: the study pauses as before
+// (session_paused, sealed), the "Paused" screen keeps the runtime's frames coming, and when the focus
+// returns the session resumes in the same run (session_resumed after the seal, the cut trial
+// discarded), to the end: the trials are those of an uninterrupted run of the same session, and
+// the log replays both eyes to their hashes.
+TEST_F(HeadsetSessionLife, TheFocusBackWithinTheTimeoutResumesTheSessionInTheSameRun) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400 FOVLAB_TEST_XR_REFOCUS_AT_FRAME=700",
+                                      FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_NE(ran.out.find("new session, 2 of 2 trials complete"), std::string::npos) << ran.out;
+  EXPECT_EQ(ran.out.find("paused after"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.out.find("the focus was lost and came back 1 time(s)"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.err.find("the headset is focused again: the session resumes"), std::string::npos) << ran.err;
+
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  const std::vector<nlohmann::json> events = read_events(log);
+  const std::vector<std::string> kinds = kinds_of(events);
+  const auto paused = std::find(kinds.begin(), kinds.end(), "session_paused");
+  ASSERT_NE(paused, kinds.end()) << "no session_paused";
+  const size_t paused_at = static_cast<size_t>(paused - kinds.begin());
+  ASSERT_LT(paused_at + 3, kinds.size());
+  EXPECT_EQ(kinds[paused_at + 1], "seal");
+  EXPECT_EQ(kinds[paused_at + 2], "session_resumed");
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_paused"), 1);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 1);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 1);
+  EXPECT_EQ(kinds.back(), "seal");
+  const nlohmann::json& pause = events[paused_at];
+  const nlohmann::json& resumed = events[paused_at + 2];
+  EXPECT_NE(pause.value("reason", "").find("lost focus (XR_SESSION_STATE_VISIBLE)"), std::string::npos) << pause;
+  // Resumed after the focus came back at frame 700 (its display time on the session clock), in
+  // this run: the paused session waited for it.
+  EXPECT_LT(pause["t"].get<double>(), 699.0 / 90.0) << pause;
+  EXPECT_GE(resumed["t"].get<double>(), 699.0 / 90.0 - 1e-6) << resumed;
+  // Where the pause cut a trial (a trial_start without its trial_end), the resumed session names it
+  // as discarded, and starts again from it.
+  int cut_trial = -1;
+  for (size_t i = 0; i < paused_at; ++i) {
+    if (kinds[i] == "trial_start") cut_trial = events[i]["trial"].get<int>();
+    if (kinds[i] == "trial_end") cut_trial = -1;
+  }
+  if (cut_trial >= 0) {
+    EXPECT_EQ(resumed.value("discarded_trial", -1), cut_trial) << resumed;
+    EXPECT_EQ(resumed.value("next_trial", -1), cut_trial) << resumed;
+  } else {
+    EXPECT_FALSE(resumed.contains("discarded_trial")) << resumed;
+  }
+  // The resumed part begins as a rerun's does: the instructions screen that says so, answered.
+  EXPECT_EQ(kinds[paused_at + 3], "instructions");
+
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+
+  // The same participant's session, never interrupted, in another results folder.
+  const std::filesystem::path uninterrupted_results = scratch_.path() / "uninterrupted";
+  const CommandResult uninterrupted = cli_test::run(
+      "run " + config.string() + " --participant P01 --results " + uninterrupted_results.string() + kSimulated,
+      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON));
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.err;
+  const std::vector<nlohmann::json> expected =
+      complete_trials(read_events(uninterrupted_results / "headset_cli" / "P01" / "events.jsonl"));
+  ASSERT_EQ(expected.size(), 2u);
+  EXPECT_EQ(complete_trials(events), expected);
+}
+
+// The runtime stopping the session (FOVLAB_TEST_XR_STOP_AT_FRAME: STOPPING, as a runtime shutting
+// down): no focus can come back, so the session pauses, seals and exits at once; the next run
+// resumes it to the end.
+TEST_F(HeadsetSessionLife, TheRuntimeStoppingTheSessionSealsItAndTheNextRunResumes) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const CommandResult stopped =
+      run_study(config, "FOVLAB_TEST_XR_STOP_AT_FRAME=400", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(stopped.exit_code, 0) << stopped.err;
+  EXPECT_NE(stopped.out.find("paused after"), std::string::npos) << stopped.out;
+  EXPECT_EQ(stopped.err.find("waiting up to"), std::string::npos) << "a stopped session has no focus to wait for";
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  std::vector<nlohmann::json> events = read_events(log);
+  std::vector<std::string> kinds = kinds_of(events);
+  ASSERT_GE(kinds.size(), 3u);
+  EXPECT_EQ(kinds[kinds.size() - 2], "session_paused");
+  EXPECT_NE(events[kinds.size() - 2].value("reason", "").find("the headset session ended"), std::string::npos)
+      << events[kinds.size() - 2];
+  EXPECT_EQ(kinds.back(), "seal");
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 0);
+
+  const CommandResult resumed = run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resumed, 2 of 2 trials complete"), std::string::npos) << resumed.out;
+  kinds = kinds_of(read_events(log));
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 1);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 1);
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+}
+
+// The test runtime makes every 4th of the first 300 frames late (FOVLAB_TEST_XR_LATE_AT_FRAMES: its
+// virtual clock is past the frame's display time at xrEndFrame): each stimulus event counts exactly
+// its refreshes among them (found from present_s, the frames' predicted display times), and 0 where
+// none is; `run` prints the total beside the dropped frames. A runtime without
+// XR_KHR_convert_timespec_time measures nothing: no late_frames, and the header says so.
+TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) {
+  std::set<int64_t> late;
+  std::string late_setting;
+  for (int64_t frame = 4; frame <= 300; frame += 4) {
+    late.insert(frame);
+    late_setting += (late_setting.empty() ? "" : ",") + std::to_string(frame);
+  }
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const CommandResult ran =
+      run_study(config, "FOVLAB_TEST_XR_LATE_AT_FRAMES=" + late_setting, FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  const std::vector<nlohmann::json> events = read_events(log);
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().value("schema_version", 0), log_schema_version);
+  EXPECT_EQ(events.front()["headset"].value("late_frames_measured", false), true) << events.front()["headset"];
+  int stimuli = 0, with_late = 0, without_late = 0, total_late = 0;
+  for (const nlohmann::json& event : events) {
+    if (event.value("event", "") != "stimulus") continue;
+    ++stimuli;
+    ASSERT_TRUE(event.contains("late_frames")) << event;
+    int expected = 0;
+    for (const nlohmann::json& present_s : event["present_s"])
+      expected += late.count(frame_of_present(present_s.get<double>())) ? 1 : 0;
+    EXPECT_EQ(event["late_frames"].get<int>(), expected) << event["present_s"];
+    EXPECT_EQ(event.value("dropped_frames", -1), 0) << "late is not dropped";
+    (expected > 0 ? with_late : without_late) += 1;
+    total_late += event["late_frames"].get<int>();
+  }
+  EXPECT_EQ(stimuli, 4);
+  EXPECT_GT(with_late, 0) << "no stimulus was shown in the first 300 frames";
+  EXPECT_GT(without_late, 0) << "every stimulus was shown in the first 300 frames";
+  EXPECT_NE(ran.out.find(", " + std::to_string(total_late) + " late"), std::string::npos) << ran.out;
+
+  const std::filesystem::path unmeasured_results = scratch_.path() / "unmeasured";
+  const CommandResult unmeasured = cli_test::run(
+      "run " + config.string() + " --participant P01 --results " + unmeasured_results.string() + kSimulated,
+      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) +
+          " FOVLAB_TEST_XR_CONVERT_TIMESPEC=absent FOVLAB_TEST_XR_LATE_AT_FRAMES=" + late_setting);
+  ASSERT_EQ(unmeasured.exit_code, 0) << unmeasured.err;
+  const std::vector<nlohmann::json> unmeasured_events =
+      read_events(unmeasured_results / "headset_cli" / "P01" / "events.jsonl");
+  ASSERT_FALSE(unmeasured_events.empty());
+  EXPECT_EQ(unmeasured_events.front()["headset"].value("late_frames_measured", true), false);
+  for (const nlohmann::json& event : unmeasured_events) EXPECT_FALSE(event.contains("late_frames")) << event;
+  EXPECT_EQ(unmeasured.out.find(" late"), std::string::npos) << unmeasured.out;
+}
+
+// A headset log as schema 11 wrote it (no late_frames, no headset.late_frames_measured; its chain
+// and seals made anew, as that build made them): it reads, replays both eyes to their hashes, and
+// exports, as before.
+TEST_F(HeadsetSessionLife, AHeadsetLogOfSchema11StillReadsAndReplays) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const CommandResult ran =
+      run_study(config, "FOVLAB_TEST_XR_LATE_AT_FRAMES=20,40,60", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  const std::filesystem::path old_log = scratch_.path() / "schema11" / "headset_cli" / "P01" / "events.jsonl";
+  std::filesystem::create_directories(old_log.parent_path());
+  {
+    std::ofstream out(old_log, std::ios::binary);
+    std::string chain;
+    int stripped = 0;
+    for (nlohmann::json event : read_events(log)) {
+      event.erase("chain");
+      if (event.value("event", "") == "session_header") {
+        event["schema_version"] = 11;
+        stripped += static_cast<int>(event["headset"].erase("late_frames_measured"));
+      }
+      stripped += static_cast<int>(event.erase("late_frames"));
+      if (event.value("event", "") == "seal") event["last_chain"] = chain;
+      chain = event_chain(chain, event, 11);
+      event["chain"] = chain;
+      out << event.dump() << '\n';
+    }
+    EXPECT_GT(stripped, 4) << "the header's and every stimulus event's schema-12 fields";
+  }
+  const CommandResult replayed = cli_test::run("replay " + old_log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  const CommandResult exported =
+      cli_test::run("export " + old_log.string() + " --out " + (scratch_.path() / "trials.csv").string());
+  EXPECT_EQ(exported.exit_code, 0) << exported.out << exported.err;
+}
+
+// --refocus-timeout takes seconds >= 0: anything else is refused in one line, before the runtime is
+// asked for anything or a results folder exists.
+TEST_F(HeadsetSessionLife, ARefocusTimeoutBelowZeroIsRefusedInOneLine) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  cli_test::expect_one_line_error(
+      run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated + " --refocus-timeout -1"),
+      "--refocus-timeout -1.000000: expected seconds >= 0");
+  EXPECT_FALSE(std::filesystem::exists(results_));
+}
+
+}  // namespace
+}  // namespace fovlab
