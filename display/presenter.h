@@ -2,6 +2,7 @@
 // Shows frames and collects input. Two implementations: headless (a virtual clock that advances one
 // refresh period per present; no window) and a GLFW window with a Vulkan swapchain (real clock,
 // vsync). The session state machine only talks to this interface.
+#include <array>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -22,10 +23,21 @@ struct InputEvent {
   std::string key;
 };
 
+// Where a view's image was rendered from, in the presenter's world space (a headset's LOCAL space):
+// metres, and a unit quaternion x, y, z, w.
+struct ViewPose {
+  std::array<double, 3> position_m{0.0, 0.0, 0.0};
+  std::array<double, 4> orientation{0.0, 0.0, 0.0, 1.0};
+};
+
 // One view's image for present_views: its bytes on the host, or a frame held on a device.
 struct ViewFrame {
   const Rgba8Frame* host = nullptr;  // used when `device` is empty
   DeviceRgba8Frame device;
+  // A world-fixed image (a head-tracked stimulus): the pose it was rendered from, which a headset's
+  // compositor is given with it, so it reprojects the image to where the eye is when it is shown.
+  // Empty: an image fixed to the view (head-locked), given with the pose located for each frame.
+  std::optional<ViewPose> rendered_from;
 };
 
 class Presenter {

@@ -37,7 +37,8 @@ void copy_into(const vk::Context& context, const DeviceRgba8Frame& frame, VkImag
 
 }  // namespace
 
-OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame) {
+OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame,
+                             const std::array<std::optional<XrPosef>, 2>& rendered_from) {
   XrFrameState frame_state{XR_TYPE_FRAME_STATE};
   check_frame_call(xrWaitFrame(session.session, nullptr, &frame_state), "xrWaitFrame");
   OpenXrFrame frame;
@@ -99,7 +100,7 @@ OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource&
 
       XrCompositionLayerProjectionView& view = projection_views[eye];
       view = XrCompositionLayerProjectionView{XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW};
-      view.pose = frame.views[eye].pose;
+      view.pose = rendered_from[eye] ? *rendered_from[eye] : frame.views[eye].pose;
       view.fov = frame.views[eye].fov;
       view.subImage.swapchain = swapchain.handle;
       view.subImage.imageRect.extent = {static_cast<int32_t>(session.eye_width_px),

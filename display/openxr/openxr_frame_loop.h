@@ -43,9 +43,12 @@ struct OpenXrFrame {
   bool late = false;
 };
 
-// Runs one frame of a running session. Throws std::invalid_argument for an eye frame of the wrong
-// size or device, std::runtime_error when a call fails.
-OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame);
+// Runs one frame of a running session. Each eye's projection view is given the pose its image was
+// rendered from when `rendered_from` has one for it (a world-fixed image, in LOCAL), else the pose
+// located for this frame (an image fixed to the view). Throws std::invalid_argument for an eye frame
+// of the wrong size or device, std::runtime_error when a call fails.
+OpenXrFrame run_openxr_frame(OpenXrSession& session, const OpenXrEyeFrameSource& eye_frame,
+                             const std::array<std::optional<XrPosef>, 2>& rendered_from = {});
 
 // The head (the session's VIEW space) located in its LOCAL space at `time` (xrLocateSpace), as the
 // runtime predicts it for that time: the head-tracked view model's poses. nullopt when the location

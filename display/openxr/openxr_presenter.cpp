@@ -69,7 +69,7 @@ OpenXrPresenter::~OpenXrPresenter() {
     request_openxr_exit(session_);
     const Clock::time_point start = Clock::now();
     while (session_.running && seconds_since(start) < 5.0) {
-      run_openxr_frame(session_, held_frames());
+      run_openxr_frame(session_, held_frames(), held_rendered_from_);
       poll_openxr_events(session_);
     }
   } catch (const std::exception&) {
@@ -85,6 +85,13 @@ void OpenXrPresenter::hold(uint32_t eye, const ViewFrame& frame) {
     throw std::invalid_argument("openxr: a " + std::to_string(frame_width) + "x" + std::to_string(frame_height) +
                                 " frame for a headset of " + std::to_string(width) + "x" + std::to_string(height) +
                                 " pixels an eye");
+  held_rendered_from_[eye].reset();
+  if (const std::optional<ViewPose>& pose = frame.rendered_from) {
+    const auto f = [](double value) { return static_cast<float>(value); };
+    held_rendered_from_[eye] = XrPosef{{f(pose->orientation[0]), f(pose->orientation[1]), f(pose->orientation[2]),
+                                        f(pose->orientation[3])},
+                                       {f(pose->position_m[0]), f(pose->position_m[1]), f(pose->position_m[2])}};
+  }
   vk::Buffer& held = held_[eye];
   if (!frame.device) {
     std::memcpy(held.mapped(), frame.host->rgba.data(), held.size_bytes());
@@ -105,7 +112,7 @@ OpenXrEyeFrameSource OpenXrPresenter::held_frames() {
 }
 
 double OpenXrPresenter::run_frame() {
-  last_frame_ = run_openxr_frame(session_, held_frames());
+  last_frame_ = run_openxr_frame(session_, held_frames(), held_rendered_from_);
   if (clock_zero_ == 0) {
     clock_zero_ = last_frame_.predicted_display_time;
     refresh_hz_ = 1e9 / static_cast<double>(last_frame_.predicted_display_period);

@@ -103,6 +103,7 @@ class OpenXrPresenter final : public Presenter {
   OpenXrSession session_;
   std::unique_ptr<OpenXrInput> input_;
   std::array<vk::Buffer, 2> held_;  // each eye's frame, host-visible (RGBA8, eye size)
+  std::array<std::optional<XrPosef>, 2> held_rendered_from_;  // each eye's frame's pose in LOCAL, if world-fixed
   XrTime clock_zero_ = 0;           // the predicted display time of the first frame
   double now_s_ = 0.0;
   double refresh_hz_ = 0.0;

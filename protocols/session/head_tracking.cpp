@@ -68,4 +68,8 @@ std::array<double, 3> direction_in_start_head(const HeadPose& head, const std::a
   return rotated(head.orientation, direction);
 }
 
+EyeView eye_view_in_reference_space(const EyeView& eye, const HeadPose& head, const HeadPose& reference) {
+  return eye_view_in_moved_head(eye_view_in_moved_head(eye, head), reference);
+}
+
 }  // namespace fovlab

@@ -20,6 +20,12 @@ constexpr double kHeadPoseStep = 1e-6;
 // reference's (conjugate(reference) * pose).
 HeadPose head_pose_relative_to(const HeadPose& reference, const HeadPose& pose);
 
+// Where an eye rendered for `head` (relative to `reference`, as head_pose_relative_to gives it) is in
+// the space `reference` is given in (the runtime's LOCAL): the eye carried by the head's motion since
+// the start (eye_view_in_moved_head), then by the reference. Its position and orientation are what
+// the headset's compositor is told the eye's image was rendered from.
+EyeView eye_view_in_reference_space(const EyeView& eye, const HeadPose& head, const HeadPose& reference);
+
 // The pose a session renders from and logs for a refresh, as sanitize_gaze does for the gaze: each
 // number rounded to kHeadPoseStep (never -0). A pose the runtime did not give (nullopt), or that is
 // not one (a coordinate not finite, a quaternion not of unit length within 1e-3), holds the last pose

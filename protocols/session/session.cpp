@@ -632,6 +632,15 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
       if (!pose) return std::nullopt;
       return head_pose_relative_to(reference, head_pose_of_openxr(*pose));
     };
+  if (right_eye && head_tracked)
+    right_eye->eyes_in_world = [reference = *head_reference, eyes = headset_views->eyes](const HeadPose& head) {
+      std::array<ViewPose, 2> poses;
+      for (size_t eye = 0; eye < 2; ++eye) {
+        const EyeView in_local = eye_view_in_reference_space(eyes[eye], head, reference);
+        poses[eye] = ViewPose{in_local.position_in_head, in_local.orientation_in_head};
+      }
+      return poses;
+    };
   // A run of trials from where the log says the session stands: this process's first, and in a
   // headset each one after the focus came back (resumed as a rerun would resume it).
   std::optional<SessionRun> run;

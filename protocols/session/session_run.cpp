@@ -175,8 +175,12 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         const GazeSample& right_sample = eye_samples[1];
         const PreparedFrame& right = right_eye_->library->frame(
             stimulus_id, stimulus.spec, StimulusImage{image.frame, image.image_index, right_sample, head});
-        const std::array<ViewFrame, 2> eyes{ViewFrame{&shown.image, shown.on_device},
-                                            ViewFrame{&right.image, right.on_device}};
+        std::array<ViewFrame, 2> eyes{ViewFrame{&shown.image, shown.on_device, {}},
+                                      ViewFrame{&right.image, right.on_device, {}}};
+        if (head && right_eye_->eyes_in_world) {
+          const std::array<ViewPose, 2> rendered_from = right_eye_->eyes_in_world(*head);
+          for (size_t eye = 0; eye < 2; ++eye) eyes[eye].rendered_from = rendered_from[eye];
+        }
         shown_at = time_base_s_ + presenter_.present_views(eyes);
         right_hashes.push_back(right_eye_->library->hash(right));
         right_gaze.push_back({right_sample.x_px, right_sample.y_px});

@@ -44,6 +44,10 @@ struct RightEyeStimuli {
   // time relative to the session's start (protocols/session/head_tracking.h), nullopt when the runtime
   // gives none. Each refresh renders both eyes from it, sanitized, and logs it (head_pose).
   std::function<std::optional<HeadPose>()> head_pose;
+  // Head-tracked: where each eye's image of a refresh was rendered from, in the runtime's LOCAL space
+  // (the head's reference pose carrying the eye as the refresh's head pose moved it), which the
+  // headset's compositor is given with the image so that the scene stays fixed in the world.
+  std::function<std::array<ViewPose, 2>(const HeadPose&)> eyes_in_world;
 };
 
 class SessionRun {

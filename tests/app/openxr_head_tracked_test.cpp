@@ -378,6 +378,31 @@ TEST(HeadTrackedPose, APoseRelativeToTheReferenceIsInTheReferencesAxes) {
   EXPECT_NEAR(direction[0], 1.0, 1e-12);
 }
 
+// What the compositor is told an eye's image was rendered from: the eye the head carries now, in
+// LOCAL. Rendering from the pose relative to the reference and putting the result back where the
+// reference stands is the eye carried by the head's own pose in LOCAL.
+TEST(HeadTrackedPose, AnEyeRenderedForTheRelativePoseIsWhereTheHeadCarriesItInLocal) {
+  const double s = std::sqrt(0.5);
+  const HeadPose reference{{1.0, 1.6, -0.5}, {0.0, -s, 0.0, s}};
+  const HeadPose now{{1.1, 1.55, -0.7}, {0.1, -0.9, 0.05, 0.4}};
+  double norm = 0.0;
+  for (const double component : now.orientation) norm += component * component;
+  norm = std::sqrt(norm);
+  HeadPose unit_now = now;
+  for (double& component : unit_now.orientation) component /= norm;
+  EyeView eye;
+  eye.position_in_head = {0.0315, 0.0, 0.0};
+  eye.field_of_view = field_of_view_from_deg(-49.0, 54.0, 54.0, -56.0);
+  const EyeView in_local =
+      eye_view_in_reference_space(eye, head_pose_relative_to(reference, unit_now), reference);
+  const EyeView expected = eye_view_in_moved_head(eye, unit_now);
+  for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(in_local.position_in_head[i], expected.position_in_head[i], 1e-12);
+  for (size_t i = 0; i < 4; ++i)
+    EXPECT_NEAR(in_local.orientation_in_head[i], expected.orientation_in_head[i], 1e-12);
+  // Not the eye at the reference (the head did move).
+  EXPECT_GT(std::abs(in_local.position_in_head[2] - eye_view_in_moved_head(eye, reference).position_in_head[2]), 0.05);
+}
+
 TEST(HeadTrackedPose, SanitizingRoundsToTheLogsStepAndHoldsTheLastPose) {
   const HeadPose raw{{0.12345678, -0.0000004, 0.5}, {0.0, -0.38268343236, 0.0, 0.92387953251}};
   const HeadPose used = sanitize_head_pose(raw, nullptr);

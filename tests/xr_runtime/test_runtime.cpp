@@ -218,3 +218,17 @@ extern "C" __attribute__((visibility("default"))) XrResult fovlab_test_xr_last_p
   std::memcpy(bytes, submitted.bytes.data(), submitted.bytes.size());
   return XR_SUCCESS;
 }
+
+// Test-only: the pose the last projection layer gave for `view` (its layer's space), as
+// [x, y, z, qx, qy, qz, qw]. XR_ERROR_VALIDATION_FAILURE for a view it does not have.
+extern "C" __attribute__((visibility("default"))) XrResult fovlab_test_xr_last_projection_pose(uint32_t view,
+                                                                                                 float* pose) {
+  fovlab::test_xr::HandleTable& table = fovlab::test_xr::handle_table();
+  std::lock_guard lock(table.mutex);
+  if (view >= table.last_projection.size() || pose == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+  const XrPosef& given = table.last_projection[view].pose;
+  const float values[7] = {given.position.x,    given.position.y,    given.position.z,   given.orientation.x,
+                           given.orientation.y, given.orientation.z, given.orientation.w};
+  std::memcpy(pose, values, sizeof(values));
+  return XR_SUCCESS;
+}

@@ -163,6 +163,23 @@ TEST_F(OpenXrHeadsetSession, ReachesFocusedShowsEachEyesFrameAndEndsOnRequest) {
     EXPECT_EQ(eyes_asked, 2);
     EXPECT_EQ(last_submitted(read_view, 0).frames, frames_before + layers_submitted + 1);
 
+    // A world-fixed image (a head-tracked stimulus) goes to the compositor with the pose it was
+    // rendered from; an image fixed to the view, with the pose located for the frame.
+    using LastProjectionPose = XrResult (*)(uint32_t, float*);
+    const auto read_pose =
+        reinterpret_cast<LastProjectionPose>(dlsym(runtime_library, "fovlab_test_xr_last_projection_pose"));
+    ASSERT_NE(read_pose, nullptr);
+    const XrPosef rendered_from{{0.0f, -0.25f, 0.0f, 0.96824584f}, {0.2f, 1.5f, -0.3f}};
+    const OpenXrFrame world_fixed = run_openxr_frame(session, eye_frame, {std::nullopt, rendered_from});
+    ASSERT_TRUE(world_fixed.rendered);
+    std::array<std::array<float, 7>, 2> submitted_poses{};
+    for (uint32_t eye = 0; eye < 2; ++eye) ASSERT_EQ(read_pose(eye, submitted_poses[eye].data()), XR_SUCCESS);
+    const XrPosef& located = world_fixed.views[0].pose;
+    EXPECT_EQ(submitted_poses[0], (std::array<float, 7>{located.position.x, located.position.y, located.position.z,
+                                                        located.orientation.x, located.orientation.y,
+                                                        located.orientation.z, located.orientation.w}));
+    EXPECT_EQ(submitted_poses[1], (std::array<float, 7>{0.2f, 1.5f, -0.3f, 0.0f, -0.25f, 0.0f, 0.96824584f}));
+
     request_openxr_exit(session);
     const std::vector<std::string> to_exit{"XR_SESSION_STATE_VISIBLE", "XR_SESSION_STATE_SYNCHRONIZED",
                                            "XR_SESSION_STATE_STOPPING", "XR_SESSION_STATE_IDLE",
