@@ -4,7 +4,9 @@
 #include <cstddef>
 #include <cmath>
 #include <cstring>
+#include <string>
 
+#include "core/input_error.h"
 #include "renderer/shaders/embedded_shaders.h"
 #include "renderer/shaders/shared/list_dispatch_params.h"
 #include "renderer/shaders/shared/sampling_params.h"
@@ -41,7 +43,7 @@ void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double
 SamplingPasses::SamplingPasses(vk::Context& context) : context_(context) {
   positions_pipeline_ =
       std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3, sizeof(gpu::PositionParams));
-  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 3,
+  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 2, 1,
                                                                 sizeof(gpu::SamplingReconstructParams));
   pull_push_pipeline_ =
       std::make_unique<vk::ComputePipeline>(context, shaders::pull_push_spirv, 2, sizeof(PullPushParams));
@@ -65,6 +67,7 @@ void SamplingPasses::allocate(uint32_t capacity, uint64_t colour_entries) {
   list_readback_ = vk::Buffer(context_, entries * 4 * sizeof(uint32_t), vk::MemoryUse::host_readback);
   steps_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::device_local);
   steps_readback_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::host_readback);
+  colours_view_ = vk::TexelView();  // (before the buffer it views)
   colours_ =
       vk::Buffer(context_, std::max<uint64_t>(1, colour_entries_) * 4 * sizeof(float), vk::MemoryUse::device_local);
 }
@@ -142,6 +145,15 @@ void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
   params.sample_capacity = capacity;
   if (colour_entries == 0) colour_entries = capacity;
   allocate(capacity, colour_entries);
+  if (model_ != SamplingModel::linear && colours_view_.handle() == VK_NULL_HANDLE) {
+    const VkDeviceSize texels = colours_.size_bytes() / vk::kRgba32fTexelBytes;
+    const VkDeviceSize most = vk::max_texel_view_texels(context_);
+    if (texels > most)
+      throw InputError("sampling buffer of " + std::to_string(texels) + " samples (" + sampling_model_name(model_) +
+                       "): expected at most " + std::to_string(most) + " on " + context_.description.name +
+                       " (maxTexelBufferElements; a smaller screen or a larger sigma fits)");
+    colours_view_ = vk::TexelView(context_, colours_);
+  }
   params_.resize(sizeof(params));
   std::memcpy(params_.data(), &params, sizeof(params));
 }
@@ -169,10 +181,11 @@ void SamplingPasses::record_positions(VkCommandBuffer cmd, vk::PassTimer& timer,
 
 void SamplingPasses::record_reconstruct(VkCommandBuffer cmd, vk::PassTimer& timer, VkBuffer frame_colour) {
   if (model_ != SamplingModel::linear) {
-    const VkBuffer buffers[] = {params_buffer_.handle(), colours_.handle(), frame_colour};
+    const VkBuffer buffers[] = {params_buffer_.handle(), frame_colour};
+    const VkBufferView texel_buffers[] = {colours_view_.handle()};
     const gpu::SamplingReconstructParams reconstruct{0};
     timer.begin(cmd, "sample_reconstruct");
-    reconstruct_pipeline_->dispatch_2d(cmd, buffers, &reconstruct, screen_width_, screen_height_);
+    reconstruct_pipeline_->dispatch_2d(cmd, buffers, texel_buffers, &reconstruct, screen_width_, screen_height_);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
     return;

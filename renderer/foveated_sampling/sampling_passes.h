@@ -16,6 +16,7 @@
 
 #include "foveation/sampling_map.h"
 #include "renderer/vk/buffer.h"
+#include "renderer/vk/texel_view.h"
 
 namespace fovlab {
 
@@ -82,6 +83,7 @@ class SamplingPasses {
   vk::Buffer params_buffer_;
   vk::Buffer list_;
   vk::Buffer colours_;  // vec4 per entry (linear: and the coarser pull-push levels after them)
+  vk::TexelView colours_view_;  // colours_ as pass 2 reads it (made for the models it serves)
   vk::Buffer steps_;
   vk::Buffer dispatch_;
   vk::Buffer list_readback_;

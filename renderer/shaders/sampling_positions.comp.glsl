@@ -19,16 +19,19 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 1) buffer Counters { uint counters[]; };
-layout(std430, binding = 2) writeonly buffer SampleList { uint sample_list[]; };
+// One sample a uvec4 (x, y, footprint as float bits, entry), written with one store: on lavapipe each
+// store runs lane by lane, so four word stores cost four times one.
+layout(std430, binding = 2) writeonly buffer SampleList { uvec4 sample_list[]; };
 
 layout(push_constant) uniform PositionParamsBlock { PositionParams params; };
 
+void write_sample(uint slot, vec2 position_px, float footprint_px, uint entry) {
+  sample_list[slot] = uvec4(floatBitsToUint(position_px.x), floatBitsToUint(position_px.y),
+                            floatBitsToUint(max(footprint_px, 1.0)), entry);
+}
+
 void append(vec2 position_px, float footprint_px, uint entry) {
-  uint slot = atomicAdd(counters[params.counter_index], 1u);
-  sample_list[4u * slot] = floatBitsToUint(position_px.x);
-  sample_list[4u * slot + 1u] = floatBitsToUint(position_px.y);
-  sample_list[4u * slot + 2u] = floatBitsToUint(max(footprint_px, 1.0));
-  sample_list[4u * slot + 3u] = entry;
+  write_sample(atomicAdd(counters[params.counter_index], 1u), position_px, footprint_px, entry);
 }
 
 // Whether a sample serves a screen pixel: within `margin_px` of the screen (a pixel at the edge
@@ -62,7 +65,11 @@ void main() {
     vec2 per_pixel = vec2(rmfr_axis_density(screen_share.x, sampling.gaze_share.x, sampling.focal_share.x),
                           rmfr_axis_density(screen_share.y, sampling.gaze_share.y, sampling.focal_share.y)) *
                      vec2(sampling.buffer_size) / screen;
-    append(screen_share * screen, 1.0 / min(per_pixel.x, per_pixel.y), entry);
+    // Every entry of RMFR's buffer is a sample: each takes the slot of its entry, and one invocation
+    // counts them all, instead of one atomic a sample (each of which lavapipe runs lane by lane).
+    // The list's order does not reach a frame: the tracer writes each sample to its entry.
+    write_sample(entry, screen_share * screen, 1.0 / min(per_pixel.x, per_pixel.y), entry);
+    if (entry == 0u) atomicAdd(counters[params.counter_index], sampling.sample_capacity);
   } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
     vec2 position = kfr_to_screen_px(buffer_centre);
     vec2 spacings = kfr_spacings_px(buffer_centre.x);
