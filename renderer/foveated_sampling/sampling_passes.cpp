@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "core/input_error.h"
@@ -41,10 +42,6 @@ void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double
 }  // namespace
 
 SamplingPasses::SamplingPasses(vk::Context& context) : context_(context) {
-  positions_pipeline_ =
-      std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3, sizeof(gpu::PositionParams));
-  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 2, 1,
-                                                                sizeof(gpu::SamplingReconstructParams));
   pull_push_pipeline_ =
       std::make_unique<vk::ComputePipeline>(context, shaders::pull_push_spirv, 2, sizeof(PullPushParams));
   list_dispatch_pipeline_ =
@@ -139,6 +136,25 @@ void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
       height = (height + 1) / 2;
     }
     colour_entries = offset;
+  }
+  const uint32_t model_index = uint32_t(model_), filter_index = uint32_t(filter);
+  if (model_index >= kModels || filter_index >= kFilters) throw std::logic_error("SamplingPasses: unknown model or filter");
+  std::unique_ptr<vk::ComputePipeline>& positions = positions_pipelines_[model_index];
+  if (!positions) {
+    const uint32_t constants[] = {model_index};
+    positions = std::make_unique<vk::ComputePipeline>(context_, shaders::sampling_positions_spirv, 3, 0,
+                                                      sizeof(gpu::PositionParams), constants);
+  }
+  positions_pipeline_ = positions.get();
+  reconstruct_pipeline_ = nullptr;
+  if (model_ != SamplingModel::linear) {
+    std::unique_ptr<vk::ComputePipeline>& reconstruct = reconstruct_pipelines_[model_index * kFilters + filter_index];
+    if (!reconstruct) {
+      const uint32_t constants[] = {model_index, filter_index};
+      reconstruct = std::make_unique<vk::ComputePipeline>(context_, shaders::sampling_reconstruct_spirv, 2, 1,
+                                                          sizeof(gpu::SamplingReconstructParams), constants);
+    }
+    reconstruct_pipeline_ = reconstruct.get();
   }
   params.buffer_size[0] = grid_width_;
   params.buffer_size[1] = grid_height_;

@@ -25,6 +25,11 @@ layout(std430, binding = 2) writeonly buffer SampleList { uvec4 sample_list[]; }
 
 layout(push_constant) uniform PositionParamsBlock { PositionParams params; };
 
+// The model this pipeline lists (MODEL_*, equal to the parameters' model), fixed when SamplingPasses
+// makes it: lavapipe runs both sides of a branch under a mask, so with the model read at run time each
+// entry paid for the other models' maps too.
+layout(constant_id = 0) const uint POSITIONS_MODEL = MODEL_RECTANGULAR;
+
 void write_sample(uint slot, vec2 position_px, float footprint_px, uint entry) {
   sample_list[slot] = uvec4(floatBitsToUint(position_px.x), floatBitsToUint(position_px.y),
                             floatBitsToUint(max(footprint_px, 1.0)), entry);
@@ -57,7 +62,7 @@ void main() {
   vec2 screen = vec2(sampling.screen_size);
   vec2 buffer_centre = vec2(cell) + 0.5;
 
-  if (sampling.model == MODEL_RECTANGULAR) {
+  if (POSITIONS_MODEL == MODEL_RECTANGULAR) {
     vec2 share = buffer_centre / vec2(sampling.buffer_size);
     vec2 screen_share = vec2(rmfr_to_screen(share.x, sampling.gaze_share.x, sampling.focal_share.x),
                              rmfr_to_screen(share.y, sampling.gaze_share.y, sampling.focal_share.y));
@@ -70,11 +75,11 @@ void main() {
     // The list's order does not reach a frame: the tracer writes each sample to its entry.
     write_sample(entry, screen_share * screen, 1.0 / min(per_pixel.x, per_pixel.y), entry);
     if (entry == 0u) atomicAdd(counters[params.counter_index], sampling.sample_capacity);
-  } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
+  } else if (POSITIONS_MODEL == MODEL_KERNEL_LOG_POLAR) {
     vec2 position = kfr_to_screen_px(buffer_centre);
     vec2 spacings = kfr_spacings_px(buffer_centre.x);
     if (serves_screen(position, spacings.x + spacings.y)) append(position, max(spacings.x, spacings.y), entry);
-  } else if (sampling.model == MODEL_HYPERBOLIC) {
+  } else if (POSITIONS_MODEL == MODEL_HYPERBOLIC) {
     for (int i = 0; i < 3; ++i) {
       SamplingLayer layer = sampling.layers[i];
       uint count = layer.grid_size.x * layer.grid_size.y;
@@ -87,7 +92,7 @@ void main() {
       if (needed) append(centre, layer.pixel_size_px, entry);
       return;
     }
-  } else if (sampling.model == MODEL_LINEAR) {
+  } else if (POSITIONS_MODEL == MODEL_LINEAR) {
     if (pixel_threshold(sampling.seed, 0u, cell) < linear_probability(buffer_centre)) append(buffer_centre, 1.0, entry);
   }
 }

@@ -23,6 +23,13 @@ vec4 sample_colour(uint index) { return texelFetch(sample_colours, int(index)); 
 
 layout(push_constant) uniform SamplingReconstructParamsBlock { SamplingReconstructParams params; };
 
+// The model and filter this pipeline serves, fixed when SamplingPasses makes it (MODEL_*, FILTER_*;
+// they equal the parameters' model and resample_filter). Why constants: lavapipe runs both sides of a
+// branch under a mask, so with the model read at run time every pixel paid for the other models' maps
+// and reads, and for the filter it does not use.
+layout(constant_id = 0) const uint RECONSTRUCT_MODEL = MODEL_RECTANGULAR;
+layout(constant_id = 1) const uint RECONSTRUCT_FILTER = FILTER_BILINEAR;
+
 // The Lanczos-2 kernel sinc(x) sinc(x / 2) on |x| < 2.
 float lanczos2(float x) {
   if (abs(x) < 1e-5) return 1.0;
@@ -57,7 +64,7 @@ vec4 grid_read_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_row
 // The same read with the parameters' filter: bilinear, or Lanczos-2 (4x4 taps, alpha-weighted the
 // same way).
 vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
-  if (sampling.resample_filter != FILTER_LANCZOS2) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
+  if (RECONSTRUCT_FILTER != FILTER_LANCZOS2) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
   vec2 p = grid_px - 0.5;
   vec2 base = floor(p);
   vec2 f = p - base;
@@ -90,14 +97,14 @@ void main() {
   vec2 centre = vec2(pixel) + 0.5;
   vec2 screen = vec2(sampling.screen_size);
   vec4 colour = vec4(0.0);
-  if (sampling.model == MODEL_RECTANGULAR) {
+  if (RECONSTRUCT_MODEL == MODEL_RECTANGULAR) {
     vec2 share = centre / screen;
     vec2 buffer_share = vec2(rmfr_to_buffer(share.x, sampling.gaze_share.x, sampling.focal_share.x),
                              rmfr_to_buffer(share.y, sampling.gaze_share.y, sampling.focal_share.y));
     colour = grid_read(0u, sampling.buffer_size, buffer_share * vec2(sampling.buffer_size), false);
-  } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
+  } else if (RECONSTRUCT_MODEL == MODEL_KERNEL_LOG_POLAR) {
     colour = grid_read(0u, sampling.buffer_size, kfr_to_buffer_px(centre), true);
-  } else if (sampling.model == MODEL_HYPERBOLIC) {
+  } else if (RECONSTRUCT_MODEL == MODEL_HYPERBOLIC) {
     vec3 weights = hyperbolic_weights(centre);
     vec4 sum = vec4(0.0);
     for (int i = 0; i < 3; ++i) {

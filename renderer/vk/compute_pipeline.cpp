@@ -17,7 +17,8 @@ ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_
     : ComputePipeline(context, spirv, storage_buffer_count, 0, push_constant_bytes) {}
 
 ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
-                                 uint32_t texel_buffer_count, uint32_t push_constant_bytes)
+                                 uint32_t texel_buffer_count, uint32_t push_constant_bytes,
+                                 std::span<const uint32_t> specialization)
     : context_(context),
       storage_buffer_count_(storage_buffer_count),
       texel_buffer_count_(texel_buffer_count),
@@ -57,6 +58,11 @@ ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_
     pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     pipeline_info.stage.module = module;
     pipeline_info.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> constants(specialization.size());
+    for (uint32_t i = 0; i < constants.size(); ++i) constants[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
+    const VkSpecializationInfo specialization_info{static_cast<uint32_t>(constants.size()), constants.data(),
+                                                   specialization.size_bytes(), specialization.data()};
+    if (!specialization.empty()) pipeline_info.stage.pSpecializationInfo = &specialization_info;
     pipeline_info.layout = layout_;
     VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
     vkDestroyShaderModule(device, module, nullptr);

@@ -15,9 +15,11 @@ class ComputePipeline {
   ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
                   uint32_t push_constant_bytes);
   // With texel_buffer_count uniform texel buffers (samplerBuffer; TexelView) bound after the storage
-  // buffers, at bindings storage_buffer_count and up.
+  // buffers, at bindings storage_buffer_count and up, and the shader's specialization constants
+  // constant_id 0, 1, ... set to `specialization` (32-bit each; those not given keep their defaults).
   ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
-                  uint32_t texel_buffer_count, uint32_t push_constant_bytes);
+                  uint32_t texel_buffer_count, uint32_t push_constant_bytes,
+                  std::span<const uint32_t> specialization = {});
   ~ComputePipeline();
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;
