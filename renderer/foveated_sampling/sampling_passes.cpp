@@ -4,7 +4,10 @@
 #include <cstddef>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
+#include "core/input_error.h"
 #include "renderer/shaders/embedded_shaders.h"
 #include "renderer/shaders/shared/list_dispatch_params.h"
 #include "renderer/shaders/shared/sampling_params.h"
@@ -39,10 +42,6 @@ void set_zones(GpuSamplingParams& params, const DisplayGeometry& display, double
 }  // namespace
 
 SamplingPasses::SamplingPasses(vk::Context& context) : context_(context) {
-  positions_pipeline_ =
-      std::make_unique<vk::ComputePipeline>(context, shaders::sampling_positions_spirv, 3, sizeof(gpu::PositionParams));
-  reconstruct_pipeline_ = std::make_unique<vk::ComputePipeline>(context, shaders::sampling_reconstruct_spirv, 3,
-                                                                sizeof(gpu::SamplingReconstructParams));
   pull_push_pipeline_ =
       std::make_unique<vk::ComputePipeline>(context, shaders::pull_push_spirv, 2, sizeof(PullPushParams));
   list_dispatch_pipeline_ =
@@ -65,6 +64,7 @@ void SamplingPasses::allocate(uint32_t capacity, uint64_t colour_entries) {
   list_readback_ = vk::Buffer(context_, entries * 4 * sizeof(uint32_t), vk::MemoryUse::host_readback);
   steps_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::device_local);
   steps_readback_ = vk::Buffer(context_, entries * sizeof(uint32_t), vk::MemoryUse::host_readback);
+  colours_view_ = vk::TexelView();  // (before the buffer it views)
   colours_ =
       vk::Buffer(context_, std::max<uint64_t>(1, colour_entries_) * 4 * sizeof(float), vk::MemoryUse::device_local);
 }
@@ -137,11 +137,39 @@ void SamplingPasses::prepare(const SamplingMap& map, ResampleFilter filter) {
     }
     colour_entries = offset;
   }
+  const uint32_t model_index = uint32_t(model_), filter_index = uint32_t(filter);
+  if (model_index >= kModels || filter_index >= kFilters) throw std::logic_error("SamplingPasses: unknown model or filter");
+  std::unique_ptr<vk::ComputePipeline>& positions = positions_pipelines_[model_index];
+  if (!positions) {
+    const uint32_t constants[] = {model_index};
+    positions = std::make_unique<vk::ComputePipeline>(context_, shaders::sampling_positions_spirv, 3, 0,
+                                                      sizeof(gpu::PositionParams), constants);
+  }
+  positions_pipeline_ = positions.get();
+  reconstruct_pipeline_ = nullptr;
+  if (model_ != SamplingModel::linear) {
+    std::unique_ptr<vk::ComputePipeline>& reconstruct = reconstruct_pipelines_[model_index * kFilters + filter_index];
+    if (!reconstruct) {
+      const uint32_t constants[] = {model_index, filter_index};
+      reconstruct = std::make_unique<vk::ComputePipeline>(context_, shaders::sampling_reconstruct_spirv, 2, 1,
+                                                          sizeof(gpu::SamplingReconstructParams), constants);
+    }
+    reconstruct_pipeline_ = reconstruct.get();
+  }
   params.buffer_size[0] = grid_width_;
   params.buffer_size[1] = grid_height_;
   params.sample_capacity = capacity;
   if (colour_entries == 0) colour_entries = capacity;
   allocate(capacity, colour_entries);
+  if (model_ != SamplingModel::linear && colours_view_.handle() == VK_NULL_HANDLE) {
+    const VkDeviceSize texels = colours_.size_bytes() / vk::kRgba32fTexelBytes;
+    const VkDeviceSize most = vk::max_texel_view_texels(context_);
+    if (texels > most)
+      throw InputError("sampling buffer of " + std::to_string(texels) + " samples (" + sampling_model_name(model_) +
+                       "): expected at most " + std::to_string(most) + " on " + context_.description.name +
+                       " (maxTexelBufferElements; a smaller screen or a larger sigma fits)");
+    colours_view_ = vk::TexelView(context_, colours_);
+  }
   params_.resize(sizeof(params));
   std::memcpy(params_.data(), &params, sizeof(params));
 }
@@ -169,10 +197,11 @@ void SamplingPasses::record_positions(VkCommandBuffer cmd, vk::PassTimer& timer,
 
 void SamplingPasses::record_reconstruct(VkCommandBuffer cmd, vk::PassTimer& timer, VkBuffer frame_colour) {
   if (model_ != SamplingModel::linear) {
-    const VkBuffer buffers[] = {params_buffer_.handle(), colours_.handle(), frame_colour};
+    const VkBuffer buffers[] = {params_buffer_.handle(), frame_colour};
+    const VkBufferView texel_buffers[] = {colours_view_.handle()};
     const gpu::SamplingReconstructParams reconstruct{0};
     timer.begin(cmd, "sample_reconstruct");
-    reconstruct_pipeline_->dispatch_2d(cmd, buffers, &reconstruct, screen_width_, screen_height_);
+    reconstruct_pipeline_->dispatch_2d(cmd, buffers, texel_buffers, &reconstruct, screen_width_, screen_height_);
     timer.end(cmd);
     vk::compute_to_compute_barrier(cmd);
     return;

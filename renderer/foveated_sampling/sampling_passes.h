@@ -8,6 +8,8 @@
 //   2.  sampling_reconstruct.comp.glsl (RMFR, KFR, hyperbolic) or pull_push.comp.glsl (linear) makes
 //       every screen pixel from the shaded samples.
 // Buffers are kept between frames of the same layout (a session's frames do not allocate).
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -16,6 +18,7 @@
 
 #include "foveation/sampling_map.h"
 #include "renderer/vk/buffer.h"
+#include "renderer/vk/texel_view.h"
 
 namespace fovlab {
 
@@ -68,8 +71,13 @@ class SamplingPasses {
   };
   void allocate(uint32_t capacity, uint64_t colour_entries);
   vk::Context& context_;
-  std::unique_ptr<vk::ComputePipeline> positions_pipeline_;
-  std::unique_ptr<vk::ComputePipeline> reconstruct_pipeline_;
+  // Pass 1a's pipeline for each model and pass 2's for each model and filter, made on first use:
+  // each is the shader specialised to it (its model and filter are constants there).
+  static constexpr size_t kModels = 4, kFilters = 2;
+  std::array<std::unique_ptr<vk::ComputePipeline>, kModels> positions_pipelines_;
+  std::array<std::unique_ptr<vk::ComputePipeline>, kModels * kFilters> reconstruct_pipelines_;
+  vk::ComputePipeline* positions_pipeline_ = nullptr;    // this frame's (prepare())
+  vk::ComputePipeline* reconstruct_pipeline_ = nullptr;  // (none for the linear model)
   std::unique_ptr<vk::ComputePipeline> pull_push_pipeline_;
   std::unique_ptr<vk::ComputePipeline> list_dispatch_pipeline_;
   std::vector<uint8_t> params_;  // SamplingParams as the shaders read it
@@ -82,6 +90,7 @@ class SamplingPasses {
   vk::Buffer params_buffer_;
   vk::Buffer list_;
   vk::Buffer colours_;  // vec4 per entry (linear: and the coarser pull-push levels after them)
+  vk::TexelView colours_view_;  // colours_ as pass 2 reads it (made for the models it serves)
   vk::Buffer steps_;
   vk::Buffer dispatch_;
   vk::Buffer list_readback_;

@@ -19,16 +19,24 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 1) buffer Counters { uint counters[]; };
-layout(std430, binding = 2) writeonly buffer SampleList { uint sample_list[]; };
+// One sample a uvec4 (x, y, footprint as float bits, entry), written with one store: on lavapipe each
+// store runs lane by lane, so four word stores cost four times one.
+layout(std430, binding = 2) writeonly buffer SampleList { uvec4 sample_list[]; };
 
 layout(push_constant) uniform PositionParamsBlock { PositionParams params; };
 
+// The model this pipeline lists (MODEL_*, equal to the parameters' model), fixed when SamplingPasses
+// makes it: lavapipe runs both sides of a branch under a mask, so with the model read at run time each
+// entry paid for the other models' maps too.
+layout(constant_id = 0) const uint POSITIONS_MODEL = MODEL_RECTANGULAR;
+
+void write_sample(uint slot, vec2 position_px, float footprint_px, uint entry) {
+  sample_list[slot] = uvec4(floatBitsToUint(position_px.x), floatBitsToUint(position_px.y),
+                            floatBitsToUint(max(footprint_px, 1.0)), entry);
+}
+
 void append(vec2 position_px, float footprint_px, uint entry) {
-  uint slot = atomicAdd(counters[params.counter_index], 1u);
-  sample_list[4u * slot] = floatBitsToUint(position_px.x);
-  sample_list[4u * slot + 1u] = floatBitsToUint(position_px.y);
-  sample_list[4u * slot + 2u] = floatBitsToUint(max(footprint_px, 1.0));
-  sample_list[4u * slot + 3u] = entry;
+  write_sample(atomicAdd(counters[params.counter_index], 1u), position_px, footprint_px, entry);
 }
 
 // Whether a sample serves a screen pixel: within `margin_px` of the screen (a pixel at the edge
@@ -54,7 +62,7 @@ void main() {
   vec2 screen = vec2(sampling.screen_size);
   vec2 buffer_centre = vec2(cell) + 0.5;
 
-  if (sampling.model == MODEL_RECTANGULAR) {
+  if (POSITIONS_MODEL == MODEL_RECTANGULAR) {
     vec2 share = buffer_centre / vec2(sampling.buffer_size);
     vec2 screen_share = vec2(rmfr_to_screen(share.x, sampling.gaze_share.x, sampling.focal_share.x),
                              rmfr_to_screen(share.y, sampling.gaze_share.y, sampling.focal_share.y));
@@ -62,12 +70,16 @@ void main() {
     vec2 per_pixel = vec2(rmfr_axis_density(screen_share.x, sampling.gaze_share.x, sampling.focal_share.x),
                           rmfr_axis_density(screen_share.y, sampling.gaze_share.y, sampling.focal_share.y)) *
                      vec2(sampling.buffer_size) / screen;
-    append(screen_share * screen, 1.0 / min(per_pixel.x, per_pixel.y), entry);
-  } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
+    // Every entry of RMFR's buffer is a sample: each takes the slot of its entry, and one invocation
+    // counts them all, instead of one atomic a sample (each of which lavapipe runs lane by lane).
+    // The list's order does not reach a frame: the tracer writes each sample to its entry.
+    write_sample(entry, screen_share * screen, 1.0 / min(per_pixel.x, per_pixel.y), entry);
+    if (entry == 0u) atomicAdd(counters[params.counter_index], sampling.sample_capacity);
+  } else if (POSITIONS_MODEL == MODEL_KERNEL_LOG_POLAR) {
     vec2 position = kfr_to_screen_px(buffer_centre);
     vec2 spacings = kfr_spacings_px(buffer_centre.x);
     if (serves_screen(position, spacings.x + spacings.y)) append(position, max(spacings.x, spacings.y), entry);
-  } else if (sampling.model == MODEL_HYPERBOLIC) {
+  } else if (POSITIONS_MODEL == MODEL_HYPERBOLIC) {
     for (int i = 0; i < 3; ++i) {
       SamplingLayer layer = sampling.layers[i];
       uint count = layer.grid_size.x * layer.grid_size.y;
@@ -80,7 +92,7 @@ void main() {
       if (needed) append(centre, layer.pixel_size_px, entry);
       return;
     }
-  } else if (sampling.model == MODEL_LINEAR) {
+  } else if (POSITIONS_MODEL == MODEL_LINEAR) {
     if (pixel_threshold(sampling.seed, 0u, cell) < linear_probability(buffer_centre)) append(buffer_centre, 1.0, entry);
   }
 }

@@ -13,10 +13,22 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(std430, binding = 1) readonly buffer SampleColours { vec4 sample_colours[]; };  // alpha 1: shaded
-layout(std430, binding = 2) writeonly buffer FrameColour { vec4 frame_colour[]; };
+layout(std430, binding = 1) writeonly buffer FrameColour { vec4 frame_colour[]; };
+// The shaded samples (alpha 1: shaded), read through a texel view of their buffer: lavapipe fetches
+// texels with vector gathers, where a storage buffer's loads run lane by lane (its per-pass table in
+// docs/benchmarks.md, issue 41). The same floats either way.
+layout(binding = 2) uniform samplerBuffer sample_colours;
+
+vec4 sample_colour(uint index) { return texelFetch(sample_colours, int(index)); }
 
 layout(push_constant) uniform SamplingReconstructParamsBlock { SamplingReconstructParams params; };
+
+// The model and filter this pipeline serves, fixed when SamplingPasses makes it (MODEL_*, FILTER_*;
+// they equal the parameters' model and resample_filter). Why constants: lavapipe runs both sides of a
+// branch under a mask, so with the model read at run time every pixel paid for the other models' maps
+// and reads, and for the filter it does not use.
+layout(constant_id = 0) const uint RECONSTRUCT_MODEL = MODEL_RECTANGULAR;
+layout(constant_id = 1) const uint RECONSTRUCT_FILTER = FILTER_BILINEAR;
 
 // The Lanczos-2 kernel sinc(x) sinc(x / 2) on |x| < 2.
 float lanczos2(float x) {
@@ -41,8 +53,8 @@ vec4 grid_read_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_row
   int y0 = wrap_rows ? ((q0.y % size.y) + size.y) % size.y : clamp(q0.y, 0, size.y - 1);
   int y1 = wrap_rows ? (y0 + 1) % size.y : clamp(q0.y + 1, 0, size.y - 1);
   uint row0 = first + uint(y0) * grid_size.x, row1 = first + uint(y1) * grid_size.x;
-  vec4 c00 = sample_colours[row0 + uint(x0)], c10 = sample_colours[row0 + uint(x1)];
-  vec4 c01 = sample_colours[row1 + uint(x0)], c11 = sample_colours[row1 + uint(x1)];
+  vec4 c00 = sample_colour(row0 + uint(x0)), c10 = sample_colour(row0 + uint(x1));
+  vec4 c01 = sample_colour(row1 + uint(x0)), c11 = sample_colour(row1 + uint(x1));
   vec4 sum = ((1.0 - f.x) * (1.0 - f.y) * c00.a) * vec4(c00.rgb, 1.0) + (f.x * (1.0 - f.y) * c10.a) * vec4(c10.rgb, 1.0) +
              ((1.0 - f.x) * f.y * c01.a) * vec4(c01.rgb, 1.0) + (f.x * f.y * c11.a) * vec4(c11.rgb, 1.0);
   if (!(sum.a > 0.0)) return vec4(0.0);
@@ -52,7 +64,7 @@ vec4 grid_read_bilinear(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_row
 // The same read with the parameters' filter: bilinear, or Lanczos-2 (4x4 taps, alpha-weighted the
 // same way).
 vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
-  if (sampling.resample_filter != FILTER_LANCZOS2) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
+  if (RECONSTRUCT_FILTER != FILTER_LANCZOS2) return grid_read_bilinear(first, grid_size, grid_px, wrap_rows);
   vec2 p = grid_px - 0.5;
   vec2 base = floor(p);
   vec2 f = p - base;
@@ -65,7 +77,7 @@ vec4 grid_read(uint first, uvec2 grid_size, vec2 grid_px, bool wrap_rows) {
       q.x = clamp(q.x, 0, size.x - 1);
       q.y = wrap_rows ? ((q.y % size.y) + size.y) % size.y : clamp(q.y, 0, size.y - 1);
       float w = lanczos2(float(dx) - f.x) * lanczos2(float(dy) - f.y);
-      vec4 c = sample_colours[first + uint(q.y) * grid_size.x + uint(q.x)];
+      vec4 c = sample_colour(first + uint(q.y) * grid_size.x + uint(q.x));
       sum += w * c.a * vec4(c.rgb, 1.0);
       if (c.a > 0.0) {
         lowest = min(lowest, c.rgb);
@@ -85,14 +97,14 @@ void main() {
   vec2 centre = vec2(pixel) + 0.5;
   vec2 screen = vec2(sampling.screen_size);
   vec4 colour = vec4(0.0);
-  if (sampling.model == MODEL_RECTANGULAR) {
+  if (RECONSTRUCT_MODEL == MODEL_RECTANGULAR) {
     vec2 share = centre / screen;
     vec2 buffer_share = vec2(rmfr_to_buffer(share.x, sampling.gaze_share.x, sampling.focal_share.x),
                              rmfr_to_buffer(share.y, sampling.gaze_share.y, sampling.focal_share.y));
     colour = grid_read(0u, sampling.buffer_size, buffer_share * vec2(sampling.buffer_size), false);
-  } else if (sampling.model == MODEL_KERNEL_LOG_POLAR) {
+  } else if (RECONSTRUCT_MODEL == MODEL_KERNEL_LOG_POLAR) {
     colour = grid_read(0u, sampling.buffer_size, kfr_to_buffer_px(centre), true);
-  } else if (sampling.model == MODEL_HYPERBOLIC) {
+  } else if (RECONSTRUCT_MODEL == MODEL_HYPERBOLIC) {
     vec3 weights = hyperbolic_weights(centre);
     vec4 sum = vec4(0.0);
     for (int i = 0; i < 3; ++i) {

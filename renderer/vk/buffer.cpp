@@ -31,7 +31,8 @@ Buffer::Buffer(const Context& context, VkDeviceSize size_bytes, MemoryUse use)
   info.size = size_bytes;
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;  // any buffer may hold dispatch arguments
+               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |        // any buffer may hold dispatch arguments
+               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;  // or be read through a TexelView
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer_));
   try {

@@ -14,20 +14,29 @@ constexpr uint32_t kWorkgroupSize = 8;  // local_size_x and local_size_y of ever
 
 ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
                                  uint32_t push_constant_bytes)
-    : context_(context), storage_buffer_count_(storage_buffer_count), push_constant_bytes_(push_constant_bytes) {
+    : ComputePipeline(context, spirv, storage_buffer_count, 0, push_constant_bytes) {}
+
+ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_t> spirv, uint32_t storage_buffer_count,
+                                 uint32_t texel_buffer_count, uint32_t push_constant_bytes,
+                                 std::span<const uint32_t> specialization)
+    : context_(context),
+      storage_buffer_count_(storage_buffer_count),
+      texel_buffer_count_(texel_buffer_count),
+      push_constant_bytes_(push_constant_bytes) {
   VkDevice device = context.device;
   VkShaderModule module = VK_NULL_HANDLE;
   try {
-    std::vector<VkDescriptorSetLayoutBinding> bindings(storage_buffer_count);
-    for (uint32_t i = 0; i < storage_buffer_count; ++i) {
+    std::vector<VkDescriptorSetLayoutBinding> bindings(storage_buffer_count + texel_buffer_count);
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
       bindings[i].binding = i;
-      bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      bindings[i].descriptorType =
+          i < storage_buffer_count ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
       bindings[i].descriptorCount = 1;
       bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
     VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    set_info.bindingCount = storage_buffer_count;
+    set_info.bindingCount = static_cast<uint32_t>(bindings.size());
     set_info.pBindings = bindings.data();
     VK_CHECK(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout_));
 
@@ -49,6 +58,11 @@ ComputePipeline::ComputePipeline(const Context& context, std::span<const uint32_
     pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     pipeline_info.stage.module = module;
     pipeline_info.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> constants(specialization.size());
+    for (uint32_t i = 0; i < constants.size(); ++i) constants[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
+    const VkSpecializationInfo specialization_info{static_cast<uint32_t>(constants.size()), constants.data(),
+                                                   specialization.size_bytes(), specialization.data()};
+    if (!specialization.empty()) pipeline_info.stage.pSpecializationInfo = &specialization_info;
     pipeline_info.layout = layout_;
     VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
     vkDestroyShaderModule(device, module, nullptr);
@@ -72,17 +86,23 @@ void ComputePipeline::release() {
 ComputePipeline::~ComputePipeline() { release(); }
 
 void ComputePipeline::bind(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
-                           const void* push_constants) const {
+                           std::span<const VkBufferView> texel_buffers, const void* push_constants) const {
   if (buffers.size() != storage_buffer_count_) throw std::logic_error("dispatch: wrong number of buffers");
+  if (texel_buffers.size() != texel_buffer_count_) throw std::logic_error("dispatch: wrong number of texel buffers");
   std::vector<VkDescriptorBufferInfo> infos(buffers.size());
-  std::vector<VkWriteDescriptorSet> writes(buffers.size());
-  for (uint32_t i = 0; i < buffers.size(); ++i) {
-    infos[i] = {buffers[i], 0, VK_WHOLE_SIZE};
+  std::vector<VkWriteDescriptorSet> writes(buffers.size() + texel_buffers.size());
+  for (uint32_t i = 0; i < writes.size(); ++i) {
     writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
     writes[i].dstBinding = i;
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
+    if (i < buffers.size()) {
+      infos[i] = {buffers[i], 0, VK_WHOLE_SIZE};
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[i].pBufferInfo = &infos[i];
+    } else {
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+      writes[i].pTexelBufferView = &texel_buffers[i - buffers.size()];
+    }
   }
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   context_.cmd_push_descriptor_set(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0,
@@ -94,7 +114,13 @@ void ComputePipeline::bind(VkCommandBuffer commands, std::span<const VkBuffer> b
 
 void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
                                   const void* push_constants, uint32_t width, uint32_t height) const {
-  bind(commands, buffers, push_constants);
+  dispatch_2d(commands, buffers, {}, push_constants, width, height);
+}
+
+void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
+                                  std::span<const VkBufferView> texel_buffers, const void* push_constants,
+                                  uint32_t width, uint32_t height) const {
+  bind(commands, buffers, texel_buffers, push_constants);
   vkCmdDispatch(commands, (width + kWorkgroupSize - 1) / kWorkgroupSize, (height + kWorkgroupSize - 1) / kWorkgroupSize,
                 1);
 }
@@ -102,13 +128,13 @@ void ComputePipeline::dispatch_2d(VkCommandBuffer commands, std::span<const VkBu
 void ComputePipeline::dispatch_groups(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
                                       const void* push_constants, uint32_t group_count_x,
                                       uint32_t group_count_y) const {
-  bind(commands, buffers, push_constants);
+  bind(commands, buffers, {}, push_constants);
   vkCmdDispatch(commands, group_count_x, group_count_y, 1);
 }
 
 void ComputePipeline::dispatch_indirect(VkCommandBuffer commands, std::span<const VkBuffer> buffers,
                                         const void* push_constants, VkBuffer arguments, VkDeviceSize offset) const {
-  bind(commands, buffers, push_constants);
+  bind(commands, buffers, {}, push_constants);
   vkCmdDispatchIndirect(commands, arguments, offset);
 }
 

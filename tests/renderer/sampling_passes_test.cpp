@@ -8,6 +8,8 @@
 #include <cstring>
 #include <numbers>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "core/colour.h"
 #include "foveation/display_geometry.h"
@@ -159,6 +161,39 @@ TEST_F(SamplingPassesTest, ListsTheReferenceSamplesAtTheReferencePositions) {
         worst_px = std::max({worst_px, std::abs(sample.x_px - x), std::abs(sample.y_px - y)});
       }
       EXPECT_LT(worst_px, 1e-3) << where;
+    }
+  }
+}
+
+// RMFR shades every entry of its buffer: pass 1a lists each at its own slot (no atomic a sample) and
+// counts them all, whatever the gaze.
+TEST_F(SamplingPassesTest, RmfrListsEachEntryAtItsOwnSlot) {
+  SamplingPasses passes(context());
+  for (const Gaze& gaze : kGazes) {
+    const std::vector<ListedSample> samples = list_samples(passes, map_of(SamplingModel::rectangular, gaze.x, gaze.y));
+    ASSERT_EQ(samples.size(), size_t(passes.sample_capacity()));
+    for (uint32_t slot = 0; slot < samples.size(); ++slot) ASSERT_EQ(samples[slot].entry, slot) << "slot " << slot;
+  }
+}
+
+// Each model and filter has a pipeline of its own (the shaders take them as constants): one
+// SamplingPasses going from model to model and filter to filter rebuilds a frame bit for bit as a
+// fresh one does, and the two filters give different frames.
+TEST_F(SamplingPassesTest, EachModelAndFilterKeepsItsOwnPipeline) {
+  const auto frame_of = [&](SamplingPasses& passes, SamplingModel model, ResampleFilter filter) {
+    const SamplingMap map = map_of(model, 30.0, 20.0);
+    return reconstruct_positions(passes, list_samples(passes, map, filter), kWidth, kHeight).pixels;
+  };
+  SamplingPasses shared(context());
+  for (SamplingModel model : {SamplingModel::rectangular, SamplingModel::kernel_log_polar, SamplingModel::hyperbolic}) {
+    for (ResampleFilter filter : {ResampleFilter::bilinear, ResampleFilter::lanczos2}) {
+      const std::string where = std::string(sampling_model_name(model)) + " " + resample_filter_name(filter);
+      const std::vector<float> first = frame_of(shared, model, filter);
+      SamplingPasses fresh(context());
+      EXPECT_TRUE(frame_of(fresh, model, filter) == first) << where;
+      const ResampleFilter other = filter == ResampleFilter::bilinear ? ResampleFilter::lanczos2 : ResampleFilter::bilinear;
+      EXPECT_FALSE(frame_of(shared, model, other) == first) << where << ": the other filter gave the same frame";
+      EXPECT_TRUE(frame_of(shared, model, filter) == first) << where << ": after the other filter";
     }
   }
 }
