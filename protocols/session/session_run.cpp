@@ -318,9 +318,13 @@ void SessionRun::validate_tracker(const char* reason) {
       for (const size_t index : order) {
         const auto [x_px, y_px] = targets[index];
         const FixationTargetScope looking(gaze_, x_px, y_px);
-        show_screen("validation_target", [&] {
-          return validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
-        });
+        if (right_eye_) {
+          show_validation_target_in_both_eyes(x_px, y_px, radius_px);
+        } else {
+          show_screen("validation_target", [&] {
+            return validation_target_frame(display.width_px, display.height_px, x_px, y_px, radius_px);
+          });
+        }
         const double shown_s = presenter_.now_s();
         std::vector<GazeSample> samples;
         for (int refresh = 1; refresh <= refreshes; ++refresh) {
@@ -352,6 +356,29 @@ void SessionRun::validate_tracker(const char* reason) {
   }
   throw SessionAborted{"the eye-tracker validation did not pass in " + std::to_string(validation.max_attempts) +
                        " attempts: recalibrate the tracker"};
+}
+
+void SessionRun::show_validation_target_in_both_eyes(double x_px, double y_px, double radius_px) {
+  // The target is a point in front of the head that the left eye sees at (x_px, y_px): on the
+  // fixation plane, or with rendered-depth (no surface is shown behind a target) at optical
+  // infinity, the depth the eye tracker's samples rest at when their ray meets nothing. The right
+  // eye sees it where that point appears to it, so the two eyes fuse one target at that depth.
+  const HeadsetGazeGeometry& geometry = right_eye_->gaze_geometry;
+  GazeSample left;
+  left.x_px = x_px;
+  left.y_px = y_px;
+  const GazeSample right = right_eye_->gaze_fixation == GazeFixation::rendered_depth
+                               ? eye_gaze_from_left_eye_pixel_at_depth(geometry, left, std::nullopt)[1]
+                               : eye_gaze_from_left_eye_pixel(geometry, left)[1];
+  const int width_px = plan_.config.display.width_px, height_px = plan_.config.display.height_px;
+  const Rgba8Frame left_frame = validation_target_frame(width_px, height_px, x_px, y_px, radius_px);
+  // A target the right eye cannot see (off its image) is shown to the left eye alone.
+  const Rgba8Frame right_frame = right.valid
+                                     ? validation_target_frame(width_px, height_px, right.x_px, right.y_px, radius_px)
+                                     : black_frame(width_px, height_px);
+  presenter_.present_views(std::array{ViewFrame{&left_frame, {}, {}}, ViewFrame{&right_frame, {}, {}}});
+  save_screenshot("validation_target", left_frame);
+  save_screenshot("validation_target_right_eye", right_frame);
 }
 
 std::string question_screen_text(const QuestionConfig& question) {

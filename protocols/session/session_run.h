@@ -104,6 +104,8 @@ class SessionRun {
   // gaze-dependent stimulus renders one image a refresh, the presentation's images in order. In a
   // headset, each eye its own image, rendered from its view with its gaze.
   void present_stimulus(const Trial& trial, int step, int stimulus_id);
+  // A headset's eye-tracker validation target, each eye shown the one point (docs/hmd.md).
+  void show_validation_target_in_both_eyes(double x_px, double y_px, double radius_px);
   // A headset's gaze in each eye's image at one refresh, sanitized (rounded, invalid ones held):
   // the left eye's first. `raw`: the source's sample; `spec` and `frame`: what is shown (the scene
   // a rendered-depth gaze rests on).

@@ -11,12 +11,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/image_io.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/app/headset_study_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
@@ -170,6 +172,46 @@ TEST_F(HeadsetStudy, RunRefusesWhatHeadsetSessionsCannotDoYet) {
 
 // A simulated observer runs a FIPR study in the test runtime's headset, each eye rendered from its
 // own view with its own gaze; the log holds both eyes, replays to their hashes, and analyzes.
+// The centroid of a screenshot's lit pixels (the validation target's grey disk), in pixels.
+std::array<double, 2> lit_centroid(const std::filesystem::path& png) {
+  const Image image = read_image(png);
+  double x_sum = 0.0, y_sum = 0.0, count = 0.0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      if (image.pixels[(static_cast<size_t>(y) * image.width + x) * image.channels] > 0.4f) {
+        x_sum += x;
+        y_sum += y;
+        count += 1.0;
+      }
+  if (count == 0.0) return {std::nan(""), std::nan("")};
+  return {x_sum / count, y_sum / count};
+}
+
+// The eye-tracker validation in the headset shows each eye the one target. With rendered-depth
+// (nothing is drawn behind a target) it is at optical infinity: one direction, which each eye sees
+// where that direction's tangent falls between its own angles. The test runtime's eyes are
+// mirrored ([-54, 49] and [-49, 54] degrees across, both [54, -56] up and down), so the right eye's
+// disk is left of the left's, on the same row; worked out here from the angles alone.
+TEST_F(HeadsetStudy, TheTrackerValidationShowsEachEyeTheOneTarget) {
+  const std::filesystem::path config =
+      write("v.toml", headset_study("eye_width_px = 64\neye_height_px = 72",
+                                    "\n[validation]\ntargets = 5\ntarget_radius_deg = 2\n"));
+  const std::filesystem::path shots = scratch_.path() / "shots";
+  const CommandResult ran = run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON,
+                                      " --observer simulated --gaze synthetic:seed=3 --screenshots " + shots.string());
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_NE(ran.err.find("eye-tracker validation (start, attempt 1 of 3)"), std::string::npos) << ran.err;
+  const std::array<double, 2> left = lit_centroid(shots / "validation_target.png");
+  const std::array<double, 2> right = lit_centroid(shots / "validation_target_right_eye.png");
+  ASSERT_TRUE(std::isfinite(left[0]) && std::isfinite(right[0]));
+  const auto tan_deg = [](double deg) { return std::tan(deg * std::numbers::pi / 180.0); };
+  const double tangent = tan_deg(-54.0) + (left[0] + 0.5) / 64.0 * (tan_deg(49.0) - tan_deg(-54.0));
+  const double expected_right_x = (tangent - tan_deg(-49.0)) / (tan_deg(54.0) - tan_deg(-49.0)) * 64.0 - 0.5;
+  EXPECT_NEAR(right[0], expected_right_x, 0.6);
+  EXPECT_NEAR(right[1], left[1], 0.6);
+  EXPECT_GT(left[0] - right[0], 3.0) << "the right eye's target is not the left eye's pixel again";
+}
+
 TEST_F(HeadsetStudy, ASimulatedObserverRunsAStudyInTheHeadsetThatReplaysBothEyes) {
   const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
   const CommandResult ran =
