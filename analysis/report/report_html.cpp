@@ -185,6 +185,7 @@ std::string html_headset(const AnalysisResult& result) {
          std::to_string(frames.intervals) + ", median " + html_number(frames.median_ms) + " ms, " +
              std::to_string(frames.late) + " late",
          std::to_string(p.dropped_frames),
+         headset.late_frames ? std::to_string(*headset.late_frames) : "not measured",
          p.latency_recorded ? html_number(p.latency.median_ms) + " / " + html_number(p.latency.p95_ms) : "not recorded",
          validation_text(p.validation)});
   }
@@ -197,10 +198,12 @@ std::string html_headset(const AnalysisResult& result) {
       "eyes' pixels (the combined gaze ray resting on the gaze fixation), so its age at present time and the "
       "eye-tracker checks are each eye's alike too. Each eye's field of view is [left, right, up, down] from its "
       "forward direction, with its pixels per degree at the view's centre; the runtime's compositor corrects the "
-      "lens.</p>\n";
+      "lens. Frames ended late are refreshes handed to the compositor (xrEndFrame) after the display time the "
+      "runtime predicted for them, measured where the runtime converts its clock (XR_KHR_convert_timespec_time); "
+      "late intervals are refresh intervals beyond 1.5 periods.</p>\n";
   html +=
       html_table({"session", "OpenXR runtime", "each eye (px)", "left eye", "right eye", "view model", "gaze fixation",
-                  "present clock", "refresh intervals (both eyes)", "dropped frames",
+                  "present clock", "refresh intervals (both eyes)", "dropped frames", "frames ended late",
                   "gaze-to-present ms, median / p95", "eye-tracker checks passed / tried; accuracy (worst), precision"},
                  rows);
   return html;

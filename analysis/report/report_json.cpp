@@ -119,7 +119,8 @@ json headset_json(const HeadsetSummary& headset) {
           {"view_model", headset.view_model},
           {"gaze_fixation", headset.gaze_fixation},
           {"fixation_distance_mm", json_number(headset.fixation_distance_mm)},
-          {"eyes", eyes}};
+          {"eyes", eyes},
+          {"late_frames", headset.late_frames ? json(*headset.late_frames) : json(nullptr)}};  // null: not measured
 }
 
 json thresholds_json(const AnalysisResult& result) {

@@ -102,6 +102,10 @@ struct HeadsetSummary {
   std::optional<double> fixation_distance_mm;
   // Each eye's field of view [left, right, up, down] in degrees, left eye first (none: not logged).
   std::array<std::optional<std::array<double, 4>>, 2> fov_deg;
+  // Refreshes of the complete trials' stimuli handed to the compositor after their predicted
+  // display time (the stimulus events' late_frames, schema 12); nullopt: the log measured none (a
+  // runtime without XR_KHR_convert_timespec_time, or schema 11).
+  std::optional<int64_t> late_frames;
 };
 
 struct ParticipantRow {

@@ -140,6 +140,10 @@ ParticipantData participant_of(ScannedSession& session) {
   for (const std::string& clock : session.present_clocks)
     participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
   participant.headset = header_headset(session.header);
+  if (participant.headset)
+    for (const ScannedTrial& scanned : session.trials)
+      if (!scanned.practice && scanned.late_frames)
+        participant.headset->late_frames = participant.headset->late_frames.value_or(0) + *scanned.late_frames;
   for (const TrackerValidationEvent& attempt : session.validations) {
     ValidationSummary& validation = participant.validation;
     ++validation.attempts;

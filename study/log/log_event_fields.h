@@ -200,7 +200,7 @@ constexpr auto fields(Of<StimulusEvent>) {
       // Schema 12 (head-tracked views); only in a head-tracked headset session.
       field(k::head_pose, &E::head_pose, Write::when_set),
       // Schema 12; only in a headset session whose runtime converts CLOCK_MONOTONIC to its XrTime.
-      field(k::late_frames, &E::late_frames, Write::when_set),
+      typed<Read::when_given>(k::late_frames, &E::late_frames, Write::when_set),  // the report's late frames
   };
 }
 

@@ -368,6 +368,7 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
     if (kind == StimulusEvent::kind) {
       const StimulusEvent stimulus = scanned_event<StimulusEvent>(fields);
       open->dropped_frames += stimulus.dropped_frames;
+      if (stimulus.late_frames) open->late_frames = open->late_frames.value_or(0) + *stimulus.late_frames;
       for (size_t i = 1; i < stimulus.present_s.size(); ++i)
         open->frame_interval_s.push_back(stimulus.present_s[i] - stimulus.present_s[i - 1]);
       if (stimulus.gaze_age_s) {

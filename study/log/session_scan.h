@@ -45,6 +45,9 @@ struct ScannedTrial {
   std::vector<double> gaze_age_s;
   int64_t dropped_frames = 0;
   int stimuli_with_latency = 0;
+  // Schema 12, a headset session whose runtime measured them: the refreshes ended after their
+  // predicted display time (the stimulus events' late_frames); nullopt: none of its events says.
+  std::optional<int64_t> late_frames;
   // The intervals between consecutive refreshes of each stimulus event (its present_s: every
   // schema), in seconds; the gap between two stimuli is not one.
   std::vector<double> frame_interval_s;

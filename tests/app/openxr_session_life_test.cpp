@@ -212,6 +212,14 @@ TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) 
   EXPECT_GT(with_late, 0) << "no stimulus was shown in the first 300 frames";
   EXPECT_GT(without_late, 0) << "every stimulus was shown in the first 300 frames";
   EXPECT_NE(ran.out.find(", " + std::to_string(total_late) + " late"), std::string::npos) << ran.out;
+  // The analysis counts them from the log (thresholds.json's participant headset; report.html's table).
+  const std::filesystem::path report = scratch_.path() / "report";
+  const CommandResult analysed =
+      cli_test::run("analyze " + (results_ / "headset_cli").string() + " --out " + report.string());
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  std::ifstream thresholds_file(report / "thresholds.json");
+  const nlohmann::json thresholds = nlohmann::json::parse(thresholds_file);
+  EXPECT_EQ(thresholds["participants"][0]["headset"].value("late_frames", -1), total_late) << thresholds["participants"];
 
   const std::filesystem::path unmeasured_results = scratch_.path() / "unmeasured";
   const CommandResult unmeasured = cli_test::run(
@@ -225,6 +233,14 @@ TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) 
   EXPECT_EQ(unmeasured_events.front()["headset"].value("late_frames_measured", true), false);
   for (const nlohmann::json& event : unmeasured_events) EXPECT_FALSE(event.contains("late_frames")) << event;
   EXPECT_EQ(unmeasured.out.find(" late"), std::string::npos) << unmeasured.out;
+  const std::filesystem::path unmeasured_report = scratch_.path() / "unmeasured_report";
+  ASSERT_EQ(cli_test::run("analyze " + (unmeasured_results / "headset_cli").string() + " --out " +
+                          unmeasured_report.string())
+                .exit_code,
+            0);
+  std::ifstream unmeasured_thresholds_file(unmeasured_report / "thresholds.json");
+  const nlohmann::json unmeasured_thresholds = nlohmann::json::parse(unmeasured_thresholds_file);
+  EXPECT_TRUE(unmeasured_thresholds["participants"][0]["headset"]["late_frames"].is_null()) << "not measured, not 0";
 }
 
 // A headset log as schema 11 wrote it (no late_frames, no headset.late_frames_measured; its chain

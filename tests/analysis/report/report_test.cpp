@@ -578,6 +578,7 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
   headset.fixation_distance_mm = 1500.0;
   headset.fov_deg[0] = std::array<double, 4>{-54.0, 49.0, 54.0, -56.0};
   headset.fov_deg[1] = std::array<double, 4>{-49.0, 54.0, 54.0, -56.0};
+  headset.late_frames = 2;
   result.participants.at(0).headset = headset;
   result.participants.at(0).present_clock = "openxr_predicted_display";
   TempDir dir("headset");
@@ -591,7 +592,7 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
       << html;
   EXPECT_NE(html.find("<td>[-49, 54, 54, -56] deg, 0.442 x "), std::string::npos);
   EXPECT_NE(html.find("<td>head-locked</td><td>fixation-distance (1500 mm)</td><td>openxr_predicted_display</td>"
-                      "<td>5, median 16 ms, 1 late</td><td>3</td><td>56.5 / 73.25</td>"),
+                      "<td>5, median 16 ms, 1 late</td><td>3</td><td>2</td><td>56.5 / 73.25</td>"),
             std::string::npos)
       << html;
   EXPECT_EQ(html.find("<td>P002</td><td>fovlab test runtime"), std::string::npos) << "a desktop session: no row";
@@ -600,7 +601,8 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
   EXPECT_EQ(thresholds["participants"][0]["headset"],
             nlohmann::json::parse(R"({"runtime": "fovlab test runtime 0.1.0", "eye_width_px": 64, "eye_height_px": 72,
                 "view_model": "head-locked", "gaze_fixation": "fixation-distance", "fixation_distance_mm": 1500.0,
-                "eyes": [{"fov_deg": [-54.0, 49.0, 54.0, -56.0]}, {"fov_deg": [-49.0, 54.0, 54.0, -56.0]}]})"));
+                "eyes": [{"fov_deg": [-54.0, 49.0, 54.0, -56.0]}, {"fov_deg": [-49.0, 54.0, 54.0, -56.0]}],
+                "late_frames": 2})"));
   EXPECT_FALSE(thresholds["participants"][1].contains("headset"));
 }
 

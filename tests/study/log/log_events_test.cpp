@@ -385,6 +385,7 @@ TEST(LogEvents, FieldTypeChecksRefuseWhatTheReadersRefuse) {
   EXPECT_NE(check_log_field_types({{"sequence", {1, 4294967296ll}}}), "");
   EXPECT_NE(check_log_field_types({{"gaze_age_s", {1.0, "x"}}}), "");
   EXPECT_NE(check_log_field_types({{"present_clock", 1}}), "");
+  EXPECT_NE(check_log_field_types({{"late_frames", "2"}}), "");
   EXPECT_EQ(check_log_field_types({{"rt_s", "fast"}}), "") << "rt_s is not a checked field (the fast scan skips it)";
 }
 
@@ -401,6 +402,7 @@ TEST(LogEvents, TheTablesTypedKeysAreTheCheckedOnes) {
       {"step", LineType::small_int},
       {"track", LineType::small_int},
       {"dropped_frames", LineType::small_int},
+      {"late_frames", LineType::small_int},  // schema 12: the report counts them
       {"condition", LineType::string},
       {"variant", LineType::string},
       {"answer", LineType::string},
