@@ -124,9 +124,11 @@ ParticipantData participant_of(ScannedSession& session) {
   // Latency: every age of the complete trials, summarised here so the ages are not kept.
   // Frame intervals likewise, against the refresh rate the presenter measured (the header's display).
   std::vector<double> gaze_age_s, frame_interval_s;
+  std::optional<int64_t> late_frames;  // a headset's, where its log measured them
   for (ScannedTrial& scanned : session.trials) {
     if (scanned.practice) continue;  // practice trials are in no figure
     participant.dropped_frames += scanned.dropped_frames;
+    if (scanned.late_frames) late_frames = late_frames.value_or(0) + *scanned.late_frames;
     if (scanned.stimuli_with_latency > 0) participant.latency_recorded = true;
     gaze_age_s.insert(gaze_age_s.end(), scanned.gaze_age_s.begin(), scanned.gaze_age_s.end());
     scanned.gaze_age_s = {};
@@ -140,10 +142,7 @@ ParticipantData participant_of(ScannedSession& session) {
   for (const std::string& clock : session.present_clocks)
     participant.present_clock += (participant.present_clock.empty() ? "" : "+") + clock;
   participant.headset = header_headset(session.header);
-  if (participant.headset)
-    for (const ScannedTrial& scanned : session.trials)
-      if (!scanned.practice && scanned.late_frames)
-        participant.headset->late_frames = participant.headset->late_frames.value_or(0) + *scanned.late_frames;
+  if (participant.headset) participant.headset->late_frames = late_frames;
   for (const TrackerValidationEvent& attempt : session.validations) {
     ValidationSummary& validation = participant.validation;
     ++validation.attempts;
