@@ -2,13 +2,13 @@
 // Shows frames and collects input. Two implementations: headless (a virtual clock that advances one
 // refresh period per present; no window) and a GLFW window with a Vulkan swapchain (real clock,
 // vsync). The session state machine only talks to this interface.
-#include <array>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "core/pose.h"
 #include "core/rgba8_frame.h"
 #include "renderer/present/device_frame.h"
 
@@ -23,12 +23,8 @@ struct InputEvent {
   std::string key;
 };
 
-// Where a view's image was rendered from, in the presenter's world space (a headset's LOCAL space):
-// metres, and a unit quaternion x, y, z, w.
-struct ViewPose {
-  std::array<double, 3> position_m{0.0, 0.0, 0.0};
-  std::array<double, 4> orientation{0.0, 0.0, 0.0, 1.0};
-};
+// Where a view's image was rendered from, in the presenter's world space (a headset's LOCAL space).
+using ViewPose = Pose;
 
 // One view's image for present_views: its bytes on the host, or a frame held on a device.
 struct ViewFrame {

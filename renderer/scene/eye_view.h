@@ -11,6 +11,7 @@
 // without one they render the scene camera's own symmetric frustum, as on the desktop.
 #include <array>
 
+#include "core/pose.h"
 #include "foveation/display_geometry.h"
 
 namespace fovlab {
@@ -43,11 +44,7 @@ EyeViewShaderValues eye_view_shader_values(const EyeView& view);
 // that start (x right, y up, z backwards; metres, a scene unit each). The scene's camera at the
 // frame's time stands where the head started, so an eye's pose in the scene is
 // camera(t) * head_delta * eye_in_head.
-struct HeadPose {
-  std::array<double, 3> position_m{0.0, 0.0, 0.0};
-  std::array<double, 4> orientation{0.0, 0.0, 0.0, 1.0};  // unit quaternion x, y, z, w
-  bool operator==(const HeadPose&) const = default;
-};
+using HeadPose = Pose;
 
 // The eye as the moved head carries it: its orientation head.orientation * eye's, its position the
 // eye's offset turned by the head's orientation first, then moved by the head's position
