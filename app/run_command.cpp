@@ -15,6 +15,7 @@
 #include "app/openxr_run.h"
 #include "app/output_options.h"
 #include "core/input_error.h"
+#include "display/window_presenter.h"
 #include "protocols/gaze/gaze_spec.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "study/config/study_config.h"
@@ -49,6 +50,11 @@ void run(RunOptions options) {
         throw InputError(std::string(flag) + " " + value + ": " + config.source_path +
                          " runs in a headset, which renders on the GPU its OpenXR runtime chooses; drop " + flag);
     check_openxr_runtime_for(config, session.gaze);
+    if (session.mirror_window) check_window_can_open("--mirror-window");
+  } else if (session.mirror_window) {
+    throw InputError("--mirror-window: " + config.source_path +
+                     " runs in a desktop window, which the operator sees already; the mirror is for a headset "
+                     "session ([display] kind = \"openxr\"); drop --mirror-window");
   }
   // A gaze-contingent study in a window needs its gaze source named, and a config's [gaze] require
   // is kept (docs/gaze.md): refused before the display is looked for, any window or any folder.
@@ -179,6 +185,10 @@ void add_run_command(CLI::App& app) {
                       "Seconds a headset session that lost the focus (headset taken off) waits, paused and sealed, "
                       "for it to come back and resume in this run (default 600; 0: exit at once, and run again to "
                       "resume)");
+  command->add_flag("--mirror-window", options->session.mirror_window,
+                    "A headset session also opens a window on the desktop for the operator: it shows the left eye's "
+                    "image and takes the keyboard (the desktop's answer keys, Escape 3 times to pause and exit) "
+                    "beside the controller; closing it closes only the mirror (docs/hmd.md)");
   command->add_option("--lab-key", options->session.lab_key_path,
                       "Key file (16-4096 bytes, kept outside the results folder): seals the log with an HMAC, so "
                       "a changed log cannot be re-sealed without the key");

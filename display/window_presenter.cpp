@@ -68,6 +68,13 @@ std::optional<std::pair<VkSurfaceFormatKHR, bool>> choose_format(const std::vect
   return std::nullopt;
 }
 
+// Iconified, or a framebuffer of no pixels: there is nothing to present to.
+bool window_minimised(GLFWwindow* window) {
+  int width = 0, height = 0;
+  glfwGetFramebufferSize(window, &width, &height);
+  return glfwGetWindowAttrib(window, GLFW_ICONIFIED) || width <= 0 || height <= 0;
+}
+
 void sleep_s(double seconds) {
   if (seconds > 0) std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
 }
@@ -81,8 +88,10 @@ WindowPresenter::WindowPresenter(const WindowPresenterOptions& options) : option
   }
   try {
     create_window();
-    create_context();
-    create_swapchain();
+    if (!options_.headset_mirror) {  // a mirror's context comes with attach()
+      create_context();
+      create_swapchain();
+    }
   } catch (...) {
     release();
     throw;
@@ -91,6 +100,21 @@ WindowPresenter::WindowPresenter(const WindowPresenterOptions& options) : option
 }
 
 WindowPresenter::~WindowPresenter() { release(); }
+
+void check_window_can_open(const std::string& flag) {
+  std::lock_guard<std::mutex> lock(glfw_mutex);
+  if (glfwInit()) {
+    // Only asked: GLFW is left as it was (running while a window of this process is open).
+    if (glfw_users == 0) glfwTerminate();
+    return;
+  }
+  const char* display = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  if ((!display || !*display) && (!wayland || !*wayland))
+    throw InputError(flag + ": cannot open a window (no display: DISPLAY is not set; run on the desktop, or under xvfb-run)");
+  throw InputError(flag + ": cannot open a window on display " + std::string(display ? display : wayland) + " (" +
+                   glfw_error_description() + ")");
+}
 
 void WindowPresenter::create_window() {
   {
@@ -139,7 +163,7 @@ void WindowPresenter::create_window() {
   });
 }
 
-void WindowPresenter::create_context() {
+vk::SurfaceRequest WindowPresenter::surface_request() {
   uint32_t glfw_extension_count = 0;
   const char** glfw_extensions = glfwGetRequiredInstanceExtensions(&glfw_extension_count);
   if (!glfw_extensions) {
@@ -156,8 +180,31 @@ void WindowPresenter::create_context() {
     return choose_format(surface_formats(device, surface)) ? std::string()
                                                            : std::string("no 8-bit RGBA/BGRA surface format");
   };
-  context_ = std::make_unique<vk::Context>(
-      vk::ContextOptions{options_.device_selector, options_.validation, request, options_.device_flag});
+  return request;
+}
+
+void WindowPresenter::create_context() {
+  own_context_ = std::make_unique<vk::Context>(
+      vk::ContextOptions{options_.device_selector, options_.validation, surface_request(), options_.device_flag});
+  context_ = own_context_.get();
+  create_present_objects();
+}
+
+void WindowPresenter::attach(vk::Context& context) {
+  if (!options_.headset_mirror || context_)
+    throw std::logic_error("window: attach() takes a headset mirror's context, once");
+  if (!context.surface) throw std::logic_error("window: attach(): the context was made without this window's surface");
+  context_ = &context;
+  try {
+    create_present_objects();
+    create_swapchain();
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+void WindowPresenter::create_present_objects() {
   composer_ = std::make_unique<FrameComposer>(*context_);
   const VkDevice device = context_->device;
   VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
@@ -210,7 +257,7 @@ void WindowPresenter::create_swapchain() {
   VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context_->physical_device, context_->surface, &mode_count,
                                                      modes.data()));
   present_mode_ = VK_PRESENT_MODE_FIFO_KHR;  // always supported
-  if (!options_.vsync) {
+  if (!options_.vsync || options_.headset_mirror) {
     for (VkPresentModeKHR wanted : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR}) {
       if (std::find(modes.begin(), modes.end(), wanted) != modes.end()) {
         present_mode_ = wanted;
@@ -307,7 +354,8 @@ void WindowPresenter::release() {
     frame_fence_ = VK_NULL_HANDLE;
     command_buffer_ = VK_NULL_HANDLE;
     composer_.reset();
-    context_.reset();  // the device, the surface and the instance
+    own_context_.reset();  // the device, the surface and the instance (a mirror's stay: the headset's)
+    context_ = nullptr;
   }
   if (window_) {
     glfwDestroyWindow(window_);
@@ -349,7 +397,7 @@ double WindowPresenter::present(const Rgba8Frame& frame) {
 double WindowPresenter::present(const DeviceRgba8Frame& frame) {
   if (!frame || frame.width <= 0 || frame.height <= 0)
     throw std::invalid_argument("window: present: no frame on a device");
-  if (frame.context != context_.get()) {  // rendered on another device: through the host, timed
+  if (frame.context != context_) {  // rendered on another device: through the host, timed
     const auto start = std::chrono::steady_clock::now();
     Rgba8Frame bytes = read_back(frame);
     VK_CHECK(vkWaitForFences(context_->device, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
@@ -373,6 +421,11 @@ double WindowPresenter::present_source(const ComposeSource& source, bool recompo
 
   const VkDevice device = context_->device;
   VK_CHECK(vkWaitForFences(device, 1, &frame_fence_, VK_TRUE, UINT64_MAX));
+  // A mirror is never waited for: minimised, it is not even recreated (that waits for the device);
+  // with no image free at once, this frame is not shown in it.
+  const bool never_wait = options_.headset_mirror;
+  last_present_shown_ = false;
+  if (never_wait && window_minimised(window_)) return now_s();
   uint32_t image_index = 0;
   for (int attempt = 0;; ++attempt) {
     if (swapchain_stale_ || !swapchain_) recreate_swapchain();
@@ -381,9 +434,10 @@ double WindowPresenter::present_source(const ComposeSource& source, bool recompo
       last_present_s_ = now_s();
       return last_present_s_;
     }
-    const VkResult acquired =
-        vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, image_available_, VK_NULL_HANDLE, &image_index);
+    const VkResult acquired = vkAcquireNextImageKHR(device, swapchain_, never_wait ? 0 : UINT64_MAX,
+                                                    image_available_, VK_NULL_HANDLE, &image_index);
     if (acquired == VK_SUCCESS) break;
+    if (never_wait && (acquired == VK_NOT_READY || acquired == VK_TIMEOUT)) return now_s();
     if (acquired == VK_SUBOPTIMAL_KHR) {  // usable this time; recreated after the present
       swapchain_stale_ = true;
       break;
@@ -471,12 +525,13 @@ double WindowPresenter::present_source(const ComposeSource& source, bool recompo
   // A FIFO swapchain that did not block (software presentation: lavapipe on X11, Xvfb) would let
   // presents run faster than the display; pace to one refresh period after the previous present.
   const double period_s = 1.0 / refresh_hz_;
-  if (present_mode_ == VK_PRESENT_MODE_FIFO_KHR && last_present_s_ >= 0 &&
+  if (!never_wait && present_mode_ == VK_PRESENT_MODE_FIFO_KHR && last_present_s_ >= 0 &&
       presented_s - last_present_s_ < 0.5 * period_s) {
     sleep_s(last_present_s_ + period_s - presented_s);
     presented_s = now_s();
   }
   last_present_s_ = presented_s;
+  last_present_shown_ = true;
   last_present_read_back_ = can_read_back_;
   readback_extent_ = extent_;
   readback_is_bgra_ = format_is_bgra_;

@@ -20,6 +20,11 @@
 // lavapipe on an X server or Xvfb) sleeps until one period after the previous one, so the clock
 // advances by refreshes even then (emulated: no flip is observed).
 //
+// A headset's mirror (WindowPresenterOptions::headset_mirror, display/openxr/openxr_presenter.h) is
+// the same window, swapchain and compose on a context made by someone else: the window opens first,
+// the headset's runtime makes the Vulkan instance and device from surface_request() (so they can
+// present to it), and attach() hands that context over. Its presents never wait for the display.
+//
 // Threads: GLFW requires every call (construction included) on the main thread.
 #include <vulkan/vulkan.h>
 
@@ -62,7 +67,18 @@ struct WindowPresenterOptions {
   // virtual > CPU); else an index or a case-insensitive part of a device name, as --device.
   std::string device_selector;
   std::string device_flag = "--device";  // the flag that gave device_selector, for its errors
+  // A headset session's mirror: the constructor opens the window only, and attach() gives it the
+  // headset's context (made from surface_request()), which it does not own. A present never holds
+  // back the caller: MAILBOX, else IMMEDIATE, where the surface offers them (else FIFO), the image
+  // acquired with timeout 0, and a frame with no image free, or a minimised window, is skipped (the
+  // window keeps its last image); no pacing to the monitor's refresh. device_selector and
+  // fullscreen are not used.
+  bool headset_mirror = false;
 };
+
+// Throws InputError naming `flag` when no window can be opened here (no display, or GLFW cannot
+// start on it): a session that needs one refuses before anything is written.
+void check_window_can_open(const std::string& flag);
 
 class WindowPresenter final : public Presenter {
  public:
@@ -70,6 +86,14 @@ class WindowPresenter final : public Presenter {
   explicit WindowPresenter(const WindowPresenterOptions& options);
   ~WindowPresenter() override;
   WindowPresenter(const WindowPresenter&) = delete;
+  // headset_mirror: the window system's instance extensions and the window's surface, for the
+  // context that attach() will be given (vk::ContextOptions::present_to).
+  vk::SurfaceRequest surface_request();
+  // headset_mirror: `context`, made from surface_request() and outliving this window's use of it
+  // (the presenter is destroyed, or detached by its destruction, first), becomes the presenting
+  // context; the swapchain is made on its surface. Throws std::logic_error when called twice or on
+  // a window that made its own context.
+  void attach(vk::Context& context);
   WindowPresenter& operator=(const WindowPresenter&) = delete;
 
   double now_s() override;
@@ -97,6 +121,11 @@ class WindowPresenter final : public Presenter {
   std::optional<std::pair<double, double>> cursor_px() override;
   // The window was closed, or Escape was pressed 3 times within 1 s.
   bool close_requested() override;
+  // Whether the last present reached the window: false when a headset mirror skipped it (no image
+  // free at once, or the window minimised) or the window was minimised.
+  bool last_present_shown() const { return last_present_shown_; }
+  // Escape was pressed 3 times within 1 s (close_requested() is true for that or a closed window).
+  bool escape_repeated() const { return escape_close_; }
   // A key press as GLFW's key callback delivers it (tests press keys through it).
   void on_key(int key, const char* layout_name);
   std::string close_reason() const override {
@@ -145,6 +174,7 @@ class WindowPresenter final : public Presenter {
   };
   void create_window();
   void create_context();
+  void create_present_objects();  // the composer, command buffer, fence and semaphore on context_
   void create_swapchain();
   void destroy_swapchain(bool keep_handle_for_recreation);
   void recreate_swapchain();
@@ -165,7 +195,8 @@ class WindowPresenter final : public Presenter {
   double clock_origin_s_ = 0.0;
   double refresh_hz_ = 60.0;
 
-  std::unique_ptr<vk::Context> context_;
+  std::unique_ptr<vk::Context> own_context_;  // empty for a headset mirror, whose context is the headset's
+  vk::Context* context_ = nullptr;
   std::unique_ptr<FrameComposer> composer_;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence frame_fence_ = VK_NULL_HANDLE;
@@ -192,6 +223,7 @@ class WindowPresenter final : public Presenter {
   int last_width_ = 0, last_height_ = 0;
   bool has_presented_ = false;
   bool last_present_read_back_ = false;
+  bool last_present_shown_ = false;
   VkExtent2D readback_extent_{0, 0};
   bool readback_is_bgra_ = false;
   double last_present_s_ = -1.0;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
@@ -24,9 +25,29 @@ std::string unfocused_reason(const OpenXrSession& session) {
          "): the headset was taken off, or another application took it";
 }
 
+// The mirror window, opened before the session (no Vulkan yet: attach() comes once the session is).
+std::unique_ptr<WindowPresenter> open_mirror(const OpenXrPresenterOptions& options) {
+  if (!options.mirror_window) return nullptr;
+  WindowPresenterOptions window = *options.mirror_window;
+  window.headset_mirror = true;
+  window.fullscreen = false;
+  return std::make_unique<WindowPresenter>(window);
+}
+
+// The session's options, with the mirror's surface asked of the runtime's Vulkan when there is one.
+OpenXrSessionOptions session_options(const OpenXrPresenterOptions& options, WindowPresenter* mirror) {
+  OpenXrSessionOptions session = options.session;
+  if (mirror) session.present_to = mirror->surface_request();
+  return session;
+}
+
 }  // namespace
 
-OpenXrPresenter::OpenXrPresenter(const OpenXrPresenterOptions& options) : session_(options.session) {
+OpenXrPresenter::OpenXrPresenter(const OpenXrPresenterOptions& options)
+    : mirror_(open_mirror(options)), session_(session_options(options, mirror_.get())) {
+  // The mirror holds no Vulkan object until attach(): if anything below throws, the members go in
+  // reverse order (the session's device first) and the mirror lets go of its window only.
+  if (mirror_) mirror_->attach(*session_.vulkan);
   input_ = std::make_unique<OpenXrInput>(session_);
   const VkDeviceSize eye_bytes = VkDeviceSize{session_.eye_width_px} * session_.eye_height_px * 4;
   for (vk::Buffer& held : held_) {
@@ -64,6 +85,7 @@ OpenXrPresenter::~OpenXrPresenter() {
   // The specification's way down: request the exit, keep submitting frames until the runtime says
   // STOPPING (poll_openxr_events then ends the session), then wait for EXITING.
   try {
+    mirror_.reset();  // its swapchain and buffers on the session's device
     input_.reset();
     if (!session_.running) return;
     request_openxr_exit(session_);
@@ -86,6 +108,7 @@ void OpenXrPresenter::hold(uint32_t eye, const ViewFrame& frame) {
                                 " frame for a headset of " + std::to_string(width) + "x" + std::to_string(height) +
                                 " pixels an eye");
   held_rendered_from_[eye].reset();
+  if (eye == 0) mirror_shows_held_ = false;
   if (const std::optional<ViewPose>& pose = frame.rendered_from) {
     const auto f = [](double value) { return static_cast<float>(value); };
     held_rendered_from_[eye] = XrPosef{{f(pose->orientation[0]), f(pose->orientation[1]), f(pose->orientation[2]),
@@ -120,7 +143,30 @@ double OpenXrPresenter::run_frame() {
   now_s_ = session_time_s(last_frame_.predicted_display_time);
   follow_session_state();
   for (const OpenXrButtonPress& press : input_->sync()) presses_.push_back({session_time_s(press.time), press.key});
+  if (mirror_) update_mirror();
   return now_s_;
+}
+
+void OpenXrPresenter::update_mirror() {
+  // Right after xrEndFrame, in the time the next xrWaitFrame would spend waiting anyway; the
+  // present itself never waits for the window's display.
+  if (!mirror_shows_held_) {
+    mirror_->present(DeviceRgba8Frame{session_.vulkan.get(), held_[0].handle(), static_cast<int>(session_.eye_width_px),
+                                      static_cast<int>(session_.eye_height_px)});
+    mirror_shows_held_ = mirror_->last_present_shown();
+  }
+  // Keys are seen when GLFW's events are pumped, once a frame: timed on the session clock, as the
+  // controller's presses are.
+  for (InputEvent& key : mirror_->poll_input()) presses_.push_back({now_s_, std::move(key.key)});
+  if (!mirror_->close_requested()) return;
+  if (mirror_->escape_repeated()) {
+    if (close_reason_.empty()) close_reason_ = mirror_->close_reason();
+    return;
+  }
+  std::fprintf(stderr,
+               "fovlab: the mirror window was closed; the session goes on in the headset (answers from the "
+               "controller)\n");
+  mirror_.reset();
 }
 
 void OpenXrPresenter::follow_session_state() {

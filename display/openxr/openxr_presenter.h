@@ -9,10 +9,12 @@
 // headset taken off, another application in front, the runtime stopping) asks to close: the study
 // pauses, as when a window is closed. While the runtime still runs the session, wait_for_focus keeps
 // its frames coming until the focus returns, and the session goes on in the same run; otherwise
-// running it again resumes it. docs/hmd.md.
+// running it again resumes it. A mirror window (OpenXrPresenterOptions::mirror_window) shows the
+// operator the left eye and takes the keyboard beside the controller. docs/hmd.md.
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,7 @@
 #include "display/openxr/openxr_input.h"
 #include "display/openxr/openxr_session.h"
 #include "display/presenter.h"
+#include "display/window_presenter.h"
 #include "renderer/vk/buffer.h"
 
 namespace fovlab {
@@ -29,6 +32,15 @@ struct OpenXrPresenterOptions {
   // Wall seconds to wait for the runtime to focus the session (the participant putting the headset
   // on) before refusing to start.
   double focus_timeout_s = 60.0;
+  // A desktop window for the operator (apparatus, not the study): it shows the left eye's image as
+  // the headset is given it, 1:1 or integer-scaled, centred and letterboxed (a larger image: its
+  // centre), and its keys reach poll_input() as a desktop window's do, timed at the frame after
+  // which they were seen (now_s()); Escape 3 times within 1 s asks to close as on the desktop.
+  // Opened before the session, so that the runtime makes the Vulkan instance and device able to
+  // present to it; presents never wait (WindowPresenterOptions::headset_mirror, set here). Closing
+  // the window only closes the mirror: the study goes on in the headset, answered on the controller.
+  // Throws InputError when no window can be opened. None: no window, and nothing else changes.
+  std::optional<WindowPresenterOptions> mirror_window;
 };
 
 class OpenXrPresenter final : public Presenter {
@@ -44,6 +56,8 @@ class OpenXrPresenter final : public Presenter {
   OpenXrSession& session() { return session_; }
   vk::Context& context() { return *session_.vulkan; }
   OpenXrInput& input() { return *input_; }
+  // The mirror window while it is open; nullptr without one, or once its window was closed.
+  WindowPresenter* mirror() { return mirror_.get(); }
 
   double now_s() override { return now_s_; }
   double present(const Rgba8Frame& frame) override;
@@ -99,7 +113,14 @@ class OpenXrPresenter final : public Presenter {
   double run_frame();
   // The runtime's events: a session no longer FOCUSED asks to close.
   void follow_session_state();
+  // The left eye's held image into the mirror window (when it changed, or was not shown yet), and
+  // its keys into presses_; a closed mirror is let go, Escape 3 times asks to close.
+  void update_mirror();
 
+  // Before session_, whose device it presents on: opened before the session is made (its surface
+  // goes into the runtime's Vulkan instance), and let go first (~OpenXrPresenter), before the device.
+  std::unique_ptr<WindowPresenter> mirror_;
+  bool mirror_shows_held_ = false;  // the mirror shows what the eyes hold now
   OpenXrSession session_;
   std::unique_ptr<OpenXrInput> input_;
   std::array<vk::Buffer, 2> held_;  // each eye's frame, host-visible (RGBA8, eye size)

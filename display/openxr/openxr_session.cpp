@@ -151,6 +151,7 @@ OpenXrSession::OpenXrSession(const OpenXrSessionOptions& options) {
 
     vk::ContextOptions context_options;
     context_options.validation = options.validation;
+    context_options.present_to = options.present_to;
     context_options.created_by = creator_through_runtime(instance.handle, system);
     vulkan = std::make_unique<vk::Context>(context_options);
 

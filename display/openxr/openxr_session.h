@@ -31,6 +31,10 @@ struct OpenXrSessionOptions {
   uint32_t eye_width_px = 0;
   uint32_t eye_height_px = 0;
   bool validation = false;  // the Vulkan validation layer (vk::ContextOptions::validation)
+  // A window the session's device also presents to (a mirror, openxr_presenter.h): its instance
+  // extensions and VK_KHR_swapchain are added to what fovlab hands the runtime, and the device must
+  // present to its surface. None (the default): the create infos are the compute-only ones.
+  std::optional<vk::SurfaceRequest> present_to;
 };
 
 // One eye's swapchain and its images.

@@ -471,6 +471,16 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
     headset_options.session.eye_width_px = static_cast<uint32_t>(config.display.headset.eye_width_px);
     headset_options.session.eye_height_px = static_cast<uint32_t>(config.display.headset.eye_height_px);
     headset_options.session.validation = options.validation;
+    if (options.mirror_window) {
+      // 1:1 with the eye's pixels (the compose only scales up, by whole factors).
+      WindowPresenterOptions mirror;
+      mirror.width_px = config.display.headset.eye_width_px;
+      mirror.height_px = config.display.headset.eye_height_px;
+      mirror.title = "fovlab mirror (left eye): " + config.name;
+      mirror.validation = options.validation;
+      mirror.screenshots = false;
+      headset_options.mirror_window = mirror;
+    }
     auto opened = std::make_unique<OpenXrPresenter>(headset_options);
     headset = opened.get();
     presenter = std::move(opened);

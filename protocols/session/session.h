@@ -44,6 +44,10 @@ struct SessionOptions {
   // the log sealed) and waits this long, in seconds of the session clock, for the focus to return
   // and resume in the same run; 0: it exits at once, as a closed window does (docs/hmd.md).
   double refocus_timeout_s = 600.0;
+  // A headset session's mirror window on the desktop (--mirror-window): the left eye's image for the
+  // operator, and the keyboard beside the controller (OpenXrPresenterOptions::mirror_window,
+  // docs/hmd.md). Ignored by a window or headless session.
+  bool mirror_window = false;
 };
 
 struct SessionOutcome {
