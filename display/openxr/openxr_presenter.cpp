@@ -45,8 +45,15 @@ OpenXrSessionOptions session_options(const OpenXrPresenterOptions& options, Wind
 
 OpenXrPresenter::OpenXrPresenter(const OpenXrPresenterOptions& options)
     : mirror_(open_mirror(options)), session_(session_options(options, mirror_.get())) {
-  // The mirror holds no Vulkan object until attach(): if anything below throws, the members go in
-  // reverse order (the session's device first) and the mirror lets go of its window only.
+  // Should the constructor throw, the members go in reverse order, the session's device before the
+  // mirror: the mirror's swapchain and buffers on that device must go first.
+  struct MirrorFirst {
+    std::unique_ptr<WindowPresenter>& mirror;
+    bool constructed = false;
+    ~MirrorFirst() {
+      if (!constructed) mirror.reset();
+    }
+  } mirror_first{mirror_};
   if (mirror_) mirror_->attach(*session_.vulkan);
   input_ = std::make_unique<OpenXrInput>(session_);
   const VkDeviceSize eye_bytes = VkDeviceSize{session_.eye_width_px} * session_.eye_height_px * 4;
@@ -79,6 +86,7 @@ OpenXrPresenter::OpenXrPresenter(const OpenXrPresenterOptions& options)
   }
   presses_.clear();  // nothing pressed before the study starts counts
   focused_ = true;
+  mirror_first.constructed = true;
 }
 
 OpenXrPresenter::~OpenXrPresenter() {

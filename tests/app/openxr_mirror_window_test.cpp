@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include <GLFW/glfw3.h>
 #include <nlohmann/json.hpp>
 
 #include "display/frame_io.h"
@@ -344,7 +345,7 @@ TEST_F(HeadsetMirror, ShowsTheLeftEyeLetterboxed) {
 
   // A key in the mirror (as GLFW's key callback gives it) comes out with the controller's presses,
   // timed at the frame after which it was seen.
-  headset.mirror()->on_key(/*GLFW_KEY_D*/ 68, nullptr);
+  headset.mirror()->on_key(GLFW_KEY_D, nullptr);
   headset.wait_until(headset.now_s() + 0.02);
   const std::vector<InputEvent> keys = headset.poll_input();
   ASSERT_EQ(keys.size(), 1u);
@@ -352,6 +353,14 @@ TEST_F(HeadsetMirror, ShowsTheLeftEyeLetterboxed) {
   EXPECT_GT(keys[0].time_s, shown_s);
   EXPECT_LE(keys[0].time_s, headset.now_s());
   EXPECT_FALSE(headset.close_requested());
+
+  // The operator closes the mirror: only the mirror goes; the headset's frames and the session go on.
+  glfwSetWindowShouldClose(headset.mirror()->glfw_window(), GLFW_TRUE);
+  const double closed_s = headset.now_s();
+  headset.wait_until(closed_s + 0.05);
+  EXPECT_EQ(headset.mirror(), nullptr);
+  EXPECT_FALSE(headset.close_requested());
+  EXPECT_GT(headset.present_views(eyes), closed_s + 0.04);
   EXPECT_EQ(headset.context().validation_message_count(), 0u);
 }
 
