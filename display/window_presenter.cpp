@@ -111,7 +111,8 @@ void check_window_can_open(const std::string& flag) {
   const char* display = std::getenv("DISPLAY");
   const char* wayland = std::getenv("WAYLAND_DISPLAY");
   if ((!display || !*display) && (!wayland || !*wayland))
-    throw InputError(flag + ": cannot open a window (no display: DISPLAY is not set; run on the desktop, or under xvfb-run)");
+    throw InputError(flag +
+                     ": cannot open a window (no display: DISPLAY is not set; run on the desktop, or under xvfb-run)");
   throw InputError(flag + ": cannot open a window on display " + std::string(display ? display : wayland) + " (" +
                    glfw_error_description() + ")");
 }
@@ -434,8 +435,8 @@ double WindowPresenter::present_source(const ComposeSource& source, bool recompo
       last_present_s_ = now_s();
       return last_present_s_;
     }
-    const VkResult acquired = vkAcquireNextImageKHR(device, swapchain_, never_wait ? 0 : UINT64_MAX,
-                                                    image_available_, VK_NULL_HANDLE, &image_index);
+    const VkResult acquired = vkAcquireNextImageKHR(device, swapchain_, never_wait ? 0 : UINT64_MAX, image_available_,
+                                                    VK_NULL_HANDLE, &image_index);
     if (acquired == VK_SUCCESS) break;
     if (never_wait && (acquired == VK_NOT_READY || acquired == VK_TIMEOUT)) return now_s();
     if (acquired == VK_SUBOPTIMAL_KHR) {  // usable this time; recreated after the present
@@ -563,7 +564,9 @@ Rgba8Frame WindowPresenter::screenshot() const {
 
 void WindowPresenter::pump_events() {
   glfwPollEvents();
-  poll_gamepads();
+  // A headset's mirror takes the keyboard only: the headset's runtime gives the controllers (an
+  // Xbox controller there would otherwise answer twice, through OpenXR and through GLFW).
+  if (!options_.headset_mirror) poll_gamepads();
 }
 
 void WindowPresenter::poll_gamepads() {

@@ -71,8 +71,8 @@ struct WindowPresenterOptions {
   // headset's context (made from surface_request()), which it does not own. A present never holds
   // back the caller: MAILBOX, else IMMEDIATE, where the surface offers them (else FIFO), the image
   // acquired with timeout 0, and a frame with no image free, or a minimised window, is skipped (the
-  // window keeps its last image); no pacing to the monitor's refresh. device_selector and
-  // fullscreen are not used.
+  // window keeps its last image); no pacing to the monitor's refresh. Keys only: no gamepads (the
+  // headset's runtime has them). device_selector and fullscreen are not used.
   bool headset_mirror = false;
 };
 
@@ -86,15 +86,16 @@ class WindowPresenter final : public Presenter {
   explicit WindowPresenter(const WindowPresenterOptions& options);
   ~WindowPresenter() override;
   WindowPresenter(const WindowPresenter&) = delete;
+  WindowPresenter& operator=(const WindowPresenter&) = delete;
+
   // headset_mirror: the window system's instance extensions and the window's surface, for the
   // context that attach() will be given (vk::ContextOptions::present_to).
   vk::SurfaceRequest surface_request();
-  // headset_mirror: `context`, made from surface_request() and outliving this window's use of it
-  // (the presenter is destroyed, or detached by its destruction, first), becomes the presenting
-  // context; the swapchain is made on its surface. Throws std::logic_error when called twice or on
-  // a window that made its own context.
+  // headset_mirror: `context`, made from surface_request(), becomes the presenting context and the
+  // swapchain is made on its surface. It must outlive this presenter, whose swapchain, buffers and
+  // command buffer are on it. Throws std::logic_error when called twice or on a window that made its
+  // own context.
   void attach(vk::Context& context);
-  WindowPresenter& operator=(const WindowPresenter&) = delete;
 
   double now_s() override;
   // Any frame size works (centred, integer-scaled, letterboxed or cropped to the swapchain).

@@ -188,8 +188,9 @@ class HeadsetMirror : public HeadsetStudy {
 // The refusal is one line on stderr (the OpenXR validation layer's own line at load aside), exit 2,
 // before the participant's folder exists.
 TEST_F(HeadsetMirror, WithoutADisplayRefusesInOneLineBeforeAnyFolder) {
-  CommandResult result = run_study(write("a.toml", mirrored_study()), "DISPLAY= WAYLAND_DISPLAY=",
-                                   FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated --mirror-window");
+  CommandResult result =
+      run_study(write("a.toml", mirrored_study()), "DISPLAY= WAYLAND_DISPLAY=", FOVLAB_TEST_XR_RUNTIME_JSON,
+                " --observer simulated --mirror-window");
   const std::string layer_line = "Core Validation output type: ";
   for (size_t at; (at = result.err.find(layer_line)) != std::string::npos;)
     result.err.erase(at, result.err.find('\n', at) + 1 - at);
@@ -220,8 +221,8 @@ TEST_F(HeadsetMirror, TheEyesFramesEqualASessionWithoutIt) {
     }
     return frames;
   };
-  const std::vector<nlohmann::json> expected = frames_of(scratch_.path() / "plain" / "headset_cli" / "P01" /
-                                                         "events.jsonl");
+  const std::vector<nlohmann::json> expected =
+      frames_of(scratch_.path() / "plain" / "headset_cli" / "P01" / "events.jsonl");
   EXPECT_GE(expected.size(), 6u) << "two trials of two stimuli and an answer each";
   EXPECT_EQ(frames_of(results_ / "headset_cli" / "P01" / "events.jsonl"), expected);
 }
