@@ -204,7 +204,8 @@ std::vector<OpenXrButtonPress> OpenXrInput::sync() {
 }
 
 std::optional<OpenXrGazeRay> OpenXrInput::locate_gaze(XrTime time) {
-  if (!has_eye_gaze()) return std::nullopt;
+  // After xrEndSession (the runtime stopped the session) the specification forbids reading input.
+  if (!has_eye_gaze() || !session_.running) return std::nullopt;
   XrActionStateGetInfo get_info{XR_TYPE_ACTION_STATE_GET_INFO};
   get_info.action = gaze_action_;
   XrActionStatePose state{XR_TYPE_ACTION_STATE_POSE};

@@ -45,7 +45,8 @@ class OpenXrInput {
   std::vector<OpenXrButtonPress> sync();
 
   // The gaze at `time` (e.g. a frame's predicted display time), located in the session's VIEW space;
-  // nullopt without an eye tracker, while the gaze action is inactive (as of the last sync()), or when
+  // nullopt without an eye tracker, while the session is not running (no input may be read after
+  // xrEndSession), while the gaze action is inactive (as of the last sync()), or when
   // the runtime does not vouch for the pose (its orientation and position valid and tracked bits).
   std::optional<OpenXrGazeRay> locate_gaze(XrTime time);
 

@@ -216,19 +216,41 @@ std::optional<bool> OpenXrPresenter::last_frame_late() const {
 }
 
 bool OpenXrPresenter::may_regain_focus() const {
-  return session_.running && !session_.exiting &&
-         (session_.state == XR_SESSION_STATE_VISIBLE || session_.state == XR_SESSION_STATE_SYNCHRONIZED);
+  // Not running (STOPPING ended it, IDLE since): the runtime may offer READY again, and the session
+  // climbs back to FOCUSED as it did at the start. Only EXITING, LOSS_PENDING or an instance loss
+  // pending (session_.exiting) say it will not.
+  if (session_.exiting) return false;
+  if (!session_.running) return true;
+  return session_.state != XR_SESSION_STATE_FOCUSED;
 }
 
 bool OpenXrPresenter::wait_for_focus(const Rgba8Frame& screen, double timeout_s, const std::function<bool()>& quit) {
   const ViewFrame both{&screen, {}};
   for (uint32_t eye = 0; eye < 2; ++eye) hold(eye, both);
-  // The runtime's frames keep coming while nobody looks (a compositor with no frames shows its own
-  // "not responding" screen, and may stop the session); the timeout is counted on their clock.
-  const double until_s = now_s_ + timeout_s;
+  // While the runtime runs the session its frames keep coming though nobody looks (a compositor
+  // with no frames shows its own "not responding" screen, and may stop the session), and the wait is
+  // counted on their clock. Stopped, the session has no frame loop (xrWaitFrame is not allowed until
+  // xrBeginSession again), so the wait polls the runtime's events, counted on the wall clock, until
+  // READY (poll_openxr_events begins the session) or the end; the frames then take it to FOCUSED.
+  double waited_s = 0.0;
+  bool after_stop = false;  // the next frame is the first since the session began again
   while (may_regain_focus()) {
-    if ((quit && quit()) || now_s_ >= until_s) return false;
-    run_frame();
+    if ((quit && quit()) || waited_s >= timeout_s) return false;
+    if (session_.running) {
+      const double before_s = now_s_;
+      run_frame();
+      // The first frame after a stop is predicted past the whole stop, already counted on the wall.
+      if (!after_stop) waited_s += now_s_ - before_s;
+      after_stop = false;
+    } else {
+      const Clock::time_point idle_start = Clock::now();
+      // The specification asks an IDLE session to keep polling at a reasonable cadence; 10 ms keeps
+      // Ctrl-C and READY prompt without spinning a core.
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      follow_session_state();
+      after_stop = true;
+      waited_s += seconds_since(idle_start);
+    }
   }
   if (!session_.running || session_.exiting || session_.state != XR_SESSION_STATE_FOCUSED) return false;
   close_reason_.clear();

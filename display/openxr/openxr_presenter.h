@@ -7,10 +7,13 @@
 // eyes; stimuli (present_views) each eye its own. Answers come from the controller's actions and
 // the gaze ray from XR_EXT_eye_gaze_interaction (openxr_input.h). A session that leaves FOCUSED (the
 // headset taken off, another application in front, the runtime stopping) asks to close: the study
-// pauses, as when a window is closed. While the runtime still runs the session, wait_for_focus keeps
-// its frames coming until the focus returns, and the session goes on in the same run; otherwise
-// running it again resumes it. A mirror window (OpenXrPresenterOptions::mirror_window) shows the
-// operator the left eye and takes the keyboard beside the controller. docs/hmd.md.
+// pauses, as when a window is closed. wait_for_focus then waits for the focus to return: keeping the
+// frames coming while the runtime still runs the session, or, once the runtime has stopped it
+// (STOPPING: ended at once), polling its events until it offers READY again (begun again, then
+// frames until FOCUSED); the session then goes on in the same run. A session that is over (EXITING,
+// a loss) or a wait that runs out is resumed by running the study again. A mirror window
+// (OpenXrPresenterOptions::mirror_window) shows the operator the left eye and takes the keyboard
+// beside the controller. docs/hmd.md.
 #include <array>
 #include <functional>
 #include <memory>
@@ -77,15 +80,19 @@ class OpenXrPresenter final : public Presenter {
   std::optional<bool> last_frame_late() const override;
   bool measures_late_frames() const { return session_.convert_timespec_to_time != nullptr; }
 
-  // Whether the session left FOCUSED while the runtime still runs it (VISIBLE or SYNCHRONIZED: the
-  // headset taken off, another application in front), so that the focus may come back; false while
-  // it is focused, and once the runtime stops or loses it (STOPPING, LOSS_PENDING, EXITING).
+  // Whether the session is not FOCUSED but may be again in this run: running but unfocused (VISIBLE,
+  // SYNCHRONIZED, READY: the headset taken off, another application in front), or stopped by the
+  // runtime (ended at STOPPING, IDLE since: it may offer READY again). False while it is focused,
+  // and once it is over (EXITING, LOSS_PENDING, the instance's loss pending).
   bool may_regain_focus() const;
-  // Shows `screen` (the eye size) in both eyes and runs the runtime's frames until it focuses the
-  // session again: then the close request is withdrawn, presses made until then are dropped, and it
-  // returns true. Returns false, the close request kept, when the runtime stops or loses the
-  // session, when `timeout_s` of the session clock (the predicted display times, which follow the
-  // headset's refreshes) have passed, or when `quit()` (asked every frame) says so.
+  // Shows `screen` (the eye size) in both eyes and waits for the runtime to focus the session again:
+  // running its frames while it runs the session; while stopped, polling its events (no frame loop)
+  // until READY, when the session is begun again and its frames run on. Focused: the close request
+  // is withdrawn, presses made until then are dropped, and it returns true. Returns false, the close
+  // request kept, when the session is over (EXITING, a loss), when `timeout_s` have passed (the
+  // session clock's seconds while frames run, which follow the headset's refreshes; the wall
+  // clock's while stopped), or when `quit()` (asked every frame or poll) says so. A failing call
+  // (an instance lost) throws std::runtime_error.
   bool wait_for_focus(const Rgba8Frame& screen, double timeout_s, const std::function<bool()>& quit);
 
   // The session time of an XrTime of this runtime (a gaze sample's, a button press's).

@@ -259,9 +259,11 @@ HeadsetViews headset_views_at_start(OpenXrPresenter& headset, const StudyConfig&
   return views;
 }
 
-// Ctrl-C at the terminal while a paused headset session waits for its focus: the operator ends the
-// wait, and the run exits as a closed window's does (the log is sealed already). Only during the
-// wait: at any other time Ctrl-C stops the program as it always did.
+// Ctrl-C at the terminal while a headset session is paused (from its session_paused, through its
+// seal, to the end of the wait for the focus): the operator ends the wait, and the run exits as a
+// closed window's does, sealed (the log's last events are the pause and its seal). Installed before
+// the pause is logged, so that a Ctrl-C between the pause and its seal cannot leave the log
+// unsealed. At any other time Ctrl-C stops the program as it always did.
 volatile std::sig_atomic_t operator_quit_requested = 0;
 
 void note_operator_quit(int) { operator_quit_requested = 1; }
@@ -286,26 +288,31 @@ class OperatorQuitScope {
   bool installed_ = false;
 };
 
-// A headset session paused for a lost focus (sealed): a "Paused" screen in both eyes while the
-// runtime's frames run, until the focus returns (true: resume in this run) or the runtime stops the
-// session, options.refocus_timeout_s pass, or the operator presses Ctrl-C (false: exit, and a later
-// run resumes).
+// A headset session paused for a lost focus or the runtime's stop (sealed): a "Paused" screen in both
+// eyes while the runtime's frames run (a stopped session has none until the runtime offers READY
+// again), until the focus returns (true: resume in this run) or the runtime ends the session,
+// options.refocus_timeout_s pass, or the operator presses Ctrl-C (false: exit, and a later run
+// resumes). The caller holds an OperatorQuitScope from before the pause was logged.
 bool wait_for_refocus(OpenXrPresenter& headset, const StudyConfig& config, const SessionOptions& options) {
+  if (operator_quit_requested) {
+    std::fprintf(stderr, "fovlab: paused (%s); the run was ended at the terminal\n", headset.close_reason().c_str());
+    return false;
+  }
   if (options.refocus_timeout_s <= 0 || !headset.may_regain_focus()) return false;
   std::fprintf(stderr,
                "fovlab: paused (%s); waiting up to %.0f s for the headset to be focused again (Ctrl-C ends the "
                "run; the log is sealed, and running the same command again resumes it)\n",
                headset.close_reason().c_str(), options.refocus_timeout_s);
-  const OperatorQuitScope quit_scope;
   const Rgba8Frame screen =
       render_text_screen(config.display.width_px, config.display.height_px,
                          "Paused: put the headset back on.\n\nThe session resumes where it stopped.");
   const bool focused =
       headset.wait_for_focus(screen, options.refocus_timeout_s, [] { return operator_quit_requested != 0; });
   std::fprintf(stderr, "fovlab: %s\n",
-               focused                   ? "the headset is focused again: the session resumes"
-               : operator_quit_requested ? "the wait for the headset was ended at the terminal"
-                                         : "the headset was not focused again; the session stays paused");
+               focused                       ? "the headset is focused again: the session resumes"
+               : operator_quit_requested     ? "the wait for the headset was ended at the terminal"
+               : !headset.may_regain_focus() ? "the OpenXR runtime ended the headset session; the session stays paused"
+                                             : "the headset was not focused again; the session stays paused");
   return focused;
 }
 
@@ -686,12 +693,14 @@ SessionOutcome run_session(const StudyConfig& config, const SessionOptions& opti
   if (!schedule) schedule.emplace(plan);
   int complete_before = record ? static_cast<int>(record->trials.size()) : 0;
   for (;;) {
+    std::optional<OperatorQuitScope> operator_quit;  // a headset's pause, until its wait ends
     try {
       const bool kept = run->run_trials(schedule->next_trial, record ? record->attention_errors : 0, record.has_value(),
                                         complete_before, schedule->progress);
       outcome.finished = true;
       outcome.excluded = !kept;
     } catch (const SessionAborted& aborted) {
+      if (headset) operator_quit.emplace();
       outcome.stop_reason = aborted.reason;
       run->log(to_json(SessionPausedEvent{{}, aborted.reason}));
     }

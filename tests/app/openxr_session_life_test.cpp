@@ -1,17 +1,25 @@
 // A headset session's life at the command line (issue 42, docs/hmd.md): the focus lost and given
 // back within one run (the paused, sealed session resumes as a rerun would), the runtime stopping
-// the session (sealed, exits; the next run resumes), late frames counted in the stimulus events they
-// belong to, and a log of schema 11 (before late frames) still read and replayed. The test runtime
+// the session for good (sealed, exits; the next run resumes), the runtime stopping it and offering
+// READY again (resumed in the same run) or not within the timeout, Ctrl-C while the paused session
+// waits (sealed, exits as a closed window's run does), late frames counted in the stimulus events
+// they belong to, and a log of schema 11 (before late frames) still read and replayed. The test runtime
 // (tests/xr_runtime) runs in the child process, scripted by its FOVLAB_TEST_XR_* switches, with the
 // OpenXR core validation layer on (its file must stay empty).
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -75,7 +83,28 @@ std::vector<nlohmann::json> complete_trials(const std::vector<nlohmann::json>& e
 // session's log is: the first frame is at 0, one frame each 1/90 s.
 int64_t frame_of_present(double present_s) { return std::llround(present_s * 90.0) + 1; }
 
-using HeadsetSessionLife = test::HeadsetStudy;
+// The kinds of the log's events from its last session_paused on (empty when there is none).
+std::vector<std::string> kinds_from_last_pause(const std::vector<std::string>& kinds) {
+  const auto last = std::find(kinds.rbegin(), kinds.rend(), "session_paused");
+  return last == kinds.rend() ? std::vector<std::string>{} : std::vector<std::string>(last.base() - 1, kinds.end());
+}
+
+// The test runtime's own complaints (a call refused because the product made it in the wrong state).
+bool runtime_complained(const std::string& err) { return err.find("fovlab test runtime:") != std::string::npos; }
+
+class HeadsetSessionLife : public test::HeadsetStudy {
+ protected:
+  // The complete trials of the same participant's session run without any interruption, in a
+  // results folder of its own.
+  std::vector<nlohmann::json> uninterrupted_trials(const std::filesystem::path& config) {
+    const std::filesystem::path results = scratch_.path() / "uninterrupted";
+    const CommandResult ran =
+        cli_test::run("run " + config.string() + " --participant P01 --results " + results.string() + kSimulated,
+                      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON));
+    EXPECT_EQ(ran.exit_code, 0) << ran.err;
+    return complete_trials(read_events(results / "headset_cli" / "P01" / "events.jsonl"));
+  }
+};
 
 // The headset taken off at frame 400 and put back on at frame 700: the study pauses as before
 // (session_paused, sealed), the "Paused" screen keeps the runtime's frames coming, and when the focus
@@ -133,13 +162,7 @@ TEST_F(HeadsetSessionLife, TheFocusBackWithinTheTimeoutResumesTheSessionInTheSam
   EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
 
   // The same participant's session, never interrupted, in another results folder.
-  const std::filesystem::path uninterrupted_results = scratch_.path() / "uninterrupted";
-  const CommandResult uninterrupted = cli_test::run(
-      "run " + config.string() + " --participant P01 --results " + uninterrupted_results.string() + kSimulated,
-      child_environment(FOVLAB_TEST_XR_RUNTIME_JSON));
-  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.err;
-  const std::vector<nlohmann::json> expected =
-      complete_trials(read_events(uninterrupted_results / "headset_cli" / "P01" / "events.jsonl"));
+  const std::vector<nlohmann::json> expected = uninterrupted_trials(config);
   ASSERT_EQ(expected.size(), 2u);
   EXPECT_EQ(complete_trials(events), expected);
 }
@@ -172,6 +195,149 @@ TEST_F(HeadsetSessionLife, TheRuntimeStoppingTheSessionSealsItAndTheNextRunResum
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 1);
   const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
   EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+}
+
+// The runtime stopping the session at frame 400 as its own pause (its home screen, a proximity
+// sensor: STOPPING without EXITING) and offering READY again 30 empty polls after the product ended
+// the session: the study pauses and seals as for a lost focus, the product ends the session and
+// polls without a frame loop (the test runtime refuses xrWaitFrame, xrBeginSession and input reads in
+// the wrong state, which would fail the run), begins it again at READY, runs frames to FOCUSED and
+// resumes in the same run: one pause, one resume, the trials of an uninterrupted run, replayed to
+// their hashes.
+TEST_F(HeadsetSessionLife, TheRuntimeStoppingAndOfferingReadyAgainResumesTheSessionInTheSameRun) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const CommandResult ran =
+      run_study(config, "FOVLAB_TEST_XR_STOP_AT_FRAME=400 FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS=30",
+                FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_FALSE(runtime_complained(ran.err)) << ran.err;
+  EXPECT_NE(ran.out.find("new session, 2 of 2 trials complete"), std::string::npos) << ran.out;
+  EXPECT_EQ(ran.out.find("paused after"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.out.find("the focus was lost and came back 1 time(s)"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.err.find("waiting up to"), std::string::npos) << ran.err;
+  EXPECT_NE(ran.err.find("the headset is focused again: the session resumes"), std::string::npos) << ran.err;
+
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  const std::vector<nlohmann::json> events = read_events(log);
+  const std::vector<std::string> kinds = kinds_of(events);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_paused"), 1);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 1);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 1);
+  EXPECT_EQ(kinds.back(), "seal");
+  const size_t paused_at = static_cast<size_t>(std::find(kinds.begin(), kinds.end(), "session_paused") - kinds.begin());
+  ASSERT_LT(paused_at + 3, kinds.size());
+  EXPECT_EQ(kinds[paused_at + 1], "seal");
+  EXPECT_EQ(kinds[paused_at + 2], "session_resumed");
+  EXPECT_EQ(kinds[paused_at + 3], "instructions");
+  EXPECT_NE(events[paused_at].value("reason", "").find("stopped the headset session"), std::string::npos)
+      << events[paused_at];
+  // Stopped at frame 400: paused before it is displayed, resumed after it (the session clock goes on).
+  EXPECT_LT(events[paused_at]["t"].get<double>(), 400.0 / 90.0) << events[paused_at];
+  EXPECT_GT(events[paused_at + 2]["t"].get<double>(), events[paused_at]["t"].get<double>());
+
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+
+  const std::vector<nlohmann::json> expected = uninterrupted_trials(config);
+  ASSERT_EQ(expected.size(), 2u);
+  EXPECT_EQ(complete_trials(events), expected);
+}
+
+// The runtime stopping the session and not offering READY again within --refocus-timeout: the
+// paused, sealed session waits (polling, no frames) for the timeout, then exits as a session the
+// runtime ended does; the next run resumes it to the end.
+TEST_F(HeadsetSessionLife, TheRuntimeStoppingWithoutReadyAgainWithinTheTimeoutSealsAndTheNextRunResumes) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult stopped =
+      run_study(config, "FOVLAB_TEST_XR_STOP_AT_FRAME=400 FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS=never",
+                FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated + " --refocus-timeout 1");
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(stopped.exit_code, 0) << stopped.err;
+  EXPECT_FALSE(runtime_complained(stopped.err)) << stopped.err;
+  EXPECT_NE(stopped.out.find("paused after"), std::string::npos) << stopped.out;
+  EXPECT_NE(stopped.err.find("waiting up to 1 s"), std::string::npos) << stopped.err;
+  EXPECT_NE(stopped.err.find("the headset was not focused again; the session stays paused"), std::string::npos)
+      << stopped.err;
+  EXPECT_GE(wall_s, 1.0) << "the stopped session's wait is counted on the wall clock";
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  std::vector<nlohmann::json> events = read_events(log);
+  std::vector<std::string> kinds = kinds_of(events);
+  EXPECT_EQ(kinds_from_last_pause(kinds), (std::vector<std::string>{"session_paused", "seal"}));
+  ASSERT_GE(events.size(), 2u);
+  EXPECT_NE(events[events.size() - 2].value("reason", "").find("stopped the headset session"), std::string::npos)
+      << events[events.size() - 2];
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 0);
+
+  const CommandResult resumed = run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resumed, 2 of 2 trials complete"), std::string::npos) << resumed.out;
+  kinds = kinds_of(read_events(log));
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 1);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 1);
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+}
+
+// Ctrl-C at the terminal while the paused session waits for a focus that does not come (taken off
+// at frame 400, never put back on; the default --refocus-timeout of 10 minutes): SIGINT is sent to
+// the `fovlab run` process as soon as its log shows session_paused. The run ends as a run whose
+// window was closed does (exit 0, "paused after", the log ending in the pause and its seal, intact),
+// and the next run resumes it to the end, replayed to its hashes.
+TEST_F(HeadsetSessionLife, CtrlCWhileThePausedSessionWaitsEndsTheRunSealedAndTheNextRunResumes) {
+  const std::filesystem::path config = write("a.toml", test::headset_study(test::kEyesAtDistance));
+  const std::filesystem::path log = results_ / "headset_cli" / "P01" / "events.jsonl";
+  const std::filesystem::path out = scratch_.path() / "run.out", err = scratch_.path() / "run.err";
+  // `exec`: the shell becomes env, which becomes fovlab, so the child's pid is fovlab's and SIGINT
+  // reaches it alone (a foreground command, so SIGINT is not ignored as in a background job).
+  const std::string command = "exec " + child_environment(FOVLAB_TEST_XR_RUNTIME_JSON) +
+                              " FOVLAB_TEST_XR_UNFOCUS_AT_FRAME=400 " + FOVLAB_BINARY + " run " + config.string() +
+                              " --participant P01 --results " + results_.string() + kSimulated + " >" + out.string() +
+                              " 2>" + err.string();
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  bool paused = false;
+  int status = 0;
+  bool exited = false;
+  for (int waited_ms = 0; waited_ms < 180000 && !paused; waited_ms += 20) {
+    if (waitpid(child, &status, WNOHANG) == child) {
+      exited = true;
+      break;
+    }
+    paused = cli_test::read_all(log).find("\"session_paused\"") != std::string::npos;
+    if (!paused) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (paused) kill(child, SIGINT);
+  if (!exited) {
+    if (!paused) kill(child, SIGKILL);  // never paused: do not leave it running
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+  }
+  ASSERT_TRUE(paused) << "no session_paused in the log; stderr: " << cli_test::read_all(err);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0)
+                                 << "; stderr: " << cli_test::read_all(err);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << cli_test::read_all(err);
+  const std::string printed = cli_test::read_all(out), complained = cli_test::read_all(err);
+  EXPECT_NE(printed.find("paused after"), std::string::npos) << printed;
+  EXPECT_NE(complained.find("ended at the terminal"), std::string::npos) << complained;
+  EXPECT_FALSE(runtime_complained(complained)) << complained;
+  const std::vector<nlohmann::json> events = read_events(log);  // each line parses: none torn
+  const std::vector<std::string> kinds = kinds_of(events);
+  EXPECT_EQ(kinds_from_last_pause(kinds), (std::vector<std::string>{"session_paused", "seal"}));
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 0);
+
+  const CommandResult resumed = run_study(config, "", FOVLAB_TEST_XR_RUNTIME_JSON, kSimulated);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resumed, 2 of 2 trials complete"), std::string::npos) << resumed.out;
+  EXPECT_EQ(resumed.err.find("torn"), std::string::npos) << resumed.err;
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
 }
 
 // The test runtime makes every 4th of the first 300 frames late (FOVLAB_TEST_XR_LATE_AT_FRAMES: its

@@ -9,6 +9,7 @@
 // were suggested for /interaction_profiles/ext/eye_gaze_interaction.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
@@ -20,6 +21,16 @@
 
 namespace fovlab::test_xr {
 namespace {
+
+// The specification: after xrEndSession "the application must also avoid reading input state". A
+// runtime need not check it, but an application that does it anyway may read nothing, or crash a
+// runtime that has released its trackers; this one refuses it, so the mistake fails a test. Hold the
+// table's mutex.
+XrResult refuse_input_after_end(const SessionObject& session, const char* call) {
+  if (!session.ended) return XR_SUCCESS;
+  std::fprintf(stderr, "fovlab test runtime: %s after xrEndSession: the application must not read input then\n", call);
+  return XR_ERROR_VALIDATION_FAILURE;
+}
 
 constexpr std::string_view kEyeGazeProfile = "/interaction_profiles/ext/eye_gaze_interaction";
 constexpr std::string_view kEyeGazePose = "/user/eyes_ext/input/gaze_ext/pose";
@@ -436,6 +447,7 @@ XrResult XRAPI_CALL sync_actions(XrSession session, const XrActionsSyncInfo* syn
   std::lock_guard lock(table.mutex);
   SessionObject* object = find_object<SessionObject>(table, handle_value(session));
   if (object == nullptr) return XR_ERROR_HANDLE_INVALID;
+  if (const XrResult result = refuse_input_after_end(*object, "xrSyncActions"); XR_FAILED(result)) return result;
   const InstanceObject* instance = instance_of(table, handle_value(session));
   if (sync_info == nullptr || sync_info->type != XR_TYPE_ACTIONS_SYNC_INFO ||
       (sync_info->countActiveActionSets != 0 && sync_info->activeActionSets == nullptr))
@@ -505,7 +517,10 @@ XrResult XRAPI_CALL get_action_state_boolean(XrSession session, const XrActionSt
                                              XrActionStateBoolean* state) {
   HandleTable& table = handle_table();
   std::lock_guard lock(table.mutex);
-  if (find_object<SessionObject>(table, handle_value(session)) == nullptr) return XR_ERROR_HANDLE_INVALID;
+  const SessionObject* object = find_object<SessionObject>(table, handle_value(session));
+  if (object == nullptr) return XR_ERROR_HANDLE_INVALID;
+  if (const XrResult result = refuse_input_after_end(*object, "xrGetActionStateBoolean"); XR_FAILED(result))
+    return result;
   if (state == nullptr || state->type != XR_TYPE_ACTION_STATE_BOOLEAN) return XR_ERROR_VALIDATION_FAILURE;
   const ActionState* found = nullptr;
   if (const XrResult result =
@@ -523,7 +538,9 @@ XrResult XRAPI_CALL get_action_state_pose(XrSession session, const XrActionState
                                           XrActionStatePose* state) {
   HandleTable& table = handle_table();
   std::lock_guard lock(table.mutex);
-  if (find_object<SessionObject>(table, handle_value(session)) == nullptr) return XR_ERROR_HANDLE_INVALID;
+  const SessionObject* object = find_object<SessionObject>(table, handle_value(session));
+  if (object == nullptr) return XR_ERROR_HANDLE_INVALID;
+  if (const XrResult result = refuse_input_after_end(*object, "xrGetActionStatePose"); XR_FAILED(result)) return result;
   if (state == nullptr || state->type != XR_TYPE_ACTION_STATE_POSE) return XR_ERROR_VALIDATION_FAILURE;
   const ActionState* found = nullptr;
   if (const XrResult result =

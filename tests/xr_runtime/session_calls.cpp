@@ -9,8 +9,13 @@
 // xrRequestExitSession queues the way down to STOPPING (VISIBLE, SYNCHRONIZED, STOPPING); xrEndSession
 // then queues IDLE and EXITING. FOVLAB_TEST_XR_STOP_AT_FRAME=N: at the Nth xrWaitFrame the runtime
 // itself queues the way down to STOPPING, as a runtime shutting down; the application must end the
-// session, and xrEndSession then queues IDLE and EXITING. A call that needs a state checks the one
-// the application has been handed.
+// session, and xrEndSession then queues IDLE and EXITING. With FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS=K
+// that stop is not a shutdown but a pause of the runtime's own (its home screen, a proximity
+// sensor): xrEndSession queues IDLE only, and once the application has been handed it, its Kth
+// xrPollEvent with nothing to hand out queues READY again, from which the session begins and climbs
+// to FOCUSED as at the start; "never" leaves it IDLE. A call that needs a state checks the one the
+// application has been handed; reading input after xrEndSession, which the specification forbids,
+// is refused (action_calls.cpp).
 //
 // The virtual clock and XR_KHR_convert_timespec_time: frame n is predicted for start + n / 90 s
 // whatever the wall clock does, so "now" cannot be the wall clock's. The runtime pins the clock at
@@ -63,6 +68,29 @@ bool read_late_frames(std::vector<int64_t>& frames) {
     frames.push_back(frame);
     text = comma == std::string_view::npos ? std::string_view() : text.substr(comma + 1);
   }
+  return true;
+}
+
+// FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS: a count >= 1 or "never" (kNeverReadyAgain); unset, 0. False,
+// with the reason on stderr, when it is malformed.
+bool read_ready_again(int64_t& polls) {
+  const char* setting = std::getenv("FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS");
+  polls = 0;
+  if (setting == nullptr) return true;
+  if (std::string_view(setting) == "never") {
+    polls = kNeverReadyAgain;
+    return true;
+  }
+  char* end = nullptr;
+  const long long count = std::strtoll(setting, &end, 10);
+  if (*setting == '\0' || *end != '\0' || count < 1) {
+    std::fprintf(stderr,
+                 "fovlab test runtime: FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS: expected a count >= 1 or \"never\", "
+                 "got \"%s\"\n",
+                 setting);
+    return false;
+  }
+  polls = count;
   return true;
 }
 
@@ -239,7 +267,9 @@ XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessionCreateInf
   SessionObject made;
   // The scripted controller and gaze: a test that names a malformed script learns it here, not by
   // presses that never come.
-  if (!read_simulated_input(made.input) || !read_late_frames(made.late_frames)) return XR_ERROR_RUNTIME_FAILURE;
+  if (!read_simulated_input(made.input) || !read_late_frames(made.late_frames) ||
+      !read_ready_again(made.ready_again_after_polls))
+    return XR_ERROR_RUNTIME_FAILURE;
   if (const XrResult result = bind_session_vulkan(object->vulkan, *binding, made.vulkan); XR_FAILED(result))
     return result;
   made.start_time = monotonic_now_ns();
@@ -266,7 +296,16 @@ XrResult XRAPI_CALL poll_event(XrInstance instance, XrEventDataBuffer* event) {
   InstanceObject* object = find_object<InstanceObject>(table, handle_value(instance));
   if (object == nullptr) return XR_ERROR_HANDLE_INVALID;
   if (event == nullptr || event->type != XR_TYPE_EVENT_DATA_BUFFER) return XR_ERROR_VALIDATION_FAILURE;
-  if (object->events.empty()) return XR_EVENT_UNAVAILABLE;
+  if (object->events.empty()) {
+    // A stopped session's wait for READY counts the polls that found nothing (the application keeps
+    // polling while IDLE, as the specification asks).
+    if (SessionObject* session = find_object<SessionObject>(table, object->session);
+        session != nullptr && session->idle_polls_left > 0 && --session->idle_polls_left == 0) {
+      session->idle_polls_left = -1;
+      queue_state(table, object->session, XR_SESSION_STATE_READY);
+    }
+    return XR_EVENT_UNAVAILABLE;
+  }
   const QueuedStateChange change = object->events.front();
   object->events.pop_front();
   if (SessionObject* session = find_object<SessionObject>(table, change.session)) session->state = change.state;
@@ -291,6 +330,7 @@ XrResult XRAPI_CALL begin_session(XrSession session, const XrSessionBeginInfo* b
   if (object->running) return XR_ERROR_SESSION_RUNNING;
   if (object->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
   object->running = true;
+  object->ended = false;
   return XR_SUCCESS;
 }
 
@@ -302,8 +342,15 @@ XrResult XRAPI_CALL end_session(XrSession session) {
   if (!object->running) return XR_ERROR_SESSION_NOT_RUNNING;
   if (object->state != XR_SESSION_STATE_STOPPING) return XR_ERROR_SESSION_NOT_STOPPING;
   object->running = false;
+  object->ended = true;
   object->frame_waited = object->frame_begun = false;
   queue_state(table, handle_value(session), XR_SESSION_STATE_IDLE);
+  // The runtime's own stop, scripted to offer READY again (or never): no EXITING; the session waits IDLE.
+  if (object->shutting_down && !object->exit_requested && object->ready_again_after_polls != 0) {
+    object->shutting_down = false;
+    object->idle_polls_left = object->ready_again_after_polls;  // kNeverReadyAgain: never counts down
+    return XR_SUCCESS;
+  }
   if (object->exit_requested || object->shutting_down)
     queue_state(table, handle_value(session), XR_SESSION_STATE_EXITING);
   return XR_SUCCESS;

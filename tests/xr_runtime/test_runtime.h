@@ -166,6 +166,7 @@ struct SessionObject {
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;         // as the application has seen it (xrPollEvent)
   XrSessionState queued_state = XR_SESSION_STATE_UNKNOWN;  // the last one queued
   bool running = false;                                    // between xrBeginSession and xrEndSession
+  bool ended = false;                                      // after xrEndSession, until xrBeginSession
   bool exit_requested = false;
   XrTime start_time = 0;      // the virtual clock's origin
   int64_t waited_frames = 0;  // xrWaitFrame calls so far
@@ -178,7 +179,15 @@ struct SessionObject {
   std::vector<std::pair<XrTime, XrTime>> clock_pins;
   std::vector<int64_t> late_frames;  // FOVLAB_TEST_XR_LATE_AT_FRAMES, read at xrCreateSession
   bool shutting_down = false;        // FOVLAB_TEST_XR_STOP_AT_FRAME: EXITING follows xrEndSession
+  // FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS, read at xrCreateSession: 0 when unset (a stop is a
+  // shutdown, EXITING follows xrEndSession), kNeverReadyAgain for "never" (the session stays IDLE),
+  // else the empty xrPollEvent calls after the stop's IDLE was handed out before READY is queued.
+  int64_t ready_again_after_polls = 0;
+  int64_t idle_polls_left = -1;  // counting down to READY after a stop's xrEndSession; -1: not counting
 };
+
+// FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS=never: stopped, the session is never offered READY again.
+inline constexpr int64_t kNeverReadyAgain = -1;
 
 struct SpaceObject {
   XrReferenceSpaceType type = XR_REFERENCE_SPACE_TYPE_VIEW;

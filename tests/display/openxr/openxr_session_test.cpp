@@ -6,6 +6,7 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,7 @@
 #include "renderer/present/device_frame.h"
 #include "renderer/scene/scene_source.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "renderer/vk/buffer.h"
 #include "tests/display/openxr/openxr_test_support.h"
 
 namespace fovlab {
@@ -359,6 +361,87 @@ TEST_F(OpenXrHeadsetSession, CallsOutOfOrderAreRefused) {
   EXPECT_EQ(xrBeginFrame(session.session, nullptr), XR_FRAME_DISCARDED);
   end_info.displayTime = frame_state.predictedDisplayTime;
   EXPECT_EQ(xrEndFrame(session.session, &end_info), XR_SUCCESS);
+  EXPECT_EQ(session.vulkan->validation_message_count(), 0u);
+}
+
+// The runtime's own stop (STOPPING without EXITING: FOVLAB_TEST_XR_STOP_AT_FRAME with
+// FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS): poll_openxr_events ends the session at once and it is
+// IDLE; the frame loop, a second xrEndSession, an exit request and an early xrBeginSession are then
+// refused as the specification says; the runtime offers READY after its polls, poll_openxr_events
+// begins the session again, and the same swapchains take it back to FOCUSED, a layer submitted.
+TEST_F(OpenXrHeadsetSession, TheRuntimesOwnStopEndsTheSessionAndReadyAgainBeginsIt) {
+  const ScopedEnvironment stop_at{"FOVLAB_TEST_XR_STOP_AT_FRAME", "5"};
+  const ScopedEnvironment ready_again{"FOVLAB_TEST_XR_READY_AGAIN_AFTER_POLLS", "3"};
+  OpenXrSessionOptions options;
+  options.eye_width_px = 16;
+  options.eye_height_px = 16;
+  options.validation = true;
+  OpenXrSession session(options);
+  vk::Buffer grey(*session.vulkan, VkDeviceSize{16} * 16 * 4, vk::MemoryUse::host_upload);
+  auto* pixels = static_cast<uint32_t*>(grey.mapped());
+  std::fill(pixels, pixels + 16 * 16, 0xff808080u);
+  grey.flush();
+  const OpenXrEyeFrameSource eye_frame = [&](uint32_t, const OpenXrEyeView&) {
+    return DeviceRgba8Frame{session.vulkan.get(), grey.handle(), 16, 16};
+  };
+
+  poll_openxr_events(session);  // IDLE, READY: begun
+  ASSERT_TRUE(session.running);
+  std::vector<XrSessionState> seen;
+  for (int frame = 1; frame <= 5; ++frame) {
+    ASSERT_TRUE(session.running) << "stopped before frame " << frame;
+    run_openxr_frame(session, eye_frame);
+    const std::vector<XrSessionState> more = poll_openxr_events(session);
+    seen.insert(seen.end(), more.begin(), more.end());
+  }
+  const std::vector<std::string> to_stop{"XR_SESSION_STATE_SYNCHRONIZED", "XR_SESSION_STATE_VISIBLE",
+                                         "XR_SESSION_STATE_FOCUSED",      "XR_SESSION_STATE_VISIBLE",
+                                         "XR_SESSION_STATE_SYNCHRONIZED", "XR_SESSION_STATE_STOPPING",
+                                         "XR_SESSION_STATE_IDLE"};
+  ASSERT_EQ(names(seen), to_stop);
+  EXPECT_FALSE(session.running) << "STOPPING ends the session";
+  EXPECT_FALSE(session.exiting) << "a stop is not the end";
+
+  XrFrameState frame_state{XR_TYPE_FRAME_STATE};
+  EXPECT_EQ(xrWaitFrame(session.session, nullptr, &frame_state), XR_ERROR_SESSION_NOT_RUNNING);
+  EXPECT_EQ(xrBeginFrame(session.session, nullptr), XR_ERROR_SESSION_NOT_RUNNING);
+  EXPECT_EQ(xrEndSession(session.session), XR_ERROR_SESSION_NOT_RUNNING);
+  EXPECT_EQ(xrRequestExitSession(session.session), XR_ERROR_SESSION_NOT_RUNNING);
+  XrSessionBeginInfo begin{XR_TYPE_SESSION_BEGIN_INFO};
+  begin.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+  EXPECT_EQ(xrBeginSession(session.session, &begin), XR_ERROR_SESSION_NOT_READY);
+
+  // The poll that handed out IDLE found nothing after it (1); two more polls find nothing (2, 3:
+  // READY queued), and the next hands READY out, which begins the session.
+  std::vector<XrSessionState> again;
+  int polls = 0;
+  while (!session.running && polls < 10) {
+    const std::vector<XrSessionState> more = poll_openxr_events(session);
+    again.insert(again.end(), more.begin(), more.end());
+    ++polls;
+  }
+  EXPECT_EQ(polls, 3);
+  ASSERT_EQ(names(again), std::vector<std::string>{"XR_SESSION_STATE_READY"});
+  ASSERT_TRUE(session.running);
+  EXPECT_EQ(xrBeginSession(session.session, &begin), XR_ERROR_SESSION_RUNNING);
+
+  std::vector<XrSessionState> to_focus;
+  for (int frame = 0; frame < 5 && session.state != XR_SESSION_STATE_FOCUSED; ++frame) {
+    run_openxr_frame(session, eye_frame);
+    const std::vector<XrSessionState> more = poll_openxr_events(session);
+    to_focus.insert(to_focus.end(), more.begin(), more.end());
+  }
+  EXPECT_EQ(names(to_focus), (std::vector<std::string>{"XR_SESSION_STATE_SYNCHRONIZED", "XR_SESSION_STATE_VISIBLE",
+                                                       "XR_SESSION_STATE_FOCUSED"}));
+  EXPECT_TRUE(run_openxr_frame(session, eye_frame).rendered) << "the kept swapchains show the eyes again";
+
+  request_openxr_exit(session);
+  for (int frame = 0; frame < 5 && session.running; ++frame) {
+    run_openxr_frame(session, eye_frame);
+    poll_openxr_events(session);
+  }
+  EXPECT_FALSE(session.running);
+  EXPECT_TRUE(session.exiting) << "an exit the application asked for ends in EXITING";
   EXPECT_EQ(session.vulkan->validation_message_count(), 0u);
 }
 
