@@ -167,6 +167,45 @@ std::string eye_text(const std::optional<std::array<double, 4>>& fov_deg, const 
          " px/deg";
 }
 
+// "1.25% (3 of 240)": a count of a headset session's gaze refreshes as a share of them.
+std::string gaze_share_text(const HeadsetSummary& headset, int64_t refreshes) {
+  const std::optional<double> share = gaze_refresh_share(headset, refreshes);
+  if (!share) return "no refreshes";
+  return format_number(100.0 * *share, 3) + "% (" + std::to_string(refreshes) + " of " +
+         std::to_string(headset.gaze_refreshes) + ")";
+}
+
+// Each headset session's gaze quality, a row an eye: what the log marks for the left eye's pixel
+// (invalid_gaze), and for the right eye only what follows from it.
+std::string html_headset_gaze(const AnalysisResult& result) {
+  std::vector<std::vector<std::string>> rows;
+  for (const ParticipantRow& p : result.participants) {
+    if (!p.headset) continue;
+    const HeadsetSummary& headset = *p.headset;
+    const std::string session = p.participant + (p.excluded ? " (excluded)" : "");
+    const std::string invalid = gaze_share_text(headset, headset.gaze_invalid_other);
+    const std::string unusable = gaze_share_text(headset, headset.gaze_invalid_other + headset.gaze_off_left_image);
+    const std::string latency = p.latency_recorded ? html_number(p.latency.median_ms) + " (both eyes)" : "not recorded";
+    rows.push_back(
+        {session, "left", invalid, gaze_share_text(headset, headset.gaze_off_left_image), unusable, latency});
+    rows.push_back({session, "right", invalid, "not logged",
+                    headset.gaze_refreshes > 0 ? "at least " + unusable : unusable, latency});
+  }
+  if (rows.empty()) return {};
+  std::string html =
+      "<p>Gaze per eye, over the refreshes of the complete trials' stimuli: invalid is a refresh whose gaze sample "
+      "was none, not tracked or not finite (one combined gaze ray, so both eyes alike); off the image is a "
+      "refresh whose pixel fell outside that eye's image. Such a refresh is shown with the eye's last usable "
+      "gaze. The session makes the right eye's pixel from the left eye's, so every refresh without a usable left "
+      "pixel has none in the right eye either; the log marks invalid gaze for the left eye only (invalid_gaze), "
+      "so the refreshes where only the right eye's pixel fell off its image are not known, and the right eye's "
+      "share is a lower bound.</p>\n";
+  html += html_table({"session", "eye", "gaze invalid (no sample, not tracked)", "gaze off the eye's image",
+                      "invalid or off the image", "gaze-to-present ms, median"},
+                     rows);
+  return html;
+}
+
 // The headset section, for studies with headset sessions: each session's runtime and eyes beside
 // the frame timing and gaze figures, which a headset gives once for both eyes.
 std::string html_headset(const AnalysisResult& result) {
@@ -206,7 +245,7 @@ std::string html_headset(const AnalysisResult& result) {
                   "present clock", "refresh intervals (both eyes)", "dropped frames", "frames ended late",
                   "gaze-to-present ms, median / p95", "eye-tracker checks passed / tried; accuracy (worst), precision"},
                  rows);
-  return html;
+  return html + html_headset_gaze(result);
 }
 
 // The Headline section, first on the page: one row a group, the value only when it is one.

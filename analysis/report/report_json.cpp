@@ -110,9 +110,20 @@ json latency_json(const ParticipantRow& participant) {
 
 // A headset session's eyes (only for one): as its log header gave them, angles in degrees.
 json headset_json(const HeadsetSummary& headset) {
+  // Each eye's gaze quality: the shares of refreshes whose one gaze sample was invalid (no sample,
+  // not tracked: both eyes alike) and whose pixel fell off that eye's image; the right eye's own
+  // off-image refreshes are not logged (its pixel is made from the left's and logged substituted),
+  // so its share is null.
+  const json invalid_share = json_number(gaze_refresh_share(headset, headset.gaze_invalid_other));
+  const std::array<json, 2> off_image_share = {json_number(gaze_refresh_share(headset, headset.gaze_off_left_image)),
+                                               json(nullptr)};
   json eyes = json::array();
-  for (const std::optional<std::array<double, 4>>& fov : headset.fov_deg)
-    eyes.push_back(fov ? json{{"fov_deg", *fov}} : json{{"fov_deg", nullptr}});
+  for (size_t eye = 0; eye < 2; ++eye) {
+    const std::optional<std::array<double, 4>>& fov = headset.fov_deg[eye];
+    eyes.push_back({{"fov_deg", fov ? json(*fov) : json(nullptr)},
+                    {"gaze_invalid_share", invalid_share},
+                    {"gaze_off_image_share", off_image_share[eye]}});
+  }
   return {{"runtime", headset.runtime},
           {"eye_width_px", headset.eye_width_px},
           {"eye_height_px", headset.eye_height_px},
@@ -120,7 +131,8 @@ json headset_json(const HeadsetSummary& headset) {
           {"gaze_fixation", headset.gaze_fixation},
           {"fixation_distance_mm", json_number(headset.fixation_distance_mm)},
           {"eyes", eyes},
-          {"late_frames", headset.late_frames ? json(*headset.late_frames) : json(nullptr)}};  // null: not measured
+          {"late_frames", headset.late_frames ? json(*headset.late_frames) : json(nullptr)},  // null: not measured
+          {"gaze_refreshes", headset.gaze_refreshes}};
 }
 
 json thresholds_json(const AnalysisResult& result) {

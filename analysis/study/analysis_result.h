@@ -106,7 +106,22 @@ struct HeadsetSummary {
   // display time (the stimulus events' late_frames, schema 12); nullopt: the log measured none (a
   // runtime without XR_KHR_convert_timespec_time, or schema 11).
   std::optional<int64_t> late_frames;
+  // The gaze of the complete trials' refreshes (the scan's, session_scan.h): how many refreshes,
+  // and how many the log marks invalid, off the left eye's image or for another reason (no sample,
+  // not tracked). One combined gaze places both eyes' pixels and the right eye's is made from the
+  // left's, so an invalid left gaze is invalid in the right eye too; the right eye's own off-image
+  // refreshes are not logged (no share for them).
+  int64_t gaze_refreshes = 0;
+  int64_t gaze_off_left_image = 0;
+  int64_t gaze_invalid_other = 0;
 };
+
+// `refreshes` as a share of the headset session's gaze refreshes, in [0, 1]; nullopt when it had
+// none (not measured, not 0).
+inline std::optional<double> gaze_refresh_share(const HeadsetSummary& headset, int64_t refreshes) {
+  if (headset.gaze_refreshes <= 0) return std::nullopt;
+  return static_cast<double>(refreshes) / static_cast<double>(headset.gaze_refreshes);
+}
 
 struct ParticipantRow {
   std::string participant;

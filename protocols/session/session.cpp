@@ -172,22 +172,13 @@ std::string join(const std::vector<std::string>& items, const std::string& separ
 }
 
 // What a headset session cannot do yet (issue 42, docs/hmd.md), refused before anything is opened
-// or written: head-tracked views of stimuli that cannot be rendered anew from each refresh's head
-// pose (pre-rendered path-traced frames and images are made for one view); and the gaze resting on
-// the rendered depth of stimuli that show no surface (volume, fvolume: their rays pass through a
-// medium; the config cannot give a fixation distance beside rendered-depth, so they are refused
-// rather than given one).
+// or written: the gaze resting on the rendered depth of stimuli that show no surface (volume,
+// fvolume: their rays pass through a medium; the config cannot give a fixation distance beside
+// rendered-depth, so they are refused rather than given one). Head-tracked views of stimuli made
+// ahead for one view are refused where the config is read (study_config.cpp), for every command.
 void check_headset_session_buildable(const StudyConfig& config, const StudyPlan& plan) {
   const HeadsetDisplayConfig& headset = config.display.headset;
   const std::string& path = config.source_path;
-  if (headset.view_model == HeadsetViewModel::head_tracked)
-    for (const PlannedStimulus& stimulus : plan.stimuli) {
-      const StimulusFamily family = stimulus_family(stimulus.spec.method());
-      if (family == StimulusFamily::sphere_traced || family == StimulusFamily::volume) continue;
-      throw InputError(path + ": display.view_model: \"head-tracked\" renders every refresh anew from the head's pose, "
-                       "and method " + std::string(describe(stimulus.spec.method()).name) + " (" +
-                       stimulus_family_name(family) + ") shows frames made ahead for one view; run it \"head-locked\"");
-    }
   if (headset.gaze_fixation != GazeFixation::rendered_depth) return;
   for (const PlannedStimulus& stimulus : plan.stimuli) {
     const StimulusFamily family = stimulus_family(stimulus.spec.method());

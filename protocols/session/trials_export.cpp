@@ -45,6 +45,11 @@ const char* const columns[] = {
     "track", "track_procedure", "track_kind",
     // The session's gaze source kind (several runs, several kinds: "tracker+mouse").
     "gaze_source"};
+// After the [participant] fields' columns, so that no earlier column moves: a headset trial's
+// refreshes ended after their predicted display time (its stimulus events' late_frames, summed);
+// empty where the session did not measure them (a desktop session, a runtime without
+// XR_KHR_convert_timespec_time).
+const char* const last_columns[] = {"late_frames"};
 
 const char* const step_columns[] = {"study", "participant", "observer",       "protocol", "trial",
                                     "step",  "level",       "previous_level", "answer",   "key",
@@ -141,6 +146,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
   std::ostringstream csv, steps;
   std::vector<std::string> header_row(std::begin(columns), std::end(columns));
   for (const std::string& name : field_names) header_row.push_back("field_" + name);
+  header_row.insert(header_row.end(), std::begin(last_columns), std::end(last_columns));
   csv << csv_line(header_row);
   steps << csv_line(std::vector<std::string>(std::begin(step_columns), std::end(step_columns)));
   for (size_t log_index = 0; log_index < log_paths.size(); ++log_index) {
@@ -190,11 +196,14 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
         answer = response.answer;
         key = response.key;
       }
-      nlohmann::json rt, saved_level, onset, dropped = 0;
+      nlohmann::json rt, saved_level, onset, dropped = 0, late;
       if (trial.responses.size() == 1) rt = optional_json(trial.responses.front().rt_s);
       for (const SliderSavedEvent& saved : trial.slider_saved) saved_level = optional_json(saved.level);
       if (!trial.stimuli.empty()) onset = trial.stimuli.front().onset_s;
-      for (const StimulusEvent& shown : trial.stimuli) dropped = dropped.get<int>() + shown.dropped_frames;
+      for (const StimulusEvent& shown : trial.stimuli) {
+        dropped = dropped.get<int>() + shown.dropped_frames;
+        if (shown.late_frames) late = late.is_null() ? *shown.late_frames : late.get<int>() + *shown.late_frames;
+      }
       const int block = start.block;
       const auto block_info = blocks.count(block) ? blocks[block] : std::pair<std::string, std::string>();
       const std::string attention_correct =
@@ -241,6 +250,7 @@ ExportedCsv export_checked(const std::vector<std::string>& log_paths, const Expo
           gaze_source.empty() ? "not recorded" : gaze_source};
       std::vector<std::string> row = cells;
       row.insert(row.end(), field_cells.begin(), field_cells.end());
+      row.push_back(number_cell(late));  // last_columns
       csv << csv_line(row);
 
       // Ramp steps and slider actions, one row an answer. A ramp's step s shows sequence[s] after

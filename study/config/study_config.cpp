@@ -129,6 +129,26 @@ std::string canonical_config_content(const toml::table& root) {
 
 namespace {
 
+// A head-tracked headset renders each refresh anew from the head's pose; pre-rendered path-traced
+// frames and images were made ahead for one view and cannot follow it (issue 42, docs/hmd.md). The
+// scene kind is the reference's (the test's is checked to match), so the reference names the method.
+// Checked here, where every command reads its config, so validate, simulate, prerender and bench
+// refuse what run would.
+void check_head_tracked_scene_kind(const StudyConfig& config) {
+  if (config.display.kind != DisplayKind::openxr || config.display.headset.view_model != HeadsetViewModel::head_tracked)
+    return;
+  const MethodDescriptor& reference = describe(config.stimulus.reference.method);
+  const char* frames_made_ahead = reference.scene_kind == SceneKind::path_traced      ? "path-traced"
+                                  : reference.scene_kind == SceneKind::image_sequence ? "image-sequence"
+                                                                                      : nullptr;
+  if (!frames_made_ahead) return;  // sphere-traced and volume stimuli render from any view
+  throw InputError(config.source_path +
+                   ": display.view_model: \"head-tracked\" renders every refresh anew from the "
+                   "head's pose, and method " +
+                   std::string(reference.name) + " (" + frames_made_ahead +
+                   ") shows frames made ahead for one view; run it \"head-locked\"");
+}
+
 StudyConfig parse_config(const std::string& text, const std::string& path, const Reading& reading) {
   // The guards in front of toml++, here so that configs from files and from session logs' headers
   // (replay, analyze) pass the same ones.
@@ -226,6 +246,7 @@ StudyConfig parse_config(const std::string& text, const std::string& path, const
                             ") like the reference's \"" + std::string(describe(config.stimulus.reference.method).name) +
                             "\" (both render the same scene), got \"" + std::string(test.name) + "\"");
   }
+  check_head_tracked_scene_kind(config);
   if (const toml::table* practice = fields.optional_table("practice")) {
     const TomlFields practice_fields(*practice, path, "practice");
     read_practice(practice_fields, config, reading, scene_kind);

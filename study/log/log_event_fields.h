@@ -180,16 +180,10 @@ constexpr auto fields(Of<InvalidGaze>) {
 constexpr auto fields(Of<StimulusEvent>) {
   using E = StimulusEvent;
   return std::tuple{
-      typed(k::trial, &E::trial),
-      typed(k::step, &E::step),
-      field(k::stimulus, &E::stimulus),
-      field(k::onset_s, &E::onset_s),
-      kept(k::present_s, &E::present_s),  // the scan's frame intervals
-      field(k::frame, &E::frame),
-      field(k::hash, &E::hash),
-      field(k::gaze, &E::gaze),
-      field(k::invalid_gaze, &E::invalid_gaze),
-      typed(k::dropped_frames, &E::dropped_frames),
+      typed(k::trial, &E::trial), typed(k::step, &E::step), field(k::stimulus, &E::stimulus),
+      field(k::onset_s, &E::onset_s), kept(k::present_s, &E::present_s),  // the scan's frame intervals
+      field(k::frame, &E::frame), field(k::hash, &E::hash), field(k::gaze, &E::gaze),
+      kept(k::invalid_gaze, &E::invalid_gaze), typed(k::dropped_frames, &E::dropped_frames),
       // Schema 3 (absent in older logs).
       typed<Read::when_given>(k::gaze_acquired_s, &E::gaze_acquired_s, Write::when_set),
       typed<Read::when_given>(k::gaze_age_s, &E::gaze_age_s, Write::when_set),
@@ -304,6 +298,7 @@ enum class LineType {
   small_int_array,       // an array of 32-bit integers
   number_or_null_array,  // an array of numbers or nulls
   numbers_lenient,       // Scan::kept: an array of numbers, anything else left at the default
+  invalid_gaze_lenient,  // Scan::kept: an array of {i, reason} objects, anything else left at the default
 };
 
 template <typename T>
@@ -324,13 +319,14 @@ template <>
 struct LineTypeOf<std::optional<std::vector<std::optional<double>>>>
     : std::integral_constant<LineType, LineType::number_or_null_array> {};
 
-// The line type of a row the scan reads (Scan::typed: by its member's type; Scan::kept: only a
-// std::vector<double> so far), or nullopt for a member type no scanned row may have.
+// The line type of a row the scan reads (Scan::typed: by its member's type; Scan::kept: a
+// std::vector<double> or the invalid gaze marks), or nullopt for a member type no scanned row may have.
 template <typename Row>
 constexpr std::optional<LineType> line_type(const Row& row) {
   using Member = typename Row::MemberType;
   if (row.scan == Scan::kept) {
     if constexpr (std::is_same_v<Member, std::vector<double>>) return LineType::numbers_lenient;
+    if constexpr (std::is_same_v<Member, std::vector<InvalidGaze>>) return LineType::invalid_gaze_lenient;
     return std::nullopt;
   }
   if constexpr (requires { LineTypeOf<Member>::value; }) return LineTypeOf<Member>::value;

@@ -375,6 +375,7 @@ bool has_line_type(const nlohmann::json& value, log_fields::LineType type) {
     case LineType::number_or_null_array:
       return value.is_array() && std::all_of(value.begin(), value.end(), number_or_null);
     case LineType::numbers_lenient:
+    case LineType::invalid_gaze_lenient:
       return true;  // no type check (Scan::kept)
   }
   return true;

@@ -36,6 +36,7 @@ struct LineValue {
   std::vector<int> integers;                   // small_int_array
   std::vector<std::optional<double>> numbers;  // number_or_null_array
   std::vector<double> doubles;                 // numbers_lenient
+  std::vector<InvalidGaze> invalid_gaze;       // invalid_gaze_lenient
 };
 
 // What the scan reads of one event: the envelope, and the value of every scanned key (by its
@@ -83,6 +84,51 @@ void present_times(LogLines& lines, simdjson::ondemand::value value, std::vector
   if (!numbers) out.clear();
 }
 
+// A stimulus event's invalid_gaze, which the full reader reads leniently: kept only when every
+// entry is an object with a 32-bit integer "i" and a string "reason" (the last of a key given twice
+// counts, as in the full reader); otherwise left empty, and every value only checked.
+void invalid_gaze_marks(LogLines& lines, simdjson::ondemand::value value, std::vector<InvalidGaze>& out) {
+  simdjson::ondemand::json_type type;
+  if (value.type().get(type) != simdjson::SUCCESS || type != simdjson::ondemand::json_type::array) {
+    lines.check_value(value, 2);
+    return;
+  }
+  bool marks = true;
+  for (auto element : value.get_array()) {
+    simdjson::ondemand::value item = element.value();
+    if (!marks || item.type().get(type) != simdjson::SUCCESS || type != simdjson::ondemand::json_type::object) {
+      marks = false;
+      lines.check_value(item, 3);
+      continue;
+    }
+    std::optional<int64_t> index;  // the last "i" given, when a 64-bit integer
+    std::optional<std::string_view> reason;
+    for (auto field : item.get_object()) {
+      const std::string_view key = field.unescaped_key();
+      simdjson::ondemand::value member = field.value();
+      int64_t number = 0;
+      std::string_view text;
+      if (key == log_keys::invalid_index) {
+        index.reset();
+        if (member.get_int64().get(number) == simdjson::SUCCESS) index = number;
+        else lines.check_value(member, 4);
+      } else if (key == log_keys::reason) {
+        reason.reset();
+        if (member.get_string().get(text) == simdjson::SUCCESS) reason = text;
+        else lines.check_value(member, 4);
+      } else {
+        lines.check_value(member, 4);
+      }
+    }
+    if (!index || *index < INT32_MIN || *index > INT32_MAX || !reason) {
+      marks = false;
+      continue;
+    }
+    out.push_back({static_cast<int>(*index), std::string(*reason)});
+  }
+  if (!marks) out.clear();
+}
+
 int small_int(simdjson::ondemand::value value) {
   const int64_t number = value.get_int64();
   if (number < INT32_MIN || number > INT32_MAX) throw simdjson::simdjson_error(simdjson::NUMBER_OUT_OF_RANGE);
@@ -120,6 +166,10 @@ void read_value(LogLines& lines, simdjson::ondemand::value value, lf::LineType t
     case lf::LineType::numbers_lenient:
       out.doubles.clear();
       present_times(lines, value, out.doubles);
+      break;
+    case lf::LineType::invalid_gaze_lenient:
+      out.invalid_gaze.clear();
+      invalid_gaze_marks(lines, value, out.invalid_gaze);
       break;
   }
 }
@@ -171,6 +221,7 @@ void assign(std::string& out, LineValue& value) { out = value.text; }
 void assign(std::optional<std::string>& out, LineValue& value) { out = std::string(value.text); }
 void assign(std::vector<int>& out, LineValue& value) { out = std::move(value.integers); }
 void assign(std::vector<double>& out, LineValue& value) { out = std::move(value.doubles); }
+void assign(std::vector<InvalidGaze>& out, LineValue& value) { out = std::move(value.invalid_gaze); }
 void assign(std::optional<std::vector<std::optional<double>>>& out, LineValue& value) {
   out = std::move(value.numbers);
 }
@@ -371,6 +422,9 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       if (stimulus.late_frames) open->late_frames = open->late_frames.value_or(0) + *stimulus.late_frames;
       for (size_t i = 1; i < stimulus.present_s.size(); ++i)
         open->frame_interval_s.push_back(stimulus.present_s[i] - stimulus.present_s[i - 1]);
+      open->gaze_refreshes += static_cast<int64_t>(stimulus.present_s.size());
+      for (const InvalidGaze& invalid : stimulus.invalid_gaze)
+        ++(invalid.reason == "off_screen" ? open->gaze_off_image : open->gaze_invalid_other);
       if (stimulus.gaze_age_s) {
         ++open->stimuli_with_latency;
         for (const std::optional<double>& age : *stimulus.gaze_age_s)

@@ -4,8 +4,9 @@
 // under both, log_lines.h: the JSON grammar of every value, the nesting cap, one object a line, its
 // seq, the hash chain), but only the fields a trial summary needs are decoded (the rows the event
 // tables mark for the scan, log_event_fields.h, into the same structs), with simdjson's
-// On-Demand API; of the per-refresh arrays of stimulus events only the gaze ages and the present
-// times' intervals (and the acquisition times, for their types) are kept, the rest checked and dropped, never built. Trials are assembled by the rules of session_record.h
+// On-Demand API; of the per-refresh arrays of stimulus events only the gaze ages, the present
+// times' intervals and the invalid gaze marks' reasons (and the acquisition times, for their types)
+// are kept, the rest checked and dropped, never built. Trials are assembled by the rules of session_record.h
 // (complete at trial_end; a session_resumed drops the trial a crash cut off);
 // tests/study/log/session_scan_test.cpp checks that both readers agree on every protocol.
 #include <cstddef>
@@ -48,6 +49,13 @@ struct ScannedTrial {
   // Schema 12, a headset session whose runtime measured them: the refreshes ended after their
   // predicted display time (the stimulus events' late_frames); nullopt: none of its events says.
   std::optional<int64_t> late_frames;
+  // The gaze of its stimulus events' refreshes (present_s entries): how many there were, and how many
+  // of those the log marks invalid (invalid_gaze, the left eye's sample in a headset), split into the
+  // ones whose pixel fell off the image ("off_screen") and the rest (no sample, not tracked, not
+  // finite). A headset logs no such mark for the right eye's own sample (docs/analysis.md).
+  int64_t gaze_refreshes = 0;
+  int64_t gaze_off_image = 0;
+  int64_t gaze_invalid_other = 0;
   // The intervals between consecutive refreshes of each stimulus event (its present_s: every
   // schema), in seconds; the gap between two stimuli is not one.
   std::vector<double> frame_interval_s;

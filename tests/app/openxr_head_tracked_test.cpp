@@ -271,6 +271,42 @@ TEST_F(HeadTrackedStudy, RefusesStimuliThatCannotFollowTheHead) {
   EXPECT_FALSE(std::filesystem::exists(results / "head_tracked" / "P01" / "events.jsonl"));
 }
 
+// The same line from every command that reads a study config (the check is where the config is
+// read), for pre-rendered path-traced frames and for images; head-locked, neither is refused for it.
+TEST_F(HeadTrackedStudy, EveryCommandRefusesStimuliThatCannotFollowTheHead) {
+  const std::string levels = "parameter = \"foveal_aperture_deg\"\nvalues = [5, 20]";
+  const std::filesystem::path fpt = write("fpt.toml", tracked_study("head-tracked", "pt", "fpt", levels, "courtyard"));
+  const std::string in_scratch = "cd " + scratch_.path().string() + " &&";  // prerender's cache is beside it
+  const std::string refusal =
+      ": display.view_model: \"head-tracked\" renders every refresh anew from the head's pose, and method ";
+  for (const std::string command : {"validate --no-render-timing ", "simulate --participants 1 ", "prerender "}) {
+    SCOPED_TRACE(command);
+    expect_refusal(cli_test::run(command + fpt.string(), in_scratch),
+                   fpt.string() + refusal + "pt (path-traced) shows frames");
+  }
+  expect_refusal(cli_test::run("bench --headset " + fpt.string(), in_scratch), fpt.string() + refusal);
+
+  std::filesystem::create_directories(scratch_.path() / "images");
+  const std::string image_levels = "parameter = \"sigma\"\nvalues = [2, 3]";
+  const std::filesystem::path images =
+      write("images.toml", tracked_study("head-tracked", "img-rmfr", "img-rmfr", image_levels, "images"));
+  expect_refusal(cli_test::run("validate --no-render-timing " + images.string(), in_scratch),
+                 images.string() + refusal + "img-rmfr (image-sequence) shows frames");
+
+  // The check can fail: head-locked, validate accepts the fpt study, and the image study gets past
+  // the view model to the next check (its folder holds no image yet).
+  const std::filesystem::path fpt_locked =
+      write("fpt_locked.toml", tracked_study("head-locked", "pt", "fpt", levels, "courtyard"));
+  const CommandResult validated = cli_test::run("validate --no-render-timing " + fpt_locked.string(), in_scratch);
+  EXPECT_EQ(validated.exit_code, 0) << validated.err;
+  const CommandResult images_locked = cli_test::run(
+      "validate --no-render-timing " +
+          write("images_locked.toml", tracked_study("head-locked", "img-rmfr", "img-rmfr", image_levels, "images"))
+              .string(),
+      in_scratch);
+  EXPECT_NE(images_locked.err.find("no .png or .exr image in it"), std::string::npos) << images_locked.err;
+}
+
 // Volumes follow the head too (the raycaster renders each refresh from the carried eye).
 TEST_F(HeadTrackedStudy, AVolumeStudyFollowsTheHeadAndReplays) {
   const std::filesystem::path config =

@@ -17,6 +17,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <set>
 #include <string>
 #include <thread>
@@ -24,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/csv.h"
 #include "study/log/event_log.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/app/headset_study_support.h"
@@ -46,6 +49,26 @@ std::vector<std::string> kinds_of(const std::vector<nlohmann::json>& events) {
   std::vector<std::string> kinds;
   for (const nlohmann::json& event : events) kinds.push_back(event.value("event", ""));
   return kinds;
+}
+
+// trials.csv of the logs under `folder` (fovlab export), each row by its header's names.
+std::vector<std::map<std::string, std::string>> exported_trials(const std::filesystem::path& folder,
+                                                                const std::filesystem::path& out) {
+  const cli_test::CommandResult exported = cli_test::run("export " + folder.string() + " --out " + out.string());
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  std::ifstream file(out);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::vector<CsvRow> rows = read_csv_rows(text, out.string());
+  std::vector<std::map<std::string, std::string>> trials;
+  if (rows.empty()) return trials;
+  EXPECT_EQ(rows.front().cells.back(), "late_frames") << "the last column";
+  for (size_t r = 1; r < rows.size(); ++r) {
+    std::map<std::string, std::string> trial;
+    for (size_t c = 0; c < rows[r].cells.size() && c < rows.front().cells.size(); ++c)
+      trial[rows.front().cells[c]] = rows[r].cells[c];
+    trials.push_back(trial);
+  }
+  return trials;
 }
 
 // What two runs of the same session must agree on, trial by trial, whatever happened between them:
@@ -362,9 +385,11 @@ TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) 
   EXPECT_EQ(events.front().value("schema_version", 0), log_schema_version);
   EXPECT_EQ(events.front()["headset"].value("late_frames_measured", false), true) << events.front()["headset"];
   int stimuli = 0, with_late = 0, without_late = 0, total_late = 0;
+  std::map<int, int> late_of_trial;  // the trial's stimulus events' late_frames, summed
   for (const nlohmann::json& event : events) {
     if (event.value("event", "") != "stimulus") continue;
     ++stimuli;
+    late_of_trial[event["trial"].get<int>()] += event.value("late_frames", 0);
     ASSERT_TRUE(event.contains("late_frames")) << event;
     int expected = 0;
     for (const nlohmann::json& present_s : event["present_s"])
@@ -386,6 +411,16 @@ TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) 
   std::ifstream thresholds_file(report / "thresholds.json");
   const nlohmann::json thresholds = nlohmann::json::parse(thresholds_file);
   EXPECT_EQ(thresholds["participants"][0]["headset"].value("late_frames", -1), total_late) << thresholds["participants"];
+  // trials.csv's last column: each trial's late frames (0 where it had none: measured).
+  const auto trials = exported_trials(results_ / "headset_cli", scratch_.path() / "trials.csv");
+  ASSERT_EQ(trials.size(), late_of_trial.size());
+  int exported_late = 0;
+  for (const auto& trial : trials) {
+    const int index = std::stoi(trial.at("trial"));
+    EXPECT_EQ(trial.at("late_frames"), std::to_string(late_of_trial.at(index))) << "trial " << index;
+    exported_late += std::stoi(trial.at("late_frames"));
+  }
+  EXPECT_EQ(exported_late, total_late);
 
   const std::filesystem::path unmeasured_results = scratch_.path() / "unmeasured";
   const CommandResult unmeasured = cli_test::run(
@@ -407,6 +442,10 @@ TEST_F(HeadsetSessionLife, LateFramesAreCountedInTheStimulusEventsTheyBelongTo) 
   std::ifstream unmeasured_thresholds_file(unmeasured_report / "thresholds.json");
   const nlohmann::json unmeasured_thresholds = nlohmann::json::parse(unmeasured_thresholds_file);
   EXPECT_TRUE(unmeasured_thresholds["participants"][0]["headset"]["late_frames"].is_null()) << "not measured, not 0";
+  const auto unmeasured_trials =
+      exported_trials(unmeasured_results / "headset_cli", scratch_.path() / "unmeasured_trials.csv");
+  EXPECT_FALSE(unmeasured_trials.empty());
+  for (const auto& trial : unmeasured_trials) EXPECT_EQ(trial.at("late_frames"), "") << "not measured, not 0";
 }
 
 // A headset log as schema 11 wrote it (no late_frames, no headset.late_frames_measured; its chain

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/image_io.h"
+#include "core/number_text.h"
 #include "tests/app/cli_test_support.h"
 #include "tests/app/headset_study_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
@@ -302,6 +304,65 @@ TEST_F(HeadsetStudy, TheHeadsetsEyeGazeGivesEachEyeThePixelOfTheFixationPoint) {
   }
   EXPECT_EQ(stimuli, 4);
   EXPECT_GT(expected[0][0] - expected[1][0], 1.0) << "the near point appears further left to the right eye";
+}
+
+// Each eye's gaze quality in the report (report.html's Headset section; thresholds.json's
+// participants[].headset): the test runtime's gaze turns 52 degrees right for the frames 1-300,
+// past the left eye's right edge (49 degrees) though inside the right eye's (54), and is lost (not
+// tracked) for the frames 301-420. A refresh's gaze is located at the predicted display time of the
+// frame before the one that shows it, so the refreshes off the left eye's image and without a gaze
+// are counted here from the logged present times alone, and the shares must be exactly those.
+TEST_F(HeadsetStudy, TheReportGivesEachEyesShareOfGazeOffItsImageAndNotTracked) {
+  const std::filesystem::path config = write("a.toml", headset_study(kEyesAtDistance));
+  const CommandResult ran = run_study(config, "FOVLAB_TEST_XR_GAZE_AWAY=1,300,52,0 FOVLAB_TEST_XR_GAZE_LOST=301,420",
+                                      FOVLAB_TEST_XR_RUNTIME_JSON, " --observer simulated");
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  std::ifstream lines(results_ / "headset_cli" / "P01" / "events.jsonl");
+  int refreshes = 0, off_left_image = 0, not_tracked = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const nlohmann::json event = nlohmann::json::parse(line);
+    if (event.value("event", "") != "stimulus") continue;
+    for (const nlohmann::json& present_s : event["present_s"]) {
+      const int64_t located_frame = std::llround(present_s.get<double>() * 90.0);  // shown at that + 1
+      ++refreshes;
+      if (located_frame >= 1 && located_frame <= 300) ++off_left_image;
+      if (located_frame >= 301 && located_frame <= 420) ++not_tracked;
+    }
+  }
+  ASSERT_GT(off_left_image, 0) << "no stimulus in frames 1-300";
+  ASSERT_GT(not_tracked, 0) << "no stimulus in frames 301-420";
+  ASSERT_LT(off_left_image + not_tracked, refreshes) << "every refresh in the scripted frames";
+
+  const std::filesystem::path report = scratch_.path() / "report";
+  const CommandResult analyzed =
+      cli_test::run("analyze " + (results_ / "headset_cli").string() + " --out " + report.string());
+  ASSERT_EQ(analyzed.exit_code, 0) << analyzed.err;
+  std::ifstream thresholds_file(report / "thresholds.json");
+  const nlohmann::json headset = nlohmann::json::parse(thresholds_file)["participants"][0]["headset"];
+  EXPECT_EQ(headset.value("gaze_refreshes", -1), refreshes) << headset;
+  const nlohmann::json& left = headset["eyes"][0];
+  const nlohmann::json& right = headset["eyes"][1];
+  EXPECT_DOUBLE_EQ(left.value("gaze_off_image_share", -1.0), double(off_left_image) / refreshes) << headset;
+  EXPECT_DOUBLE_EQ(left.value("gaze_invalid_share", -1.0), double(not_tracked) / refreshes) << headset;
+  EXPECT_DOUBLE_EQ(right.value("gaze_invalid_share", -1.0), double(not_tracked) / refreshes) << headset;
+  EXPECT_TRUE(right["gaze_off_image_share"].is_null()) << "the right eye's own off-image refreshes are not logged";
+
+  std::ifstream html_file(report / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(html_file)), std::istreambuf_iterator<char>());
+  const auto share = [&](int count) {
+    std::ostringstream text;
+    text << format_number(100.0 * (static_cast<double>(count) / refreshes), 3) << "% (" << count << " of " << refreshes
+         << ")";
+    return text.str();
+  };
+  // The left eye's row, then the right eye's: invalid, off the image, either.
+  EXPECT_NE(html.find("<td>left</td><td>" + share(not_tracked) + "</td><td>" + share(off_left_image) + "</td><td>" +
+                      share(not_tracked + off_left_image) + "</td>"),
+            std::string::npos)
+      << html.substr(html.find("id=\"headset\""), 6000);
+  EXPECT_NE(html.find("<td>right</td><td>" + share(not_tracked) + "</td><td>not logged</td><td>at least " +
+                      share(not_tracked + off_left_image) + "</td>"),
+            std::string::npos);
 }
 
 // With gaze_fixation = "rendered-depth" (the default), the headset's eye gaze rests where its ray

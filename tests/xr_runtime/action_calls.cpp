@@ -180,10 +180,25 @@ bool pressed_at(const SessionObject& session, const std::vector<std::string>& bi
   return false;
 }
 
-// The eye gaze pose in the head: from the head's origin, -Z turned right by yaw and up by pitch.
-XrPosef gaze_in_head(const SimulatedInput& input) {
-  const double yaw = input.gaze_yaw_deg * std::numbers::pi / 180.0;
-  const double pitch = input.gaze_pitch_deg * std::numbers::pi / 180.0;
+// The frame whose predicted display time is nearest `time` (frame_time's inverse).
+int64_t frame_at(const SessionObject& session, XrTime time) {
+  return std::llround(static_cast<double>(time - session.start_time) * kRefreshHz / 1e9);
+}
+
+// Whether the scripted gaze is lost at `time` (FOVLAB_TEST_XR_GAZE_LOST).
+bool gaze_lost_at(const SessionObject& session, XrTime time) {
+  const int64_t frame = frame_at(session, time);
+  return frame >= session.input.gaze_lost_first_frame && frame <= session.input.gaze_lost_last_frame;
+}
+
+// The eye gaze pose in the head at `time`: from the head's origin, -Z turned right by yaw and up by
+// pitch (FOVLAB_TEST_XR_GAZE, or FOVLAB_TEST_XR_GAZE_AWAY's within its frames).
+XrPosef gaze_in_head(const SessionObject& session, XrTime time) {
+  const SimulatedInput& input = session.input;
+  const int64_t frame = frame_at(session, time);
+  const bool away = frame >= input.gaze_away_first_frame && frame <= input.gaze_away_last_frame;
+  const double yaw = (away ? input.gaze_away_yaw_deg : input.gaze_yaw_deg) * std::numbers::pi / 180.0;
+  const double pitch = (away ? input.gaze_away_pitch_deg : input.gaze_pitch_deg) * std::numbers::pi / 180.0;
   // Turning right is a negative rotation about +Y; looking up a positive one about +X.
   const XrQuaternionf turn{0.0f, static_cast<float>(std::sin(-yaw / 2)), 0.0f, static_cast<float>(std::cos(-yaw / 2))};
   const XrQuaternionf tilt{static_cast<float>(std::sin(pitch / 2)), 0.0f, 0.0f,
@@ -213,8 +228,8 @@ bool space_pose(HandleTable& table, const InstanceObject& instance, const Sessio
   const std::vector<std::string> bindings = live_bindings(instance, session, space.action, space.subaction_path);
   bool on_eye_tracker = false;
   for (const std::string& binding : bindings) on_eye_tracker = on_eye_tracker || binding == kEyeGazePose;
-  if (!on_eye_tracker || action_set_of(table, space.action) == 0) return false;
-  const XrPosef gaze = gaze_in_head(session.input);
+  if (!on_eye_tracker || action_set_of(table, space.action) == 0 || gaze_lost_at(session, time)) return false;
+  const XrPosef gaze = gaze_in_head(session, time);
   const XrVector3f offset = rotate(gaze.orientation, space.pose_in_reference.position);
   pose = {multiply(gaze.orientation, space.pose_in_reference.orientation),
           {gaze.position.x + offset.x, gaze.position.y + offset.y, gaze.position.z + offset.z}};

@@ -10,6 +10,9 @@
 //     the next xrWaitFrame's frame and released after it (a line not yet ended by a newline waits for
 //     a later sync), so a test can answer what the application shows it, as a participant would;
 //   FOVLAB_TEST_XR_GAZE = "yaw_deg,pitch_deg": the eye gaze ray from the head (default "0,0");
+//   FOVLAB_TEST_XR_GAZE_AWAY = "first,last,yaw_deg,pitch_deg": the gaze located at the predicted
+//     display time of frames first..last (xrWaitFrame counts) is that ray instead;
+//   FOVLAB_TEST_XR_GAZE_LOST = "first,last": the gaze of those frames has no location (not tracked);
 //   FOVLAB_TEST_XR_HEAD = "yaw_deg_per_s,x_m_per_s": the head turning right and moving along LOCAL's
 //     x at constant rates on the virtual clock (default "0,0", still).
 #include <array>
@@ -20,6 +23,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tests/xr_runtime/test_runtime.h"
 
@@ -147,6 +151,56 @@ bool read_gaze(SimulatedInput& input) {
   return true;
 }
 
+// `count` comma-separated numbers of the environment variable `name` (false, logged, when malformed).
+bool read_numbers(const char* name, size_t count, std::vector<double>& numbers) {
+  const char* setting = std::getenv(name);
+  if (setting == nullptr || *setting == '\0') return true;
+  numbers.clear();
+  const char* at = setting;
+  for (size_t i = 0; i < count; ++i) {
+    char* end = nullptr;
+    const double number = std::strtod(at, &end);
+    const bool separated = i + 1 < count ? *end == ',' : *end == '\0';
+    if (end == at || !separated || !std::isfinite(number)) {
+      numbers.clear();
+      return false;
+    }
+    numbers.push_back(number);
+    at = end + 1;
+  }
+  return true;
+}
+
+bool read_gaze_script(SimulatedInput& input) {
+  std::vector<double> away, lost;
+  const auto frames_ok = [](const std::vector<double>& values) {
+    return values[0] >= 1 && values[1] >= values[0] && values[0] == std::floor(values[0]) &&
+           values[1] == std::floor(values[1]);
+  };
+  if (!read_numbers("FOVLAB_TEST_XR_GAZE_AWAY", 4, away) ||
+      (!away.empty() && (!frames_ok(away) || std::fabs(away[2]) > 90.0 || std::fabs(away[3]) > 90.0))) {
+    log_malformed(std::string("FOVLAB_TEST_XR_GAZE_AWAY=") + std::getenv("FOVLAB_TEST_XR_GAZE_AWAY") +
+                  ": expected \"first,last,yaw_deg,pitch_deg\", frames 1 <= first <= last, angles between -90 and 90");
+    return false;
+  }
+  if (!read_numbers("FOVLAB_TEST_XR_GAZE_LOST", 2, lost) || (!lost.empty() && !frames_ok(lost))) {
+    log_malformed(std::string("FOVLAB_TEST_XR_GAZE_LOST=") + std::getenv("FOVLAB_TEST_XR_GAZE_LOST") +
+                  ": expected \"first,last\", frames 1 <= first <= last");
+    return false;
+  }
+  if (!away.empty()) {
+    input.gaze_away_first_frame = static_cast<int64_t>(away[0]);
+    input.gaze_away_last_frame = static_cast<int64_t>(away[1]);
+    input.gaze_away_yaw_deg = away[2];
+    input.gaze_away_pitch_deg = away[3];
+  }
+  if (!lost.empty()) {
+    input.gaze_lost_first_frame = static_cast<int64_t>(lost[0]);
+    input.gaze_lost_last_frame = static_cast<int64_t>(lost[1]);
+  }
+  return true;
+}
+
 bool read_head(SimulatedInput& input) {
   const char* setting = std::getenv("FOVLAB_TEST_XR_HEAD");
   if (setting == nullptr || *setting == '\0') return true;
@@ -208,7 +262,8 @@ bool is_controller_button(SimulatedController controller, std::string_view input
 
 bool read_simulated_input(SimulatedInput& input) {
   if (const char* queue = std::getenv("FOVLAB_TEST_XR_PRESS_QUEUE")) input.press_queue = queue;
-  return read_controller(input.controller) && read_presses(input) && read_gaze(input) && read_head(input);
+  return read_controller(input.controller) && read_presses(input) && read_gaze(input) && read_gaze_script(input) &&
+         read_head(input);
 }
 
 bool take_queued_presses(SimulatedInput& input, int64_t next_frame) {

@@ -142,6 +142,12 @@ struct SimulatedInput {
   int64_t press_queue_read = 0;  // its bytes taken so far (whole lines)
   double gaze_yaw_deg = 0.0;    // right positive
   double gaze_pitch_deg = 0.0;  // up positive
+  // FOVLAB_TEST_XR_GAZE_AWAY: for the gaze located at the predicted display times of frames
+  // first..last, this direction instead; FOVLAB_TEST_XR_GAZE_LOST: no gaze location for those frames
+  // (not tracked). An empty range (last < first): none.
+  int64_t gaze_away_first_frame = 0, gaze_away_last_frame = -1;
+  double gaze_away_yaw_deg = 0.0, gaze_away_pitch_deg = 0.0;
+  int64_t gaze_lost_first_frame = 0, gaze_lost_last_frame = -1;
   // FOVLAB_TEST_XR_HEAD: the head turning (right positive) and moving along LOCAL's x at constant
   // rates on the virtual clock, from LOCAL's origin at the session's start.
   double head_yaw_deg_per_s = 0.0;

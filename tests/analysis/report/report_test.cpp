@@ -579,6 +579,9 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
   headset.fov_deg[0] = std::array<double, 4>{-54.0, 49.0, 54.0, -56.0};
   headset.fov_deg[1] = std::array<double, 4>{-49.0, 54.0, 54.0, -56.0};
   headset.late_frames = 2;
+  headset.gaze_refreshes = 80;  // 6 off the left eye's image, 2 without a gaze
+  headset.gaze_off_left_image = 6;
+  headset.gaze_invalid_other = 2;
   result.participants.at(0).headset = headset;
   result.participants.at(0).present_clock = "openxr_predicted_display";
   TempDir dir("headset");
@@ -596,13 +599,23 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
             std::string::npos)
       << html;
   EXPECT_EQ(html.find("<td>P002</td><td>fovlab test runtime"), std::string::npos) << "a desktop session: no row";
+  // Gaze per eye: the left eye's shares as logged; the right eye's off-image refreshes are not logged.
+  EXPECT_NE(html.find("<tr><td>P001</td><td>left</td><td>2.5% (2 of 80)</td><td>7.5% (6 of 80)</td><td>10% (8 of "
+                      "80)</td><td>56.5 (both eyes)</td></tr>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<tr><td>P001</td><td>right</td><td>2.5% (2 of 80)</td><td>not logged</td><td>at least 10% "
+                      "(8 of 80)</td><td>56.5 (both eyes)</td></tr>"),
+            std::string::npos);
+  EXPECT_EQ(html.find("<td>P002</td><td>left</td>"), std::string::npos) << "a desktop session: no gaze row";
   std::ifstream file(dir.path() / "thresholds.json");
   const nlohmann::json thresholds = nlohmann::json::parse(file);
   EXPECT_EQ(thresholds["participants"][0]["headset"],
             nlohmann::json::parse(R"({"runtime": "fovlab test runtime 0.1.0", "eye_width_px": 64, "eye_height_px": 72,
                 "view_model": "head-locked", "gaze_fixation": "fixation-distance", "fixation_distance_mm": 1500.0,
-                "eyes": [{"fov_deg": [-54.0, 49.0, 54.0, -56.0]}, {"fov_deg": [-49.0, 54.0, 54.0, -56.0]}],
-                "late_frames": 2})"));
+                "eyes": [{"fov_deg": [-54.0, 49.0, 54.0, -56.0], "gaze_invalid_share": 0.025, "gaze_off_image_share": 0.075},
+                         {"fov_deg": [-49.0, 54.0, 54.0, -56.0], "gaze_invalid_share": 0.025, "gaze_off_image_share": null}],
+                "late_frames": 2, "gaze_refreshes": 80})"));
   EXPECT_FALSE(thresholds["participants"][1].contains("headset"));
 }
 

@@ -49,6 +49,9 @@ for fixture, study in (("tiny_2afc", "tiny_2afc"), ("ramp", "tiny_ramp"), ("slid
     for column in ("key", "correct", "level_parameter", "session_started_utc", "fovlab_version", "config_hash"):
         check(column in trials.columns, f"{study}: trials.csv lacks {column}")
     check((trials["level_parameter"] == "max_steps").all(), f"{study}: level_parameter is not max_steps")
+    # The last column: a headset's late frames, empty (NaN) for these desktop sessions.
+    check(trials.columns[-1] == "late_frames", f"{study}: the last column is {trials.columns[-1]}, not late_frames")
+    check(trials["late_frames"].isna().all(), f"{study}: a desktop session has late_frames")
     check(pd.to_datetime(trials["session_started_utc"], utc=True).notna().all(), f"{study}: start times do not parse")
     if study == "tiny_2afc":
         check(types.is_float_dtype(trials["level"]), f"{study}: level is {trials['level'].dtype}")

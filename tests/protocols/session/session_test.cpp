@@ -137,10 +137,10 @@ TEST(Session, ParticipantFieldsAreAskedKeptInTheHeaderAndExported) {
   EXPECT_EQ(record.header["participant_fields"], nlohmann::json({{"age", "31"}, {"handedness", "left"}}));
   const std::string csv = export_trials_csv({outcome.log_path});
   const std::string first_line = csv.substr(0, csv.find('\n'));
-  EXPECT_NE(first_line.find(",field_age,field_handedness"), std::string::npos) << first_line;
+  EXPECT_TRUE(first_line.ends_with(",field_age,field_handedness,late_frames")) << first_line;
   const std::string second_line =
       csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
-  EXPECT_EQ(second_line.substr(second_line.size() - 8), ",31,left") << second_line;
+  EXPECT_EQ(second_line.substr(second_line.size() - 9), ",31,left,") << second_line;  // late_frames empty: a desktop
 
   // A field the config does not have, and a value with a control character: refused, nothing written.
   SessionOptions unknown = simulated(results, "P2");
@@ -598,7 +598,8 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   const std::vector<std::string> rows = testing::lines_of(csv);
   ASSERT_GT(rows.size(), 1u);
   EXPECT_NE(rows.front().find(",gaze_source"), std::string::npos) << rows.front();
-  for (size_t i = 1; i < rows.size(); ++i) EXPECT_TRUE(rows[i].ends_with(",synthetic")) << rows[i];
+  EXPECT_TRUE(rows.front().ends_with(",gaze_source,late_frames")) << rows.front();
+  for (size_t i = 1; i < rows.size(); ++i) EXPECT_TRUE(rows[i].ends_with(",synthetic,")) << rows[i];  // no late frames
 
   // The same session as schema 6 wrote it: no gaze_source, no gaze_validation.
   std::vector<std::string> lines = testing::lines_of(read_file(outcome.log_path));

@@ -420,7 +420,8 @@ TEST(LogEvents, TheTablesTypedKeysAreTheCheckedOnes) {
       {"gaze_age_s", LineType::number_or_null_array},
   };
   EXPECT_EQ(typed, expected);
-  EXPECT_EQ(kept, (std::map<std::string, LineType>{{"present_s", LineType::numbers_lenient}}));
+  EXPECT_EQ(kept, (std::map<std::string, LineType>{{"present_s", LineType::numbers_lenient},
+                                                  {"invalid_gaze", LineType::invalid_gaze_lenient}}));
   for (const log_fields::ScannedKey& key : log_fields::scanned_keys())
     EXPECT_EQ(log_fields::scanned_keys().at(size_t(log_fields::scanned_key_index(key.key))).key, key.key);
   EXPECT_EQ(log_fields::scanned_key_index("rt_s"), -1);
@@ -431,6 +432,7 @@ TEST(LogEvents, TheTablesTypedKeysAreTheCheckedOnes) {
   EXPECT_NE(check_log_field_types({{"event", 3}}), "");
   EXPECT_NE(check_log_field_types({{"track", 4294967296ll}}), "");
   EXPECT_EQ(check_log_field_types({{"present_s", "x"}}), "") << "present_s is read leniently, not checked";
+  EXPECT_EQ(check_log_field_types({{"invalid_gaze", "x"}}), "") << "invalid_gaze is read leniently, not checked";
   EXPECT_EQ(
       check_log_field_types({{"gaze_age_s", {nullptr, 0.5}}, {"correct", true}, {"sequence", nlohmann::json::array()}}),
       "");

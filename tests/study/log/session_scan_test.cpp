@@ -150,11 +150,14 @@ void expect_same_story(const std::string& path) {
     EXPECT_EQ(fast.practice, full.start.practice);
     EXPECT_EQ(fast.track, full.start.track);
     // The stimulus events' fields the scan keeps (log_event_fields.h: typed and kept rows).
-    int64_t dropped_frames = 0;
+    int64_t dropped_frames = 0, gaze_refreshes = 0, gaze_off_image = 0, gaze_invalid_other = 0;
     int stimuli_with_latency = 0;
     std::vector<double> gaze_age_s, frame_interval_s;
     for (const StimulusEvent& stimulus : full.stimuli) {
       dropped_frames += stimulus.dropped_frames;
+      gaze_refreshes += static_cast<int64_t>(stimulus.present_s.size());
+      for (const InvalidGaze& invalid : stimulus.invalid_gaze)
+        ++(invalid.reason == "off_screen" ? gaze_off_image : gaze_invalid_other);
       if (stimulus.gaze_age_s) ++stimuli_with_latency;
       for (const std::optional<double>& age : stimulus.gaze_age_s.value_or(std::vector<std::optional<double>>{}))
         if (age) gaze_age_s.push_back(*age);
@@ -162,6 +165,9 @@ void expect_same_story(const std::string& path) {
         frame_interval_s.push_back(stimulus.present_s[j] - stimulus.present_s[j - 1]);
     }
     EXPECT_EQ(fast.dropped_frames, dropped_frames);
+    EXPECT_EQ(fast.gaze_refreshes, gaze_refreshes);
+    EXPECT_EQ(fast.gaze_off_image, gaze_off_image);
+    EXPECT_EQ(fast.gaze_invalid_other, gaze_invalid_other);
     EXPECT_EQ(fast.stimuli_with_latency, stimuli_with_latency);
     EXPECT_EQ(fast.gaze_age_s, gaze_age_s);
     EXPECT_EQ(fast.frame_interval_s, frame_interval_s);
@@ -320,6 +326,7 @@ TEST(SessionScan, ReadsEveryFieldItKeepsAsTheFullReaderReadsIt) {
     stimulus.gaze_acquired_s = std::vector<std::optional<double>>{0.99, std::nullopt, 1.04};
     stimulus.gaze_age_s = std::vector<std::optional<double>>{0.01, std::nullopt, 0.01};
     stimulus.present_clock = "steady";
+    stimulus.invalid_gaze = {{0, "off_screen"}, {2, "no_data"}};
     log.append(to_json(stimulus));
     stimulus.gaze_age_s = std::vector<std::optional<double>>{};
     stimulus.present_clock = "vsync";
@@ -335,6 +342,9 @@ TEST(SessionScan, ReadsEveryFieldItKeepsAsTheFullReaderReadsIt) {
     for (size_t i = 0; i < log.events.size(); ++i) {
       nlohmann::json event = log.events[i];
       event.erase("chain");
+      // An invalid_gaze with an entry of the wrong shape: both readers keep none of it.
+      if (event.value("present_clock", "") == "vsync")
+        event["invalid_gaze"] = nlohmann::json::parse(R"([{"i": 1, "reason": "no_data"}, {"i": 1.5, "reason": "x"}])");
       std::string line = event.dump();
       if (event.value("event", "") == "trial_start") line.insert(1, "\"sequence\":[9,9,9],");
       chain = chain_of_text(chain, line, log.schema_version);
@@ -357,6 +367,9 @@ TEST(SessionScan, ReadsEveryFieldItKeepsAsTheFullReaderReadsIt) {
   EXPECT_EQ(trial.dropped_frames, 4);
   EXPECT_EQ(trial.stimuli_with_latency, 2);
   EXPECT_EQ(trial.gaze_age_s, (std::vector<double>{0.01, 0.01}));
+  EXPECT_EQ(trial.gaze_refreshes, 6);
+  EXPECT_EQ(trial.gaze_off_image, 1);
+  EXPECT_EQ(trial.gaze_invalid_other, 1);
   EXPECT_EQ(trial.answer_steps, (std::vector<int>{3}));
   EXPECT_EQ(scan.present_clocks, (std::vector<std::string>{"steady", "vsync"}));
 }
