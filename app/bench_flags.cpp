@@ -346,8 +346,9 @@ void add_bench_flags(CLI::App& command, BenchFlags& options) {
   command.add_flag("--require-gpu", options.require_gpu,
                    "Refuse to run on a CPU Vulkan device (lavapipe): exit 2 on a node without a GPU");
   command.add_option("--over-relax", options.settings.over_relaxation,
-                     "IPR's top-level samples step this many times the distance bound (Keinert et al. 2014's "
-                     "over-relaxation, 1 to 2; a prototype; default 1: off). GT stays the plain reference");
+                     "IPR's top-level samples step up to this many times the distance bound (Keinert et al. 2014's "
+                     "over-relaxation, 1 to 2, each factor adapted to the slope of the last step; a prototype; "
+                     "default 1: off). GT stays the plain reference");
   command.add_flag("--step-breakdown", options.step_breakdown,
                    "Count where GT's and IPR's top-level samples spend their steps (one more untimed frame each): "
                    "a table, and \"step_breakdown\" in the JSON");

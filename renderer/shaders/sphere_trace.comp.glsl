@@ -208,11 +208,15 @@ void fovlab_watch_step(uint steps_before, float distance, float t) {
 
 #ifdef FOVLAB_OVER_RELAX
 // Prototype (issue 41), compiled only into a variant of the tracer (SphereTraceSettings::
-// over_relaxation): the top level's samples step FOVLAB_OVER_RELAX times the distance bound,
-// Keinert et al. 2014's over-relaxed sphere tracing; where the sphere at the new point and the one
-// at the last do not overlap, the step may have passed a surface, and the march goes back to the
-// plain step from the last point and steps plainly from there.
+// over_relaxation): the top level's samples step a factor times the distance bound, Keinert et al.
+// 2014's over-relaxed sphere tracing. A step longer than the plain one is kept only where the spheres
+// at its two ends overlap (no surface lies between them); else, or where it left the bounds, the
+// march takes the plain step from the last point instead. The factor adapts: on a plane whose
+// distance falls by `slope` per unit of t the overlap test accepts at most 2 / (1 + slope); each step
+// takes fovlab_relax_margin of that for the slope the last accepted step measured (plain until
+// one has), at most FOVLAB_OVER_RELAX.
 bool fovlab_relax_on = false;
+const float fovlab_relax_margin = 0.95;
 #endif
 
 // One step more onto the surface of a hit, within the step cap.
@@ -251,13 +255,22 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
   bool check_start = t > interval.x;
   bool near_surface = false;
 #ifdef FOVLAB_OVER_RELAX
-  float relax = fovlab_relax_on ? float(FOVLAB_OVER_RELAX) : 1.0;
+  float relax_cap = fovlab_relax_on ? float(FOVLAB_OVER_RELAX) : 1.0;
+  float relax = 1.0;
+  float relax_slope = 1.0;
   float relax_last_t = t;
   float relax_last_distance = 0.0;
   float relax_step = 0.0;
 #endif
   while (result.steps < step_cap) {
     if (t > interval.y) {
+#ifdef FOVLAB_OVER_RELAX
+      if (relax_cap > 1.0 && relax_step > relax_last_distance) {  // a longer step left the bounds untested
+        t = relax_last_t + relax_last_distance;
+        relax_step = relax_last_distance;
+        continue;
+      }
+#endif
       result.t = interval.y;
       result.outcome = OUTCOME_MISS;
       return result;
@@ -277,15 +290,17 @@ TraceResult fovlab_trace(Ray ray, float t_start, float epsilon_per_unit_t, bool 
       }
     }
 #ifdef FOVLAB_OVER_RELAX
-    if (relax > 1.0) {
-      if (relax_step > relax_last_distance + abs(sample_.x)) {
+    if (relax_cap > 1.0) {
+      if (relax_step > relax_last_distance && relax_step > relax_last_distance + abs(sample_.x)) {
+        // The plain step from the last point needs no test; the slope it measures sets the next factor.
         t = relax_last_t + relax_last_distance;
-        relax = 1.0;
-        relax_step = 0.0;
+        relax_step = relax_last_distance;
         continue;
       }
+      if (relax_step > 0.0) relax_slope = max((relax_last_distance - sample_.x) / relax_step, 0.0);
       relax_last_t = t;
       relax_last_distance = abs(sample_.x);
+      relax = clamp(fovlab_relax_margin * 2.0 / (1.0 + relax_slope), 1.0, relax_cap);
     }
 #endif
 #ifdef FOVLAB_STEP_BREAKDOWN

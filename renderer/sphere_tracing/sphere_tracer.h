@@ -108,8 +108,9 @@ struct SphereTraceSettings {
   // is the same, bit for bit. Off, the plain tracer runs, with no counting compiled in.
   bool step_breakdown = false;
   // GT and IPR, a prototype of issue 41 (docs/benchmarks.md "Where the steps go"): the top level's
-  // samples step this many times the distance bound (Keinert et al. 2014's over-relaxation, 1 to 2),
-  // by a variant of the tracer. 1: off, the plain tracer.
+  // samples step up to this many times the distance bound (Keinert et al. 2014's over-relaxation,
+  // 1 to 2), each step's factor the largest the spheres' overlap test would accept on a plane at the
+  // slope the last step measured, by a variant of the tracer. 1: off, the plain tracer.
   float over_relaxation = 1.0f;
   FoveationSettings foveation;  // FIPR only
   // A headset eye's view (renderer/scene/eye_view.h): the scene's camera is the head, the frame the
