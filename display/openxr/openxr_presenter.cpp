@@ -248,6 +248,7 @@ bool OpenXrPresenter::wait_for_focus(const Rgba8Frame& screen, double timeout_s,
       // Ctrl-C and READY prompt without spinning a core.
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       follow_session_state();
+      if (mirror_) update_mirror();  // the operator's window stays live (its keys are cleared on return)
       after_stop = true;
       waited_s += seconds_since(idle_start);
     }
