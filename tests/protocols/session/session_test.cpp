@@ -624,14 +624,14 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   const std::vector<std::string> earlier_rows = testing::lines_of(export_trials_csv({earlier.string()}));
   ASSERT_EQ(earlier_rows.size(), rows.size());
   for (size_t i = 1; i < earlier_rows.size(); ++i)
-    EXPECT_TRUE(earlier_rows[i].ends_with(",synthetic")) << earlier_rows[i];
+    EXPECT_TRUE(earlier_rows[i].ends_with(",synthetic,")) << earlier_rows[i];  // then late_frames, empty
   // A log of no schema that names its source in a way this build does not know: "not recorded".
   header["gaze"] = "eyelink:1";
   lines.front() = header.dump();
   const fs::path unknown = results / "unknown" / config.name / "P1" / "events.jsonl";
   fs::create_directories(unknown.parent_path());
   std::ofstream(unknown, std::ios::binary) << testing::rechained(lines);
-  EXPECT_TRUE(testing::lines_of(export_trials_csv({unknown.string()})).back().ends_with(",not recorded"));
+  EXPECT_TRUE(testing::lines_of(export_trials_csv({unknown.string()})).back().ends_with(",not recorded,"));
   // A run resumed with a source of another kind (a trace at the centre) names it in its session_resumed; the session then
   // had both, in the order used.
   const fs::path trace = results / "centre.csv";
@@ -650,7 +650,7 @@ TEST(SessionGaze, TheHeaderNamesTheSourceAndItsValidationAndAnEarlierSchemaStill
   EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("kind", ""), "trace");
   EXPECT_EQ(resumed_record.resumes.front().gaze_source.value("requested", false), true);
   EXPECT_EQ(analysis::load_study({resumed_log}).participants.at(0).gaze_source, "synthetic+trace");
-  EXPECT_TRUE(testing::lines_of(export_trials_csv({resumed_log})).back().ends_with(",synthetic+trace"));
+  EXPECT_TRUE(testing::lines_of(export_trials_csv({resumed_log})).back().ends_with(",synthetic+trace,"));
   // This build resumes only its own schema.
   SessionOptions resume = simulated(results / "schema6");
   try {
