@@ -175,21 +175,32 @@ std::string gaze_share_text(const HeadsetSummary& headset, int64_t refreshes) {
          std::to_string(headset.gaze_refreshes) + ")";
 }
 
-// Each headset session's gaze quality, a row an eye: what the log marks for the left eye's pixel
-// (invalid_gaze), and for the right eye only what follows from it.
+// Each headset session's gaze quality, a row an eye: what the log marks for each eye's pixel
+// (invalid_gaze, right_eye_invalid_gaze); a log before schema 13 marks the left eye's only, and the
+// right eye's row then gives only what follows from the left's.
 std::string html_headset_gaze(const AnalysisResult& result) {
   std::vector<std::vector<std::string>> rows;
+  bool right_unmarked = false;
   for (const ParticipantRow& p : result.participants) {
     if (!p.headset) continue;
     const HeadsetSummary& headset = *p.headset;
     const std::string session = p.participant + (p.excluded ? " (excluded)" : "");
-    const std::string invalid = gaze_share_text(headset, headset.gaze_invalid_other);
-    const std::string unusable = gaze_share_text(headset, headset.gaze_invalid_other + headset.gaze_off_left_image);
     const std::string latency = p.latency_recorded ? html_number(p.latency.median_ms) + " (both eyes)" : "not recorded";
-    rows.push_back(
-        {session, "left", invalid, gaze_share_text(headset, headset.gaze_off_left_image), unusable, latency});
-    rows.push_back({session, "right", invalid, "not logged",
-                    headset.gaze_refreshes > 0 ? "at least " + unusable : unusable, latency});
+    const auto eye_row = [&](size_t eye) -> std::vector<std::string> {
+      const std::string name = eye == 0 ? "left" : "right";
+      const int64_t invalid = headset.gaze_invalid_other[eye], off_image = headset.gaze_off_image[eye];
+      return {session, name, gaze_share_text(headset, invalid), gaze_share_text(headset, off_image),
+              gaze_share_text(headset, invalid + off_image), latency};
+    };
+    rows.push_back(eye_row(0));
+    if (headset.right_eye_marked) {
+      rows.push_back(eye_row(1));
+    } else {
+      right_unmarked = true;
+      const std::string unusable = gaze_share_text(headset, headset.gaze_invalid_other[0] + headset.gaze_off_image[0]);
+      rows.push_back({session, "right", gaze_share_text(headset, headset.gaze_invalid_other[0]), "not logged",
+                      headset.gaze_refreshes > 0 ? "at least " + unusable : unusable, latency});
+    }
   }
   if (rows.empty()) return {};
   std::string html =
@@ -197,9 +208,12 @@ std::string html_headset_gaze(const AnalysisResult& result) {
       "was none, not tracked or not finite (one combined gaze ray, so both eyes alike); off the image is a "
       "refresh whose pixel fell outside that eye's image. Such a refresh is shown with the eye's last usable "
       "gaze. The session makes the right eye's pixel from the left eye's, so every refresh without a usable left "
-      "pixel has none in the right eye either; the log marks invalid gaze for the left eye only (invalid_gaze), "
-      "so the refreshes where only the right eye's pixel fell off its image are not known, and the right eye's "
-      "share is a lower bound.</p>\n";
+      "pixel counts as one without a usable right pixel too, with the left's reason.";
+  if (right_unmarked)
+    html += " A log before schema 13 marks invalid gaze for the left eye only (invalid_gaze), so there the "
+            "refreshes where only the right eye's pixel fell off its image are not known, and the right eye's "
+            "share is a lower bound.";
+  html += "</p>\n";
   html += html_table({"session", "eye", "gaze invalid (no sample, not tracked)", "gaze off the eye's image",
                       "invalid or off the image", "gaze-to-present ms, median"},
                      rows);

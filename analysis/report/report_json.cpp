@@ -110,19 +110,20 @@ json latency_json(const ParticipantRow& participant) {
 
 // A headset session's eyes (only for one): as its log header gave them, angles in degrees.
 json headset_json(const HeadsetSummary& headset) {
-  // Each eye's gaze quality: the shares of refreshes whose one gaze sample was invalid (no sample,
-  // not tracked: both eyes alike) and whose pixel fell off that eye's image; the right eye's own
-  // off-image refreshes are not logged (its pixel is made from the left's and logged substituted),
-  // so its share is null.
-  const json invalid_share = json_number(gaze_refresh_share(headset, headset.gaze_invalid_other));
-  const std::array<json, 2> off_image_share = {json_number(gaze_refresh_share(headset, headset.gaze_off_left_image)),
-                                               json(nullptr)};
+  // Each eye's gaze quality: the shares of refreshes whose gaze was invalid (no sample, not tracked)
+  // and whose pixel fell off that eye's image. A log before schema 13 marks the left eye's only; the
+  // right eye's invalid share is then the left's (one gaze, both eyes alike) and its off-image share
+  // null (not logged).
   json eyes = json::array();
   for (size_t eye = 0; eye < 2; ++eye) {
     const std::optional<std::array<double, 4>>& fov = headset.fov_deg[eye];
-    eyes.push_back({{"fov_deg", fov ? json(*fov) : json(nullptr)},
-                    {"gaze_invalid_share", invalid_share},
-                    {"gaze_off_image_share", off_image_share[eye]}});
+    const bool marked = eye == 0 || headset.right_eye_marked;
+    const size_t counted = marked ? eye : 0;
+    eyes.push_back(
+        {{"fov_deg", fov ? json(*fov) : json(nullptr)},
+         {"gaze_invalid_share", json_number(gaze_refresh_share(headset, headset.gaze_invalid_other[counted]))},
+         {"gaze_off_image_share",
+          marked ? json_number(gaze_refresh_share(headset, headset.gaze_off_image[eye])) : json(nullptr)}});
   }
   return {{"runtime", headset.runtime},
           {"eye_width_px", headset.eye_width_px},

@@ -107,13 +107,14 @@ struct HeadsetSummary {
   // runtime without XR_KHR_convert_timespec_time, or schema 11).
   std::optional<int64_t> late_frames;
   // The gaze of the complete trials' refreshes (the scan's, session_scan.h): how many refreshes,
-  // and how many the log marks invalid, off the left eye's image or for another reason (no sample,
-  // not tracked). One combined gaze places both eyes' pixels and the right eye's is made from the
-  // left's, so an invalid left gaze is invalid in the right eye too; the right eye's own off-image
-  // refreshes are not logged (no share for them).
+  // and how many the log marks invalid in each eye (index 0 left, 1 right), off that eye's image or
+  // for another reason (no sample, not tracked). One combined gaze places both eyes' pixels and the
+  // right eye's is made from the left's, so an invalid left gaze is invalid in the right eye too.
+  // right_eye_marked: the log marks the right eye's (schema 13); before, its counts are unknown.
   int64_t gaze_refreshes = 0;
-  int64_t gaze_off_left_image = 0;
-  int64_t gaze_invalid_other = 0;
+  std::array<int64_t, 2> gaze_off_image = {0, 0};
+  std::array<int64_t, 2> gaze_invalid_other = {0, 0};
+  bool right_eye_marked = false;
 };
 
 // `refreshes` as a share of the headset session's gaze refreshes, in [0, 1]; nullopt when it had

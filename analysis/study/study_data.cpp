@@ -125,14 +125,17 @@ ParticipantData participant_of(ScannedSession& session) {
   // Frame intervals likewise, against the refresh rate the presenter measured (the header's display).
   std::vector<double> gaze_age_s, frame_interval_s;
   std::optional<int64_t> late_frames;  // a headset's, where its log measured them
-  int64_t gaze_refreshes = 0, gaze_off_image = 0, gaze_invalid_other = 0;
+  int64_t gaze_refreshes = 0;
+  std::array<int64_t, 2> gaze_off_image = {0, 0}, gaze_invalid_other = {0, 0};  // left, right
   for (ScannedTrial& scanned : session.trials) {
     if (scanned.practice) continue;  // practice trials are in no figure
     participant.dropped_frames += scanned.dropped_frames;
     if (scanned.late_frames) late_frames = late_frames.value_or(0) + *scanned.late_frames;
     gaze_refreshes += scanned.gaze_refreshes;
-    gaze_off_image += scanned.gaze_off_image;
-    gaze_invalid_other += scanned.gaze_invalid_other;
+    gaze_off_image[0] += scanned.gaze_off_image;
+    gaze_invalid_other[0] += scanned.gaze_invalid_other;
+    gaze_off_image[1] += scanned.right_gaze_off_image;
+    gaze_invalid_other[1] += scanned.right_gaze_invalid_other;
     if (scanned.stimuli_with_latency > 0) participant.latency_recorded = true;
     gaze_age_s.insert(gaze_age_s.end(), scanned.gaze_age_s.begin(), scanned.gaze_age_s.end());
     scanned.gaze_age_s = {};
@@ -149,8 +152,9 @@ ParticipantData participant_of(ScannedSession& session) {
   if (participant.headset) {
     participant.headset->late_frames = late_frames;
     participant.headset->gaze_refreshes = gaze_refreshes;
-    participant.headset->gaze_off_left_image = gaze_off_image;
+    participant.headset->gaze_off_image = gaze_off_image;
     participant.headset->gaze_invalid_other = gaze_invalid_other;
+    participant.headset->right_eye_marked = header_schema_version(session.header) >= 13;
   }
   for (const TrackerValidationEvent& attempt : session.validations) {
     ValidationSummary& validation = participant.validation;

@@ -184,6 +184,9 @@ void SessionRun::present_stimulus(const Trial& trial, int step, int stimulus_id)
         shown_at = time_base_s_ + presenter_.present_views(eyes);
         right_hashes.push_back(right_eye_->library->hash(right));
         right_gaze.push_back({right_sample.x_px, right_sample.y_px});
+        if (!right_sample.valid)
+          event.right_eye_invalid_gaze.push_back(
+              {static_cast<int>(event.present_s.size()), right_sample.invalid_reason});
       }
       if (previous >= 0) {
         const long periods = std::lround((shown_at - previous) * presenter_.refresh_hz());

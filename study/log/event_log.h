@@ -45,7 +45,10 @@ namespace fovlab {
 // stimulus event's late_frames (its refreshes whose xrEndFrame came after their predicted display
 // time) and the header's headset.late_frames_measured (a log without them: schema 1-11, or a
 // runtime without XR_KHR_convert_timespec_time, counts none). Desktop logs are unchanged.
-inline constexpr int log_schema_version = 12;        // what this build writes
+// 13 (headset sessions, issue 42): each stimulus event marks the right eye's refreshes shown with a
+// held gaze (right_eye_invalid_gaze, as invalid_gaze marks the left's), so the report gives the
+// right eye's own share; a schema 11-12 log did not record them. Desktop logs are unchanged.
+inline constexpr int log_schema_version = 13;        // what this build writes
 inline constexpr int oldest_log_schema_version = 1;  // the oldest it reads (resume needs the current one)
 
 // The schema_version a session header states, or 0 when it states none this build could read

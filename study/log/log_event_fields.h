@@ -29,7 +29,7 @@ enum class Write {
   always,          // an unset optional as null
   when_set,        // an optional: only when set
   when_true,       // a bool: only when true
-  when_not_empty,  // a string: only when not ""; a JSON value: only when a non-empty object
+  when_not_empty,  // a string or a vector: only when not empty; a JSON value: only when a non-empty object
   when_not_null,   // a JSON value: only when not null (schema 7 fields, absent from earlier headers)
 };
 
@@ -191,6 +191,8 @@ constexpr auto fields(Of<StimulusEvent>) {
       // Schema 11; only in a headset session.
       field(k::right_eye_hash, &E::right_eye_hash, Write::when_set),
       field(k::right_eye_gaze, &E::right_eye_gaze, Write::when_set),
+      // Schema 13; only in a headset session, and only when the right eye held its gaze.
+      kept(k::right_eye_invalid_gaze, &E::right_eye_invalid_gaze, Write::when_not_empty),
       // Schema 12 (head-tracked views); only in a head-tracked headset session.
       field(k::head_pose, &E::head_pose, Write::when_set),
       // Schema 12; only in a headset session whose runtime converts CLOCK_MONOTONIC to its XrTime.

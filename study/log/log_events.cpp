@@ -260,6 +260,10 @@ template <typename T>
 struct IsOptional : std::false_type {};
 template <typename T>
 struct IsOptional<std::optional<T>> : std::true_type {};
+template <typename T>
+struct IsVector : std::false_type {};
+template <typename T>
+struct IsVector<std::vector<T>> : std::true_type {};
 
 template <typename Object>
 nlohmann::json object_json(const Object& object);
@@ -298,7 +302,7 @@ bool written(const T& value, Write write) {
       if constexpr (std::is_same_v<T, bool>) return value;
       break;
     case Write::when_not_empty:
-      if constexpr (std::is_same_v<T, std::string>) return !value.empty();
+      if constexpr (std::is_same_v<T, std::string> || IsVector<T>::value) return !value.empty();
       if constexpr (std::is_same_v<T, nlohmann::json>) return value.is_object() && !value.empty();
       break;
     case Write::when_not_null:

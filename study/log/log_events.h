@@ -103,6 +103,7 @@ inline constexpr const char* gaze_age_s = "gaze_age_s";
 inline constexpr const char* present_clock = "present_clock";
 inline constexpr const char* right_eye_hash = "right_eye_hash";
 inline constexpr const char* right_eye_gaze = "right_eye_gaze";
+inline constexpr const char* right_eye_invalid_gaze = "right_eye_invalid_gaze";  // schema 13
 inline constexpr const char* head_pose = "head_pose";  // schema 12, head-tracked headset sessions
 // Schema 12, late frames in a headset (stimulus events; the header's headset block).
 inline constexpr const char* late_frames = "late_frames";
@@ -272,6 +273,10 @@ struct StimulusEvent {
   // eye's, one entry a refresh as theirs.
   std::optional<std::vector<std::string>> right_eye_hash;
   std::optional<std::vector<std::array<double, 2>>> right_eye_gaze;
+  // Schema 13, only in a headset session: the right eye's refreshes shown with a held gaze (as
+  // invalid_gaze is the left eye's): its pixel was unusable, off its image or made from a left one
+  // that was. Written only when there are any; a schema 11-12 log did not record them.
+  std::vector<InvalidGaze> right_eye_invalid_gaze;
   // Schema 12 (head-tracked views), only in a head-tracked headset session: the head's pose at each
   // refresh relative to the session's start, as rendered: [x_m, y_m, z_m, qx, qy, qz, qw], one entry
   // a refresh as `hash` (docs/log-schema.md).

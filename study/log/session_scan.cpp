@@ -425,6 +425,8 @@ ScannedSession scan_padded(const char* data, size_t size, const std::string& pat
       open->gaze_refreshes += static_cast<int64_t>(stimulus.present_s.size());
       for (const InvalidGaze& invalid : stimulus.invalid_gaze)
         ++(invalid.reason == "off_screen" ? open->gaze_off_image : open->gaze_invalid_other);
+      for (const InvalidGaze& invalid : stimulus.right_eye_invalid_gaze)
+        ++(invalid.reason == "off_screen" ? open->right_gaze_off_image : open->right_gaze_invalid_other);
       if (stimulus.gaze_age_s) {
         ++open->stimuli_with_latency;
         for (const std::optional<double>& age : *stimulus.gaze_age_s)

@@ -52,10 +52,12 @@ struct ScannedTrial {
   // The gaze of its stimulus events' refreshes (present_s entries): how many there were, and how many
   // of those the log marks invalid (invalid_gaze, the left eye's sample in a headset), split into the
   // ones whose pixel fell off the image ("off_screen") and the rest (no sample, not tracked, not
-  // finite). A headset logs no such mark for the right eye's own sample (docs/analysis.md).
+  // finite); a headset's right eye likewise (right_eye_invalid_gaze, schema 13: none before).
   int64_t gaze_refreshes = 0;
   int64_t gaze_off_image = 0;
   int64_t gaze_invalid_other = 0;
+  int64_t right_gaze_off_image = 0;
+  int64_t right_gaze_invalid_other = 0;
   // The intervals between consecutive refreshes of each stimulus event (its present_s: every
   // schema), in seconds; the gap between two stimuli is not one.
   std::vector<double> frame_interval_s;

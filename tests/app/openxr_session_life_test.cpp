@@ -470,6 +470,7 @@ TEST_F(HeadsetSessionLife, AHeadsetLogOfSchema11StillReadsAndReplays) {
         stripped += static_cast<int>(event["headset"].erase("late_frames_measured"));
       }
       stripped += static_cast<int>(event.erase("late_frames"));
+      event.erase("right_eye_invalid_gaze");  // schema 13
       if (event.value("event", "") == "seal") event["last_chain"] = chain;
       chain = event_chain(chain, event, 11);
       event["chain"] = chain;
@@ -483,6 +484,15 @@ TEST_F(HeadsetSessionLife, AHeadsetLogOfSchema11StillReadsAndReplays) {
   const CommandResult exported =
       cli_test::run("export " + old_log.string() + " --out " + (scratch_.path() / "trials.csv").string());
   EXPECT_EQ(exported.exit_code, 0) << exported.out << exported.err;
+  // Before schema 13 the right eye's own invalid gaze was not marked: its off-image share is unknown.
+  const std::filesystem::path report = scratch_.path() / "report11";
+  const CommandResult analyzed =
+      cli_test::run("analyze " + (scratch_.path() / "schema11" / "headset_cli").string() + " --out " + report.string());
+  ASSERT_EQ(analyzed.exit_code, 0) << analyzed.out << analyzed.err;
+  std::ifstream thresholds(report / "thresholds.json");
+  const nlohmann::json eyes = nlohmann::json::parse(thresholds)["participants"][0]["headset"]["eyes"];
+  EXPECT_TRUE(eyes[1]["gaze_off_image_share"].is_null()) << eyes;
+  EXPECT_FALSE(eyes[0]["gaze_off_image_share"].is_null()) << eyes;
 }
 
 // --refocus-timeout takes seconds >= 0: anything else is refused in one line, before the runtime is

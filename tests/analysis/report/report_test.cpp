@@ -580,8 +580,8 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
   headset.fov_deg[1] = std::array<double, 4>{-49.0, 54.0, 54.0, -56.0};
   headset.late_frames = 2;
   headset.gaze_refreshes = 80;  // 6 off the left eye's image, 2 without a gaze
-  headset.gaze_off_left_image = 6;
-  headset.gaze_invalid_other = 2;
+  headset.gaze_off_image = {6, 0};
+  headset.gaze_invalid_other = {2, 0};  // a schema 12 log: the right eye not marked
   result.participants.at(0).headset = headset;
   result.participants.at(0).present_clock = "openxr_predicted_display";
   TempDir dir("headset");
@@ -617,6 +617,23 @@ TEST(AnalysisReport, AHeadsetSessionShowsItsRuntimeAndEyesBesideItsTiming) {
                          {"fov_deg": [-49.0, 54.0, 54.0, -56.0], "gaze_invalid_share": 0.025, "gaze_off_image_share": null}],
                 "late_frames": 2, "gaze_refreshes": 80})"));
   EXPECT_FALSE(thresholds["participants"][1].contains("headset"));
+
+  // Schema 13 marks the right eye's own: 9 off its image (the left's 6 among them), the same 2 without a gaze.
+  result.participants.at(0).headset->right_eye_marked = true;
+  result.participants.at(0).headset->gaze_off_image[1] = 9;
+  result.participants.at(0).headset->gaze_invalid_other[1] = 2;
+  TempDir marked("headset_marked");
+  write_analysis_report(result, marked.path().string());
+  const std::string marked_html = read_text(marked.path() / "report.html");
+  EXPECT_NE(marked_html.find("<tr><td>P001</td><td>right</td><td>2.5% (2 of 80)</td><td>11.2% (9 of 80)</td><td>13.8% (11 "
+                             "of 80)</td><td>56.5 (both eyes)</td></tr>"),
+            std::string::npos)
+      << marked_html;
+  EXPECT_EQ(marked_html.find("before schema 13"), std::string::npos) << "no log in it lacks the right eye's marks";
+  std::ifstream marked_file(marked.path() / "thresholds.json");
+  const nlohmann::json right_eye = nlohmann::json::parse(marked_file)["participants"][0]["headset"]["eyes"][1];
+  EXPECT_DOUBLE_EQ(right_eye.value("gaze_off_image_share", -1.0), 9.0 / 80.0) << right_eye;
+  EXPECT_DOUBLE_EQ(right_eye.value("gaze_invalid_share", -1.0), 2.0 / 80.0) << right_eye;
 }
 
 TEST(AnalysisReport, PlotsShowTheirData) {

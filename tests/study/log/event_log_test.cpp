@@ -548,7 +548,7 @@ TEST(ProtocolsLog, HeaderSchemaChecks) {
   }
   // The version this build writes is accepted.
   EXPECT_NO_THROW(read_session_record(make_log({header()})));
-  EXPECT_EQ(log_schema_version, 12);
+  EXPECT_EQ(log_schema_version, 13);
 }
 
 TEST(ProtocolsLog, HeaderSchemaVersionIsNotWrapped) {

@@ -421,7 +421,8 @@ TEST(LogEvents, TheTablesTypedKeysAreTheCheckedOnes) {
   };
   EXPECT_EQ(typed, expected);
   EXPECT_EQ(kept, (std::map<std::string, LineType>{{"present_s", LineType::numbers_lenient},
-                                                  {"invalid_gaze", LineType::invalid_gaze_lenient}}));
+                                                  {"invalid_gaze", LineType::invalid_gaze_lenient},
+                                                  {"right_eye_invalid_gaze", LineType::invalid_gaze_lenient}}));
   for (const log_fields::ScannedKey& key : log_fields::scanned_keys())
     EXPECT_EQ(log_fields::scanned_keys().at(size_t(log_fields::scanned_key_index(key.key))).key, key.key);
   EXPECT_EQ(log_fields::scanned_key_index("rt_s"), -1);
