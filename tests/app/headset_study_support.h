@@ -1,10 +1,15 @@
 #pragma once
 // Shared by the headset study tests at the command line (openxr_study_cli_test.cpp,
-// openxr_session_life_test.cpp): a small FIPR study in the headset and a fixture that runs `fovlab
+// openxr_session_life_test.cpp, ...): a small FIPR study in the headset, a fixture that runs `fovlab
 // run` on it in a child process with the test runtime (tests/xr_runtime) and the OpenXR core
-// validation layer on.
+// validation layer on, and a follower of the log that child writes.
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "tests/app/cli_test_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
@@ -52,6 +57,28 @@ scene = "primitives"
 // headset_study's eyes with the gaze resting on the plane 1.5 m in front of the head.
 inline const std::string kEyesAtDistance =
     "eye_width_px = 64\neye_height_px = 72\ngaze_fixation = \"fixation-distance\"\nfixation_distance_mm = 1500";
+
+// The session's log as it is written: the events of the whole lines added since the last call.
+class LogFollower {
+ public:
+  explicit LogFollower(std::filesystem::path path) : path_(std::move(path)) {}
+  std::vector<nlohmann::json> new_events() {
+    std::vector<nlohmann::json> events;
+    std::ifstream file(path_, std::ios::binary);
+    if (!file) return events;
+    file.seekg(read_);
+    std::string line;
+    while (std::getline(file, line) && !file.eof()) {  // eof: a line still being written
+      read_ += static_cast<std::streamoff>(line.size()) + 1;
+      events.push_back(nlohmann::json::parse(line));
+    }
+    return events;
+  }
+
+ private:
+  std::filesystem::path path_;
+  std::streamoff read_ = 0;
+};
 
 class HeadsetStudy : public OpenXrTest {
  protected:

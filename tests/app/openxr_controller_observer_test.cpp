@@ -33,6 +33,7 @@
 #include "study/config/study_config.h"
 #include "study/schedule/study_plan.h"
 #include "tests/app/cli_test_support.h"
+#include "tests/app/headset_study_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
 #include "tests/support/fovlab_child.h"
 
@@ -41,6 +42,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using cli_test::CommandResult;
+using test::LogFollower;
 
 // The Xbox controller's button of each answer key, as docs/hmd.md's table binds them. Written out
 // here rather than taken from display/openxr: a binding the product got wrong fails this test.
@@ -72,28 +74,6 @@ std::string button_for(const QuestionConfig& question, const std::string& answer
   ADD_FAILURE() << "no gamepad key for the answer \"" << answer << "\"";
   return {};
 }
-
-// The session's log as it is written: the events of the whole lines added since the last call.
-class LogFollower {
- public:
-  explicit LogFollower(fs::path path) : path_(std::move(path)) {}
-  std::vector<nlohmann::json> new_events() {
-    std::vector<nlohmann::json> events;
-    std::ifstream file(path_, std::ios::binary);
-    if (!file) return events;
-    file.seekg(read_);
-    std::string line;
-    while (std::getline(file, line) && !file.eof()) {  // eof: a line still being written
-      read_ += static_cast<std::streamoff>(line.size()) + 1;
-      events.push_back(nlohmann::json::parse(line));
-    }
-    return events;
-  }
-
- private:
-  fs::path path_;
-  std::streamoff read_ = 0;
-};
 
 // A participant who is the simulated observer: after each event of the log, the button the session
 // now waits for, or "" when it waits for none.

@@ -36,6 +36,7 @@ namespace fs = std::filesystem;
 using cli_test::CommandResult;
 using test::headset_study;
 using test::HeadsetStudy;
+using test::LogFollower;
 
 #define REQUIRE_DISPLAY()                                                                               \
   do {                                                                                                  \
@@ -114,28 +115,6 @@ class XKeyboard {
   int (*sync_)(void*, int) = nullptr;
   int (*key_)(void*, unsigned, int, unsigned long) = nullptr;
   int (*motion_)(void*, int, int, int, unsigned long) = nullptr;
-};
-
-// The session's log as it is written: the events of the whole lines added since the last call.
-class LogFollower {
- public:
-  explicit LogFollower(fs::path path) : path_(std::move(path)) {}
-  std::vector<nlohmann::json> new_events() {
-    std::vector<nlohmann::json> events;
-    std::ifstream file(path_, std::ios::binary);
-    if (!file) return events;
-    file.seekg(read_);
-    std::string line;
-    while (std::getline(file, line) && !file.eof()) {  // eof: a line still being written
-      read_ += static_cast<std::streamoff>(line.size()) + 1;
-      events.push_back(nlohmann::json::parse(line));
-    }
-    return events;
-  }
-
- private:
-  fs::path path_;
-  std::streamoff read_ = 0;
 };
 
 class HeadsetMirror : public HeadsetStudy {
