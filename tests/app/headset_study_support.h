@@ -3,9 +3,14 @@
 // openxr_session_life_test.cpp, ...): a small FIPR study in the headset, a fixture that runs `fovlab
 // run` on it in a child process with the test runtime (tests/xr_runtime) and the OpenXR core
 // validation layer on, and a follower of the log that child writes.
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -13,6 +18,7 @@
 
 #include "tests/app/cli_test_support.h"
 #include "tests/display/openxr/openxr_test_support.h"
+#include "tests/support/fovlab_child.h"
 
 namespace fovlab::test {
 
@@ -79,6 +85,42 @@ class LogFollower {
   std::filesystem::path path_;
   std::streamoff read_ = 0;
 };
+
+// Plays the participant of the session in child `pid` while it runs: after each event of its log,
+// `answer_after(event)` names the answer the session now waits for ("" for none) and `give` gives
+// it; an answer the session has not taken with an event within 500 ms is given again (one given
+// while a screen still counts down, a break, is dropped when the question appears). Returns the
+// child's exit code, or -1 when it did not end by `limit` (it is then killed).
+template <typename AnswerAfter, typename Give>
+int answer_while_it_runs(pid_t pid, LogFollower& log, std::chrono::seconds limit, AnswerAfter answer_after, Give give) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point deadline = Clock::now() + limit;
+  Clock::time_point given_at;
+  std::string waited_for;
+  for (;;) {
+    // Every wait ends in an event (the answer, the instructions, the break), so any event ends the
+    // wait before it.
+    for (const nlohmann::json& event : log.new_events()) {
+      waited_for = answer_after(event);
+      if (!waited_for.empty()) {
+        give(waited_for);
+        given_at = Clock::now();
+      }
+    }
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (Clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      exit_code(pid);
+      return -1;
+    }
+    if (!waited_for.empty() && Clock::now() - given_at > std::chrono::milliseconds(500)) {
+      give(waited_for);
+      given_at = Clock::now();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
 
 class HeadsetStudy : public OpenXrTest {
  protected:

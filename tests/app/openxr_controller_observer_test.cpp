@@ -13,16 +13,12 @@
 // here, and only the test runtime knows the queue.
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/wait.h>
-
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -181,37 +177,10 @@ class ControllerObserver : public test::OpenXrTest {
     const pid_t pid = test::start_fovlab(
         {"run", config_path.string(), "--participant", "P01", "--results", results.string()}, "", output_);
     LogFollower log(results / config.name / "P01" / "events.jsonl");
-    const auto press = [&](const std::string& button) { std::ofstream(queue, std::ios::app) << button << "\n"; };
-    using Clock = std::chrono::steady_clock;
-    const Clock::time_point deadline = Clock::now() + std::chrono::seconds(500);
-    Clock::time_point pressed_at;
-    std::string waited_for;  // the button of the press the session waits for
-    for (;;) {
-      for (const nlohmann::json& event : log.new_events()) {
-        // Every wait ends in an event (the answer, the instructions, the break), so any event ends
-        // the wait before it.
-        waited_for = participant.button_after(event);
-        if (!waited_for.empty()) {
-          press(waited_for);
-          pressed_at = Clock::now();
-        }
-      }
-      int status = 0;
-      if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      if (Clock::now() > deadline) {
-        kill(pid, SIGKILL);
-        test::exit_code(pid);
-        return -1;
-      }
-      // A press made while a screen still counts down (a break) is dropped when the question
-      // appears; pressed again until the session has taken one. A stale press reaches the next
-      // trial before its question appears, and is dropped there.
-      if (!waited_for.empty() && Clock::now() - pressed_at > std::chrono::milliseconds(500)) {
-        press(waited_for);
-        pressed_at = Clock::now();
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    // A stale press (given again) reaches the next trial before its question appears, and is dropped there.
+    return test::answer_while_it_runs(
+        pid, log, std::chrono::seconds(500), [&](const nlohmann::json& event) { return participant.button_after(event); },
+        [&](const std::string& button) { std::ofstream(queue, std::ios::app) << button << "\n"; });
   }
 
   // The study run twice with the headset's eye gaze (the test runtime's, straight ahead): by a

@@ -6,8 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
-#include <signal.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -135,31 +133,8 @@ class HeadsetMirror : public HeadsetStudy {
         {"run", config.string(), "--participant", "P01", "--results", results_.string(), "--mirror-window"}, "",
         output_);
     LogFollower log(results_ / "headset_cli" / "P01" / "events.jsonl");
-    using Clock = std::chrono::steady_clock;
-    const Clock::time_point deadline = Clock::now() + std::chrono::seconds(200);
-    Clock::time_point typed_at;
-    std::string waited_for;
-    for (;;) {
-      for (const nlohmann::json& event : log.new_events()) {
-        waited_for = key_after(event);
-        if (!waited_for.empty()) {
-          keyboard.type(waited_for);
-          typed_at = Clock::now();
-        }
-      }
-      int status = 0;
-      if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      if (Clock::now() > deadline) {
-        kill(pid, SIGKILL);
-        test::exit_code(pid);
-        return -1;
-      }
-      if (!waited_for.empty() && Clock::now() - typed_at > std::chrono::milliseconds(500)) {
-        keyboard.type(waited_for);
-        typed_at = Clock::now();
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    return test::answer_while_it_runs(pid, log, std::chrono::seconds(200), key_after,
+                                      [&](const std::string& keys) { keyboard.type(keys); });
   }
   fs::path output_ = scratch_.path() / "fovlab_output.txt";
 };

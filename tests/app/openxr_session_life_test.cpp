@@ -127,7 +127,21 @@ class HeadsetSessionLife : public test::HeadsetStudy {
     EXPECT_EQ(ran.exit_code, 0) << ran.err;
     return complete_trials(read_events(results / "headset_cli" / "P01" / "events.jsonl"));
   }
+  // The log's trials are the two of that uninterrupted run.
+  void expect_the_trials_of_an_uninterrupted_run(const std::filesystem::path& config,
+                                                 const std::vector<nlohmann::json>& events) {
+    const std::vector<nlohmann::json> expected = uninterrupted_trials(config);
+    ASSERT_EQ(expected.size(), 2u);
+    EXPECT_EQ(complete_trials(events), expected);
+  }
 };
+
+// `fovlab replay --verify` renders the log's every frame again and finds each hash.
+void expect_replay_matches(const std::filesystem::path& log) {
+  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
+  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+}
 
 // The headset taken off at frame 400 and put back on at frame 700: the study pauses as before
 // (session_paused, sealed), the "Paused" screen keeps the runtime's frames coming, and when the focus
@@ -180,14 +194,10 @@ TEST_F(HeadsetSessionLife, TheFocusBackWithinTheTimeoutResumesTheSessionInTheSam
   // The resumed part begins as a rerun's does: the instructions screen that says so, answered.
   EXPECT_EQ(kinds[paused_at + 3], "instructions");
 
-  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
-  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
-  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  expect_replay_matches(log);
 
   // The same participant's session, never interrupted, in another results folder.
-  const std::vector<nlohmann::json> expected = uninterrupted_trials(config);
-  ASSERT_EQ(expected.size(), 2u);
-  EXPECT_EQ(complete_trials(events), expected);
+  expect_the_trials_of_an_uninterrupted_run(config, events);
 }
 
 // The runtime stopping the session (FOVLAB_TEST_XR_STOP_AT_FRAME: STOPPING, as a runtime shutting
@@ -258,13 +268,9 @@ TEST_F(HeadsetSessionLife, TheRuntimeStoppingAndOfferingReadyAgainResumesTheSess
   EXPECT_LT(events[paused_at]["t"].get<double>(), 400.0 / 90.0) << events[paused_at];
   EXPECT_GT(events[paused_at + 2]["t"].get<double>(), events[paused_at]["t"].get<double>());
 
-  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
-  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
-  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  expect_replay_matches(log);
 
-  const std::vector<nlohmann::json> expected = uninterrupted_trials(config);
-  ASSERT_EQ(expected.size(), 2u);
-  EXPECT_EQ(complete_trials(events), expected);
+  expect_the_trials_of_an_uninterrupted_run(config, events);
 }
 
 // The runtime stopping the session and not offering READY again within --refocus-timeout: the
@@ -299,9 +305,7 @@ TEST_F(HeadsetSessionLife, TheRuntimeStoppingWithoutReadyAgainWithinTheTimeoutSe
   kinds = kinds_of(read_events(log));
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_resumed"), 1);
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "session_end"), 1);
-  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
-  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
-  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  expect_replay_matches(log);
 }
 
 // Ctrl-C at the terminal while the paused session waits for a focus that does not come (taken off
@@ -358,9 +362,7 @@ TEST_F(HeadsetSessionLife, CtrlCWhileThePausedSessionWaitsEndsTheRunSealedAndThe
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.out.find("resumed, 2 of 2 trials complete"), std::string::npos) << resumed.out;
   EXPECT_EQ(resumed.err.find("torn"), std::string::npos) << resumed.err;
-  const CommandResult replayed = cli_test::run("replay " + log.string() + " --verify");
-  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
-  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  expect_replay_matches(log);
 }
 
 // The test runtime makes every 4th of the first 300 frames late (FOVLAB_TEST_XR_LATE_AT_FRAMES: its
@@ -478,9 +480,7 @@ TEST_F(HeadsetSessionLife, AHeadsetLogOfSchema11StillReadsAndReplays) {
     }
     EXPECT_GT(stripped, 4) << "the header's and every stimulus event's schema-12 fields";
   }
-  const CommandResult replayed = cli_test::run("replay " + old_log.string() + " --verify");
-  EXPECT_EQ(replayed.exit_code, 0) << replayed.out << replayed.err;
-  EXPECT_NE(replayed.out.find("replay matches the log"), std::string::npos) << replayed.out;
+  expect_replay_matches(old_log);
   const CommandResult exported =
       cli_test::run("export " + old_log.string() + " --out " + (scratch_.path() / "trials.csv").string());
   EXPECT_EQ(exported.exit_code, 0) << exported.out << exported.err;
