@@ -151,6 +151,13 @@ double StimulusLibrary::prepare(const std::vector<std::pair<int, StimulusSpec>>&
                                [&] { advance(std::max(0.0, std::min(1.0, before_stimulus + units(spec) - done))); });
     render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (describe(spec.method()).depends_on_gaze || head_tracked_) {  // rendered live, a refresh at a time
+      // One image now, not shown: what its first refresh would otherwise build mid-trial (the
+      // tracer's pipelines for this stimulus's passes, its frame buffers). A presentation's image 0
+      // depends on nothing rendered before it, so the session's images are as without it.
+      GazeSample centre;
+      centre.x_px = 0.5 * spec.width_px;
+      centre.y_px = 0.5 * spec.height_px;
+      render_live(spec, StimulusImage{0, 0, centre, {}});
       advance(std::max(0.0, before_stimulus + units(spec) - done));
       continue;
     }

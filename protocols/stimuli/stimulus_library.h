@@ -89,8 +89,9 @@ class StimulusLibrary {
   ~StimulusLibrary();
 
   // Renders every frame of the given stimuli that can be prepared ahead (ids are the caller's;
-  // the same id must always name the same spec); for gaze-dependent ones it compiles the scene
-  // and checks the settings, so their errors too come before the first trial. Stimuli whose frames
+  // the same id must always name the same spec); for gaze-dependent ones (and every one of a
+  // head-tracked eye) it compiles the scene, checks the settings and renders one image unseen, so
+  // their errors, and what their first image builds, come before the first trial. Stimuli whose frames
   // would not fit in memory are refused before anything is rendered (check_prepared_frames_fit).
   // Returns the seconds spent.
   // `progress` (optional) hears the share done, 0 to 1, after every frame rendered or loaded.

@@ -59,6 +59,10 @@ const float NO_NEAR_MISS = -1.0;
 const uint fovlab_promoted_entry = 0x80000000u;
 
 layout(push_constant) uniform TraceParamsBlock { TraceParams params; };
+// The pass's FLAG_*, as a specialization constant: each pass runs a pipeline made for its own flags
+// (SphereTracer::pipeline_for), so its code holds only its own paths. lavapipe runs the straight-line
+// code of a branch that no invocation takes (docs/benchmarks.md, "The tracer specialised by its pass").
+layout(constant_id = 0) const uint fovlab_trace_flags = 0u;
 
 struct Ray { vec3 origin; vec3 direction; };
 
@@ -413,10 +417,10 @@ float fovlab_pixel_cone_per_unit_t(float pixel_angle_rad, float scale) {
   return pixel_angle_rad * (scale * fovlab_half_diagonal + params.hit_threshold);
 }
 float fovlab_near_per_unit_t(float pixel_angle_rad, float scale) {
-  return (params.flags & FLAG_NEAR_MISS) != 0u ? fovlab_pixel_cone_per_unit_t(pixel_angle_rad, scale) : 0.0;
+  return (fovlab_trace_flags & FLAG_NEAR_MISS) != 0u ? fovlab_pixel_cone_per_unit_t(pixel_angle_rad, scale) : 0.0;
 }
 TraceResult fovlab_depth_trace(Ray ray, float t_start, float pixel_angle_rad, float scale) {
-  if ((params.flags & FLAG_CONE) != 0u)
+  if ((fovlab_trace_flags & FLAG_CONE) != 0u)
     return fovlab_cone_trace(ray, t_start, pixel_angle_rad * scale * fovlab_half_diagonal,
                              pixel_angle_rad * params.hit_threshold, params.max_steps);
   return fovlab_trace(ray, t_start, pixel_angle_rad * scale * params.hit_threshold, false, params.max_steps, true,
@@ -486,7 +490,7 @@ float fovlab_edge_depth(Ray ray, TraceResult cone, float pixel_angle_rad, float 
 // `traced` stopped, is this pixel's near miss. Near depths go up their own chain: the depth chain,
 // and with it every pixel of the mask pass, stays IPR's.
 float fovlab_parent_near_depth(uvec2 pixel) {
-  if ((params.flags & FLAG_HAS_START) == 0u) return NO_NEAR_MISS;
+  if ((fovlab_trace_flags & FLAG_HAS_START) == 0u) return NO_NEAR_MISS;
   uvec2 parent = min(pixel / 2u, params.start_size - 1u);
   return parent_near_depth[parent.y * params.start_size.x + parent.x];
 }
@@ -510,7 +514,7 @@ float fovlab_near_miss_depth(Ray ray, float t_start, TraceResult traced, uvec2 p
 // and shades them in full instead of the periphery taking the colour behind that surface. The
 // list's dispatch is counted after this pass. Returns how many children it promoted.
 uint fovlab_promote_children(uint index) {
-  if ((params.flags & FLAG_NEAR_MISS) == 0u) return 0u;
+  if ((fovlab_trace_flags & FLAG_NEAR_MISS) == 0u) return 0u;
   uvec2 mid_pixel = uvec2(index % params.level_size.x, index / params.level_size.x);
   uvec2 frame_size = uvec2(params.frame_size);
   uint children[4];
@@ -547,11 +551,11 @@ void fovlab_foveated_mid(uint entry, uint index, float t_start, vec2 centre_px, 
   if (need_shade) {
     // Its near depth, where the ray passed a surface (FLAG_NEAR_MISS): its children are promoted.
     float near = NO_NEAR_MISS;
-    if ((params.flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS) {
+    if ((fovlab_trace_flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS) {
       near = fovlab_near_miss_depth(ray, t_start, result, uvec2(index % params.level_size.x, index / params.level_size.x),
                                     pixel_angle_rad, scale, probe_steps);
     }
-    if ((params.flags & FLAG_CONE) != 0u && result.steps < params.max_steps) {
+    if ((fovlab_trace_flags & FLAG_CONE) != 0u && result.steps < params.max_steps) {
       // The cone stopped short of the surface: the shaded ray goes on from there with the level's
       // test, within what is left of the step cap (a capped cone was counted once already). If it
       // passes the surface the cone stopped at, the cone's depth is the near depth.
@@ -686,7 +690,7 @@ void fovlab_breakdown_end() {
 void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale) {
   vec3 colour_sum = vec3(0.0);
   uint steps = 0u;
-  bool record_depth = (params.flags & FLAG_SAMPLE_DEPTH_OUT) != 0u;
+  bool record_depth = (fovlab_trace_flags & FLAG_SAMPLE_DEPTH_OUT) != 0u;
 #ifdef FOVLAB_STEP_BREAKDOWN
   fovlab_breakdown_begin();
 #endif
@@ -696,7 +700,7 @@ void fovlab_shade_samples(uint index, float t_start, vec2 centre_px, float scale
                                 pixel_angle_rad);
     float epsilon_per_unit_t = pixel_angle_rad * scale * params.hit_threshold;
     uint sample_entry = index * params.samples_per_pixel + s;
-    float t_sample = (params.flags & FLAG_SAMPLE_DEPTH_IN) != 0u ? start_depth[sample_entry] : t_start;
+    float t_sample = (fovlab_trace_flags & FLAG_SAMPLE_DEPTH_IN) != 0u ? start_depth[sample_entry] : t_start;
 #ifdef FOVLAB_STEP_BREAKDOWN
     fovlab_watch_begin(epsilon_per_unit_t);
     fovlab_watch_on = true;
@@ -734,7 +738,7 @@ void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
   uint index;
   uint list_slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-  if ((params.flags & FLAG_SAMPLE_LIST) != 0u) {
+  if ((fovlab_trace_flags & FLAG_SAMPLE_LIST) != 0u) {
     if (list_slot >= counters[COUNTER_MASKED_PIXELS]) return;
     uvec4 entry = uvec4(mask_values[4u * list_slot], mask_values[4u * list_slot + 1u], mask_values[4u * list_slot + 2u],
                         mask_values[4u * list_slot + 3u]);
@@ -742,9 +746,9 @@ void main() {
     return;
   }
   uint mid_entry = 0u;
-  if ((params.flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP | FLAG_FOVEATED_MID)) != 0u) {
-    uint list_length = (params.flags & FLAG_MASKED_LIST) != 0u   ? counters[COUNTER_MASKED_PIXELS]
-                       : (params.flags & FLAG_FOVEATED_TOP) != 0u ? counters[COUNTER_REFRESH_LIST_PIXELS]
+  if ((fovlab_trace_flags & (FLAG_MASKED_LIST | FLAG_FOVEATED_TOP | FLAG_FOVEATED_MID)) != 0u) {
+    uint list_length = (fovlab_trace_flags & FLAG_MASKED_LIST) != 0u   ? counters[COUNTER_MASKED_PIXELS]
+                       : (fovlab_trace_flags & FLAG_FOVEATED_TOP) != 0u ? counters[COUNTER_REFRESH_LIST_PIXELS]
                                                                   : counters[COUNTER_MID_LIST_PIXELS];
     if (list_slot >= list_length) return;
     mid_entry = mask_values[list_slot];
@@ -755,7 +759,7 @@ void main() {
     index = pixel.y * params.level_size.x + pixel.x;
   }
 
-  if ((params.flags & FLAG_FOVEATED_TOP) != 0u) {
+  if ((fovlab_trace_flags & FLAG_FOVEATED_TOP) != 0u) {
     uvec2 parent = min(pixel / 2u, params.start_size - 1u);
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(vec2(pixel) + 0.5, pixel_angle_rad);
@@ -768,29 +772,29 @@ void main() {
   }
 
   float t_start = 0.0;
-  if ((params.flags & FLAG_HAS_START) != 0u) {
-    uvec2 parent = min((params.flags & FLAG_START_SAME_SIZE) != 0u ? pixel : pixel / 2u, params.start_size - 1u);
+  if ((fovlab_trace_flags & FLAG_HAS_START) != 0u) {
+    uvec2 parent = min((fovlab_trace_flags & FLAG_START_SAME_SIZE) != 0u ? pixel : pixel / 2u, params.start_size - 1u);
     t_start = start_depth[parent.y * params.start_size.x + parent.x];
     // A pixel the mid level promoted starts in front of the surface its parent's ray passed.
-    if ((params.flags & FLAG_MASKED_LIST) != 0u && (mid_entry & fovlab_promoted_entry) != 0u)
+    if ((fovlab_trace_flags & FLAG_MASKED_LIST) != 0u && (mid_entry & fovlab_promoted_entry) != 0u)
       t_start = min(t_start, fovlab_parent_near_depth(pixel));
   }
 
   float scale = float(params.level_scale);
   vec2 centre_px = (vec2(pixel) + 0.5) * scale;
-  if ((params.flags & FLAG_FOVEATED_MID) != 0u) {
+  if ((fovlab_trace_flags & FLAG_FOVEATED_MID) != 0u) {
     fovlab_foveated_mid(mid_entry, index, t_start, centre_px, scale);
     return;
   }
-  if ((params.flags & FLAG_SHADE) == 0u) {
+  if ((fovlab_trace_flags & FLAG_SHADE) == 0u) {
     float pixel_angle_rad;
     Ray ray = fovlab_camera_ray(centre_px, pixel_angle_rad);
     TraceResult result = fovlab_depth_trace(ray, t_start, pixel_angle_rad, scale);
     level_depth[index] = fovlab_depth_to_pass_on(result);
     uint steps = result.steps;
-    if ((params.flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS)
+    if ((fovlab_trace_flags & (FLAG_NEAR_MISS | FLAG_CONE)) == FLAG_NEAR_MISS)
       near_depth[index] = fovlab_near_miss_depth(ray, t_start, result, pixel, pixel_angle_rad, scale, steps);
-    if ((params.flags & FLAG_EDGE_DEPTH) != 0u)
+    if ((fovlab_trace_flags & FLAG_EDGE_DEPTH) != 0u)
       edge_depth[index] = fovlab_edge_depth(ray, result, pixel_angle_rad, scale, steps);
     level_steps[index] = steps;
     return;

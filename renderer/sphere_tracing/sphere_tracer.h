@@ -224,14 +224,15 @@ class SphereTracer {
   struct FrameRecording;                                    // one render being recorded
   struct DepthStart;                                        // where a level's rays start
   void prepare_frame(const SphereTraceSettings& settings);  // the buffers of its frame layout, kept if they fit
-  // The top level's tracer: the plain one, or a variant (step breakdown, over-relaxation) compiled on
-  // the first frame that asks for it.
-  const vk::ComputePipeline& top_level_pipeline(const SphereTraceSettings& settings);
-  // The tracer of the levels below the top (and of the sampling models' samples): the plain one, or
-  // with a headset eye's view the variant compiled with FOVLAB_EYE_VIEW (so the plain tracer's code,
-  // and its frames, stay what they were).
-  const vk::ComputePipeline& trace_pipeline(const SphereTraceSettings& settings);
-  const vk::ComputePipeline& variant_pipeline(const std::string& defines);
+  // The tracer that runs a pass with these flags (TraceParams::flags), made on the first frame that
+  // asks for it: sphere_trace.comp.glsl with the variant's #defines, specialised on the pass's flags
+  // (constant_id 0), so each pass's code has only its own paths. top_level_pipeline: the top level's
+  // shaded samples, which may run a variant (step breakdown, over-relaxation); trace_pipeline: every
+  // other pass, plain or, with a headset eye's view, with FOVLAB_EYE_VIEW (so the plain tracer's
+  // code, and its frames, stay what they were).
+  const vk::ComputePipeline& top_level_pipeline(const SphereTraceSettings& settings, uint32_t flags);
+  const vk::ComputePipeline& trace_pipeline(const SphereTraceSettings& settings, uint32_t flags);
+  const vk::ComputePipeline& pipeline_for(const std::string& defines, uint32_t flags);
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   // render()'s passes (sphere_tracer_passes.cpp), in the order a frame records them.
   void clear_counters(FrameRecording& f);  // and FIPR's mid colours when it has no history
@@ -250,8 +251,11 @@ class SphereTracer {
   vk::Context& context_;
   SceneSource scene_;  // for the step-breakdown variant
   bool shader_from_cache_ = false;
-  std::unique_ptr<vk::ComputePipeline> trace_pipeline_;
-  std::map<std::string, std::unique_ptr<vk::ComputePipeline>> variant_pipelines_;  // by their #defines
+  struct TracerVariant {  // sphere_trace.comp.glsl compiled with some #defines
+    std::vector<uint32_t> spirv;
+    std::map<uint32_t, std::unique_ptr<vk::ComputePipeline>> pipelines;  // by the flags they are specialised on
+  };
+  std::map<std::string, TracerVariant> variants_;  // by their #defines ("": the plain tracer, compiled first)
   std::unique_ptr<vk::ComputePipeline> min_filter_pipeline_;
   std::unique_ptr<vk::ComputePipeline> edges_pipeline_;
   std::unique_ptr<vk::ComputePipeline> mask_pipeline_;

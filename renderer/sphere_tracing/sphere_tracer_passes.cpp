@@ -144,7 +144,8 @@ void SphereTracer::trace_level(FrameRecording& f, int level_index, const DepthSt
   const auto buffers = f.trace_bindings(level_index, start);
   // The top level's samples may run a variant of the tracer (step breakdown, over-relaxation).
   const bool top = level_index + 1 == f.level_count;
-  const vk::ComputePipeline& pipeline = top ? top_level_pipeline(f.settings) : trace_pipeline(f.settings);
+  const vk::ComputePipeline& pipeline =
+      top ? top_level_pipeline(f.settings, params.flags) : trace_pipeline(f.settings, params.flags);
   f.timer.begin(f.cmd, "trace_level" + std::to_string(level_index));
   pipeline.dispatch_2d(f.cmd, buffers, &params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
@@ -177,7 +178,8 @@ void SphereTracer::trace_ground_truth_floor(FrameRecording& f, const DepthStart&
   TraceParams record = params;
   record.flags |= gpu::FLAG_SAMPLE_DEPTH_OUT;
   const auto record_buffers = with_binding(buffers, 1, frame.sample_depth.handle());
-  trace_pipeline(f.settings).dispatch_2d(f.cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
+  trace_pipeline(f.settings, record.flags)
+      .dispatch_2d(f.cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
   vk::compute_to_compute_barrier(f.cmd);
   vkCmdFillBuffer(f.cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);  // the floor's own capped and restarted rays
   vk::memory_barrier(f.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -187,7 +189,7 @@ void SphereTracer::trace_ground_truth_floor(FrameRecording& f, const DepthStart&
   floor_params.max_steps = 1;
   const auto floor_buffers = with_binding(buffers, 0, frame.sample_depth.handle());
   f.timer.begin(f.cmd, "one_step_floor");
-  trace_pipeline(f.settings)
+  trace_pipeline(f.settings, floor_params.flags)
       .dispatch_2d(f.cmd, floor_buffers, &floor_params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
   vk::compute_to_compute_barrier(f.cmd);
@@ -245,7 +247,7 @@ void SphereTracer::fipr_trace_mid_level(FrameRecording& f, const DepthStart& sta
   vk::compute_to_compute_barrier(f.cmd);
   dispatch_list_sizes(f, "mid_list_dispatch", frame.mid_list_dispatch, gpu::COUNTER_MID_LIST_PIXELS, 0, 1);
   f.timer.begin(f.cmd, "trace_level" + std::to_string(f.mid_index));
-  trace_pipeline(f.settings)
+  trace_pipeline(f.settings, params.flags)
       .dispatch_indirect(f.cmd, f.trace_bindings(f.mid_index, start), &params, frame.mid_list_dispatch.handle(), 0);
   f.timer.end(f.cmd);
   // The top level's lists are complete now: the mask pass's, and the children this level promoted.
@@ -263,7 +265,8 @@ void SphereTracer::fipr_trace_masked(FrameRecording& f, const DepthStart& start)
   list_params.flags = (list_params.flags & ~gpu::FLAG_FOVEATED_TOP) | gpu::FLAG_MASKED_LIST;
   const auto list_buffers = with_binding(f.trace_bindings(top, start), 5, f.frame.masked_list.handle());
   f.timer.begin(f.cmd, "trace_level" + std::to_string(top));
-  trace_pipeline(f.settings).dispatch_indirect(f.cmd, list_buffers, &list_params, f.frame.list_dispatch.handle(), 0);
+  trace_pipeline(f.settings, list_params.flags)
+      .dispatch_indirect(f.cmd, list_buffers, &list_params, f.frame.list_dispatch.handle(), 0);
   f.timer.end(f.cmd);
 }
 
@@ -274,7 +277,7 @@ void SphereTracer::fipr_trace_periphery(FrameRecording& f, const DepthStart& sta
   periphery_params.samples_per_pixel = 1;  // one ray per peripheral pixel (also its texture footprint)
   const auto refresh_buffers = with_binding(f.trace_bindings(top, start), 5, f.frame.refresh_list.handle());
   f.timer.begin(f.cmd, "periphery_trace");
-  trace_pipeline(f.settings)
+  trace_pipeline(f.settings, periphery_params.flags)
       .dispatch_indirect(f.cmd, refresh_buffers, &periphery_params, f.frame.list_dispatch.handle(),
                          3 * sizeof(uint32_t));
   f.timer.end(f.cmd);

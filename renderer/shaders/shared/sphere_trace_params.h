@@ -31,7 +31,8 @@ struct TraceParams {
   uint samples_per_pixel;  // 1, 4 or 16 (top level; FIPR's mid level: 4 for a one-pixel texture footprint)
   uint max_steps;          // step cap of one ray at this level
   uint level_scale;        // full-resolution pixels per level pixel along each axis (1, 2, 4, ...)
-  uint flags;              // FLAG_*
+  uint flags;              // FLAG_*: which pipeline runs the pass (the shader reads them as its
+                           // specialization constant, fovlab_trace_flags, not from here)
   uint frame_index;        // FIPR: frame of the sequence (stamps the mid level's colours)
   uint periphery_steps;    // FIPR: 0: the mid level shades the pixels its unmasked children take
                            // (fipr_reconstruct); else those are traced from the mid depth with this
