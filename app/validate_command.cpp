@@ -151,8 +151,9 @@ void estimate_render_time(const StudyPlan& plan, const std::string& device, cons
     GazeSample centre;
     centre.x_px = 0.5 * spec.width_px;
     centre.y_px = 0.5 * spec.height_px;
-    library.frame(id, spec, StimulusImage{0, 0, centre});  // the first frame builds what the rest reuse
+    library.frame(id, spec, StimulusImage{0, 0, centre});  // image 0: the timed image 1 continues it
     const double frame_s = timed_s([&] { library.frame(id, spec, StimulusImage{0, 1, centre}); });
+    ahead_s += frame_s * double(group.stimuli);  // prepare renders one image of each, unseen
     std::printf("  %-8s %-24s %3d stimuli rendered live: %.1f ms a frame%s against a refresh of %.1f ms%s\n",
                 key.first.c_str(), key.second.c_str(), group.stimuli, 1e3 * frame_s,
                 eyes == 2 ? " (an eye: two a refresh)" : "", refresh_ms,
