@@ -249,7 +249,7 @@ class SphereTracer {
   void dispatch_list_sizes(FrameRecording& f, const char* pass, const vk::Buffer& counts, uint32_t first_counter,
                            uint32_t second_counter, uint32_t list_count);
   vk::Context& context_;
-  SceneSource scene_;  // for the step-breakdown variant
+  SceneSource scene_;  // for the variants' compiles
   bool shader_from_cache_ = false;
   struct TracerVariant {  // sphere_trace.comp.glsl compiled with some #defines
     std::vector<uint32_t> spirv;
