@@ -471,7 +471,7 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   const uint32_t groups = (sites + 63) / 64;
   timer.begin(cmd, "volume_sites");
   site_rays_pipeline_->dispatch_groups(cmd, ray_buffers, nullptr, std::min<uint32_t>(groups, 65535),
-                                       (groups + 65534) / 65535);
+                                     (groups + 65534) / 65535);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
   const VkBuffer reconstruct_buffers[] = {neighbours_.handle(), site_colours_.handle(), colour_.handle(),
