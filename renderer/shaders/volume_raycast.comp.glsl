@@ -17,9 +17,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 const uint MODE_FULL = 0u;
 const uint MODE_SITES = 1u;
-// Which rays this pipeline casts, as a specialization constant (one pipeline each, VolumeRaycaster),
-// so each holds only its own path: lavapipe runs the code of a branch no invocation takes.
-layout(constant_id = 0) const uint RAYCAST_MODE = MODE_FULL;
 
 layout(std430, binding = 0) readonly buffer VolumeRayParamsBuffer { VolumeRayParams params; };
 layout(std430, binding = 1) readonly buffer Voxels { uint voxels[]; };         // two 16-bit voxels a word, x fastest
@@ -130,7 +127,7 @@ vec3 trace(vec2 screen_px, uint pixel_hash) {
 }
 
 void main() {
-  if (RAYCAST_MODE == MODE_FULL) {
+  if (params.screen.z == MODE_FULL) {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= params.screen.x || pixel.y >= params.screen.y) return;
     uint hash = pixel.x + lowbias32(pixel.y + lowbias32(uint(params.mask_offset.w) + lowbias32(uint(params.mask_offset.z))));

@@ -20,13 +20,6 @@ namespace fovlab {
 namespace {
 
 constexpr uint32_t kModeFull = 0, kModeSites = 1;
-
-// The raycaster for one mode (its RAYCAST_MODE specialization constant).
-std::unique_ptr<vk::ComputePipeline> raycast_pipeline(const vk::Context& context, uint32_t mode) {
-  const uint32_t specialization[] = {mode};
-  return std::make_unique<vk::ComputePipeline>(context, shaders::volume_raycast_spirv, 7, 0, 0, specialization);
-}
-
 constexpr uint32_t kNoSlot = 0xFFFFFFFFu;
 // Phong with a headlight: ambient, diffuse, specular, shininess.
 constexpr std::array<float, 4> kShading{0.3f, 0.7f, 0.25f, 24.0f};
@@ -163,8 +156,7 @@ std::vector<std::array<float, 4>> site_reader_boxes(const std::vector<uint32_t>&
 VolumeRaycaster::VolumeRaycaster(vk::Context& context, const VolumeScene& scene, const VolumeGrid& grid)
     : context_(context),
       scene_(scene),
-      full_rays_pipeline_(raycast_pipeline(context, kModeFull)),
-      site_rays_pipeline_(raycast_pipeline(context, kModeSites)),
+      raycast_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::volume_raycast_spirv, 7, 0)),
       reconstruct_pipeline_(std::make_unique<vk::ComputePipeline>(context, shaders::voronoi_reconstruct_spirv, 4,
                                                                   sizeof(VoronoiReconstructParams))),
       encoder_(std::make_unique<Srgb8Encoder>(context)),
@@ -364,7 +356,7 @@ VolumeFrameResult VolumeRaycaster::run_full(const VolumeRenderSettings& settings
   const VkBuffer buffers[] = {params_.handle(), voxels_.handle(), transfer_.handle(),    bricks_.handle(),
                               sites_.handle(),  colour_.handle(), site_colours_.handle()};
   timer.begin(cmd, "volume_full");
-  full_rays_pipeline_->dispatch_2d(cmd, buffers, nullptr, uint32_t(width_), uint32_t(height_));
+  raycast_pipeline_->dispatch_2d(cmd, buffers, nullptr, uint32_t(width_), uint32_t(height_));
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
   last_rays_ = uint64_t(width_) * uint64_t(height_);
@@ -470,7 +462,7 @@ VolumeFrameResult VolumeRaycaster::run_foveated(const VolumeRenderSettings& sett
   const uint32_t sites = uint32_t(reconstruction_->mask.sites.size());
   const uint32_t groups = (sites + 63) / 64;
   timer.begin(cmd, "volume_sites");
-  site_rays_pipeline_->dispatch_groups(cmd, ray_buffers, nullptr, std::min<uint32_t>(groups, 65535),
+  raycast_pipeline_->dispatch_groups(cmd, ray_buffers, nullptr, std::min<uint32_t>(groups, 65535),
                                      (groups + 65534) / 65535);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);

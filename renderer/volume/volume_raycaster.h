@@ -142,7 +142,7 @@ class VolumeRaycaster {
   std::array<double, 3> box_half_{};
   double base_step_world_ = 0.0;
   std::array<int, 3> brick_count_{};
-  std::unique_ptr<vk::ComputePipeline> full_rays_pipeline_, site_rays_pipeline_, reconstruct_pipeline_;
+  std::unique_ptr<vk::ComputePipeline> raycast_pipeline_, reconstruct_pipeline_;
   std::unique_ptr<Srgb8Encoder> encoder_;
   vk::Buffer params_, voxels_, transfer_, bricks_;
   // Foveated frames.

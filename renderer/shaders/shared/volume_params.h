@@ -16,7 +16,7 @@ struct VolumeRayParams {
   vec4 voxel_scale;   // xyz: voxels per world unit along x, y, z; w: the largest iteration count
   uvec4 volume_size;  // xyz: voxels a side; w: voxels a brick side
   uvec4 brick_count;  // xyz: bricks a side; w: 1 = a site is traced only where its readers' box meets the screen
-  uvec4 screen;       // x, y: W, H; z: mode (also the pipeline's RAYCAST_MODE); w: sites (MODE_SITES)
+  uvec4 screen;       // x, y: W, H; z: mode; w: sites (MODE_SITES)
   ivec4 mask_offset;  // xy: screen position = mask position - mask_offset; z: jitter seed; w: frame
   vec4 gaze;          // xy: gaze (screen pixels) for the foveated step; z: 1 = foveated step; w: 1 = opacity corrected
   vec4 background;    // rgb; w: the reference step (world), half the smallest voxel, that opacities are given for
