@@ -5,14 +5,14 @@
 
 #include <cmath>
 
-#include "core/colour.h"
-#include "metrics/image_metrics.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "tests/renderer/frame_ssim.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 
 namespace fovlab {
 namespace {
 
+using test::srgb_ssim;
 using test::VulkanTest;
 
 SphereTraceSettings frame_320x180(TraceMethod method, int spp) {
@@ -22,10 +22,6 @@ SphereTraceSettings frame_320x180(TraceMethod method, int spp) {
   settings.height = 180;
   settings.samples_per_pixel = spp;
   return settings;
-}
-
-double ssim(const SphereTraceResult& reference, const SphereTraceResult& test) {
-  return metrics::ssim(encode_srgb(reference.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
 }
 
 // The scene of sub-pixel wires, rods, rings and an edge-on plate in front of a wall: the centre
@@ -40,8 +36,8 @@ TEST_F(VulkanTest, ConeKeepsTheThinGeometryTheCentreRayLoses) {
   settings.coarse_test = CoarseTest::cone;
   const SphereTraceResult cone = tracer.render(settings);
 
-  EXPECT_LT(ssim(gt, centre_ray), 0.96) << "the scene no longer shows what the issue measured";
-  EXPECT_GE(ssim(gt, cone), 0.997);
+  EXPECT_LT(srgb_ssim(gt, centre_ray), 0.96) << "the scene no longer shows what the issue measured";
+  EXPECT_GE(srgb_ssim(gt, cone), 0.997);
   EXPECT_GT(centre_ray.restarted_rays, 0u) << "centre rays overshoot thin geometry";
   EXPECT_EQ(cone.restarted_rays, 0u) << "a conservative start never lies inside geometry";
   EXPECT_EQ(gt.capped_rays, 0u);
@@ -74,7 +70,7 @@ TEST_P(EveryScene, ConeAndFullResolutionDepthStayWithinTheBoundOfGroundTruth) {
     const SphereTraceResult ipr = tracer.render(settings);
     const std::string name = scene + ", " + coarse_test_name(mode.test) + ", min filter " +
                              std::to_string(mode.min_filter_size) + (mode.full_depth ? ", full depth" : "");
-    EXPECT_GE(ssim(gt, ipr), 0.995) << name;
+    EXPECT_GE(srgb_ssim(gt, ipr), 0.995) << name;
     if (mode.test == CoarseTest::cone) {
       EXPECT_EQ(ipr.restarted_rays, 0u) << name;
     }
@@ -118,7 +114,7 @@ TEST_F(VulkanTest, FoveatedPyramidWithTheConeKeepsTheWires) {
   settings.foveation.gaze_x_px = std::nan("");
   settings.foveation.gaze_y_px = std::nan("");
   const SphereTraceResult everywhere = tracer.render(settings);
-  EXPECT_GE(ssim(gt, everywhere), 0.995);
+  EXPECT_GE(srgb_ssim(gt, everywhere), 0.995);
   EXPECT_EQ(everywhere.restarted_rays, 0u);
 
   settings.foveation.gaze_x_px = 160.0;
@@ -126,7 +122,7 @@ TEST_F(VulkanTest, FoveatedPyramidWithTheConeKeepsTheWires) {
   const SphereTraceResult foveated_cone = tracer.render(settings);
   settings.coarse_test = CoarseTest::centre_ray;
   const SphereTraceResult foveated_ray = tracer.render(settings);
-  EXPECT_GT(ssim(gt, foveated_cone), ssim(gt, foveated_ray));
+  EXPECT_GT(srgb_ssim(gt, foveated_cone), srgb_ssim(gt, foveated_ray));
 }
 
 }  // namespace

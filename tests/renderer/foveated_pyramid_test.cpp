@@ -10,12 +10,11 @@
 #include <numeric>
 #include <vector>
 
-#include "core/colour.h"
 #include "core/input_error.h"
 #include "foveation/display_geometry.h"
 #include "foveation/foveation_mask.h"
-#include "metrics/image_metrics.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
+#include "tests/renderer/frame_ssim.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 
 namespace fovlab {
@@ -61,9 +60,6 @@ SphereTraceSettings bench_display_frame() {
 SphereTraceResult ground_truth(SphereTracer& tracer, SphereTraceSettings settings) {
   settings.method = TraceMethod::ground_truth;
   return tracer.render(settings);
-}
-double ssim_against(const SphereTraceResult& gt, const SphereTraceResult& test) {
-  return metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
 }
 
 double mask_sum(const SphereTraceResult& result) {
@@ -320,7 +316,7 @@ TEST_F(VulkanTest, PeripheryTexturedAtThePixelsFootprintIsCloserToGroundTruth) {
   SphereTraceSettings settings = bench_display_frame();
   settings.samples_per_pixel = 4;
   const SphereTraceResult gt = ground_truth(tracer, settings);
-  const auto ssim = [&](const SphereTraceResult& test) { return ssim_against(gt, test); };
+  const auto ssim = [&](const SphereTraceResult& test) { return test::srgb_ssim(gt, test); };
   settings.foveation.reconstruction = PeripheryReconstruction::mid_footprint_bilinear;
   const SphereTraceResult first_built = tracer.render(settings);
   std::vector<float> bilinear_colours;
@@ -367,7 +363,7 @@ TEST_F(VulkanTest, NearMissesPromotedKeepTheWiresTheMidLevelPasses) {
     SphereTracer tracer(context(), load_scene(scene));
     SphereTraceSettings settings = bench_display_frame();
     const SphereTraceResult gt = ground_truth(tracer, settings);
-    const auto ssim = [&](const SphereTraceResult& test) { return ssim_against(gt, test); };
+    const auto ssim = [&](const SphereTraceResult& test) { return test::srgb_ssim(gt, test); };
     settings.foveation.near_misses = NearMisses::ignore;
     const SphereTraceResult ignored = tracer.render(settings);
     settings.foveation.near_misses = NearMisses::promote;

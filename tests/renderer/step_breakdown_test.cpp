@@ -7,16 +7,16 @@
 #include <numeric>
 #include <string>
 
-#include "core/colour.h"
 #include "core/input_error.h"
-#include "metrics/image_metrics.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "renderer/sphere_tracing/step_breakdown.h"
+#include "tests/renderer/frame_ssim.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 
 namespace fovlab {
 namespace {
 
+using test::srgb_ssim;
 using test::VulkanTest;
 
 TEST_F(VulkanTest, StepBreakdownSumsToTheTopLevelsStepsAndLeavesTheFrameAlone) {
@@ -91,10 +91,7 @@ TEST_F(VulkanTest, OverRelaxationTakesFewerGrazingStepsAndStaysCloseToGroundTrut
   EXPECT_LT(relaxed.levels.back().steps, plain.levels.back().steps);
   // The relaxed march stops elsewhere within the hit band than GT's, which shows most at this size
   // (measured: plain IPR 0.990, relaxed 0.979; at 640x360 0.99791 and 0.99686).
-  const auto ssim = [&](const SphereTraceResult& r) {
-    return metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(r.colour_linear)).mean_ssim;
-  };
-  EXPECT_GE(ssim(relaxed), ssim(plain) - 0.015);
+  EXPECT_GE(srgb_ssim(gt, relaxed), srgb_ssim(gt, plain) - 0.015);
 }
 
 // A relaxed step that leaves the scene's bounds goes back to the plain step, as a failed overlap
@@ -112,10 +109,7 @@ TEST_F(VulkanTest, OverRelaxationKeepsTheWiresThePlainMarchHits) {
   const SphereTraceResult plain = tracer.render(settings);
   settings.over_relaxation = 2.0f;
   const SphereTraceResult relaxed = tracer.render(settings);
-  const auto ssim = [&](const SphereTraceResult& r) {
-    return metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(r.colour_linear)).mean_ssim;
-  };
-  EXPECT_GE(ssim(relaxed), ssim(plain) - 0.003);
+  EXPECT_GE(srgb_ssim(gt, relaxed), srgb_ssim(gt, plain) - 0.003);
   EXPECT_LT(relaxed.levels.back().steps, plain.levels.back().steps);
 }
 

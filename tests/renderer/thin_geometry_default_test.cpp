@@ -22,17 +22,17 @@
 #include <string>
 #include <vector>
 
-#include "core/colour.h"
-#include "metrics/image_metrics.h"
 #include "protocols/stimuli/stimulus_settings.h"
 #include "renderer/sphere_tracing/sphere_tracer.h"
 #include "study/stimulus/render_method.h"
 #include "study/stimulus/stimulus_spec.h"
+#include "tests/renderer/frame_ssim.h"
 #include "tests/renderer/vulkan_test_fixture.h"
 
 namespace fovlab {
 namespace {
 
+using test::srgb_ssim;
 using test::VulkanTest;
 
 constexpr int kWidth = 160;
@@ -108,10 +108,6 @@ ThinFeatures thin_features_kept(const SphereTraceResult& gt, const SphereTraceRe
   return features;
 }
 
-double ssim(const SphereTraceResult& gt, const SphereTraceResult& test) {
-  return metrics::ssim(encode_srgb(gt.colour_linear), encode_srgb(test.colour_linear)).mean_ssim;
-}
-
 TEST_F(VulkanTest, DefaultPyramidsKeepEveryWireGroundTruthShows) {
   SphereTracer tracer(context(), load_scene("wires"));
   SphereTraceSettings gt_settings = default_settings(RenderMethod::ground_truth);
@@ -153,8 +149,8 @@ TEST_F(VulkanTest, DefaultPyramidsKeepEveryWireGroundTruthShows) {
   EXPECT_GT(in_ipr_before.missing, 5 * allowed) << "of " << in_ipr_before.shown_by_gt;
   EXPECT_GT(in_fipr_before.missing, 5 * allowed) << "of " << in_fipr_before.shown_by_gt;
 
-  EXPECT_GE(ssim(gt, ipr), ssim(gt, ipr_before));
-  EXPECT_GE(ssim(gt, fipr), ssim(gt, fipr_before));
+  EXPECT_GE(srgb_ssim(gt, ipr), srgb_ssim(gt, ipr_before));
+  EXPECT_GE(srgb_ssim(gt, fipr), srgb_ssim(gt, fipr_before));
 }
 
 }  // namespace
