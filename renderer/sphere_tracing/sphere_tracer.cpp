@@ -307,7 +307,7 @@ std::optional<double> SphereTracer::hit_distance(const SurfaceRay& ray) {
   const VkBuffer unused = hit.unused.handle();
   const VkBuffer buffers[] = {unused, hit.depth.handle(), hit.steps.handle(), hit.colour.handle(),
                               hit.counters.handle(), unused, unused, unused, unused, unused, unused};
-  pipeline_for("#define FOVLAB_EYE_VIEW 1\n", params.flags).dispatch_2d(cmd, buffers, &params, 1, 1);
+  pipeline_for("#define FOVLAB_EYE_VIEW 1\n", params).dispatch_2d(cmd, buffers, &params, 1, 1);
   vk::memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                      VK_ACCESS_HOST_READ_BIT);
   commands.submit_and_wait();
@@ -321,7 +321,8 @@ std::optional<double> SphereTracer::hit_distance(const SurfaceRay& ray) {
 
 // The top level's variant: FOVLAB_STEP_BREAKDOWN (the counting of SphereTraceSettings::step_breakdown)
 // and FOVLAB_OVER_RELAX (its over_relaxation) beside the eye's view.
-const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSettings& settings, uint32_t flags) {
+const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSettings& settings,
+                                                            const TraceParams& params) {
   std::string defines = settings.eye ? "#define FOVLAB_EYE_VIEW 1\n" : "";
   if (settings.step_breakdown) defines += "#define FOVLAB_STEP_BREAKDOWN 1\n";
   if (settings.over_relaxation != 1.0f) {
@@ -330,23 +331,24 @@ const vk::ComputePipeline& SphereTracer::top_level_pipeline(const SphereTraceSet
     factor << std::showpoint << settings.over_relaxation;
     defines += "#define FOVLAB_OVER_RELAX " + factor.str() + "\n";
   }
-  return pipeline_for(defines, flags);
+  return pipeline_for(defines, params);
 }
 
-const vk::ComputePipeline& SphereTracer::trace_pipeline(const SphereTraceSettings& settings, uint32_t flags) {
-  return pipeline_for(settings.eye ? "#define FOVLAB_EYE_VIEW 1\n" : "", flags);
+const vk::ComputePipeline& SphereTracer::trace_pipeline(const SphereTraceSettings& settings,
+                                                        const TraceParams& params) {
+  return pipeline_for(settings.eye ? "#define FOVLAB_EYE_VIEW 1\n" : "", params);
 }
 
-const vk::ComputePipeline& SphereTracer::pipeline_for(const std::string& defines, uint32_t flags) {
+const vk::ComputePipeline& SphereTracer::pipeline_for(const std::string& defines, const TraceParams& params) {
   TracerVariant& variant = variants_[defines];
   if (variant.spirv.empty()) {
     const std::string source = defines + std::string(shaders::sphere_trace_source);
     variant.spirv =
         compile_scene_shader(scene_, {"sphere_trace.comp.glsl (variant)", source, shaders::shared_headers}).spirv;
   }
-  std::unique_ptr<vk::ComputePipeline>& pipeline = variant.pipelines[flags];
+  std::unique_ptr<vk::ComputePipeline>& pipeline = variant.pipelines[params.flags];
   if (!pipeline) {
-    const uint32_t specialization[] = {flags};  // constant_id 0: fovlab_trace_flags
+    const uint32_t specialization[] = {params.flags};  // constant_id 0: fovlab_trace_flags
     pipeline =
         std::make_unique<vk::ComputePipeline>(context_, variant.spirv, 11, 0, sizeof(TraceParams), specialization);
   }
@@ -580,8 +582,7 @@ SphereTraceResult SphereTracer::render_sampled(const SphereTraceSettings& settin
                                     unused,
                                     unused};
   timer.begin(cmd, "trace_samples");
-  trace_pipeline(settings, params.flags)
-      .dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
+  trace_pipeline(settings, params).dispatch_indirect(cmd, trace_buffers, &params, sampling.dispatch_arguments(), 0);
   timer.end(cmd);
   vk::compute_to_compute_barrier(cmd);
   sampling.record_reconstruct(cmd, timer, frame.colour.handle());

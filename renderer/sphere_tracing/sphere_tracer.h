@@ -33,6 +33,9 @@ class Context;
 class Buffer;
 class ComputePipeline;
 }  // namespace vk
+namespace gpu {
+struct TraceParams;
+}  // namespace gpu
 class Srgb8Encoder;
 class SamplingPasses;
 
@@ -224,15 +227,16 @@ class SphereTracer {
   struct FrameRecording;                                    // one render being recorded
   struct DepthStart;                                        // where a level's rays start
   void prepare_frame(const SphereTraceSettings& settings);  // the buffers of its frame layout, kept if they fit
-  // The tracer that runs a pass with these flags (TraceParams::flags), made on the first frame that
-  // asks for it: sphere_trace.comp.glsl with the variant's #defines, specialised on the pass's flags
-  // (constant_id 0), so each pass's code has only its own paths. top_level_pipeline: the top level's
-  // shaded samples, which may run a variant (step breakdown, over-relaxation); trace_pipeline: every
-  // other pass, plain or, with a headset eye's view, with FOVLAB_EYE_VIEW (so the plain tracer's
-  // code, and its frames, stay what they were).
-  const vk::ComputePipeline& top_level_pipeline(const SphereTraceSettings& settings, uint32_t flags);
-  const vk::ComputePipeline& trace_pipeline(const SphereTraceSettings& settings, uint32_t flags);
-  const vk::ComputePipeline& pipeline_for(const std::string& defines, uint32_t flags);
+  // The tracer that runs a pass with these push constants, made on the first frame that asks for
+  // it: sphere_trace.comp.glsl with the variant's #defines, specialised on the pass's flags
+  // (params.flags, constant_id 0), so each pass's code has only its own paths. top_level_pipeline:
+  // the top level's shaded samples, which may run a variant (step breakdown, over-relaxation);
+  // trace_pipeline: every other pass, plain or, with a headset eye's view, with FOVLAB_EYE_VIEW (so
+  // the plain tracer's code, and its frames, stay what they were). Each call site pushes the same
+  // params it chose the pipeline by.
+  const vk::ComputePipeline& top_level_pipeline(const SphereTraceSettings& settings, const gpu::TraceParams& params);
+  const vk::ComputePipeline& trace_pipeline(const SphereTraceSettings& settings, const gpu::TraceParams& params);
+  const vk::ComputePipeline& pipeline_for(const std::string& defines, const gpu::TraceParams& params);
   SphereTraceResult render_sampled(const SphereTraceSettings& settings);
   // render()'s passes (sphere_tracer_passes.cpp), in the order a frame records them.
   void clear_counters(FrameRecording& f);  // and FIPR's mid colours when it has no history

@@ -145,7 +145,7 @@ void SphereTracer::trace_level(FrameRecording& f, int level_index, const DepthSt
   // The top level's samples may run a variant of the tracer (step breakdown, over-relaxation).
   const bool top = level_index + 1 == f.level_count;
   const vk::ComputePipeline& pipeline =
-      top ? top_level_pipeline(f.settings, params.flags) : trace_pipeline(f.settings, params.flags);
+      top ? top_level_pipeline(f.settings, params) : trace_pipeline(f.settings, params);
   f.timer.begin(f.cmd, "trace_level" + std::to_string(level_index));
   pipeline.dispatch_2d(f.cmd, buffers, &params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
@@ -178,7 +178,7 @@ void SphereTracer::trace_ground_truth_floor(FrameRecording& f, const DepthStart&
   TraceParams record = params;
   record.flags |= gpu::FLAG_SAMPLE_DEPTH_OUT;
   const auto record_buffers = with_binding(buffers, 1, frame.sample_depth.handle());
-  trace_pipeline(f.settings, record.flags)
+  trace_pipeline(f.settings, record)
       .dispatch_2d(f.cmd, record_buffers, &record, params.level_size[0], params.level_size[1]);
   vk::compute_to_compute_barrier(f.cmd);
   vkCmdFillBuffer(f.cmd, frame.counters.handle(), 0, VK_WHOLE_SIZE, 0);  // the floor's own capped and restarted rays
@@ -189,7 +189,7 @@ void SphereTracer::trace_ground_truth_floor(FrameRecording& f, const DepthStart&
   floor_params.max_steps = 1;
   const auto floor_buffers = with_binding(buffers, 0, frame.sample_depth.handle());
   f.timer.begin(f.cmd, "one_step_floor");
-  trace_pipeline(f.settings, floor_params.flags)
+  trace_pipeline(f.settings, floor_params)
       .dispatch_2d(f.cmd, floor_buffers, &floor_params, params.level_size[0], params.level_size[1]);
   f.timer.end(f.cmd);
   vk::compute_to_compute_barrier(f.cmd);
@@ -247,7 +247,7 @@ void SphereTracer::fipr_trace_mid_level(FrameRecording& f, const DepthStart& sta
   vk::compute_to_compute_barrier(f.cmd);
   dispatch_list_sizes(f, "mid_list_dispatch", frame.mid_list_dispatch, gpu::COUNTER_MID_LIST_PIXELS, 0, 1);
   f.timer.begin(f.cmd, "trace_level" + std::to_string(f.mid_index));
-  trace_pipeline(f.settings, params.flags)
+  trace_pipeline(f.settings, params)
       .dispatch_indirect(f.cmd, f.trace_bindings(f.mid_index, start), &params, frame.mid_list_dispatch.handle(), 0);
   f.timer.end(f.cmd);
   // The top level's lists are complete now: the mask pass's, and the children this level promoted.
@@ -265,7 +265,7 @@ void SphereTracer::fipr_trace_masked(FrameRecording& f, const DepthStart& start)
   list_params.flags = (list_params.flags & ~gpu::FLAG_FOVEATED_TOP) | gpu::FLAG_MASKED_LIST;
   const auto list_buffers = with_binding(f.trace_bindings(top, start), 5, f.frame.masked_list.handle());
   f.timer.begin(f.cmd, "trace_level" + std::to_string(top));
-  trace_pipeline(f.settings, list_params.flags)
+  trace_pipeline(f.settings, list_params)
       .dispatch_indirect(f.cmd, list_buffers, &list_params, f.frame.list_dispatch.handle(), 0);
   f.timer.end(f.cmd);
 }
@@ -277,7 +277,7 @@ void SphereTracer::fipr_trace_periphery(FrameRecording& f, const DepthStart& sta
   periphery_params.samples_per_pixel = 1;  // one ray per peripheral pixel (also its texture footprint)
   const auto refresh_buffers = with_binding(f.trace_bindings(top, start), 5, f.frame.refresh_list.handle());
   f.timer.begin(f.cmd, "periphery_trace");
-  trace_pipeline(f.settings, periphery_params.flags)
+  trace_pipeline(f.settings, periphery_params)
       .dispatch_indirect(f.cmd, refresh_buffers, &periphery_params, f.frame.list_dispatch.handle(),
                          3 * sizeof(uint32_t));
   f.timer.end(f.cmd);
